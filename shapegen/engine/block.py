@@ -1,0 +1,257 @@
+"""Rigid blocks: convex polyhedra with a density, the unit of the mass model."""
+
+from __future__ import annotations
+
+__all__ = ["Block", "DEFAULT_DENSITY"]
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+from shapegen.errors import GeometryError
+from shapegen.tolerances import DEFAULT, Tolerances
+
+DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
+
+
+@dataclass(eq=False)
+class Block:
+    """A convex polyhedral rigid block.
+
+    Parameters
+    ----------
+    vertices
+        ``(k, 3)`` vertex positions, metres (y up).
+    faces
+        Polygons as vertex-index tuples, counter-clockwise seen from outside (outward normals).
+    density
+        kg/m^3.
+    id
+        A name unique within its model.
+    tags
+        Labels (from ``label(...)`` in a grammar, or a file).
+    structural
+        False excludes the block from the statics (as the seed paper does for wooden roofs).
+    fixed
+        A support: it carries any load and needs no equilibrium.
+    rule_path
+        The chain of rules that produced the block, when it came from a grammar.
+    """
+
+    vertices: np.ndarray
+    faces: tuple[tuple[int, ...], ...]
+    density: float = DEFAULT_DENSITY
+    id: str = ""
+    tags: tuple[str, ...] = ()
+    structural: bool = True
+    fixed: bool = False
+    rule_path: tuple[str, ...] = ()
+    extras: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.vertices = np.ascontiguousarray(self.vertices, dtype=float).reshape(-1, 3)
+        self.faces = tuple(tuple(int(i) for i in face) for face in self.faces)
+        self.tags = tuple(self.tags)
+        self.rule_path = tuple(self.rule_path)
+        self.density = float(self.density)
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_hull(cls, points: Iterable[Sequence[float]] | np.ndarray, **kwargs) -> Block:
+        """The convex hull of ``points`` as a block; coplanar hull triangles merge into polygons."""
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        label = kwargs.get("id") or "block"
+        if not np.all(np.isfinite(points)):
+            raise GeometryError(f"block {label!r}: vertex coordinates must be finite numbers")
+        if len(points) < 4:
+            raise GeometryError(f"block {label!r}: needs at least 4 vertices, got {len(points)}")
+        try:
+            hull = ConvexHull(points)
+        except QhullError:
+            raise GeometryError(f"block {label!r}: vertices are flat or collinear (zero volume)")
+        vertices, faces = _hull_polygons(points, hull)
+        return cls(vertices, faces, **kwargs)
+
+    @classmethod
+    def box(cls, lo: Sequence[float], hi: Sequence[float], **kwargs) -> Block:
+        """An axis-aligned box from corner ``lo`` to corner ``hi`` (metres)."""
+        x0, y0, z0 = (float(v) for v in lo)
+        x1, y1, z1 = (float(v) for v in hi)
+        vertices = np.array(
+            [
+                [x0, y0, z0], [x1, y0, z0], [x1, y0, z1], [x0, y0, z1],
+                [x0, y1, z0], [x1, y1, z0], [x1, y1, z1], [x0, y1, z1],
+            ]
+        )  # fmt: skip
+        faces = (
+            (0, 1, 2, 3),  # bottom, normal -y
+            (4, 7, 6, 5),  # top, normal +y
+            (0, 4, 5, 1),  # z = z0, normal -z
+            (3, 2, 6, 7),  # z = z1, normal +z
+            (0, 3, 7, 4),  # x = x0, normal -x
+            (1, 5, 6, 2),  # x = x1, normal +x
+        )
+        return cls(vertices, faces, **kwargs)
+
+    # ------------------------------------------------------------------ geometry
+    @cached_property
+    def _mass_properties(self) -> tuple[float, np.ndarray]:
+        # Divergence theorem: sum of signed tetrahedra (reference point, face fan triangle).
+        reference = self.vertices.mean(axis=0)
+        tris = self._triangles
+        a = tris[:, 0] - reference
+        b = tris[:, 1] - reference
+        c = tris[:, 2] - reference
+        six_v = np.einsum("ij,ij->i", a, np.cross(b, c))
+        volume = six_v.sum() / 6.0
+        if abs(volume) == 0.0:
+            return 0.0, reference.copy()
+        centroid = reference + (six_v[:, None] * (a + b + c)).sum(axis=0) / (24.0 * volume)
+        return float(volume), centroid
+
+    @cached_property
+    def _triangles(self) -> np.ndarray:
+        tris = [
+            (face[0], face[i], face[i + 1]) for face in self.faces for i in range(1, len(face) - 1)
+        ]
+        return self.vertices[np.array(tris, dtype=int).reshape(-1, 3)]
+
+    @property
+    def volume(self) -> float:
+        """Volume, m^3 (exact for the polyhedron)."""
+        return self._mass_properties[0]
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """Centre of mass for uniform density, metres."""
+        return self._mass_properties[1]
+
+    @property
+    def mass(self) -> float:
+        """kg."""
+        return self.density * self.volume
+
+    @cached_property
+    def face_normals(self) -> np.ndarray:
+        """``(f, 3)`` outward unit normals (Newell's method, robust for slightly warped faces)."""
+        normals = np.empty((len(self.faces), 3))
+        for k, face in enumerate(self.faces):
+            p = self.vertices[list(face)]
+            q = np.roll(p, -1, axis=0)
+            n = np.cross(p, q).sum(axis=0)
+            length = np.linalg.norm(n)
+            normals[k] = n / length if length > 0 else n
+        return normals
+
+    @cached_property
+    def face_offsets(self) -> np.ndarray:
+        """``(f,)`` plane offsets d with n . x = d on each face, metres."""
+        centers = np.array([self.vertices[list(face)].mean(axis=0) for face in self.faces])
+        return np.einsum("ij,ij->i", self.face_normals, centers)
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """``(2, 3)`` axis-aligned bounding box, metres."""
+        return np.array([self.vertices.min(axis=0), self.vertices.max(axis=0)])
+
+    def face_area(self, k: int) -> float:
+        """Area of face ``k``, m^2."""
+        p = self.vertices[list(self.faces[k])]
+        return 0.5 * float(np.linalg.norm(np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)))
+
+    # ------------------------------------------------------------------ checks
+    def validate(self, tol: Tolerances = DEFAULT) -> None:
+        """Raise :class:`GeometryError` naming the block if it is NaN, degenerate or non-convex."""
+        name = self.id or "block"
+        if not np.all(np.isfinite(self.vertices)):
+            raise GeometryError(f"block {name!r}: vertex coordinates must be finite numbers")
+        if not np.isfinite(self.density) or self.density < 0:
+            raise GeometryError(f"block {name!r}: density must be a finite number >= 0")
+        n = len(self.vertices)
+        for face in self.faces:
+            if len(face) < 3 or min(face) < 0 or max(face) >= n:
+                raise GeometryError(
+                    f"block {name!r}: face {list(face)} must list at least 3 of its {n} vertices"
+                )
+        if self.volume <= tol.volume:
+            raise GeometryError(f"block {name!r}: zero or negative volume ({self.volume:.3g} m^3)")
+        distances = self.vertices @ self.face_normals.T - self.face_offsets
+        worst = float(distances.max())
+        if worst > tol.convex:
+            raise GeometryError(
+                f"block {name!r}: not convex (a vertex lies {worst:.3g} m outside a face plane)"
+            )
+
+    # ------------------------------------------------------------------ conversions
+    def to_vertices_and_faces(self) -> tuple[np.ndarray, list[list[int]]]:
+        return self.vertices.copy(), [list(f) for f in self.faces]
+
+    def to_dict(self) -> dict:
+        """The block as a shapegen-blocks JSON object."""
+        out = {
+            "id": self.id,
+            "vertices": self.vertices.tolist(),
+            "faces": [list(f) for f in self.faces],
+            "density": self.density,
+            "fixed": self.fixed,
+            "structural": self.structural,
+            "tags": list(self.tags),
+        }
+        if self.rule_path:
+            out["rule_path"] = list(self.rule_path)
+        return out
+
+    def transformed(self, matrix: np.ndarray, offset: np.ndarray) -> Block:
+        """A copy moved by ``x -> matrix @ x + offset`` (a proper rotation keeps faces outward)."""
+        out = Block(
+            self.vertices @ np.asarray(matrix, float).T + np.asarray(offset, float),
+            self.faces,
+            density=self.density,
+            id=self.id,
+            tags=self.tags,
+            structural=self.structural,
+            fixed=self.fixed,
+            rule_path=self.rule_path,
+            extras=dict(self.extras),
+        )
+        if np.linalg.det(matrix) < 0:
+            out.faces = tuple(tuple(reversed(f)) for f in out.faces)
+        return out
+
+
+def _hull_polygons(points: np.ndarray, hull: ConvexHull) -> tuple[np.ndarray, tuple]:
+    """Merge the coplanar triangles of a qhull hull into outward polygons on the hull vertices."""
+    used = np.unique(hull.simplices)
+    remap = -np.ones(len(points), dtype=int)
+    remap[used] = np.arange(len(used))
+    vertices = points[used]
+    scale = max(float(np.ptp(vertices, axis=0).max()), 1e-12)
+    equations = hull.equations  # outward unit normal n, offset e with n.x + e = 0
+    groups: list[list[int]] = []
+    keys: list[np.ndarray] = []
+    for k, eq in enumerate(equations):
+        for g, key in enumerate(keys):
+            if np.dot(key[:3], eq[:3]) > 1 - 1e-9 and abs(key[3] - eq[3]) < 1e-9 * scale:
+                groups[g].append(k)
+                break
+        else:
+            keys.append(eq)
+            groups.append([k])
+    faces = []
+    for key, group in zip(keys, groups, strict=True):
+        normal = key[:3]
+        ids = np.unique(remap[hull.simplices[group].ravel()])
+        # Only the points on the face plane's boundary: qhull may keep interior coplanar points.
+        p = vertices[ids]
+        center = p.mean(axis=0)
+        u = p[0] - center
+        if np.linalg.norm(u) == 0:
+            u = p[1] - center
+        u /= np.linalg.norm(u)
+        v = np.cross(normal, u)
+        angles = np.arctan2((p - center) @ v, (p - center) @ u)
+        faces.append(tuple(int(i) for i in ids[np.argsort(angles)]))
+    return vertices, tuple(faces)

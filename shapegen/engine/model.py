@@ -1,0 +1,114 @@
+"""The mass model: blocks, point loads, gravity, ground and friction."""
+
+from __future__ import annotations
+
+__all__ = ["Model", "PointLoad", "GRAVITY"]
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from shapegen.engine.block import Block
+from shapegen.errors import GeometryError
+from shapegen.tolerances import DEFAULT, Tolerances
+
+GRAVITY = (0.0, -9.81, 0.0)  # m/s^2, y up
+
+
+@dataclass
+class PointLoad:
+    """A live load: ``force`` (N) applied at ``point`` (m) on the block named ``block``."""
+
+    block: str
+    force: np.ndarray
+    point: np.ndarray
+
+    def __post_init__(self) -> None:
+        self.force = np.asarray(self.force, dtype=float).reshape(3)
+        self.point = np.asarray(self.point, dtype=float).reshape(3)
+
+
+@dataclass
+class Model:
+    """A rigid-block assembly.
+
+    Attributes
+    ----------
+    blocks
+        The blocks; ids are unique.
+    loads
+        Point loads (live loads) in addition to self-weight.
+    gravity
+        Acceleration of gravity, m/s^2 (default 9.81 along -y).
+    ground
+        Height of the ground plane y = ground (m), or None for no ground (only fixed blocks support).
+    friction
+        Coulomb friction coefficient mu (dimensionless) of every joint.
+    metadata
+        Free-form information carried to reports (attrs, reports from a grammar...).
+    """
+
+    blocks: list[Block] = field(default_factory=list)
+    loads: list[PointLoad] = field(default_factory=list)
+    gravity: np.ndarray = field(default_factory=lambda: np.array(GRAVITY))
+    ground: float | None = 0.0
+    friction: float = 0.7
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.gravity = np.asarray(self.gravity, dtype=float).reshape(3)
+        for k, block in enumerate(self.blocks):
+            if not block.id:
+                block.id = f"b{k}"
+
+    @property
+    def size(self) -> float:
+        """Bounding-box diagonal of all blocks, metres (1 for an empty model)."""
+        if not self.blocks:
+            return 1.0
+        lo = np.min([b.vertices.min(axis=0) for b in self.blocks], axis=0)
+        hi = np.max([b.vertices.max(axis=0) for b in self.blocks], axis=0)
+        return float(np.linalg.norm(hi - lo)) or 1.0
+
+    def tolerances(self, base: Tolerances = DEFAULT) -> Tolerances:
+        """Tolerances scaled to this model's size."""
+        return base.for_size(self.size)
+
+    @property
+    def total_weight(self) -> float:
+        """Weight of the structural, non-fixed blocks, N."""
+        g = float(np.linalg.norm(self.gravity))
+        return g * sum(b.mass for b in self.blocks if b.structural and not b.fixed)
+
+    @property
+    def volume(self) -> float:
+        """Total block volume, m^3."""
+        return float(sum(b.volume for b in self.blocks))
+
+    def index_of(self, block_id: str) -> int:
+        """Position of the block named ``block_id``."""
+        for k, block in enumerate(self.blocks):
+            if block.id == block_id:
+                return k
+        raise GeometryError(f"no block named {block_id!r}")
+
+    def validate(self) -> None:
+        """Raise a :class:`GeometryError` naming the first bad block, duplicate id or load."""
+        tol = self.tolerances()
+        if not np.all(np.isfinite(self.gravity)):
+            raise GeometryError("gravity must be finite numbers")
+        if self.ground is not None and not np.isfinite(self.ground):
+            raise GeometryError("ground height must be a finite number or null")
+        if not np.isfinite(self.friction) or self.friction < 0:
+            raise GeometryError(f"friction must be a finite number >= 0, got {self.friction}")
+        seen: set[str] = set()
+        for block in self.blocks:
+            if block.id in seen:
+                raise GeometryError(f"two blocks are named {block.id!r}; block ids must be unique")
+            seen.add(block.id)
+            block.validate(tol)
+        for load in self.loads:
+            if load.block not in seen:
+                raise GeometryError(f"a load names block {load.block!r}, which does not exist")
+            if not (np.all(np.isfinite(load.force)) and np.all(np.isfinite(load.point))):
+                raise GeometryError(f"the load on block {load.block!r} must be finite numbers")

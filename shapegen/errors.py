@@ -1,0 +1,93 @@
+"""The one error hierarchy of shapegen.
+
+Every mistake a user can make (a malformed grammar, an impossible dimension, an unreadable file)
+raises a subclass of :class:`ShapegenError`. The command line prints its message and exits with
+status 2; it never shows a traceback for these. A solver outcome (infeasible, not converged) is not
+an error: it is a status on the result.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ShapegenError",
+    "GrammarError",
+    "GeometryError",
+    "StaticsError",
+    "InputFormatError",
+    "SourceLocation",
+]
+
+from dataclasses import dataclass
+
+
+class ShapegenError(Exception):
+    """Root of every error shapegen raises for a user's mistake."""
+
+
+@dataclass(frozen=True)
+class SourceLocation:
+    """A place in a text file: 1-based line and column."""
+
+    file: str
+    line: int
+    column: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.column}"
+
+
+class GrammarError(ShapegenError):
+    """A problem in a .grammar file, with its place and the offending source line.
+
+    Several problems found in one pass are carried together in ``problems`` (each a
+    ``(SourceLocation | None, message)`` pair); ``str()`` renders them all, each with its source
+    line and a caret under the column.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        location: SourceLocation | None = None,
+        source: str | None = None,
+        problems: list[tuple[SourceLocation | None, str]] | None = None,
+    ):
+        self.location = location
+        self.source = source
+        self.problems = problems if problems is not None else [(location, message)]
+        self.message = message
+        super().__init__(self._render())
+
+    @property
+    def line(self) -> int | None:
+        return self.location.line if self.location else None
+
+    @property
+    def column(self) -> int | None:
+        return self.location.column if self.location else None
+
+    def _render(self) -> str:
+        lines = self.source.splitlines() if self.source is not None else []
+        parts = []
+        for location, message in self.problems:
+            if location is None:
+                parts.append(message)
+                continue
+            text = f"{location}: {message}"
+            if 1 <= location.line <= len(lines):
+                source_line = lines[location.line - 1].expandtabs(1)
+                caret = " " * max(location.column - 1, 0) + "^"
+                text += f"\n    {source_line}\n    {caret}"
+            parts.append(text)
+        return "\n".join(parts)
+
+
+class GeometryError(ShapegenError):
+    """An impossible or degenerate shape: zero volume, non-convex block, NaN, interpenetration."""
+
+
+class StaticsError(ShapegenError):
+    """A model that cannot be analysed as given (no support, disconnected blocks...)."""
+
+
+class InputFormatError(ShapegenError):
+    """A file that cannot be read: unknown format, missing keys, wrong types."""

@@ -1,0 +1,1 @@
+"""Readers and writers: shapegen-blocks JSON, meshes (glTF, OBJ, PLY, STL), pictures."""

@@ -1,0 +1,24 @@
+"""``box``: a single block filling the scope."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from shapegen.engine.block import Block
+from shapegen.engine.scope import Scope
+from shapegen.errors import GeometryError
+from shapegen.primitives.registry import primitive
+
+_UNIT_CUBE = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
+    dtype=float,
+)
+
+
+@primitive("box")
+def box(scope: Scope) -> list[Block]:
+    """One block filling the scope."""
+    if np.any(scope.size <= 0):
+        raise GeometryError(f"primitive 'box' needs a 3D scope with positive size, got {scope.size}")
+    template = Block.box([0, 0, 0], [1, 1, 1])
+    return [Block(scope.to_world(_UNIT_CUBE * scope.size), template.faces)]

@@ -1,0 +1,191 @@
+"""The registry of template primitives and the validation every primitive gets for free.
+
+A primitive is a function ``f(scope, **params) -> list[Block]`` registered under a name::
+
+    from shapegen.primitives import primitive, Choice
+
+    @primitive("slab")
+    def slab(scope, *, thickness: float = 0.2, finish: Choice("rough", "smooth") = "rough"):
+        ...
+        return [Block.from_hull(scope.to_world(corners))]
+
+Its keyword parameters, their defaults and their annotations (``float``, ``int``, ``bool``,
+``str`` or a :class:`Choice`) are read from the signature. ``insert(name, scope, **params)``
+checks the names and types of the parameters, calls the function and checks its blocks (convex,
+non-degenerate, finite), so authors write only the geometry. Primitives from other installed
+packages are discovered through the entry-point group ``shapegen.primitives``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["Choice", "Primitive", "primitive", "insert", "available", "get", "REGISTRY"]
+
+import difflib
+import inspect
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from importlib.metadata import entry_points
+
+import numpy as np
+
+from shapegen.engine.block import Block
+from shapegen.engine.scope import Scope
+from shapegen.errors import GeometryError
+from shapegen.tolerances import DEFAULT
+
+
+class Choice:
+    """A string parameter restricted to a few values; a wrong value's error lists them."""
+
+    def __init__(self, *values: str):
+        self.values = tuple(values)
+
+    def __repr__(self) -> str:
+        return "Choice(" + ", ".join(repr(v) for v in self.values) + ")"
+
+
+@dataclass(frozen=True)
+class Parameter:
+    name: str
+    kind: object  # float, int, bool, str or a Choice
+    default: object
+
+
+@dataclass(frozen=True)
+class Primitive:
+    """A registered primitive: its name, function and parameters."""
+
+    name: str
+    function: Callable[..., list[Block]]
+    parameters: dict[str, Parameter]
+    doc: str
+
+    def __call__(self, scope: Scope, **params) -> list[Block]:
+        values = self.resolve(params)
+        if not np.all(np.isfinite(scope.size)) or np.any(scope.size < 0):
+            raise GeometryError(f"primitive {self.name!r}: scope size {scope.size} is not valid")
+        blocks = list(self.function(scope, **values))
+        tol = DEFAULT.for_size(float(np.linalg.norm(scope.size)) or 1.0)
+        for k, block in enumerate(blocks):
+            if not isinstance(block, Block):
+                raise GeometryError(f"primitive {self.name!r} returned {type(block).__name__}, "
+                                    "not a Block")
+            try:
+                block.validate(tol)
+            except GeometryError as exc:
+                raise GeometryError(f"primitive {self.name!r}, piece {k}: {exc}") from None
+        return blocks
+
+    def resolve(self, params: dict) -> dict:
+        """Check names and types of ``params``; fill in defaults."""
+        values = {}
+        for key, value in params.items():
+            if key not in self.parameters:
+                known = ", ".join(sorted(self.parameters)) or "none"
+                close = difflib.get_close_matches(key, list(self.parameters), n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                raise GeometryError(
+                    f"primitive {self.name!r} has no parameter {key!r}{hint}; its parameters: {known}"
+                )
+            values[key] = _convert(self.name, self.parameters[key], value)
+        for name, parameter in self.parameters.items():
+            values.setdefault(name, parameter.default)
+        return values
+
+
+REGISTRY: dict[str, Primitive] = {}
+_discovered = False
+
+
+def primitive(name: str) -> Callable[[Callable], Callable]:
+    """Register ``function(scope, **params) -> list[Block]`` as the primitive ``name``."""
+
+    def register(function: Callable) -> Callable:
+        signature = inspect.signature(function)
+        parameters = {}
+        for param in list(signature.parameters.values())[1:]:
+            if param.default is inspect.Parameter.empty:
+                raise TypeError(f"primitive {name!r}: parameter {param.name!r} needs a default")
+            kind = param.annotation
+            if isinstance(kind, str):  # postponed annotations
+                kind = eval(kind, function.__globals__, {"Choice": Choice})  # noqa: S307
+            if kind is inspect.Parameter.empty:
+                kind = type(param.default)
+            parameters[param.name] = Parameter(param.name, kind, param.default)
+        doc = inspect.getdoc(function) or ""
+        REGISTRY[name] = Primitive(name, function, parameters, doc)
+        return function
+
+    return register
+
+
+def _discover() -> None:
+    global _discovered
+    if _discovered:
+        return
+    _discovered = True
+    from shapegen.primitives import library  # noqa: F401  (registers the built-in primitives)
+
+    for entry in entry_points(group="shapegen.primitives"):
+        try:
+            entry.load()
+        except Exception as exc:  # a broken plug-in must not break the built-in primitives
+            raise GeometryError(
+                f"cannot load primitives from {entry.value!r} (entry point {entry.name!r}): {exc}"
+            ) from None
+
+
+def get(name: str) -> Primitive:
+    """The primitive registered as ``name``; the error suggests close names."""
+    _discover()
+    if name not in REGISTRY:
+        close = difflib.get_close_matches(name, list(REGISTRY), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise GeometryError(
+            f"unknown primitive {name!r}{hint}; available: {', '.join(sorted(REGISTRY))}"
+        )
+    return REGISTRY[name]
+
+
+def available() -> list[str]:
+    """Names of all registered primitives, sorted."""
+    _discover()
+    return sorted(REGISTRY)
+
+
+def insert(name: str, scope: Scope, **params) -> list[Block]:
+    """Blocks of primitive ``name`` fitted to ``scope`` (world coordinates)."""
+    return get(name)(scope, **params)
+
+
+def _convert(owner: str, parameter: Parameter, value: object) -> object:
+    where = f"primitive {owner!r}: parameter {parameter.name!r}"
+    kind = parameter.kind
+    if isinstance(kind, Choice):
+        if value not in kind.values:
+            raise GeometryError(
+                f"{where} must be one of {', '.join(repr(v) for v in kind.values)}, got {value!r}"
+            )
+        return value
+    if kind is bool:
+        if isinstance(value, bool):
+            return value
+        raise GeometryError(f"{where} must be true or false, got {value!r}")
+    if kind is int:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise GeometryError(f"{where} must be a whole number, got {value!r}")
+        if not math.isfinite(value) or value != int(value):
+            raise GeometryError(f"{where} must be a whole number, got {value!r}")
+        return int(value)
+    if kind is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise GeometryError(f"{where} must be a number, got {value!r}")
+        if not math.isfinite(value):
+            raise GeometryError(f"{where} must be a finite number, got {value!r}")
+        return float(value)
+    if kind is str:
+        if not isinstance(value, str):
+            raise GeometryError(f"{where} must be a string, got {value!r}")
+        return value
+    return value

@@ -1,0 +1,90 @@
+"""Every numerical tolerance of shapegen, in one place.
+
+Geometric tolerances are relative to the model's size ``L`` (the diagonal of its bounding box, in
+metres) so that a 10 cm model and a 100 m cathedral behave the same. ``Tolerances.for_size(L)``
+turns the relative values into absolute ones.
+"""
+
+from __future__ import annotations
+
+__all__ = ["Tolerances", "DEFAULT"]
+
+from dataclasses import dataclass, replace
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Relative and absolute tolerances.
+
+    Attributes
+    ----------
+    planar_rel
+        Two faces are coplanar when their plane offsets differ by at most ``planar_rel * L``
+        (dimensionless).
+    normal_cos
+        Two faces are opposite-facing when the cosine between their outward normals is below
+        ``-normal_cos`` (dimensionless, close to 1).
+    area_rel
+        A contact polygon smaller than ``area_rel * L**2`` is ignored (dimensionless).
+    merge_rel
+        Vertices closer than ``merge_rel * L`` are the same point (dimensionless).
+    convex_rel
+        A block is convex when no vertex lies outside any face plane by more than
+        ``convex_rel * L`` (dimensionless).
+    volume_rel
+        A block with volume below ``volume_rel * L**3`` is degenerate (dimensionless).
+    penetration_rel
+        Two blocks interpenetrate when their intersection volume exceeds
+        ``penetration_rel * min(volume_a, volume_b)`` (dimensionless).
+    feasible_rel
+        Statics: an assembly is certified feasible when a compression-only equilibrium exists
+        with residual below ``feasible_rel * total_weight`` (dimensionless).
+    screen_rel
+        Statics: an infeasibility normalised by the squared total weight above ``screen_rel``
+        is clearly infeasible and needs no certificate (dimensionless).
+    size
+        The model size ``L`` in metres that the absolute values below are computed for.
+    """
+
+    planar_rel: float = 1e-6
+    normal_cos: float = 1.0 - 1e-6
+    area_rel: float = 1e-10
+    merge_rel: float = 1e-9
+    convex_rel: float = 1e-7
+    volume_rel: float = 1e-12
+    penetration_rel: float = 1e-4
+    feasible_rel: float = 1e-7
+    screen_rel: float = 1e-4
+    size: float = 1.0
+
+    def for_size(self, size: float) -> Tolerances:
+        """The same tolerances for a model of size ``size`` metres (bounding-box diagonal)."""
+        return replace(self, size=max(float(size), 1e-9))
+
+    @property
+    def planar(self) -> float:
+        """Coplanarity distance, metres."""
+        return self.planar_rel * self.size
+
+    @property
+    def merge(self) -> float:
+        """Vertex merge distance, metres."""
+        return self.merge_rel * self.size
+
+    @property
+    def area(self) -> float:
+        """Smallest contact area, square metres."""
+        return self.area_rel * self.size**2
+
+    @property
+    def convex(self) -> float:
+        """Convexity slack, metres."""
+        return self.convex_rel * self.size
+
+    @property
+    def volume(self) -> float:
+        """Smallest block volume, cubic metres."""
+        return self.volume_rel * self.size**3
+
+
+DEFAULT = Tolerances()
