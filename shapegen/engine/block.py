@@ -71,7 +71,9 @@ class Block:
         try:
             hull = ConvexHull(points)
         except QhullError:
-            raise GeometryError(f"block {label!r}: vertices are flat or collinear (zero volume)")
+            raise GeometryError(
+                f"block {label!r}: vertices are flat or collinear (zero volume)"
+            ) from None
         vertices, faces = _hull_polygons(points, hull)
         return cls(vertices, faces, **kwargs)
 

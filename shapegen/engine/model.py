@@ -41,7 +41,8 @@ class Model:
     gravity
         Acceleration of gravity, m/s^2 (default 9.81 along -y).
     ground
-        Height of the ground plane y = ground (m), or None for no ground (only fixed blocks support).
+        Height of the ground plane y = ground (m), or None for no ground (then only fixed
+        blocks support).
     friction
         Coulomb friction coefficient mu (dimensionless) of every joint.
     metadata

@@ -40,7 +40,7 @@ class Scope:
         return float(self.size[2])
 
     def to_world(self, local: np.ndarray) -> np.ndarray:
-        """Points given in scope coordinates (m, origin at the scope's corner) to world coordinates."""
+        """Scope coordinates (m, origin at the scope's corner) to world coordinates."""
         return self.origin + np.asarray(local, float) @ self.rotation.T
 
     def to_local(self, world: np.ndarray) -> np.ndarray:

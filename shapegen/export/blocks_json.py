@@ -2,8 +2,14 @@
 
 from __future__ import annotations
 
-__all__ = ["FORMAT_NAME", "FORMAT_VERSION", "model_to_dict", "model_from_dict", "read_blocks_json",
-           "write_blocks_json"]
+__all__ = [
+    "FORMAT_NAME",
+    "FORMAT_VERSION",
+    "model_to_dict",
+    "model_from_dict",
+    "read_blocks_json",
+    "write_blocks_json",
+]
 
 import json
 import math
@@ -56,7 +62,9 @@ def read_blocks_json(path: str | Path) -> Model:
     try:
         document = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise InputFormatError(f"{path}:{exc.lineno}:{exc.colno}: invalid JSON: {exc.msg}") from None
+        raise InputFormatError(
+            f"{path}:{exc.lineno}:{exc.colno}: invalid JSON: {exc.msg}"
+        ) from None
     try:
         return model_from_dict(document)
     except (InputFormatError, GeometryError) as exc:
@@ -68,9 +76,7 @@ def model_from_dict(document: object) -> Model:
     if not isinstance(document, dict):
         raise InputFormatError("the top level must be a JSON object")
     if document.get("format") != FORMAT_NAME:
-        raise InputFormatError(
-            f'"format" must be "{FORMAT_NAME}", got {document.get("format")!r}'
-        )
+        raise InputFormatError(f'"format" must be "{FORMAT_NAME}", got {document.get("format")!r}')
     version = document.get("version")
     if version != FORMAT_VERSION:
         raise InputFormatError(f'unsupported "version" {version!r}; this reader knows version 1')
@@ -129,7 +135,7 @@ def _block(entry: object, k: int) -> Block:
     for face in faces:
         if len(face) < 3 or min(face) < 0 or max(face) >= n:
             raise InputFormatError(
-                f'{where}: face {face} must list at least 3 indices in 0..{n - 1}'
+                f"{where}: face {face} must list at least 3 indices in 0..{n - 1}"
             )
     return Block(vertices, _outward(vertices, faces), **kwargs)
 

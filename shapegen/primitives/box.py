@@ -19,6 +19,8 @@ _UNIT_CUBE = np.array(
 def box(scope: Scope) -> list[Block]:
     """One block filling the scope."""
     if np.any(scope.size <= 0):
-        raise GeometryError(f"primitive 'box' needs a 3D scope with positive size, got {scope.size}")
+        raise GeometryError(
+            f"primitive 'box' needs a 3D scope with positive size, got {scope.size}"
+        )
     template = Block.box([0, 0, 0], [1, 1, 1])
     return [Block(scope.to_world(_UNIT_CUBE * scope.size), template.faces)]

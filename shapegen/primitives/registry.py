@@ -69,8 +69,9 @@ class Primitive:
         tol = DEFAULT.for_size(float(np.linalg.norm(scope.size)) or 1.0)
         for k, block in enumerate(blocks):
             if not isinstance(block, Block):
-                raise GeometryError(f"primitive {self.name!r} returned {type(block).__name__}, "
-                                    "not a Block")
+                raise GeometryError(
+                    f"primitive {self.name!r} returned {type(block).__name__}, not a Block"
+                )
             try:
                 block.validate(tol)
             except GeometryError as exc:
@@ -86,7 +87,8 @@ class Primitive:
                 close = difflib.get_close_matches(key, list(self.parameters), n=1)
                 hint = f" (did you mean {close[0]!r}?)" if close else ""
                 raise GeometryError(
-                    f"primitive {self.name!r} has no parameter {key!r}{hint}; its parameters: {known}"
+                    f"primitive {self.name!r} has no parameter {key!r}{hint}; "
+                    f"its parameters: {known}"
                 )
             values[key] = _convert(self.name, self.parameters[key], value)
         for name, parameter in self.parameters.items():
