@@ -1,0 +1,195 @@
+"""The public entry point to grammars: :func:`load_grammar` and :class:`Grammar`.
+
+>>> import shapegen
+>>> grammar = shapegen.load_grammar('''
+... attr height = 3
+... @StartRule @Lot(4, 1)
+... Lot --> extrude(height) split(x) { ~1 : Stone }*
+... ''')
+>>> model = grammar.build(attrs={"height": 2.0}, seed=1)
+>>> len(model.blocks), model.metadata["attrs"]
+(4, {'height': 2.0})
+"""
+
+from __future__ import annotations
+
+__all__ = ["Grammar", "load_grammar", "bundled_rules"]
+
+import os
+from collections.abc import Mapping
+from pathlib import Path
+
+from shapegen.engine.interpreter import DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES, Program
+from shapegen.engine.model import Model
+from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+from shapegen.engine.shape import lot_scope
+from shapegen.errors import GrammarError
+from shapegen.grammar import ast
+
+
+class Grammar:
+    """A loaded, checked and compiled grammar.
+
+    Attributes
+    ----------
+    ast
+        The parsed file.
+    path
+        The file it was read from, or None for a text.
+    """
+
+    def __init__(self, tree: ast.Grammar, path: Path | None = None):
+        self.ast = tree
+        self.path = path
+        self.program = Program(tree)
+        self._defaults: dict | None = None
+
+    @property
+    def name(self) -> str:
+        """The file name, or ``<string>``."""
+        return self.ast.filename
+
+    @property
+    def attrs(self) -> dict[str, object]:
+        """``name -> default value`` of every ``attr`` (number, boolean or string)."""
+        values = self._default_values()
+        return {name: values[name] for name in self.program.attr_nodes}
+
+    @property
+    def free_parameters(self) -> dict[str, dict]:
+        """``name -> {"value", "min", "max"}`` of the ``@Free`` attrs, at their defaults."""
+        values = self._default_values()
+        return self.program.free_parameters(values, lot_scope(*self.lot))
+
+    def parameter_ranges(self, attrs: Mapping[str, object] | None = None) -> dict[str, dict]:
+        """``name -> {"value", "min", "max"}`` of every attr with a ``@Range`` (free or not),
+        with ``attrs`` overriding defaults; the parameters a search may be asked to vary."""
+        if not attrs:
+            values = self._default_values()
+        else:
+            from shapegen.engine.interpreter import DEFAULT_LOT
+
+            values = self.program.initial_values(attrs, 0, lot_scope(*DEFAULT_LOT))
+        return self.program.free_parameters(values, lot_scope(*self.lot), only_free=False)
+
+    @property
+    def lot(self) -> tuple[float, float]:
+        """The default lot (width, depth) in metres: the start rule's ``@Lot`` or 10 x 10."""
+        return self.program.lot_size(self._default_values())
+
+    def _default_values(self) -> dict:
+        if self._defaults is None:
+            from shapegen.engine.interpreter import DEFAULT_LOT
+
+            self._defaults = self.program.initial_values(None, 0, lot_scope(*DEFAULT_LOT))
+        return self._defaults
+
+    def build(
+        self,
+        attrs: Mapping[str, object] | None = None,
+        seed: int = 0,
+        lot: tuple[float, float] | None = None,
+        *,
+        max_depth: int = DEFAULT_MAX_DEPTH,
+        max_shapes: int = DEFAULT_MAX_SHAPES,
+    ) -> Model:
+        """Derive the block model.
+
+        Parameters
+        ----------
+        attrs
+            ``name -> value`` overriding attr defaults (strings are converted to the attr's type,
+            so ``{"height": "3.5"}`` works as well as ``{"height": 3.5}``).
+        seed
+            Seed of ``rand()`` and stochastic rules; the same seed gives the same model.
+        lot
+            ``(width, depth)`` of the start lot in metres, overriding ``@Lot``.
+        max_depth, max_shapes
+            Derivation limits: the longest chain of rules and the most shapes; exceeding either
+            raises :class:`~shapegen.errors.GrammarError` showing the chain of rules.
+
+        Returns
+        -------
+        Model
+            Blocks ``b0``, ``b1``... in derivation order; ``metadata`` holds ``attrs`` (final
+            values), ``reports`` (``report()`` values: one value per key, or a list when a key
+            was reported several times), ``free_parameters``, ``seed``, ``lot`` and ``grammar``.
+        """
+        return self.program.derive(
+            attrs, seed=seed, lot=lot, max_depth=max_depth, max_shapes=max_shapes
+        )
+
+    def __repr__(self) -> str:
+        return f"Grammar({self.name!r}, {len(self.ast.rules)} rules)"
+
+
+def load_grammar(path_or_text: str | os.PathLike) -> Grammar:
+    """Load a grammar from a file or from text.
+
+    A ``PathLike``, or a one-line string naming an existing file or ending in ``.grammar``, is a
+    file; a bare file name that is not in the working directory is looked up among the bundled
+    rules (``load_grammar("wall_windows.grammar")`` works anywhere). Any other string is the
+    grammar's text.
+
+    Raises
+    ------
+    GrammarError
+        For a missing file, syntax errors and load-time problems (all of them at once).
+    """
+    path = _as_path(path_or_text)
+    if path is None:
+        return Grammar(_parse(str(path_or_text), "<string>"))
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise GrammarError(f"cannot read {str(path)!r}: {exc}") from None
+    return Grammar(_parse(text, str(path_or_text)), path)
+
+
+def _as_path(path_or_text: str | os.PathLike) -> Path | None:
+    """The file meant by ``path_or_text``, or None when it is grammar text."""
+    if isinstance(path_or_text, os.PathLike):
+        path = Path(path_or_text)
+    else:
+        text = str(path_or_text)
+        if "\n" in text or not text.strip():
+            return None
+        path = Path(text.strip())
+        looks_like_file = text.strip().endswith(".grammar") or path.is_file()
+        if not looks_like_file:
+            bundled = find_bundled_rule(path.name) if _is_bare_name(text.strip()) else None
+            return bundled
+    if path.is_file():
+        return path
+    if _is_bare_name(str(path_or_text)):
+        bundled = find_bundled_rule(path.name)
+        if bundled is not None:
+            return bundled
+    available = ", ".join(bundled_rules()) or "none"
+    raise GrammarError(
+        f"no grammar file {str(path)!r} (not in the working directory nor among the bundled "
+        f"rules: {available})"
+    )
+
+
+def _is_bare_name(text: str) -> bool:
+    """A file name with no directory part and no spaces (``cluny.grammar``, ``cluny``)."""
+    return (
+        bool(text)
+        and not any(c.isspace() for c in text)
+        and os.sep not in text
+        and "/" not in text
+        and Path(text).name == text
+    )
+
+
+def _parse(text: str, filename: str) -> ast.Grammar:
+    """Parse and check ``text`` with the grammar package's loader."""
+    from shapegen import grammar as language
+
+    load = getattr(language, "load", None)
+    if load is not None:
+        return load(text, filename)
+    from shapegen.grammar.parser import parse
+
+    return parse(text, filename)

@@ -1,0 +1,66 @@
+"""Interactive editing (the seed paper's Figure 13): change an attr, re-optimize, warm-started.
+
+>>> session = DesignSession("barrel_vault.grammar")          # doctest: +SKIP
+>>> session.set(span=7.5)                                    # doctest: +SKIP
+>>> result = session.optimize()   # starts from the last solution  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+__all__ = ["DesignSession"]
+
+from collections.abc import Callable, Mapping, Sequence
+
+from shapegen.engine.grammar_api import Grammar, load_grammar
+from shapegen.engine.search import IterationRecord, OptimizationResult, optimize
+
+
+class DesignSession:
+    """A grammar with the designer's current attr values and the last optimized parameters.
+
+    ``set(...)`` changes attrs the designer controls; ``optimize()`` re-runs the search of the
+    free parameters starting from the previous solution, so small edits need few iterations.
+    """
+
+    def __init__(
+        self,
+        grammar: Grammar | str,
+        *,
+        free: Sequence[str] | None = None,
+        seed: int = 0,
+        analysis_options: Mapping[str, object] | None = None,
+        gradient: str = "adjoint",
+    ):
+        self.grammar = grammar if isinstance(grammar, Grammar) else load_grammar(grammar)
+        self.free = list(free) if free else None
+        self.seed = seed
+        self.analysis_options = dict(analysis_options or {})
+        self.gradient = gradient
+        self.attrs: dict[str, object] = {}
+        self.solution: dict[str, float] | None = None
+        self.last: OptimizationResult | None = None
+
+    def set(self, **attrs: object) -> None:
+        """Change attrs (not the free parameters, which the search owns)."""
+        self.attrs.update(attrs)
+
+    def optimize(
+        self,
+        max_iter: int = 50,
+        progress: Callable[[IterationRecord], None] | None = None,
+    ) -> OptimizationResult:
+        """Re-optimize the free parameters, warm-started from the last solution."""
+        result = optimize(
+            self.grammar,
+            free=self.free,
+            attrs=self.attrs,
+            seed=self.seed,
+            gradient=self.gradient,
+            max_iter=max_iter,
+            start=self.solution,
+            analysis_options=self.analysis_options,
+            progress=progress,
+        )
+        self.solution = result.values
+        self.last = result
+        return result

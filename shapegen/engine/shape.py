@@ -1,0 +1,251 @@
+"""Shapes and the scope operations of CGA: extrude, split, comp, t, r, s, center.
+
+A :class:`Shape` is a :class:`~shapegen.engine.scope.Scope` plus what fills it: a flat face (the
+lot, a ``comp(f)`` face), a box mass (after ``extrude``) or an inserted primitive. The functions
+here are pure: they take a scope and return new scopes; the interpreter decides what to do with
+them. A wrong use raises ``ValueError`` with a message for the user; the interpreter adds the place
+in the grammar file.
+
+Conventions (CGA's):
+
+- the lot is a rectangle in the x-z plane with a corner at the origin and its first edge along +x;
+  its scope axes are the world axes (y up) and its size is ``(width, 0, depth)``;
+- ``extrude(h)`` grows a face along its normal (+y for the lot, the scope's +z for a comp face);
+- ``comp(f)`` gives each face of a box a scope whose x axis runs along the face's bottom edge (left
+  to right seen from outside), whose z axis is the outward normal and whose z size is 0; side faces
+  keep the box's y axis (up); ``front``/``back`` are the faces whose normals are the scope's +z/-z,
+  ``right``/``left`` +x/-x, ``top``/``bottom`` +y/-y;
+- ``t``, ``s`` and ``r`` act in the scope's own axes; ``r`` turns about the scope's origin, first
+  about its x axis, then y, then z (degrees).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "Shape",
+    "FACE",
+    "MASS",
+    "FACE_ORDER",
+    "FACE_SELECTORS",
+    "lot_scope",
+    "extrude",
+    "split_scope",
+    "face_scopes",
+    "select_faces",
+    "translate",
+    "rotate",
+    "resize",
+    "center",
+    "rotation_matrix",
+]
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from shapegen.engine.scope import Scope
+
+FACE = "face"
+MASS = "mass"
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+# Face frames of the unit box in scope coordinates: corner (times the scope size), x, y, z axes
+# (z = outward normal) and which scope sizes become the face's (sx, sy).
+_FACE_FRAMES = {
+    "front": ((0, 0, 1), (1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 1)),
+    "right": ((1, 0, 1), (0, 0, -1), (0, 1, 0), (1, 0, 0), (2, 1)),
+    "back": ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, 0, -1), (0, 1)),
+    "left": ((0, 0, 0), (0, 0, 1), (0, 1, 0), (-1, 0, 0), (2, 1)),
+    "top": ((0, 1, 1), (1, 0, 0), (0, 0, -1), (0, 1, 0), (0, 2)),
+    "bottom": ((0, 0, 0), (1, 0, 0), (0, 0, 1), (0, -1, 0), (0, 2)),
+}
+FACE_ORDER = ("front", "right", "back", "left", "top", "bottom")
+"""The order of a box's faces in ``comp(f)``: the index a numeric selector refers to."""
+
+_FACE_NAME_OF_NORMAL = {
+    (2, 1): "front",
+    (0, 1): "right",
+    (2, -1): "back",
+    (0, -1): "left",
+    (1, 1): "top",
+    (1, -1): "bottom",
+}
+
+FACE_SELECTORS = {
+    "front": frozenset({"front"}),
+    "back": frozenset({"back"}),
+    "left": frozenset({"left"}),
+    "right": frozenset({"right"}),
+    "top": frozenset({"top"}),
+    "bottom": frozenset({"bottom"}),
+    "side": frozenset({"front", "back", "left", "right"}),
+    "vertical": frozenset({"front", "back", "left", "right"}),
+    "horizontal": frozenset({"top", "bottom"}),
+    "all": frozenset(FACE_ORDER),
+}
+"""The ``comp(f)`` selectors and the box faces each one matches."""
+
+
+class Shape:
+    """A shape of the derivation: a scope and what fills it.
+
+    Attributes
+    ----------
+    scope
+        The oriented box (m).
+    kind
+        :data:`FACE` (flat, no volume: the lot, comp faces), :data:`MASS` (a box filling the
+        scope) or ``"insert"`` (a primitive fitted to the scope when the shape becomes a leaf).
+    normal_axis
+        For a face: the scope axis (0, 1, 2) along which it is flat and extrudes.
+    insert
+        For an inserted primitive: ``(name, params)``.
+    """
+
+    __slots__ = ("scope", "kind", "normal_axis", "insert")
+
+    def __init__(self, scope: Scope, kind: str = MASS, normal_axis: int = 2, insert=None):
+        self.scope = scope
+        self.kind = kind
+        self.normal_axis = normal_axis
+        self.insert = insert
+
+    def with_scope(self, scope: Scope) -> Shape:
+        """The same kind of shape in another scope."""
+        return Shape(scope, self.kind, self.normal_axis, self.insert)
+
+    def copy(self) -> Shape:
+        return Shape(self.scope, self.kind, self.normal_axis, self.insert)
+
+
+def lot_scope(width: float, depth: float) -> Scope:
+    """The start shape's scope: ``width`` (m) along +x, ``depth`` (m) along +z, y up, flat."""
+    if not (math.isfinite(width) and math.isfinite(depth)) or width <= 0 or depth <= 0:
+        raise ValueError(f"the lot must have a positive width and depth, got {width} x {depth} m")
+    return Scope(np.zeros(3), np.eye(3), np.array([float(width), 0.0, float(depth)]))
+
+
+def extrude(scope: Scope, axis: int, height: float) -> Scope:
+    """Grow a flat scope by ``height`` (m) along its scope ``axis`` (negative grows backwards)."""
+    if not math.isfinite(height):
+        raise ValueError(f"extrude height must be a finite number, got {height}")
+    size = scope.size.copy()
+    size[axis] = abs(height)
+    origin = scope.origin
+    if height < 0:
+        origin = origin + scope.rotation[:, axis] * height
+    return Scope(origin, scope.rotation, size)
+
+
+def split_scope(scope: Scope, axis: int, start: float, size: float) -> Scope:
+    """The slice ``[start, start + size]`` (m) of ``scope`` along its scope ``axis``."""
+    new_size = scope.size.copy()
+    new_size[axis] = size
+    return Scope(scope.origin + scope.rotation[:, axis] * start, scope.rotation, new_size)
+
+
+def face_scopes(scope: Scope) -> list[tuple[str, Scope]]:
+    """The six faces of the box ``scope`` in :data:`FACE_ORDER`, each with its CGA face scope."""
+    out = []
+    size = scope.size
+    for name in FACE_ORDER:
+        corner, x, y, z, dims = _FACE_FRAMES[name]
+        frame = np.array([x, y, z], dtype=float).T  # columns = face axes in scope coordinates
+        origin = scope.to_world(np.asarray(corner, float) * size)
+        rotation = scope.rotation @ frame
+        out.append((name, Scope(origin, rotation, np.array([size[dims[0]], size[dims[1]], 0.0]))))
+    return out
+
+
+def flat_face(scope: Scope, normal_axis: int) -> tuple[str, Scope]:
+    """The one face of a flat scope (normal along its scope ``normal_axis``) as a comp face."""
+    name = _FACE_NAME_OF_NORMAL[(normal_axis, 1)]
+    for face_name, face_scope in face_scopes(scope):
+        if face_name == name:
+            return name, face_scope
+    raise AssertionError(name)
+
+
+def select_faces(
+    faces: Sequence[tuple[str, Scope]], selectors: Sequence[str | int]
+) -> list[list[tuple[int, Scope]]]:
+    """Distribute faces over ``selectors`` exclusively, left to right (CGA's ``comp``).
+
+    A selector is a name from :data:`FACE_SELECTORS` or a face index. Returns, per selector, the
+    ``(face index, scope)`` pairs it receives; a face goes to the first selector that matches it.
+    """
+    taken = [False] * len(faces)
+    out: list[list[tuple[int, Scope]]] = []
+    for selector in selectors:
+        chosen = []
+        for k, (name, scope) in enumerate(faces):
+            if taken[k]:
+                continue
+            match = selector == k if isinstance(selector, int) else name in FACE_SELECTORS[selector]
+            if match:
+                taken[k] = True
+                chosen.append((k, scope))
+        out.append(chosen)
+    return out
+
+
+def translate(scope: Scope, offset: Sequence[float]) -> Scope:
+    """Move the scope by ``offset`` (m) along its own axes."""
+    return Scope(
+        scope.origin + scope.rotation @ np.asarray(offset, float), scope.rotation, scope.size
+    )
+
+
+def rotation_matrix(angles: Sequence[float]) -> np.ndarray:
+    """Rotation by ``angles`` (degrees) about x, then y, then z (axes fixed during the turn)."""
+    ax, ay, az = (math.radians(float(a)) for a in angles)
+    cx, sx, cy, sy, cz, sz = (
+        math.cos(ax),
+        math.sin(ax),
+        math.cos(ay),
+        math.sin(ay),
+        math.cos(az),
+        math.sin(az),
+    )
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def rotate(scope: Scope, angles: Sequence[float], about_center: bool = False) -> Scope:
+    """Turn the scope by ``angles`` (degrees) about its own axes through its origin (or centre)."""
+    turn = scope.rotation @ rotation_matrix(angles)
+    origin = scope.origin
+    if about_center:
+        center_world = scope.to_world(scope.size / 2)
+        origin = center_world - turn @ (scope.size / 2)
+    return Scope(origin, turn, scope.size)
+
+
+def resize(scope: Scope, size: Sequence[float]) -> Scope:
+    """The scope with a new ``size`` (m), its origin and axes kept."""
+    size = np.asarray(size, float)
+    if not np.all(np.isfinite(size)) or np.any(size < 0):
+        raise ValueError(f"s() sizes must be finite numbers >= 0, got {size.tolist()}")
+    return Scope(scope.origin, scope.rotation, size)
+
+
+def center(scope: Scope, reference: Scope, axes: str) -> Scope:
+    """Move ``scope`` so that its centre lines up with ``reference``'s along ``axes`` ("xz"...),
+    measured along ``reference``'s axes."""
+    here = scope.to_world(scope.size / 2)
+    there = reference.to_world(reference.size / 2)
+    delta = there - here
+    shift = np.zeros(3)
+    for name in axes:
+        direction = reference.rotation[:, _AXES[name]]
+        shift += direction * float(direction @ delta)
+    return Scope(scope.origin + shift, scope.rotation, scope.size)
+
+
+def axis_index(name: str) -> int:
+    """0, 1, 2 for "x", "y", "z"."""
+    return _AXES[name]
