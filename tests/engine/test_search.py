@@ -121,3 +121,28 @@ def test_multistart_is_deterministic_per_seed(stack):
     b = optimize(stack, free=["base", "shift"], multistart=2, seed=7, max_iter=1)
     assert a.values == b.values and a.qp_solves == b.qp_solves
     assert all(math.isfinite(v) for v in a.values.values())
+
+
+def test_arch_columns_example_needs_tension_and_optimizes_to_a_standing_design():
+    grammar = load_grammar("arch_columns.grammar")  # the bundled rule file
+    from shapegen.statics import analyze
+
+    initial = analyze(grammar.build())
+    assert not initial.feasible and initial.infeasibility > 0
+    result = optimize(grammar)
+    assert result.feasible
+    again = analyze(grammar.build(attrs=result.values))  # the reported values really stand
+    assert again.feasible
+    for name, spec in result.parameters.items():
+        assert spec["min"] <= spec["final"] <= spec["max"], name
+
+
+def test_landscape_marks_the_feasible_region(stack):
+    from shapegen.engine.landscape import energy_landscape
+
+    landscape = energy_landscape(stack, "base", "shift", grid=5)
+    base, shift = np.meshgrid(landscape.first, landscape.second)
+    expected = base + shift >= 0.3 + 1e-9
+    clearly = np.abs(base + shift - 0.3) > 1e-6  # leave points exactly on the boundary alone
+    np.testing.assert_array_equal(landscape.feasible[clearly], expected[clearly])
+    assert np.all(landscape.infeasibility[~expected] > 0)
