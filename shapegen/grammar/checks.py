@@ -1,0 +1,577 @@
+"""Load-time checks of a parsed .grammar: every problem found in one pass.
+
+What is checked (each message names the place, and suggests a near name where one exists):
+
+- duplicate attr/const/function names and duplicate rule names; a function named like a builtin;
+  a rule named like an operation; repeated parameter names;
+- names in expressions that are no parameter, attr, const or function; calls of unknown functions
+  and calls with the wrong number of arguments (builtins and user functions); successor calls
+  whose argument count does not match their rule (a successor without a rule is a leaf, not an
+  error); ``set`` of something that is not an attr; unknown shape attributes (``scope.sw``);
+- attrs and consts that depend on themselves;
+- stochastic branches whose percentages add up to more than 100;
+- annotations: unknown names, wrong arguments, misplaced ones (``@StartRule`` and ``@Lot`` on
+  rules, ``@Range`` and ``@Free`` on attrs), ``@Free`` without ``@Range``, a ``@Range`` whose min
+  exceeds its max or that excludes the attr's default, more than one ``@StartRule``, a start rule
+  with parameters, a ``@Lot`` with non-positive sizes or not on the start rule.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Iterable
+
+from shapegen.errors import GrammarError, SourceLocation
+from shapegen.grammar import ast
+from shapegen.grammar.names import (
+    ANNOTATIONS,
+    BUILTIN_FUNCTIONS,
+    OPERATIONS,
+    RESERVED_ATTRIBUTES,
+    SHAPE_ATTRIBUTES,
+)
+
+__all__ = ["check", "find_problems", "constant_value"]
+
+Problem = tuple[SourceLocation | None, str]
+
+_RULE_ONLY_ANNOTATIONS = ("StartRule", "Lot")
+_KIND_NAMES = {
+    ast.Attribute: "an attr",
+    ast.Constant: "a const",
+    ast.Function: "a function",
+    ast.Rule: "a rule",
+}
+_ATTR_ONLY_ANNOTATIONS = ("Range", "Free")
+
+
+def _suggestion(name: str, candidates: Iterable[str]) -> str:
+    matches = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
+    return f"; did you mean '{matches[0]}'?" if matches else ""
+
+
+def _plural(count: int, word: str) -> str:
+    return f"{count} {word}" if count == 1 else f"{count} {word}s"
+
+
+def _arity(low: int, high: int) -> str:
+    if low == high:
+        return _plural(low, "argument")
+    return f"{low} to {high} arguments"
+
+
+class _Checker:
+    """Walks a Grammar once and collects problems."""
+
+    def __init__(self, grammar: ast.Grammar):
+        self.grammar = grammar
+        self.problems: list[Problem] = []
+        self.values: dict[str, ast.Attribute | ast.Constant | ast.Function] = {}
+        self.rules: dict[str, ast.Rule] = {}
+
+    def report(self, location: SourceLocation | None, message: str) -> None:
+        self.problems.append((location, message))
+
+    # Definitions -------------------------------------------------------------------------------
+
+    def run(self) -> list[Problem]:
+        self._collect_definitions()
+        for definition in self.grammar.definitions:
+            self._check_annotations(definition)
+            if isinstance(definition, ast.Attribute | ast.Constant):
+                self._expression(definition.value, {})
+            elif isinstance(definition, ast.Function):
+                params = self._params(definition.params)
+                self._expression(definition.body, params)
+            elif isinstance(definition, ast.Rule):
+                params = self._params(definition.params)
+                self._body(definition.body, params)
+        self._check_start_rule()
+        self._check_cycles()
+        return self.problems
+
+    def _collect_definitions(self) -> None:
+        for definition in self.grammar.definitions:
+            name = definition.name
+            if isinstance(definition, ast.Rule):
+                if name in OPERATIONS or name == "NIL":
+                    self.report(
+                        definition.location,
+                        f"'{name}' is an operation; a rule cannot use its name",
+                    )
+                previous = self.rules.get(name)
+                if previous is not None:
+                    self.report(
+                        definition.location,
+                        f"duplicate rule '{name}' (first defined at {previous.location})",
+                    )
+                else:
+                    self.rules[name] = definition
+                continue
+            if isinstance(definition, ast.Function) and name in BUILTIN_FUNCTIONS:
+                self.report(
+                    definition.location,
+                    f"'{name}' is a builtin function; choose another name",
+                )
+            previous = self.values.get(name)
+            if previous is not None:
+                self.report(
+                    definition.location,
+                    f"duplicate definition of '{name}' (first defined at {previous.location})",
+                )
+            else:
+                self.values[name] = definition
+
+    def _params(self, params: tuple[ast.Parameter, ...]) -> dict[str, ast.Parameter]:
+        seen: dict[str, ast.Parameter] = {}
+        for param in params:
+            if param.name in seen:
+                self.report(param.location, f"parameter '{param.name}' is listed twice")
+            seen[param.name] = param
+        return seen
+
+    # Annotations -------------------------------------------------------------------------------
+
+    def _check_annotations(self, definition: ast.Definition) -> None:
+        kind = _KIND_NAMES[type(definition)]
+        seen: set[str] = set()
+        for annotation in definition.annotations:
+            name = annotation.name
+            if name not in ANNOTATIONS:
+                self.report(
+                    annotation.location,
+                    f"unknown annotation '@{name}'" + _suggestion(name, ANNOTATIONS),
+                )
+                continue
+            if name in seen:
+                self.report(annotation.location, f"'@{name}' is given twice")
+            seen.add(name)
+            low, high, keywords = ANNOTATIONS[name]
+            count = len(annotation.args)
+            if not (low <= count <= high) and not (name == "Range" and annotation.keywords):
+                self.report(
+                    annotation.location,
+                    f"@{name} takes {_arity(low, high)}, got {count}",
+                )
+            for keyword in annotation.keywords:
+                if keyword.name not in keywords:
+                    valid = ", ".join(keywords) if keywords else "none"
+                    self.report(
+                        keyword.location,
+                        f"@{name} has no argument '{keyword.name}' (valid: {valid})"
+                        + _suggestion(keyword.name, keywords),
+                    )
+            for argument in (*annotation.args, *(k.value for k in annotation.keywords)):
+                self._expression(argument, {})
+            if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
+                self.report(annotation.location, f"@{name} belongs on a rule, not on {kind}")
+            if name in _ATTR_ONLY_ANNOTATIONS and not isinstance(definition, ast.Attribute):
+                self.report(annotation.location, f"@{name} belongs on an attr, not on {kind}")
+        if isinstance(definition, ast.Attribute):
+            self._check_range(definition)
+
+    def _check_range(self, attribute: ast.Attribute) -> None:
+        annotation = attribute.annotation("Range")
+        if annotation is None:
+            if attribute.free:
+                self.report(
+                    attribute.annotation("Free").location,
+                    f"@Free attr '{attribute.name}' needs a @Range(min=..., max=...) "
+                    "for its bounds",
+                )
+            return
+        bounds = attribute.range
+        if bounds is None:
+            self.report(annotation.location, "@Range needs both a min and a max")
+            return
+        low, high = (constant_value(bound, self.values) for bound in bounds)
+        for bound, value in zip(bounds, (low, high), strict=True):
+            if value is _UNKNOWN and attribute.free:
+                self.report(
+                    bound.location,
+                    f"the @Range bounds of @Free attr '{attribute.name}' must be constants",
+                )
+            elif value is not _UNKNOWN and not _is_number(value):
+                self.report(bound.location, "a @Range bound must be a number")
+        if not (_is_number(low) and _is_number(high)):
+            return
+        if low > high:
+            self.report(
+                annotation.location,
+                f"@Range min {_show(low)} is greater than its max {_show(high)}",
+            )
+            return
+        default = constant_value(attribute.value, self.values)
+        if _is_number(default) and not (low <= default <= high):
+            self.report(
+                attribute.value.location,
+                f"the value {_show(default)} of '{attribute.name}' is outside its "
+                f"@Range [{_show(low)}, {_show(high)}]",
+            )
+        elif attribute.free and default is not _UNKNOWN and not _is_number(default):
+            self.report(
+                attribute.value.location,
+                f"@Free attr '{attribute.name}' must have a numeric value",
+            )
+
+    def _check_start_rule(self) -> None:
+        starts = [rule for rule in self.rules.values() if rule.start]
+        for extra in starts[1:]:
+            self.report(
+                extra.annotation("StartRule").location,
+                f"more than one @StartRule (the first is '{starts[0].name}' at "
+                f"{starts[0].location})",
+            )
+        start = self.grammar.start_rule
+        if start is not None and start.start and start.params:
+            self.report(start.location, f"the start rule '{start.name}' cannot take parameters")
+        for rule in self.rules.values():
+            lot = rule.annotation("Lot")
+            if lot is None:
+                continue
+            if rule is not start:
+                self.report(lot.location, "@Lot belongs on the start rule")
+            for size in lot.args:
+                value = constant_value(size, self.values)
+                if value is not _UNKNOWN and not (_is_number(value) and value > 0):
+                    self.report(size.location, "@Lot sizes must be positive numbers (metres)")
+
+    def _check_cycles(self) -> None:
+        """Report attrs/consts whose value depends on itself through other attrs/consts."""
+        graph: dict[str, list[str]] = {}
+        for name, definition in self.values.items():
+            if isinstance(definition, ast.Attribute | ast.Constant):
+                graph[name] = [
+                    ref
+                    for ref in _referenced_names(definition.value)
+                    if isinstance(self.values.get(ref), ast.Attribute | ast.Constant)
+                ]
+        state: dict[str, int] = {}
+        reported: set[str] = set()
+
+        def visit(name: str, path: list[str]) -> None:
+            state[name] = 1
+            path.append(name)
+            for ref in graph.get(name, ()):
+                if state.get(ref) == 1:
+                    cycle = path[path.index(ref) :] + [ref]
+                    if ref not in reported:
+                        reported.add(ref)
+                        self.report(
+                            self.values[ref].location,
+                            f"'{ref}' depends on itself: {' -> '.join(cycle)}",
+                        )
+                elif ref not in state:
+                    visit(ref, path)
+            path.pop()
+            state[name] = 2
+
+        for name in graph:
+            if name not in state:
+                visit(name, [])
+
+    # Rule bodies -------------------------------------------------------------------------------
+
+    def _body(self, body: ast.Body, params: dict) -> None:
+        if isinstance(body, ast.Sequence):
+            for item in body.items:
+                self._item(item, params)
+        elif isinstance(body, ast.ConditionalBody):
+            for branch in body.branches:
+                self._expression(branch.condition, params)
+                self._body(branch.body, params)
+            self._body(body.otherwise, params)
+        elif isinstance(body, ast.StochasticBody):
+            self._percentages(body.branches, body.location)
+            for branch in body.branches:
+                self._body(branch.body, params)
+            self._body(body.otherwise, params)
+
+    def _percentages(self, branches, location: SourceLocation) -> None:
+        total = sum(branch.percent for branch in branches)
+        if total > 100.0 + 1e-9:
+            self.report(
+                location,
+                f"the stochastic percentages add up to {_show(total)}% (at most 100%)",
+            )
+
+    def _item(self, item: ast.Item, params: dict) -> None:
+        expressions: tuple = ()
+        if isinstance(item, ast.Successor):
+            self._successor(item)
+            expressions = item.args
+        elif isinstance(item, ast.Push):
+            self._body(item.body, params)
+        elif isinstance(item, ast.Extrude):
+            expressions = (item.height,)
+        elif isinstance(item, ast.Split):
+            self._split_group(item.group, params)
+        elif isinstance(item, ast.Comp):
+            for branch in item.branches:
+                self._body(branch.body, params)
+        elif isinstance(item, ast.Translate | ast.Scale):
+            expressions = (item.x.value, item.y.value, item.z.value)
+        elif isinstance(item, ast.Rotate):
+            expressions = (item.x, item.y, item.z)
+        elif isinstance(item, ast.Label):
+            expressions = (item.name,)
+        elif isinstance(item, ast.Set):
+            self._set_target(item)
+            expressions = (item.value,)
+        elif isinstance(item, ast.Insert):
+            expressions = (item.primitive, *(k.value for k in item.parameters))
+        elif isinstance(item, ast.Print):
+            expressions = item.values
+        elif isinstance(item, ast.Report):
+            expressions = (item.key, item.value)
+        for expression in expressions:
+            self._expression(expression, params)
+
+    def _split_group(self, group: ast.SplitGroup, params: dict) -> None:
+        for part in group.parts:
+            if isinstance(part, ast.SplitGroup):
+                self._split_group(part, params)
+            else:
+                self._expression(part.size, params)
+                self._body(part.body, params)
+
+    def _successor(self, successor: ast.Successor) -> None:
+        if successor.name in OPERATIONS:
+            self.report(
+                successor.location,
+                f"'{successor.name}' is an operation: write {successor.name}(...)",
+            )
+            return
+        rule = self.rules.get(successor.name)
+        if rule is None:
+            return  # a leaf shape, as in CGA
+        expected = len(rule.params)
+        if len(successor.args) != expected:
+            self.report(
+                successor.location,
+                f"rule '{rule.name}' takes {_plural(expected, 'argument')}, "
+                f"got {len(successor.args)}",
+            )
+
+    def _set_target(self, item: ast.Set) -> None:
+        name = item.attribute
+        if not name:
+            return  # already reported by the parser
+        target = self.values.get(name)
+        if isinstance(target, ast.Attribute) or (target is None and name in RESERVED_ATTRIBUTES):
+            return
+        if target is not None:
+            kind = "a const" if isinstance(target, ast.Constant) else "a function"
+            self.report(item.location, f"set() needs an attr, and '{name}' is {kind}")
+            return
+        candidates = [n for n, d in self.values.items() if isinstance(d, ast.Attribute)]
+        self.report(
+            item.location,
+            f"set() of undefined attr '{name}'"
+            + _suggestion(name, [*candidates, *RESERVED_ATTRIBUTES]),
+        )
+
+    # Expressions -------------------------------------------------------------------------------
+
+    def _expression(self, expression: ast.Expression, params: dict) -> None:
+        stack = [expression]
+        while stack:
+            node = stack.pop()
+            if isinstance(node, ast.Name):
+                self._name(node, params)
+            elif isinstance(node, ast.Call):
+                self._call(node, params)
+                stack.extend(node.args)
+            elif isinstance(node, ast.ShapeAttribute):
+                self._shape_attribute(node)
+            elif isinstance(node, ast.Unary):
+                stack.append(node.operand)
+            elif isinstance(node, ast.Binary):
+                stack.extend((node.left, node.right))
+            elif isinstance(node, ast.CaseExpression):
+                for branch in node.branches:
+                    stack.extend((branch.condition, branch.value))
+                stack.append(node.otherwise)
+            elif isinstance(node, ast.StochasticExpression):
+                self._percentages(node.branches, node.location)
+                stack.extend(branch.value for branch in node.branches)
+                stack.append(node.otherwise)
+
+    def _name(self, node: ast.Name, params: dict) -> None:
+        name = node.name
+        if name in params:
+            return
+        target = self.values.get(name)
+        if target is None and name in RESERVED_ATTRIBUTES:
+            return
+        if isinstance(target, ast.Function) and target.params:
+            self.report(
+                node.location,
+                f"function '{name}' takes {_plural(len(target.params), 'argument')}: "
+                f"write {name}(...)",
+            )
+            return
+        if target is not None:
+            return
+        if name in BUILTIN_FUNCTIONS:
+            self.report(node.location, f"'{name}' is a builtin function: write {name}(...)")
+            return
+        candidates = [*params, *self.values, *RESERVED_ATTRIBUTES]
+        self.report(node.location, f"undefined name '{name}'" + _suggestion(name, candidates))
+
+    def _call(self, node: ast.Call, params: dict) -> None:
+        name = node.name
+        count = len(node.args)
+        if name in params or isinstance(self.values.get(name), ast.Attribute | ast.Constant):
+            self.report(node.location, f"'{name}' is not a function")
+            return
+        target = self.values.get(name)
+        if isinstance(target, ast.Function):
+            expected = len(target.params)
+            if count != expected:
+                self.report(
+                    node.location,
+                    f"function '{name}' takes {_plural(expected, 'argument')}, got {count}",
+                )
+            return
+        if name in BUILTIN_FUNCTIONS:
+            low, high = BUILTIN_FUNCTIONS[name]
+            if not low <= count <= high:
+                self.report(node.location, f"{name}() takes {_arity(low, high)}, got {count}")
+            return
+        functions = [n for n, d in self.values.items() if isinstance(d, ast.Function)]
+        self.report(
+            node.location,
+            f"undefined function '{name}'" + _suggestion(name, [*BUILTIN_FUNCTIONS, *functions]),
+        )
+
+    def _shape_attribute(self, node: ast.ShapeAttribute) -> None:
+        fields = SHAPE_ATTRIBUTES.get(node.obj)
+        if fields is not None and node.field in fields:
+            return
+        valid = [f"{obj}.{field}" for obj, names in SHAPE_ATTRIBUTES.items() for field in names]
+        written = f"{node.obj}.{node.field}"
+        self.report(
+            node.location,
+            f"unknown shape attribute '{written}'"
+            + (_suggestion(written, valid) or f"; valid: {', '.join(valid)}"),
+        )
+
+
+# --------------------------------------------------------------------------------------------
+# Constant folding (for @Range and @Lot)
+
+
+class _Unknown:
+    """A value that cannot be known at load time (it needs a shape, a random draw...)."""
+
+    def __repr__(self) -> str:
+        return "<unknown>"
+
+
+_UNKNOWN = _Unknown()
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, float) and math.isfinite(value)
+
+
+def _show(value: float) -> str:
+    return f"{value:g}"
+
+
+def constant_value(expression: ast.Expression, values: dict | None = None, _seen=None):
+    """The value of ``expression`` if it is known at load time, else an unknown marker.
+
+    Numbers, strings, booleans, ``+ - * /`` and unary minus are folded; a name is folded through
+    the attr or const it refers to (with its default value). Anything else is unknown.
+    """
+    values = values or {}
+    seen = _seen if _seen is not None else set()
+    if isinstance(expression, ast.Number):
+        return expression.value
+    if isinstance(expression, ast.String | ast.Boolean):
+        return expression.value
+    if isinstance(expression, ast.Name):
+        target = values.get(expression.name)
+        if isinstance(target, ast.Attribute | ast.Constant) and expression.name not in seen:
+            return constant_value(target.value, values, seen | {expression.name})
+        return _UNKNOWN
+    if isinstance(expression, ast.Unary) and expression.op in ("-", "+"):
+        operand = constant_value(expression.operand, values, seen)
+        if not _is_number(operand):
+            return _UNKNOWN
+        return -operand if expression.op == "-" else operand
+    if isinstance(expression, ast.Binary) and expression.op in ("+", "-", "*", "/"):
+        left = constant_value(expression.left, values, seen)
+        right = constant_value(expression.right, values, seen)
+        if not (_is_number(left) and _is_number(right)):
+            return _UNKNOWN
+        if expression.op == "+":
+            return left + right
+        if expression.op == "-":
+            return left - right
+        if expression.op == "*":
+            return left * right
+        return left / right if right != 0 else _UNKNOWN
+    return _UNKNOWN
+
+
+def _referenced_names(expression: ast.Expression) -> list[str]:
+    names = []
+    stack = [expression]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.Name):
+            names.append(node.name)
+        elif isinstance(node, ast.Call):
+            names.append(node.name)
+            stack.extend(node.args)
+        elif isinstance(node, ast.Unary):
+            stack.append(node.operand)
+        elif isinstance(node, ast.Binary):
+            stack.extend((node.left, node.right))
+        elif isinstance(node, ast.CaseExpression):
+            for branch in node.branches:
+                stack.extend((branch.condition, branch.value))
+            stack.append(node.otherwise)
+        elif isinstance(node, ast.StochasticExpression):
+            stack.extend(branch.value for branch in node.branches)
+            stack.append(node.otherwise)
+    return names
+
+
+# --------------------------------------------------------------------------------------------
+# Entry points
+
+
+def _order(problem: Problem) -> tuple[int, int]:
+    location = problem[0]
+    return (location.line, location.column) if location is not None else (0, 0)
+
+
+def find_problems(grammar: ast.Grammar) -> list[Problem]:
+    """Every load-time problem of ``grammar`` as ``(location, message)`` pairs, in file order."""
+    try:
+        problems = _Checker(grammar).run()
+    except RecursionError:
+        location = SourceLocation(grammar.filename, 1, 1)
+        return [(location, "the file nests too deeply to process")]
+    unique = list(dict.fromkeys(problems))
+    return sorted(unique, key=_order)
+
+
+def check(grammar: ast.Grammar) -> ast.Grammar:
+    """Check ``grammar``; return it unchanged, or raise one GrammarError listing every problem.
+
+    Raises
+    ------
+    GrammarError
+        With ``problems`` holding each ``(location, message)``, in file order.
+    """
+    problems = find_problems(grammar)
+    if problems:
+        location, message = problems[0]
+        raise GrammarError(message, location, source=grammar.source, problems=problems)
+    return grammar

@@ -1,0 +1,95 @@
+"""Lexing the .grammar language: the lark parser and the post-lexer that marks definitions.
+
+A rule body is a run of items with no terminator, so the name that starts the next definition
+(``B --> ...``, ``f(a) = ...``, ``g = ...``) cannot be told from one more successor with one token
+of lookahead. :class:`DefinitionNames` looks further ahead and re-types such names as DEF_NAME,
+which keeps the grammar (``cga.lark``, package data) LALR(1).
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.resources
+from collections import deque
+from collections.abc import Iterator
+
+import lark
+from lark import Token
+
+__all__ = ["DefinitionNames", "lark_parser"]
+
+_GRAMMAR_FILE = "cga.lark"
+
+
+class DefinitionNames:
+    """Post-lexer: a NAME that starts a definition becomes DEF_NAME.
+
+    At bracket depth 0, a NAME followed by ``=`` or ``-->``, directly or after one balanced
+    ``( ... )``, names a new attr, const, function or rule; anywhere else it is a successor, a
+    parameter or a reference.
+    """
+
+    always_accept: tuple[str, ...] = ()
+
+    def process(self, stream: Iterator[Token]) -> Iterator[Token]:
+        pending: deque[Token] = deque()
+        source = iter(stream)
+        exhausted = False
+
+        def peek(index: int) -> Token | None:
+            nonlocal exhausted
+            while len(pending) <= index and not exhausted:
+                try:
+                    pending.append(next(source))
+                except StopIteration:
+                    exhausted = True
+            return pending[index] if index < len(pending) else None
+
+        depth = 0
+        while peek(0) is not None:
+            token = pending.popleft()
+            if token.type in ("LPAR", "LSQB", "LBRACE"):
+                depth += 1
+            elif token.type in ("RPAR", "RSQB", "RBRACE"):
+                depth = max(depth - 1, 0)
+            elif token.type == "NAME" and depth == 0 and self._starts_definition(peek):
+                token = Token.new_borrow_pos("DEF_NAME", token.value, token)
+            yield token
+
+    @staticmethod
+    def _starts_definition(peek) -> bool:
+        following = peek(0)
+        if following is None:
+            return False
+        if following.type in ("EQUAL", "ARROW"):
+            return True
+        if following.type != "LPAR":
+            return False
+        nesting = 0
+        index = 0
+        while (token := peek(index)) is not None:
+            if token.type == "LPAR":
+                nesting += 1
+            elif token.type == "RPAR":
+                nesting -= 1
+                if nesting == 0:
+                    after = peek(index + 1)
+                    return after is not None and after.type in ("EQUAL", "ARROW")
+            elif token.type in ("LBRACE", "RBRACE", "LSQB", "RSQB", "ARROW"):
+                return False
+            index += 1
+        return False
+
+
+@functools.lru_cache(maxsize=1)
+def lark_parser() -> lark.Lark:
+    """The LALR(1) parser of ``cga.lark``, built once."""
+    text = importlib.resources.files("shapegen.grammar").joinpath(_GRAMMAR_FILE).read_text()
+    return lark.Lark(
+        text,
+        parser="lalr",
+        lexer="basic",
+        postlex=DefinitionNames(),
+        propagate_positions=True,
+        maybe_placeholders=False,
+    )

@@ -1,0 +1,114 @@
+"""Parse .grammar text into the AST of :mod:`shapegen.grammar.ast`.
+
+The language's syntax lives in ``cga.lark`` (package data, see :mod:`shapegen.grammar.lexer`).
+Lark parses it (LALR(1)); :class:`~shapegen.grammar.transformer.AstBuilder` turns the parse tree
+into frozen AST nodes, so nothing downstream sees a lark object. Syntax errors become
+:class:`~shapegen.errors.GrammarError` with plain-words messages; after a syntax error the parser
+resumes at the next definition, so one run reports the syntax errors of several definitions.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import lark
+from lark.exceptions import UnexpectedInput
+
+from shapegen.errors import GrammarError, SourceLocation
+from shapegen.grammar import ast
+from shapegen.grammar.lexer import lark_parser
+from shapegen.grammar.syntax_errors import (
+    blank_before,
+    error_offset,
+    resume_offset,
+    syntax_problem,
+)
+from shapegen.grammar.transformer import AstBuilder, Problem
+
+__all__ = ["parse", "parse_with_problems", "Problem", "MAX_SYNTAX_ERRORS"]
+
+#: Syntax errors reported from one file before giving up.
+MAX_SYNTAX_ERRORS = 10
+
+_TOO_DEEP = (
+    "the file nests too deeply to process (parentheses, brackets, braces or a very long "
+    "chain of operators)"
+)
+
+
+def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Grammar, list[Problem]]:
+    """Parse ``text``; return the AST and the problems found while building it.
+
+    Syntax errors raise :class:`GrammarError` (all of them, up to a limit); problems that only
+    show once the tree is built (an unknown split axis, a misplaced ``'``) come back in the list
+    so that :func:`shapegen.grammar.load` can report them together with the semantic checks.
+    """
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    parser = lark_parser()
+    syntax: list[Problem] = []
+    tree = None
+    attempt = text
+    started_at = -1
+    while True:
+        try:
+            parsed = parser.parse(attempt)
+            if not syntax:
+                tree = parsed
+            break
+        except UnexpectedInput as error:
+            syntax.append(syntax_problem(error, attempt, filename))
+            if len(syntax) >= MAX_SYNTAX_ERRORS:
+                break
+            offset = error_offset(error, attempt)
+            resume = resume_offset(attempt, offset, started_at)
+            if resume is None:
+                break
+            started_at = resume
+            attempt = blank_before(text, resume)
+        except RecursionError:
+            syntax.append((SourceLocation(filename, 1, 1), _TOO_DEEP))
+            break
+    if syntax:
+        raise GrammarError(syntax[0][1], syntax[0][0], source=text, problems=syntax)
+    builder = AstBuilder(filename)
+    try:
+        grammar = builder.transform(tree)
+    except RecursionError:
+        location = SourceLocation(filename, 1, 1)
+        raise GrammarError(_TOO_DEEP, location, source=text) from None
+    except lark.exceptions.VisitError as error:
+        if isinstance(error.orig_exc, RecursionError):
+            location = SourceLocation(filename, 1, 1)
+            raise GrammarError(_TOO_DEEP, location, source=text) from None
+        raise
+    grammar = dataclasses.replace(grammar, source=text)
+    return grammar, builder.problems
+
+
+def parse(text: str, filename: str = "<string>") -> ast.Grammar:
+    """Parse .grammar ``text`` into an :class:`~shapegen.grammar.ast.Grammar`.
+
+    Parameters
+    ----------
+    text : str
+        The file's contents.
+    filename : str
+        Name shown in error messages.
+
+    Raises
+    ------
+    GrammarError
+        For syntax errors and for malformed operations (unknown split axis, comp selector or
+        center mode, wrong operation argument counts). Names are not resolved here; see
+        :func:`shapegen.grammar.check`.
+    """
+    grammar, problems = parse_with_problems(text, filename)
+    if problems:
+        problems = sorted(problems, key=_problem_order)
+        raise GrammarError(problems[0][1], problems[0][0], source=grammar.source, problems=problems)
+    return grammar
+
+
+def _problem_order(problem: Problem) -> tuple[int, int]:
+    location = problem[0]
+    return (location.line, location.column) if location is not None else (0, 0)

@@ -1,0 +1,512 @@
+"""Parse tree -> AST: the lark Transformer that builds :mod:`shapegen.grammar.ast` nodes.
+
+Operation calls share one syntax (``name(args) { block }*``); which operation a call is, and
+whether its arguments fit, is decided here. Problems that the syntax lets through (an unknown split
+axis, a ``'`` where it means nothing) are collected in :attr:`AstBuilder.problems`, not raised, so
+that they are reported together with the load-time checks.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from lark import Token, Transformer, v_args
+
+from shapegen.errors import SourceLocation
+from shapegen.grammar import ast
+from shapegen.grammar.names import (
+    CENTER_MODES,
+    COMP_KINDS,
+    COMP_SELECTORS,
+    OPERATIONS,
+    ROTATE_PIVOTS,
+    SPLIT_AXES,
+    UNSUPPORTED_OPERATIONS,
+)
+
+__all__ = ["AstBuilder", "Problem"]
+
+Problem = tuple[SourceLocation | None, str]
+
+
+@dataclasses.dataclass(frozen=True)
+class _Version:
+    text: str
+
+
+@dataclasses.dataclass(frozen=True)
+class _Argument:
+    """One argument of an operation call before it is known which operation it belongs to."""
+
+    kind: str  # "plain", "relative", "floating", "keyword"
+    value: ast.Expression
+    location: SourceLocation
+    name: str | None = None
+
+
+@dataclasses.dataclass(frozen=True)
+class _BlockEntry:
+    mode: ast.SizeMode
+    key: ast.Expression
+    body: ast.Body
+    merge: bool
+    location: SourceLocation
+
+
+@dataclasses.dataclass(frozen=True)
+class _Block:
+    entries: tuple[_BlockEntry | _Block, ...]
+    repeat: bool
+    location: SourceLocation
+
+
+class _Repeat:
+    """Marker for a ``*`` after a block."""
+
+
+_REPEAT = _Repeat()
+
+
+def _unescape(literal: str) -> str:
+    """The value of a double-quoted string literal (``\\n``, ``\\t``, ``\\"``, ``\\\\``)."""
+    escapes = {"n": "\n", "t": "\t", '"': '"', "\\": "\\"}
+    out = []
+    chars = iter(literal[1:-1])
+    for char in chars:
+        if char == "\\":
+            escaped = next(chars, "")
+            out.append(escapes.get(escaped, "\\" + escaped))
+        else:
+            out.append(char)
+    return "".join(out)
+
+
+def _plural(count: int, word: str) -> str:
+    return f"{count} {word}" if count == 1 else f"{count} {word}s"
+
+
+@v_args(meta=True)
+class AstBuilder(Transformer):
+    """Builds AST nodes; problems that the syntax lets through are collected, not raised."""
+
+    def __init__(self, filename: str):
+        super().__init__()
+        self.filename = filename
+        self.problems: list[Problem] = []
+
+    # Locations -------------------------------------------------------------------------------
+
+    def _at(self, where) -> SourceLocation:
+        if isinstance(where, Token):
+            return SourceLocation(self.filename, where.line or 0, where.column or 0)
+        line = getattr(where, "line", None)
+        column = getattr(where, "column", None)
+        return SourceLocation(self.filename, line or 0, column or 0)
+
+    def _problem(self, location: SourceLocation, message: str) -> None:
+        self.problems.append((location, message))
+
+    # File and definitions ----------------------------------------------------------------------
+
+    def start(self, meta, children):
+        version = None
+        definitions = []
+        for child in children:
+            if isinstance(child, _Version):
+                version = child.text
+            else:
+                definitions.append(child)
+        return ast.Grammar(
+            definitions=tuple(definitions),
+            version=version,
+            filename=self.filename,
+            location=SourceLocation(self.filename, 1, 1),
+        )
+
+    def version(self, meta, children):
+        return _Version(_unescape(children[0]))
+
+    def definition(self, meta, children):
+        *annotations, definition = children
+        return dataclasses.replace(definition, annotations=tuple(annotations))
+
+    def annotation(self, meta, children):
+        name, *arguments = children
+        args = tuple(a for a in arguments if not isinstance(a, ast.Keyword))
+        keywords = tuple(a for a in arguments if isinstance(a, ast.Keyword))
+        if args and keywords and arguments.index(keywords[0]) < arguments.index(args[-1]):
+            self._problem(self._at(meta), "positional arguments must come before keyword ones")
+        return ast.Annotation(str(name), args, keywords, location=self._at(name))
+
+    def keyword(self, meta, children):
+        name, value = children
+        return ast.Keyword(str(name), value, location=self._at(name))
+
+    def attr_def(self, meta, children):
+        name, value = children
+        return ast.Attribute(str(name), value, location=self._at(name))
+
+    def const_def(self, meta, children):
+        name, value = children
+        return ast.Constant(str(name), value, location=self._at(name))
+
+    def function_def(self, meta, children):
+        name, *rest = children
+        params = rest[0] if len(rest) == 2 else ()
+        return ast.Function(str(name), params, rest[-1], location=self._at(name))
+
+    def rule_def(self, meta, children):
+        name, *rest = children
+        rest = [child for child in rest if not (isinstance(child, Token) and child.type == "ARROW")]
+        params = rest[0] if len(rest) == 2 else ()
+        return ast.Rule(str(name), params, rest[-1], location=self._at(name))
+
+    def params(self, meta, children):
+        return tuple(ast.Parameter(str(name), location=self._at(name)) for name in children)
+
+    # Function bodies ---------------------------------------------------------------------------
+
+    def function_case(self, meta, children):
+        *branches, otherwise = children
+        return ast.CaseExpression(tuple(branches), otherwise, location=self._at(meta))
+
+    def case_value(self, meta, children):
+        condition, value = children
+        return ast.CaseBranch(condition, value, location=self._at(meta))
+
+    def function_stochastic(self, meta, children):
+        *branches, otherwise = children
+        return ast.StochasticExpression(tuple(branches), otherwise, location=self._at(meta))
+
+    def stochastic_value(self, meta, children):
+        probability, value = children
+        return ast.StochasticValue(_percent(probability), value, location=self._at(meta))
+
+    # Rule bodies -------------------------------------------------------------------------------
+
+    def rule_case(self, meta, children):
+        *branches, otherwise = children
+        return ast.ConditionalBody(tuple(branches), otherwise, location=self._at(meta))
+
+    def case_body(self, meta, children):
+        condition, body = children
+        return ast.ConditionalBranch(condition, body, location=self._at(meta))
+
+    def rule_stochastic(self, meta, children):
+        *branches, otherwise = children
+        return ast.StochasticBody(tuple(branches), otherwise, location=self._at(meta))
+
+    def stochastic_body(self, meta, children):
+        probability, body = children
+        return ast.StochasticBranch(_percent(probability), body, location=self._at(meta))
+
+    def sequence(self, meta, children):
+        return ast.Sequence(tuple(children), location=self._at(meta))
+
+    def successor(self, meta, children):
+        (name,) = children
+        if name == "NIL":
+            return ast.Nil(location=self._at(name))
+        return ast.Successor(str(name), location=self._at(name))
+
+    def leaf(self, meta, children):
+        (name,) = children
+        if name == "NIL":
+            return ast.Nil(location=self._at(name))
+        return ast.Successor(str(name), leaf=True, location=self._at(name))
+
+    def push(self, meta, children):
+        (body,) = children
+        return ast.Push(body, location=self._at(meta))
+
+    # Operation calls ---------------------------------------------------------------------------
+
+    def plain_arg(self, meta, children):
+        return _Argument("plain", children[0], self._at(meta))
+
+    def relative_arg(self, meta, children):
+        return _Argument("relative", children[0], self._at(meta))
+
+    def floating_arg(self, meta, children):
+        return _Argument("floating", children[0], self._at(meta))
+
+    def keyword_arg(self, meta, children):
+        name, value = children
+        return _Argument("keyword", value, self._at(name), name=str(name))
+
+    def repeat(self, meta, children):
+        return _REPEAT
+
+    def block(self, meta, children):
+        return _Block(tuple(children), False, self._at(meta))
+
+    def block_part(self, meta, children):
+        (mode, key), body = children
+        return _BlockEntry(mode, key, body, False, self._at(meta))
+
+    def block_merge(self, meta, children):
+        (mode, key), body = children
+        return _BlockEntry(mode, key, body, True, self._at(meta))
+
+    def block_group(self, meta, children):
+        block = children[0]
+        return dataclasses.replace(block, repeat=len(children) > 1)
+
+    def absolute_size(self, meta, children):
+        return ("absolute", children[0])
+
+    def relative_size(self, meta, children):
+        return ("relative", children[0])
+
+    def floating_size(self, meta, children):
+        return ("floating", children[0])
+
+    def operation(self, meta, children):
+        name_token = children[0]
+        name = str(name_token)
+        location = self._at(name_token)
+        arguments = [c for c in children[1:] if isinstance(c, _Argument)]
+        blocks = [c for c in children[1:] if isinstance(c, _Block)]
+        block = blocks[0] if blocks else None
+        if block is not None and any(c is _REPEAT for c in children[1:]):
+            block = dataclasses.replace(block, repeat=True)
+
+        if name in ("split", "comp"):
+            if block is None:
+                self._problem(location, f"{name}() needs a {{ ... }} block of branches after it")
+                return ast.Nil(location=location)
+        elif block is not None:
+            self._problem(block.location, f"only split and comp take a {{ ... }} block, not {name}")
+
+        builder = getattr(self, f"_op_{name}", None) if name in OPERATIONS else None
+        if builder is not None:
+            low, high = OPERATIONS[name]
+            positional = [a for a in arguments if a.kind != "keyword"]
+            if not low <= len(positional) <= high:
+                self._problem(location, _count_message(name, low, high, len(positional)))
+                return ast.Nil(location=location)
+            if name != "i":
+                for argument in arguments:
+                    if argument.kind == "keyword":
+                        self._problem(
+                            argument.location,
+                            f"{name}() takes no keyword arguments (got '{argument.name}=')",
+                        )
+            return builder(arguments, block, location)
+        if name in UNSUPPORTED_OPERATIONS:
+            self._problem(location, f"the CGA operation '{name}' is not supported by shapegen")
+            return ast.Nil(location=location)
+        args = []
+        for argument in arguments:
+            if argument.kind != "plain":
+                self._problem(
+                    argument.location,
+                    f"arguments of the successor '{name}' are plain expressions "
+                    f"({_prefix(argument)} is not allowed here)",
+                )
+            args.append(argument.value)
+        return ast.Successor(name, tuple(args), location=location)
+
+    def _plain(self, operation: str, argument: _Argument) -> ast.Expression:
+        if argument.kind not in ("plain", "keyword"):
+            self._problem(
+                argument.location,
+                f"{_prefix(argument)} is not allowed in the arguments of {operation}()",
+            )
+        return argument.value
+
+    def _keyword_choice(
+        self, operation: str, what: str, argument: _Argument, valid: tuple[str, ...]
+    ) -> str:
+        value = argument.value
+        if argument.kind == "plain" and isinstance(value, ast.Name) and value.name in valid:
+            return value.name
+        if argument.kind == "plain" and isinstance(value, ast.String) and value.value in valid:
+            return value.value
+        if isinstance(value, ast.Name) and argument.kind == "plain":
+            message = f"unknown {what} '{value.name}' in {operation}(); valid: {', '.join(valid)}"
+        else:
+            message = f"the {what} of {operation}() must be one of: {', '.join(valid)}"
+        self._problem(argument.location, message)
+        return valid[0]
+
+    def _coordinate(self, operation: str, argument: _Argument) -> ast.Coordinate:
+        if argument.kind not in ("plain", "relative"):
+            self._problem(argument.location, f"{_prefix(argument)} is not allowed in {operation}()")
+        return ast.Coordinate(
+            argument.value, relative=argument.kind == "relative", location=argument.location
+        )
+
+    def _op_extrude(self, arguments, block, location):
+        return ast.Extrude(self._plain("extrude", arguments[0]), location=location)
+
+    def _op_split(self, arguments, block, location):
+        axis = self._keyword_choice("split", "axis", arguments[0], SPLIT_AXES)
+        return ast.Split(axis, self._split_group(block), location=location)
+
+    def _split_group(self, block: _Block) -> ast.SplitGroup:
+        parts = []
+        for entry in block.entries:
+            if isinstance(entry, _Block):
+                parts.append(self._split_group(entry))
+                continue
+            if entry.merge:
+                self._problem(entry.location, "'=' is only for comp branches; use ':' in a split")
+            parts.append(ast.SplitPart(entry.key, entry.mode, entry.body, location=entry.location))
+        return ast.SplitGroup(tuple(parts), block.repeat, location=block.location)
+
+    def _op_comp(self, arguments, block, location):
+        kind = self._keyword_choice("comp", "component type", arguments[0], COMP_KINDS)
+        if block.repeat:
+            self._problem(block.location, "a comp block cannot be repeated with '*'")
+        branches = []
+        for entry in block.entries:
+            if isinstance(entry, _Block):
+                self._problem(entry.location, "comp branches cannot be grouped with { }")
+                continue
+            key = entry.key
+            if (
+                entry.mode == "absolute"
+                and isinstance(key, ast.Name)
+                and key.name in (COMP_SELECTORS)
+            ):
+                selector = key.name
+            elif _is_face_index(entry.mode, key):
+                selector = str(int(key.value))
+            else:
+                valid = ", ".join(COMP_SELECTORS)
+                if isinstance(key, ast.Name) and entry.mode == "absolute":
+                    message = f"unknown comp selector '{key.name}'; valid: {valid}"
+                else:
+                    message = f"a comp selector must be a face index or one of: {valid}"
+                self._problem(entry.location, message)
+                selector = COMP_SELECTORS[-1]
+            branches.append(
+                ast.CompBranch(selector, entry.body, merge=entry.merge, location=entry.location)
+            )
+        return ast.Comp(kind, tuple(branches), location=location)
+
+    def _op_t(self, arguments, block, location):
+        x, y, z = (self._coordinate("t", a) for a in arguments)
+        return ast.Translate(x, y, z, location=location)
+
+    def _op_s(self, arguments, block, location):
+        x, y, z = (self._coordinate("s", a) for a in arguments)
+        return ast.Scale(x, y, z, location=location)
+
+    def _op_r(self, arguments, block, location):
+        pivot = "origin"
+        if len(arguments) == 4:
+            pivot_name = self._keyword_choice("r", "pivot", arguments[0], tuple(ROTATE_PIVOTS))
+            pivot = ROTATE_PIVOTS[pivot_name]
+            arguments = arguments[1:]
+        x, y, z = (self._plain("r", a) for a in arguments)
+        return ast.Rotate(x, y, z, pivot=pivot, location=location)
+
+    def _op_center(self, arguments, block, location):
+        axes = self._keyword_choice("center", "axes", arguments[0], CENTER_MODES)
+        return ast.Center(axes, location=location)
+
+    def _op_label(self, arguments, block, location):
+        return ast.Label(self._plain("label", arguments[0]), location=location)
+
+    def _op_set(self, arguments, block, location):
+        target, value = arguments
+        if target.kind == "plain" and isinstance(target.value, ast.Name):
+            attribute = target.value.name
+        else:
+            self._problem(target.location, "set() needs an attribute name as its first argument")
+            attribute = ""
+        return ast.Set(attribute, self._plain("set", value), location=location)
+
+    def _op_i(self, arguments, block, location):
+        primitive, *rest = arguments
+        if primitive.kind == "keyword":
+            self._problem(primitive.location, "i() needs the primitive's name first")
+        keywords = []
+        for argument in rest:
+            if argument.kind == "keyword":
+                keywords.append(
+                    ast.Keyword(argument.name, argument.value, location=argument.location)
+                )
+        return ast.Insert(self._plain("i", primitive), tuple(keywords), location=location)
+
+    def _op_print(self, arguments, block, location):
+        values = tuple(self._plain("print", a) for a in arguments)
+        return ast.Print(values, location=location)
+
+    def _op_report(self, arguments, block, location):
+        key, value = (self._plain("report", a) for a in arguments)
+        return ast.Report(key, value, location=location)
+
+    # Expressions -------------------------------------------------------------------------------
+
+    def binary(self, meta, children):
+        left, operator, right = children
+        return ast.Binary(str(operator), left, right, location=self._at(operator))
+
+    def add_op(self, meta, children):
+        return children[0]
+
+    mul_op = add_op
+    unary_op = add_op
+
+    def unary(self, meta, children):
+        operator, operand = children
+        return ast.Unary(str(operator), operand, location=self._at(operator))
+
+    def number(self, meta, children):
+        (token,) = children
+        return ast.Number(float(token), location=self._at(token))
+
+    def string(self, meta, children):
+        (token,) = children
+        return ast.String(_unescape(token), location=self._at(token))
+
+    def name(self, meta, children):
+        (token,) = children
+        if token in ("true", "false"):
+            return ast.Boolean(token == "true", location=self._at(token))
+        return ast.Name(str(token), location=self._at(token))
+
+    def call(self, meta, children):
+        name, *args = children
+        return ast.Call(str(name), tuple(args), location=self._at(name))
+
+    def shape_attribute(self, meta, children):
+        obj, field = children
+        return ast.ShapeAttribute(str(obj), str(field), location=self._at(obj))
+
+
+def _is_face_index(mode: str, key: ast.Expression) -> bool:
+    return (
+        mode == "absolute"
+        and isinstance(key, ast.Number)
+        and math.isfinite(key.value)
+        and key.value >= 0
+        and key.value == int(key.value)
+    )
+
+
+def _percent(token: Token) -> float:
+    return float(str(token).rstrip().rstrip("%").rstrip())
+
+
+def _prefix(argument: _Argument) -> str:
+    """How the user wrote a non-plain argument, in words."""
+    if argument.kind == "relative":
+        return "a relative value (')"
+    if argument.kind == "floating":
+        return "a floating size (~)"
+    return f"a keyword argument ({argument.name}=)"
+
+
+def _count_message(name: str, low: int, high: int, got: int) -> str:
+    if low == high:
+        wanted = _plural(low, "argument")
+    elif high >= 1_000_000:
+        wanted = f"at least {_plural(low, 'argument')}"
+    else:
+        wanted = f"{low} to {high} arguments"
+    return f"{name}() takes {wanted}, got {got}"
