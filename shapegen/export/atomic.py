@@ -13,6 +13,15 @@ from pathlib import Path
 from shapegen.errors import InputFormatError
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+_CREATE_MODE = 0o666 & ~_umask()  # what open() would give a new file
+
+
 @contextlib.contextmanager
 def atomic_write(path: str | os.PathLike, mode: str = "w") -> Iterator:
     """Open a temporary file for writing; on success it replaces ``path``, on failure it vanishes.
@@ -28,6 +37,7 @@ def atomic_write(path: str | os.PathLike, mode: str = "w") -> Iterator:
         encoding = None if "b" in mode else "utf-8"
         with os.fdopen(fd, mode, encoding=encoding) as handle:
             yield handle
+        os.chmod(tmp, _CREATE_MODE)  # mkstemp makes owner-only files; outputs are ordinary files
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):

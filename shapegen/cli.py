@@ -1,0 +1,515 @@
+"""The ``shapegen`` command: ``analyze``, ``build``, ``rules``.
+
+A user's mistake (a bad file, a bad option value, a grammar error) ends with exit status 2 and one
+line ``shapegen: error: <message>`` on stderr (grammar errors add their source excerpt); nothing
+is written then. Whether a model stands is a result, not an error: ``analyze`` exits 0 either way.
+Every command computes all of its outputs before writing any of them, and each file is written
+atomically.
+"""
+
+from __future__ import annotations
+
+__all__ = ["main", "build_parser", "CommandLineError"]
+
+import argparse
+import difflib
+import json
+import math
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+from shapegen import __version__
+from shapegen.errors import InputFormatError, ShapegenError
+
+EXIT_OK = 0
+EXIT_USAGE = 2
+
+
+class CommandLineError(ShapegenError):
+    """A bad command line: unknown option, bad option value, missing argument."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors raised as exceptions instead of usage dumps and exits."""
+
+    def error(self, message: str):  # argparse calls this for every usage error
+        raise CommandLineError(message)
+
+
+# ------------------------------------------------------------------------------ option values
+def _finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def _nonnegative(text: str) -> float:
+    value = _finite(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text}")
+    return value
+
+
+def _kern(text: str) -> float:
+    value = _finite(text)
+    if not 0 < value <= 1:
+        raise argparse.ArgumentTypeError(f"must be in (0, 1], got {text}")
+    return value
+
+
+def _lot(text: str) -> tuple[float, float]:
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"expected WIDTH,DEPTH in metres, got {text!r}")
+    width, depth = (_finite(p.strip()) for p in parts)
+    if width <= 0 or depth <= 0:
+        raise argparse.ArgumentTypeError(f"lot sides must be > 0 m, got {text!r}")
+    return width, depth
+
+
+def _assignment(text: str) -> tuple[str, object]:
+    name, sep, raw = text.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    return name, _attr_value(raw.strip(), name)
+
+
+def _attr_value(raw: str, name: str) -> object:
+    """A ``--set`` value: a number, true/false, or else a string (quotes optional)."""
+    lowered = raw.lower()
+    if lowered in ("true", "false"):
+        return lowered == "true"
+    try:
+        number = int(raw)
+    except ValueError:
+        try:
+            number = float(raw)
+        except ValueError:
+            if len(raw) >= 2 and raw[0] == raw[-1] and raw[0] in "\"'":
+                return raw[1:-1]
+            return raw
+    if not math.isfinite(number):
+        raise argparse.ArgumentTypeError(f"{name}: expected a finite number, got {raw!r}")
+    return number
+
+
+# ------------------------------------------------------------------------------ parser
+def build_parser() -> argparse.ArgumentParser:
+    """The ``shapegen`` argument parser (subcommands ``analyze``, ``build``, ``rules``)."""
+    parser = _Parser(
+        prog="shapegen",
+        description=(
+            "Procedural modeling of structures that stand up: build block models from .grammar"
+            " rules and check that they stand (compression-only, frictional rigid-block statics)."
+        ),
+    )
+    parser.add_argument("--version", action="version", version=f"shapegen {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    commands.required = True
+
+    analyze = commands.add_parser(
+        "analyze",
+        help="check whether a block model stands",
+        description=(
+            "Check whether a block model stands under its own weight and its loads, with"
+            " compression-only frictional joints (the tension-penalty QP). Exits 0 whether or not"
+            " it stands; exits 2 for bad input."
+        ),
+    )
+    analyze.add_argument(
+        "model",
+        metavar="MODEL",
+        help="block model: shapegen-blocks .json, or a mesh (.obj .gltf .glb .ply .stl)",
+    )
+    _add_statics_options(analyze)
+    analyze.add_argument(
+        "-o",
+        "--output",
+        metavar="OUT",
+        help="write the model coloured by tension with resultant arrows (.glb .gltf; or any"
+        " model format: .json .obj .ply .stl)",
+    )
+    analyze.add_argument("--report", metavar="R.json", help="write a JSON report")
+    analyze.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    analyze.set_defaults(handler=_run_analyze)
+
+    build = commands.add_parser(
+        "build",
+        help="derive a block model from a .grammar file",
+        description=(
+            "Derive a block model from a .grammar file. A bare file name that is not in the"
+            " working directory is looked up among the bundled rules (see `shapegen rules`)."
+        ),
+    )
+    build.add_argument(
+        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+    )
+    build.add_argument(
+        "--set",
+        dest="assignments",
+        metavar="NAME=VALUE",
+        action="append",
+        type=_assignment,
+        default=[],
+        help="override an attr (a number, true/false, or a string); repeatable",
+    )
+    build.add_argument(
+        "--lot",
+        type=_lot,
+        metavar="W,D",
+        help="lot width (x) and depth (z) in metres, instead of the grammar's @Lot",
+    )
+    build.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        metavar="N",
+        help="seed of rand() and stochastic rules (default 0)",
+    )
+    build.add_argument(
+        "-o",
+        "--output",
+        metavar="OUT",
+        help="write the model: .json (shapegen-blocks), .glb/.gltf, .obj, .ply, .stl",
+    )
+    build.add_argument("--report", metavar="R.json", help="write a JSON report")
+    build.add_argument(
+        "--analyze",
+        action="store_true",
+        help='also check whether the model stands (the report gets an "analysis" object)',
+    )
+    _add_statics_options(build, prefix="with --analyze: ")
+    build.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    build.set_defaults(handler=_run_build)
+
+    rules = commands.add_parser(
+        "rules",
+        help="list the bundled rule files",
+        description="List the bundled .grammar files with the first comment line of each.",
+    )
+    rules.set_defaults(handler=_run_rules)
+    return parser
+
+
+def _add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
+    parser.add_argument(
+        "--friction",
+        type=_nonnegative,
+        metavar="MU",
+        help=prefix + "friction coefficient of every joint (default: the model's, 0.7)",
+    )
+    parser.add_argument(
+        "--pyramid",
+        choices=["4", "4r", "8"],
+        default="4",
+        help=prefix + "friction pyramid: 4 sides, 4 rotated 45 degrees, or 8 sides (default 4)",
+    )
+    parser.add_argument(
+        "--kern",
+        type=_kern,
+        default=1.0,
+        metavar="K",
+        help=prefix + "scale every joint about its centroid by K, a geometric factor of safety"
+        " (1 = none, 1/3 = middle third; default 1)",
+    )
+    parser.add_argument(
+        "--solver",
+        choices=["auto", "reduced", "clarabel", "cvxpy"],
+        default="auto",
+        help=prefix + "QP back-end (default auto)",
+    )
+
+
+# ------------------------------------------------------------------------------ entry point
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``shapegen`` command with ``argv`` (default: the process arguments).
+
+    Returns the exit status: 0 on success, 2 for a user's mistake.
+    """
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        return args.handler(args)
+    except SystemExit as exc:  # --help and --version
+        return exc.code if isinstance(exc.code, int) else EXIT_OK
+    except ShapegenError as exc:
+        return _fail(str(exc))
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        return _fail(f"{where}{exc.strerror or exc}")
+    except KeyboardInterrupt:
+        return 130
+
+
+def _fail(message: str) -> int:
+    sys.stderr.write(f"shapegen: error: {message}\n")
+    sys.stderr.flush()
+    return EXIT_USAGE
+
+
+# ------------------------------------------------------------------------------ analyze
+def _run_analyze(args: argparse.Namespace) -> int:
+    from shapegen.export.model_io import check_output_path, read_model
+
+    _check_outputs(args, check_output_path)
+    model = read_model(args.model)
+    analysis = _analyze(model, args)
+    report = {"model": str(args.model), **_analysis_report(analysis)}
+    _write_all(_encoded_outputs(args, model, analysis, report))
+    if not args.quiet:
+        _print_summary(str(args.model), report)
+    return EXIT_OK
+
+
+def _analyze(model, args: argparse.Namespace):
+    from shapegen.statics import analyze
+
+    return analyze(
+        model, friction=args.friction, pyramid=args.pyramid, kern=args.kern, solver=args.solver
+    )
+
+
+def _analysis_report(analysis) -> dict:
+    report = analysis.to_report()
+    # Keys the documented report always has, even if an Analysis leaves one out.
+    report.setdefault("seconds", float(sum((analysis.timings or {}).values())))
+    return report
+
+
+# ------------------------------------------------------------------------------ build
+def _run_build(args: argparse.Namespace) -> int:
+    from shapegen.export.model_io import check_output_path
+
+    _check_outputs(args, check_output_path)
+    started = time.perf_counter()
+    grammar = _load_grammar(args.grammar)
+    attrs = _checked_attrs(grammar, args.assignments)
+    model = grammar.build(attrs=attrs, seed=args.seed, lot=args.lot)
+    report = _build_report(model)
+    report["seconds"] = time.perf_counter() - started
+    # Later stages (parameter search...) slot in here: they take the model and add to the report.
+    analysis = None
+    if args.analyze:
+        analysis = _analyze(model, args)
+        report["analysis"] = _analysis_report(analysis)
+    _write_all(_encoded_outputs(args, model, analysis, report))
+    if not args.quiet:
+        _print_build_summary(str(args.grammar), report)
+    return EXIT_OK
+
+
+def _load_grammar(name: str):
+    from shapegen.engine.grammar_api import load_grammar
+
+    return load_grammar(name)
+
+
+def _attr_names(grammar) -> list[str]:
+    attrs = grammar.attrs
+    names = attrs.keys() if isinstance(attrs, dict) else attrs
+    return [name if isinstance(name, str) else name.name for name in names]
+
+
+def _checked_attrs(grammar, assignments: list[tuple[str, object]]) -> dict:
+    """The ``--set`` values by name; an unknown name is an error with close suggestions."""
+    known = _attr_names(grammar)
+    attrs: dict = {}
+    for name, value in assignments:
+        if name not in known:
+            close = difflib.get_close_matches(name, known, n=3)
+            hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+            listing = f" (attrs: {', '.join(known)})" if known and not close else ""
+            raise CommandLineError(f"--set {name}: the grammar has no attr {name!r}{hint}{listing}")
+        attrs[name] = value
+    return attrs
+
+
+def _build_report(model) -> dict:
+    metadata = model.metadata or {}
+    lot = metadata.get("lot")
+    return {
+        "grammar": metadata.get("grammar"),
+        "seed": metadata.get("seed"),
+        "lot": list(lot) if lot is not None else None,
+        "blocks": len(model.blocks),
+        "volume": model.volume,
+        "attrs": dict(metadata.get("attrs", {})),
+        "free_parameters": _free_parameters(metadata.get("free_parameters", {})),
+        "reports": dict(metadata.get("reports", {})),
+    }
+
+
+def _free_parameters(free) -> dict:
+    """name -> {value, min, max}, whatever mapping or sequence form the grammar hands over."""
+    out = {}
+    items = free.items() if isinstance(free, dict) else ((p.name, p) for p in free)
+    for name, parameter in items:
+        if isinstance(parameter, dict):
+            out[name] = {k: parameter.get(k) for k in ("value", "min", "max")}
+        else:
+            out[name] = {k: getattr(parameter, k, None) for k in ("value", "min", "max")}
+    return out
+
+
+# ------------------------------------------------------------------------------ rules
+def _run_rules(args: argparse.Namespace) -> int:
+    from rich.console import Console
+    from rich.table import Table
+    from rich.text import Text
+
+    table = Table(box=None, show_header=True, header_style="bold", pad_edge=False)
+    table.add_column("rule file")
+    table.add_column("description")
+    paths = _bundled_rule_paths()
+    for path in paths:
+        table.add_row(Text(path.name), Text(_first_comment(path)))
+    console = Console(highlight=False)
+    if paths:
+        console.print(table)
+    else:
+        console.print("no bundled rule files found")
+    return EXIT_OK
+
+
+def _bundled_rule_paths() -> list[Path]:
+    from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+
+    return [find_bundled_rule(name) for name in bundled_rules()]
+
+
+def _first_comment(path: Path) -> str:
+    """The text of the file's first comment line (``#`` or ``//``), or ``""``."""
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except OSError:
+        return ""
+    for line in lines:
+        stripped = line.strip()
+        for marker in ("#", "//", "/*"):
+            if stripped.startswith(marker):
+                return stripped[len(marker) :].strip(" */")
+    return ""
+
+
+# ------------------------------------------------------------------------------ outputs
+def _check_outputs(args: argparse.Namespace, check_output_path) -> None:
+    """Fail before any work if an output path cannot be written (bad extension or folder)."""
+    if args.output:
+        check_output_path(args.output)
+    if args.report:
+        report = Path(args.report)
+        folder = report.parent if str(report.parent) else Path(".")
+        if not folder.is_dir():
+            raise InputFormatError(f"{report}: folder {folder} does not exist")
+
+
+def _encoded_outputs(args, model, analysis, report: dict) -> list[tuple[Path, bytes]]:
+    """Every requested output file's content, built in memory before anything is written."""
+    from shapegen.export.model_io import encode_model
+
+    outputs = []
+    if args.output:
+        outputs.append((Path(args.output), encode_model(model, args.output, analysis)))
+    if args.report:
+        outputs.append((Path(args.report), _report_bytes(report)))
+    return outputs
+
+
+def _report_bytes(report: dict) -> bytes:
+    text = json.dumps(_json_ready(report), indent=1, allow_nan=False)
+    return (text + "\n").encode("utf-8")
+
+
+def _json_ready(value):
+    """Plain JSON values: numpy scalars and arrays unwrapped, non-finite numbers as null."""
+    if isinstance(value, dict):
+        return {str(k): _json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_ready(v) for v in value]
+    if hasattr(value, "tolist"):  # numpy arrays and scalars
+        return _json_ready(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    return str(getattr(value, "value", value))
+
+
+def _write_all(outputs: list[tuple[Path, bytes]]) -> None:
+    from shapegen.export.model_io import write_bytes_atomic
+
+    for path, content in outputs:
+        write_bytes_atomic(path, content)
+
+
+# ------------------------------------------------------------------------------ summaries
+def _print_summary(title: str, report: dict) -> None:
+    from rich.console import Console
+
+    console = Console(highlight=False)
+    console.print(_analysis_table(title, report))
+
+
+def _analysis_table(title: str, report: dict):
+    from rich.table import Table
+    from rich.text import Text
+
+    table = Table.grid(padding=(0, 2))
+    table.add_column(style="bold")
+    table.add_column()
+    table.add_row("model", Text(title))
+    table.add_row("blocks", str(report.get("blocks")))
+    table.add_row("interfaces", str(report.get("interfaces")))
+    feasible = bool(report.get("feasible"))
+    table.add_row(
+        "stands", Text("yes" if feasible else "no", style="green" if feasible else "bold red")
+    )
+    table.add_row(
+        "infeasibility",
+        f"{_fmt(report.get('infeasibility'))} N^2"
+        f" (normalised {_fmt(report.get('infeasibility_normalized'))})",
+    )
+    table.add_row("max tension", f"{_fmt(report.get('max_tension'))} N")
+    table.add_row("total weight", f"{_fmt(report.get('total_weight'))} N")
+    table.add_row("seconds", f"{_fmt(report.get('seconds'))}")
+    return table
+
+
+def _print_build_summary(title: str, report: dict) -> None:
+    from rich.console import Console
+    from rich.table import Table
+    from rich.text import Text
+
+    console = Console(highlight=False)
+    table = Table.grid(padding=(0, 2))
+    table.add_column(style="bold")
+    table.add_column()
+    table.add_row("grammar", Text(title))
+    table.add_row("blocks", str(report["blocks"]))
+    table.add_row("volume", f"{_fmt(report['volume'])} m^3")
+    table.add_row("seconds", _fmt(report["seconds"]))
+    for name, value in report.get("reports", {}).items():
+        table.add_row(Text(f"report {name}"), Text(str(value)))
+    console.print(table)
+    if "analysis" in report:
+        console.print(_analysis_table(title, report["analysis"]))
+
+
+def _fmt(value) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int, float)):
+        return f"{value:.4g}"
+    try:
+        return f"{float(value):.4g}"
+    except (TypeError, ValueError):
+        return str(value)

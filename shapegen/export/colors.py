@@ -1,0 +1,95 @@
+"""Colours of exported blocks: a stable palette for labels and a ramp for tension.
+
+Colours are RGBA with components in 0..255 (``uint8``), the form trimesh materials take.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "LABEL_PALETTE",
+    "UNLABELLED",
+    "SUPPORT",
+    "NON_STRUCTURAL",
+    "RESULTANT",
+    "TENSION_ZERO",
+    "TENSION_MAX",
+    "TENSION_STEPS",
+    "label_color",
+    "block_label_color",
+    "tension_colors",
+]
+
+import zlib
+from collections.abc import Sequence
+
+import numpy as np
+
+# Ten well-separated hues (muted, so that stone-like models stay readable).
+LABEL_PALETTE = np.array(
+    [
+        [78, 121, 167, 255],
+        [242, 142, 43, 255],
+        [89, 161, 79, 255],
+        [237, 201, 72, 255],
+        [176, 122, 161, 255],
+        [118, 183, 178, 255],
+        [255, 157, 167, 255],
+        [156, 117, 95, 255],
+        [186, 176, 172, 255],
+        [225, 87, 89, 255],
+    ],
+    dtype=np.uint8,
+)
+UNLABELLED = np.array([205, 198, 185, 255], dtype=np.uint8)  # sandstone
+SUPPORT = np.array([60, 90, 160, 255], dtype=np.uint8)  # blue: fixed blocks
+NON_STRUCTURAL = np.array([170, 140, 100, 110], dtype=np.uint8)  # translucent timber
+RESULTANT = np.array([20, 20, 20, 255], dtype=np.uint8)  # near-black arrows
+TENSION_ZERO = np.array([160, 160, 160, 255], dtype=np.uint8)  # neutral grey
+TENSION_MAX = np.array([220, 30, 30, 255], dtype=np.uint8)  # red
+TENSION_STEPS = 32  # the ramp is quantised so a large model needs few materials
+
+
+def label_color(label: str) -> np.ndarray:
+    """The palette colour of ``label``: the same label always gets the same colour.
+
+    The choice hashes the label text (CRC-32), so it does not depend on the order in which labels
+    appear in a model or on Python's per-process string hashing.
+    """
+    return LABEL_PALETTE[zlib.crc32(label.encode("utf-8")) % len(LABEL_PALETTE)].copy()
+
+
+def block_label_color(tags: Sequence[str], *, fixed: bool, structural: bool) -> np.ndarray:
+    """A block's colour in label mode: supports and non-structural blocks first, then its first
+    label, then the unlabelled stone colour."""
+    if fixed:
+        return SUPPORT.copy()
+    if not structural:
+        return NON_STRUCTURAL.copy()
+    if tags:
+        return label_color(tags[0])
+    return UNLABELLED.copy()
+
+
+def tension_colors(tension: np.ndarray, fixed: np.ndarray, structural: np.ndarray) -> np.ndarray:
+    """``(n, 4)`` colours on the grey-to-red ramp of each block's worst tension.
+
+    Parameters
+    ----------
+    tension
+        ``(n,)`` worst tension of each block, N (>= 0; NaN counts as 0).
+    fixed, structural
+        ``(n,)`` booleans: supports get :data:`SUPPORT`, non-structural blocks
+        :data:`NON_STRUCTURAL`.
+
+    The ramp runs from :data:`TENSION_ZERO` at 0 N to :data:`TENSION_MAX` at the largest tension
+    among the blocks, in :data:`TENSION_STEPS` steps.
+    """
+    tension = np.nan_to_num(np.asarray(tension, dtype=float), nan=0.0).clip(min=0.0)
+    peak = float(tension.max()) if tension.size else 0.0
+    fraction = tension / peak if peak > 0 else np.zeros_like(tension)
+    fraction = np.round(fraction * (TENSION_STEPS - 1)) / (TENSION_STEPS - 1)
+    ramp = TENSION_ZERO + fraction[:, None] * (TENSION_MAX.astype(float) - TENSION_ZERO)
+    colors = np.round(ramp).astype(np.uint8)
+    colors[np.asarray(structural, dtype=bool) == 0] = NON_STRUCTURAL
+    colors[np.asarray(fixed, dtype=bool)] = SUPPORT
+    return colors

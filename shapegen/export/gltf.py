@@ -1,0 +1,242 @@
+"""glTF 2.0 output (.glb and single-file .gltf): one node per block, named by its id.
+
+Each block node carries ``extras``: ``role`` ("block"), ``labels``, ``rule_path``, ``density``
+(kg/m^3), ``fixed``, ``structural`` and, with an analysis, ``tension`` (N). The scene ``extras``
+hold the model settings (gravity, ground, friction, loads) so that shapegen reads its own files
+back completely. Without an analysis the blocks are coloured by their first label; with one, by
+their worst tension on a grey-to-red ramp, and the interface resultants are drawn as arrows in one
+extra node (``role`` "resultants"). glTF is y-up and in metres, like shapegen, so coordinates are
+written unchanged. See docs/formats.md.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ARROW_LENGTH_REL",
+    "ARROW_WIDTH_REL",
+    "RESULTANTS_NODE",
+    "model_scene",
+    "resultant_arrows",
+    "encode_glb",
+    "encode_gltf",
+]
+
+import numpy as np
+import trimesh
+from trimesh.visual import TextureVisuals
+from trimesh.visual.material import PBRMaterial
+
+from shapegen.engine.model import Model
+from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION
+from shapegen.export.colors import RESULTANT, block_label_color, tension_colors
+from shapegen.export.meshes import block_mesh
+
+ARROW_LENGTH_REL = 0.15  # the largest resultant arrow, as a fraction of the model size
+ARROW_WIDTH_REL = 0.006  # arrow shaft width, as a fraction of the model size
+RESULTANTS_NODE = "shapegen:resultants"
+_ROOT = "shapegen:root"  # the scene's base frame; glTF files do not keep it as a node
+
+
+def model_scene(model: Model, analysis=None) -> trimesh.Scene:
+    """The model as a trimesh scene, ready for glTF export.
+
+    Parameters
+    ----------
+    model
+        The block model.
+    analysis
+        An ``Analysis`` of this model (from :func:`shapegen.statics.analyze`) or None. With it,
+        blocks are coloured by ``analysis.block_tension`` and the resultants are drawn as arrows.
+    """
+    scene = trimesh.Scene(base_frame=_ROOT, metadata=_scene_extras(model, analysis))
+    n = len(model.blocks)
+    fixed = np.array([b.fixed for b in model.blocks], dtype=bool)
+    structural = np.array([b.structural for b in model.blocks], dtype=bool)
+    tension = None
+    if analysis is not None:
+        tension = np.asarray(analysis.block_tension, dtype=float).reshape(-1)
+        if len(tension) != n:
+            raise ValueError(f"the analysis has {len(tension)} block tensions for {n} blocks")
+        colors = tension_colors(tension, fixed, structural)
+    else:
+        colors = np.array(
+            [
+                block_label_color(b.tags, fixed=b.fixed, structural=b.structural)
+                for b in model.blocks
+            ],
+            dtype=np.uint8,
+        ).reshape(-1, 4)
+    for k, block in enumerate(model.blocks):
+        mesh = block_mesh(block)
+        mesh.visual = TextureVisuals(material=_material(colors[k]))
+        extras = {
+            "role": "block",
+            "labels": list(block.tags),
+            "rule_path": list(block.rule_path),
+            "density": block.density,
+            "fixed": block.fixed,
+            "structural": block.structural,
+        }
+        if tension is not None:
+            extras["tension"] = float(tension[k]) if np.isfinite(tension[k]) else 0.0
+        scene.add_geometry(mesh, node_name=block.id, geom_name=block.id, metadata=extras)
+    if analysis is not None:
+        arrows, newtons_per_metre, count = resultant_arrows(model, analysis)
+        if arrows is not None:
+            arrows.visual = TextureVisuals(material=_material(RESULTANT))
+            scene.add_geometry(
+                arrows,
+                node_name=RESULTANTS_NODE,
+                geom_name=RESULTANTS_NODE,
+                metadata={
+                    "role": "resultants",
+                    "count": count,
+                    "newtons_per_metre": newtons_per_metre,
+                },
+            )
+    return scene
+
+
+def encode_glb(model: Model, analysis=None) -> bytes:
+    """Binary glTF (.glb) bytes of :func:`model_scene`."""
+    return trimesh.exchange.gltf.export_glb(model_scene(model, analysis))
+
+
+def encode_gltf(model: Model, analysis=None) -> bytes:
+    """Single-file glTF (.gltf) bytes: JSON with the buffers embedded as base64."""
+    files = trimesh.exchange.gltf.export_gltf(
+        model_scene(model, analysis), merge_buffers=True, embed_buffers=True
+    )
+    return files["model.gltf"]
+
+
+def resultant_arrows(model: Model, analysis) -> tuple[trimesh.Trimesh | None, float, int]:
+    """The interface resultants as thin arrows, merged into one mesh.
+
+    Each arrow lies along the force that ``first`` exerts on ``second`` and is centred on the
+    resultant's point of application; its length is proportional to the force, the largest being
+    :data:`ARROW_LENGTH_REL` of the model size.
+
+    Returns
+    -------
+    mesh, newtons_per_metre, count
+        The arrows (None when there is no force to draw), the force scale in N per metre of arrow
+        length, and the number of arrows.
+    """
+    forces = np.asarray(analysis.resultant_forces, dtype=float).reshape(-1, 3)
+    points = np.asarray(analysis.resultant_points, dtype=float).reshape(-1, 3)
+    magnitude = np.linalg.norm(forces, axis=1)
+    drawable = np.isfinite(magnitude) & np.all(np.isfinite(points), axis=1)
+    peak = float(magnitude[drawable].max()) if drawable.any() else 0.0
+    if peak <= 0:
+        return None, 0.0, 0
+    drawable &= magnitude > 1e-6 * peak
+    size = model.size
+    metres_per_newton = ARROW_LENGTH_REL * size / peak
+    length = magnitude[drawable] * metres_per_newton
+    direction = forces[drawable] / magnitude[drawable, None]
+    start = points[drawable] - 0.5 * length[:, None] * direction
+    template_vertices, template_faces = _arrow_template()
+    width = ARROW_WIDTH_REL * size
+    frames = _frames(direction)  # (n, 3, 3), columns u, v, direction
+    local = (
+        template_vertices[None, :, :]
+        * np.stack([np.full_like(length, width), np.full_like(length, width), length], axis=1)[
+            :, None, :
+        ]
+    )
+    vertices = np.einsum("nij,nmj->nmi", frames, local) + start[:, None, :]
+    m = len(template_vertices)
+    faces = template_faces[None, :, :] + (m * np.arange(len(length)))[:, None, None]
+    mesh = trimesh.Trimesh(vertices.reshape(-1, 3), faces.reshape(-1, 3), process=False)
+    return mesh, 1.0 / metres_per_newton, int(len(length))
+
+
+def _arrow_template(sides: int = 6) -> tuple[np.ndarray, np.ndarray]:
+    """A unit arrow along +z from z = 0 to z = 1: a prism shaft of width 1 and a pyramid head."""
+    angle = 2 * np.pi * np.arange(sides) / sides
+    ring = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    head_start = 0.75
+    shaft_bottom = np.column_stack([0.5 * ring, np.zeros(sides)])
+    shaft_top = np.column_stack([0.5 * ring, np.full(sides, head_start)])
+    head_base = np.column_stack([1.5 * ring, np.full(sides, head_start)])
+    tip = np.array([[0.0, 0.0, 1.0]])
+    bottom_center = np.array([[0.0, 0.0, 0.0]])
+    vertices = np.concatenate([shaft_bottom, shaft_top, head_base, tip, bottom_center])
+    i = np.arange(sides)
+    j = (i + 1) % sides
+    b, t, h = 0, sides, 2 * sides
+    tip_index, center_index = 3 * sides, 3 * sides + 1
+    faces = np.concatenate(
+        [
+            np.stack([b + i, b + j, t + j], axis=1),  # shaft sides
+            np.stack([b + i, t + j, t + i], axis=1),
+            np.stack([t + i, t + j, h + j], axis=1),  # ring under the head
+            np.stack([t + i, h + j, h + i], axis=1),
+            np.stack([h + i, h + j, np.full(sides, tip_index)], axis=1),  # head
+            np.stack([b + j, b + i, np.full(sides, center_index)], axis=1),  # bottom cap
+        ]
+    )
+    return vertices, faces
+
+
+def _frames(direction: np.ndarray) -> np.ndarray:
+    """``(n, 3, 3)`` rotations whose third column is each unit ``direction``."""
+    helper_axis = np.where(
+        (np.abs(direction[:, 0]) < 0.9)[:, None], np.array([1.0, 0.0, 0.0]), [0.0, 1.0, 0.0]
+    )
+    u = np.cross(direction, helper_axis)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(direction, u)
+    return np.stack([u, v, direction], axis=2)
+
+
+def _material(color: np.ndarray) -> PBRMaterial:
+    color = np.asarray(color, dtype=np.uint8)
+    return PBRMaterial(
+        name="shapegen-" + "".join(f"{c:02x}" for c in color),
+        baseColorFactor=color,
+        metallicFactor=0.0,
+        roughnessFactor=0.9,
+        alphaMode="BLEND" if color[3] < 255 else None,
+    )
+
+
+def _scene_extras(model: Model, analysis) -> dict:
+    extras = {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "units": "m",
+        "up": "y",
+        "gravity": [float(g) for g in model.gravity],
+        "ground": None if model.ground is None else float(model.ground),
+        "friction": float(model.friction),
+        "loads": [
+            {"block": load.block, "force": load.force.tolist(), "point": load.point.tolist()}
+            for load in model.loads
+        ],
+    }
+    if analysis is not None:
+        extras["analysis"] = {
+            key: _plain(getattr(analysis, key, None))
+            for key in (
+                "status",
+                "feasible",
+                "infeasibility",
+                "infeasibility_normalized",
+                "max_tension",
+                "total_weight",
+            )
+        }
+    return extras
+
+
+def _plain(value):
+    """A JSON-friendly scalar (numpy scalars and enum-like statuses become plain values)."""
+    if value is None or isinstance(value, (bool, int, str)):
+        return value
+    if isinstance(value, (float, np.floating)):
+        return float(value) if np.isfinite(value) else None
+    if isinstance(value, np.bool_):
+        return bool(value)
+    return str(getattr(value, "value", value))

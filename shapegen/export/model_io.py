@@ -1,0 +1,125 @@
+"""Read and write block models by file extension.
+
+=============  ======================================  ==============================
+extension      read                                    write
+=============  ======================================  ==============================
+``.json``      shapegen-blocks v1                      shapegen-blocks v1
+``.glb``       glTF nodes -> blocks                    glTF, one node per block
+``.gltf``      glTF nodes -> blocks                    glTF (single file, embedded)
+``.obj``       groups / components -> blocks           a group per block
+``.ply``       components -> blocks                    the whole mesh
+``.stl``       components -> blocks                    the whole mesh
+=============  ======================================  ==============================
+
+Writers first build the whole file in memory (:func:`encode_model`), then replace the target
+atomically, so a failure never leaves a half-written file.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "READ_SUFFIXES",
+    "WRITE_SUFFIXES",
+    "read_model",
+    "encode_model",
+    "write_model",
+    "check_output_path",
+    "write_bytes_atomic",
+]
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+from shapegen.engine.model import Model
+from shapegen.errors import InputFormatError
+from shapegen.export.atomic import atomic_write
+from shapegen.export.blocks_json import model_to_dict, read_blocks_json
+from shapegen.export.gltf import encode_glb, encode_gltf
+from shapegen.export.meshes import (
+    MESH_READ_SUFFIXES,
+    encode_obj,
+    encode_ply,
+    encode_stl,
+    read_mesh_model,
+)
+
+READ_SUFFIXES = (".json", *MESH_READ_SUFFIXES)
+
+
+def _encode_json(model: Model, analysis=None) -> bytes:
+    text = json.dumps(model_to_dict(model), indent=1, allow_nan=False)
+    return (text + "\n").encode("utf-8")
+
+
+_ENCODERS: dict[str, Callable[..., bytes]] = {
+    ".json": _encode_json,
+    ".glb": encode_glb,
+    ".gltf": encode_gltf,
+    ".obj": lambda model, analysis=None: encode_obj(model),
+    ".ply": lambda model, analysis=None: encode_ply(model),
+    ".stl": lambda model, analysis=None: encode_stl(model),
+}
+WRITE_SUFFIXES = tuple(_ENCODERS)
+
+
+def read_model(path: str | Path) -> Model:
+    """Read a block model; the format follows the extension (see the module table).
+
+    Raises
+    ------
+    InputFormatError
+        Unknown extension (the message lists the supported ones), missing or malformed file.
+    GeometryError
+        A degenerate or non-convex block.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in READ_SUFFIXES:
+        raise InputFormatError(
+            f"{path}: unknown model format {suffix or '(no extension)'!r};"
+            f" supported: {', '.join(READ_SUFFIXES)}"
+        )
+    if suffix == ".json":
+        try:
+            return read_blocks_json(path)
+        except UnicodeDecodeError as exc:
+            raise InputFormatError(f"{path}: not UTF-8 text ({exc.reason})") from None
+    return read_mesh_model(path)
+
+
+def check_output_path(path: str | Path) -> Path:
+    """The output path, after checking that its extension is writable and its folder exists."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in _ENCODERS:
+        raise InputFormatError(
+            f"{path}: unknown output format {suffix or '(no extension)'!r};"
+            f" supported: {', '.join(WRITE_SUFFIXES)}"
+        )
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputFormatError(f"{path}: folder {folder} does not exist")
+    return path
+
+
+def encode_model(model: Model, path: str | Path, analysis=None) -> bytes:
+    """The bytes :func:`write_model` would write to ``path`` (format from its extension).
+
+    ``analysis`` is used by glTF output (colours by tension, resultant arrows); other formats
+    ignore it.
+    """
+    path = check_output_path(path)
+    return _ENCODERS[path.suffix.lower()](model, analysis=analysis)
+
+
+def write_model(model: Model, path: str | Path, analysis=None) -> None:
+    """Write ``model`` to ``path`` atomically, in the format its extension names."""
+    content = encode_model(model, path, analysis)
+    write_bytes_atomic(path, content)
+
+
+def write_bytes_atomic(path: str | Path, content: bytes) -> None:
+    """Replace ``path`` with ``content`` (temporary file + rename)."""
+    with atomic_write(path, "wb") as handle:
+        handle.write(content)

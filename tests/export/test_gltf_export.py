@@ -1,0 +1,183 @@
+"""glTF output: node names, extras, colours and resultant arrows.
+
+The files are decoded here with the standard library (GLB header and JSON chunk), not with the
+library that wrote them.
+"""
+
+from __future__ import annotations
+
+import json
+import struct
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from shapegen import Block, Model
+from shapegen.export.colors import (
+    NON_STRUCTURAL,
+    RESULTANT,
+    SUPPORT,
+    TENSION_MAX,
+    TENSION_ZERO,
+    UNLABELLED,
+    label_color,
+)
+from shapegen.export.gltf import ARROW_LENGTH_REL, RESULTANTS_NODE, encode_glb, encode_gltf
+from shapegen.export.model_io import read_model, write_model
+
+
+def glb_json(content: bytes) -> dict:
+    """The JSON chunk of a binary glTF (spec: 12-byte header, then chunks length/type/data)."""
+    magic, version, length = struct.unpack_from("<4sII", content, 0)
+    assert magic == b"glTF" and version == 2 and length == len(content)
+    chunk_length, chunk_type = struct.unpack_from("<I4s", content, 12)
+    assert chunk_type == b"JSON"
+    return json.loads(content[20 : 20 + chunk_length])
+
+
+def colonnade() -> Model:
+    blocks = [
+        Block.box([0, 0, 0], [4, 0.5, 1], id="footing", fixed=True),
+        Block.box([0, 0.5, 0], [1, 3, 1], id="c0", tags=("column",), rule_path=("Lot", "Col")),
+        Block.box([3, 0.5, 0], [4, 3, 1], id="c1", tags=("column",), rule_path=("Lot", "Col")),
+        Block.box([0, 3, 0], [4, 3.5, 1], id="lintel", tags=("lintel",), density=2000.0),
+        Block.box([0, 3.5, 0], [4, 4, 1], id="roof", structural=False),
+        Block.box([1.5, 4, 0], [2.5, 4.5, 1], id="plain"),
+    ]
+    return Model(blocks)
+
+
+def node_colors(tree: dict) -> dict[str, np.ndarray]:
+    """Node name -> RGBA 0..255 of its mesh's material."""
+    out = {}
+    for node in tree["nodes"]:
+        if "mesh" not in node:
+            continue
+        material = tree["materials"][tree["meshes"][node["mesh"]]["primitives"][0]["material"]]
+        factor = material["pbrMetallicRoughness"]["baseColorFactor"]
+        out[node["name"]] = np.round(np.array(factor) * 255).astype(int)
+    return out
+
+
+@pytest.mark.parametrize("encode", [encode_glb, encode_gltf])
+def test_one_node_per_block_named_by_id_with_extras(encode):
+    model = colonnade()
+    content = encode(model)
+    tree = glb_json(content) if encode is encode_glb else json.loads(content)
+    nodes = {node["name"]: node for node in tree["nodes"]}
+    assert set(nodes) == {b.id for b in model.blocks}
+    for block in model.blocks:
+        extras = nodes[block.id]["extras"]
+        assert extras["role"] == "block"
+        assert extras["labels"] == list(block.tags)
+        assert extras["rule_path"] == list(block.rule_path)
+        assert extras["density"] == block.density
+        assert extras["fixed"] is block.fixed
+        assert extras["structural"] is block.structural
+    scene_extras = tree["scenes"][tree["scene"]]["extras"]
+    assert scene_extras["format"] == "shapegen-blocks"
+    assert scene_extras["ground"] == 0.0 and scene_extras["friction"] == 0.7
+
+
+def test_gltf_file_is_self_contained(tmp_path):
+    path = tmp_path / "model.gltf"
+    write_model(colonnade(), path)
+    tree = json.loads(path.read_text())
+    assert all(buffer["uri"].startswith("data:") for buffer in tree["buffers"])
+    assert [p.name for p in tmp_path.iterdir()] == ["model.gltf"]
+
+
+def test_positions_are_the_block_vertices_unchanged():
+    """glTF is y-up in metres like shapegen: the accessor bounds are the block's bounds."""
+    model = colonnade()
+    tree = glb_json(encode_glb(model))
+    for node in tree["nodes"]:
+        block = model.blocks[model.index_of(node["name"])]
+        primitive = tree["meshes"][node["mesh"]]["primitives"][0]
+        accessor = tree["accessors"][primitive["attributes"]["POSITION"]]
+        np.testing.assert_allclose(accessor["min"], block.bounds[0], rtol=1e-6)
+        np.testing.assert_allclose(accessor["max"], block.bounds[1], rtol=1e-6)
+        assert "matrix" not in node
+
+
+def test_label_colours():
+    colors = node_colors(glb_json(encode_glb(colonnade())))
+    np.testing.assert_array_equal(colors["c0"], colors["c1"])  # same label, same colour
+    np.testing.assert_array_equal(colors["c0"], label_color("column"))
+    assert not np.array_equal(colors["c0"], colors["lintel"])
+    np.testing.assert_array_equal(colors["footing"], SUPPORT)
+    np.testing.assert_array_equal(colors["roof"], NON_STRUCTURAL)
+    np.testing.assert_array_equal(colors["plain"], UNLABELLED)
+
+
+@pytest.mark.parametrize("label", ["column", "lintel", "voussoir", "r\u00e9sille"])
+def test_label_colour_is_stable(label):
+    """The palette index is a CRC-32 of the label, independent of process and model order."""
+    import zlib
+
+    from shapegen.export.colors import LABEL_PALETTE
+
+    expected = LABEL_PALETTE[zlib.crc32(label.encode()) % len(LABEL_PALETTE)]
+    np.testing.assert_array_equal(label_color(label), expected)
+
+
+def stub_analysis(model: Model, tension: list[float]) -> SimpleNamespace:
+    """The fields of an Analysis that the writer reads: two resultants of 10 kN and 5 kN."""
+    return SimpleNamespace(
+        block_tension=np.array(tension, dtype=float),
+        resultant_forces=np.array([[0.0, -10e3, 0.0], [0.0, 5e3, 0.0], [0.0, 0.0, 0.0]]),
+        resultant_points=np.array([[0.5, 0.5, 0.5], [3.5, 3.0, 0.5], [np.nan] * 3]),
+        status="optimal",
+        feasible=False,
+        infeasibility=12.0,
+        infeasibility_normalized=1e-3,
+        max_tension=40.0,
+        total_weight=1e5,
+    )
+
+
+def test_tension_colours_and_arrows(tmp_path):
+    model = colonnade()
+    analysis = stub_analysis(model, [0.0, 0.0, 40.0, 20.0, 0.0, float("nan")])
+    tree = glb_json(encode_glb(model, analysis))
+    colors = node_colors(tree)
+    np.testing.assert_array_equal(colors["c1"], TENSION_MAX)  # the worst tension is red
+    np.testing.assert_array_equal(colors["c0"], TENSION_ZERO)  # no tension is grey
+    np.testing.assert_array_equal(colors["plain"], TENSION_ZERO)
+    midway = colors["lintel"][:3].astype(float)  # half the worst: halfway along the ramp
+    halfway = (TENSION_ZERO[:3].astype(float) + TENSION_MAX[:3]) / 2
+    np.testing.assert_allclose(midway, halfway, atol=5)
+    np.testing.assert_array_equal(colors["footing"], SUPPORT)
+    np.testing.assert_array_equal(colors[RESULTANTS_NODE], RESULTANT)
+    nodes = {node["name"]: node for node in tree["nodes"]}
+    assert nodes["c1"]["extras"]["tension"] == 40.0
+    arrows = nodes[RESULTANTS_NODE]["extras"]
+    assert arrows["role"] == "resultants" and arrows["count"] == 2
+    assert tree["scenes"][0]["extras"]["analysis"]["feasible"] is False
+
+    # The longest arrow is ARROW_LENGTH_REL of the model size, along -y, centred on its point.
+    accessor = tree["accessors"][
+        tree["meshes"][nodes[RESULTANTS_NODE]["mesh"]]["primitives"][0]["attributes"]["POSITION"]
+    ]
+    length = ARROW_LENGTH_REL * model.size
+    assert arrows["newtons_per_metre"] == pytest.approx(10e3 / length)
+    low, high = np.array(accessor["min"]), np.array(accessor["max"])
+    assert low[1] == pytest.approx(0.5 - length / 2, rel=1e-5)  # the 10 kN arrow's far end
+    assert high[1] == pytest.approx(3.0 + length / 4, rel=1e-5)  # the 5 kN arrow's far end
+
+    # Reading the file back gives the blocks only, not the arrows.
+    path = tmp_path / "analysed.glb"
+    write_model(model, path, analysis)
+    assert sorted(b.id for b in read_model(path).blocks) == sorted(b.id for b in model.blocks)
+
+
+def test_no_arrows_without_forces():
+    model = colonnade()
+    analysis = stub_analysis(model, [0.0] * 6)
+    analysis.resultant_forces = np.zeros((3, 3))
+    tree = glb_json(encode_glb(model, analysis))
+    assert RESULTANTS_NODE not in {node["name"] for node in tree["nodes"]}
+    allowed = [TENSION_ZERO, SUPPORT, NON_STRUCTURAL]
+    for color in node_colors(tree).values():
+        assert any(np.array_equal(color, a) for a in allowed)
