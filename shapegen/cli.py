@@ -185,9 +185,46 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help='also check whether the model stands (the report gets an "analysis" object)',
     )
-    _add_statics_options(build, prefix="with --analyze: ")
+    _add_statics_options(build, prefix="with --analyze or --optimize: ")
+    _add_search_options(build)
     build.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     build.set_defaults(handler=_run_build)
+
+    landscape = commands.add_parser(
+        "landscape",
+        help="plot the infeasibility over two free parameters",
+        description=(
+            "Evaluate the infeasibility y/W^2 on a grid over the @Range of two attrs, mark the"
+            " region where the model stands, draw the optimizer's path, and write a PNG."
+        ),
+    )
+    landscape.add_argument(
+        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+    )
+    landscape.add_argument("first", metavar="P1", help="attr on the horizontal axis")
+    landscape.add_argument("second", metavar="P2", help="attr on the vertical axis")
+    landscape.add_argument(
+        "--grid", type=int, default=15, metavar="N", help="points per axis (default 15)"
+    )
+    landscape.add_argument(
+        "--set",
+        dest="assignments",
+        metavar="NAME=VALUE",
+        action="append",
+        type=_assignment,
+        default=[],
+        help="override another attr; repeatable",
+    )
+    landscape.add_argument("--seed", type=int, default=0, metavar="N", help="seed (default 0)")
+    landscape.add_argument(
+        "--no-path", action="store_true", help="do not run and draw the optimizer"
+    )
+    landscape.add_argument(
+        "-o", "--output", metavar="OUT.png", required=True, help="the picture to write (.png)"
+    )
+    _add_statics_options(landscape)
+    landscape.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    landscape.set_defaults(handler=_run_landscape)
 
     rules = commands.add_parser(
         "rules",
@@ -225,6 +262,65 @@ def _add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> N
         default="auto",
         help=prefix + "QP back-end (default auto)",
     )
+
+
+def _add_search_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--optimize",
+        action="store_true",
+        help="tune the free parameters (@Free attrs, or --free) until the model stands",
+    )
+    parser.add_argument(
+        "--free",
+        type=_names,
+        metavar="A,B",
+        help="with --optimize: the attrs to tune (each needs a @Range) instead of the @Free ones",
+    )
+    parser.add_argument(
+        "--fix",
+        dest="fixed",
+        metavar="NAME=VALUE",
+        action="append",
+        type=_assignment,
+        default=[],
+        help="with --optimize: hold a @Free attr at a value; repeatable",
+    )
+    parser.add_argument(
+        "--objective",
+        choices=["energy", "closest"],
+        default="energy",
+        help="with --optimize: 'energy' minimises the tension and stops at the first design that"
+        " stands (the paper); 'closest' finds the standing design nearest to the given values"
+        " (default energy)",
+    )
+    parser.add_argument(
+        "--gradient",
+        choices=["adjoint", "forward"],
+        default="adjoint",
+        help="with --optimize: 'adjoint' (one QP per gradient) or 'forward' finite differences"
+        " (n + 1 QPs; default adjoint)",
+    )
+    parser.add_argument(
+        "--max-iter",
+        type=int,
+        default=50,
+        metavar="N",
+        help="with --optimize: SQP iterations per start (default 50)",
+    )
+    parser.add_argument(
+        "--multistart",
+        type=int,
+        default=0,
+        metavar="N",
+        help="with --optimize: extra random starts within the bounds, seeded by --seed (default 0)",
+    )
+
+
+def _names(text: str) -> list[str]:
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    if not names:
+        raise argparse.ArgumentTypeError(f"expected attr names separated by commas, got {text!r}")
+    return names
 
 
 # ------------------------------------------------------------------------------ entry point
@@ -291,17 +387,145 @@ def _run_build(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     grammar = _load_grammar(args.grammar)
     attrs = _checked_attrs(grammar, args.assignments)
+    analysis = optimization = None
+    if args.optimize:
+        optimization = _optimize(grammar, attrs, args)
+        attrs = {**attrs, **optimization.values}
+    elif args.free or args.fixed:
+        raise CommandLineError("--free and --fix only apply with --optimize")
     model = grammar.build(attrs=attrs, seed=args.seed, lot=args.lot)
     report = _build_report(model)
-    report["seconds"] = time.perf_counter() - started
-    # Later stages (parameter search...) slot in here: they take the model and add to the report.
-    analysis = None
-    if args.analyze:
-        analysis = _analyze(model, args)
+    if optimization is not None:
+        report["optimization"] = optimization.to_report()
+        analysis = optimization.analysis
+    if args.analyze or optimization is not None:
+        if analysis is None:
+            analysis = _analyze(model, args)
         report["analysis"] = _analysis_report(analysis)
+    report["seconds"] = time.perf_counter() - started
     _write_all(_encoded_outputs(args, model, analysis, report))
     if not args.quiet:
         _print_build_summary(str(args.grammar), report)
+    return EXIT_OK
+
+
+def _optimize(grammar, attrs: dict, args: argparse.Namespace):
+    from shapegen.engine.search import optimize
+
+    if args.max_iter < 1:
+        raise CommandLineError(f"--max-iter must be at least 1, got {args.max_iter}")
+    if args.multistart < 0:
+        raise CommandLineError(f"--multistart must be 0 or more, got {args.multistart}")
+    fixed = dict(args.fixed)
+    with _SearchProgress(quiet=args.quiet) as progress:
+        return optimize(
+            grammar,
+            free=args.free,
+            fix=fixed,
+            attrs=attrs,
+            seed=args.seed,
+            lot=args.lot,
+            objective=args.objective,
+            gradient=args.gradient,
+            max_iter=args.max_iter,
+            multistart=args.multistart,
+            analysis_options=_statics_options(args),
+            progress=progress,
+        )
+
+
+def _statics_options(args: argparse.Namespace) -> dict:
+    return {
+        "friction": args.friction,
+        "pyramid": args.pyramid,
+        "kern": args.kern,
+        "solver": args.solver,
+    }
+
+
+class _SearchProgress:
+    """One line per SQP iteration (iteration, y/W^2, parameters) under a spinner."""
+
+    def __init__(self, quiet: bool):
+        self.quiet = quiet
+        self.console = None
+        self.status = None
+
+    def __enter__(self):
+        if not self.quiet:
+            from rich.console import Console
+
+            self.console = Console(stderr=True, highlight=False)
+            self.status = self.console.status("optimizing: first analysis...")
+            self.status.__enter__()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.status is not None:
+            self.status.__exit__(*exc)
+
+    def __call__(self, record) -> None:
+        if self.console is None:
+            return
+        values = "  ".join(f"{k}={v:.4g}" for k, v in record.parameters.items())
+        mark = "[green]stands[/green]" if record.feasible else ""
+        self.console.print(
+            f"iter {record.iteration:3d}  y/W^2 {record.infeasibility:10.3e}  {values}  {mark}"
+        )
+        self.status.update(f"optimizing: {record.qp_solves} analyses, {record.seconds:.1f} s")
+
+
+# ------------------------------------------------------------------------------ landscape
+def _run_landscape(args: argparse.Namespace) -> int:
+    from shapegen.engine.landscape import energy_landscape
+    from shapegen.engine.search import optimize
+    from shapegen.export.landscape_plot import plot_landscape
+
+    output = Path(args.output)
+    if output.suffix.lower() != ".png":
+        raise CommandLineError(f"{output}: the landscape is written as a .png picture")
+    folder = output.parent if str(output.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputFormatError(f"{output}: folder {folder} does not exist")
+    if not 2 <= args.grid <= 200:
+        raise CommandLineError(f"--grid must be between 2 and 200, got {args.grid}")
+    grammar = _load_grammar(args.grammar)
+    attrs = _checked_attrs(grammar, args.assignments)
+    options = _statics_options(args)
+    console = None
+    if not args.quiet:
+        from rich.console import Console
+
+        console = Console(stderr=True, highlight=False)
+    path = None
+    if not args.no_path:
+        result = optimize(
+            grammar, free=[args.first, args.second], attrs=attrs, seed=args.seed,
+            analysis_options=options,
+        )  # fmt: skip
+        path = result.path
+    if console is not None:
+        from rich.progress import Progress
+
+        with Progress(console=console, transient=True) as bar:
+            task = bar.add_task("landscape", total=args.grid**2)
+            landscape = energy_landscape(
+                grammar, args.first, args.second, grid=args.grid, attrs=attrs, seed=args.seed,
+                analysis_options=options,
+                progress=lambda done, total: bar.update(task, completed=done),
+            )  # fmt: skip
+    else:
+        landscape = energy_landscape(
+            grammar, args.first, args.second, grid=args.grid, attrs=attrs, seed=args.seed,
+            analysis_options=options,
+        )  # fmt: skip
+    plot_landscape(landscape, output, path, title=f"{grammar.name}: infeasibility y/W²")
+    if console is not None:
+        share = landscape.feasible.mean() * 100
+        console.print(
+            f"wrote {output}: {args.grid}x{args.grid} grid, {share:.0f}% of it stands"
+            + (f"; optimizer path of {len(path)} points" if path else "")
+        )
     return EXIT_OK
 
 
@@ -498,8 +722,25 @@ def _print_build_summary(title: str, report: dict) -> None:
     for name, value in report.get("reports", {}).items():
         table.add_row(Text(f"report {name}"), Text(str(value)))
     console.print(table)
+    if "optimization" in report:
+        console.print(_optimization_table(report["optimization"]))
     if "analysis" in report:
         console.print(_analysis_table(title, report["analysis"]))
+
+
+def _optimization_table(optimization: dict):
+    from rich.table import Table
+
+    table = Table(title="optimization", title_justify="left")
+    for column in ("parameter", "initial", "final", "min", "max"):
+        table.add_column(column, justify="left" if column == "parameter" else "right")
+    for name, spec in optimization["parameters"].items():
+        table.add_row(name, *(_fmt(spec[k]) for k in ("initial", "final", "min", "max")))
+    table.caption = (
+        f"{optimization['message']}; {optimization['iterations']} iterations,"
+        f" {optimization['qp_solves']} analyses, {_fmt(optimization['seconds'])} s"
+    )
+    return table
 
 
 def _fmt(value) -> str:

@@ -56,6 +56,8 @@ GRADIENTS = ("adjoint", "forward")
 # need a larger step.
 ADJOINT_STEP = 1e-6
 FORWARD_STEP = 1e-4
+# Length of the SQP's first step, as a fraction of the parameter ranges.
+FIRST_STEP = 0.1
 
 
 @dataclass(frozen=True)
@@ -437,7 +439,7 @@ def optimize(
         message=message,
         objective=objective,
         gradient=gradient,
-        path=search.path,
+        path=[evaluator.named(theta0), *search.path],
         model=best.model,
         analysis=best.analysis,
     )
@@ -497,8 +499,16 @@ class _Search:
 
     def _energy_from(self, theta0: np.ndarray) -> tuple[Evaluation, bool, str]:
         evaluator = self.evaluator
+        # The SQP minimises sqrt(y / W^2): the same minimisers as y, but y vanishes
+        # quadratically at the feasible boundary, where SQP would creep towards the boundary
+        # without ever crossing it; its square root keeps a slope there and steps across.
         first = evaluator.evaluate(theta0)
-        scale = first.infeasibility if first.ok and first.infeasibility > 0 else 1.0
+        scale = math.sqrt(first.infeasibility) if first.ok and first.infeasibility > 0 else 1.0
+        if first.ok and first.infeasibility > 0:
+            # SLSQP's first step is the plain gradient (identity Hessian): scale the objective
+            # so that step moves FIRST_STEP of the ranges, not straight into a corner.
+            slope0 = self._root_slope(first) * self.span
+            scale = max(float(np.abs(slope0).max()) / FIRST_STEP, scale)
         state = {"last_good": self.u(theta0), "worst": 1.0, "best": first}
 
         def value(u):
@@ -508,7 +518,7 @@ class _Search:
                 raise _Stop
             if not evaluation.ok:
                 return 10.0 * state["worst"]  # a failed build: a wall the SQP backs away from
-            scaled = evaluation.infeasibility / scale
+            scaled = math.sqrt(max(evaluation.infeasibility, 0.0)) / scale
             state["worst"] = max(state["worst"], scaled)
             state["last_good"] = np.array(u, float)
             if evaluation.infeasibility < state["best"].infeasibility:
@@ -519,7 +529,7 @@ class _Search:
             evaluation = evaluator.evaluate(self.theta(u))
             if not evaluation.ok:
                 return 20.0 * state["worst"] * (np.asarray(u) - state["last_good"])
-            return evaluator.gradient(evaluation.theta, self.gradient_method) * self.span / scale
+            return self._root_slope(evaluation) * self.span / scale
 
         try:
             result = minimize(
@@ -540,6 +550,13 @@ class _Search:
         else:
             message = f"stopped: {result.message}"
         return state["best"], converged, message
+
+    def _root_slope(self, evaluation: Evaluation) -> np.ndarray:
+        """``d sqrt(y / W^2) / d theta`` (zero where y is zero)."""
+        y = evaluation.infeasibility
+        if not evaluation.ok or y <= 0:
+            return np.zeros(len(self.span))
+        return self.evaluator.gradient(evaluation.theta, self.gradient_method) / (2 * math.sqrt(y))
 
     # ------------------------------------------------------------------ closest (ours)
     def closest(self, theta0: np.ndarray, starts: list[np.ndarray]) -> tuple[Evaluation, bool, str]:
@@ -574,11 +591,7 @@ class _Search:
 
         def standing_slope(u):
             evaluation = evaluator.evaluate(self.theta(u))
-            y = evaluation.infeasibility
-            if not evaluation.ok or y <= 0:
-                return np.zeros(len(u))
-            grad = evaluator.gradient(evaluation.theta, self.gradient_method) * self.span
-            return -grad / (2.0 * math.sqrt(y) * scale)
+            return -self._root_slope(evaluation) * self.span / scale
 
         # 2. the boundary on the segment from the start to the nearest feasible design
         nearest = min(feasible_points, key=lambda e: distance(self.u(e.theta)))
