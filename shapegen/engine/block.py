@@ -68,13 +68,16 @@ class Block:
             raise GeometryError(f"block {label!r}: vertex coordinates must be finite numbers")
         if len(points) < 4:
             raise GeometryError(f"block {label!r}: needs at least 4 vertices, got {len(points)}")
+        # qhull's round-off grows with the coordinates' magnitude: work about the centre.
+        center = points.mean(axis=0)
         try:
-            hull = ConvexHull(points)
+            hull = ConvexHull(points - center)
         except QhullError:
             raise GeometryError(
                 f"block {label!r}: vertices are flat or collinear (zero volume)"
             ) from None
-        vertices, faces = _hull_polygons(points, hull)
+        vertices, faces = _hull_polygons(points - center, hull)
+        vertices = vertices + center
         return cls(vertices, faces, **kwargs)
 
     @classmethod
@@ -139,19 +142,29 @@ class Block:
     @cached_property
     def face_normals(self) -> np.ndarray:
         """``(f, 3)`` outward unit normals (Newell's method, robust for slightly warped faces)."""
-        normals = np.empty((len(self.faces), 3))
-        for k, face in enumerate(self.faces):
-            p = self.vertices[list(face)]
-            q = np.roll(p, -1, axis=0)
-            n = np.cross(p, q).sum(axis=0)
-            length = np.linalg.norm(n)
-            normals[k] = n / length if length > 0 else n
-        return normals
+        starts, flat = self._face_index
+        # about the block's centre: cross products of far-away coordinates cancel badly
+        p = self.vertices[flat] - self.vertices.mean(axis=0)
+        nxt = np.arange(len(flat)) + 1
+        nxt[starts[1:] - 1] = starts[:-1]  # wrap around inside each face
+        sums = np.add.reduceat(np.cross(p, p[nxt]), starts[:-1], axis=0)
+        length = np.linalg.norm(sums, axis=1, keepdims=True)
+        return np.divide(sums, length, out=np.zeros_like(sums), where=length > 0)
+
+    @cached_property
+    def _face_index(self) -> tuple[np.ndarray, np.ndarray]:
+        """Face offsets into one flat array of vertex indices."""
+        counts = np.fromiter((len(f) for f in self.faces), dtype=int, count=len(self.faces))
+        starts = np.concatenate([[0], np.cumsum(counts)])
+        flat = np.fromiter((i for f in self.faces for i in f), dtype=int, count=int(starts[-1]))
+        return starts, flat
 
     @cached_property
     def face_offsets(self) -> np.ndarray:
         """``(f,)`` plane offsets d with n . x = d on each face, metres."""
-        centers = np.array([self.vertices[list(face)].mean(axis=0) for face in self.faces])
+        starts, flat = self._face_index
+        centers = np.add.reduceat(self.vertices[flat], starts[:-1], axis=0)
+        centers /= np.diff(starts)[:, None]
         return np.einsum("ij,ij->i", self.face_normals, centers)
 
     @property
@@ -162,6 +175,7 @@ class Block:
     def face_area(self, k: int) -> float:
         """Area of face ``k``, m^2."""
         p = self.vertices[list(self.faces[k])]
+        p = p - p[0]
         return 0.5 * float(np.linalg.norm(np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)))
 
     # ------------------------------------------------------------------ checks
@@ -225,35 +239,28 @@ class Block:
 
 
 def _hull_polygons(points: np.ndarray, hull: ConvexHull) -> tuple[np.ndarray, tuple]:
-    """Merge the coplanar triangles of a qhull hull into outward polygons on the hull vertices."""
+    """The hull's faces as outward polygons over its vertices.
+
+    qhull returns triangles; triangles of one face are recognised by the set of hull vertices
+    lying on their plane (within round-off), so a face is never merged with a merely
+    almost-coplanar neighbour (which would make the block slightly non-convex).
+    """
     used = np.unique(hull.simplices)
-    remap = -np.ones(len(points), dtype=int)
-    remap[used] = np.arange(len(used))
     vertices = points[used]
-    scale = max(float(np.ptp(vertices, axis=0).max()), 1e-12)
-    equations = hull.equations  # outward unit normal n, offset e with n.x + e = 0
-    groups: list[list[int]] = []
-    keys: list[np.ndarray] = []
-    for k, eq in enumerate(equations):
-        for g, key in enumerate(keys):
-            if np.dot(key[:3], eq[:3]) > 1 - 1e-9 and abs(key[3] - eq[3]) < 1e-9 * scale:
-                groups[g].append(k)
-                break
-        else:
-            keys.append(eq)
-            groups.append([k])
+    scale = max(float(np.ptp(vertices, axis=0).max()), 1e-300)
+    normals, offsets = hull.equations[:, :3], hull.equations[:, 3]  # n.x + e = 0, n outward
+    on_plane = np.abs(vertices @ normals.T + offsets).T <= 1e-10 * scale  # (facets, vertices)
+    _, first, group = np.unique(on_plane, axis=0, return_index=True, return_inverse=True)
     faces = []
-    for key, group in zip(keys, groups, strict=True):
-        normal = key[:3]
-        ids = np.unique(remap[hull.simplices[group].ravel()])
-        # Only the points on the face plane's boundary: qhull may keep interior coplanar points.
+    for g in np.argsort(first):  # faces in qhull's order, for determinism
+        ids = np.flatnonzero(on_plane[first[g]])
+        normal = normals[first[g]]
         p = vertices[ids]
         center = p.mean(axis=0)
-        u = p[0] - center
-        if np.linalg.norm(u) == 0:
-            u = p[1] - center
+        u = p[np.argmax(np.linalg.norm(p - center, axis=1))] - center
         u /= np.linalg.norm(u)
         v = np.cross(normal, u)
         angles = np.arctan2((p - center) @ v, (p - center) @ u)
         faces.append(tuple(int(i) for i in ids[np.argsort(angles)]))
+    del group
     return vertices, tuple(faces)

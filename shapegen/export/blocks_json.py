@@ -59,6 +59,8 @@ def read_blocks_json(path: str | Path) -> Model:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except UnicodeDecodeError:
+        raise InputFormatError(f"{path}: not a text file (invalid UTF-8)") from None
     try:
         document = json.loads(text)
     except json.JSONDecodeError as exc:

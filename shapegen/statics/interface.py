@@ -33,7 +33,7 @@ class Interface:
     @cached_property
     def area(self) -> float:
         """m^2."""
-        p = self.vertices
+        p = self.vertices - self.vertices[0]  # relative: far-away coordinates cancel badly
         return 0.5 * float(np.dot(np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0), self.normal))
 
     @cached_property

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy.spatial import ConvexHull
 
 from shapegen.engine import Block, Model
 from shapegen.errors import GeometryError
@@ -108,3 +109,14 @@ def test_model_total_weight_counts_free_structural_blocks():
     model = Model([free, support, roof])
     assert model.total_weight == pytest.approx(9.81 * 1000)
     assert [b.id for b in model.blocks] == ["b0", "b1", "b2"]
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e3, 1e5])
+def test_random_hulls_are_convex_far_from_the_origin(offset):
+    # Round-off must not make a hull look non-convex, wherever the model sits.
+    rng = np.random.default_rng(1)
+    for _ in range(200):
+        points = rng.random((8, 3)) + offset
+        block = Block.from_hull(points, id="hull")
+        block.validate()
+        assert block.volume == pytest.approx(ConvexHull(points).volume, rel=1e-9)

@@ -92,3 +92,10 @@ def test_unreadable_and_invalid_files(tmp_path):
     bad.write_text('{"format": ')
     with pytest.raises(InputFormatError, match=r"bad.json:1:\d+: invalid JSON"):
         read_blocks_json(bad)
+
+
+def test_binary_file_is_a_format_error(tmp_path):
+    binary = tmp_path / "model.json"
+    binary.write_bytes(b"\xff\xfe\x00garbage")
+    with pytest.raises(InputFormatError, match="not a text file"):
+        read_blocks_json(binary)

@@ -1,0 +1,591 @@
+"""Contact interfaces: where blocks touch each other, a fixed support or the ground plane.
+
+Two blocks touch where a face of one and a face of the other are coplanar, opposite-facing and
+overlap; the contact polygon is the intersection of the two (convex) face polygons. The search
+runs in three vectorised stages:
+
+1. candidate face pairs from a KD-tree over the faces' centres, normals and plane offsets
+   (:func:`facing_face_pairs`); block bounding boxes (:func:`candidate_pairs`, used by the
+   overlap checks) would pair each voussoir of a fine arch with hundreds of others;
+2. the exact tests: normals opposite within ``normal_cos``, each face's centre on the other's
+   plane within ``planar``;
+3. the surviving face pairs are clipped against each other all at once (Sutherland-Hodgman on
+   padded 2D polygons, one clip edge at a time for the whole batch), then near-duplicate and
+   straight-edge vertices are dropped and slivers below ``area`` discarded.
+
+All tolerances come from ``model.tolerances()``.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "PackedBlocks",
+    "pack_blocks",
+    "candidate_pairs",
+    "facing_face_pairs",
+    "find_interfaces",
+]
+
+from dataclasses import dataclass
+from itertools import chain
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError, cKDTree
+
+from shapegen.engine.block import Block
+from shapegen.engine.model import Model
+from shapegen.errors import GeometryError
+from shapegen.statics.interface import GROUND, Interface, tangent_frame
+from shapegen.tolerances import Tolerances
+
+_RADIUS_CLASSES = 12  # faces smaller than 2**-12 of the largest share the last class
+_HEMISPHERE = np.array([0.5773, 0.5771, 0.5780])  # generic: no common face is normal to it
+_PAIRS_PER_CHUNK = 2_000_000  # bounds the memory of one sweep step (~50 MB of index arrays)
+
+
+# ---------------------------------------------------------------------------------------- packing
+@dataclass(frozen=True)
+class PackedBlocks:
+    """The geometry of several blocks in flat arrays, for vectorised geometric tests.
+
+    Block ``k`` of the pack is ``model.blocks[index[k]]``; its vertices are
+    ``vertices[vertex_start[k]:vertex_start[k + 1]]`` and its faces
+    ``face_start[k]:face_start[k + 1]``. Face ``f`` lists the global vertex numbers
+    ``corners[corner_start[f]:corner_start[f + 1]]``, counter-clockwise seen from outside.
+
+    Attributes
+    ----------
+    index
+        ``(n,)`` positions in ``model.blocks``.
+    vertices
+        ``(V, 3)`` all vertices, metres.
+    vertex_start, face_start
+        ``(n + 1,)`` offsets of each block's vertices and faces.
+    corners, corner_start
+        Face corner lists (global vertex numbers) and their ``(F + 1,)`` offsets.
+    face_block
+        ``(F,)`` pack position of each face's block.
+    face_normal
+        ``(F, 3)`` outward unit normals (Newell's method).
+    face_offset
+        ``(F,)`` plane offsets ``d`` with ``normal . x = d``, metres.
+    face_center
+        ``(F, 3)`` mean of each face's vertices, metres.
+    lower, upper
+        ``(n, 3)`` bounding-box corners, metres.
+    """
+
+    index: np.ndarray
+    vertices: np.ndarray
+    vertex_start: np.ndarray
+    face_start: np.ndarray
+    corners: np.ndarray
+    corner_start: np.ndarray
+    face_block: np.ndarray
+    face_normal: np.ndarray
+    face_offset: np.ndarray
+    face_center: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+    @property
+    def face_count(self) -> np.ndarray:
+        """``(n,)`` number of faces of each block."""
+        return np.diff(self.face_start)
+
+    @property
+    def vertex_count(self) -> np.ndarray:
+        """``(n,)`` number of vertices of each block."""
+        return np.diff(self.vertex_start)
+
+
+def pack_blocks(blocks: list[Block], index: np.ndarray | None = None) -> PackedBlocks:
+    """Pack ``blocks`` (or the ones at positions ``index``) into :class:`PackedBlocks`."""
+    index = np.arange(len(blocks)) if index is None else np.asarray(index, dtype=np.int64)
+    chosen = [blocks[i] for i in index]
+    vertex_count = np.array([len(b.vertices) for b in chosen], dtype=np.int64)
+    face_count = np.array([len(b.faces) for b in chosen], dtype=np.int64)
+    vertex_start = np.concatenate([[0], np.cumsum(vertex_count)])
+    face_start = np.concatenate([[0], np.cumsum(face_count)])
+    vertices = (
+        np.concatenate([b.vertices for b in chosen]) if chosen else np.empty((0, 3), dtype=float)
+    )
+    faces = list(chain.from_iterable(b.faces for b in chosen))
+    corner_count = np.fromiter((len(f) for f in faces), dtype=np.int64, count=len(faces))
+    corner_start = np.concatenate([[0], np.cumsum(corner_count)])
+    face_block = np.repeat(np.arange(len(chosen)), face_count)
+    corners = np.fromiter(chain.from_iterable(faces), dtype=np.int64, count=int(corner_start[-1]))
+    _reject_malformed(chosen, vertices, vertex_count, face_count, face_block, corners, corner_count)
+    corners += np.repeat(vertex_start[:-1][face_block], corner_count)
+
+    # Newell's method, summed per face with reduceat; the successor of a face's last corner
+    # is its first corner.
+    successor = np.arange(len(corners)) + 1
+    if len(faces):
+        successor[corner_start[1:] - 1] = corner_start[:-1]
+        p = vertices[corners]
+        q = vertices[corners[successor]]
+        normal = np.add.reduceat(np.cross(p, q), corner_start[:-1], axis=0)
+        length = np.linalg.norm(normal, axis=1)
+        normal /= np.where(length > 0, length, 1.0)[:, None]
+        center = np.add.reduceat(p, corner_start[:-1], axis=0) / corner_count[:, None]
+        lower = np.minimum.reduceat(vertices, vertex_start[:-1], axis=0)
+        upper = np.maximum.reduceat(vertices, vertex_start[:-1], axis=0)
+    else:
+        normal = center = np.empty((0, 3), dtype=float)
+        lower = upper = np.empty((len(chosen), 3), dtype=float)
+    return PackedBlocks(
+        index=index,
+        vertices=vertices,
+        vertex_start=vertex_start,
+        face_start=face_start,
+        corners=corners,
+        corner_start=corner_start,
+        face_block=face_block,
+        face_normal=normal,
+        face_offset=np.einsum("ij,ij->i", normal, center),
+        face_center=center,
+        lower=lower,
+        upper=upper,
+    )
+
+
+def _reject_malformed(
+    chosen, vertices, vertex_count, face_count, face_block, corners, corner_count
+):
+    """Raise the block's own :class:`GeometryError` for non-finite vertices or broken faces,
+    which the vectorised geometry below cannot handle."""
+    bad = ~np.isfinite(vertices).all(axis=1)
+    broken = np.repeat(vertex_count[face_block], corner_count)
+    wrong = (corners < 0) | (corners >= broken)
+    suspects = set(np.repeat(np.arange(len(chosen)), vertex_count)[bad].tolist())
+    suspects |= set(np.repeat(face_block, corner_count)[wrong].tolist())
+    suspects |= set(face_block[corner_count < 3].tolist())
+    suspects |= set(np.flatnonzero(face_count < 4).tolist())
+    for k in sorted(suspects):
+        chosen[k].validate()
+        raise GeometryError(f"block {chosen[k].id or 'block'!r}: malformed vertices or faces")
+
+
+# ------------------------------------------------------------------------------------ broad phase
+def candidate_pairs(lower: np.ndarray, upper: np.ndarray, padding: float = 0.0) -> np.ndarray:
+    """Pairs of boxes that overlap or touch (sort-and-sweep along the most selective axis).
+
+    Parameters
+    ----------
+    lower, upper
+        ``(n, 3)`` box corners, metres.
+    padding
+        Boxes closer than ``padding`` metres count as touching.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(m, 2)`` integer pairs ``(i, j)`` with ``i < j``, sorted lexicographically.
+    """
+    lower = np.asarray(lower, dtype=float).reshape(-1, 3)
+    upper = np.asarray(upper, dtype=float).reshape(-1, 3)
+    n = len(lower)
+    if n < 2:
+        return np.empty((0, 2), dtype=np.int64)
+    # Sweep along the axis whose projections overlap least: a wall in the xy plane sweeps
+    # along x or y, never along its thickness (which would pair every block with every other).
+    best = None
+    for axis in range(3):
+        order = np.argsort(lower[:, axis], kind="stable")
+        sorted_lower = lower[order, axis]
+        end = np.searchsorted(sorted_lower, upper[order, axis] + padding, side="right")
+        count = np.maximum(end - np.arange(n) - 1, 0)
+        total = int(count.sum())
+        if best is None or total < best[0]:
+            best = (total, order, count)
+    _, order, count = best
+
+    found = []
+    cumulative = np.cumsum(count)
+    start = 0
+    while start < n:
+        # Positions [start, stop) produce at most _PAIRS_PER_CHUNK sweep pairs (at least one row).
+        base = cumulative[start - 1] if start else 0
+        stop = int(np.searchsorted(cumulative, base + _PAIRS_PER_CHUNK, side="right"))
+        stop = min(max(stop, start + 1), n)
+        rows = np.arange(start, stop)
+        reps = count[start:stop]
+        position_a = np.repeat(rows, reps)
+        run_start = np.cumsum(reps) - reps
+        position_b = position_a + 1 + np.arange(int(reps.sum())) - np.repeat(run_start, reps)
+        a = order[position_a]
+        b = order[position_b]
+        overlap = np.all(
+            (lower[a] <= upper[b] + padding) & (lower[b] <= upper[a] + padding), axis=1
+        )
+        found.append(np.stack([a[overlap], b[overlap]], axis=1))
+        start = stop
+    pairs = np.concatenate(found)
+    pairs.sort(axis=1)
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
+
+def facing_face_pairs(pack: PackedBlocks, tol: Tolerances) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs of faces that may touch: near-opposite normals, near-equal planes, close centres.
+
+    Block bounding boxes are a poor index for contacts between slender, slanted blocks (the
+    boxes of the voussoirs of a fine arch overlap hundreds of others), so the contact search
+    indexes faces. Face ``f`` with vertex mean ``c``, unit normal ``n`` and radius ``r`` (largest
+    vertex distance from ``c``) becomes the point ``(c / R, n / delta, n . (c - o) / W)`` and a
+    possible partner ``g`` the point ``(c / R, -n / delta, -n . (c - o) / W)``, where
+
+    - ``delta = sqrt(2 (1 - normal_cos))`` is the largest ``|n_f + n_g|`` of opposite faces,
+    - ``R`` bounds ``r_f + r_g`` (two overlapping faces have centres at most that far apart),
+    - ``o`` is the middle of the model and ``W = planar + delta * max|c - o|`` bounds the
+      difference of the plane offsets of two coplanar opposite faces.
+
+    Two touching faces are then within distance 1 in the max norm, which a KD-tree finds. Faces
+    are grouped into radius classes (factors of 2) so that ``R`` stays close to the faces' own
+    size, and split by the sign of ``n . h`` (``h`` a fixed generic direction) so that each pair
+    is searched for in one order only.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Face numbers ``(f, g)`` with ``f < g``, each unordered pair once: a superset of the
+        touching pairs, possibly including pairs within one block.
+    """
+    corner_count = np.diff(pack.corner_start)
+    if len(corner_count) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    center, normal = pack.face_center, pack.face_normal
+    spread = np.linalg.norm(
+        pack.vertices[pack.corners] - np.repeat(center, corner_count, axis=0), axis=1
+    )
+    radius = np.maximum.reduceat(spread, pack.corner_start[:-1])
+    delta = np.sqrt(2.0 * max(1.0 - tol.normal_cos, 0.0)) + 1e-12
+    middle = 0.5 * (center.min(axis=0) + center.max(axis=0))
+    width = tol.planar + delta * float(np.linalg.norm(center - middle, axis=1).max()) + 1e-300
+    offset = np.einsum("ij,ij->i", normal, center - middle) / width
+    largest = float(radius.max())
+    size_class = np.floor(np.log2(largest / np.maximum(radius, largest * 2.0**-_RADIUS_CLASSES)))
+    size_class = np.minimum(size_class, _RADIUS_CLASSES).astype(np.int64)
+    # Of two opposite faces one has n . h > -delta and the other n . h < delta.
+    side = normal @ _HEMISPHERE
+    upward = side > -delta
+    downward = side < delta
+    classes = [c for c in range(_RADIUS_CLASSES + 1) if np.any(size_class == c)]
+    found = []
+    for class_a in classes:
+        group_a = np.flatnonzero((size_class == class_a) & upward)
+        for class_b in classes:
+            group_b = np.flatnonzero((size_class == class_b) & downward)
+            if len(group_a) == 0 or len(group_b) == 0:
+                continue
+            reach = radius[group_a].max() + radius[group_b].max() + tol.planar
+            points_a = np.hstack(
+                [center[group_a] / reach, normal[group_a] / delta, offset[group_a, None]]
+            )
+            points_b = np.hstack(
+                [center[group_b] / reach, -normal[group_b] / delta, -offset[group_b, None]]
+            )
+            # Sliding-midpoint trees: median splits degrade on the many repeated coordinates.
+            tree_a = cKDTree(points_a, balanced_tree=False, compact_nodes=False)
+            tree_b = cKDTree(points_b, balanced_tree=False, compact_nodes=False)
+            near = tree_a.sparse_distance_matrix(tree_b, 1.0, p=np.inf, output_type="ndarray")
+            found.append(np.stack([group_a[near["i"]], group_b[near["j"]]], axis=1))
+    pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.int64)
+    pairs = np.unique(np.sort(pairs, axis=1), axis=0)
+    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+    return pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
+
+
+# ------------------------------------------------------------------------------------- interfaces
+def find_interfaces(model: Model, tol: Tolerances | None = None) -> list[Interface]:
+    """Every contact polygon between structural blocks, fixed supports and the ground plane.
+
+    Parameters
+    ----------
+    model
+        The block assembly. Non-structural blocks are ignored; contacts between two fixed blocks
+        (or a fixed block and the ground) are not reported, since supports need no equilibrium.
+    tol
+        Absolute tolerances; default ``model.tolerances()`` (scaled to the model's size).
+
+    Returns
+    -------
+    list[Interface]
+        Sorted by ``(first, second)``. Between two free blocks ``first`` is the lower index;
+        between a free and a fixed block ``first`` is the free one; ground contacts have
+        ``second == GROUND``. ``normal`` is the outward normal of ``first``'s face.
+    """
+    tol = model.tolerances() if tol is None else tol
+    structural = np.array([b.structural for b in model.blocks], dtype=bool)
+    pack = pack_blocks(model.blocks, np.flatnonzero(structural))
+    if len(pack.index) == 0:
+        return []
+    fixed = np.array([model.blocks[i].fixed for i in pack.index], dtype=bool)
+
+    polygons = [_block_contacts(pack, fixed, tol)]
+    if model.ground is not None:
+        polygons.append(_ground_contacts(pack, fixed, float(model.ground), tol))
+    first = np.concatenate([p[0] for p in polygons])
+    second = np.concatenate([p[1] for p in polygons])
+    normal = np.concatenate([p[2] for p in polygons])
+    points = np.concatenate([p[3] for p in polygons])
+    counts = np.concatenate([p[4] for p in polygons])
+    face_key = np.concatenate([p[5] for p in polygons])
+
+    order = np.lexsort((face_key, second, first))
+    starts = np.concatenate([[0], np.cumsum(counts)])
+    frames: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+    interfaces = []
+    for k in order:
+        n = normal[k]
+        key = n.tobytes()
+        if key not in frames:
+            frames[key] = tangent_frame(n)
+        t1, t2 = frames[key]
+        interfaces.append(
+            Interface(int(first[k]), int(second[k]), n, t1, t2, points[starts[k] : starts[k + 1]])
+        )
+    return _merge_split_contacts(interfaces, tol)
+
+
+def _block_contacts(pack: PackedBlocks, fixed: np.ndarray, tol: Tolerances) -> tuple:
+    """Contact polygons between pairs of packed blocks (not both fixed)."""
+    face_a, face_b = facing_face_pairs(pack, tol)
+    block_a, block_b = pack.face_block[face_a], pack.face_block[face_b]
+    keep = (block_a != block_b) & ~(fixed[block_a] & fixed[block_b])
+    face_a, face_b, block_a, block_b = face_a[keep], face_b[keep], block_a[keep], block_b[keep]
+    # A free block always comes first; between two free blocks the lower index does (pack
+    # order follows model order).
+    swap = fixed[block_a] | (~fixed[block_b] & (block_b < block_a))
+    face_a, face_b = np.where(swap, face_b, face_a), np.where(swap, face_a, face_b)
+
+    n_a = pack.face_normal[face_a]
+    n_b = pack.face_normal[face_b]
+    opposite = np.einsum("ij,ij->i", n_a, n_b) < -tol.normal_cos
+    face_a, face_b, n_a, n_b = face_a[opposite], face_b[opposite], n_a[opposite], n_b[opposite]
+    # Coplanar: each face's centre lies on the other's plane.
+    gap_ab = np.einsum("ij,ij->i", n_a, pack.face_center[face_b]) - pack.face_offset[face_a]
+    gap_ba = np.einsum("ij,ij->i", n_b, pack.face_center[face_a]) - pack.face_offset[face_b]
+    coplanar = (np.abs(gap_ab) <= tol.planar) & (np.abs(gap_ba) <= tol.planar)
+    face_a, face_b = face_a[coplanar], face_b[coplanar]
+
+    normal = pack.face_normal[face_a]
+    u, v = _plane_axes(normal)
+    subject, subject_count = _project_faces(pack, face_a, u, v)
+    clip, clip_count = _project_faces(pack, face_b, u, v)
+    # Face b winds counter-clockwise about its own normal, i.e. clockwise in a's frame.
+    clip, clip_count = _reverse_polygons(clip, clip_count)
+    polygon, count = _clip_convex(subject, subject_count, clip, clip_count, tol.merge)
+    polygon, count = _clean_polygons(polygon, count, tol.merge)
+    area = _polygon_area(polygon, count)
+    keep = (count >= 3) & (area >= tol.area)
+    plane = pack.face_offset[face_a][keep]
+    points = _lift(polygon[keep], count[keep], u[keep], v[keep], normal[keep], plane)
+    face_key = face_a[keep] * (len(pack.face_normal) + 1) + face_b[keep]
+    return (
+        pack.index[pack.face_block[face_a[keep]]],
+        pack.index[pack.face_block[face_b[keep]]],
+        normal[keep],
+        points,
+        count[keep],
+        face_key,
+    )
+
+
+def _ground_contacts(pack: PackedBlocks, fixed: np.ndarray, ground: float, tol: Tolerances):
+    """Faces of free blocks lying on the ground plane y = ``ground``, facing down."""
+    free_face = ~fixed[pack.face_block]
+    down = pack.face_normal[:, 1] < -tol.normal_cos
+    on_ground = np.abs(pack.face_center[:, 1] - ground) <= tol.planar
+    faces = np.flatnonzero(free_face & down & on_ground)
+    normal = np.tile([0.0, -1.0, 0.0], (len(faces), 1))
+    u, v = _plane_axes(normal)
+    polygon, count = _project_faces(pack, faces, u, v)
+    polygon, count = _clean_polygons(polygon, count, tol.merge)
+    area = _polygon_area(polygon, count)
+    keep = (count >= 3) & (area >= tol.area)
+    # Lifted onto the ground plane itself: normal . x = -ground there.
+    plane = np.full(int(keep.sum()), -ground)
+    points = _lift(polygon[keep], count[keep], u[keep], v[keep], normal[keep], plane)
+    return (
+        pack.index[pack.face_block[faces[keep]]],
+        np.full(int(keep.sum()), GROUND, dtype=np.int64),
+        normal[keep],
+        points,
+        count[keep],
+        faces[keep],
+    )
+
+
+def _merge_split_contacts(interfaces: list[Interface], tol: Tolerances) -> list[Interface]:
+    """Join the pieces of one contact that a block with split coplanar faces produces.
+
+    Two convex blocks touch in one convex polygon; when a block's face is given as several
+    coplanar polygons (a triangulated mesh) the pieces arrive separately and their union is the
+    convex hull of their vertices.
+    """
+    out: list[Interface] = []
+    k = 0
+    while k < len(interfaces):
+        run = k + 1
+        first, second = interfaces[k].first, interfaces[k].second
+        while run < len(interfaces) and (
+            interfaces[run].first == first and interfaces[run].second == second
+        ):
+            run += 1
+        pieces = interfaces[k:run]
+        k = run
+        normal = pieces[0].normal
+        if len(pieces) == 1 or any(p.normal @ normal < tol.normal_cos for p in pieces):
+            out.extend(pieces)
+            continue
+        points = np.concatenate([p.vertices for p in pieces])
+        t1, t2 = pieces[0].tangent1, pieces[0].tangent2
+        plane = points @ normal
+        try:
+            hull = ConvexHull(np.stack([points @ t1, points @ t2], axis=1))
+        except QhullError:
+            out.extend(pieces)
+            continue
+        # 2D hull vertices are counter-clockwise in (t1, t2), hence about t1 x t2 = normal.
+        ring = points[hull.vertices]
+        ring = ring + np.outer(plane.mean() - plane[hull.vertices], normal)
+        out.append(Interface(first, second, normal, t1, t2, ring))
+    return out
+
+
+# ------------------------------------------------------------------------- batched 2D polygon ops
+def _plane_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(m, 3)`` unit axes u, v with u x v = normal, for projecting onto each plane."""
+    helper = np.zeros_like(normal)
+    use_x = np.abs(normal[:, 0]) < 0.9
+    helper[use_x, 0] = 1.0
+    helper[~use_x, 2] = 1.0
+    u = np.cross(helper, normal)
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    v = np.cross(normal, u)
+    return u, v
+
+
+def _project_faces(pack: PackedBlocks, faces: np.ndarray, u: np.ndarray, v: np.ndarray):
+    """Faces as padded 2D polygons ``(m, K, 2)`` in the axes (u, v), with vertex counts."""
+    count = pack.corner_start[faces + 1] - pack.corner_start[faces]
+    width = int(count.max()) if len(faces) else 3
+    slot = np.arange(width)
+    valid = slot[None, :] < count[:, None]
+    corner = pack.corner_start[faces][:, None] + np.where(valid, slot[None, :], 0)
+    p = pack.vertices[pack.corners[corner]]
+    polygon = np.stack([np.einsum("mkj,mj->mk", p, u), np.einsum("mkj,mj->mk", p, v)], axis=2)
+    polygon[~valid] = 0.0
+    return polygon, count
+
+
+def _reverse_polygons(polygon: np.ndarray, count: np.ndarray):
+    """The same padded polygons with their winding reversed."""
+    width = polygon.shape[1]
+    slot = np.arange(width)
+    source = np.where(slot[None, :] < count[:, None], count[:, None] - 1 - slot[None, :], slot)
+    return np.take_along_axis(polygon, source[:, :, None], axis=1), count
+
+
+def _cyclic_neighbor(count: np.ndarray, width: int, step: int) -> np.ndarray:
+    """Slot index of the next (step 1) or previous (step -1) vertex within each polygon."""
+    slot = np.arange(width)[None, :]
+    safe = np.maximum(count, 1)[:, None]
+    return np.where(slot < count[:, None], (slot + step) % safe, slot)
+
+
+def _compact(points: np.ndarray, keep: np.ndarray):
+    """Move the kept vertices of each row to the front, in order; returns points and counts."""
+    order = np.argsort(~keep, axis=1, kind="stable")
+    count = keep.sum(axis=1)
+    width = max(int(count.max()) if len(count) else 0, 3)
+    order = order[:, :width]
+    out = np.take_along_axis(points, order[:, :, None], axis=1)
+    out[np.arange(width)[None, :] >= count[:, None]] = 0.0
+    return out, count
+
+
+def _clip_convex(subject, subject_count, clip, clip_count, eps: float):
+    """Sutherland-Hodgman: each subject polygon clipped by its convex clip polygon (both CCW).
+
+    A vertex within ``eps`` metres of a clip edge counts as inside, so shared edges survive
+    without spurious intersection points.
+    """
+    polygon, count = subject, subject_count.copy()
+    for edge in range(clip.shape[1]):
+        active = edge < clip_count
+        start = clip[:, edge]
+        end = clip[np.arange(len(clip)), (edge + 1) % np.maximum(clip_count, 1)]
+        direction = end - start
+        length = np.linalg.norm(direction, axis=1)
+        length = np.where(length > 0, length, 1.0)
+        relative = polygon - start[:, None, :]
+        distance = (
+            direction[:, None, 0] * relative[..., 1] - direction[:, None, 1] * relative[..., 0]
+        )
+        distance /= length[:, None]
+        width = polygon.shape[1]
+        valid = np.arange(width)[None, :] < count[:, None]
+        distance = np.where(active[:, None], distance, np.inf)
+        nxt = _cyclic_neighbor(count, width, 1)
+        distance_next = np.take_along_axis(distance, nxt, axis=1)
+        polygon_next = np.take_along_axis(polygon, nxt[:, :, None], axis=1)
+        inside = distance >= -eps
+        inside_next = distance_next >= -eps
+        crossing = valid & (inside != inside_next)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            t = distance / (distance - distance_next)
+        t = np.where(crossing, np.clip(t, 0.0, 1.0), 0.0)
+        crossing_point = polygon + t[:, :, None] * (polygon_next - polygon)
+        # Each subject edge emits its start vertex (if inside) then the crossing (if any).
+        emitted = np.stack([polygon, crossing_point], axis=2).reshape(len(polygon), 2 * width, 2)
+        keep = np.stack([valid & inside, crossing], axis=2).reshape(len(polygon), 2 * width)
+        polygon, count = _compact(emitted, keep)
+        count = np.where(count >= 3, count, 0)
+    return polygon, count
+
+
+def _clean_polygons(polygon: np.ndarray, count: np.ndarray, merge: float):
+    """Drop near-duplicate vertices and vertices on a straight edge (within ``merge`` metres)."""
+    if len(polygon) == 0:
+        return polygon, count
+    width = polygon.shape[1]
+    valid = np.arange(width)[None, :] < count[:, None]
+    previous = np.take_along_axis(polygon, _cyclic_neighbor(count, width, -1)[:, :, None], axis=1)
+    distinct = np.linalg.norm(polygon - previous, axis=2) > merge
+    # A polygon whose vertices all coincide keeps none of them.
+    polygon, count = _compact(polygon, valid & distinct)
+    width = polygon.shape[1]
+    valid = np.arange(width)[None, :] < count[:, None]
+    previous = np.take_along_axis(polygon, _cyclic_neighbor(count, width, -1)[:, :, None], axis=1)
+    following = np.take_along_axis(polygon, _cyclic_neighbor(count, width, 1)[:, :, None], axis=1)
+    chord = following - previous
+    offset = polygon - previous
+    twice_area = np.abs(chord[..., 0] * offset[..., 1] - chord[..., 1] * offset[..., 0])
+    straight = twice_area <= merge * np.linalg.norm(chord, axis=2)
+    polygon, count = _compact(polygon, valid & ~straight)
+    return polygon, np.where(count >= 3, count, 0)
+
+
+def _polygon_area(polygon: np.ndarray, count: np.ndarray) -> np.ndarray:
+    """Signed areas (positive counter-clockwise) of padded 2D polygons, m^2."""
+    if len(polygon) == 0:
+        return np.zeros(0)
+    following = np.take_along_axis(
+        polygon, _cyclic_neighbor(count, polygon.shape[1], 1)[:, :, None], axis=1
+    )
+    valid = np.arange(polygon.shape[1])[None, :] < count[:, None]
+    cross = polygon[..., 0] * following[..., 1] - polygon[..., 1] * following[..., 0]
+    return 0.5 * np.where(valid, cross, 0.0).sum(axis=1)
+
+
+def _lift(polygon, count, u, v, normal, offset) -> np.ndarray:
+    """Padded 2D polygons back to 3D points on the planes ``normal . x = offset``, concatenated."""
+    valid = np.arange(polygon.shape[1])[None, :] < count[:, None]
+    points = (
+        polygon[..., 0:1] * u[:, None, :]
+        + polygon[..., 1:2] * v[:, None, :]
+        + (offset[:, None] * normal)[:, None, :]
+    )
+    return points[valid].reshape(-1, 3)
