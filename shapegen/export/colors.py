@@ -17,6 +17,7 @@ __all__ = [
     "label_color",
     "block_label_color",
     "tension_colors",
+    "tension_levels",
 ]
 
 import zlib
@@ -70,23 +71,42 @@ def block_label_color(tags: Sequence[str], *, fixed: bool, structural: bool) -> 
     return UNLABELLED.copy()
 
 
-def tension_colors(tension: np.ndarray, fixed: np.ndarray, structural: np.ndarray) -> np.ndarray:
-    """``(n, 4)`` colours on the grey-to-red ramp of each block's worst tension.
+# Vertex tensions below this fraction of the total weight are solver round-off, not tension.
+TENSION_NOISE_REL = 1e-6
+
+
+def tension_levels(analysis) -> np.ndarray:
+    """``(nb,)`` in [0, 1]: each block's worst tension relative to the worst block's.
+
+    All zero when the analysis says the model stands, and tensions below
+    :data:`TENSION_NOISE_REL` of the total weight count as zero, so that the round-off of a
+    standing model is never painted as tension.
+    """
+    tension = np.nan_to_num(np.asarray(analysis.block_tension, dtype=float), nan=0.0)
+    tension = tension.reshape(-1).clip(min=0.0)
+    if getattr(analysis, "feasible", False):
+        return np.zeros_like(tension)
+    weight = float(getattr(analysis, "total_weight", 0.0) or 0.0)
+    tension[tension <= TENSION_NOISE_REL * weight] = 0.0
+    peak = float(tension.max()) if tension.size else 0.0
+    return tension / peak if peak > 0 else np.zeros_like(tension)
+
+
+def tension_colors(levels: np.ndarray, fixed: np.ndarray, structural: np.ndarray) -> np.ndarray:
+    """``(n, 4)`` colours on the grey-to-red ramp.
 
     Parameters
     ----------
-    tension
-        ``(n,)`` worst tension of each block, N (>= 0; NaN counts as 0).
+    levels
+        ``(n,)`` tension levels in [0, 1] (see :func:`tension_levels`).
     fixed, structural
         ``(n,)`` booleans: supports get :data:`SUPPORT`, non-structural blocks
         :data:`NON_STRUCTURAL`.
 
-    The ramp runs from :data:`TENSION_ZERO` at 0 N to :data:`TENSION_MAX` at the largest tension
-    among the blocks, in :data:`TENSION_STEPS` steps.
+    The ramp runs from :data:`TENSION_ZERO` at 0 to :data:`TENSION_MAX` at 1 in
+    :data:`TENSION_STEPS` steps.
     """
-    tension = np.nan_to_num(np.asarray(tension, dtype=float), nan=0.0).clip(min=0.0)
-    peak = float(tension.max()) if tension.size else 0.0
-    fraction = tension / peak if peak > 0 else np.zeros_like(tension)
+    fraction = np.clip(np.asarray(levels, dtype=float), 0.0, 1.0)
     fraction = np.round(fraction * (TENSION_STEPS - 1)) / (TENSION_STEPS - 1)
     ramp = TENSION_ZERO + fraction[:, None] * (TENSION_MAX.astype(float) - TENSION_ZERO)
     colors = np.round(ramp).astype(np.uint8)

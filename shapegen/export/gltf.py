@@ -28,7 +28,7 @@ from trimesh.visual.material import PBRMaterial
 
 from shapegen.engine.model import Model
 from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION
-from shapegen.export.colors import RESULTANT, block_label_color, tension_colors
+from shapegen.export.colors import RESULTANT, block_label_color, tension_colors, tension_levels
 from shapegen.export.meshes import block_mesh
 
 ARROW_LENGTH_REL = 0.15  # the largest resultant arrow, as a fraction of the model size
@@ -57,7 +57,7 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
         tension = np.asarray(analysis.block_tension, dtype=float).reshape(-1)
         if len(tension) != n:
             raise ValueError(f"the analysis has {len(tension)} block tensions for {n} blocks")
-        colors = tension_colors(tension, fixed, structural)
+        colors = tension_colors(tension_levels(analysis), fixed, structural)
     else:
         colors = np.array(
             [

@@ -21,6 +21,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 from shapegen.engine.model import Model  # noqa: E402
 from shapegen.export.atomic import atomic_write  # noqa: E402
+from shapegen.export.colors import tension_levels  # noqa: E402
 
 _STONE = np.array([0.80, 0.78, 0.72])
 _SUPPORT = np.array([0.35, 0.35, 0.38])
@@ -55,9 +56,7 @@ def render_model(
     ax = fig.add_subplot(projection="3d")
     tension = None
     if analysis is not None and getattr(analysis, "block_tension", None) is not None:
-        tension = np.asarray(analysis.block_tension, float)
-        peak = float(tension.max()) if tension.size else 0.0
-        tension = tension / peak if peak > 0 else np.zeros_like(tension)
+        tension = tension_levels(analysis)
     elev, azim = np.radians(elevation), np.radians(azimuth)
     # Direction towards the viewer, in model axes (matplotlib's z is the model's y).
     eye = np.array([np.cos(elev) * np.cos(azim), np.sin(elev), -np.cos(elev) * np.sin(azim)])
