@@ -1,0 +1,94 @@
+"""`shapegen build --optimize` and `shapegen landscape` as a user runs them."""
+
+import json
+
+import pytest
+
+from shapegen.cli import main
+
+STACK = """
+@Free @Range(0.0, 0.6)
+attr base = 0.1
+@Range(0.0, 0.6)
+attr shift = 0.0
+@StartRule @Lot(1, 1)
+Lot --> extrude(2) split(y) { 1 : Bottom | 1 : Top }
+Bottom --> s(base + 0.5, '1, '1) Stone
+Top --> t(0.3 - shift, 0, 0) Stone
+"""
+
+
+@pytest.fixture
+def stack(tmp_path):
+    path = tmp_path / "stack.grammar"
+    path.write_text(STACK)
+    return path
+
+
+def test_optimize_writes_a_standing_model_and_the_optimization_report(stack, tmp_path):
+    report = tmp_path / "r.json"
+    out = tmp_path / "m.json"
+    code = main(["build", str(stack), "--optimize", "--quiet", "--report", str(report),
+                 "-o", str(out)])  # fmt: skip
+    assert code == 0
+    data = json.loads(report.read_text())
+    optimization = data["optimization"]
+    assert optimization["feasible"] and data["analysis"]["feasible"]
+    base = optimization["parameters"]["base"]
+    assert base["initial"] == 0.1 and base["final"] >= 0.3 - 1e-6  # closed form: base >= 0.3
+    assert data["attrs"]["base"] == pytest.approx(base["final"])
+    for key in (
+        "converged",
+        "iterations",
+        "qp_solves",
+        "seconds",
+        "seconds_per_iteration",
+        "initial_infeasibility",
+        "final_infeasibility",
+    ):
+        assert key in optimization
+    model = json.loads(out.read_text())
+    widths = sorted(max(v[0] for v in b["vertices"]) - min(v[0] for v in b["vertices"])
+                    for b in model["blocks"])  # fmt: skip
+    assert widths[0] == pytest.approx(0.5 + base["final"])  # the optimized model was written
+
+
+def test_free_fix_and_closest(stack, tmp_path):
+    report = tmp_path / "r.json"
+    code = main(["build", str(stack), "--optimize", "--free", "base,shift", "--objective",
+                 "closest", "--quiet", "--report", str(report)])  # fmt: skip
+    assert code == 0
+    parameters = json.loads(report.read_text())["optimization"]["parameters"]
+    assert parameters["base"]["final"] == pytest.approx(0.2, abs=0.01)
+    assert parameters["shift"]["final"] == pytest.approx(0.1, abs=0.01)
+    code = main(["build", str(stack), "--optimize", "--free", "shift", "--fix", "base=0.25",
+                 "--quiet", "--report", str(report)])  # fmt: skip
+    assert code == 0
+    optimization = json.loads(report.read_text())["optimization"]
+    assert list(optimization["parameters"]) == ["shift"]
+    assert optimization["parameters"]["shift"]["final"] >= 0.05 - 1e-6
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (["--optimize", "--free", "bsae"], "did you mean 'base'"),
+        (["--free", "base"], "only apply with --optimize"),
+        (["--optimize", "--max-iter", "0"], "--max-iter must be at least 1"),
+        (["--optimize", "--objective", "nearest"], "invalid choice"),
+    ],
+)
+def test_search_mistakes_exit_2_with_one_line(stack, capsys, arguments, message):
+    assert main(["build", str(stack), *arguments]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+def test_landscape_writes_a_png_and_refuses_bad_requests(stack, tmp_path, capsys):
+    picture = tmp_path / "land.png"
+    assert main(["landscape", str(stack), "base", "shift", "--grid", "4", "-o", str(picture),
+                 "--quiet"]) == 0  # fmt: skip
+    assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert main(["landscape", str(stack), "base", "base", "-o", str(picture)]) == 2
+    assert main(["landscape", str(stack), "base", "shift", "-o", str(tmp_path / "x.jpg")]) == 2
+    assert "Traceback" not in capsys.readouterr().err
