@@ -381,6 +381,7 @@ def _analysis_report(analysis) -> dict:
 
 # ------------------------------------------------------------------------------ build
 def _run_build(args: argparse.Namespace) -> int:
+    from shapegen.engine import bridge_rules
     from shapegen.export.model_io import check_output_path
 
     _check_outputs(args, check_output_path)
@@ -395,6 +396,8 @@ def _run_build(args: argparse.Namespace) -> int:
         raise CommandLineError("--free and --fix only apply with --optimize")
     model = grammar.build(attrs=attrs, seed=args.seed, lot=args.lot)
     report = _build_report(model)
+    if bridge_rules.is_cable_structure(grammar):  # a @Structure("cable") grammar: cable sizing
+        report["bridge"] = bridge_rules.bridge_report(bridge_rules.model_design(model))
     if optimization is not None:
         report["optimization"] = optimization.to_report()
         analysis = optimization.analysis

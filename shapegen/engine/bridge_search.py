@@ -82,6 +82,7 @@ def search_span_and_sag(
     xtol: float = 1e-4,
     ftol: float = 1e-6,
     max_evaluations: int = 2000,
+    main_spans: int = 1,
 ) -> BridgeSearchResult:
     """Find a main span and sag whose cables are no thicker than ``max_diameter``.
 
@@ -113,6 +114,11 @@ def search_span_and_sag(
         diameter.
     max_evaluations
         Limit on cable sizings.
+    main_spans
+        Number of equal main spans (towers - 1). With several, the main span is at most
+        ``length / main_spans`` and the side spans share ``length - main_spans * span``; the
+        cable is sized as for one main span between two such side spans (every main span
+        hangs alike, and the towers balance the horizontal pulls).
 
     Returns
     -------
@@ -120,18 +126,24 @@ def search_span_and_sag(
     """
     if not (math.isfinite(length) and length > 0.0):
         raise GeometryError(f"bridge length must be a positive length in metres, got {length}")
-    if not (math.isfinite(min_span) and 0.0 < min_span <= length):
+    if int(main_spans) != main_spans or main_spans < 1:
+        raise GeometryError(
+            f"the number of main spans must be a whole number >= 1, got {main_spans}"
+        )
+    longest = length / main_spans
+    if not (math.isfinite(min_span) and 0.0 < min_span <= longest * (1.0 + 1e-12)):
         raise GeometryError(
             f"minimum main span {min_span} m must be positive and at most the bridge length "
-            f"{length} m"
+            f"{length} m" + (f" / {main_spans} main spans" if main_spans > 1 else "")
         )
+    min_span = min(min_span, longest)
     if not (math.isfinite(max_diameter) and max_diameter > 0.0):
         raise GeometryError(f"maximum cable diameter must be positive, got {max_diameter} m")
     if initial_span is None:
-        initial_span = length
-    if not min_span <= initial_span <= length:
+        initial_span = longest
+    if not min_span <= initial_span <= longest:
         raise GeometryError(
-            f"initial main span {initial_span} m is outside [{min_span}, {length}] m"
+            f"initial main span {initial_span} m is outside [{min_span}, {longest}] m"
         )
     if not MIN_SAG_RATIO < max_sag_ratio <= 0.5:
         raise GeometryError(
@@ -149,13 +161,17 @@ def search_span_and_sag(
     first_acceptable: list[CableSizing] = []
 
     def design(x: np.ndarray) -> tuple[float, float]:
-        span = float(np.clip(x[0], min_span / length, 1.0)) * length
+        span = float(np.clip(x[0], min_span / longest, 1.0)) * longest
         return span, span * float(np.clip(x[1], MIN_SAG_RATIO, max_sag_ratio))
+
+    def sized(span: float, sag: float) -> CableSizing:
+        # One main span with the side spans of the whole bridge on either side of it.
+        return size_cables(loading, span, sag, length=max(length - (main_spans - 1) * span, span))
 
     def diameter(x: np.ndarray) -> float:
         nonlocal evaluations
         evaluations += 1
-        sizing = size_cables(loading, *design(x), length=length)
+        sizing = sized(*design(x))
         if sizing.diameter < max_diameter:
             first_acceptable.append(sizing)
             raise _AcceptableDesign
@@ -165,8 +181,8 @@ def search_span_and_sag(
         nonlocal iterations
         iterations += 1
 
-    start = np.array([initial_span / length, initial_sag_ratio])
-    bounds = [(min_span / length, 1.0), (MIN_SAG_RATIO, max_sag_ratio)]
+    start = np.array([initial_span / longest, initial_sag_ratio])
+    bounds = [(min_span / longest, 1.0), (MIN_SAG_RATIO, max_sag_ratio)]
     try:
         outcome = minimize(
             diameter,
@@ -192,7 +208,7 @@ def search_span_and_sag(
                 f"under the maximum {max_diameter:.3f} m"
             ),
         )
-    sizing = size_cables(loading, *design(outcome.x), length=length)
+    sizing = sized(*design(outcome.x))
     state = "converged" if outcome.success else "did not converge"
     return BridgeSearchResult(
         span=sizing.main_span,

@@ -389,6 +389,12 @@ def optimize(
     progress
         Called after each iteration with an :class:`IterationRecord`.
     """
+    from shapegen.engine import bridge_rules  # a @Structure("cable") grammar: the cable model
+
+    if bridge_rules.is_cable_structure(grammar):
+        return bridge_rules.optimize_bridge(
+            grammar, free=free, fix=fix, attrs=attrs, seed=seed, lot=lot
+        )
     if objective not in OBJECTIVES:
         raise StaticsError(f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}")
     if gradient not in GRADIENTS:

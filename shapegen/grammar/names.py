@@ -132,6 +132,7 @@ ANNOTATIONS: dict[str, tuple[int, int, tuple[str, ...]]] = {
     "Description": (1, 1, ()),
     "Free": (0, 0, ()),
     "Lot": (2, 2, ()),
+    "Structure": (1, 1, ()),  # ours: "cable" sizes the model by its cables (bridge_rules)
     "Order": (1, 1, ()),
     "Group": (1, 3, ()),
     "Enum": (0, 1_000_000, ("restricted",)),

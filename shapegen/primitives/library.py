@@ -3,6 +3,7 @@
 from shapegen.primitives import (
     arch,  # noqa: F401
     box,  # noqa: F401
+    bridge,  # noqa: F401
     buttress,  # noqa: F401
     column,  # noqa: F401
     dome,  # noqa: F401
