@@ -335,7 +335,14 @@ def _match_vertices(problem, moved) -> np.ndarray | None:
         return None
     if problem.n_vertices == 0:
         return np.zeros(0, int)
-    _, nearest = cKDTree(problem.vertex_points).query(moved.vertex_points)
+    # Neighbouring joints share corners (four course joints meet at a block's corner), so match
+    # each vertex among its own interface's vertices only: a fourth coordinate, the interface
+    # number times a length far beyond the model, keeps interfaces apart in the search.
+    points_old, points_new = problem.vertex_points, moved.vertex_points
+    apart = 1e3 * (1.0 + float(np.ptp(points_old)) + float(np.abs(points_old).max()))
+    _, nearest = cKDTree(np.column_stack([points_old, problem.vertex_interface * apart])).query(
+        np.column_stack([points_new, moved.vertex_interface * apart])
+    )
     if not np.array_equal(problem.vertex_interface[nearest], moved.vertex_interface):
         return None
     if len(np.unique(nearest)) != len(nearest):

@@ -1,0 +1,342 @@
+"""``analyze(model)``: does a block assembly stand? The tension-penalty QP and its verdict.
+
+The infeasibility ``y`` is the least sum of squared vertex tensions (N^2) that holds every free
+block in equilibrium with the friction pyramid respected (Whiting, Ochsendorf, Durand 2009):
+``y = 0`` means the assembly stands with compression and friction alone.
+
+The verdict ``feasible`` is scale independent and robust to solver noise. It comes from a
+certificate: a set of compressive, pyramid-respecting vertex forces whose equilibrium residual
+(largest entry, forces / W and torques / (W L), see :func:`certify`) is at most
+``tolerances.feasible_rel``. The forces are taken from the linear phase-one problem
+``min sum s`` on the same constraints, solved first: an interior point solution of it carries
+tensions of the order of the barrier parameter (~1e-12 W), whereas one of ``min sum s^2`` keeps
+tensions of order sqrt(barrier) that would blur the verdict near a limit state.
+
+1. phase one infeasible (no equilibrium even with tension: e.g. a tangential load with no
+   friction): not feasible, ``y = inf``;
+2. phase one certified: feasible; ``y`` is the (negligible) sum of squared phase-one tensions and
+   the multipliers are zero (``y`` vanishes around a feasible design);
+3. otherwise not feasible, and the QP ``min sum s^2`` gives ``y``. (Should phase one fail to
+   converge, the QP is solved alone and judged as in the seed paper: not feasible when
+   ``y / W^2 > tolerances.screen_rel``, else by the certificate on its own solution.)
+
+Sliding is not a solver failure: with tension allowed, a large compression paired with an equal
+tension buys friction capacity, so an assembly that could only stand by sliding gets a finite
+``y > 0`` and ``feasible = False`` with status ``optimal``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["Analysis", "analyze", "certify", "SOLVERS"]
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from shapegen.errors import StaticsError
+from shapegen.statics.assembly import PYRAMIDS, StaticsProblem, assemble
+from shapegen.statics.interface import Interface
+from shapegen.statics.solvers import BACKENDS, Solution, SolveStatus, get_backend
+
+SOLVERS = ("auto", *BACKENDS)
+AUTO_ORDER = ("reduced", "clarabel")  # "auto": the fastest first, the next if it fails
+
+
+@dataclass
+class Analysis:
+    """The outcome of :func:`analyze`.
+
+    Attributes
+    ----------
+    status
+        Solver outcome (:class:`SolveStatus`).
+    feasible
+        True when the assembly stands (see the module docstring for the criterion).
+    infeasibility
+        ``y``, N^2: least sum of squared vertex tensions (inf when no equilibrium exists).
+    infeasibility_normalized
+        ``y / W^2``, dimensionless.
+    max_tension
+        Largest vertex tension, N.
+    total_weight
+        ``W``, weight of the free (structural, non-fixed) blocks, N.
+    interfaces
+        The interfaces analysed (scaled by the kern).
+    resultant_forces
+        ``(ni, 3)`` N: total force on ``second`` from ``first``.
+    resultant_points
+        ``(ni, 3)`` m: centre of the normal forces in the interface plane (nan when the normal
+        resultant is ~0).
+    interface_tension
+        ``(ni,)`` N: sum of the vertex tensions of each interface.
+    block_tension
+        ``(nb,)`` N per block of ``model.blocks``: largest ``interface_tension`` touching it.
+    forces
+        ``(m, 4)`` per vertex: compression, tension, friction along tangent1 and tangent2, N.
+    multipliers
+        ``(6 nf,)`` equilibrium multipliers, six per free block (force rows, then torque rows),
+        with ``dy/dw = multipliers`` for the external wrench ``w`` (units N for force rows and
+        N / m for torque rows, so that their products with N and N m give N^2), or None.
+    timings
+        Seconds spent in "interfaces", "assembly", "solve", "certify".
+    solver
+        The back-end that produced the solution.
+    problem
+        The assembled problem (reusable: sparsity pattern, orderings, index arrays).
+    """
+
+    status: SolveStatus
+    feasible: bool
+    infeasibility: float
+    infeasibility_normalized: float
+    max_tension: float
+    total_weight: float
+    interfaces: list[Interface]
+    resultant_forces: np.ndarray
+    resultant_points: np.ndarray
+    interface_tension: np.ndarray
+    block_tension: np.ndarray
+    forces: np.ndarray
+    multipliers: np.ndarray | None
+    timings: dict[str, float]
+    solver: str
+    problem: StaticsProblem | None = field(default=None, repr=False)
+    n_blocks: int = 0
+
+    def to_report(self) -> dict:
+        """A JSON-ready summary (plain Python numbers and strings)."""
+
+        def number(value: float):
+            value = float(value)
+            return value if np.isfinite(value) else None
+
+        return {
+            "blocks": int(self.n_blocks),
+            "interfaces": len(self.interfaces),
+            "feasible": bool(self.feasible),
+            "infeasibility": number(self.infeasibility),
+            "infeasibility_normalized": number(self.infeasibility_normalized),
+            "max_tension": number(self.max_tension),
+            "total_weight": number(self.total_weight),
+            "seconds": float(sum(self.timings.values())),
+            "status": self.status.value,
+            "solver": self.solver,
+            "timings": {k: float(v) for k, v in self.timings.items()},
+        }
+
+
+def _validate_options(pyramid, kern, solver, friction) -> None:
+    if pyramid not in PYRAMIDS:
+        raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
+    if solver not in SOLVERS:
+        raise StaticsError(f"solver must be one of {', '.join(SOLVERS)}; got {solver!r}")
+    try:
+        kern_ok = 0 < float(kern) <= 1
+    except (TypeError, ValueError):
+        kern_ok = False
+    if not kern_ok:
+        raise StaticsError(f"kern must be a number in (0, 1]; got {kern!r}")
+    if friction is not None:
+        try:
+            friction_ok = np.isfinite(float(friction)) and float(friction) >= 0
+        except (TypeError, ValueError):
+            friction_ok = False
+        if not friction_ok:
+            raise StaticsError(f"friction must be a finite number >= 0; got {friction!r}")
+
+
+def certify(problem: StaticsProblem, x: np.ndarray) -> float:
+    """Scaled equilibrium residual of the compression-only part of a solution.
+
+    Tensions are dropped, compressions clipped at zero and each vertex's friction shrunk
+    radially into its pyramid. Returns the largest entry of ``|A f + w|`` with forces divided by
+    ``W`` and torques by ``W L`` (dimensionless); the assembly is certified to stand when it is at
+    most ``tolerances.feasible_rel``.
+    """
+    m = problem.n_vertices
+    c, _, u, t = x.reshape(4, m)
+    c = np.maximum(c, 0.0)
+    sides = problem.cone[:-1]
+    capacity = -sides[0, 0] * c  # mu cos(pi/K) c, the same for every side
+    demand = np.max(np.outer(u, sides[:, 1]) + np.outer(t, sides[:, 2]), axis=1) if m else c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shrink = np.where(demand > capacity, capacity / np.where(demand > 0, demand, 1.0), 1.0)
+    shrink = np.clip(shrink, 0.0, 1.0)
+    compression_only = np.concatenate([c, np.zeros(m), u * shrink, t * shrink])
+    residual = problem.residual(compression_only)
+    return float(np.abs(residual).max()) if residual.size else 0.0
+
+
+def _solve(problem: StaticsProblem, solver: str) -> tuple[Solution, str]:
+    """Solve with one back-end, or for "auto" with the fastest that succeeds."""
+    names = AUTO_ORDER if solver == "auto" else (solver,)
+    fallback = None
+    for name in names:
+        solution = get_backend(name).solve(problem)
+        if solution.status in (SolveStatus.OPTIMAL, SolveStatus.INFEASIBLE):
+            return solution, name
+        if fallback is None or (solution.status.solved and not fallback[0].status.solved):
+            fallback = (solution, name)
+    return fallback
+
+
+def analyze(
+    model,
+    *,
+    friction: float | None = None,
+    pyramid: str = "4",
+    kern: float = 1.0,
+    solver: str = "auto",
+    interfaces: list[Interface] | None = None,
+    check: bool = True,
+) -> Analysis:
+    """Check whether ``model`` stands under self-weight and its point loads.
+
+    Parameters
+    ----------
+    model
+        The :class:`~shapegen.engine.model.Model`.
+    friction
+        Coulomb coefficient mu (dimensionless); ``model.friction`` when None.
+    pyramid
+        Friction pyramid: ``"4"`` (|ft1|, |ft2| <= mu/sqrt(2) fn), ``"4r"`` (the same square
+        turned 45 degrees, |ft1| + |ft2| <= mu fn) or ``"8"`` (octagon inscribed in the cone).
+    kern
+        Every interface polygon is scaled about its centroid by ``kern`` in (0, 1] (1/3: forces
+        must pass through the middle third of a rectangular joint).
+    solver
+        ``"auto"`` (the reduced interior point method, Clarabel if it does not converge),
+        ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``.
+    interfaces
+        Precomputed contact interfaces (unscaled); found with ``find_interfaces`` when None.
+    check
+        Run ``check_model`` (interpenetration, unsupported blocks) first.
+
+    Returns
+    -------
+    Analysis
+    """
+    _validate_options(pyramid, kern, solver, friction)
+    timings = {"interfaces": 0.0, "assembly": 0.0, "solve": 0.0, "certify": 0.0}
+    tol = model.tolerances()
+
+    start = time.perf_counter()
+    if interfaces is None:
+        from shapegen.statics.contacts import find_interfaces
+
+        interfaces = find_interfaces(model)
+    if check:
+        from shapegen.statics.checks import check_model
+
+        check_model(model, interfaces)
+    timings["interfaces"] = time.perf_counter() - start
+
+    start = time.perf_counter()
+    problem = assemble(model, interfaces, friction=friction, pyramid=pyramid, kern=float(kern))
+    timings["assembly"] = time.perf_counter() - start
+
+    start = time.perf_counter()
+    phase_one, used = _solve(problem.with_objective("tension_sum"), solver)
+    timings["solve"] = time.perf_counter() - start
+    start = time.perf_counter()
+    feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
+    timings["certify"] = time.perf_counter() - start
+
+    if phase_one.status is SolveStatus.INFEASIBLE:
+        solution, y_norm = phase_one, float("inf")
+    elif feasible:
+        solution = phase_one
+        m = problem.n_vertices
+        y_norm = float(np.sum(phase_one.x[m : 2 * m] ** 2))
+        solution.multipliers = np.zeros_like(phase_one.multipliers)
+    else:
+        start = time.perf_counter()
+        solution, used = _solve(problem, used if phase_one.status.solved else solver)
+        timings["solve"] += time.perf_counter() - start
+        if solution.status.solved:
+            m = problem.n_vertices
+            y_norm = float(np.sum(solution.x[m : 2 * m] ** 2))
+            if not phase_one.status.solved and y_norm <= tol.screen_rel:
+                start = time.perf_counter()
+                feasible = certify(problem, solution.x) <= tol.feasible_rel
+                timings["certify"] += time.perf_counter() - start
+        elif solution.status is SolveStatus.INFEASIBLE:
+            y_norm = float("inf")
+        else:
+            y_norm = float("nan")
+    return _build_analysis(model, problem, solution, used, feasible, y_norm, timings)
+
+
+def _build_analysis(model, problem, solution, used, feasible, y_norm, timings) -> Analysis:
+    m = problem.n_vertices
+    ni = len(problem.interfaces)
+    nb = len(model.blocks)
+    weight = problem.weight
+    if solution.x is not None:
+        forces = solution.x.reshape(4, m).T * weight
+    else:
+        forces = np.full((m, 4), np.nan)
+    frames = (
+        np.array([(i.normal, i.tangent1, i.tangent2) for i in problem.interfaces], float)
+        if ni
+        else np.zeros((0, 3, 3))
+    )
+    owner = problem.vertex_interface
+    normal_force = forces[:, 0] - forces[:, 1]
+    local = np.stack([normal_force, forces[:, 2], forces[:, 3]], axis=1)  # (m, 3)
+    world = np.einsum("vi,vij->vj", local, frames[owner]) if m else np.zeros((0, 3))
+    resultant = np.stack([np.bincount(owner, world[:, k], minlength=ni) for k in range(3)], axis=1)
+    normal_total = np.bincount(owner, normal_force, minlength=ni)
+    moment = np.stack(
+        [
+            np.bincount(owner, normal_force * problem.vertex_points[:, k], minlength=ni)
+            for k in range(3)
+        ],
+        axis=1,
+    )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        points = moment / normal_total[:, None]
+    points[np.abs(normal_total) <= 1e-12 * weight] = np.nan
+    tension = np.bincount(owner, forces[:, 1], minlength=ni)
+    block_tension = np.zeros(nb)
+    if ni:
+        first = np.array([i.first for i in problem.interfaces])
+        second = np.array([i.second for i in problem.interfaces])
+        safe = np.nan_to_num(tension)
+        np.maximum.at(block_tension, first, safe)
+        on_block = second >= 0
+        np.maximum.at(block_tension, second[on_block], safe[on_block])
+        structural_free = np.zeros(nb, bool)
+        structural_free[problem.free_blocks] = True
+        block_tension[~structural_free] = 0.0
+    multipliers = None
+    if solution.multipliers is not None:
+        # d(y/W^2)/d(w/W) = lam  ->  dy/dw = W lam (force rows), W lam / L (torque rows)
+        lam = solution.multipliers.reshape(-1, 6) * weight
+        lam[:, 3:] /= problem.length
+        multipliers = lam.reshape(-1)
+    total_weight = problem.weight if problem.n_free else 0.0
+    y = y_norm * weight**2 if np.isfinite(y_norm) else y_norm
+    max_tension = float(np.max(forces[:, 1])) if m and solution.x is not None else 0.0
+    if solution.x is None and solution.status is SolveStatus.INFEASIBLE:
+        max_tension = float("inf")
+    return Analysis(
+        status=solution.status,
+        feasible=bool(feasible),
+        infeasibility=float(y),
+        infeasibility_normalized=float(y_norm),
+        max_tension=max_tension,
+        total_weight=float(total_weight),
+        interfaces=problem.interfaces,
+        resultant_forces=resultant,
+        resultant_points=points,
+        interface_tension=tension,
+        block_tension=block_tension,
+        forces=forces,
+        multipliers=multipliers,
+        timings=timings,
+        solver=used,
+        problem=problem,
+        n_blocks=nb,
+    )

@@ -1,0 +1,380 @@
+"""Sparse assembly of the tension-penalty problem (Whiting, Ochsendorf, Durand 2009).
+
+Per interface vertex ``v`` there are four variables: compression ``c_v >= 0``, tension
+``s_v >= 0`` and two friction components ``u_v``, ``t_v`` along the interface tangents. The force
+on block ``second`` at the vertex is ``(c_v - s_v) n + u_v t1 + t_v t2``; block ``first`` gets the
+opposite force. Each free block (structural and not fixed) contributes six equilibrium rows (force,
+torque about its centroid): ``A f + w = 0``.
+
+The problem is stored dimensionless so that every solver sees numbers of order one whatever the
+units of the model: forces are divided by the total weight ``W`` (N) of the free blocks and
+lengths by the model size ``L`` (m). Torque rows are therefore divided by ``W * L``. The objective
+``sum s^2`` of the scaled variables is ``y / W^2``.
+
+The variable vector is ``x = [c, s, u, t]`` (four groups of ``m`` entries). The inequalities are
+per vertex and the same for every vertex: ``cone @ [c, u, t] <= 0`` (the friction pyramid sides
+and ``c >= 0``) and ``s >= 0``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["StaticsProblem", "assemble", "friction_cone", "PYRAMIDS", "OBJECTIVES"]
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import scipy.sparse as sp
+
+from shapegen.errors import StaticsError
+from shapegen.statics.interface import GROUND, Interface
+
+PYRAMIDS = ("4", "4r", "8")
+OBJECTIVES = ("tension_squared", "tension_sum")
+
+# A minute Tikhonov term on c, u, t (dimensionless, relative to the unit weight) keeps the optimal
+# set bounded when a self-stress exists (e.g. blocks wedged between two fixed supports); its effect
+# on the tensions is of order 1e-10 W, far below every verdict tolerance.
+REGULARIZATION = 1e-10
+
+
+def friction_cone(pyramid: str, mu: float) -> np.ndarray:
+    """Rows ``g`` of the per-vertex inequalities ``g @ (c, u, t) <= 0``.
+
+    The friction polygon with ``K`` sides is inscribed in the Coulomb circle of radius ``mu c``:
+    its sides are at distance ``mu cos(pi / K) c`` from the centre. ``"4"`` has sides normal to the
+    tangents (``|u|, |t| <= mu / sqrt(2) c``), ``"4r"`` is that square turned by 45 degrees
+    (``|u| + |t| <= mu c``) and ``"8"`` is the octagon. The last row is ``-c <= 0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K + 1, 3)`` dimensionless.
+    """
+    if pyramid not in PYRAMIDS:
+        raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
+    sides = {"4": 4, "4r": 4, "8": 8}[pyramid]
+    offset = np.pi / 4 if pyramid == "4r" else 0.0
+    angles = offset + 2 * np.pi * np.arange(sides) / sides
+    rows = np.empty((sides + 1, 3))
+    rows[:sides, 0] = -mu * np.cos(np.pi / sides)
+    rows[:sides, 1] = np.cos(angles)
+    rows[:sides, 2] = np.sin(angles)
+    rows[sides] = (-1.0, 0.0, 0.0)
+    rows[np.abs(rows) < 1e-15] = 0.0
+    return rows
+
+
+@dataclass
+class StaticsProblem:
+    """The assembled, dimensionless tension-penalty problem and the index arrays to read it.
+
+    Attributes
+    ----------
+    interfaces
+        The interfaces kept (scaled by the kern), in the order of ``vertex_interface``.
+    free_index
+        ``(nb,)`` row group of each block of ``model.blocks`` (-1 for supports and non-structural
+        blocks): rows ``6 k .. 6 k + 5`` of the equalities belong to free block ``k``.
+    free_blocks
+        ``(nf,)`` index in ``model.blocks`` of each free block.
+    vertex_interface
+        ``(m,)`` interface of each vertex (non-decreasing).
+    vertex_points
+        ``(m, 3)`` vertex positions, m.
+    vertex_blocks
+        ``(m, 2)`` free index of ``first`` and ``second`` (-1 for a support).
+    vertex_jacobian
+        ``(m, 12, 3)`` dimensionless: rows 0-5 the wrench on ``first`` and rows 6-11 on ``second``
+        (force, torque / L) of a unit force along ``(n, t1, t2)`` at the vertex; zero rows for a
+        support.
+    equality
+        ``(6 nf, 4 m)`` sparse CSC ``A``, dimensionless.
+    load
+        ``(6 nf,)`` scaled external wrench ``w`` (self-weight and point loads).
+    cone
+        ``(K + 1, 3)`` per-vertex inequality rows on ``(c, u, t)``, see :func:`friction_cone`.
+    quadratic, linear
+        ``(4 m,)`` diagonal of ``P`` and ``q`` of the objective ``x P x / 2 + q x``.
+    weight
+        ``W``, N: the force scale (total weight of the free blocks).
+    length
+        ``L``, m: the length scale (model size).
+    friction, pyramid, kern, objective
+        The options the problem was assembled with.
+    cache
+        Scratch space for solvers that reuse sparsity patterns and orderings across solves.
+    """
+
+    interfaces: list[Interface]
+    free_index: np.ndarray
+    free_blocks: np.ndarray
+    vertex_interface: np.ndarray
+    vertex_points: np.ndarray
+    vertex_blocks: np.ndarray
+    vertex_jacobian: np.ndarray
+    equality: sp.csc_matrix
+    load: np.ndarray
+    cone: np.ndarray
+    quadratic: np.ndarray
+    linear: np.ndarray
+    weight: float
+    length: float
+    friction: float
+    pyramid: str
+    kern: float
+    objective: str = "tension_squared"
+    cache: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.vertex_interface)
+
+    @property
+    def n_free(self) -> int:
+        return len(self.free_blocks)
+
+    @property
+    def n_variables(self) -> int:
+        return 4 * self.n_vertices
+
+    def with_objective(self, objective: str) -> StaticsProblem:
+        """The same constraints with objective ``"tension_squared"`` (``sum s^2``, the paper's)
+        or ``"tension_sum"`` (``sum s``, a linear phase-one problem whose solution has no spurious
+        small tensions: used to certify feasibility). Matrices and caches are shared."""
+        if objective not in OBJECTIVES:
+            raise StaticsError(
+                f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}"
+            )
+        quadratic, linear = _objective(self.n_vertices, objective)
+        return replace(self, quadratic=quadratic, linear=linear, objective=objective)
+
+    def inequality_matrix(self) -> sp.csc_matrix:
+        """Sparse ``G`` with ``G x <= 0``: per vertex the ``K + 1`` cone rows, then ``-s <= 0``.
+
+        Rows are grouped per vertex: vertex ``v`` owns rows ``(K + 2) v .. (K + 2) v + K + 1``.
+        """
+        m = self.n_vertices
+        rows_per = len(self.cone) + 1
+        vertex = np.arange(m)
+        k_idx, j_idx = np.nonzero(self.cone)
+        # (c, u, t) are variable groups 0, 2, 3
+        group = np.array([0, 2, 3])[j_idx]
+        rows = (rows_per * vertex[:, None] + k_idx[None, :]).ravel()
+        cols = (group[None, :] * m + vertex[:, None]).ravel()
+        vals = np.broadcast_to(self.cone[k_idx, j_idx], (m, len(k_idx))).ravel()
+        rows = np.concatenate([rows, rows_per * vertex + rows_per - 1])
+        cols = np.concatenate([cols, m + vertex])
+        vals = np.concatenate([vals, -np.ones(m)])
+        return sp.csc_matrix((vals, (rows, cols)), shape=(rows_per * m, 4 * m))
+
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        """Scaled equilibrium residual ``A x + w`` (force rows / W, torque rows / (W L))."""
+        return self.equality @ x + self.load
+
+
+def _objective(m: int, objective: str) -> tuple[np.ndarray, np.ndarray]:
+    quadratic = np.full(4 * m, 2 * REGULARIZATION)
+    linear = np.zeros(4 * m)
+    if objective == "tension_squared":
+        quadratic[m : 2 * m] = 2.0
+    else:
+        linear[m : 2 * m] = 1.0
+    return quadratic, linear
+
+
+def _skew(r: np.ndarray) -> np.ndarray:
+    """``(n, 3, 3)`` cross-product matrices: ``_skew(r) @ d == cross(r, d)``."""
+    out = np.zeros(r.shape[:-1] + (3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -r[..., 2], r[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = r[..., 2], -r[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -r[..., 1], r[..., 0]
+    return out
+
+
+def polygon_centroids(points: np.ndarray, normals: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """Area centroids of convex polygons stored back to back (fan triangulation), m.
+
+    ``points`` ``(m, 3)``, ``normals`` ``(ni, 3)``, ``starts`` ``(ni + 1,)`` offsets.
+    """
+    counts = np.diff(starts)
+    owner = np.repeat(np.arange(len(counts)), counts)
+    apex = points[starts[:-1]][owner]
+    nxt = np.arange(len(points)) + 1
+    nxt[starts[1:] - 1] = starts[:-1]  # wrap inside each polygon
+    b, c = points, points[nxt]
+    weights = np.einsum("ij,ij->i", np.cross(b - apex, c - apex), normals[owner])
+    # fan triangles that touch the apex have zero weight, so they can stay in the sums
+    total = np.bincount(owner, weights, minlength=len(counts))
+    moment = np.stack(
+        [
+            np.bincount(owner, weights * (apex + b + c)[:, k], minlength=len(counts))
+            for k in range(3)
+        ],
+        axis=1,
+    )
+    mean = (
+        np.stack(
+            [np.bincount(owner, points[:, k], minlength=len(counts)) for k in range(3)], axis=1
+        )
+        / counts[:, None]
+    )
+    good = total > 0
+    out = mean.copy()
+    out[good] = moment[good] / (3 * total[good, None])
+    return out
+
+
+def assemble(
+    model,
+    interfaces: list[Interface],
+    *,
+    friction: float | None = None,
+    pyramid: str = "4",
+    kern: float = 1.0,
+    objective: str = "tension_squared",
+) -> StaticsProblem:
+    """Assemble the dimensionless tension-penalty problem of ``model`` over ``interfaces``.
+
+    Interfaces between two supports, or touching a non-structural block, are dropped. Fixed
+    blocks and the ground are supports (no equations). The whole assembly is vectorised over
+    vertices; the only per-interface work is gathering the interface arrays.
+
+    Parameters
+    ----------
+    model
+        The :class:`~shapegen.engine.model.Model`.
+    interfaces
+        Contact polygons (unscaled), e.g. from ``find_interfaces``.
+    friction
+        Coulomb coefficient mu (dimensionless); ``model.friction`` when None.
+    pyramid
+        ``"4"``, ``"4r"`` or ``"8"`` (see :func:`friction_cone`).
+    kern
+        Every interface polygon is scaled about its centroid by this factor in (0, 1].
+    objective
+        ``"tension_squared"`` (default) or ``"tension_sum"``.
+    """
+    if pyramid not in PYRAMIDS:
+        raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
+    if not (np.isfinite(kern) and 0 < kern <= 1):
+        raise StaticsError(f"kern must be a number in (0, 1]; got {kern!r}")
+    if objective not in OBJECTIVES:
+        raise StaticsError(f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}")
+    mu = float(model.friction if friction is None else friction)
+    if not (np.isfinite(mu) and mu >= 0):
+        raise StaticsError(f"friction must be a finite number >= 0; got {friction!r}")
+
+    blocks = model.blocks
+    nb = len(blocks)
+    structural = np.array([b.structural for b in blocks], dtype=bool)
+    fixed = np.array([b.fixed for b in blocks], dtype=bool)
+    free = structural & ~fixed
+    free_blocks = np.flatnonzero(free)
+    free_index = np.full(nb + 1, -1)  # the extra last entry stands for GROUND (-1)
+    free_index[free_blocks] = np.arange(len(free_blocks))
+    support = np.append(fixed, True)  # fixed blocks and the ground
+    usable = np.append(structural | fixed, True)
+
+    g = float(np.linalg.norm(model.gravity))
+    masses = np.array([b.mass for b in blocks]) if nb else np.zeros(0)
+    weight = float(g * masses[free].sum()) if nb else 0.0
+    weight_scale = weight if weight > 0 else 1.0
+    length = float(model.size)
+    centroids = np.array([b.centroid for b in blocks]).reshape(nb, 3)
+
+    first = np.array([i.first for i in interfaces], dtype=int)
+    second = np.array([i.second for i in interfaces], dtype=int)
+    second_slot = np.where(second == GROUND, nb, second)
+    keep = (
+        usable[first] & usable[second_slot] & ~(support[first] & support[second_slot])
+        if len(interfaces)
+        else np.zeros(0, bool)
+    )
+    kept = [interfaces[k] for k in np.flatnonzero(keep)]
+    first, second_slot = first[keep], second_slot[keep]
+    ni = len(kept)
+
+    if ni:
+        counts = np.array([len(i.vertices) for i in kept])
+        points = np.concatenate([np.asarray(i.vertices, float) for i in kept])
+        frames = np.array([(i.normal, i.tangent1, i.tangent2) for i in kept], float)  # (ni,3,3)
+    else:
+        counts = np.zeros(0, int)
+        points = np.zeros((0, 3))
+        frames = np.zeros((0, 3, 3))
+    starts = np.concatenate([[0], np.cumsum(counts)])
+    vertex_interface = np.repeat(np.arange(ni), counts)
+    if kern != 1.0 and ni:
+        centres = polygon_centroids(points, frames[:, 0], starts)
+        points = centres[vertex_interface] + kern * (points - centres[vertex_interface])
+        kept = [
+            Interface(i.first, i.second, i.normal, i.tangent1, i.tangent2, points[a:b])
+            for i, a, b in zip(kept, starts[:-1], starts[1:], strict=True)
+        ]
+    m = len(points)
+
+    # wrench of a unit force along (n, t1, t2) at each vertex on each side: [R; (p - c) x R / L]
+    rotation = np.transpose(frames, (0, 2, 1))[vertex_interface]  # (m,3,3) columns n, t1, t2
+    jacobian = np.zeros((m, 12, 3))
+    vertex_blocks = np.stack([free_index[first], free_index[second_slot]], axis=1)[
+        vertex_interface
+    ].reshape(m, 2)
+    for side, owner, sign in ((0, first, -1.0), (1, second_slot, 1.0)):
+        on = vertex_blocks[:, side] >= 0
+        lever = (points[on] - centroids[owner[vertex_interface[on]]]) / length
+        rows = slice(6 * side, 6 * side + 6)
+        block = np.concatenate([rotation[on], _skew(lever) @ rotation[on]], axis=1)
+        jacobian[on, rows] = sign * block
+
+    # A: column group 0 (c) = n-direction, 1 (s) = -(n-direction), 2 (u) = t1, 3 (t) = t2
+    side_idx, row_idx, dir_idx = np.meshgrid(
+        np.arange(2), np.arange(6), np.arange(3), indexing="ij"
+    )
+    side_idx, row_idx, dir_idx = side_idx.ravel(), row_idx.ravel(), dir_idx.ravel()
+    blk = vertex_blocks[:, side_idx]  # (m, 36)
+    vals = jacobian[:, 6 * side_idx + row_idx, dir_idx]
+    rows = 6 * blk + row_idx
+    cols = np.array([0, 2, 3])[dir_idx] * m + np.arange(m)[:, None]
+    on = blk >= 0
+    rows, cols, vals = rows[on], cols[on], vals[on]
+    normal_dir = dir_idx[np.nonzero(on)[1]] == 0
+    rows = np.concatenate([rows, rows[normal_dir]])
+    cols = np.concatenate([cols, cols[normal_dir] + m])  # s columns follow c columns
+    vals = np.concatenate([vals, -vals[normal_dir]])
+    nf = len(free_blocks)
+    equality = sp.csc_matrix((vals, (rows, cols)), shape=(6 * nf, 4 * m))
+
+    load = np.zeros(6 * nf)
+    if nf:
+        gravity_force = masses[free_blocks, None] * np.asarray(model.gravity, float)[None, :]
+        load.reshape(nf, 6)[:, :3] += gravity_force / weight_scale
+    for point_load in model.loads:
+        k = model.index_of(point_load.block)
+        if free_index[k] < 0:
+            continue  # a load on a support goes straight into the ground
+        row = 6 * free_index[k]
+        lever = (point_load.point - centroids[k]) / length
+        load[row : row + 3] += point_load.force / weight_scale
+        load[row + 3 : row + 6] += np.cross(lever, point_load.force) / weight_scale
+
+    quadratic, linear = _objective(m, objective)
+    return StaticsProblem(
+        interfaces=kept,
+        free_index=free_index[:nb],
+        free_blocks=free_blocks,
+        vertex_interface=vertex_interface,
+        vertex_points=points,
+        vertex_blocks=vertex_blocks,
+        vertex_jacobian=jacobian,
+        equality=equality,
+        load=load,
+        cone=friction_cone(pyramid, mu),
+        quadratic=quadratic,
+        linear=linear,
+        weight=weight_scale,
+        length=length,
+        friction=mu,
+        pyramid=pyramid,
+        kern=float(kern),
+        objective=objective,
+    )

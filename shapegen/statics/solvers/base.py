@@ -1,0 +1,70 @@
+"""What every statics back-end shares: the status values, the solution record, the base class."""
+
+from __future__ import annotations
+
+__all__ = ["SolveStatus", "Solution", "Backend"]
+
+import enum
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+class SolveStatus(enum.Enum):
+    """Outcome of a solve. A value on the result, never an exception."""
+
+    OPTIMAL = "optimal"
+    OPTIMAL_INACCURATE = "optimal_inaccurate"
+    INFEASIBLE = "infeasible"  # no equilibrium even with tension
+    MAX_ITERATIONS = "max_iterations"
+    NUMERICAL_ERROR = "numerical_error"
+
+    @property
+    def solved(self) -> bool:
+        """True when the solution can be read (optimal or nearly so)."""
+        return self in (SolveStatus.OPTIMAL, SolveStatus.OPTIMAL_INACCURATE)
+
+
+@dataclass
+class Solution:
+    """A back-end's answer to a :class:`~shapegen.statics.assembly.StaticsProblem`.
+
+    Attributes
+    ----------
+    status
+        The outcome.
+    x
+        ``(4 m,)`` scaled variables ``[c, s, u, t]`` (N / W), or None when not solved.
+    multipliers
+        ``(6 nf,)`` scaled equilibrium multipliers ``lam`` with the Lagrangian
+        ``objective + lam . (A x + w)``, so ``d objective / d w = lam``; None when not available.
+    objective
+        Optimal value of the scaled objective (``y / W^2`` for the paper's objective).
+    iterations
+        Iterations of the solver.
+    seconds
+        Wall time of the solve, s.
+    info
+        Back-end specific figures (factorisation time, native status...).
+    """
+
+    status: SolveStatus
+    x: np.ndarray | None
+    multipliers: np.ndarray | None
+    objective: float
+    iterations: int = 0
+    seconds: float = 0.0
+    info: dict = field(default_factory=dict)
+
+
+class Backend:
+    """A solver back-end: a name, a lazy import, a status map and one :meth:`solve`."""
+
+    name: str = ""
+
+    def available(self) -> bool:
+        """True when the back-end's library can be imported."""
+        return True
+
+    def solve(self, problem, warm_start: Solution | None = None) -> Solution:  # pragma: no cover
+        raise NotImplementedError

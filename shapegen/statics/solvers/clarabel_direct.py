@@ -1,0 +1,92 @@
+"""Clarabel called directly on the scipy.sparse matrices of the assembled problem."""
+
+from __future__ import annotations
+
+__all__ = ["ClarabelBackend"]
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from shapegen.statics.solvers.base import Backend, Solution, SolveStatus
+
+_STATUS = {
+    "Solved": SolveStatus.OPTIMAL,
+    "AlmostSolved": SolveStatus.OPTIMAL_INACCURATE,
+    "PrimalInfeasible": SolveStatus.INFEASIBLE,
+    "AlmostPrimalInfeasible": SolveStatus.INFEASIBLE,
+    # the objective is bounded below by 0, so dual infeasibility means numerical trouble
+    "DualInfeasible": SolveStatus.NUMERICAL_ERROR,
+    "AlmostDualInfeasible": SolveStatus.NUMERICAL_ERROR,
+    "MaxIterations": SolveStatus.MAX_ITERATIONS,
+    "MaxTime": SolveStatus.MAX_ITERATIONS,
+    "NumericalError": SolveStatus.NUMERICAL_ERROR,
+    "InsufficientProgress": SolveStatus.OPTIMAL_INACCURATE,
+}
+
+
+class ClarabelBackend(Backend):
+    """Interior point solver Clarabel on ``min x P x / 2 + q x`` s.t. ``A x = -w``, ``G x <= 0``.
+
+    Equalities go into a ``ZeroConeT``, inequalities into a ``NonnegativeConeT`` (Clarabel's
+    form is ``A x + s = b``, ``s`` in the cone).
+    """
+
+    name = "clarabel"
+
+    def __init__(self, tolerance: float = 1e-10, max_iter: int = 200):
+        self.tolerance = tolerance
+        self.max_iter = max_iter
+
+    def available(self) -> bool:
+        try:
+            import clarabel  # noqa: F401
+        except ImportError:
+            return False
+        return True
+
+    def solve(self, problem, warm_start: Solution | None = None) -> Solution:
+        import clarabel
+
+        start = time.perf_counter()
+        n = problem.n_variables
+        p = problem.equality.shape[0]
+        inequality = problem.inequality_matrix()
+        constraints = sp.vstack([problem.equality, inequality], format="csc")
+        rhs = np.concatenate([-problem.load, np.zeros(inequality.shape[0])])
+        objective = sp.diags(problem.quadratic, format="csc")
+        cones = [clarabel.ZeroConeT(p), clarabel.NonnegativeConeT(inequality.shape[0])]
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
+        settings.max_iter = self.max_iter
+        settings.tol_gap_abs = self.tolerance
+        settings.tol_gap_rel = self.tolerance
+        settings.tol_feas = self.tolerance
+        settings.tol_ktratio = 1e-8
+        if p == 0 and n == 0:
+            return Solution(SolveStatus.OPTIMAL, np.zeros(0), np.zeros(0), 0.0)
+        solver = clarabel.DefaultSolver(
+            objective, problem.linear, constraints, rhs, cones, settings
+        )
+        result = solver.solve()
+        native = str(result.status).split(".")[-1]
+        status = _STATUS.get(native, SolveStatus.NUMERICAL_ERROR)
+        seconds = time.perf_counter() - start
+        if not status.solved:
+            return Solution(
+                status,
+                None,
+                None,
+                float("nan"),
+                result.iterations,
+                seconds,
+                {"native_status": native},
+            )
+        x = np.asarray(result.x)
+        # Clarabel's Lagrangian is f + z . (A x - b) with z = [y_eq, z_ineq]; A x - b = A x + w
+        multipliers = np.asarray(result.z)[:p].copy()
+        value = float(0.5 * problem.quadratic @ x**2 + problem.linear @ x)
+        return Solution(
+            status, x, multipliers, value, result.iterations, seconds, {"native_status": native}
+        )

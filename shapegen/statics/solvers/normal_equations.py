@@ -1,0 +1,148 @@
+"""Block-level normal equations ``M = A D A^T`` of the reduced interior point method.
+
+``D`` (the inverse of the objective Hessian plus barrier) is block-diagonal per vertex, so ``M``
+has one 6x6 block per pair of free blocks that share an interface, plus the diagonal blocks.
+Its sparsity pattern never changes between iterations (nor between solves of problems with the
+same interfaces), so the pattern, the scatter map from per-interface contributions and the
+fill-reducing ordering are computed once and kept in ``problem.cache``. Each iteration only
+recomputes the values and factors them.
+
+Ordering: approximate minimum degree on the *block* graph (one node per free block, expanded to
+its six rows), computed once with QDLDL's AMD. Factorisation: SuperLU (supernodal) on the
+symmetrically pre-permuted matrix with the natural column order and no pivoting, which is an
+LDL^T-like factorisation of the SPD matrix; it was measured faster than QDLDL's column-by-column
+LDL^T on walls above ~2 000 blocks and on par below.
+"""
+
+from __future__ import annotations
+
+__all__ = ["NormalEquations", "NormalPattern"]
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+
+@dataclass
+class NormalPattern:
+    """Symbolic data of ``M``: CSC pattern in the permuted order and the scatter map.
+
+    ``target[k]`` is the position in the permuted ``data`` array that the ``source[k]``-th entry
+    of the flattened per-interface ``(ni, 12, 12)`` contributions adds to.
+    """
+
+    size: int
+    indptr: np.ndarray
+    indices: np.ndarray
+    target: np.ndarray
+    source: np.ndarray
+    diagonal: np.ndarray
+    permutation: np.ndarray  # row i of the permuted matrix is row permutation[i] of M
+    interface_starts: np.ndarray
+
+
+def _block_ordering(block_rows: np.ndarray, block_cols: np.ndarray, nf: int) -> np.ndarray:
+    """AMD order of the block adjacency graph (falls back to reverse Cuthill-McKee)."""
+    pattern = sp.coo_matrix((np.ones(len(block_rows)), (block_rows, block_cols)), shape=(nf, nf))
+    pattern = (pattern + pattern.T).tocsc()
+    pattern.data[:] = -1.0
+    # strictly diagonally dominant, so QDLDL's factorisation (only used for its ordering) succeeds
+    graph = (pattern + sp.diags(np.full(nf, float(nf + 2)))).tocsc()
+    try:
+        import qdldl
+
+        return np.asarray(qdldl.Solver(graph).factors()[2], dtype=np.int64)
+    except Exception:  # noqa: BLE001 - any failure of the optional ordering: use RCM
+        from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+        return np.asarray(reverse_cuthill_mckee(graph.tocsr(), symmetric_mode=True), np.int64)
+
+
+def build_pattern(problem) -> NormalPattern:
+    """The symbolic analysis of ``M`` for ``problem`` (done once per interface layout)."""
+    nf = problem.n_free
+    size = 6 * nf
+    interface_starts = np.flatnonzero(np.diff(np.concatenate([[-1], problem.vertex_interface])))
+    blocks = problem.vertex_blocks[interface_starts]  # (ni, 2)
+    ni = len(blocks)
+    both = (blocks >= 0).all(axis=1)
+    order = _block_ordering(
+        np.concatenate([blocks[both, 0], np.arange(nf)]),
+        np.concatenate([blocks[both, 1], np.arange(nf)]),
+        nf,
+    )
+    position = np.empty(nf, dtype=np.int64)
+    position[order] = np.arange(nf)
+    local = np.arange(12)
+    row_block = blocks[:, local // 6]  # (ni, 12)
+    valid = row_block >= 0
+    rows = 6 * position[np.where(valid, row_block, 0)] + local % 6  # permuted row numbers
+    ok = valid[:, :, None] & valid[:, None, :]
+    source = np.flatnonzero(ok.ravel())
+    r = np.broadcast_to(rows[:, :, None], (ni, 12, 12))[ok]
+    c = np.broadcast_to(rows[:, None, :], (ni, 12, 12))[ok]
+    keys = c.astype(np.int64) * size + r
+    diagonal_keys = np.arange(size, dtype=np.int64) * (size + 1)
+    unique, target = np.unique(np.concatenate([keys, diagonal_keys]), return_inverse=True)
+    indices = (unique % size).astype(np.int32)
+    counts = np.bincount((unique // size).astype(np.int64), minlength=size)
+    indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
+    diagonal = np.searchsorted(unique, diagonal_keys)
+    permutation = (6 * order[:, None] + np.arange(6)).ravel()
+    return NormalPattern(
+        size, indptr, indices, target[: len(keys)], source, diagonal, permutation, interface_starts
+    )
+
+
+class NormalEquations:
+    """Assembles and factors ``M = A D A^T`` for per-vertex ``D_v`` (3x3, local frame).
+
+    Parameters
+    ----------
+    problem
+        The :class:`~shapegen.statics.assembly.StaticsProblem`; its ``vertex_jacobian`` holds the
+        per-vertex ``12 x 3`` blocks of ``A``.
+    """
+
+    def __init__(self, problem):
+        self.problem = problem
+        pattern = problem.cache.get("normal_pattern")
+        if pattern is None:
+            pattern = build_pattern(problem)
+            problem.cache["normal_pattern"] = pattern
+        self.pattern = pattern
+        self.matrix = None  # permuted M without the regularisation
+        self._lu = None
+
+    def assemble(self, local_inverse: np.ndarray, regularization: float) -> None:
+        """Compute and factor ``M`` for ``D_v = local_inverse[v]`` ``(m, 3, 3)``, with
+        ``regularization`` times the mean diagonal added to the diagonal of the factored copy."""
+        pattern = self.pattern
+        jac = self.problem.vertex_jacobian
+        per_vertex = np.matmul(np.matmul(jac, local_inverse), np.transpose(jac, (0, 2, 1)))
+        per_interface = np.add.reduceat(per_vertex, pattern.interface_starts, axis=0)
+        values = np.bincount(
+            pattern.target,
+            per_interface.reshape(-1)[pattern.source],
+            minlength=len(pattern.indices),
+        )
+        shape = (pattern.size, pattern.size)
+        self.matrix = sp.csc_matrix((values, pattern.indices, pattern.indptr), shape=shape)
+        shifted = values.copy()
+        shift = regularization * float(values[pattern.diagonal].mean()) + 1e-300
+        shifted[pattern.diagonal] += shift
+        self._lu = spla.splu(
+            sp.csc_matrix((shifted, pattern.indices, pattern.indptr), shape=shape),
+            permc_spec="NATURAL",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``M^-1 rhs`` (in the original row order)."""
+        permutation = self.pattern.permutation
+        solution = np.empty_like(rhs)
+        solution[permutation] = self._lu.solve(rhs[permutation])
+        return solution
