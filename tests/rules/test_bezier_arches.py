@@ -1,0 +1,79 @@
+"""rules/bezier_arches.grammar: three Bezier arches stacked in an arcade (seed Figure 12).
+
+Truth values from the rule's layout: per storey an arch of 9 voussoirs and two piers of
+3 courses (1.5 m of 0.5 m courses) below the springing and 4 courses (2 m) beside the arch:
+3 x (9 + 2 x 7) = 69 blocks. The arcade is symmetric about its mid-plane, and swapping an arch's
+control points as ``(c1x, c2x) -> (1 - c2x, 1 - c1x)`` mirrors that arch, so a design and its
+mirror image need the same tension.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shapegen
+from shapegen.cli import main
+from shapegen.statics import analyze
+
+RULES = Path(__file__).resolve().parents[2] / "rules"
+GRAMMAR = RULES / "bezier_arches.grammar"
+STOREYS = (1, 2, 3)
+
+
+@pytest.fixture(scope="module")
+def grammar():
+    return shapegen.load_grammar(GRAMMAR)
+
+
+def test_69_blocks_three_arches(grammar):
+    model = grammar.build()
+    assert len(model.blocks) == 69
+    assert sum("arch" in b.tags for b in model.blocks) == 3 * 9
+    assert sum("pier" in b.tags for b in model.blocks) == 3 * 2 * (3 + 4)
+
+
+def test_six_free_control_point_positions(grammar):
+    assert sorted(grammar.free_parameters) == sorted(f"c{i}x_{n}" for i in (1, 2) for n in STOREYS)
+
+
+def test_arches_spring_from_the_pier_ledges(grammar):
+    model = grammar.build()
+    attrs = grammar.attrs
+    ledge = attrs["pier_width"] - attrs["arch_thickness"]
+    width = 4.0  # the lot
+    arch_points = np.vstack([b.vertices for b in model.blocks if "arch" in b.tags])
+    assert arch_points[:, 0].min() == pytest.approx(ledge, abs=1e-9)
+    assert arch_points[:, 0].max() == pytest.approx(width - ledge, abs=1e-9)
+
+
+def test_mirrored_arches_need_the_same_tension(grammar):
+    attrs = grammar.attrs
+    mirrored = {}
+    for n in STOREYS:
+        mirrored[f"c1x_{n}"] = 1 - attrs[f"c2x_{n}"]
+        mirrored[f"c2x_{n}"] = 1 - attrs[f"c1x_{n}"]
+    y = analyze(grammar.build()).infeasibility_normalized
+    y_mirror = analyze(grammar.build(attrs=mirrored)).infeasibility_normalized
+    assert y > 0
+    assert y_mirror == pytest.approx(y, rel=1e-3)
+
+
+def test_default_needs_tension(grammar):
+    assert not analyze(grammar.build()).feasible
+
+
+@pytest.mark.slow
+def test_build_optimize_stands_within_bounds(grammar, tmp_path):
+    report = tmp_path / "report.json"
+    assert main(["build", str(GRAMMAR), "--optimize", "--quiet", "--report", str(report)]) == 0
+    optimization = json.loads(report.read_text())["optimization"]
+    assert optimization["feasible"]
+    values = {}
+    for name, p in optimization["parameters"].items():
+        assert p["min"] <= p["final"] <= p["max"], name
+        values[name] = p["final"]
+    assert analyze(grammar.build(attrs=values)).feasible
