@@ -232,6 +232,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="List the bundled .grammar files with the first comment line of each.",
     )
     rules.set_defaults(handler=_run_rules)
+    _add_simulate_command(commands)
     return parser
 
 
@@ -583,6 +584,270 @@ def _free_parameters(free) -> dict:
         else:
             out[name] = {k: getattr(parameter, k, None) for k in ("value", "min", "max")}
     return out
+
+
+# ------------------------------------------------------------------------------ simulate
+def _add_simulate_command(commands) -> None:
+    simulate = commands.add_parser(
+        "simulate",
+        help="run a model in a rigid-body simulator (pybullet) and see whether it stands",
+        description=(
+            "Drop a block model into a rigid-body simulator (pybullet, the optional extra"
+            " shapegen[sim]): convex blocks with their exact mass and inertia, static supports"
+            " and ground, restitution 0. After a settling window the model stands when no block"
+            " moves more than the tolerance. MODEL is a .grammar file (built first; a bare name"
+            " finds a bundled rule) or a block model (.json or a mesh). Exits 0 whether or not"
+            " it stands; exits 2 for bad input."
+        ),
+    )
+    simulate.add_argument(
+        "model", metavar="MODEL", help=".grammar file or bundled rule name, or a block model"
+    )
+    simulate.add_argument(
+        "--seconds", type=_positive, default=5.0, metavar="S", help="simulated seconds (default 5)"
+    )
+    simulate.add_argument(
+        "--shake",
+        type=_nonnegative,
+        default=0.0,
+        metavar="V",
+        help="ground shake: a lateral velocity change of V m/s over 1/60 s along +x after"
+        " settling (the seed paper: 4)",
+    )
+    simulate.add_argument(
+        "--remove",
+        metavar="ID|LABEL",
+        action="append",
+        default=[],
+        help="delete the block with this id, or every block with this label, before the run;"
+        " repeatable",
+    )
+    simulate.add_argument(
+        "--time-step",
+        type=_positive,
+        default=None,
+        metavar="DT",
+        help="simulator step in seconds (default 0.001)",
+    )
+    simulate.add_argument(
+        "--iterations",
+        type=int,
+        default=None,
+        metavar="N",
+        help="contact-solver iterations per step (default 100)",
+    )
+    simulate.add_argument(
+        "--tolerance",
+        type=_positive,
+        default=None,
+        metavar="M",
+        help="a block moved when a vertex moved more than M metres after settling (default 0.001)",
+    )
+    simulate.add_argument(
+        "--fps",
+        type=_positive,
+        default=10.0,
+        metavar="F",
+        help="with --frames or -o .gif: frames per simulated second (default 10)",
+    )
+    pictures = simulate.add_mutually_exclusive_group()
+    pictures.add_argument("--frames", metavar="DIR", help="write one PNG per frame into DIR")
+    pictures.add_argument(
+        "-o",
+        "--output",
+        metavar="OUT",
+        help="write an animation (.gif) or a picture of the final state (.png)",
+    )
+    simulate.add_argument("--report", metavar="R.json", help="write a JSON report")
+    simulate.add_argument(
+        "--set",
+        dest="assignments",
+        metavar="NAME=VALUE",
+        action="append",
+        type=_assignment,
+        default=[],
+        help="for a .grammar: override an attr; repeatable",
+    )
+    simulate.add_argument(
+        "--lot", type=_lot, metavar="W,D", help="for a .grammar: lot width and depth, metres"
+    )
+    simulate.add_argument(
+        "--seed", type=int, default=0, metavar="N", help="for a .grammar: seed (default 0)"
+    )
+    _add_statics_options(simulate, prefix="with --optimize (and --friction for the run): ")
+    _add_search_options(simulate)
+    simulate.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    simulate.set_defaults(handler=_run_simulate)
+
+
+def _positive(text: str) -> float:
+    value = _finite(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def _run_simulate(args: argparse.Namespace) -> int:
+    from shapegen.simulation import SimulationSettings, simulate
+
+    _check_simulate_outputs(args)
+    model, build_report = _simulation_model(args)
+    overrides = {
+        "time_step": args.time_step,
+        "solver_iterations": args.iterations,
+        "tolerance": args.tolerance,
+    }
+    settings = SimulationSettings(
+        seconds=args.seconds,
+        shake=args.shake,
+        friction=args.friction,
+        frame_rate=args.fps if (args.frames or _is_gif(args.output)) else 0.0,
+        **{k: v for k, v in overrides.items() if v is not None},
+    )
+    with _SimulationProgress(quiet=args.quiet) as progress:
+        result = simulate(model, settings, remove=args.remove, progress=progress)
+    report = {"model": str(args.model), **build_report, "simulation": result.to_report()}
+    outputs = []
+    if args.report:
+        outputs.append((Path(args.report), _report_bytes(report)))
+    if args.output:
+        outputs.append((Path(args.output), _simulation_picture(result, args.output)))
+    _write_all(outputs)
+    if args.frames:
+        from shapegen.simulation.frames import write_frames
+
+        write_frames(result, args.frames)
+    if not args.quiet:
+        _print_simulation_summary(str(args.model), result, args)
+    return EXIT_OK
+
+
+def _is_gif(output: str | None) -> bool:
+    return bool(output) and Path(output).suffix.lower() == ".gif"
+
+
+def _check_simulate_outputs(args: argparse.Namespace) -> None:
+    from shapegen.simulation.world import load_pybullet
+
+    load_pybullet()  # fail at once, before any building, when the extra is missing
+    if args.output:
+        output = Path(args.output)
+        if output.suffix.lower() not in (".gif", ".png"):
+            raise CommandLineError(
+                f"{output}: the simulation is written as an animation (.gif) or a picture (.png)"
+            )
+    for path in (args.output, args.report):
+        if path:
+            folder = Path(path).parent if str(Path(path).parent) else Path(".")
+            if not folder.is_dir():
+                raise InputFormatError(f"{path}: folder {folder} does not exist")
+    if args.iterations is not None and args.iterations < 1:
+        raise CommandLineError(f"--iterations must be at least 1, got {args.iterations}")
+
+
+def _simulation_model(args: argparse.Namespace):
+    """The model to simulate and the build part of the report (empty for a block model)."""
+    from shapegen.engine.rules_path import find_bundled_rule
+
+    name = str(args.model)
+    is_grammar = name.endswith(".grammar") or (
+        not Path(name).exists() and find_bundled_rule(name) is not None
+    )
+    if not is_grammar:
+        if args.assignments or args.optimize or args.lot or args.free or args.fixed:
+            raise CommandLineError(
+                "--set, --lot, --optimize, --free and --fix apply only to a .grammar MODEL"
+            )
+        from shapegen.export.model_io import read_model
+
+        return read_model(name), {}
+    grammar = _load_grammar(name)
+    attrs = _checked_attrs(grammar, args.assignments)
+    optimization = None
+    if args.optimize:
+        optimization = _optimize(grammar, attrs, args)
+        attrs = {**attrs, **optimization.values}
+    elif args.free or args.fixed:
+        raise CommandLineError("--free and --fix only apply with --optimize")
+    model = grammar.build(attrs=attrs, seed=args.seed, lot=args.lot)
+    report = _build_report(model)
+    if optimization is not None:
+        report["optimization"] = optimization.to_report()
+    return model, {"build": report}
+
+
+def _simulation_picture(result, output: str) -> bytes:
+    import tempfile
+
+    from shapegen.simulation.frames import encode_gif, write_picture
+
+    if _is_gif(output):
+        return encode_gif(result)
+    with tempfile.TemporaryDirectory(prefix="shapegen-picture-") as folder:
+        path = Path(folder) / "final.png"
+        write_picture(result, path, "final")
+        return path.read_bytes()
+
+
+class _SimulationProgress:
+    """A progress bar over simulated seconds, on stderr."""
+
+    def __init__(self, quiet: bool):
+        self.quiet = quiet
+        self.bar = None
+        self.task = None
+
+    def __enter__(self):
+        if not self.quiet:
+            from rich.console import Console
+            from rich.progress import Progress
+
+            self.bar = Progress(console=Console(stderr=True), transient=True)
+            self.bar.__enter__()
+            self.task = self.bar.add_task("simulating", total=1.0)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.__exit__(*exc)
+
+    def __call__(self, done: float, total: float) -> None:
+        if self.bar is not None:
+            self.bar.update(self.task, completed=done / total)
+
+
+def _print_simulation_summary(title: str, result, args: argparse.Namespace) -> None:
+    from rich.console import Console
+    from rich.table import Table
+    from rich.text import Text
+
+    table = Table.grid(padding=(0, 2))
+    table.add_column(style="bold")
+    table.add_column()
+    table.add_row("model", Text(title))
+    table.add_row("blocks", str(len(result.model.blocks)))
+    if result.removed:
+        table.add_row("removed", Text(", ".join(result.removed)))
+    stands = result.stands
+    table.add_row("verdict", Text(result.verdict, style="green" if stands else "bold red"))
+    table.add_row(
+        "max displacement",
+        f"{result.max_displacement * 1000:.4g} mm after settling"
+        f" (tolerance {result.settings.tolerance * 1000:.3g} mm)",
+    )
+    table.add_row("moved blocks", str(result.moved_blocks))
+    table.add_row("settlement", f"{result.settlement * 1000:.4g} mm")
+    if result.settings.shake > 0:
+        table.add_row("shake", f"{result.settings.shake:g} m/s over 1/60 s")
+    table.add_row(
+        "seconds",
+        f"{result.seconds:.4g} simulated, {result.wall_seconds:.4g} wall"
+        f" ({result.speed:.3g} simulated s per wall s)",
+    )
+    for label, path in (("report", args.report), ("output", args.output), ("frames", args.frames)):
+        if path:
+            table.add_row(label, Text(str(path)))
+    Console(highlight=False).print(table)
 
 
 # ------------------------------------------------------------------------------ rules

@@ -38,6 +38,7 @@ def render_model(
     elevation: float = 20.0,
     azimuth: float = -60.0,
     size_px: tuple[int, int] = (800, 600),
+    bounds: np.ndarray | None = None,
 ) -> None:
     """Write a PNG picture of ``model`` to ``path`` (atomically).
 
@@ -50,6 +51,9 @@ def render_model(
         View angles, degrees (y is up in the model; the picture shows y vertical).
     size_px
         Width and height in pixels.
+    bounds
+        ``(2, 3)`` lower and upper corners (m, model axes) of the box to frame; default the
+        model's bounding box. A fixed box keeps the view still across animation frames.
     """
     dpi = 100
     fig = plt.figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
@@ -75,8 +79,11 @@ def render_model(
         polygons, facecolors=colors, edgecolors=(0.15, 0.15, 0.15, 0.8), linewidths=0.3
     )
     ax.add_collection3d(collection)
-    if model.blocks:
-        points = _to_view(np.vstack([b.vertices for b in model.blocks]))
+    if model.blocks or bounds is not None:
+        if bounds is not None:
+            points = _to_view(np.asarray(bounds, float).reshape(2, 3))
+        else:
+            points = _to_view(np.vstack([b.vertices for b in model.blocks]))
         lo, hi = points.min(axis=0), points.max(axis=0)
         extent = np.maximum(hi - lo, 0.05 * (hi - lo).max() or 1.0)
         center = (lo + hi) / 2

@@ -1,0 +1,90 @@
+"""``shapegen simulate``: reports, pictures, grammar input and one-line errors."""
+
+import json
+
+import pytest
+from PIL import Image
+
+from shapegen.cli import main
+from shapegen.engine.block import Block
+from shapegen.engine.model import Model
+from shapegen.export.blocks_json import write_blocks_json
+from shapegen.simulation.cases import harmonic_stack
+
+
+@pytest.fixture
+def stack_path(tmp_path):
+    path = tmp_path / "stack.json"
+    write_blocks_json(harmonic_stack(1.10, count=3), path)
+    return path
+
+
+def test_report_of_a_falling_stack(stack_path, tmp_path, capsys):
+    report = tmp_path / "r.json"
+    status = main(["simulate", str(stack_path), "--seconds", "2", "--report", str(report)])
+    assert status == 0  # falling is a result, not an error
+    document = json.loads(report.read_text())
+    simulation = document["simulation"]
+    assert simulation["verdict"] == "collapses"
+    assert simulation["moved_blocks"] >= 1
+    assert simulation["simulated_seconds"] == pytest.approx(2.0)
+    assert len(simulation["per_block"]) == 3
+    assert "collapses" in capsys.readouterr().out
+
+
+def test_friction_and_remove_reach_the_run(stack_path, tmp_path):
+    report = tmp_path / "r.json"
+    argv = ["simulate", str(stack_path), "--seconds", "1", "--friction", "0.3", "-q"]
+    assert main([*argv, "--remove", "s2", "--report", str(report)]) == 0
+    simulation = json.loads(report.read_text())["simulation"]
+    assert simulation["friction"] == 0.3
+    assert simulation["removed"] == ["s2"]
+    assert simulation["blocks"] == 2
+
+
+def test_gif_and_frames(stack_path, tmp_path):
+    gif, frames = tmp_path / "fall.gif", tmp_path / "frames"
+    argv = ["simulate", str(stack_path), "--seconds", "1", "--fps", "4", "-q"]
+    assert main([*argv, "-o", str(gif)]) == 0
+    with Image.open(gif) as image:
+        assert image.format == "GIF" and image.n_frames == 5  # t = 0, 0.25, 0.5, 0.75, 1
+    assert main([*argv, "--frames", str(frames)]) == 0
+    assert sorted(p.name for p in frames.iterdir())[0] == "frame_0000.png"
+    assert len(list(frames.glob("*.png"))) == 5
+
+
+def test_grammar_is_built_with_set_values(tmp_path):
+    grammar = tmp_path / "pier.grammar"
+    grammar.write_text(
+        'version "2024.0"\n'
+        "attr height = 1\n"
+        "@StartRule\n@Lot(1, 1)\n"
+        "Lot --> extrude(height) Pier\n"
+        'Pier --> i("box")\n'
+    )
+    report = tmp_path / "r.json"
+    argv = ["simulate", str(grammar), "--set", "height=2", "--seconds", "1"]
+    assert main([*argv, "--report", str(report), "-q"]) == 0
+    document = json.loads(report.read_text())
+    assert document["build"]["attrs"]["height"] == 2
+    assert document["simulation"]["verdict"] == "stands"
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["-o", "x.mp4"], ".gif"),
+        (["--remove", "nothing"], "no block has the id or label 'nothing'"),
+        (["--set", "a=1"], "apply only to a .grammar"),
+        (["--seconds", "-1"], "must be > 0"),
+        (["--seconds", "0.4"], "settling window"),
+        (["--report", "no/such/folder/r.json"], "does not exist"),
+    ],
+)
+def test_user_mistakes_give_one_line(tmp_path, capsys, extra, message):
+    path = tmp_path / "box.json"
+    write_blocks_json(Model([Block.box([0, 0, 0], [1, 1, 1], id="b0")]), path)
+    assert main(["simulate", str(path), *extra]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1
