@@ -309,6 +309,15 @@ def _add_search_options(parser: argparse.ArgumentParser) -> None:
         help="with --optimize: SQP iterations per start (default 50)",
     )
     parser.add_argument(
+        "--margin",
+        type=float,
+        default=0.0,
+        metavar="M",
+        help="with --optimize: geometric safety margin, 0 to 1: search for a design that still"
+        " stands with every joint shrunk to 1 - M of its size (default 0: stop on the boundary,"
+        " as the paper does; 0.1 leaves a reserve a real structure or a simulation needs)",
+    )
+    parser.add_argument(
         "--multistart",
         type=int,
         default=0,
@@ -420,6 +429,8 @@ def _optimize(grammar, attrs: dict, args: argparse.Namespace):
         raise CommandLineError(f"--max-iter must be at least 1, got {args.max_iter}")
     if args.multistart < 0:
         raise CommandLineError(f"--multistart must be 0 or more, got {args.multistart}")
+    if not 0.0 <= args.margin < 1.0:
+        raise CommandLineError(f"--margin must be at least 0 and below 1, got {args.margin}")
     fixed = dict(args.fixed)
     with _SearchProgress(quiet=args.quiet) as progress:
         return optimize(
@@ -435,6 +446,7 @@ def _optimize(grammar, attrs: dict, args: argparse.Namespace):
             multistart=args.multistart,
             analysis_options=_statics_options(args),
             progress=progress,
+            margin=args.margin,
         )
 
 

@@ -369,6 +369,7 @@ def optimize(
     start: Mapping[str, float] | None = None,
     analysis_options: Mapping[str, object] | None = None,
     progress: Callable[[IterationRecord], None] | None = None,
+    margin: float = 0.0,
 ) -> OptimizationResult:
     """Search the free parameters of ``grammar`` for a model that stands.
 
@@ -395,6 +396,12 @@ def optimize(
         Passed to :func:`~shapegen.statics.analyze` (friction, pyramid, kern, solver).
     progress
         Called after each iteration with an :class:`IterationRecord`.
+    margin
+        Geometric safety margin in [0, 1): the search judges designs with every joint shrunk
+        about its centroid to ``1 - margin`` of its size (the kern), so the design found stands
+        with that reserve; 0 (the default) stops on the feasibility boundary, as the paper does.
+        A design that stands on shrunk joints stands on the full ones (they contain them); the
+        returned analysis is at the caller's own ``kern``.
     """
     from shapegen.engine import bridge_rules  # a @Structure("cable") grammar: the cable model
 
@@ -410,8 +417,14 @@ def optimize(
         raise StaticsError(f"max_iter must be at least 1; got {max_iter}")
     if int(multistart) < 0:
         raise StaticsError(f"multistart must be >= 0; got {multistart}")
+    if not (isinstance(margin, (int, float)) and 0.0 <= margin < 1.0):
+        raise StaticsError(f"margin must be a number in [0, 1); got {margin!r}")
     started = time.perf_counter()
     parameters, build_attrs = select_parameters(grammar, free, fix, attrs)
+    user_options = dict(analysis_options or {})
+    search_options = dict(user_options)
+    if margin > 0:
+        search_options["kern"] = float(user_options.get("kern", 1.0)) * (1.0 - margin)
     if start:
         parameters = [
             FreeParameter(p.name, min(max(float(start.get(p.name, p.initial)), p.lower), p.upper),
@@ -419,7 +432,7 @@ def optimize(
             for p in parameters
         ]  # fmt: skip
     evaluator = Evaluator(
-        grammar, parameters, build_attrs, seed=seed, lot=lot, analysis_options=analysis_options
+        grammar, parameters, build_attrs, seed=seed, lot=lot, analysis_options=search_options
     )
     search = _Search(evaluator, objective, gradient, int(max_iter), progress, started)
     theta0 = np.array([p.initial for p in parameters])
@@ -437,6 +450,12 @@ def optimize(
     else:
         outcome = search.closest(theta0, starts)
     best, converged, message = outcome
+    final_analysis = best.analysis
+    if margin > 0 and best.model is not None:
+        from shapegen.statics import analyze
+
+        final_analysis = analyze(best.model, **user_options)
+        message += f" (with a {margin:.0%} geometric margin)"
     return OptimizationResult(
         converged=converged,
         feasible=best.feasible,
@@ -454,7 +473,7 @@ def optimize(
         gradient=gradient,
         path=[evaluator.named(theta0), *search.path],
         model=best.model,
-        analysis=best.analysis,
+        analysis=final_analysis,
     )
 
 

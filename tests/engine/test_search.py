@@ -12,7 +12,7 @@ import pytest
 
 from shapegen import load_grammar
 from shapegen.engine.search import Evaluator, optimize, select_parameters
-from shapegen.errors import GrammarError
+from shapegen.errors import GrammarError, StaticsError
 
 STACK = """
 attr overhang = 0.3
@@ -146,3 +146,16 @@ def test_landscape_marks_the_feasible_region(stack):
     clearly = np.abs(base + shift - 0.3) > 1e-6  # leave points exactly on the boundary alone
     np.testing.assert_array_equal(landscape.feasible[clearly], expected[clearly])
     assert np.all(landscape.infeasibility[~expected] > 0)
+
+
+def test_margin_finds_the_boundary_of_the_shrunk_joints(stack):
+    # The joint spans x in [0.3, 0.5 + base]; shrunk about its middle to k of its length, it
+    # still reaches the top block's centroid (x = 0.8) iff base >= (0.8 - 0.2 k) / (1 + k).
+    k = 0.9
+    result = optimize(stack, objective="closest", margin=1 - k)
+    assert result.feasible and result.analysis.feasible
+    assert result.values["base"] == pytest.approx((0.8 - 0.2 * k) / (1 + k), abs=2e-3)
+    plain = optimize(stack, objective="closest")
+    assert plain.values["base"] == pytest.approx(0.3, abs=2e-3)
+    with pytest.raises(StaticsError, match="margin"):
+        optimize(stack, margin=1.0)
