@@ -236,3 +236,43 @@ def test_arch_minimum_thickness_is_resolved(ratio, stands):
     # Milankovitch: a semicircular arch needs t/R >= 0.1075 (100 voussoirs: 0.10746)
     model, interfaces = arch(100, ratio)
     assert run(model, interfaces).feasible is stands
+
+
+def test_a_block_without_contacts_has_no_equilibrium():
+    model = Model([Block.box((0, 1, 0), (1, 2, 1))])
+    result = run(model, [])
+    assert result.status is SolveStatus.INFEASIBLE
+    assert not result.feasible and result.infeasibility == math.inf
+
+
+def test_an_empty_model_stands():
+    result = run(Model([]), [])
+    assert result.feasible and result.infeasibility == 0.0 and result.total_weight == 0.0
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_block_wedged_between_fixed_supports_hangs_by_friction(solver):
+    # only vertical joints: friction carries the weight, and any squeeze is a self-stress (the
+    # optimal set is unbounded without the solver's tiny regularisation); the two friction
+    # resultants must each carry half the weight
+    model = Model(
+        [
+            Block.box((-1, 0, 0), (0, 2, 1), fixed=True),
+            Block.box((0, 0.5, 0), (1, 1.5, 1)),
+            Block.box((1, 0, 0), (2, 2, 1), fixed=True),
+        ],
+        ground=None,
+    )
+    joints = [
+        polygon_interface(
+            1, side, (normal, 0, 0), [(x, 0.5, 0), (x, 1.5, 0), (x, 1.5, 1), (x, 0.5, 1)]
+        )
+        for side, normal, x in ((0, -1, 0.0), (2, 1, 1.0))
+    ]
+    result = run(model, joints, solver=solver)
+    weight = model.total_weight
+    assert result.feasible
+    np.testing.assert_allclose(result.resultant_forces[:, 1], -weight / 2, rtol=1e-6)
+    np.testing.assert_allclose(
+        result.resultant_forces.sum(axis=0), (0, -weight, 0), atol=1e-6 * weight
+    )

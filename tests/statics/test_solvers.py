@@ -178,3 +178,9 @@ def test_point_load_enters_equilibrium(backend):
         + t.sum() * interface.tangent2
     )
     np.testing.assert_allclose(force_on_ground, (0.1 * weight, -weight, 0), atol=1e-6 * weight)
+
+
+@pytest.mark.parametrize("backend", BACKEND_NAMES)
+def test_a_loaded_block_without_contacts_is_infeasible(backend):
+    problem = assemble(Model([Block.box((0, 1, 0), (1, 2, 1))]), [])
+    assert get_backend(backend).solve(problem).status is SolveStatus.INFEASIBLE

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["SolveStatus", "Solution", "Backend"]
+__all__ = ["SolveStatus", "Solution", "Backend", "trivial_solution"]
 
 import enum
 from dataclasses import dataclass, field
@@ -68,3 +68,14 @@ class Backend:
 
     def solve(self, problem, warm_start: Solution | None = None) -> Solution:  # pragma: no cover
         raise NotImplementedError
+
+
+def trivial_solution(problem) -> Solution | None:
+    """The answer for a problem without vertices (or without free blocks), else None: only an
+    unloaded assembly is then in equilibrium."""
+    if problem.n_vertices and problem.n_free:
+        return None
+    x = np.zeros(problem.n_variables)
+    if problem.load.size and float(np.abs(problem.load).max()) > 0 and not problem.n_vertices:
+        return Solution(SolveStatus.INFEASIBLE, None, None, float("nan"))
+    return Solution(SolveStatus.OPTIMAL, x, np.zeros(problem.load.size), 0.0)

@@ -9,7 +9,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from shapegen.statics.solvers.base import Backend, Solution, SolveStatus
+from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
 
 _STATUS = {
     "Solved": SolveStatus.OPTIMAL,
@@ -49,8 +49,10 @@ class ClarabelBackend(Backend):
     def solve(self, problem, warm_start: Solution | None = None) -> Solution:
         import clarabel
 
+        trivial = trivial_solution(problem)
+        if trivial is not None:
+            return trivial
         start = time.perf_counter()
-        n = problem.n_variables
         p = problem.equality.shape[0]
         inequality = problem.inequality_matrix()
         constraints = sp.vstack([problem.equality, inequality], format="csc")
@@ -64,8 +66,6 @@ class ClarabelBackend(Backend):
         settings.tol_gap_rel = self.tolerance
         settings.tol_feas = self.tolerance
         settings.tol_ktratio = 1e-8
-        if p == 0 and n == 0:
-            return Solution(SolveStatus.OPTIMAL, np.zeros(0), np.zeros(0), 0.0)
         solver = clarabel.DefaultSolver(
             objective, problem.linear, constraints, rhs, cones, settings
         )

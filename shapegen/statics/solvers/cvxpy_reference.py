@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 
-from shapegen.statics.solvers.base import Backend, Solution, SolveStatus
+from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
 
 _STATUS = {
     "optimal": SolveStatus.OPTIMAL,
@@ -45,6 +45,9 @@ class CvxpyBackend(Backend):
     def solve(self, problem, warm_start: Solution | None = None) -> Solution:
         import cvxpy as cp
 
+        trivial = trivial_solution(problem)
+        if trivial is not None:
+            return trivial
         start = time.perf_counter()
         m = problem.n_vertices
         a = problem.equality
