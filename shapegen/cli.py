@@ -151,28 +151,7 @@ def build_parser() -> argparse.ArgumentParser:
     build.add_argument(
         "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
     )
-    build.add_argument(
-        "--set",
-        dest="assignments",
-        metavar="NAME=VALUE",
-        action="append",
-        type=_assignment,
-        default=[],
-        help="override an attr (a number, true/false, or a string); repeatable",
-    )
-    build.add_argument(
-        "--lot",
-        type=_lot,
-        metavar="W,D",
-        help="lot width (x) and depth (z) in metres, instead of the grammar's @Lot",
-    )
-    build.add_argument(
-        "--seed",
-        type=int,
-        default=0,
-        metavar="N",
-        help="seed of rand() and stochastic rules (default 0)",
-    )
+    _add_derivation_options(build)
     build.add_argument(
         "-o",
         "--output",
@@ -206,16 +185,7 @@ def build_parser() -> argparse.ArgumentParser:
     landscape.add_argument(
         "--grid", type=int, default=15, metavar="N", help="points per axis (default 15)"
     )
-    landscape.add_argument(
-        "--set",
-        dest="assignments",
-        metavar="NAME=VALUE",
-        action="append",
-        type=_assignment,
-        default=[],
-        help="override another attr; repeatable",
-    )
-    landscape.add_argument("--seed", type=int, default=0, metavar="N", help="seed (default 0)")
+    _add_derivation_options(landscape)
     landscape.add_argument(
         "--no-path", action="store_true", help="do not run and draw the optimizer"
     )
@@ -262,6 +232,32 @@ def _add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> N
         choices=["auto", "reduced", "clarabel", "cvxpy"],
         default="auto",
         help=prefix + "QP back-end (default auto)",
+    )
+
+
+def _add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
+    """--set, --lot and --seed: how a .grammar is derived."""
+    parser.add_argument(
+        "--set",
+        dest="assignments",
+        metavar="NAME=VALUE",
+        action="append",
+        type=_assignment,
+        default=[],
+        help=prefix + "override an attr (a number, true/false, or a string); repeatable",
+    )
+    parser.add_argument(
+        "--lot",
+        type=_lot,
+        metavar="W,D",
+        help=prefix + "lot width (x) and depth (z) in metres, instead of the grammar's @Lot",
+    )
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        metavar="N",
+        help=prefix + "seed of rand() and stochastic rules (default 0)",
     )
 
 
@@ -516,7 +512,7 @@ def _run_landscape(args: argparse.Namespace) -> int:
     path = None
     if not args.no_path:
         result = optimize(
-            grammar, free=[args.first, args.second], attrs=attrs, seed=args.seed,
+            grammar, free=[args.first, args.second], attrs=attrs, seed=args.seed, lot=args.lot,
             analysis_options=options,
         )  # fmt: skip
         path = result.path
@@ -527,13 +523,13 @@ def _run_landscape(args: argparse.Namespace) -> int:
             task = bar.add_task("landscape", total=args.grid**2)
             landscape = energy_landscape(
                 grammar, args.first, args.second, grid=args.grid, attrs=attrs, seed=args.seed,
-                analysis_options=options,
+                lot=args.lot, analysis_options=options,
                 progress=lambda done, total: bar.update(task, completed=done),
             )  # fmt: skip
     else:
         landscape = energy_landscape(
             grammar, args.first, args.second, grid=args.grid, attrs=attrs, seed=args.seed,
-            analysis_options=options,
+            lot=args.lot, analysis_options=options,
         )  # fmt: skip
     plot_landscape(landscape, output, path, title=f"{grammar.name}: infeasibility y/W²")
     if console is not None:
@@ -671,21 +667,7 @@ def _add_simulate_command(commands) -> None:
         help="write an animation (.gif) or a picture of the final state (.png)",
     )
     simulate.add_argument("--report", metavar="R.json", help="write a JSON report")
-    simulate.add_argument(
-        "--set",
-        dest="assignments",
-        metavar="NAME=VALUE",
-        action="append",
-        type=_assignment,
-        default=[],
-        help="for a .grammar: override an attr; repeatable",
-    )
-    simulate.add_argument(
-        "--lot", type=_lot, metavar="W,D", help="for a .grammar: lot width and depth, metres"
-    )
-    simulate.add_argument(
-        "--seed", type=int, default=0, metavar="N", help="for a .grammar: seed (default 0)"
-    )
+    _add_derivation_options(simulate, prefix="for a .grammar: ")
     _add_statics_options(simulate, prefix="with --optimize (and --friction for the run): ")
     _add_search_options(simulate)
     simulate.add_argument("-q", "--quiet", action="store_true", help="print nothing")

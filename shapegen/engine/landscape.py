@@ -34,6 +34,7 @@ def energy_landscape(
     grid: int = 15,
     attrs: Mapping[str, object] | None = None,
     seed: int = 0,
+    lot: tuple[float, float] | None = None,
     analysis_options: Mapping[str, object] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Landscape:
@@ -48,7 +49,7 @@ def energy_landscape(
         raise StaticsError(f"grid must be between 2 and 200 points per axis; got {grid}")
     parameters, build_attrs = select_parameters(grammar, free=[first, second], attrs=attrs)
     evaluator = Evaluator(
-        grammar, parameters, build_attrs, seed=seed, analysis_options=analysis_options
+        grammar, parameters, build_attrs, seed=seed, lot=lot, analysis_options=analysis_options
     )
     xs = np.linspace(parameters[0].lower, parameters[0].upper, int(grid))
     ys = np.linspace(parameters[1].lower, parameters[1].upper, int(grid))

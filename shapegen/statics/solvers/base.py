@@ -5,6 +5,7 @@ from __future__ import annotations
 __all__ = ["SolveStatus", "Solution", "Backend", "trivial_solution"]
 
 import enum
+import importlib.util
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -61,10 +62,11 @@ class Backend:
     """A solver back-end: a name, a lazy import, a status map and one :meth:`solve`."""
 
     name: str = ""
+    library: str | None = None  # the module the back-end imports lazily, if any
 
     def available(self) -> bool:
         """True when the back-end's library can be imported."""
-        return True
+        return self.library is None or importlib.util.find_spec(self.library) is not None
 
     def solve(self, problem, warm_start: Solution | None = None) -> Solution:  # pragma: no cover
         raise NotImplementedError

@@ -34,17 +34,11 @@ class ClarabelBackend(Backend):
     """
 
     name = "clarabel"
+    library = "clarabel"
 
     def __init__(self, tolerance: float = 1e-10, max_iter: int = 200):
         self.tolerance = tolerance
         self.max_iter = max_iter
-
-    def available(self) -> bool:
-        try:
-            import clarabel  # noqa: F401
-        except ImportError:
-            return False
-        return True
 
     def solve(self, problem, warm_start: Solution | None = None) -> Solution:
         import clarabel

@@ -30,17 +30,11 @@ class CvxpyBackend(Backend):
     """
 
     name = "cvxpy"
+    library = "cvxpy"
 
     def __init__(self, solver: str | None = None, tolerance: float = 1e-10):
         self.solver = solver
         self.tolerance = tolerance
-
-    def available(self) -> bool:
-        try:
-            import cvxpy  # noqa: F401
-        except ImportError:
-            return False
-        return True
 
     def solve(self, problem, warm_start: Solution | None = None) -> Solution:
         import cvxpy as cp
