@@ -1,10 +1,9 @@
 """Where the bundled rule files live, and how a bare file name finds them.
 
-The bundled ``.grammar`` files are in the top-level ``rules/`` directory of the source tree. An
-editable install (``pip install -e .``, what ``make`` does) finds them next to the package. A
-wheel only carries files inside the package, so a wheel build must copy them into
-``shapegen/rules/`` (``pyproject.toml`` already lists ``rules/*.grammar`` as package data); that
-directory is searched first.
+The bundled ``.grammar`` files are in the top-level ``rules/`` directory of the source tree;
+``shapegen/rules`` is a link to it, so that a wheel carries them as package data
+(``pyproject.toml`` lists ``rules/*.grammar``) and an installed package finds them inside itself.
+The top-level directory is searched too, for a source checkout whose link was not kept.
 """
 
 from __future__ import annotations
