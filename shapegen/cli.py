@@ -166,6 +166,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_statics_options(build, prefix="with --analyze or --optimize: ")
     _add_search_options(build)
+    build.add_argument(
+        "--osm",
+        metavar="FILE.osm",
+        help="place a bridge on an OpenStreetMap way (OSM XML), with --way: its straight length"
+        " sets the attr length, its first and last nodes the position and direction",
+    )
+    build.add_argument("--way", type=int, metavar="ID", help="with --osm: the way's id")
     build.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     build.set_defaults(handler=_run_build)
 
@@ -388,12 +395,16 @@ def _analysis_report(analysis) -> dict:
 # ------------------------------------------------------------------------------ build
 def _run_build(args: argparse.Namespace) -> int:
     from shapegen.engine import bridge_rules
+    from shapegen.export import osm
     from shapegen.export.model_io import check_output_path
 
     _check_outputs(args, check_output_path)
     started = time.perf_counter()
     grammar = _load_grammar(args.grammar)
     attrs = _checked_attrs(grammar, args.assignments)
+    way = _osm_way(args, grammar, attrs)
+    if way is not None:
+        attrs["length"] = osm.require_straight_length(way)
     analysis = optimization = None
     if args.optimize:
         optimization = _optimize(grammar, attrs, args)
@@ -401,12 +412,17 @@ def _run_build(args: argparse.Namespace) -> int:
     elif args.free or args.fixed:
         raise CommandLineError("--free and --fix only apply with --optimize")
     model = grammar.build(attrs=attrs, seed=args.seed, lot=args.lot)
+    if way is not None:
+        model = osm.place_on_way(model, way)
     report = _build_report(model)
+    if way is not None:
+        report["osm"] = model.metadata["osm"]
     if bridge_rules.is_cable_structure(grammar):  # a @Structure("cable") grammar: cable sizing
         report["bridge"] = bridge_rules.bridge_report(bridge_rules.model_design(model))
     if optimization is not None:
         report["optimization"] = optimization.to_report()
-        analysis = optimization.analysis
+        # Placed on a way, the model has moved: analyse it where it stands (arrows, colours).
+        analysis = optimization.analysis if way is None else None
     if args.analyze or optimization is not None:
         if analysis is None:
             analysis = _analyze(model, args)
@@ -416,6 +432,23 @@ def _run_build(args: argparse.Namespace) -> int:
     if not args.quiet:
         _print_build_summary(str(args.grammar), report)
     return EXIT_OK
+
+
+def _osm_way(args: argparse.Namespace, grammar, attrs: dict):
+    """The way of ``--osm FILE --way ID`` (None without them), checked against the grammar."""
+    if args.osm is None and args.way is None:
+        return None
+    if args.osm is None or args.way is None:
+        raise CommandLineError("--osm and --way go together: --osm FILE.osm --way ID")
+    if "length" not in _attr_names(grammar):
+        raise CommandLineError(
+            f"--osm places a bridge along a way: {args.grammar} has no attr 'length' to set"
+        )
+    if "length" in attrs:
+        raise CommandLineError("--set length conflicts with --osm: the way gives the length")
+    from shapegen.export.osm import read_way
+
+    return read_way(args.osm, args.way)
 
 
 def _optimize(grammar, attrs: dict, args: argparse.Namespace):
