@@ -80,7 +80,7 @@ def test_wall_windows_volume_and_parts(attrs, windows, pier, segments):
     grammar = shapegen.load_grammar(WALL)
     model = grammar.build(attrs=attrs)
     model.validate()
-    expected = wall_volume(12, 6, 0.6, 0.6, windows, pier, 2.5, segments)
+    expected = wall_volume(12, 6, 0.6, 1.0, windows, pier, 2.5, segments)
     assert model.volume == pytest.approx(expected, rel=1e-9)
     tags = [b.tags[0] for b in model.blocks]
     assert tags.count("column") == 2 * windows
