@@ -256,9 +256,11 @@ def analyze(
         and solver == "auto"
         and phase_one.status is SolveStatus.OPTIMAL_INACCURATE
         and used != AUTO_ORDER[-1]
+        and _tension_sum(problem, phase_one.x) <= PHASE_ONE_STOP
     ):
         # Near the feasibility boundary the fast back-end may stop short; an inaccurate
         # phase one must not decide "does not stand" when the exact back-end can certify it.
+        # (Far from it, phase one stops early on purpose: the tension is clearly positive.)
         phase_one, used = _solve(problem.with_objective("tension_sum"), AUTO_ORDER[-1], True)
         feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
     timings["certify"] = time.perf_counter() - start
@@ -286,6 +288,14 @@ def analyze(
         else:
             y_norm = float("nan")
     return _build_analysis(model, problem, solution, used, feasible, y_norm, timings)
+
+
+def _tension_sum(problem: StaticsProblem, x: np.ndarray | None) -> float:
+    """Scaled sum of the vertex tensions of a solution (inf without one)."""
+    if x is None:
+        return float("inf")
+    m = problem.n_vertices
+    return float(np.sum(x[m : 2 * m]))
 
 
 def _build_analysis(model, problem, solution, used, feasible, y_norm, timings) -> Analysis:
