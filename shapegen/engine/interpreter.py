@@ -758,6 +758,8 @@ class Program:
         return set_op
 
     def _op_Insert(self, node: ast.Insert, params) -> Operation:
+        if isinstance(node.primitive, ast.String):
+            _check_primitive_call(node, self.error)
         name_of = self.expressions.compile(node.primitive, params)
         keywords = [(k.name, self.expressions.compile(k.value, params)) for k in node.parameters]
         error = self.error
@@ -804,6 +806,30 @@ class Program:
 
 def _selector(name: str) -> str | int:
     return int(name) if name.isdigit() else name
+
+
+def _check_primitive_call(node: ast.Insert, error: Callable) -> None:
+    """At load time: ``i("name", key=...)`` with a literal name must name a registered
+    primitive and only its parameters (values are checked when the shape is derived)."""
+    from shapegen.primitives import get
+
+    name = node.primitive.value
+    if name == "box" and not node.parameters:
+        return
+    try:
+        primitive = get(name)
+    except GeometryError as exc:
+        raise error(node, str(exc)) from None
+    for keyword in node.parameters:
+        if keyword.name not in primitive.parameters:
+            known = ", ".join(sorted(primitive.parameters)) or "none"
+            close = difflib.get_close_matches(keyword.name, list(primitive.parameters), n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise error(
+                keyword if getattr(keyword, "location", None) else node,
+                f"primitive {name!r} has no parameter {keyword.name!r}{hint}; "
+                f"its parameters: {known}",
+            )
 
 
 def _resolve_primitive(name: str, values: dict) -> dict:

@@ -376,7 +376,7 @@ def test_runaway_repeat_split_is_stopped():
         ("Lot --> extrude(1)\n  split(x) { 1 / (scope.sx - 10) : A }", "division by zero", 2, 16),
         ('Lot --> extrude("a" * 2)', "needs numbers", 1, 21),
         ('Lot --> extrude(1) i("nosuchthing")', "unknown primitive", 1, 20),
-        ('Lot --> extrude(1) i("box", size = 2)', "no parameter 'size'", 1, 20),
+        ('Lot --> extrude(1) i("box", size = 2)', "no parameter 'size'", 1, 29),
         ("Lot --> extrude(1) extrude(2)", "already 3D", 1, 20),
         ("Lot --> extrude(1) A(sqrt(0 - 1))\nA(x) --> B", "sqrt(-1)", 1, 22),
         ('Lot --> extrude(1) split(x) { "wide" : A }', "split size must be a number", 1, 31),
