@@ -1,10 +1,11 @@
 """rules/bezier_arches.grammar: three Bezier arches stacked in an arcade (seed Figure 12).
 
 Truth values from the rule's layout: per storey an arch of 9 voussoirs and two piers of
-3 courses (1.5 m of 0.5 m courses) below the springing and 4 courses (2 m) beside the arch:
-3 x (9 + 2 x 7) = 69 blocks. The arcade is symmetric about its mid-plane, and swapping an arch's
-control points as ``(c1x, c2x) -> (1 - c2x, 1 - c1x)`` mirrors that arch, so a design and its
-mirror image need the same tension.
+3 courses (1.5 m of 0.5 m courses) below the springing and 4 courses (2 m) beside the arch,
+and one capping course over the lot's whole width: 3 x (9 + 2 x 7) + 1 = 70 blocks. The
+arcade is symmetric about its mid-plane, and swapping an arch's control points as
+``(c1x, c2x) -> (1 - c2x, 1 - c1x)`` mirrors that arch, so a design and its mirror image need
+the same tension.
 """
 
 from __future__ import annotations
@@ -29,11 +30,23 @@ def grammar():
     return shapegen.load_grammar(GRAMMAR)
 
 
-def test_69_blocks_three_arches(grammar):
+def test_70_blocks_three_arches_and_a_cap(grammar):
     model = grammar.build()
-    assert len(model.blocks) == 69
+    assert len(model.blocks) == 70
     assert sum("arch" in b.tags for b in model.blocks) == 3 * 9
     assert sum("pier" in b.tags for b in model.blocks) == 3 * 2 * (3 + 4)
+    assert sum("cap" in b.tags for b in model.blocks) == 1
+
+
+def test_the_cap_spans_the_lot_on_top_of_the_storeys(grammar):
+    attrs = grammar.attrs
+    (cap,) = [b for b in grammar.build().blocks if "cap" in b.tags]
+    top = 3 * attrs["storey_height"]
+    width = 4.0  # the lot
+    assert cap.vertices.min(axis=0)[:2] == pytest.approx([0.0, top], abs=1e-9)
+    assert cap.vertices.max(axis=0)[:2] == pytest.approx(
+        [width, top + attrs["cap_height"]], abs=1e-9
+    )
 
 
 def test_six_free_control_point_positions(grammar):

@@ -1,8 +1,8 @@
 """Every bundled rule file, after ``--optimize``, in the simulator (issue 8, part 2).
 
 The files are discovered at test time; the suspension bridge (a cable model, not blocks) is
-skipped, and so are models of more than ``LARGEST`` blocks (Cluny, 1 084 blocks: minutes per
-simulated second, see benchmarks/bench_simulation.py; its measured result is in
+skipped, and so are models of more than ``LARGEST`` blocks (Cluny, 1 072 blocks: about a wall
+minute per simulated second, see benchmarks/bench_simulation.py; its measured result is in
 docs/simulation.md). Models of up to ``SMALL`` blocks run for 5 s; larger ones for 2 s (0.5 s
 settling + 1.5 s) to keep the suite within minutes (Sainte-Chapelle, 496 blocks, about 90 s).
 
@@ -26,8 +26,8 @@ LARGEST = 500  # blocks
 SKIP = {"suspension_bridge.grammar": "a cable model, not blocks"}
 MARGIN = 0.1  # the geometric safety margin of the search, a fraction of each joint's size
 BOUNDARY_COLLAPSES = {
-    "bezier_arches.grammar": "with --margin 0.1 no standing design is found (0.6 m piers); with"
-    " 0.63-0.8 m piers one is, but 25-30 blocks creep 2.7-3.8 mm in 5 s",
+    "bezier_arches.grammar": "with the default 100 contact-solver iterations the optimized"
+    " arches creep 2.2 mm (11 blocks) in 5 s; with 300 they stand (the test below)",
 }
 
 
@@ -58,3 +58,15 @@ def test_optimized_bundled_model_stands(name):
         f"{name}: {result.moved_blocks} blocks moved (first: {moved}),"
         f" max {result.max_displacement * 1000:.3g} mm after settling"
     )
+
+
+@pytest.mark.slow
+def test_bezier_arches_stands_with_a_converged_solver():
+    # The arch rings of bezier_arches creep under the simulator's default contact solving
+    # (100 iterations a step; 2.2 mm in 5 s) although the search keeps a 10 % reserve; with
+    # 300 iterations the same optimized design must stand (docs/simulation.md).
+    grammar = load_grammar(find_bundled_rule("bezier_arches.grammar"))
+    optimization = optimize(grammar, margin=MARGIN)
+    assert optimization.feasible
+    result = simulate(grammar.build(attrs=optimization.values), seconds=5.0, solver_iterations=300)
+    assert result.verdict == "stands", f"max {result.max_displacement * 1000:.3g} mm"
