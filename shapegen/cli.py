@@ -25,6 +25,10 @@ from shapegen.errors import InputFormatError, ShapegenError
 
 EXIT_OK = 0
 EXIT_USAGE = 2
+# `simulate --optimize` searches with this geometric safety margin unless told otherwise: the
+# first design the search finds stands exactly on the statics boundary, and the simulator's contact
+# compliance tips such a design over (docs/simulation.md, "Bundled rules after --optimize").
+SIMULATION_MARGIN = 0.1
 
 
 class CommandLineError(ShapegenError):
@@ -268,7 +272,8 @@ def _add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") -
     )
 
 
-def _add_search_options(parser: argparse.ArgumentParser) -> None:
+def _add_search_options(parser: argparse.ArgumentParser, margin: float = 0.0) -> None:
+    """The --optimize options; ``margin`` is the default --margin (simulate keeps a reserve)."""
     parser.add_argument(
         "--optimize",
         action="store_true",
@@ -314,11 +319,17 @@ def _add_search_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--margin",
         type=float,
-        default=0.0,
+        default=margin,
         metavar="M",
         help="with --optimize: geometric safety margin, 0 to 1: search for a design that still"
-        " stands with every joint shrunk to 1 - M of its size (default 0: stop on the boundary,"
-        " as the paper does; 0.1 leaves a reserve a real structure or a simulation needs)",
+        " stands with every joint shrunk to 1 - M of its size"
+        + (
+            f" (default {margin:g}: a design on the statics boundary has no reserve for the"
+            " simulator's contact compliance; 0 stops on the boundary, as the paper does)"
+            if margin
+            else " (default 0: stop on the boundary, as the paper does; 0.1 leaves a reserve a"
+            " real structure or a simulation needs)"
+        ),
     )
     parser.add_argument(
         "--multistart",
@@ -702,7 +713,7 @@ def _add_simulate_command(commands) -> None:
     simulate.add_argument("--report", metavar="R.json", help="write a JSON report")
     _add_derivation_options(simulate, prefix="for a .grammar: ")
     _add_statics_options(simulate, prefix="with --optimize (and --friction for the run): ")
-    _add_search_options(simulate)
+    _add_search_options(simulate, margin=SIMULATION_MARGIN)
     simulate.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     simulate.set_defaults(handler=_run_simulate)
 
@@ -745,7 +756,7 @@ def _run_simulate(args: argparse.Namespace) -> int:
 
         write_frames(result, args.frames)
     if not args.quiet:
-        _print_simulation_summary(str(args.model), result, args)
+        _print_simulation_summary(str(args.model), result, args, build_report.get("build", {}))
     return EXIT_OK
 
 
@@ -843,7 +854,7 @@ class _SimulationProgress:
             self.bar.update(self.task, completed=done / total)
 
 
-def _print_simulation_summary(title: str, result, args: argparse.Namespace) -> None:
+def _print_simulation_summary(title: str, result, args: argparse.Namespace, build: dict) -> None:
     from rich.console import Console
     from rich.table import Table
     from rich.text import Text
@@ -853,6 +864,12 @@ def _print_simulation_summary(title: str, result, args: argparse.Namespace) -> N
     table.add_column()
     table.add_row("model", Text(title))
     table.add_row("blocks", str(len(result.model.blocks)))
+    if "optimization" in build:
+        optimization = build["optimization"]
+        values = ", ".join(
+            f"{name} {_fmt(spec['final'])}" for name, spec in optimization["parameters"].items()
+        )
+        table.add_row("optimized", Text(f"{optimization['message']}: {values}"))
     if result.removed:
         table.add_row("removed", Text(", ".join(result.removed)))
     stands = result.stands

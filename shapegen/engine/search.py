@@ -125,6 +125,7 @@ class OptimizationResult:
     path: list[dict[str, float]] = field(default_factory=list)
     model: Model | None = None
     analysis: object | None = None
+    margin: float = 0.0
 
     @property
     def seconds_per_iteration(self) -> float:
@@ -153,6 +154,7 @@ class OptimizationResult:
             "objective": self.objective,
             "gradient": self.gradient,
             "message": self.message,
+            "margin": self.margin,
             "parameters": self.parameters,
         }
 
@@ -474,6 +476,7 @@ def optimize(
         path=[evaluator.named(theta0), *search.path],
         model=best.model,
         analysis=final_analysis,
+        margin=float(margin),
     )
 
 

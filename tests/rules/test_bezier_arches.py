@@ -30,12 +30,19 @@ def grammar():
     return shapegen.load_grammar(GRAMMAR)
 
 
-def test_70_blocks_three_arches_and_a_cap(grammar):
+def test_three_arches_piers_in_courses_and_a_cap(grammar):
+    attrs = grammar.attrs
     model = grammar.build()
-    assert len(model.blocks) == 70
+    # Each pier stretch is split into courses of about course_height (CityEngine's ~ sizes).
+    lower = round(attrs["springing_height"] / attrs["course_height"])
+    upper = round((attrs["storey_height"] - attrs["springing_height"]) / attrs["course_height"])
+    assert (lower, upper) == (1, 1)  # the tall stones of the file's values
     assert sum("arch" in b.tags for b in model.blocks) == 3 * 9
-    assert sum("pier" in b.tags for b in model.blocks) == 3 * 2 * (3 + 4)
+    assert sum("pier" in b.tags for b in model.blocks) == 3 * 2 * (lower + upper)
     assert sum("cap" in b.tags for b in model.blocks) == 1
+    assert len(model.blocks) == 27 + 12 + 1
+    thin = grammar.build(attrs={"course_height": 0.5}).blocks
+    assert sum("pier" in b.tags for b in thin) == 3 * 2 * (3 + 4)
 
 
 def test_the_cap_spans_the_lot_on_top_of_the_storeys(grammar):
