@@ -18,7 +18,7 @@ from pathlib import Path
 from shapegen.engine.model import Model
 from shapegen.engine.scope import Scope
 from shapegen.primitives.wall import wall
-from shapegen.simulation import SimulationSettings, simulate
+from shapegen.simulation import SIMULATION_MARGIN, SimulationSettings, simulate
 
 CLUNY = Path(__file__).resolve().parents[1] / "rules" / "cluny.grammar"
 
@@ -29,7 +29,7 @@ def cluny_model() -> tuple[str, Model]:
 
     grammar = load_grammar(CLUNY)
     started = time.perf_counter()
-    result = optimize(grammar)
+    result = optimize(grammar, margin=SIMULATION_MARGIN)
     print(f"cluny --optimize: {time.perf_counter() - started:.1f} s, stands: {result.feasible}")
     return "cluny (optimized)", grammar.build(attrs=result.values)
 

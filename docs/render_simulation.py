@@ -17,7 +17,7 @@ from pathlib import Path
 from shapegen.engine.grammar_api import load_grammar
 from shapegen.engine.search import optimize
 from shapegen.export.atomic import atomic_write
-from shapegen.simulation import simulate
+from shapegen.simulation import SIMULATION_MARGIN, simulate
 from shapegen.simulation.cases import arch
 from shapegen.simulation.frames import write_gif, write_picture
 
@@ -28,7 +28,7 @@ VIEW = {"elevation": 25.0, "azimuth": -50.0, "size_px": (900, 650)}
 
 def cluny(seconds: float) -> None:
     grammar = load_grammar(ROOT / "rules" / "cluny.grammar")
-    optimization = optimize(grammar)
+    optimization = optimize(grammar, margin=SIMULATION_MARGIN)
     model = grammar.build(attrs=optimization.values)
     print(
         f"cluny: {len(model.blocks)} blocks, optimized, stands (statics): {optimization.feasible}"

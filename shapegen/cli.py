@@ -25,10 +25,6 @@ from shapegen.errors import InputFormatError, ShapegenError
 
 EXIT_OK = 0
 EXIT_USAGE = 2
-# `simulate --optimize` searches with this geometric safety margin unless told otherwise: the
-# first design the search finds stands exactly on the statics boundary, and the simulator's contact
-# compliance tips such a design over (docs/simulation.md, "Bundled rules after --optimize").
-SIMULATION_MARGIN = 0.1
 
 
 class CommandLineError(ShapegenError):
@@ -713,6 +709,9 @@ def _add_simulate_command(commands) -> None:
     simulate.add_argument("--report", metavar="R.json", help="write a JSON report")
     _add_derivation_options(simulate, prefix="for a .grammar: ")
     _add_statics_options(simulate, prefix="with --optimize (and --friction for the run): ")
+    # A design to simulate is searched with a safety margin by default.
+    from shapegen.simulation.run import SIMULATION_MARGIN
+
     _add_search_options(simulate, margin=SIMULATION_MARGIN)
     simulate.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     simulate.set_defaults(handler=_run_simulate)

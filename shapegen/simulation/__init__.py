@@ -11,6 +11,7 @@ install it.
 
 from shapegen.simulation.inertia import PrincipalInertia, inertia_tensor, principal_inertia
 from shapegen.simulation.run import (
+    SIMULATION_MARGIN,
     BlockMotion,
     SimulationFrame,
     SimulationResult,
@@ -21,6 +22,7 @@ from shapegen.simulation.run import (
 )
 
 __all__ = [
+    "SIMULATION_MARGIN",
     "BlockMotion",
     "PrincipalInertia",
     "SimulationFrame",

@@ -46,6 +46,12 @@ from shapegen.engine.model import Model
 from shapegen.errors import ShapegenError
 from shapegen.simulation.world import World
 
+# The geometric safety margin with which a design is optimized before it is simulated (``shapegen
+# simulate --optimize``): the first design the search finds stands exactly on the statics
+# boundary, and the simulator's contact compliance tips such a design over (docs/simulation.md,
+# "Bundled rules after --optimize").
+SIMULATION_MARGIN = 0.1
+
 
 @dataclass(frozen=True)
 class SimulationSettings:

@@ -16,11 +16,10 @@ marked as an expected failure with what was measured; all must stand.
 
 import pytest
 
-from shapegen.cli import SIMULATION_MARGIN
 from shapegen.engine.grammar_api import load_grammar
 from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.search import optimize
-from shapegen.simulation import simulate
+from shapegen.simulation import SIMULATION_MARGIN, simulate
 
 SMALL = 100  # blocks
 LARGEST = 500  # blocks
