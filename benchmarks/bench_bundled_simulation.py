@@ -1,0 +1,59 @@
+"""Every bundled rule file, optimized as `shapegen simulate FILE --optimize` does, in the simulator.
+
+For each block-model rule file (the cable-model bridge is skipped) the search runs with the
+simulator's default safety margin (``SIMULATION_MARGIN``), the design found is simulated with the
+default settings for ``--seconds`` (5), and one row is printed: blocks, search time, the largest
+displacement after settling, moved blocks, verdict and wall time. This is the table of
+docs/simulation.md, "Bundled rules after --optimize"; the test suite runs the same check for the
+smaller files (tests/simulation/test_bundled_rules.py), this script also for the large ones (Cluny:
+about four wall minutes). Run from the repository root:
+
+    .venv/bin/python benchmarks/bench_bundled_simulation.py [--seconds 5] [--only cluny,mosque]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+from shapegen.engine.bridge_rules import is_cable_structure
+from shapegen.engine.grammar_api import load_grammar
+from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+from shapegen.engine.search import optimize
+from shapegen.simulation import SIMULATION_MARGIN, simulate
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=5.0, help="simulated seconds")
+    parser.add_argument("--only", default="", help="comma-separated file stems to run")
+    args = parser.parse_args()
+    only = {name.strip() for name in args.only.split(",") if name.strip()}
+    print(f"margin {SIMULATION_MARGIN}, {args.seconds:g} simulated s, default simulator settings")
+    header = f"{'file':18} {'blocks':>6} {'search s':>8} {'max mm':>7} {'moved':>5} {'wall s':>7}"
+    print(f"{header}  verdict   (largest movers)")
+    for name in bundled_rules():
+        stem = name.removesuffix(".grammar")
+        if only and stem not in only:
+            continue
+        grammar = load_grammar(find_bundled_rule(name))
+        if is_cable_structure(grammar):
+            continue
+        started = time.perf_counter()
+        optimization = optimize(grammar, margin=SIMULATION_MARGIN)
+        searched = time.perf_counter() - started
+        model = grammar.build(attrs=optimization.values)
+        result = simulate(model, seconds=args.seconds)
+        movers = sorted(result.motions, key=lambda m: -m.max_displacement)[:3]
+        largest = ", ".join(f"{m.id} {m.max_displacement * 1000:.2f}" for m in movers)
+        print(
+            f"{stem:18} {len(model.blocks):6d} {searched:8.1f}"
+            f" {result.max_displacement * 1000:7.3f} {result.moved_blocks:5d}"
+            f" {result.wall_seconds:7.1f}  {result.verdict:9} ({largest})"
+            + ("" if optimization.feasible else "  [the search found no standing design]"),
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
