@@ -100,10 +100,20 @@ REGISTRY: dict[str, Primitive] = {}
 _discovered = False
 
 
-def primitive(name: str) -> Callable[[Callable], Callable]:
-    """Register ``function(scope, **params) -> list[Block]`` as the primitive ``name``."""
+def primitive(name: str, *, replace: bool = False) -> Callable[[Callable], Callable]:
+    """Register ``function(scope, **params) -> list[Block]`` as the primitive ``name``.
+
+    A name already taken by another function is refused unless ``replace=True`` (a plug-in that
+    means to supersede a built-in primitive says so).
+    """
 
     def register(function: Callable) -> Callable:
+        taken = REGISTRY.get(name)
+        if taken is not None and not replace and _origin(taken.function) != _origin(function):
+            raise ValueError(
+                f"primitive {name!r} is already registered by {_origin(taken.function)}; choose"
+                f" another name for {_origin(function)}, or pass replace=True to supersede it"
+            )
         signature = inspect.signature(function)
         parameters = {}
         for param in list(signature.parameters.values())[1:]:
@@ -120,6 +130,11 @@ def primitive(name: str) -> Callable[[Callable], Callable]:
         return function
 
     return register
+
+
+def _origin(function: Callable) -> str:
+    """``module.qualified_name`` of a function (the same after a module is reloaded)."""
+    return f"{getattr(function, '__module__', '?')}.{getattr(function, '__qualname__', '?')}"
 
 
 def _discover() -> None:

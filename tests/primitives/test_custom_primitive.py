@@ -121,3 +121,23 @@ def test_choice_parameters_list_their_values(fresh_registry):
     assert len(insert("plinth", SCOPE, finish="dressed")) == 1
     with pytest.raises(GeometryError, match="'finish' must be one of 'rough', 'dressed'"):
         insert("plinth", SCOPE, finish="polished")
+
+
+def test_a_taken_name_is_refused_unless_replacing(fresh_registry):
+    def my_arch(scope: Scope) -> list[Block]:
+        return [Block.box([0, 0, 0], scope.size)]
+
+    with pytest.raises(ValueError, match="primitive 'arch' is already registered by shapegen"):
+        primitive("arch")(my_arch)
+    assert fresh_registry["arch"].function is not my_arch  # the built-in is untouched
+    primitive("arch", replace=True)(my_arch)
+    assert len(insert("arch", SCOPE)) == 1
+
+
+def test_registering_the_same_function_again_is_harmless(fresh_registry):
+    def pad(scope: Scope) -> list[Block]:
+        return [Block.box([0, 0, 0], scope.size)]
+
+    primitive("pad")(pad)
+    primitive("pad")(pad)  # a module imported twice (or reloaded) registers again
+    assert fresh_registry["pad"].function is pad
