@@ -49,7 +49,7 @@ from shapegen.statics.cables import (
     size_cables,
 )
 
-CABLE_STRUCTURE = "cable"
+CABLE_STRUCTURE = "cable"  # one of shapegen.grammar.names.STRUCTURES
 """The argument of ``@Structure(...)`` that marks a grammar sized by the cable model."""
 
 SEARCHED_ATTRS = ("main_span", "sag")

@@ -30,13 +30,14 @@ from shapegen.grammar.names import (
     OPERATIONS,
     RESERVED_ATTRIBUTES,
     SHAPE_ATTRIBUTES,
+    STRUCTURES,
 )
 
 __all__ = ["check", "find_problems", "constant_value"]
 
 Problem = tuple[SourceLocation | None, str]
 
-_RULE_ONLY_ANNOTATIONS = ("StartRule", "Lot")
+_RULE_ONLY_ANNOTATIONS = ("StartRule", "Lot", "Structure")
 _KIND_NAMES = {
     ast.Attribute: "an attr",
     ast.Constant: "a const",
@@ -236,6 +237,20 @@ class _Checker:
                 value = constant_value(size, self.values)
                 if value is not _UNKNOWN and not (_is_number(value) and value > 0):
                     self.report(size.location, "@Lot sizes must be positive numbers (metres)")
+        for rule in self.rules.values():
+            structure = rule.annotation("Structure")
+            if structure is None:
+                continue
+            if rule is not start:
+                self.report(structure.location, "@Structure belongs on the start rule")
+            for kind in structure.args:
+                value = constant_value(kind, self.values)
+                if value is not _UNKNOWN and value not in STRUCTURES:
+                    self.report(
+                        kind.location,
+                        f"unknown @Structure {value!r} (known: {', '.join(STRUCTURES)})"
+                        + _suggestion(str(value), STRUCTURES),
+                    )
 
     def _check_cycles(self) -> None:
         """Report attrs/consts whose value depends on itself through other attrs/consts."""

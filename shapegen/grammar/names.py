@@ -142,6 +142,10 @@ ANNOTATIONS: dict[str, tuple[int, int, tuple[str, ...]]] = {
     "Distance": (0, 0, ()),
 }
 
+#: Values of ``@Structure(...)`` on the start rule: how the model is sized instead of by the
+#: block statics ("cable": the suspension-bridge cable model of shapegen.engine.bridge_rules).
+STRUCTURES: tuple[str, ...] = ("cable",)
+
 #: Attributes read at each leaf to set its block's properties; usable without an ``attr`` line.
 #: ``density`` in kg/m^3, ``structural`` and ``fixed`` booleans.
 RESERVED_ATTRIBUTES: dict[str, object] = {
