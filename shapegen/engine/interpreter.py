@@ -216,7 +216,11 @@ class Program:
             name: self.expressions.compile(node.value, {})
             for name, node in {**self.attr_nodes, **self.const_nodes}.items()
         }
-        self.rules = {rule.name: _Rule(rule) for rule in grammar.rules}
+        # Rules by (name, arity): CGA overloads a rule name by its number of parameters.
+        self.rules = {(rule.name, len(rule.params)): _Rule(rule) for rule in grammar.rules}
+        self.arities: dict[str, list[int]] = {}
+        for name, arity in self.rules:
+            self.arities.setdefault(name, []).append(arity)
         for rule in self.rules.values():
             params = {p.name: k for k, p in enumerate(rule.node.params)}
             rule.body = self._body(rule.node.body, params)
@@ -347,7 +351,7 @@ class Program:
         root = _root_state(run, Shape(start_scope, FACE, 1), values, ())
         root.rule_path = (self.start.name,)
         leaves: list[_State] = []
-        stack: list[tuple] = [(root, self.rules[self.start.name], ())]
+        stack: list[tuple] = [(root, self.rules[(self.start.name, 0)], ())]
         try:
             while stack:
                 state, rule, args = stack.pop()
@@ -507,10 +511,11 @@ class Program:
         return number
 
     def _op_Successor(self, node: ast.Successor, params) -> Operation:
-        rule = None if node.leaf else self.rules.get(node.name)
-        if rule is not None and rule.arity != len(node.args):
+        rule = None if node.leaf else self.rules.get((node.name, len(node.args)))
+        if rule is None and not node.leaf and node.name in self.arities:
+            counts = " or ".join(str(n) for n in sorted(self.arities[node.name]))
             raise self.error(
-                node, f"rule {node.name!r} takes {rule.arity} parameters, got {len(node.args)}"
+                node, f"rule {node.name!r} takes {counts} parameters, got {len(node.args)}"
             )
         arguments = tuple(self.expressions.compile(a, params) for a in node.args)
         name = node.name

@@ -69,7 +69,9 @@ class _Checker:
         self.grammar = grammar
         self.problems: list[Problem] = []
         self.values: dict[str, ast.Attribute | ast.Constant | ast.Function] = {}
-        self.rules: dict[str, ast.Rule] = {}
+        # Rules by (name, number of parameters): as in CGA, one name may be overloaded by arity.
+        self.rules: dict[tuple[str, int], ast.Rule] = {}
+        self.arities: dict[str, list[int]] = {}
 
     def report(self, location: SourceLocation | None, message: str) -> None:
         self.problems.append((location, message))
@@ -101,14 +103,16 @@ class _Checker:
                         definition.location,
                         f"'{name}' is an operation; a rule cannot use its name",
                     )
-                previous = self.rules.get(name)
+                key = (name, len(definition.params))
+                previous = self.rules.get(key)
                 if previous is not None:
                     self.report(
                         definition.location,
                         f"duplicate rule '{name}' (first defined at {previous.location})",
                     )
                 else:
-                    self.rules[name] = definition
+                    self.rules[key] = definition
+                    self.arities.setdefault(name, []).append(key[1])
                 continue
             if isinstance(definition, ast.Function) and name in BUILTIN_FUNCTIONS:
                 self.report(
@@ -358,15 +362,15 @@ class _Checker:
                 f"'{successor.name}' is an operation: write {successor.name}(...)",
             )
             return
-        rule = self.rules.get(successor.name)
-        if rule is None:
+        arities = self.arities.get(successor.name)
+        if arities is None:
             return  # a leaf shape, as in CGA
-        expected = len(rule.params)
-        if len(successor.args) != expected:
+        if len(successor.args) not in arities:
+            counts = " or ".join(str(n) for n in sorted(arities))
+            noun = "argument" if sorted(arities) == [1] else "arguments"
             self.report(
                 successor.location,
-                f"rule '{rule.name}' takes {_plural(expected, 'argument')}, "
-                f"got {len(successor.args)}",
+                f"rule '{successor.name}' takes {counts} {noun}, got {len(successor.args)}",
             )
 
     def _set_target(self, item: ast.Set) -> None:

@@ -148,6 +148,26 @@ def test_rule_parameters_and_recursion_that_stops():
     assert set(model.metadata["reports"]["level"]) == {3.0}
 
 
+def test_rules_are_overloaded_by_their_number_of_parameters():
+    # CGA: Wall and Wall(h) are two rules; the call's argument count picks one.
+    model = build(
+        """
+        @StartRule @Lot(4, 1)
+        Lot --> split(x) { 2 : Wall | 2 : Wall(3) }
+        Wall --> Wall(1)
+        Wall(h) --> extrude(h) Stone.
+        """
+    )
+    assert sorted(round(b.bounds[1, 1], 9) for b in model.blocks) == [1.0, 3.0]
+
+
+def test_a_call_matching_no_overload_names_the_counts():
+    with pytest.raises(GrammarError, match=r"rule 'Wall' takes 0 or 1 arguments, got 2"):
+        shapegen.load_grammar(
+            "@StartRule\nLot --> Wall(1, 2)\nWall --> Stone.\nWall(h) --> extrude(h) Stone."
+        )
+
+
 def test_insert_primitive_blocks_get_properties_and_sequential_ids():
     model = build(
         """
