@@ -232,29 +232,27 @@ class _Checker:
         if start is not None and start.start and start.params:
             self.report(start.location, f"the start rule '{start.name}' cannot take parameters")
         for rule in self.rules.values():
-            lot = rule.annotation("Lot")
-            if lot is None:
-                continue
-            if rule is not start:
-                self.report(lot.location, "@Lot belongs on the start rule")
-            for size in lot.args:
-                value = constant_value(size, self.values)
-                if value is not _UNKNOWN and not (_is_number(value) and value > 0):
-                    self.report(size.location, "@Lot sizes must be positive numbers (metres)")
-        for rule in self.rules.values():
-            structure = rule.annotation("Structure")
-            if structure is None:
-                continue
-            if rule is not start:
-                self.report(structure.location, "@Structure belongs on the start rule")
-            for kind in structure.args:
-                value = constant_value(kind, self.values)
-                if value is not _UNKNOWN and value not in STRUCTURES:
-                    self.report(
-                        kind.location,
-                        f"unknown @Structure {value!r} (known: {', '.join(STRUCTURES)})"
-                        + _suggestion(str(value), STRUCTURES),
-                    )
+            for name in ("Lot", "Structure"):  # annotations of the start rule only
+                annotation = rule.annotation(name)
+                if annotation is None:
+                    continue
+                if rule is not start:
+                    self.report(annotation.location, f"@{name} belongs on the start rule")
+                for argument in annotation.args:
+                    self._start_annotation_value(name, argument)
+
+    def _start_annotation_value(self, name: str, argument: ast.Expression) -> None:
+        value = constant_value(argument, self.values)
+        if value is _UNKNOWN:
+            return
+        if name == "Lot" and not (_is_number(value) and value > 0):
+            self.report(argument.location, "@Lot sizes must be positive numbers (metres)")
+        if name == "Structure" and value not in STRUCTURES:
+            self.report(
+                argument.location,
+                f"unknown @Structure {value!r} (known: {', '.join(STRUCTURES)})"
+                + _suggestion(str(value), STRUCTURES),
+            )
 
     def _check_cycles(self) -> None:
         """Report attrs/consts whose value depends on itself through other attrs/consts."""
