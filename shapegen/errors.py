@@ -53,7 +53,9 @@ class GrammarError(ShapegenError):
     ):
         self.location = location
         self.source = source
-        self.problems = problems if problems is not None else [(location, message)]
+        found = problems if problems is not None else [(location, message)]
+        # The same problem at the same place is shown once (error recovery may meet it twice).
+        self.problems = list(dict.fromkeys(found))
         self.message = message
         super().__init__(self._render())
 

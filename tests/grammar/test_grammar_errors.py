@@ -296,3 +296,11 @@ VALID = [
 @pytest.mark.parametrize("text", VALID)
 def test_valid_files_load(text):
     load(text)
+
+
+def test_a_problem_met_twice_is_reported_once():
+    # At the end of the file the parser's error recovery meets the same problem twice.
+    with pytest.raises(GrammarError) as caught:
+        load("@StartRule\nLot --> extrude(\n")
+    assert len(caught.value.problems) == 1
+    assert str(caught.value).count("unexpected end of file") == 1
