@@ -3,7 +3,8 @@
 For each block-model rule file (the cable-model bridge is skipped) the search runs with the
 simulator's default safety margin (``SIMULATION_MARGIN``), the design found is simulated with the
 default settings for ``--seconds`` (5), and one row is printed: blocks, search time, the largest
-displacement after settling, moved blocks, verdict and wall time. This is the table of
+displacement after settling, the tolerance it is judged against (1 mm, or 1/10 000 of the model's
+height when larger), moved blocks, verdict and wall time. This is the table of
 docs/simulation.md, "Bundled rules after --optimize"; the test suite runs the same check for the
 smaller files (tests/simulation/test_bundled_rules.py), this script also for the large ones (Cluny:
 about four wall minutes). Run from the repository root:
@@ -30,7 +31,10 @@ def main() -> None:
     args = parser.parse_args()
     only = {name.strip() for name in args.only.split(",") if name.strip()}
     print(f"margin {SIMULATION_MARGIN}, {args.seconds:g} simulated s, default simulator settings")
-    header = f"{'file':18} {'blocks':>6} {'search s':>8} {'max mm':>7} {'moved':>5} {'wall s':>7}"
+    header = (
+        f"{'file':18} {'blocks':>6} {'search s':>8} {'max mm':>7} {'tol mm':>6} {'moved':>5}"
+        f" {'wall s':>7}"
+    )
     print(f"{header}  verdict   (largest movers)")
     for name in bundled_rules():
         stem = name.removesuffix(".grammar")
@@ -48,7 +52,8 @@ def main() -> None:
         largest = ", ".join(f"{m.id} {m.max_displacement * 1000:.2f}" for m in movers)
         print(
             f"{stem:18} {len(model.blocks):6d} {searched:8.1f}"
-            f" {result.max_displacement * 1000:7.3f} {result.moved_blocks:5d}"
+            f" {result.max_displacement * 1000:7.3f} {result.settings.tolerance * 1000:6.2f}"
+            f" {result.moved_blocks:5d}"
             f" {result.wall_seconds:7.1f}  {result.verdict:9} ({largest})"
             + ("" if optimization.feasible else "  [the search found no standing design]"),
             flush=True,

@@ -689,7 +689,8 @@ def _add_simulate_command(commands) -> None:
         type=_positive,
         default=None,
         metavar="M",
-        help="a block moved when a vertex moved more than M metres after settling (default 0.001)",
+        help="a block moved when a vertex moved more than M metres after settling (default:"
+        " 0.001, or 1/10000 of the model's height when that is larger)",
     )
     simulate.add_argument(
         "--fps",

@@ -12,10 +12,13 @@ install it.
 from shapegen.simulation.inertia import PrincipalInertia, inertia_tensor, principal_inertia
 from shapegen.simulation.run import (
     SIMULATION_MARGIN,
+    TOLERANCE,
+    TOLERANCE_PER_HEIGHT,
     BlockMotion,
     SimulationFrame,
     SimulationResult,
     SimulationSettings,
+    default_tolerance,
     moved_model,
     remove_blocks,
     simulate,
@@ -23,11 +26,14 @@ from shapegen.simulation.run import (
 
 __all__ = [
     "SIMULATION_MARGIN",
+    "TOLERANCE",
+    "TOLERANCE_PER_HEIGHT",
     "BlockMotion",
     "PrincipalInertia",
     "SimulationFrame",
     "SimulationResult",
     "SimulationSettings",
+    "default_tolerance",
     "inertia_tensor",
     "moved_model",
     "principal_inertia",

@@ -9,7 +9,13 @@ import pytest
 from shapegen.engine.block import Block
 from shapegen.engine.model import Model
 from shapegen.errors import ShapegenError
-from shapegen.simulation import SimulationSettings, remove_blocks, simulate
+from shapegen.simulation import (
+    TOLERANCE,
+    SimulationSettings,
+    default_tolerance,
+    remove_blocks,
+    simulate,
+)
 from shapegen.simulation.world import load_pybullet
 
 G = 9.81
@@ -90,6 +96,7 @@ def test_remove_unknown_name_suggests_close_ones():
         ({"settle": 5.0}, "settling window"),
         ({"friction": float("nan")}, "friction"),
         ({"solver_iterations": 0}, "solver_iterations"),
+        ({"tolerance": 0.0}, "tolerance must be a positive"),
     ],
 )
 def test_bad_settings_raise_one_clear_error(overrides, message):
@@ -120,3 +127,24 @@ def test_report_has_the_documented_keys():
     block = report["per_block"][0]
     assert block["id"] == "a" and set(block) >= {"displacement", "rotation", "moved"}
     assert np.isfinite(report["wall_seconds"])
+
+
+def test_default_tolerance_is_a_millimetre_up_to_10_m_then_grows_with_the_height():
+    def pier(bottom, top, ground=0.0):
+        return Model([Block.box([0, bottom, 0], [1, top, 1])], ground=ground)
+
+    assert TOLERANCE == 1e-3
+    assert default_tolerance(pier(0, 1)) == pytest.approx(1e-3)
+    assert default_tolerance(pier(0, 10)) == pytest.approx(1e-3)
+    assert default_tolerance(pier(0, 25)) == pytest.approx(2.5e-3)
+    # Measured from the ground, also when the model starts above it; without a ground, its extent.
+    assert default_tolerance(pier(15, 25)) == pytest.approx(2.5e-3)
+    assert default_tolerance(pier(15, 45, ground=None)) == pytest.approx(3e-3)
+
+
+def test_simulate_fills_in_the_default_tolerance_and_keeps_a_given_one():
+    tall = Model([Block.box([0, 0, 0], [4, 20, 4], id="pier")])
+    assert simulate(tall, seconds=0.2, settle=0.1).settings.tolerance == pytest.approx(2e-3)
+    given = simulate(tall, seconds=0.2, settle=0.1, tolerance=5e-4)
+    assert given.settings.tolerance == 5e-4
+    assert given.to_report()["tolerance"] == 5e-4
