@@ -12,9 +12,9 @@ The verdict: a non-fixed block *moved* when, after settling, one of its vertices
 ``settle_tolerance`` (default 1 cm: a block that falls within the window counts too); the model
 *stands* when no block moved, and *collapses* otherwise. The default tolerance is 1 mm, or 1/10 000
 of the model's height when that is larger (:func:`default_tolerance`): Bullet's contact solver lets
-a tall model creep by about a millimetre per 10 m of height over 5 s whatever its margin of safety
+models of 18 m and more drift by 1-2 mm over 5 s whatever their margin of safety
 (docs/simulation.md, "Tolerance"), so a fixed millimetre would judge the solver's noise, not the
-building, for models taller than 10 m.
+building, there.
 
 Ground shake (``shake``, m/s): the ground receives a velocity change ``shake`` along
 ``shake_direction`` spread evenly over ``shake_duration`` (1/60 s, the seed paper's impulse), i.e.
@@ -59,8 +59,8 @@ from shapegen.simulation.world import World
 # "Bundled rules after --optimize").
 SIMULATION_MARGIN = 0.1
 
-# The default tolerance of the verdict: 1 mm (the bar for a 1 m arch), or this fraction of
-# the model's height when that is larger (the simulator's creep grows with the height of a model).
+# The default tolerance of the verdict: 1 mm (the bar of the reference 1 m arch), or this fraction
+# of the model's height when that is larger (the simulator's drift is largest on tall models).
 TOLERANCE = 1e-3
 TOLERANCE_PER_HEIGHT = 1e-4
 
