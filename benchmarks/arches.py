@@ -6,8 +6,8 @@ __all__ = ["semicircular_arch", "arch_row"]
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 
 
 def _voussoirs(radius, thickness, n, depth, offset_x=0.0, offset_z=0.0, prefix="v"):

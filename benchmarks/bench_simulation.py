@@ -15,8 +15,8 @@ import argparse
 import time
 from pathlib import Path
 
-from shapegen.engine.model import Model
-from shapegen.engine.scope import Scope
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
 from shapegen.primitives.wall import wall
 from shapegen.simulation import SIMULATION_MARGIN, SimulationSettings, simulate
 

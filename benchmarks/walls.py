@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 
 BRICK = (0.24, 0.07, 0.115)  # length, height, depth in metres (a common brick)
 

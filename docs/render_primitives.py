@@ -15,9 +15,9 @@ __all__ = ["GALLERY", "render_gallery"]
 import sys
 from pathlib import Path
 
-from shapegen.engine.model import Model
-from shapegen.engine.scope import Scope
 from shapegen.export.picture import render_model
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
 from shapegen.primitives import available, insert
 
 # file stem -> (primitive, scope size (sx, sy, sz) in m, parameters, view (elevation, azimuth))

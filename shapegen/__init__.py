@@ -1,6 +1,5 @@
 """shapegen: procedural modeling of structures that stand up."""
 
-from shapegen.engine import Block, Model, PointLoad, Scope
 from shapegen.errors import (
     GeometryError,
     GrammarError,
@@ -8,6 +7,7 @@ from shapegen.errors import (
     ShapegenError,
     StaticsError,
 )
+from shapegen.model import Block, Model, PointLoad, Scope
 
 __version__ = "0.1.0"
 

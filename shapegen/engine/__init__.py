@@ -1,11 +1,5 @@
-"""Model, blocks and scopes; the interpreter and search live in submodules of this package.
+"""The grammar engine: the interpreter that derives a Model from a parsed grammar.
 
-Only the plain data types are imported here so that lower layers (statics, primitives) can use
-them without pulling in the interpreter.
+:func:`~shapegen.engine.grammar_api.load_grammar` is the entry point; the data it produces lives
+in :mod:`shapegen.model`.
 """
-
-from shapegen.engine.block import DEFAULT_DENSITY, Block
-from shapegen.engine.model import GRAVITY, Model, PointLoad
-from shapegen.engine.scope import Scope
-
-__all__ = ["Block", "DEFAULT_DENSITY", "GRAVITY", "Model", "PointLoad", "Scope"]

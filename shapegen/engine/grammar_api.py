@@ -20,11 +20,11 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from shapegen.engine.interpreter import DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES, Program
-from shapegen.engine.model import Model
 from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shape import lot_scope
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
+from shapegen.model.model import Model
 
 
 class Grammar:

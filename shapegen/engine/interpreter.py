@@ -1,4 +1,4 @@
-"""The interpreter: derives a block :class:`~shapegen.engine.model.Model` from a grammar's AST.
+"""The interpreter: derives a block :class:`~shapegen.model.model.Model` from a grammar's AST.
 
 :class:`Program` compiles a parsed grammar once (expressions and rule bodies become closures);
 :meth:`Program.derive` runs the derivation for given attribute values, seed and lot.
@@ -28,10 +28,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from shapegen.engine.block import Block
 from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
-from shapegen.engine.model import Model
-from shapegen.engine.scope import Scope
 from shapegen.engine.shape import (
     FACE,
     MASS,
@@ -57,6 +54,9 @@ from shapegen.engine.split import (
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
+from shapegen.model.block import Block
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
 
 DEFAULT_LOT = (10.0, 10.0)
 """Lot width and depth (m) when neither ``@Lot`` nor the caller gives one."""

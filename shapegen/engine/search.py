@@ -44,8 +44,8 @@ import numpy as np
 from scipy.optimize import minimize
 from scipy.spatial import cKDTree
 
-from shapegen.engine.model import Model
 from shapegen.errors import GeometryError, GrammarError, ShapegenError, StaticsError
+from shapegen.model.model import Model
 
 OBJECTIVES = ("energy", "closest")
 GRADIENTS = ("adjoint", "forward")

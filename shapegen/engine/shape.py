@@ -1,6 +1,6 @@
 """Shapes and the scope operations of CGA: extrude, split, comp, t, r, s, center.
 
-A :class:`Shape` is a :class:`~shapegen.engine.scope.Scope` plus what fills it: a flat face (the
+A :class:`Shape` is a :class:`~shapegen.model.scope.Scope` plus what fills it: a flat face (the
 lot, a ``comp(f)`` face), a box mass (after ``extrude``) or an inserted primitive. The functions
 here are pure: they take a scope and return new scopes; the interpreter decides what to do with
 them. A wrong use raises ``ValueError`` with a message for the user; the interpreter adds the place
@@ -44,7 +44,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from shapegen.engine.scope import Scope
+from shapegen.model.scope import Scope
 
 FACE = "face"
 MASS = "mass"

@@ -17,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from shapegen.engine.block import DEFAULT_DENSITY, Block
-from shapegen.engine.model import GRAVITY, Model, PointLoad
 from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.atomic import atomic_write
+from shapegen.model.block import DEFAULT_DENSITY, Block
+from shapegen.model.model import GRAVITY, Model, PointLoad
 
 FORMAT_NAME = "shapegen-blocks"
 FORMAT_VERSION = 1

@@ -26,10 +26,10 @@ import trimesh
 from trimesh.visual import TextureVisuals
 from trimesh.visual.material import PBRMaterial
 
-from shapegen.engine.model import Model
 from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION
 from shapegen.export.colors import RESULTANT, block_label_color, tension_colors, tension_levels
 from shapegen.export.meshes import block_mesh
+from shapegen.model.model import Model
 
 ARROW_LENGTH_REL = 0.15  # the largest resultant arrow, as a fraction of the model size
 ARROW_WIDTH_REL = 0.006  # arrow shaft width, as a fraction of the model size

@@ -32,10 +32,10 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
 from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION, model_from_dict
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 
 MESH_READ_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
 

@@ -31,7 +31,6 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
-from shapegen.engine.model import Model
 from shapegen.errors import InputFormatError
 from shapegen.export.atomic import atomic_write
 from shapegen.export.blocks_json import model_to_dict, read_blocks_json
@@ -43,6 +42,7 @@ from shapegen.export.meshes import (
     encode_stl,
     read_mesh_model,
 )
+from shapegen.model.model import Model
 
 READ_SUFFIXES = (".json", *MESH_READ_SUFFIXES)
 

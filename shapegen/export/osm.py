@@ -39,8 +39,8 @@ from pathlib import Path
 
 import numpy as np
 
-from shapegen.engine.model import Model, PointLoad
 from shapegen.errors import InputFormatError
+from shapegen.model.model import Model, PointLoad
 
 WGS84_A = 6_378_137.0
 """WGS84 semi-major axis, m."""

@@ -19,9 +19,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
-from shapegen.engine.model import Model  # noqa: E402
 from shapegen.export.atomic import atomic_write  # noqa: E402
 from shapegen.export.colors import tension_levels  # noqa: E402
+from shapegen.model.model import Model  # noqa: E402
 
 _STONE = np.array([0.80, 0.78, 0.72])
 _SUPPORT = np.array([0.35, 0.35, 0.38])

@@ -26,9 +26,9 @@ import math
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, polygon_is_convex, prism_blocks
 from shapegen.primitives.registry import Choice, primitive
 

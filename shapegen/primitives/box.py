@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.registry import primitive
 
 _UNIT_CUBE = np.array(

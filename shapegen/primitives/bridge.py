@@ -25,9 +25,9 @@ __all__ = ["cable", "cable_height", "suspenders", "span_sag"]
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
 from shapegen.primitives.registry import primitive
 

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, prism_blocks
 from shapegen.primitives.registry import primitive
 from shapegen.primitives.stereotomy import arc_joints, require

@@ -6,9 +6,9 @@ __all__ = ["column"]
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
 from shapegen.primitives.registry import Choice, primitive
 

@@ -6,8 +6,8 @@ __all__ = ["dome"]
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.registry import primitive
 from shapegen.primitives.stereotomy import hexahedra_in_scope, require
 

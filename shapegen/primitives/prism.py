@@ -14,8 +14,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 
 
 def prism_faces(k: int, flip: bool = False) -> tuple[tuple[int, ...], ...]:

@@ -29,9 +29,9 @@ from importlib.metadata import entry_points
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.tolerances import DEFAULT
 
 

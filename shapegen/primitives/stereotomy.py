@@ -17,9 +17,9 @@ __all__ = [
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_faces
 
 

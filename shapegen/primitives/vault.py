@@ -7,8 +7,8 @@ __all__ = ["barrel_vault", "groin_vault"]
 import manifold3d
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives.arch import circular_arch_line
 from shapegen.primitives.prism import prism_blocks
 from shapegen.primitives.registry import primitive

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 __all__ = ["FRICTION", "arch", "harmonic_stack", "leaning_tower"]
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.primitives.arch import semicircular_arch
 
 FRICTION = 0.895  # the seed paper's value

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.engine.block import Block
+from shapegen.model.block import Block
 
 
 @dataclass(frozen=True)

@@ -48,9 +48,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
 from shapegen.errors import ShapegenError
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.simulation.world import World
 
 # The geometric safety margin with which a design is optimized before it is simulated (``shapegen

@@ -36,9 +36,9 @@ from pathlib import Path
 
 import numpy as np
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
 from shapegen.errors import ShapegenError
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.simulation.inertia import PrincipalInertia, principal_inertia
 
 # Half size of the ground slab, metres: large enough for any model (the slab's top is the

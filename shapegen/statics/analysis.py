@@ -206,7 +206,7 @@ def analyze(
     Parameters
     ----------
     model
-        The :class:`~shapegen.engine.model.Model`.
+        The :class:`~shapegen.model.model.Model`.
     friction
         Coulomb coefficient mu (dimensionless); ``model.friction`` when None.
     pyramid

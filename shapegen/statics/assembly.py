@@ -242,7 +242,7 @@ def assemble(
     Parameters
     ----------
     model
-        The :class:`~shapegen.engine.model.Model`.
+        The :class:`~shapegen.model.model.Model`.
     interfaces
         Contact polygons (unscaled), e.g. from ``find_interfaces``.
     friction

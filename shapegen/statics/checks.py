@@ -12,9 +12,10 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from shapegen.engine.model import Model
 from shapegen.errors import GeometryError, StaticsError
-from shapegen.statics.contacts import PackedBlocks, candidate_pairs, pack_blocks
+from shapegen.model.model import Model
+from shapegen.model.packed import PackedBlocks, pack_blocks
+from shapegen.statics.contacts import candidate_pairs
 from shapegen.statics.interface import GROUND, Interface
 from shapegen.tolerances import Tolerances
 

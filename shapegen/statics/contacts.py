@@ -19,152 +19,23 @@ All tolerances come from ``model.tolerances()``.
 from __future__ import annotations
 
 __all__ = [
-    "PackedBlocks",
-    "pack_blocks",
     "candidate_pairs",
     "facing_face_pairs",
     "find_interfaces",
 ]
 
-from dataclasses import dataclass
-from itertools import chain
 
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
-from shapegen.errors import GeometryError
+from shapegen.model.model import Model
+from shapegen.model.packed import PackedBlocks, pack_blocks
 from shapegen.statics.interface import GROUND, Interface, tangent_frame
 from shapegen.tolerances import Tolerances
 
 _RADIUS_CLASSES = 12  # faces smaller than 2**-12 of the largest share the last class
 _HEMISPHERE = np.array([0.5773, 0.5771, 0.5780])  # generic: no common face is normal to it
 _PAIRS_PER_CHUNK = 2_000_000  # bounds the memory of one sweep step (~50 MB of index arrays)
-
-
-# ---------------------------------------------------------------------------------------- packing
-@dataclass(frozen=True)
-class PackedBlocks:
-    """The geometry of several blocks in flat arrays, for vectorised geometric tests.
-
-    Block ``k`` of the pack is ``model.blocks[index[k]]``; its vertices are
-    ``vertices[vertex_start[k]:vertex_start[k + 1]]`` and its faces
-    ``face_start[k]:face_start[k + 1]``. Face ``f`` lists the global vertex numbers
-    ``corners[corner_start[f]:corner_start[f + 1]]``, counter-clockwise seen from outside.
-
-    Attributes
-    ----------
-    index
-        ``(n,)`` positions in ``model.blocks``.
-    vertices
-        ``(V, 3)`` all vertices, metres.
-    vertex_start, face_start
-        ``(n + 1,)`` offsets of each block's vertices and faces.
-    corners, corner_start
-        Face corner lists (global vertex numbers) and their ``(F + 1,)`` offsets.
-    face_block
-        ``(F,)`` pack position of each face's block.
-    face_normal
-        ``(F, 3)`` outward unit normals (Newell's method).
-    face_offset
-        ``(F,)`` plane offsets ``d`` with ``normal . x = d``, metres.
-    face_center
-        ``(F, 3)`` mean of each face's vertices, metres.
-    lower, upper
-        ``(n, 3)`` bounding-box corners, metres.
-    """
-
-    index: np.ndarray
-    vertices: np.ndarray
-    vertex_start: np.ndarray
-    face_start: np.ndarray
-    corners: np.ndarray
-    corner_start: np.ndarray
-    face_block: np.ndarray
-    face_normal: np.ndarray
-    face_offset: np.ndarray
-    face_center: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-
-    @property
-    def face_count(self) -> np.ndarray:
-        """``(n,)`` number of faces of each block."""
-        return np.diff(self.face_start)
-
-    @property
-    def vertex_count(self) -> np.ndarray:
-        """``(n,)`` number of vertices of each block."""
-        return np.diff(self.vertex_start)
-
-
-def pack_blocks(blocks: list[Block], index: np.ndarray | None = None) -> PackedBlocks:
-    """Pack ``blocks`` (or the ones at positions ``index``) into :class:`PackedBlocks`."""
-    index = np.arange(len(blocks)) if index is None else np.asarray(index, dtype=np.int64)
-    chosen = [blocks[i] for i in index]
-    vertex_count = np.array([len(b.vertices) for b in chosen], dtype=np.int64)
-    face_count = np.array([len(b.faces) for b in chosen], dtype=np.int64)
-    vertex_start = np.concatenate([[0], np.cumsum(vertex_count)])
-    face_start = np.concatenate([[0], np.cumsum(face_count)])
-    vertices = (
-        np.concatenate([b.vertices for b in chosen]) if chosen else np.empty((0, 3), dtype=float)
-    )
-    faces = list(chain.from_iterable(b.faces for b in chosen))
-    corner_count = np.fromiter((len(f) for f in faces), dtype=np.int64, count=len(faces))
-    corner_start = np.concatenate([[0], np.cumsum(corner_count)])
-    face_block = np.repeat(np.arange(len(chosen)), face_count)
-    corners = np.fromiter(chain.from_iterable(faces), dtype=np.int64, count=int(corner_start[-1]))
-    _reject_malformed(chosen, vertices, vertex_count, face_count, face_block, corners, corner_count)
-    corners += np.repeat(vertex_start[:-1][face_block], corner_count)
-
-    # Newell's method, summed per face with reduceat; the successor of a face's last corner
-    # is its first corner.
-    successor = np.arange(len(corners)) + 1
-    if len(faces):
-        successor[corner_start[1:] - 1] = corner_start[:-1]
-        p = vertices[corners]
-        q = vertices[corners[successor]]
-        normal = np.add.reduceat(np.cross(p, q), corner_start[:-1], axis=0)
-        length = np.linalg.norm(normal, axis=1)
-        normal /= np.where(length > 0, length, 1.0)[:, None]
-        center = np.add.reduceat(p, corner_start[:-1], axis=0) / corner_count[:, None]
-        lower = np.minimum.reduceat(vertices, vertex_start[:-1], axis=0)
-        upper = np.maximum.reduceat(vertices, vertex_start[:-1], axis=0)
-    else:
-        normal = center = np.empty((0, 3), dtype=float)
-        lower = upper = np.empty((len(chosen), 3), dtype=float)
-    return PackedBlocks(
-        index=index,
-        vertices=vertices,
-        vertex_start=vertex_start,
-        face_start=face_start,
-        corners=corners,
-        corner_start=corner_start,
-        face_block=face_block,
-        face_normal=normal,
-        face_offset=np.einsum("ij,ij->i", normal, center),
-        face_center=center,
-        lower=lower,
-        upper=upper,
-    )
-
-
-def _reject_malformed(
-    chosen, vertices, vertex_count, face_count, face_block, corners, corner_count
-):
-    """Raise the block's own :class:`GeometryError` for non-finite vertices or broken faces,
-    which the vectorised geometry below cannot handle."""
-    bad = ~np.isfinite(vertices).all(axis=1)
-    broken = np.repeat(vertex_count[face_block], corner_count)
-    wrong = (corners < 0) | (corners >= broken)
-    suspects = set(np.repeat(np.arange(len(chosen)), vertex_count)[bad].tolist())
-    suspects |= set(np.repeat(face_block, corner_count)[wrong].tolist())
-    suspects |= set(face_block[corner_count < 3].tolist())
-    suspects |= set(np.flatnonzero(face_count < 4).tolist())
-    for k in sorted(suspects):
-        chosen[k].validate()
-        raise GeometryError(f"block {chosen[k].id or 'block'!r}: malformed vertices or faces")
 
 
 # ------------------------------------------------------------------------------------ broad phase

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
-from shapegen.engine import Block, Model
 from shapegen.errors import GeometryError
+from shapegen.model import Block, Model
 
 
 def _tetrahedron(a, b, c, d):

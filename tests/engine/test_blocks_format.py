@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from shapegen.engine import Block, Model, PointLoad
 from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.blocks_json import model_from_dict, read_blocks_json, write_blocks_json
+from shapegen.model import Block, Model, PointLoad
 
 CUBE = [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]
 

@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-from shapegen.engine.scope import Scope
 from shapegen.engine.shape import (
     FACE_ORDER,
     center,
@@ -18,6 +17,7 @@ from shapegen.engine.shape import (
     split_scope,
     translate,
 )
+from shapegen.model.scope import Scope
 
 BOX = Scope(np.array([1.0, 2.0, 3.0]), np.eye(3), np.array([4.0, 5.0, 6.0]))
 

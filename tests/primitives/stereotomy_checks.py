@@ -7,8 +7,8 @@ __all__ = ["ROTATED", "assert_convex", "interface_counts", "local_bounds"]
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from shapegen.engine.model import Model
-from shapegen.engine.scope import Scope
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
 from shapegen.statics.interface import GROUND
 
 

@@ -7,10 +7,10 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import minimize_scalar
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 from shapegen.primitives.arch import semicircular_arch
 from shapegen.statics import analyze

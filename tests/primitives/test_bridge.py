@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 
 GOLDEN_GATE = {

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from stereotomy_checks import ROTATED, assert_convex, interface_counts, local_bounds
 
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 
 SCOPE = Scope.axis_aligned((0.0, 0.0, 0.0), (4.0, 6.0, 1.5))
@@ -101,7 +101,7 @@ def test_impossible_parameters_are_reported(params, message):
 
 @pytest.mark.parametrize("angle, thickness", [(60.0, 0.3), (45.0, 0.4), (90.0, 0.5)])
 def test_flying_buttress_stands_against_its_wall_and_falls_without_it(angle, thickness):
-    from shapegen.engine.model import Model
+    from shapegen.model.model import Model
     from shapegen.statics import analyze
 
     scope = Scope.axis_aligned((0.0, 0.0, 0.0), (4.0, 6.0, 1.0))

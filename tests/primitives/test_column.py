@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from shapegen.engine.model import Model
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 from shapegen.statics.contacts import find_interfaces
 from shapegen.statics.interface import GROUND

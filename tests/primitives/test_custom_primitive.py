@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.engine.block import Block
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
+from shapegen.model.scope import Scope
 from shapegen.primitives import Choice, available, insert, primitive, registry
 
 PLUGIN_DIR = Path(__file__).parent / "plugin_pkg"
@@ -56,7 +56,7 @@ def test_entry_point_discovery_registers_the_plugin(plugin_on_path):
 
 
 def test_plugin_blocks_share_their_joints(plugin_on_path):
-    from shapegen.engine.model import Model
+    from shapegen.model.model import Model
     from shapegen.statics.contacts import find_interfaces
 
     blocks = insert("jack_arch", SCOPE, segments=6)

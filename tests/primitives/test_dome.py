@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from stereotomy_checks import ROTATED, assert_convex, interface_counts, local_bounds
 
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 
 SQUARE = Scope.axis_aligned((1.0, 0.5, -1.0), (4.0, 3.0, 4.0))
@@ -88,7 +88,7 @@ def test_impossible_parameters_are_reported(params, message):
 # t / R = 0.042 (R the mid-surface radius). Bracket it by a factor of two on each side.
 @pytest.mark.parametrize("ratio, stands", [(0.021, False), (0.084, True)])
 def test_dome_stands_above_the_minimum_thickness(ratio, stands):
-    from shapegen.engine.model import Model
+    from shapegen.model.model import Model
     from shapegen.statics import analyze
 
     outer = 2.0

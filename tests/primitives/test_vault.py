@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from stereotomy_checks import ROTATED, assert_convex, interface_counts, local_bounds
 
-from shapegen.engine.scope import Scope
 from shapegen.errors import GeometryError
+from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 
 
@@ -188,7 +188,7 @@ def test_flat_scope_is_reported(name):
 @pytest.mark.parametrize("ratio, stands", [(0.06, False), (0.16, True)])
 @pytest.mark.parametrize("running_bond", [False, True])
 def test_barrel_vault_stands_above_the_minimum_thickness(ratio, stands, running_bond):
-    from shapegen.engine.model import Model
+    from shapegen.model.model import Model
     from shapegen.statics import analyze
 
     width = 4.0
@@ -206,7 +206,7 @@ def test_barrel_vault_stands_above_the_minimum_thickness(ratio, stands, running_
 
 
 def test_thick_groin_vault_stands_on_its_four_springings():
-    from shapegen.engine.model import Model
+    from shapegen.model.model import Model
     from shapegen.statics import analyze
 
     blocks = insert("groin_vault", Scope.axis_aligned((0, 0, 0), (4.0, 2.0, 4.0)), thickness=0.4)

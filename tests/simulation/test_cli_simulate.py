@@ -6,9 +6,9 @@ import pytest
 from PIL import Image
 
 from shapegen.cli import main
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
 from shapegen.export.blocks_json import write_blocks_json
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.simulation.cases import harmonic_stack
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from shapegen.engine.block import Block
+from shapegen.model.block import Block
 from shapegen.simulation.inertia import inertia_tensor, principal_inertia
 
 

@@ -6,9 +6,9 @@ import builtins
 import numpy as np
 import pytest
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
 from shapegen.errors import ShapegenError
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.simulation import (
     TOLERANCE,
     SimulationSettings,

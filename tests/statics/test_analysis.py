@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from statics_cases import horizontal_interface, polygon_interface
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model, PointLoad
 from shapegen.errors import StaticsError
+from shapegen.model.block import Block
+from shapegen.model.model import Model, PointLoad
 from shapegen.statics import GROUND, SolveStatus, analyze
 
 SOLVERS = ["auto", "reduced", "clarabel", "cvxpy"]

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
 from shapegen.errors import GeometryError, StaticsError
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.statics.checks import check_model
 from shapegen.statics.contacts import find_interfaces
 
@@ -153,8 +153,8 @@ def test_duplicate_ids_are_a_geometry_error():
 def test_face_plane_prefilter_never_dismisses_overlapping_blocks(seed):
     from manifold3d import Manifold
 
+    from shapegen.model.packed import pack_blocks
     from shapegen.statics.checks import _separated_by_face, _separated_by_facing_face
-    from shapegen.statics.contacts import pack_blocks
 
     rng = np.random.default_rng(seed)
     blocks = [

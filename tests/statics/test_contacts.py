@@ -7,8 +7,8 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.statics.contacts import candidate_pairs, find_interfaces
 from shapegen.statics.interface import GROUND
 
@@ -292,7 +292,8 @@ def test_every_radial_joint_of_a_fine_arch_is_found():
 
 
 def test_facing_face_pairs_keep_every_exactly_touching_pair():
-    from shapegen.statics.contacts import facing_face_pairs, pack_blocks
+    from shapegen.model.packed import pack_blocks
+    from shapegen.statics.contacts import facing_face_pairs
 
     model = fine_arch(60)
     model.blocks += tower().blocks

@@ -9,8 +9,8 @@ import pytest
 from scipy.optimize import nnls
 from statics_cases import horizontal_interface
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model, PointLoad
+from shapegen.model.block import Block
+from shapegen.model.model import Model, PointLoad
 from shapegen.statics.assembly import assemble
 from shapegen.statics.interface import GROUND
 from shapegen.statics.solvers import BACKENDS, SolveStatus, get_backend

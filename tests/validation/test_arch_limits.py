@@ -13,8 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.primitives.arch import semicircular_arch
 from shapegen.statics import analyze
 

@@ -21,8 +21,8 @@ import math
 
 import pytest
 
-from shapegen.engine.model import Model
-from shapegen.engine.scope import Scope
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 from shapegen.statics import analyze
 

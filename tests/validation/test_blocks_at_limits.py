@@ -19,8 +19,8 @@ import math
 import numpy as np
 import pytest
 
-from shapegen.engine.block import Block
-from shapegen.engine.model import Model
+from shapegen.model.block import Block
+from shapegen.model.model import Model
 from shapegen.statics import analyze
 from shapegen.statics.interface import tangent_frame
 

@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.engine.block import Block
 from shapegen.errors import GeometryError
+from shapegen.model.block import Block
 from shapegen.tolerances import DEFAULT, Tolerances
 
 GRAVITY = (0.0, -9.81, 0.0)  # m/s^2, y up

@@ -12,6 +12,7 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from shapegen.errors import GeometryError
+from shapegen.model.polygons import face_normals
 from shapegen.tolerances import DEFAULT, Tolerances
 
 DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
@@ -140,16 +141,14 @@ class Block:
         return self.density * self.volume
 
     @cached_property
+    def _face_planes(self) -> tuple[np.ndarray, np.ndarray]:
+        starts, flat = self._face_index
+        return face_normals(self.vertices, flat, starts)
+
+    @property
     def face_normals(self) -> np.ndarray:
         """``(f, 3)`` outward unit normals (Newell's method, robust for slightly warped faces)."""
-        starts, flat = self._face_index
-        # about the block's centre: cross products of far-away coordinates cancel badly
-        p = self.vertices[flat] - self.vertices.mean(axis=0)
-        nxt = np.arange(len(flat)) + 1
-        nxt[starts[1:] - 1] = starts[:-1]  # wrap around inside each face
-        sums = np.add.reduceat(np.cross(p, p[nxt]), starts[:-1], axis=0)
-        length = np.linalg.norm(sums, axis=1, keepdims=True)
-        return np.divide(sums, length, out=np.zeros_like(sums), where=length > 0)
+        return self._face_planes[0]
 
     @cached_property
     def _face_index(self) -> tuple[np.ndarray, np.ndarray]:
@@ -162,10 +161,8 @@ class Block:
     @cached_property
     def face_offsets(self) -> np.ndarray:
         """``(f,)`` plane offsets d with n . x = d on each face, metres."""
-        starts, flat = self._face_index
-        centers = np.add.reduceat(self.vertices[flat], starts[:-1], axis=0)
-        centers /= np.diff(starts)[:, None]
-        return np.einsum("ij,ij->i", self.face_normals, centers)
+        normals, centres = self._face_planes
+        return np.einsum("ij,ij->i", normals, centres)
 
     @property
     def bounds(self) -> np.ndarray:

@@ -1,0 +1,46 @@
+"""Polygon geometry shared by blocks and packed blocks.
+
+:func:`face_normals` is the one face-normal routine of shapegen (Newell's method about each
+face's centre); :class:`~shapegen.model.block.Block` and
+:func:`~shapegen.model.packed.pack_blocks` both use it.
+"""
+
+from __future__ import annotations
+
+__all__ = ["face_normals"]
+
+import numpy as np
+
+
+def face_normals(
+    vertices: np.ndarray, corners: np.ndarray, corner_start: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Outward unit normals and centres of polygons, by Newell's method.
+
+    Parameters
+    ----------
+    vertices
+        ``(V, 3)`` points, metres.
+    corners
+        Flat vertex numbers of every polygon, counter-clockwise seen from outside.
+    corner_start
+        ``(F + 1,)`` offsets of each polygon's corners in ``corners``.
+
+    Returns
+    -------
+    (normals, centres)
+        ``(F, 3)`` unit normals (zero for a degenerate polygon) and ``(F, 3)`` corner means (m).
+        The cross products are taken about each polygon's centre, so a face far from the origin
+        loses no precision to cancellation.
+    """
+    count = np.diff(corner_start)
+    if len(count) == 0:
+        return np.empty((0, 3)), np.empty((0, 3))
+    p = vertices[corners]
+    centre = np.add.reduceat(p, corner_start[:-1], axis=0) / count[:, None]
+    p = p - np.repeat(centre, count, axis=0)
+    successor = np.arange(len(corners)) + 1
+    successor[corner_start[1:] - 1] = corner_start[:-1]  # a face's last corner wraps to its first
+    sums = np.add.reduceat(np.cross(p, p[successor]), corner_start[:-1], axis=0)
+    length = np.linalg.norm(sums, axis=1, keepdims=True)
+    return np.divide(sums, length, out=np.zeros_like(sums), where=length > 0), centre
