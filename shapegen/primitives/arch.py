@@ -30,7 +30,7 @@ from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, polygon_is_convex, prism_blocks
-from shapegen.primitives.registry import Choice, primitive
+from shapegen.primitives.registry import Choice, primitive, require
 
 # Samples per segment of the dense polyline used to place Bezier joints at equal arc lengths.
 _BEZIER_SAMPLES_PER_SEGMENT = 64
@@ -273,29 +273,26 @@ def _check_arch(
     name: str, scope: Scope, style: str, thickness: float, segments: int, pointedness: float
 ) -> None:
     width = scope.sx
-    if width <= 0 or scope.sz <= 0:
-        raise GeometryError(
-            f"primitive {name!r}: needs a scope with positive width and depth, got {scope.size}"
-        )
-    if segments < 2:
-        raise GeometryError(f"primitive {name!r}: segments {segments} must be at least 2")
-    if thickness <= 0:
-        raise GeometryError(f"primitive {name!r}: thickness {thickness:g} must be positive")
-    if thickness >= width / 2:
-        raise GeometryError(
-            f"primitive {name!r}: thickness {thickness:g} must be less than the extrados radius "
-            f"{width / 2:g} (half the scope width)"
-        )
+    require(width > 0 and scope.sz > 0, name, "scope",
+            f"needs a positive width and depth, got {scope.size}")  # fmt: skip
+    require(segments >= 2, name, "segments", f"must be at least 2, got {segments}")
+    require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
+    require(
+        thickness < width / 2,
+        name,
+        "thickness",
+        f"must be less than the extrados radius {width / 2:g} m (half the scope width), "
+        f"got {thickness:g} m",
+    )
     if style == "gothic":
-        if pointedness < 0:
-            raise GeometryError(
-                f"primitive {name!r}: pointedness {pointedness:g} must be 0 (semicircular) or more"
-            )
-        if segments % 2:
-            raise GeometryError(
-                f"primitive {name!r}: a gothic arch needs an even number of segments (it has a "
-                f"joint at the crown), got {segments}"
-            )
+        require(pointedness >= 0, name, "pointedness",
+                f"must be 0 (semicircular) or more, got {pointedness:g}")  # fmt: skip
+        require(
+            segments % 2 == 0,
+            name,
+            "segments",
+            f"must be even for a gothic arch (it has a joint at the crown), got {segments}",
+        )
 
 
 def _arch_line(
@@ -362,11 +359,13 @@ def capped_arch(
     _check_arch("capped_arch", scope, style, thickness, segments, pointedness)
     intrados, extrados = _arch_line(style, scope.sx, thickness, segments, pointedness)
     crown = float(extrados[:, 1].max())
-    if scope.sy < crown - 1e-9 * scope.sx:
-        raise GeometryError(
-            f"primitive 'capped_arch': scope height {scope.sy:g} is below the arch's crown at "
-            f"{crown:g}; make the scope taller or narrower"
-        )
+    require(
+        scope.sy >= crown - 1e-9 * scope.sx,
+        "capped_arch",
+        "scope",
+        f"height {scope.sy:g} m is below the arch's crown at {crown:g} m; make the scope taller "
+        "or narrower",
+    )
     return _arch_blocks("capped_arch", scope, intrados, extrados, top=max(scope.sy, crown))
 
 
@@ -402,24 +401,22 @@ def bezier_arch(
     """
     name = "bezier_arch"
     width, height = scope.sx, scope.sy
-    if width <= 0 or height <= 0 or scope.sz <= 0:
-        raise GeometryError(
-            f"primitive {name!r}: needs a scope with positive size, got {scope.size}"
-        )
-    if segments < 2:
-        raise GeometryError(f"primitive {name!r}: segments {segments} must be at least 2")
-    if thickness <= 0:
-        raise GeometryError(f"primitive {name!r}: thickness {thickness:g} must be positive")
-    if thickness >= width / 2:
-        raise GeometryError(
-            f"primitive {name!r}: thickness {thickness:g} must be less than half the scope "
-            f"width {width / 2:g}"
-        )
-    if thickness >= height:
-        raise GeometryError(
-            f"primitive {name!r}: thickness {thickness:g} must be less than the scope height "
-            f"{height:g}"
-        )
+    require(width > 0 and height > 0 and scope.sz > 0, name, "scope",
+            f"needs a positive size, got {scope.size}")  # fmt: skip
+    require(segments >= 2, name, "segments", f"must be at least 2, got {segments}")
+    require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
+    require(
+        thickness < width / 2,
+        name,
+        "thickness",
+        f"must be less than half the scope width {width / 2:g} m, got {thickness:g} m",
+    )
+    require(
+        thickness < height,
+        name,
+        "thickness",
+        f"must be less than the scope height {height:g} m, got {thickness:g} m",
+    )
     intrados, extrados = bezier_arch_line(width, height, thickness, segments, (c1x, c1y, c2x, c2y))
     return _arch_blocks(name, scope, intrados, extrados)
 

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
-from shapegen.primitives.registry import primitive
+from shapegen.primitives.registry import primitive, require
 
 _UNIT_CUBE = np.array(
     [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
@@ -18,9 +17,7 @@ _UNIT_CUBE = np.array(
 @primitive("box")
 def box(scope: Scope) -> list[Block]:
     """One block filling the scope."""
-    if np.any(scope.size <= 0):
-        raise GeometryError(
-            f"primitive 'box' needs a 3D scope with positive size, got {scope.size}"
-        )
+    require(bool(np.all(scope.size > 0)), "box", "scope",
+            f"needs a positive size on every axis, got {scope.size}")  # fmt: skip
     template = Block.box([0, 0, 0], [1, 1, 1])
     return [Block(scope.to_world(_UNIT_CUBE * scope.size), template.faces)]

@@ -11,8 +11,8 @@ import numpy as np
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, prism_blocks
-from shapegen.primitives.registry import primitive
-from shapegen.primitives.stereotomy import arc_joints, require
+from shapegen.primitives.registry import primitive, require
+from shapegen.primitives.stereotomy import arc_joints
 
 
 @dataclass(frozen=True)

@@ -6,11 +6,10 @@ __all__ = ["column"]
 
 import numpy as np
 
-from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
-from shapegen.primitives.registry import Choice, primitive
+from shapegen.primitives.registry import Choice, primitive, require
 
 
 @primitive("column")
@@ -40,20 +39,15 @@ def column(
         courses nearest to ``scope height / course_height`` (at least one), so that they fill
         the height exactly.
     """
+    name = "column"
     width, height, depth = scope.sx, scope.sy, scope.sz
-    if min(width, height, depth) <= 0:
-        raise GeometryError(
-            f"primitive 'column': needs a scope with positive size, got {scope.size}"
-        )
-    if courses < 1:
-        raise GeometryError(f"primitive 'column': courses {courses} must be at least 1")
-    if course_height < 0:
-        raise GeometryError(
-            f"primitive 'column': course_height {course_height:g} must be positive (or 0 to use "
-            "'courses')"
-        )
-    if shape == "round" and sides < 3:
-        raise GeometryError(f"primitive 'column': sides {sides} must be at least 3")
+    require(min(width, height, depth) > 0, name, "scope",
+            f"needs a positive size, got {scope.size}")  # fmt: skip
+    require(courses >= 1, name, "courses", f"must be at least 1, got {courses}")
+    require(course_height >= 0, name, "course_height",
+            f"must be positive (or 0 to use 'courses'), got {course_height:g} m")  # fmt: skip
+    require(shape != "round" or sides >= 3, name, "sides",
+            f"must be at least 3 for a round column, got {sides}")  # fmt: skip
     if course_height > 0:
         courses = max(1, round(height / course_height))
     if shape == "square":

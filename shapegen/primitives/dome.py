@@ -8,8 +8,8 @@ import numpy as np
 
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
-from shapegen.primitives.registry import primitive
-from shapegen.primitives.stereotomy import hexahedra_in_scope, require
+from shapegen.primitives.registry import primitive, require
+from shapegen.primitives.stereotomy import hexahedra_in_scope
 
 
 @primitive("dome")

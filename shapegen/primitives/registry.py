@@ -12,13 +12,24 @@ A primitive is a function ``f(scope, **params) -> list[Block]`` registered under
 Its keyword parameters, their defaults and their annotations (``float``, ``int``, ``bool``,
 ``str`` or a :class:`Choice`) are read from the signature. ``insert(name, scope, **params)``
 checks the names and types of the parameters, calls the function and checks its blocks (convex,
-non-degenerate, finite), so authors write only the geometry. Primitives from other installed
-packages are discovered through the entry-point group ``shapegen.primitives``.
+non-degenerate, finite), so authors write only the geometry; checks of values that depend on
+the geometry (a thickness below the span, a count of at least 2) go through :func:`require`, so
+every message names the primitive and the parameter the same way. Primitives from other
+installed packages are discovered through the entry-point group ``shapegen.primitives``.
 """
 
 from __future__ import annotations
 
-__all__ = ["Choice", "Primitive", "primitive", "insert", "available", "get", "REGISTRY"]
+__all__ = [
+    "Choice",
+    "Primitive",
+    "primitive",
+    "insert",
+    "available",
+    "get",
+    "require",
+    "REGISTRY",
+]
 
 import difflib
 import inspect
@@ -33,6 +44,20 @@ from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.tolerances import DEFAULT
+
+
+def require(condition: bool, primitive: str, parameter: str, problem: str) -> None:
+    """Raise :class:`GeometryError` naming ``primitive`` and ``parameter`` unless ``condition``.
+
+    ``problem`` completes the sentence "primitive 'x': parameter 'p' ...", e.g.
+    ``f"must be positive, got {thickness:g} m"``.
+    """
+    if not condition:
+        raise _parameter_error(primitive, parameter, problem)
+
+
+def _parameter_error(primitive: str, parameter: str, problem: str) -> GeometryError:
+    return GeometryError(f"primitive {primitive!r}: parameter {parameter!r} {problem}")
 
 
 class Choice:
@@ -63,8 +88,8 @@ class Primitive:
 
     def __call__(self, scope: Scope, **params) -> list[Block]:
         values = self.resolve(params)
-        if not np.all(np.isfinite(scope.size)) or np.any(scope.size < 0):
-            raise GeometryError(f"primitive {self.name!r}: scope size {scope.size} is not valid")
+        valid = bool(np.all(np.isfinite(scope.size)) and np.all(scope.size >= 0))
+        require(valid, self.name, "scope", f"needs finite sides, none negative, got {scope.size}")
         blocks = list(self.function(scope, **values))
         tol = DEFAULT.for_size(float(np.linalg.norm(scope.size)) or 1.0)
         for k, block in enumerate(blocks):
@@ -177,32 +202,33 @@ def insert(name: str, scope: Scope, **params) -> list[Block]:
 
 
 def _convert(owner: str, parameter: Parameter, value: object) -> object:
-    where = f"primitive {owner!r}: parameter {parameter.name!r}"
+    def problem(text: str) -> GeometryError:
+        return _parameter_error(owner, parameter.name, text)
+
     kind = parameter.kind
     if isinstance(kind, Choice):
         if value not in kind.values:
-            raise GeometryError(
-                f"{where} must be one of {', '.join(repr(v) for v in kind.values)}, got {value!r}"
-            )
+            valid = ", ".join(repr(v) for v in kind.values)
+            raise problem(f"must be one of {valid}, got {value!r}")
         return value
     if kind is bool:
         if isinstance(value, bool):
             return value
-        raise GeometryError(f"{where} must be true or false, got {value!r}")
+        raise problem(f"must be true or false, got {value!r}")
     if kind is int:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise GeometryError(f"{where} must be a whole number, got {value!r}")
+            raise problem(f"must be a whole number, got {value!r}")
         if not math.isfinite(value) or value != int(value):
-            raise GeometryError(f"{where} must be a whole number, got {value!r}")
+            raise problem(f"must be a whole number, got {value!r}")
         return int(value)
     if kind is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise GeometryError(f"{where} must be a number, got {value!r}")
+            raise problem(f"must be a number, got {value!r}")
         if not math.isfinite(value):
-            raise GeometryError(f"{where} must be a finite number, got {value!r}")
+            raise problem(f"must be a finite number, got {value!r}")
         return float(value)
     if kind is str:
         if not isinstance(value, str):
-            raise GeometryError(f"{where} must be a string, got {value!r}")
+            raise problem(f"must be a string, got {value!r}")
         return value
     return value

@@ -12,21 +12,13 @@ __all__ = [
     "arc_joints",
     "hexahedron",
     "hexahedra_in_scope",
-    "require",
 ]
 
 import numpy as np
 
-from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_faces
-
-
-def require(condition: bool, primitive: str, parameter: str, problem: str) -> None:
-    """Raise :class:`GeometryError` naming ``primitive`` and ``parameter`` unless ``condition``."""
-    if not condition:
-        raise GeometryError(f"primitive {primitive!r}: parameter {parameter!r} {problem}")
 
 
 def arc_joints(

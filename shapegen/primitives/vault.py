@@ -11,8 +11,8 @@ from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.arch import circular_arch_line
 from shapegen.primitives.prism import prism_blocks
-from shapegen.primitives.registry import primitive
-from shapegen.primitives.stereotomy import arc_joints, require
+from shapegen.primitives.registry import primitive, require
+from shapegen.primitives.stereotomy import arc_joints
 
 
 def _check_span(name: str, scope: Scope, thickness: float, segments: int) -> None:

@@ -6,11 +6,10 @@ __all__ = ["wall"]
 
 import numpy as np
 
-from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
-from shapegen.primitives.registry import primitive
+from shapegen.primitives.registry import primitive, require
 
 
 @primitive("wall")
@@ -37,13 +36,12 @@ def wall(
     Every block spans the full thickness. Blocks of neighbouring courses share their bed planes
     exactly, and blocks of one course their head joints.
     """
+    name = "wall"
     length, height, thickness = scope.sx, scope.sy, scope.sz
-    if min(length, height, thickness) <= 0:
-        raise GeometryError(f"primitive 'wall': needs a scope with positive size, got {scope.size}")
-    if block_length <= 0:
-        raise GeometryError(f"primitive 'wall': block_length {block_length:g} must be positive")
-    if block_height <= 0:
-        raise GeometryError(f"primitive 'wall': block_height {block_height:g} must be positive")
+    require(min(length, height, thickness) > 0, name, "scope",
+            f"needs a positive size, got {scope.size}")  # fmt: skip
+    require(block_length > 0, name, "block_length", f"must be positive, got {block_length:g} m")
+    require(block_height > 0, name, "block_height", f"must be positive, got {block_height:g} m")
     per_course = max(1, round(length / block_length))
     courses = max(1, round(height / block_height))
     # All head joints lie on a grid of half blocks; every corner is taken from one pool of points.

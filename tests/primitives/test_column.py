@@ -63,9 +63,16 @@ def test_courses_share_beds(shape):
 @pytest.mark.parametrize(
     "params, message",
     [
-        ({"courses": 0}, "primitive 'column': courses 0 must be at least 1"),
-        ({"course_height": -0.5}, "primitive 'column': course_height -0.5 must be positive"),
-        ({"shape": "round", "sides": 2}, "primitive 'column': sides 2 must be at least 3"),
+        ({"courses": 0}, "primitive 'column': parameter 'courses' must be at least 1, got 0"),
+        (
+            {"course_height": -0.5},
+            "primitive 'column': parameter 'course_height' must be positive (or 0 to use "
+            "'courses'), got -0.5 m",
+        ),
+        (
+            {"shape": "round", "sides": 2},
+            "primitive 'column': parameter 'sides' must be at least 3",
+        ),
         ({"shape": "hexagonal"}, "parameter 'shape' must be one of 'square', 'round'"),
     ],
 )

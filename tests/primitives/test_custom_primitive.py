@@ -75,7 +75,7 @@ def test_plugin_parameters_are_validated_by_the_library(plugin_on_path):
         insert("jack_arch", SCOPE, segments="many")
     with pytest.raises(GeometryError, match="'jack_arch' has no parameter 'skew'.*'skewback'"):
         insert("jack_arch", SCOPE, skew=10.0)
-    with pytest.raises(GeometryError, match="'jack_arch': skewback 80 degrees"):
+    with pytest.raises(GeometryError, match="'jack_arch': parameter 'skewback' .* got 80 degrees"):
         insert("jack_arch", SCOPE, skewback=80.0)
 
 

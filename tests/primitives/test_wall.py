@@ -85,9 +85,9 @@ def test_rotated_wall_keeps_its_volume():
 @pytest.mark.parametrize(
     "size, params, message",
     [
-        ((3, 2, 1), {"block_length": 0.0}, "primitive 'wall': block_length 0 must be positive"),
-        ((3, 2, 1), {"block_height": -1.0}, "primitive 'wall': block_height -1 must be positive"),
-        ((3, 2, 0), {}, "primitive 'wall': needs a scope with positive size"),
+        ((3, 2, 1), {"block_length": 0.0}, "'wall': parameter 'block_length' must be positive"),
+        ((3, 2, 1), {"block_height": -1.0}, "'block_height' must be positive, got -1 m"),
+        ((3, 2, 0), {}, "primitive 'wall': parameter 'scope' needs a positive size"),
         ((3, 2, 1), {"running_bond": 1}, "parameter 'running_bond' must be true or false"),
     ],
 )

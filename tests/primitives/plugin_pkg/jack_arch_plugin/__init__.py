@@ -15,8 +15,8 @@ import math
 
 import numpy as np
 
-from shapegen import Block, GeometryError, Scope
-from shapegen.primitives import primitive
+from shapegen import Block, Scope
+from shapegen.primitives import primitive, require
 
 
 @primitive("jack_arch")
@@ -33,14 +33,15 @@ def jack_arch(scope: Scope, *, segments: int = 5, skewback: float = 20.0) -> lis
         soffit, so ``tan(skewback)`` must be below ``sx / (2 sy)``.
     """
     width, height = scope.sx, scope.sy
-    if segments < 1:
-        raise GeometryError(f"primitive 'jack_arch': segments must be at least 1, got {segments}")
+    require(segments >= 1, "jack_arch", "segments", f"must be at least 1, got {segments}")
     slope = math.tan(math.radians(skewback))
-    if not 0 < slope < width / (2 * height):
-        raise GeometryError(
-            f"primitive 'jack_arch': skewback {skewback:g} degrees must be positive and below "
-            f"{math.degrees(math.atan(width / (2 * height))):.3g} degrees for this scope"
-        )
+    require(
+        0 < slope < width / (2 * height),
+        "jack_arch",
+        "skewback",
+        f"must be positive and below {math.degrees(math.atan(width / (2 * height))):.3g} degrees "
+        f"for this scope, got {skewback:g} degrees",
+    )
     # Every joint passes through the top at x_top and through the common centre below the soffit.
     centre_depth = width / (2 * slope) - height
     x_top = np.linspace(0.0, width, segments + 1)
