@@ -91,11 +91,18 @@ parameter or parameterless function), :class:`ShapeAttribute` (``scope.sx``, ``s
 ``== != < <= > >=``, ``&& ||``; ``+`` concatenates when either side is a string), :class:`Call`
 (builtin or user function), :class:`CaseExpression` and :class:`StochasticExpression` (function
 bodies ``case a > 1 : 2 else : 3`` and ``30% : 1 else : 2``).
+
+Walking the tree
+----------------
+:func:`children` gives the nodes directly below a node, in field order; :func:`walk` gives a
+node and every node below it. Checks that look for one kind of node (every :class:`Name`, every
+:class:`Successor`) filter ``walk(...)`` instead of spelling out the tree's shape again.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Iterator
+from dataclasses import dataclass, field, fields
 from typing import Literal
 
 from shapegen.errors import SourceLocation
@@ -151,6 +158,8 @@ __all__ = [
     "Successor",
     "Translate",
     "Unary",
+    "children",
+    "walk",
 ]
 
 #: Placeholder location for nodes built by hand (tests, programmatic grammars).
@@ -161,7 +170,39 @@ def _location():
     return field(default=NOWHERE, compare=False, repr=False, kw_only=True)
 
 
-node = dataclass(frozen=True)
+# Per node class, the names of the fields that may hold nodes (not its location).
+_NODE_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def node(cls: type) -> type:
+    """Make ``cls`` a frozen dataclass and an AST node that :func:`walk` descends into."""
+    cls = dataclass(frozen=True)(cls)
+    _NODE_FIELDS[cls] = tuple(f.name for f in fields(cls) if f.name != "location")
+    return cls
+
+
+def children(tree: object) -> Iterator[object]:
+    """The nodes directly below ``tree``, in field order (tuples item by item)."""
+    for name in _NODE_FIELDS.get(type(tree), ()):
+        value = getattr(tree, name)
+        if type(value) in _NODE_FIELDS:
+            yield value
+        elif isinstance(value, tuple):
+            yield from (item for item in value if type(item) in _NODE_FIELDS)
+
+
+def walk(tree: object) -> Iterator[object]:
+    """``tree`` and every node below it, depth first, each node's children in field order.
+
+    Field order is source order, except that a definition's annotations come after its value or
+    body. Iterative, so a deeply nested expression (``1 + 1 + ... + 1``) does not reach Python's
+    recursion limit.
+    """
+    stack = [tree]
+    while stack:
+        current = stack.pop()
+        yield current
+        stack.extend(reversed(tuple(children(current))))
 
 
 # --------------------------------------------------------------------------------------------

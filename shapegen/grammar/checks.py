@@ -83,13 +83,9 @@ class _Checker:
         for definition in self.grammar.definitions:
             self._check_annotations(definition)
             if isinstance(definition, ast.Attribute | ast.Constant):
-                self._expression(definition.value, {})
-            elif isinstance(definition, ast.Function):
-                params = self._params(definition.params)
-                self._expression(definition.body, params)
-            elif isinstance(definition, ast.Rule):
-                params = self._params(definition.params)
-                self._body(definition.body, params)
+                self._visit(definition.value, {})
+            elif isinstance(definition, ast.Function | ast.Rule):
+                self._visit(definition.body, self._params(definition.params))
         self._check_start_rule()
         self._check_cycles()
         return self.problems
@@ -167,8 +163,7 @@ class _Checker:
                         f"@{name} has no argument '{keyword.name}' (valid: {valid})"
                         + _suggestion(keyword.name, keywords),
                     )
-            for argument in (*annotation.args, *(k.value for k in annotation.keywords)):
-                self._expression(argument, {})
+            self._visit(annotation, {})
             if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
                 self.report(annotation.location, f"@{name} belongs on a rule, not on {kind}")
             if name in _ATTR_ONLY_ANNOTATIONS and not isinstance(definition, ast.Attribute):
@@ -288,22 +283,23 @@ class _Checker:
             if name not in state:
                 visit(name, [])
 
-    # Rule bodies -------------------------------------------------------------------------------
+    # Rule bodies and expressions -------------------------------------------------------------
 
-    def _body(self, body: ast.Body, params: dict) -> None:
-        if isinstance(body, ast.Sequence):
-            for item in body.items:
-                self._item(item, params)
-        elif isinstance(body, ast.ConditionalBody):
-            for branch in body.branches:
-                self._expression(branch.condition, params)
-                self._body(branch.body, params)
-            self._body(body.otherwise, params)
-        elif isinstance(body, ast.StochasticBody):
-            self._percentages(body.branches, body.location)
-            for branch in body.branches:
-                self._body(branch.body, params)
-            self._body(body.otherwise, params)
+    def _visit(self, tree, params: dict) -> None:
+        """Check every node of a rule body, an expression or an annotation's arguments."""
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Name):
+                self._name(node, params)
+            elif isinstance(node, ast.Call):
+                self._call(node, params)
+            elif isinstance(node, ast.ShapeAttribute):
+                self._shape_attribute(node)
+            elif isinstance(node, ast.Successor):
+                self._successor(node)
+            elif isinstance(node, ast.Set):
+                self._set_target(node)
+            elif isinstance(node, ast.StochasticBody | ast.StochasticExpression):
+                self._percentages(node.branches, node.location)
 
     def _percentages(self, branches, location: SourceLocation) -> None:
         total = sum(branch.percent for branch in branches)
@@ -312,46 +308,6 @@ class _Checker:
                 location,
                 f"the stochastic percentages add up to {_show(total)}% (at most 100%)",
             )
-
-    def _item(self, item: ast.Item, params: dict) -> None:
-        expressions: tuple = ()
-        if isinstance(item, ast.Successor):
-            self._successor(item)
-            expressions = item.args
-        elif isinstance(item, ast.Push):
-            self._body(item.body, params)
-        elif isinstance(item, ast.Extrude):
-            expressions = (item.height,)
-        elif isinstance(item, ast.Split):
-            self._split_group(item.group, params)
-        elif isinstance(item, ast.Comp):
-            for branch in item.branches:
-                self._body(branch.body, params)
-        elif isinstance(item, ast.Translate | ast.Scale):
-            expressions = (item.x.value, item.y.value, item.z.value)
-        elif isinstance(item, ast.Rotate):
-            expressions = (item.x, item.y, item.z)
-        elif isinstance(item, ast.Label):
-            expressions = (item.name,)
-        elif isinstance(item, ast.Set):
-            self._set_target(item)
-            expressions = (item.value,)
-        elif isinstance(item, ast.Insert):
-            expressions = (item.primitive, *(k.value for k in item.parameters))
-        elif isinstance(item, ast.Print):
-            expressions = item.values
-        elif isinstance(item, ast.Report):
-            expressions = (item.key, item.value)
-        for expression in expressions:
-            self._expression(expression, params)
-
-    def _split_group(self, group: ast.SplitGroup, params: dict) -> None:
-        for part in group.parts:
-            if isinstance(part, ast.SplitGroup):
-                self._split_group(part, params)
-            else:
-                self._expression(part.size, params)
-                self._body(part.body, params)
 
     def _successor(self, successor: ast.Successor) -> None:
         if successor.name in OPERATIONS:
@@ -388,32 +344,6 @@ class _Checker:
             f"set() of undefined attr '{name}'"
             + _suggestion(name, [*candidates, *RESERVED_ATTRIBUTES]),
         )
-
-    # Expressions -------------------------------------------------------------------------------
-
-    def _expression(self, expression: ast.Expression, params: dict) -> None:
-        stack = [expression]
-        while stack:
-            node = stack.pop()
-            if isinstance(node, ast.Name):
-                self._name(node, params)
-            elif isinstance(node, ast.Call):
-                self._call(node, params)
-                stack.extend(node.args)
-            elif isinstance(node, ast.ShapeAttribute):
-                self._shape_attribute(node)
-            elif isinstance(node, ast.Unary):
-                stack.append(node.operand)
-            elif isinstance(node, ast.Binary):
-                stack.extend((node.left, node.right))
-            elif isinstance(node, ast.CaseExpression):
-                for branch in node.branches:
-                    stack.extend((branch.condition, branch.value))
-                stack.append(node.otherwise)
-            elif isinstance(node, ast.StochasticExpression):
-                self._percentages(node.branches, node.location)
-                stack.extend(branch.value for branch in node.branches)
-                stack.append(node.otherwise)
 
     def _name(self, node: ast.Name, params: dict) -> None:
         name = node.name
@@ -536,27 +466,8 @@ def constant_value(expression: ast.Expression, values: dict | None = None, _seen
 
 
 def _referenced_names(expression: ast.Expression) -> list[str]:
-    names = []
-    stack = [expression]
-    while stack:
-        node = stack.pop()
-        if isinstance(node, ast.Name):
-            names.append(node.name)
-        elif isinstance(node, ast.Call):
-            names.append(node.name)
-            stack.extend(node.args)
-        elif isinstance(node, ast.Unary):
-            stack.append(node.operand)
-        elif isinstance(node, ast.Binary):
-            stack.extend((node.left, node.right))
-        elif isinstance(node, ast.CaseExpression):
-            for branch in node.branches:
-                stack.extend((branch.condition, branch.value))
-            stack.append(node.otherwise)
-        elif isinstance(node, ast.StochasticExpression):
-            stack.extend(branch.value for branch in node.branches)
-            stack.append(node.otherwise)
-    return names
+    """Names and called functions in ``expression``, in source order."""
+    return [node.name for node in ast.walk(expression) if isinstance(node, ast.Name | ast.Call)]
 
 
 # --------------------------------------------------------------------------------------------

@@ -463,3 +463,22 @@ def test_example_files_load(path):
     grammar = load(path.read_text(), path.name)
     assert grammar.rules and grammar.filename == path.name
     assert grammar.source == path.read_text()
+
+
+def test_walk_reaches_every_node_in_field_order():
+    grammar = parse(
+        "@Range(min=0, max=lo)\nattr h = 2\n"
+        "A --> extrude(h) split(y) { 1 : B(f(h)) | ~1 : [ t(0, 'scope.sx, 0) C ] }"
+    )
+    names = [node.name for node in ast.walk(grammar) if isinstance(node, ast.Name | ast.Call)]
+    assert names == ["lo", "h", "f", "h"]
+    successors = [node.name for node in ast.walk(grammar) if isinstance(node, ast.Successor)]
+    assert successors == ["B", "C"]
+    assert [type(n) for n in ast.children(grammar.rules[0].body)] == [ast.Extrude, ast.Split]
+
+
+def test_walk_does_not_recurse():
+    deep = ast.Number(1.0)
+    for _ in range(5000):
+        deep = ast.Binary("+", deep, ast.Number(1.0))
+    assert sum(isinstance(node, ast.Number) for node in ast.walk(deep)) == 5001
