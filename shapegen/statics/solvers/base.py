@@ -68,7 +68,12 @@ class Backend:
         """True when the back-end's library can be imported."""
         return self.library is None or importlib.util.find_spec(self.library) is not None
 
-    def solve(self, problem, warm_start: Solution | None = None) -> Solution:  # pragma: no cover
+    def solve(self, problem) -> Solution:  # pragma: no cover
+        """Solve a :class:`~shapegen.statics.assembly.StaticsProblem` from scratch.
+
+        There is no warm start: the back-ends are interior-point methods, which gain little from
+        a previous solution's point.
+        """
         raise NotImplementedError
 
 

@@ -40,7 +40,7 @@ class ClarabelBackend(Backend):
         self.tolerance = tolerance
         self.max_iter = max_iter
 
-    def solve(self, problem, warm_start: Solution | None = None) -> Solution:
+    def solve(self, problem) -> Solution:
         import clarabel
 
         trivial = trivial_solution(problem)

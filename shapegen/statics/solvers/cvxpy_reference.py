@@ -36,7 +36,7 @@ class CvxpyBackend(Backend):
         self.solver = solver
         self.tolerance = tolerance
 
-    def solve(self, problem, warm_start: Solution | None = None) -> Solution:
+    def solve(self, problem) -> Solution:
         import cvxpy as cp
 
         trivial = trivial_solution(problem)

@@ -256,7 +256,7 @@ class ReducedBackend(Backend):
         self.verbose = verbose
         self.stop_above = stop_above
 
-    def solve(self, problem, warm_start: Solution | None = None) -> Solution:
+    def solve(self, problem) -> Solution:
         start = time.perf_counter()
         trivial = trivial_solution(problem)
         if trivial is not None:
