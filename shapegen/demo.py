@@ -37,40 +37,41 @@ def _run(rule: str, out: Path) -> int:
     from rich.console import Console
     from rich.table import Table
 
-    from shapegen.engine.grammar_api import load_grammar
-    from shapegen.engine.search import optimize
+    from shapegen import pipeline
     from shapegen.export.model_io import write_model
     from shapegen.export.picture import render_model
-    from shapegen.statics import analyze
 
     console = Console(highlight=False)
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
-    grammar = load_grammar(rule)
+    grammar = pipeline.load(rule)
     name = Path(grammar.name).stem
     console.print(f"[bold]shapegen demo[/bold]: {grammar.name}")
 
-    before_model = grammar.build()
-    before = analyze(before_model)
+    start = pipeline.design(grammar, assess=True)
+    before_model, before = start.model, start.assessment
     console.print(
         f"  built {len(before_model.blocks)} blocks; stands: "
-        + ("[green]yes[/green]" if before.feasible else "[red]no[/red]")
-        + f" (y/W² = {before.infeasibility_normalized:.3g})"
+        + ("[green]yes[/green]" if before.stands else "[red]no[/red]")
+        + f" ({start.structure.measure_name} = {before.measure:.3g})"
     )
 
     def progress(record) -> None:
         console.print(
-            f"  iter {record.iteration:3d}  y/W² {record.infeasibility:10.3e}  "
-            f"{record.qp_solves} analyses  {record.seconds:6.1f} s"
+            f"  iter {record.iteration:3d}  measure {record.infeasibility:10.3e}  "
+            f"{record.evaluations} evaluations  {record.seconds:6.1f} s"
         )
 
-    result = optimize(grammar, progress=progress)
-    after_model, after = result.model, result.analysis
+    end = pipeline.design(grammar, search=pipeline.SearchSettings(), progress=progress)
+    result, after_model = end.optimization, end.model
+    before_analysis, after = before.detail, end.assessment.detail
+    if start.structure.name != "blocks":
+        before_analysis = after = None  # pictures colour blocks by tension only
 
     glb = out / f"{name}.glb"
     picture = out / f"{name}.png"
     write_model(after_model, glb, after)
-    _before_after(before_model, before, after_model, after, picture, render_model)
+    _before_after(before_model, before_analysis, after_model, after, picture, render_model)
 
     table = Table(title=f"{name}: optimized parameters", title_justify="left")
     for column in ("parameter", "initial", "final", "min", "max"):
@@ -78,11 +79,11 @@ def _run(rule: str, out: Path) -> int:
     for pname, spec in result.parameters.items():
         table.add_row(pname, *(f"{spec[k]:.4g}" for k in ("initial", "final", "min", "max")))
     console.print(table)
-    verdict = "[green]stands[/green]" if result.feasible else "[red]still needs tension[/red]"
+    verdict = "[green]stands[/green]" if result.feasible else "[red]still does not stand[/red]"
     console.print(
         f"  blocks {len(after_model.blocks)}; before: "
-        + ("stands" if before.feasible else "needs tension")
-        + f"; after: {verdict}; {result.iterations} iterations, {result.qp_solves} analyses, "
+        + ("stands" if before.stands else "does not stand")
+        + f"; after: {verdict}; {result.iterations} iterations, {result.evaluations} evaluations, "
         f"{result.seconds:.1f} s optimizing, {time.perf_counter() - started:.1f} s in all"
     )
     console.print(f"  wrote {glb} and {picture}")

@@ -93,3 +93,7 @@ class StaticsError(ShapegenError):
 
 class InputFormatError(ShapegenError):
     """A file that cannot be read: unknown format, missing keys, wrong types."""
+
+
+class OptionError(ShapegenError):
+    """An option that means nothing for what it was given to (it is refused, never dropped)."""

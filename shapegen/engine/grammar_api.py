@@ -77,6 +77,29 @@ class Grammar:
         """The default lot (width, depth) in metres: the start rule's ``@Lot`` or 10 x 10."""
         return self.program.lot_size(self._default_values())
 
+    @property
+    def structure(self) -> str:
+        """The name of the structure that judges this grammar's models: the start rule's
+        ``@Structure(...)``, or ``"blocks"`` (rigid-block statics) without one."""
+        return self.program.structure
+
+    def structure_arguments(
+        self,
+        attrs: Mapping[str, object] | None = None,
+        seed: int = 0,
+        lot: tuple[float, float] | None = None,
+    ) -> dict[str, object]:
+        """The ``@Structure(...)`` keyword arguments for these attrs, without deriving a model:
+        what a structure that judges from its arguments alone reads of the design."""
+        from shapegen.engine.interpreter import DEFAULT_LOT
+
+        values = self.program.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
+        if lot is None:
+            lot = self.program.lot_size(values)
+        scope = lot_scope(*lot)
+        values = self.program.initial_values(attrs, seed, scope)
+        return self.program.structure_arguments(values, scope)
+
     def _default_values(self) -> dict:
         if self._defaults is None:
             from shapegen.engine.interpreter import DEFAULT_LOT

@@ -231,6 +231,7 @@ class Program:
             raise self.error(
                 self.start, f"the start rule {self.start.name!r} cannot take parameters"
             )
+        self.structure = _checked_structure(self.start, self.error)
 
     def error(self, node, message: str) -> GrammarError:
         return self.expressions.error(node, message)
@@ -328,6 +329,19 @@ class Program:
             size.append(value)
         return size[0], size[1]
 
+    def structure_arguments(self, values: Mapping[str, object], lot: Scope) -> dict[str, object]:
+        """The keyword arguments of the start rule's ``@Structure(...)``, evaluated with the attr
+        ``values`` (empty without one): what the structure reads of this design."""
+        annotation = self.start.annotation("Structure")
+        if annotation is None or not annotation.keywords:
+            return {}
+        run = _Derivation(self, 0, DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES)
+        state = _root_state(run, Shape(lot, FACE, 1), dict(values), ("structure",))
+        return {
+            keyword.name: self.expressions.compile(keyword.value, {})((), state)
+            for keyword in annotation.keywords
+        }
+
     # ------------------------------------------------------------------ derivation
     def derive(
         self,
@@ -372,6 +386,10 @@ class Program:
             "attrs": {name: values[name] for name in self.attr_nodes},
             "free_parameters": self.free_parameters(values, start_scope),
             "reports": {k: v[0] if len(v) == 1 else v for k, v in run.reports.items()},
+            "structure": {
+                "name": self.structure,
+                "arguments": self.structure_arguments(values, start_scope),
+            },
         }
         return Model(blocks, metadata=metadata)
 
@@ -835,6 +853,40 @@ def _check_primitive_call(node: ast.Insert, error: Callable) -> None:
                 f"primitive {name!r} has no parameter {keyword.name!r}{hint}; "
                 f"its parameters: {known}",
             )
+
+
+def _checked_structure(start: ast.Rule, error: Callable) -> str:
+    """At load time: the structure named by the start rule's ``@Structure`` (the default without
+    one), which must be registered and given only its own keyword arguments."""
+    from shapegen.structures import DEFAULT_STRUCTURE, structure_class
+
+    annotation = start.annotation("Structure")
+    if annotation is None:
+        return DEFAULT_STRUCTURE
+    name = annotation.args[0].value if annotation.args else None
+    if not isinstance(name, str):
+        raise error(annotation, "@Structure names a structure: a string")
+    try:
+        structure = structure_class(name)
+    except GeometryError as exc:
+        raise error(annotation, str(exc)) from None
+    given = {keyword.name for keyword in annotation.keywords}
+    for keyword in annotation.keywords:
+        if keyword.name not in structure.arguments:
+            known = ", ".join(structure.arguments) or "none"
+            close = difflib.get_close_matches(keyword.name, list(structure.arguments), n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise error(
+                keyword if getattr(keyword, "location", None) else annotation,
+                f"structure {name!r} has no argument {keyword.name!r}{hint}; its arguments: "
+                f"{known}",
+            )
+    missing = [n for n, a in structure.arguments.items() if a.required and n not in given]
+    if missing:
+        raise error(
+            annotation, f"@Structure({name!r}) needs the argument(s) {', '.join(missing)}"
+        )
+    return name
 
 
 def _resolve_primitive(name: str, values: dict) -> dict:

@@ -19,6 +19,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.atomic import atomic_write
+from shapegen.json_values import json_ready
 from shapegen.model.block import DEFAULT_DENSITY, Block
 from shapegen.model.model import GRAVITY, Model, PointLoad
 
@@ -27,8 +28,13 @@ FORMAT_VERSION = 1
 
 
 def model_to_dict(model: Model) -> dict:
-    """The model as a shapegen-blocks v1 document (plain JSON types)."""
-    return {
+    """The model as a shapegen-blocks v1 document (plain JSON types).
+
+    A model derived from a grammar also records its ``structure``: the name of what judges it
+    and the ``@Structure`` arguments of this design, so ``shapegen analyze`` judges the file as
+    the report that came with it did.
+    """
+    document = {
         "format": FORMAT_NAME,
         "version": FORMAT_VERSION,
         "units": "m",
@@ -42,6 +48,10 @@ def model_to_dict(model: Model) -> dict:
             for load in model.loads
         ],
     }
+    structure = (model.metadata or {}).get("structure")
+    if structure:
+        document["structure"] = json_ready(structure)
+    return document
 
 
 def write_blocks_json(model: Model, path: str | Path) -> None:
@@ -102,6 +112,20 @@ def model_from_dict(document: object) -> Model:
         raise InputFormatError('"loads" must be a list')
     loads = [_load(entry, k) for k, entry in enumerate(raw_loads)]
     model = Model(blocks, loads, gravity=gravity, ground=ground, friction=friction)
+    structure = document.get("structure")
+    if structure is not None:
+        if not (
+            isinstance(structure, dict)
+            and isinstance(structure.get("name"), str)
+            and isinstance(structure.get("arguments", {}), dict)
+        ):
+            raise InputFormatError(
+                '"structure" must be an object {"name": "...", "arguments": {...}}'
+            )
+        model.metadata["structure"] = {
+            "name": structure["name"],
+            "arguments": dict(structure.get("arguments", {})),
+        }
     model.validate()
     return model
 

@@ -33,7 +33,7 @@ def plot_landscape(
     shown = np.log10(np.where(np.isfinite(values), np.maximum(values, floor), np.nan))
     x, y = np.meshgrid(landscape.first, landscape.second)
     filled = ax.contourf(x, y, shown, levels=20, cmap="magma_r")
-    fig.colorbar(filled, ax=ax, label="log10 infeasibility y / W²")
+    fig.colorbar(filled, ax=ax, label=f"log10 {getattr(landscape, 'measure', 'y/W²')}")
     if landscape.feasible.any():
         ax.contourf(
             x,

@@ -32,7 +32,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from shapegen.errors import InputFormatError
-from shapegen.export.atomic import atomic_write
+from shapegen.export.atomic import atomic_write, check_writable
 from shapegen.export.blocks_json import model_to_dict, read_blocks_json
 from shapegen.export.gltf import encode_glb, encode_gltf
 from shapegen.export.meshes import (
@@ -97,10 +97,7 @@ def check_output_path(path: str | Path) -> Path:
             f"{path}: unknown output format {suffix or '(no extension)'!r};"
             f" supported: {', '.join(WRITE_SUFFIXES)}"
         )
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputFormatError(f"{path}: folder {folder} does not exist")
-    return path
+    return check_writable(path)
 
 
 def encode_model(model: Model, path: str | Path, analysis=None) -> bytes:

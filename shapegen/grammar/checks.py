@@ -26,11 +26,11 @@ from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.names import (
     ANNOTATIONS,
+    ANY_KEYWORD,
     BUILTIN_FUNCTIONS,
     OPERATIONS,
     RESERVED_ATTRIBUTES,
     SHAPE_ATTRIBUTES,
-    STRUCTURES,
 )
 
 __all__ = ["check", "find_problems", "constant_value"]
@@ -156,7 +156,7 @@ class _Checker:
                     f"@{name} takes {_arity(low, high)}, got {count}",
                 )
             for keyword in annotation.keywords:
-                if keyword.name not in keywords:
+                if ANY_KEYWORD not in keywords and keyword.name not in keywords:
                     valid = ", ".join(keywords) if keywords else "none"
                     self.report(
                         keyword.location,
@@ -242,12 +242,8 @@ class _Checker:
             return
         if name == "Lot" and not (_is_number(value) and value > 0):
             self.report(argument.location, "@Lot sizes must be positive numbers (metres)")
-        if name == "Structure" and value not in STRUCTURES:
-            self.report(
-                argument.location,
-                f"unknown @Structure {value!r} (known: {', '.join(STRUCTURES)})"
-                + _suggestion(str(value), STRUCTURES),
-            )
+        if name == "Structure" and not isinstance(value, str):
+            self.report(argument.location, "@Structure names a structure: a string")
 
     def _check_cycles(self) -> None:
         """Report attrs/consts whose value depends on itself through other attrs/consts."""

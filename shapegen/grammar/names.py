@@ -122,6 +122,10 @@ CENTER_MODES: tuple[str, ...] = ("x", "y", "z", "xy", "xz", "yz", "xyz")
 #: First argument of ``r(pivot, x, y, z)`` -> pivot name in :class:`~shapegen.grammar.ast.Rotate`.
 ROTATE_PIVOTS: dict[str, str] = {"scopeOrigin": "origin", "scopeCenter": "center"}
 
+#: In an annotation's keywords: any keyword (``@Structure``'s are checked against the
+#: structure's own arguments when the grammar is compiled).
+ANY_KEYWORD = "*"
+
 #: Annotations: name -> (minimum, maximum) positional arguments, allowed keywords.
 #: ``Order``, ``Group``, ``Enum``, ``Color``, ``Angle``, ``Percent`` and ``Distance`` are CGA's
 #: user-interface hints; they are accepted so that CGA files load, and have no effect.
@@ -132,7 +136,7 @@ ANNOTATIONS: dict[str, tuple[int, int, tuple[str, ...]]] = {
     "Description": (1, 1, ()),
     "Free": (0, 0, ()),
     "Lot": (2, 2, ()),
-    "Structure": (1, 1, ()),  # ours: "cable" sizes the model by its cables (bridge_rules)
+    "Structure": (1, 1, (ANY_KEYWORD,)),  # ours: how the model is judged (shapegen.structures)
     "Order": (1, 1, ()),
     "Group": (1, 3, ()),
     "Enum": (0, 1_000_000, ("restricted",)),
@@ -142,9 +146,6 @@ ANNOTATIONS: dict[str, tuple[int, int, tuple[str, ...]]] = {
     "Distance": (0, 0, ()),
 }
 
-#: Values of ``@Structure(...)`` on the start rule: how the model is sized instead of by the
-#: block statics ("cable": the suspension-bridge cable model of shapegen.engine.bridge_rules).
-STRUCTURES: tuple[str, ...] = ("cable",)
 
 #: Attributes read at each leaf to set its block's properties; usable without an ``attr`` line.
 #: ``density`` in kg/m^3, ``structural`` and ``fixed`` booleans.

@@ -15,8 +15,9 @@ below the chord joining its two supports, and its centreline is
 
 with the supports ``drop_left`` and ``drop_right`` metres below the scope's top (0 for a main
 span between two towers, more at an anchorage). The cable's section is sized by the cable model:
-:meth:`shapegen.engine.bridge_rules.BridgeDesign.sizing` gives the governing diameter from the
-bridge's inputs, unless a ``diameter`` is given.
+:func:`shapegen.statics.cables.bridge_cables` gives the governing diameter from the layout and
+loading the rule passes in (the same values its ``@Structure("cable", ...)`` hands the cable
+structure), unless a ``diameter`` is given.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
 from shapegen.primitives.registry import primitive
+from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
 
 
 def span_sag(span: float, main_span: float, sag: float) -> float:
@@ -72,21 +74,6 @@ def _span_geometry(owner: str, scope: Scope, main_span: float, sag: float, drops
     return span, top, span_sag(span, main_span, sag)
 
 
-def _cable_diameter(diameter: float, sizing_inputs: dict, span: float) -> float:
-    if diameter > 0:
-        return diameter
-    from shapegen.engine.bridge_rules import BridgeDesign
-
-    attrs = dict(sizing_inputs)
-    if attrs["main_span"] <= 0:
-        attrs["main_span"] = span
-    if attrs["length"] <= 0:
-        attrs["length"] = attrs["main_span"]
-    if attrs["min_span"] <= 0:
-        attrs["min_span"] = attrs["main_span"]
-    return BridgeDesign.from_attrs(attrs).sizing().diameter
-
-
 @primitive("cable")
 def cable(
     scope: Scope,
@@ -95,15 +82,13 @@ def cable(
     main_span: float = 0.0,
     drop_left: float = 0.0,
     drop_right: float = 0.0,
+    side_span: float = 0.0,
     diameter: float = 0.0,
-    length: float = 0.0,
     lanes: int = 0,
     tracks: int = 0,
     cables: int = 2,
-    towers: int = 2,
-    min_span: float = 0.0,
-    golden_factor: float = 5300.0,
-    safety_factor: float = 3.0,
+    golden_factor: float = GOLDEN_FACTOR,
+    safety_factor: float = SAFETY_FACTOR,
     segments: int = 48,
     sides: int = 8,
 ) -> list[Block]:
@@ -118,12 +103,13 @@ def cable(
         ``sag (sx / main_span)^2``.
     drop_left, drop_right
         Depth of each support below the scope's top, m.
+    side_span
+        Each of the bridge's two side spans, m (0: a single span), for the sizing.
     diameter
-        Cable diameter, m; 0 (default) sizes it with the cable model from the bridge inputs
-        below (the governing diameter of the whole cable, main and side spans).
-    length, lanes, tracks, cables, towers, min_span, golden_factor, safety_factor
-        The bridge's inputs, as the attrs of rules/suspension_bridge.grammar (length 0: the
-        main span; min_span 0: the main span).
+        Cable diameter, m; 0 (default) sizes it with the cable model from the layout and the
+        loading (the governing diameter of the whole cable, main and side spans).
+    lanes, tracks, cables, golden_factor, safety_factor
+        The loading, as the attrs of rules/suspension_bridge.grammar.
     segments
         Straight pieces along the span (at least 2). A piece's centroid lies ``f_s / segments^2``
         above the parabola (the chord's midpoint offset).
@@ -135,20 +121,18 @@ def cable(
         raise GeometryError(f"primitive 'cable': segments {segments} must be at least 2")
     if sides < 3:
         raise GeometryError(f"primitive 'cable': sides {sides} must be at least 3")
-    inputs = {
-        "length": length,
-        "lanes": lanes,
-        "tracks": tracks,
-        "cables": cables,
-        "towers": towers,
-        "min_span": min_span,
-        "golden_factor": golden_factor,
-        "safety_factor": safety_factor,
-        "main_span": main_span,
-        "sag": sag,
-        "max_cable_diameter": 1.0,
-    }
-    radius = _cable_diameter(diameter, inputs, span) / 2.0
+    if diameter <= 0:
+        diameter = bridge_cables(
+            main_span=main_span if main_span > 0 else span,
+            sag=sag,
+            side_span=side_span,
+            lanes=lanes,
+            tracks=tracks,
+            cables=cables,
+            golden_factor=golden_factor,
+            safety_factor=safety_factor,
+        ).diameter
+    radius = diameter / 2.0
     x = span * np.arange(segments + 1) / segments
     y = cable_height(x, span, own_sag, top, drop_left, drop_right)
     # Section in the plane x = const, counter-clockwise about +x (from +y towards +z).

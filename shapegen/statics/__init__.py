@@ -5,10 +5,12 @@ from shapegen.statics.assembly import StaticsProblem, assemble, friction_cone
 from shapegen.statics.checks import check_model
 from shapegen.statics.contacts import find_interfaces
 from shapegen.statics.interface import GROUND, Interface, tangent_frame
+from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import SolveStatus, get_backend
 
 __all__ = [
     "Analysis",
+    "StaticsOptions",
     "analyze",
     "certify",
     "StaticsProblem",

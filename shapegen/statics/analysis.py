@@ -27,7 +27,7 @@ tension buys friction capacity, so an assembly that could only stand by sliding 
 
 from __future__ import annotations
 
-__all__ = ["Analysis", "analyze", "certify", "SOLVERS"]
+__all__ = ["Analysis", "analyze", "certify"]
 
 import time
 from dataclasses import dataclass, field
@@ -35,12 +35,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shapegen.errors import StaticsError
-from shapegen.statics.assembly import PYRAMIDS, StaticsProblem, assemble
+from shapegen.statics.assembly import StaticsProblem, assemble
 from shapegen.statics.interface import Interface
-from shapegen.statics.solvers import BACKENDS, Solution, SolveStatus, get_backend
+from shapegen.statics.options import AUTO_ORDER, StaticsOptions
+from shapegen.statics.solvers import Solution, SolveStatus, get_backend
 
-SOLVERS = ("auto", *BACKENDS)
-AUTO_ORDER = ("reduced", "clarabel")  # "auto": the fastest first, the next if it fails
 PHASE_ONE_STOP = 1e-3  # scaled sum of tensions (of W) above which phase one may stop early
 
 
@@ -127,26 +126,6 @@ class Analysis:
         }
 
 
-def _validate_options(pyramid, kern, solver, friction) -> None:
-    if pyramid not in PYRAMIDS:
-        raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
-    if solver not in SOLVERS:
-        raise StaticsError(f"solver must be one of {', '.join(SOLVERS)}; got {solver!r}")
-    try:
-        kern_ok = 0 < float(kern) <= 1
-    except (TypeError, ValueError):
-        kern_ok = False
-    if not kern_ok:
-        raise StaticsError(f"kern must be a number in (0, 1]; got {kern!r}")
-    if friction is not None:
-        try:
-            friction_ok = np.isfinite(float(friction)) and float(friction) >= 0
-        except (TypeError, ValueError):
-            friction_ok = False
-        if not friction_ok:
-            raise StaticsError(f"friction must be a finite number >= 0; got {friction!r}")
-
-
 def certify(problem: StaticsProblem, x: np.ndarray) -> float:
     """Scaled equilibrium residual of the compression-only part of a solution.
 
@@ -193,13 +172,11 @@ def _solve(problem: StaticsProblem, solver: str, phase_one: bool = False) -> tup
 
 def analyze(
     model,
+    options: StaticsOptions | None = None,
     *,
-    friction: float | None = None,
-    pyramid: str = "4",
-    kern: float = 1.0,
-    solver: str = "auto",
     interfaces: list[Interface] | None = None,
     check: bool = True,
+    **settings: object,
 ) -> Analysis:
     """Check whether ``model`` stands under self-weight and its point loads.
 
@@ -207,27 +184,31 @@ def analyze(
     ----------
     model
         The :class:`~shapegen.model.model.Model`.
-    friction
-        Coulomb coefficient mu (dimensionless); ``model.friction`` when None.
-    pyramid
-        Friction pyramid: ``"4"`` (|ft1|, |ft2| <= mu/sqrt(2) fn), ``"4r"`` (the same square
-        turned 45 degrees, |ft1| + |ft2| <= mu fn) or ``"8"`` (octagon inscribed in the cone).
-    kern
-        Every interface polygon is scaled about its centroid by ``kern`` in (0, 1] (1/3: forces
-        must pass through the middle third of a rectangular joint).
-    solver
-        ``"auto"`` (the reduced interior point method, Clarabel if it does not converge),
-        ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``.
+    options
+        A :class:`~shapegen.statics.options.StaticsOptions` (friction, pyramid, kern, solver).
     interfaces
         Precomputed contact interfaces (unscaled); found with ``find_interfaces`` when None.
     check
         Run ``check_model`` (interpenetration, unsupported blocks) first.
+    settings
+        Instead of ``options``, its fields by name: ``analyze(model, friction=0.5)``.
 
     Returns
     -------
     Analysis
     """
-    _validate_options(pyramid, kern, solver, friction)
+    if options is None:
+        options = StaticsOptions.from_mapping(settings)
+    elif settings:
+        raise StaticsError(
+            f"give either a StaticsOptions or its fields, not both ({', '.join(settings)})"
+        )
+    friction, pyramid, kern, solver = (
+        options.friction,
+        options.pyramid,
+        options.kern,
+        options.solver,
+    )
     timings = {"interfaces": 0.0, "assembly": 0.0, "solve": 0.0, "certify": 0.0}
     tol = model.tolerances()
 

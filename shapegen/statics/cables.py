@@ -27,6 +27,7 @@ __all__ = [
     "BridgeLoading",
     "CableSizing",
     "SpanCable",
+    "bridge_cables",
     "cable_area",
     "catenary_parameter",
     "round_cable_diameter",
@@ -406,3 +407,47 @@ def size_cables(
         side_span_diameter=float(diameters[1]),
         governing="side" if side_area > main_area else "main",
     )
+
+
+def bridge_cables(
+    *,
+    main_span: float,
+    sag: float,
+    lanes: int,
+    side_span: float = 0.0,
+    tracks: int = 0,
+    cables: int = 2,
+    golden_factor: float = GOLDEN_FACTOR,
+    safety_factor: float = SAFETY_FACTOR,
+) -> CableSizing:
+    """Size the main cables of a bridge laid out by its rule file: one main span of
+    ``main_span`` between two side spans of ``side_span`` (every main span of a bridge with
+    several hangs alike, so one of them sizes the cable).
+
+    The suspension-bridge rule set calls this twice with the same values: the cable primitive to
+    draw the section, the cable structure to judge the design; both get what the grammar
+    computed, so the geometry and the verdict agree.
+
+    Raises
+    ------
+    GeometryError, StaticsError
+        Naming the input, for a span, sag or loading that cannot be sized.
+    """
+    for name, value in (("main_span", main_span), ("sag", sag), ("side_span", side_span)):
+        if not math.isfinite(value) or value < 0 or (value == 0 and name != "side_span"):
+            raise GeometryError(f"cable {name} must be a positive length in metres, got {value:g}")
+    if sag >= main_span / 2.0:
+        raise GeometryError(
+            f"cable sag {sag:g} m must be less than half the main span ({main_span / 2.0:g} m)"
+        )
+    for name, value in (("lanes", lanes), ("tracks", tracks), ("cables", cables)):
+        if value != int(value):
+            raise StaticsError(f"bridge {name} must be a whole number, got {value!r}")
+    loading = BridgeLoading(
+        lanes=int(lanes),
+        tracks=int(tracks),
+        cables=int(cables),
+        golden_factor=float(golden_factor),
+        safety_factor=float(safety_factor),
+    )
+    return size_cables(loading, main_span, sag, length=main_span + 2.0 * side_span)

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 __all__ = ["DesignSession"]
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 
 from shapegen.engine.grammar_api import Grammar, load_grammar
-from shapegen.engine.search import IterationRecord, OptimizationResult, optimize
+from shapegen.search.optimize import optimize
+from shapegen.search.result import IterationRecord, OptimizationResult
+from shapegen.structures import Structure, make_structure
 
 
 class DesignSession:
@@ -20,6 +22,7 @@ class DesignSession:
 
     ``set(...)`` changes attrs the designer controls; ``optimize()`` re-runs the search of the
     free parameters starting from the previous solution, so small edits need few iterations.
+    Any structure works: the grammar's own by default, or the ``structure`` given.
     """
 
     def __init__(
@@ -28,14 +31,16 @@ class DesignSession:
         *,
         free: Sequence[str] | None = None,
         seed: int = 0,
-        analysis_options: Mapping[str, object] | None = None,
-        gradient: str = "adjoint",
+        structure: Structure | None = None,
+        gradient: str | None = None,
+        margin: float = 0.0,
     ):
         self.grammar = grammar if isinstance(grammar, Grammar) else load_grammar(grammar)
         self.free = list(free) if free else None
         self.seed = seed
-        self.analysis_options = dict(analysis_options or {})
+        self.structure = structure or make_structure(self.grammar.structure)
         self.gradient = gradient
+        self.margin = margin
         self.attrs: dict[str, object] = {}
         self.solution: dict[str, float] | None = None
         self.last: OptimizationResult | None = None
@@ -58,8 +63,9 @@ class DesignSession:
             gradient=self.gradient,
             max_iter=max_iter,
             start=self.solution,
-            analysis_options=self.analysis_options,
+            structure=self.structure,
             progress=progress,
+            margin=self.margin,
         )
         self.solution = result.values
         self.last = result

@@ -1,4 +1,4 @@
-"""The infeasibility over a grid of two free parameters (the seed paper's Figures 3 and 8)."""
+"""A structure's measure over a grid of two free parameters (the seed paper's Figures 3 and 8)."""
 
 from __future__ import annotations
 
@@ -9,13 +9,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.engine.search import Evaluator, select_parameters
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
+from shapegen.search.evaluator import Evaluator
+from shapegen.search.parameters import select_parameters
+from shapegen.structures import Structure, make_structure
 
 
 @dataclass
 class Landscape:
-    """``infeasibility[i, j]`` (y / W^2) at ``(first[j], second[i])``; nan where a build failed."""
+    """``infeasibility[i, j]``, the structure's measure (``measure``: y/W² for block statics) at
+    ``(first[j], second[i])``; nan where a design could not be judged."""
 
     first_name: str
     second_name: str
@@ -23,7 +26,8 @@ class Landscape:
     second: np.ndarray
     infeasibility: np.ndarray
     feasible: np.ndarray
-    qp_solves: int
+    evaluations: int
+    measure: str = "y/W²"
 
 
 def energy_landscape(
@@ -35,22 +39,22 @@ def energy_landscape(
     attrs: Mapping[str, object] | None = None,
     seed: int = 0,
     lot: tuple[float, float] | None = None,
-    analysis_options: Mapping[str, object] | None = None,
+    structure: Structure | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Landscape:
-    """Evaluate ``y / W^2`` on a ``grid x grid`` lattice over the ranges of two attrs.
+    """Evaluate the structure's measure on a ``grid x grid`` lattice over the ranges of two attrs.
 
-    The other attrs keep their values (``attrs`` overrides). ``progress(done, total)`` is
-    called after each evaluation.
+    The other attrs keep their values (``attrs`` overrides). ``structure`` judges the designs
+    (default: the grammar's own). ``progress(done, total)`` is called after each evaluation.
     """
     if first == second:
-        raise StaticsError("the landscape needs two different parameters")
+        raise OptionError("the landscape needs two different parameters")
     if not 2 <= int(grid) <= 200:
-        raise StaticsError(f"grid must be between 2 and 200 points per axis; got {grid}")
+        raise OptionError(f"grid must be between 2 and 200 points per axis; got {grid}")
+    if structure is None:
+        structure = make_structure(grammar.structure)
     parameters, build_attrs = select_parameters(grammar, free=[first, second], attrs=attrs)
-    evaluator = Evaluator(
-        grammar, parameters, build_attrs, seed=seed, lot=lot, analysis_options=analysis_options
-    )
+    evaluator = Evaluator(grammar, structure, parameters, build_attrs, seed=seed, lot=lot)
     xs = np.linspace(parameters[0].lower, parameters[0].upper, int(grid))
     ys = np.linspace(parameters[1].lower, parameters[1].upper, int(grid))
     values = np.full((len(ys), len(xs)), np.nan)
@@ -64,4 +68,6 @@ def energy_landscape(
                 feasible[i, j] = evaluation.feasible
             if progress is not None:
                 progress(i * len(xs) + j + 1, total)
-    return Landscape(first, second, xs, ys, values, feasible, evaluator.qp_solves)
+    return Landscape(
+        first, second, xs, ys, values, feasible, evaluator.evaluations, structure.measure_name
+    )

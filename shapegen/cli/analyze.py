@@ -1,0 +1,76 @@
+"""``shapegen analyze MODEL``: judge a model file with the structure it records (block statics
+by default)."""
+
+from __future__ import annotations
+
+__all__ = ["add_command", "run"]
+
+import argparse
+from pathlib import Path
+
+from shapegen.cli.display import print_analysis
+from shapegen.cli.options import CommandLineError, add_statics_options, statics_options
+from shapegen.cli.outputs import check_outputs, write_all
+
+EXIT_OK = 0
+
+
+def add_command(commands) -> None:
+    analyze = commands.add_parser(
+        "analyze",
+        help="check whether a model file stands",
+        description=(
+            "Check whether a block model stands under its own weight and its loads, with"
+            " compression-only frictional joints (the tension-penalty QP); a model written by"
+            " `shapegen build` is judged by the structure it records (a bridge by its cables)."
+            " Exits 0 whether or not it stands; exits 2 for bad input."
+        ),
+    )
+    analyze.add_argument(
+        "model",
+        metavar="MODEL",
+        help="block model: shapegen-blocks .json, or a mesh (.obj .gltf .glb .ply .stl)",
+    )
+    add_statics_options(analyze)
+    analyze.add_argument(
+        "-o",
+        "--output",
+        metavar="OUT",
+        help="write the model coloured by tension with resultant arrows (.glb .gltf; or any"
+        " model format: .json .obj .ply .stl)",
+    )
+    analyze.add_argument("--report", metavar="R.json", help="write a JSON report")
+    analyze.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    analyze.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from shapegen.engine.rules_path import find_bundled_rule
+    from shapegen.export.model_io import read_model
+    from shapegen.pipeline import encode_outputs
+    from shapegen.structures import Design, make_structure
+
+    name = str(args.model)
+    if name.endswith((".grammar", ".cga")) or (
+        not Path(name).exists() and find_bundled_rule(name) is not None
+    ):
+        raise CommandLineError(
+            f"{name} is a rule file, not a model: use `shapegen build {name} --analyze`"
+        )
+    check_outputs(args.output, args.report)
+    model = read_model(name)
+    design = Design.of_model(model)
+    recorded = (model.metadata.get("structure") or {}).get("name")
+    options = statics_options(args)
+    if options is not None and recorded not in (None, "blocks"):
+        raise CommandLineError(
+            f"--friction, --pyramid, --kern, --solver apply to block statics; {name} is judged by"
+            f" the {recorded!r} structure it records"
+        )
+    assessment = make_structure(recorded, options).assess(design)
+    report = {"model": name, "analysis": assessment.to_report()}
+    write_all(encode_outputs(model, assessment, report, model_path=args.output,
+                             report_path=args.report))  # fmt: skip
+    if not args.quiet:
+        print_analysis(name, report["analysis"])
+    return EXIT_OK

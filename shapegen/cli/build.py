@@ -1,0 +1,130 @@
+"""``shapegen build FILE.grammar``: derive a model, optionally optimize and judge it, write it."""
+
+from __future__ import annotations
+
+__all__ = ["add_command", "run"]
+
+import argparse
+
+from shapegen.cli.display import SearchProgress, print_build
+from shapegen.cli.options import (
+    CommandLineError,
+    add_derivation_options,
+    add_search_options,
+    add_statics_options,
+    check_statics_apply,
+    checked_attrs,
+    load_grammar,
+    search_settings,
+    statics_options,
+)
+from shapegen.cli.outputs import check_outputs, write_all
+
+
+def add_command(commands) -> None:
+    build = commands.add_parser(
+        "build",
+        help="derive a model from a .grammar file",
+        description=(
+            "Derive a model from a .grammar file. A bare file name that is not in the working"
+            " directory is looked up among the bundled rules (see `shapegen rules`)."
+        ),
+    )
+    build.add_argument(
+        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+    )
+    add_derivation_options(build)
+    build.add_argument(
+        "-o",
+        "--output",
+        metavar="OUT",
+        help="write the model: .json (shapegen-blocks), .glb/.gltf, .obj, .ply, .stl",
+    )
+    build.add_argument("--report", metavar="R.json", help="write a JSON report")
+    build.add_argument(
+        "--analyze",
+        action="store_true",
+        help="also judge whether the design stands, with the grammar's structure (block statics,"
+        ' or the cable model of a @Structure("cable") bridge); the report gets an "analysis"',
+    )
+    add_statics_options(build, prefix="with --analyze or --optimize, for block statics: ")
+    add_search_options(build)
+    build.add_argument(
+        "--osm",
+        metavar="FILE.osm",
+        help="place a bridge on an OpenStreetMap way (OSM XML), with --way: its straight length"
+        " sets the attr length, its first and last nodes the position and direction",
+    )
+    build.add_argument("--way", type=int, metavar="ID", help="with --osm: the way's id")
+    build.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    build.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from shapegen.pipeline import design, encode_outputs
+
+    check_outputs(args.output, args.report)
+    search = search_settings(args)
+    statics = statics_options(
+        args,
+        applies=args.analyze or search is not None,
+        why="they apply with --analyze or --optimize",
+    )
+    grammar = load_grammar(args.grammar)
+    check_statics_apply(statics, grammar, args.grammar)
+    attrs = checked_attrs(grammar, args.assignments)
+    place = None
+    way = _osm_way(args, grammar, attrs)
+    if way is not None:
+        from shapegen.export import osm
+
+        attrs["length"] = osm.require_straight_length(way)
+
+        def place(model):
+            return osm.place_on_way(model, way)
+
+    measure = "y/W^2" if grammar.structure == "blocks" else "measure"
+    with SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:
+        outcome = design(
+            grammar,
+            attrs=attrs,
+            seed=args.seed,
+            lot=args.lot,
+            statics=statics,
+            search=search,
+            assess=args.analyze,
+            place=place,
+            progress=progress,
+        )
+    report = outcome.report
+    if way is not None:
+        report["osm"] = outcome.model.metadata["osm"]
+    write_all(
+        encode_outputs(
+            outcome.model,
+            outcome.assessment,
+            report,
+            model_path=args.output,
+            report_path=args.report,
+        )
+    )
+    if not args.quiet:
+        print_build(str(args.grammar), report)
+    return 0
+
+
+def _osm_way(args: argparse.Namespace, grammar, attrs: dict):
+    """The way of ``--osm FILE --way ID`` (None without them), checked against the grammar."""
+    if args.osm is None and args.way is None:
+        return None
+    if args.osm is None or args.way is None:
+        raise CommandLineError("--osm and --way go together: --osm FILE.osm --way ID")
+    if "length" not in grammar.attrs:
+        raise CommandLineError(
+            f"--osm places a bridge along a way: {args.grammar} has no attr 'length' to set"
+        )
+    if "length" in attrs:
+        raise CommandLineError("--set length conflicts with --osm: the way gives the length")
+    from shapegen.export.osm import read_way
+
+    return read_way(args.osm, args.way)

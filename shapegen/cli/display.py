@@ -1,0 +1,208 @@
+"""What the commands print: summaries of reports and progress on stderr (rich)."""
+
+from __future__ import annotations
+
+__all__ = [
+    "SearchProgress",
+    "SimulationProgress",
+    "fmt",
+    "print_analysis",
+    "print_build",
+    "print_simulation",
+]
+
+
+def fmt(value) -> str:
+    """A number in 4 significant digits, yes/no for booleans, '-' for nothing."""
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int, float)):
+        return f"{value:.4g}"
+    try:
+        return f"{float(value):.4g}"
+    except (TypeError, ValueError):
+        return str(value)
+
+
+class SearchProgress:
+    """One line per search iteration (iteration, measure, parameters) under a spinner."""
+
+    def __init__(self, quiet: bool, measure: str = "y/W^2"):
+        self.quiet = quiet
+        self.measure = measure
+        self.console = None
+        self.status = None
+
+    def __enter__(self):
+        if not self.quiet:
+            from rich.console import Console
+
+            self.console = Console(stderr=True, highlight=False)
+            self.status = self.console.status("optimizing: first evaluation...")
+            self.status.__enter__()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.status is not None:
+            self.status.__exit__(*exc)
+
+    def __call__(self, record) -> None:
+        if self.console is None:
+            return
+        values = "  ".join(f"{k}={v:.4g}" for k, v in record.parameters.items())
+        mark = "[green]stands[/green]" if record.feasible else ""
+        self.console.print(
+            f"iter {record.iteration:3d}  {self.measure} {record.infeasibility:10.3e}  {values}"
+            f"  {mark}"
+        )
+        self.status.update(f"optimizing: {record.evaluations} evaluations, {record.seconds:.1f} s")
+
+
+class SimulationProgress:
+    """A progress bar over simulated seconds, on stderr."""
+
+    def __init__(self, quiet: bool):
+        self.quiet = quiet
+        self.bar = None
+        self.task = None
+
+    def __enter__(self):
+        if not self.quiet:
+            from rich.console import Console
+            from rich.progress import Progress
+
+            self.bar = Progress(console=Console(stderr=True), transient=True)
+            self.bar.__enter__()
+            self.task = self.bar.add_task("simulating", total=1.0)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.__exit__(*exc)
+
+    def __call__(self, done: float, total: float) -> None:
+        if self.bar is not None:
+            self.bar.update(self.task, completed=done / total)
+
+
+def _grid():
+    from rich.table import Table
+
+    table = Table.grid(padding=(0, 2))
+    table.add_column(style="bold")
+    table.add_column()
+    return table
+
+
+def analysis_table(title: str, analysis: dict):
+    """The verdict of any structure, and its own figures."""
+    from rich.text import Text
+
+    table = _grid()
+    table.add_row("model", Text(title))
+    stands = bool(analysis.get("stands"))
+    table.add_row(
+        "stands", Text("yes" if stands else "no", style="green" if stands else "bold red")
+    )
+    table.add_row("judged by", Text(str(analysis.get("structure"))))
+    if analysis.get("structure") == "cable":
+        table.add_row(
+            "cable diameter",
+            f"{fmt(analysis.get('cable_diameter'))} m (allowed"
+            f" {fmt(analysis.get('allowed_diameter'))} m, governing: {analysis.get('governing')})",
+        )
+        table.add_row("max tension", f"{fmt(analysis.get('max_tension'))} N per cable")
+        table.add_row("measure", f"{fmt(analysis.get('measure'))} ((d/d_max - 1)^2)")
+        return table
+    table.add_row("blocks", str(analysis.get("blocks")))
+    table.add_row("interfaces", str(analysis.get("interfaces")))
+    table.add_row(
+        "infeasibility",
+        f"{fmt(analysis.get('infeasibility'))} N^2"
+        f" (normalised {fmt(analysis.get('infeasibility_normalized'))})",
+    )
+    table.add_row("max tension", f"{fmt(analysis.get('max_tension'))} N")
+    table.add_row("total weight", f"{fmt(analysis.get('total_weight'))} N")
+    table.add_row("seconds", f"{fmt(analysis.get('seconds'))}")
+    return table
+
+
+def print_analysis(title: str, analysis: dict) -> None:
+    from rich.console import Console
+
+    Console(highlight=False).print(analysis_table(title, analysis))
+
+
+def optimization_table(optimization: dict):
+    from rich.table import Table
+
+    table = Table(title="optimization", title_justify="left")
+    for column in ("parameter", "initial", "final", "min", "max"):
+        table.add_column(column, justify="left" if column == "parameter" else "right")
+    for name, spec in optimization["parameters"].items():
+        table.add_row(name, *(fmt(spec[k]) for k in ("initial", "final", "min", "max")))
+    for name, value in (optimization.get("fixed") or {}).items():
+        table.add_row(f"{name} (fixed)", fmt(value), fmt(value), "-", "-")
+    table.caption = (
+        f"{optimization['message']}; {optimization['method']}, {optimization['iterations']}"
+        f" iterations, {optimization['evaluations']} evaluations, {fmt(optimization['seconds'])} s"
+    )
+    return table
+
+
+def print_build(title: str, report: dict) -> None:
+    from rich.console import Console
+    from rich.text import Text
+
+    console = Console(highlight=False)
+    table = _grid()
+    table.add_row("grammar", Text(title))
+    table.add_row("blocks", str(report["blocks"]))
+    table.add_row("volume", f"{fmt(report['volume'])} m^3")
+    table.add_row("seconds", fmt(report["seconds"]))
+    for name, value in report.get("reports", {}).items():
+        table.add_row(Text(f"report {name}"), Text(str(value)))
+    console.print(table)
+    if "optimization" in report:
+        console.print(optimization_table(report["optimization"]))
+    if "analysis" in report:
+        console.print(analysis_table(title, report["analysis"]))
+
+
+def print_simulation(title: str, result, args, build: dict) -> None:
+    from rich.console import Console
+    from rich.text import Text
+
+    table = _grid()
+    table.add_row("model", Text(title))
+    table.add_row("blocks", str(len(result.model.blocks)))
+    if "optimization" in build:
+        optimization = build["optimization"]
+        values = ", ".join(
+            f"{name} {fmt(spec['final'])}" for name, spec in optimization["parameters"].items()
+        )
+        table.add_row("optimized", Text(f"{optimization['message']}: {values}"))
+    if result.removed:
+        table.add_row("removed", Text(", ".join(result.removed)))
+    stands = result.stands
+    table.add_row("verdict", Text(result.verdict, style="green" if stands else "bold red"))
+    table.add_row(
+        "max displacement",
+        f"{result.max_displacement * 1000:.4g} mm after settling"
+        f" (tolerance {result.settings.tolerance * 1000:.3g} mm)",
+    )
+    table.add_row("moved blocks", str(result.moved_blocks))
+    table.add_row("settlement", f"{result.settlement * 1000:.4g} mm")
+    if result.settings.shake > 0:
+        table.add_row("shake", f"{result.settings.shake:g} m/s over 1/60 s")
+    table.add_row(
+        "seconds",
+        f"{result.seconds:.4g} simulated, {result.wall_seconds:.4g} wall"
+        f" ({result.speed:.3g} simulated s per wall s)",
+    )
+    for label, path in (("report", args.report), ("output", args.output), ("frames", args.frames)):
+        if path:
+            table.add_row(label, Text(str(path)))
+    Console(highlight=False).print(table)

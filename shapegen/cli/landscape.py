@@ -1,0 +1,101 @@
+"""``shapegen landscape FILE.grammar P1 P2 -o OUT.png``: the structure's measure over two attrs."""
+
+from __future__ import annotations
+
+__all__ = ["add_command", "run"]
+
+import argparse
+from pathlib import Path
+
+from shapegen.cli.options import (
+    CommandLineError,
+    add_derivation_options,
+    add_statics_options,
+    check_statics_apply,
+    checked_attrs,
+    load_grammar,
+    statics_options,
+)
+from shapegen.cli.outputs import check_outputs
+
+
+def add_command(commands) -> None:
+    landscape = commands.add_parser(
+        "landscape",
+        help="plot how far from standing the design is, over two free parameters",
+        description=(
+            "Evaluate the grammar's structure on a grid over the @Range of two attrs (block"
+            " statics: the infeasibility y/W^2; a cable bridge: the squared relative excess of"
+            " its cable diameter), mark the region where the design stands, draw the"
+            " optimizer's path, and write a PNG."
+        ),
+    )
+    landscape.add_argument(
+        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+    )
+    landscape.add_argument("first", metavar="P1", help="attr on the horizontal axis")
+    landscape.add_argument("second", metavar="P2", help="attr on the vertical axis")
+    landscape.add_argument(
+        "--grid", type=int, default=15, metavar="N", help="points per axis (default 15)"
+    )
+    add_derivation_options(landscape)
+    landscape.add_argument(
+        "--no-path", action="store_true", help="do not run and draw the optimizer"
+    )
+    landscape.add_argument(
+        "-o", "--output", metavar="OUT.png", required=True, help="the picture to write (.png)"
+    )
+    add_statics_options(landscape, prefix="for block statics: ")
+    landscape.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    landscape.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from shapegen.export.landscape_plot import plot_landscape
+    from shapegen.search import energy_landscape, optimize
+    from shapegen.structures import make_structure
+
+    output = Path(args.output)
+    if output.suffix.lower() != ".png":
+        raise CommandLineError(f"{output}: the landscape is written as a .png picture")
+    check_outputs(None, None, picture=args.output)
+    if not 2 <= args.grid <= 200:
+        raise CommandLineError(f"--grid must be between 2 and 200, got {args.grid}")
+    grammar = load_grammar(args.grammar)
+    statics = statics_options(args)
+    check_statics_apply(statics, grammar, args.grammar)
+    structure = make_structure(grammar.structure, statics)
+    attrs = checked_attrs(grammar, args.assignments)
+    console = None
+    if not args.quiet:
+        from rich.console import Console
+
+        console = Console(stderr=True, highlight=False)
+    path = None
+    if not args.no_path:
+        result = optimize(
+            grammar, structure=structure, free=[args.first, args.second], attrs=attrs,
+            seed=args.seed, lot=args.lot, build=False,
+        )  # fmt: skip
+        path = result.path
+    settings = dict(attrs=attrs, seed=args.seed, lot=args.lot, structure=structure)
+    if console is not None:
+        from rich.progress import Progress
+
+        with Progress(console=console, transient=True) as bar:
+            task = bar.add_task("landscape", total=args.grid**2)
+            landscape = energy_landscape(
+                grammar, args.first, args.second, grid=args.grid, **settings,
+                progress=lambda done, total: bar.update(task, completed=done),
+            )  # fmt: skip
+    else:
+        landscape = energy_landscape(grammar, args.first, args.second, grid=args.grid, **settings)
+    plot_landscape(landscape, output, path, title=f"{grammar.name}: {structure.measure_name}")
+    if console is not None:
+        share = landscape.feasible.mean() * 100
+        console.print(
+            f"wrote {output}: {args.grid}x{args.grid} grid of {structure.measure_name},"
+            f" {share:.0f}% of it stands"
+            + (f"; optimizer path of {len(path)} points" if path else "")
+        )
+    return 0

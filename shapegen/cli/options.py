@@ -1,0 +1,350 @@
+"""The option definitions and value checks shared by the commands, and what they turn into.
+
+A bad command line raises :class:`CommandLineError`, which ``main`` prints as one line. An option
+is honoured or refused: an option given where it means nothing (``--fix`` without
+``--optimize``, ``--friction`` for a design judged by its cables) is an error, never dropped.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "CommandLineError",
+    "Parser",
+    "add_derivation_options",
+    "add_search_options",
+    "add_statics_options",
+    "checked_attrs",
+    "finite",
+    "nonnegative",
+    "positive",
+    "search_settings",
+    "statics_options",
+]
+
+import argparse
+import difflib
+import math
+
+from shapegen.errors import ShapegenError
+
+STATICS_FLAGS = {
+    "friction": "--friction",
+    "pyramid": "--pyramid",
+    "kern": "--kern",
+    "solver": "--solver",
+}
+SEARCH_FLAGS = {
+    "free": "--free",
+    "fixed": "--fix",
+    "objective": "--objective",
+    "gradient": "--gradient",
+    "max_iter": "--max-iter",
+    "margin": "--margin",
+    "multistart": "--multistart",
+}
+
+
+class CommandLineError(ShapegenError):
+    """A bad command line: unknown option, bad option value, missing argument."""
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors raised as exceptions instead of usage dumps and exits."""
+
+    def error(self, message: str):  # argparse calls this for every usage error
+        raise CommandLineError(message)
+
+
+# ------------------------------------------------------------------------------ option values
+def finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def nonnegative(text: str) -> float:
+    value = finite(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text}")
+    return value
+
+
+def positive(text: str) -> float:
+    value = finite(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def _kern(text: str) -> float:
+    value = finite(text)
+    if not 0 < value <= 1:
+        raise argparse.ArgumentTypeError(f"must be in (0, 1], got {text}")
+    return value
+
+
+def _margin(text: str) -> float:
+    value = finite(text)
+    if not 0 <= value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 0 and below 1, got {text}")
+    return value
+
+
+def _whole(minimum: int):
+    def convert(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {value}")
+        return value
+
+    return convert
+
+
+def _lot(text: str) -> tuple[float, float]:
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise argparse.ArgumentTypeError(f"expected WIDTH,DEPTH in metres, got {text!r}")
+    width, depth = (finite(p.strip()) for p in parts)
+    if width <= 0 or depth <= 0:
+        raise argparse.ArgumentTypeError(f"lot sides must be > 0 m, got {text!r}")
+    return width, depth
+
+
+def _assignment(text: str) -> tuple[str, object]:
+    name, sep, raw = text.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    return name, _attr_value(raw.strip(), name)
+
+
+def _attr_value(raw: str, name: str) -> object:
+    """A ``--set`` value: a number, true/false, or else a string (quotes optional)."""
+    lowered = raw.lower()
+    if lowered in ("true", "false"):
+        return lowered == "true"
+    try:
+        number = int(raw)
+    except ValueError:
+        try:
+            number = float(raw)
+        except ValueError:
+            if len(raw) >= 2 and raw[0] == raw[-1] and raw[0] in "\"'":
+                return raw[1:-1]
+            return raw
+    if not math.isfinite(number):
+        raise argparse.ArgumentTypeError(f"{name}: expected a finite number, got {raw!r}")
+    return number
+
+
+def _names(text: str) -> list[str]:
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    if not names:
+        raise argparse.ArgumentTypeError(f"expected attr names separated by commas, got {text!r}")
+    return names
+
+
+# ------------------------------------------------------------------------------ option groups
+def add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
+    """--friction, --pyramid, --kern, --solver: how block statics judge a model."""
+    parser.add_argument(
+        "--friction",
+        type=nonnegative,
+        metavar="MU",
+        help=prefix + "friction coefficient of every joint (default: the model's, 0.7)",
+    )
+    parser.add_argument(
+        "--pyramid",
+        choices=["4", "4r", "8"],
+        help=prefix + "friction pyramid: 4 sides, 4 rotated 45 degrees, or 8 sides (default 4)",
+    )
+    parser.add_argument(
+        "--kern",
+        type=_kern,
+        metavar="K",
+        help=prefix + "scale every joint about its centroid by K, a geometric factor of safety"
+        " (1 = none, 1/3 = middle third; default 1)",
+    )
+    parser.add_argument(
+        "--solver",
+        choices=["auto", "reduced", "clarabel", "cvxpy"],
+        help=prefix + "QP back-end (default auto)",
+    )
+
+
+def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
+    """--set, --lot and --seed: how a .grammar is derived."""
+    parser.add_argument(
+        "--set",
+        dest="assignments",
+        metavar="NAME=VALUE",
+        action="append",
+        type=_assignment,
+        default=[],
+        help=prefix + "override an attr (a number, true/false, or a string); repeatable",
+    )
+    parser.add_argument(
+        "--lot",
+        type=_lot,
+        metavar="W,D",
+        help=prefix + "lot width (x) and depth (z) in metres, instead of the grammar's @Lot",
+    )
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        metavar="N",
+        help=prefix + "seed of rand() and stochastic rules (default 0)",
+    )
+
+
+def add_search_options(parser: argparse.ArgumentParser, margin: float = 0.0) -> None:
+    """The --optimize options; ``margin`` is the default --margin (simulate keeps a reserve)."""
+    parser.set_defaults(default_margin=margin)
+    parser.add_argument(
+        "--optimize",
+        action="store_true",
+        help="tune the free parameters (@Free attrs, or --free) until the design stands",
+    )
+    parser.add_argument(
+        "--free",
+        type=_names,
+        metavar="A,B",
+        help="with --optimize: the attrs to tune (each needs a @Range) instead of the @Free ones",
+    )
+    parser.add_argument(
+        "--fix",
+        dest="fixed",
+        metavar="NAME=VALUE",
+        action="append",
+        type=_assignment,
+        help="with --optimize: hold a @Free attr at a value; repeatable",
+    )
+    parser.add_argument(
+        "--objective",
+        choices=["energy", "closest"],
+        help="with --optimize: 'energy' brings the structure's measure to zero and stops at the"
+        " first design that stands (the papers); 'closest' finds the standing design nearest"
+        " to the given values (default energy)",
+    )
+    parser.add_argument(
+        "--gradient",
+        choices=["adjoint", "forward", "none"],
+        help="with --optimize: 'adjoint' (the structure's own gradient: one QP per gradient for"
+        " block statics), 'forward' finite differences (n + 1 evaluations) or 'none'"
+        " (derivative-free, Powell's method); default: adjoint where the structure has one"
+        " (block statics), else none (the cable model)",
+    )
+    parser.add_argument(
+        "--max-iter",
+        type=_whole(1),
+        metavar="N",
+        help="with --optimize: iterations per start (default 50)",
+    )
+    parser.add_argument(
+        "--margin",
+        type=_margin,
+        metavar="M",
+        help="with --optimize: safety margin, 0 to 1: search for a design that still stands"
+        " with every joint shrunk to 1 - M of its size (block statics) or with the cable"
+        " diameter limit lowered to 1 - M of itself (cables)"
+        + (
+            f" (default {margin:g}: a design on the statics boundary has no reserve for the"
+            " simulator's contact compliance; 0 stops on the boundary, as the paper does)"
+            if margin
+            else " (default 0: stop on the boundary, as the papers do; 0.1 leaves a reserve a"
+            " real structure or a simulation needs)"
+        ),
+    )
+    parser.add_argument(
+        "--multistart",
+        type=_whole(0),
+        metavar="N",
+        help="with --optimize: extra random starts within the bounds, seeded by --seed (default 0)",
+    )
+
+
+# ------------------------------------------------------------------------------ what they mean
+def _given(args, flags: dict[str, str]) -> list[str]:
+    return [flag for dest, flag in flags.items() if getattr(args, dest, None) not in (None, [])]
+
+
+def statics_options(args, *, applies: bool = True, why: str = ""):
+    """The block-statics options given (None when none was), or an error when they cannot apply.
+
+    ``applies`` False refuses them with ``why`` (for example "they apply with --analyze or
+    --optimize").
+    """
+    given = _given(args, STATICS_FLAGS)
+    if not given:
+        return None
+    if not applies:
+        raise CommandLineError(f"{', '.join(given)}: {why}")
+    from shapegen.statics.options import StaticsOptions
+
+    values = {
+        dest: getattr(args, dest) for dest in STATICS_FLAGS if getattr(args, dest) is not None
+    }
+    return StaticsOptions(**values)
+
+
+def check_statics_apply(options, grammar, source: str) -> None:
+    """Refuse block-statics options for a grammar judged by another structure."""
+    if options is not None and grammar.structure != "blocks":
+        raise CommandLineError(
+            f"{', '.join(f for f in STATICS_FLAGS.values())} apply to block statics; {source} is"
+            f" judged by the {grammar.structure!r} structure (@Structure on its start rule)"
+        )
+
+
+def search_settings(args):
+    """The search settings of ``--optimize``, None without it; search options given without
+    ``--optimize`` are refused."""
+    if not args.optimize:
+        given = _given(args, SEARCH_FLAGS)
+        if given:
+            raise CommandLineError(f"{', '.join(given)} only apply with --optimize")
+        return None
+    from shapegen.pipeline import SearchSettings
+
+    margin = args.margin if args.margin is not None else args.default_margin
+    return SearchSettings(
+        free=args.free,
+        fix=dict(args.fixed or []),
+        objective=args.objective or "energy",
+        gradient=args.gradient,
+        max_iter=args.max_iter or 50,
+        multistart=args.multistart or 0,
+        margin=margin,
+    )
+
+
+def load_grammar(name: str):
+    from shapegen.pipeline import load
+
+    return load(name)
+
+
+def attr_names(grammar) -> list[str]:
+    return list(grammar.attrs)
+
+
+def checked_attrs(grammar, assignments: list[tuple[str, object]]) -> dict:
+    """The ``--set`` values by name; an unknown name is an error with close suggestions."""
+    known = attr_names(grammar)
+    attrs: dict = {}
+    for name, value in assignments:
+        if name not in known:
+            close = difflib.get_close_matches(name, known, n=3)
+            hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+            listing = f" (attrs: {', '.join(known)})" if known and not close else ""
+            raise CommandLineError(f"--set {name}: the grammar has no attr {name!r}{hint}{listing}")
+        attrs[name] = value
+    return attrs

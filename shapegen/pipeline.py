@@ -1,0 +1,198 @@
+"""The one pipeline every front end runs: load -> optimize -> build -> assess -> report -> write.
+
+The command line, the demo and any script call these functions; the structure a grammar names
+(block statics by default, the cable model, a plug-in) is used throughout, so a bridge takes the
+same path as a cathedral. The model written is always the model reported: the final design is
+built once, with every attr the report lists (the caller's, the fixed and the optimized ones),
+and judged as it is written.
+
+>>> from shapegen import pipeline
+>>> outcome = pipeline.design(pipeline.load("arch_columns.grammar"), assess=True)  # doctest: +SKIP
+>>> outcome.assessment.stands, outcome.report["attrs"]                             # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "Outcome",
+    "SearchSettings",
+    "design",
+    "encode_outputs",
+    "load",
+    "report_bytes",
+    "write_outputs",
+]
+
+import json
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from shapegen.json_values import json_ready
+from shapegen.model import Model
+from shapegen.statics.options import StaticsOptions
+from shapegen.structures import Assessment, Design, Structure, make_structure
+
+
+@dataclass(frozen=True)
+class SearchSettings:
+    """How to search the free attrs (see :func:`shapegen.search.optimize`)."""
+
+    free: Sequence[str] | None = None
+    fix: Mapping[str, object] = field(default_factory=dict)
+    objective: str = "energy"
+    gradient: str | None = None
+    max_iter: int = 50
+    multistart: int = 0
+    margin: float = 0.0
+
+
+@dataclass
+class Outcome:
+    """What :func:`design` made: the model, how it was judged and found, and the report."""
+
+    grammar: object
+    model: Model
+    structure: Structure
+    assessment: Assessment | None
+    optimization: object | None
+    report: dict
+
+
+def load(source: str):
+    """The grammar named by ``source``: a rule file, or the name of a bundled one."""
+    from shapegen.engine.grammar_api import load_grammar
+
+    return load_grammar(source)
+
+
+def design(
+    grammar,
+    *,
+    attrs: Mapping[str, object] | None = None,
+    seed: int = 0,
+    lot: tuple[float, float] | None = None,
+    statics: StaticsOptions | None = None,
+    search: SearchSettings | None = None,
+    assess: bool = False,
+    place: Callable[[Model], Model] | None = None,
+    progress: Callable | None = None,
+) -> Outcome:
+    """Optimize (with ``search``), build and assess (with ``assess`` or ``search``) a design.
+
+    Parameters
+    ----------
+    grammar
+        A loaded grammar.
+    attrs, seed, lot
+        Attr overrides and derivation settings.
+    statics
+        Block-statics options; refused (:class:`~shapegen.errors.OptionError`) when the grammar's
+        structure is not block statics.
+    search
+        Search the free attrs first; the final design is built once, with every attr override.
+    assess
+        Judge the final model with the grammar's structure.
+    place
+        Moves the built model (an OpenStreetMap placement); a moved model is judged where it
+        stands.
+    progress
+        Called with each :class:`~shapegen.search.IterationRecord` of the search.
+    """
+    started = time.perf_counter()
+    structure = make_structure(grammar.structure, statics)
+    attrs = dict(attrs or {})
+    optimization = None
+    if search is not None:
+        from shapegen.search import optimize
+
+        optimization = optimize(
+            grammar,
+            structure=structure,
+            free=search.free,
+            fix=search.fix,
+            attrs=attrs,
+            seed=seed,
+            lot=lot,
+            objective=search.objective,
+            gradient=search.gradient,
+            max_iter=search.max_iter,
+            multistart=search.multistart,
+            margin=search.margin,
+            progress=progress,
+        )
+        attrs = dict(optimization.attrs)
+        model = optimization.model
+    else:
+        model = grammar.build(attrs=attrs, seed=seed, lot=lot)
+    if place is not None:
+        model = place(model)
+    assessment = None
+    if assess or optimization is not None:
+        if optimization is not None and place is None and optimization.assessment is not None:
+            assessment = optimization.assessment
+        else:
+            assessment = structure.assess(Design.of_model(model))
+    report = build_report(model)
+    if optimization is not None:
+        report["optimization"] = optimization.to_report()
+    if assessment is not None:
+        report["analysis"] = assessment.to_report()
+    report["seconds"] = time.perf_counter() - started
+    return Outcome(grammar, model, structure, assessment, optimization, report)
+
+
+def build_report(model: Model) -> dict:
+    """The build part of a report, from what the model records of its derivation."""
+    metadata = model.metadata or {}
+    lot = metadata.get("lot")
+    structure = metadata.get("structure") or {}
+    return {
+        "grammar": metadata.get("grammar"),
+        "seed": metadata.get("seed"),
+        "lot": list(lot) if lot is not None else None,
+        "structure": structure.get("name"),
+        "blocks": len(model.blocks),
+        "volume": model.volume,
+        "attrs": dict(metadata.get("attrs", {})),
+        "free_parameters": {
+            name: {key: spec.get(key) for key in ("value", "min", "max")}
+            for name, spec in (metadata.get("free_parameters") or {}).items()
+        },
+        "reports": dict(metadata.get("reports", {})),
+    }
+
+
+def report_bytes(report: dict) -> bytes:
+    """A report as JSON text (non-finite numbers as null)."""
+    text = json.dumps(json_ready(report), indent=1, allow_nan=False)
+    return (text + "\n").encode("utf-8")
+
+
+def encode_outputs(
+    model: Model,
+    assessment: Assessment | None,
+    report: dict,
+    *,
+    model_path: str | Path | None = None,
+    report_path: str | Path | None = None,
+) -> list[tuple[Path, bytes]]:
+    """Every requested output file's content, made in memory before anything is written."""
+    from shapegen.export.model_io import encode_model
+
+    outputs = []
+    if model_path:
+        analysis = assessment.detail if assessment and assessment.structure == "blocks" else None
+        outputs.append((Path(model_path), encode_model(model, model_path, analysis)))
+    if report_path:
+        outputs.append((Path(report_path), report_bytes(report)))
+    return outputs
+
+
+def write_outputs(outputs: list[tuple[Path, bytes]]) -> None:
+    """Write each file atomically."""
+    from shapegen.export.model_io import write_bytes_atomic
+
+    for path, content in outputs:
+        write_bytes_atomic(path, content)

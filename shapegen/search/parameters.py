@@ -1,0 +1,71 @@
+"""The parameters a search may change: the grammar's ``@Free`` attrs (or those named), in their
+``@Range``, with the attrs held fixed."""
+
+from __future__ import annotations
+
+__all__ = ["FreeParameter", "select_parameters"]
+
+import difflib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from shapegen.errors import GrammarError
+
+
+@dataclass(frozen=True)
+class FreeParameter:
+    """A parameter the search may change: its attr name, starting value and bounds."""
+
+    name: str
+    initial: float
+    lower: float
+    upper: float
+
+    @property
+    def span(self) -> float:
+        return self.upper - self.lower
+
+
+def select_parameters(
+    grammar,
+    free: Sequence[str] | None = None,
+    fix: Mapping[str, object] | None = None,
+    attrs: Mapping[str, object] | None = None,
+) -> tuple[list[FreeParameter], dict[str, object]]:
+    """The parameters to search and the attrs to build every design with.
+
+    ``free`` names attrs to search (each needs a ``@Range``); by default the ``@Free`` attrs.
+    ``fix`` pins attrs (also removing them from the free set). Returns the free parameters and
+    the attr overrides (``attrs`` with ``fix`` over them) every evaluated design is built with.
+    """
+    attrs = dict(attrs or {})
+    fix = dict(fix or {})
+    known = grammar.attrs
+    for name in [*(free or []), *fix]:
+        if name not in known:
+            close = difflib.get_close_matches(name, list(known), n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise GrammarError(f"{grammar.name}: no attr named {name!r}{hint}")
+    attrs.update(fix)
+    ranges = grammar.parameter_ranges(attrs)
+    names = list(free) if free else list(grammar.free_parameters)
+    names = [n for n in names if n not in fix]
+    if not names:
+        raise GrammarError(
+            f"{grammar.name}: nothing to optimize: no attr is marked @Free (or all are fixed); "
+            "name some with --free"
+        )
+    parameters = []
+    for name in names:
+        if name not in ranges:
+            raise GrammarError(
+                f"{grammar.name}: attr {name!r} has no @Range, so it cannot be a free parameter"
+            )
+        spec = ranges[name]
+        lower, upper, initial = spec["min"], spec["max"], spec["value"]
+        if type(initial) is not float:
+            raise GrammarError(f"{grammar.name}: attr {name!r} is not a number")
+        if not (lower < upper):
+            raise GrammarError(f"{grammar.name}: attr {name!r} has an empty @Range")
+        parameters.append(FreeParameter(name, min(max(initial, lower), upper), lower, upper))
+    return parameters, attrs

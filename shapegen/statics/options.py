@@ -1,0 +1,108 @@
+"""The settings of a block analysis, as one frozen object checked once.
+
+>>> StaticsOptions(friction=0.5, kern=1 / 3).pyramid
+'4'
+>>> StaticsOptions.from_mapping({"frcition": 0.5})  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+...
+shapegen.errors.StaticsError: unknown statics option 'frcition' (did you mean 'friction'?); ...
+"""
+
+from __future__ import annotations
+
+__all__ = ["StaticsOptions", "SOLVERS", "AUTO_ORDER"]
+
+import dataclasses
+import difflib
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from shapegen.errors import StaticsError
+from shapegen.statics.assembly import PYRAMIDS
+from shapegen.statics.solvers import BACKENDS
+
+AUTO_ORDER = ("reduced", "clarabel")
+"""``solver="auto"``: the fastest back-end first, the next if it fails."""
+
+SOLVERS = ("auto", *BACKENDS)
+"""Valid values of :attr:`StaticsOptions.solver`."""
+
+
+@dataclass(frozen=True)
+class StaticsOptions:
+    """How a block model is analysed.
+
+    Attributes
+    ----------
+    friction
+        Coulomb coefficient mu of every joint (dimensionless, >= 0); None uses the model's own.
+    pyramid
+        Friction pyramid: ``"4"`` (|ft1|, |ft2| <= mu/sqrt(2) fn), ``"4r"`` (the same square
+        turned 45 degrees, |ft1| + |ft2| <= mu fn) or ``"8"`` (octagon inscribed in the cone).
+    kern
+        Every joint polygon is scaled about its centroid by this factor in (0, 1]: a geometric
+        factor of safety (1/3: forces through the middle third of a rectangular joint).
+    solver
+        QP back-end: ``"auto"`` (the reduced interior point method, Clarabel if it fails),
+        ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``.
+
+    Raises
+    ------
+    StaticsError
+        On construction, naming the option and its valid values.
+    """
+
+    friction: float | None = None
+    pyramid: str = "4"
+    kern: float = 1.0
+    solver: str = "auto"
+
+    def __post_init__(self) -> None:
+        if self.pyramid not in PYRAMIDS:
+            raise StaticsError(
+                f"pyramid must be one of {', '.join(PYRAMIDS)}; got {self.pyramid!r}"
+            )
+        if self.solver not in SOLVERS:
+            raise StaticsError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
+        kern = _number(self.kern)
+        if kern is None or not 0 < kern <= 1:
+            raise StaticsError(f"kern must be a number in (0, 1]; got {self.kern!r}")
+        object.__setattr__(self, "kern", kern)
+        if self.friction is not None:
+            friction = _number(self.friction)
+            if friction is None or friction < 0:
+                raise StaticsError(f"friction must be a finite number >= 0; got {self.friction!r}")
+            object.__setattr__(self, "friction", friction)
+
+    @classmethod
+    def from_mapping(cls, settings: Mapping[str, object]) -> StaticsOptions:
+        """Options from ``name -> value``; an unknown name is an error with a suggestion."""
+        names = [f.name for f in dataclasses.fields(cls)]
+        for name in settings:
+            if name not in names:
+                close = difflib.get_close_matches(str(name), names, n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                raise StaticsError(
+                    f"unknown statics option {name!r}{hint}; options: {', '.join(names)}"
+                )
+        return cls(**settings)
+
+    def shrunk(self, margin: float) -> StaticsOptions:
+        """The same options with every joint shrunk to ``1 - margin`` of the kern: a design that
+        stands with them stands with that geometric reserve."""
+        return dataclasses.replace(self, kern=self.kern * (1.0 - margin))
+
+    def to_report(self) -> dict:
+        """Plain JSON values."""
+        return dataclasses.asdict(self)
+
+
+def _number(value: object) -> float | None:
+    if isinstance(value, bool):
+        return None
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return None
+    return number if math.isfinite(number) else None

@@ -1,0 +1,99 @@
+"""How the infeasibility of an analysis changes when the geometry moves: the adjoint gradient.
+
+By the envelope theorem, the optimal value ``y`` of the tension-penalty QP changes to first order
+as ``dy = lambda . d(A f + w)``, with the optimal forces ``f`` and equilibrium multipliers
+``lambda`` of the one QP already solved: only the equilibrium matrix ``A`` and the wrench ``w``
+depend on the geometry. So a search needs one QP per gradient, whatever the number of
+parameters; each parameter costs only a rebuild and an assembly of the moved model (no QP).
+
+The moved model must keep the contact topology (same interfaces, same vertex count per
+interface); where it does not, :func:`infeasibility_change` returns None and the caller falls
+back to a finite difference of whole analyses.
+"""
+
+from __future__ import annotations
+
+__all__ = ["infeasibility_change"]
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from shapegen.errors import ShapegenError
+from shapegen.statics.analysis import Analysis
+from shapegen.statics.assembly import StaticsProblem, assemble
+from shapegen.statics.contacts import find_interfaces
+from shapegen.statics.options import StaticsOptions
+
+
+def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> float | None:
+    """First-order change of ``y / W^2`` from ``base``'s model to the ``moved`` model.
+
+    Parameters
+    ----------
+    base
+        The analysis of the original model (it carries the assembled problem, the forces and
+        the multipliers).
+    moved
+        The model after a small change of its geometry (same blocks, slightly moved).
+    options
+        The options ``base`` was analysed with.
+
+    Returns
+    -------
+    float or None
+        ``lambda . (A' f + w' - A f - w)`` in units of ``y / W^2``; divide by the parameter step
+        for a derivative. None when ``base`` has no multipliers, the moved model cannot be
+        assembled, or its contact topology differs.
+    """
+    problem = base.problem
+    if problem is None or base.multipliers is None:
+        return None
+    weight, length = problem.weight, problem.length
+    x = (base.forces / weight).T.ravel()
+    lam = base.multipliers.reshape(-1, 6).copy() / weight
+    lam[:, 3:] *= length
+    try:
+        moved_problem = assemble(
+            moved,
+            find_interfaces(moved),
+            friction=options.friction,
+            pyramid=options.pyramid,
+            kern=options.kern,
+        )
+    except ShapegenError:
+        return None
+    order = _match_vertices(problem, moved_problem)
+    if order is None or moved_problem.equality.shape != problem.equality.shape:
+        return None
+    m = problem.n_vertices
+    x_moved = x.reshape(4, m)[:, order].ravel()
+    change = moved_problem.residual(x_moved) - problem.residual(x)
+    return float(lam.ravel() @ change)
+
+
+def _match_vertices(problem: StaticsProblem, moved: StaticsProblem) -> np.ndarray | None:
+    """For each vertex of ``moved``, the vertex of ``problem`` it continues (same interface,
+    nearest position), or None when the contact topology differs."""
+    if moved.n_vertices != problem.n_vertices or moved.n_free != problem.n_free:
+        return None
+    if not np.array_equal(moved.vertex_interface, problem.vertex_interface):
+        return None
+    pairs_old = [(i.first, i.second) for i in problem.interfaces]
+    pairs_new = [(i.first, i.second) for i in moved.interfaces]
+    if pairs_old != pairs_new:
+        return None
+    if problem.n_vertices == 0:
+        return np.zeros(0, int)
+    # Neighbouring joints share corners (four course joints meet at a block's corner), so match
+    # each vertex among its own interface's vertices only: a fourth coordinate, the interface
+    # number times a length far beyond the model, keeps interfaces apart in the search.
+    points_old, points_new = problem.vertex_points, moved.vertex_points
+    apart = 1e3 * (1.0 + float(np.ptp(points_old)) + float(np.abs(points_old).max()))
+    _, nearest = cKDTree(np.column_stack([points_old, problem.vertex_interface * apart])).query(
+        np.column_stack([points_new, moved.vertex_interface * apart])
+    )
+    if not np.array_equal(problem.vertex_interface[nearest], moved.vertex_interface):
+        return None
+    if len(np.unique(nearest)) != len(nearest):
+        return None
+    return nearest

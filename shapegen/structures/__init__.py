@@ -1,0 +1,27 @@
+"""Structures: how a built design is judged to stand (rigid-block statics, cable model, plug-ins).
+
+>>> from shapegen.structures import make_structure, available_structures
+>>> available_structures()
+['blocks', 'cable']
+"""
+
+from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
+from shapegen.structures.registry import (
+    DEFAULT_STRUCTURE,
+    available_structures,
+    make_structure,
+    register_structure,
+    structure_class,
+)
+
+__all__ = [
+    "Assessment",
+    "DEFAULT_STRUCTURE",
+    "Design",
+    "Structure",
+    "StructureArgument",
+    "available_structures",
+    "make_structure",
+    "register_structure",
+    "structure_class",
+]

@@ -1,0 +1,197 @@
+"""What a structure is: how a built design is judged to stand, and by how much it fails.
+
+A :class:`Structure` takes a :class:`Design` (a model, built on first use, and the keyword
+arguments of the grammar's ``@Structure(...)``) and returns an :class:`Assessment`: a verdict, a
+scalar ``measure`` that is zero exactly when the design stands, a solver status and a report
+section. A structure that knows how its measure moves with the geometry also gives
+:meth:`Structure.measure_change`, from which the search builds a gradient.
+"""
+
+from __future__ import annotations
+
+__all__ = ["Assessment", "Design", "Structure", "StructureArgument"]
+
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+from shapegen.errors import GeometryError
+from shapegen.json_values import finite_or_none
+from shapegen.model import Model
+
+_REQUIRED = object()
+
+
+@dataclass(frozen=True)
+class StructureArgument:
+    """A keyword argument a structure reads from ``@Structure(name, keyword = expression)``."""
+
+    description: str
+    default: object = _REQUIRED
+
+    @property
+    def required(self) -> bool:
+        return self.default is _REQUIRED
+
+
+class Design:
+    """One design to judge: its model, built on first use, and its ``@Structure`` arguments.
+
+    Parameters
+    ----------
+    arguments
+        ``keyword -> value`` of the grammar's ``@Structure(...)``, evaluated for this design.
+    model
+        The built model, or None to build it with ``build`` when a structure first asks.
+    build
+        Builds the model (a structure that judges from its arguments alone never calls it).
+    """
+
+    def __init__(
+        self,
+        arguments: Mapping[str, object] | None = None,
+        *,
+        model: Model | None = None,
+        build: Callable[[], Model] | None = None,
+    ):
+        if model is None and build is None:
+            raise ValueError("a Design needs a model or a way to build one")
+        self.arguments = dict(arguments or {})
+        self._model = model
+        self._build = build
+
+    @classmethod
+    def of_model(cls, model: Model) -> Design:
+        """The design of a built model, with the arguments recorded in its metadata."""
+        recorded = (model.metadata or {}).get("structure") or {}
+        return cls(recorded.get("arguments") or {}, model=model)
+
+    @property
+    def built(self) -> bool:
+        """True once the model exists."""
+        return self._model is not None
+
+    @property
+    def model(self) -> Model:
+        """The model, built now if it was not yet."""
+        if self._model is None:
+            self._model = self._build()
+        return self._model
+
+
+@dataclass
+class Assessment:
+    """A structure's judgement of one design.
+
+    Attributes
+    ----------
+    structure
+        The structure's registered name.
+    stands
+        The verdict.
+    measure
+        Zero exactly when the design stands, positive otherwise (dimensionless; inf when no
+        equilibrium exists at all, nan when the solver failed).
+    status
+        The solver's outcome (``"optimal"``, ``"infeasible"``, ...), never an exception.
+    section
+        The structure's report section (plain JSON values).
+    detail
+        The structure's own result (a block :class:`~shapegen.statics.analysis.Analysis`, a
+        :class:`~shapegen.statics.cables.CableSizing`), for pictures and exports.
+    margin
+        The reserve the verdict was judged with (0: none).
+    """
+
+    structure: str
+    stands: bool
+    measure: float
+    status: str
+    section: dict = field(default_factory=dict)
+    detail: object = field(default=None, repr=False)
+    margin: float = 0.0
+
+    @property
+    def ok(self) -> bool:
+        """True when the measure is a finite number (the design could be judged)."""
+        return math.isfinite(self.measure)
+
+    def to_report(self) -> dict:
+        """The ``analysis`` object of a report: the verdict first, then the structure's section."""
+        return {
+            "structure": self.structure,
+            "stands": bool(self.stands),
+            "measure": finite_or_none(self.measure),
+            "status": self.status,
+            "margin": self.margin,
+            **self.section,
+        }
+
+
+class Structure(ABC):
+    """How a design is judged. Subclasses are registered with
+    :func:`~shapegen.structures.registry.register_structure`.
+
+    Class attributes
+    ----------------
+    name
+        The name used in ``@Structure("name")`` (``"blocks"``, the default, needs none).
+    description
+        One line for help texts.
+    measure_name
+        What the measure is, for reports and plots (``"y/W²"``).
+    arguments
+        The ``@Structure`` keyword arguments it reads.
+    options_type
+        The type of its settings object (None: it has none).
+    needs_model
+        False when it judges from its arguments alone: a search then builds no model.
+    has_gradient
+        True when :meth:`measure_change` gives first-order changes of the measure.
+    """
+
+    name: ClassVar[str]
+    description: ClassVar[str] = ""
+    measure_name: ClassVar[str] = "measure"
+    arguments: ClassVar[Mapping[str, StructureArgument]] = {}
+    options_type: ClassVar[type | None] = None
+    needs_model: ClassVar[bool] = True
+    has_gradient: ClassVar[bool] = False
+
+    def __init__(self, options: object | None = None):
+        if options is not None and (
+            self.options_type is None or not isinstance(options, self.options_type)
+        ):
+            raise TypeError(f"structure {self.name!r} takes no {type(options).__name__}")
+        self.options = (
+            options if options is not None or self.options_type is None else (self.options_type())
+        )
+
+    @abstractmethod
+    def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
+        """Judge ``design``; with ``margin`` in [0, 1), judge it with that reserve (a design that
+        stands with a margin stands without one)."""
+
+    def measure_change(self, base: Assessment, moved: Design) -> float | None:
+        """First-order change of the measure from ``base``'s design to ``moved`` (a design a
+        small step away), or None when it is not known there."""
+        return None
+
+    def checked_arguments(self, arguments: Mapping[str, object]) -> dict[str, object]:
+        """The arguments with defaults filled in; a missing or unknown one is an error."""
+        unknown = sorted(set(arguments) - set(self.arguments))
+        if unknown:
+            raise GeometryError(
+                f"@Structure({self.name!r}) has no argument {unknown[0]!r}; its arguments: "
+                + (", ".join(self.arguments) or "none")
+            )
+        missing = [n for n, a in self.arguments.items() if a.required and n not in arguments]
+        if missing:
+            raise GeometryError(
+                f"@Structure({self.name!r}) needs the argument(s) {', '.join(missing)}"
+            )
+        return {
+            name: arguments.get(name, argument.default) for name, argument in self.arguments.items()
+        }

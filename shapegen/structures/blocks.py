@@ -1,0 +1,48 @@
+"""Rigid-block statics as a structure: the tension-penalty QP of Whiting et al. 2009.
+
+The measure is ``y / W^2``, the least sum of squared joint tensions that holds every block in
+equilibrium, over the squared weight; zero exactly when the assembly stands with compression and
+friction alone. A margin shrinks every joint about its centroid (the kern) to ``1 - margin`` of
+its size. The adjoint gradient of :mod:`shapegen.statics.sensitivity` gives the measure's change.
+"""
+
+from __future__ import annotations
+
+__all__ = ["BlockStatics"]
+
+from shapegen.statics.analysis import analyze
+from shapegen.statics.options import StaticsOptions
+from shapegen.statics.sensitivity import infeasibility_change
+from shapegen.structures.base import Assessment, Design, Structure
+from shapegen.structures.registry import register_structure
+
+
+@register_structure
+class BlockStatics(Structure):
+    """Compression-only, frictional rigid blocks under their own weight and point loads."""
+
+    name = "blocks"
+    description = "rigid-block statics: compression-only frictional joints (Whiting et al. 2009)"
+    measure_name = "y/W²"
+    options_type = StaticsOptions
+    has_gradient = True
+
+    options: StaticsOptions
+
+    def _options(self, margin: float) -> StaticsOptions:
+        return self.options.shrunk(margin) if margin > 0 else self.options
+
+    def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
+        analysis = analyze(design.model, self._options(margin))
+        return Assessment(
+            structure=self.name,
+            stands=bool(analysis.feasible),
+            measure=float(analysis.infeasibility_normalized),
+            status=analysis.status.value,
+            section=analysis.to_report(),
+            detail=analysis,
+            margin=float(margin),
+        )
+
+    def measure_change(self, base: Assessment, moved: Design) -> float | None:
+        return infeasibility_change(base.detail, moved.model, self._options(base.margin))

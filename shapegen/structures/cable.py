@@ -1,0 +1,87 @@
+"""Suspension-bridge cables as a structure: the cable model of Patow 2012.
+
+The rule file computes the bridge's layout and hands the cable model what it needs through its
+start rule's annotation::
+
+    @Structure("cable", main_span = main_span, sag = sag, side_span = side_span,
+               lanes = lanes, tracks = tracks, cables = cables,
+               golden_factor = golden_factor, safety_factor = safety_factor,
+               max_cable_diameter = max_cable_diameter)
+
+The design stands when the governing cable diameter is at most ``max_cable_diameter``; the
+measure is the squared relative excess ``max(0, d / d_max - 1)^2``. Its square root is affine in
+``d`` above the limit, so a derivative-free search on it follows the paper's search on the
+diameter itself. The verdict needs no geometry: a search judges a bridge from these arguments
+alone and builds the model once, at the end. With a margin the limit is ``(1 - margin) d_max``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["CableModel"]
+
+import math
+
+from shapegen.errors import GeometryError
+from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
+from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
+from shapegen.structures.registry import register_structure
+
+
+@register_structure
+class CableModel(Structure):
+    """Main cables sized by their peak tension against the largest acceptable diameter."""
+
+    name = "cable"
+    description = "suspension-bridge main cables sized by their peak tension (Patow 2012)"
+    measure_name = "(d/d_max - 1)²"
+    needs_model = False
+    arguments = {
+        "main_span": StructureArgument("each main span, tower to tower, m"),
+        "sag": StructureArgument("sag of the main span below the saddles, m"),
+        "side_span": StructureArgument("each of the two side spans, m", 0.0),
+        "lanes": StructureArgument("road lanes over all decks"),
+        "tracks": StructureArgument("railway tracks (each loads like a lane)", 0),
+        "cables": StructureArgument("main cables sharing the load", 2),
+        "golden_factor": StructureArgument("deck mass per metre and lane, kg/m", GOLDEN_FACTOR),
+        "safety_factor": StructureArgument("breaking strength over peak tension", SAFETY_FACTOR),
+        "max_cable_diameter": StructureArgument("largest acceptable cable diameter, m"),
+    }
+
+    def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
+        values = self.checked_arguments(design.arguments)
+        limit = values.pop("max_cable_diameter")
+        if isinstance(limit, bool) or not isinstance(limit, int | float) or not limit > 0:
+            raise GeometryError(f"max_cable_diameter must be a positive length, got {limit!r}")
+        numbers = {}
+        for name, value in values.items():
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise GeometryError(f"@Structure('cable') argument {name!r} must be a number")
+            numbers[name] = value
+        sizing = bridge_cables(**numbers)
+        allowed = float(limit) * (1.0 - margin)
+        excess = sizing.diameter / allowed - 1.0
+        stands = sizing.diameter <= allowed
+        section = {
+            "main_span": sizing.main_span,
+            "sag": sizing.sag,
+            "side_span": sizing.side_span,
+            "cable_diameter": sizing.diameter,
+            "main_span_diameter": sizing.main_span_diameter,
+            "side_span_diameter": sizing.side_span_diameter,
+            "governing": sizing.governing,
+            "cable_area": sizing.area,
+            "max_tension": sizing.max_tension,
+            "horizontal_tension": sizing.horizontal_tension,
+            "load_per_metre": sizing.load_per_metre,
+            "max_cable_diameter": float(limit),
+            "allowed_diameter": allowed,
+        }
+        return Assessment(
+            structure=self.name,
+            stands=bool(stands),
+            measure=0.0 if stands else (excess**2 if math.isfinite(excess) else math.inf),
+            status="optimal",
+            section=section,
+            detail=sizing,
+            margin=float(margin),
+        )
