@@ -184,3 +184,15 @@ def test_point_load_enters_equilibrium(backend):
 def test_a_loaded_block_without_contacts_is_infeasible(backend):
     problem = assemble(Model([Block.box((0, 1, 0), (1, 2, 1))]), [])
     assert get_backend(backend).solve(problem).status is SolveStatus.INFEASIBLE
+
+
+@pytest.mark.parametrize("nf", [0, 1, 7])
+def test_block_ordering_is_a_permutation(nf):
+    from shapegen.statics.solvers.normal_equations import _block_ordering
+
+    # A chain of blocks 0 - 1 - ... - (nf - 1), each also on its own diagonal.
+    rows = np.concatenate([np.arange(nf - 1), np.arange(nf)]) if nf else np.zeros(0, int)
+    cols = np.concatenate([np.arange(1, nf), np.arange(nf)]) if nf else np.zeros(0, int)
+    order = _block_ordering(rows, cols, nf)
+    assert order.dtype == np.int64
+    assert sorted(order.tolist()) == list(range(nf))

@@ -8,7 +8,8 @@ fill-reducing ordering are computed once and kept in ``problem.cache``. Each ite
 recomputes the values and factors them.
 
 Ordering: approximate minimum degree on the *block* graph (one node per free block, expanded to
-its six rows), computed once with QDLDL's AMD. Factorisation: SuperLU (supernodal) on the
+its six rows), computed once with QDLDL's AMD (``qdldl`` is a dependency of shapegen, so this
+ordering is always the one used). Factorisation: SuperLU (supernodal) on the
 symmetrically pre-permuted matrix with the natural column order and no pivoting, which is an
 LDL^T-like factorisation of the SPD matrix; it was measured faster than QDLDL's column-by-column
 LDL^T on walls above ~2 000 blocks and on par below.
@@ -21,6 +22,7 @@ __all__ = ["NormalEquations", "NormalPattern"]
 from dataclasses import dataclass
 
 import numpy as np
+import qdldl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -44,20 +46,15 @@ class NormalPattern:
 
 
 def _block_ordering(block_rows: np.ndarray, block_cols: np.ndarray, nf: int) -> np.ndarray:
-    """AMD order of the block adjacency graph (falls back to reverse Cuthill-McKee)."""
+    """AMD order of the block adjacency graph, as QDLDL computes it."""
+    if nf == 0:
+        return np.empty(0, dtype=np.int64)  # QDLDL refuses an empty matrix
     pattern = sp.coo_matrix((np.ones(len(block_rows)), (block_rows, block_cols)), shape=(nf, nf))
     pattern = (pattern + pattern.T).tocsc()
     pattern.data[:] = -1.0
     # strictly diagonally dominant, so QDLDL's factorisation (only used for its ordering) succeeds
     graph = (pattern + sp.diags(np.full(nf, float(nf + 2)))).tocsc()
-    try:
-        import qdldl
-
-        return np.asarray(qdldl.Solver(graph).factors()[2], dtype=np.int64)
-    except Exception:  # noqa: BLE001 - any failure of the optional ordering: use RCM
-        from scipy.sparse.csgraph import reverse_cuthill_mckee
-
-        return np.asarray(reverse_cuthill_mckee(graph.tocsr(), symmetric_mode=True), np.int64)
+    return np.asarray(qdldl.Solver(graph).factors()[2], dtype=np.int64)
 
 
 def build_pattern(problem) -> NormalPattern:
