@@ -40,7 +40,10 @@ def test_optimize_writes_a_standing_model_and_the_optimization_report(stack, tmp
     for key in (
         "converged",
         "iterations",
-        "qp_solves",
+        "evaluations",
+        "method",
+        "structure",
+        "fixed",
         "seconds",
         "seconds_per_iteration",
         "initial_infeasibility",
@@ -74,7 +77,10 @@ def test_free_fix_and_closest(stack, tmp_path):
     [
         (["--optimize", "--free", "bsae"], "did you mean 'base'"),
         (["--free", "base"], "only apply with --optimize"),
-        (["--optimize", "--max-iter", "0"], "--max-iter must be at least 1"),
+        (["--optimize", "--max-iter", "0"], "--max-iter: must be at least 1"),
+        (["--margin", "0.1"], "--margin only apply with --optimize"),
+        (["--gradient", "forward"], "--gradient only apply with --optimize"),
+        (["--friction", "0.5"], "--friction: they apply with --analyze or --optimize"),
         (["--optimize", "--objective", "nearest"], "invalid choice"),
     ],
 )

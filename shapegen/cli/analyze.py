@@ -68,9 +68,9 @@ def run(args: argparse.Namespace) -> int:
             f" the {recorded!r} structure it records"
         )
     assessment = make_structure(recorded, options).assess(design)
-    report = {"model": name, "analysis": assessment.to_report()}
+    report = {"model": name, **assessment.to_report()}
     write_all(encode_outputs(model, assessment, report, model_path=args.output,
                              report_path=args.report))  # fmt: skip
     if not args.quiet:
-        print_analysis(name, report["analysis"])
+        print_analysis(name, report)
     return EXIT_OK

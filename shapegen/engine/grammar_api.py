@@ -15,6 +15,7 @@ from __future__ import annotations
 
 __all__ = ["Grammar", "load_grammar", "bundled_rules"]
 
+import difflib
 import os
 from collections.abc import Mapping
 from pathlib import Path
@@ -188,10 +189,12 @@ def _as_path(path_or_text: str | os.PathLike) -> Path | None:
         bundled = find_bundled_rule(path.name)
         if bundled is not None:
             return bundled
-    available = ", ".join(bundled_rules()) or "none"
+    names = bundled_rules()
+    close = difflib.get_close_matches(path.name, names, n=1)
+    hint = f"; did you mean {close[0]!r}?" if close else ""
     raise GrammarError(
         f"no grammar file {str(path)!r} (not in the working directory nor among the bundled "
-        f"rules: {available})"
+        f"rules: {', '.join(names) or 'none'}){hint}"
     )
 
 
