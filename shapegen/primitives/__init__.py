@@ -1,13 +1,6 @@
 """Template primitives: convex-block assemblies fitted to a scope (arch, vault, dome, wall...)."""
 
-from shapegen.primitives.registry import (
-    Choice,
-    Primitive,
-    available,
-    get,
-    insert,
-    primitive,
-    require,
-)
+from shapegen.primitives.library import available, get, insert
+from shapegen.primitives.registry import Choice, Primitive, primitive, require
 
 __all__ = ["Choice", "Primitive", "available", "get", "insert", "primitive", "require"]

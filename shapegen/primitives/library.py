@@ -1,12 +1,63 @@
-"""Imports every built-in primitive module so that each registers itself."""
+"""The catalogue of primitives: the built-in ones, then the plug-ins of the entry-point group
+``shapegen.primitives``, loaded on first use; found by name."""
 
-from shapegen.primitives import (
-    arch,  # noqa: F401
-    box,  # noqa: F401
-    bridge,  # noqa: F401
-    buttress,  # noqa: F401
-    column,  # noqa: F401
-    dome,  # noqa: F401
-    vault,  # noqa: F401
-    wall,  # noqa: F401
+from __future__ import annotations
+
+__all__ = ["available", "get", "insert"]
+
+import difflib
+from importlib.metadata import entry_points
+
+from shapegen.errors import GeometryError
+from shapegen.model import Block, Scope
+from shapegen.primitives import (  # noqa: F401  (each module registers its primitives)
+    arch,
+    box,
+    bridge,
+    buttress,
+    column,
+    dome,
+    registry,
+    vault,
+    wall,
 )
+from shapegen.primitives.registry import Primitive
+
+_discovered = False
+
+
+def _discover() -> None:
+    global _discovered
+    if _discovered:
+        return
+    _discovered = True
+    for entry in entry_points(group="shapegen.primitives"):
+        try:
+            entry.load()
+        except Exception as exc:  # a broken plug-in must not break the built-in primitives
+            raise GeometryError(
+                f"cannot load primitives from {entry.value!r} (entry point {entry.name!r}): {exc}"
+            ) from None
+
+
+def get(name: str) -> Primitive:
+    """The primitive registered as ``name``; the error suggests close names."""
+    _discover()
+    if name not in registry.REGISTRY:
+        close = difflib.get_close_matches(name, list(registry.REGISTRY), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise GeometryError(
+            f"unknown primitive {name!r}{hint}; available: {', '.join(sorted(registry.REGISTRY))}"
+        )
+    return registry.REGISTRY[name]
+
+
+def available() -> list[str]:
+    """Names of all registered primitives, sorted."""
+    _discover()
+    return sorted(registry.REGISTRY)
+
+
+def insert(name: str, scope: Scope, **params) -> list[Block]:
+    """Blocks of primitive ``name`` fitted to ``scope`` (world coordinates)."""
+    return get(name)(scope, **params)

@@ -24,9 +24,6 @@ __all__ = [
     "Choice",
     "Primitive",
     "primitive",
-    "insert",
-    "available",
-    "get",
     "require",
     "REGISTRY",
 ]
@@ -36,7 +33,6 @@ import inspect
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from importlib.metadata import entry_points
 
 import numpy as np
 
@@ -122,7 +118,6 @@ class Primitive:
 
 
 REGISTRY: dict[str, Primitive] = {}
-_discovered = False
 
 
 def primitive(name: str, *, replace: bool = False) -> Callable[[Callable], Callable]:
@@ -160,45 +155,6 @@ def primitive(name: str, *, replace: bool = False) -> Callable[[Callable], Calla
 def _origin(function: Callable) -> str:
     """``module.qualified_name`` of a function (the same after a module is reloaded)."""
     return f"{getattr(function, '__module__', '?')}.{getattr(function, '__qualname__', '?')}"
-
-
-def _discover() -> None:
-    global _discovered
-    if _discovered:
-        return
-    _discovered = True
-    from shapegen.primitives import library  # noqa: F401  (registers the built-in primitives)
-
-    for entry in entry_points(group="shapegen.primitives"):
-        try:
-            entry.load()
-        except Exception as exc:  # a broken plug-in must not break the built-in primitives
-            raise GeometryError(
-                f"cannot load primitives from {entry.value!r} (entry point {entry.name!r}): {exc}"
-            ) from None
-
-
-def get(name: str) -> Primitive:
-    """The primitive registered as ``name``; the error suggests close names."""
-    _discover()
-    if name not in REGISTRY:
-        close = difflib.get_close_matches(name, list(REGISTRY), n=1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise GeometryError(
-            f"unknown primitive {name!r}{hint}; available: {', '.join(sorted(REGISTRY))}"
-        )
-    return REGISTRY[name]
-
-
-def available() -> list[str]:
-    """Names of all registered primitives, sorted."""
-    _discover()
-    return sorted(REGISTRY)
-
-
-def insert(name: str, scope: Scope, **params) -> list[Block]:
-    """Blocks of primitive ``name`` fitted to ``scope`` (world coordinates)."""
-    return get(name)(scope, **params)
 
 
 def _convert(owner: str, parameter: Parameter, value: object) -> object:

@@ -6,13 +6,8 @@
 """
 
 from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
-from shapegen.structures.registry import (
-    DEFAULT_STRUCTURE,
-    available_structures,
-    make_structure,
-    register_structure,
-    structure_class,
-)
+from shapegen.structures.lookup import available_structures, make_structure, structure_class
+from shapegen.structures.registry import DEFAULT_STRUCTURE, register_structure
 
 __all__ = [
     "Assessment",

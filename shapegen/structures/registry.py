@@ -11,25 +11,15 @@ in a module that an installed package names in its entry-point group ``shapegen.
 
 from __future__ import annotations
 
-__all__ = [
-    "DEFAULT_STRUCTURE",
-    "available_structures",
-    "make_structure",
-    "register_structure",
-    "structure_class",
-]
+__all__ = ["DEFAULT_STRUCTURE", "REGISTRY", "register_structure"]
 
-import difflib
-from importlib.metadata import entry_points
-
-from shapegen.errors import GeometryError, OptionError
+from shapegen.errors import GeometryError
 from shapegen.structures.base import Structure
 
 DEFAULT_STRUCTURE = "blocks"
 """The structure of a grammar without ``@Structure(...)``: rigid-block statics."""
 
 REGISTRY: dict[str, type[Structure]] = {}
-_discovered = False
 
 
 def register_structure(cls: type[Structure] | None = None, *, replace: bool = False):
@@ -55,58 +45,3 @@ def register_structure(cls: type[Structure] | None = None, *, replace: bool = Fa
         return structure
 
     return register(cls) if cls is not None else register
-
-
-def _discover() -> None:
-    global _discovered
-    if _discovered:
-        return
-    _discovered = True
-    from shapegen.structures import blocks, cable  # noqa: F401  (register the built-in ones)
-
-    for entry in entry_points(group="shapegen.structures"):
-        try:
-            entry.load()
-        except Exception as exc:  # a broken plug-in must not break the built-in structures
-            raise GeometryError(
-                f"cannot load structures from {entry.value!r} (entry point {entry.name!r}): {exc}"
-            ) from None
-
-
-def structure_class(name: str | None) -> type[Structure]:
-    """The structure registered as ``name`` (None: the default); the error suggests names."""
-    _discover()
-    name = DEFAULT_STRUCTURE if name is None else name
-    if name not in REGISTRY:
-        close = difflib.get_close_matches(str(name), list(REGISTRY), n=1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise GeometryError(
-            f"unknown structure {name!r}{hint}; known: {', '.join(available_structures())}"
-        )
-    return REGISTRY[name]
-
-
-def available_structures() -> list[str]:
-    """Names of every registered structure, sorted."""
-    _discover()
-    return sorted(REGISTRY)
-
-
-def make_structure(name: str | None, options: object | None = None) -> Structure:
-    """A structure ready to judge designs, with ``options`` (None: its defaults).
-
-    Raises
-    ------
-    OptionError
-        When ``options`` mean nothing for that structure (for example block-statics options for
-        a design judged by its cables): refused, never dropped.
-    """
-    cls = structure_class(name)
-    if options is not None and (
-        cls.options_type is None or not isinstance(options, cls.options_type)
-    ):
-        raise OptionError(
-            f"{type(options).__name__} does not apply to the structure {cls.name!r}"
-            f" ({cls.description})"
-        )
-    return cls(options)

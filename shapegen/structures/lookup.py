@@ -1,0 +1,69 @@
+"""Finding structures by name: the built-in ones, then the plug-ins of the entry-point group
+``shapegen.structures``, loaded on first use."""
+
+from __future__ import annotations
+
+__all__ = ["available_structures", "make_structure", "structure_class"]
+
+import difflib
+from importlib.metadata import entry_points
+
+from shapegen.errors import GeometryError, OptionError
+from shapegen.structures import blocks, cable, registry  # noqa: F401  (register the built-in ones)
+from shapegen.structures.base import Structure
+from shapegen.structures.registry import DEFAULT_STRUCTURE
+
+_discovered = False
+
+
+def _discover() -> None:
+    global _discovered
+    if _discovered:
+        return
+    _discovered = True
+    for entry in entry_points(group="shapegen.structures"):
+        try:
+            entry.load()
+        except Exception as exc:  # a broken plug-in must not break the built-in structures
+            raise GeometryError(
+                f"cannot load structures from {entry.value!r} (entry point {entry.name!r}): {exc}"
+            ) from None
+
+
+def structure_class(name: str | None) -> type[Structure]:
+    """The structure registered as ``name`` (None: the default); the error suggests names."""
+    _discover()
+    name = DEFAULT_STRUCTURE if name is None else name
+    if name not in registry.REGISTRY:
+        close = difflib.get_close_matches(str(name), list(registry.REGISTRY), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise GeometryError(
+            f"unknown structure {name!r}{hint}; known: {', '.join(available_structures())}"
+        )
+    return registry.REGISTRY[name]
+
+
+def available_structures() -> list[str]:
+    """Names of every registered structure, sorted."""
+    _discover()
+    return sorted(registry.REGISTRY)
+
+
+def make_structure(name: str | None, options: object | None = None) -> Structure:
+    """A structure ready to judge designs, with ``options`` (None: its defaults).
+
+    Raises
+    ------
+    OptionError
+        When ``options`` mean nothing for that structure (for example block-statics options for
+        a design judged by its cables): refused, never dropped.
+    """
+    cls = structure_class(name)
+    if options is not None and (
+        cls.options_type is None or not isinstance(options, cls.options_type)
+    ):
+        raise OptionError(
+            f"{type(options).__name__} does not apply to the structure {cls.name!r}"
+            f" ({cls.description})"
+        )
+    return cls(options)
