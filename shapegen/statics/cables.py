@@ -433,9 +433,14 @@ def bridge_cables(
     GeometryError, StaticsError
         Naming the input, for a span, sag or loading that cannot be sized.
     """
-    for name, value in (("main_span", main_span), ("sag", sag), ("side_span", side_span)):
-        if not math.isfinite(value) or value < 0 or (value == 0 and name != "side_span"):
+    for name, value in (("main_span", main_span), ("sag", sag)):
+        if not (math.isfinite(value) and value > 0):
             raise GeometryError(f"cable {name} must be a positive length in metres, got {value:g}")
+    if not (math.isfinite(side_span) and side_span >= 0):
+        raise GeometryError(
+            f"side_span {side_span:g} m: the main spans are longer than the bridge (each side"
+            " span must be 0 m or more); shorten main_span or lengthen the bridge"
+        )
     if sag >= main_span / 2.0:
         raise GeometryError(
             f"cable sag {sag:g} m must be less than half the main span ({main_span / 2.0:g} m)"
