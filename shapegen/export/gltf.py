@@ -29,7 +29,9 @@ from trimesh.visual.material import PBRMaterial
 from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION
 from shapegen.export.colors import RESULTANT, block_label_color, tension_colors, tension_levels
 from shapegen.export.meshes import block_mesh
+from shapegen.json_values import json_ready
 from shapegen.model.model import Model
+from shapegen.tolerances import FORCE_NOISE_REL
 
 ARROW_LENGTH_REL = 0.15  # the largest resultant arrow, as a fraction of the model size
 ARROW_WIDTH_REL = 0.006  # arrow shaft width, as a fraction of the model size
@@ -130,7 +132,7 @@ def resultant_arrows(model: Model, analysis) -> tuple[trimesh.Trimesh | None, fl
     peak = float(magnitude[drawable].max()) if drawable.any() else 0.0
     if peak <= 0:
         return None, 0.0, 0
-    drawable &= magnitude > 1e-6 * peak
+    drawable &= magnitude > FORCE_NOISE_REL * peak
     size = model.size
     metres_per_newton = ARROW_LENGTH_REL * size / peak
     length = magnitude[drawable] * metres_per_newton
@@ -216,9 +218,12 @@ def _scene_extras(model: Model, analysis) -> dict:
             for load in model.loads
         ],
     }
+    structure = (model.metadata or {}).get("structure")
+    if structure:
+        extras["structure"] = json_ready(structure)
     if analysis is not None:
         extras["analysis"] = {
-            key: _plain(getattr(analysis, key, None))
+            key: json_ready(getattr(analysis, key, None))
             for key in (
                 "status",
                 "feasible",
@@ -229,14 +234,3 @@ def _scene_extras(model: Model, analysis) -> dict:
             )
         }
     return extras
-
-
-def _plain(value):
-    """A JSON-friendly scalar (numpy scalars and enum-like statuses become plain values)."""
-    if value is None or isinstance(value, (bool, int, str)):
-        return value
-    if isinstance(value, (float, np.floating)):
-        return float(value) if np.isfinite(value) else None
-    if isinstance(value, np.bool_):
-        return bool(value)
-    return str(getattr(value, "value", value))

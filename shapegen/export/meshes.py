@@ -36,6 +36,7 @@ from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION, model_from_dict
 from shapegen.model.block import Block
 from shapegen.model.model import Model
+from shapegen.tolerances import FLAT_REL
 
 MESH_READ_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
 
@@ -136,7 +137,7 @@ def read_mesh_model(path: str | Path) -> Model:
     }
     settings = scene.metadata if isinstance(scene.metadata, dict) else {}
     if settings.get("format") == FORMAT_NAME:
-        for key in ("gravity", "ground", "friction", "loads"):
+        for key in ("gravity", "ground", "friction", "loads", "structure"):
             if key in settings:
                 document[key] = settings[key]
     try:
@@ -272,7 +273,7 @@ def _is_flat(points: np.ndarray) -> bool:
     if scale == 0:
         return True
     singular = np.linalg.svd(centered / scale, compute_uv=False)
-    return bool(singular[-1] < 1e-9 * singular[0])
+    return bool(singular[-1] < FLAT_REL * singular[0])
 
 
 def _convex_points(points: np.ndarray, mesh_volume: float | None, block_id: str) -> np.ndarray:

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shapegen.errors import StaticsError
+from shapegen.json_values import finite_or_none
 from shapegen.statics.assembly import StaticsProblem, assemble
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import AUTO_ORDER, StaticsOptions
@@ -106,11 +107,7 @@ class Analysis:
 
     def to_report(self) -> dict:
         """A JSON-ready summary (plain Python numbers and strings)."""
-
-        def number(value: float):
-            value = float(value)
-            return value if np.isfinite(value) else None
-
+        number = finite_or_none
         return {
             "blocks": int(self.n_blocks),
             "interfaces": len(self.interfaces),
