@@ -6,7 +6,7 @@ it without importing each other.
 """
 
 from shapegen.model.block import DEFAULT_DENSITY, Block
-from shapegen.model.model import GRAVITY, Model, PointLoad
+from shapegen.model.model import GRAVITY, STANDARD_GRAVITY, Model, PointLoad
 from shapegen.model.scope import Scope
 
-__all__ = ["Block", "DEFAULT_DENSITY", "GRAVITY", "Model", "PointLoad", "Scope"]
+__all__ = ["Block", "DEFAULT_DENSITY", "GRAVITY", "STANDARD_GRAVITY", "Model", "PointLoad", "Scope"]

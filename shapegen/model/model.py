@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["Model", "PointLoad", "GRAVITY"]
+__all__ = ["Model", "PointLoad", "GRAVITY", "STANDARD_GRAVITY"]
 
 from dataclasses import dataclass, field
 
@@ -12,7 +12,10 @@ from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.tolerances import DEFAULT, Tolerances
 
-GRAVITY = (0.0, -9.81, 0.0)  # m/s^2, y up
+STANDARD_GRAVITY = 9.81
+"""The acceleration of gravity, m/s^2: the project's one value."""
+
+GRAVITY = (0.0, -STANDARD_GRAVITY, 0.0)  # m/s^2, y up
 
 
 @dataclass

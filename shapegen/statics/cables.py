@@ -41,6 +41,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from shapegen.errors import GeometryError, StaticsError
+from shapegen.model.model import STANDARD_GRAVITY
 
 GOLDEN_FACTOR = 5300.0
 """Deck mass carried by the cables per metre of bridge and per lane (kg/m per lane)."""
@@ -48,7 +49,7 @@ GOLDEN_FACTOR = 5300.0
 SAFETY_FACTOR = 3.0
 """Ratio of the strand's breaking strength to the cable's peak tension (dimensionless)."""
 
-GRAVITY = 9.81
+GRAVITY = STANDARD_GRAVITY
 """Acceleration of gravity (m/s^2), the project's value."""
 
 POUND_FORCE = 4.4482216152605
