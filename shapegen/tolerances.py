@@ -3,11 +3,23 @@
 Geometric tolerances are relative to the model's size ``L`` (the diagonal of its bounding box, in
 metres) so that a 10 cm model and a 100 m cathedral behave the same. ``Tolerances.for_size(L)``
 turns the relative values into absolute ones.
+
+The module-level constants below the class are the tolerances that do not scale with a model:
+round-off slack of sums and ratios, and the force below which a statics result is noise.
 """
 
 from __future__ import annotations
 
-__all__ = ["Tolerances", "DEFAULT"]
+__all__ = [
+    "Tolerances",
+    "DEFAULT",
+    "ROUNDOFF_REL",
+    "PERCENT_SLACK",
+    "SPLIT_SLACK_REL",
+    "REPEAT_SLACK",
+    "FLAT_REL",
+    "FORCE_NOISE_REL",
+]
 
 from dataclasses import dataclass, replace
 
@@ -88,3 +100,30 @@ class Tolerances:
 
 
 DEFAULT = Tolerances()
+
+
+#: Floating-point round-off of a computed coordinate, relative to the length it was computed
+#: from (dimensionless). Far below every tolerance above: a value that should lie on a bound
+#: (a Bezier arch line on its springing line) may miss it by this much and still count as on it.
+ROUNDOFF_REL = 1e-12
+
+#: Stochastic rules and functions: branch percentages may add up to ``100 + PERCENT_SLACK``
+#: (percent): ``32.2% + 45.1% + 22.7%`` sums to 100.00000000000001 in floating point.
+PERCENT_SLACK = 1e-9
+
+#: Splits: running sums of part sizes may miss the split's length by round-off; a cut closer to
+#: a span's end than ``SPLIT_SLACK_REL`` times the split's length is at that end (dimensionless),
+#: so that rounding neither leaves a sliver nor drops a last full part.
+SPLIT_SLACK_REL = 1e-10
+
+#: Splits: a repeated pattern of fixed sizes fits ``n`` whole times when ``length / period`` is
+#: within ``REPEAT_SLACK`` below ``n`` (dimensionless, a fraction of one repetition).
+REPEAT_SLACK = 1e-9
+
+#: Mesh import: points are flat (no solid to take the hull of) when the smallest singular value
+#: of the centred points is below ``FLAT_REL`` times the largest (dimensionless).
+FLAT_REL = 1e-9
+
+#: Statics output: a force or tension below ``FORCE_NOISE_REL`` times its scale (the total weight,
+#: or the largest force drawn) is solver round-off, not a force (dimensionless).
+FORCE_NOISE_REL = 1e-6

@@ -41,6 +41,8 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from shapegen.tolerances import REPEAT_SLACK, SPLIT_SLACK_REL
+
 ABSOLUTE = "absolute"
 RELATIVE = "relative"
 FLOATING = "floating"
@@ -135,7 +137,7 @@ class _Resolver:
     def __init__(self, total: float, max_pieces: int):
         self.total = total
         # Rounding in running sums must not create slivers or drop a last full piece.
-        self.eps = 1e-10 * total
+        self.eps = SPLIT_SLACK_REL * total
         self.max_pieces = max_pieces
         self.pieces: list[SplitPiece] = []
 
@@ -187,7 +189,7 @@ class _Resolver:
                 self.sequence(items, start + k * step, step)
             return
         # Only fixed sizes: whole repetitions, then one more cut at the end.
-        count = math.floor(length / period + 1e-9) + 1
+        count = math.floor(length / period + REPEAT_SLACK) + 1
         self._check_count(count, items)
         end = start + length
         for k in range(count):

@@ -25,6 +25,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from shapegen.tolerances import FORCE_NOISE_REL
+
 # Ten well-separated hues (muted, so that stone-like models stay readable).
 LABEL_PALETTE = np.array(
     [
@@ -71,23 +73,19 @@ def block_label_color(tags: Sequence[str], *, fixed: bool, structural: bool) -> 
     return UNLABELLED.copy()
 
 
-# Vertex tensions below this fraction of the total weight are solver round-off, not tension.
-TENSION_NOISE_REL = 1e-6
-
-
 def tension_levels(analysis) -> np.ndarray:
     """``(nb,)`` in [0, 1]: each block's worst tension relative to the worst block's.
 
     All zero when the analysis says the model stands, and tensions below
-    :data:`TENSION_NOISE_REL` of the total weight count as zero, so that the round-off of a
-    standing model is never painted as tension.
+    :data:`~shapegen.tolerances.FORCE_NOISE_REL` of the total weight count as zero, so that the
+    round-off of a standing model is never painted as tension.
     """
     tension = np.nan_to_num(np.asarray(analysis.block_tension, dtype=float), nan=0.0)
     tension = tension.reshape(-1).clip(min=0.0)
     if getattr(analysis, "feasible", False):
         return np.zeros_like(tension)
     weight = float(getattr(analysis, "total_weight", 0.0) or 0.0)
-    tension[tension <= TENSION_NOISE_REL * weight] = 0.0
+    tension[tension <= FORCE_NOISE_REL * weight] = 0.0
     peak = float(tension.max()) if tension.size else 0.0
     return tension / peak if peak > 0 else np.zeros_like(tension)
 

@@ -32,6 +32,7 @@ from shapegen.grammar.names import (
     RESERVED_ATTRIBUTES,
     SHAPE_ATTRIBUTES,
 )
+from shapegen.tolerances import PERCENT_SLACK
 
 __all__ = ["check", "find_problems", "constant_value"]
 
@@ -299,7 +300,7 @@ class _Checker:
 
     def _percentages(self, branches, location: SourceLocation) -> None:
         total = sum(branch.percent for branch in branches)
-        if total > 100.0 + 1e-9:
+        if total > 100.0 + PERCENT_SLACK:
             self.report(
                 location,
                 f"the stochastic percentages add up to {_show(total)}% (at most 100%)",

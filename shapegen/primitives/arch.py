@@ -31,6 +31,7 @@ from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, polygon_is_convex, prism_blocks
 from shapegen.primitives.registry import Choice, primitive, require
+from shapegen.tolerances import DEFAULT, ROUNDOFF_REL
 
 # Samples per segment of the dense polyline used to place Bezier joints at equal arc lengths.
 _BEZIER_SAMPLES_PER_SEGMENT = 64
@@ -127,7 +128,7 @@ def bezier_arch_line(
             "primitive 'bezier_arch': the control points give an arch line that does not rise "
             "above the springings (c1y, c2y must make the curve go up)"
         )
-    if float(curve[:, 1].min()) < -1e-12 * width:
+    if float(curve[:, 1].min()) < -ROUNDOFF_REL * width:
         raise GeometryError("primitive 'bezier_arch': the arch line dips below the springings")
     points[:, 1] *= (height - thickness / 2.0) / top
     curve = _bezier(points, dense)
@@ -168,7 +169,7 @@ def _voussoir_polygons(
     m = len(intrados)
     profile = np.vstack([intrados, extrados])
     polygons = [[j, j + 1, m + j + 1, m + j] for j in range(m - 1)]
-    tolerance = 1e-9 * width
+    tolerance = DEFAULT.merge_rel * width
     for k, polygon in enumerate(polygons):
         if not polygon_is_convex(profile[polygon], tolerance):
             raise GeometryError(
@@ -215,7 +216,7 @@ def _spandrel_polygons(
     intrados, extrados = profile[:m], profile[m:]
     direction = extrados - intrados
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
-    snap = 1e-9 * width
+    snap = DEFAULT.merge_rel * width
     # Distance along each joint line to the rectangle's boundary.
     with np.errstate(divide="ignore", invalid="ignore"):
         to_x = np.where(
@@ -261,7 +262,7 @@ def _spandrel_polygons(
 def _perimeter_position(points: np.ndarray, width: float, top: float) -> np.ndarray:
     """Counter-clockwise distance along the rectangle's boundary from (0, 0) of points on it."""
     x, y = points[:, 0], points[:, 1]
-    tol = 1e-9 * width
+    tol = DEFAULT.merge_rel * width
     return np.select(
         [y <= tol, x >= width - tol, y >= top - tol],
         [x, width + y, width + top + (width - x)],
@@ -360,7 +361,7 @@ def capped_arch(
     intrados, extrados = _arch_line(style, scope.sx, thickness, segments, pointedness)
     crown = float(extrados[:, 1].max())
     require(
-        scope.sy >= crown - 1e-9 * scope.sx,
+        scope.sy >= crown - DEFAULT.merge_rel * scope.sx,
         "capped_arch",
         "scope",
         f"height {scope.sy:g} m is below the arch's crown at {crown:g} m; make the scope taller "

@@ -13,6 +13,7 @@ from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, prism_blocks
 from shapegen.primitives.registry import primitive, require
 from shapegen.primitives.stereotomy import arc_joints
+from shapegen.tolerances import DEFAULT
 
 
 @dataclass(frozen=True)
@@ -56,7 +57,7 @@ def flying_buttress_layout(
     centre_y = scope.sy - radius - thickness / 2
     springing_y = centre_y + (radius - thickness / 2) * np.cos(a)
     require(
-        pier_width >= thickness * np.sin(a) * (1 - 1e-9),
+        pier_width >= thickness * np.sin(a) * (1 - DEFAULT.merge_rel),
         name,
         "pier_width",
         f"({pier_width:g} m) must carry the whole springing joint: at least "

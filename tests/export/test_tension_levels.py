@@ -4,7 +4,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from shapegen.export.colors import TENSION_NOISE_REL, tension_levels
+from shapegen.export.colors import tension_levels
+from shapegen.tolerances import FORCE_NOISE_REL
 
 
 def _analysis(tension, feasible, weight=1e4):
@@ -19,6 +20,6 @@ def test_a_standing_model_has_no_tension_colour():
 
 
 def test_round_off_below_the_noise_floor_is_ignored_and_the_rest_is_relative():
-    noise = 0.5 * TENSION_NOISE_REL * 1e4
+    noise = 0.5 * FORCE_NOISE_REL * 1e4
     levels = tension_levels(_analysis([noise, 20.0, 40.0, float("nan")], feasible=False))
     np.testing.assert_allclose(levels, [0.0, 0.5, 1.0, 0.0])
