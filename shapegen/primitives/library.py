@@ -6,10 +6,10 @@ from __future__ import annotations
 __all__ = ["available", "get", "insert"]
 
 import difflib
-from importlib.metadata import entry_points
 
 from shapegen.errors import GeometryError
 from shapegen.model import Block, Scope
+from shapegen.plugins import load_plugins
 from shapegen.primitives import (  # noqa: F401  (each module registers its primitives)
     arch,
     box,
@@ -31,13 +31,7 @@ def _discover() -> None:
     if _discovered:
         return
     _discovered = True
-    for entry in entry_points(group="shapegen.primitives"):
-        try:
-            entry.load()
-        except Exception as exc:  # a broken plug-in must not break the built-in primitives
-            raise GeometryError(
-                f"cannot load primitives from {entry.value!r} (entry point {entry.name!r}): {exc}"
-            ) from None
+    load_plugins("shapegen.primitives", "primitives")
 
 
 def get(name: str) -> Primitive:

@@ -6,9 +6,9 @@ from __future__ import annotations
 __all__ = ["available_structures", "make_structure", "structure_class"]
 
 import difflib
-from importlib.metadata import entry_points
 
 from shapegen.errors import GeometryError, OptionError
+from shapegen.plugins import load_plugins
 from shapegen.structures import blocks, cable, registry  # noqa: F401  (register the built-in ones)
 from shapegen.structures.base import Structure
 from shapegen.structures.registry import DEFAULT_STRUCTURE
@@ -21,13 +21,7 @@ def _discover() -> None:
     if _discovered:
         return
     _discovered = True
-    for entry in entry_points(group="shapegen.structures"):
-        try:
-            entry.load()
-        except Exception as exc:  # a broken plug-in must not break the built-in structures
-            raise GeometryError(
-                f"cannot load structures from {entry.value!r} (entry point {entry.name!r}): {exc}"
-            ) from None
+    load_plugins("shapegen.structures", "structures")
 
 
 def structure_class(name: str | None) -> type[Structure]:
