@@ -19,11 +19,11 @@ What is checked (each message names the place, and suggests a near name where on
 from __future__ import annotations
 
 import difflib
-import math
 from collections.abc import Iterable
 
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
 from shapegen.grammar.names import (
     ANNOTATIONS,
     ANY_KEYWORD,
@@ -188,14 +188,14 @@ class _Checker:
             return
         low, high = (constant_value(bound, self.values) for bound in bounds)
         for bound, value in zip(bounds, (low, high), strict=True):
-            if value is _UNKNOWN and attribute.free:
+            if value is UNKNOWN and attribute.free:
                 self.report(
                     bound.location,
                     f"the @Range bounds of @Free attr '{attribute.name}' must be constants",
                 )
-            elif value is not _UNKNOWN and not _is_number(value):
+            elif value is not UNKNOWN and not is_number(value):
                 self.report(bound.location, "a @Range bound must be a number")
-        if not (_is_number(low) and _is_number(high)):
+        if not (is_number(low) and is_number(high)):
             return
         if low > high:
             self.report(
@@ -204,13 +204,13 @@ class _Checker:
             )
             return
         default = constant_value(attribute.value, self.values)
-        if _is_number(default) and not (low <= default <= high):
+        if is_number(default) and not (low <= default <= high):
             self.report(
                 attribute.value.location,
                 f"the value {_show(default)} of '{attribute.name}' is outside its "
                 f"@Range [{_show(low)}, {_show(high)}]",
             )
-        elif attribute.free and default is not _UNKNOWN and not _is_number(default):
+        elif attribute.free and default is not UNKNOWN and not is_number(default):
             self.report(
                 attribute.value.location,
                 f"@Free attr '{attribute.name}' must have a numeric value",
@@ -239,9 +239,9 @@ class _Checker:
 
     def _start_annotation_value(self, name: str, argument: ast.Expression) -> None:
         value = constant_value(argument, self.values)
-        if value is _UNKNOWN:
+        if value is UNKNOWN:
             return
-        if name == "Lot" and not (_is_number(value) and value > 0):
+        if name == "Lot" and not (is_number(value) and value > 0):
             self.report(argument.location, "@Lot sizes must be positive numbers (metres)")
         if name == "Structure" and not isinstance(value, str):
             self.report(argument.location, "@Structure names a structure: a string")
@@ -403,63 +403,8 @@ class _Checker:
         )
 
 
-# --------------------------------------------------------------------------------------------
-# Constant folding (for @Range and @Lot)
-
-
-class _Unknown:
-    """A value that cannot be known at load time (it needs a shape, a random draw...)."""
-
-    def __repr__(self) -> str:
-        return "<unknown>"
-
-
-_UNKNOWN = _Unknown()
-
-
-def _is_number(value: object) -> bool:
-    return isinstance(value, float) and math.isfinite(value)
-
-
 def _show(value: float) -> str:
     return f"{value:g}"
-
-
-def constant_value(expression: ast.Expression, values: dict | None = None, _seen=None):
-    """The value of ``expression`` if it is known at load time, else an unknown marker.
-
-    Numbers, strings, booleans, ``+ - * /`` and unary minus are folded; a name is folded through
-    the attr or const it refers to (with its default value). Anything else is unknown.
-    """
-    values = values or {}
-    seen = _seen if _seen is not None else set()
-    if isinstance(expression, ast.Number):
-        return expression.value
-    if isinstance(expression, ast.String | ast.Boolean):
-        return expression.value
-    if isinstance(expression, ast.Name):
-        target = values.get(expression.name)
-        if isinstance(target, ast.Attribute | ast.Constant) and expression.name not in seen:
-            return constant_value(target.value, values, seen | {expression.name})
-        return _UNKNOWN
-    if isinstance(expression, ast.Unary) and expression.op in ("-", "+"):
-        operand = constant_value(expression.operand, values, seen)
-        if not _is_number(operand):
-            return _UNKNOWN
-        return -operand if expression.op == "-" else operand
-    if isinstance(expression, ast.Binary) and expression.op in ("+", "-", "*", "/"):
-        left = constant_value(expression.left, values, seen)
-        right = constant_value(expression.right, values, seen)
-        if not (_is_number(left) and _is_number(right)):
-            return _UNKNOWN
-        if expression.op == "+":
-            return left + right
-        if expression.op == "-":
-            return left - right
-        if expression.op == "*":
-            return left * right
-        return left / right if right != 0 else _UNKNOWN
-    return _UNKNOWN
 
 
 def _referenced_names(expression: ast.Expression) -> list[str]:
