@@ -1,0 +1,457 @@
+"""Compilers of rule bodies and shape operations: each turns an AST node into a closure.
+
+A compiled operation is called as ``op(state, args, out)`` (:data:`~shapegen.engine.derivation.
+Operation`): it changes the shape ``state``, appends the successors it creates to ``out`` and
+returns False when the shape was deleted (``NIL``). :class:`ShapeOperations` is mixed into
+:class:`~shapegen.engine.interpreter.Program`, which provides ``expressions``, ``rules``,
+``arities``, ``attr_nodes``, ``const_nodes`` and ``error``; the compiler of an AST node type
+``T`` is its method ``_op_T``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["INSERT", "ShapeOperations"]
+
+import difflib
+import math
+from collections.abc import Callable
+
+from shapegen.engine.derivation import Operation, format_chain
+from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
+from shapegen.engine.shape import (
+    FACE,
+    MASS,
+    Shape,
+    axis_index,
+    center,
+    extrude,
+    face_scopes,
+    flat_face,
+    resize,
+    rotate,
+    select_faces,
+    split_scope,
+    translate,
+)
+from shapegen.engine.split import (
+    PieceLimitError,
+    SplitPart,
+    SplitRepeat,
+    resolve_split,
+)
+from shapegen.errors import GeometryError, GrammarError
+from shapegen.grammar import ast
+from shapegen.grammar.names import RESERVED_ATTRIBUTES
+
+INSERT = "insert"
+"""The kind of a shape that holds an inserted primitive (``i(...)``), beside FACE and MASS."""
+
+
+class ShapeOperations:
+    """The compilers of rule bodies, their items and the operations' arguments."""
+
+    expressions: ExpressionCompiler
+    rules: dict[tuple[str, int], object]
+    arities: dict[str, list[int]]
+    attr_nodes: dict[str, ast.Attribute]
+    const_nodes: dict[str, ast.Constant]
+    error: Callable[..., GrammarError]
+
+    def _body(self, node: ast.Body, params: dict[str, int]) -> Operation:
+        if isinstance(node, ast.Sequence):
+            items = tuple(self._item(item, params) for item in node.items)
+
+            def sequence(state, args, out):
+                for item in items:
+                    if not item(state, args, out):
+                        return False
+                return True
+
+            return sequence
+        if isinstance(node, ast.ConditionalBody):
+            branches = [
+                (self.expressions.compile(b.condition, params), self._body(b.body, params), b)
+                for b in node.branches
+            ]
+            otherwise = self._body(node.otherwise, params)
+            error = self.error
+
+            def conditional(state, args, out):
+                for condition, body, branch in branches:
+                    test = condition(args, state)
+                    if type(test) is not bool:
+                        raise error(
+                            branch, f"a case condition must be a boolean, got a {type_name(test)}"
+                        )
+                    if test:
+                        return body(state, args, out)
+                return otherwise(state, args, out)
+
+            return conditional
+        if isinstance(node, ast.StochasticBody):
+            branches = [(float(b.percent), self._body(b.body, params)) for b in node.branches]
+            otherwise = self._body(node.otherwise, params)
+
+            def stochastic(state, args, out):
+                draw = 100.0 * state.random()
+                for percent, body in branches:
+                    if draw < percent:
+                        return body(state, args, out)
+                    draw -= percent
+                return otherwise(state, args, out)
+
+            return stochastic
+        raise self.error(node, f"unsupported rule body {type(node).__name__}")
+
+    def _item(self, node, params: dict[str, int]) -> Operation:
+        method = getattr(self, "_op_" + type(node).__name__, None)
+        if method is None:
+            raise self.error(node, f"unsupported operation {type(node).__name__}")
+        return method(node, params)
+
+    def _number(self, node, expression, params, what: str):
+        """A compiled expression that must give a finite number."""
+        compiled = self.expressions.compile(expression, params)
+        error = self.error
+
+        def number(args, state):
+            value = compiled(args, state)
+            if type(value) is not float:
+                raise error(node, f"{what} must be a number, got a {type_name(value)}")
+            if not math.isfinite(value):
+                raise error(node, f"{what} must be a finite number, got {value}")
+            return value
+
+        return number
+
+    def _op_Successor(self, node: ast.Successor, params) -> Operation:
+        rule = None if node.leaf else self.rules.get((node.name, len(node.args)))
+        if rule is None and not node.leaf and node.name in self.arities:
+            counts = " or ".join(str(n) for n in sorted(self.arities[node.name]))
+            raise self.error(
+                node, f"rule {node.name!r} takes {counts} parameters, got {len(node.args)}"
+            )
+        arguments = tuple(self.expressions.compile(a, params) for a in node.args)
+        name = node.name
+
+        def successor(state, args, out):
+            values = tuple(a(args, state) for a in arguments)
+            child = state.run.child(state, state.shape, node, name)
+            out.append((child, rule, values))
+            return True
+
+        return successor
+
+    def _op_Nil(self, node, params) -> Operation:
+        return lambda state, args, out: False
+
+    def _op_Push(self, node: ast.Push, params) -> Operation:
+        body = self._body(node.body, params)
+
+        def push(state, args, out):
+            body(state.copy(), args, out)
+            return True
+
+        return push
+
+    def _op_Extrude(self, node: ast.Extrude, params) -> Operation:
+        height = self._number(node, node.height, params, "extrude height")
+        error = self.error
+
+        def extrude_op(state, args, out):
+            shape = state.shape
+            if shape.kind != FACE:
+                raise error(
+                    node,
+                    "extrude() needs a flat shape (the lot or a comp(f) face); "
+                    "this shape is already 3D",
+                )
+            scope = extrude(shape.scope, shape.normal_axis, height(args, state))
+            state.shape = Shape(scope, MASS)
+            return True
+
+        return extrude_op
+
+    def _split_items(self, group: ast.SplitGroup, params) -> Callable:
+        """A closure giving the evaluated split items of ``group`` (nested groups inline)."""
+        builders = []
+        for part in group.parts:
+            if isinstance(part, ast.SplitGroup):
+                inner = self._split_items(part, params)
+                if part.repeat:
+                    builders.append(
+                        lambda args, state, inner=inner: [SplitRepeat(tuple(inner(args, state)))]
+                    )
+                else:
+                    builders.append(inner)
+                continue
+            size = self._number(part, part.size, params, "a split size")
+            key = (self._body(part.body, params), part)
+            mode = part.mode
+            builders.append(
+                lambda args, state, size=size, key=key, mode=mode: [
+                    SplitPart(size(args, state), mode, key)
+                ]
+            )
+
+        def items(args, state):
+            out = []
+            for build in builders:
+                out.extend(build(args, state))
+            return out
+
+        return items
+
+    def _op_Split(self, node: ast.Split, params) -> Operation:
+        axis = axis_index(node.axis)
+        items = self._split_items(node.group, params)
+        repeat = node.group.repeat
+        error = self.error
+
+        def split_op(state, args, out):
+            shape = state.shape
+            if shape.kind == INSERT:
+                raise error(
+                    node,
+                    "split() cannot cut an inserted primitive; split first, then "
+                    "insert into the pieces",
+                )
+            pattern = items(args, state)
+            if repeat:
+                pattern = SplitRepeat(tuple(pattern))
+            run = state.run
+            try:
+                pieces = resolve_split(
+                    float(shape.scope.size[axis]),
+                    pattern,
+                    max_pieces=max(run.max_shapes - run.shape_count, 0) + 1,
+                )
+            except PieceLimitError:
+                raise error(
+                    node,
+                    f"the split creates more than {run.max_shapes} shapes "
+                    f"(max_shapes). Chain of rules: "
+                    f"{format_chain(state.rule_path)}",
+                ) from None
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
+            total = len(pieces)
+            for index, piece in enumerate(pieces):
+                body, part = piece.key
+                scope = split_scope(shape.scope, axis, piece.start, piece.size)
+                child = run.child(state, Shape(scope, shape.kind, shape.normal_axis), part)
+                child.split_index = index
+                child.split_total = total
+                if body(child, args, out) and child.children[0] == 0:
+                    out.append((child, None, ()))
+            return True
+
+        return split_op
+
+    def _op_Comp(self, node: ast.Comp, params) -> Operation:
+        if node.kind != "f":
+            raise self.error(node, f"comp({node.kind}) is not supported; only comp(f)")
+        branches = []
+        for branch in node.branches:
+            if branch.merge:
+                raise self.error(
+                    branch,
+                    f"'{branch.selector} =' (all selected faces as one "
+                    f"shape) is not supported; write "
+                    f"'{branch.selector} :'",
+                )
+            branches.append((branch.selector, self._body(branch.body, params), branch))
+        selectors = [_selector(s) for s, _, _ in branches]
+        error = self.error
+
+        def comp_op(state, args, out):
+            shape = state.shape
+            if shape.kind == MASS:
+                faces = face_scopes(shape.scope)
+            elif shape.kind == FACE:
+                faces = [flat_face(shape.scope, shape.normal_axis)]
+            else:
+                raise error(node, "comp(f) cannot take apart an inserted primitive")
+            run = state.run
+            for (_, body, branch), chosen in zip(
+                branches, select_faces(faces, selectors), strict=True
+            ):
+                total = len(chosen)
+                for index, (_, scope) in enumerate(chosen):
+                    child = run.child(state, Shape(scope, FACE, 2), branch)
+                    child.comp_index = index
+                    child.comp_total = total
+                    if body(child, args, out) and child.children[0] == 0:
+                        out.append((child, None, ()))
+            return True
+
+        return comp_op
+
+    def _coordinates(self, node, coordinates, params, what: str):
+        compiled = [
+            (self._number(node, c.value, params, what), c.relative, k)
+            for k, c in enumerate(coordinates)
+        ]
+
+        def values(args, state):
+            size = state.shape.scope.size
+            return [
+                value(args, state) * size[k] if relative else value(args, state)
+                for value, relative, k in compiled
+            ]
+
+        return values
+
+    def _op_Translate(self, node: ast.Translate, params) -> Operation:
+        values = self._coordinates(node, (node.x, node.y, node.z), params, "a t() offset")
+
+        def translate_op(state, args, out):
+            state.shape = state.shape.with_scope(translate(state.shape.scope, values(args, state)))
+            return True
+
+        return translate_op
+
+    def _op_Scale(self, node: ast.Scale, params) -> Operation:
+        values = self._coordinates(node, (node.x, node.y, node.z), params, "an s() size")
+        error = self.error
+
+        def scale_op(state, args, out):
+            try:
+                scope = resize(state.shape.scope, values(args, state))
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
+            state.shape = state.shape.with_scope(scope)
+            return True
+
+        return scale_op
+
+    def _op_Rotate(self, node: ast.Rotate, params) -> Operation:
+        angles = [self._number(node, e, params, "an r() angle") for e in (node.x, node.y, node.z)]
+        about_center = node.pivot == "center"
+
+        def rotate_op(state, args, out):
+            values = [angle(args, state) for angle in angles]
+            state.shape = state.shape.with_scope(rotate(state.shape.scope, values, about_center))
+            return True
+
+        return rotate_op
+
+    def _op_Center(self, node: ast.Center, params) -> Operation:
+        axes = node.axes
+        if not axes or any(a not in "xyz" for a in axes):
+            raise self.error(node, f"center() takes x, y, z, xy, xz, yz or xyz, got {axes!r}")
+
+        def center_op(state, args, out):
+            scope = center(state.shape.scope, state.initial_scope, axes)
+            state.shape = state.shape.with_scope(scope)
+            return True
+
+        return center_op
+
+    def _op_Label(self, node: ast.Label, params) -> Operation:
+        name = self.expressions.compile(node.name, params)
+
+        def label_op(state, args, out):
+            text = format_value(name(args, state))
+            if text not in state.labels:
+                state.labels = state.labels + (text,)
+            return True
+
+        return label_op
+
+    def _op_Set(self, node: ast.Set, params) -> Operation:
+        attribute = node.attribute
+        if attribute in self.const_nodes:
+            raise self.error(node, f"set() changes attrs; {attribute!r} is a const")
+        if attribute not in self.attr_nodes and attribute not in RESERVED_ATTRIBUTES:
+            known = sorted(set(self.attr_nodes) | set(RESERVED_ATTRIBUTES))
+            close = difflib.get_close_matches(attribute, known, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise self.error(node, f"set() of unknown attribute {attribute!r}{hint}")
+        value = self.expressions.compile(node.value, params)
+
+        def set_op(state, args, out):
+            state.attrs = {**state.attrs, attribute: value(args, state)}
+            return True
+
+        return set_op
+
+    def _op_Insert(self, node: ast.Insert, params) -> Operation:
+        if isinstance(node.primitive, ast.String):
+            _check_primitive_call(node, self.error)
+        name_of = self.expressions.compile(node.primitive, params)
+        keywords = [(k.name, self.expressions.compile(k.value, params)) for k in node.parameters]
+        error = self.error
+
+        def insert_op(state, args, out):
+            name = name_of(args, state)
+            if type(name) is not str:
+                raise error(node, f"i() needs a primitive name (a string), got a {type_name(name)}")
+            values = {key: value(args, state) for key, value in keywords}
+            scope = state.shape.scope
+            if name == "box" and not values:
+                # The box primitive is exactly the block a 3D leaf makes: skip the registry.
+                state.shape = Shape(scope, MASS)
+                return True
+            try:
+                resolved = _resolve_primitive(name, values)
+            except GeometryError as exc:
+                raise error(node, str(exc)) from None
+            state.shape = Shape(scope, INSERT, insert=(name, resolved, node))
+            return True
+
+        return insert_op
+
+    def _op_Print(self, node: ast.Print, params) -> Operation:
+        values = [self.expressions.compile(v, params) for v in node.values]
+
+        def print_op(state, args, out):
+            print(" ".join(format_value(v(args, state)) for v in values))
+            return True
+
+        return print_op
+
+    def _op_Report(self, node: ast.Report, params) -> Operation:
+        key_of = self.expressions.compile(node.key, params)
+        value_of = self.expressions.compile(node.value, params)
+
+        def report_op(state, args, out):
+            key = format_value(key_of(args, state))
+            state.run.reports.setdefault(key, []).append(value_of(args, state))
+            return True
+
+        return report_op
+
+
+def _selector(name: str) -> str | int:
+    return int(name) if name.isdigit() else name
+
+
+def _check_primitive_call(node: ast.Insert, error: Callable) -> None:
+    """At load time: ``i("name", key=...)`` with a literal name must name a registered
+    primitive and only its parameters (values are checked when the shape is derived)."""
+    from shapegen.primitives import get
+
+    name = node.primitive.value
+    if name == "box" and not node.parameters:
+        return
+    try:
+        primitive = get(name)
+    except GeometryError as exc:
+        raise error(node, str(exc)) from None
+    for keyword in node.parameters:
+        if keyword.name not in primitive.parameters:
+            known = ", ".join(sorted(primitive.parameters)) or "none"
+            close = difflib.get_close_matches(keyword.name, list(primitive.parameters), n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise error(
+                keyword if getattr(keyword, "location", None) else node,
+                f"primitive {name!r} has no parameter {keyword.name!r}{hint}; "
+                f"its parameters: {known}",
+            )
+
+
+def _resolve_primitive(name: str, values: dict) -> dict:
+    from shapegen.primitives import get
+
+    return get(name).resolve(values)
