@@ -1,7 +1,8 @@
 """Parse tree -> AST: the lark Transformer that builds :mod:`shapegen.grammar.ast` nodes.
 
 Operation calls share one syntax (``name(args) { block }*``); which operation a call is, and
-whether its arguments fit, is decided here. Problems that the syntax lets through (an unknown split
+whether its arguments fit, is decided here and in the builders of
+:mod:`shapegen.grammar.operation_calls`. Problems that the syntax lets through (an unknown split
 axis, a ``'`` where it means nothing) are collected in :attr:`AstBuilder.problems`, not raised, so
 that they are reported together with the load-time checks.
 """
@@ -9,20 +10,21 @@ that they are reported together with the load-time checks.
 from __future__ import annotations
 
 import dataclasses
-import math
 
 from lark import Token, Transformer, v_args
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.names import (
-    CENTER_MODES,
-    COMP_KINDS,
-    COMP_SELECTORS,
     OPERATIONS,
-    ROTATE_PIVOTS,
-    SPLIT_AXES,
     UNSUPPORTED_OPERATIONS,
+)
+from shapegen.grammar.operation_calls import (
+    Argument,
+    Block,
+    BlockEntry,
+    OperationBuilders,
+    prefix_in_words,
 )
 
 __all__ = ["AstBuilder", "Problem"]
@@ -33,32 +35,6 @@ Problem = tuple[SourceLocation | None, str]
 @dataclasses.dataclass(frozen=True)
 class _Version:
     text: str
-
-
-@dataclasses.dataclass(frozen=True)
-class _Argument:
-    """One argument of an operation call before it is known which operation it belongs to."""
-
-    kind: str  # "plain", "relative", "floating", "keyword"
-    value: ast.Expression
-    location: SourceLocation
-    name: str | None = None
-
-
-@dataclasses.dataclass(frozen=True)
-class _BlockEntry:
-    mode: ast.SizeMode
-    key: ast.Expression
-    body: ast.Body
-    merge: bool
-    location: SourceLocation
-
-
-@dataclasses.dataclass(frozen=True)
-class _Block:
-    entries: tuple[_BlockEntry | _Block, ...]
-    repeat: bool
-    location: SourceLocation
 
 
 class _Repeat:
@@ -87,7 +63,7 @@ def _plural(count: int, word: str) -> str:
 
 
 @v_args(meta=True)
-class AstBuilder(Transformer):
+class AstBuilder(OperationBuilders, Transformer):
     """Builds AST nodes; problems that the syntax lets through are collected, not raised."""
 
     def __init__(self, filename: str):
@@ -103,9 +79,6 @@ class AstBuilder(Transformer):
         line = getattr(where, "line", None)
         column = getattr(where, "column", None)
         return SourceLocation(self.filename, line or 0, column or 0)
-
-    def _problem(self, location: SourceLocation, message: str) -> None:
-        self.problems.append((location, message))
 
     # File and definitions ----------------------------------------------------------------------
 
@@ -223,31 +196,31 @@ class AstBuilder(Transformer):
     # Operation calls ---------------------------------------------------------------------------
 
     def plain_arg(self, meta, children):
-        return _Argument("plain", children[0], self._at(meta))
+        return Argument("plain", children[0], self._at(meta))
 
     def relative_arg(self, meta, children):
-        return _Argument("relative", children[0], self._at(meta))
+        return Argument("relative", children[0], self._at(meta))
 
     def floating_arg(self, meta, children):
-        return _Argument("floating", children[0], self._at(meta))
+        return Argument("floating", children[0], self._at(meta))
 
     def keyword_arg(self, meta, children):
         name, value = children
-        return _Argument("keyword", value, self._at(name), name=str(name))
+        return Argument("keyword", value, self._at(name), name=str(name))
 
     def repeat(self, meta, children):
         return _REPEAT
 
     def block(self, meta, children):
-        return _Block(tuple(children), False, self._at(meta))
+        return Block(tuple(children), False, self._at(meta))
 
     def block_part(self, meta, children):
         (mode, key), body = children
-        return _BlockEntry(mode, key, body, False, self._at(meta))
+        return BlockEntry(mode, key, body, False, self._at(meta))
 
     def block_merge(self, meta, children):
         (mode, key), body = children
-        return _BlockEntry(mode, key, body, True, self._at(meta))
+        return BlockEntry(mode, key, body, True, self._at(meta))
 
     def block_group(self, meta, children):
         block = children[0]
@@ -266,8 +239,8 @@ class AstBuilder(Transformer):
         name_token = children[0]
         name = str(name_token)
         location = self._at(name_token)
-        arguments = [c for c in children[1:] if isinstance(c, _Argument)]
-        blocks = [c for c in children[1:] if isinstance(c, _Block)]
+        arguments = [c for c in children[1:] if isinstance(c, Argument)]
+        blocks = [c for c in children[1:] if isinstance(c, Block)]
         block = blocks[0] if blocks else None
         if block is not None and any(c is _REPEAT for c in children[1:]):
             block = dataclasses.replace(block, repeat=True)
@@ -303,142 +276,10 @@ class AstBuilder(Transformer):
                 self._problem(
                     argument.location,
                     f"arguments of the successor '{name}' are plain expressions "
-                    f"({_prefix(argument)} is not allowed here)",
+                    f"({prefix_in_words(argument)} is not allowed here)",
                 )
             args.append(argument.value)
         return ast.Successor(name, tuple(args), location=location)
-
-    def _plain(self, operation: str, argument: _Argument) -> ast.Expression:
-        if argument.kind not in ("plain", "keyword"):
-            self._problem(
-                argument.location,
-                f"{_prefix(argument)} is not allowed in the arguments of {operation}()",
-            )
-        return argument.value
-
-    def _keyword_choice(
-        self, operation: str, what: str, argument: _Argument, valid: tuple[str, ...]
-    ) -> str:
-        value = argument.value
-        if argument.kind == "plain" and isinstance(value, ast.Name) and value.name in valid:
-            return value.name
-        if argument.kind == "plain" and isinstance(value, ast.String) and value.value in valid:
-            return value.value
-        if isinstance(value, ast.Name) and argument.kind == "plain":
-            message = f"unknown {what} '{value.name}' in {operation}(); valid: {', '.join(valid)}"
-        else:
-            message = f"the {what} of {operation}() must be one of: {', '.join(valid)}"
-        self._problem(argument.location, message)
-        return valid[0]
-
-    def _coordinate(self, operation: str, argument: _Argument) -> ast.Coordinate:
-        if argument.kind not in ("plain", "relative"):
-            self._problem(argument.location, f"{_prefix(argument)} is not allowed in {operation}()")
-        return ast.Coordinate(
-            argument.value, relative=argument.kind == "relative", location=argument.location
-        )
-
-    def _op_extrude(self, arguments, block, location):
-        return ast.Extrude(self._plain("extrude", arguments[0]), location=location)
-
-    def _op_split(self, arguments, block, location):
-        axis = self._keyword_choice("split", "axis", arguments[0], SPLIT_AXES)
-        return ast.Split(axis, self._split_group(block), location=location)
-
-    def _split_group(self, block: _Block) -> ast.SplitGroup:
-        parts = []
-        for entry in block.entries:
-            if isinstance(entry, _Block):
-                parts.append(self._split_group(entry))
-                continue
-            if entry.merge:
-                self._problem(entry.location, "'=' is only for comp branches; use ':' in a split")
-            parts.append(ast.SplitPart(entry.key, entry.mode, entry.body, location=entry.location))
-        return ast.SplitGroup(tuple(parts), block.repeat, location=block.location)
-
-    def _op_comp(self, arguments, block, location):
-        kind = self._keyword_choice("comp", "component type", arguments[0], COMP_KINDS)
-        if block.repeat:
-            self._problem(block.location, "a comp block cannot be repeated with '*'")
-        branches = []
-        for entry in block.entries:
-            if isinstance(entry, _Block):
-                self._problem(entry.location, "comp branches cannot be grouped with { }")
-                continue
-            key = entry.key
-            if (
-                entry.mode == "absolute"
-                and isinstance(key, ast.Name)
-                and key.name in (COMP_SELECTORS)
-            ):
-                selector = key.name
-            elif _is_face_index(entry.mode, key):
-                selector = str(int(key.value))
-            else:
-                valid = ", ".join(COMP_SELECTORS)
-                if isinstance(key, ast.Name) and entry.mode == "absolute":
-                    message = f"unknown comp selector '{key.name}'; valid: {valid}"
-                else:
-                    message = f"a comp selector must be a face index or one of: {valid}"
-                self._problem(entry.location, message)
-                selector = COMP_SELECTORS[-1]
-            branches.append(
-                ast.CompBranch(selector, entry.body, merge=entry.merge, location=entry.location)
-            )
-        return ast.Comp(kind, tuple(branches), location=location)
-
-    def _op_t(self, arguments, block, location):
-        x, y, z = (self._coordinate("t", a) for a in arguments)
-        return ast.Translate(x, y, z, location=location)
-
-    def _op_s(self, arguments, block, location):
-        x, y, z = (self._coordinate("s", a) for a in arguments)
-        return ast.Scale(x, y, z, location=location)
-
-    def _op_r(self, arguments, block, location):
-        pivot = "origin"
-        if len(arguments) == 4:
-            pivot_name = self._keyword_choice("r", "pivot", arguments[0], tuple(ROTATE_PIVOTS))
-            pivot = ROTATE_PIVOTS[pivot_name]
-            arguments = arguments[1:]
-        x, y, z = (self._plain("r", a) for a in arguments)
-        return ast.Rotate(x, y, z, pivot=pivot, location=location)
-
-    def _op_center(self, arguments, block, location):
-        axes = self._keyword_choice("center", "axes", arguments[0], CENTER_MODES)
-        return ast.Center(axes, location=location)
-
-    def _op_label(self, arguments, block, location):
-        return ast.Label(self._plain("label", arguments[0]), location=location)
-
-    def _op_set(self, arguments, block, location):
-        target, value = arguments
-        if target.kind == "plain" and isinstance(target.value, ast.Name):
-            attribute = target.value.name
-        else:
-            self._problem(target.location, "set() needs an attribute name as its first argument")
-            attribute = ""
-        return ast.Set(attribute, self._plain("set", value), location=location)
-
-    def _op_i(self, arguments, block, location):
-        primitive, *rest = arguments
-        if primitive.kind == "keyword":
-            self._problem(primitive.location, "i() needs the primitive's name first")
-        keywords = []
-        for argument in rest:
-            if argument.kind == "keyword":
-                keywords.append(
-                    ast.Keyword(argument.name, argument.value, location=argument.location)
-                )
-        return ast.Insert(self._plain("i", primitive), tuple(keywords), location=location)
-
-    def _op_print(self, arguments, block, location):
-        values = tuple(self._plain("print", a) for a in arguments)
-        return ast.Print(values, location=location)
-
-    def _op_report(self, arguments, block, location):
-        key, value = (self._plain("report", a) for a in arguments)
-        return ast.Report(key, value, location=location)
 
     # Expressions -------------------------------------------------------------------------------
 
@@ -479,27 +320,8 @@ class AstBuilder(Transformer):
         return ast.ShapeAttribute(str(obj), str(field), location=self._at(obj))
 
 
-def _is_face_index(mode: str, key: ast.Expression) -> bool:
-    return (
-        mode == "absolute"
-        and isinstance(key, ast.Number)
-        and math.isfinite(key.value)
-        and key.value >= 0
-        and key.value == int(key.value)
-    )
-
-
 def _percent(token: Token) -> float:
     return float(str(token).rstrip().rstrip("%").rstrip())
-
-
-def _prefix(argument: _Argument) -> str:
-    """How the user wrote a non-plain argument, in words."""
-    if argument.kind == "relative":
-        return "a relative value (')"
-    if argument.kind == "floating":
-        return "a floating size (~)"
-    return f"a keyword argument ({argument.name}=)"
 
 
 def _count_message(name: str, low: int, high: int, got: int) -> str:

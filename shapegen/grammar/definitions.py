@@ -1,0 +1,190 @@
+"""Definition nodes of the .grammar AST: annotations, attrs, consts, functions, rules and the
+whole file.
+
+The whole tree is described in :mod:`shapegen.grammar.ast`, which re-exports these classes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import field
+
+from shapegen.errors import SourceLocation
+from shapegen.grammar.expressions import Expression, Keyword
+from shapegen.grammar.rule_bodies import Body
+from shapegen.grammar.tree import location_field, node
+
+__all__ = [
+    "Annotation",
+    "Attribute",
+    "Constant",
+    "Definition",
+    "Function",
+    "Grammar",
+    "Parameter",
+    "Rule",
+]
+
+
+@node
+class Annotation:
+    """``@Name`` or ``@Name(args, key=value)``."""
+
+    name: str
+    args: tuple[Expression, ...] = ()
+    keywords: tuple[Keyword, ...] = ()
+    location: SourceLocation = location_field()
+
+    def argument(self, keyword: str, position: int) -> Expression | None:
+        """The argument given as ``keyword=...`` or else at ``position``, or None."""
+        for kw in self.keywords:
+            if kw.name == keyword:
+                return kw.value
+        if 0 <= position < len(self.args):
+            return self.args[position]
+        return None
+
+
+class _Annotated:
+    """Lookup of annotations on a definition."""
+
+    annotations: tuple[Annotation, ...]
+
+    def annotation(self, name: str) -> Annotation | None:
+        """The first annotation called ``name`` (without ``@``), or None."""
+        for annotation in self.annotations:
+            if annotation.name == name:
+                return annotation
+        return None
+
+    def has_annotation(self, name: str) -> bool:
+        return self.annotation(name) is not None
+
+
+@node
+class Parameter:
+    """A formal parameter of a function or rule."""
+
+    name: str
+    location: SourceLocation = location_field()
+
+
+@node
+class Attribute(_Annotated):
+    """``attr name = value``."""
+
+    name: str
+    value: Expression
+    annotations: tuple[Annotation, ...] = ()
+    location: SourceLocation = location_field()
+
+    @property
+    def range(self) -> tuple[Expression, Expression] | None:
+        """The ``(min, max)`` expressions of its ``@Range``, or None without one."""
+        annotation = self.annotation("Range")
+        if annotation is None:
+            return None
+        low = annotation.argument("min", 0)
+        high = annotation.argument("max", 1)
+        if low is None or high is None:
+            return None
+        return low, high
+
+    @property
+    def free(self) -> bool:
+        """True for an ``@Free`` attribute (a parameter the optimizer may change)."""
+        return self.has_annotation("Free")
+
+
+@node
+class Constant(_Annotated):
+    """``const name = value``."""
+
+    name: str
+    value: Expression
+    annotations: tuple[Annotation, ...] = ()
+    location: SourceLocation = location_field()
+
+
+@node
+class Function(_Annotated):
+    """``name(params) = body`` (``params`` may be empty)."""
+
+    name: str
+    params: tuple[Parameter, ...]
+    body: Expression
+    annotations: tuple[Annotation, ...] = ()
+    location: SourceLocation = location_field()
+
+
+@node
+class Rule(_Annotated):
+    """``Name(params) --> body``."""
+
+    name: str
+    params: tuple[Parameter, ...]
+    body: Body
+    annotations: tuple[Annotation, ...] = ()
+    location: SourceLocation = location_field()
+
+    @property
+    def start(self) -> bool:
+        """True for an ``@StartRule`` rule."""
+        return self.has_annotation("StartRule")
+
+
+Definition = Attribute | Constant | Function | Rule
+
+
+@node
+class Grammar:
+    """A whole .grammar file.
+
+    Attributes
+    ----------
+    definitions : tuple
+        Every attr, const, function and rule, in source order.
+    version : str or None
+        The text of the ``version "..."`` line.
+    filename : str
+        Name used in error messages.
+    source : str
+        The file's text (for error carets); excluded from equality.
+    """
+
+    definitions: tuple[Definition, ...]
+    version: str | None = None
+    filename: str = "<string>"
+    source: str = field(default="", compare=False, repr=False)
+    location: SourceLocation = location_field()
+
+    @property
+    def attrs(self) -> tuple[Attribute, ...]:
+        return tuple(d for d in self.definitions if isinstance(d, Attribute))
+
+    @property
+    def consts(self) -> tuple[Constant, ...]:
+        return tuple(d for d in self.definitions if isinstance(d, Constant))
+
+    @property
+    def functions(self) -> tuple[Function, ...]:
+        return tuple(d for d in self.definitions if isinstance(d, Function))
+
+    @property
+    def rules(self) -> tuple[Rule, ...]:
+        return tuple(d for d in self.definitions if isinstance(d, Rule))
+
+    def rule(self, name: str) -> Rule | None:
+        """The rule called ``name``, or None (a successor without a rule is a leaf)."""
+        for definition in self.definitions:
+            if isinstance(definition, Rule) and definition.name == name:
+                return definition
+        return None
+
+    @property
+    def start_rule(self) -> Rule | None:
+        """The ``@StartRule`` rule, else the first rule, else None."""
+        rules = self.rules
+        for rule in rules:
+            if rule.start:
+                return rule
+        return rules[0] if rules else None

@@ -1,0 +1,291 @@
+"""Rule-body nodes of the .grammar AST: the operations and successors of a sequence, and the
+sequence, conditional and stochastic bodies that hold them.
+
+The whole tree is described in :mod:`shapegen.grammar.ast`, which re-exports these classes.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from shapegen.errors import SourceLocation
+from shapegen.grammar.expressions import Expression, Keyword
+from shapegen.grammar.tree import location_field, node
+
+__all__ = [
+    "Body",
+    "Center",
+    "Comp",
+    "CompBranch",
+    "ConditionalBody",
+    "ConditionalBranch",
+    "Coordinate",
+    "Extrude",
+    "Insert",
+    "Item",
+    "Label",
+    "Nil",
+    "Print",
+    "Push",
+    "Report",
+    "Rotate",
+    "Scale",
+    "Sequence",
+    "Set",
+    "SizeMode",
+    "Split",
+    "SplitGroup",
+    "SplitPart",
+    "StochasticBody",
+    "StochasticBranch",
+    "Successor",
+    "Translate",
+]
+
+
+# --------------------------------------------------------------------------------------------
+# Operations and successors (items of a sequence)
+
+
+@node
+class Coordinate:
+    """One component of ``t`` or ``s``; ``relative`` for the ``'`` prefix (fraction of scope)."""
+
+    value: Expression
+    relative: bool = False
+    location: SourceLocation = location_field()
+
+
+@node
+class Successor:
+    """``Name``, ``Name(args)`` or the explicit leaf ``Name.`` (``leaf=True``)."""
+
+    name: str
+    args: tuple[Expression, ...] = ()
+    leaf: bool = False
+    location: SourceLocation = location_field()
+
+
+@node
+class Nil:
+    """``NIL``: the current shape is deleted."""
+
+    location: SourceLocation = location_field()
+
+
+@node
+class Push:
+    """``[ body ]``: apply ``body`` to a copy of the shape state, then resume the original."""
+
+    body: Body
+    location: SourceLocation = location_field()
+
+
+@node
+class Extrude:
+    """``extrude(height)``: ``height`` in metres along the scope's y axis."""
+
+    height: Expression
+    location: SourceLocation = location_field()
+
+
+SizeMode = Literal["absolute", "relative", "floating"]
+
+
+@node
+class SplitPart:
+    """``size : body`` in a split; ``mode`` from the prefix (none, ``'``, ``~``)."""
+
+    size: Expression
+    mode: SizeMode
+    body: Body
+    location: SourceLocation = location_field()
+
+
+@node
+class SplitGroup:
+    """``{ part | ... }``, repeated to fill the scope when ``repeat`` (``{ ... }*``)."""
+
+    parts: tuple[SplitPart | SplitGroup, ...]
+    repeat: bool = False
+    location: SourceLocation = location_field()
+
+
+@node
+class Split:
+    """``split(axis) { ... }``: ``axis`` is ``"x"``, ``"y"`` or ``"z"``."""
+
+    axis: Literal["x", "y", "z"]
+    group: SplitGroup
+    location: SourceLocation = location_field()
+
+
+@node
+class CompBranch:
+    """``selector : body`` (or ``selector = body`` with ``merge=True``) in ``comp(f)``."""
+
+    selector: str
+    body: Body
+    merge: bool = False
+    location: SourceLocation = location_field()
+
+
+@node
+class Comp:
+    """``comp(f) { selector : body | ... }``: faces to 2D shapes, selectors exclusive in order."""
+
+    kind: Literal["f"]
+    branches: tuple[CompBranch, ...]
+    location: SourceLocation = location_field()
+
+
+@node
+class Translate:
+    """``t(x, y, z)`` along the scope axes, metres (or fraction of the scope size with ``'``)."""
+
+    x: Coordinate
+    y: Coordinate
+    z: Coordinate
+    location: SourceLocation = location_field()
+
+
+@node
+class Rotate:
+    """``r(x, y, z)`` in degrees; ``pivot`` is ``"center"`` for ``r(scopeCenter, x, y, z)``."""
+
+    x: Expression
+    y: Expression
+    z: Expression
+    pivot: Literal["origin", "center"] = "origin"
+    location: SourceLocation = location_field()
+
+
+@node
+class Scale:
+    """``s(x, y, z)``: new scope size, metres (or fraction of the current size with ``'``)."""
+
+    x: Coordinate
+    y: Coordinate
+    z: Coordinate
+    location: SourceLocation = location_field()
+
+
+@node
+class Center:
+    """``center(axes)``: centre the scope in the parent's scope along ``axes`` (e.g. ``"xz"``)."""
+
+    axes: str
+    location: SourceLocation = location_field()
+
+
+@node
+class Label:
+    """``label(name)``: tag the shape (and every block below it) with ``name``."""
+
+    name: Expression
+    location: SourceLocation = location_field()
+
+
+@node
+class Set:
+    """``set(attribute, value)``: override ``attribute`` for the current shape's subtree."""
+
+    attribute: str
+    value: Expression
+    location: SourceLocation = location_field()
+
+
+@node
+class Insert:
+    """``i(primitive, key=value, ...)``: insert a template primitive sized to the scope."""
+
+    primitive: Expression
+    parameters: tuple[Keyword, ...] = ()
+    location: SourceLocation = location_field()
+
+
+@node
+class Print:
+    """``print(value, ...)``."""
+
+    values: tuple[Expression, ...]
+    location: SourceLocation = location_field()
+
+
+@node
+class Report:
+    """``report(key, value)``: add ``value`` under ``key`` in the build report."""
+
+    key: Expression
+    value: Expression
+    location: SourceLocation = location_field()
+
+
+Item = (
+    Successor
+    | Nil
+    | Push
+    | Extrude
+    | Split
+    | Comp
+    | Translate
+    | Rotate
+    | Scale
+    | Center
+    | Label
+    | Set
+    | Insert
+    | Print
+    | Report
+)
+
+
+# --------------------------------------------------------------------------------------------
+# Rule bodies
+
+
+@node
+class Sequence:
+    """Items applied left to right to the current shape."""
+
+    items: tuple[Item, ...]
+    location: SourceLocation = location_field()
+
+
+@node
+class ConditionalBranch:
+    """``case condition : body``."""
+
+    condition: Expression
+    body: Body
+    location: SourceLocation = location_field()
+
+
+@node
+class ConditionalBody:
+    """``case ... : body ... else : body``; the first true condition wins."""
+
+    branches: tuple[ConditionalBranch, ...]
+    otherwise: Body
+    location: SourceLocation = location_field()
+
+
+@node
+class StochasticBranch:
+    """``30% : body``; ``percent`` in percent."""
+
+    percent: float
+    body: Body
+    location: SourceLocation = location_field()
+
+
+@node
+class StochasticBody:
+    """``30% : body 20% : body else : body``, drawn with the derivation's seeded generator."""
+
+    branches: tuple[StochasticBranch, ...]
+    otherwise: Body
+    location: SourceLocation = location_field()
+
+
+Body = Sequence | ConditionalBody | StochasticBody
