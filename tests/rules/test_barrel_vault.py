@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.engine.session import DesignSession
+from shapegen.search import DesignSession
 from shapegen.statics import analyze, find_interfaces
 
 RULES = Path(__file__).resolve().parents[2] / "rules"

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.engine.search import optimize
+from shapegen.search import optimize
 from shapegen.statics import analyze, check_model, find_interfaces
 
 CLUNY = Path(__file__).resolve().parents[2] / "rules" / "cluny.grammar"
@@ -127,8 +127,8 @@ def test_a_small_step_keeps_every_contact_for_the_adjoint_gradient(grammar, defa
     # Course joints share corners (up to four joints meet at a block's corner), so a vertex must
     # be matched within its own interface: the match must exist, be one to one, and move no
     # vertex by more than twice the step (the right half moves by both walls' widening).
-    from shapegen.engine.search import _match_vertices
     from shapegen.statics import assemble
+    from shapegen.statics.sensitivity import _match_vertices
 
     step = 1e-6
     model = grammar.build(attrs={"wall_thickness": grammar.attrs["wall_thickness"] + step})

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.engine.search import optimize
+from shapegen.search import optimize
 from shapegen.statics import analyze
 
 RULES = Path(__file__).resolve().parents[2] / "rules"
