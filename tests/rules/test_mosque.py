@@ -12,10 +12,12 @@ import numpy as np
 import pytest
 
 from shapegen import load_grammar
-from shapegen.engine.search import optimize
-from shapegen.statics import analyze, find_interfaces
+from shapegen.search import optimize
+from shapegen.statics import StaticsOptions, analyze, find_interfaces
 from shapegen.statics.checks import check_model
+from shapegen.structures import make_structure
 
+CLARABEL = make_structure("blocks", StaticsOptions(solver="clarabel"))
 VARIANTS = {"buttressed piers": {}, "flying buttresses": {"flying_buttresses": 1}}
 
 
@@ -103,7 +105,7 @@ def test_defaults_need_tension(mosque, attrs):
 @pytest.mark.slow
 @pytest.mark.parametrize("attrs", VARIANTS.values(), ids=VARIANTS.keys())
 def test_optimize_reaches_a_standing_design_within_bounds(mosque, attrs):
-    result = optimize(mosque, attrs=attrs, analysis_options={"solver": "clarabel"})
+    result = optimize(mosque, attrs=attrs, structure=CLARABEL)
     assert result.feasible
     for name, spec in result.parameters.items():
         assert spec["min"] <= spec["final"] <= spec["max"], name

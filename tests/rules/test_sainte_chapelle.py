@@ -13,10 +13,12 @@ import pytest
 
 from shapegen import load_grammar
 from shapegen.engine.rules_path import find_bundled_rule
-from shapegen.engine.search import optimize
-from shapegen.statics import analyze, find_interfaces
+from shapegen.search import optimize
+from shapegen.statics import StaticsOptions, analyze, find_interfaces
 from shapegen.statics.checks import check_model
+from shapegen.structures import make_structure
 
+CLARABEL = make_structure("blocks", StaticsOptions(solver="clarabel"))
 FOUR = {"column_depth", "corner_width", "corner_depth", "height"}
 
 
@@ -106,13 +108,13 @@ def stands_within_bounds(chapel, result):
 
 @pytest.mark.slow
 def test_optimize_four_parameters_reaches_a_standing_chapel(chapel):
-    result = optimize(chapel, analysis_options={"solver": "clarabel"})
+    result = optimize(chapel, structure=CLARABEL)
     assert set(result.parameters) == FOUR
     stands_within_bounds(chapel, result)
 
 
 @pytest.mark.slow
 def test_optimize_ten_parameters_reaches_a_standing_chapel(chapel):
-    result = optimize(chapel, free=ten_set(), analysis_options={"solver": "clarabel"})
+    result = optimize(chapel, free=ten_set(), structure=CLARABEL)
     assert set(result.parameters) == set(ten_set())
     stands_within_bounds(chapel, result)
