@@ -18,6 +18,8 @@ __all__ = [
     "SPLIT_SLACK_REL",
     "REPEAT_SLACK",
     "FLAT_REL",
+    "COPLANAR_REL",
+    "MIN_LEAF_SIZE",
     "FORCE_NOISE_REL",
 ]
 
@@ -123,6 +125,14 @@ REPEAT_SLACK = 1e-9
 #: Mesh import: points are flat (no solid to take the hull of) when the smallest singular value
 #: of the centred points is below ``FLAT_REL`` times the largest (dimensionless).
 FLAT_REL = 1e-9
+
+#: Convex hulls: a hull vertex lies on a facet's plane when within ``COPLANAR_REL`` times the
+#: block's size (dimensionless); qhull's triangles of one face are merged on this test.
+COPLANAR_REL = 1e-10
+
+#: Derivation: a leaf shape thinner than ``MIN_LEAF_SIZE`` metres along any axis has no volume
+#: and makes no block.
+MIN_LEAF_SIZE = 1e-9
 
 #: Statics output: a force or tension below ``FORCE_NOISE_REL`` times its scale (the total weight,
 #: or the largest force drawn) is solver round-off, not a force (dimensionless).

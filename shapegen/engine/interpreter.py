@@ -49,8 +49,9 @@ from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.model.scope import Scope
+from shapegen.tolerances import MIN_LEAF_SIZE
 
-_MIN_SIZE = 1e-9  # m; a leaf thinner than this along any axis has no volume and makes no block
+_MIN_SIZE = MIN_LEAF_SIZE  # m; see shapegen.tolerances
 
 # Vertices of the unit box in scope coordinates and its outward faces (see Block.box).
 _UNIT_BOX = np.array(

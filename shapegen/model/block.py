@@ -13,7 +13,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 from shapegen.errors import GeometryError
 from shapegen.model.polygons import face_normals
-from shapegen.tolerances import DEFAULT, Tolerances
+from shapegen.tolerances import COPLANAR_REL, DEFAULT, Tolerances
 
 DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
 
@@ -246,7 +246,7 @@ def _hull_polygons(points: np.ndarray, hull: ConvexHull) -> tuple[np.ndarray, tu
     vertices = points[used]
     scale = max(float(np.ptp(vertices, axis=0).max()), 1e-300)
     normals, offsets = hull.equations[:, :3], hull.equations[:, 3]  # n.x + e = 0, n outward
-    on_plane = np.abs(vertices @ normals.T + offsets).T <= 1e-10 * scale  # (facets, vertices)
+    on_plane = np.abs(vertices @ normals.T + offsets).T <= COPLANAR_REL * scale  # (facets, v.)
     _, first, group = np.unique(on_plane, axis=0, return_index=True, return_inverse=True)
     faces = []
     for g in np.argsort(first):  # faces in qhull's order, for determinism

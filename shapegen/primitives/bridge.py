@@ -26,7 +26,7 @@ __all__ = ["cable", "cable_height", "suspenders", "span_sag"]
 
 import numpy as np
 
-from shapegen.errors import GeometryError
+from shapegen.errors import GeometryError, StaticsError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
@@ -72,6 +72,14 @@ def _span_geometry(owner: str, scope: Scope, main_span: float, sag: float, drops
                 f"{top:g} m"
             )
     return span, top, span_sag(span, main_span, sag)
+
+
+def _sized_diameter(**inputs) -> float:
+    """The governing diameter (m) the cable model gives for the bridge's layout and loading."""
+    try:
+        return bridge_cables(**inputs).diameter
+    except StaticsError as exc:  # a loading that cannot be sized: the primitive's own error
+        raise GeometryError(f"primitive 'cable': {exc}") from None
 
 
 @primitive("cable")
@@ -122,7 +130,7 @@ def cable(
     if sides < 3:
         raise GeometryError(f"primitive 'cable': sides {sides} must be at least 3")
     if diameter <= 0:
-        diameter = bridge_cables(
+        diameter = _sized_diameter(
             main_span=main_span if main_span > 0 else span,
             sag=sag,
             side_span=side_span,
@@ -131,7 +139,7 @@ def cable(
             cables=cables,
             golden_factor=golden_factor,
             safety_factor=safety_factor,
-        ).diameter
+        )
     radius = diameter / 2.0
     x = span * np.arange(segments + 1) / segments
     y = cable_height(x, span, own_sag, top, drop_left, drop_right)

@@ -40,6 +40,7 @@ from shapegen.statics.assembly import StaticsProblem, assemble
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import AUTO_ORDER, StaticsOptions
 from shapegen.statics.solvers import Solution, SolveStatus, get_backend
+from shapegen.tolerances import ROUNDOFF_REL
 
 PHASE_ONE_STOP = 1e-3  # scaled sum of tensions (of W) above which phase one may stop early
 
@@ -305,7 +306,7 @@ def _build_analysis(model, problem, solution, used, feasible, y_norm, timings) -
     )
     with np.errstate(divide="ignore", invalid="ignore"):
         points = moment / normal_total[:, None]
-    points[np.abs(normal_total) <= 1e-12 * weight] = np.nan
+    points[np.abs(normal_total) <= ROUNDOFF_REL * weight] = np.nan
     tension = np.bincount(owner, forces[:, 1], minlength=ni)
     block_tension = np.zeros(nb)
     if ni:

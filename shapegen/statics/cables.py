@@ -42,6 +42,7 @@ from scipy.optimize import brentq
 
 from shapegen.errors import GeometryError, StaticsError
 from shapegen.model.model import STANDARD_GRAVITY
+from shapegen.tolerances import ROUNDOFF_REL
 
 GOLDEN_FACTOR = 5300.0
 """Deck mass carried by the cables per metre of bridge and per lane (kg/m per lane)."""
@@ -381,7 +382,7 @@ def size_cables(
     main = SpanCable(main_span, sag, loading.load_per_cable, loading.shape)
     if length is None:
         length = main_span
-    if not math.isfinite(length) or length < main_span * (1.0 - 1e-12):
+    if not math.isfinite(length) or length < main_span * (1.0 - ROUNDOFF_REL):
         raise GeometryError(f"bridge length {length} m is shorter than its main span {main_span} m")
     side_span = max(length - main_span, 0.0) / 2.0
     main_tension = main.max_tension

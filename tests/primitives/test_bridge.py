@@ -17,7 +17,7 @@ from shapegen.model.scope import Scope
 from shapegen.primitives import insert
 
 GOLDEN_GATE = {
-    "length": 1280.0,
+    "side_span": 0.0,
     "lanes": 6,
     "tracks": 0,
     "cables": 2,
