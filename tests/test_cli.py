@@ -346,3 +346,14 @@ def test_rules_lists_bundled_files(capsys):
     out = capsys.readouterr().out
     for name in bundled_rules():
         assert name in out
+
+
+def test_rules_lists_each_file_with_its_whole_first_sentence():
+    from shapegen.cli.rules import description
+    from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+
+    for name in bundled_rules():
+        text = description(find_bundled_rule(name))
+        assert text.endswith(".") and text.count('"') % 2 == 0, (name, text)
+    arch = description(find_bundled_rule("arch_columns.grammar"))
+    assert arch.endswith('"Procedural Modeling of Structurally-Sound Masonry Buildings" (2009).')
