@@ -194,3 +194,49 @@ def test_catenary_minimum_tension_sag_ratio_matches_closed_form():
     ratios = np.linspace(0.2, 0.45, 251)
     tensions = [SpanCable(100.0, r * 100.0, 1.0, "catenary").max_tension for r in ratios]
     assert ratios[int(np.argmin(tensions))] == pytest.approx(best_ratio, abs=1e-3)
+
+
+def test_parabola_diameter_falls_as_the_sag_ratio_grows_to_one_half():
+    # The parabola's peak tension (w K / 8) sqrt(1 / n^2 + 16) falls with the sag ratio n over
+    # the whole range n < 1/2: the thinnest parabolic cable of a span is at the bound n = 1/2
+    # (unlike the catenary's, at about 0.3377, above).
+    span, load = 1000.0, 1.0e5
+    ratios = np.linspace(0.01, 0.4999, 200)
+    tensions = np.array([SpanCable(span, r * span, load).max_tension for r in ratios])
+    closed_form = load * span / 8 * np.sqrt(1 / ratios**2 + 16)
+    np.testing.assert_allclose(tensions, closed_form, rtol=1e-12)
+    assert np.all(np.diff(tensions) < 0)
+    diameters = [size_cables(BridgeLoading(6), span, r * span).diameter for r in ratios]
+    assert np.all(np.diff(diameters) < 0)
+
+
+@pytest.mark.parametrize(
+    ("length", "min_span", "main_spans"),
+    [
+        (1200.0, 100.0, 1),
+        (3000.0, 500.0, 1),
+        (1200.0, 600.0, 1),
+        (1966.0, 1280.0, 1),
+        (6000.0, 100.0, 2),
+        (6000.0, 100.0, 3),
+        (6000.0, 1400.0, 3),
+    ],
+)
+def test_thinnest_cable_has_side_spans_as_long_as_the_main_spans_or_shorter(
+    length, min_span, main_spans
+):
+    # At the sag ratio 1/2 a main span needs more tension the longer it is; the side spans
+    # (length - m K) / 2 of m main spans hang on the same curve and govern once they outgrow K,
+    # below K = length / (m + 2). The thinnest cable over K >= min_span is at
+    # K* = max(min_span, length / (m + 2)).
+    def sized(span):
+        side = (length - main_spans * span) / 2
+        return size_cables(BridgeLoading(6), span, 0.4999 * span, length=span + 2 * side)
+
+    spans = np.linspace(min_span, length / main_spans, 2001)
+    diameters = np.array([sized(k).diameter for k in spans])
+    best = spans[int(np.argmin(diameters))]
+    assert best == pytest.approx(max(min_span, length / (main_spans + 2)), abs=length / 1000)
+    balanced = sized(length / (main_spans + 2))
+    assert balanced.side_span == pytest.approx(length / (main_spans + 2))
+    assert balanced.side_span_diameter == pytest.approx(balanced.main_span_diameter)
