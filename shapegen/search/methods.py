@@ -119,7 +119,12 @@ class Search:
                 state["best"] = evaluation
                 raise _Stop
             if not evaluation.ok:
-                return 10.0 * state["worst"]  # a failed build: a wall the method backs away from
+                # A design that cannot be judged: a wall the method backs away from, rising with
+                # the distance from the last judged design, so a line search that meets a whole
+                # region of such designs still slopes back out of it (a flat wall would read as a
+                # minimum to Powell's method).
+                away = float(np.linalg.norm(np.asarray(u, float) - state["last_good"]))
+                return 10.0 * state["worst"] * (1.0 + away)
             scaled = math.sqrt(max(evaluation.infeasibility, 0.0)) / scale
             state["worst"] = max(state["worst"], scaled)
             state["last_good"] = np.array(u, float)

@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from shapegen.errors import GeometryError
+from shapegen.errors import GeometryError, OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.model import Model
 
@@ -173,6 +173,15 @@ class Structure(ABC):
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         """Judge ``design``; with ``margin`` in [0, 1), judge it with that reserve (a design that
         stands with a margin stands without one)."""
+
+    @staticmethod
+    def checked_margin(margin: object) -> float:
+        """``margin`` as a number in [0, 1), or an :class:`~shapegen.errors.OptionError`."""
+        if isinstance(margin, bool) or not isinstance(margin, int | float):
+            raise OptionError(f"margin must be a number in [0, 1); got {margin!r}")
+        if not 0.0 <= margin < 1.0:
+            raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}")
+        return float(margin)
 
     def measure_change(self, base: Assessment, moved: Design) -> float | None:
         """First-order change of the measure from ``base``'s design to ``moved`` (a design a

@@ -33,6 +33,7 @@ class BlockStatics(Structure):
         return self.options.shrunk(margin) if margin > 0 else self.options
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
+        margin = self.checked_margin(margin)
         analysis = analyze(design.model, self._options(margin))
         return Assessment(
             structure=self.name,

@@ -48,6 +48,7 @@ class CableModel(Structure):
     }
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
+        margin = self.checked_margin(margin)
         values = self.checked_arguments(design.arguments)
         limit = values.pop("max_cable_diameter")
         if isinstance(limit, bool) or not isinstance(limit, int | float) or not limit > 0:

@@ -152,12 +152,6 @@ def test_an_unreachable_maximum_converges_to_the_thinnest_cable(grammar, length,
     assert result.assessment.section["cable_diameter"] > 0.05
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="shapegen/search/methods.py: the flat wall returned for designs that cannot be sized "
-    "(sag >= main_span / 2) makes Powell's bounded line search on sag end in the wall; Powell "
-    "then reports convergence and the search stops short of K* = length / (m + 2), n = 1/2",
-)
 @pytest.mark.parametrize(
     ("length", "min_span", "towers"), [(3000.0, 500.0, 2), (1200.0, 100.0, 2), (6000.0, 100.0, 3)]
 )
