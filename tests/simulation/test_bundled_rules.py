@@ -19,7 +19,7 @@ import pytest
 
 from shapegen.engine.grammar_api import load_grammar
 from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
-from shapegen.engine.search import optimize
+from shapegen.search import optimize
 from shapegen.simulation import SIMULATION_MARGIN, simulate
 
 LARGEST = 500  # blocks
