@@ -100,4 +100,4 @@ def test_optimize_keeps_a_safety_margin_unless_told_otherwise(tmp_path, extra, m
     optimization = json.loads(report.read_text())["build"]["optimization"]
     assert optimization["feasible"]
     assert optimization["margin"] == pytest.approx(margin)
-    assert ("geometric margin" in optimization["message"]) == (margin > 0)
+    assert (f"with a {margin:.0%} margin" in optimization["message"]) == (margin > 0)
