@@ -25,7 +25,7 @@ CLUNY = Path(__file__).resolve().parents[1] / "rules" / "cluny.grammar"
 
 def cluny_model() -> tuple[str, Model]:
     from shapegen.engine.grammar_api import load_grammar
-    from shapegen.engine.search import optimize
+    from shapegen.search import optimize
 
     grammar = load_grammar(CLUNY)
     started = time.perf_counter()
