@@ -15,8 +15,8 @@ import json
 from pathlib import Path
 
 from shapegen.engine.grammar_api import load_grammar
-from shapegen.engine.search import optimize
 from shapegen.export.atomic import atomic_write
+from shapegen.search import optimize
 from shapegen.simulation import SIMULATION_MARGIN, simulate
 from shapegen.simulation.cases import arch
 from shapegen.simulation.frames import write_gif, write_picture
