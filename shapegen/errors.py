@@ -14,6 +14,7 @@ __all__ = [
     "GeometryError",
     "StaticsError",
     "InputFormatError",
+    "OptionError",
     "SourceLocation",
 ]
 

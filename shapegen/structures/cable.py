@@ -25,6 +25,7 @@ from shapegen.errors import GeometryError
 from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
 from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
 from shapegen.structures.registry import register_structure
+from shapegen.tolerances import ROUNDOFF_REL
 
 
 @register_structure
@@ -45,12 +46,16 @@ class CableModel(Structure):
         "golden_factor": StructureArgument("deck mass per metre and lane, kg/m", GOLDEN_FACTOR),
         "safety_factor": StructureArgument("breaking strength over peak tension", SAFETY_FACTOR),
         "max_cable_diameter": StructureArgument("largest acceptable cable diameter, m"),
+        "min_span": StructureArgument(
+            "shortest acceptable main span (the shores' distance), m", 0.0
+        ),
     }
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         margin = self.checked_margin(margin)
         values = self.checked_arguments(design.arguments)
         limit = values.pop("max_cable_diameter")
+        min_span = values.pop("min_span")
         if isinstance(limit, bool) or not isinstance(limit, int | float) or not limit > 0:
             raise GeometryError(f"max_cable_diameter must be a positive length, got {limit!r}")
         numbers = {}
@@ -58,6 +63,13 @@ class CableModel(Structure):
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise GeometryError(f"@Structure('cable') argument {name!r} must be a number")
             numbers[name] = value
+        if isinstance(min_span, bool) or not isinstance(min_span, int | float):
+            raise GeometryError("@Structure('cable') argument 'min_span' must be a number")
+        if numbers["main_span"] < min_span * (1.0 - ROUNDOFF_REL):
+            raise GeometryError(
+                f"main_span {numbers['main_span']:g} m is shorter than min_span {min_span:g} m"
+                " (the distance between the shores)"
+            )
         sizing = bridge_cables(**numbers)
         allowed = float(limit) * (1.0 - margin)
         excess = sizing.diameter / allowed - 1.0

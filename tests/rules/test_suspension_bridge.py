@@ -171,7 +171,7 @@ def test_cable_sections_are_the_assessed_diameter(golden_gate):
     [
         {},
         {"length": 5000, "towers": 0},
-        {"length": 5000, "towers": 4, "main_span": 1000},
+        {"length": 5000, "towers": 4, "main_span": 1000, "min_span": 1000},
         {"length": 3000.6, "main_span": 1000.2, "towers": 0, "min_span": 100, "sag": 125},
         {"length": 2560, "towers": 1},
     ],

@@ -230,7 +230,7 @@ def test_bad_arguments_raise_one_clear_error(change, error, words):
 # ---------------------------------------------------------------------- the bridge's arguments
 def test_the_bridge_grammar_hands_the_cable_model_its_layout(grammar):
     assert grammar.structure == "cable"
-    assert grammar.structure_arguments() == GOLDEN_GATE
+    assert grammar.structure_arguments() == {**GOLDEN_GATE, "min_span": 1280.0}
     three = grammar.structure_arguments({"length": 5000.0, "towers": 0})
     assert three["main_span"] == 1280.0
     assert three["side_span"] == pytest.approx((5000 - 3 * 1280) / 2)  # three main spans
@@ -263,8 +263,16 @@ def test_a_built_bridge_is_judged_from_the_arguments_it_records(grammar):
     recorded = model.metadata["structure"]
     assert recorded == {
         "name": "cable",
-        "arguments": {**GOLDEN_GATE, "max_cable_diameter": 0.9},
+        "arguments": {**GOLDEN_GATE, "max_cable_diameter": 0.9, "min_span": 1280.0},
     }
     from_model = CableModel().assess(Design.of_model(model))
     assert not from_model.stands
     assert from_model.section == assess(max_cable_diameter=0.9).section
+
+
+def test_a_main_span_shorter_than_min_span_is_refused():
+    """The shortest acceptable main span is the distance between the shores: a design that does
+    not cross them is an error naming both, never a verdict."""
+    assert assess(min_span=GOLDEN_GATE["main_span"]).stands
+    with pytest.raises(GeometryError, match="shorter than min_span 1300 m"):
+        assess(min_span=1300.0)
