@@ -180,3 +180,32 @@ def test_output_and_input_mistakes_are_found_before_any_work(tmp_path, capsys, a
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
     assert not [path for path in tmp_path.glob("*.json") if path.is_file()]
+
+
+def test_analyze_writes_the_model_it_judged(tmp_path):
+    built, model_path = _build(tmp_path, "arch_columns.grammar", "--set", "arch_thickness=0.4")
+    copy, report = tmp_path / "copy.json", tmp_path / "a.json"
+    arguments = ["analyze", str(model_path), "--kern", "0.8", "-o", str(copy), "--report"]
+    assert main([*arguments, str(report), "--quiet"]) == 0
+    judged = json.loads(report.read_text())
+    again = analyze(read_model(copy), kern=0.8)
+    assert again.feasible == judged["stands"] == judged["feasible"]
+    assert again.infeasibility_normalized == pytest.approx(
+        judged["infeasibility_normalized"], abs=1e-12
+    )
+    assert len(read_model(copy).blocks) == built["blocks"]
+
+
+def test_simulate_simulates_the_model_it_reports(tmp_path):
+    pytest.importorskip("pybullet", reason="the simulator is the optional extra shapegen[sim]")
+    report = tmp_path / "s.json"
+    code = main(["simulate", "arch_columns.grammar", "--optimize", "--fix", "column_width=1.2",
+                 "--seconds", "0.6", "--quiet", "--report", str(report)])  # fmt: skip
+    assert code == 0
+    data = json.loads(report.read_text())
+    build = data["build"]
+    assert build["attrs"]["column_width"] == 1.2
+    assert build["optimization"]["fixed"] == {"column_width": 1.2}
+    assert build["optimization"]["margin"] == 0.1  # simulate keeps a reserve by default
+    rebuilt = shapegen.load_grammar("arch_columns.grammar").build(attrs=build["attrs"])
+    assert len(rebuilt.blocks) == build["blocks"] == data["simulation"]["blocks"]

@@ -1,0 +1,54 @@
+"""Statics options: one frozen object, checked once; a misspelt or bad option is a clear error."""
+
+import dataclasses
+
+import pytest
+
+from shapegen.errors import StaticsError
+from shapegen.model import Block, Model
+from shapegen.statics import StaticsOptions, analyze
+
+
+def _stack() -> Model:
+    return Model([Block.box((0, 0, 0), (1, 1, 1)), Block.box((0, 1, 0), (1, 2, 1))])
+
+
+@pytest.mark.parametrize(
+    ("settings", "message"),
+    [
+        ({"frcition": 0.5}, "unknown statics option 'frcition' (did you mean 'friction'?)"),
+        ({"pyramid": "6"}, "pyramid must be one of 4, 4r, 8"),
+        ({"kern": 0.0}, "kern must be a number in (0, 1]"),
+        ({"kern": "a third"}, "kern must be a number in (0, 1]"),
+        ({"solver": "mosek"}, "solver must be one of auto"),
+        ({"friction": -0.1}, "friction must be a finite number >= 0"),
+        ({"friction": float("nan")}, "friction must be a finite number >= 0"),
+        ({"friction": True}, "friction must be a finite number >= 0"),
+    ],
+)
+def test_bad_options_are_one_clear_error(settings, message):
+    with pytest.raises(StaticsError) as caught:
+        analyze(_stack(), **settings)
+    assert message in str(caught.value)
+
+
+def test_options_are_frozen_and_the_keyword_form_is_the_same_analysis():
+    options = StaticsOptions(friction=0.4, kern=0.5)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        options.kern = 1.0  # type: ignore[misc]
+    by_object = analyze(_stack(), options)
+    by_keywords = analyze(_stack(), friction=0.4, kern=0.5)
+    assert by_object.feasible == by_keywords.feasible
+    assert by_object.infeasibility == pytest.approx(by_keywords.infeasibility, abs=1e-12)
+    with pytest.raises(StaticsError, match="not both"):
+        analyze(_stack(), options, kern=0.5)
+
+
+def test_a_margin_shrinks_the_kern():
+    assert StaticsOptions(kern=0.5).shrunk(0.2).kern == pytest.approx(0.4)
+    assert StaticsOptions().to_report() == {
+        "friction": None,
+        "pyramid": "4",
+        "kern": 1.0,
+        "solver": "auto",
+    }
