@@ -76,11 +76,12 @@ def test_free_fix_and_closest(stack, tmp_path):
     ("arguments", "message"),
     [
         (["--optimize", "--free", "bsae"], "did you mean 'base'"),
-        (["--free", "base"], "only apply with --optimize"),
+        (["--free", "base"], "--free only applies with --optimize"),
         (["--optimize", "--max-iter", "0"], "--max-iter: must be at least 1"),
-        (["--margin", "0.1"], "--margin only apply with --optimize"),
-        (["--gradient", "forward"], "--gradient only apply with --optimize"),
+        (["--margin", "0.1"], "--margin only applies with --optimize"),
+        (["--gradient", "forward"], "--gradient only applies with --optimize"),
         (["--friction", "0.5"], "--friction: they apply with --analyze or --optimize"),
+        (["--margin", "0.1", "--free", "base"], "--free, --margin only apply with --optimize"),
         (["--optimize", "--objective", "nearest"], "invalid choice"),
     ],
 )

@@ -121,8 +121,8 @@ def test_bridge_options_are_honoured_or_refused(tmp_path, capsys):
     # What means nothing for cables is refused with one line, never dropped.
     for refused, message in (
         (["--optimize", "--gradient", "adjoint"], "gives no gradient"),
-        (["--analyze", "--friction", "0.5"], "apply to block statics"),
-        (["--optimize", "--kern", "0.5"], "apply to block statics"),
+        (["--analyze", "--friction", "0.5"], "applies to block statics"),
+        (["--optimize", "--kern", "0.5"], "applies to block statics"),
     ):
         assert main(["build", "suspension_bridge.grammar", "--quiet", *refused]) == 2
         err = capsys.readouterr().err
@@ -209,3 +209,9 @@ def test_simulate_simulates_the_model_it_reports(tmp_path):
     assert build["optimization"]["margin"] == 0.1  # simulate keeps a reserve by default
     rebuilt = shapegen.load_grammar("arch_columns.grammar").build(attrs=build["attrs"])
     assert len(rebuilt.blocks) == build["blocks"] == data["simulation"]["blocks"]
+
+
+def test_a_missing_rule_file_gets_no_far_fetched_suggestion(capsys):
+    assert main(["build", "missing.grammar"]) == 2
+    err = capsys.readouterr().err
+    assert "no grammar file 'missing.grammar'" in err and "did you mean" not in err

@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
         why="they apply with --analyze or --optimize",
     )
     grammar = load_grammar(args.grammar)
-    check_statics_apply(statics, grammar, args.grammar)
+    check_statics_apply(args, grammar, args.grammar)
     attrs = checked_attrs(grammar, args.assignments)
     place = None
     way = _osm_way(args, grammar, attrs)

@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandLineError(f"--grid must be between 2 and 200, got {args.grid}")
     grammar = load_grammar(args.grammar)
     statics = statics_options(args)
-    check_statics_apply(statics, grammar, args.grammar)
+    check_statics_apply(args, grammar, args.grammar)
     structure = make_structure(grammar.structure, statics)
     attrs = checked_attrs(grammar, args.assignments)
     console = None

@@ -295,12 +295,14 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
     return StaticsOptions(**values)
 
 
-def check_statics_apply(options, grammar, source: str) -> None:
+def check_statics_apply(args, grammar, source: str) -> None:
     """Refuse block-statics options for a grammar judged by another structure."""
-    if options is not None and grammar.structure != "blocks":
+    given = _given(args, STATICS_FLAGS)
+    if given and grammar.structure != "blocks":
+        verb = "applies" if len(given) == 1 else "apply"
         raise CommandLineError(
-            f"{', '.join(f for f in STATICS_FLAGS.values())} apply to block statics; {source} is"
-            f" judged by the {grammar.structure!r} structure (@Structure on its start rule)"
+            f"{', '.join(given)} {verb} to block statics; {source} is judged by the"
+            f" {grammar.structure!r} structure (@Structure on its start rule)"
         )
 
 
@@ -310,7 +312,8 @@ def search_settings(args):
     if not args.optimize:
         given = _given(args, SEARCH_FLAGS)
         if given:
-            raise CommandLineError(f"{', '.join(given)} only apply with --optimize")
+            verb = "applies" if len(given) == 1 else "apply"
+            raise CommandLineError(f"{', '.join(given)} only {verb} with --optimize")
         return None
     from shapegen.pipeline import SearchSettings
 

@@ -183,7 +183,7 @@ def _simulation_model(args: argparse.Namespace):
     grammar = load_grammar(name)
     # --friction also sets the simulator's friction; the other statics options shape the search.
     statics = statics_options(args) if search is not None else None
-    check_statics_apply(statics, grammar, name)
+    check_statics_apply(args, grammar, name)
     attrs = checked_attrs(grammar, args.assignments)
     measure = "y/W^2" if grammar.structure == "blocks" else "measure"
     with SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:

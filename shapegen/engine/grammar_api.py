@@ -190,8 +190,10 @@ def _as_path(path_or_text: str | os.PathLike) -> Path | None:
         if bundled is not None:
             return bundled
     names = bundled_rules()
-    close = difflib.get_close_matches(path.name, names, n=1)
-    hint = f"; did you mean {close[0]!r}?" if close else ""
+    # compare the stems: every bundled name ends in .grammar, which would make any two look alike
+    stems = {Path(name).stem: name for name in names}
+    close = difflib.get_close_matches(Path(path.name).stem, list(stems), n=1, cutoff=0.75)
+    hint = f"; did you mean {stems[close[0]]!r}?" if close else ""
     raise GrammarError(
         f"no grammar file {str(path)!r} (not in the working directory nor among the bundled "
         f"rules: {', '.join(names) or 'none'}){hint}"
