@@ -120,3 +120,16 @@ def test_random_hulls_are_convex_far_from_the_origin(offset):
         block = Block.from_hull(points, id="hull")
         block.validate()
         assert block.volume == pytest.approx(ConvexHull(points).volume, rel=1e-9)
+
+
+@pytest.mark.parametrize("offset", [1e6, 1e10])
+def test_a_unit_cube_far_from_the_origin_is_valid_and_stands(offset):
+    """Face normals are taken about each face's centre: far from the origin the cross products
+    of raw coordinates would cancel (a cube at x = 1e10 was once rejected as non-convex)."""
+    from shapegen.statics import analyze
+
+    cube = Block.box((offset, 0, 0), (offset + 1, 1, 1))
+    cube.validate()
+    expected = Block.box((0, 0, 0), (1, 1, 1)).face_normals
+    np.testing.assert_allclose(cube.face_normals, expected, atol=1e-12)
+    assert analyze(Model([cube])).feasible
