@@ -357,3 +357,14 @@ def test_rules_lists_each_file_with_its_whole_first_sentence():
         assert text.endswith(".") and text.count('"') % 2 == 0, (name, text)
     arch = description(find_bundled_rule("arch_columns.grammar"))
     assert arch.endswith('"Procedural Modeling of Structurally-Sound Masonry Buildings" (2009).')
+
+
+def test_a_set_value_outside_its_range_is_warned_about_and_used_as_given(tmp_path, capsys):
+    report = tmp_path / "r.json"
+    code = main(["build", "arch_columns.grammar", "--set", "arch_thickness=0.9", "--set",
+                 "column_width=0.5", "--quiet", "--report", str(report)])  # fmt: skip
+    assert code == 0
+    err = capsys.readouterr().err
+    assert err.count("warning") == 1
+    assert "--set arch_thickness=0.9 is outside its @Range [0.1, 0.8]: built as given" in err
+    assert json.loads(report.read_text())["attrs"]["arch_thickness"] == 0.9  # not clamped

@@ -350,4 +350,24 @@ def checked_attrs(grammar, assignments: list[tuple[str, object]]) -> dict:
             listing = f" (attrs: {', '.join(known)})" if known and not close else ""
             raise CommandLineError(f"--set {name}: the grammar has no attr {name!r}{hint}{listing}")
         attrs[name] = value
+    _warn_outside_ranges(grammar, attrs)
     return attrs
+
+
+def _warn_outside_ranges(grammar, attrs: dict) -> None:
+    """One warning line per ``--set`` value outside its attr's ``@Range``: CityEngine treats a
+    range as a hint, so the value is used as given, never clamped; a search starts from the
+    nearest bound."""
+    import sys
+
+    ranges = grammar.parameter_ranges(attrs)
+    for name, value in attrs.items():
+        spec = ranges.get(name)
+        if spec is None or isinstance(value, bool) or not isinstance(value, int | float):
+            continue
+        if not spec["min"] <= value <= spec["max"]:
+            sys.stderr.write(
+                f"shapegen: warning: --set {name}={value:g} is outside its @Range"
+                f" [{spec['min']:g}, {spec['max']:g}]: built as given (a range is a hint, as in"
+                " CityEngine); a search starts from the nearest bound\n"
+            )
