@@ -7,7 +7,6 @@ from shapegen.errors import (
     ShapegenError,
     StaticsError,
 )
-from shapegen.model import Block, Model, PointLoad, Scope
 
 __version__ = "0.1.0"
 
@@ -28,9 +27,14 @@ __all__ = [
 
 
 def __getattr__(name: str):
-    # The grammar machinery (lark, the interpreter) loads on first use, not on `import shapegen`.
+    # The model (numpy) and the grammar machinery (lark, the interpreter) load on first use, not
+    # on `import shapegen`, so the command's --help and its errors come at once.
     if name in ("load_grammar", "bundled_rules"):
         from shapegen.engine import grammar_api
 
         return getattr(grammar_api, name)
+    if name in ("Block", "Model", "PointLoad", "Scope"):
+        from shapegen import model
+
+        return getattr(model, name)
     raise AttributeError(f"module 'shapegen' has no attribute {name!r}")

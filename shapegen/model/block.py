@@ -9,7 +9,6 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from shapegen.errors import GeometryError
 from shapegen.model.polygons import face_normals
@@ -72,8 +71,8 @@ class Block:
         # qhull's round-off grows with the coordinates' magnitude: work about the centre.
         center = points.mean(axis=0)
         try:
-            hull = ConvexHull(points - center)
-        except QhullError:
+            hull = _convex_hull(points - center)
+        except _qhull_error():
             raise GeometryError(
                 f"block {label!r}: vertices are flat or collinear (zero volume)"
             ) from None
@@ -235,7 +234,20 @@ class Block:
         return out
 
 
-def _hull_polygons(points: np.ndarray, hull: ConvexHull) -> tuple[np.ndarray, tuple]:
+def _convex_hull(points: np.ndarray):
+    # scipy.spatial takes 0.4 s to import: loaded when a hull is first needed, not with the model
+    from scipy.spatial import ConvexHull
+
+    return ConvexHull(points)
+
+
+def _qhull_error() -> type[Exception]:
+    from scipy.spatial import QhullError
+
+    return QhullError
+
+
+def _hull_polygons(points: np.ndarray, hull) -> tuple[np.ndarray, tuple]:
     """The hull's faces as outward polygons over its vertices.
 
     qhull returns triangles; triangles of one face are recognised by the set of hull vertices
