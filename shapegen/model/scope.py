@@ -39,6 +39,11 @@ class Scope:
     def sz(self) -> float:
         return float(self.size[2])
 
+    @property
+    def size_text(self) -> str:
+        """The sides for a message, ``"2 x 0 x 1 m"`` (cheap: no numpy array printing)."""
+        return f"{self.sx:g} x {self.sy:g} x {self.sz:g} m"
+
     def to_world(self, local: np.ndarray) -> np.ndarray:
         """Scope coordinates (m, origin at the scope's corner) to world coordinates."""
         return self.origin + np.asarray(local, float) @ self.rotation.T

@@ -275,7 +275,7 @@ def _check_arch(
 ) -> None:
     width = scope.sx
     require(width > 0 and scope.sz > 0, name, "scope",
-            f"needs a positive width and depth, got {scope.size}")  # fmt: skip
+            f"needs a positive width and depth, got {scope.size_text}")  # fmt: skip
     require(segments >= 2, name, "segments", f"must be at least 2, got {segments}")
     require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
     require(
@@ -403,7 +403,7 @@ def bezier_arch(
     name = "bezier_arch"
     width, height = scope.sx, scope.sy
     require(width > 0 and height > 0 and scope.sz > 0, name, "scope",
-            f"needs a positive size, got {scope.size}")  # fmt: skip
+            f"needs a positive size, got {scope.size_text}")  # fmt: skip
     require(segments >= 2, name, "segments", f"must be at least 2, got {segments}")
     require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
     require(

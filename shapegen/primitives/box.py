@@ -18,6 +18,6 @@ _UNIT_CUBE = np.array(
 def box(scope: Scope) -> list[Block]:
     """One block filling the scope."""
     require(bool(np.all(scope.size > 0)), "box", "scope",
-            f"needs a positive size on every axis, got {scope.size}")  # fmt: skip
+            f"needs a positive size on every axis, got {scope.size_text}")  # fmt: skip
     template = Block.box([0, 0, 0], [1, 1, 1])
     return [Block(scope.to_world(_UNIT_CUBE * scope.size), template.faces)]

@@ -41,7 +41,7 @@ def flying_buttress_layout(
     """The arch line of a :func:`flying_buttress` in ``scope``; angles in degrees, lengths in m."""
     name = "flying_buttress"
     require(scope.sx > 0 and scope.sy > 0 and scope.sz > 0, name, "scope",
-            f"needs a positive size, got {scope.size}")  # fmt: skip
+            f"needs a positive size, got {scope.size_text}")  # fmt: skip
     require(0 < angle <= 90, name, "angle", f"must be in (0, 90] degrees, got {angle:g}")
     require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
     require(

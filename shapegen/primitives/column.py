@@ -42,7 +42,7 @@ def column(
     name = "column"
     width, height, depth = scope.sx, scope.sy, scope.sz
     require(min(width, height, depth) > 0, name, "scope",
-            f"needs a positive size, got {scope.size}")  # fmt: skip
+            f"needs a positive size, got {scope.size_text}")  # fmt: skip
     require(courses >= 1, name, "courses", f"must be at least 1, got {courses}")
     require(course_height >= 0, name, "course_height",
             f"must be positive (or 0 to use 'courses'), got {course_height:g} m")  # fmt: skip

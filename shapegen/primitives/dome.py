@@ -44,7 +44,9 @@ def dome(
     """
     name = "dome"
     radius_out = min(scope.sx, scope.sz) / 2
-    require(radius_out > 0, name, "scope", f"needs a positive width and depth, got {scope.size}")
+    require(
+        radius_out > 0, name, "scope", f"needs a positive width and depth, got {scope.size_text}"
+    )
     require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
     require(
         thickness < radius_out,

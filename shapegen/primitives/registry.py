@@ -85,7 +85,9 @@ class Primitive:
     def __call__(self, scope: Scope, **params) -> list[Block]:
         values = self.resolve(params)
         valid = bool(np.all(np.isfinite(scope.size)) and np.all(scope.size >= 0))
-        require(valid, self.name, "scope", f"needs finite sides, none negative, got {scope.size}")
+        require(
+            valid, self.name, "scope", f"needs finite sides, none negative, got {scope.size_text}"
+        )
         blocks = list(self.function(scope, **values))
         tol = DEFAULT.for_size(float(np.linalg.norm(scope.size)) or 1.0)
         for k, block in enumerate(blocks):

@@ -39,7 +39,7 @@ def wall(
     name = "wall"
     length, height, thickness = scope.sx, scope.sy, scope.sz
     require(min(length, height, thickness) > 0, name, "scope",
-            f"needs a positive size, got {scope.size}")  # fmt: skip
+            f"needs a positive size, got {scope.size_text}")  # fmt: skip
     require(block_length > 0, name, "block_length", f"must be positive, got {block_length:g} m")
     require(block_height > 0, name, "block_height", f"must be positive, got {block_height:g} m")
     per_course = max(1, round(length / block_length))
