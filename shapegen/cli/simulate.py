@@ -176,11 +176,14 @@ def _simulation_model(args: argparse.Namespace):
             )
         from shapegen.export.model_io import read_model
 
-        return read_model(name), {}
+        model = read_model(name)
+        _refuse_other_structures((model.metadata.get("structure") or {}).get("name"), name)
+        return model, {}
     from shapegen.pipeline import design
 
     search = search_settings(args)
     grammar = load_grammar(name)
+    _refuse_other_structures(grammar.structure, name)
     # --friction also sets the simulator's friction; the other statics options shape the search.
     statics = statics_options(args) if search is not None else None
     check_statics_apply(args, grammar, name)
@@ -199,6 +202,17 @@ def _simulation_model(args: argparse.Namespace):
     report = dict(outcome.report)
     report.pop("seconds", None)
     return outcome.model, {"build": report}
+
+
+def _refuse_other_structures(structure: str | None, source: str) -> None:
+    """The simulator drops rigid blocks under gravity: a design judged otherwise (a bridge held by
+    its cables) would fall and be called collapsed, which says nothing about it."""
+    if structure not in (None, "blocks"):
+        raise CommandLineError(
+            f"{source} is judged by the {structure!r} structure, which the rigid-body simulator"
+            " cannot represent (it simulates compression-only blocks); use `shapegen build"
+            f" {source} --analyze`"
+        )
 
 
 def _simulation_picture(result, output: str) -> bytes:

@@ -101,3 +101,14 @@ def test_optimize_keeps_a_safety_margin_unless_told_otherwise(tmp_path, extra, m
     assert optimization["feasible"]
     assert optimization["margin"] == pytest.approx(margin)
     assert (f"with a {margin:.0%} margin" in optimization["message"]) == (margin > 0)
+
+
+def test_a_design_judged_by_its_cables_is_not_simulated_as_blocks(tmp_path, capsys):
+    """Rigid blocks cannot hang from cables: the bridge would fall and be called collapsed."""
+    from shapegen.cli import main
+
+    report = tmp_path / "r.json"
+    assert main(["simulate", "suspension_bridge.grammar", "--report", str(report)]) == 2
+    err = capsys.readouterr().err
+    assert "judged by the 'cable' structure" in err and err.count("\n") == 1
+    assert not report.exists()
