@@ -10,6 +10,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.model.block import Block
+from shapegen.model.validation import validate_blocks
 from shapegen.tolerances import DEFAULT, Tolerances
 
 STANDARD_GRAVITY = 9.81
@@ -106,11 +107,17 @@ class Model:
         if not np.isfinite(self.friction) or self.friction < 0:
             raise GeometryError(f"friction must be a finite number >= 0, got {self.friction}")
         seen: set[str] = set()
-        for block in self.blocks:
+        duplicate = None
+        for k, block in enumerate(self.blocks):
             if block.id in seen:
-                raise GeometryError(f"two blocks are named {block.id!r}; block ids must be unique")
+                duplicate = k
+                break
             seen.add(block.id)
-            block.validate(tol)
+        # The blocks before a duplicate id are checked first, as a loop over the blocks would.
+        validate_blocks(self.blocks[:duplicate], tol)
+        if duplicate is not None:
+            name = self.blocks[duplicate].id
+            raise GeometryError(f"two blocks are named {name!r}; block ids must be unique")
         for load in self.loads:
             if load.block not in seen:
                 raise GeometryError(f"a load names block {load.block!r}, which does not exist")

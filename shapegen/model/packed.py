@@ -2,7 +2,14 @@
 
 from __future__ import annotations
 
-__all__ = ["PackedBlocks", "pack_blocks"]
+__all__ = [
+    "GatheredBlocks",
+    "PackedBlocks",
+    "gather_blocks",
+    "malformed_blocks",
+    "pack_blocks",
+    "packed_from",
+]
 
 from dataclasses import dataclass
 from itertools import chain
@@ -73,36 +80,73 @@ def pack_blocks(blocks: list[Block], index: np.ndarray | None = None) -> PackedB
     """Pack ``blocks`` (or the ones at positions ``index``) into :class:`PackedBlocks`."""
     index = np.arange(len(blocks)) if index is None else np.asarray(index, dtype=np.int64)
     chosen = [blocks[i] for i in index]
+    gathered = gather_blocks(chosen)
+    _reject_malformed(chosen, gathered)
+    return packed_from(index, gathered)
+
+
+@dataclass(frozen=True)
+class GatheredBlocks:
+    """Blocks' vertices and faces concatenated as given, before any check (see
+    :class:`PackedBlocks` for the names); ``corners`` are each block's own vertex numbers."""
+
+    vertices: np.ndarray
+    vertex_count: np.ndarray
+    vertex_start: np.ndarray
+    face_count: np.ndarray
+    face_start: np.ndarray
+    corners: np.ndarray
+    corner_count: np.ndarray
+    corner_start: np.ndarray
+    face_block: np.ndarray
+
+
+def gather_blocks(chosen: list[Block]) -> GatheredBlocks:
+    """Concatenate the vertices and faces of ``chosen``; nothing is checked."""
     vertex_count = np.array([len(b.vertices) for b in chosen], dtype=np.int64)
     face_count = np.array([len(b.faces) for b in chosen], dtype=np.int64)
-    vertex_start = np.concatenate([[0], np.cumsum(vertex_count)])
-    face_start = np.concatenate([[0], np.cumsum(face_count)])
     vertices = (
         np.concatenate([b.vertices for b in chosen]) if chosen else np.empty((0, 3), dtype=float)
     )
     faces = list(chain.from_iterable(b.faces for b in chosen))
     corner_count = np.fromiter((len(f) for f in faces), dtype=np.int64, count=len(faces))
     corner_start = np.concatenate([[0], np.cumsum(corner_count)])
-    face_block = np.repeat(np.arange(len(chosen)), face_count)
-    corners = np.fromiter(chain.from_iterable(faces), dtype=np.int64, count=int(corner_start[-1]))
-    _reject_malformed(chosen, vertices, vertex_count, face_count, face_block, corners, corner_count)
-    corners += np.repeat(vertex_start[:-1][face_block], corner_count)
+    return GatheredBlocks(
+        vertices=vertices,
+        vertex_count=vertex_count,
+        vertex_start=np.concatenate([[0], np.cumsum(vertex_count)]),
+        face_count=face_count,
+        face_start=np.concatenate([[0], np.cumsum(face_count)]),
+        corners=np.fromiter(
+            chain.from_iterable(faces), dtype=np.int64, count=int(corner_start[-1])
+        ),
+        corner_count=corner_count,
+        corner_start=corner_start,
+        face_block=np.repeat(np.arange(len(chosen)), face_count),
+    )
 
-    if len(faces):
+
+def packed_from(index: np.ndarray, gathered: GatheredBlocks) -> PackedBlocks:
+    """The :class:`PackedBlocks` of well-formed gathered blocks (finite vertices, faces of at
+    least 3 of their block's vertices, at least 4 faces a block)."""
+    g = gathered
+    vertices, vertex_start, corner_start = g.vertices, g.vertex_start, g.corner_start
+    corners = g.corners + np.repeat(vertex_start[:-1][g.face_block], g.corner_count)
+    if len(g.face_block):
         normal, center = face_normals(vertices, corners, corner_start)
         lower = np.minimum.reduceat(vertices, vertex_start[:-1], axis=0)
         upper = np.maximum.reduceat(vertices, vertex_start[:-1], axis=0)
     else:
         normal = center = np.empty((0, 3), dtype=float)
-        lower = upper = np.empty((len(chosen), 3), dtype=float)
+        lower = upper = np.empty((len(g.vertex_count), 3), dtype=float)
     return PackedBlocks(
         index=index,
         vertices=vertices,
         vertex_start=vertex_start,
-        face_start=face_start,
+        face_start=g.face_start,
         corners=corners,
         corner_start=corner_start,
-        face_block=face_block,
+        face_block=g.face_block,
         face_normal=normal,
         face_offset=np.einsum("ij,ij->i", normal, center),
         face_center=center,
@@ -111,18 +155,24 @@ def pack_blocks(blocks: list[Block], index: np.ndarray | None = None) -> PackedB
     )
 
 
-def _reject_malformed(
-    chosen, vertices, vertex_count, face_count, face_block, corners, corner_count
-):
+def malformed_blocks(gathered: GatheredBlocks) -> np.ndarray:
+    """``(n,)`` True for each block that :func:`packed_from` cannot take: a non-finite vertex,
+    a face of fewer than 3 corners or naming a vertex its block lacks, fewer than 4 faces."""
+    g = gathered
+    n = len(g.vertex_count)
+    bad = ~np.isfinite(g.vertices).all(axis=1)
+    malformed = np.bincount(np.repeat(np.arange(n), g.vertex_count)[bad], minlength=n) > 0
+    broken = np.repeat(g.vertex_count[g.face_block], g.corner_count)
+    wrong = (g.corners < 0) | (g.corners >= broken)
+    malformed[np.repeat(g.face_block, g.corner_count)[wrong]] = True
+    malformed[g.face_block[g.corner_count < 3]] = True
+    malformed[g.face_count < 4] = True
+    return malformed
+
+
+def _reject_malformed(chosen: list[Block], gathered: GatheredBlocks) -> None:
     """Raise the block's own :class:`GeometryError` for non-finite vertices or broken faces,
-    which the vectorised geometry below cannot handle."""
-    bad = ~np.isfinite(vertices).all(axis=1)
-    broken = np.repeat(vertex_count[face_block], corner_count)
-    wrong = (corners < 0) | (corners >= broken)
-    suspects = set(np.repeat(np.arange(len(chosen)), vertex_count)[bad].tolist())
-    suspects |= set(np.repeat(face_block, corner_count)[wrong].tolist())
-    suspects |= set(face_block[corner_count < 3].tolist())
-    suspects |= set(np.flatnonzero(face_count < 4).tolist())
-    for k in sorted(suspects):
+    which the vectorised geometry cannot handle."""
+    for k in np.flatnonzero(malformed_blocks(gathered)):
         chosen[k].validate()
         raise GeometryError(f"block {chosen[k].id or 'block'!r}: malformed vertices or faces")

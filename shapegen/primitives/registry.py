@@ -39,6 +39,7 @@ import numpy as np
 from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
+from shapegen.model.validation import first_invalid_block
 from shapegen.tolerances import DEFAULT
 
 
@@ -90,15 +91,16 @@ class Primitive:
         )
         blocks = list(self.function(scope, **values))
         tol = DEFAULT.for_size(float(np.linalg.norm(scope.size)) or 1.0)
-        for k, block in enumerate(blocks):
-            if not isinstance(block, Block):
-                raise GeometryError(
-                    f"primitive {self.name!r} returned {type(block).__name__}, not a Block"
-                )
-            try:
-                block.validate(tol)
-            except GeometryError as exc:
-                raise GeometryError(f"primitive {self.name!r}, piece {k}: {exc}") from None
+        foreign = next((k for k, b in enumerate(blocks) if not isinstance(b, Block)), None)
+        # All pieces at once; a bad piece before the first non-Block is the one reported.
+        invalid = first_invalid_block(blocks[:foreign], tol)
+        if invalid is not None:
+            k, exc = invalid
+            raise GeometryError(f"primitive {self.name!r}, piece {k}: {exc}") from None
+        if foreign is not None:
+            raise GeometryError(
+                f"primitive {self.name!r} returned {type(blocks[foreign]).__name__}, not a Block"
+            )
         return blocks
 
     def resolve(self, params: dict) -> dict:
