@@ -1,9 +1,12 @@
-"""Plug-ins: installed packages that add primitives or structures through an entry-point group."""
+"""Plug-ins: installed packages that add primitives or structures through an entry-point group,
+and the lookup by name both registries share."""
 
 from __future__ import annotations
 
-__all__ = ["load_plugins"]
+__all__ = ["find_registered", "load_plugins"]
 
+import difflib
+from collections.abc import Mapping
 from importlib.metadata import entry_points
 
 from shapegen.errors import GeometryError
@@ -21,3 +24,15 @@ def load_plugins(group: str, what: str) -> None:
             raise GeometryError(
                 f"cannot load {what} from {entry.value!r} (entry point {entry.name!r}): {exc}"
             ) from None
+
+
+def find_registered(registry: Mapping[str, object], name: str, what: str):
+    """``registry[name]``; an unknown name is one error suggesting the closest registered one
+    and listing them all."""
+    if name not in registry:
+        close = difflib.get_close_matches(str(name), list(registry), n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise GeometryError(
+            f"unknown {what} {name!r}{hint}; available: {', '.join(sorted(registry))}"
+        )
+    return registry[name]

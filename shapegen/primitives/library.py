@@ -5,11 +5,9 @@ from __future__ import annotations
 
 __all__ = ["available", "get", "insert"]
 
-import difflib
 
-from shapegen.errors import GeometryError
 from shapegen.model import Block, Scope
-from shapegen.plugins import load_plugins
+from shapegen.plugins import find_registered, load_plugins
 from shapegen.primitives import (  # noqa: F401  (each module registers its primitives)
     arch,
     box,
@@ -37,13 +35,7 @@ def _discover() -> None:
 def get(name: str) -> Primitive:
     """The primitive registered as ``name``; the error suggests close names."""
     _discover()
-    if name not in registry.REGISTRY:
-        close = difflib.get_close_matches(name, list(registry.REGISTRY), n=1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise GeometryError(
-            f"unknown primitive {name!r}{hint}; available: {', '.join(sorted(registry.REGISTRY))}"
-        )
-    return registry.REGISTRY[name]
+    return find_registered(registry.REGISTRY, name, "primitive")
 
 
 def available() -> list[str]:

@@ -5,10 +5,9 @@ from __future__ import annotations
 
 __all__ = ["available_structures", "make_structure", "structure_class"]
 
-import difflib
 
-from shapegen.errors import GeometryError, OptionError
-from shapegen.plugins import load_plugins
+from shapegen.errors import OptionError
+from shapegen.plugins import find_registered, load_plugins
 from shapegen.structures import blocks, cable, registry  # noqa: F401  (register the built-in ones)
 from shapegen.structures.base import Structure
 from shapegen.structures.registry import DEFAULT_STRUCTURE
@@ -28,13 +27,7 @@ def structure_class(name: str | None) -> type[Structure]:
     """The structure registered as ``name`` (None: the default); the error suggests names."""
     _discover()
     name = DEFAULT_STRUCTURE if name is None else name
-    if name not in registry.REGISTRY:
-        close = difflib.get_close_matches(str(name), list(registry.REGISTRY), n=1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise GeometryError(
-            f"unknown structure {name!r}{hint}; known: {', '.join(available_structures())}"
-        )
-    return registry.REGISTRY[name]
+    return find_registered(registry.REGISTRY, name, "structure")
 
 
 def available_structures() -> list[str]:
