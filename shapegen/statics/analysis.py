@@ -38,7 +38,7 @@ from shapegen.errors import StaticsError
 from shapegen.json_values import finite_or_none
 from shapegen.statics.assembly import StaticsProblem, assemble
 from shapegen.statics.interface import Interface
-from shapegen.statics.options import AUTO_ORDER, StaticsOptions
+from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveStatus, get_backend
 from shapegen.tolerances import ROUNDOFF_REL
 
@@ -120,6 +120,8 @@ class Analysis:
             "seconds": float(sum(self.timings.values())),
             "status": self.status.value,
             "solver": self.solver,
+            "friction": number(self.problem.friction) if self.problem is not None else None,
+            "pyramid": self.problem.pyramid if self.problem is not None else None,
             "timings": {k: float(v) for k, v in self.timings.items()},
         }
 
@@ -128,16 +130,20 @@ def certify(problem: StaticsProblem, x: np.ndarray) -> float:
     """Scaled equilibrium residual of the compression-only part of a solution.
 
     Tensions are dropped, compressions clipped at zero and each vertex's friction shrunk
-    radially into its pyramid. Returns the largest entry of ``|A f + w|`` with forces divided by
-    ``W`` and torques by ``W L`` (dimensionless); the assembly is certified to stand when it is at
-    most ``tolerances.feasible_rel``.
+    radially into its pyramid (or its cone). Returns the largest entry of ``|A f + w|`` with
+    forces divided by ``W`` and torques by ``W L`` (dimensionless); the assembly is certified to
+    stand when it is at most ``tolerances.feasible_rel``.
     """
     m = problem.n_vertices
     c, _, u, t = x.reshape(4, m)
     c = np.maximum(c, 0.0)
-    sides = problem.cone[:-1]
-    capacity = -sides[0, 0] * c  # mu cos(pi/K) c, the same for every side
-    demand = np.max(np.outer(u, sides[:, 1]) + np.outer(t, sides[:, 2]), axis=1) if m else c
+    if problem.second_order:
+        capacity = problem.friction * c
+        demand = np.hypot(u, t)
+    else:
+        sides = problem.cone[:-1]
+        capacity = -sides[0, 0] * c  # mu cos(pi/K) c, the same for every side
+        demand = np.max(np.outer(u, sides[:, 1]) + np.outer(t, sides[:, 2]), axis=1) if m else c
     with np.errstate(divide="ignore", invalid="ignore"):
         shrink = np.where(demand > capacity, capacity / np.where(demand > 0, demand, 1.0), 1.0)
     shrink = np.clip(shrink, 0.0, 1.0)
@@ -146,10 +152,11 @@ def certify(problem: StaticsProblem, x: np.ndarray) -> float:
     return float(np.abs(residual).max()) if residual.size else 0.0
 
 
-def _solve(problem: StaticsProblem, solver: str, phase_one: bool = False) -> tuple[Solution, str]:
-    """Solve with one back-end, or for "auto" with the fastest that succeeds (an inaccurate
-    solution is enough when only its primal forces are read, as for the certificate)."""
-    names = AUTO_ORDER if solver == "auto" else (solver,)
+def _solve(
+    problem: StaticsProblem, names: tuple[str, ...], phase_one: bool = False
+) -> tuple[Solution, str]:
+    """Solve with the first of ``names`` that succeeds (an inaccurate solution is enough when
+    only its primal forces are read, as for the certificate)."""
     accepted = {SolveStatus.OPTIMAL, SolveStatus.INFEASIBLE}
     if phase_one:
         accepted.add(SolveStatus.OPTIMAL_INACCURATE)
@@ -201,12 +208,8 @@ def analyze(
         raise StaticsError(
             f"give either a StaticsOptions or its fields, not both ({', '.join(settings)})"
         )
-    friction, pyramid, kern, solver = (
-        options.friction,
-        options.pyramid,
-        options.kern,
-        options.solver,
-    )
+    friction, pyramid, kern = options.friction, options.pyramid, options.kern
+    order = options.backends()
     timings = {"interfaces": 0.0, "assembly": 0.0, "solve": 0.0, "certify": 0.0}
     tol = model.tolerances()
 
@@ -226,21 +229,21 @@ def analyze(
     timings["assembly"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    phase_one, used = _solve(problem.with_objective("tension_sum"), solver, phase_one=True)
+    phase_one, used = _solve(problem.with_objective("tension_sum"), order, phase_one=True)
     timings["solve"] = time.perf_counter() - start
     start = time.perf_counter()
     feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
     if (
         not feasible
-        and solver == "auto"
+        and len(order) > 1
         and phase_one.status is SolveStatus.OPTIMAL_INACCURATE
-        and used != AUTO_ORDER[-1]
+        and used != order[-1]
         and _tension_sum(problem, phase_one.x) <= PHASE_ONE_STOP
     ):
         # Near the feasibility boundary the fast back-end may stop short; an inaccurate
         # phase one must not decide "does not stand" when the exact back-end can certify it.
         # (Far from it, phase one stops early on purpose: the tension is clearly positive.)
-        phase_one, used = _solve(problem.with_objective("tension_sum"), AUTO_ORDER[-1], True)
+        phase_one, used = _solve(problem.with_objective("tension_sum"), order[-1:], True)
         feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
     timings["certify"] = time.perf_counter() - start
 
@@ -253,7 +256,7 @@ def analyze(
         solution.multipliers = np.zeros_like(phase_one.multipliers)
     else:
         start = time.perf_counter()
-        solution, used = _solve(problem, solver)
+        solution, used = _solve(problem, order)
         timings["solve"] += time.perf_counter() - start
         if solution.status.solved:
             m = problem.n_vertices

@@ -13,7 +13,9 @@ lengths by the model size ``L`` (m). Torque rows are therefore divided by ``W * 
 
 The variable vector is ``x = [c, s, u, t]`` (four groups of ``m`` entries). The inequalities are
 per vertex and the same for every vertex: ``cone @ [c, u, t] <= 0`` (the friction pyramid sides
-and ``c >= 0``) and ``s >= 0``.
+and ``c >= 0``) and ``s >= 0``. With the exact Coulomb cone (``pyramid="cone"``) the linear rows are
+only ``c >= 0``, and friction is the second-order cone ``||(u, t)|| <= mu c`` per vertex, which
+only the back-ends that take cones can solve.
 """
 
 from __future__ import annotations
@@ -28,7 +30,9 @@ import scipy.sparse as sp
 from shapegen.errors import StaticsError
 from shapegen.statics.interface import GROUND, Interface
 
-PYRAMIDS = ("4", "4r", "8")
+PYRAMIDS = ("4", "4r", "8", "cone")
+"""Friction models: pyramids inscribed in the Coulomb cone (4, 4 turned by 45 degrees, 8 sides),
+or the exact cone (a second-order cone: the verdict does not turn with the model)."""
 OBJECTIVES = ("tension_squared", "tension_sum")
 
 # A minute Tikhonov term on c, u, t (dimensionless, relative to the unit weight) keeps the optimal
@@ -45,13 +49,18 @@ def friction_cone(pyramid: str, mu: float) -> np.ndarray:
     tangents (``|u|, |t| <= mu / sqrt(2) c``), ``"4r"`` is that square turned by 45 degrees
     (``|u| + |t| <= mu c``) and ``"8"`` is the octagon. The last row is ``-c <= 0``.
 
+    For ``"cone"`` the friction is not linear (``||(u, t)|| <= mu c``, see
+    :meth:`StaticsProblem.second_order_matrix`): the rows are ``-c <= 0`` alone.
+
     Returns
     -------
     numpy.ndarray
-        ``(K + 1, 3)`` dimensionless.
+        ``(K + 1, 3)`` dimensionless (``(1, 3)`` for the cone).
     """
     if pyramid not in PYRAMIDS:
         raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
+    if pyramid == "cone":
+        return np.array([[-1.0, 0.0, 0.0]])
     sides = {"4": 4, "4r": 4, "8": 8}[pyramid]
     offset = np.pi / 4 if pyramid == "4r" else 0.0
     angles = offset + 2 * np.pi * np.arange(sides) / sides
@@ -92,7 +101,8 @@ class StaticsProblem:
     load
         ``(6 nf,)`` scaled external wrench ``w`` (self-weight and point loads).
     cone
-        ``(K + 1, 3)`` per-vertex inequality rows on ``(c, u, t)``, see :func:`friction_cone`.
+        ``(K + 1, 3)`` per-vertex linear inequality rows on ``(c, u, t)``, see
+        :func:`friction_cone` (only ``c >= 0`` for the exact cone: see ``second_order``).
     quadratic, linear
         ``(4 m,)`` diagonal of ``P`` and ``q`` of the objective ``x P x / 2 + q x``.
     weight
@@ -137,6 +147,12 @@ class StaticsProblem:
     def n_variables(self) -> int:
         return 4 * self.n_vertices
 
+    @property
+    def second_order(self) -> bool:
+        """True when friction is the exact Coulomb cone ``||(u, t)|| <= mu c`` per vertex (a
+        second-order cone, :meth:`second_order_matrix`) rather than linear pyramid rows."""
+        return self.pyramid == "cone"
+
     def with_objective(self, objective: str) -> StaticsProblem:
         """The same constraints with objective ``"tension_squared"`` (``sum s^2``, the paper's)
         or ``"tension_sum"`` (``sum s``, a linear phase-one problem whose solution has no spurious
@@ -166,6 +182,27 @@ class StaticsProblem:
         cols = np.concatenate([cols, m + vertex])
         vals = np.concatenate([vals, -np.ones(m)])
         return sp.csc_matrix((vals, (rows, cols)), shape=(rows_per * m, 4 * m))
+
+    def second_order_matrix(self) -> sp.csc_matrix:
+        """Sparse ``K`` with ``-K x = (mu c_v, u_v, t_v)`` in three rows per vertex: vertex ``v``
+        owns rows ``3 v .. 3 v + 2``, each triple a second-order cone (first entry at least the
+        norm of the other two). Only meaningful when :attr:`second_order` is True."""
+        m = self.n_vertices
+        vertex = np.arange(m)
+        rows = np.concatenate([3 * vertex, 3 * vertex + 1, 3 * vertex + 2])
+        cols = np.concatenate([vertex, 2 * m + vertex, 3 * m + vertex])
+        vals = np.concatenate([np.full(m, -self.friction), -np.ones(m), -np.ones(m)])
+        return sp.csc_matrix((vals, (rows, cols)), shape=(3 * m, 4 * m))
+
+    def friction_excess(self, x: np.ndarray) -> np.ndarray:
+        """``(m,)`` how far each vertex's friction lies outside its pyramid or cone, in units of
+        the scaled force (<= 0 inside): the largest side violation, or ``||(u, t)|| - mu c``."""
+        m = self.n_vertices
+        c, _, u, t = x.reshape(4, m)
+        if self.second_order:
+            return np.hypot(u, t) - self.friction * c
+        sides = self.cone[:-1]
+        return np.einsum("vi,ki->vk", np.stack([c, u, t], axis=1), sides).max(axis=1)
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """Scaled equilibrium residual ``A x + w`` (force rows / W, torque rows / (W L))."""
@@ -248,7 +285,7 @@ def assemble(
     friction
         Coulomb coefficient mu (dimensionless); ``model.friction`` when None.
     pyramid
-        ``"4"``, ``"4r"`` or ``"8"`` (see :func:`friction_cone`).
+        ``"4"``, ``"4r"``, ``"8"`` or ``"cone"`` (see :func:`friction_cone`).
     kern
         Every interface polygon is scaled about its centroid by this factor in (0, 1].
     objective

@@ -23,7 +23,8 @@ from shapegen.statics.assembly import PYRAMIDS
 from shapegen.statics.solvers import BACKENDS
 
 AUTO_ORDER = ("reduced", "clarabel")
-"""``solver="auto"``: the fastest back-end first, the next if it fails."""
+"""``solver="auto"``: the fastest back-end first, the next if it fails (for the exact cone, only
+those that take cones: Clarabel)."""
 
 SOLVERS = ("auto", *BACKENDS)
 """Valid values of :attr:`StaticsOptions.solver`."""
@@ -38,14 +39,16 @@ class StaticsOptions:
     friction
         Coulomb coefficient mu of every joint (dimensionless, >= 0); None uses the model's own.
     pyramid
-        Friction pyramid: ``"4"`` (|ft1|, |ft2| <= mu/sqrt(2) fn), ``"4r"`` (the same square
-        turned 45 degrees, |ft1| + |ft2| <= mu fn) or ``"8"`` (octagon inscribed in the cone).
+        Friction model: ``"4"`` (|ft1|, |ft2| <= mu/sqrt(2) fn), ``"4r"`` (the same square
+        turned 45 degrees, |ft1| + |ft2| <= mu fn), ``"8"`` (octagon inscribed in the cone) or
+        ``"cone"`` (the exact Coulomb cone ||ft|| <= mu fn, a second-order cone: the verdict does
+        not depend on how the model is turned; solved by Clarabel or cvxpy, not ``reduced``).
     kern
         Every joint polygon is scaled about its centroid by this factor in (0, 1]: a geometric
         factor of safety (1/3: forces through the middle third of a rectangular joint).
     solver
-        QP back-end: ``"auto"`` (the reduced interior point method, Clarabel if it fails),
-        ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``.
+        QP back-end: ``"auto"`` (the reduced interior point method, Clarabel if it fails; Clarabel
+        alone for the cone), ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``.
 
     Raises
     ------
@@ -65,6 +68,13 @@ class StaticsOptions:
             )
         if self.solver not in SOLVERS:
             raise StaticsError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
+        if not self.backends():
+            able = [s for s in SOLVERS if s == "auto" or BACKENDS[s].second_order_cones]
+            raise StaticsError(
+                f"solver {self.solver!r} takes only the friction pyramids "
+                f"({', '.join(p for p in PYRAMIDS if p != 'cone')}); pyramid 'cone' needs solver "
+                f"{', '.join(able[:-1])} or {able[-1]}"
+            )
         kern = _number(self.kern)
         if kern is None or not 0 < kern <= 1:
             raise StaticsError(f"kern must be a number in (0, 1]; got {self.kern!r}")
@@ -87,6 +97,15 @@ class StaticsOptions:
                     f"unknown statics option {name!r}{hint}; options: {', '.join(names)}"
                 )
         return cls(**settings)
+
+    def backends(self) -> tuple[str, ...]:
+        """The back-ends to try, in order: :data:`AUTO_ORDER` for ``"auto"`` (only those that
+        take cones for the exact cone), else the one named; empty when it cannot solve the
+        friction model."""
+        names = AUTO_ORDER if self.solver == "auto" else (self.solver,)
+        if self.pyramid == "cone":
+            names = tuple(name for name in names if BACKENDS[name].second_order_cones)
+        return names
 
     def shrunk(self, margin: float) -> StaticsOptions:
         """The same options with every joint shrunk to ``1 - margin`` of the kern: a design that

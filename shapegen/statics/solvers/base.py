@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from shapegen.errors import StaticsError
+
 
 class SolveStatus(enum.Enum):
     """Outcome of a solve. A value on the result, never an exception."""
@@ -63,6 +65,17 @@ class Backend:
 
     name: str = ""
     library: str | None = None  # the module the back-end imports lazily, if any
+    second_order_cones: bool = False  # solves the exact Coulomb cone (pyramid "cone")
+
+    def refuse_unsupported(self, problem) -> None:
+        """Raise :class:`StaticsError` for a problem this back-end cannot solve exactly: the
+        exact friction cone on a back-end of linear inequalities only (solving it without the
+        cone would drop friction's limit, a silent wrong answer)."""
+        if problem.second_order and not self.second_order_cones:
+            raise StaticsError(
+                f"solver {self.name!r} takes only the friction pyramids (4, 4r, 8); "
+                "pyramid 'cone' needs solver auto, clarabel or cvxpy"
+            )
 
     def available(self) -> bool:
         """True when the back-end's library can be imported."""

@@ -30,11 +30,13 @@ class ClarabelBackend(Backend):
     """Interior point solver Clarabel on ``min x P x / 2 + q x`` s.t. ``A x = -w``, ``G x <= 0``.
 
     Equalities go into a ``ZeroConeT``, inequalities into a ``NonnegativeConeT`` (Clarabel's
-    form is ``A x + s = b``, ``s`` in the cone).
+    form is ``A x + s = b``, ``s`` in the cone). With the exact friction cone, each vertex adds a
+    ``SecondOrderConeT(3)`` on ``(mu c, u, t)``.
     """
 
     name = "clarabel"
     library = "clarabel"
+    second_order_cones = True
 
     def __init__(self, tolerance: float = 1e-10, max_iter: int = 200):
         self.tolerance = tolerance
@@ -48,11 +50,14 @@ class ClarabelBackend(Backend):
             return trivial
         start = time.perf_counter()
         p = problem.equality.shape[0]
-        inequality = problem.inequality_matrix()
-        constraints = sp.vstack([problem.equality, inequality], format="csc")
-        rhs = np.concatenate([-problem.load, np.zeros(inequality.shape[0])])
+        blocks = [problem.equality, problem.inequality_matrix()]
+        cones = [clarabel.ZeroConeT(p), clarabel.NonnegativeConeT(blocks[1].shape[0])]
+        if problem.second_order:
+            blocks.append(problem.second_order_matrix())
+            cones += [clarabel.SecondOrderConeT(3)] * problem.n_vertices
+        constraints = sp.vstack(blocks, format="csc")
+        rhs = np.concatenate([-problem.load, np.zeros(constraints.shape[0] - p)])
         objective = sp.diags(problem.quadratic, format="csc")
-        cones = [clarabel.ZeroConeT(p), clarabel.NonnegativeConeT(inequality.shape[0])]
         settings = clarabel.DefaultSettings()
         settings.verbose = False
         settings.max_iter = self.max_iter

@@ -23,7 +23,7 @@ _STATUS = {
 
 
 class CvxpyBackend(Backend):
-    """``minimize sum(s^2)`` subject to equilibrium and the friction pyramid, in cvxpy.
+    """``minimize sum(s^2)`` subject to equilibrium and the friction pyramid (or cone), in cvxpy.
 
     Slow to build (cvxpy canonicalises the expression tree) but easy to read and to vary; the
     tests check it against the other back-ends.
@@ -31,6 +31,7 @@ class CvxpyBackend(Backend):
 
     name = "cvxpy"
     library = "cvxpy"
+    second_order_cones = True
 
     def __init__(self, solver: str | None = None, tolerance: float = 1e-10):
         self.solver = solver
@@ -57,10 +58,17 @@ class CvxpyBackend(Backend):
             + problem.load
             == 0
         )
-        # each pyramid side: a u + b t <= mu cos(pi/K) c (the last cone row is c >= 0, above)
-        pyramid = [
-            g[1] * friction1 + g[2] * friction2 <= -g[0] * compression for g in problem.cone[:-1]
-        ]
+        if problem.second_order:
+            # the Coulomb cone itself: ||(u, t)|| <= mu c at each vertex (columns of the stack)
+            friction = [
+                cp.SOC(problem.friction * compression, cp.vstack([friction1, friction2]), axis=0)
+            ]
+        else:
+            # each pyramid side: a u + b t <= mu cos(pi/K) c (the last cone row is c >= 0, above)
+            friction = [
+                g[1] * friction1 + g[2] * friction2 <= -g[0] * compression
+                for g in problem.cone[:-1]
+            ]
         weight = problem.quadratic[m : 2 * m]
         regularization = problem.quadratic[0] / 2
         objective = (
@@ -69,7 +77,7 @@ class CvxpyBackend(Backend):
             + regularization
             * (cp.sum_squares(compression) + cp.sum_squares(friction1) + cp.sum_squares(friction2))
         )
-        cvx_problem = cp.Problem(cp.Minimize(objective), [equilibrium, *pyramid])
+        cvx_problem = cp.Problem(cp.Minimize(objective), [equilibrium, *friction])
         kwargs = {}
         solver = self.solver or ("CLARABEL" if "CLARABEL" in cp.installed_solvers() else None)
         if solver == "CLARABEL":

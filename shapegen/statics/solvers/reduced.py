@@ -257,6 +257,7 @@ class ReducedBackend(Backend):
         self.stop_above = stop_above
 
     def solve(self, problem) -> Solution:
+        self.refuse_unsupported(problem)  # linear inequalities only: no exact friction cone
         start = time.perf_counter()
         trivial = trivial_solution(problem)
         if trivial is not None:
