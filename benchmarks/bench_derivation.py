@@ -26,7 +26,7 @@ Stone --> 20% : label("dark") i("box")
 
 
 def main() -> None:
-    grammar = shapegen.load_grammar(WALL)
+    grammar = shapegen.parse_grammar(WALL)
     timings = []
     for seed in range(5):
         start = time.perf_counter()

@@ -23,13 +23,14 @@ __all__ = [
     "__version__",
     "bundled_rules",
     "load_grammar",
+    "parse_grammar",
 ]
 
 
 def __getattr__(name: str):
     # The model (numpy) and the grammar machinery (lark, the interpreter) load on first use, not
     # on `import shapegen`, so the command's --help and its errors come at once.
-    if name in ("load_grammar", "bundled_rules"):
+    if name in ("load_grammar", "parse_grammar", "bundled_rules"):
         from shapegen.engine import grammar_api
 
         return getattr(grammar_api, name)

@@ -1,7 +1,8 @@
-"""The public entry point to grammars: :func:`load_grammar` and :class:`Grammar`.
+"""The public entry points to grammars: :func:`load_grammar` reads a rule file,
+:func:`parse_grammar` takes source text; both return a :class:`Grammar`.
 
 >>> import shapegen
->>> grammar = shapegen.load_grammar('''
+>>> grammar = shapegen.parse_grammar('''
 ... attr height = 3
 ... @StartRule @Lot(4, 1)
 ... Lot --> extrude(height) split(x) { ~1 : Stone }*
@@ -13,10 +14,11 @@
 
 from __future__ import annotations
 
-__all__ = ["Grammar", "load_grammar", "bundled_rules"]
+__all__ = ["Grammar", "load_grammar", "parse_grammar", "bundled_rules"]
 
 import difflib
 import os
+import re
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -147,55 +149,97 @@ class Grammar:
         return f"Grammar({self.name!r}, {len(self.ast.rules)} rules)"
 
 
-def load_grammar(path_or_text: str | os.PathLike) -> Grammar:
-    """Load a grammar from a file or from text.
+def load_grammar(path: str | os.PathLike) -> Grammar:
+    """Load a grammar from a rule file.
 
-    A ``PathLike``, or a one-line string naming an existing file or ending in ``.grammar``, is a
-    file; a bare file name that is not in the working directory is looked up among the bundled
-    rules (``load_grammar("wall_windows.grammar")`` works anywhere). Any other string is the
-    grammar's text.
+    ``path`` names a file (a ``str`` or any ``PathLike``); a bare file name that is not in the
+    working directory is looked up among the bundled rules (``load_grammar("wall_windows.grammar")``
+    works anywhere, so does ``load_grammar("wall_windows")``). Grammar text is never guessed from
+    a string: pass it to :func:`parse_grammar`.
 
     Raises
     ------
     GrammarError
-        For a missing file, syntax errors and load-time problems (all of them at once).
+        For a missing or unreadable file, a string that is grammar text rather than a path (with
+        a pointer to :func:`parse_grammar`), syntax errors and load-time problems (all of them
+        at once, with file, line, column and caret).
     """
-    path = _as_path(path_or_text)
-    if path is None:
-        return Grammar(_parse(str(path_or_text), "<string>"))
+    path = _rule_file(path)
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        raise GrammarError(f"cannot read {str(path)!r}: {exc}") from None
-    return Grammar(_parse(text, str(path_or_text)), path)
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+        raise GrammarError(f"cannot read {str(path)!r}: {reason}") from None
+    return Grammar(_parse(text, str(path)), path)
 
 
-def _as_path(path_or_text: str | os.PathLike) -> Path | None:
-    """The file meant by ``path_or_text``, or None when it is grammar text."""
-    if isinstance(path_or_text, os.PathLike):
-        path = Path(path_or_text)
-    else:
-        text = str(path_or_text)
-        if "\n" in text or not text.strip():
-            return None
-        path = Path(text.strip())
-        looks_like_file = text.strip().endswith(".grammar") or path.is_file()
-        if not looks_like_file:
-            bundled = find_bundled_rule(path.name) if _is_bare_name(text.strip()) else None
-            return bundled
-    if path.is_file():
-        return path
-    if _is_bare_name(str(path_or_text)):
-        bundled = find_bundled_rule(path.name)
+def parse_grammar(text: str, name: str = "<string>") -> Grammar:
+    """Parse and check grammar source ``text``; ``name`` is how errors and reports call it.
+
+    >>> parse_grammar("@StartRule @Lot(2, 1)\\nLot --> extrude(1) Stone").lot
+    (2.0, 1.0)
+
+    Raises
+    ------
+    GrammarError
+        For a ``text`` that is not a string (a path: use :func:`load_grammar`), syntax errors and
+        load-time problems.
+    """
+    if not isinstance(text, str):
+        raise GrammarError(
+            f"parse_grammar takes the grammar's text as a str, got {type(text).__name__};"
+            " to read a rule file use load_grammar(path)"
+        )
+    if not isinstance(name, str):
+        raise GrammarError(f"parse_grammar: name must be a str, got {type(name).__name__}")
+    return Grammar(_parse(text, name))
+
+
+# What a one-line rule file name never contains but grammar text often does.
+_RULE_SYNTAX = re.compile(r"-->|^\s*(attr|const|version|import)\s|^\s*@[A-Za-z]")
+
+
+def _rule_file(path: str | os.PathLike) -> Path:
+    """The rule file meant by ``path`` (a bundled one for a bare name not found here)."""
+    if isinstance(path, bytes | bytearray) or not isinstance(path, str | os.PathLike):
+        raise GrammarError(
+            f"load_grammar takes the path of a rule file (str or PathLike), got"
+            f" {type(path).__name__}; for grammar text use parse_grammar(text)"
+        )
+    name = os.fspath(path)
+    if isinstance(name, bytes):
+        name = os.fsdecode(name)
+    if "\0" in name:
+        raise GrammarError(f"no grammar file {name!r}: a path cannot contain a NUL character")
+    if not name.strip() or "\n" in name or _RULE_SYNTAX.search(name):
+        shown = name.strip().splitlines()[0][:40] if name.strip() else ""
+        raise GrammarError(
+            f"load_grammar takes the path of a rule file, and {shown!r}"
+            + ("..." if len(name.strip()) > len(shown) else "")
+            + " looks like grammar text"
+            + ("" if name.strip() else " (it is empty)")
+            + ": use parse_grammar(text) for text"
+        )
+    candidate = Path(name)
+    try:
+        if candidate.is_file():
+            return candidate
+        exists = candidate.exists()
+    except OSError as exc:  # a name too long for the file system, a bad character...
+        raise GrammarError(f"cannot read {name[:80]!r}: {exc.strerror or exc}") from None
+    if exists:
+        raise GrammarError(f"cannot read {name!r}: it is not a file")
+    if _is_bare_name(name):
+        bundled = find_bundled_rule(name)
         if bundled is not None:
             return bundled
     names = bundled_rules()
     # compare the stems: every bundled name ends in .grammar, which would make any two look alike
-    stems = {Path(name).stem: name for name in names}
-    close = difflib.get_close_matches(Path(path.name).stem, list(stems), n=1, cutoff=0.75)
+    stems = {Path(bundled).stem: bundled for bundled in names}
+    close = difflib.get_close_matches(Path(candidate.name).stem, list(stems), n=1, cutoff=0.75)
     hint = f"; did you mean {stems[close[0]]!r}?" if close else ""
     raise GrammarError(
-        f"no grammar file {str(path)!r} (not in the working directory nor among the bundled "
+        f"no grammar file {name!r} (not in the working directory nor among the bundled "
         f"rules: {', '.join(names) or 'none'}){hint}"
     )
 

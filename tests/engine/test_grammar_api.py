@@ -13,13 +13,14 @@ from shapegen.primitives import available
 SMALL = "@StartRule @Lot(2, 1)\nLot --> extrude(1) Box.\n"
 
 
-def test_load_from_text_and_from_a_file(tmp_path):
+def test_parse_text_and_load_a_file(tmp_path):
     path = tmp_path / "small.grammar"
     path.write_text(SMALL)
-    for source in (SMALL, str(path), path):
-        model = shapegen.load_grammar(source).build()
-        assert len(model.blocks) == 1
+    grammars = [shapegen.parse_grammar(SMALL), *map(shapegen.load_grammar, (str(path), path))]
+    for grammar in grammars:
+        assert len(grammar.build().blocks) == 1
     assert shapegen.load_grammar(path).name == str(path)
+    assert shapegen.parse_grammar(SMALL).name == "<string>"
 
 
 def test_errors_name_the_file(tmp_path):

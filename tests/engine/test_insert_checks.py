@@ -4,7 +4,7 @@ import re
 
 import pytest
 
-from shapegen import load_grammar
+from shapegen import parse_grammar
 from shapegen.errors import GrammarError
 
 TEMPLATE = """
@@ -25,10 +25,10 @@ Top --> case scope.sy > 100 : {call} else : Plain
 def test_unknown_primitives_and_parameters_fail_at_load_time(call, message, column):
     # The case branch is never derived: only a load-time check can find the mistake.
     with pytest.raises(GrammarError, match=re.escape(message)) as caught:
-        load_grammar(TEMPLATE.format(call=call))
+        parse_grammar(TEMPLATE.format(call=call))
     assert caught.value.line == 5 and caught.value.column == column
 
 
 def test_a_correct_call_loads_and_builds():
-    grammar = load_grammar(TEMPLATE.format(call='i("arch", thickness=0.2)'))
+    grammar = parse_grammar(TEMPLATE.format(call='i("arch", thickness=0.2)'))
     assert len(grammar.build().blocks) == 2

@@ -13,7 +13,7 @@ from shapegen.export.blocks_json import model_to_dict
 
 
 def build(text, **kwargs):
-    return shapegen.load_grammar(text).build(**kwargs)
+    return shapegen.parse_grammar(text).build(**kwargs)
 
 
 def bounds(block):
@@ -163,7 +163,7 @@ def test_rules_are_overloaded_by_their_number_of_parameters():
 
 def test_a_call_matching_no_overload_names_the_counts():
     with pytest.raises(GrammarError, match=r"rule 'Wall' takes 0 or 1 arguments, got 2"):
-        shapegen.load_grammar(
+        shapegen.parse_grammar(
             "@StartRule\nLot --> Wall(1, 2)\nWall --> Stone.\nWall(h) --> extrude(h) Stone."
         )
 
@@ -235,7 +235,7 @@ def test_bad_attr_overrides(overrides, message):
 
 
 def test_grammar_attrs_and_free_parameters():
-    grammar = shapegen.load_grammar(
+    grammar = shapegen.parse_grammar(
         """
         @Free @Range(min=0.2, max=1.5)
         attr width = 0.5
@@ -297,13 +297,13 @@ def labels(model):
 
 
 def test_stochastic_rules_are_deterministic_per_seed():
-    grammar = shapegen.load_grammar(STOCHASTIC)
+    grammar = shapegen.parse_grammar(STOCHASTIC)
     assert labels(grammar.build(seed=7)) == labels(grammar.build(seed=7))
     assert labels(grammar.build(seed=7)) != labels(grammar.build(seed=8))
 
 
 def test_stochastic_rule_frequencies():
-    grammar = shapegen.load_grammar(STOCHASTIC)
+    grammar = shapegen.parse_grammar(STOCHASTIC)
     draws = [tag for seed in range(20) for tag in labels(grammar.build(seed=seed))]
     share = draws.count("dark") / len(draws)
     sigma = math.sqrt(0.3 * 0.7 / len(draws))
@@ -366,7 +366,7 @@ def test_lot_size(annotation, lot, expected):
 
 # ---------------------------------------------------------------------------- limits and errors
 def test_runaway_recursion_reports_the_chain():
-    grammar = shapegen.load_grammar("Lot --> extrude(1) Tower\nTower --> t(0, 1, 0) Tower")
+    grammar = shapegen.parse_grammar("Lot --> extrude(1) Tower\nTower --> t(0, 1, 0) Tower")
     with pytest.raises(GrammarError) as caught:
         grammar.build(max_depth=40)
     message = str(caught.value)
@@ -376,7 +376,7 @@ def test_runaway_recursion_reports_the_chain():
 
 
 def test_too_many_shapes_reports_the_chain():
-    grammar = shapegen.load_grammar(
+    grammar = shapegen.parse_grammar(
         "Lot --> extrude(1) split(x) { ~0.5 : Grow }*\nGrow --> Grow Grow"
     )
     with pytest.raises(GrammarError, match=r"max_shapes.*Lot -> Grow x") as caught:
@@ -385,7 +385,7 @@ def test_too_many_shapes_reports_the_chain():
 
 
 def test_runaway_repeat_split_is_stopped():
-    grammar = shapegen.load_grammar("Lot --> extrude(1) split(x) { 1e-9 : A }*")
+    grammar = shapegen.parse_grammar("Lot --> extrude(1) split(x) { 1e-9 : A }*")
     with pytest.raises(GrammarError, match="max_shapes"):
         grammar.build(max_shapes=1000)
 

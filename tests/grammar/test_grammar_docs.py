@@ -1,6 +1,6 @@
 """The examples of docs/grammar.md: each loads, each builds, and the split cases are CityEngine's.
 
-Building needs ``shapegen.load_grammar``; those tests skip only while it does not exist.
+Building needs ``shapegen.parse_grammar``; those tests skip only while it does not exist.
 """
 
 import re
@@ -17,11 +17,11 @@ DOC_TEXT = DOCS.read_text()
 EXAMPLES = re.findall(r"```grammar\n(.*?)```", DOC_TEXT, re.S)
 
 
-def _load_grammar():
-    load_grammar = getattr(shapegen, "load_grammar", None)
-    if load_grammar is None:
-        pytest.skip("shapegen.load_grammar does not exist yet")
-    return load_grammar
+def _parse_grammar():
+    parse_grammar = getattr(shapegen, "parse_grammar", None)
+    if parse_grammar is None:
+        pytest.skip("shapegen.parse_grammar does not exist yet")
+    return parse_grammar
 
 
 def _first_line(text: str) -> str:
@@ -84,7 +84,7 @@ def test_doc_example_loads(text):
 
 @pytest.mark.parametrize("text", EXAMPLES, ids=[_first_line(t)[:40] for t in EXAMPLES])
 def test_doc_example_builds(text):
-    model = _load_grammar()(text).build()
+    model = _parse_grammar()(text).build()
     assert len(model.blocks) >= 1
     for block in model.blocks:
         assert block.volume > 0
@@ -111,7 +111,7 @@ def test_split_cases_are_documented(pattern, expected):
 @pytest.mark.parametrize("pattern, expected", SPLIT_CASES, ids=[c[0] for c in SPLIT_CASES])
 def test_split_cases_match_cityengine(pattern, expected):
     text = f"@StartRule\n@Lot(10, 1)\nLot --> extrude(1) split(x) {pattern}\n"
-    model = _load_grammar()(text).build()
+    model = _parse_grammar()(text).build()
     pieces = sorted(
         (float(block.bounds[0][0]), block.rule_path[-1], float(np.ptp(block.vertices[:, 0])))
         for block in model.blocks

@@ -80,11 +80,8 @@ def test_plugin_parameters_are_validated_by_the_library(plugin_on_path):
 
 
 def test_plugin_used_from_a_grammar(plugin_on_path):
-    load_grammar = getattr(shapegen, "load_grammar", None)
-    if load_grammar is None:
-        pytest.skip("shapegen.load_grammar is not available yet")
     source = '@StartRule\n@Lot(3, 0.5)\nLot --> extrude(0.6) i("jack_arch", segments=9)\n'
-    model = load_grammar(source).build()
+    model = shapegen.parse_grammar(source).build()
     assert len(model.blocks) == 9
     exact = jack_arch_volume(3.0, 0.6, 0.5, 20.0)
     assert sum(b.volume for b in model.blocks) == pytest.approx(exact, rel=1e-9)

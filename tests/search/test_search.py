@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from shapegen import load_grammar
+from shapegen import load_grammar, parse_grammar
 from shapegen.errors import GrammarError, OptionError
 from shapegen.search import (
     GRADIENTS,
@@ -72,7 +72,7 @@ THIN = {"max_cable_diameter": 0.8}
 
 @pytest.fixture(scope="module")
 def stack():
-    return load_grammar(STACK)
+    return parse_grammar(STACK)
 
 
 @pytest.fixture(scope="module")
@@ -209,7 +209,7 @@ def test_bad_options_are_option_errors(stack, options, message):
 
 def test_failing_builds_are_stepped_around():
     # Beyond base = 0.45 the design cannot be built (the arch is thicker than its radius).
-    grammar = load_grammar(STACK.replace(
+    grammar = parse_grammar(STACK.replace(
         "Bottom --> s(base + 0.5, '1, '1) Stone",
         'Bottom --> s(base + 0.5, \'1, \'1) Piece\n'
         'Piece --> case base > 0.45 : i("arch", thickness=100) else : Stone',

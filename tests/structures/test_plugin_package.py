@@ -33,7 +33,7 @@ def installed(monkeypatch):
 
 def test_an_installed_structure_is_found_and_drives_the_search(installed):
     assert structure_class("height_cap").name == "height_cap"
-    grammar = shapegen.load_grammar(TOWER)
+    grammar = shapegen.parse_grammar(TOWER)
     assert grammar.structure == "height_cap"
     result = optimize(grammar)
     assert result.feasible and result.method == "Powell"  # no gradient: derivative-free
@@ -43,4 +43,4 @@ def test_an_installed_structure_is_found_and_drives_the_search(installed):
 
 def test_an_unknown_argument_of_the_plugin_is_a_load_time_error(installed):
     with pytest.raises(shapegen.GrammarError, match="did you mean 'max_height'"):
-        shapegen.load_grammar(TOWER.replace("max_height", "max_heigth"))
+        shapegen.parse_grammar(TOWER.replace("max_height", "max_heigth"))

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from shapegen import load_grammar
+from shapegen import parse_grammar
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.search import optimize
 from shapegen.structures import (
@@ -95,7 +95,7 @@ def test_a_registered_plug_in_is_found_by_name(registry):
 
 def test_a_grammar_names_the_plug_in_and_the_search_uses_it(registry):
     register_structure(VolumeCap)
-    grammar = load_grammar(CAPPED)
+    grammar = parse_grammar(CAPPED)
     assert grammar.structure == "volume_cap"
     assert grammar.structure_arguments() == {"max_volume": 20.0}
     model = grammar.build()
@@ -151,14 +151,14 @@ def test_unknown_structure_name_is_an_error_with_a_suggestion():
 def test_unknown_structure_in_a_grammar_is_a_load_time_error():
     text = CABLE_START.replace('@Structure("cable", {arguments})', '@Structure("cabel")')
     with pytest.raises(GrammarError, match=SUGGESTION):
-        load_grammar(text)
+        parse_grammar(text)
 
 
 def test_a_plug_in_is_unknown_to_a_grammar_until_registered(registry):
     with pytest.raises(GrammarError, match="unknown structure 'volume_cap'"):
-        load_grammar(CAPPED)
+        parse_grammar(CAPPED)
     register_structure(VolumeCap)
-    assert load_grammar(CAPPED).structure == "volume_cap"
+    assert parse_grammar(CAPPED).structure == "volume_cap"
 
 
 REQUIRED = "main_span = span, sag = span / 10, lanes = 4, max_cable_diameter = 1"
@@ -175,25 +175,25 @@ REQUIRED = "main_span = span, sag = span / 10, lanes = 4, max_cable_diameter = 1
 )
 def test_cable_arguments_are_checked_when_the_grammar_loads(arguments, words):
     with pytest.raises(GrammarError, match=words):
-        load_grammar(CABLE_START.format(arguments=arguments))
+        parse_grammar(CABLE_START.format(arguments=arguments))
 
 
 def test_plug_in_arguments_are_checked_when_the_grammar_loads(registry):
     register_structure(VolumeCap)
     with pytest.raises(GrammarError, match=r"needs the argument\(s\) max_volume"):
-        load_grammar(CAPPED.replace("max_volume = cap", "").replace('cap", ', 'cap"'))
+        parse_grammar(CAPPED.replace("max_volume = cap", "").replace('cap", ', 'cap"'))
     with pytest.raises(GrammarError, match="structure 'volume_cap' has no argument 'volume'"):
-        load_grammar(CAPPED.replace("max_volume = cap", "max_volume = cap, volume = 2"))
+        parse_grammar(CAPPED.replace("max_volume = cap", "max_volume = cap, volume = 2"))
 
 
 def test_a_structure_is_named_by_a_string():
     text = CABLE_START.replace('@Structure("cable", {arguments})', "@Structure(3)")
     with pytest.raises(GrammarError, match="@Structure names a structure: a string"):
-        load_grammar(text)
+        parse_grammar(text)
 
 
 def test_a_grammar_without_structure_is_judged_by_block_statics():
-    grammar = load_grammar("@StartRule @Lot(1, 1)\nLot --> extrude(1) Stone\n")
+    grammar = parse_grammar("@StartRule @Lot(1, 1)\nLot --> extrude(1) Stone\n")
     assert grammar.structure == "blocks"
     assert grammar.structure_arguments() == {}
 

@@ -10,10 +10,10 @@
 import pytest
 
 try:
-    from shapegen import load_grammar
+    from shapegen import parse_grammar
 except (ImportError, AttributeError):  # the grammar is built by another part of the package
-    load_grammar = None
-pytestmark = pytest.mark.skipif(load_grammar is None, reason="shapegen.load_grammar is missing")
+    parse_grammar = None
+pytestmark = pytest.mark.skipif(parse_grammar is None, reason="shapegen.parse_grammar is missing")
 
 from shapegen.statics import analyze  # noqa: E402
 
@@ -47,7 +47,7 @@ Arch --> i("arch", thickness = t, segments = 60)
 
 @pytest.mark.slow
 def test_grammar_arch_has_the_minimum_thickness(bisect):
-    grammar = load_grammar(ARCH)
+    grammar = parse_grammar(ARCH)
 
     def stands(ratio: float) -> bool:
         model = grammar.build(attrs={"t": ratio})
@@ -64,7 +64,7 @@ def test_grammar_arch_has_the_minimum_thickness(bisect):
     [(0.18, 1.5, False), (0.25, 0.25, False), (0.25, 1.5, True)],
 )
 def test_grammar_arch_on_two_columns(thickness, column_width, stands):
-    model = load_grammar(ARCH_ON_COLUMNS).build(attrs={"t": thickness, "c": column_width})
+    model = parse_grammar(ARCH_ON_COLUMNS).build(attrs={"t": thickness, "c": column_width})
     model.friction = 1.0
     assert len(model.blocks) == 60 + 2 * 3
     assert analyze(model).feasible is stands
