@@ -25,7 +25,7 @@ EXIT_USAGE = 2
 
 def build_parser() -> Parser:
     """The ``shapegen`` argument parser with every command."""
-    from shapegen.cli import analyze, build, landscape, rules, simulate
+    from shapegen.cli import analyze, build, edit, landscape, rules, simulate
 
     parser = Parser(
         prog="shapegen",
@@ -38,7 +38,7 @@ def build_parser() -> Parser:
     parser.add_argument("--version", action="version", version=f"shapegen {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     commands.required = True
-    for command in (analyze, build, landscape, rules, simulate):
+    for command in (analyze, build, edit, landscape, rules, simulate):
         command.add_command(commands)
     return parser
 

@@ -1,0 +1,96 @@
+"""``shapegen edit FILE.grammar [--port N] [--no-open]``: the design page in the browser.
+
+Serves the page and its JSON API on 127.0.0.1 (docs/editor.md), opens it in the user's browser,
+re-reads the grammar file when it changes on disk, and stops on Ctrl-C.
+"""
+
+from __future__ import annotations
+
+__all__ = ["DEFAULT_PORT", "add_command", "run"]
+
+import argparse
+import errno
+import sys
+
+from shapegen.cli.options import CommandLineError, add_derivation_options
+
+DEFAULT_PORT = 8765
+
+
+def _port(text: str) -> int:
+    try:
+        port = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a port number: {text!r}") from None
+    if not 0 <= port <= 65535:
+        raise argparse.ArgumentTypeError(f"a port is between 0 and 65535, got {port}")
+    return port
+
+
+def add_command(commands) -> None:
+    edit = commands.add_parser(
+        "edit",
+        help="edit a design in the browser: sliders, verdict, stable ranges, optimize",
+        description=(
+            "Serve an interactive design page for a .grammar on 127.0.0.1: the model in 3D, an"
+            " Inspector of its attrs (sliders for those with @Range; on each @Free slider the"
+            " interval where the design stands), the verdict after every change, and the"
+            " search. The page reloads when the file changes on disk. Ctrl-C stops."
+        ),
+    )
+    edit.add_argument(
+        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+    )
+    edit.add_argument(
+        "--port",
+        type=_port,
+        default=DEFAULT_PORT,
+        metavar="N",
+        help=f"port on 127.0.0.1 (default {DEFAULT_PORT}; 0 picks a free one)",
+    )
+    edit.add_argument(
+        "--no-open", action="store_true", help="print the address without opening a browser"
+    )
+    add_derivation_options(edit, prefix="initial design: ")
+    edit.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from shapegen.cli.options import load_grammar
+    from shapegen.editor import EditorSession, make_server
+    from shapegen.editor.watch import FileWatcher
+
+    grammar = load_grammar(args.grammar)
+    if grammar.path is None:
+        raise CommandLineError(f"{args.grammar}: the editor needs a grammar file")
+    # --set values are checked as the page's are: a known attr, of its kind, within its @Range
+    session = EditorSession(
+        str(grammar.path), attrs=dict(args.assignments), seed=args.seed, lot=args.lot
+    )
+    try:
+        server = make_server(session, args.port)
+    except OSError as exc:
+        session.close()
+        if exc.errno == errno.EADDRINUSE:
+            raise CommandLineError(
+                f"port {args.port} on 127.0.0.1 is in use; choose another with --port N"
+                " (0 picks a free one)"
+            ) from None
+        raise
+    watcher = FileWatcher(grammar.path, lambda: session.reload())
+    print(f"shapegen edit: {server.url}  ({grammar.path}; Ctrl-C stops)", flush=True)
+    if not args.no_open:
+        import webbrowser
+
+        if not webbrowser.open(server.url):
+            print("shapegen edit: no browser could be opened; open the address above", flush=True)
+    try:
+        server.serve_forever(poll_interval=0.2)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        watcher.stop()
+        server.server_close()
+        session.close()
+    sys.stderr.write("shapegen edit: stopped\n")
+    return 0

@@ -1,0 +1,111 @@
+"""What the page draws besides the blocks' meshes: their colours, the forces, the legend.
+
+The meshes come from ``GET /api/model.glb`` (:func:`shapegen.export.gltf.encode_glb`, one node
+per block named by its id); this module gives, per block in the same order, its colour by label
+and by the tension it needs (:mod:`shapegen.export.colors`, the colours of every other output),
+and the forces of the seed paper's Figure 1: the resultant of every joint between two blocks and
+the reaction of every support (the ground, or a fixed block) on the structure. Arrows are scaled
+as the glTF's: the largest force is :data:`~shapegen.export.gltf.ARROW_LENGTH_REL` of the
+model's size.
+"""
+
+from __future__ import annotations
+
+__all__ = ["scene_data"]
+
+import numpy as np
+
+from shapegen.export.colors import (
+    NON_STRUCTURAL,
+    SUPPORT,
+    TENSION_MAX,
+    TENSION_ZERO,
+    block_label_color,
+    label_color,
+    tension_colors,
+    tension_levels,
+)
+from shapegen.export.gltf import ARROW_LENGTH_REL
+from shapegen.json_values import finite_or_none
+from shapegen.model import Model
+from shapegen.statics.interface import GROUND
+from shapegen.structures import Assessment
+from shapegen.tolerances import FORCE_NOISE_REL
+
+
+def scene_data(model: Model, assessment: Assessment | None) -> dict:
+    """The page's scene description of ``model`` judged by ``assessment`` (plain JSON)."""
+    blocks = model.blocks
+    fixed = np.array([b.fixed for b in blocks], dtype=bool)
+    structural = np.array([b.structural for b in blocks], dtype=bool)
+    label_colors = [
+        block_label_color(b.tags, fixed=b.fixed, structural=b.structural).tolist() for b in blocks
+    ]
+    analysis = (
+        assessment.detail if assessment is not None and assessment.structure == "blocks" else None
+    )
+    tension = None
+    tension_rgba = None
+    if analysis is not None:
+        tension = np.nan_to_num(np.asarray(analysis.block_tension, float).reshape(-1), nan=0.0)
+        tension_rgba = tension_colors(tension_levels(analysis), fixed, structural).tolist()
+    labels = sorted({b.tags[0] for b in blocks if b.tags and b.structural and not b.fixed})
+    lows = np.array([b.vertices.min(axis=0) for b in blocks]) if blocks else np.zeros((1, 3))
+    highs = np.array([b.vertices.max(axis=0) for b in blocks]) if blocks else np.zeros((1, 3))
+    return {
+        "blocks": [
+            {
+                "id": b.id,
+                "label": b.tags[0] if b.tags else "",
+                "color": label_colors[k],
+                "tension": None if tension is None else float(max(tension[k], 0.0)),
+                "tension_color": None if tension_rgba is None else tension_rgba[k],
+            }
+            for k, b in enumerate(blocks)
+        ],
+        "bounds": [lows.min(axis=0).tolist(), highs.max(axis=0).tolist()],
+        "ground": None if model.ground is None else float(model.ground),
+        "legend": {
+            "labels": [[label, label_color(label).tolist()] for label in labels],
+            "support": SUPPORT.tolist(),
+            "non_structural": NON_STRUCTURAL.tolist(),
+            "tension_zero": TENSION_ZERO.tolist(),
+            "tension_max": TENSION_MAX.tolist(),
+            "max_tension": None if analysis is None else finite_or_none(analysis.max_tension),
+        },
+        "forces": _forces(model, analysis),
+    }
+
+
+def _forces(model: Model, analysis) -> dict | None:
+    """``joints`` and ``ground`` arrows as ``[x, y, z, fx, fy, fz]`` (point m, force N), and the
+    drawing scale ``metres_per_newton``; None without a block analysis."""
+    if analysis is None or not len(analysis.interfaces):
+        return None
+    forces = np.asarray(analysis.resultant_forces, float).reshape(-1, 3)
+    points = np.asarray(analysis.resultant_points, float).reshape(-1, 3)
+    fixed = np.array([b.fixed for b in model.blocks], dtype=bool)
+    first = np.array([i.first for i in analysis.interfaces])
+    second = np.array([i.second for i in analysis.interfaces])
+    second_support = np.where(second == GROUND, True, fixed[np.maximum(second, 0)])
+    first_support = fixed[first]
+    support = second_support | first_support
+    # the force the support exerts on the structure: resultants are on ``second`` from ``first``
+    on_structure = np.where(second_support[:, None], -forces, forces)
+    magnitude = np.linalg.norm(forces, axis=1)
+    drawable = np.isfinite(magnitude) & np.all(np.isfinite(points), axis=1)
+    peak = float(magnitude[drawable].max()) if drawable.any() else 0.0
+    if peak <= 0:
+        return {"joints": [], "ground": [], "metres_per_newton": 0.0, "peak": 0.0}
+    drawable &= magnitude > FORCE_NOISE_REL * peak
+
+    def rows(mask: np.ndarray, vectors: np.ndarray) -> list[list[float]]:
+        data = np.concatenate([points[mask], vectors[mask]], axis=1)
+        return np.round(data, 6).tolist()
+
+    return {
+        "joints": rows(drawable & ~support, forces),
+        "ground": rows(drawable & support, on_structure),
+        "metres_per_newton": ARROW_LENGTH_REL * model.size / peak,
+        "peak": peak,
+    }

@@ -1,0 +1,242 @@
+"""The editor's HTTP server: the page, its scripts, and the JSON API (docs/editor.md).
+
+The standard library's :class:`~http.server.ThreadingHTTPServer` serves it, on 127.0.0.1 only:
+one designer, a handful of small JSON requests, and files from the package; a thread per request
+lets the page read the state while a search runs. Every answer to a bad request is a 4xx with a
+JSON body ``{"error": "..."}``; an unexpected failure is a 500 with the same shape, and the
+server keeps running.
+"""
+
+from __future__ import annotations
+
+__all__ = ["API", "MAX_BODY", "EditorServer", "make_server"]
+
+import json
+import mimetypes
+import sys
+import traceback
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from importlib import resources
+from urllib.parse import urlsplit
+
+from shapegen.editor.attrs import RequestError
+from shapegen.editor.session import EditorSession
+from shapegen.errors import ShapegenError
+from shapegen.json_values import json_ready
+
+MAX_BODY = 64 * 1024  # bytes: far more than any attr update needs
+HOST = "127.0.0.1"
+
+# path -> {method: what it does}; the docs list the same table.
+API = {
+    "/api/state": {"GET": "attrs, verdict, timings, stable intervals, search progress, error"},
+    "/api/scene": {"GET": "per-block colours by label and tension, forces, legend"},
+    "/api/model.glb": {"GET": "the current model as binary glTF"},
+    "/api/attrs": {"POST": 'set attrs: {"name": value, ...}; returns the new state'},
+    "/api/optimize": {"POST": 'search the free attrs: {"objective": "energy" | "closest"}'},
+    "/api/cancel": {"POST": "stop a running search after its current iteration"},
+    "/api/reload": {"POST": "re-read the grammar file now"},
+}
+_PAGES = {"/": "index.html", "/index.html": "index.html"}
+_TYPES = {".js": "text/javascript", ".css": "text/css", ".html": "text/html", ".txt": "text/plain"}
+
+
+class EditorServer(ThreadingHTTPServer):
+    """A threading HTTP server that holds one :class:`EditorSession`."""
+
+    daemon_threads = True
+    allow_reuse_address = True
+
+    def __init__(self, port: int, session: EditorSession, *, quiet: bool = True):
+        self.session = session
+        self.quiet = quiet
+        super().__init__((HOST, port), _Handler)
+
+    @property
+    def url(self) -> str:
+        return f"http://{HOST}:{self.server_address[1]}/"
+
+
+def make_server(session: EditorSession, port: int = 0, *, quiet: bool = True) -> EditorServer:
+    """The server for ``session`` on 127.0.0.1:``port`` (0: any free port); call
+    ``serve_forever()`` on it."""
+    return EditorServer(port, session, quiet=quiet)
+
+
+def _static_root():
+    return resources.files("shapegen.editor").joinpath("static")
+
+
+class _Handler(BaseHTTPRequestHandler):
+    server: EditorServer
+    server_version = "shapegen-edit"
+    protocol_version = "HTTP/1.1"
+
+    # ------------------------------------------------------------------ dispatch
+    def do_GET(self) -> None:  # noqa: N802 (the standard library's name)
+        self._dispatch("GET")
+
+    def do_HEAD(self) -> None:  # noqa: N802
+        self._dispatch("HEAD")
+
+    def do_POST(self) -> None:  # noqa: N802
+        self._dispatch("POST")
+
+    def do_PUT(self) -> None:  # noqa: N802
+        self._dispatch("PUT")
+
+    def do_DELETE(self) -> None:  # noqa: N802
+        self._dispatch("DELETE")
+
+    def do_PATCH(self) -> None:  # noqa: N802
+        self._dispatch("PATCH")
+
+    def do_OPTIONS(self) -> None:  # noqa: N802
+        self._dispatch("OPTIONS")
+
+    def _dispatch(self, method: str) -> None:
+        try:
+            self._check_host()
+            path = urlsplit(self.path).path
+            if path in API:
+                allowed = API[path]
+                if method not in allowed and not (method == "HEAD" and "GET" in allowed):
+                    raise RequestError(f"{path} takes {', '.join(allowed)}, not {method}", 405)
+                self._api(method, path)
+            elif method in ("GET", "HEAD"):
+                self._file(path, head=method == "HEAD")
+            elif path in _PAGES or path.startswith("/static/"):
+                raise RequestError(f"{path} takes GET, not {method}", 405)
+            else:
+                raise RequestError(f"no such address: {path}", 404)
+        except RequestError as exc:
+            self.close_connection = True  # a body may be left unread
+            self._json({"error": str(exc)}, exc.status)
+        except ShapegenError as exc:
+            self.close_connection = True
+            self._json({"error": str(exc).splitlines()[0]}, 422)
+        except (BrokenPipeError, ConnectionResetError):
+            pass
+        except Exception as exc:  # the server keeps running; the page shows the message
+            sys.stderr.write(traceback.format_exc())
+            self.close_connection = True
+            self._json({"error": f"internal error: {type(exc).__name__}: {exc}"}, 500)
+
+    def _check_host(self) -> None:
+        # Only pages served from this address may drive it (a web page elsewhere could reach
+        # 127.0.0.1 through a rebound DNS name, but it cannot forge the Host header).
+        host = (self.headers.get("Host") or "").rsplit(":", 1)[0]
+        if host not in (HOST, "localhost"):
+            raise RequestError(f"requests must be addressed to {HOST}", 403)
+
+    # ------------------------------------------------------------------ the API
+    def _api(self, method: str, path: str) -> None:
+        session = self.server.session
+        if method in ("GET", "HEAD"):
+            self._drain()
+            if path == "/api/model.glb":
+                self._send(session.glb(), "model/gltf-binary", head=method == "HEAD")
+            elif path == "/api/scene":
+                self._json(session.scene(), head=method == "HEAD")
+            else:
+                self._json(session.state(), head=method == "HEAD")
+            return
+        body = self._body()
+        if path == "/api/attrs":
+            self._json(session.set_attrs(body))
+        elif path == "/api/optimize":
+            self._json(session.optimize(body))
+        elif path == "/api/cancel":
+            self._json(session.cancel())
+        else:
+            self._json(session.reload())
+
+    def _body(self) -> object:
+        """The request's JSON body (None when empty)."""
+        text = self.headers.get("Content-Length")
+        if self.headers.get("Transfer-Encoding", "").lower() == "chunked":
+            self.close_connection = True
+            raise RequestError("send the body with a Content-Length, not chunked", 411)
+        try:
+            length = int(text) if text is not None else 0
+        except ValueError:
+            self.close_connection = True
+            raise RequestError(f"bad Content-Length {text!r}") from None
+        if length < 0:
+            self.close_connection = True
+            raise RequestError(f"bad Content-Length {text!r}")
+        if length > MAX_BODY:
+            self.close_connection = True  # the body is not read: the connection cannot be reused
+            raise RequestError(f"the body is {length} bytes; at most {MAX_BODY} are accepted", 413)
+        raw = self.rfile.read(length) if length else b""
+        if not raw.strip():
+            return None
+        try:
+            return json.loads(raw.decode("utf-8"))
+        except (UnicodeDecodeError, ValueError) as exc:
+            raise RequestError(f"the body is not valid JSON: {exc}") from None
+
+    def _drain(self) -> None:
+        length = self.headers.get("Content-Length")
+        if length and length.isdigit() and 0 < int(length) <= MAX_BODY:
+            self.rfile.read(int(length))
+        elif length and length != "0":
+            self.close_connection = True
+
+    # ------------------------------------------------------------------ files
+    def _file(self, path: str, *, head: bool) -> None:
+        name = _PAGES.get(path)
+        if name is None:
+            if not path.startswith("/static/"):
+                raise RequestError(f"no such address: {path}", 404)
+            name = path[len("/static/") :]
+        parts = name.split("/")
+        if any(part in ("", ".", "..") or "\\" in part for part in parts):
+            raise RequestError(f"no such file: {path}", 404)
+        resource = _static_root().joinpath(*parts)
+        if not resource.is_file():
+            raise RequestError(f"no such file: {path}", 404)
+        suffix = "." + parts[-1].rsplit(".", 1)[-1] if "." in parts[-1] else ""
+        kind = (
+            _TYPES.get(suffix) or mimetypes.guess_type(parts[-1])[0] or "application/octet-stream"
+        )
+        if kind.startswith("text/"):
+            kind += "; charset=utf-8"
+        self._send(resource.read_bytes(), kind, head=head, cache=True)
+
+    # ------------------------------------------------------------------ answers
+    def _json(self, value: object, status: int = 200, *, head: bool = False) -> None:
+        content = json.dumps(json_ready(value), allow_nan=False).encode("utf-8")
+        self._send(content, "application/json", status=status, head=head)
+
+    def _send(
+        self, content: bytes, kind: str, *, status: int = 200, head: bool = False, cache=False
+    ) -> None:
+        self.send_response(status)
+        self.send_header("Content-Type", kind)
+        self.send_header("Content-Length", str(len(content)))
+        self.send_header("Cache-Control", "max-age=300" if cache else "no-store")
+        self.send_header("X-Content-Type-Options", "nosniff")
+        if status == HTTPStatus.METHOD_NOT_ALLOWED:
+            path = urlsplit(self.path).path
+            self.send_header("Allow", ", ".join(API.get(path, {"GET": ""})))
+        if self.close_connection:
+            self.send_header("Connection", "close")
+        self.end_headers()
+        if not head:
+            self.wfile.write(content)
+
+    def send_error(self, code: int, message: str | None = None, explain: str | None = None):
+        # malformed request lines and unknown methods: the same JSON shape as every error
+        self.close_connection = True
+        if code == HTTPStatus.NOT_IMPLEMENTED:  # a method no address takes
+            code, message = HTTPStatus.METHOD_NOT_ALLOWED, f"no address takes {self.command}"
+        try:
+            self._json({"error": message or HTTPStatus(code).phrase}, code)
+        except (BrokenPipeError, ConnectionResetError):
+            pass
+
+    def log_message(self, format: str, *args) -> None:  # noqa: A002 (the standard library's name)
+        if not self.server.quiet:
+            sys.stderr.write(f"shapegen edit: {self.address_string()} {format % args}\n")

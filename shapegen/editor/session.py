@@ -1,0 +1,396 @@
+"""The editor's state: a grammar file, the designer's attr values, the design built from them.
+
+Every change goes through the one pipeline (:func:`shapegen.pipeline.design`): a slider change
+builds and judges the design at the new values; "optimize" and "closest" run the search from the
+current values (a warm start) and take the design it found. The grammar file is re-read when it
+changes on disk; a file with errors leaves the last good design in place and the error in the
+state. After every change the stable interval of each free attr is scanned in the background
+(:mod:`shapegen.editor.stability`).
+
+>>> session = EditorSession("barrel_vault.grammar", scan=False)   # doctest: +SKIP
+>>> session.set_attrs({"span": 7.0})["verdict"]["stands"]          # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+__all__ = ["EditorSession", "OBJECTIVES"]
+
+import threading
+import time
+from collections.abc import Mapping
+from pathlib import Path
+
+from shapegen import pipeline
+from shapegen.editor.attrs import RequestError, attr_specs, checked_values
+from shapegen.editor.scene import scene_data
+from shapegen.editor.stability import ScanJob, StabilityScanner
+from shapegen.errors import GrammarError, ShapegenError
+from shapegen.json_values import finite_or_none, json_ready
+
+OBJECTIVES = ("energy", "closest")
+
+
+class Cancelled(Exception):
+    """The designer stopped the search."""
+
+
+class EditorSession:
+    """One grammar being edited: thread-safe; every public method returns the new state.
+
+    Parameters
+    ----------
+    source
+        A rule file, or the name of a bundled one.
+    attrs
+        Initial attr overrides (checked like a request's).
+    seed, lot
+        Derivation settings, as ``shapegen build``'s.
+    scan
+        Scan the stable intervals of the free attrs in the background.
+    """
+
+    def __init__(
+        self,
+        source: str,
+        *,
+        attrs: Mapping[str, object] | None = None,
+        seed: int = 0,
+        lot: tuple[float, float] | None = None,
+        scan: bool = True,
+    ):
+        self.grammar = pipeline.load(source)
+        self.path: Path | None = self.grammar.path
+        self.seed = seed
+        self.lot = lot
+        self._work = threading.Lock()  # one change at a time
+        self._state_lock = threading.RLock()
+        self._idle = threading.Event()  # set while no foreground work runs
+        self._idle.set()
+        self._cancel = threading.Event()
+        self.version = 0
+        self.model_version = 0
+        self._optimization: dict | None = None
+        self._error: dict | None = None
+        self._stability: dict[str, dict] = {}
+        self._glb: tuple[int, bytes] | None = None
+        self._scene: tuple[int, dict] | None = None
+        self.attrs: dict[str, object] = {}
+        initial = checked_values(self.grammar, {}, dict(attrs)) if attrs else {}
+        self._outcome = self._design(initial)
+        self.attrs = initial
+        self._timings = self._last_timings
+        self._scanner = StabilityScanner(self._publish_scan, self._idle) if scan else None
+        self._changed(model=True)
+
+    # ------------------------------------------------------------------ the public operations
+    def state(self) -> dict:
+        """The page's state (plain JSON): attrs, verdict, timings, stability, search, error."""
+        with self._state_lock:
+            return json_ready(self._state())
+
+    def set_attrs(self, payload: object) -> dict:
+        """Build and judge the design with the attr values in ``payload`` (checked first)."""
+        if self._optimization is not None and self._optimization.get("running"):
+            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
+        with self._work:
+            values = checked_values(self.grammar, self._current_values(), payload)
+            self._idle.clear()
+            try:
+                outcome = self._design({**self.attrs, **values})
+            finally:
+                self._idle.set()
+            with self._state_lock:
+                self.attrs.update(values)
+                self._outcome = outcome
+                self._timings = self._last_timings
+                self._changed(model=True)
+                return self.state()
+
+    def optimize(self, payload: object = None) -> dict:
+        """Search the free attrs from the current values (``{"objective": "energy"}``, the
+        default, or ``"closest"``) and take the design found; progress shows in the state."""
+        payload = {} if payload is None else payload
+        if not isinstance(payload, dict):
+            raise RequestError('send a JSON object such as {"objective": "closest"}, or nothing')
+        unknown = sorted(set(payload) - {"objective"})
+        if unknown:
+            raise RequestError(f"optimize takes only 'objective'; got {unknown[0]!r}")
+        objective = payload.get("objective", "energy")
+        if objective not in OBJECTIVES:
+            raise RequestError(
+                f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}"
+            )
+        if not self.grammar.free_parameters:
+            raise RequestError("the grammar has no @Free attr to search", 422)
+        if not self._work.acquire(blocking=False):
+            raise RequestError("the design is being changed; try again when it is done", 409)
+        try:
+            self._cancel.clear()
+            with self._state_lock:
+                self._optimization = {"running": True, "objective": objective, "iteration": 0}
+                self.version += 1
+            self._idle.clear()
+            try:
+                outcome = self._design(
+                    dict(self.attrs),
+                    search=pipeline.SearchSettings(objective=objective),
+                )
+            except Cancelled:
+                with self._state_lock:
+                    self._optimization = {
+                        **self._optimization, "running": False, "message": "stopped"
+                    }  # fmt: skip
+                    self.version += 1
+                    return self.state()
+            finally:
+                self._idle.set()
+            result = outcome.optimization
+            with self._state_lock:
+                free = set(self.grammar.free_parameters)
+                self.attrs.update({k: v for k, v in result.attrs.items() if k in free})
+                self._outcome = outcome
+                self._timings = self._last_timings
+                self._optimization = {
+                    "running": False,
+                    "objective": objective,
+                    "iteration": result.iterations,
+                    "evaluations": result.evaluations,
+                    "measure": finite_or_none(result.final_infeasibility),
+                    "stands": bool(result.feasible),
+                    "seconds": result.seconds,
+                    "message": result.message,
+                }
+                self._changed(model=True)
+                return self.state()
+        finally:
+            self._work.release()
+
+    def cancel(self) -> dict:
+        """Stop a running search after its current iteration."""
+        running = self._optimization is not None and self._optimization.get("running")
+        if running:
+            self._cancel.set()
+        return {"cancelled": bool(running)}
+
+    def reload(self) -> dict:
+        """Re-read the grammar file; on an error keep the last good design."""
+        if self.path is None:
+            raise RequestError("this grammar was not read from a file", 422)
+        with self._work:
+            try:
+                grammar = pipeline.load(str(self.path))
+                kept = self._kept_attrs(grammar)
+                self._idle.clear()
+                try:
+                    outcome = self._design(kept, grammar=grammar)
+                finally:
+                    self._idle.set()
+            except ShapegenError as exc:
+                with self._state_lock:
+                    self._error = _error_json(exc)
+                    self.version += 1
+                    return self.state()
+            with self._state_lock:
+                self.grammar = grammar
+                self.attrs = kept
+                self._outcome = outcome
+                self._timings = self._last_timings
+                self._error = None
+                self._stability = {}
+                self._changed(model=True)
+                return self.state()
+
+    def glb(self) -> bytes:
+        """The current model as binary glTF (blocks coloured by tension, resultant arrows)."""
+        from shapegen.export.gltf import encode_glb
+
+        with self._state_lock:
+            version, outcome = self.model_version, self._outcome
+            if self._glb is not None and self._glb[0] == version:
+                return self._glb[1]
+        analysis = _analysis(outcome)
+        content = encode_glb(outcome.model, analysis)
+        with self._state_lock:
+            self._glb = (version, content)
+        return content
+
+    def scene(self) -> dict:
+        """Colours, forces and legend of the current model (see :mod:`shapegen.editor.scene`)."""
+        with self._state_lock:
+            version, outcome = self.model_version, self._outcome
+            if self._scene is not None and self._scene[0] == version:
+                return self._scene[1]
+        data = json_ready(scene_data(outcome.model, outcome.assessment))
+        data["model_version"] = version
+        with self._state_lock:
+            self._scene = (version, data)
+        return data
+
+    def close(self) -> None:
+        """Stop the background scan."""
+        self._cancel.set()
+        if self._scanner is not None:
+            self._scanner.stop()
+
+    # ------------------------------------------------------------------ internals
+    def _design(self, attrs: dict, *, grammar=None, search=None):
+        grammar = grammar or self.grammar
+        started = time.perf_counter()
+        try:
+            outcome = pipeline.design(
+                grammar,
+                attrs=attrs,
+                seed=self.seed,
+                lot=self.lot,
+                search=search,
+                assess=True,
+                progress=self._progress if search is not None else None,
+            )
+        except RecursionError:
+            raise RequestError("the derivation recursed too deeply", 422) from None
+        except (GrammarError, ShapegenError) as exc:
+            if search is None and grammar is self.grammar:
+                raise RequestError(str(exc).splitlines()[0], 422) from None
+            raise
+        assessment = outcome.assessment
+        analysis_s = None
+        if assessment is not None:
+            analysis_s = assessment.section.get("seconds")
+        self._last_timings = {
+            "update_s": time.perf_counter() - started,
+            "analysis_s": analysis_s,
+        }
+        return outcome
+
+    def _progress(self, record) -> None:
+        with self._state_lock:
+            self._optimization = {
+                **(self._optimization or {}),
+                "running": True,
+                "iteration": record.iteration,
+                "measure": finite_or_none(record.infeasibility),
+                "stands": bool(record.feasible),
+                "evaluations": record.evaluations,
+                "seconds": record.seconds,
+                "parameters": dict(record.parameters),
+            }
+            self.version += 1
+        if self._cancel.is_set():
+            raise Cancelled
+
+    def _kept_attrs(self, grammar) -> dict:
+        """The designer's values that still mean something in the re-read ``grammar``."""
+        kept = {}
+        defaults = grammar.attrs
+        for name, value in self.attrs.items():
+            if name in defaults and type(defaults[name]) is type(value):
+                kept[name] = value
+        try:
+            ranges = grammar.parameter_ranges(kept)
+        except ShapegenError:
+            return {}
+        return {
+            name: value
+            for name, value in kept.items()
+            if name not in ranges
+            or not isinstance(value, float)
+            or ranges[name]["min"] <= value <= ranges[name]["max"]
+        }
+
+    def _current_values(self) -> dict:
+        metadata = self._outcome.model.metadata or {}
+        return {**dict(metadata.get("attrs", {})), **self.attrs}
+
+    def _changed(self, *, model: bool) -> None:
+        with self._state_lock:
+            self.version += 1
+            if model:
+                self.model_version += 1
+                self._stability = {}
+            job = self._scan_job()
+        if job is not None and self._scanner is not None:
+            self._scanner.request(job)
+
+    def _scan_job(self) -> ScanJob | None:
+        assessment = self._outcome.assessment
+        if assessment is None or not assessment.ok:
+            return None
+        values = self._current_values()
+        ranges = self.grammar.parameter_ranges(values)
+        free = {
+            name: (float(ranges[name]["min"]), float(ranges[name]["max"]))
+            for name in self.grammar.free_parameters
+            if name in ranges and isinstance(values.get(name), float)
+        }
+        if not free:
+            return None
+        for name, (low, high) in free.items():
+            self._stability[name] = {"status": "waiting", "range": [low, high], "intervals": []}
+        return ScanJob(
+            self.grammar,
+            self._outcome.structure,
+            {k: v for k, v in values.items() if k in self.grammar.attrs},
+            free,
+            {name: (values[name], bool(assessment.stands)) for name in free},
+            seed=self.seed,
+            lot=self.lot,
+            generation=self.model_version,
+        )
+
+    def _publish_scan(self, generation: int, name: str, result: dict) -> None:
+        with self._state_lock:
+            if generation != self.model_version:
+                return
+            self._stability[name] = result
+            self.version += 1
+
+    def _state(self) -> dict:
+        outcome = self._outcome
+        assessment = outcome.assessment
+        values = self._current_values()
+        section = assessment.section if assessment is not None else {}
+        verdict = None
+        if assessment is not None:
+            verdict = {
+                "stands": bool(assessment.stands),
+                "measure": finite_or_none(assessment.measure),
+                "measure_name": outcome.structure.measure_name,
+                "status": assessment.status,
+                "max_tension": section.get("max_tension"),
+            }
+        return {
+            "version": self.version,
+            "model_version": self.model_version,
+            "grammar": {
+                "name": Path(self.grammar.name).name,
+                "path": str(self.path) if self.path else None,
+                "structure": outcome.structure.name,
+                "blocks": len(outcome.model.blocks),
+            },
+            "attrs": [spec.to_json() for spec in attr_specs(self.grammar, values)],
+            "verdict": verdict,
+            "cables": section if outcome.structure.name == "cable" else None,
+            "timings": dict(self._timings),
+            "stability": dict(self._stability),
+            "optimization": self._optimization,
+            "error": self._error,
+        }
+
+
+def _analysis(outcome):
+    assessment = outcome.assessment
+    if assessment is not None and assessment.structure == "blocks":
+        return assessment.detail
+    return None
+
+
+def _error_json(exc: ShapegenError) -> dict:
+    """A grammar (or build) error for the page: the message, its place and the source excerpt."""
+    location = getattr(exc, "location", None)
+    return {
+        "message": getattr(exc, "message", None) or str(exc).splitlines()[0],
+        "text": str(exc),
+        "file": location.file if location else None,
+        "line": location.line if location else None,
+        "column": location.column if location else None,
+    }

@@ -1,0 +1,509 @@
+// shapegen edit: the page. Plain ES module, no build step; three.js is served by the package.
+// It talks to the server only through the JSON API of docs/editor.md.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+
+const $ = (id) => document.getElementById(id);
+const POLL_MS = 400;
+
+// What the tests (and a curious designer, in the console) can read.
+const app = {
+  state: null,
+  scene: null,
+  renderedModelVersion: -1,
+  modelsRendered: 0,
+  colourMode: 'labels',
+  inflight: false,
+  pending: null,
+  dragging: null,
+  lastLatencyMs: null,
+  errors: [],
+};
+window.shapegenEditor = app;
+
+// ------------------------------------------------------------------ the 3D view
+const canvas = $('canvas');
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio || 1);
+const view = new THREE.Scene();
+view.background = new THREE.Color(0xeef1f5);
+const camera = new THREE.PerspectiveCamera(40, 1, 0.05, 5000);
+const controls = new OrbitControls(camera, canvas);
+controls.enableDamping = true;
+view.add(new THREE.HemisphereLight(0xffffff, 0x8a8470, 1.3));
+const sun = new THREE.DirectionalLight(0xffffff, 2.0);
+view.add(sun);
+const groundPlane = new THREE.Mesh(
+  new THREE.PlaneGeometry(1, 1),
+  new THREE.MeshStandardMaterial({ color: 0xd9d5cb, roughness: 1, metalness: 0 }),
+);
+groundPlane.rotation.x = -Math.PI / 2;
+view.add(groundPlane);
+let grid = null;
+let modelGroup = null;
+const forceGroups = { joints: new THREE.Group(), ground: new THREE.Group() };
+view.add(forceGroups.joints, forceGroups.ground);
+const FORCE_COLOURS = { joints: 0x202020, ground: 0x1b7f3b };
+const EDGE_MATERIAL = new THREE.LineBasicMaterial({ color: 0x000000, transparent: true, opacity: 0.25 });
+
+function resize() {
+  const box = canvas.parentElement.getBoundingClientRect();
+  renderer.setSize(box.width, box.height, false);
+  camera.aspect = box.width / Math.max(box.height, 1);
+  camera.updateProjectionMatrix();
+}
+window.addEventListener('resize', resize);
+resize();
+
+function animate() {
+  controls.update();
+  renderer.render(view, camera);
+  requestAnimationFrame(animate);
+}
+requestAnimationFrame(animate);
+
+function rgb(c) {
+  return new THREE.Color().setRGB(c[0] / 255, c[1] / 255, c[2] / 255, THREE.SRGBColorSpace);
+}
+
+let framed = false;
+let loading = false;
+let loadAgain = false;
+
+async function loadModel() {
+  if (loading) { loadAgain = true; return; }
+  loading = true;
+  try {
+    do {
+      loadAgain = false;
+      const version = app.state.model_version;
+      const [sceneData, gltf] = await Promise.all([
+        getJSON('/api/scene'),
+        new GLTFLoader().loadAsync(`/api/model.glb?v=${version}`),
+      ]);
+      showModel(sceneData, gltf);
+      app.renderedModelVersion = sceneData.model_version;
+      app.modelsRendered += 1;
+    } while (loadAgain);
+  } catch (err) {
+    note(`the model could not be loaded: ${err.message || err}`);
+  } finally {
+    loading = false;
+  }
+}
+
+function showModel(sceneData, gltf) {
+  app.scene = sceneData;
+  if (modelGroup) {
+    view.remove(modelGroup);
+    modelGroup.traverse((o) => { if (o.geometry) o.geometry.dispose(); if (o.material) o.material.dispose?.(); });
+  }
+  modelGroup = gltf.scene;
+  const byId = new Map(sceneData.blocks.map((b) => [b.id, b]));
+  const meshes = [];
+  modelGroup.traverse((o) => {
+    if (!o.isMesh) return;
+    if (o.userData.role === 'resultants') { o.visible = false; return; }
+    const block = byId.get(o.name);
+    if (!block) return;
+    o.userData.block = block;
+    o.material = new THREE.MeshStandardMaterial({ roughness: 0.85, metalness: 0, flatShading: true });
+    meshes.push(o);
+  });
+  for (const o of meshes) {
+    o.add(new THREE.LineSegments(new THREE.EdgesGeometry(o.geometry, 25), EDGE_MATERIAL));
+  }
+  view.add(modelGroup);
+  applyColours();
+  drawForces();
+  frame(sceneData);
+  legend();
+}
+
+function frame(sceneData) {
+  const [lo, hi] = sceneData.bounds;
+  const centre = new THREE.Vector3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
+  const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-3);
+  const groundY = sceneData.ground ?? lo[1];
+  groundPlane.scale.set(size * 6, size * 6, 1);
+  groundPlane.position.set(centre.x, groundY - size * 1e-4, centre.z);
+  groundPlane.visible = sceneData.ground !== null;
+  if (grid) view.remove(grid);
+  grid = new THREE.GridHelper(size * 4, 20, 0x999999, 0xbbbbbb);
+  grid.position.set(centre.x, groundY + size * 1e-4, centre.z);
+  grid.visible = sceneData.ground !== null;
+  view.add(grid);
+  sun.position.set(centre.x + size, centre.y + 2 * size, centre.z + 1.5 * size);
+  sun.target.position.copy(centre);
+  view.add(sun.target);
+  if (!framed) {
+    framed = true;
+    camera.position.set(centre.x + 1.1 * size, centre.y + 0.7 * size, centre.z + 1.5 * size);
+    camera.near = size / 500;
+    camera.far = size * 50;
+    camera.updateProjectionMatrix();
+    controls.target.copy(centre);
+    controls.update();
+  }
+}
+
+function applyColours() {
+  if (!modelGroup) return;
+  const tension = app.colourMode === 'tension' && app.scene?.legend.max_tension !== null;
+  modelGroup.traverse((o) => {
+    const block = o.userData.block;
+    if (!o.isMesh || !block) return;
+    const c = tension && block.tension_color ? block.tension_color : block.color;
+    o.material.color = rgb(c);
+    o.material.transparent = c[3] < 255;
+    o.material.opacity = c[3] / 255;
+    o.material.needsUpdate = true;
+  });
+}
+
+function drawForces() {
+  for (const kind of ['joints', 'ground']) {
+    const group = forceGroups[kind];
+    group.children.slice().forEach((c) => { group.remove(c); c.geometry.dispose(); });
+    const forces = app.scene?.forces;
+    if (!forces || !forces[kind].length) continue;
+    const scale = forces.metres_per_newton;
+    const shafts = [];
+    const heads = [];
+    for (const [x, y, z, fx, fy, fz] of forces[kind]) {
+      const f = new THREE.Vector3(fx, fy, fz);
+      const length = f.length() * scale;
+      if (!(length > 0)) continue;
+      const dir = f.normalize();
+      const point = new THREE.Vector3(x, y, z);
+      // a reaction ends at the joint it pushes on; a joint's resultant is centred on its point
+      const start = kind === 'ground'
+        ? point.clone().addScaledVector(dir, -length)
+        : point.clone().addScaledVector(dir, -length / 2);
+      const headLength = 0.25 * length;
+      const headStart = start.clone().addScaledVector(dir, length - headLength);
+      shafts.push(start.x, start.y, start.z, headStart.x, headStart.y, headStart.z);
+      heads.push({ at: headStart, dir, length: headLength });
+    }
+    const colour = FORCE_COLOURS[kind];
+    const shaftGeometry = new THREE.BufferGeometry();
+    shaftGeometry.setAttribute('position', new THREE.Float32BufferAttribute(shafts, 3));
+    group.add(new THREE.LineSegments(shaftGeometry, new THREE.LineBasicMaterial({ color: colour })));
+    const cone = new THREE.ConeGeometry(0.35, 1, 8);
+    cone.translate(0, 0.5, 0);
+    const instanced = new THREE.InstancedMesh(cone, new THREE.MeshBasicMaterial({ color: colour }), heads.length);
+    const m = new THREE.Matrix4();
+    const q = new THREE.Quaternion();
+    const up = new THREE.Vector3(0, 1, 0);
+    heads.forEach((h, i) => {
+      q.setFromUnitVectors(up, h.dir);
+      m.compose(h.at, q, new THREE.Vector3(h.length, h.length, h.length));
+      instanced.setMatrixAt(i, m);
+    });
+    group.add(instanced);
+  }
+  forceGroups.joints.visible = $('show-joints').checked;
+  forceGroups.ground.visible = $('show-ground').checked;
+}
+
+function swatch(c) {
+  return `<span class="swatch" style="background: rgba(${c[0]},${c[1]},${c[2]},${c[3] / 255})"></span>`;
+}
+
+function legend() {
+  const s = app.scene;
+  if (!s) return;
+  const parts = [];
+  const tension = app.colourMode === 'tension' && s.legend.max_tension !== null;
+  if (tension) {
+    const [a, b] = [s.legend.tension_zero, s.legend.tension_max];
+    parts.push('<div>largest joint tension of each block</div>');
+    parts.push(`<div class="ramp" style="background: linear-gradient(to right, rgb(${a.slice(0, 3)}), rgb(${b.slice(0, 3)}))"></div>`);
+    parts.push(`<div class="ends"><span>0</span><span>${newtons(s.legend.max_tension)}</span></div>`);
+  } else {
+    for (const [label, c] of s.legend.labels) parts.push(`<div>${swatch(c)}${escape(label)}</div>`);
+  }
+  if (s.blocks.some((b) => b.color.join() === s.legend.support.join())) {
+    parts.push(`<div>${swatch(s.legend.support)}support (fixed)</div>`);
+  }
+  const f = s.forces;
+  if (f && ($('show-joints').checked || $('show-ground').checked)) {
+    const c = (k) => `#${FORCE_COLOURS[k].toString(16).padStart(6, '0')}`;
+    if ($('show-joints').checked) parts.push(`<div><span class="swatch" style="background:${c('joints')}"></span>joint resultant</div>`);
+    if ($('show-ground').checked) parts.push(`<div><span class="swatch" style="background:${c('ground')}"></span>ground reaction</div>`);
+    if (f.metres_per_newton > 0) parts.push(`<div>arrow of 1 m = ${newtons(1 / f.metres_per_newton)}</div>`);
+  }
+  $('legend').innerHTML = parts.join('');
+}
+
+// ------------------------------------------------------------------ talking to the server
+async function getJSON(url, options) {
+  const response = await fetch(url, options);
+  const body = await response.json();
+  if (!response.ok) {
+    const error = new Error(body.error || response.statusText);
+    error.status = response.status;
+    throw error;
+  }
+  return body;
+}
+
+function post(url, value) {
+  return getJSON(url, {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json' },
+    body: value === undefined ? '' : JSON.stringify(value),
+  });
+}
+
+function change(name, value) {
+  app.pending = { ...(app.pending || {}), [name]: value };
+  pump();
+}
+
+// One update at a time; the values moved meanwhile go in the next one (a drag sends its
+// latest position, not every pixel).
+async function pump() {
+  if (app.inflight || !app.pending) return;
+  const body = app.pending;
+  app.pending = null;
+  app.inflight = true;
+  const started = performance.now();
+  try {
+    const state = await post('/api/attrs', body);
+    app.lastLatencyMs = performance.now() - started;
+    note('');
+    applyState(state);
+  } catch (err) {
+    note(err.message);
+    app.errors.push(err.message);
+    refresh();
+  } finally {
+    app.inflight = false;
+    if (app.pending) pump();
+  }
+}
+
+async function refresh() {
+  try {
+    const state = await getJSON('/api/state');
+    if (!app.state || state.version !== app.state.version) applyState(state);
+  } catch (err) {
+    note(`the server does not answer: ${err.message}`);
+  }
+}
+
+setInterval(() => { if (!app.inflight) refresh(); }, POLL_MS);
+
+async function search(objective) {
+  setBusy(true);
+  try {
+    applyState(await post('/api/optimize', { objective }));
+  } catch (err) {
+    note(err.message);
+  } finally {
+    setBusy(false);
+  }
+}
+
+function setBusy(busy) {
+  $('optimize').disabled = busy;
+  $('closest').disabled = busy;
+  $('stop').disabled = !busy;
+  for (const input of document.querySelectorAll('#attrs input')) input.disabled = busy;
+}
+
+$('optimize').addEventListener('click', () => search('energy'));
+$('closest').addEventListener('click', () => search('closest'));
+$('stop').addEventListener('click', () => post('/api/cancel', {}).catch((e) => note(e.message)));
+for (const radio of document.querySelectorAll('input[name=colour]')) {
+  radio.addEventListener('change', () => { app.colourMode = radio.value; applyColours(); legend(); });
+}
+for (const id of ['show-joints', 'show-ground']) {
+  $(id).addEventListener('change', () => {
+    forceGroups.joints.visible = $('show-joints').checked;
+    forceGroups.ground.visible = $('show-ground').checked;
+    legend();
+  });
+}
+
+// ------------------------------------------------------------------ the state on the page
+function applyState(state) {
+  app.state = state;
+  $('file').textContent = `${state.grammar.name} · ${state.grammar.blocks} blocks`;
+  const v = state.verdict;
+  const verdict = $('verdict');
+  if (v) {
+    verdict.textContent = v.stands ? 'stands' : (state.grammar.structure === 'cable' ? 'cables too thick' : 'needs tension');
+    verdict.className = `verdict ${v.stands ? 'stands' : 'fails'}`;
+    $('measure').textContent = `${v.measure_name} = ${number(v.measure)}`;
+    $('tension').textContent = v.max_tension === null || v.max_tension === undefined ? '' : `largest tension ${newtons(v.max_tension)}`;
+  }
+  const t = state.timings;
+  const page = app.lastLatencyMs === null ? '' : ` · on screen after ${(app.lastLatencyMs / 1000).toFixed(2)} s`;
+  $('timing').textContent = `update ${t.update_s.toFixed(2)} s${page}`;
+  const tensionRadio = $('colour-tension');
+  tensionRadio.disabled = state.grammar.structure !== 'blocks';
+  tensionRadio.parentElement.title = tensionRadio.disabled ? 'this design is judged by its cables, not by block statics' : '';
+  showError(state.error);
+  showCables(state.cables);
+  showProgress(state.optimization);
+  inspector(state);
+  if (state.model_version !== app.renderedModelVersion) loadModel();
+}
+
+function showError(error) {
+  $('grammar-error').hidden = !error;
+  if (error) $('grammar-error-text').textContent = error.text;
+}
+
+function showCables(c) {
+  $('cables').hidden = !c;
+  if (!c) return;
+  const rows = [
+    ['main span', `${c.main_span.toFixed(1)} m`],
+    ['sag', `${c.sag.toFixed(1)} m`],
+    ['cable diameter', `${(c.cable_diameter * 1000).toFixed(0)} mm`],
+    ['allowed', `${(c.allowed_diameter * 1000).toFixed(0)} mm`],
+    ['governed by', c.governing],
+    ['largest cable tension', newtons(c.max_tension)],
+  ];
+  $('cables').innerHTML = `<strong>Cable sizing</strong><table>${rows.map(([a, b]) => `<tr><td>${a}</td><td>${escape(String(b))}</td></tr>`).join('')}</table>`;
+}
+
+function showProgress(o) {
+  const running = Boolean(o && o.running);
+  setBusy(running);
+  if (!o) { $('progress').textContent = ''; return; }
+  const what = o.objective === 'closest' ? 'closest' : 'optimize';
+  const figures = `iteration ${o.iteration ?? 0}${o.measure !== undefined && o.measure !== null ? ` · ${number(o.measure)}` : ''}${o.seconds ? ` · ${o.seconds.toFixed(1)} s` : ''}`;
+  $('progress').textContent = running ? `${what}: ${figures}…` : `${what}: ${o.message || ''} (${figures})`;
+}
+
+const rows = new Map();
+
+function inspector(state) {
+  const names = state.attrs.map((a) => `${a.name}:${a.kind}:${a.minimum}:${a.maximum}`).join('|');
+  if ($('attrs').dataset.names !== names) {
+    $('attrs').dataset.names = names;
+    $('attrs').innerHTML = '';
+    rows.clear();
+    for (const attr of state.attrs) rows.set(attr.name, makeRow(attr));
+  }
+  for (const attr of state.attrs) updateRow(rows.get(attr.name), attr, state.stability[attr.name]);
+}
+
+function makeRow(attr) {
+  const row = document.createElement('div');
+  row.className = 'attr';
+  row.dataset.attr = attr.name;
+  row.title = attr.description || '';
+  row.innerHTML = `<div class="head"><span class="name"></span>${attr.free ? '<span class="free" title="@Free: the search may change it">free</span>' : ''}<span class="value"></span></div>`;
+  row.querySelector('.name').textContent = attr.name;
+  let input;
+  if (attr.kind === 'number' && attr.minimum !== null) {
+    const track = document.createElement('div');
+    track.className = 'track';
+    track.innerHTML = '<div class="lane" style="position:absolute;left:8px;right:8px;top:0;bottom:0"><div class="band"></div></div>';
+    input = document.createElement('input');
+    Object.assign(input, { type: 'range', min: attr.minimum, max: attr.maximum, step: attr.step });
+    input.addEventListener('pointerdown', () => { app.dragging = attr.name; });
+    input.addEventListener('pointerup', () => { app.dragging = null; });
+    input.addEventListener('input', () => {
+      row.querySelector('.value').textContent = number(Number(input.value));
+      change(attr.name, Number(input.value));
+    });
+    track.appendChild(input);
+    row.appendChild(track);
+    const status = document.createElement('div');
+    status.className = 'status';
+    row.appendChild(status);
+  } else if (attr.kind === 'boolean') {
+    input = document.createElement('input');
+    input.type = 'checkbox';
+    input.addEventListener('change', () => change(attr.name, input.checked));
+    row.querySelector('.head').appendChild(input);
+  } else {
+    input = document.createElement('input');
+    input.type = attr.kind === 'number' ? 'number' : 'text';
+    if (attr.kind === 'number') input.step = 'any';
+    input.addEventListener('change', () => {
+      const value = attr.kind === 'number' ? Number(input.value) : input.value;
+      if (attr.kind === 'number' && (input.value.trim() === '' || !Number.isFinite(value))) {
+        note(`${attr.name} takes a number`);
+        return;
+      }
+      change(attr.name, value);
+    });
+    row.appendChild(input);
+  }
+  input.name = attr.name;
+  row.input = input;
+  $('attrs').appendChild(row);
+  return row;
+}
+
+function updateRow(row, attr, stability) {
+  const input = row.input;
+  const busy = app.dragging === attr.name || (app.pending && attr.name in app.pending) || document.activeElement === input && input.type !== 'range';
+  if (!busy) {
+    if (input.type === 'checkbox') input.checked = Boolean(attr.value);
+    else input.value = attr.value;
+    row.querySelector('.value').textContent = attr.kind === 'number' ? number(attr.value) : '';
+  }
+  if (input.type !== 'range' || !attr.free) return;
+  const lane = row.querySelector('.lane');
+  lane.querySelectorAll('.shade, .tick').forEach((e) => e.remove());
+  const status = row.querySelector('.status');
+  const span = attr.maximum - attr.minimum;
+  const at = (x) => `${(100 * (x - attr.minimum)) / span}%`;
+  if (!stability) { status.textContent = ''; return; }
+  if (stability.status === 'done') {
+    for (const [lo, hi] of stability.intervals) {
+      const shade = document.createElement('div');
+      shade.className = 'shade';
+      shade.style.left = at(lo);
+      shade.style.width = `max(3px, ${(100 * (hi - lo)) / span}%)`;
+      lane.appendChild(shade);
+    }
+    const text = stability.intervals.map(([lo, hi]) => `${number(lo)}–${number(hi)}`).join(', ');
+    status.textContent = stability.intervals.length
+      ? `stands for ${text} (±${number(stability.resolution)})`
+      : 'stands nowhere in its range, the others held';
+  } else {
+    for (const [x, stands] of stability.samples || []) {
+      const tick = document.createElement('div');
+      tick.className = 'tick';
+      tick.style.left = at(x);
+      tick.style.background = stands ? '#4caf50' : '#e57373';
+      lane.appendChild(tick);
+    }
+    status.textContent = stability.status === 'waiting' ? 'stable range: waiting…' : `stable range: scanning (${(stability.samples || []).length} designs judged)…`;
+  }
+}
+
+// ------------------------------------------------------------------ formatting
+function number(x) {
+  if (x === null || x === undefined || Number.isNaN(x)) return '–';
+  if (x === 0) return '0';
+  const a = Math.abs(x);
+  if (a >= 1e5 || a < 1e-3) return x.toExponential(2);
+  return Number(x.toPrecision(4)).toString();
+}
+
+function newtons(x) {
+  if (x === null || x === undefined) return '–';
+  return Math.abs(x) >= 1e3 ? `${number(x / 1e3)} kN` : `${number(x)} N`;
+}
+
+function escape(text) {
+  return text.replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);
+}
+
+function note(text) {
+  $('message').hidden = !text;
+  $('message').textContent = text;
+}
+
+refresh();
