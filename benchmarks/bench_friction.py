@@ -49,7 +49,8 @@ def main() -> None:
         interfaces = find_interfaces(model)
         vertices = sum(len(i.vertices) for i in interfaces)
         print(
-            f"{label}: {len(model.blocks)} blocks, {len(interfaces)} interfaces, {vertices} vertices"
+            f"{label}: {len(model.blocks)} blocks, {len(interfaces)} interfaces, "
+            f"{vertices} vertices"
         )
         for pyramid, solver in CONFIGURATIONS:
             walls, cpus, solves = [], [], []
