@@ -1,32 +1,41 @@
-"""Offline pictures of a model (matplotlib, no screen needed).
+"""Offline pictures of a model: the depth-buffered rendering of :mod:`shapegen.export.render`
+with a title and a legend drawn around it by matplotlib (no screen needed).
 
-Blocks are drawn as shaded polygons with dark edges so the joints (the stereotomy) stay visible.
-With an analysis, blocks are coloured by the worst tension they need (grey = none, red = the most)
-and supports are drawn dark.
+Without an analysis the blocks take their label colours and the legend names the labels; with
+one, they are coloured by the worst tension they need (grey = none, red = the most, as in the
+glTF output) and a colour bar gives the scale in newtons. Colours come from
+:mod:`shapegen.export.colors`.
 """
 
 from __future__ import annotations
 
-__all__ = ["render_model"]
+__all__ = ["encode_picture", "model_figure", "render_model", "TENSION_LEGEND"]
 
+import io
+from collections import Counter
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
+from shapegen.export.atomic import atomic_write, check_writable
+from shapegen.export.colors import (
+    NON_STRUCTURAL,
+    SUPPORT,
+    TENSION_MAX,
+    TENSION_STEPS,
+    TENSION_ZERO,
+    UNLABELLED,
+    block_label_color,
+    label_color,
+    tension_colors,
+    tension_levels,
+)
+from shapegen.export.render import render_blocks
+from shapegen.model.model import Model
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
-
-from shapegen.export.atomic import atomic_write  # noqa: E402
-from shapegen.export.colors import tension_levels  # noqa: E402
-from shapegen.model.model import Model  # noqa: E402
-
-_STONE = np.array([0.80, 0.78, 0.72])
-_SUPPORT = np.array([0.35, 0.35, 0.38])
-_TENSION = np.array([0.85, 0.10, 0.10])
-_LIGHT = np.array([-0.3, 0.8, -0.5]) / np.linalg.norm([-0.3, 0.8, -0.5])  # from the viewer's side
+TENSION_LEGEND = "tension legend"  # the colour bar's axes label, for tools that look for it
+_DPI = 100
+_MAX_LABELS = 8  # label entries in a legend; the rest are counted on one line
 
 
 def render_model(
@@ -35,74 +44,187 @@ def render_model(
     analysis=None,
     *,
     title: str | None = None,
-    elevation: float = 20.0,
+    elevation: float = 25.0,
     azimuth: float = -60.0,
     size_px: tuple[int, int] = (800, 600),
     bounds: np.ndarray | None = None,
+    legend: bool | None = None,
 ) -> None:
-    """Write a PNG picture of ``model`` to ``path`` (atomically).
+    """Write a PNG picture of ``model`` to ``path`` (atomically; the folder is checked first).
+
+    See :func:`model_figure` for the parameters.
+    """
+    target = check_writable(path)
+    content = encode_picture(
+        model,
+        analysis,
+        title=title,
+        elevation=elevation,
+        azimuth=azimuth,
+        size_px=size_px,
+        bounds=bounds,
+        legend=legend,
+    )
+    with atomic_write(target, "wb") as handle:
+        handle.write(content)
+
+
+def encode_picture(model: Model, analysis=None, **options) -> bytes:
+    """PNG bytes of :func:`model_figure`."""
+    figure = model_figure(model, analysis, **options)
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=_DPI)
+    return buffer.getvalue()
+
+
+def model_figure(
+    model: Model,
+    analysis=None,
+    *,
+    title: str | None = None,
+    elevation: float = 25.0,
+    azimuth: float = -60.0,
+    size_px: tuple[int, int] = (800, 600),
+    bounds: np.ndarray | None = None,
+    legend: bool | None = None,
+):
+    """A matplotlib ``Figure`` of ``size_px`` pixels: the rendering, a title and a legend.
 
     Parameters
     ----------
     analysis
-        An :class:`~shapegen.statics.Analysis` of the model; its ``block_tension`` (N) colours the
-        blocks.
+        An :class:`~shapegen.statics.Analysis` of the model; its ``block_tension`` (N) colours
+        the blocks and the legend is a colour bar in newtons.
     elevation, azimuth
-        View angles, degrees (y is up in the model; the picture shows y vertical).
+        The view, degrees (y is up; see :func:`shapegen.export.render.view_axes`).
     size_px
-        Width and height in pixels.
+        Width and height in pixels (at least 64 x 48).
     bounds
         ``(2, 3)`` lower and upper corners (m, model axes) of the box to frame; default the
-        model's bounding box. A fixed box keeps the view still across animation frames.
+        blocks. A fixed box keeps the view still across animation frames.
+    legend
+        Draw the legend strip on the right: by default with an analysis, and without one when
+        the blocks show two colours or more.
     """
-    dpi = 100
-    fig = plt.figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi)
-    ax = fig.add_subplot(projection="3d")
-    tension = None
-    if analysis is not None and getattr(analysis, "block_tension", None) is not None:
-        tension = tension_levels(analysis)
-    elev, azim = np.radians(elevation), np.radians(azimuth)
-    # Direction towards the viewer, in model axes (matplotlib's z is the model's y).
-    eye = np.array([np.cos(elev) * np.cos(azim), np.sin(elev), -np.cos(elev) * np.sin(azim)])
-    polygons, colors = [], []
-    for k, block in enumerate(model.blocks):
-        base = _SUPPORT if block.fixed else _STONE
-        if tension is not None and not block.fixed and tension[k] > 0:
-            base = (1 - tension[k]) * _STONE + tension[k] * _TENSION
-        for face, normal in zip(block.faces, block.face_normals, strict=True):
-            if np.dot(normal, eye) <= 0:  # back faces only confuse matplotlib's depth sort
-                continue
-            polygons.append(_to_view(block.vertices[list(face)]))
-            shade = 0.55 + 0.45 * max(float(np.dot(normal, _LIGHT)), 0.0)
-            colors.append(np.clip(base * shade, 0, 1))
-    collection = Poly3DCollection(
-        polygons, facecolors=colors, edgecolors=(0.15, 0.15, 0.15, 0.8), linewidths=0.3
+    from matplotlib.figure import Figure
+
+    width, height = (int(v) for v in size_px)
+    if width < 64 or height < 48:
+        raise ValueError(f"a picture of {width} x {height} pixels is too small (64 x 48 at least)")
+    if analysis is not None:
+        colors, entries, peak = _tension_colors(model, analysis)
+    else:
+        colors, entries, peak = _label_colors(model), _label_entries(model), None
+    if legend is None:
+        legend = analysis is not None or len(entries) > 1
+    legend_px = max(120, round(0.2 * width)) if legend else 0
+    title_px = max(24, round(0.06 * height)) if title else 0
+    view_px = (width - legend_px, height - title_px)
+    rendering = render_blocks(
+        model, colors, size_px=view_px, elevation=elevation, azimuth=azimuth, bounds=bounds
     )
-    ax.add_collection3d(collection)
-    if model.blocks or bounds is not None:
-        if bounds is not None:
-            points = _to_view(np.asarray(bounds, float).reshape(2, 3))
-        else:
-            points = _to_view(np.vstack([b.vertices for b in model.blocks]))
-        lo, hi = points.min(axis=0), points.max(axis=0)
-        extent = np.maximum(hi - lo, 0.05 * (hi - lo).max() or 1.0)
-        center = (lo + hi) / 2
-        for axis_limits, c, e in zip(
-            (ax.set_xlim, ax.set_ylim, ax.set_zlim), center, extent, strict=True
-        ):
-            axis_limits(c - e / 2, c + e / 2)
-        ax.set_box_aspect(tuple(extent), zoom=1.0)
-    ax.set_proj_type("ortho")
-    ax.view_init(elev=elevation, azim=azimuth)
-    ax.set_axis_off()
+    figure = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI, facecolor="white")
+    figure.figimage(rendering.rgb, xo=0, yo=0, origin="upper")
+    font = max(7.0, min(11.0, height / 60))
     if title:
-        ax.set_title(title)
-    fig.tight_layout()
-    with atomic_write(path, "wb") as handle:
-        fig.savefig(handle, format="png", dpi=dpi)
-    plt.close(fig)
+        figure.text(view_px[0] / 2 / width, 1 - title_px / 2 / height, title,
+                    ha="center", va="center", fontsize=font + 1)  # fmt: skip
+    if legend:
+        left = view_px[0] / width
+        if analysis is not None:
+            _tension_bar(figure, left, legend_px / width, peak, font)
+        if entries:
+            _legend(figure, left, entries, font, below_bar=analysis is not None)
+    return figure
 
 
-def _to_view(points: np.ndarray) -> np.ndarray:
-    """Model (x, y up, z) to matplotlib (x, -z, y up): a rotation, so nothing is mirrored."""
-    return np.column_stack([points[:, 0], -points[:, 2], points[:, 1]])
+def _tension_colors(model: Model, analysis) -> tuple[np.ndarray, list, float]:
+    tension = np.asarray(analysis.block_tension, dtype=float).reshape(-1)
+    if len(tension) != len(model.blocks):
+        raise ValueError(f"the analysis has {len(tension)} block tensions for {len(model.blocks)}")
+    levels = tension_levels(analysis)
+    fixed = np.array([b.fixed for b in model.blocks], dtype=bool)
+    structural = np.array([b.structural for b in model.blocks], dtype=bool)
+    peak = float(np.nan_to_num(tension, nan=0.0).max()) if levels.max(initial=0) > 0 else 0.0
+    entries = []
+    if fixed.any():
+        entries.append(("support", SUPPORT))
+    if (~structural & ~fixed).any():
+        entries.append(("non-structural", NON_STRUCTURAL))
+    return tension_colors(levels, fixed, structural), entries, peak
+
+
+def _label_colors(model: Model) -> np.ndarray:
+    return np.array(
+        [block_label_color(b.tags, fixed=b.fixed, structural=b.structural) for b in model.blocks],
+        dtype=np.uint8,
+    ).reshape(-1, 4)
+
+
+def _label_entries(model: Model) -> list[tuple[str, np.ndarray]]:
+    """Legend rows in label mode: the labels by how many blocks carry them, then the kinds of
+    block that :func:`~shapegen.export.colors.block_label_color` paints apart."""
+    labels = Counter(
+        b.tags[0] for b in model.blocks if b.tags and b.structural and not b.fixed
+    ).most_common()
+    entries = [(label, label_color(label)) for label, _ in labels[:_MAX_LABELS]]
+    if len(labels) > _MAX_LABELS:
+        entries.append((f"+{len(labels) - _MAX_LABELS} more labels", None))
+    if any(b.structural and not b.fixed and not b.tags for b in model.blocks):
+        entries.append(("unlabelled", UNLABELLED))
+    if any(b.fixed for b in model.blocks):
+        entries.append(("support", SUPPORT))
+    if any(not b.structural and not b.fixed for b in model.blocks):
+        entries.append(("non-structural", NON_STRUCTURAL))
+    return entries
+
+
+def _tension_bar(figure, left: float, strip: float, peak: float, font: float) -> None:
+    """The grey-to-red ramp of :func:`~shapegen.export.colors.tension_colors` as a colour bar
+    whose top is the worst block's tension."""
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import ListedColormap, Normalize
+
+    steps = np.linspace(0.0, 1.0, TENSION_STEPS)[:, None]
+    ramp = (TENSION_ZERO + steps * (TENSION_MAX.astype(float) - TENSION_ZERO)) / 255.0
+    axes = figure.add_axes((left + 0.12 * strip, 0.42, 0.12 * strip, 0.42), label=TENSION_LEGEND)
+    bar = figure.colorbar(
+        ScalarMappable(norm=Normalize(0.0, 1.0), cmap=ListedColormap(ramp[:, :3])), cax=axes
+    )
+    bar.set_ticks([0.0, 0.5, 1.0])
+    if peak > 0:
+        bar.set_ticklabels(["0", _newtons(peak / 2), _newtons(peak)])
+    else:
+        bar.set_ticklabels(["0", "", ""])
+    bar.ax.tick_params(labelsize=font - 1)
+    axes.set_title("tension\nneeded", fontsize=font, loc="left")
+    if peak <= 0:
+        axes.text(0.0, -0.08, "none: it stands", transform=axes.transAxes, fontsize=font - 1,
+                  va="top")  # fmt: skip
+
+
+def _legend(figure, left: float, entries: list, font: float, *, below_bar: bool) -> None:
+    from matplotlib.patches import Patch
+
+    handles = [
+        Patch(facecolor=(0, 0, 0, 0), edgecolor=(0, 0, 0, 0), label=name)
+        if color is None
+        else Patch(facecolor=np.asarray(color) / 255.0, edgecolor=(0.2, 0.2, 0.2), label=name)
+        for name, color in entries
+    ]
+    figure.legend(
+        handles=handles,
+        loc="upper left" if below_bar else "center left",
+        bbox_to_anchor=(left, 0.3 if below_bar else 0.5),
+        frameon=False,
+        fontsize=font - 1,
+        handlelength=1.2,
+        borderaxespad=0.3,
+    )
+
+
+def _newtons(force: float) -> str:
+    for unit, size in (("MN", 1e6), ("kN", 1e3)):
+        if force >= size:
+            return f"{force / size:.3g} {unit}"
+    return f"{force:.3g} N"
