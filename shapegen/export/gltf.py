@@ -12,9 +12,10 @@ written unchanged. See docs/formats.md.
 from __future__ import annotations
 
 __all__ = [
-    "ARROW_LENGTH_REL",
-    "ARROW_WIDTH_REL",
+    "ARROW_LENGTH_BLOCKS",
+    "ARROW_WIDTH_BLOCKS",
     "RESULTANTS_NODE",
+    "block_size",
     "model_scene",
     "resultant_arrows",
     "encode_glb",
@@ -33,8 +34,10 @@ from shapegen.json_values import json_ready
 from shapegen.model.model import Model
 from shapegen.tolerances import FORCE_NOISE_REL
 
-ARROW_LENGTH_REL = 0.15  # the largest resultant arrow, as a fraction of the model size
-ARROW_WIDTH_REL = 0.006  # arrow shaft width, as a fraction of the model size
+# Arrows are scaled to the blocks, not to the model: on a 2 km bridge a share of the model's
+# size made arrows 300 m long over blocks of a few metres.
+ARROW_LENGTH_BLOCKS = 1.0  # the largest resultant arrow, in block sizes (see block_size)
+ARROW_WIDTH_BLOCKS = 0.05  # arrow shaft width, in block sizes
 RESULTANTS_NODE = "shapegen:resultants"
 _ROOT = "shapegen:root"  # the scene's base frame; glTF files do not keep it as a node
 
@@ -117,7 +120,7 @@ def resultant_arrows(model: Model, analysis) -> tuple[trimesh.Trimesh | None, fl
 
     Each arrow lies along the force that ``first`` exerts on ``second`` and is centred on the
     resultant's point of application; its length is proportional to the force, the largest being
-    :data:`ARROW_LENGTH_REL` of the model size.
+    :data:`ARROW_LENGTH_BLOCKS` times the model's :func:`block_size`.
 
     Returns
     -------
@@ -133,13 +136,13 @@ def resultant_arrows(model: Model, analysis) -> tuple[trimesh.Trimesh | None, fl
     if peak <= 0:
         return None, 0.0, 0
     drawable &= magnitude > FORCE_NOISE_REL * peak
-    size = model.size
-    metres_per_newton = ARROW_LENGTH_REL * size / peak
+    size = block_size(model)
+    metres_per_newton = ARROW_LENGTH_BLOCKS * size / peak
     length = magnitude[drawable] * metres_per_newton
     direction = forces[drawable] / magnitude[drawable, None]
     start = points[drawable] - 0.5 * length[:, None] * direction
     template_vertices, template_faces = _arrow_template()
-    width = ARROW_WIDTH_REL * size
+    width = ARROW_WIDTH_BLOCKS * size
     frames = _frames(direction)  # (n, 3, 3), columns u, v, direction
     local = (
         template_vertices[None, :, :]
@@ -152,6 +155,15 @@ def resultant_arrows(model: Model, analysis) -> tuple[trimesh.Trimesh | None, fl
     faces = template_faces[None, :, :] + (m * np.arange(len(length)))[:, None, None]
     mesh = trimesh.Trimesh(vertices.reshape(-1, 3), faces.reshape(-1, 3), process=False)
     return mesh, 1.0 / metres_per_newton, int(len(length))
+
+
+def block_size(model: Model) -> float:
+    """The typical size of the model's blocks, metres: the median over its structural blocks
+    (all blocks when none is) of the edge of a cube of the block's volume."""
+    chosen = [b for b in model.blocks if b.structural] or model.blocks
+    if not chosen:
+        return 1.0
+    return float(np.median(np.cbrt([max(b.volume, 0.0) for b in chosen]))) or 1.0
 
 
 def _arrow_template(sides: int = 6) -> tuple[np.ndarray, np.ndarray]:

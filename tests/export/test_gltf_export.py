@@ -23,7 +23,13 @@ from shapegen.export.colors import (
     UNLABELLED,
     label_color,
 )
-from shapegen.export.gltf import ARROW_LENGTH_REL, RESULTANTS_NODE, encode_glb, encode_gltf
+from shapegen.export.gltf import (
+    ARROW_LENGTH_BLOCKS,
+    RESULTANTS_NODE,
+    encode_glb,
+    encode_gltf,
+    resultant_arrows,
+)
 from shapegen.export.model_io import read_model, write_model
 
 
@@ -156,11 +162,12 @@ def test_tension_colours_and_arrows(tmp_path):
     assert arrows["role"] == "resultants" and arrows["count"] == 2
     assert tree["scenes"][0]["extras"]["analysis"]["feasible"] is False
 
-    # The longest arrow is ARROW_LENGTH_REL of the model size, along -y, centred on its point.
+    # The longest arrow is ARROW_LENGTH_BLOCKS block sizes, along -y, centred on its point. The
+    # structural blocks hold 2, 2.5, 2.5, 2 and 0.5 m^3: the median cube has an edge of 2^(1/3) m.
     accessor = tree["accessors"][
         tree["meshes"][nodes[RESULTANTS_NODE]["mesh"]]["primitives"][0]["attributes"]["POSITION"]
     ]
-    length = ARROW_LENGTH_REL * model.size
+    length = ARROW_LENGTH_BLOCKS * 2.0 ** (1 / 3)
     assert arrows["newtons_per_metre"] == pytest.approx(10e3 / length)
     low, high = np.array(accessor["min"]), np.array(accessor["max"])
     assert low[1] == pytest.approx(0.5 - length / 2, rel=1e-5)  # the 10 kN arrow's far end
@@ -181,3 +188,33 @@ def test_no_arrows_without_forces():
     allowed = [TENSION_ZERO, SUPPORT, NON_STRUCTURAL]
     for color in node_colors(tree).values():
         assert any(np.array_equal(color, a) for a in allowed)
+
+
+@pytest.mark.parametrize("rules", ["suspension_bridge.grammar", "wall_windows.grammar"])
+def test_the_longest_arrow_is_the_size_of_a_block_not_of_the_model(rules):
+    import shapegen
+    from shapegen.statics import analyze
+
+    model = shapegen.load_grammar(rules).build()
+    analysis = analyze(model)
+    mesh, _, count = resultant_arrows(model, analysis)
+    assert count > 0
+    # Each arrow's extent along its own force is its length (the arrows come in force order).
+    forces = np.asarray(analysis.resultant_forces, float).reshape(-1, 3)
+    magnitude = np.linalg.norm(forces, axis=1)
+    drawn = forces[magnitude > 1e-9 * magnitude.max()]
+    assert len(drawn) == count
+    direction = drawn / np.linalg.norm(drawn, axis=1, keepdims=True)
+    vertices = np.asarray(mesh.vertices).reshape(count, -1, 3)
+    along = np.einsum("amk,ak->am", vertices, direction)
+    longest = float((along.max(axis=1) - along.min(axis=1)).max())
+
+    structural = [b for b in model.blocks if b.structural]
+    cube_edges = np.cbrt([b.volume for b in structural])
+    diagonals = [
+        np.linalg.norm(b.vertices.max(axis=0) - b.vertices.min(axis=0)) for b in structural
+    ]
+    assert longest == pytest.approx(ARROW_LENGTH_BLOCKS * np.median(cube_edges), rel=1e-6)
+    assert longest <= np.median(diagonals)  # no longer than a typical block
+    # Scaled to the model, the longest was 15% of its diagonal: 300 m on the 2 km bridge.
+    assert longest < 0.05 * model.size
