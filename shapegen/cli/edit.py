@@ -10,6 +10,7 @@ __all__ = ["DEFAULT_PORT", "add_command", "run"]
 
 import argparse
 import errno
+import signal
 import sys
 
 from shapegen.cli.options import CommandLineError, add_derivation_options
@@ -25,6 +26,10 @@ def _port(text: str) -> int:
     if not 0 <= port <= 65535:
         raise argparse.ArgumentTypeError(f"a port is between 0 and 65535, got {port}")
     return port
+
+
+def _interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
 
 
 def add_command(commands) -> None:
@@ -84,6 +89,7 @@ def run(args: argparse.Namespace) -> int:
 
         if not webbrowser.open(server.url):
             print("shapegen edit: no browser could be opened; open the address above", flush=True)
+    previous = signal.signal(signal.SIGTERM, _interrupt)  # a `kill` stops as cleanly as Ctrl-C
     try:
         server.serve_forever(poll_interval=0.2)
     except KeyboardInterrupt:
@@ -92,5 +98,6 @@ def run(args: argparse.Namespace) -> int:
         watcher.stop()
         server.server_close()
         session.close()
+        signal.signal(signal.SIGTERM, previous)
     sys.stderr.write("shapegen edit: stopped\n")
     return 0

@@ -5,8 +5,8 @@ per block named by its id); this module gives, per block in the same order, its 
 and by the tension it needs (:mod:`shapegen.export.colors`, the colours of every other output),
 and the forces of the seed paper's Figure 1: the resultant of every joint between two blocks and
 the reaction of every support (the ground, or a fixed block) on the structure. Arrows are scaled
-as the glTF's: the largest force is :data:`~shapegen.export.gltf.ARROW_LENGTH_REL` of the
-model's size.
+as the glTF's: the largest force is :data:`~shapegen.export.gltf.ARROW_LENGTH_BLOCKS` times the
+model's typical block (:func:`~shapegen.export.gltf.block_size`).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from shapegen.export.colors import (
     tension_colors,
     tension_levels,
 )
-from shapegen.export.gltf import ARROW_LENGTH_REL
+from shapegen.export.gltf import ARROW_LENGTH_BLOCKS, block_size
 from shapegen.json_values import finite_or_none
 from shapegen.model import Model
 from shapegen.statics.interface import GROUND
@@ -106,6 +106,6 @@ def _forces(model: Model, analysis) -> dict | None:
     return {
         "joints": rows(drawable & ~support, forces),
         "ground": rows(drawable & support, on_structure),
-        "metres_per_newton": ARROW_LENGTH_REL * model.size / peak,
+        "metres_per_newton": ARROW_LENGTH_BLOCKS * block_size(model) / peak,
         "peak": peak,
     }

@@ -63,6 +63,31 @@ function animate() {
 }
 requestAnimationFrame(animate);
 
+// The fraction of the canvas's pixels the model changes (drawn with and without it): the
+// browser tests' check that the view shows the model, not a blank or ground-only canvas.
+app.modelCoverage = () => {
+  if (!modelGroup) return 0;
+  const gl = renderer.getContext();
+  const [w, h] = [gl.drawingBufferWidth, gl.drawingBufferHeight];
+  const read = () => {
+    renderer.render(view, camera);
+    const pixels = new Uint8Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
+    return pixels;
+  };
+  const shown = read();
+  modelGroup.visible = false;
+  const hidden = read();
+  modelGroup.visible = true;
+  renderer.render(view, camera);
+  let changed = 0;
+  for (let i = 0; i < shown.length; i += 4) {
+    const d = Math.abs(shown[i] - hidden[i]) + Math.abs(shown[i + 1] - hidden[i + 1]) + Math.abs(shown[i + 2] - hidden[i + 2]);
+    if (d > 24) changed += 1;
+  }
+  return changed / (w * h);
+};
+
 function rgb(c) {
   return new THREE.Color().setRGB(c[0] / 255, c[1] / 255, c[2] / 255, THREE.SRGBColorSpace);
 }

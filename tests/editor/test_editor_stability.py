@@ -1,0 +1,127 @@
+"""The stable interval of a free attr: a scan refined by bisection, checked against closed forms."""
+
+import math
+import threading
+import time
+
+import numpy as np
+import pytest
+from conftest import STACK_BOUNDARY
+
+from shapegen import pipeline
+from shapegen.editor.stability import (
+    REFINE_STEPS,
+    SCAN_POINTS,
+    ScanJob,
+    StabilityScanner,
+    stable_intervals,
+)
+from shapegen.structures import make_structure
+
+
+def window(*spans):
+    return lambda x: any(a <= x <= b for a, b in spans)
+
+
+@pytest.mark.parametrize(
+    "spans",
+    [
+        [(2.0, 7.3)],
+        [(0.0, 4.4)],
+        [(5.55, 10.0)],
+        [(0.0, 10.0)],
+        [(1.2, 3.1), (6.05, 8.9)],
+    ],
+)
+def test_intervals_are_found_within_the_resolution(spans):
+    result = stable_intervals(window(*spans), 0.0, 10.0)
+    resolution = 10.0 / (SCAN_POINTS - 1) / 2**REFINE_STEPS
+    assert result["resolution"] == pytest.approx(resolution)
+    assert len(result["intervals"]) == len(spans)
+    for (low, high), (a, b) in zip(result["intervals"], spans, strict=True):
+        # the ends were judged to stand, and lie within one resolution inside the true window
+        assert a <= low <= a + resolution + 1e-12
+        assert b - resolution - 1e-12 <= high <= b
+    # a grid plus a few bisections per boundary, not a dense scan
+    assert result["evaluations"] <= SCAN_POINTS + 2 * len(spans) * REFINE_STEPS
+
+
+def test_nowhere_and_unjudgeable_designs():
+    assert stable_intervals(lambda x: False, 0.0, 1.0)["intervals"] == []
+    # a design that cannot be judged counts as not standing
+    result = stable_intervals(lambda x: None if x > 0.5 else True, 0.0, 1.0)
+    (low, high), = result["intervals"]
+    assert low == 0.0 and 0.5 - result["resolution"] <= high <= 0.5
+
+
+def test_the_known_verdict_is_used_and_not_judged_again():
+    judged = []
+
+    def judge(x):
+        judged.append(x)
+        return x < 0.3
+
+    result = stable_intervals(judge, 0.0, 1.0, known={0.123: True})
+    assert 0.123 not in judged and [0.123, True] in result["samples"]
+
+
+def test_the_stack_stands_up_to_half_a_block_of_offset(stack_file):
+    grammar = pipeline.load(str(stack_file))
+    structure = make_structure(grammar.structure)
+    published = {}
+    done = threading.Event()
+
+    def publish(generation, name, result):
+        published[name] = result
+        if result["status"] == "done":
+            done.set()
+
+    idle = threading.Event()
+    idle.set()
+    scanner = StabilityScanner(publish, idle, pause=0.0)
+    try:
+        scanner.request(
+            ScanJob(grammar, structure, {"offset": 0.2}, {"offset": (0.0, 0.9)},
+                    {"offset": (0.2, True)}, generation=1)
+        )  # fmt: skip
+        assert done.wait(60), "the scan did not finish"
+    finally:
+        scanner.stop()
+    result = published["offset"]
+    (low, high), = result["intervals"]
+    assert low == 0.0
+    assert STACK_BOUNDARY - result["resolution"] <= high <= STACK_BOUNDARY + 1e-9
+    assert math.isclose(result["resolution"], 0.9 / (SCAN_POINTS - 1) / 2**REFINE_STEPS)
+
+
+def test_a_newer_design_abandons_the_scan_of_an_older_one(stack_file):
+    grammar = pipeline.load(str(stack_file))
+    structure = make_structure(grammar.structure)
+    seen = []
+    idle = threading.Event()
+    idle.set()
+    scanner = StabilityScanner(lambda g, n, r: seen.append((g, r["status"])), idle, pause=0.0)
+
+    def job(generation):
+        return ScanJob(grammar, structure, {"offset": 0.2}, {"offset": (0.0, 0.9)},
+                       {"offset": (0.2, True)}, generation=generation)  # fmt: skip
+
+    try:
+        idle.clear()  # hold the first scan before its first evaluation
+        scanner.request(job(1))
+        time.sleep(0.2)
+        scanner.request(job(2))
+        idle.set()
+        deadline = time.monotonic() + 60
+        while (2, "done") not in seen and time.monotonic() < deadline:
+            time.sleep(0.05)
+    finally:
+        scanner.stop()
+    assert (2, "done") in seen
+    assert not any(generation == 1 for generation, _ in seen)
+
+
+def test_samples_are_sorted_and_cover_the_range():
+    result = stable_intervals(window((0.25, 0.75)), 0.0, 1.0)
+    xs = np.array([x for x, _ in result["samples"]])
+    assert np.all(np.diff(xs) > 0) and xs[0] == 0.0 and xs[-1] == 1.0
