@@ -132,7 +132,7 @@ def test_the_stable_interval_arrives_in_the_state(stack_file):
             if stability.get("status") == "done":
                 break
             time.sleep(0.05)
-        (low, high), = stability["intervals"]
+        ((low, high),) = stability["intervals"]
         assert low == 0 and abs(high - STACK_BOUNDARY) <= stability["resolution"] + 1e-9
     finally:
         session.close()
@@ -145,7 +145,8 @@ def test_a_bridge_shows_its_cable_sizing():
         cables = state["cables"]
         assert state["grammar"]["structure"] == "cable"
         assert cables["cable_diameter"] > 0 and cables["allowed_diameter"] > 0
-        assert state["verdict"]["stands"] == (cables["cable_diameter"] <= cables["allowed_diameter"])
+        fits = cables["cable_diameter"] <= cables["allowed_diameter"]
+        assert state["verdict"]["stands"] == fits
         assert session.scene()["forces"] is None
     finally:
         session.close()

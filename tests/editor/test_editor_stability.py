@@ -50,7 +50,7 @@ def test_nowhere_and_unjudgeable_designs():
     assert stable_intervals(lambda x: False, 0.0, 1.0)["intervals"] == []
     # a design that cannot be judged counts as not standing
     result = stable_intervals(lambda x: None if x > 0.5 else True, 0.0, 1.0)
-    (low, high), = result["intervals"]
+    ((low, high),) = result["intervals"]
     assert low == 0.0 and 0.5 - result["resolution"] <= high <= 0.5
 
 
@@ -88,7 +88,7 @@ def test_the_stack_stands_up_to_half_a_block_of_offset(stack_file):
     finally:
         scanner.stop()
     result = published["offset"]
-    (low, high), = result["intervals"]
+    ((low, high),) = result["intervals"]
     assert low == 0.0
     assert STACK_BOUNDARY - result["resolution"] <= high <= STACK_BOUNDARY + 1e-9
     assert math.isclose(result["resolution"], 0.9 / (SCAN_POINTS - 1) / 2**REFINE_STEPS)

@@ -1,0 +1,66 @@
+"""``shapegen edit`` as a user runs it: the address printed, a clean stop, clear refusals."""
+
+import json
+import signal
+import socket
+import subprocess
+import sys
+import urllib.request
+
+import pytest
+
+COMMAND = [sys.executable, "-m", "shapegen", "edit"]
+
+
+def start(*args):
+    process = subprocess.Popen(
+        [*COMMAND, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    line = process.stdout.readline()
+    return process, line
+
+
+def test_edit_serves_prints_its_address_and_stops_on_ctrl_c(stack_file):
+    process, line = start(str(stack_file), "--port", "0", "--no-open", "--set", "offset=0.7")
+    try:
+        assert line.startswith("shapegen edit: http://127.0.0.1:"), line
+        url = line.split()[2]
+        with urllib.request.urlopen(url + "api/state", timeout=60) as response:
+            state = json.load(response)
+        assert state["verdict"]["stands"] is False  # --set is honoured
+        assert {a["name"]: a["value"] for a in state["attrs"]}["offset"] == 0.7
+    finally:
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=30)
+    assert process.returncode == 0
+    assert err.strip().endswith("shapegen edit: stopped") and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["missing.grammar"], "no grammar file 'missing.grammar'"),
+        (["{stack}", "--set", "offset=3"], "outside its @Range"),
+    ],
+)
+def test_bad_arguments_are_one_line_and_status_2(stack_file, args, message):
+    args = [a.replace("{stack}", str(stack_file)) for a in args]
+    done = subprocess.run(
+        [*COMMAND, *args, "--no-open"], capture_output=True, text=True, timeout=60
+    )
+    assert done.returncode == 2
+    assert message in done.stderr and "Traceback" not in done.stderr
+
+
+def test_a_port_in_use_is_refused_with_one_line(stack_file):
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        done = subprocess.run(
+            [*COMMAND, str(stack_file), "--port", str(port), "--no-open"],
+            capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
+    assert done.returncode == 2
+    assert f"port {port} on 127.0.0.1 is in use" in done.stderr
+    assert done.stderr.count("\n") == 1
