@@ -257,13 +257,13 @@ def _rasterize_rows(edges, plane, slack, top, rows, ids, zbuf, seen, w: int) -> 
     py = np.repeat(top, rows) + np.arange(len(row_tri)) - np.repeat(np.cumsum(rows) - rows, rows)
     y = py + 0.5
     e = edges[row_tri]  # (r, 3 edges, A B C)
-    bound = (slack[row_tri, None] - e[:, :, 1] * y[:, None] - e[:, :, 2]) / np.where(
+    bound = (-slack[row_tri, None] - e[:, :, 1] * y[:, None] - e[:, :, 2]) / np.where(
         e[:, :, 0] != 0, e[:, :, 0], 1.0
-    )  # A x >= slack - B y - C
+    )  # A x + B y + C >= -slack
     flat = e[:, :, 0] == 0
     lower = np.where(e[:, :, 0] > 0, bound, -np.inf).max(axis=1)
     upper = np.where(e[:, :, 0] < 0, bound, np.inf).min(axis=1)
-    blocked = (flat & (e[:, :, 1] * y[:, None] + e[:, :, 2] < slack[row_tri, None])).any(axis=1)
+    blocked = (flat & (e[:, :, 1] * y[:, None] + e[:, :, 2] < -slack[row_tri, None])).any(axis=1)
     first = np.maximum(np.ceil(lower - 0.5), 0)
     last = np.minimum(np.floor(upper - 0.5), w - 1)
     count = np.where(blocked, 0, np.maximum(last - first + 1, 0)).astype(np.int64)
