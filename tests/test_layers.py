@@ -13,7 +13,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "shapegen"
 
 # Bottom to top. A module may import its own layer and the layers below it.
 LAYERS = [
-    ["errors", "tolerances", "json_values", "plugins"],
+    ["errors", "tolerances", "json_values", "plugins", "limits"],
     ["model"],
     ["grammar", "statics", "export"],
     ["primitives"],  # the cable primitive sizes its section with statics.cables

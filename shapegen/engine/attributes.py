@@ -8,7 +8,7 @@ provides ``attr_nodes``, ``const_nodes``, ``definitions`` (the compiled attr and
 
 from __future__ import annotations
 
-__all__ = ["DEFAULT_LOT", "AttributeValues", "checked_structure"]
+__all__ = ["DEFAULT_LOT", "AttributeValues", "checked_structure", "shown"]
 
 import difflib
 import math
@@ -16,13 +16,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from shapegen.engine.derivation import (
-    DEFAULT_MAX_DEPTH,
-    DEFAULT_MAX_SHAPES,
-    TOO_DEEP,
-    Derivation,
-    root_state,
-)
+from shapegen.engine.derivation import TOO_DEEP, Derivation, root_state
 from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
 from shapegen.engine.shape import FACE, Shape, lot_scope
 from shapegen.errors import GeometryError, GrammarError
@@ -59,7 +53,7 @@ class AttributeValues:
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             listing = ", ".join(known) if known else "none"
             raise GrammarError(f"unknown attribute {name!r}{hint}; attributes: {listing}")
-        run = Derivation(self, seed, DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES)
+        run = Derivation(self, seed)
         values: dict[str, object] = {}
         resolving: list[str] = []
 
@@ -98,7 +92,7 @@ class AttributeValues:
     ) -> dict[str, dict]:
         """``name -> {value, min, max}`` for the ``@Free`` attrs (bounds from ``@Range``), or,
         with ``only_free=False``, for every attr that has a ``@Range``."""
-        run = Derivation(self, 0, DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES)
+        run = Derivation(self, 0)
         state = root_state(run, Shape(lot, FACE, 1), dict(values), ("free",))
         out = {}
         for name, node in self.attr_nodes.items():
@@ -123,7 +117,7 @@ class AttributeValues:
         annotation = self.start.annotation("Lot")
         if annotation is None:
             return DEFAULT_LOT
-        run = Derivation(self, 0, DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES)
+        run = Derivation(self, 0)
         state = root_state(run, Shape(lot_scope(*DEFAULT_LOT), FACE, 1), dict(values), ("lot",))
         size = []
         for k, keyword in enumerate(("width", "depth")):
@@ -142,7 +136,7 @@ class AttributeValues:
         annotation = self.start.annotation("Structure")
         if annotation is None or not annotation.keywords:
             return {}
-        run = Derivation(self, 0, DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES)
+        run = Derivation(self, 0)
         state = root_state(run, Shape(lot, FACE, 1), dict(values), ("structure",))
         return {
             keyword.name: self.expressions.compile(keyword.value, {})((), state)
@@ -202,23 +196,32 @@ def _coerce(name: str, value: object, default: object) -> object:
             return value
         if isinstance(value, str) and value.strip().lower() in ("true", "false"):
             return value.strip().lower() == "true"
-        raise GrammarError(f"attr {name!r} is true or false, got {value!r}")
+        raise GrammarError(f"attr {name!r} is true or false, got {shown(value)}")
     if isinstance(default, float):
         if isinstance(value, bool):
-            raise GrammarError(f"attr {name!r} is a number, got {value!r}")
+            raise GrammarError(f"attr {name!r} is a number, got {shown(value)}")
         try:
             number = float(value)
         except (TypeError, ValueError):
-            raise GrammarError(f"attr {name!r} is a number, got {value!r}") from None
+            raise GrammarError(f"attr {name!r} is a number, got {shown(value)}") from None
+        except OverflowError:  # an int beyond float range (10**400)
+            number = math.inf
         if not math.isfinite(number):
-            raise GrammarError(f"attr {name!r} must be a finite number, got {value!r}")
+            raise GrammarError(f"attr {name!r} must be a finite number, got {shown(value)}")
         return number
     if isinstance(default, str):
-        return (
-            value
-            if isinstance(value, str)
-            else format_value(
-                float(value) if isinstance(value, int) and not isinstance(value, bool) else value
-            )
-        )
+        if isinstance(value, str):
+            return value
+        if isinstance(value, int) and not isinstance(value, bool):
+            return str(value) if abs(value) >= 10**15 else format_value(float(value))
+        return format_value(value)
     return value
+
+
+def shown(value: object, width: int = 60) -> str:
+    """``repr(value)`` cut to ``width`` characters (a 5 000-digit number is not echoed whole)."""
+    try:
+        text = repr(value)
+    except ValueError:  # an int too long for Python to print in decimal
+        return f"a {type(value).__name__} too long to print"
+    return text if len(text) <= width else text[: width - 3] + "..."

@@ -18,19 +18,27 @@ __all__ = [
 ]
 
 import random
+import time
 from collections.abc import Callable
 from typing import Protocol
 
 from shapegen.engine.shape import Shape
 from shapegen.errors import GrammarError
+from shapegen.limits import DEFAULT_LIMITS, WorkLimits, current_limits, limit_hint
 
-DEFAULT_MAX_DEPTH = 500
-"""Longest chain of rules from the start rule to a shape."""
+DEFAULT_MAX_DEPTH = DEFAULT_LIMITS.max_depth
+"""Longest chain of rules from the start rule to a shape (:class:`~shapegen.limits.WorkLimits`)."""
 
-DEFAULT_MAX_SHAPES = 1_000_000
-"""Most shapes one derivation may create."""
+DEFAULT_MAX_SHAPES = DEFAULT_LIMITS.max_shapes
+"""Most shapes one derivation may create (:class:`~shapegen.limits.WorkLimits`)."""
 
-TOO_DEEP = "a user function calls itself too deeply (endless recursion?)"
+TOO_DEEP = (
+    "user functions call each other too deeply for Python's stack (endless recursion?) "
+    + limit_hint("max_call_depth", DEFAULT_LIMITS)
+)
+
+# How many user-function calls pass between two looks at the clock.
+_CLOCK_EVERY = 1024
 
 
 class _ErrorSource(Protocol):
@@ -77,15 +85,80 @@ class ShapeState:
 
 
 class Derivation:
-    """The mutable part of one derivation: seed, limits, the shape count and the reports."""
+    """The mutable part of one derivation: seed, limits, the work counts and the reports.
 
-    def __init__(self, program: _ErrorSource, seed: int, max_depth: int, max_shapes: int):
+    ``limits`` defaults to the current :class:`~shapegen.limits.WorkLimits`; ``max_depth`` and
+    ``max_shapes``, when given, override its two fields of those names.
+    """
+
+    def __init__(
+        self,
+        program: _ErrorSource,
+        seed: int,
+        max_depth: int | None = None,
+        max_shapes: int | None = None,
+        limits: WorkLimits | None = None,
+    ):
         self.program = program
         self.seed = int(seed)
-        self.max_depth = max_depth
-        self.max_shapes = max_shapes
+        self.limits = limits = limits or current_limits()
+        self.max_depth = limits.max_depth if max_depth is None else max_depth
+        self.max_shapes = limits.max_shapes if max_shapes is None else max_shapes
         self.shape_count = 0
+        self.calls = 0
+        self.call_depth = 0
+        self.string_chars = 0
         self.reports: dict[str, list] = {}
+        self.started = time.monotonic()
+        self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
+
+    def check_clock(self, node) -> None:
+        """Stop the derivation past its ``max_seconds``."""
+        if self.deadline is not None and time.monotonic() > self.deadline:
+            raise self.program.error(
+                node,
+                f"the derivation ran for more than {self.limits.max_seconds:g} s "
+                + limit_hint("max_seconds", self.limits),
+            )
+
+    def enter_call(self, node, name: str) -> None:
+        """Count a user-function call; stop a runaway one (``max_calls``, ``max_call_depth``)."""
+        self.calls += 1
+        self.call_depth += 1
+        limits = self.limits
+        if self.calls > limits.max_calls:
+            raise self.program.error(
+                node,
+                f"more than {limits.max_calls} user-function calls (the last to {name!r}); a "
+                f"function may call itself more than once per level "
+                + limit_hint("max_calls", limits),
+            )
+        if self.call_depth > limits.max_call_depth:
+            raise self.program.error(
+                node,
+                f"function {name!r} calls itself too deeply: more than "
+                f"{limits.max_call_depth} nested user-function calls (endless recursion?) "
+                + limit_hint("max_call_depth", limits),
+            )
+        if self.calls % _CLOCK_EVERY == 0:
+            self.check_clock(node)
+
+    def count_string(self, node, length: int) -> None:
+        """Account for a string of ``length`` characters built by ``+``."""
+        limits = self.limits
+        if length > limits.max_string_length:
+            raise self.program.error(
+                node,
+                f"a string of more than {limits.max_string_length} characters "
+                + limit_hint("max_string_length", limits),
+            )
+        self.string_chars += length
+        if self.string_chars > limits.max_string_chars:
+            raise self.program.error(
+                node,
+                f"the derivation builds more than {limits.max_string_chars} characters of "
+                f"strings " + limit_hint("max_string_chars", limits),
+            )
 
     def child(self, parent: ShapeState, shape: Shape, node, name: str | None = None) -> ShapeState:
         """A new shape below ``parent``; ``name`` is the successor's name for a successor."""
@@ -95,8 +168,11 @@ class Derivation:
             raise self.program.error(
                 node,
                 f"the derivation creates more than {self.max_shapes} shapes (max_shapes); "
-                f"the grammar may be running away. Chain of rules: {format_chain(chain)}",
+                f"the grammar may be running away. Chain of rules: {format_chain(chain)} "
+                + _argument_hint("max_shapes"),
             )
+        if self.deadline is not None and self.shape_count % 64 == 0:
+            self.check_clock(node)
         state = ShapeState.__new__(ShapeState)
         state.run = self
         state.shape = shape
@@ -122,9 +198,13 @@ class Derivation:
                     node,
                     f"the derivation is deeper than {self.max_depth} rules (max_depth); the "
                     f"grammar may recurse without end. Chain of rules: "
-                    f"{format_chain(state.rule_path)}",
+                    f"{format_chain(state.rule_path)} " + _argument_hint("max_depth"),
                 )
         return state
+
+
+def _argument_hint(name: str) -> str:
+    return f"(raise it with Grammar.build({name}=...) or shapegen.limits.work_limits({name}=...))"
 
 
 def format_chain(chain: tuple[str, ...], keep: int = 12) -> str:

@@ -7,7 +7,9 @@ generator). Compiling once and calling closures keeps per-shape work small: the 
 rebuilds whole models many times.
 
 Values are ``float`` (every number), ``bool`` or ``str``. A type mismatch, a division by zero or
-a math domain error raises :class:`~shapegen.errors.GrammarError` at the offending node.
+a math domain error raises :class:`~shapegen.errors.GrammarError` at the offending node, and so
+does work past a :class:`~shapegen.limits.WorkLimits` bound: user-function calls (how many, how
+deeply nested) and string sizes are counted on the derivation (``state.run``).
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from collections.abc import Callable
 
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
+from shapegen.limits import limit_hint
 
 Value = float | bool | str
 Compiled = Callable[[tuple, object], Value]
@@ -199,7 +202,9 @@ class ExpressionCompiler:
                 if type(a) is float and type(b) is float:
                     return a + b
                 if type(a) is str or type(b) is str:
-                    return format_value(a) + format_value(b)
+                    text = format_value(a) + format_value(b)
+                    state.run.count_string(node, len(text))
+                    return text
                 raise error(node, f"cannot add a {type_name(a)} and a {type_name(b)}")
 
             return add
@@ -217,6 +222,10 @@ class ExpressionCompiler:
                     return function(a, b)
                 except ZeroDivisionError:
                     raise error(node, "division by zero") from None
+                except (ValueError, OverflowError):  # fmod of an infinity
+                    raise error(
+                        node, f"{format_value(a)} {op} {format_value(b)} is not defined"
+                    ) from None
 
             return arithmetic
         if op in ("==", "!="):
@@ -271,12 +280,18 @@ class ExpressionCompiler:
         def call(args, state):
             body = functions[name][1]
             values = tuple(a(args, state) for a in arguments)
+            run = state.run
+            run.enter_call(node, name)
             try:
                 return body(values, state)
             except RecursionError:
                 raise error(
-                    node, f"function {name!r} calls itself too deeply (endless recursion?)"
+                    node,
+                    f"function {name!r} calls itself too deeply for Python's stack (endless "
+                    f"recursion?) {limit_hint('max_call_depth', run.limits)}",
                 ) from None
+            finally:
+                run.call_depth -= 1
 
         return call
 

@@ -26,11 +26,12 @@ __all__ = [
 ]
 
 import math
+import numbers
 from collections.abc import Mapping
 
 import numpy as np
 
-from shapegen.engine.attributes import DEFAULT_LOT, AttributeValues, checked_structure
+from shapegen.engine.attributes import DEFAULT_LOT, AttributeValues, checked_structure, shown
 from shapegen.engine.derivation import (
     DEFAULT_MAX_DEPTH,
     DEFAULT_MAX_SHAPES,
@@ -46,6 +47,7 @@ from shapegen.engine.shape import FACE, MASS, Shape, lot_scope
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
+from shapegen.limits import limit_hint
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.model.scope import Scope
@@ -117,18 +119,21 @@ class Program(AttributeValues, ShapeOperations):
         attrs: Mapping[str, object] | None = None,
         seed: int = 0,
         lot: tuple[float, float] | None = None,
-        max_depth: int = DEFAULT_MAX_DEPTH,
-        max_shapes: int = DEFAULT_MAX_SHAPES,
+        max_depth: int | None = None,
+        max_shapes: int | None = None,
     ) -> Model:
-        """Derive the block model; see :meth:`shapegen.engine.grammar_api.Grammar.build`."""
+        """Derive the block model; see :meth:`shapegen.engine.grammar_api.Grammar.build`.
+
+        ``max_depth`` and ``max_shapes`` default to the current
+        :class:`~shapegen.limits.WorkLimits`, which bound the rest of the work too.
+        """
+        if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
+            raise GrammarError(f"seed must be a whole number, got {shown(seed)}")
         if lot is None:
             defaults = self.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
             lot = self.lot_size(defaults)
-        try:
-            width, depth = (float(v) for v in lot)
-            start_scope = lot_scope(width, depth)
-        except (TypeError, ValueError) as exc:
-            raise GrammarError(f"lot: {exc}") from None
+        width, depth = _checked_lot(lot)
+        start_scope = lot_scope(width, depth)
         values = self.initial_values(attrs, seed, start_scope)
         run = Derivation(self, seed, max_depth, max_shapes)
         root = root_state(run, Shape(start_scope, FACE, 1), values, ())
@@ -147,7 +152,7 @@ class Program(AttributeValues, ShapeOperations):
                 stack.extend(reversed(out))
         except RecursionError:
             raise GrammarError(TOO_DEEP) from None
-        blocks = self._blocks(leaves)
+        blocks = self._blocks(leaves, run)
         metadata = {
             "grammar": self.grammar.filename,
             "seed": int(seed),
@@ -162,8 +167,11 @@ class Program(AttributeValues, ShapeOperations):
         }
         return Model(blocks, metadata=metadata)
 
-    def _blocks(self, leaves: list[ShapeState]) -> list[Block]:
+    def _blocks(self, leaves: list[ShapeState], run: Derivation) -> list[Block]:
         boxes = [s for s in leaves if s.shape.kind == MASS and s.shape.scope.size.min() > _MIN_SIZE]
+        limit = run.limits.max_blocks
+        if len(boxes) > limit:
+            raise self._too_many_blocks(len(boxes), run, boxes[limit].rule_path)
         corners = {}
         if boxes:
             origins = np.array([s.shape.scope.origin for s in boxes])
@@ -195,10 +203,13 @@ class Program(AttributeValues, ShapeOperations):
             elif kind == INSERT:
                 name, params, node = state.shape.insert
                 scope = state.shape.scope
+                run.check_clock(node)
                 try:
                     pieces = _insert(name, scope, params)
                 except GeometryError as exc:
                     raise self.error(node, f"i({name!r}): {exc}") from None
+                if len(blocks) + len(pieces) > limit:
+                    raise self._too_many_blocks(len(blocks) + len(pieces), run, state.rule_path)
                 density, structural, fixed = self._properties(state)
                 for piece in pieces:
                     piece.density = density
@@ -211,6 +222,12 @@ class Program(AttributeValues, ShapeOperations):
                     piece.rule_path = state.rule_path
                     blocks.append(piece)
         return blocks
+
+    def _too_many_blocks(self, count: int, run: Derivation, chain: tuple) -> GrammarError:
+        return GrammarError(
+            f"the model has at least {count} blocks, more than {run.limits.max_blocks} "
+            f"(rules: {format_chain(chain)}) {limit_hint('max_blocks', run.limits)}"
+        )
 
     def _properties(self, state: ShapeState) -> tuple[float, bool, bool]:
         attrs = state.attrs
@@ -228,6 +245,20 @@ class Program(AttributeValues, ShapeOperations):
                     f"{format_chain(state.rule_path)})"
                 )
         return density, structural, fixed
+
+
+def _checked_lot(lot: object) -> tuple[float, float]:
+    """``(width, depth)`` of a lot given to :meth:`Program.derive`: two finite numbers > 0, m."""
+    try:
+        width, depth = (float(v) for v in lot)
+    except (TypeError, ValueError, OverflowError):
+        raise GrammarError(
+            f"lot must be (width, depth): two finite numbers > 0 in metres, got {shown(lot)}"
+        ) from None
+    for side, value in (("width", width), ("depth", depth)):
+        if not math.isfinite(value) or value <= 0:
+            raise GrammarError(f"lot {side} must be a finite number > 0 in metres, got {value!r}")
+    return width, depth
 
 
 def _insert(name: str, scope: Scope, params: dict) -> list[Block]:

@@ -231,7 +231,9 @@ class ShapeOperations:
                     node,
                     f"the split creates more than {run.max_shapes} shapes "
                     f"(max_shapes). Chain of rules: "
-                    f"{format_chain(state.rule_path)}",
+                    f"{format_chain(state.rule_path)} "
+                    f"(raise it with Grammar.build(max_shapes=...) or "
+                    f"shapegen.limits.work_limits(max_shapes=...))",
                 ) from None
             except ValueError as exc:
                 raise error(node, str(exc)) from None

@@ -181,6 +181,9 @@ class _Resolver:
         period = sum(self.nominal(item) for item in items)
         if period <= 0:
             return
+        # A period far below the span (5e-324 of 10 m) asks for more pieces than any limit, or
+        # than a float can count: refuse it before converting the count to an int.
+        self._check_count(length / period, items)
         if any(self.flexible(item) and self.nominal(item) > 0 for item in items):
             count = _closest_count(length, period)
             self._check_count(count, items)
@@ -198,10 +201,12 @@ class _Resolver:
                 break
             self.sequence(items, offset, min(period, end - offset))
 
-    def _check_count(self, count: int, items: tuple[SplitItem, ...]) -> None:
-        if count * len(items) > self.max_pieces:
+    def _check_count(self, count: float, items: tuple[SplitItem, ...]) -> None:
+        pieces = count * len(items)
+        if not pieces <= self.max_pieces:  # also true for an infinite count
+            shown = f"{pieces:.3g}" if pieces < 1e15 else "more than 1e15"
             raise PieceLimitError(
-                f"the repeat would create about {count * len(items)} pieces, more than the limit "
+                f"the repeat would create about {shown} pieces, more than the limit "
                 f"of {self.max_pieces}"
             )
 

@@ -30,7 +30,7 @@ from shapegen.errors import GeometryError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, polygon_is_convex, prism_blocks
-from shapegen.primitives.registry import Choice, primitive, require
+from shapegen.primitives.registry import Choice, primitive, require, require_blocks
 from shapegen.tolerances import DEFAULT, ROUNDOFF_REL
 
 # Samples per segment of the dense polyline used to place Bezier joints at equal arc lengths.
@@ -277,6 +277,7 @@ def _check_arch(
     require(width > 0 and scope.sz > 0, name, "scope",
             f"needs a positive width and depth, got {scope.size_text}")  # fmt: skip
     require(segments >= 2, name, "segments", f"must be at least 2, got {segments}")
+    require_blocks(name, 2 * segments if name == "capped_arch" else segments, "segments")
     require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
     require(
         thickness < width / 2,
@@ -405,6 +406,7 @@ def bezier_arch(
     require(width > 0 and height > 0 and scope.sz > 0, name, "scope",
             f"needs a positive size, got {scope.size_text}")  # fmt: skip
     require(segments >= 2, name, "segments", f"must be at least 2, got {segments}")
+    require_blocks(name, segments, "segments")
     require(thickness > 0, name, "thickness", f"must be positive, got {thickness:g} m")
     require(
         thickness < width / 2,

@@ -30,7 +30,7 @@ from shapegen.errors import GeometryError, StaticsError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
-from shapegen.primitives.registry import primitive
+from shapegen.primitives.registry import primitive, require_blocks, require_vertices
 from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
 
 
@@ -129,6 +129,8 @@ def cable(
         raise GeometryError(f"primitive 'cable': segments {segments} must be at least 2")
     if sides < 3:
         raise GeometryError(f"primitive 'cable': sides {sides} must be at least 3")
+    require_blocks("cable", segments, "segments")
+    require_vertices("cable", (segments + 1) * sides, "segments x sides")
     if diameter <= 0:
         diameter = _sized_diameter(
             main_span=main_span if main_span > 0 else span,
@@ -194,6 +196,7 @@ def suspenders(
             "primitive 'suspenders': spacing, width and min_length must be positive, got "
             f"{spacing:g}, {width:g}, {min_length:g} m"
         )
+    require_blocks("suspenders", span / spacing + 0.5, "span / spacing")
     panels = max(1, round(span / spacing))
     x = span * np.arange(1, panels) / panels
     y = cable_height(x, span, own_sag, top, drop_left, drop_right)

@@ -11,7 +11,7 @@ import numpy as np
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import extrusion_pool, prism_blocks
-from shapegen.primitives.registry import primitive, require
+from shapegen.primitives.registry import primitive, require, require_blocks
 from shapegen.primitives.stereotomy import arc_joints
 from shapegen.tolerances import DEFAULT
 
@@ -109,6 +109,7 @@ def flying_buttress(
     name = "flying_buttress"
     require(segments >= 1, name, "segments", f"must be at least 1, got {segments}")
     require(pier_courses >= 1, name, "pier_courses", f"must be at least 1, got {pier_courses}")
+    require_blocks(name, segments + pier_courses, "segments + pier_courses")
     layout = flying_buttress_layout(scope, angle, thickness, pier_width)
     angles = np.linspace(np.pi / 2 + layout.angle, np.pi / 2, segments + 1)
     joints = arc_joints(

@@ -9,7 +9,13 @@ import numpy as np
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
-from shapegen.primitives.registry import Choice, primitive, require
+from shapegen.primitives.registry import (
+    Choice,
+    primitive,
+    require,
+    require_blocks,
+    require_vertices,
+)
 
 
 @primitive("column")
@@ -49,7 +55,10 @@ def column(
     require(shape != "round" or sides >= 3, name, "sides",
             f"must be at least 3 for a round column, got {sides}")  # fmt: skip
     if course_height > 0:
+        require_blocks(name, height / course_height + 0.5, "scope height / course_height")
         courses = max(1, round(height / course_height))
+    require_blocks(name, courses, "courses")
+    require_vertices(name, (courses + 1) * (sides if shape == "round" else 4), "sides x courses")
     if shape == "square":
         # Counter-clockwise about +y: seen from above, x to the right and z towards the viewer.
         section = np.array([[0.0, 0.0], [0.0, depth], [width, depth], [width, 0.0]])

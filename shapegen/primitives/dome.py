@@ -8,7 +8,7 @@ import numpy as np
 
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
-from shapegen.primitives.registry import primitive, require
+from shapegen.primitives.registry import primitive, require, require_blocks
 from shapegen.primitives.stereotomy import hexahedra_in_scope
 
 
@@ -58,6 +58,7 @@ def dome(
     require(rings >= 1, name, "rings", f"must be at least 1, got {rings}")
     require(meridians >= 3, name, "meridians", f"must be at least 3, got {meridians}")
     require(0 <= oculus < 90, name, "oculus", f"must be in [0, 90) degrees, got {oculus:g}")
+    require_blocks(name, rings * meridians, "rings x meridians")
 
     latitudes = np.linspace(0.0, np.radians(90.0 - oculus), rings + 1)
     longitudes = np.linspace(0.0, 2 * np.pi, meridians + 1)

@@ -25,6 +25,8 @@ __all__ = [
     "Primitive",
     "primitive",
     "require",
+    "require_blocks",
+    "require_vertices",
     "REGISTRY",
 ]
 
@@ -37,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.errors import GeometryError
+from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.model.validation import first_invalid_block
@@ -51,6 +54,40 @@ def require(condition: bool, primitive: str, parameter: str, problem: str) -> No
     """
     if not condition:
         raise _parameter_error(primitive, parameter, problem)
+
+
+def require_blocks(primitive: str, count: float, what: str) -> None:
+    """Refuse, before any array is allocated, a primitive that would make more than
+    ``max_primitive_blocks`` blocks (:class:`~shapegen.limits.WorkLimits`).
+
+    ``count`` is the number of blocks the parameters ask for, computed as a float so that a
+    tiny size (``block_length = 1e-9``) gives a huge or infinite count rather than an overflow;
+    ``what`` says where it comes from (``"segments x courses"``).
+    """
+    limit = current_limits().max_primitive_blocks
+    if not count <= limit:  # also refuses an infinite or NaN count
+        shown = f"{count:.4g}" if math.isfinite(count) else "too many"
+        raise GeometryError(
+            f"primitive {primitive!r} would make {shown} blocks ({what}), more than "
+            f"{limit} {limit_hint('max_primitive_blocks')}"
+        )
+
+
+VERTICES_PER_BLOCK = 64
+"""A primitive may make at most this many vertices per block of ``max_primitive_blocks``: a
+few blocks of very many sides (a round column of 10 000 sides) cost as much as many blocks."""
+
+
+def require_vertices(primitive: str, count: float, what: str) -> None:
+    """Like :func:`require_blocks`, for the vertices a primitive would make (at most
+    ``VERTICES_PER_BLOCK * max_primitive_blocks``)."""
+    limit = VERTICES_PER_BLOCK * current_limits().max_primitive_blocks
+    if not count <= limit:
+        shown = f"{count:.4g}" if math.isfinite(count) else "too many"
+        raise GeometryError(
+            f"primitive {primitive!r} would make {shown} vertices ({what}), more than {limit} "
+            f"({VERTICES_PER_BLOCK} per block of the limit) {limit_hint('max_primitive_blocks')}"
+        )
 
 
 def _parameter_error(primitive: str, parameter: str, problem: str) -> GeometryError:
@@ -90,6 +127,9 @@ class Primitive:
             valid, self.name, "scope", f"needs finite sides, none negative, got {scope.size_text}"
         )
         blocks = list(self.function(scope, **values))
+        # A plug-in that does not call require_blocks is still held to the limit (after the
+        # fact: its count parameters were bounded before the call).
+        require_blocks(self.name, len(blocks), "blocks returned")
         tol = DEFAULT.for_size(float(np.linalg.norm(scope.size)) or 1.0)
         foreign = next((k for k, b in enumerate(blocks) if not isinstance(b, Block)), None)
         # All pieces at once; a bad piece before the first non-Block is the one reported.
@@ -177,18 +217,38 @@ def _convert(owner: str, parameter: Parameter, value: object) -> object:
         raise problem(f"must be true or false, got {value!r}")
     if kind is int:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise problem(f"must be a whole number, got {_shown(value)}")
+        if isinstance(value, float) and (not math.isfinite(value) or value != int(value)):
             raise problem(f"must be a whole number, got {value!r}")
-        if not math.isfinite(value) or value != int(value):
-            raise problem(f"must be a whole number, got {value!r}")
+        limit = current_limits().max_primitive_blocks
+        if abs(value) > limit:  # a count (segments, rings, sides...) beyond any block budget
+            raise problem(
+                f"is {_shown(value)}, more than {limit} {limit_hint('max_primitive_blocks')}"
+            )
         return int(value)
     if kind is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise problem(f"must be a number, got {value!r}")
-        if not math.isfinite(value):
-            raise problem(f"must be a finite number, got {value!r}")
-        return float(value)
+            raise problem(f"must be a number, got {_shown(value)}")
+        try:
+            number = float(value)
+        except OverflowError:  # an int beyond float range
+            number = math.inf
+        if not math.isfinite(number):
+            raise problem(f"must be a finite number, got {_shown(value)}")
+        return number
     if kind is str:
         if not isinstance(value, str):
             raise problem(f"must be a string, got {value!r}")
         return value
     return value
+
+
+def _shown(value: object) -> str:
+    """A parameter value for a message: numbers in ``%g`` form, anything else cut short."""
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        try:
+            return f"{value:.6g}"
+        except OverflowError:
+            return "a number beyond float range"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."

@@ -11,7 +11,7 @@ from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.arch import circular_arch_line
 from shapegen.primitives.prism import prism_blocks
-from shapegen.primitives.registry import primitive, require
+from shapegen.primitives.registry import primitive, require, require_blocks
 from shapegen.primitives.stereotomy import arc_joints
 
 
@@ -79,6 +79,7 @@ def barrel_vault(
     name = "barrel_vault"
     _check_span(name, scope, thickness, segments)
     require(courses >= 1, name, "courses", f"must be at least 1, got {courses}")
+    require_blocks(name, (segments + 1) * courses, "segments x courses")
     intrados, extrados = circular_arch_line(scope.sx, thickness, segments)
     sections = [np.stack([intrados, extrados], axis=1)]
     if running_bond and courses > 1:
@@ -122,6 +123,7 @@ def groin_vault(scope: Scope, *, thickness: float = 0.3, segments: int = 12) -> 
     """
     name = "groin_vault"
     _check_span(name, scope, thickness, segments)
+    require_blocks(name, 4 * segments, "4 x segments")
     side = scope.sx
     sections = _voussoir_sections(scope, thickness, segments)
     # Vault A: the sections in (x, y), extruded along z from 0 to the side.

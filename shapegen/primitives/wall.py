@@ -9,7 +9,7 @@ import numpy as np
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives.prism import prism_blocks
-from shapegen.primitives.registry import primitive, require
+from shapegen.primitives.registry import primitive, require, require_blocks
 
 
 @primitive("wall")
@@ -42,6 +42,12 @@ def wall(
             f"needs a positive size, got {scope.size_text}")  # fmt: skip
     require(block_length > 0, name, "block_length", f"must be positive, got {block_length:g} m")
     require(block_height > 0, name, "block_height", f"must be positive, got {block_height:g} m")
+    # Counted as floats first: a tiny block size gives a huge (or infinite) count, not an overflow.
+    require_blocks(
+        name,
+        max(1.0, length / block_length + 0.5) * max(1.0, height / block_height + 0.5) * 1.5,
+        "blocks per course x courses, half blocks included",
+    )
     per_course = max(1, round(length / block_length))
     courses = max(1, round(height / block_height))
     # All head joints lie on a grid of half blocks; every corner is taken from one pool of points.

@@ -1,0 +1,142 @@
+"""Work limits: how much one grammar load, one build or one file read may do before it stops.
+
+Every path that could otherwise run until memory or patience runs out (a user function calling
+itself twice per level, a string doubled forty times, ``i("arch", segments = 1e16)``, a model
+file of a million blocks, a FIFO named ``.json``) is bounded by one of the limits below, and
+exceeding one raises a :class:`~shapegen.errors.ShapegenError` whose message names the limit and
+how to raise it. The defaults let every bundled rule and documentation example run with a wide
+margin (the largest bundled model has about 1 100 blocks and 700 shapes).
+
+Limits are read from the current context, so they reach every layer (the grammar parser, the
+interpreter, the primitives, the model readers, and the search that rebuilds a design many
+times) without being passed through each call:
+
+>>> import shapegen
+>>> from shapegen.limits import work_limits
+>>> grammar = shapegen.parse_grammar("@StartRule @Lot(4, 1)\n"
+...     "Lot --> extrude(1) split(x) { ~0.1 : A }*")
+>>> with work_limits(max_shapes=20):
+...     grammar.build()
+Traceback (most recent call last):
+    ...
+shapegen.errors.GrammarError: ...
+"""
+
+from __future__ import annotations
+
+__all__ = ["DEFAULT_LIMITS", "WorkLimits", "current_limits", "limit_hint", "work_limits"]
+
+import contextvars
+import math
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, fields, replace
+
+from shapegen.errors import OptionError
+
+
+@dataclass(frozen=True)
+class WorkLimits:
+    """The most work one load, build or read may do.
+
+    Attributes
+    ----------
+    max_source_chars
+        Characters of grammar source text (a rule file or a string).
+    max_depth
+        Longest chain of rules from the start rule to a shape.
+    max_shapes
+        Shapes one derivation may create.
+    max_calls
+        User-function calls in one derivation (or one evaluation of attrs, ``@Range``, ``@Lot``
+        and ``@Structure`` arguments); without calls, an expression's work is bounded by its size.
+    max_call_depth
+        User functions calling each other (or themselves) at once.
+    max_string_length
+        Characters of one string value.
+    max_string_chars
+        Characters of all strings built by ``+`` in one derivation.
+    max_primitive_blocks
+        Blocks one inserted primitive may make (and bound of every count parameter: segments,
+        rings, meridians, courses, sides...); checked before any array is allocated.
+    max_blocks
+        Blocks of one model, derived or read from a file.
+    max_file_bytes
+        Size of a model file (JSON or mesh) read, bytes.
+    max_seconds
+        Seconds of one derivation (wall clock), or None for no time limit.
+    """
+
+    max_source_chars: int = 1_000_000
+    max_depth: int = 500
+    max_shapes: int = 200_000
+    max_calls: int = 500_000
+    max_call_depth: int = 100
+    max_string_length: int = 100_000
+    max_string_chars: int = 10_000_000
+    max_primitive_blocks: int = 20_000
+    max_blocks: int = 50_000
+    max_file_bytes: int = 64 * 2**20
+    max_seconds: float | None = 60.0
+
+    def __post_init__(self) -> None:
+        for field in fields(self):
+            value = getattr(self, field.name)
+            if field.name == "max_seconds":
+                ok = value is None or (
+                    isinstance(value, int | float)
+                    and not isinstance(value, bool)
+                    and math.isfinite(value)
+                    and value > 0
+                )
+                wanted = "a positive number of seconds or None"
+            else:
+                ok = isinstance(value, int) and not isinstance(value, bool) and value >= 1
+                wanted = "a whole number >= 1"
+            if not ok:
+                raise OptionError(f"work limit {field.name} must be {wanted}, got {value!r}")
+
+
+DEFAULT_LIMITS = WorkLimits()
+"""The limits in force unless :func:`work_limits` says otherwise."""
+
+_CURRENT: contextvars.ContextVar[WorkLimits] = contextvars.ContextVar(
+    "shapegen_work_limits", default=DEFAULT_LIMITS
+)
+
+
+def current_limits() -> WorkLimits:
+    """The limits in force in this context (thread, task)."""
+    return _CURRENT.get()
+
+
+@contextmanager
+def work_limits(limits: WorkLimits | None = None, /, **changes) -> Iterator[WorkLimits]:
+    """Run a block of code under other limits: ``limits`` (default: the current ones) with
+    ``changes`` applied, e.g. ``work_limits(max_blocks=200_000)``.
+
+    Raises
+    ------
+    OptionError
+        An unknown limit name or a value that is not a positive whole number (seconds: a
+        positive number or None).
+    """
+    base = current_limits() if limits is None else limits
+    if not isinstance(base, WorkLimits):
+        raise OptionError(f"work_limits takes a WorkLimits, got {type(base).__name__}")
+    known = [field.name for field in fields(WorkLimits)]
+    unknown = sorted(set(changes) - set(known))
+    if unknown:
+        raise OptionError(f"unknown work limit {unknown[0]!r}; the limits: {', '.join(known)}")
+    token = _CURRENT.set(replace(base, **changes))
+    try:
+        yield _CURRENT.get()
+    finally:
+        _CURRENT.reset(token)
+
+
+def limit_hint(name: str, limits: WorkLimits | None = None) -> str:
+    """``(limit max_blocks = 50000; raise it with shapegen.limits.work_limits(max_blocks=...))``:
+    the end of every message about a limit reached."""
+    value = getattr(limits or current_limits(), name)
+    return f"(limit {name} = {value}; raise it with shapegen.limits.work_limits({name}=...))"
