@@ -42,6 +42,10 @@ class AttributeValues:
         self, overrides: Mapping[str, object] | None, seed: int, lot: Scope
     ) -> dict[str, object]:
         """Values of every attr and const (with ``overrides``) and of the reserved attrs."""
+        if overrides is not None and not isinstance(overrides, Mapping):
+            raise GrammarError(
+                f"attrs must be a mapping of names to values, got {shown(overrides)}"
+            )
         overrides = dict(overrides or {})
         for name in overrides:
             if name in self.attr_nodes or name in RESERVED_ATTRIBUTES:
@@ -220,8 +224,10 @@ def _coerce(name: str, value: object, default: object) -> object:
 
 def shown(value: object, width: int = 60) -> str:
     """``repr(value)`` cut to ``width`` characters (a 5 000-digit number is not echoed whole)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**20:
+        return f"an integer of {round(value.bit_length() * 0.30103)} digits"
     try:
         text = repr(value)
-    except ValueError:  # an int too long for Python to print in decimal
-        return f"a {type(value).__name__} too long to print"
+    except ValueError:  # holds an int too long for Python to print in decimal
+        return f"a {type(value).__name__} holding a number too long to print"
     return text if len(text) <= width else text[: width - 3] + "..."

@@ -22,7 +22,7 @@ import re
 from collections.abc import Mapping
 from pathlib import Path
 
-from shapegen.engine.interpreter import DEFAULT_MAX_DEPTH, DEFAULT_MAX_SHAPES, Program
+from shapegen.engine.interpreter import Program
 from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shape import lot_scope
 from shapegen.errors import GrammarError
@@ -116,8 +116,8 @@ class Grammar:
         seed: int = 0,
         lot: tuple[float, float] | None = None,
         *,
-        max_depth: int = DEFAULT_MAX_DEPTH,
-        max_shapes: int = DEFAULT_MAX_SHAPES,
+        max_depth: int | None = None,
+        max_shapes: int | None = None,
     ) -> Model:
         """Derive the block model.
 
@@ -131,8 +131,10 @@ class Grammar:
         lot
             ``(width, depth)`` of the start lot in metres, overriding ``@Lot``.
         max_depth, max_shapes
-            Derivation limits: the longest chain of rules and the most shapes; exceeding either
-            raises :class:`~shapegen.errors.GrammarError` showing the chain of rules.
+            Derivation limits: the longest chain of rules and the most shapes (default: the
+            current :class:`~shapegen.limits.WorkLimits`, which bound the rest of the work too);
+            exceeding either raises :class:`~shapegen.errors.GrammarError` showing the chain of
+            rules.
 
         Returns
         -------
