@@ -21,6 +21,9 @@ __all__ = [
     "COPLANAR_REL",
     "MIN_LEAF_SIZE",
     "FORCE_NOISE_REL",
+    "SIMULATION_FALL_REL",
+    "SIMULATION_MOVING_REL",
+    "SIMULATION_DECAY_RATIO",
 ]
 
 from dataclasses import dataclass, replace
@@ -137,3 +140,20 @@ MIN_LEAF_SIZE = 1e-9
 #: Statics output: a force or tension below ``FORCE_NOISE_REL`` times its scale (the total weight,
 #: or the largest force drawn) is solver round-off, not a force (dimensionless).
 FORCE_NOISE_REL = 1e-6
+
+#: Simulation verdict: a block *fell* when one of its vertices ended farther from where it
+#: started than ``SIMULATION_FALL_REL`` times the block's smallest width (dimensionless). Measured
+#: on the agreement study (docs/simulation.md, "Verdict"): blocks of standing models move at most
+#: a few tenths of a per cent of their smallest width in 5 s, blocks of collapses at least
+#: hundreds of per cent; the bar sits between, far from both.
+SIMULATION_FALL_REL = 0.1
+
+#: Simulation verdict: a block is *still moving* when, over the last quarter of the judged window,
+#: one of its vertices moved more than ``SIMULATION_MOVING_REL`` times the block's smallest width
+#: (dimensionless) and that motion is not dying out (see ``SIMULATION_DECAY_RATIO``).
+SIMULATION_MOVING_REL = 0.01
+
+#: Simulation verdict: motion is dying out when a block moved less than ``SIMULATION_DECAY_RATIO``
+#: times as far over the last quarter of the judged window as over the quarter before it
+#: (dimensionless): settling decays, a fall speeds up.
+SIMULATION_DECAY_RATIO = 0.5

@@ -187,14 +187,33 @@ def print_simulation(title: str, result, args, build: dict) -> None:
     if result.removed:
         table.add_row("removed", Text(", ".join(result.removed)))
     stands = result.stands
-    table.add_row("verdict", Text(result.verdict, style="green" if stands else "bold red"))
+    verdict = Text(result.verdict, style="green" if stands else "bold red")
+    table.add_row("verdict", verdict.append(f": {result.explanation()}", style=""))
+    movers = result.largest_movers(3)
     table.add_row(
-        "max displacement",
-        f"{result.max_displacement * 1000:.4g} mm after settling"
-        f" (tolerance {result.settings.tolerance * 1000:.3g} mm)",
+        "largest motion",
+        Text(", ".join(f"{m.id} {_distance(m.relative_displacement * m.width)}"
+                       f" ({_widths(m.relative_displacement)})" for m in movers)),
+    )  # fmt: skip
+    track = result.displacement_over_time()
+    shown = sorted({round(k * (len(track["time"]) - 1) / 5) for k in range(1, 6)})
+    table.add_row(
+        "over time",
+        ", ".join(f"{track['time'][k]:.3g} s {_distance(track['max_displacement'][k])}"
+                  for k in shown),
+    )  # fmt: skip
+    table.add_row(
+        "speed",
+        f"peak {result.peak_speed:.3g} m/s, at the end {result.final_speed:.3g} m/s",
     )
-    table.add_row("moved blocks", str(result.moved_blocks))
-    table.add_row("settlement", f"{result.settlement * 1000:.4g} mm")
+    table.add_row(
+        "moved blocks",
+        f"{result.moved_blocks} ({result.fallen_blocks} fell, {result.moving_blocks} still moving)",
+    )
+    table.add_row(
+        "settlement",
+        f"{result.settlement * 1000:.4g} mm, then {result.max_displacement * 1000:.4g} mm",
+    )
     if result.settings.shake > 0:
         table.add_row("shake", f"{result.settings.shake:g} m/s over 1/60 s")
     table.add_row(
@@ -206,3 +225,12 @@ def print_simulation(title: str, result, args, build: dict) -> None:
         if path:
             table.add_row(label, Text(str(path)))
     Console(highlight=False).print(table)
+
+
+def _distance(metres: float) -> str:
+    return f"{metres:.3g} m" if metres >= 1.0 else f"{metres * 1000:.3g} mm"
+
+
+def _widths(ratio: float) -> str:
+    """A displacement over its block's smallest width, as a share or a count of widths."""
+    return f"{ratio:.2%} of its width" if ratio < 1.0 else f"{ratio:.3g} widths"

@@ -2,19 +2,17 @@
 
 Settling: Bullet's contacts carry load only after a small penetration and a few steps of the
 iterative solver, so during the first instants every block sinks into its joints by hundredths
-of a millimetre and a long chain of joints (an arch, a tall pier) settles by up to about a
-millimetre, then stays still. The first ``settle`` seconds (default 0.5 s) are therefore a settling
-window: displacements are measured from the pose at its end, and the motion within it is reported
-separately as the *settlement*.
+of a millimetre and a long chain of joints (an arch, a tall pier) settles by up to a millimetre
+or two, then stays still or creeps slowly. The first ``settle`` seconds (default 0.5 s) are a
+settling window: the check that the motion has stopped looks only at the time after it, and the
+motion within it is reported separately as the *settlement*.
 
-The verdict: a non-fixed block *moved* when, after settling, one of its vertices ended farther than
-``tolerance`` from where it was, or when it settled by more than
-``settle_tolerance`` (default 1 cm: a block that falls within the window counts too); the model
-*stands* when no block moved, and *collapses* otherwise. The default tolerance is 1 mm, or 1/10 000
-of the model's height when that is larger (:func:`default_tolerance`): Bullet's contact solver lets
-models of 18 m and more drift by 1-2 mm over 5 s whatever their margin of safety
-(docs/simulation.md, "Tolerance"), so a fixed millimetre would judge the solver's noise, not the
-building, there.
+The verdict (:mod:`shapegen.simulation.verdict`): every block is judged by its own motion relative
+to its own smallest width; it fell when it ended more than 10 % of that width from where it
+started, and it is still moving when it moved more than 1 % of it over the last quarter of the
+run and that motion is not dying out. The model *stands* when no block fell or is still moving,
+and *collapses* otherwise. The evidence (each block's relative displacement, its peak and final
+speed, the displacement over time) is in the result and its report.
 
 Ground shake (``shake``, m/s): the ground receives a velocity change ``shake`` along
 ``shake_direction`` spread evenly over ``shake_duration`` (1/60 s, the seed paper's impulse), i.e.
@@ -28,6 +26,7 @@ displacements relative to the ground, which is what a verdict about the building
 from __future__ import annotations
 
 __all__ = [
+    "SIMULATION_MARGIN",
     "SimulationSettings",
     "BlockMotion",
     "SimulationFrame",
@@ -35,9 +34,6 @@ __all__ = [
     "simulate",
     "remove_blocks",
     "moved_model",
-    "default_tolerance",
-    "TOLERANCE",
-    "TOLERANCE_PER_HEIGHT",
 ]
 
 import difflib
@@ -51,141 +47,17 @@ import numpy as np
 from shapegen.errors import ShapegenError
 from shapegen.model.block import Block
 from shapegen.model.model import Model
+from shapegen.simulation.settings import SIMULATION_MARGIN, SimulationSettings
+from shapegen.simulation.verdict import BlockMotion, BlockShapes, Checkpoints, MotionTrack, judge
 from shapegen.simulation.world import World
+from shapegen.tolerances import (
+    SIMULATION_DECAY_RATIO,
+    SIMULATION_FALL_REL,
+    SIMULATION_MOVING_REL,
+)
 
-# The geometric safety margin with which a design is optimized before it is simulated (``shapegen
-# simulate --optimize``): the first design the search finds stands exactly on the statics
-# boundary, and the simulator's contact compliance tips such a design over (docs/simulation.md,
-# "Bundled rules after --optimize").
-SIMULATION_MARGIN = 0.1
-
-# The default tolerance of the verdict: 1 mm (the bar of the reference 1 m arch), or this fraction
-# of the model's height when that is larger (the simulator's drift is largest on tall models).
-TOLERANCE = 1e-3
-TOLERANCE_PER_HEIGHT = 1e-4
-
-
-@dataclass(frozen=True)
-class SimulationSettings:
-    """How a simulation runs and how its outcome is judged.
-
-    Attributes
-    ----------
-    seconds
-        Simulated time, s.
-    time_step
-        Bullet step, s (1/1000 s; see docs/simulation.md for the measured creep).
-    solver_iterations
-        Contact-solver iterations per step.
-    settle
-        Settling window at the start, s; displacements are measured from its end.
-    friction
-        Coulomb coefficient of every contact; None takes the model's (dimensionless).
-    shake
-        Velocity change of the ground, m/s (0 = no shake; the seed paper uses 4).
-    shake_direction
-        Horizontal direction of the shake (normalised; default +x).
-    shake_duration
-        Seconds over which the ground's velocity changes (the seed paper: 1/60 s).
-    shake_start
-        Simulated time at which the shake begins, s (None: at the end of the settling window).
-    tolerance
-        A block moved when, after settling, one of its vertices moved farther than this, metres
-        (None: :func:`default_tolerance` of the model).
-    settle_tolerance
-        A block also moved when it settled by more than this during the window, metres.
-    frame_rate
-        Frames recorded per simulated second for pictures (0 = only the first and last).
-    """
-
-    seconds: float = 5.0
-    time_step: float = 1.0 / 1000.0
-    solver_iterations: int = 100
-    settle: float = 0.5
-    friction: float | None = None
-    shake: float = 0.0
-    shake_direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
-    shake_duration: float = 1.0 / 60.0
-    shake_start: float | None = None
-    tolerance: float | None = None
-    settle_tolerance: float = 1e-2
-    frame_rate: float = 0.0
-
-    def check(self) -> None:
-        """Raise a :class:`ShapegenError` naming the first bad setting."""
-        positive = {
-            "seconds": self.seconds,
-            "time_step": self.time_step,
-            "shake_duration": self.shake_duration,
-            "tolerance": TOLERANCE if self.tolerance is None else self.tolerance,
-            "settle_tolerance": self.settle_tolerance,
-        }
-        for name, value in positive.items():
-            if not (math.isfinite(value) and value > 0):
-                raise ShapegenError(f"simulation: {name} must be a positive number, got {value}")
-        for name, value in {
-            "shake": self.shake,
-            "shake_start": 0.0 if self.shake_start is None else self.shake_start,
-            "settle": self.settle,
-            "frame_rate": self.frame_rate,
-        }.items():
-            if not (math.isfinite(value) and value >= 0):
-                raise ShapegenError(f"simulation: {name} must be a number >= 0, got {value}")
-        if self.friction is not None and not (math.isfinite(self.friction) and self.friction >= 0):
-            raise ShapegenError(f"simulation: friction must be >= 0, got {self.friction}")
-        if self.solver_iterations < 1:
-            raise ShapegenError("simulation: solver_iterations must be at least 1")
-        if self.time_step > self.seconds:
-            raise ShapegenError("simulation: time_step must not exceed the simulated seconds")
-        if self.settle >= self.seconds:
-            raise ShapegenError(
-                f"simulation: the settling window ({self.settle:g} s) must be shorter than the"
-                f" run ({self.seconds:g} s)"
-            )
-        direction = np.asarray(self.shake_direction, float)
-        if direction.shape != (3,) or not np.all(np.isfinite(direction)):
-            raise ShapegenError("simulation: shake_direction must be three finite numbers")
-        if self.shake > 0 and np.linalg.norm(direction) == 0:
-            raise ShapegenError("simulation: shake_direction must not be zero")
-
-
-@dataclass(frozen=True)
-class BlockMotion:
-    """Where one block ended, relative to where it started.
-
-    Attributes
-    ----------
-    id
-        The block's id.
-    displacement
-        Distance its centroid moved from the start to the end, metres.
-    rotation
-        Angle it turned through from the start to the end, radians.
-    max_displacement
-        Largest distance any of its vertices moved from the end of settling to the end, metres.
-    settlement
-        Largest distance any of its vertices moved during the settling window, metres.
-    moved
-        ``max_displacement`` exceeds the tolerance or ``settlement`` the settling tolerance
-        (never true for a fixed block).
-    """
-
-    id: str
-    displacement: float
-    rotation: float
-    max_displacement: float
-    settlement: float
-    moved: bool
-
-    def to_report(self) -> dict:
-        return {
-            "id": self.id,
-            "displacement": self.displacement,
-            "rotation": self.rotation,
-            "max_displacement": self.max_displacement,
-            "settlement": self.settlement,
-            "moved": self.moved,
-        }
+# How many blocks the report names as the ones that moved most.
+LARGEST_MOVERS = 5
 
 
 @dataclass(frozen=True)
@@ -218,11 +90,13 @@ class SimulationResult:
     removed
         Ids of the blocks taken out before the run.
     motions
-        One :class:`BlockMotion` per block of ``model``.
+        One :class:`BlockMotion` per block of ``model``: its evidence and whether it moved.
     frames
         Recorded frames, the first at t = 0 and the last at the end.
     settled
         The frame at the end of the settling window.
+    track
+        Every block's displacement and speed sampled ``sample_rate`` times per simulated second.
     settings
         The settings used (with the friction actually used filled in).
     seconds
@@ -236,6 +110,7 @@ class SimulationResult:
     motions: list[BlockMotion]
     frames: list[SimulationFrame]
     settled: SimulationFrame
+    track: MotionTrack
     settings: SimulationSettings
     seconds: float
     wall_seconds: float
@@ -243,8 +118,13 @@ class SimulationResult:
 
     @property
     def max_displacement(self) -> float:
-        """Largest distance any vertex of any block moved, metres."""
+        """Largest distance any vertex of any block moved after the settling window, metres."""
         return max((m.max_displacement for m in self.motions), default=0.0)
+
+    @property
+    def max_relative_displacement(self) -> float:
+        """Largest distance any vertex ended from its start, over its block's smallest width."""
+        return max((m.relative_displacement for m in self._judged), default=0.0)
 
     @property
     def settlement(self) -> float:
@@ -252,13 +132,33 @@ class SimulationResult:
         return max((m.settlement for m in self.motions), default=0.0)
 
     @property
+    def peak_speed(self) -> float:
+        """Largest sampled speed of any vertex of any non-fixed block, m/s."""
+        return max((m.peak_speed for m in self._judged), default=0.0)
+
+    @property
+    def final_speed(self) -> float:
+        """Largest speed of any vertex of any non-fixed block at the end, m/s."""
+        return max((m.final_speed for m in self._judged), default=0.0)
+
+    @property
     def moved_blocks(self) -> int:
-        """How many blocks moved more than the tolerance."""
+        """How many blocks fell or are still moving."""
         return sum(m.moved for m in self.motions)
 
     @property
+    def fallen_blocks(self) -> int:
+        """How many blocks fell."""
+        return sum(m.fell for m in self.motions)
+
+    @property
+    def moving_blocks(self) -> int:
+        """How many blocks are still moving at the end."""
+        return sum(m.still_moving for m in self.motions)
+
+    @property
     def verdict(self) -> str:
-        """``"stands"`` when no block moved more than the tolerance, else ``"collapses"``."""
+        """``"stands"`` when no block fell or is still moving, else ``"collapses"``."""
         return "collapses" if self.moved_blocks else "stands"
 
     @property
@@ -270,17 +170,77 @@ class SimulationResult:
         """Simulated seconds per wall-clock second."""
         return self.seconds / self.wall_seconds if self.wall_seconds > 0 else math.inf
 
+    @property
+    def _judged(self) -> list[BlockMotion]:
+        """The motions of the non-fixed blocks."""
+        return [m for m, b in zip(self.motions, self.model.blocks, strict=True) if not b.fixed]
+
+    def largest_movers(self, count: int = LARGEST_MOVERS) -> list[BlockMotion]:
+        """The ``count`` non-fixed blocks that moved most relative to their size, largest first."""
+        return sorted(self._judged, key=lambda m: -m.relative_displacement)[:count]
+
+    def displacement_over_time(self) -> dict[str, list[float]]:
+        """The sampled track, largest over the blocks: ``time`` (s), ``max_displacement`` (m,
+        from the start), ``max_relative_displacement`` and ``max_speed`` (m/s)."""
+        judged = np.array([not b.fixed for b in self.model.blocks])
+        track = self.track
+        if not judged.any():
+            zeros = [0.0] * len(track.times)
+            return {"time": track.times.tolist(), "max_displacement": zeros,
+                    "max_relative_displacement": zeros, "max_speed": zeros}  # fmt: skip
+        widths = np.array([m.width for m in self.motions])[judged]
+        moved = track.displacements[:, judged]
+        return {
+            "time": track.times.tolist(),
+            "max_displacement": moved.max(axis=1).tolist(),
+            "max_relative_displacement": (moved / widths).max(axis=1).tolist(),
+            "max_speed": track.speeds[:, judged].max(axis=1).tolist(),
+        }
+
+    def explanation(self) -> str:
+        """One line saying why the model stands or collapses."""
+        if self.settings.tolerance is None:
+            fall = f"moved more than {SIMULATION_FALL_REL:.0%} of its smallest width"
+        else:
+            fall = f"moved more than {self.settings.tolerance * 1000:.3g} mm after settling"
+        if self.stands:
+            return (
+                f"no block {fall} (largest: {self.max_relative_displacement:.2%}) and none is"
+                " still moving"
+            )
+        parts = []
+        if self.fallen_blocks:
+            parts.append(f"{_blocks(self.fallen_blocks)} fell (each {fall})")
+        if self.moving_blocks:
+            parts.append(f"{_blocks(self.moving_blocks)} still moving at the end")
+        return "; ".join(parts)
+
     def final_model(self) -> Model:
         """The model with every block in its final position."""
         return moved_model(self.model, self.frames[-1])
 
     def to_report(self) -> dict:
-        """A JSON-ready summary (units: metres, radians, seconds)."""
+        """A JSON-ready summary (units: metres, radians, seconds, m/s)."""
         settings = self.settings
         return {
             "verdict": self.verdict,
+            "explanation": self.explanation(),
+            "criterion": {
+                "fall_relative_displacement": SIMULATION_FALL_REL,
+                "moving_relative_displacement": SIMULATION_MOVING_REL,
+                "decay_ratio": SIMULATION_DECAY_RATIO,
+                "tolerance": settings.tolerance,
+                "settle_tolerance": settings.settle_tolerance,
+            },
+            "max_relative_displacement": self.max_relative_displacement,
             "max_displacement": self.max_displacement,
+            "peak_speed": self.peak_speed,
+            "final_speed": self.final_speed,
             "moved_blocks": self.moved_blocks,
+            "fallen_blocks": self.fallen_blocks,
+            "moving_blocks": self.moving_blocks,
+            "largest_movers": [m.to_report() for m in self.largest_movers()],
+            "displacement_over_time": self.displacement_over_time(),
             "settlement": self.settlement,
             "tolerance": settings.tolerance,
             "settle": settings.settle,
@@ -291,6 +251,7 @@ class SimulationResult:
             "wall_seconds": self.wall_seconds,
             "time_step": settings.time_step,
             "solver_iterations": settings.solver_iterations,
+            "sample_rate": settings.sample_rate,
             "friction": settings.friction,
             "shake": settings.shake,
             "shake_direction": list(settings.shake_direction),
@@ -373,8 +334,6 @@ def simulate(
     """
     settings = replace(settings or SimulationSettings(), **overrides)
     settings.check()
-    if settings.tolerance is None:
-        settings = replace(settings, tolerance=default_tolerance(model))
     model, removed = remove_blocks(model, remove)
     if not model.blocks:
         raise ShapegenError("simulation: the model has no blocks left to simulate")
@@ -384,17 +343,10 @@ def simulate(
     settings = replace(settings, friction=friction, shake_start=shake_start)
     started = time.perf_counter()
     steps = max(1, round(settings.seconds / settings.time_step))
-    settle_steps = round(settings.settle / settings.time_step)
     shake = _shake_steps(settings)
     load_index = [(model.index_of(load.block), load) for load in model.loads]
-    frame_every = (
-        max(1, round(1.0 / (settings.frame_rate * settings.time_step)))
-        if settings.frame_rate > 0
-        else steps + 1
-    )
     with World(model, friction, settings.time_step, settings.solver_iterations) as world:
-        frames = [_frame(world, 0.0)]
-        settled = frames[0]
+        recorder = _Recorder(world, BlockShapes.of(model.blocks), settings, steps)
         shaking = False
         report_every = max(1, steps // 100)
         for step in range(steps):
@@ -405,21 +357,18 @@ def simulate(
             for index, load in load_index:
                 world.apply_force(index, load.force, load.point)
             world.step()
-            done = step + 1
-            if done == settle_steps:
-                settled = _frame(world, done * settings.time_step)
-            if done % frame_every == 0 and done < steps:
-                frames.append(_frame(world, done * settings.time_step))
-            if progress is not None and done % report_every == 0:
-                progress(done * settings.time_step, steps * settings.time_step)
-        frames.append(_frame(world, steps * settings.time_step))
-    motions = _motions(model, settled, frames[-1], settings)
+            recorder.after_step(step + 1)
+            if progress is not None and (step + 1) % report_every == 0:
+                progress((step + 1) * settings.time_step, steps * settings.time_step)
+    track = recorder.track()
+    motions = judge(model.blocks, recorder.shapes, recorder.checkpoints(), track, settings)
     return SimulationResult(
         model=model,
         removed=removed,
         motions=motions,
-        frames=frames,
-        settled=settled,
+        frames=recorder.frames,
+        settled=recorder.poses[recorder.settle_step],
+        track=track,
         settings=settings,
         seconds=steps * settings.time_step,
         wall_seconds=time.perf_counter() - started,
@@ -427,18 +376,75 @@ def simulate(
     )
 
 
-def default_tolerance(model: Model) -> float:
-    """The verdict's default tolerance for ``model``, metres.
+class _Recorder:
+    """Records, while the world runs, the frames for pictures, the poses the verdict compares
+    (:class:`~shapegen.simulation.verdict.Checkpoints`) and the sampled motion track."""
 
-    1 mm (:data:`TOLERANCE`), or :data:`TOLERANCE_PER_HEIGHT` times the model's height when that
-    is larger. The height is the extent of its blocks along y (up), from the ground when the model
-    has one.
-    """
-    if not model.blocks:
-        return TOLERANCE
-    levels = np.concatenate([block.vertices[:, 1] for block in model.blocks])
-    bottom = float(levels.min()) if model.ground is None else min(float(levels.min()), model.ground)
-    return max(TOLERANCE, TOLERANCE_PER_HEIGHT * (float(levels.max()) - bottom))
+    def __init__(self, world: World, shapes: BlockShapes, settings: SimulationSettings, steps):
+        self.world, self.shapes, self.steps = world, shapes, steps
+        self.time_step = settings.time_step
+        self.settle_step = min(round(settings.settle / settings.time_step), steps - 1)
+        # The judged window (after settling) ends in two equal quarters compared by the verdict.
+        quarter = max(1, round((steps - self.settle_step) / 4))
+        self.tail_step = max(0, steps - quarter)
+        self.before_tail_step = max(0, steps - 2 * quarter)
+        self.frame_every = (
+            max(1, round(1.0 / (settings.frame_rate * settings.time_step)))
+            if settings.frame_rate > 0
+            else steps + 1
+        )
+        self.sample_every = max(1, round(1.0 / (settings.sample_rate * settings.time_step)))
+        self.poses: dict[int, SimulationFrame] = {}
+        self.frames: list[SimulationFrame] = []
+        self._times: list[float] = []
+        self._displacements: list[np.ndarray] = []
+        self._speeds: list[np.ndarray] = []
+        self.after_step(0)
+
+    def after_step(self, done: int) -> None:
+        """Record what is due after ``done`` steps."""
+        last = done == self.steps
+        pictured = done == 0 or last or done % self.frame_every == 0
+        checkpoint = done in (self.settle_step, self.before_tail_step, self.tail_step) or last
+        sampled = done % self.sample_every == 0 or last
+        if not (pictured or checkpoint or sampled):
+            return
+        frame = _frame(self.world, done * self.time_step)
+        if pictured:
+            self.frames.append(frame)
+        if checkpoint:
+            self.poses[done] = frame
+        if sampled:
+            linear, angular = self.world.velocities()
+            self._times.append(frame.time)
+            self._displacements.append(
+                self.shapes.displacements(frame.rotations, frame.translations)
+            )
+            self._speeds.append(
+                self.shapes.speeds(frame.rotations, frame.translations, linear, angular)
+            )
+
+    def checkpoints(self) -> Checkpoints:
+        def pose(step: int) -> tuple[np.ndarray, np.ndarray]:
+            return self.poses[step].rotations, self.poses[step].translations
+
+        return Checkpoints(
+            settled=pose(self.settle_step),
+            before_tail=pose(self.before_tail_step),
+            tail=pose(self.tail_step),
+            final=pose(self.steps),
+        )
+
+    def track(self) -> MotionTrack:
+        return MotionTrack(
+            times=np.array(self._times),
+            displacements=np.array(self._displacements),
+            speeds=np.array(self._speeds),
+        )
+
+
+def _blocks(count: int) -> str:
+    return f"{count} block" if count == 1 else f"{count} blocks"
 
 
 def _shake_steps(settings: SimulationSettings) -> tuple[int, int, np.ndarray]:
@@ -457,32 +463,3 @@ def _shake_steps(settings: SimulationSettings) -> tuple[int, int, np.ndarray]:
 def _frame(world: World, time_s: float) -> SimulationFrame:
     rotations, translations = world.poses()
     return SimulationFrame(time=float(time_s), rotations=rotations, translations=translations)
-
-
-def _motions(
-    model: Model, settled: SimulationFrame, final: SimulationFrame, settings: SimulationSettings
-) -> list[BlockMotion]:
-    motions = []
-    for k, block in enumerate(model.blocks):
-        start = block.vertices
-        at_settle = start @ settled.rotations[k].T + settled.translations[k]
-        at_end = start @ final.rotations[k].T + final.translations[k]
-        shift = float(np.linalg.norm(at_end - at_settle, axis=1).max())
-        settlement = float(np.linalg.norm(at_settle - start, axis=1).max())
-        rotation = final.rotations[k]
-        centroid_shift = float(
-            np.linalg.norm(rotation @ block.centroid + final.translations[k] - block.centroid)
-        )
-        cosine = np.clip((np.trace(rotation) - 1.0) / 2.0, -1.0, 1.0)
-        moved = shift > settings.tolerance or settlement > settings.settle_tolerance
-        motions.append(
-            BlockMotion(
-                id=block.id,
-                displacement=centroid_shift,
-                rotation=float(np.arccos(cosine)),
-                max_displacement=shift,
-                settlement=settlement,
-                moved=bool(moved and not block.fixed),
-            )
-        )
-    return motions

@@ -147,6 +147,8 @@ class World:
             )
             self._set_surface(self.ground, surface)
         self.frames = [self._add_block(block, surface) for block in model.blocks]
+        self._axes = np.array([frame.inertia.axes for frame in self.frames]).reshape(-1, 3, 3)
+        self._centroids = np.array([frame.inertia.centroid for frame in self.frames]).reshape(-1, 3)
 
     # ------------------------------------------------------------------ set-up
     def _add_block(self, block, surface: float) -> BodyFrame:
@@ -242,21 +244,29 @@ class World:
         translations
             ``(n, 3)``, metres.
         """
-        n = len(self.frames)
-        rotations = np.empty((n, 3, 3))
-        translations = np.empty((n, 3))
-        for k, frame in enumerate(self.frames):
-            position, orientation = self.pb.getBasePositionAndOrientation(
-                frame.body, physicsClientId=self.client
-            )
-            body_rotation = np.asarray(
-                self.pb.getMatrixFromQuaternion(orientation, physicsClientId=self.client)
-            ).reshape(3, 3)
-            # x_now = B_now (axes^T (x0 - c0)) + p_now
-            rotation = body_rotation @ frame.inertia.axes.T
-            rotations[k] = rotation
-            translations[k] = np.asarray(position) - rotation @ frame.inertia.centroid
+        from scipy.spatial.transform import Rotation
+
+        pb, cid = self.pb, self.client
+        placed = [
+            pb.getBasePositionAndOrientation(frame.body, physicsClientId=cid)
+            for frame in self.frames
+        ]
+        positions = np.array([position for position, _ in placed], float).reshape(-1, 3)
+        quaternions = np.array([orientation for _, orientation in placed], float).reshape(-1, 4)
+        # x_now = B_now (axes^T (x0 - c0)) + p_now, with B_now the body's orientation.
+        rotations = Rotation.from_quat(quaternions).as_matrix().reshape(-1, 3, 3) @ np.transpose(
+            self._axes, (0, 2, 1)
+        )
+        translations = positions - np.einsum("nij,nj->ni", rotations, self._centroids)
         return rotations, translations
+
+    def velocities(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every block's centre-of-mass velocity (m/s) and spin (rad/s), ``(n, 3)`` each."""
+        pb, cid = self.pb, self.client
+        moving = [pb.getBaseVelocity(frame.body, physicsClientId=cid) for frame in self.frames]
+        linear = np.array([v for v, _ in moving], float).reshape(-1, 3)
+        angular = np.array([w for _, w in moving], float).reshape(-1, 3)
+        return linear, angular
 
     def close(self) -> None:
         """Disconnect the physics client."""
