@@ -67,7 +67,7 @@ class WorkLimits:
         Seconds of one derivation (wall clock), or None for no time limit.
     """
 
-    max_source_chars: int = 1_000_000
+    max_source_chars: int = 100_000
     max_depth: int = 500
     max_shapes: int = 200_000
     max_calls: int = 500_000

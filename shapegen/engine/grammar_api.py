@@ -27,6 +27,8 @@ from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shape import lot_scope
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
+from shapegen.grammar.parser import source_too_long
+from shapegen.limits import current_limits
 from shapegen.model.model import Model
 
 
@@ -168,6 +170,9 @@ def load_grammar(path: str | os.PathLike) -> Grammar:
     """
     path = _rule_file(path)
     try:
+        # Refused before reading: a rule file cannot hold more characters than 4 per byte.
+        if path.stat().st_size > 4 * current_limits().max_source_chars:
+            raise GrammarError(f"{path}: {source_too_long(path.stat().st_size, 'bytes')}")
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc

@@ -24,8 +24,9 @@ from shapegen.grammar.syntax_errors import (
     syntax_problem,
 )
 from shapegen.grammar.transformer import AstBuilder, Problem
+from shapegen.limits import current_limits, limit_hint
 
-__all__ = ["parse", "parse_with_problems", "Problem", "MAX_SYNTAX_ERRORS"]
+__all__ = ["parse", "parse_with_problems", "source_too_long", "Problem", "MAX_SYNTAX_ERRORS"]
 
 #: Syntax errors reported from one file before giving up.
 MAX_SYNTAX_ERRORS = 10
@@ -43,6 +44,8 @@ def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Gram
     show once the tree is built (an unknown split axis, a misplaced ``'``) come back in the list
     so that :func:`shapegen.grammar.load` can report them together with the semantic checks.
     """
+    if len(text) > current_limits().max_source_chars:
+        raise GrammarError(f"{filename}: {source_too_long(len(text), 'characters')}")
     text = text.replace("\r\n", "\n").replace("\r", "\n")
     parser = lark_parser()
     syntax: list[Problem] = []
@@ -83,6 +86,14 @@ def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Gram
         raise
     grammar = dataclasses.replace(grammar, source=text)
     return grammar, builder.problems
+
+
+def source_too_long(size: int, unit: str) -> str:
+    """The message for grammar source over ``max_source_chars`` (refused before parsing)."""
+    limit = current_limits().max_source_chars
+    return f"the grammar source has {size} {unit}, more than {limit} characters " + limit_hint(
+        "max_source_chars"
+    )
 
 
 def parse(text: str, filename: str = "<string>") -> ast.Grammar:
