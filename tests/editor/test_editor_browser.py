@@ -1,0 +1,96 @@
+"""The design page in a real browser: headless Chromium driven by playwright.
+
+Skipped, saying why, where no Chromium or no playwright is installed (.ci/run installs Debian's
+``chromium``; playwright comes with the test extra and drives that browser, downloading nothing).
+The steps are those of docs/editor_screenshots.py, which takes the documentation's pictures.
+"""
+
+import re
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+DOCS = Path(__file__).resolve().parents[2] / "docs"
+sys.path.insert(0, str(DOCS))
+import editor_screenshots as page_steps  # noqa: E402
+
+pytest.importorskip(
+    "playwright.sync_api", reason="the browser tests need playwright (pip install playwright)"
+)
+BROWSER = page_steps.find_browser()
+pytestmark = [
+    pytest.mark.skipif(
+        BROWSER is None,
+        reason="no Chromium found: the browser tests need Debian's chromium package"
+        " (apt-get install chromium; .ci/run installs it) or SHAPEGEN_CHROMIUM=/path/to/chrome",
+    ),
+    pytest.mark.slow,  # a browser, a server and a stable-range scan: 10-50 s each
+]
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        browser = page_steps.launch(playwright, BROWSER)
+        yield browser
+        browser.close()
+
+
+def test_the_canvas_shows_the_model_and_a_slider_changes_the_verdict(browser, tmp_path):
+    # arch_columns with 1 m columns: the file's thin arch needs tension, a 0.3 m one stands
+    with page_steps.Editor("arch_columns.grammar", "--set", "column_width=1.0") as editor:
+        page = page_steps.open_page(browser, editor.url)
+        assert page_steps.verdict(page) == "needs tension"
+        coverage = page_steps.model_coverage(page)
+        assert coverage > 0.02, f"the model covers {coverage:.1%} of the canvas"
+        taken = page_steps.drag_slider(page, "arch_thickness", 0.4)
+        assert 0.3 < taken < 0.5
+        page_steps.wait_for_verdict(page, "stands")
+        assert page.inner_text("#measure").startswith("y/W² = ")
+        page.wait_for_function("window.shapegenEditor.renderedModelVersion"
+                               " === window.shapegenEditor.state.model_version")  # fmt: skip
+        assert page_steps.model_coverage(page) > 0.02
+        value = page.inner_text('.attr[data-attr="arch_thickness"] .value')
+        assert abs(float(value) - taken) < 1e-3
+        status = page_steps.wait_for_stable_range(page, "arch_thickness")
+        assert status.startswith("stands for "), status
+        assert page.locator('.attr[data-attr="arch_thickness"] .shade').count() >= 1
+        page.check("#colour-tension")
+        page.check("#show-ground")
+        assert "ground reaction" in page.inner_text("#legend")
+        page.screenshot(path=str(tmp_path / "arch.png"))
+        assert not page.problems, page.problems
+    assert editor.process.returncode == 0
+
+
+def test_editing_the_file_reloads_the_model_and_shows_a_grammar_error(browser, tmp_path):
+    source = page_steps.Path(__file__).resolve().parents[2] / "rules" / "arch_columns.grammar"
+    grammar = tmp_path / "arch.grammar"
+    shutil.copy(source, grammar)
+    good = grammar.read_text()
+    with page_steps.Editor(grammar) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        rendered = page.evaluate("window.shapegenEditor.modelsRendered")
+        assert page.is_hidden("#grammar-error")
+        # a mistake: the page shows it with file, line, column and caret; the model stays
+        grammar.write_text(good.replace("attr column_height = 3", "attr column_height = 3 *"))
+        page.wait_for_selector("#grammar-error", state="visible", timeout=10_000)
+        text = page.inner_text("#grammar-error-text")
+        line = good.splitlines().index("attr column_height = 3") + 1
+        place = re.search(r"arch\.grammar:(\d+):(\d+): ", text)
+        assert place and line <= int(place[1]) <= line + 3, text  # at or after the dangling '*'
+        assert "^" in text
+        assert page_steps.model_coverage(page) > 0.02
+        page.screenshot(path=str(tmp_path / "error.png"))
+        # fixed, with taller columns: the new model replaces the old one
+        grammar.write_text(good.replace("attr column_height = 3", "attr column_height = 4"))
+        page.wait_for_selector("#grammar-error", state="hidden", timeout=10_000)
+        page.wait_for_function("n => window.shapegenEditor.modelsRendered > n", arg=rendered,
+                               timeout=10_000)  # fmt: skip
+        value = page.inner_text('.attr[data-attr="column_height"] .value')
+        assert float(value) == 4
+        assert not page.problems, page.problems
