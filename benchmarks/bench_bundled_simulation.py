@@ -12,6 +12,10 @@ smaller files (tests/simulation/test_bundled_rules.py), this script also for the
 about four wall minutes). Run from the repository root:
 
     .venv/bin/python benchmarks/bench_bundled_simulation.py [--seconds 5] [--only cluny,mosque]
+        [--margin 0.1]
+
+``--margin 0`` searches as plain ``shapegen build --optimize`` does (stopping on the statics
+boundary).
 """
 
 from __future__ import annotations
@@ -29,9 +33,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=5.0, help="simulated seconds")
     parser.add_argument("--only", default="", help="comma-separated file stems to run")
+    parser.add_argument(
+        "--margin", type=float, default=SIMULATION_MARGIN, help="the search's safety margin"
+    )
     args = parser.parse_args()
     only = {name.strip() for name in args.only.split(",") if name.strip()}
-    print(f"margin {SIMULATION_MARGIN}, {args.seconds:g} simulated s, default simulator settings")
+    print(f"margin {args.margin:g}, {args.seconds:g} simulated s, default simulator settings")
     header = (
         f"{'file':18} {'blocks':>6} {'search s':>8} {'max mm':>7} {'max rel':>7} {'peak m/s':>8}"
         f" {'moved':>5} {'cpu s':>7} {'wall s':>7}"
@@ -45,7 +52,7 @@ def main() -> None:
         if grammar.structure != "blocks":  # judged by another structure, not as blocks
             continue
         started = time.perf_counter()
-        optimization = optimize(grammar, margin=SIMULATION_MARGIN)
+        optimization = optimize(grammar, margin=args.margin)
         searched = time.perf_counter() - started
         model = grammar.build(attrs=optimization.values)
         cpu = time.process_time()
