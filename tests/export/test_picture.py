@@ -204,3 +204,15 @@ def test_two_triangles_sharing_an_edge_leave_no_crack():
     inside = seen[168:432, 168:432]
     assert (inside >= 0).all() and set(np.unique(inside)) == {0, 1}
     assert (seen[:168] == -1).all() and (seen[:, 432:] == -1).all()
+
+
+def test_the_example_in_the_formats_page_runs(tmp_path, monkeypatch):
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "formats.md").read_text()
+    section = text[text.index("## Pictures") :]
+    example = section[section.index("```python\n") + 10 : section.index("```\n", 10)]
+    monkeypatch.chdir(tmp_path)
+    exec(compile(example, "formats.md", "exec"), {})
+    assert Image.open(tmp_path / "arch.png").size == (800, 600)
+    assert Image.open(tmp_path / "arch_tension.png").size == (1000, 700)
