@@ -4,8 +4,9 @@ Run from the repository root::
 
     .venv/bin/python docs/render_primitives.py [OUTPUT_DIR]
 
-Pictures go to ``docs/images/primitives/NAME.png`` (600 x 450 pixels, matplotlib's Agg back-end,
-no screen needed). Each block is drawn with dark edges so that the joints show the stereotomy.
+Pictures go to ``docs/images/primitives/NAME.png`` (600 x 450 pixels, drawn by the numpy
+depth-buffer renderer of :mod:`shapegen.export.render`, no screen needed). The joints between
+blocks are drawn as dark lines, so they show the stereotomy.
 """
 
 from __future__ import annotations
