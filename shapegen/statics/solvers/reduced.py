@@ -103,7 +103,7 @@ class _Hessian:
 class _Kkt:
     """The problem's operators in the per-vertex layout used by the iterations."""
 
-    def __init__(self, problem):
+    def __init__(self, problem, factorization: str = "auto"):
         m = problem.n_vertices
         self.m = m
         self.a = problem.equality
@@ -114,7 +114,7 @@ class _Kkt:
         linear = problem.linear.reshape(4, m)
         self.p_cut, self.p_s = quadratic[_CUT].T.copy(), quadratic[1]
         self.q_cut, self.q_s = linear[_CUT].T.copy(), linear[1]
-        self.normal = NormalEquations(problem)
+        self.normal = NormalEquations(problem, factorization)
         self.factor_seconds = 0.0
 
     def split(self, flat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -240,6 +240,9 @@ class ReducedBackend(Backend):
         Stop early (status ``optimal_inaccurate``, ``info["early_stop"]``) once the optimal value
         is certainly above this scaled value: the phase-one problem only has to tell zero from
         clearly positive.
+    factorization
+        How the normal equations are factored: ``"auto"`` (MKL PARDISO when it loads, else
+        SuperLU), ``"pardiso"`` or ``"superlu"``.
     """
 
     name = "reduced"
@@ -250,11 +253,13 @@ class ReducedBackend(Backend):
         max_iter: int = 80,
         verbose: bool = False,
         stop_above: float | None = None,
+        factorization: str = "auto",
     ):
         self.tolerance = tolerance
         self.max_iter = max_iter
         self.verbose = verbose
         self.stop_above = stop_above
+        self.factorization = factorization
 
     def solve(self, problem) -> Solution:
         self.refuse_unsupported(problem)  # linear inequalities only: no exact friction cone
@@ -262,7 +267,7 @@ class ReducedBackend(Backend):
         trivial = trivial_solution(problem)
         if trivial is not None:
             return trivial
-        kkt = _Kkt(problem)
+        kkt = _Kkt(problem, self.factorization)
         point = self._initial_point(kkt)
         n_ineq = point.slack_cut.size + point.slack_s.size
         tol = self.tolerance
@@ -350,7 +355,13 @@ class ReducedBackend(Backend):
                 status = SolveStatus.NUMERICAL_ERROR
                 break
 
-        info = {"factor_seconds": kkt.factor_seconds, "early_stop": info_early}
+        kkt.normal.release()
+        info = {
+            "factor_seconds": kkt.factor_seconds,
+            "early_stop": info_early,
+            "factorization": kkt.normal.method,
+            "factorization_fallbacks": kkt.normal.fallbacks,
+        }
         seconds = time.perf_counter() - start
         if status is not SolveStatus.OPTIMAL:
             if status is SolveStatus.INFEASIBLE or best is None:

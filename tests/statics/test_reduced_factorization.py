@@ -1,0 +1,125 @@
+"""The reduced solver's normal equations: the assembled M, PARDISO against SuperLU."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from shapegen.model.block import Block
+from shapegen.model.model import Model
+from shapegen.statics import find_interfaces
+from shapegen.statics.assembly import assemble
+from shapegen.statics.solvers import pardiso
+from shapegen.statics.solvers.normal_equations import NormalEquations
+from shapegen.statics.solvers.reduced import ReducedBackend
+
+needs_mkl = pytest.mark.skipif(not pardiso.available(), reason="MKL PARDISO is not installed")
+
+
+def running_bond_wall(courses, per_course=6, brick=(0.24, 0.07, 0.115)):
+    """Courses of whole bricks alternating with courses offset by half a brick."""
+    length, height, depth = brick
+    blocks = []
+    for course in range(courses):
+        edges = np.arange(per_course + 1) * length
+        if course % 2:
+            edges = np.concatenate([[0.0], edges[:-1] + 0.5 * length, [edges[-1]]])
+        for x0, x1 in zip(edges[:-1], edges[1:], strict=True):
+            y0 = course * height
+            blocks.append(Block.box((x0, y0, 0.0), (x1, y0 + height, depth)))
+    return Model(blocks=blocks, ground=0.0)
+
+
+def small_wall_problem(courses=6, tilt_degrees=0.0, friction=0.7):
+    model = running_bond_wall(courses)
+    tilt = math.radians(tilt_degrees)
+    model.gravity = 9.81 * np.array([math.sin(tilt), -math.cos(tilt), 0.0])
+    model.friction = friction
+    return model, assemble(model, find_interfaces(model))
+
+
+def random_local_inverses(m, seed=0):
+    """``(m, 3, 3)`` symmetric positive definite per-vertex blocks."""
+    rng = np.random.default_rng(seed)
+    root = rng.standard_normal((m, 3, 3))
+    return root @ np.transpose(root, (0, 2, 1)) + 0.1 * np.eye(3)
+
+
+def explicit_normal_matrix(problem, local):
+    """``A D A^T`` with ``A`` the (c, u, t) columns of the equality matrix, built directly."""
+    m = problem.n_vertices
+    a = problem.equality.tocsc()
+    columns = sp.hstack([a[:, 0:m], a[:, 2 * m : 3 * m], a[:, 3 * m : 4 * m]]).tocsc()
+    # column order (group, vertex): D is block diagonal in (vertex, group) order
+    order = (np.arange(3)[None, :] * m + np.arange(m)[:, None]).ravel()
+    d = sp.block_diag(list(local), format="csc")
+    a_v = columns[:, order]
+    return (a_v @ d @ a_v.T).toarray()
+
+
+@pytest.mark.parametrize("factorization", ["superlu", pytest.param("pardiso", marks=needs_mkl)])
+def test_normal_equations_solve_the_explicit_system(factorization):
+    _, problem = small_wall_problem()
+    local = random_local_inverses(problem.n_vertices)
+    normal = NormalEquations(problem, factorization)
+    normal.assemble(local, 0.0)
+    dense = explicit_normal_matrix(problem, local)
+    assert normal.method == factorization
+    permutation = normal.pattern.permutation
+    # the stored upper triangle reproduces the whole matrix once symmetrised
+    full = normal.pattern.full_matrix(normal.values).toarray()
+    np.testing.assert_allclose(full, dense[np.ix_(permutation, permutation)], atol=1e-12)
+    rhs = np.random.default_rng(1).standard_normal(dense.shape[0])
+    solution = normal.solve(rhs)
+    np.testing.assert_allclose(dense @ solution, rhs, atol=1e-8 * np.abs(rhs).max())
+    normal.release()
+
+
+@needs_mkl
+def test_pardiso_refactors_after_a_release_and_closes_once():
+    rng = np.random.default_rng(2)
+    n = 50
+    root = sp.random(n, n, density=0.1, random_state=rng) + sp.eye(n)
+    matrix = (root @ root.T + sp.eye(n)).tocsr()
+    upper = sp.triu(matrix).tocsr()
+    upper.sort_indices()
+    factor = pardiso.SymmetricFactor(upper.indptr, upper.indices)
+    rhs = rng.standard_normal(n)
+    for scale in (1.0, 3.0):
+        factor.factor(scale * upper.data)
+        np.testing.assert_allclose(scale * (matrix @ factor.solve(rhs)), rhs, atol=1e-10)
+        factor.release_factor()
+    assert factor.factor_nonzeros >= upper.nnz
+    factor.close()
+    factor.close()
+
+
+@needs_mkl
+@pytest.mark.parametrize(
+    "tilt, friction",
+    [(0.0, 0.7), (12.0, 0.2)],
+    ids=["stands", "slides"],
+)
+def test_pardiso_and_superlu_give_the_same_answer(tilt, friction):
+    _, problem = small_wall_problem(9, tilt, friction)
+    results = {}
+    for factorization in ("pardiso", "superlu"):
+        for objective in ("tension_sum", "tension_squared"):
+            backend = ReducedBackend(factorization=factorization)
+            solution = backend.solve(problem.with_objective(objective))
+            assert solution.status.solved
+            assert solution.info["factorization"] == factorization
+            results[factorization, objective] = solution.objective
+    for objective in ("tension_sum", "tension_squared"):
+        assert results["pardiso", objective] == pytest.approx(
+            results["superlu", objective], rel=1e-6, abs=1e-9
+        )
+
+
+def test_an_unknown_factorization_is_refused():
+    _, problem = small_wall_problem(2)
+    with pytest.raises(ValueError, match="factorization must be one of"):
+        NormalEquations(problem, "cholmod")
