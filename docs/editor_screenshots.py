@@ -127,29 +127,43 @@ def wait_for_stable_range(page, name: str, timeout_ms: float = 300_000) -> str:
 
 
 def main() -> None:
+    import tempfile
+
     from playwright.sync_api import sync_playwright
 
     executable = find_browser()
     if executable is None:
         sys.exit("no Chromium found: apt-get install chromium")
     IMAGES.mkdir(exist_ok=True)
-    with Editor("barrel_vault.grammar") as editor, sync_playwright() as playwright:
-        browser = launch(playwright, executable)
-        page = open_page(browser, editor.url)
-        drag_slider(page, "angle", 60)
-        wait_for_verdict(page, "stands")
-        wait_for_stable_range(page, "angle")
-        page.check("#show-ground")
-        page.screenshot(path=str(IMAGES / "editor_barrel_vault.png"))
-        drag_slider(page, "angle", 85)
-        wait_for_verdict(page, "needs tension")
-        page.check("#colour-tension")
-        page.check("#show-joints")
-        page.uncheck("#show-ground")
-        time.sleep(1.0)
-        page.screenshot(path=str(IMAGES / "editor_tension.png"))
-        browser.close()
-    print(f"wrote {IMAGES / 'editor_barrel_vault.png'} and {IMAGES / 'editor_tension.png'}")
+    rules = Path(__file__).resolve().parent.parent / "rules"
+    with tempfile.TemporaryDirectory() as folder:
+        grammar = Path(folder) / "barrel_vault.grammar"
+        good = (rules / "barrel_vault.grammar").read_text(encoding="utf-8")
+        grammar.write_text(good, encoding="utf-8")
+        with Editor(grammar) as editor, sync_playwright() as playwright:
+            browser = launch(playwright, executable)
+            page = open_page(browser, editor.url)
+            drag_slider(page, "angle", 60)
+            wait_for_verdict(page, "stands")
+            wait_for_stable_range(page, "angle")
+            page.check("#show-ground")
+            time.sleep(1.0)
+            page.screenshot(path=str(IMAGES / "editor_barrel_vault.png"))
+            drag_slider(page, "angle", 85)
+            wait_for_verdict(page, "needs tension")
+            page.check("#colour-tension")
+            page.check("#show-joints")
+            page.uncheck("#show-ground")
+            wait_for_stable_range(page, "angle")
+            time.sleep(1.0)
+            page.screenshot(path=str(IMAGES / "editor_tension.png"))
+            grammar.write_text(good.replace("attr span = 6.0", "attr span = 6.0 *"))
+            page.wait_for_selector("#grammar-error", state="visible", timeout=10_000)
+            time.sleep(0.5)
+            page.screenshot(path=str(IMAGES / "editor_error.png"))
+            browser.close()
+    for name in ("editor_barrel_vault", "editor_tension", "editor_error"):
+        print(f"wrote {IMAGES / name}.png")
 
 
 if __name__ == "__main__":
