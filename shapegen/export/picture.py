@@ -125,7 +125,7 @@ def model_figure(
     )
     figure = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI, facecolor="white")
     figure.figimage(rendering.rgb, xo=0, yo=0, origin="upper")
-    font = max(7.0, min(11.0, height / 60))
+    font = max(8.5, min(11.0, height / 60))
     if title:
         figure.text(view_px[0] / 2 / width, 1 - title_px / 2 / height, title,
                     ha="center", va="center", fontsize=font + 1)  # fmt: skip

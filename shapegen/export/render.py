@@ -17,7 +17,7 @@ See docs/results.md ("How the pictures are made").
 
 from __future__ import annotations
 
-__all__ = ["FRAME_FILL", "SUPERSAMPLE", "Rendering", "render_blocks", "view_axes"]
+__all__ = ["FRAME_FILL", "MAX_SAMPLES", "SUPERSAMPLE", "Rendering", "render_blocks", "view_axes"]
 
 from dataclasses import dataclass
 
@@ -33,6 +33,7 @@ CREASE_DEGREES = 30.0  # a fold within one block sharper than this is drawn as a
 AMBIENT = 0.55  # share of the light that reaches every face, whatever its direction
 EDGE_SHADE = 0.3  # an edge pixel keeps this share of its colour (darker = stronger lines)
 GROUND_RGB = np.array([236.0, 233.0, 224.0])
+MAX_SAMPLES = 40_000_000  # depth-buffer samples at most (about 1 GB of buffers)
 _CHUNK_ROWS = 1 << 17  # triangle rows per rasterizer pass: bounds the memory
 
 
@@ -96,9 +97,18 @@ def render_blocks(
         the view still across the frames of an animation.
     ground
         Draw the ground plane ``y = model.ground`` (when the model has one) around the model.
+    supersample
+        Samples a pixel along each axis (anti-aliasing); lowered for pictures so large that
+        the samples would exceed :data:`MAX_SAMPLES`.
     """
     width, height = (int(v) for v in size_px)
-    s = int(supersample)
+    if width < 1 or height < 1 or width * height > MAX_SAMPLES:
+        raise ValueError(
+            f"a picture of {width} x {height} pixels: at least 1 x 1 and at most"
+            f" {MAX_SAMPLES / 1e6:g} million pixels"
+        )
+    # Fewer samples a pixel for a large picture, so the buffers stay within MAX_SAMPLES.
+    s = max(1, min(int(supersample), int(np.sqrt(MAX_SAMPLES / (width * height)))))
     colors = np.asarray(colors, dtype=float).reshape(-1, 4)
     if len(colors) != len(model.blocks):
         raise ValueError(f"{len(colors)} colours for {len(model.blocks)} blocks")

@@ -216,3 +216,8 @@ def test_the_example_in_the_formats_page_runs(tmp_path, monkeypatch):
     exec(compile(example, "formats.md", "exec"), {})
     assert Image.open(tmp_path / "arch.png").size == (800, 600)
     assert Image.open(tmp_path / "arch_tension.png").size == (1000, 700)
+
+
+def test_a_picture_too_large_for_memory_is_refused_before_any_work():
+    with pytest.raises(ValueError, match="million pixels"):
+        render_blocks(wall(), np.array([GREY] * 8), size_px=(10_000, 10_000))
