@@ -1,13 +1,5 @@
 """shapegen: procedural modeling of structures that stand up."""
 
-from shapegen.errors import (
-    GeometryError,
-    GrammarError,
-    InputFormatError,
-    ShapegenError,
-    StaticsError,
-)
-
 __version__ = "0.1.0"
 
 __all__ = [
@@ -27,9 +19,16 @@ __all__ = [
 ]
 
 
+_ERRORS = ("GeometryError", "GrammarError", "InputFormatError", "ShapegenError", "StaticsError")
+
+
 def __getattr__(name: str):
-    # The model (numpy) and the grammar machinery (lark, the interpreter) load on first use, not
-    # on `import shapegen`, so the command's --help and its errors come at once.
+    # Everything loads on first use, not on `import shapegen`: the command's --help and its
+    # errors come at once, and the command's start, before it can catch a Ctrl-C, runs no code.
+    if name in _ERRORS:
+        from shapegen import errors
+
+        return getattr(errors, name)
     if name in ("load_grammar", "parse_grammar", "bundled_rules"):
         from shapegen.engine import grammar_api
 

@@ -1,5 +1,11 @@
 """``python -m shapegen``: the same as the ``shapegen`` command."""
 
-from shapegen.cli import main
+import sys
 
-raise SystemExit(main())
+if __name__ == "__main__":
+    try:
+        from shapegen.cli import main
+    except KeyboardInterrupt:  # Ctrl-C while the command itself is being imported
+        sys.stderr.write("shapegen: interrupted\n")
+        raise SystemExit(130) from None
+    raise SystemExit(main())

@@ -191,8 +191,14 @@ def encode_outputs(
 
 
 def write_outputs(outputs: list[tuple[Path, bytes]]) -> None:
-    """Write each file atomically."""
-    from shapegen.export.model_io import write_bytes_atomic
+    """Write every file atomically and together: all are written to temporary files first, and
+    renamed into place only when every one was written, so a failure or an interrupt leaves the
+    previous files (if any) as they were and no temporary file behind."""
+    import contextlib
 
-    for path, content in outputs:
-        write_bytes_atomic(path, content)
+    from shapegen.export.atomic import atomic_write
+
+    with contextlib.ExitStack() as stack:
+        handles = [stack.enter_context(atomic_write(path, "wb")) for path, _ in outputs]
+        for handle, (_, content) in zip(handles, outputs, strict=True):
+            handle.write(content)

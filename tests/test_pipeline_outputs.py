@@ -166,7 +166,7 @@ def test_landscape_of_a_bridge_plots_the_cable_measure(tmp_path):
     ("arguments", "message"),
     [
         (["build", "arch_columns.grammar", "-o", "{tmp}/x.json", "--report", "{tmp}/x.json"],
-         "would be the same file"),
+         "name the same file"),
         (["build", "arch_columns.grammar", "-o", "{tmp}/missing/x.json"], "does not exist"),
         (["build", "arch_columns.grammar", "-o", "{tmp}/folder.json"], "is a folder"),
         (["analyze", "cluny.grammar"], "use `shapegen build cluny.grammar --analyze`"),

@@ -4,28 +4,38 @@ A user's mistake (a bad file, a bad option value, a grammar error) ends with exi
 line ``shapegen: error: <message>`` on stderr (grammar errors add their source excerpt); nothing
 is written then. Whether a design stands is a result, not an error: ``analyze`` exits 0 either
 way. Every command checks its outputs before any work, computes all of them before writing any,
-and writes each file atomically. Each command is one module of this package; all of them run
-the library's pipeline (:mod:`shapegen.pipeline`).
+and writes each file atomically. Ctrl-C (or SIGTERM, SIGHUP) at any point, imports included,
+prints ``shapegen: interrupted``, removes any temporary file and exits 130 (143, 129). Each
+command is one module of this package; all of them run the library's pipeline
+(:mod:`shapegen.pipeline`).
 """
 
 from __future__ import annotations
 
 __all__ = ["main", "build_parser", "CommandLineError"]
 
+# Only the standard library's sys here: the console script imports this module before main()
+# can catch a Ctrl-C, so everything else is imported inside main's guard.
 import sys
-from collections.abc import Sequence
-
-from shapegen import __version__
-from shapegen.cli.options import CommandLineError, Parser
-from shapegen.errors import ShapegenError
 
 EXIT_OK = 0
 EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process stopped by Ctrl-C
 
 
-def build_parser() -> Parser:
+def __getattr__(name: str):
+    if name == "CommandLineError":
+        from shapegen.cli.options import CommandLineError
+
+        return CommandLineError
+    raise AttributeError(f"module 'shapegen.cli' has no attribute {name!r}")
+
+
+def build_parser():
     """The ``shapegen`` argument parser with every command."""
+    from shapegen import __version__
     from shapegen.cli import analyze, build, edit, landscape, rules, simulate
+    from shapegen.cli.options import Parser
 
     parser = Parser(
         prog="shapegen",
@@ -43,11 +53,24 @@ def build_parser() -> Parser:
     return parser
 
 
-def main(argv: Sequence[str] | None = None) -> int:
+def main(argv=None) -> int:
     """Run the ``shapegen`` command with ``argv`` (default: the process arguments).
 
-    Returns the exit status: 0 on success, 2 for a user's mistake.
+    Returns the exit status: 0 on success, 2 for a user's mistake, 128 + the signal's number
+    when interrupted (130 for Ctrl-C).
     """
+    try:
+        from shapegen.export.atomic import stop_on_signals
+
+        with stop_on_signals():
+            return _run(argv)
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM/SIGHUP as atomic.Interrupted
+        return _interrupted(exc)
+
+
+def _run(argv) -> int:
+    from shapegen.errors import ShapegenError
+
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -59,8 +82,31 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:
         where = f"{exc.filename}: " if exc.filename else ""
         return _fail(f"{where}{exc.strerror or exc}")
-    except KeyboardInterrupt:
-        return 130
+
+
+def _interrupted(exc: KeyboardInterrupt) -> int:
+    """Remove what an interrupted write left, say so in one line, and give the exit status."""
+    import signal
+
+    status = getattr(exc, "exit_status", EXIT_INTERRUPTED)
+    held = {}
+    try:
+        for name in ("SIGINT", "SIGTERM", "SIGHUP"):  # a second Ctrl-C must not cut this short
+            if hasattr(signal, name):
+                signum = getattr(signal, name)
+                held[signum] = signal.signal(signum, signal.SIG_IGN)
+    except ValueError:  # not the main thread: handlers cannot be changed there
+        pass
+    try:
+        atomic = sys.modules.get("shapegen.export.atomic")
+        if atomic is not None:
+            atomic.remove_temporaries()
+        sys.stderr.write("shapegen: interrupted\n")
+        sys.stderr.flush()
+    finally:
+        for signum, handler in held.items():
+            signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
+    return status
 
 
 def _fail(message: str) -> int:

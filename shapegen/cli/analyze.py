@@ -57,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandLineError(
             f"{name} is a rule file, not a model: use `shapegen build {name} --analyze`"
         )
-    check_outputs(args.output, args.report)
+    check_outputs({"-o": args.output, "--report": args.report}, models=("-o",))
     model = read_model(name)
     design = Design.of_model(model)
     recorded = (model.metadata.get("structure") or {}).get("name")

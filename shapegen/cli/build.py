@@ -63,7 +63,7 @@ def add_command(commands) -> None:
 def run(args: argparse.Namespace) -> int:
     from shapegen.pipeline import design, encode_outputs
 
-    check_outputs(args.output, args.report)
+    check_outputs({"-o": args.output, "--report": args.report}, models=("-o",))
     search = search_settings(args)
     statics = statics_options(
         args,

@@ -16,7 +16,7 @@ from shapegen.cli.options import (
     load_grammar,
     statics_options,
 )
-from shapegen.cli.outputs import check_outputs
+from shapegen.cli.outputs import check_outputs, require_suffix
 
 
 def add_command(commands) -> None:
@@ -56,9 +56,8 @@ def run(args: argparse.Namespace) -> int:
     from shapegen.structures import make_structure
 
     output = Path(args.output)
-    if output.suffix.lower() != ".png":
-        raise CommandLineError(f"{output}: the landscape is written as a .png picture")
-    check_outputs(None, None, picture=args.output)
+    check_outputs({"-o": args.output})
+    require_suffix(args.output, (".png",), "the landscape")
     if not 2 <= args.grid <= 200:
         raise CommandLineError(f"--grid must be between 2 and 200, got {args.grid}")
     grammar = load_grammar(args.grammar)

@@ -21,7 +21,7 @@ from shapegen.cli.options import (
     search_settings,
     statics_options,
 )
-from shapegen.cli.outputs import check_outputs, write_all
+from shapegen.cli.outputs import check_outputs, require_suffix, write_all
 
 
 def add_command(commands) -> None:
@@ -152,11 +152,8 @@ def _check_simulate_outputs(args: argparse.Namespace) -> None:
     from shapegen.simulation.world import load_pybullet
 
     load_pybullet()  # fail at once, before any building, when the extra is missing
-    if args.output and Path(args.output).suffix.lower() not in (".gif", ".png"):
-        raise CommandLineError(
-            f"{args.output}: the simulation is written as an animation (.gif) or a picture (.png)"
-        )
-    check_outputs(None, args.report, picture=args.output)
+    check_outputs({"-o": args.output, "--report": args.report}, folders={"--frames": args.frames})
+    require_suffix(args.output, (".gif", ".png"), "the simulation (an animation or a picture)")
     if args.iterations is not None and args.iterations < 1:
         raise CommandLineError(f"--iterations must be at least 1, got {args.iterations}")
 

@@ -1,16 +1,34 @@
-"""Atomic file output: write to a temporary file beside the target, then rename."""
+"""Atomic file output: write to a temporary file beside the target, then rename.
+
+A failed or interrupted run never leaves a half-written output nor a ``.NAME.xxxx.tmp`` file:
+each temporary file is removed when its write fails (any exception, Ctrl-C included), and every
+temporary file still open is removed by :func:`remove_temporaries`, which the handlers that
+:func:`stop_on_signals` installs call on SIGINT, SIGTERM and SIGHUP before stopping the run.
+"""
 
 from __future__ import annotations
 
-__all__ = ["atomic_write", "check_writable", "check_distinct"]
+__all__ = [
+    "Interrupted",
+    "atomic_write",
+    "check_distinct",
+    "check_writable",
+    "remove_temporaries",
+    "stop_on_signals",
+]
 
 import contextlib
 import os
+import signal
 import tempfile
-from collections.abc import Iterator
+import threading
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 
 from shapegen.errors import InputFormatError
+
+# The temporary files of the writes under way, removed by remove_temporaries() on a signal.
+_TEMPORARIES: set[str] = set()
 
 
 def _umask() -> int:
@@ -22,58 +40,167 @@ def _umask() -> int:
 _CREATE_MODE = 0o666 & ~_umask()  # what open() would give a new file
 
 
+class Interrupted(KeyboardInterrupt):
+    """The run was stopped by a signal (``signum``); a KeyboardInterrupt, so every cleanup that
+    runs for Ctrl-C runs for SIGTERM and SIGHUP too. The exit status is ``128 + signum``."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+    @property
+    def exit_status(self) -> int:
+        return 128 + self.signum
+
+
+def _folder(target: Path) -> Path:
+    return target.parent if str(target.parent) else Path(".")
+
+
 @contextlib.contextmanager
 def atomic_write(path: str | os.PathLike, mode: str = "w") -> Iterator:
     """Open a temporary file for writing; on success it replaces ``path``, on failure it vanishes.
 
-    A failed run never leaves a half-written output file.
+    A failed run never leaves a half-written output file, nor the temporary file.
     """
     target = Path(path)
-    directory = target.parent if str(target.parent) else Path(".")
+    directory = _folder(target)
     if not directory.is_dir():
-        raise InputFormatError(f"{target}: directory {directory} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+        raise InputFormatError(f"{target}: folder {directory} does not exist")
+    with _signals_held():  # a signal between creating and registering would orphan the file
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+        except OSError as exc:
+            raise InputFormatError(
+                f"{target}: cannot write in folder {directory}: {exc.strerror or exc}"
+            ) from None
+        _TEMPORARIES.add(tmp)
     try:
         encoding = None if "b" in mode else "utf-8"
         with os.fdopen(fd, mode, encoding=encoding) as handle:
             yield handle
         os.chmod(tmp, _CREATE_MODE)  # mkstemp makes owner-only files; outputs are ordinary files
-        os.replace(tmp, target)
+        try:
+            os.replace(tmp, target)
+        except OSError as exc:
+            raise InputFormatError(f"{target}: cannot replace it: {exc.strerror or exc}") from None
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
         raise
+    finally:
+        _TEMPORARIES.discard(tmp)
+
+
+def remove_temporaries() -> list[str]:
+    """Remove the temporary files of every write under way; returns their names."""
+    removed = []
+    for tmp in list(_TEMPORARIES):
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+            removed.append(tmp)
+        _TEMPORARIES.discard(tmp)
+    return removed
+
+
+_STOP_SIGNALS = tuple(
+    getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)
+)
+
+
+def _stop(signum, frame) -> None:
+    remove_temporaries()
+    raise Interrupted(signum)
+
+
+@contextlib.contextmanager
+def stop_on_signals() -> Iterator[None]:
+    """While open, SIGINT, SIGTERM and SIGHUP remove the temporary files of the writes under way
+    and raise :class:`Interrupted` (a KeyboardInterrupt) in the main thread, so the run stops
+    through its normal cleanup; the previous handlers are restored on leaving. Outside the main
+    thread (where Python cannot set handlers) it does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = {}
+    try:
+        for signum in _STOP_SIGNALS:
+            previous[signum] = signal.signal(signum, _stop)
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold the stop signals (delivered on leaving) in the main thread, where Python runs its
+    handlers; elsewhere, or without pthread_sigmask, do nothing."""
+    can_hold = hasattr(signal, "pthread_sigmask") and (
+        threading.current_thread() is threading.main_thread()
+    )
+    if not can_hold:
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def check_writable(path: str | os.PathLike) -> Path:
     """``path`` as a Path, after checking, before any work, that a file can be written there:
-    its folder exists and is writable, and it is not itself a folder."""
+    it is not a folder, its folder exists, and a file can be created in that folder (tried, so
+    a read-only file system, ``/proc`` or a full disk is found now, whoever runs it)."""
     target = Path(path)
-    directory = target.parent if str(target.parent) else Path(".")
-    if not directory.is_dir():
-        raise InputFormatError(f"{target}: folder {directory} does not exist")
+    directory = _folder(target)
     if target.is_dir():
         raise InputFormatError(f"{target}: is a folder; name a file to write")
-    if not os.access(directory, os.W_OK | os.X_OK):
-        raise InputFormatError(f"{target}: folder {directory} is not writable")
+    if not directory.is_dir():
+        what = "is not a folder" if directory.exists() else "does not exist"
+        raise InputFormatError(f"{target}: folder {directory} {what}")
     if target.exists() and not os.access(target, os.W_OK):
         raise InputFormatError(f"{target}: the file is not writable")
+    with _signals_held():  # the probe is created and removed with the stop signals held
+        try:
+            fd, probe = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+        except OSError as exc:
+            raise InputFormatError(
+                f"{target}: cannot write in folder {directory}: {exc.strerror or exc}"
+            ) from None
+        os.close(fd)
+        os.unlink(probe)
     return target
 
 
-def check_distinct(**paths: str | os.PathLike | None) -> None:
+def check_distinct(
+    paths: Mapping[str, str | os.PathLike | None] | None = None,
+    /,
+    **named: str | os.PathLike | None,
+) -> None:
     """Refuse two outputs naming the same file (one would silently replace the other).
 
-    ``paths`` maps what each output is (``model``, ``report``...) to its path or None.
+    ``paths`` (or keyword arguments) map what each output is (``"-o"``, ``"--report"``, or
+    ``model``, ``report``...) to its path or None. Paths are compared resolved (``./x`` and
+    ``x``, symbolic links) and, for existing files, by identity (hard links).
     """
-    seen: dict[Path, str] = {}
-    for role, path in paths.items():
+    seen: list[tuple[str, str | os.PathLike, Path]] = []
+    for role, path in {**(paths or {}), **named}.items():
         if path is None:
             continue
         resolved = Path(path).resolve()
-        if resolved in seen:
-            raise InputFormatError(
-                f"{path}: the {role} and the {seen[resolved]} would be the same file; name two"
-                " different files"
-            )
-        seen[resolved] = role
+        for other_role, other_path, other in seen:
+            if other == resolved or _same_existing_file(other, resolved):
+                raise InputFormatError(
+                    f"{other_role} {other_path} and {role} {path} name the same file (one would"
+                    " replace the other); name two different files"
+                )
+        seen.append((role, path, resolved))
+
+
+def _same_existing_file(first: Path, second: Path) -> bool:
+    try:
+        return first.exists() and second.exists() and os.path.samefile(first, second)
+    except OSError:
+        return False
