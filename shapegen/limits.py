@@ -76,7 +76,7 @@ class WorkLimits:
     max_string_chars: int = 10_000_000
     max_primitive_blocks: int = 20_000
     max_blocks: int = 50_000
-    max_file_bytes: int = 64 * 2**20
+    max_file_bytes: int = 32 * 2**20
     max_seconds: float | None = 60.0
 
     def __post_init__(self) -> None:

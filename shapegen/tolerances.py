@@ -24,6 +24,7 @@ __all__ = [
     "SIMULATION_FALL_REL",
     "SIMULATION_MOVING_REL",
     "SIMULATION_DECAY_RATIO",
+    "COORDINATE_ROUNDOFF_REL",
 ]
 
 from dataclasses import dataclass, replace
@@ -157,3 +158,10 @@ SIMULATION_MOVING_REL = 0.01
 #: times as far over the last quarter of the judged window as over the quarter before it
 #: (dimensionless): settling decays, a fall speeds up.
 SIMULATION_DECAY_RATIO = 0.5
+
+#: Blocks: a vertex stored as a float64 coordinate is off its exact place by up to half an ulp of
+#: the coordinate, so a face plane far from the origin (x = 1e10 m) cannot be checked closer
+#: than a few ulps of the coordinates' magnitude. The convexity test allows
+#: ``COORDINATE_ROUNDOFF_REL`` times the block's largest |coordinate| on top of ``convex``
+#: (dimensionless, about 45 float64 epsilons).
+COORDINATE_ROUNDOFF_REL = 1e-14

@@ -8,11 +8,14 @@ __all__ = [
     "model_to_dict",
     "model_from_dict",
     "read_blocks_json",
+    "read_model_bytes",
+    "parse_json_document",
     "write_blocks_json",
 ]
 
 import json
 import math
+import stat
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +23,7 @@ import numpy as np
 from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.atomic import atomic_write
 from shapegen.json_values import json_ready
+from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import DEFAULT_DENSITY, Block
 from shapegen.model.model import GRAVITY, Model, PointLoad
 
@@ -62,21 +66,82 @@ def write_blocks_json(model: Model, path: str | Path) -> None:
         handle.write("\n")
 
 
+def read_model_bytes(path: str | Path) -> bytes:
+    """The bytes of a model file, refused before reading when it is not a regular file (a FIFO
+    would block, a device such as /dev/zero never ends) or is over ``max_file_bytes``
+    (:class:`~shapegen.limits.WorkLimits`)."""
+    path = Path(path)
+    try:
+        status = path.stat()
+    except OSError as exc:
+        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if not stat.S_ISREG(status.st_mode):
+        kind = "a folder" if stat.S_ISDIR(status.st_mode) else "a device, pipe or socket"
+        raise InputFormatError(f"{path}: not a model file ({kind})")
+    limit = current_limits().max_file_bytes
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(limit + 1)  # the file may have grown since stat()
+    except OSError as exc:
+        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if status.st_size > limit or len(data) > limit:
+        raise InputFormatError(
+            f"{path}: the file has {max(status.st_size, len(data))} bytes, more than {limit} "
+            + limit_hint("max_file_bytes")
+        )
+    return data
+
+
+def parse_json_document(data: bytes | str, where: str) -> object:
+    """A JSON document from a model file's contents; every failure is an InputFormatError.
+
+    Integers of more than 20 digits are read as floats (10**400 becomes inf, which the checks
+    then refuse by name), so no number is beyond what the checks can compare.
+    """
+    try:
+        text = data.decode("utf-8") if isinstance(data, bytes) else data
+    except UnicodeDecodeError:
+        raise InputFormatError(f"{where}: not a text file (invalid UTF-8)") from None
+    try:
+        return json.loads(text, parse_int=_parse_int)
+    except json.JSONDecodeError as exc:
+        raise InputFormatError(
+            f"{where}:{exc.lineno}:{exc.colno}: invalid JSON: {exc.msg}"
+        ) from None
+    except RecursionError:
+        raise InputFormatError(f"{where}: the JSON nests too deeply to read") from None
+    except ValueError as exc:  # any other refusal of the decoder
+        raise InputFormatError(f"{where}: invalid JSON: {exc}") from None
+
+
+MAX_JSON_DEPTH = 32
+"""Deepest nesting of arrays and objects kept from a model file as they are (the
+``"structure"`` arguments): reports and exports walk them recursively."""
+
+
+def _parse_int(text: str) -> int | float:
+    return int(text) if len(text) <= 20 else float(text)
+
+
+def _depth_over(document: object, limit: int) -> bool:
+    """True when ``document`` nests arrays and objects more than ``limit`` deep (no recursion)."""
+    level = [document]
+    for _ in range(limit + 1):
+        level = [
+            child
+            for value in level
+            if isinstance(value, list | dict)
+            for child in (value.values() if isinstance(value, dict) else value)
+        ]
+        if not level:
+            return False
+    return True
+
+
 def read_blocks_json(path: str | Path) -> Model:
     """Read a shapegen-blocks JSON file; errors name the file and the offending entry."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    except UnicodeDecodeError:
-        raise InputFormatError(f"{path}: not a text file (invalid UTF-8)") from None
-    try:
-        document = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputFormatError(
-            f"{path}:{exc.lineno}:{exc.colno}: invalid JSON: {exc.msg}"
-        ) from None
+    document = parse_json_document(read_model_bytes(path), str(path))
     try:
         return model_from_dict(document)
     except (InputFormatError, GeometryError) as exc:
@@ -106,6 +171,11 @@ def model_from_dict(document: object) -> Model:
     raw_blocks = _require(document, "blocks", "the document")
     if not isinstance(raw_blocks, list):
         raise InputFormatError('"blocks" must be a list')
+    limit = current_limits().max_blocks
+    if len(raw_blocks) > limit:
+        raise InputFormatError(
+            f"the model has {len(raw_blocks)} blocks, more than {limit} " + limit_hint("max_blocks")
+        )
     blocks = [_block(entry, k) for k, entry in enumerate(raw_blocks)]
     raw_loads = document.get("loads", [])
     if not isinstance(raw_loads, list):
@@ -122,6 +192,8 @@ def model_from_dict(document: object) -> Model:
             raise InputFormatError(
                 '"structure" must be an object {"name": "...", "arguments": {...}}'
             )
+        if _depth_over(structure, MAX_JSON_DEPTH):
+            raise InputFormatError(f'"structure" nests deeper than {MAX_JSON_DEPTH} levels')
         model.metadata["structure"] = {
             "name": structure["name"],
             "arguments": dict(structure.get("arguments", {})),
@@ -168,12 +240,14 @@ def _block(entry: object, k: int) -> Block:
 
 def _outward(vertices: np.ndarray, faces: list[list[int]]) -> tuple[tuple[int, ...], ...]:
     """Orient each face of a convex block so its normal points away from the block's interior."""
-    inside = vertices.mean(axis=0)
+    # About the vertex mean: far from the origin (x = 1e10) the cross products of raw
+    # coordinates would cancel to noise and turn faces the wrong way.
+    local = vertices - vertices.mean(axis=0)
     oriented = []
     for face in faces:
-        p = vertices[face]
+        p = local[face]
         normal = np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
-        outward = np.dot(normal, p.mean(axis=0) - inside) >= 0
+        outward = np.dot(normal, p.mean(axis=0)) >= 0
         oriented.append(tuple(face) if outward else tuple(reversed(face)))
     return tuple(oriented)
 
@@ -197,9 +271,26 @@ def _require(entry: dict, key: str, where: str):
 
 
 def _number(value: object, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputFormatError(f"{where} must be a finite number, got {value!r}")
-    return float(value)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputFormatError(f"{where} must be a finite number, got {_shown(value)}")
+    try:
+        number = float(value)
+    except OverflowError:  # an int beyond float range, from a caller's own dict
+        number = math.inf
+    if not math.isfinite(number):
+        raise InputFormatError(f"{where} must be a finite number, got {_shown(value)}")
+    return number
+
+
+def _shown(value: object) -> str:
+    """A value for a message, cut short (a file may hold a 5 000-digit number)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**20:
+        return f"an integer of {round(value.bit_length() * 0.30103)} digits"
+    try:
+        text = repr(value)
+    except ValueError:  # holds an int too long to print
+        return f"a {type(value).__name__} holding a number too long to print"
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _boolean(value: object, where: str) -> bool:

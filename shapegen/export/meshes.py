@@ -23,6 +23,7 @@ __all__ = [
     "read_mesh_model",
 ]
 
+import io
 import re
 from pathlib import Path
 
@@ -33,7 +34,13 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
 from shapegen.errors import GeometryError, InputFormatError
-from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION, model_from_dict
+from shapegen.export.blocks_json import (
+    FORMAT_NAME,
+    FORMAT_VERSION,
+    model_from_dict,
+    read_model_bytes,
+)
+from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.tolerances import FLAT_REL
@@ -123,12 +130,24 @@ def read_mesh_model(path: str | Path) -> Model:
         A component is degenerate (flat) or clearly non-convex; the message names it.
     """
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise InputFormatError(f"{path}: no such file")
+    data = read_model_bytes(path)
+    suffix = path.suffix.lower()
+    _check_text(data, suffix, path)
     try:
-        scene = trimesh.load_scene(str(path), process=False, split_objects=True, split_groups=True)
+        scene = trimesh.load_scene(
+            io.BytesIO(data),
+            file_type=suffix.lstrip("."),
+            resolver=trimesh.resolvers.FilePathResolver(str(path.resolve())),
+            metadata={"file_name": path.name},
+            process=False,
+            split_objects=True,
+            split_groups=True,
+        )
     except Exception as exc:  # any parser failure on a user's file is bad input
-        reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        text = str(exc).strip()
+        reason = text.splitlines()[0][:200] if text else type(exc).__name__
         raise InputFormatError(f"{path}: cannot read as a {path.suffix} mesh: {reason}") from None
     document = {
         "format": FORMAT_NAME,
@@ -149,9 +168,50 @@ def read_mesh_model(path: str | Path) -> Model:
         raise type(exc)(f"{path}: {exc}") from None
 
 
+def _check_text(data: bytes, suffix: str, path: Path) -> None:
+    """Refuse a text format that is not UTF-8 before trimesh guesses its encoding (with a
+    module it may not have): OBJ and glTF are text; an STL that is not binary is ASCII."""
+    if suffix not in (".obj", ".gltf", ".stl") or (suffix == ".stl" and _is_binary_stl(data)):
+        return
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        kind = (
+            "a binary STL (its size does not match its triangle count) nor an ASCII one"
+            if suffix == ".stl"
+            else f"{suffix} text"
+        )
+        raise InputFormatError(
+            f"{path}: {'neither' if suffix == '.stl' else 'not'} {kind}: invalid UTF-8 at byte "
+            f"{exc.start}"
+        ) from None
+
+
+def _is_binary_stl(data: bytes) -> bool:
+    """A binary STL: an 80-byte header, a triangle count, 50 bytes per triangle."""
+    if len(data) < 84:
+        return False
+    return len(data) == 84 + 50 * int.from_bytes(data[80:84], "little")
+
+
 def _blocks_of_scene(scene: trimesh.Scene, path: Path) -> list[dict]:
     nodes = _mesh_nodes(scene)
+    for name, _, vertices, _ in nodes:
+        if not np.all(np.isfinite(vertices)):
+            raise GeometryError(f"mesh {name!r}: vertex coordinates must be finite numbers")
+    limit = current_limits().max_blocks
+    if sum(len(faces) for _, _, _, faces in nodes) > 50 * limit:
+        raise InputFormatError(
+            f"the file has more than {50 * limit} triangles (50 per block of the limit) "
+            + limit_hint("max_blocks")
+        )
     pieces_of_node = _node_components(nodes)
+    pieces = sum(len(node_pieces) for node_pieces in pieces_of_node)
+    if pieces > limit:
+        raise InputFormatError(
+            f"the file holds {pieces} blocks (connected parts), more than {limit} "
+            + limit_hint("max_blocks")
+        )
     blocks: list[dict] = []
     used_ids: set[str] = set()
     for (name, extras, _, _), pieces in zip(nodes, pieces_of_node, strict=True):

@@ -12,7 +12,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.model.polygons import cross, face_normals
-from shapegen.tolerances import COPLANAR_REL, DEFAULT, Tolerances
+from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, COPLANAR_REL, DEFAULT, Tolerances
 
 DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
 
@@ -196,7 +196,7 @@ class Block:
             raise GeometryError(f"block {name!r}: zero or negative volume ({self.volume:.3g} m^3)")
         distances = self.vertices @ self.face_normals.T - self.face_offsets
         worst = float(distances.max())
-        if worst > tol.convex:
+        if worst > tol.convex + COORDINATE_ROUNDOFF_REL * float(np.abs(self.vertices).max()):
             raise GeometryError(
                 f"block {name!r}: not convex (a vertex lies {worst:.3g} m outside a face plane)"
             )

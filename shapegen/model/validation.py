@@ -29,7 +29,7 @@ from shapegen.model.packed import (
     packed_from,
 )
 from shapegen.model.polygons import cross
-from shapegen.tolerances import DEFAULT, Tolerances
+from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, DEFAULT, Tolerances
 
 _EPS = float(np.finfo(float).eps)
 
@@ -119,5 +119,6 @@ def _doubtful_geometry(pack: PackedBlocks, tol: Tolerances) -> np.ndarray:
     # Heights are sums of terms up to |x| ~ X, each computed to a few eps X.
     convex_slack = 512 * _EPS * largest
     # Written so that a NaN anywhere makes the block doubtful.
-    clear = (volume > tol.volume + volume_slack) & (worst <= tol.convex - convex_slack)
+    convex = tol.convex + COORDINATE_ROUNDOFF_REL * largest  # as in Block.validate
+    clear = (volume > tol.volume + volume_slack) & (worst <= convex - convex_slack)
     return ~clear
