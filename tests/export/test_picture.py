@@ -108,7 +108,7 @@ def tower() -> Model:
 @pytest.mark.parametrize("model", [wall(), tower()], ids=["wide", "tall"])
 def test_the_model_fills_the_frame(model):
     model.ground = None  # what is not background is the model
-    rgb = pixels(encode_picture(model, legend=False))
+    rgb = pixels(encode_picture(model, legend=False, size_px=(400, 300)))
     ys, xs = np.nonzero((rgb < 250).any(axis=2))
     width = (xs.max() - xs.min() + 1) / rgb.shape[1]
     height = (ys.max() - ys.min() + 1) / rgb.shape[0]
@@ -116,9 +116,9 @@ def test_the_model_fills_the_frame(model):
     assert max(width, height) <= 0.95  # and leaves a margin
     # With the ground, a title and a legend, the blocks still fill their part of the picture.
     model.ground = 0.0
-    rendering = render_blocks(model, np.array([GREY] * len(model.blocks)), size_px=(640, 570))
+    rendering = render_blocks(model, np.array([GREY] * len(model.blocks)), size_px=(320, 285))
     ys, xs = np.nonzero(rendering.coverage > 0)
-    assert max((np.ptp(xs) + 1) / 640, (np.ptp(ys) + 1) / 570) >= 0.8
+    assert max((np.ptp(xs) + 1) / 320, (np.ptp(ys) + 1) / 285) >= 0.8
 
 
 def test_the_ground_is_drawn_under_the_model():
@@ -144,8 +144,9 @@ def test_the_tension_legend_is_a_colour_bar_in_newtons():
     model = wall()
     # A standing model: no block is red, so red pixels can only be the colour bar's top.
     standing = stub_analysis([0.0] * 8, feasible=True)
-    assert red_pixels(pixels(encode_picture(model, standing))) > 50
-    assert red_pixels(pixels(encode_picture(model))) == 0
+    small = {"size_px": (400, 300)}
+    assert red_pixels(pixels(encode_picture(model, standing, **small))) > 50
+    assert red_pixels(pixels(encode_picture(model, **small))) == 0
     figure = model_figure(model, stub_analysis([0, 0, 0, 4e4, 2e4, 0, 0, 0], feasible=False))
     (bar,) = [axes for axes in figure.axes if axes.get_label() == TENSION_LEGEND]
     assert [t.get_text() for t in bar.get_yticklabels()] == ["0", "20 kN", "40 kN"]
