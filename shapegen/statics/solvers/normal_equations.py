@@ -53,6 +53,8 @@ class NormalPattern:
     diagonal: np.ndarray
     permutation: np.ndarray  # row i of the permuted matrix is row permutation[i] of M
     interface_starts: np.ndarray
+    vertex_frames: np.ndarray  # (m, 6, 3) K_v = [R; skew(q_v) R], q_v lever from the first vertex
+    interface_shifts: np.ndarray  # (ni, 12, 6) sign_s [I 0; skew(d_s) I] for both sides s
     factor: pardiso.SymmetricFactor | None = None  # PARDISO's analysis of this pattern
 
     def full_matrix(self, data: np.ndarray) -> sp.csc_matrix:
@@ -72,6 +74,56 @@ def _block_ordering(block_rows: np.ndarray, block_cols: np.ndarray, nf: int) -> 
     # strictly diagonally dominant, so QDLDL's factorisation (only used for its ordering) succeeds
     graph = (pattern + sp.diags(np.full(nf, float(nf + 2)))).tocsc()
     return np.asarray(qdldl.Solver(graph).factors()[2], dtype=np.int64)
+
+
+def _skew_vector(matrix: np.ndarray) -> np.ndarray:
+    """``l`` from ``(n, 3, 3)`` cross-product matrices ``skew(l)``."""
+    return np.stack([matrix[:, 2, 1], matrix[:, 0, 2], matrix[:, 1, 0]], axis=1)
+
+
+def _skew(vectors: np.ndarray) -> np.ndarray:
+    out = np.zeros((len(vectors), 3, 3))
+    out[:, 0, 1], out[:, 0, 2] = -vectors[:, 2], vectors[:, 1]
+    out[:, 1, 0], out[:, 1, 2] = vectors[:, 2], -vectors[:, 0]
+    out[:, 2, 0], out[:, 2, 1] = -vectors[:, 1], vectors[:, 0]
+    return out
+
+
+def _interface_frames(problem, interface_starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Split each vertex's ``12 x 3`` Jacobian into a per-vertex ``6 x 3`` part and a per-interface
+    ``12 x 6`` part: ``J_v = W_i K_v``.
+
+    The wrench of a unit force at vertex ``v`` on side ``s`` is ``sign_s [R; skew(l_sv) R]`` with
+    the interface frame ``R`` and the lever ``l_sv`` from the block's centroid. Writing
+    ``l_sv = q_v + d_s`` with ``q_v`` the vertex's offset from the interface's first vertex and
+    ``d_s`` that vertex's lever gives ``J_v = W_i K_v``, ``K_v = [R; skew(q_v) R]`` and
+    ``W_i = [sign_s [I 0; skew(d_s) I]]_s``. Summing ``K_v D_v K_v^T`` over an interface's
+    vertices (6 x 6) before applying ``W_i`` costs a quarter of the 12 x 12 products per vertex.
+    """
+    jac = problem.vertex_jacobian
+    m = len(jac)
+    side = np.where(problem.vertex_blocks[:, 0] >= 0, 0, 1)  # a side with a free block
+    sign = np.where(side == 0, -1.0, 1.0)[:, None, None]
+    rows = 6 * side[:, None] + np.arange(6)
+    own = jac[np.arange(m)[:, None], rows] * sign  # (m, 6, 3) = [R; skew(l) R]
+    rotation = own[:, :3]
+    lever = _skew_vector(own[:, 3:] @ np.transpose(rotation, (0, 2, 1)))
+    ni = len(interface_starts)
+    counts = np.diff(np.append(interface_starts, m))
+    first = np.repeat(interface_starts, counts)
+    offset = lever - lever[first]  # q_v, measured on the vertex's own side
+    frames = np.concatenate([rotation, _skew(offset) @ rotation], axis=1)
+    shifts = np.zeros((ni, 12, 6))
+    for s, s_sign in ((0, -1.0), (1, 1.0)):
+        head = jac[interface_starts, 6 * s : 6 * s + 6] * s_sign  # zero for a support side
+        valid = np.abs(head[:, :3]).sum(axis=(1, 2)) > 0
+        d = np.zeros((ni, 3))
+        d[valid] = _skew_vector(head[valid, 3:] @ np.transpose(head[valid, :3], (0, 2, 1)))
+        block = np.zeros((ni, 6, 6))
+        block[:, [0, 1, 2, 3, 4, 5], [0, 1, 2, 3, 4, 5]] = 1.0
+        block[:, 3:, :3] = _skew(d)
+        shifts[:, 6 * s : 6 * s + 6] = s_sign * block * valid[:, None, None]
+    return frames, shifts
 
 
 def build_pattern(problem) -> NormalPattern:
@@ -107,8 +159,18 @@ def build_pattern(problem) -> NormalPattern:
     indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
     diagonal = np.searchsorted(unique, diagonal_keys)
     permutation = (6 * order[:, None] + np.arange(6)).ravel()
+    frames, shifts = _interface_frames(problem, interface_starts)
     return NormalPattern(
-        size, indptr, indices, target[: len(keys)], source, diagonal, permutation, interface_starts
+        size,
+        indptr,
+        indices,
+        target[: len(keys)],
+        source,
+        diagonal,
+        permutation,
+        interface_starts,
+        frames,
+        shifts,
     )
 
 
@@ -150,9 +212,11 @@ class NormalEquations:
         """Compute and factor ``M`` for ``D_v = local_inverse[v]`` ``(m, 3, 3)``, with
         ``regularization`` times the mean diagonal added to the diagonal of the factored copy."""
         pattern = self.pattern
-        jac = self.problem.vertex_jacobian
-        per_vertex = np.matmul(np.matmul(jac, local_inverse), np.transpose(jac, (0, 2, 1)))
-        per_interface = np.add.reduceat(per_vertex, pattern.interface_starts, axis=0)
+        frames = pattern.vertex_frames
+        per_vertex = np.matmul(np.matmul(frames, local_inverse), np.transpose(frames, (0, 2, 1)))
+        summed = np.add.reduceat(per_vertex, pattern.interface_starts, axis=0)  # (ni, 6, 6)
+        shifts = pattern.interface_shifts
+        per_interface = np.matmul(np.matmul(shifts, summed), np.transpose(shifts, (0, 2, 1)))
         values = np.bincount(
             pattern.target,
             per_interface.reshape(-1)[pattern.source],
