@@ -194,16 +194,6 @@ class StaticsProblem:
         vals = np.concatenate([np.full(m, -self.friction), -np.ones(m), -np.ones(m)])
         return sp.csc_matrix((vals, (rows, cols)), shape=(3 * m, 4 * m))
 
-    def friction_excess(self, x: np.ndarray) -> np.ndarray:
-        """``(m,)`` how far each vertex's friction lies outside its pyramid or cone, in units of
-        the scaled force (<= 0 inside): the largest side violation, or ``||(u, t)|| - mu c``."""
-        m = self.n_vertices
-        c, _, u, t = x.reshape(4, m)
-        if self.second_order:
-            return np.hypot(u, t) - self.friction * c
-        sides = self.cone[:-1]
-        return np.einsum("vi,ki->vk", np.stack([c, u, t], axis=1), sides).max(axis=1)
-
     def residual(self, x: np.ndarray) -> np.ndarray:
         """Scaled equilibrium residual ``A x + w`` (force rows / W, torque rows / (W L))."""
         return self.equality @ x + self.load

@@ -199,6 +199,18 @@ def test_cone_optimality_conditions(backend, case):
     assert complementarity < 1e-6
 
 
+@pytest.mark.parametrize("backend", CONE_BACKENDS)
+def test_a_cone_without_friction_holds_no_tangential_load(backend):
+    # mu = 0 closes the cone to the normal: no friction at all, so a tilted weight has no
+    # equilibrium even with tension, while the upright block still stands on c >= 0
+    model, interfaces = tilted_block(10.0, 0.0)
+    solution = get_backend(backend).solve(assemble(model, interfaces, pyramid="cone"))
+    assert solution.status is SolveStatus.INFEASIBLE
+    model, interfaces = tilted_block(0.0, 0.0)
+    upright = analyze(model, interfaces=interfaces, check=False, pyramid="cone", solver=backend)
+    assert upright.feasible
+
+
 @pytest.mark.parametrize("case", list(CONE_CASES))
 def test_cone_back_ends_agree(case):
     model, interfaces = CONE_CASES[case]()
