@@ -11,6 +11,7 @@ block slides at atan(mu) whatever the heading.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -275,3 +276,23 @@ def test_the_adjoint_holds_with_the_cone(pyramid):
     below = analyze(model(slope - step), options).infeasibility_normalized
     central = (above - below) / 2
     assert change == pytest.approx(central, rel=2e-3)
+
+
+# ------------------------------------------------------------------ the command line
+@pytest.mark.parametrize("heading", [0.0, 45.0])
+def test_the_command_line_takes_the_cone_and_reports_it(tmp_path, capsys, heading):
+    from shapegen.cli import main
+    from shapegen.export.blocks_json import write_blocks_json
+
+    model_path, report_path = tmp_path / "slope.json", tmp_path / "report.json"
+    write_blocks_json(block_on_slope(33.0, heading, 0.7), model_path)
+    assert (
+        main(["analyze", str(model_path), "--pyramid", "cone", "--report", str(report_path)]) == 0
+    )
+    report = json.loads(report_path.read_text())
+    assert report["stands"] is True and report["pyramid"] == "cone"
+    assert report["solver"] == "clarabel"
+    capsys.readouterr()
+    assert main(["analyze", str(model_path), "--pyramid", "cone", "--solver", "reduced"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert "\n" not in error and "pyramid 'cone' needs solver auto, clarabel or cvxpy" in error
