@@ -68,19 +68,22 @@ def run(args: argparse.Namespace) -> int:
     grammar = load_grammar(args.grammar)
     if grammar.path is None:
         raise CommandLineError(f"{args.grammar}: the editor needs a grammar file")
-    # --set values are checked as the page's are: a known attr, of its kind, within its @Range
-    session = EditorSession(
-        str(grammar.path), attrs=dict(args.assignments), seed=args.seed, lot=args.lot
-    )
     try:
-        server = make_server(session, args.port)
+        server = make_server(None, args.port)  # the port first: a taken one costs no build
     except OSError as exc:
-        session.close()
         if exc.errno == errno.EADDRINUSE:
             raise CommandLineError(
                 f"port {args.port} on 127.0.0.1 is in use; choose another with --port N"
                 " (0 picks a free one)"
             ) from None
+        raise
+    try:
+        # --set values are checked as the page's are: a known attr, of its kind, in its @Range
+        server.session = session = EditorSession(
+            str(grammar.path), attrs=dict(args.assignments), seed=args.seed, lot=args.lot
+        )
+    except BaseException:
+        server.server_close()
         raise
     watcher = FileWatcher(grammar.path, lambda: session.reload())
     print(f"shapegen edit: {server.url}  ({grammar.path}; Ctrl-C stops)", flush=True)

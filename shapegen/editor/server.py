@@ -48,7 +48,7 @@ class EditorServer(ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
 
-    def __init__(self, port: int, session: EditorSession, *, quiet: bool = True):
+    def __init__(self, port: int, session: EditorSession | None, *, quiet: bool = True):
         self.session = session
         self.quiet = quiet
         super().__init__((HOST, port), _Handler)
@@ -58,9 +58,12 @@ class EditorServer(ThreadingHTTPServer):
         return f"http://{HOST}:{self.server_address[1]}/"
 
 
-def make_server(session: EditorSession, port: int = 0, *, quiet: bool = True) -> EditorServer:
+def make_server(
+    session: EditorSession | None, port: int = 0, *, quiet: bool = True
+) -> EditorServer:
     """The server for ``session`` on 127.0.0.1:``port`` (0: any free port); call
-    ``serve_forever()`` on it."""
+    ``serve_forever()`` on it. The session may be given later (``server.session = ...``), so
+    that a port in use is known before any work."""
     return EditorServer(port, session, quiet=quiet)
 
 

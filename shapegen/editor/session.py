@@ -62,9 +62,11 @@ class EditorSession:
         self.path: Path | None = self.grammar.path
         self.seed = seed
         self.lot = lot
+        self._text = _read(self.path)
         self._work = threading.Lock()  # one change at a time
         self._state_lock = threading.RLock()
-        self._idle = threading.Event()  # set while no foreground work runs
+        self._scanner: StabilityScanner | None = None
+        self._idle = threading.Event()  # set while no foreground work runs: the scans wait for it
         self._idle.set()
         self._cancel = threading.Event()
         self.version = 0
@@ -79,7 +81,9 @@ class EditorSession:
         self._outcome = self._design(initial)
         self.attrs = initial
         self._timings = self._last_timings
-        self._scanner = StabilityScanner(self._publish_scan, self._idle) if scan else None
+        if scan:
+            self._scanner = StabilityScanner(self._publish_scan)
+            self._idle = self._scanner.idle
         self._changed(model=True)
 
     # ------------------------------------------------------------------ the public operations
@@ -179,6 +183,7 @@ class EditorSession:
         with self._work:
             try:
                 grammar = pipeline.load(str(self.path))
+                text = _read(self.path)
                 kept = self._kept_attrs(grammar)
                 self._idle.clear()
                 try:
@@ -192,6 +197,7 @@ class EditorSession:
                     return self.state()
             with self._state_lock:
                 self.grammar = grammar
+                self._text = text
                 self.attrs = kept
                 self._outcome = outcome
                 self._timings = self._last_timings
@@ -313,7 +319,7 @@ class EditorSession:
 
     def _scan_job(self) -> ScanJob | None:
         assessment = self._outcome.assessment
-        if assessment is None or not assessment.ok:
+        if assessment is None or not assessment.ok or self._text is None:
             return None
         values = self._current_values()
         ranges = self.grammar.parameter_ranges(values)
@@ -327,8 +333,8 @@ class EditorSession:
         for name, (low, high) in free.items():
             self._stability[name] = {"status": "waiting", "range": [low, high], "intervals": []}
         return ScanJob(
-            self.grammar,
-            self._outcome.structure,
+            self._text,
+            self.grammar.name,
             {k: v for k, v in values.items() if k in self.grammar.attrs},
             free,
             {name: (values[name], bool(assessment.stands)) for name in free},
@@ -375,6 +381,16 @@ class EditorSession:
             "optimization": self._optimization,
             "error": self._error,
         }
+
+
+def _read(path: Path | None) -> str | None:
+    """The grammar's text for the scanning process (None: no file, no scan)."""
+    if path is None:
+        return None
+    try:
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise GrammarError(f"cannot read {str(path)!r}: {exc}") from None
 
 
 def _analysis(outcome):

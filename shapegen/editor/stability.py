@@ -9,9 +9,10 @@ over ``(SCAN_POINTS - 1) * 2**REFINE_STEPS``) of the true boundary. A standing w
 than the sample spacing can be missed. Each design is judged by :class:`~shapegen.search.Evaluator`,
 the search's own, so the shading and the search agree.
 
-The scans run in one background thread, after the designer pauses (:data:`PAUSE_S`), and are
-abandoned between two evaluations as soon as the design changes. An attr's interval depends only
-on the other attrs, so moving a free slider keeps its own shading.
+The scans run in a background process of lower priority, after the designer pauses
+(:data:`PAUSE_S`), wait while a change is computed, and are abandoned between two evaluations
+as soon as the design changes. An attr's interval depends only on the other attrs, so moving a
+free slider keeps its own shading.
 """
 
 from __future__ import annotations
@@ -25,9 +26,10 @@ __all__ = [
     "stable_intervals",
 ]
 
+import multiprocessing
 import threading
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -117,125 +119,156 @@ def stable_intervals(
 
 @dataclass
 class ScanJob:
-    """What to scan: the design at ``attrs`` (every override), one scan per free attr."""
+    """What to scan: the design at ``attrs`` (every override), one scan per free attr.
 
-    grammar: object
-    structure: object
+    Plain data, sent to the scanning process: the grammar travels as its text.
+    """
+
+    text: str  # the grammar's source
+    name: str  # its file name, for messages
     attrs: dict
     ranges: dict  # name -> (lower, upper) of the free attrs
     current: dict  # name -> (value, stands) of the current design
     seed: int = 0
     lot: tuple[float, float] | None = None
     generation: int = 0
-    cached: dict = field(default_factory=dict)
 
 
 class StabilityScanner:
-    """One background thread that scans the free attrs of the latest design.
+    """Scans the free attrs of the latest design in a separate, lower-priority process.
 
+    A process of its own, rather than a thread, so that a scan shares neither the interpreter
+    lock nor, on a machine with a spare core, the processor with the designer's next change;
+    its priority is lowered (``nice`` +10) so the change wins where they do compete.
     ``publish(generation, name, result)`` receives partial and final results (``result`` has a
-    ``status``: "scanning" or "done"). ``idle`` is waited on before each evaluation so that a
-    foreground update never shares the processor with a scan for long.
+    ``status``: "scanning" or "done"). :attr:`idle` must be set while no foreground work runs: a
+    scan waits for it before each evaluation.
     """
 
-    def __init__(
-        self,
-        publish: Callable[[int, str, dict], None],
-        idle: threading.Event,
-        *,
-        pause: float = PAUSE_S,
-    ):
+    def __init__(self, publish: Callable[[int, str, dict], None], *, pause: float = PAUSE_S):
+        context = multiprocessing.get_context("spawn")  # the server has threads: never fork
         self._publish = publish
-        self._idle = idle
-        self._pause = pause
-        self._job: ScanJob | None = None
-        self._wake = threading.Condition()
-        self._stopped = False
-        self._cache: dict[tuple, dict] = {}
-        self._thread = threading.Thread(target=self._run, name="stability-scan", daemon=True)
-        self._thread.start()
+        self.idle = context.Event()
+        self.idle.set()
+        self._generation = context.Value("q", 0)
+        self._requests = context.Queue()
+        self._results = context.Queue()
+        self._process = context.Process(
+            target=_work,
+            args=(self._requests, self._results, self._generation, self.idle, pause),
+            name="shapegen-stability-scan",
+            daemon=True,
+        )
+        self._process.start()
+        self._reader = threading.Thread(target=self._read, name="stability-results", daemon=True)
+        self._reader.start()
 
     def request(self, job: ScanJob) -> None:
-        """Scan ``job`` (abandoning any older one)."""
-        with self._wake:
-            self._job = job
-            self._wake.notify_all()
+        """Scan ``job``, abandoning any older one."""
+        self._generation.value = job.generation
+        self._requests.put(job)
 
     def stop(self) -> None:
-        with self._wake:
-            self._stopped = True
-            self._job = None
-            self._wake.notify_all()
-        self._thread.join(timeout=5)
+        self._generation.value = -1
+        self.idle.set()
+        try:
+            self._requests.put(None)
+            self._process.join(timeout=5)
+        finally:
+            if self._process.is_alive():
+                self._process.terminate()
+                self._process.join(timeout=5)
+            self._results.put(None)
+            self._reader.join(timeout=5)
 
-    def _current(self, generation: int) -> bool:
-        job = self._job
-        return not self._stopped and job is not None and job.generation == generation
-
-    def _run(self) -> None:
+    def _read(self) -> None:
         while True:
-            with self._wake:
-                while not self._stopped and self._job is None:
-                    self._wake.wait()
-                if self._stopped:
-                    return
-                job = self._job
-                # wait for a pause in the designer's edits
-                while self._wake.wait(timeout=self._pause):
-                    if self._stopped:
-                        return
-                    job = self._job
-                if self._job is not job:
-                    continue
-            try:
-                self._scan(job)
-            except Stale:
-                continue
-            with self._wake:
-                if self._job is job:
-                    self._job = None
+            item = self._results.get()
+            if item is None:
+                return
+            self._publish(*item)
 
-    def _scan(self, job: ScanJob) -> None:
-        for name, (lower, upper) in job.ranges.items():
-            others = {k: v for k, v in job.attrs.items() if k != name}
-            key = (id(job.grammar), name, lower, upper, _frozen(others), job.seed, job.lot)
-            if key in self._cache:
-                self._publish(job.generation, name, {**self._cache[key], "status": "done"})
-                continue
-            evaluator = Evaluator(
-                job.grammar,
-                job.structure,
-                [FreeParameter(name, lower, lower, upper)],
-                others,
-                seed=job.seed,
-                lot=job.lot,
-            )
 
-            def judge(x: float, evaluator=evaluator) -> bool | None:
-                self._idle.wait()
-                if not self._current(job.generation):
+def _work(requests, results, generation, idle, pause: float) -> None:
+    """The scanning process: the latest job after a pause in the edits, one attr at a time."""
+    import os
+    import queue
+
+    try:
+        os.nice(10)
+    except OSError:
+        pass
+    grammars: dict[str, object] = {}
+    cache: dict[tuple, dict] = {}
+    job = None
+    while True:
+        if job is None:
+            job = requests.get()
+        try:  # a pause in the designer's edits: take the newest job until none comes for a while
+            while True:
+                job = requests.get(timeout=pause)
+        except queue.Empty:
+            pass
+        if job is None:
+            return
+        current, job = job, None
+        try:
+            _scan(current, grammars, cache, results, generation, idle)
+        except Stale:
+            continue
+
+
+def _scan(job: ScanJob, grammars: dict, cache: dict, results, generation, idle) -> None:
+    from shapegen.engine.grammar_api import parse_grammar
+    from shapegen.structures import make_structure
+
+    def stale() -> bool:
+        return generation.value != job.generation
+
+    if job.text not in grammars:
+        grammars.clear()
+        grammars[job.text] = parse_grammar(job.text, job.name)
+    grammar = grammars[job.text]
+    structure = make_structure(grammar.structure)
+    for name, (lower, upper) in job.ranges.items():
+        others = {k: v for k, v in job.attrs.items() if k != name}
+        key = (job.text, name, lower, upper, _frozen(others), job.seed, job.lot)
+        if key in cache:
+            results.put((job.generation, name, {**cache[key], "status": "done"}))
+            continue
+        evaluator = Evaluator(
+            grammar,
+            structure,
+            [FreeParameter(name, lower, lower, upper)],
+            others,
+            seed=job.seed,
+            lot=job.lot,
+        )
+
+        def judge(x: float, evaluator=evaluator) -> bool | None:
+            while not idle.wait(0.5):
+                if stale():
                     raise Stale
-                evaluation = evaluator.evaluate(np.array([x]))
-                if not self._current(job.generation):
-                    raise Stale
-                return bool(evaluation.feasible) if evaluation.ok else None
+            if stale():
+                raise Stale
+            evaluation = evaluator.evaluate(np.array([x]))
+            if stale():
+                raise Stale
+            return bool(evaluation.feasible) if evaluation.ok else None
 
-            def partial(samples, name=name, lower=lower, upper=upper) -> None:
-                self._publish(
-                    job.generation,
-                    name,
-                    {"status": "scanning", "samples": [[x, s] for x, s in samples],
-                     "intervals": [], "range": [lower, upper]},
-                )  # fmt: skip
+        def partial(samples, name=name, lower=lower, upper=upper) -> None:
+            scanning = {"status": "scanning", "samples": [[x, s] for x, s in samples],
+                        "intervals": [], "range": [lower, upper]}  # fmt: skip
+            results.put((job.generation, name, scanning))
 
-            value, stands = job.current[name]
-            known = {float(value): stands} if lower <= value <= upper else {}
-            result = stable_intervals(judge, lower, upper, known=known, on_sample=partial)
-            result["range"] = [lower, upper]
-            if len(self._cache) > 256:
-                self._cache.clear()
-            self._cache[key] = result
-            self._publish(job.generation, name, {**result, "status": "done"})
+        value, stands = job.current[name]
+        known = {float(value): stands} if lower <= value <= upper else {}
+        result = stable_intervals(judge, lower, upper, known=known, on_sample=partial)
+        result["range"] = [lower, upper]
+        if len(cache) > 256:
+            cache.clear()
+        cache[key] = result
+        results.put((job.generation, name, {**result, "status": "done"}))
 
 
 def _frozen(attrs: Mapping[str, object]) -> tuple:

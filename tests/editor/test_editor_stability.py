@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from conftest import STACK_BOUNDARY
 
-from shapegen import pipeline
 from shapegen.editor.stability import (
     REFINE_STEPS,
     SCAN_POINTS,
@@ -16,7 +15,6 @@ from shapegen.editor.stability import (
     StabilityScanner,
     stable_intervals,
 )
-from shapegen.structures import make_structure
 
 
 def window(*spans):
@@ -65,9 +63,12 @@ def test_the_known_verdict_is_used_and_not_judged_again():
     assert 0.123 not in judged and [0.123, True] in result["samples"]
 
 
+def job(stack_file, generation):
+    return ScanJob(stack_file.read_text(), str(stack_file), {"offset": 0.2},
+                   {"offset": (0.0, 0.9)}, {"offset": (0.2, True)}, generation=generation)  # fmt: skip
+
+
 def test_the_stack_stands_up_to_half_a_block_of_offset(stack_file):
-    grammar = pipeline.load(str(stack_file))
-    structure = make_structure(grammar.structure)
     published = {}
     done = threading.Event()
 
@@ -76,15 +77,10 @@ def test_the_stack_stands_up_to_half_a_block_of_offset(stack_file):
         if result["status"] == "done":
             done.set()
 
-    idle = threading.Event()
-    idle.set()
-    scanner = StabilityScanner(publish, idle, pause=0.0)
+    scanner = StabilityScanner(publish, pause=0.0)
     try:
-        scanner.request(
-            ScanJob(grammar, structure, {"offset": 0.2}, {"offset": (0.0, 0.9)},
-                    {"offset": (0.2, True)}, generation=1)
-        )  # fmt: skip
-        assert done.wait(60), "the scan did not finish"
+        scanner.request(job(stack_file, 1))
+        assert done.wait(120), "the scan did not finish"
     finally:
         scanner.stop()
     result = published["offset"]
@@ -95,24 +91,15 @@ def test_the_stack_stands_up_to_half_a_block_of_offset(stack_file):
 
 
 def test_a_newer_design_abandons_the_scan_of_an_older_one(stack_file):
-    grammar = pipeline.load(str(stack_file))
-    structure = make_structure(grammar.structure)
     seen = []
-    idle = threading.Event()
-    idle.set()
-    scanner = StabilityScanner(lambda g, n, r: seen.append((g, r["status"])), idle, pause=0.0)
-
-    def job(generation):
-        return ScanJob(grammar, structure, {"offset": 0.2}, {"offset": (0.0, 0.9)},
-                       {"offset": (0.2, True)}, generation=generation)  # fmt: skip
-
+    scanner = StabilityScanner(lambda g, n, r: seen.append((g, r["status"])), pause=0.0)
     try:
-        idle.clear()  # hold the first scan before its first evaluation
-        scanner.request(job(1))
-        time.sleep(0.2)
-        scanner.request(job(2))
-        idle.set()
-        deadline = time.monotonic() + 60
+        scanner.idle.clear()  # hold the first scan before its first evaluation
+        scanner.request(job(stack_file, 1))
+        time.sleep(0.5)
+        scanner.request(job(stack_file, 2))
+        scanner.idle.set()
+        deadline = time.monotonic() + 120
         while (2, "done") not in seen and time.monotonic() < deadline:
             time.sleep(0.05)
     finally:
