@@ -105,6 +105,7 @@ class EditorSession:
                 self._idle.set()
             with self._state_lock:
                 self.attrs.update(values)
+                self._optimization = None  # the last search's message no longer applies
                 self._outcome = outcome
                 self._timings = self._last_timings
                 self._changed(model=True)

@@ -23,10 +23,14 @@ __all__ = [
     "SCAN_POINTS",
     "ScanJob",
     "StabilityScanner",
+    "scan",
     "stable_intervals",
 ]
 
-import multiprocessing
+import dataclasses
+import json
+import subprocess
+import sys
 import threading
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -137,104 +141,95 @@ class ScanJob:
 class StabilityScanner:
     """Scans the free attrs of the latest design in a separate, lower-priority process.
 
-    A process of its own, rather than a thread, so that a scan shares neither the interpreter
-    lock nor, on a machine with a spare core, the processor with the designer's next change;
-    its priority is lowered (``nice`` +10) so the change wins where they do compete.
-    ``publish(generation, name, result)`` receives partial and final results (``result`` has a
-    ``status``: "scanning" or "done"). :attr:`idle` must be set while no foreground work runs: a
-    scan waits for it before each evaluation.
+    A process of its own (``python -m shapegen.editor.scan_worker``, spoken to in JSON lines),
+    rather than a thread, so that a scan shares neither the interpreter lock nor, on a machine
+    with a spare core, the processor with the designer's next change; its priority is lowered
+    (``nice`` +10) so the change wins where they do compete. ``publish(generation, name,
+    result)`` receives partial and final results (``result`` has a ``status``: "scanning" or
+    "done"). :attr:`idle` is set while no foreground work runs: a scan waits for it before each
+    evaluation.
     """
 
     def __init__(self, publish: Callable[[int, str, dict], None], *, pause: float = PAUSE_S):
-        context = multiprocessing.get_context("spawn")  # the server has threads: never fork
         self._publish = publish
-        self.idle = context.Event()
-        self.idle.set()
-        self._generation = context.Value("q", 0)
-        self._requests = context.Queue()
-        self._results = context.Queue()
-        self._process = context.Process(
-            target=_work,
-            args=(self._requests, self._results, self._generation, self.idle, pause),
-            name="shapegen-stability-scan",
-            daemon=True,
+        self._lock = threading.Lock()
+        self._process = subprocess.Popen(
+            [sys.executable, "-m", "shapegen.editor.scan_worker", repr(float(pause))],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+            encoding="utf-8",
+            bufsize=1,
         )
-        self._process.start()
+        self.idle = _RemoteFlag(self._send)
         self._reader = threading.Thread(target=self._read, name="stability-results", daemon=True)
         self._reader.start()
 
     def request(self, job: ScanJob) -> None:
         """Scan ``job``, abandoning any older one."""
-        self._generation.value = job.generation
-        self._requests.put(job)
+        self._send({"job": dataclasses.asdict(job)})
 
     def stop(self) -> None:
-        self._generation.value = -1
-        self.idle.set()
+        self._send({"stop": True})
         try:
-            self._requests.put(None)
-            self._process.join(timeout=5)
-        finally:
-            if self._process.is_alive():
-                self._process.terminate()
-                self._process.join(timeout=5)
-            self._results.put(None)
-            self._reader.join(timeout=5)
+            self._process.stdin.close()
+        except OSError:
+            pass
+        try:
+            self._process.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            self._process.kill()
+            self._process.wait(timeout=5)
+        self._reader.join(timeout=5)
+
+    def _send(self, message: dict) -> None:
+        line = json.dumps(message, allow_nan=False) + "\n"
+        with self._lock:
+            try:
+                self._process.stdin.write(line)
+                self._process.stdin.flush()
+            except (OSError, ValueError):  # the process is gone: no shading, the editor goes on
+                pass
 
     def _read(self) -> None:
-        while True:
-            item = self._results.get()
-            if item is None:
-                return
-            self._publish(*item)
+        for line in self._process.stdout:
+            try:
+                generation, name, result = json.loads(line)
+            except ValueError:
+                continue
+            self._publish(generation, name, result)
 
 
-def _work(requests, results, generation, idle, pause: float) -> None:
-    """The scanning process: the latest job after a pause in the edits, one attr at a time."""
-    import os
-    import queue
+class _RemoteFlag:
+    """An event-like flag whose changes are sent to the scanning process."""
 
-    try:
-        os.nice(10)
-    except OSError:
-        pass
-    grammars: dict[str, object] = {}
-    cache: dict[tuple, dict] = {}
-    job = None
-    while True:
-        if job is None:
-            job = requests.get()
-        try:  # a pause in the designer's edits: take the newest job until none comes for a while
-            while True:
-                job = requests.get(timeout=pause)
-        except queue.Empty:
-            pass
-        if job is None:
-            return
-        current, job = job, None
-        try:
-            _scan(current, grammars, cache, results, generation, idle)
-        except Stale:
-            continue
+    def __init__(self, send: Callable[[dict], None]):
+        self._send = send
+        self._set = True
+
+    def set(self) -> None:
+        self._set = True
+        self._send({"idle": True})
+
+    def clear(self) -> None:
+        self._set = False
+        self._send({"idle": False})
+
+    def is_set(self) -> bool:
+        return self._set
 
 
-def _scan(job: ScanJob, grammars: dict, cache: dict, results, generation, idle) -> None:
-    from shapegen.engine.grammar_api import parse_grammar
-    from shapegen.structures import make_structure
+def scan(job: ScanJob, grammar, structure, cache: dict, emit, stale, wait_idle) -> None:
+    """Scan every free attr of ``job`` (in the scanning process).
 
-    def stale() -> bool:
-        return generation.value != job.generation
-
-    if job.text not in grammars:
-        grammars.clear()
-        grammars[job.text] = parse_grammar(job.text, job.name)
-    grammar = grammars[job.text]
-    structure = make_structure(grammar.structure)
+    ``emit(generation, name, result)`` sends results; ``stale()`` says the design changed (the
+    scan then raises :class:`Stale`); ``wait_idle()`` returns once no change is being computed.
+    """
     for name, (lower, upper) in job.ranges.items():
         others = {k: v for k, v in job.attrs.items() if k != name}
         key = (job.text, name, lower, upper, _frozen(others), job.seed, job.lot)
         if key in cache:
-            results.put((job.generation, name, {**cache[key], "status": "done"}))
+            emit(job.generation, name, {**cache[key], "status": "done"})
             continue
         evaluator = Evaluator(
             grammar,
@@ -246,9 +241,7 @@ def _scan(job: ScanJob, grammars: dict, cache: dict, results, generation, idle) 
         )
 
         def judge(x: float, evaluator=evaluator) -> bool | None:
-            while not idle.wait(0.5):
-                if stale():
-                    raise Stale
+            wait_idle()
             if stale():
                 raise Stale
             evaluation = evaluator.evaluate(np.array([x]))
@@ -259,7 +252,7 @@ def _scan(job: ScanJob, grammars: dict, cache: dict, results, generation, idle) 
         def partial(samples, name=name, lower=lower, upper=upper) -> None:
             scanning = {"status": "scanning", "samples": [[x, s] for x, s in samples],
                         "intervals": [], "range": [lower, upper]}  # fmt: skip
-            results.put((job.generation, name, scanning))
+            emit(job.generation, name, scanning)
 
         value, stands = job.current[name]
         known = {float(value): stands} if lower <= value <= upper else {}
@@ -268,7 +261,7 @@ def _scan(job: ScanJob, grammars: dict, cache: dict, results, generation, idle) 
         if len(cache) > 256:
             cache.clear()
         cache[key] = result
-        results.put((job.generation, name, {**result, "status": "done"}))
+        emit(job.generation, name, {**result, "status": "done"})
 
 
 def _frozen(attrs: Mapping[str, object]) -> tuple:
