@@ -248,6 +248,13 @@ def _mesh_nodes(scene: trimesh.Scene) -> list[tuple[str, dict, np.ndarray, np.nd
         if not np.allclose(matrix, np.eye(4)):
             vertices = vertices @ matrix[:3, :3].T + matrix[:3, 3]
         faces = np.asarray(geometry.faces, dtype=np.int64)
+        if faces.min() < 0 or faces.max() >= len(
+            vertices
+        ):  # trimesh does not check (process=False)
+            raise InputFormatError(
+                f"mesh {str(node)!r}: a triangle refers to vertex {int(faces.max())}, but the mesh"
+                f" has {len(vertices)} vertices"
+            )
         nodes.append((str(node), extras, vertices, faces))
     return nodes
 
