@@ -5,6 +5,7 @@ from __future__ import annotations
 __all__ = ["add_command", "run"]
 
 import argparse
+from pathlib import Path
 
 from shapegen.cli.display import SearchProgress, print_build
 from shapegen.cli.options import (
@@ -42,6 +43,12 @@ def add_command(commands) -> None:
     )
     build.add_argument("--report", metavar="R.json", help="write a JSON report")
     build.add_argument(
+        "--picture",
+        metavar="OUT.png",
+        help="write a picture of the model: blocks in their label colours, or, with --analyze or"
+        " --optimize of block statics, in the tension they need, with a legend",
+    )
+    build.add_argument(
         "--analyze",
         action="store_true",
         help="also judge whether the design stands, with the grammar's structure (block statics,"
@@ -63,7 +70,11 @@ def add_command(commands) -> None:
 def run(args: argparse.Namespace) -> int:
     from shapegen.pipeline import design, encode_outputs
 
-    check_outputs({"-o": args.output, "--report": args.report}, models=("-o",))
+    check_outputs(
+        {"-o": args.output, "--report": args.report, "--picture": args.picture}, models=("-o",)
+    )
+    if args.picture and Path(args.picture).suffix.lower() != ".png":
+        raise CommandLineError(f"--picture {args.picture}: a picture is written as .png")
     search = search_settings(args)
     statics = statics_options(
         args,
@@ -99,18 +110,26 @@ def run(args: argparse.Namespace) -> int:
     report = outcome.report
     if way is not None:
         report["osm"] = outcome.model.metadata["osm"]
-    write_all(
-        encode_outputs(
-            outcome.model,
-            outcome.assessment,
-            report,
-            model_path=args.output,
-            report_path=args.report,
-        )
+    outputs = encode_outputs(
+        outcome.model, outcome.assessment, report, model_path=args.output, report_path=args.report
     )
+    if args.picture:
+        outputs.append((Path(args.picture), _picture(args.grammar, outcome)))
+    write_all(outputs)
     if not args.quiet:
         print_build(str(args.grammar), report)
     return 0
+
+
+def _picture(grammar_path: str, outcome) -> bytes:
+    from shapegen.export.picture import encode_picture
+
+    assessment = outcome.assessment
+    analysis = assessment.detail if assessment and assessment.structure == "blocks" else None
+    title = Path(grammar_path).name
+    if assessment is not None:
+        title += ": stands" if assessment.stands else ": does not stand"
+    return encode_picture(outcome.model, analysis, title=title)
 
 
 def _osm_way(args: argparse.Namespace, grammar, attrs: dict):
