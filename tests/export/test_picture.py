@@ -6,6 +6,7 @@ The PNG files are decoded with Pillow and judged by their pixels.
 from __future__ import annotations
 
 import io
+import re
 from types import SimpleNamespace
 
 import numpy as np
@@ -222,3 +223,29 @@ def test_the_example_in_the_formats_page_runs(tmp_path, monkeypatch):
 def test_a_picture_too_large_for_memory_is_refused_before_any_work():
     with pytest.raises(ValueError, match="million pixels"):
         render_blocks(wall(), np.array([GREY] * 8), size_px=(10_000, 10_000))
+
+
+def test_build_writes_a_picture_coloured_by_tension(tmp_path, capsys):
+    from shapegen.cli import main
+
+    path = tmp_path / "arch.png"
+    # The file's arch on narrow columns needs tension: red blocks and the colour bar.
+    assert main(["build", "arch_columns.grammar", "--analyze", "--picture", str(path), "-q"]) == 0
+    rgb = np.asarray(Image.open(path).convert("RGB")).astype(int)
+    view = rgb[:, :600]  # left of the legend strip (the right 160 of 800 pixels)
+    red = (view[:, :, 0] > 120) & (view[:, :, 1] < 60) & (view[:, :, 2] < 60)
+    assert red.sum() > 2000
+
+
+@pytest.mark.parametrize(
+    "where, message",
+    [("arch.jpg", "--picture .*arch.jpg: a picture is written as .png"),
+     ("missing/arch.png", "--picture .*missing/arch.png: folder .* does not exist")],
+)  # fmt: skip
+def test_build_refuses_a_bad_picture_path_in_one_line(tmp_path, capsys, where, message):
+    from shapegen.cli import main
+
+    assert main(["build", "arch_columns.grammar", "--picture", str(tmp_path / where)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and re.search(message, err)
+    assert list(tmp_path.iterdir()) == []
