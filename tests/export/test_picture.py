@@ -213,7 +213,8 @@ def test_the_example_in_the_formats_page_runs(tmp_path, monkeypatch):
 
     text = (Path(__file__).resolve().parents[2] / "docs" / "formats.md").read_text()
     section = text[text.index("## Pictures") :]
-    example = section[section.index("```python\n") + 10 : section.index("```\n", 10)]
+    start = section.index("```python\n") + len("```python\n")
+    example = section[start : section.index("```\n", start)]
     monkeypatch.chdir(tmp_path)
     exec(compile(example, "formats.md", "exec"), {})
     assert Image.open(tmp_path / "arch.png").size == (800, 600)
