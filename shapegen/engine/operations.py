@@ -296,7 +296,7 @@ class ShapeOperations:
         ]
 
         def values(args, state):
-            size = state.shape.scope.size
+            size = state.shape.scope.size.tolist()  # floats: an overflow is inf, not a warning
             return [
                 value(args, state) * size[k] if relative else value(args, state)
                 for value, relative, k in compiled

@@ -36,7 +36,9 @@ KINDS = {
 }
 
 
-def campaign(counts: dict[str, int], *, small_only: bool, start: int = 0) -> dict:
+def campaign(
+    counts: dict[str, int], *, small_only: bool, start: int = 0, progress: bool = False
+) -> dict:
     """Run ``counts[kind]`` inputs of each kind; return the figures and the failures."""
     warm_up()
     failures = []
@@ -53,6 +55,10 @@ def campaign(counts: dict[str, int], *, small_only: bool, start: int = 0) -> dic
             label = f"{kind} {number}"
             if outcome.kind != "clean":
                 failures.append(f"{label}: {outcome.kind}: {outcome.detail}")
+                if progress:
+                    print(failures[-1], file=sys.stderr, flush=True)
+            if progress and total % 500 == 0:
+                print(f"{total} inputs, {len(failures)} failures", file=sys.stderr, flush=True)
             elif outcome.detail:
                 clean_errors += 1
             slowest = max(slowest, (outcome.cpu_seconds, label))
@@ -104,7 +110,7 @@ def _main(argv: list[str]) -> None:
     total = int(argv[0]) if argv else 10_000
     counts = {"rule": total // 2, "random": total * 3 // 10}
     counts["model"] = total - sum(counts.values())
-    figures = campaign(counts, small_only=False, start=100_000)
+    figures = campaign(counts, small_only=False, start=100_000, progress=True)
     for key, value in figures.items():
         if key == "failures":
             print(f"failures: {len(value)}")
