@@ -145,6 +145,8 @@ def main() -> None:
             page = open_page(browser, editor.url)
             drag_slider(page, "angle", 60)
             wait_for_verdict(page, "stands")
+            latency = page.evaluate("window.shapegenEditor.lastLatencyMs")
+            print(f"slider change to verdict on screen: {latency / 1000:.3f} s")
             wait_for_stable_range(page, "angle")
             page.check("#show-ground")
             time.sleep(1.0)

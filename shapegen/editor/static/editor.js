@@ -176,60 +176,72 @@ function frame(sceneData) {
 function applyColours() {
   if (!modelGroup) return;
   const tension = app.colourMode === 'tension' && app.scene?.legend.max_tension !== null;
+  // with forces shown the blocks turn translucent, so the arrows inside them can be seen
+  const seeThrough = Boolean(app.scene?.forces) && ($('show-joints').checked || $('show-ground').checked);
   modelGroup.traverse((o) => {
     const block = o.userData.block;
     if (!o.isMesh || !block) return;
     const c = tension && block.tension_color ? block.tension_color : block.color;
+    const opacity = Math.min(c[3] / 255, seeThrough ? 0.35 : 1);
     o.material.color = rgb(c);
-    o.material.transparent = c[3] < 255;
-    o.material.opacity = c[3] / 255;
+    o.material.transparent = opacity < 1;
+    o.material.opacity = opacity;
+    o.material.depthWrite = opacity >= 1;
     o.material.needsUpdate = true;
   });
 }
 
+// Arrows as in the seed paper's Figure 1: solid shafts and heads, drawn through translucent
+// blocks. A joint's resultant is centred on its centre of pressure; a reaction starts where the
+// support pushes and points into the structure.
 function drawForces() {
+  const unitY = new THREE.Vector3(0, 1, 0);
   for (const kind of ['joints', 'ground']) {
     const group = forceGroups[kind];
-    group.children.slice().forEach((c) => { group.remove(c); c.geometry.dispose(); });
+    group.children.slice().forEach((c) => { group.remove(c); c.geometry.dispose(); c.material.dispose(); });
     const forces = app.scene?.forces;
     if (!forces || !forces[kind].length) continue;
     const scale = forces.metres_per_newton;
-    const shafts = [];
-    const heads = [];
+    const longest = forces.peak * scale;
+    const arrows = [];
     for (const [x, y, z, fx, fy, fz] of forces[kind]) {
       const f = new THREE.Vector3(fx, fy, fz);
       const length = f.length() * scale;
       if (!(length > 0)) continue;
       const dir = f.normalize();
       const point = new THREE.Vector3(x, y, z);
-      // a reaction ends at the joint it pushes on; a joint's resultant is centred on its point
-      const start = kind === 'ground'
-        ? point.clone().addScaledVector(dir, -length)
-        : point.clone().addScaledVector(dir, -length / 2);
-      const headLength = 0.25 * length;
-      const headStart = start.clone().addScaledVector(dir, length - headLength);
-      shafts.push(start.x, start.y, start.z, headStart.x, headStart.y, headStart.z);
-      heads.push({ at: headStart, dir, length: headLength });
+      const start = kind === 'ground' ? point : point.clone().addScaledVector(dir, -length / 2);
+      arrows.push({ start, dir, length });
     }
     const colour = FORCE_COLOURS[kind];
-    const shaftGeometry = new THREE.BufferGeometry();
-    shaftGeometry.setAttribute('position', new THREE.Float32BufferAttribute(shafts, 3));
-    group.add(new THREE.LineSegments(shaftGeometry, new THREE.LineBasicMaterial({ color: colour })));
-    const cone = new THREE.ConeGeometry(0.35, 1, 8);
-    cone.translate(0, 0.5, 0);
-    const instanced = new THREE.InstancedMesh(cone, new THREE.MeshBasicMaterial({ color: colour }), heads.length);
+    const material = new THREE.MeshBasicMaterial({ color: colour });
+    const shaft = new THREE.CylinderGeometry(1, 1, 1, 8);
+    shaft.translate(0, 0.5, 0);
+    const head = new THREE.ConeGeometry(1, 1, 10);
+    head.translate(0, 0.5, 0);
+    const shafts = new THREE.InstancedMesh(shaft, material, arrows.length);
+    const heads = new THREE.InstancedMesh(head, material, arrows.length);
     const m = new THREE.Matrix4();
     const q = new THREE.Quaternion();
-    const up = new THREE.Vector3(0, 1, 0);
-    heads.forEach((h, i) => {
-      q.setFromUnitVectors(up, h.dir);
-      m.compose(h.at, q, new THREE.Vector3(h.length, h.length, h.length));
-      instanced.setMatrixAt(i, m);
+    const radius = 0.025 * longest;
+    arrows.forEach((a, i) => {
+      const headLength = Math.min(0.2 * longest, 0.5 * a.length);
+      q.setFromUnitVectors(unitY, a.dir);
+      m.compose(a.start, q, new THREE.Vector3(radius, a.length - headLength, radius));
+      shafts.setMatrixAt(i, m);
+      const headStart = a.start.clone().addScaledVector(a.dir, a.length - headLength);
+      m.compose(headStart, q, new THREE.Vector3(2.4 * radius, headLength, 2.4 * radius));
+      heads.setMatrixAt(i, m);
     });
-    group.add(instanced);
+    group.add(shafts, heads);
   }
+  showForces();
+}
+
+function showForces() {
   forceGroups.joints.visible = $('show-joints').checked;
   forceGroups.ground.visible = $('show-ground').checked;
+  applyColours();
 }
 
 function swatch(c) {
@@ -346,11 +358,7 @@ for (const radio of document.querySelectorAll('input[name=colour]')) {
   radio.addEventListener('change', () => { app.colourMode = radio.value; applyColours(); legend(); });
 }
 for (const id of ['show-joints', 'show-ground']) {
-  $(id).addEventListener('change', () => {
-    forceGroups.joints.visible = $('show-joints').checked;
-    forceGroups.ground.visible = $('show-ground').checked;
-    legend();
-  });
+  $(id).addEventListener('change', () => { showForces(); legend(); });
 }
 
 // ------------------------------------------------------------------ the state on the page
