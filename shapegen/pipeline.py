@@ -31,13 +31,18 @@ from pathlib import Path
 
 from shapegen.json_values import json_ready
 from shapegen.model import Model
+from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.statics.options import StaticsOptions
 from shapegen.structures import Assessment, Design, Structure, make_structure
 
 
 @dataclass(frozen=True)
 class SearchSettings:
-    """How to search the free attrs (see :func:`shapegen.search.optimize`)."""
+    """How to search the free attrs (see :func:`shapegen.search.optimize`).
+
+    ``margin`` defaults to :data:`~shapegen.search.DEFAULT_MARGIN` (0.1): a design that stands
+    with a reserve; 0 asks for the feasibility boundary.
+    """
 
     free: Sequence[str] | None = None
     fix: Mapping[str, object] = field(default_factory=dict)
@@ -45,7 +50,7 @@ class SearchSettings:
     gradient: str | None = None
     max_iter: int = 50
     multistart: int = 0
-    margin: float = 0.0
+    margin: float = DEFAULT_MARGIN
 
 
 @dataclass

@@ -59,7 +59,7 @@ def test_optimize_writes_a_standing_model_and_the_optimization_report(stack, tmp
 def test_free_fix_and_closest(stack, tmp_path):
     report = tmp_path / "r.json"
     code = main(["build", str(stack), "--optimize", "--free", "base,shift", "--objective",
-                 "closest", "--quiet", "--report", str(report)])  # fmt: skip
+                 "closest", "--margin", "0", "--quiet", "--report", str(report)])  # fmt: skip
     assert code == 0
     parameters = json.loads(report.read_text())["optimization"]["parameters"]
     assert parameters["base"]["final"] == pytest.approx(0.2, abs=0.01)
@@ -99,3 +99,49 @@ def test_landscape_writes_a_png_and_refuses_bad_requests(stack, tmp_path, capsys
     assert main(["landscape", str(stack), "base", "base", "-o", str(picture)]) == 2
     assert main(["landscape", str(stack), "base", "shift", "-o", str(tmp_path / "x.jpg")]) == 2
     assert "Traceback" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("extra", "margin", "words"),
+    [([], 0.1, "with a 10% margin"), (["--margin", "0"], 0.0, "margin 0: on the feasibility")],
+)
+def test_optimize_leaves_a_reserve_unless_asked_for_the_boundary(stack, tmp_path, extra, margin,
+                                                                 words):  # fmt: skip
+    # The joint spans x in [0.3, 0.5 + base]; shrunk about its middle to k = 1 - margin of its
+    # length it still reaches the top block's centroid (x = 0.8) iff base >= (0.8-0.2k)/(1+k).
+    report, model = tmp_path / "r.json", tmp_path / "m.json"
+    code = main(["build", str(stack), "--optimize", "--objective", "closest", *extra, "--quiet",
+                 "--report", str(report), "-o", str(model)])  # fmt: skip
+    assert code == 0
+    optimization = json.loads(report.read_text())["optimization"]
+    assert optimization["margin"] == margin and words in optimization["message"]
+    k = 1 - margin
+    assert optimization["parameters"]["base"]["final"] == pytest.approx(
+        (0.8 - 0.2 * k) / (1 + k), abs=2e-3
+    )
+    # The design written stands when judged with its joints shrunk to 1 - margin (and, with the
+    # reserve, with joints shrunk to 95% too: the check the boundary design fails).
+    for kern, stands in [(0.95, True), (0.9, True)] if margin else [(0.95, False)]:
+        assert main(["analyze", str(model), "--kern", str(kern), "-q", "--report",
+                     str(report)]) == 0  # fmt: skip
+        assert json.loads(report.read_text())["feasible"] is stands, kern
+
+
+def test_values_outside_a_range_are_warned_about_once_each_and_never_clamped(stack, tmp_path,
+                                                                             capsys):  # fmt: skip
+    report = tmp_path / "r.json"
+    code = main(["build", str(stack), "--optimize", "--free", "base", "--fix", "shift=0.9",
+                 "--set", "base=0.8", "--quiet", "--report", str(report)])  # fmt: skip
+    assert code == 0
+    lines = capsys.readouterr().err.splitlines()
+    assert lines == [
+        "shapegen: warning: --set base=0.8 is outside its @Range [0, 0.6]: built as given (a"
+        " range is a hint, as in CityEngine)",
+        "shapegen: warning: --fix shift=0.9 is outside its @Range [0, 0.6]: built as given (a"
+        " range is a hint, as in CityEngine)",
+        "shapegen: warning: base = 0.8 is outside its @Range [0, 0.6]: the search starts from"
+        " the nearest bound, 0.6",
+    ]
+    data = json.loads(report.read_text())
+    assert data["attrs"]["shift"] == 0.9  # fixed: used as given
+    assert data["optimization"]["parameters"]["base"]["initial"] == 0.6  # the search's start

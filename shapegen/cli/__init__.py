@@ -69,12 +69,16 @@ def main(argv=None) -> int:
 
 
 def _run(argv) -> int:
+    import warnings
+
     from shapegen.errors import ShapegenError
 
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
-        return args.handler(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _warning_line
+            args = parser.parse_args(argv)
+            return args.handler(args)
     except SystemExit as exc:  # --help and --version
         return exc.code if isinstance(exc.code, int) else EXIT_OK
     except ShapegenError as exc:
@@ -107,6 +111,12 @@ def _interrupted(exc: KeyboardInterrupt) -> int:
         for signum, handler in held.items():
             signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
     return status
+
+
+def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning (a search start moved into its @Range...) as one line, like the errors."""
+    sys.stderr.write(f"shapegen: warning: {message}\n")
+    sys.stderr.flush()
 
 
 def _fail(message: str) -> int:

@@ -84,6 +84,8 @@ def run(args: argparse.Namespace) -> int:
     grammar = load_grammar(args.grammar)
     check_statics_apply(args, grammar, args.grammar)
     attrs = checked_attrs(grammar, args.assignments)
+    if search is not None:
+        checked_attrs(grammar, list(search.fix.items()), "--fix", given=attrs)
     place = None
     way = _osm_way(args, grammar, attrs)
     if way is not None:

@@ -139,8 +139,10 @@ def _attr_value(raw: str, name: str) -> object:
             if len(raw) >= 2 and raw[0] == raw[-1] and raw[0] in "\"'":
                 return raw[1:-1]
             return raw
-    if not math.isfinite(number):
-        raise argparse.ArgumentTypeError(f"{name}: expected a finite number, got {raw!r}")
+    # an int beyond float range (1 and 400 zeros) would overflow math.isfinite
+    if (isinstance(number, int) and number.bit_length() > 1023) or not math.isfinite(number):
+        shown = raw if len(raw) <= 40 else raw[:37] + "..."
+        raise argparse.ArgumentTypeError(f"{name}: expected a finite number, got {shown!r}")
     return number
 
 
@@ -206,8 +208,12 @@ def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") ->
     )
 
 
-def add_search_options(parser: argparse.ArgumentParser, margin: float = 0.0) -> None:
-    """The --optimize options; ``margin`` is the default --margin (simulate keeps a reserve)."""
+def add_search_options(parser: argparse.ArgumentParser, margin: float | None = None) -> None:
+    """The --optimize options; ``margin`` is the default --margin (None: the search's own,
+    :data:`~shapegen.search.DEFAULT_MARGIN`)."""
+    from shapegen.search.defaults import DEFAULT_MARGIN
+
+    margin = DEFAULT_MARGIN if margin is None else margin
     parser.set_defaults(default_margin=margin)
     parser.add_argument(
         "--optimize",
@@ -255,14 +261,9 @@ def add_search_options(parser: argparse.ArgumentParser, margin: float = 0.0) -> 
         metavar="M",
         help="with --optimize: safety margin, 0 to 1: search for a design that still stands"
         " with every joint shrunk to 1 - M of its size (block statics) or with the cable"
-        " diameter limit lowered to 1 - M of itself (cables)"
-        + (
-            f" (default {margin:g}: a design on the statics boundary has no reserve for the"
-            " simulator's contact compliance; 0 stops on the boundary, as the paper does)"
-            if margin
-            else " (default 0: stop on the boundary, as the papers do; 0.1 leaves a reserve a"
-            " real structure or a simulation needs)"
-        ),
+        f" diameter limit lowered to 1 - M of itself (cables); default {margin:g}, a reserve"
+        " for what the statics does not model (a design on the boundary falls in the"
+        " simulator); 0 stops on the feasibility boundary, as the papers do",
     )
     parser.add_argument(
         "--multistart",
@@ -340,8 +341,13 @@ def attr_names(grammar) -> list[str]:
     return list(grammar.attrs)
 
 
-def checked_attrs(grammar, assignments: list[tuple[str, object]]) -> dict:
-    """The ``--set`` values by name; an unknown name is an error with close suggestions."""
+def checked_attrs(
+    grammar, assignments: list[tuple[str, object]], option: str = "--set", given=None
+) -> dict:
+    """The ``--set`` (or ``--fix``) values by name; an unknown name is an error with close
+    suggestions, and a number outside its attr's ``@Range`` one warning line: CityEngine treats
+    a range as a hint, so the value is used as given, never clamped. ``given`` holds the other
+    attrs the ranges may depend on."""
     known = attr_names(grammar)
     attrs: dict = {}
     for name, value in assignments:
@@ -349,26 +355,25 @@ def checked_attrs(grammar, assignments: list[tuple[str, object]]) -> dict:
             close = difflib.get_close_matches(name, known, n=3)
             hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
             listing = f" (attrs: {', '.join(known)})" if known and not close else ""
-            raise CommandLineError(f"--set {name}: the grammar has no attr {name!r}{hint}{listing}")
+            raise CommandLineError(
+                f"{option} {name}: the grammar has no attr {name!r}{hint}{listing}"
+            )
         attrs[name] = value
-    _warn_outside_ranges(grammar, attrs)
+    _warn_outside_ranges(grammar, attrs, option, given or {})
     return attrs
 
 
-def _warn_outside_ranges(grammar, attrs: dict) -> None:
-    """One warning line per ``--set`` value outside its attr's ``@Range``: CityEngine treats a
-    range as a hint, so the value is used as given, never clamped; a search starts from the
-    nearest bound."""
+def _warn_outside_ranges(grammar, attrs: dict, option: str, given: dict) -> None:
     import sys
 
-    ranges = grammar.parameter_ranges(attrs)
+    ranges = grammar.parameter_ranges({**given, **attrs})
     for name, value in attrs.items():
         spec = ranges.get(name)
         if spec is None or isinstance(value, bool) or not isinstance(value, int | float):
             continue
         if not spec["min"] <= value <= spec["max"]:
             sys.stderr.write(
-                f"shapegen: warning: --set {name}={value:g} is outside its @Range"
+                f"shapegen: warning: {option} {name}={value:g} is outside its @Range"
                 f" [{spec['min']:g}, {spec['max']:g}]: built as given (a range is a hint, as in"
-                " CityEngine); a search starts from the nearest bound\n"
+                " CityEngine)\n"
             )

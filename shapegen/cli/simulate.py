@@ -185,6 +185,8 @@ def _simulation_model(args: argparse.Namespace):
     statics = statics_options(args) if search is not None else None
     check_statics_apply(args, grammar, name)
     attrs = checked_attrs(grammar, args.assignments)
+    if search is not None:
+        checked_attrs(grammar, list(search.fix.items()), "--fix", given=attrs)
     measure = "y/W^2" if grammar.structure == "blocks" else "measure"
     with SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:
         outcome = design(

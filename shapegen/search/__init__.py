@@ -4,16 +4,16 @@
 >>> from shapegen.search import optimize
 >>> result = optimize(shapegen.load_grammar("arch_columns.grammar"))  # doctest: +SKIP
 >>> result.feasible, result.values                                     # doctest: +SKIP
+
+A search asks for a design that stands with a reserve: ``margin`` defaults to
+:data:`DEFAULT_MARGIN` (0.1); ``margin=0`` stops on the feasibility boundary, as the papers do.
+The names below load on first use, so reading :data:`DEFAULT_MARGIN` costs nothing.
 """
 
-from shapegen.search.evaluator import Evaluation, Evaluator
-from shapegen.search.landscape import Landscape, energy_landscape
-from shapegen.search.optimize import GRADIENTS, OBJECTIVES, optimize
-from shapegen.search.parameters import FreeParameter, select_parameters
-from shapegen.search.result import IterationRecord, OptimizationResult
-from shapegen.search.session import DesignSession
+from shapegen.search.defaults import DEFAULT_MARGIN
 
 __all__ = [
+    "DEFAULT_MARGIN",
     "DesignSession",
     "Evaluation",
     "Evaluator",
@@ -23,7 +23,35 @@ __all__ = [
     "Landscape",
     "OBJECTIVES",
     "OptimizationResult",
+    "RangeWarning",
     "energy_landscape",
     "optimize",
     "select_parameters",
 ]
+
+_HOMES = {
+    "DesignSession": "session",
+    "Evaluation": "evaluator",
+    "Evaluator": "evaluator",
+    "FreeParameter": "parameters",
+    "GRADIENTS": "optimizer",
+    "IterationRecord": "result",
+    "Landscape": "landscape",
+    "OBJECTIVES": "optimizer",
+    "OptimizationResult": "result",
+    "RangeWarning": "parameters",
+    "energy_landscape": "landscape",
+    "optimize": "optimizer",
+    "select_parameters": "parameters",
+}
+
+
+def __getattr__(name: str):
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module 'shapegen.search' has no attribute {name!r}")
+    from importlib import import_module
+
+    value = getattr(import_module(f"shapegen.search.{home}"), name)
+    globals()[name] = value
+    return value

@@ -3,13 +3,19 @@
 
 from __future__ import annotations
 
-__all__ = ["FreeParameter", "select_parameters"]
+__all__ = ["FreeParameter", "RangeWarning", "select_parameters"]
 
 import difflib
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from shapegen.errors import GrammarError
+
+
+class RangeWarning(UserWarning):
+    """A search was given a starting value outside the attr's ``@Range``: it starts from the
+    nearest bound (a search stays within the ranges; a build uses the value as given)."""
 
 
 @dataclass(frozen=True)
@@ -67,5 +73,14 @@ def select_parameters(
             raise GrammarError(f"{grammar.name}: attr {name!r} is not a number")
         if not (lower < upper):
             raise GrammarError(f"{grammar.name}: attr {name!r} has an empty @Range")
-        parameters.append(FreeParameter(name, min(max(initial, lower), upper), lower, upper))
+        start = min(max(initial, lower), upper)
+        if start != initial:
+            warnings.warn(
+                RangeWarning(
+                    f"{name} = {initial:g} is outside its @Range [{lower:g}, {upper:g}]: the"
+                    f" search starts from the nearest bound, {start:g}"
+                ),
+                stacklevel=3,
+            )
+        parameters.append(FreeParameter(name, start, lower, upper))
     return parameters, attrs

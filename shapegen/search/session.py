@@ -12,7 +12,8 @@ __all__ = ["DesignSession"]
 from collections.abc import Callable, Sequence
 
 from shapegen.engine.grammar_api import Grammar, load_grammar
-from shapegen.search.optimize import optimize
+from shapegen.search.defaults import DEFAULT_MARGIN
+from shapegen.search.optimizer import optimize
 from shapegen.search.result import IterationRecord, OptimizationResult
 from shapegen.structures import Structure, make_structure
 
@@ -33,7 +34,7 @@ class DesignSession:
         seed: int = 0,
         structure: Structure | None = None,
         gradient: str | None = None,
-        margin: float = 0.0,
+        margin: float = DEFAULT_MARGIN,
     ):
         self.grammar = grammar if isinstance(grammar, Grammar) else load_grammar(grammar)
         self.free = list(free) if free else None

@@ -89,7 +89,8 @@ def test_search_stops_at_the_first_design_under_the_maximum(
 ):
     structure = RecordingCable()
     attrs = bridge_attrs(span, length, lanes, tracks, cables, diameter)
-    result = optimize(grammar, attrs=attrs, structure=structure, build=False)
+    # Margin 0: the paper's rule, the first design whose cable is under the maximum itself.
+    result = optimize(grammar, attrs=attrs, structure=structure, build=False, margin=0)
     assert result.feasible and result.converged, name
     assert (result.method, result.gradient, result.structure) == ("Powell", "none", "cable")
     assert result.model is None  # build=False: nothing was built
@@ -114,7 +115,7 @@ def test_search_stops_at_the_first_design_under_the_maximum(
 def test_search_with_a_forward_gradient_also_stops_at_the_first_standing_design(grammar):
     structure = RecordingCable()
     attrs = bridge_attrs(*REAL_BRIDGES[0][1:])
-    result = optimize(grammar, attrs=attrs, structure=structure, gradient="forward")
+    result = optimize(grammar, attrs=attrs, structure=structure, gradient="forward", margin=0)
     assert result.feasible and result.method == "SLSQP"
     assert all(not assessment.stands for _, assessment in structure.judged[:-1])
     assert structure.judged[-1][1].stands
@@ -125,7 +126,7 @@ def test_an_acceptable_start_stops_at_the_first_evaluation(grammar):
     structure = RecordingCable()
     attrs = {"length": 1500.0, "min_span": 1000.0, "main_span": 1500.0, "sag": 150.0}
     attrs["max_cable_diameter"] = 5.0
-    result = optimize(grammar, attrs=attrs, structure=structure, build=False)
+    result = optimize(grammar, attrs=attrs, structure=structure, build=False, margin=0)
     assert result.feasible and result.converged
     assert (result.evaluations, result.iterations) == (1, 0)
     assert len(structure.judged) == 1
@@ -192,7 +193,7 @@ def test_automatic_towers_add_main_spans_until_the_cable_fits(grammar):
 def test_fixing_the_sag_searches_the_main_span_alone(grammar):
     structure = RecordingCable()
     attrs = {"main_span": 1900.0, "max_cable_diameter": 0.924}
-    result = optimize(grammar, attrs=attrs, fix={"sag": 152.0}, structure=structure)
+    result = optimize(grammar, attrs=attrs, fix={"sag": 152.0}, structure=structure, margin=0)
     assert list(result.parameters) == ["main_span"]
     assert result.feasible and result.attrs["sag"] == 152.0
     assert all(arguments["sag"] == 152.0 for arguments, _ in structure.judged)

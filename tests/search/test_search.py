@@ -10,6 +10,7 @@ cable model from the start rule's @Structure("cable", ...) arguments; a design s
 governing cable diameter is at most (1 - margin) max_cable_diameter.
 """
 
+import inspect
 import math
 
 import numpy as np
@@ -18,9 +19,11 @@ import pytest
 from shapegen import load_grammar, parse_grammar
 from shapegen.errors import GrammarError, OptionError
 from shapegen.search import (
+    DEFAULT_MARGIN,
     GRADIENTS,
     DesignSession,
     Evaluator,
+    RangeWarning,
     energy_landscape,
     optimize,
     select_parameters,
@@ -128,12 +131,16 @@ def test_energy_search_reaches_a_feasible_design_within_bounds(stack, gradient):
     assert result.gradient == gradient
     assert result.method == ("Powell" if gradient == "none" else "SLSQP")
     assert result.structure == "blocks" and result.measure == "y/W²"
+    # By default the design stands with a reserve: with its joint shrunk to k = 0.9 of its size,
+    # which needs base >= (0.8 - 0.2 k) / (1 + k) (see the margin test below), not only 0.3.
+    assert result.margin == DEFAULT_MARGIN == 0.1
+    k = 1 - DEFAULT_MARGIN
     base = result.values["base"]
-    assert 0.3 - 1e-6 <= base <= 0.6
+    assert (0.8 - 0.2 * k) / (1 + k) - 1e-4 <= base <= 0.6
     assert result.initial_infeasibility > 0 and result.final_infeasibility <= 1e-4
     assert result.evaluations > 0
     assert result.model is not None and result.analysis.feasible
-    assert result.assessment.stands and result.assessment.measure == result.final_infeasibility
+    assert result.assessment.stands and result.assessment.margin == 0.0  # judged without it
     report = result.to_report()
     assert set(report) == REPORT_KEYS
     assert report["evaluations"] == result.evaluations
@@ -146,7 +153,7 @@ def test_statics_options_reach_the_search_through_the_structure(stack):
     # back-end asked for.
     k = 0.9
     shrunk = make_structure("blocks", StaticsOptions(kern=k, solver="clarabel"))
-    result = optimize(stack, structure=shrunk, objective="closest")
+    result = optimize(stack, structure=shrunk, objective="closest", margin=0)
     assert result.feasible and result.margin == 0.0
     assert result.values["base"] == pytest.approx((0.8 - 0.2 * k) / (1 + k), abs=2e-3)
     assert result.analysis.to_report()["solver"] == "clarabel"
@@ -155,7 +162,9 @@ def test_statics_options_reach_the_search_through_the_structure(stack):
 def test_closest_objective_finds_the_projection_onto_the_feasible_boundary(stack):
     # From (0.1, 0) the nearest point of base + shift >= 0.3 (equal ranges) is (0.2, 0.1).
     structure = make_structure("blocks", CLARABEL)
-    result = optimize(stack, structure=structure, free=["base", "shift"], objective="closest")
+    result = optimize(
+        stack, structure=structure, free=["base", "shift"], objective="closest", margin=0
+    )
     assert result.feasible
     assert result.values["base"] == pytest.approx(0.2, abs=0.01)
     assert result.values["shift"] == pytest.approx(0.1, abs=0.01)
@@ -259,8 +268,12 @@ def test_margin_finds_the_boundary_of_the_shrunk_joints(stack):
     assert result.margin == pytest.approx(1 - k)
     assert result.assessment.margin == 0.0  # the returned verdict is without margin
     assert result.values["base"] == pytest.approx((0.8 - 0.2 * k) / (1 + k), abs=2e-3)
-    plain = optimize(stack, structure=structure, objective="closest")
+    plain = optimize(stack, structure=structure, objective="closest", margin=0)
     assert plain.values["base"] == pytest.approx(0.3, abs=2e-3)
+    assert "margin 0: on the feasibility boundary" in plain.message
+    default = optimize(stack, structure=structure, objective="closest")  # a 10% reserve
+    assert default.margin == 0.1 and default.values == pytest.approx(result.values, abs=1e-6)
+    assert "with a 10% margin" in default.message
 
 
 def test_design_session_warm_starts_from_the_last_solution(stack):
@@ -313,13 +326,13 @@ def test_cable_margin_lowers_the_diameter_limit(bridge, gradient):
 def test_closest_objective_for_the_bridge(bridge):
     # With the span at its lower bound already, the nearest standing design deepens the sag
     # only as far as the cable needs: it ends on the boundary d = max_cable_diameter.
-    result = optimize(bridge, attrs=THIN, objective="closest", build=False)
+    result = optimize(bridge, attrs=THIN, objective="closest", build=False, margin=0)
     assert result.feasible and result.objective == "closest"
     assert result.values["main_span"] == pytest.approx(1280.0, abs=1.0)
     assert 152 < result.values["sag"] < 1280 / 2
     assert cable_diameter(result) == pytest.approx(0.8, rel=1e-3)
     assert cable_diameter(result) <= 0.8
-    energy = optimize(bridge, attrs=THIN, build=False)
+    energy = optimize(bridge, attrs=THIN, build=False, margin=0)
     start = np.array([1280.0, 152.0])
     span = np.array([1966.0 - 1280.0, 983.0 - 1.0])
 
@@ -355,7 +368,7 @@ def test_cable_landscape_values_are_the_cable_measure(bridge):
 
 
 def test_design_session_on_the_bridge(bridge):
-    session = DesignSession(bridge)
+    session = DesignSession(bridge, margin=0)  # 0.7 m cannot be met with a 10% reserve
     assert session.structure.name == "cable"
     session.set(**THIN)
     first = session.optimize()
@@ -381,3 +394,19 @@ def test_bridge_result_attrs_hold_the_fixed_attrs_and_rebuild_the_model(bridge):
     assert recorded["arguments"] == bridge.structure_arguments(result.attrs)
     again = CableModel().assess(Design.of_model(result.model))
     assert again.section == result.assessment.section
+
+
+def test_a_start_outside_its_range_is_warned_about_and_a_build_is_never_clamped(stack):
+    with pytest.warns(RangeWarning, match=r"base = 0.8 is outside its @Range \[0, 0.6\]: the"):
+        result = optimize(stack, attrs={"base": 0.8}, margin=0)
+    assert result.parameters["base"]["initial"] == 0.6  # a search stays within the ranges
+    assert stack.build(attrs={"base": 0.8}).metadata["attrs"]["base"] == 0.8  # a build does not
+
+
+def test_every_search_entry_point_defaults_to_the_same_reserve(stack):
+    from shapegen.pipeline import SearchSettings
+
+    assert DEFAULT_MARGIN == 0.1
+    assert SearchSettings().margin == DEFAULT_MARGIN
+    assert DesignSession(stack).margin == DEFAULT_MARGIN
+    assert inspect.signature(optimize).parameters["margin"].default == DEFAULT_MARGIN

@@ -17,6 +17,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 
 from shapegen.errors import GeometryError, OptionError
+from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.evaluator import Evaluator
 from shapegen.search.methods import Search
 from shapegen.search.parameters import FreeParameter, select_parameters
@@ -42,7 +43,7 @@ def optimize(
     multistart: int = 0,
     start: Mapping[str, float] | None = None,
     progress: Callable[[IterationRecord], None] | None = None,
-    margin: float = 0.0,
+    margin: float = DEFAULT_MARGIN,
     build: bool = True,
 ) -> OptimizationResult:
     """Search the free parameters of ``grammar`` for a design that stands.
@@ -79,8 +80,9 @@ def optimize(
         Reserve in [0, 1): the search judges designs with the structure's margin (block statics:
         every joint shrunk about its centroid to ``1 - margin`` of its size; cables: the
         diameter limit lowered to ``1 - margin`` of itself), so the design found stands with
-        that reserve. 0 (the default) stops on the boundary, as the papers do. The returned
-        assessment is without margin.
+        that reserve. Default :data:`~shapegen.search.DEFAULT_MARGIN` (0.1): a design that
+        stands with a reserve; 0 stops on the feasibility boundary, as the papers do. The
+        returned assessment is without margin; the result records the margin used.
     build
         When the structure judged without a model (the cable model), build the final design
         once at the end (False: ``model`` stays None).
@@ -128,6 +130,8 @@ def optimize(
     if margin > 0 and design is not None:
         assessment = structure.assess(design, margin=0.0)
         message += f" (with a {margin:.0%} margin)"
+    elif design is not None:
+        message += " (margin 0: on the feasibility boundary, no reserve)"
     model = design.model if design is not None and (build or design.built) else None
     return OptimizationResult(
         converged=converged,
