@@ -9,8 +9,9 @@ Every input comes from its number, so a failure names an input that can be repla
 ``python tests/fuzz/test_fuzz.py rule 123`` (or ``random``, ``model``).
 
 The quick lane runs a few hundred inputs; the slow lane a few thousand. A campaign of any size
-prints its figures: ``python tests/fuzz/test_fuzz.py 10000``; the last one is recorded in
-docs/performance.md ("Bounded work").
+prints its figures: ``python tests/fuzz/test_fuzz.py 10000`` (or one kind from a given number,
+``python tests/fuzz/test_fuzz.py 2500 rule 100000``, to run parts in parallel); the last one is
+recorded in docs/performance.md ("Bounded work").
 """
 
 from __future__ import annotations
@@ -110,7 +111,10 @@ def _main(argv: list[str]) -> None:
     total = int(argv[0]) if argv else 10_000
     counts = {"rule": total // 2, "random": total * 3 // 10}
     counts["model"] = total - sum(counts.values())
-    figures = campaign(counts, small_only=False, start=100_000, progress=True)
+    start = 100_000
+    if len(argv) == 3:  # one kind from a given number, to run a campaign in parallel parts
+        counts, start = {argv[1]: total}, int(argv[2])
+    figures = campaign(counts, small_only=False, start=start, progress=True)
     for key, value in figures.items():
         if key == "failures":
             print(f"failures: {len(value)}")
