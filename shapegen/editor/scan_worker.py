@@ -5,13 +5,15 @@ In, on standard input: ``{"job": {...}}`` (a :class:`~shapegen.editor.stability.
 newer one abandons the older), ``{"idle": true|false}`` (whether the editor is free: a scan
 waits for it before each evaluation), ``{"stop": true}``. Out, on standard output:
 ``[generation, attr, result]`` per partial or final result. Anything else the process prints
-goes to standard error. It runs at lower priority (``nice`` +10).
+goes to standard error. It runs at lower priority (``nice`` +10), ignores Ctrl-C (the editor
+ends it) and is stopped by the editor (``SIGSTOP``) while a change is computed.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import signal
 import sys
 import threading
 
@@ -88,6 +90,9 @@ def main(argv: list[str] | None = None) -> None:
         os.nice(10)
     except OSError:
         pass
+    # Ctrl-C in the terminal reaches the whole process group: the editor ends this process
+    # (its standard input closes), so the interrupt is not for it
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     from shapegen.engine.grammar_api import parse_grammar
     from shapegen.structures import make_structure
 

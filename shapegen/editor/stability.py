@@ -29,6 +29,8 @@ __all__ = [
 
 import dataclasses
 import json
+import os
+import signal
 import subprocess
 import sys
 import threading
@@ -142,12 +144,12 @@ class StabilityScanner:
     """Scans the free attrs of the latest design in a separate, lower-priority process.
 
     A process of its own (``python -m shapegen.editor.scan_worker``, spoken to in JSON lines),
-    rather than a thread, so that a scan shares neither the interpreter lock nor, on a machine
-    with a spare core, the processor with the designer's next change; its priority is lowered
-    (``nice`` +10) so the change wins where they do compete. ``publish(generation, name,
-    result)`` receives partial and final results (``result`` has a ``status``: "scanning" or
-    "done"). :attr:`idle` is set while no foreground work runs: a scan waits for it before each
-    evaluation.
+    rather than a thread, so that a scan shares neither the interpreter lock nor the processor
+    with the designer's next change: the process is stopped while a change is computed (see
+    :class:`_RemoteFlag`), and runs at lower priority (``nice`` +10) otherwise.
+    ``publish(generation, name, result)`` receives partial and final results (``result`` has
+    a ``status``: "scanning" or "done"). :attr:`idle` is set while no foreground work runs: a
+    scan waits for it before each evaluation.
     """
 
     def __init__(self, publish: Callable[[int, str, dict], None], *, pause: float = PAUSE_S):
@@ -161,7 +163,7 @@ class StabilityScanner:
             encoding="utf-8",
             bufsize=1,
         )
-        self.idle = _RemoteFlag(self._send)
+        self.idle = _RemoteFlag(self._send, self._process.pid)
         self._reader = threading.Thread(target=self._read, name="stability-results", daemon=True)
         self._reader.start()
 
@@ -170,6 +172,7 @@ class StabilityScanner:
         self._send({"job": dataclasses.asdict(job)})
 
     def stop(self) -> None:
+        self.idle.set()
         self._send({"stop": True})
         try:
             self._process.stdin.close()
@@ -201,19 +204,35 @@ class StabilityScanner:
 
 
 class _RemoteFlag:
-    """An event-like flag whose changes are sent to the scanning process."""
+    """An event-like flag whose changes are sent to the scanning process.
 
-    def __init__(self, send: Callable[[dict], None]):
+    Where the system has job control (POSIX), clearing it also stops the process outright
+    (``SIGSTOP``) until it is set again (``SIGCONT``): the analysis it was running waits too,
+    so the designer's change has the processor to itself.
+    """
+
+    def __init__(self, send: Callable[[dict], None], pid: int):
         self._send = send
+        self._pid = pid
         self._set = True
+
+    def _signal(self, name: str) -> None:
+        number = getattr(signal, name, None)
+        if number is not None:
+            try:
+                os.kill(self._pid, number)
+            except OSError:  # the process is gone
+                pass
 
     def set(self) -> None:
         self._set = True
+        self._signal("SIGCONT")
         self._send({"idle": True})
 
     def clear(self) -> None:
         self._set = False
         self._send({"idle": False})
+        self._signal("SIGSTOP")
 
     def is_set(self) -> bool:
         return self._set
