@@ -26,11 +26,21 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("rule", nargs="?", default="cluny.grammar", help="default cluny.grammar")
     parser.add_argument("--out", default="out", help="output folder (default out/)")
     args = parser.parse_args(argv)
+    from shapegen.export.atomic import stop_on_signals
+
     try:
-        return _run(args.rule, Path(args.out))
+        with stop_on_signals():  # Ctrl-C or kill: no temporary file left, one line
+            return _run(args.rule, Path(args.out))
     except ShapegenError as exc:
         sys.stderr.write(f"shapegen demo: error: {exc}\n")
         return 2
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        sys.stderr.write(f"shapegen demo: error: {where}{exc.strerror or exc}\n")
+        return 2
+    except KeyboardInterrupt as exc:
+        sys.stderr.write("shapegen demo: interrupted\n")
+        return getattr(exc, "exit_status", 130)
 
 
 def _run(rule: str, out: Path) -> int:
@@ -38,14 +48,21 @@ def _run(rule: str, out: Path) -> int:
     from rich.table import Table
 
     from shapegen import pipeline
+    from shapegen.export.atomic import check_writable
     from shapegen.export.model_io import write_model
     from shapegen.export.picture import render_model
 
     console = Console(highlight=False)
+    if out.exists() and not out.is_dir():
+        raise ShapegenError(f"--out {out}: exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()
     grammar = pipeline.load(rule)
     name = Path(grammar.name).stem
+    glb = out / f"{name}.glb"
+    picture = out / f"{name}.png"
+    for path in (glb, picture):  # before the search, not after it
+        check_writable(path)
     console.print(f"[bold]shapegen demo[/bold]: {grammar.name}")
 
     start = pipeline.design(grammar, assess=True)
@@ -68,8 +85,6 @@ def _run(rule: str, out: Path) -> int:
     if start.structure.name != "blocks":
         before_analysis = after = None  # pictures colour blocks by tension only
 
-    glb = out / f"{name}.glb"
-    picture = out / f"{name}.png"
     write_model(after_model, glb, after)
     _before_after(before_model, before_analysis, after_model, after, picture, render_model)
 
@@ -83,7 +98,8 @@ def _run(rule: str, out: Path) -> int:
     console.print(
         f"  blocks {len(after_model.blocks)}; before: "
         + ("stands" if before.stands else "does not stand")
-        + f"; after: {verdict}; {result.iterations} iterations, {result.evaluations} evaluations, "
+        + f"; after: {verdict} (search margin {result.margin:g}); {result.iterations} iterations,"
+        f" {result.evaluations} evaluations, "
         f"{result.seconds:.1f} s optimizing, {time.perf_counter() - started:.1f} s in all"
     )
     console.print(f"  wrote {glb} and {picture}")

@@ -103,7 +103,7 @@ def test_landscape_writes_a_png_and_refuses_bad_requests(stack, tmp_path, capsys
 
 @pytest.mark.parametrize(
     ("extra", "margin", "words"),
-    [([], 0.1, "with a 10% margin"), (["--margin", "0"], 0.0, "margin 0: on the feasibility")],
+    [([], 0.1, "with a 10% margin"), (["--margin", "0"], 0.0, "(margin 0: no reserve)")],
 )
 def test_optimize_leaves_a_reserve_unless_asked_for_the_boundary(stack, tmp_path, extra, margin,
                                                                  words):  # fmt: skip

@@ -253,3 +253,12 @@ def test_sigterm_in_process_is_143(monkeypatch, capsys):
     monkeypatch.setattr(rules, "run", terminated)
     assert main(["rules"]) == 143
     assert capsys.readouterr().err == "shapegen: interrupted\n"
+
+
+def test_the_demo_checks_its_folder_before_any_work(tmp_path, capsys, no_work):
+    from shapegen.demo import main as demo
+
+    (tmp_path / "file").write_text("")
+    assert demo(["arch_columns.grammar", "--out", str(tmp_path / "file")]) == 2
+    err = capsys.readouterr().err
+    assert err == f"shapegen demo: error: --out {tmp_path / 'file'}: exists and is not a folder\n"

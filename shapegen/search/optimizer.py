@@ -131,7 +131,7 @@ def optimize(
         assessment = structure.assess(design, margin=0.0)
         message += f" (with a {margin:.0%} margin)"
     elif design is not None:
-        message += " (margin 0: on the feasibility boundary, no reserve)"
+        message += " (margin 0: no reserve)"
     model = design.model if design is not None and (build or design.built) else None
     return OptimizationResult(
         converged=converged,

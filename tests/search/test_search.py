@@ -270,7 +270,7 @@ def test_margin_finds_the_boundary_of_the_shrunk_joints(stack):
     assert result.values["base"] == pytest.approx((0.8 - 0.2 * k) / (1 + k), abs=2e-3)
     plain = optimize(stack, structure=structure, objective="closest", margin=0)
     assert plain.values["base"] == pytest.approx(0.3, abs=2e-3)
-    assert "margin 0: on the feasibility boundary" in plain.message
+    assert "(margin 0: no reserve)" in plain.message
     default = optimize(stack, structure=structure, objective="closest")  # a 10% reserve
     assert default.margin == 0.1 and default.values == pytest.approx(result.values, abs=1e-6)
     assert "with a 10% margin" in default.message
