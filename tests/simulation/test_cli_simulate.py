@@ -29,7 +29,16 @@ def test_report_of_a_falling_stack(stack_path, tmp_path, capsys):
     assert simulation["moved_blocks"] >= 1
     assert simulation["simulated_seconds"] == pytest.approx(2.0)
     assert len(simulation["per_block"]) == 3
-    assert "collapses" in capsys.readouterr().out
+    # The evidence: the top block fell by many times its 0.2 m thickness, fast.
+    top = simulation["largest_movers"][0]
+    assert top["id"] == "s2" and top["fell"] and top["relative_displacement"] > 1.0
+    assert simulation["max_relative_displacement"] == top["relative_displacement"]
+    assert simulation["peak_speed"] > 1.0  # m/s
+    track = simulation["displacement_over_time"]
+    assert len(track["time"]) == len(track["max_displacement"]) == 41  # 20 per second, and t = 0
+    assert track["max_displacement"][-1] > track["max_displacement"][0]
+    out = capsys.readouterr().out
+    assert "collapses" in out and "fell" in out and "widths" in out and "peak" in out
 
 
 def test_friction_and_remove_reach_the_run(stack_path, tmp_path):
