@@ -31,9 +31,10 @@ def add_command(commands) -> None:
         description=(
             "Drop a block model into a rigid-body simulator (pybullet, the optional extra"
             " shapegen[sim]): convex blocks with their exact mass and inertia, static supports"
-            " and ground, restitution 0. After a settling window the model stands when no block"
-            " moves more than the tolerance. MODEL is a .grammar file (built first; a bare name"
-            " finds a bundled rule) or a block model (.json or a mesh). Exits 0 whether or not"
+            " and ground, restitution 0. The model stands when no block moved more than 10% of"
+            " its smallest width and none is still moving at the end. MODEL is a .grammar file"
+            " (built first; a bare name finds a bundled rule) or a block model (.json or a"
+            " mesh). Exits 0 whether or not"
             " it stands; exits 2 for bad input."
         ),
     )
@@ -64,22 +65,22 @@ def add_command(commands) -> None:
         type=positive,
         default=None,
         metavar="DT",
-        help="simulator step in seconds (default 0.001)",
+        help="simulator step in seconds (default 0.0005)",
     )
     simulate.add_argument(
         "--iterations",
         type=int,
         default=None,
         metavar="N",
-        help="contact-solver iterations per step (default 100)",
+        help="contact-solver iterations per step (default 50)",
     )
     simulate.add_argument(
         "--tolerance",
         type=positive,
         default=None,
         metavar="M",
-        help="a block moved when a vertex moved more than M metres after settling (default:"
-        " 0.001, or 1/10000 of the model's height when that is larger)",
+        help="judge by a fixed distance instead: a block fell when a vertex moved more than M"
+        " metres after settling (default: relative to each block's smallest width)",
     )
     simulate.add_argument(
         "--fps",
