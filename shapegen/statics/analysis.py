@@ -43,6 +43,9 @@ from shapegen.statics.solvers import Solution, SolveStatus, get_backend
 from shapegen.tolerances import ROUNDOFF_REL
 
 PHASE_ONE_STOP = 1e-3  # scaled sum of tensions (of W) above which phase one may stop early
+# estimated sum of tensions (of W) above which phase one may stop on its estimate; the QP then
+# confirms "does not stand" (y / W^2 above screen_rel), else phase one is run in full
+PHASE_ONE_SCREEN = 0.1
 
 
 @dataclass
@@ -153,10 +156,16 @@ def certify(problem: StaticsProblem, x: np.ndarray) -> float:
 
 
 def _solve(
-    problem: StaticsProblem, names: tuple[str, ...], phase_one: bool = False
+    problem: StaticsProblem,
+    names: tuple[str, ...],
+    phase_one: bool = False,
+    accept=None,
+    screen: bool = False,
+    warm_start: np.ndarray | None = None,
 ) -> tuple[Solution, str]:
     """Solve with the first of ``names`` that succeeds (an inaccurate solution is enough when
-    only its primal forces are read, as for the certificate)."""
+    only its primal forces are read, as for the certificate; a back-end that can may stop at
+    the first solution that ``accept`` certifies)."""
     accepted = {SolveStatus.OPTIMAL, SolveStatus.INFEASIBLE}
     if phase_one:
         accepted.add(SolveStatus.OPTIMAL_INACCURATE)
@@ -167,6 +176,12 @@ def _solve(
             # phase one only has to tell "zero" from "clearly positive" (1e4 times the
             # certificate's resolution)
             backend.stop_above = PHASE_ONE_STOP
+        if accept is not None and hasattr(backend, "accept"):
+            backend.accept = accept
+        if screen and hasattr(backend, "screen_above"):
+            backend.screen_above = PHASE_ONE_SCREEN
+        if warm_start is not None and hasattr(backend, "warm_start"):
+            backend.warm_start = warm_start
         solution = backend.solve(problem)
         if solution.status in accepted:
             return solution, name
@@ -229,7 +244,17 @@ def analyze(
     timings["assembly"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    phase_one, used = _solve(problem.with_objective("tension_sum"), order, phase_one=True)
+
+    def solve_phase_one(screen: bool) -> tuple[Solution, str]:
+        return _solve(
+            problem.with_objective("tension_sum"),
+            order,
+            phase_one=True,
+            accept=lambda x: certify(problem, x) <= tol.feasible_rel,
+            screen=screen,
+        )
+
+    phase_one, used = solve_phase_one(screen=True)
     timings["solve"] = time.perf_counter() - start
     start = time.perf_counter()
     feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
@@ -256,11 +281,21 @@ def analyze(
         solution.multipliers = np.zeros_like(phase_one.multipliers)
     else:
         start = time.perf_counter()
-        solution, used = _solve(problem, order)
+        # the QP starts from phase one's forces (same constraints) where the back-end can
+        solution, used = _solve(problem, order, warm_start=phase_one.x)
         timings["solve"] += time.perf_counter() - start
         if solution.status.solved:
             m = problem.n_vertices
             y_norm = float(np.sum(solution.x[m : 2 * m] ** 2))
+            if phase_one.info.get("screened") and y_norm <= tol.screen_rel:
+                # phase one stopped on an estimate and the QP's tension is small: decide exactly
+                start = time.perf_counter()
+                phase_one, _ = solve_phase_one(screen=False)
+                timings["solve"] += time.perf_counter() - start
+                if phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel:
+                    feasible, solution = True, phase_one
+                    y_norm = float(np.sum(phase_one.x[m : 2 * m] ** 2))
+                    solution.multipliers = np.zeros_like(phase_one.multipliers)
             if not phase_one.status.solved and y_norm <= tol.screen_rel:
                 start = time.perf_counter()
                 feasible = certify(problem, solution.x) <= tol.feasible_rel

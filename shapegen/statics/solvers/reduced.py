@@ -243,6 +243,21 @@ class ReducedBackend(Backend):
     factorization
         How the normal equations are factored: ``"auto"`` (MKL PARDISO when it loads, else
         SuperLU), ``"pardiso"`` or ``"superlu"``.
+    accept
+        A test of the primal solution ``x`` (e.g. the feasibility certificate) that, once it
+        holds, ends the solve: the question the caller asks is answered (``info["accepted"]``).
+        It is tried once the objective is small (``accept_below``) and the equations hold.
+    accept_below
+        The objective below which ``accept`` is tried.
+    warm_start
+        (attribute) Forces ``x`` of a problem with the same constraints, e.g. phase one's, to
+        start from (see :meth:`_warm_point`); None starts cold.
+    screen_above
+        Stop early (``optimal_inaccurate``, ``info["screened"]``) once the objective minus the
+        gap, an estimate of the dual bound, exceeds this value with the equations nearly
+        satisfied. Not a proof: the caller must confirm "clearly positive" otherwise (the
+        analysis does with the paper's QP, and repeats phase one in full when the QP's
+        tension is small).
     """
 
     name = "reduced"
@@ -254,12 +269,19 @@ class ReducedBackend(Backend):
         verbose: bool = False,
         stop_above: float | None = None,
         factorization: str = "auto",
+        accept=None,
+        accept_below: float = 1e-6,
+        screen_above: float | None = None,
     ):
         self.tolerance = tolerance
         self.max_iter = max_iter
         self.verbose = verbose
         self.stop_above = stop_above
         self.factorization = factorization
+        self.accept = accept
+        self.accept_below = accept_below
+        self.screen_above = screen_above
+        self.warm_start = None
 
     def solve(self, problem) -> Solution:
         self.refuse_unsupported(problem)  # linear inequalities only: no exact friction cone
@@ -269,10 +291,13 @@ class ReducedBackend(Backend):
             return trivial
         kkt = _Kkt(problem, self.factorization)
         point = self._initial_point(kkt)
+        if self.warm_start is not None:
+            point = self._warm_point(kkt, point, self.warm_start)
         n_ineq = point.slack_cut.size + point.slack_s.size
         tol = self.tolerance
         load_scale = 1.0 + float(np.abs(kkt.w).max())
         status, best, iterations, info_early = SolveStatus.MAX_ITERATIONS, None, 0, False
+        accepted, screened = False, False
         # separate primal and dual step lengths (the usual choice for linear programs) are only
         # consistent when the Hessian is negligible: the phase-one problem
         separate_steps = bool(problem.quadratic.max() <= 1e-6)
@@ -314,6 +339,23 @@ class ReducedBackend(Backend):
                 best = point
             if gap <= 1e-3 * tol and iterations > 1:
                 break  # converged as far as the arithmetic allows: nothing left to gain
+            if (
+                self.accept is not None
+                and objective <= self.accept_below
+                and primal <= 1e3 * tol
+                and self.accept(kkt.join(point.x_cut, point.x_s))
+            ):
+                status, accepted = SolveStatus.OPTIMAL, True
+                break
+            if (
+                self.screen_above is not None
+                and primal <= 1e-4 * load_scale
+                and objective - gap > self.screen_above
+            ):
+                # the optimum is most likely far above the threshold (objective - gap estimates
+                # the dual bound); the caller confirms it with the QP (see ``screen_above``)
+                best, info_early, screened = point, True, True
+                break
             if (
                 self.stop_above is not None
                 and primal <= 1e3 * tol
@@ -359,6 +401,8 @@ class ReducedBackend(Backend):
         info = {
             "factor_seconds": kkt.factor_seconds,
             "early_stop": info_early,
+            "accepted": accepted,
+            "screened": screened,
             "factorization": kkt.normal.method,
             "factorization_fallbacks": kkt.normal.fallbacks,
         }
@@ -392,6 +436,28 @@ class ReducedBackend(Backend):
             np.full(m, primal),
             np.full((m, k), dual),
             np.full(m, dual),
+        )
+
+    @staticmethod
+    def _warm_point(kkt: _Kkt, cold: _Point, x: np.ndarray) -> _Point:
+        """Start from the forces ``x`` (same constraints, another objective): the slacks are
+        what ``x`` leaves, floored at 1% of the load scale so that no product starts at zero;
+        multipliers and inequality duals start cold.
+
+        Measured on the sliding running-bond walls, starting the QP from phase one's (possibly
+        screened) forces saves a fifth to a third of its iterations (1 004 blocks: 17 -> 14):
+        the cold start spends its first iterations finding forces that balance the load.
+        """
+        x_cut, x_s = kkt.split(np.asarray(x, dtype=float))
+        floor = 1e-2 * float(cold.slack_s[0])
+        return _Point(
+            x_cut.copy(),
+            x_s.copy(),
+            cold.y,
+            np.maximum(-_to_rows(x_cut, kkt.cone), floor),
+            np.maximum(x_s, floor),
+            cold.dual_cut,
+            cold.dual_s,
         )
 
     @staticmethod
