@@ -1,4 +1,4 @@
-"""Pictures of a simulation: PNG frames or an animated GIF, rendered offline with matplotlib.
+"""Pictures of a simulation: PNG frames or an animated GIF, rendered offline (no screen, no GL).
 
 Every frame is the model with each block moved by its recorded rigid motion, drawn by
 :func:`shapegen.export.picture.render_model` inside one fixed box, so the view stays still while
