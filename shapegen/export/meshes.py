@@ -244,17 +244,21 @@ def _mesh_nodes(scene: trimesh.Scene) -> list[tuple[str, dict, np.ndarray, np.nd
         if extras.get("role", "block") != "block":
             continue  # drawings shapegen adds to its own files, such as resultant arrows
         vertices = np.asarray(geometry.vertices, dtype=float)
-        matrix = np.asarray(matrix, dtype=float)
-        if not np.allclose(matrix, np.eye(4)):
-            vertices = vertices @ matrix[:3, :3].T + matrix[:3, 3]
         faces = np.asarray(geometry.faces, dtype=np.int64)
-        if faces.min() < 0 or faces.max() >= len(
-            vertices
-        ):  # trimesh does not check (process=False)
+        # trimesh does not check what it read (process=False): a malformed file may give
+        # points of 1 or 2 coordinates, or triangles naming vertices the mesh lacks.
+        if vertices.ndim != 2 or vertices.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
+            raise InputFormatError(
+                f"mesh {str(node)!r}: vertices must have 3 coordinates and faces 3 corners"
+            )
+        if faces.min() < 0 or faces.max() >= len(vertices):
             raise InputFormatError(
                 f"mesh {str(node)!r}: a triangle refers to vertex {int(faces.max())}, but the mesh"
                 f" has {len(vertices)} vertices"
             )
+        matrix = np.asarray(matrix, dtype=float)
+        if not np.allclose(matrix, np.eye(4)):
+            vertices = vertices @ matrix[:3, :3].T + matrix[:3, 3]
         nodes.append((str(node), extras, vertices, faces))
     return nodes
 
