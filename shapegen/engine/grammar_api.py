@@ -170,7 +170,7 @@ def load_grammar(path: str | os.PathLike) -> Grammar:
     """
     path = _rule_file(path)
     try:
-        # Refused before reading: a rule file cannot hold more characters than 4 per byte.
+        # Refused before reading: UTF-8 spends at most 4 bytes on a character.
         if path.stat().st_size > 4 * current_limits().max_source_chars:
             raise GrammarError(f"{path}: {source_too_long(path.stat().st_size, 'bytes')}")
         text = path.read_text(encoding="utf-8")
