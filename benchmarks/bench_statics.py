@@ -1,12 +1,15 @@
 """Statics benchmark: walls and arches of about 100, 1 000 and 10 000 blocks.
 
-Kinds: ``wall`` (running-bond brick wall, benchmarks/walls.py), ``arch`` (one semicircular arch of
-n voussoirs, t/R = 0.2) and ``arches`` (a row of independent 20-voussoir arches).
+Kinds: ``wall`` (running-bond brick wall, benchmarks/walls.py), ``slide`` (the same wall with
+gravity tilted by 12 degrees and friction 0.2: it slides, so phase one and the QP both run),
+``arch`` (one semicircular arch of n voussoirs, t/R = 0.2) and ``arches`` (a row of independent
+20-voussoir arches).
 
 For each model it prints the seconds spent finding interfaces, assembling and solving (wall
 clock and process CPU time, since the machine may be shared), the peak memory, the number of
-interior point iterations, and the verdict; the Clarabel and cvxpy paths are run on the same
-problem up to a size limit (they grow much faster than the reduced path).
+interior point iterations of each solve with the CPU seconds of its factorisations, and the
+verdict; the Clarabel and cvxpy paths are run on the same problem up to a size limit (they grow
+much faster than the reduced path).
 
 Run: ``.venv/bin/python benchmarks/bench_statics.py [--sizes 100 1000 10000] [--kinds wall arch]``
 """
@@ -15,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import math
 import os
 import platform
 import resource
@@ -23,14 +27,48 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.arches import arch_row, semicircular_arch  # noqa: E402
 from benchmarks.walls import running_bond_wall  # noqa: E402
 from shapegen.statics import analyze, find_interfaces  # noqa: E402
+from shapegen.statics.solvers import reduced  # noqa: E402
+
+SOLVES: list[str] = []  # one entry per reduced solve: iterations and factorisation CPU seconds
+
+
+def _recording(solve):
+    def recorded(self, problem):
+        cpu = time.process_time()
+        solution = solve(self, problem)
+        cpu = time.process_time() - cpu
+        info = solution.info
+        count = max(info.get("factorizations", 0), 1)
+        per_iteration = cpu / max(solution.iterations, 1)
+        SOLVES.append(
+            f"{solution.iterations} it {cpu:.2f} s (per iteration {per_iteration:.3f} s;"
+            f" {info.get('factorization', '-')} {info.get('factor_cpu', 0.0) / count:.3f} s per"
+            f" factorisation, M {info.get('normal_assembly_cpu', 0.0) / count:.3f} s"
+            + (
+                f", {info['factorization_fallbacks']} by SuperLU"
+                if info.get("factorization_fallbacks")
+                else ""
+            )
+            + ")"
+        )
+        return solution
+
+    return recorded
+
+
+reduced.ReducedBackend.solve = _recording(reduced.ReducedBackend.solve)
 
 # largest model (blocks) each back-end is run on; beyond it the row says "skipped"
 LIMITS = {"reduced": 10**9, "clarabel": 2_500, "cvxpy": 1_200}
+KINDS = ["wall", "slide", "arch", "arches"]
+SLIDE_TILT_DEGREES, SLIDE_FRICTION = 12.0, 0.2
 
 
 def machine() -> str:
@@ -51,8 +89,13 @@ def peak_rss_mib() -> float:
 
 
 def build(kind: str, size: int):
-    if kind == "wall":
-        return running_bond_wall(size)
+    if kind in ("wall", "slide"):
+        model = running_bond_wall(size)
+        if kind == "slide":
+            tilt = math.radians(SLIDE_TILT_DEGREES)
+            model.gravity = 9.81 * np.array([math.sin(tilt), -math.cos(tilt), 0.0])
+            model.friction = SLIDE_FRICTION
+        return model
     if kind == "arch":
         return semicircular_arch(size, 0.2)
     return arch_row(size)
@@ -60,6 +103,8 @@ def build(kind: str, size: int):
 
 def run(kind: str, size: int, solvers: list[str]) -> None:
     model = build(kind, size)
+    for block in model.blocks:  # mass properties belong to the model (computed once, cached)
+        _ = block.mass, block.centroid
     start = time.perf_counter()
     interfaces = find_interfaces(model)
     seconds_interfaces = time.perf_counter() - start
@@ -72,6 +117,7 @@ def run(kind: str, size: int, solvers: list[str]) -> None:
             )
             continue
         wall, cpu = time.perf_counter(), time.process_time()
+        SOLVES.clear()
         result = analyze(model, interfaces=interfaces, check=False, solver=solver)
         wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
         t = result.timings
@@ -80,7 +126,8 @@ def run(kind: str, size: int, solvers: list[str]) -> None:
             f"assembly {t['assembly']:6.2f} s solve {t['solve']:7.2f} s "
             f"certify {t['certify']:6.2f} s total {wall:7.2f} s (cpu {cpu:7.2f} s) "
             f"peak {peak_rss_mib():7.0f} MiB  {result.status.value} feasible={result.feasible} "
-            f"y/W^2={result.infeasibility_normalized:.2e}",
+            f"y/W^2={result.infeasibility_normalized:.2e}"
+            + (f"  solves: {'; '.join(SOLVES)}" if SOLVES else ""),
             flush=True,
         )
 
@@ -88,9 +135,7 @@ def run(kind: str, size: int, solvers: list[str]) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[100, 1000, 10000])
-    parser.add_argument(
-        "--kinds", nargs="+", default=["wall", "arch", "arches"], choices=["wall", "arch", "arches"]
-    )
+    parser.add_argument("--kinds", nargs="+", default=KINDS, choices=KINDS)
     parser.add_argument(
         "--solvers", nargs="+", default=["reduced", "clarabel", "cvxpy"], choices=list(LIMITS)
     )

@@ -11,7 +11,7 @@ Ordering: approximate minimum degree on the *block* graph (one node per free blo
 its six rows), computed once with QDLDL's AMD (``qdldl`` is a dependency of shapegen, so this
 ordering is always the one used).
 
-Factorisation: MKL PARDISO's supernodal LDL^T of the upper triangle
+Factorisation: MKL PARDISO's supernodal Cholesky of the upper triangle
 (:mod:`~shapegen.statics.solvers.pardiso`), analysed once per pattern and kept with it, so that
 phase one, the QP and every iteration only refactor numerically; 3-5 times faster than SuperLU
 at 10 000 blocks and 2-4 times at 1 000 (docs/performance.md). Without MKL (or should PARDISO
@@ -23,6 +23,7 @@ from __future__ import annotations
 
 __all__ = ["NormalEquations", "NormalPattern"]
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -206,12 +207,16 @@ class NormalEquations:
         self._lu = None
         self.values = None
         self.fallbacks = 0  # factorisations PARDISO refused and SuperLU did
+        self.assembly_cpu = 0.0  # CPU seconds assembling M's values
+        self.factor_cpu = 0.0  # CPU seconds in the numeric factorisations
+        self.factorizations = 0
         self.method = "pardiso" if use_pardiso else "superlu"
 
     def assemble(self, local_inverse: np.ndarray, regularization: float) -> None:
         """Compute and factor ``M`` for ``D_v = local_inverse[v]`` ``(m, 3, 3)``, with
         ``regularization`` times the mean diagonal added to the diagonal of the factored copy."""
         pattern = self.pattern
+        started = time.process_time()
         frames = pattern.vertex_frames
         per_vertex = np.matmul(np.matmul(frames, local_inverse), np.transpose(frames, (0, 2, 1)))
         summed = np.add.reduceat(per_vertex, pattern.interface_starts, axis=0)  # (ni, 6, 6)
@@ -225,18 +230,24 @@ class NormalEquations:
         values[pattern.diagonal] += regularization * float(values[pattern.diagonal].mean()) + 1e-300
         self.values = values  # the upper triangle of the permuted, shifted M
         self._lu = None
-        if self._pardiso is not None:
-            try:
-                self._pardiso.factor(values)
-                return
-            except pardiso.PardisoError:
-                self.fallbacks += 1
-        self._lu = spla.splu(
-            pattern.full_matrix(values),
-            permc_spec="NATURAL",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
+        factoring = time.process_time()
+        self.assembly_cpu += factoring - started
+        try:
+            if self._pardiso is not None:
+                try:
+                    self._pardiso.factor(values)
+                    return
+                except pardiso.PardisoError:
+                    self.fallbacks += 1
+            self._lu = spla.splu(
+                pattern.full_matrix(values),
+                permc_spec="NATURAL",
+                diag_pivot_thresh=0.0,
+                options={"SymmetricMode": True},
+            )
+        finally:
+            self.factor_cpu += time.process_time() - factoring
+            self.factorizations += 1
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         """``M^-1 rhs`` (in the original row order)."""

@@ -405,6 +405,9 @@ class ReducedBackend(Backend):
             "screened": screened,
             "factorization": kkt.normal.method,
             "factorization_fallbacks": kkt.normal.fallbacks,
+            "factorizations": kkt.normal.factorizations,
+            "factor_cpu": kkt.normal.factor_cpu,
+            "normal_assembly_cpu": kkt.normal.assembly_cpu,
         }
         seconds = time.perf_counter() - start
         if status is not SolveStatus.OPTIMAL:
