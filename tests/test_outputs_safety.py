@@ -262,3 +262,15 @@ def test_the_demo_checks_its_folder_before_any_work(tmp_path, capsys, no_work):
     assert demo(["arch_columns.grammar", "--out", str(tmp_path / "file")]) == 2
     err = capsys.readouterr().err
     assert err == f"shapegen demo: error: --out {tmp_path / 'file'}: exists and is not a folder\n"
+
+
+def test_remove_temporaries_removes_only_this_process_writes(tmp_path):
+    mine, parents = tmp_path / ".a.json.1.tmp", tmp_path / ".b.json.2.tmp"
+    mine.write_text("")
+    parents.write_text("")
+    atomic._TEMPORARIES.update({(os.getpid(), str(mine)), (os.getpid() + 1, str(parents))})
+    try:
+        assert atomic.remove_temporaries() == [str(mine)]
+        assert not mine.exists() and parents.exists()  # a forked child spares its parent's file
+    finally:
+        atomic._TEMPORARIES.clear()

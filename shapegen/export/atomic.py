@@ -27,8 +27,9 @@ from pathlib import Path
 
 from shapegen.errors import InputFormatError
 
-# The temporary files of the writes under way, removed by remove_temporaries() on a signal.
-_TEMPORARIES: set[str] = set()
+# The temporary files of the writes under way, each with the process that writes it, removed by
+# remove_temporaries() on a signal (a forked child's signal must not remove its parent's files).
+_TEMPORARIES: set[tuple[int, str]] = set()
 
 
 def _umask() -> int:
@@ -74,7 +75,8 @@ def atomic_write(path: str | os.PathLike, mode: str = "w") -> Iterator:
             raise InputFormatError(
                 f"{target}: cannot write in folder {directory}: {exc.strerror or exc}"
             ) from None
-        _TEMPORARIES.add(tmp)
+        entry = (os.getpid(), tmp)
+        _TEMPORARIES.add(entry)
     try:
         encoding = None if "b" in mode else "utf-8"
         with os.fdopen(fd, mode, encoding=encoding) as handle:
@@ -89,17 +91,22 @@ def atomic_write(path: str | os.PathLike, mode: str = "w") -> Iterator:
             os.unlink(tmp)
         raise
     finally:
-        _TEMPORARIES.discard(tmp)
+        _TEMPORARIES.discard(entry)
 
 
 def remove_temporaries() -> list[str]:
-    """Remove the temporary files of every write under way; returns their names."""
+    """Remove the temporary files of every write this process has under way; returns their
+    names."""
     removed = []
-    for tmp in list(_TEMPORARIES):
+    pid = os.getpid()
+    for entry in list(_TEMPORARIES):
+        owner, tmp = entry
+        if owner != pid:
+            continue
         with contextlib.suppress(OSError):
             os.unlink(tmp)
             removed.append(tmp)
-        _TEMPORARIES.discard(tmp)
+        _TEMPORARIES.discard(entry)
     return removed
 
 
