@@ -49,6 +49,25 @@ def _objective(problem, x: np.ndarray) -> float:
     )
 
 
+def _symmetric_inverse(h: np.ndarray) -> np.ndarray:
+    """Inverses of symmetric ``(m, 3, 3)`` matrices by their cofactors (equilibrated by the
+    caller): a fifth of the time of LAPACK's batched ``inv`` on 10 000 vertices and more."""
+    a00, a01, a02 = h[:, 0, 0], h[:, 0, 1], h[:, 0, 2]
+    a11, a12, a22 = h[:, 1, 1], h[:, 1, 2], h[:, 2, 2]
+    out = np.empty_like(h)
+    c00 = a11 * a22 - a12 * a12
+    c01 = a02 * a12 - a01 * a22
+    c02 = a01 * a12 - a02 * a11
+    inverse_det = 1.0 / (a00 * c00 + a01 * c01 + a02 * c02)
+    out[:, 0, 0] = c00 * inverse_det
+    out[:, 0, 1] = out[:, 1, 0] = c01 * inverse_det
+    out[:, 0, 2] = out[:, 2, 0] = c02 * inverse_det
+    out[:, 1, 1] = (a00 * a22 - a02 * a02) * inverse_det
+    out[:, 1, 2] = out[:, 2, 1] = (a01 * a02 - a00 * a12) * inverse_det
+    out[:, 2, 2] = (a00 * a11 - a01 * a01) * inverse_det
+    return out
+
+
 def _step_to_boundary(value: np.ndarray, step: np.ndarray) -> float:
     """Largest alpha in (0, 1] with ``value + alpha step >= 0`` (``value > 0``)."""
     negative = step < 0
@@ -133,7 +152,7 @@ class _Kkt:
         # shift keeps rank-deficient limits invertible and the refinement removes its effect
         d = 1.0 / np.sqrt(np.einsum("vii->vi", h))
         scale = d[:, :, None] * d[:, None, :]
-        inverse = np.linalg.inv(h * scale + 1e-14 * np.eye(3)) * scale
+        inverse = _symmetric_inverse(h * scale + 1e-14 * np.eye(3)) * scale
         diagonal_s = self.p_s + weight_s
         local = inverse.copy()
         local[:, 0, 0] += 1.0 / diagonal_s  # the s column of A is minus the c column
@@ -153,15 +172,18 @@ class _Kkt:
             float(np.abs(r_p).max()),
             1e-300,
         )
-        for _ in range(passes):
+        aty_cut, aty_s = np.zeros_like(rhs_cut), np.zeros_like(rhs_s)  # A^T dy, accumulated
+        for done in range(1, passes + 1):
             hx_cut = np.einsum("vij,vj->vi", hessian.inverse_cut, e_cut)
             hx_s = e_s / hessian.diagonal_s
             delta_y = self.normal.solve(a @ self.join(hx_cut, hx_s) - e_p)
-            aty_cut, aty_s = self.split(self.at @ delta_y)
-            dx_cut = dx_cut + hx_cut - np.einsum("vij,vj->vi", hessian.inverse_cut, aty_cut)
-            dx_s = dx_s + hx_s - aty_s / hessian.diagonal_s
+            delta_cut, delta_s = self.split(self.at @ delta_y)
+            dx_cut = dx_cut + hx_cut - np.einsum("vij,vj->vi", hessian.inverse_cut, delta_cut)
+            dx_s = dx_s + hx_s - delta_s / hessian.diagonal_s
             dy = dy + delta_y
-            aty_cut, aty_s = self.split(self.at @ dy)
+            if done == passes:
+                break  # no refinement left: the residual would not be used
+            aty_cut, aty_s = aty_cut + delta_cut, aty_s + delta_s
             h_dx_cut = self.p_cut * dx_cut + _from_rows(
                 _to_rows(dx_cut, cone) * hessian.weight_cut, cone
             )
@@ -189,14 +211,17 @@ class _Kkt:
             ineq_s=-point.x_s + point.slack_s,
         )
 
-    def direction(self, point: _Point, hessian: _Hessian, res: _Residuals, rc_cut, rc_s):
-        """Newton direction for complementarity residuals ``rc = S Z - target``."""
+    def direction(
+        self, point: _Point, hessian: _Hessian, res: _Residuals, rc_cut, rc_s, passes: int = 4
+    ):
+        """Newton direction for complementarity residuals ``rc = S Z - target`` (``passes``:
+        the most solves spent refining it)."""
         cone = self.cone
         v_cut = (-rc_cut + point.dual_cut * res.ineq_cut) / point.slack_cut
         v_s = (-rc_s + point.dual_s * res.ineq_s) / point.slack_s
         rhs_cut = -res.dual_cut - _from_rows(v_cut, cone)
         rhs_s = -res.dual_s + v_s
-        dx_cut, dx_s, dy = self.newton(hessian, rhs_cut, rhs_s, res.primal)
+        dx_cut, dx_s, dy = self.newton(hessian, rhs_cut, rhs_s, res.primal, passes)
         ds_cut = -res.ineq_cut - _to_rows(dx_cut, cone)
         ds_s = -res.ineq_s + dx_s
         dz_cut = (-rc_cut - point.dual_cut * ds_cut) / point.slack_cut
@@ -375,8 +400,15 @@ class ReducedBackend(Backend):
                 break
             mu = gap / n_ineq
             # predictor (affine scaling), then corrector with Mehrotra's centring
+            # the predictor only sets the centring and the second-order term: one solve, no
+            # refinement (the corrector is refined)
             affine = kkt.direction(
-                point, hessian, res, point.slack_cut * point.dual_cut, point.slack_s * point.dual_s
+                point,
+                hessian,
+                res,
+                point.slack_cut * point.dual_cut,
+                point.slack_s * point.dual_s,
+                passes=1,
             )
             alpha, alpha_dual = _max_steps(point, affine)
             if not separate_steps:
