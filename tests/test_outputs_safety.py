@@ -42,6 +42,8 @@ MISTAKES = [
      ["name the same file"]),
     (["build", "arch_columns.grammar", "-o", "{tmp}/link.json", "--report", "{tmp}/old.json"],
      ["-o {tmp}/link.json and --report {tmp}/old.json name the same file"]),
+    (["build", "arch_columns.grammar", "--report", "{tmp}/p.png", "--picture", "{tmp}/p.png"],
+     ["--report {tmp}/p.png and --picture {tmp}/p.png name the same file"]),
     (["build", "arch_columns.grammar", "-o", "{tmp}/folder"], ["-o {tmp}/folder: is a folder"]),
     (["build", "arch_columns.grammar", "--report", "{tmp}/folder"],
      ["--report {tmp}/folder: is a folder"]),
