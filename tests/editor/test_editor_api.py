@@ -13,7 +13,7 @@ from shapegen.editor.server import MAX_BODY
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    from conftest import STACK
+    from editor_stack import STACK
 
     path = tmp_path_factory.mktemp("api") / "stack.grammar"
     path.write_text(STACK, encoding="utf-8")

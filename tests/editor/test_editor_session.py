@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import STACK_BOUNDARY, STACK_WEIGHT
+from editor_stack import STACK_BOUNDARY, STACK_WEIGHT
 
 from shapegen.editor import EditorSession, RequestError
 

@@ -6,7 +6,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import STACK_BOUNDARY
+from editor_stack import STACK_BOUNDARY
 
 from shapegen.editor.stability import (
     REFINE_STEPS,
@@ -64,8 +64,9 @@ def test_the_known_verdict_is_used_and_not_judged_again():
 
 
 def job(stack_file, generation):
-    return ScanJob(stack_file.read_text(), str(stack_file), {"offset": 0.2},
-                   {"offset": (0.0, 0.9)}, {"offset": (0.2, True)}, generation=generation)  # fmt: skip
+    text = stack_file.read_text()
+    ranges, current = {"offset": (0.0, 0.9)}, {"offset": (0.2, True)}
+    return ScanJob(text, str(stack_file), {"offset": 0.2}, ranges, current, generation=generation)
 
 
 def test_the_stack_stands_up_to_half_a_block_of_offset(stack_file):
