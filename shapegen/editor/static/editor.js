@@ -378,7 +378,12 @@ function applyState(state) {
   $('timing').textContent = `update ${t.update_s.toFixed(2)} s${page}`;
   const tensionRadio = $('colour-tension');
   tensionRadio.disabled = state.grammar.structure !== 'blocks';
-  tensionRadio.parentElement.title = tensionRadio.disabled ? 'this design is judged by its cables, not by block statics' : '';
+  const why = 'this design is judged by its cables, not by block statics';
+  tensionRadio.parentElement.title = tensionRadio.disabled ? why : '';
+  for (const id of ['show-joints', 'show-ground']) {
+    $(id).disabled = tensionRadio.disabled;
+    $(id).parentElement.title = tensionRadio.disabled ? why : '';
+  }
   showError(state.error);
   showCables(state.cables);
   showProgress(state.optimization);
