@@ -123,3 +123,25 @@ def test_an_unknown_factorization_is_refused():
     _, problem = small_wall_problem(2)
     with pytest.raises(ValueError, match="factorization must be one of"):
         NormalEquations(problem, "cholmod")
+
+
+def test_a_new_problem_on_the_same_block_graph_reuses_the_symbolic_analysis():
+    _, first = small_wall_problem(5)
+    _, second = small_wall_problem(5, tilt_degrees=3.0)  # same blocks, another load
+    one, two = NormalEquations(first), NormalEquations(second)
+    assert two.pattern.indices is one.pattern.indices
+    assert two.pattern.analysis is one.pattern.analysis
+    if one.method == "pardiso":
+        # the analysis is lent to one solve at a time: the second got a private copy
+        assert two._pardiso is not one._pardiso
+    local = random_local_inverses(first.n_vertices)
+    for normal, problem in ((one, first), (two, second)):
+        normal.assemble(local, 0.0)
+        dense = explicit_normal_matrix(problem, local)
+        rhs = np.ones(dense.shape[0])
+        np.testing.assert_allclose(dense @ normal.solve(rhs), rhs, atol=1e-8)
+        normal.release()
+    _, other = small_wall_problem(6)
+    third = NormalEquations(other)
+    assert third.pattern.indices is not one.pattern.indices
+    third.release()

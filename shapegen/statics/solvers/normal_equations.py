@@ -5,7 +5,9 @@ has one 6x6 block per pair of free blocks that share an interface, plus the diag
 Its sparsity pattern never changes between iterations (nor between solves of problems with the
 same interfaces), so the pattern, the scatter map from per-interface contributions and the
 fill-reducing ordering are computed once and kept in ``problem.cache``. Each iteration only
-recomputes the values and factors them.
+recomputes the values and factors them. A parameter search rebuilds the problem for every
+design, but its block graph rarely changes: the symbolic part (ordering, pattern, scatter map and
+PARDISO's analysis) of the last few block graphs is kept by the graph's contents and reused.
 
 Ordering: approximate minimum degree on the *block* graph (one node per free block, expanded to
 its six rows), computed once with QDLDL's AMD (``qdldl`` is a dependency of shapegen, so this
@@ -23,6 +25,9 @@ from __future__ import annotations
 
 __all__ = ["NormalEquations", "NormalPattern"]
 
+import collections
+import dataclasses
+import threading
 import time
 from dataclasses import dataclass
 
@@ -34,6 +39,33 @@ import scipy.sparse.linalg as spla
 from shapegen.statics.solvers import pardiso
 
 FACTORIZATIONS = ("auto", "pardiso", "superlu")
+
+
+class _Analysis:
+    """PARDISO's symbolic analysis of one block graph, lent to one solve at a time."""
+
+    def __init__(self):
+        self.factor: pardiso.SymmetricFactor | None = None
+        self.lock = threading.Lock()
+
+    def borrow(self, indptr: np.ndarray, indices: np.ndarray) -> pardiso.SymmetricFactor:
+        """The shared factor object, or a private one while another solve holds it."""
+        if not self.lock.acquire(blocking=False):
+            return pardiso.SymmetricFactor(indptr, indices)
+        if self.factor is None:
+            try:
+                self.factor = pardiso.SymmetricFactor(indptr, indices)
+            except BaseException:
+                self.lock.release()
+                raise
+        return self.factor
+
+    def give_back(self, factor: pardiso.SymmetricFactor) -> None:
+        factor.release_factor()
+        if factor is self.factor:
+            self.lock.release()
+        else:
+            factor.close()
 
 
 @dataclass
@@ -56,7 +88,7 @@ class NormalPattern:
     interface_starts: np.ndarray
     vertex_frames: np.ndarray  # (m, 6, 3) K_v = [R; skew(q_v) R], q_v lever from the first vertex
     interface_shifts: np.ndarray  # (ni, 12, 6) sign_s [I 0; skew(d_s) I] for both sides s
-    factor: pardiso.SymmetricFactor | None = None  # PARDISO's analysis of this pattern
+    analysis: _Analysis | None = None  # PARDISO's analysis, shared by every user of the graph
 
     def full_matrix(self, data: np.ndarray) -> sp.csc_matrix:
         """The whole symmetric (permuted) ``M`` from its upper-triangle ``data``."""
@@ -127,12 +159,35 @@ def _interface_frames(problem, interface_starts: np.ndarray) -> tuple[np.ndarray
     return frames, shifts
 
 
+_RECENT: collections.OrderedDict[bytes, NormalPattern] = collections.OrderedDict()
+_RECENT_SIZE = 4  # block graphs whose symbolic analysis is kept (a search moves between a few)
+_RECENT_LOCK = threading.Lock()
+
+
 def build_pattern(problem) -> NormalPattern:
-    """The symbolic analysis of ``M`` for ``problem`` (done once per interface layout)."""
-    nf = problem.n_free
-    size = 6 * nf
+    """The symbolic analysis of ``M`` for ``problem`` (done once per block graph)."""
     interface_starts = np.flatnonzero(np.diff(np.concatenate([[-1], problem.vertex_interface])))
     blocks = problem.vertex_blocks[interface_starts]  # (ni, 2)
+    key = np.int64(problem.n_free).tobytes() + np.ascontiguousarray(blocks, np.int64).tobytes()
+    with _RECENT_LOCK:
+        known = _RECENT.get(key)
+        if known is not None:
+            _RECENT.move_to_end(key)
+    if known is None:
+        known = _symbolic_pattern(problem.n_free, blocks)
+        with _RECENT_LOCK:
+            _RECENT[key] = known
+            while len(_RECENT) > _RECENT_SIZE:
+                _RECENT.popitem(last=False)
+    frames, shifts = _interface_frames(problem, interface_starts)
+    return dataclasses.replace(
+        known, interface_starts=interface_starts, vertex_frames=frames, interface_shifts=shifts
+    )
+
+
+def _symbolic_pattern(nf: int, blocks: np.ndarray) -> NormalPattern:
+    """Ordering, pattern and scatter map for the block pairs ``blocks`` ``(ni, 2)``."""
+    size = 6 * nf
     ni = len(blocks)
     both = (blocks >= 0).all(axis=1)
     order = _block_ordering(
@@ -160,7 +215,7 @@ def build_pattern(problem) -> NormalPattern:
     indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
     diagonal = np.searchsorted(unique, diagonal_keys)
     permutation = (6 * order[:, None] + np.arange(6)).ravel()
-    frames, shifts = _interface_frames(problem, interface_starts)
+    empty = np.zeros(0)
     return NormalPattern(
         size,
         indptr,
@@ -169,9 +224,10 @@ def build_pattern(problem) -> NormalPattern:
         source,
         diagonal,
         permutation,
-        interface_starts,
-        frames,
-        shifts,
+        empty,
+        empty,
+        empty,
+        analysis=_Analysis(),
     )
 
 
@@ -201,9 +257,9 @@ class NormalEquations:
         use_pardiso = factorization == "pardiso" or (
             factorization == "auto" and pardiso.available()
         )
-        if use_pardiso and pattern.factor is None and pattern.size:
-            pattern.factor = pardiso.SymmetricFactor(pattern.indptr, pattern.indices)
-        self._pardiso = pattern.factor if use_pardiso else None
+        self._pardiso = None
+        if use_pardiso and pattern.size:
+            self._pardiso = pattern.analysis.borrow(pattern.indptr, pattern.indices)
         self._lu = None
         self.values = None
         self.fallbacks = 0  # factorisations PARDISO refused and SuperLU did
@@ -264,4 +320,5 @@ class NormalEquations:
         """Free the numeric factor (the symbolic analysis stays with the pattern)."""
         self._lu = None
         if self._pardiso is not None:
-            self._pardiso.release_factor()
+            self.pattern.analysis.give_back(self._pardiso)
+            self._pardiso = None
