@@ -305,7 +305,7 @@ def _arch_line(
     return circular_arch_line(width, thickness, segments)
 
 
-@primitive("arch")
+@primitive("arch", scope_relative=True)
 def arch(
     scope: Scope,
     *,
@@ -341,7 +341,7 @@ def arch(
     return _arch_blocks("arch", scope, intrados, extrados)
 
 
-@primitive("capped_arch")
+@primitive("capped_arch", scope_relative=True)
 def capped_arch(
     scope: Scope,
     *,
@@ -371,7 +371,7 @@ def capped_arch(
     return _arch_blocks("capped_arch", scope, intrados, extrados, top=max(scope.sy, crown))
 
 
-@primitive("bezier_arch")
+@primitive("bezier_arch", scope_relative=True)
 def bezier_arch(
     scope: Scope,
     *,

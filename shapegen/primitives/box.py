@@ -14,7 +14,7 @@ _UNIT_CUBE = np.array(
 )
 
 
-@primitive("box")
+@primitive("box", scope_relative=True)
 def box(scope: Scope) -> list[Block]:
     """One block filling the scope."""
     require(bool(np.all(scope.size > 0)), "box", "scope",

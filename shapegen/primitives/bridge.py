@@ -82,7 +82,7 @@ def _sized_diameter(**inputs) -> float:
         raise GeometryError(f"primitive 'cable': {exc}") from None
 
 
-@primitive("cable")
+@primitive("cable", scope_relative=True)
 def cable(
     scope: Scope,
     *,
@@ -159,7 +159,7 @@ def cable(
     return prism_blocks(scope, pool, rings, tags=("cable",))
 
 
-@primitive("suspenders")
+@primitive("suspenders", scope_relative=True)
 def suspenders(
     scope: Scope,
     *,

@@ -73,7 +73,7 @@ def flying_buttress_layout(
     return FlyingButtressLayout(radius, centre_y, a, pier_width, springing_y)
 
 
-@primitive("flying_buttress")
+@primitive("flying_buttress", scope_relative=True)
 def flying_buttress(
     scope: Scope,
     *,

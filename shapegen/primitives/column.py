@@ -18,7 +18,7 @@ from shapegen.primitives.registry import (
 )
 
 
-@primitive("column")
+@primitive("column", scope_relative=True)
 def column(
     scope: Scope,
     *,

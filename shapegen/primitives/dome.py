@@ -12,7 +12,7 @@ from shapegen.primitives.registry import primitive, require, require_blocks
 from shapegen.primitives.stereotomy import hexahedra_in_scope
 
 
-@primitive("dome")
+@primitive("dome", scope_relative=True)
 def dome(
     scope: Scope,
     *,

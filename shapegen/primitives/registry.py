@@ -34,7 +34,7 @@ import difflib
 import inspect
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -43,6 +43,7 @@ from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.model.validation import first_invalid_block
+from shapegen.primitives.placement import Template, TemplateCache, canonical_scope, place
 from shapegen.tolerances import DEFAULT
 
 
@@ -119,6 +120,8 @@ class Primitive:
     function: Callable[..., list[Block]]
     parameters: dict[str, Parameter]
     doc: str
+    scope_relative: bool = False
+    templates: TemplateCache = field(default_factory=TemplateCache, compare=False, repr=False)
 
     def __call__(self, scope: Scope, **params) -> list[Block]:
         values = self.resolve(params)
@@ -126,6 +129,20 @@ class Primitive:
         require(
             valid, self.name, "scope", f"needs finite sides, none negative, got {scope.size_text}"
         )
+        if not self.scope_relative:
+            return self._checked(scope, values)
+        canonical = canonical_scope(scope)
+        key = (tuple(sorted(values.items())), tuple(scope.size.tolist()), canonical.rotation[2, 2])
+        template = self.templates.get(key)
+        if template is None:
+            template = Template.of(self._checked(canonical, values), canonical)
+            self.templates.put(key, template)
+        else:  # the limits may have been lowered since the template was made
+            require_blocks(self.name, len(template.blocks), "blocks returned")
+        return place(template, scope)
+
+    def _checked(self, scope: Scope, values: dict) -> list[Block]:
+        """The function's blocks in ``scope``, each checked (convex, closed, finite)."""
         blocks = list(self.function(scope, **values))
         # A plug-in that does not call require_blocks is still held to the limit (after the
         # fact: its count parameters were bounded before the call).
@@ -164,11 +181,16 @@ class Primitive:
 REGISTRY: dict[str, Primitive] = {}
 
 
-def primitive(name: str, *, replace: bool = False) -> Callable[[Callable], Callable]:
+def primitive(
+    name: str, *, replace: bool = False, scope_relative: bool = False
+) -> Callable[[Callable], Callable]:
     """Register ``function(scope, **params) -> list[Block]`` as the primitive ``name``.
 
     A name already taken by another function is refused unless ``replace=True`` (a plug-in that
-    means to supersede a built-in primitive says so).
+    means to supersede a built-in primitive says so). ``scope_relative=True`` declares that the
+    blocks depend only on the scope's size and the parameters, the scope's place and frame
+    entering only through ``scope.to_world``: the blocks are then made and checked once per
+    (size, parameters) and moved into each scope (:mod:`~shapegen.primitives.placement`).
     """
 
     def register(function: Callable) -> Callable:
@@ -190,7 +212,7 @@ def primitive(name: str, *, replace: bool = False) -> Callable[[Callable], Calla
                 kind = type(param.default)
             parameters[param.name] = Parameter(param.name, kind, param.default)
         doc = inspect.getdoc(function) or ""
-        REGISTRY[name] = Primitive(name, function, parameters, doc)
+        REGISTRY[name] = Primitive(name, function, parameters, doc, scope_relative)
         return function
 
     return register

@@ -47,7 +47,7 @@ def _staggered_section(scope: Scope, thickness: float, segments: int) -> np.ndar
     return joints
 
 
-@primitive("barrel_vault")
+@primitive("barrel_vault", scope_relative=True)
 def barrel_vault(
     scope: Scope,
     *,
@@ -101,7 +101,7 @@ def barrel_vault(
     return blocks
 
 
-@primitive("groin_vault")
+@primitive("groin_vault", scope_relative=True)
 def groin_vault(scope: Scope, *, thickness: float = 0.3, segments: int = 12) -> list[Block]:
     """Two semicircular barrel vaults crossing over the scope's plan, meeting at diagonal groins.
 

@@ -12,7 +12,7 @@ from shapegen.primitives.prism import prism_blocks
 from shapegen.primitives.registry import primitive, require, require_blocks
 
 
-@primitive("wall")
+@primitive("wall", scope_relative=True)
 def wall(
     scope: Scope,
     *,
