@@ -14,7 +14,7 @@ about four wall minutes). Run from the repository root:
     .venv/bin/python benchmarks/bench_bundled_simulation.py [--seconds 5] [--only cluny,mosque]
         [--margin 0.1]
 
-``--margin 0`` searches as plain ``shapegen build --optimize`` does (stopping on the statics
+``--margin 0`` searches as ``shapegen build --optimize --margin 0`` does (stopping on the statics
 boundary).
 """
 

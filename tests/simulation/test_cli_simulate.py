@@ -102,7 +102,7 @@ def test_user_mistakes_give_one_line(tmp_path, capsys, extra, message):
 @pytest.mark.parametrize(("extra", "margin"), [([], 0.1), (["--margin", "0"], 0.0)])
 def test_optimize_keeps_a_safety_margin_unless_told_otherwise(tmp_path, extra, margin):
     # A design on the statics boundary has no reserve for the simulator's contact compliance, so
-    # simulate --optimize searches with a 10 % margin by default (build --optimize does not).
+    # simulate --optimize searches with a 10 % margin by default, as build --optimize does.
     report = tmp_path / "r.json"
     argv = ["simulate", "arch_columns", "--optimize", "--seconds", "0.6", "-q"]
     assert main([*argv, *extra, "--report", str(report)]) == 0
