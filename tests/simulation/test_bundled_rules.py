@@ -1,9 +1,9 @@
 """Every bundled rule file, after ``--optimize``, in the simulator (issue 8, part 2).
 
 The files are discovered at test time; the suspension bridge (a cable model, not blocks) is
-skipped, and so are models of more than ``LARGEST`` blocks (Cluny, 1 072 blocks: about four wall
-minutes for 5 s; benchmarks/bench_bundled_simulation.py runs it, and its measured result is in
-docs/simulation.md). Every model runs for 5 s (Sainte-Chapelle, 496 blocks, about two wall
+skipped, and so are models of more than ``LARGEST`` blocks (Cluny, 1 072 blocks: more than ten
+CPU minutes for 5 s; benchmarks/bench_bundled_simulation.py runs it, and its measured result is in
+docs/simulation.md). Every model runs for 5 s (Sainte-Chapelle, 496 blocks, about seven CPU
 minutes) and is judged with the default tolerance: 1 mm, or 1/10 000 of its height when that is
 larger (1.8 mm for Sainte-Chapelle; docs/simulation.md, "Tolerance").
 
