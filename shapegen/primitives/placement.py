@@ -49,13 +49,17 @@ class Template:
     starts: tuple[int, ...]
     blocks: tuple[Block, ...]
     frame: np.ndarray  # the canonical scope's frame
+    volumes: tuple[float, ...]  # m^3: a rigid motion keeps them
+    centroids: np.ndarray  # (n, 3) m, canonical scope coordinates: moved with the points
 
     @classmethod
     def of(cls, blocks: list[Block], canonical: Scope) -> Template:
         sizes = [len(b.vertices) for b in blocks]
         starts = (0, *np.cumsum(sizes).tolist())
         points = np.concatenate([b.vertices for b in blocks]) if blocks else np.zeros((0, 3))
-        return cls(points, starts, tuple(blocks), canonical.rotation)
+        volumes = tuple(b.volume for b in blocks)
+        centroids = np.array([b.centroid for b in blocks]).reshape(-1, 3)
+        return cls(points, starts, tuple(blocks), canonical.rotation, volumes, centroids)
 
 
 def place(template: Template, scope: Scope) -> list[Block]:
@@ -64,20 +68,22 @@ def place(template: Template, scope: Scope) -> list[Block]:
     # since frame is its own inverse; frame's entries are +-1 and 0, so the products are exact.
     motion = scope.rotation @ template.frame.T
     world = scope.origin + template.points @ motion.T
+    centroids = scope.origin + template.centroids @ motion.T
     placed = []
     for k, block in enumerate(template.blocks):
-        placed.append(
-            Block(
-                world[template.starts[k] : template.starts[k + 1]],
-                block.faces,
-                density=block.density,
-                tags=block.tags,
-                structural=block.structural,
-                fixed=block.fixed,
-                rule_path=block.rule_path,
-                extras=dict(block.extras),
-            )
+        copy = Block(
+            world[template.starts[k] : template.starts[k + 1]],
+            block.faces,
+            density=block.density,
+            tags=block.tags,
+            structural=block.structural,
+            fixed=block.fixed,
+            rule_path=block.rule_path,
+            extras=dict(block.extras),
         )
+        # The analysis reads every block's volume and centroid: carry them over, moved.
+        copy.__dict__["_mass_properties"] = (template.volumes[k], centroids[k])
+        placed.append(copy)
     return placed
 
 

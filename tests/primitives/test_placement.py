@@ -117,3 +117,10 @@ def test_a_model_from_templates_is_the_model_made_in_place(rule, monkeypatch):
     for a, b in zip(direct.blocks, placed.blocks, strict=True):
         assert (a.id, a.tags, a.rule_path, a.density) == (b.id, b.tags, b.rule_path, b.density)
         assert _polyhedron(a) == pytest.approx(_polyhedron(b), abs=1e-9)
+
+
+def test_carried_volumes_and_centroids_are_those_of_the_placed_vertices():
+    for scope in _scopes(mirrored=True):
+        for block in library.insert("groin_vault", scope):
+            recomputed = Block(block.vertices, block.faces)
+            assert _polyhedron(block) == pytest.approx(_polyhedron(recomputed), abs=1e-9)
