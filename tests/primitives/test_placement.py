@@ -60,7 +60,9 @@ def test_prism_built_blocks_are_placed_bit_for_bit():
     for scope in _scopes(mirrored=True):
         direct = wall._checked(scope, wall.resolve({}))
         placed = wall(scope)
-        assert all(np.array_equal(a.vertices, b.vertices) for a, b in zip(direct, placed, strict=True))
+        assert all(
+            np.array_equal(a.vertices, b.vertices) for a, b in zip(direct, placed, strict=True)
+        )
         assert all(a.faces == b.faces for a, b in zip(direct, placed, strict=True))
 
 
