@@ -5,6 +5,7 @@ import pytest
 from editor_stack import STACK_BOUNDARY, STACK_WEIGHT
 
 from shapegen.editor import EditorSession, RequestError
+from shapegen.search.defaults import DEFAULT_MARGIN
 
 
 @pytest.fixture
@@ -57,8 +58,12 @@ def test_closest_snaps_to_the_boundary(session):
     session.set_attrs({"offset": 0.8})
     state = session.optimize({"objective": "closest"})
     offset = {a["name"]: a["value"] for a in state["attrs"]}["offset"]
-    # the nearest standing design is on the boundary
-    assert verdict(state) and offset == pytest.approx(STACK_BOUNDARY, abs=0.02)
+    # The nearest design that stands with the default reserve: every joint shrunk about its
+    # centroid to (1 - m) of its width, the overlap 1 - d must hold the upper centroid at d + 0.5,
+    # so d <= (1 - m) / (2 - m) (0.5 at m = 0, 0.4737 at the default 0.1).
+    boundary = (1 - DEFAULT_MARGIN) / (2 - DEFAULT_MARGIN)
+    assert verdict(state) and offset == pytest.approx(boundary, abs=0.02)
+    assert offset < STACK_BOUNDARY
 
 
 @pytest.mark.parametrize(
