@@ -220,10 +220,10 @@ class Block:
             out["rule_path"] = list(self.rule_path)
         return out
 
-    def transformed(self, matrix: np.ndarray, offset: np.ndarray) -> Block:
-        """A copy moved by ``x -> matrix @ x + offset`` (a proper rotation keeps faces outward)."""
-        out = Block(
-            self.vertices @ np.asarray(matrix, float).T + np.asarray(offset, float),
+    def with_vertices(self, vertices: np.ndarray) -> Block:
+        """A copy with every field but its vertices (m), which ``vertices`` replace."""
+        return Block(
+            vertices,
             self.faces,
             density=self.density,
             id=self.id,
@@ -232,6 +232,12 @@ class Block:
             fixed=self.fixed,
             rule_path=self.rule_path,
             extras=dict(self.extras),
+        )
+
+    def transformed(self, matrix: np.ndarray, offset: np.ndarray) -> Block:
+        """A copy moved by ``x -> matrix @ x + offset`` (a proper rotation keeps faces outward)."""
+        out = self.with_vertices(
+            self.vertices @ np.asarray(matrix, float).T + np.asarray(offset, float)
         )
         if np.linalg.det(matrix) < 0:
             out.faces = tuple(tuple(reversed(f)) for f in out.faces)

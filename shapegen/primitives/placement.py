@@ -71,16 +71,7 @@ def place(template: Template, scope: Scope) -> list[Block]:
     centroids = scope.origin + template.centroids @ motion.T
     placed = []
     for k, block in enumerate(template.blocks):
-        copy = Block(
-            world[template.starts[k] : template.starts[k + 1]],
-            block.faces,
-            density=block.density,
-            tags=block.tags,
-            structural=block.structural,
-            fixed=block.fixed,
-            rule_path=block.rule_path,
-            extras=dict(block.extras),
-        )
+        copy = block.with_vertices(world[template.starts[k] : template.starts[k + 1]])
         # The analysis reads every block's volume and centroid: carry them over, moved.
         copy.__dict__["_mass_properties"] = (template.volumes[k], centroids[k])
         placed.append(copy)
