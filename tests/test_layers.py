@@ -15,6 +15,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "shapegen"
 LAYERS = [
     ["errors", "tolerances", "json_values", "plugins", "limits"],
     ["model"],
+    ["geometry"],  # polygon meshes and their CGA operations (cut, extrude, offset, roofs)
     ["grammar", "statics", "export"],
     ["primitives"],  # the cable primitive sizes its section with statics.cables
     ["structures"],

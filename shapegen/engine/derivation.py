@@ -65,6 +65,7 @@ class ShapeState:
         "rule_path",
         "depth",
         "initial_scope",
+        "appearance",
     )
 
     def random(self) -> float:
@@ -187,6 +188,7 @@ class Derivation:
         state.children = [0]
         state.rng = [None]
         state.initial_scope = shape.scope
+        state.appearance = parent.appearance
         if name is None:
             state.rule_path = parent.rule_path
             state.depth = parent.depth
@@ -242,4 +244,5 @@ def root_state(run: Derivation, shape: Shape, attrs, path: tuple) -> ShapeState:
     state.rule_path = ()
     state.depth = 0
     state.initial_scope = shape.scope
+    state.appearance = None
     return state

@@ -83,6 +83,9 @@ Items of a sequence (``Item``)
     ``set(attr, value)``: overrides an attribute for the current shape's subtree.
 :class:`Insert`
     ``i("box", key=value, ...)``: insert a template primitive sized to the scope.
+:class:`Operation`
+    Every other CityEngine operation, generic: ``name``, ``arguments``
+    (:class:`OperationArgument`), ``branches`` (:class:`OperationBranch`) and ``repeat``.
 :class:`Print`
     ``print(expr, ...)``: print values while deriving.
 :class:`Report`
@@ -145,6 +148,9 @@ from shapegen.grammar.rule_bodies import (
     Item,
     Label,
     Nil,
+    Operation,
+    OperationArgument,
+    OperationBranch,
     Print,
     Push,
     Report,
@@ -192,6 +198,9 @@ __all__ = [
     "Name",
     "Nil",
     "Number",
+    "Operation",
+    "OperationArgument",
+    "OperationBranch",
     "Parameter",
     "Print",
     "Push",

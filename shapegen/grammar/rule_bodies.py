@@ -25,6 +25,9 @@ __all__ = [
     "Item",
     "Label",
     "Nil",
+    "Operation",
+    "OperationArgument",
+    "OperationBranch",
     "Print",
     "Push",
     "Report",
@@ -221,8 +224,51 @@ class Report:
     location: SourceLocation = location_field()
 
 
+@node
+class OperationArgument:
+    """One argument of a generic :class:`Operation` call: ``kind`` is ``"plain"``,
+    ``"relative"`` (``'x``), ``"floating"`` (``~x``) or ``"keyword"`` (``name=x``, with ``name``)."""
+
+    kind: Literal["plain", "relative", "floating", "keyword"]
+    value: Expression
+    name: str | None = None
+    location: SourceLocation = location_field()
+
+
+@node
+class OperationBranch:
+    """``key : body`` (``key = body`` with ``merge``) in the ``{ ... }`` block of a generic
+    :class:`Operation` (``offset(-1) { inside : A | border : B }``, ``setback(2) { front : A |
+    remainder : B }``, ``comp(e) { all : E }``). ``key`` is the expression before the colon,
+    usually a :class:`~shapegen.grammar.expressions.Name` selector; ``mode`` its prefix."""
+
+    key: Expression
+    mode: SizeMode
+    body: Body
+    merge: bool = False
+    location: SourceLocation = location_field()
+
+
+@node
+class Operation:
+    """A CityEngine operation without a node of its own: ``name(arguments) { branches }``.
+
+    The parser makes one for every name in :data:`shapegen.grammar.names.CGA_OPERATIONS` that
+    is not one of the dedicated nodes above (``color("#ff0000")``, ``offset(-1) { ... }``,
+    ``roofHip(30)``, ``alignScopeToAxes(y)``...); the interpreter dispatches on ``name``.
+    ``repeat`` is set for a trailing ``*`` after the block.
+    """
+
+    name: str
+    arguments: tuple[OperationArgument, ...] = ()
+    branches: tuple[OperationBranch, ...] = ()
+    repeat: bool = False
+    location: SourceLocation = location_field()
+
+
 Item = (
     Successor
+    | Operation
     | Nil
     | Push
     | Extrude

@@ -11,6 +11,7 @@ from functools import cached_property
 import numpy as np
 
 from shapegen.errors import GeometryError
+from shapegen.model.appearance import Appearance
 from shapegen.model.polygons import cross, face_normals
 from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, COPLANAR_REL, DEFAULT, Tolerances
 
@@ -39,6 +40,9 @@ class Block:
         A support: it carries any load and needs no equilibrium.
     rule_path
         The chain of rules that produced the block, when it came from a grammar.
+    appearance
+        Its look (:class:`~shapegen.model.appearance.Appearance`), or None for the default;
+        carried to the export, never to the statics.
     """
 
     vertices: np.ndarray
@@ -50,6 +54,7 @@ class Block:
     fixed: bool = False
     rule_path: tuple[str, ...] = ()
     extras: dict = field(default_factory=dict)
+    appearance: Appearance | None = None
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=float).reshape(-1, 3)
@@ -232,6 +237,7 @@ class Block:
             fixed=self.fixed,
             rule_path=self.rule_path,
             extras=dict(self.extras),
+            appearance=self.appearance,
         )
 
     def transformed(self, matrix: np.ndarray, offset: np.ndarray) -> Block:

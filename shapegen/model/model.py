@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shapegen.errors import GeometryError
+from shapegen.model.appearance import Surface
 from shapegen.model.block import Block
 from shapegen.model.validation import validate_blocks
 from shapegen.tolerances import DEFAULT, Tolerances
@@ -51,6 +52,9 @@ class Model:
         Coulomb friction coefficient mu (dimensionless) of every joint.
     metadata
         Free-form information carried to reports (attrs, reports from a grammar...).
+    surfaces
+        Leaves that are drawn and exported but are not blocks (faces, open or non-convex
+        meshes), each with the reason the statics leave it out.
     """
 
     blocks: list[Block] = field(default_factory=list)
@@ -59,6 +63,7 @@ class Model:
     ground: float | None = 0.0
     friction: float = 0.7
     metadata: dict = field(default_factory=dict)
+    surfaces: list[Surface] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.gravity = np.asarray(self.gravity, dtype=float).reshape(3)
