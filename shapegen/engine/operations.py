@@ -404,6 +404,14 @@ class ShapeOperations:
 
         return insert_op
 
+    def _op_Operation(self, node: ast.Operation, params) -> Operation:
+        from shapegen.engine.cga_ops import compiler_for
+
+        compiler = compiler_for(node.name)
+        if compiler is None:
+            raise self.error(node, f"the CGA operation {node.name!r} is not supported by shapegen")
+        return compiler(self, node, params)
+
     def _op_Print(self, node: ast.Print, params) -> Operation:
         values = [self.expressions.compile(v, params) for v in node.values]
 
