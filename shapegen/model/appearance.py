@@ -11,9 +11,18 @@ display and export; the statics only use blocks, and ``reason`` says why a surfa
 
 from __future__ import annotations
 
-__all__ = ["Appearance", "Surface"]
+__all__ = [
+    "Appearance",
+    "DEFAULT_APPEARANCE",
+    "MATERIAL_ATTRIBUTES",
+    "Surface",
+    "material_value",
+    "parse_hex_color",
+    "with_material",
+]
 
-from dataclasses import dataclass, field
+import re
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -33,8 +42,13 @@ class Appearance:
     material
         Every other ``material.*`` attribute set on the shape: ``name -> value``.
     uv
-        The UV set-up of the shape (projections, tiling), as the operations left it; kept so
-        that an export can use it.
+        The UV set-up of the shape, as the operations left it: ``(operation, arguments)``
+        pairs in the order they ran (``("setupProjection", (0, "scope.xy", 2.0, 1.0, 0.0,
+        0.0, 0.0))``, ``("scaleUV", (0, 2.0, 2.0))``...), the first argument the uv-set;
+        kept so that an export can use it.
+    normals
+        The shading of the geometry's normals: ``"hard"``, ``"soft"``, ``"auto"``,
+        ``"conform"``, a crease angle in degrees (``softenNormals``), or None for the default.
     """
 
     color: tuple[float, float, float] | None = None
@@ -42,9 +56,161 @@ class Appearance:
     texture: str | None = None
     material: tuple[tuple[str, object], ...] = ()
     uv: tuple[tuple[str, object], ...] = ()
+    normals: str | float | None = None
+
+    @property
+    def is_default(self) -> bool:
+        """True when nothing was set: the shape looks as if no appearance operation ran."""
+        return self == DEFAULT_APPEARANCE
+
+    def to_dict(self) -> dict:
+        """The appearance as plain JSON types; only what differs from the default."""
+        out: dict = {}
+        if self.color is not None:
+            out["color"] = [float(c) for c in self.color]
+        if self.opacity != 1.0:
+            out["opacity"] = float(self.opacity)
+        if self.texture is not None:
+            out["texture"] = self.texture
+        if self.material:
+            out["material"] = {name: value for name, value in self.material}
+        if self.uv:
+            out["uv"] = [[name, list(arguments)] for name, arguments in self.uv]
+        if self.normals is not None:
+            out["normals"] = self.normals
+        return out
+
+    @classmethod
+    def from_dict(cls, document: dict) -> Appearance:
+        """The inverse of :meth:`to_dict` (values are checked by the file readers)."""
+        color = document.get("color")
+        return cls(
+            color=None if color is None else tuple(float(c) for c in color),
+            opacity=float(document.get("opacity", 1.0)),
+            texture=document.get("texture"),
+            material=tuple((str(k), v) for k, v in (document.get("material") or {}).items()),
+            uv=tuple((str(name), tuple(arguments)) for name, arguments in document.get("uv", [])),
+            normals=document.get("normals"),
+        )
 
 
 DEFAULT_APPEARANCE = Appearance()
+
+
+_MAPS = (
+    "colormap",
+    "bumpmap",
+    "dirtmap",
+    "specularmap",
+    "opacitymap",
+    "normalmap",
+    "emissivemap",
+    "occlusionmap",
+    "roughnessmap",
+    "metallicmap",
+)
+
+
+def _catalogue() -> dict[str, tuple[type, object]]:
+    """``name -> (type, default)`` of every ``material.*`` attribute of CityEngine's reference
+    (attr_material), without the ``material.`` prefix."""
+    attributes: dict[str, tuple[type, object]] = {
+        "name": (str, ""),
+        "shader": (str, "CityEngineShader"),
+        "color.rgb": (str, "#ffffff"),
+        "opacity": (float, 1.0),
+        "reflectivity": (float, 0.0),
+        "shininess": (float, 1.0),
+        "bumpValue": (float, 1.0),
+        "metallic": (float, 0.0),
+        "roughness": (float, 1.0),
+        "doubleSided": (bool, True),
+        "opacitymap.mode": (str, "blend"),
+        "opacitymap.cutoff": (float, 0.5),
+    }
+    channels = (("color", 1.0), ("ambient", 0.0), ("specular", 0.0), ("emissive", 0.0))
+    for channel, default in channels:
+        for component in "rgb":
+            attributes[f"{channel}.{component}"] = (float, default)
+    for texture_map in _MAPS:
+        attributes[texture_map] = (str, "")
+        for key, default in (("su", 1.0), ("sv", 1.0), ("tu", 0.0), ("tv", 0.0), ("rw", 0.0)):
+            attributes[f"{texture_map}.{key}"] = (float, default)
+    return attributes
+
+
+MATERIAL_ATTRIBUTES: dict[str, tuple[type, object]] = _catalogue()
+"""``name -> (type, default)`` of the ``material.*`` attributes (names without the prefix)."""
+
+_OPACITY_MODES = ("blend", "mask", "opaque")
+_HEX = re.compile(r"#([0-9a-fA-F]{6})([0-9a-fA-F]{2})?")
+
+
+def parse_hex_color(text: str) -> tuple[tuple[float, float, float], float | None]:
+    """``"#rrggbb"`` or ``"#rrggbboo"`` as ``((r, g, b), opacity or None)`` in [0, 1].
+
+    Raises ``ValueError`` with a message for the user on any other text.
+    """
+    match = _HEX.fullmatch(text.strip())
+    if match is None:
+        raise ValueError(f'a colour is "#rrggbb" or "#rrggbboo" in hexadecimal, got {text!r}')
+    digits = match.group(1)
+    rgb = tuple(int(digits[k : k + 2], 16) / 255.0 for k in (0, 2, 4))
+    opacity = int(match.group(2), 16) / 255.0 if match.group(2) else None
+    return rgb, opacity  # type: ignore[return-value]
+
+
+def _hex(rgb: tuple[float, float, float]) -> str:
+    return "#" + "".join(f"{round(255 * c):02x}" for c in rgb)
+
+
+def _clamped(value: float) -> float:
+    return min(max(value, 0.0), 1.0)
+
+
+def material_value(appearance: Appearance | None, name: str) -> object:
+    """The value of ``material.<name>`` on a shape whose appearance is ``appearance`` (None:
+    the default), as CGA reads it: a float, a string or a boolean.
+
+    Raises ``KeyError`` for a name that is not a material attribute.
+    """
+    kind, default = MATERIAL_ATTRIBUTES[name]
+    look = appearance or DEFAULT_APPEARANCE
+    if name.startswith("color."):
+        rgb = look.color or (1.0, 1.0, 1.0)
+        return _hex(rgb) if name == "color.rgb" else rgb["rgb".index(name[-1])]
+    if name == "opacity":
+        return look.opacity
+    if name == "colormap":
+        return look.texture or ""
+    return dict(look.material).get(name, default)
+
+
+def with_material(appearance: Appearance | None, name: str, value: object) -> Appearance:
+    """``appearance`` (None: the default) with ``material.<name>`` set to ``value``, whose type
+    has been checked. Colour components and the opacity are clamped to [0, 1].
+
+    Raises ``ValueError`` with a message for the user for a value CityEngine refuses (a
+    malformed ``color.rgb``, an unknown ``opacitymap.mode``).
+    """
+    look = appearance or DEFAULT_APPEARANCE
+    if name.startswith("color."):
+        rgb = list(look.color or (1.0, 1.0, 1.0))
+        if name == "color.rgb":
+            rgb, _ = parse_hex_color(value)  # type: ignore[arg-type]
+        else:
+            rgb["rgb".index(name[-1])] = _clamped(value)  # type: ignore[arg-type]
+        return replace(look, color=tuple(rgb))
+    if name == "opacity":
+        return replace(look, opacity=_clamped(value))  # type: ignore[arg-type]
+    if name == "colormap":
+        return replace(look, texture=value or None)
+    if name == "opacitymap.mode" and value not in _OPACITY_MODES:
+        raise ValueError(
+            f"material.opacitymap.mode is one of {', '.join(_OPACITY_MODES)}, got {value!r}"
+        )
+    material = tuple((key, old) for key, old in look.material if key != name)
+    return replace(look, material=material + ((name, value),))
 
 
 @dataclass
@@ -82,3 +248,19 @@ class Surface:
         self.faces = tuple(tuple(int(i) for i in face) for face in self.faces)
         self.tags = tuple(self.tags)
         self.rule_path = tuple(self.rule_path)
+
+    def to_dict(self) -> dict:
+        """The surface as a shapegen-blocks JSON object (see docs/formats.md)."""
+        out: dict = {
+            "id": self.id,
+            "vertices": self.vertices.tolist(),
+            "faces": [list(face) for face in self.faces],
+            "reason": self.reason,
+            "tags": list(self.tags),
+        }
+        if self.rule_path:
+            out["rule_path"] = list(self.rule_path)
+        look = (self.appearance or DEFAULT_APPEARANCE).to_dict()
+        if look:
+            out["appearance"] = look
+        return out
