@@ -23,7 +23,7 @@ LAYERS = [
     ["search"],
     ["simulation"],
     ["pipeline"],
-    ["cli", "editor", "demo", "__main__", "__init__"],
+    ["cli", "editor", "city", "demo", "__main__", "__init__"],
 ]
 LEVEL = {name: level for level, names in enumerate(LAYERS) for name in names}
 MAX_LINES = 500

@@ -1,0 +1,368 @@
+"""Lots of a city: polygons read from GeoJSON or OpenStreetMap buildings, in one local metric frame.
+
+A :class:`Lot` is one footprint: its id, its outer ring in metres (east, north) about the city's
+origin, counter-clockwise seen from above, and the properties of the feature it came from (which
+override the rule's attrs of the same names, as CityEngine maps object attributes).
+
+Coordinates. A GeoJSON file holds longitude/latitude (RFC 7946) or projected metres; which is
+detected (a ``crs`` member naming WGS84, or every coordinate within +-180 / +-90 degrees, means
+longitude/latitude) or given (``crs="lonlat"`` or ``crs="metres"``). Longitude/latitude is
+projected onto the WGS84 tangent plane at the centre of the lots' bounding box
+(:func:`shapegen.export.osm.east_north`: over a few kilometres distances agree with geodesic
+ones to 1e-7); projected metres are moved so that the same centre is the origin. The origin is
+recorded in the outputs so that results can be put back on a map. In shapegen's frame east is
++x, up +y and north -z.
+
+A feature that cannot be a lot (fewer than three distinct corners, a self-crossing ring, no
+area, a hole) is kept as a lot with a ``problem``: the run records it as a failed row instead
+of stopping.
+"""
+
+from __future__ import annotations
+
+__all__ = ["CRS_CHOICES", "City", "Lot", "city_from_polygons", "read_lots"]
+
+import json
+import math
+import xml.etree.ElementTree as ElementTree
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from shapegen.errors import InputFormatError
+from shapegen.export.osm import east_north
+
+CRS_CHOICES = ("lonlat", "metres")
+# Corners closer than this are one corner, m.
+_MERGE_M = 1e-3
+# Smallest lot area built, m^2.
+_MIN_AREA_M2 = 0.01
+
+
+@dataclass(frozen=True)
+class Lot:
+    """One footprint.
+
+    Attributes
+    ----------
+    id
+        Unique within the city: the feature's ``id``, else its ``id`` property, else ``#n``
+        (its position in the file, from 1); OSM buildings are ``way/ID``.
+    ring
+        ``(k, 2)`` corners, east and north of the city's origin (m), counter-clockwise seen
+        from above, the first corner not repeated.
+    properties
+        The feature's properties (OSM tags), for attrs of the same names.
+    geometry
+        The GeoJSON geometry as read (input coordinates), for the results table.
+    problem
+        Why it cannot be built (the row's error), or None.
+    """
+
+    id: str
+    ring: np.ndarray
+    properties: dict = field(default_factory=dict)
+    geometry: dict | None = None
+    problem: str | None = None
+
+    @property
+    def area(self) -> float:
+        """Area of the footprint, m^2."""
+        x, y = self.ring[:, 0], self.ring[:, 1]
+        return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+@dataclass(frozen=True)
+class City:
+    """The lots of one input and the frame they are in.
+
+    Attributes
+    ----------
+    lots
+        In input order.
+    crs
+        ``"lonlat"`` or ``"metres"``: the input's coordinates.
+    origin
+        The local frame's origin in input coordinates: ``(lon, lat)`` degrees or ``(x, y)`` m.
+    skipped
+        Features that are not polygons (points, lines), counted, not read.
+    source
+        The file read, or ``""``.
+    """
+
+    lots: list[Lot]
+    crs: str
+    origin: tuple[float, float]
+    skipped: int = 0
+    source: str = ""
+
+    def frame(self) -> dict:
+        """How the local frame relates to the input's coordinates (for the outputs)."""
+        projection = (
+            "WGS84 local tangent plane at the origin"
+            if self.crs == "lonlat"
+            else "input metres less the origin"
+        )
+        return {
+            "crs": self.crs,
+            "origin": list(self.origin),
+            "projection": projection,
+            "axes": "east +x, up +y, north -z (m)",
+        }
+
+
+# ------------------------------------------------------------------------------ reading
+def read_lots(path: str | Path, crs: str | None = None) -> City:
+    """Read the lots of a GeoJSON FeatureCollection (``.geojson``/``.json``) or of the buildings
+    of an OSM XML file (``.osm``: closed ways tagged ``building``).
+
+    Raises
+    ------
+    InputFormatError
+        One line naming the file: unreadable, not GeoJSON (or OSM XML), no polygon, two lots
+        with one id, an unknown or unconfirmed coordinate system.
+    """
+    path = Path(path)
+    if crs is not None and crs not in CRS_CHOICES:
+        raise InputFormatError(f"--crs {crs}: expected one of {', '.join(CRS_CHOICES)}")
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    head = data[:512].lstrip()
+    if path.suffix.lower() == ".osm" or head.startswith(b"<"):
+        if crs == "metres":
+            raise InputFormatError(f"{path}: OSM nodes are longitude/latitude; --crs metres")
+        features, skipped = _osm_buildings(path)
+        return _city(features, "lonlat", skipped, str(path))
+    try:
+        document = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        where = f":{exc.lineno}:{exc.colno}" if isinstance(exc, json.JSONDecodeError) else ""
+        raise InputFormatError(
+            f"{path}{where}: not a GeoJSON file (invalid JSON) nor OSM XML"
+        ) from None
+    features, declared = _geojson_features(document, path)
+    polygons = [f for f in features if _kind(f) in ("Polygon", "MultiPolygon")]
+    skipped = len(features) - len(polygons)
+    if crs is None:
+        crs = declared or _detected_crs(polygons)
+    elif declared == "lonlat" and crs == "metres":
+        raise InputFormatError(f"{path}: its crs member says WGS84 longitude/latitude, not metres")
+    return _city(polygons, crs, skipped, str(path))
+
+
+def city_from_polygons(
+    polygons,
+    *,
+    ids=None,
+    properties=None,
+    crs: str = "metres",
+) -> City:
+    """A city from Python data: ``polygons`` are sequences of ``(x, y)`` corners (metres, or
+    ``(lon, lat)`` with ``crs="lonlat"``), any orientation; ``ids`` default to ``#1``, ``#2``...;
+    ``properties`` a dict per lot."""
+    if crs not in CRS_CHOICES:
+        raise InputFormatError(f"crs {crs!r}: expected one of {', '.join(CRS_CHOICES)}")
+    polygons = list(polygons)
+    ids = list(ids) if ids is not None else [None] * len(polygons)
+    props = list(properties) if properties is not None else [{}] * len(polygons)
+    if not (len(ids) == len(props) == len(polygons)):
+        raise InputFormatError("polygons, ids and properties must be as many")
+    features = [
+        {
+            "type": "Feature",
+            "id": lot_id,
+            "properties": dict(prop or {}),
+            "geometry": {"type": "Polygon", "coordinates": [[list(map(float, p)) for p in poly]]},
+        }
+        for poly, lot_id, prop in zip(polygons, ids, props, strict=True)
+    ]
+    return _city(features, crs, 0, "")
+
+
+def _kind(feature: dict) -> str | None:
+    geometry = feature.get("geometry")
+    return geometry.get("type") if isinstance(geometry, dict) else None
+
+
+def _geojson_features(document, path: Path) -> tuple[list[dict], str | None]:
+    if not isinstance(document, dict) or document.get("type") not in (
+        "FeatureCollection",
+        "Feature",
+    ):
+        kind = document.get("type") if isinstance(document, dict) else type(document).__name__
+        raise InputFormatError(f"{path}: not a GeoJSON FeatureCollection (its type is {kind!r})")
+    features = document.get("features") if document["type"] == "FeatureCollection" else [document]
+    if not isinstance(features, list) or not all(isinstance(f, dict) for f in features):
+        raise InputFormatError(f"{path}: 'features' must be a list of Feature objects")
+    return features, _declared_crs(document.get("crs"), path)
+
+
+def _declared_crs(member, path: Path) -> str | None:
+    """``lonlat`` for a crs member naming WGS84; any other crs needs ``--crs metres``."""
+    if member is None:
+        return None
+    name = str((member.get("properties") or {}).get("name", "")) if isinstance(member, dict) else ""
+    if "CRS84" in name.upper() or name.endswith((":4326", "::4326")):
+        return "lonlat"
+    raise InputFormatError(
+        f"{path}: its crs is {name or member!r}; give --crs metres if its units are metres"
+        " (other units are not read)"
+    )
+
+
+def _detected_crs(features: list[dict]) -> str:
+    for feature in features:
+        for ring in _rings(feature["geometry"]):
+            for point in ring:
+                if not (-180 <= point[0] <= 180 and -90 <= point[1] <= 90):
+                    return "metres"
+    return "lonlat"
+
+
+def _rings(geometry: dict):
+    coordinates = geometry.get("coordinates")
+    polygons = coordinates if geometry.get("type") == "MultiPolygon" else [coordinates]
+    for polygon in polygons if isinstance(polygons, list) else []:
+        for ring in polygon if isinstance(polygon, list) else []:
+            if isinstance(ring, list):
+                yield [p for p in ring if _is_point(p)]
+
+
+def _is_point(p) -> bool:
+    return (
+        isinstance(p, list | tuple)
+        and len(p) >= 2
+        and all(isinstance(v, int | float) and not isinstance(v, bool) for v in p[:2])
+        and all(math.isfinite(v) for v in p[:2])
+    )
+
+
+def _city(features: list[dict], crs: str, skipped: int, source: str) -> City:
+    if not features:
+        where = f"{source}: " if source else ""
+        raise InputFormatError(f"{where}no polygons to use as lots")
+    points = np.array([p[:2] for f in features for ring in _rings(f["geometry"]) for p in ring])
+    if len(points) == 0:
+        raise InputFormatError(f"{source or 'lots'}: no polygon has a valid corner")
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    centre = 0.5 * (lo + hi)
+    if crs == "metres":
+        centre = np.round(centre)  # whole metres, so the origin reads cleanly
+    origin = (float(centre[0]), float(centre[1]))
+    lots: list[Lot] = []
+    seen: set[str] = set()
+    for number, feature in enumerate(features, start=1):
+        properties = feature.get("properties")
+        properties = dict(properties) if isinstance(properties, dict) else {}
+        raw_id = feature.get("id")
+        if raw_id is None:
+            raw_id = properties.get("id")
+        lot_id = str(raw_id) if raw_id is not None else f"#{number}"
+        if lot_id in seen:
+            raise InputFormatError(f"{source or 'lots'}: two lots have the id {lot_id!r}")
+        seen.add(lot_id)
+        ring, problem = _ring(feature["geometry"], crs, origin)
+        lots.append(Lot(lot_id, ring, properties, feature["geometry"], problem))
+    return City(lots, crs, origin, skipped, source)
+
+
+def _ring(geometry: dict, crs: str, origin: tuple[float, float]) -> tuple[np.ndarray, str | None]:
+    """The outer ring in local metres, counter-clockwise and cleaned, and what is wrong with it."""
+    empty = np.zeros((0, 2))
+    coordinates = geometry.get("coordinates")
+    if geometry.get("type") == "MultiPolygon":
+        if not isinstance(coordinates, list) or len(coordinates) != 1:
+            parts = len(coordinates) if isinstance(coordinates, list) else 0
+            return empty, f"a MultiPolygon of {parts} parts (a lot is one polygon)"
+        coordinates = coordinates[0]
+    if not isinstance(coordinates, list) or not coordinates or not isinstance(coordinates[0], list):
+        return empty, "a polygon without coordinates"
+    if len(coordinates) > 1:
+        return empty, f"a polygon with {len(coordinates) - 1} hole(s) (courtyards are not built)"
+    raw = coordinates[0]
+    if not all(_is_point(p) for p in raw):
+        return empty, "a corner that is not two finite numbers"
+    points = np.array([p[:2] for p in raw], dtype=float)
+    if crs == "lonlat":
+        if np.any(np.abs(points[:, 0]) > 180) or np.any(np.abs(points[:, 1]) > 90):
+            return empty, "a corner outside longitude -180..180 / latitude -90..90"
+        ring = east_north(points[:, 1], points[:, 0], origin[1], origin[0])
+    else:
+        ring = points - np.array(origin)
+    keep = [0]
+    for k in range(1, len(ring)):
+        if np.hypot(*(ring[k] - ring[keep[-1]])) > _MERGE_M:
+            keep.append(k)
+    ring = ring[keep]
+    if len(ring) > 1 and np.hypot(*(ring[-1] - ring[0])) <= _MERGE_M:
+        ring = ring[:-1]
+    if len(ring) < 3:
+        return ring, f"a polygon of {len(ring)} distinct corner(s); a lot needs 3"
+    from shapely.geometry import Polygon
+
+    shape = Polygon(ring)
+    if not shape.is_valid:
+        return ring, "a self-crossing polygon"
+    if shape.area < _MIN_AREA_M2:
+        return ring, f"a polygon of {shape.area:.3g} m^2 (at least {_MIN_AREA_M2} m^2)"
+    if not shape.exterior.is_ccw:
+        ring = ring[::-1]
+        ring = np.roll(ring, 1, axis=0)  # keep the first corner first
+    return ring, None
+
+
+# ------------------------------------------------------------------------------ OSM buildings
+def _osm_buildings(path: Path) -> tuple[list[dict], int]:
+    """Closed ways tagged ``building`` as GeoJSON-like features (lon/lat); relations skipped."""
+    ways: list[tuple[int, list[int], dict]] = []
+    nodes: dict[int, tuple[float, float]] = {}
+    skipped = 0
+    try:
+        root_seen = False
+        for _, element in ElementTree.iterparse(path, events=("end",)):
+            if element.tag == "node":
+                try:
+                    nodes[int(element.get("id"))] = (
+                        float(element.get("lon")),
+                        float(element.get("lat")),
+                    )
+                except (TypeError, ValueError):
+                    raise InputFormatError(
+                        f"{path}: a node with id {element.get('id')!r} has no valid lat/lon"
+                    ) from None
+                element.clear()
+            elif element.tag == "way":
+                tags = {t.get("k"): t.get("v") for t in element.iter("tag") if t.get("k")}
+                if "building" in tags:
+                    refs = [int(nd.get("ref")) for nd in element.iter("nd")]
+                    ways.append((int(element.get("id")), refs, tags))
+                element.clear()
+            elif element.tag == "relation":
+                tags = {t.get("k"): t.get("v") for t in element.iter("tag")}
+                skipped += "building" in tags
+                element.clear()
+            elif element.tag == "osm":
+                root_seen = True
+    except ElementTree.ParseError as exc:
+        line, column = exc.position
+        raise InputFormatError(f"{path}:{line}:{column + 1}: invalid XML") from None
+    except ValueError:
+        raise InputFormatError(f"{path}: a way or node reference that is not an integer") from None
+    if not root_seen:
+        raise InputFormatError(f"{path}: not an OSM XML file (no <osm> root)")
+    features = []
+    for way_id, refs, tags in ways:
+        feature = {"type": "Feature", "id": f"way/{way_id}", "properties": tags}
+        if len(refs) < 4 or refs[0] != refs[-1]:
+            skipped += 1  # an open way is not a footprint
+            continue
+        missing = [ref for ref in refs if ref not in nodes]
+        if missing:
+            raise InputFormatError(f"{path}: way {way_id} refers to node {missing[0]}, not in it")
+        ring = [list(nodes[ref]) for ref in refs]
+        feature["geometry"] = {"type": "Polygon", "coordinates": [ring]}
+        features.append(feature)
+    return features, skipped

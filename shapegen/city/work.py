@@ -1,0 +1,295 @@
+"""One lot's work, as a worker runs it: derive, judge and (optionally) optimize, place, record.
+
+:func:`run_lot` never raises for a lot's own trouble: a grammar error, a statics error, a work
+limit reached or the lot's timeout passed all become a record with ``status`` ``"error"`` or
+``"timeout"`` and one line in ``error``, so one bad lot never stops a city. Everything a worker
+needs travels in :class:`CitySettings` and :class:`LotTask` (plain, picklable data: the rule's
+text, not its path), so a worker on another machine of a Dask cluster needs shapegen installed
+and nothing else.
+
+Seeds. A lot's seed is drawn from its id and the run's seed with BLAKE2b (not Python's
+``hash``, which changes between processes), so a rerun, on any machine and in any order, gives
+the same city.
+
+Placement. The rule derives on the lot in its own frame (scope x along the lot's first edge, y
+up, as CityEngine) and the model is then turned and moved into the city's frame.
+"""
+
+from __future__ import annotations
+
+__all__ = ["CitySettings", "LotTask", "lot_seed", "new_record", "run_lot", "timeout_message"]
+
+import hashlib
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+# A lot whose area falls short of its bounding rectangle's by less than this strip along the
+# rectangle's sides (m) is that rectangle.
+_RECTANGLE_M = 1e-3
+
+
+@dataclass(frozen=True)
+class CitySettings:
+    """What every lot of one run shares.
+
+    Attributes
+    ----------
+    grammar_text, grammar_name
+        The rule's source and how errors name it.
+    attrs
+        Attr values for every lot (``--set``); a lot's properties override them.
+    seed
+        The run's seed; each lot's seed is drawn from it and the lot's id.
+    search
+        A :class:`~shapegen.pipeline.SearchSettings` to optimize each lot, or None.
+    statics
+        Block-statics options, or None for the defaults.
+    timeout
+        Seconds one lot may take, or None.
+    limits
+        Work limits (:class:`~shapegen.limits.WorkLimits`) of each lot, or None for the
+        defaults.
+    """
+
+    grammar_text: str
+    grammar_name: str
+    attrs: dict = field(default_factory=dict)
+    seed: int = 0
+    search: object | None = None
+    statics: object | None = None
+    timeout: float | None = None
+    limits: object | None = None
+
+
+@dataclass(frozen=True)
+class LotTask:
+    """One lot to build: its id, its corners (east, north about the city's origin, m,
+    counter-clockwise seen from above) and its properties."""
+
+    id: str
+    ring: tuple[tuple[float, float], ...]
+    properties: dict = field(default_factory=dict)
+
+
+class LotTimeout(Exception):
+    """The lot's time ran out (raised inside the lot's work, caught by :func:`run_lot`)."""
+
+
+def lot_seed(lot_id: str, seed: int = 0) -> int:
+    """The seed of lot ``lot_id`` in a run seeded ``seed``: 0 .. 2^31 - 1, the same everywhere."""
+    digest = hashlib.blake2b(f"{seed}\x00{lot_id}".encode(), digest_size=4).digest()
+    return int.from_bytes(digest, "big") & 0x7FFFFFFF
+
+
+_GRAMMARS: dict[str, object] = {}  # the rules a worker has compiled, by hash of their text
+
+
+def _grammar(settings: CitySettings):
+    from shapegen.engine.grammar_api import parse_grammar
+
+    key = hashlib.sha256(
+        (settings.grammar_name + "\x00" + settings.grammar_text).encode()
+    ).hexdigest()
+    if key not in _GRAMMARS:
+        _GRAMMARS.clear()  # one run's rule at a time
+        _GRAMMARS[key] = parse_grammar(settings.grammar_text, settings.grammar_name)
+    return _GRAMMARS[key]
+
+
+def run_lot(settings: CitySettings, task: LotTask) -> dict:
+    """Build, judge (and optimize) one lot; the record of what happened (see module doc).
+
+    The record holds ``id``, ``status`` (``ok``, ``error``, ``timeout``), ``stands``,
+    ``measure`` (y/W^2 for block statics), ``structure``, ``blocks``, ``attrs`` (the values of
+    the rule's ranged attrs as built, optimized ones included), ``from_properties`` (attrs the
+    lot's properties set), ``seed``, ``footprint``, ``lot`` (width, depth, m), ``seconds``,
+    ``error``, ``peak_rss_mib`` (the worker's peak so far) and, for a built lot, ``model``: the
+    placed blocks as a shapegen-blocks document.
+    """
+    started = time.perf_counter()
+    seed = lot_seed(task.id, settings.seed)
+    record = new_record(task.id, seed)
+    try:
+        _run(settings, task, seed, started, record)
+        record["status"] = "ok"
+    except LotTimeout:
+        record["status"] = "timeout"
+    except Exception as exc:  # noqa: BLE001 - a lot's failure is a row, whatever it is
+        from shapegen.errors import ShapegenError
+
+        text = " ".join(str(exc).split()) or type(exc).__name__
+        if not isinstance(exc, ShapegenError):
+            text = f"internal error: {type(exc).__name__}: {text}"
+        record["error"] = text
+    seconds = time.perf_counter() - started
+    if settings.timeout is not None and seconds > settings.timeout:
+        # Past its time, whatever it got to: a timed-out lot reads the same wherever it stopped.
+        record.update(status="timeout", stands=None, measure=None, blocks=None)
+        record.pop("model", None)
+    if record["status"] == "timeout":
+        record["error"] = timeout_message(settings.timeout)
+    record["seconds"] = seconds
+    record["peak_rss_mib"] = _peak_rss_mib()
+    return record
+
+
+def new_record(lot_id: str, seed: int) -> dict:
+    """A lot's record before anything is known of it (status ``error``, no error yet)."""
+    return {
+        "id": lot_id,
+        "status": "error",
+        "stands": None,
+        "measure": None,
+        "structure": None,
+        "blocks": None,
+        "attrs": {},
+        "from_properties": [],
+        "seed": seed,
+        "footprint": None,
+        "lot": None,
+        "iterations": None,
+        "error": None,
+        "seconds": None,
+        "peak_rss_mib": None,
+    }
+
+
+def timeout_message(timeout: float) -> str:
+    """The error of a lot stopped by its timeout."""
+    return f"took more than {timeout:g} s (--timeout)"
+
+
+def _run(settings: CitySettings, task: LotTask, seed: int, started: float, record: dict) -> None:
+    from shapegen.export.blocks_json import model_to_dict
+    from shapegen.limits import current_limits, work_limits
+    from shapegen.pipeline import design
+
+    grammar = _grammar(settings)
+    attrs = dict(settings.attrs)
+    for name, value in task.properties.items():
+        if name in grammar.attrs and value is not None:
+            if isinstance(value, list | dict):
+                raise _input_error(f"property {name!r} is a {type(value).__name__}; an attr"
+                                   " takes a number, boolean or string")  # fmt: skip
+            attrs[name] = value
+            record["from_properties"].append(name)
+    lot, rotation, offset, footprint = lot_frame(np.asarray(task.ring, dtype=float))
+    record["footprint"] = footprint
+    record["lot"] = [float(lot[0]), float(lot[1])]
+
+    deadline = None if settings.timeout is None else started + settings.timeout
+
+    def check_time(_record=None) -> None:
+        if deadline is not None and time.perf_counter() > deadline:
+            raise LotTimeout
+
+    limits = settings.limits or current_limits()
+    seconds = limits.max_seconds
+    if settings.timeout is not None:
+        seconds = settings.timeout if seconds is None else min(seconds, settings.timeout)
+    with work_limits(limits, max_seconds=seconds):
+        outcome = design(
+            grammar,
+            attrs=attrs,
+            seed=seed,
+            lot=lot,
+            statics=settings.statics,
+            search=settings.search,
+            assess=True,
+            place=lambda model: place_model(model, rotation, offset),
+            progress=check_time,
+        )
+    check_time()
+    assessment = outcome.assessment
+    record["structure"] = outcome.structure.name
+    record["stands"] = bool(assessment.stands)
+    record["measure"] = _number(assessment.measure)
+    record["blocks"] = len(outcome.model.blocks)
+    built = outcome.model.metadata.get("attrs", {})
+    ranged = outcome.report.get("free_parameters") or {}
+    names = list(settings.search.free or ranged) if settings.search is not None else list(ranged)
+    record["attrs"] = {name: _number(built.get(name)) for name in names if name in built}
+    if outcome.optimization is not None:
+        record["iterations"] = outcome.optimization.iterations
+    record["model"] = model_to_dict(outcome.model)
+
+
+def _input_error(message: str):
+    from shapegen.errors import InputFormatError
+
+    return InputFormatError(message)
+
+
+def _number(value):
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        return value
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def lot_frame(ring: np.ndarray) -> tuple[tuple[float, float], np.ndarray, np.ndarray, str]:
+    """The lot a rule derives on and where it goes in the city.
+
+    ``ring`` is ``(k, 2)`` east/north corners, counter-clockwise seen from above. The lot's frame
+    has x along the first edge and y up (CityEngine's scope of a lot) and z = x cross y; the
+    rule derives on the lot's bounding rectangle in that frame, ``(width, depth)`` m, which is
+    the lot itself when the lot is a rectangle (``footprint`` ``"rectangle"``) and encloses it
+    otherwise (``"bounding rectangle"``).
+
+    Returns
+    -------
+    lot, rotation, offset, footprint
+        ``(width, depth)``; the ``(3, 3)`` rotation (columns: the lot's x, y, z in the city)
+        and the ``(3,)`` offset (m) that take the derived model into the city's frame.
+    """
+    # shapegen's city frame: east +x, north -z.
+    points = np.column_stack([ring[:, 0], -ring[:, 1]])
+    edge = points[1] - points[0]
+    u = edge / np.hypot(*edge)
+    w = np.array([-u[1], u[0]])  # (x, z) of u cross +y
+    along = (points - points[0]) @ u
+    across = (points - points[0]) @ w
+    width = float(along.max() - along.min())
+    depth = float(across.max() - across.min())
+    corner = points[0] + along.min() * u + across.min() * w
+    rotation = np.array([[u[0], 0.0, w[0]], [0.0, 1.0, 0.0], [u[1], 0.0, w[1]]])
+    offset = np.array([corner[0], 0.0, corner[1]])
+    x, z = points[:, 0], points[:, 1]
+    area = 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(z, np.roll(x, -1))))
+    # A polygon fills its bounding rectangle only when it is that rectangle.
+    rectangle = width * depth - area <= _RECTANGLE_M * (width + depth)
+    return (width, depth), rotation, offset, "rectangle" if rectangle else "bounding rectangle"
+
+
+def place_model(model, rotation: np.ndarray, offset: np.ndarray):
+    """The model turned by ``rotation`` and moved by ``offset`` (m) into the city's frame."""
+    from shapegen.model.model import Model, PointLoad
+
+    blocks = [block.transformed(rotation, offset) for block in model.blocks]
+    loads = [
+        PointLoad(load.block, rotation @ load.force, rotation @ load.point + offset)
+        for load in model.loads
+    ]
+    return Model(
+        blocks,
+        loads,
+        gravity=model.gravity.copy(),
+        ground=model.ground,
+        friction=model.friction,
+        metadata=dict(model.metadata),
+    )
+
+
+def _peak_rss_mib() -> float | None:
+    """This process's peak resident memory, MiB (None where the OS does not say)."""
+    try:
+        import resource
+    except ImportError:  # not on Windows
+        return None
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    # Linux reports KiB, macOS bytes.
+    return round(peak / (2**20 if os.uname().sysname == "Darwin" else 1024), 1)
