@@ -22,6 +22,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.atomic import atomic_write
+from shapegen.export.surfaces import appearance_from_entry, surface_from_entry, surfaces_of
 from shapegen.json_values import json_ready
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import DEFAULT_DENSITY, Block
@@ -46,16 +47,27 @@ def model_to_dict(model: Model) -> dict:
         "gravity": [float(g) for g in model.gravity],
         "ground": None if model.ground is None else float(model.ground),
         "friction": float(model.friction),
-        "blocks": [block.to_dict() for block in model.blocks],
+        "blocks": [_block_entry(block) for block in model.blocks],
         "loads": [
             {"block": load.block, "force": load.force.tolist(), "point": load.point.tolist()}
             for load in model.loads
         ],
     }
+    surfaces = surfaces_of(model)
+    if surfaces:
+        document["surfaces"] = [surface.to_dict() for surface in surfaces]
     structure = (model.metadata or {}).get("structure")
     if structure:
         document["structure"] = json_ready(structure)
     return document
+
+
+def _block_entry(block: Block) -> dict:
+    entry = block.to_dict()
+    look = block.appearance.to_dict() if block.appearance is not None else {}
+    if look:
+        entry["appearance"] = json_ready(look)
+    return entry
 
 
 def write_blocks_json(model: Model, path: str | Path) -> None:
@@ -181,7 +193,20 @@ def model_from_dict(document: object) -> Model:
     if not isinstance(raw_loads, list):
         raise InputFormatError('"loads" must be a list')
     loads = [_load(entry, k) for k, entry in enumerate(raw_loads)]
+    raw_surfaces = document.get("surfaces", [])
+    if not isinstance(raw_surfaces, list):
+        raise InputFormatError('"surfaces" must be a list')
+    if len(raw_surfaces) > limit:
+        raise InputFormatError(
+            f"the model has {len(raw_surfaces)} surfaces, more than {limit} "
+            + limit_hint("max_blocks")
+        )
+    surfaces = [
+        surface_from_entry(entry, k, _points, _number, _strings)
+        for k, entry in enumerate(raw_surfaces)
+    ]
     model = Model(blocks, loads, gravity=gravity, ground=ground, friction=friction)
+    model.surfaces = surfaces
     structure = document.get("structure")
     if structure is not None:
         if not (
@@ -218,6 +243,7 @@ def _block(entry: object, k: int) -> Block:
         structural=_boolean(entry.get("structural", True), f'{where}: "structural"'),
         tags=_strings(entry.get("tags", []), f'{where}: "tags"'),
         rule_path=_strings(entry.get("rule_path", []), f'{where}: "rule_path"'),
+        appearance=appearance_from_entry(entry.get("appearance"), where, _number),
     )
     if kwargs["density"] < 0:
         raise InputFormatError(f'{where}: "density" must be >= 0')

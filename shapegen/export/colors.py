@@ -11,11 +11,14 @@ __all__ = [
     "SUPPORT",
     "NON_STRUCTURAL",
     "RESULTANT",
+    "SURFACE",
     "TENSION_ZERO",
     "TENSION_MAX",
     "TENSION_STEPS",
     "label_color",
+    "appearance_color",
     "block_label_color",
+    "display_color",
     "tension_colors",
     "tension_levels",
 ]
@@ -47,6 +50,7 @@ UNLABELLED = np.array([205, 198, 185, 255], dtype=np.uint8)  # sandstone
 SUPPORT = np.array([60, 90, 160, 255], dtype=np.uint8)  # blue: fixed blocks
 NON_STRUCTURAL = np.array([170, 140, 100, 110], dtype=np.uint8)  # translucent timber
 RESULTANT = np.array([20, 20, 20, 255], dtype=np.uint8)  # near-black arrows
+SURFACE = np.array([188, 196, 204, 255], dtype=np.uint8)  # light slate: surfaces, not judged
 TENSION_ZERO = np.array([160, 160, 160, 255], dtype=np.uint8)  # neutral grey
 TENSION_MAX = np.array([220, 30, 30, 255], dtype=np.uint8)  # red
 TENSION_STEPS = 32  # the ramp is quantised so a large model needs few materials
@@ -71,6 +75,27 @@ def block_label_color(tags: Sequence[str], *, fixed: bool, structural: bool) -> 
     if tags:
         return label_color(tags[0])
     return UNLABELLED.copy()
+
+
+def appearance_color(appearance) -> np.ndarray | None:
+    """The RGBA colour a rule gave (``color(...)``, ``material.color``, ``material.opacity``),
+    or None when it gave none. CGA colours are sRGB, as glTF's base colour factor."""
+    if appearance is None or (appearance.color is None and appearance.opacity == 1.0):
+        return None
+    rgb = appearance.color if appearance.color is not None else (1.0, 1.0, 1.0)
+    return np.round(255 * np.clip([*rgb, appearance.opacity], 0.0, 1.0)).astype(np.uint8)
+
+
+def display_color(item) -> np.ndarray:
+    """The colour of a block or a surface when no analysis colours it: the rule's colour,
+    else (a block) :func:`block_label_color`, or (a surface) its first label's colour or
+    :data:`SURFACE`."""
+    color = appearance_color(getattr(item, "appearance", None))
+    if color is not None:
+        return color
+    if hasattr(item, "fixed"):
+        return block_label_color(item.tags, fixed=item.fixed, structural=item.structural)
+    return label_color(item.tags[0]) if item.tags else SURFACE.copy()
 
 
 def tension_levels(analysis) -> np.ndarray:

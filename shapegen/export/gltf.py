@@ -1,12 +1,18 @@
-"""glTF 2.0 output (.glb and single-file .gltf): one node per block, named by its id.
+"""glTF 2.0 output (.glb and single-file .gltf): one node per block, named by its id, and one
+per surface.
 
 Each block node carries ``extras``: ``role`` ("block"), ``labels``, ``rule_path``, ``density``
-(kg/m^3), ``fixed``, ``structural`` and, with an analysis, ``tension`` (N). The scene ``extras``
-hold the model settings (gravity, ground, friction, loads) so that shapegen reads its own files
-back completely. Without an analysis the blocks are coloured by their first label; with one, by
-their worst tension on a grey-to-red ramp, and the interface resultants are drawn as arrows in one
-extra node (``role`` "resultants"). glTF is y-up and in metres, like shapegen, so coordinates are
-written unchanged. See docs/formats.md.
+(kg/m^3), ``fixed``, ``structural``, the rule's ``appearance`` if it set one and, with an
+analysis, ``tension`` (N). Each surface (a leaf drawn but left out of the statics: a face, an
+open or non-convex mesh) is a node with ``role`` "surface", ``structural`` false, its
+``reason``, ``labels``, ``rule_path`` and ``appearance``, and a double-sided material. The
+scene ``extras`` hold the model settings (gravity, ground, friction, loads) so that shapegen
+reads its own files back completely. Without an analysis the blocks take the colour their rule
+gave (``color(...)``, ``material.color``/``opacity``: the base colour factor of their
+material), else their first label's; with one, their worst tension on a grey-to-red ramp, and
+the interface resultants are drawn as arrows in one extra node (``role`` "resultants").
+Surfaces keep their rule's colour either way. glTF is y-up and in metres, like shapegen, so
+coordinates are written unchanged. See docs/formats.md.
 """
 
 from __future__ import annotations
@@ -28,8 +34,9 @@ from trimesh.visual import TextureVisuals
 from trimesh.visual.material import PBRMaterial
 
 from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION
-from shapegen.export.colors import RESULTANT, block_label_color, tension_colors, tension_levels
+from shapegen.export.colors import RESULTANT, display_color, tension_colors, tension_levels
 from shapegen.export.meshes import block_mesh
+from shapegen.export.surfaces import SURFACE_ROLE, surface_mesh, surfaces_of
 from shapegen.json_values import json_ready
 from shapegen.model.model import Model
 from shapegen.tolerances import FORCE_NOISE_REL
@@ -64,13 +71,7 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
             raise ValueError(f"the analysis has {len(tension)} block tensions for {n} blocks")
         colors = tension_colors(tension_levels(analysis), fixed, structural)
     else:
-        colors = np.array(
-            [
-                block_label_color(b.tags, fixed=b.fixed, structural=b.structural)
-                for b in model.blocks
-            ],
-            dtype=np.uint8,
-        ).reshape(-1, 4)
+        colors = np.array([display_color(b) for b in model.blocks], dtype=np.uint8).reshape(-1, 4)
     for k, block in enumerate(model.blocks):
         mesh = block_mesh(block)
         mesh.visual = TextureVisuals(material=_material(colors[k]))
@@ -82,9 +83,13 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
             "fixed": block.fixed,
             "structural": block.structural,
         }
+        look = block.appearance.to_dict() if block.appearance is not None else {}
+        if look:
+            extras["appearance"] = json_ready(look)
         if tension is not None:
             extras["tension"] = float(tension[k]) if np.isfinite(tension[k]) else 0.0
         scene.add_geometry(mesh, node_name=block.id, geom_name=block.id, metadata=extras)
+    _add_surfaces(scene, model)
     if analysis is not None:
         arrows, newtons_per_metre, count = resultant_arrows(model, analysis)
         if arrows is not None:
@@ -100,6 +105,31 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
                 },
             )
     return scene
+
+
+def _add_surfaces(scene: trimesh.Scene, model: Model) -> None:
+    """One node per surface with triangles; named by its id (made unique among the nodes)."""
+    used = {block.id for block in model.blocks}
+    for surface in surfaces_of(model):
+        mesh = surface_mesh(surface)
+        if len(mesh.faces) == 0:
+            continue
+        name = surface.id
+        while name in used:
+            name = "surface:" + name
+        used.add(name)
+        mesh.visual = TextureVisuals(material=_material(display_color(surface), double_sided=True))
+        extras = {
+            "role": SURFACE_ROLE,
+            "structural": False,
+            "reason": surface.reason,
+            "labels": list(surface.tags),
+            "rule_path": list(surface.rule_path),
+        }
+        look = surface.appearance.to_dict() if surface.appearance is not None else {}
+        if look:
+            extras["appearance"] = json_ready(look)
+        scene.add_geometry(mesh, node_name=name, geom_name=name, metadata=extras)
 
 
 def encode_glb(model: Model, analysis=None) -> bytes:
@@ -205,14 +235,15 @@ def _frames(direction: np.ndarray) -> np.ndarray:
     return np.stack([u, v, direction], axis=2)
 
 
-def _material(color: np.ndarray) -> PBRMaterial:
+def _material(color: np.ndarray, double_sided: bool = False) -> PBRMaterial:
     color = np.asarray(color, dtype=np.uint8)
     return PBRMaterial(
-        name="shapegen-" + "".join(f"{c:02x}" for c in color),
+        name="shapegen-" + "".join(f"{c:02x}" for c in color) + ("-2" if double_sided else ""),
         baseColorFactor=color,
         metallicFactor=0.0,
         roughnessFactor=0.9,
         alphaMode="BLEND" if color[3] < 255 else None,
+        doubleSided=double_sided or None,
     )
 
 

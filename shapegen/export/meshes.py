@@ -40,12 +40,16 @@ from shapegen.export.blocks_json import (
     model_from_dict,
     read_model_bytes,
 )
+from shapegen.export.colors import appearance_color
+from shapegen.export.surfaces import SURFACE_ROLE, face_triangles, surfaces_of
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.tolerances import FLAT_REL
 
 MESH_READ_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
+SURFACE_GROUP = "surface:"
+"""Prefix of the OBJ group (or any mesh node) name of a surface: read back as a surface."""
 
 # A component is "clearly" non-convex past these margins; they are loose on purpose because mesh
 # files store float32 coordinates and exporters leave slightly warped faces.
@@ -83,18 +87,29 @@ def model_mesh(model: Model) -> trimesh.Trimesh:
 
 
 def encode_obj(model: Model) -> bytes:
-    """Wavefront OBJ text: a group named by block id per block, its polygon faces as they are.
+    """Wavefront OBJ text: a group named by block id per block, its polygon faces as they are,
+    then a group ``surface:<id>`` per surface (read back as a surface, not a block).
 
     Coordinates are written with 17 significant digits, so reading the file back gives the same
-    float64 values.
+    float64 values; a surface's polygons are written as triangles. A block or surface whose
+    rule gave it a colour has it on its vertices (``v x y z r g b``, the common extension
+    MeshLab, Blender and trimesh read).
     """
     lines = ["# shapegen block model (metres, y up); one group per block"]
     offset = 1  # OBJ indices are 1-based and global to the file
-    for block in model.blocks:
-        lines.append(f"g {_obj_name(block.id)}")
-        lines.extend(f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in block.vertices)
-        lines.extend("f " + " ".join(str(i + offset) for i in face) for face in block.faces)
-        offset += len(block.vertices)
+    items = [(block.id, block) for block in model.blocks]
+    items += [(SURFACE_GROUP + surface.id, surface) for surface in surfaces_of(model)]
+    for name, item in items:
+        if not item.faces:
+            continue
+        lines.append(f"g {_obj_name(name)}")
+        color = appearance_color(item.appearance)
+        rgb = "" if color is None else " " + " ".join(f"{c / 255:.4g}" for c in color[:3])
+        lines.extend(f"v {x:.17g} {y:.17g} {z:.17g}{rgb}" for x, y, z in item.vertices)
+        # A surface's polygons may be non-convex, which readers would fan wrongly: triangles.
+        faces = item.faces if isinstance(item, Block) else face_triangles(item.vertices, item.faces)
+        lines.extend("f " + " ".join(str(i + offset) for i in face) for face in faces)
+        offset += len(item.vertices)
     return ("\n".join(lines) + "\n").encode("utf-8")
 
 
@@ -160,8 +175,9 @@ def read_mesh_model(path: str | Path) -> Model:
             if key in settings:
                 document[key] = settings[key]
     try:
+        document["surfaces"] = _surfaces_of_scene(scene)
         document["blocks"] = _blocks_of_scene(scene, path)
-        if not document["blocks"]:
+        if not document["blocks"] and not document["surfaces"]:
             raise InputFormatError("the file holds no mesh")
         return model_from_dict(document)
     except (InputFormatError, GeometryError) as exc:
@@ -241,8 +257,8 @@ def _mesh_nodes(scene: trimesh.Scene) -> list[tuple[str, dict, np.ndarray, np.nd
         extras = edge_data.get((parents.get(node), node), {}).get("metadata") or {}
         if not isinstance(extras, dict):
             extras = {}
-        if extras.get("role", "block") != "block":
-            continue  # drawings shapegen adds to its own files, such as resultant arrows
+        if extras.get("role", "block") != "block" or _is_surface(str(node), extras):
+            continue  # surfaces, and drawings shapegen adds to its own files (arrows)
         vertices = np.asarray(geometry.vertices, dtype=float)
         faces = np.asarray(geometry.faces, dtype=np.int64)
         # trimesh does not check what it read (process=False): a malformed file may give
@@ -261,6 +277,44 @@ def _mesh_nodes(scene: trimesh.Scene) -> list[tuple[str, dict, np.ndarray, np.nd
             vertices = vertices @ matrix[:3, :3].T + matrix[:3, 3]
         nodes.append((str(node), extras, vertices, faces))
     return nodes
+
+
+def _is_surface(name: str, extras: dict) -> bool:
+    return extras.get("role") == SURFACE_ROLE or name.startswith(SURFACE_GROUP)
+
+
+def _surfaces_of_scene(scene: trimesh.Scene) -> list[dict]:
+    """The shapegen-blocks entries of the scene's surface nodes: glTF nodes whose extras say
+    ``role`` "surface", OBJ groups named ``surface:<id>`` (triangles, world coordinates)."""
+    graph = scene.graph
+    parents = graph.transforms.parents
+    entries = []
+    for node in sorted(graph.nodes_geometry, key=_natural_key):
+        extras = graph.transforms.edge_data.get((parents.get(node), node), {}).get("metadata")
+        extras = extras if isinstance(extras, dict) else {}
+        if not _is_surface(str(node), extras):
+            continue
+        matrix, geometry_name = graph[node]
+        geometry = scene.geometry.get(geometry_name)
+        if not isinstance(geometry, trimesh.Trimesh) or len(geometry.faces) == 0:
+            continue
+        vertices = np.asarray(geometry.vertices, dtype=float)
+        matrix = np.asarray(matrix, dtype=float)
+        if not np.allclose(matrix, np.eye(4)):
+            vertices = vertices @ matrix[:3, :3].T + matrix[:3, 3]
+        entry = {
+            "id": str(node).removeprefix(SURFACE_GROUP),
+            "vertices": vertices.tolist(),
+            "faces": np.asarray(geometry.faces, dtype=np.int64).tolist(),
+            "reason": extras.get("reason", ""),
+        }
+        if "labels" in extras:
+            entry["tags"] = extras["labels"]
+        for key in ("rule_path", "appearance"):
+            if key in extras:
+                entry[key] = extras[key]
+        entries.append(entry)
+    return entries
 
 
 def _node_components(nodes: list) -> list[list[tuple[np.ndarray, float | None]]]:
@@ -384,7 +438,7 @@ def _block_entry(block_id: str, name: str | None, points: np.ndarray, extras: di
         entry["tags"] = extras["labels"]
     elif name is not None:
         entry["tags"] = [name]
-    for key in ("density", "fixed", "structural", "rule_path"):
+    for key in ("density", "fixed", "structural", "rule_path", "appearance"):
         if key in extras:
             entry[key] = extras[key]
     return entry

@@ -1,0 +1,208 @@
+"""Surfaces (the leaves drawn but not judged) for the exporters: triangles, colours, the
+left-out summary of a report, and their entries in shapegen-blocks JSON.
+
+A :class:`~shapegen.model.appearance.Surface`'s faces are planar polygons that may be
+non-convex (an L-shaped lot, a roof plane); they are cut into triangles by a constrained
+Delaunay triangulation (shapely), convex ones simply fanned.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "SURFACE_ROLE",
+    "appearance_from_entry",
+    "face_triangles",
+    "left_out_summary",
+    "surface_from_entry",
+    "surface_mesh",
+    "surfaces_of",
+]
+
+from collections import Counter
+
+import numpy as np
+import shapely
+import trimesh
+
+from shapegen.errors import InputFormatError
+from shapegen.model.appearance import Appearance, Surface
+from shapegen.model.model import Model
+
+SURFACE_ROLE = "surface"
+"""The ``role`` in the glTF node extras of a surface (blocks have ``"block"``)."""
+
+
+def surfaces_of(model: Model) -> list[Surface]:
+    """The model's surfaces, each with an id (``s0``, ``s1``... for those without one)."""
+    surfaces = list(getattr(model, "surfaces", None) or [])
+    for k, surface in enumerate(surfaces):
+        if not surface.id:
+            surface.id = f"s{k}"
+    return surfaces
+
+
+def left_out_summary(model: Model) -> dict:
+    """How many leaves of the derivation the statics leave out, and why.
+
+    Returns ``{"leaves": n, "by_reason": {reason: count, ...}}``, the reasons in decreasing
+    count (``"a face (no volume)"``, ``"not convex"``...): the model's surfaces.
+    """
+    reasons = Counter(s.reason or "not a block" for s in surfaces_of(model))
+    return {"leaves": sum(reasons.values()), "by_reason": dict(reasons.most_common())}
+
+
+def face_triangles(vertices: np.ndarray, faces) -> np.ndarray:
+    """``(t, 3)`` vertex indices of triangles covering the planar polygons ``faces``, each
+    turned as its polygon (counter-clockwise seen from its front).
+
+    Convex polygons are fanned from their first corner; a non-convex one is triangulated in
+    its own plane (constrained Delaunay), so no triangle leaves the polygon. A polygon with no
+    area gives no triangle.
+    """
+    vertices = np.asarray(vertices, dtype=float).reshape(-1, 3)
+    out: list[tuple[int, int, int]] = []
+    for face in faces:
+        face = [int(i) for i in face]
+        if len(face) < 3:
+            continue
+        if len(face) == 3:
+            out.append((face[0], face[1], face[2]))
+            continue
+        points = vertices[face]
+        normal = _newell(points)
+        norm = float(np.linalg.norm(normal))
+        if norm == 0.0:
+            continue
+        plane = _plane_coordinates(points, normal / norm)
+        if _is_convex(plane):
+            out.extend((face[0], face[k], face[k + 1]) for k in range(1, len(face) - 1))
+        else:
+            out.extend(_triangulated(plane, face))
+    return np.array(out, dtype=np.int64).reshape(-1, 3)
+
+
+def _newell(points: np.ndarray) -> np.ndarray:
+    following = np.roll(points, -1, axis=0)
+    return np.cross(points - points.mean(axis=0), following - points.mean(axis=0)).sum(axis=0)
+
+
+def _plane_coordinates(points: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """2D coordinates of ``points`` in their plane, axes ``u, v`` with ``u x v = normal`` (so a
+    polygon counter-clockwise about ``normal`` stays counter-clockwise)."""
+    helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(helper, normal)
+    u /= np.linalg.norm(u)
+    v = np.cross(normal, u)
+    centred = points - points.mean(axis=0)
+    return np.stack([centred @ u, centred @ v], axis=1)
+
+
+def _is_convex(plane: np.ndarray) -> bool:
+    edges = np.roll(plane, -1, axis=0) - plane
+    turns = (
+        edges[:, 0] * np.roll(edges, -1, axis=0)[:, 1] - edges[:, 1] * np.roll(edges, -1, 0)[:, 0]
+    )
+    scale = float(np.abs(turns).max(initial=0.0))
+    return bool((turns >= -1e-12 * scale).all())
+
+
+def _triangulated(plane: np.ndarray, face: list[int]) -> list[tuple[int, int, int]]:
+    index = {tuple(p): face[k] for k, p in enumerate(plane.tolist())}
+    polygon = shapely.Polygon(plane)
+    if not polygon.is_valid:  # self-touching: fan it rather than drop it
+        return [(face[0], face[k], face[k + 1]) for k in range(1, len(face) - 1)]
+    out = []
+    for triangle in shapely.get_parts(shapely.constrained_delaunay_triangles(polygon)):
+        corners = np.asarray(triangle.exterior.coords)[:3]
+        try:
+            a, b, c = (index[tuple(p)] for p in corners.tolist())
+        except KeyError:  # a point GEOS added: cannot be named by a vertex index
+            continue
+        (ux, uy), (vx, vy) = corners[1] - corners[0], corners[2] - corners[0]
+        turn = ux * vy - uy * vx
+        out.append((a, b, c) if turn > 0 else (a, c, b))
+    return out
+
+
+def surface_mesh(surface: Surface) -> trimesh.Trimesh:
+    """The surface as a triangle mesh (its vertices as they are)."""
+    return trimesh.Trimesh(
+        surface.vertices, face_triangles(surface.vertices, surface.faces), process=False
+    )
+
+
+# ------------------------------------------------------------------------- JSON entries
+def surface_from_entry(entry: object, k: int, points, number, strings) -> Surface:
+    """A :class:`Surface` from its shapegen-blocks JSON entry, every value checked; the
+    checkers of the block reader are passed in (``points``, ``number``, ``strings``)."""
+    where = f"surfaces[{k}]"
+    if not isinstance(entry, dict):
+        raise InputFormatError(f"{where} must be an object")
+    surface_id = entry.get("id") or f"s{k}"
+    if not isinstance(surface_id, str):
+        raise InputFormatError(f'{where}: "id" must be a string')
+    where = f"surface {surface_id!r}"
+    vertices = points(entry.get("vertices"), f'{where}: "vertices"')
+    faces = entry.get("faces", [])
+    if not isinstance(faces, list) or not all(
+        isinstance(f, list)
+        and len(f) >= 3
+        and all(
+            isinstance(i, int) and not isinstance(i, bool) and 0 <= i < len(vertices) for i in f
+        )
+        for f in faces
+    ):
+        raise InputFormatError(
+            f'{where}: "faces" must be lists of at least 3 vertex indices in 0..{len(vertices) - 1}'
+        )
+    reason = entry.get("reason", "")
+    if not isinstance(reason, str):
+        raise InputFormatError(f'{where}: "reason" must be a string')
+    return Surface(
+        vertices,
+        faces,
+        appearance=appearance_from_entry(entry.get("appearance"), where, number),
+        tags=strings(entry.get("tags", []), f'{where}: "tags"'),
+        rule_path=strings(entry.get("rule_path", []), f'{where}: "rule_path"'),
+        reason=reason,
+        id=surface_id,
+    )
+
+
+def appearance_from_entry(value: object, where: str, number) -> Appearance | None:
+    """An :class:`Appearance` from its JSON object (see :meth:`Appearance.to_dict`), checked;
+    None when absent."""
+    if value is None:
+        return None
+    where = f'{where}: "appearance"'
+    if not isinstance(value, dict):
+        raise InputFormatError(f"{where} must be an object")
+    color = value.get("color")
+    if color is not None:
+        if not isinstance(color, list) or len(color) != 3:
+            raise InputFormatError(f'{where}: "color" must be 3 numbers in [0, 1]')
+        color = [number(c, f'{where}: "color"') for c in color]
+    opacity = number(value.get("opacity", 1.0), f'{where}: "opacity"')
+    for name, fraction in (("color", color or []), ("opacity", [opacity])):
+        if any(not 0.0 <= c <= 1.0 for c in fraction):
+            raise InputFormatError(f'{where}: "{name}" must be in [0, 1]')
+    texture = value.get("texture")
+    if texture is not None and not isinstance(texture, str):
+        raise InputFormatError(f'{where}: "texture" must be a string')
+    material = value.get("material", {})
+    if not isinstance(material, dict) or not all(
+        isinstance(v, str | bool | int | float) for v in material.values()
+    ):
+        raise InputFormatError(
+            f'{where}: "material" must map names to numbers, strings or booleans'
+        )
+    uv = value.get("uv", [])
+    if not isinstance(uv, list) or not all(
+        isinstance(e, list) and len(e) == 2 and isinstance(e[0], str) and isinstance(e[1], list)
+        for e in uv
+    ):
+        raise InputFormatError(f'{where}: "uv" must be a list of [operation, [arguments]]')
+    normals = value.get("normals")
+    if normals is not None and not isinstance(normals, str | int | float):
+        raise InputFormatError(f'{where}: "normals" must be a string or a number')
+    return Appearance.from_dict({**value, "color": color, "opacity": opacity})
