@@ -27,7 +27,6 @@ from shapegen.engine.shape import (
     extrude,
     face_scopes,
     flat_face,
-    resize,
     rotate,
     select_faces,
     split_scope,
@@ -319,10 +318,9 @@ class ShapeOperations:
 
         def scale_op(state, args, out):
             try:
-                scope = resize(state.shape.scope, values(args, state))
+                state.shape = state.shape.resized(values(args, state))
             except ValueError as exc:
                 raise error(node, str(exc)) from None
-            state.shape = state.shape.with_scope(scope)
             return True
 
         return scale_op

@@ -44,6 +44,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from shapegen.geometry.mesh import Mesh
 from shapegen.model.scope import Scope
 
 FACE = "face"
@@ -102,22 +103,62 @@ class Shape:
         For a face: the scope axis (0, 1, 2) along which it is flat and extrudes.
     insert
         For an inserted primitive: ``(name, params)``.
+    geometry
+        The shape's polygon mesh in scope coordinates (m), or None when the shape fills its
+        scope (a box for :data:`MASS`, a rectangle for :data:`FACE`: the fast path). A scope
+        operation (t, r) moves the geometry with the scope; s() scales it to the new size.
     """
 
-    __slots__ = ("scope", "kind", "normal_axis", "insert")
+    __slots__ = ("scope", "kind", "normal_axis", "insert", "geometry")
 
-    def __init__(self, scope: Scope, kind: str = MASS, normal_axis: int = 2, insert=None):
+    def __init__(
+        self,
+        scope: Scope,
+        kind: str = MASS,
+        normal_axis: int = 2,
+        insert=None,
+        geometry: Mesh | None = None,
+    ):
         self.scope = scope
         self.kind = kind
         self.normal_axis = normal_axis
         self.insert = insert
+        self.geometry = geometry
+
+    @classmethod
+    def with_geometry(cls, scope: Scope, mesh: Mesh, kind: str = MASS, normal_axis: int = 2):
+        """A shape made of ``mesh`` (scope coordinates, m) in ``scope``."""
+        return cls(scope, kind, normal_axis, None, mesh)
 
     def with_scope(self, scope: Scope) -> Shape:
-        """The same kind of shape in another scope."""
-        return Shape(scope, self.kind, self.normal_axis, self.insert)
+        """The same shape in another scope (its geometry keeps its scope coordinates)."""
+        return Shape(scope, self.kind, self.normal_axis, self.insert, self.geometry)
 
     def copy(self) -> Shape:
-        return Shape(self.scope, self.kind, self.normal_axis, self.insert)
+        return Shape(self.scope, self.kind, self.normal_axis, self.insert, self.geometry)
+
+    def mesh(self) -> Mesh:
+        """The geometry in scope coordinates, made from the scope when the shape fills it."""
+        if self.geometry is not None:
+            return self.geometry
+        if self.kind == FACE:
+            return Mesh.rectangle(self.scope.size, self.normal_axis)
+        return Mesh.box(self.scope.size)
+
+    def world_mesh(self) -> Mesh:
+        """The geometry in world coordinates (m)."""
+        return self.mesh().transformed(self.scope.rotation, self.scope.origin)
+
+    def resized(self, size) -> Shape:
+        """The shape with scope size ``size`` (m), its geometry scaled along each scope axis to
+        fill the new size as it filled the old one (CityEngine's ``s()``)."""
+        scope = resize(self.scope, size)
+        geometry = self.geometry
+        if geometry is not None:
+            old = self.scope.size
+            factors = np.divide(scope.size, old, out=np.ones(3), where=old > 0)
+            geometry = geometry.scaled(factors)
+        return Shape(scope, self.kind, self.normal_axis, self.insert, geometry)
 
 
 def lot_scope(width: float, depth: float) -> Scope:

@@ -1,0 +1,317 @@
+"""Polygon meshes: the geometry of a shape, in its scope's coordinates (metres).
+
+A :class:`Mesh` is immutable: ``vertices`` ``(V, 3)`` and ``faces``, a tuple of vertex-index
+tuples, each polygon counter-clockwise seen from its front (the outside of a closed mesh).
+Faces may be non-convex polygons; holes are not represented.
+
+>>> import numpy as np
+>>> box = Mesh.box((2.0, 3.0, 4.0))
+>>> box.volume(), box.area(), box.is_closed, box.is_convex(), box.n_edges
+(24.0, 52.0, True, True, 12)
+>>> Mesh.polygon([(0, 0, 0), (2, 0, 0), (2, 1, 0), (0, 1, 0)]).area()
+2.0
+"""
+
+from __future__ import annotations
+
+__all__ = ["Mesh", "BOX_FACES", "polygon_normal", "polygon_area"]
+
+from collections.abc import Sequence
+from functools import cached_property
+
+import numpy as np
+
+from shapegen.model.polygons import face_normals
+
+# The unit box's corners (scope coordinates) and faces in CityEngine's comp(f) order for an
+# extruded rectangle lot: 0 bottom, 1 top, then the sides from the lot's first edge (which runs
+# along +x at z = depth): front (+z), right (+x), back (-z), left (-x).
+_UNIT_BOX = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
+    dtype=float,
+)
+BOX_FACES = (
+    (0, 1, 2, 3),  # bottom (-y)
+    (7, 6, 5, 4),  # top (+y)
+    (3, 2, 6, 7),  # front (+z)
+    (2, 1, 5, 6),  # right (+x)
+    (1, 0, 4, 5),  # back (-z)
+    (0, 3, 7, 4),  # left (-x)
+)
+"""Faces of :meth:`Mesh.box`, outward, in CityEngine's comp(f) order; each starts on its first
+edge (the bottom edge of a side, left to right seen from outside)."""
+
+_REL = 1e-9  # relative tolerance of the shape queries (times the mesh's size)
+
+
+def polygon_normal(points: np.ndarray) -> np.ndarray:
+    """Newell's (area-weighted) normal of a polygon, not normalised: its length is twice the
+    area (m^2)."""
+    p = np.asarray(points, float)
+    p = p - p.mean(axis=0)
+    return np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
+
+
+def polygon_area(points: np.ndarray) -> float:
+    """Area of a planar polygon (m^2), convex or not."""
+    return 0.5 * float(np.linalg.norm(polygon_normal(points)))
+
+
+class Mesh:
+    """An immutable polygon mesh.
+
+    Parameters
+    ----------
+    vertices
+        ``(V, 3)`` points, metres.
+    faces
+        Polygons as tuples of vertex indices, counter-clockwise seen from the front.
+    """
+
+    __slots__ = ("vertices", "faces", "__dict__")
+
+    def __init__(self, vertices, faces: Sequence[Sequence[int]]):
+        v = np.array(vertices, dtype=float).reshape(-1, 3)
+        v.setflags(write=False)
+        self.vertices = v
+        self.faces = tuple(tuple(int(i) for i in face) for face in faces)
+        for face in self.faces:
+            if len(face) < 2 or min(face) < 0 or max(face) >= len(v):
+                raise ValueError(f"a mesh face {face} does not index its {len(v)} vertices")
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def box(cls, size: Sequence[float]) -> Mesh:
+        """The box ``[0, sx] x [0, sy] x [0, sz]`` (m), faces in :data:`BOX_FACES` order."""
+        return cls(_UNIT_BOX * np.asarray(size, float), BOX_FACES)
+
+    @classmethod
+    def polygon(cls, points) -> Mesh:
+        """One polygon face through ``points`` ``(n, 3)`` in order."""
+        points = np.asarray(points, float).reshape(-1, 3)
+        return cls(points, (tuple(range(len(points))),))
+
+    @classmethod
+    def rectangle(cls, size: Sequence[float], normal_axis: int) -> Mesh:
+        """The face that fills a flat scope of ``size`` (m), flat along ``normal_axis``.
+
+        For ``normal_axis`` 1 (a lot) it is ``(0, sz) (sx, sz) (sx, 0) (0, 0)`` in (x, z): first
+        edge along +x, counter-clockwise seen from +y. For 2 (a comp face) it is ``(0, 0) (sx, 0)
+        (sx, sy) (0, sy)`` in (x, y), seen from +z; for 0, ``(0, 0) (0, sy) (0, sy, sz)...``
+        seen from +x.
+        """
+        sx, sy, sz = (float(s) for s in size)
+        if normal_axis == 1:
+            points = [(0, 0, sz), (sx, 0, sz), (sx, 0, 0), (0, 0, 0)]
+        elif normal_axis == 2:
+            points = [(0, 0, 0), (sx, 0, 0), (sx, sy, 0), (0, sy, 0)]
+        else:
+            points = [(0, 0, sz), (0, 0, 0), (0, sy, 0), (0, sy, sz)]
+        return cls.polygon(points)
+
+    # ------------------------------------------------------------------ counts
+    @property
+    def n_vertices(self) -> int:
+        return len(self.vertices)
+
+    @property
+    def n_faces(self) -> int:
+        return len(self.faces)
+
+    @cached_property
+    def edges(self) -> tuple[tuple[int, int], ...]:
+        """The undirected edges ``(a, b)``, in the order they first appear around the faces."""
+        seen: dict[tuple[int, int], None] = {}
+        for face in self.faces:
+            for a, b in zip(face, face[1:] + face[:1], strict=True):
+                if a != b:
+                    seen.setdefault((a, b) if a < b else (b, a), None)
+        return tuple(seen)
+
+    @property
+    def n_edges(self) -> int:
+        return len(self.edges)
+
+    # ------------------------------------------------------------------ measures
+    def face_points(self, index: int) -> np.ndarray:
+        """The corners of face ``index``, ``(k, 3)`` m."""
+        return self.vertices[list(self.faces[index])]
+
+    @cached_property
+    def _normals(self) -> tuple[np.ndarray, np.ndarray]:
+        corners = np.fromiter((i for f in self.faces for i in f), dtype=np.intp)
+        start = np.zeros(len(self.faces) + 1, dtype=np.intp)
+        np.cumsum([len(f) for f in self.faces], out=start[1:])
+        return face_normals(self.vertices, corners, start)
+
+    def face_normals(self) -> np.ndarray:
+        """Unit normals ``(F, 3)`` (zero for a degenerate face)."""
+        return self._normals[0]
+
+    def face_normal(self, index: int) -> np.ndarray:
+        return self._normals[0][index]
+
+    def face_area(self, index: int) -> float:
+        return polygon_area(self.face_points(index))
+
+    def area(self) -> float:
+        """Total area of the faces, m^2."""
+        return float(sum(self.face_area(k) for k in range(self.n_faces)))
+
+    def volume(self) -> float:
+        """Enclosed volume (m^3) by the divergence theorem; 0 for a mesh that is not closed."""
+        if not self.is_closed:
+            return 0.0
+        centre = self.vertices.mean(axis=0)
+        total = 0.0
+        for k in range(self.n_faces):
+            p = self.face_points(k) - centre
+            total += float(p[0] @ polygon_normal(p)) if len(p) >= 3 else 0.0
+        return abs(total) / 6.0 if abs(total) > 0 else 0.0
+
+    def size(self) -> float:
+        """The diagonal of the bounding box, m (0 for no vertices)."""
+        if self.n_vertices == 0:
+            return 0.0
+        low, high = self.bounds()
+        return float(np.linalg.norm(high - low))
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(low, high)`` corners of the axis-aligned bounding box, m."""
+        return self.vertices.min(axis=0), self.vertices.max(axis=0)
+
+    # ------------------------------------------------------------------ predicates
+    @cached_property
+    def is_closed(self) -> bool:
+        """Every edge is shared by exactly two faces, once in each direction (a watertight,
+        consistently oriented surface)."""
+        if not self.faces:
+            return False
+        directed: dict[tuple[int, int], int] = {}
+        for face in self.faces:
+            for a, b in zip(face, face[1:] + face[:1], strict=True):
+                directed[(a, b)] = directed.get((a, b), 0) + 1
+        return all(n == 1 and directed.get((b, a)) == 1 for (a, b), n in directed.items())
+
+    def is_planar(self, tolerance: float = 0.0) -> bool:
+        """All vertices lie in one plane within ``tolerance`` (m, plus a round-off margin)."""
+        if self.n_vertices <= 3:
+            return True
+        slack = tolerance + _REL * max(self.size(), 1e-12)
+        centred = self.vertices - self.vertices.mean(axis=0)
+        normal = np.linalg.svd(centred, full_matrices=False)[2][-1]
+        return float(np.abs(centred @ normal).max()) <= slack
+
+    def is_convex(self, tolerance: float = 0.0) -> bool:
+        """For a closed mesh: no vertex lies in front of any face's plane (by more than
+        ``tolerance`` m). For an open mesh: each face is a convex polygon."""
+        slack = tolerance + _REL * max(self.size(), 1e-12)
+        if self.is_closed:
+            normals, centres = self._normals
+            distance = np.einsum(
+                "fvk,fk->fv", self.vertices[None, :, :] - centres[:, None], normals
+            )
+            return bool(distance.max(initial=0.0) <= slack)
+        return all(self._face_is_convex(k, slack) for k in range(self.n_faces))
+
+    def _face_is_convex(self, index: int, slack: float) -> bool:
+        p = self.face_points(index)
+        if len(p) <= 3:
+            return True
+        normal = self.face_normal(index)
+        turns = np.cross(
+            np.roll(p, -1, axis=0) - p, np.roll(p, -2, axis=0) - np.roll(p, -1, axis=0)
+        )
+        return bool((turns @ normal).min() >= -slack * max(self.size(), 1e-12))
+
+    def is_rectangular(self, tolerance_degrees: float = 0.0) -> bool:
+        """Every face is a quadrilateral whose corners are right angles within
+        ``tolerance_degrees`` (CityEngine's ``geometry.isRectangular``)."""
+        if not self.faces:
+            return False
+        limit = np.cos(np.radians(90.0 - tolerance_degrees)) + 1e-9
+        for k in range(self.n_faces):
+            p = self.face_points(k)
+            if len(p) != 4:
+                return False
+            a = np.roll(p, -1, axis=0) - p
+            b = np.roll(p, 1, axis=0) - p
+            norms = np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)
+            if np.any(norms <= 0):
+                return False
+            if np.any(np.abs(np.einsum("ij,ij->i", a, b)) / norms > limit):
+                return False
+        return True
+
+    # ------------------------------------------------------------------ new meshes
+    def transformed(self, rotation: np.ndarray | None = None, offset=None) -> Mesh:
+        """``rotation @ v + offset`` for every vertex (a mirror flips the faces' order so they
+        still face out)."""
+        v = self.vertices
+        faces = self.faces
+        if rotation is not None:
+            rotation = np.asarray(rotation, float)
+            v = v @ rotation.T
+            if np.linalg.det(rotation) < 0:
+                faces = tuple(_reversed(f) for f in faces)
+        if offset is not None:
+            v = v + np.asarray(offset, float)
+        return Mesh(v, faces)
+
+    def scaled(self, factors: Sequence[float]) -> Mesh:
+        """Each coordinate times ``factors`` (about the origin); a negative factor mirrors."""
+        factors = np.asarray(factors, float)
+        faces = self.faces
+        if np.prod(np.sign(factors)) < 0:
+            faces = tuple(_reversed(f) for f in faces)
+        return Mesh(self.vertices * factors, faces)
+
+    def reversed(self) -> Mesh:
+        """The same mesh with every face turned around (CityEngine's ``reverseNormals``)."""
+        return Mesh(self.vertices, tuple(_reversed(f) for f in self.faces))
+
+    def face(self, index: int) -> Mesh:
+        """Face ``index`` alone, with only its own vertices."""
+        return Mesh.polygon(self.face_points(index))
+
+    def subset(self, indices: Sequence[int]) -> Mesh:
+        """The faces ``indices`` (in that order), with only the vertices they use."""
+        used: dict[int, int] = {}
+        faces = []
+        for k in indices:
+            faces.append(tuple(used.setdefault(i, len(used)) for i in self.faces[k]))
+        return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces)
+
+    def cleaned(self, tolerance: float = 0.0) -> Mesh:
+        """Vertices closer than ``tolerance`` (m, plus round-off) merged, repeated corners and
+        faces with fewer than three corners dropped, unused vertices removed."""
+        slack = tolerance + _REL * max(self.size(), 1e-12)
+        keys = np.round(self.vertices / max(slack, 1e-15)).astype(np.int64)
+        first: dict[tuple, int] = {}
+        remap = [first.setdefault(tuple(key), k) for k, key in enumerate(keys)]
+        faces = []
+        for face in self.faces:
+            ring = []
+            for i in face:
+                j = remap[i]
+                if not ring or ring[-1] != j:
+                    ring.append(j)
+            while len(ring) > 1 and ring[0] == ring[-1]:
+                ring.pop()
+            if len(ring) >= 3:
+                faces.append(tuple(ring))
+        used: dict[int, int] = {}
+        faces = [tuple(used.setdefault(i, len(used)) for i in f) for f in faces]
+        return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces)
+
+    def to_vertices_and_faces(self) -> tuple[np.ndarray, tuple[tuple[int, ...], ...]]:
+        return self.vertices, self.faces
+
+    def __repr__(self) -> str:
+        return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces)"
+
+
+def _reversed(face: tuple[int, ...]) -> tuple[int, ...]:
+    """The face turned around, keeping its first vertex (so its first edge stays on the same
+    segment)."""
+    return (face[0],) + tuple(reversed(face[1:]))
