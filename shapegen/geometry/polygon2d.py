@@ -1,0 +1,313 @@
+"""CityEngine's polygon operations on one flat face, in the face's own plane.
+
+A polygon is an ``(n, 2)`` array of vertices in metres, counter-clockwise seen from the face's
+front (its normal towards the viewer), edge ``k`` running from vertex ``k`` to ``k + 1``. The
+functions are pure and return new arrays:
+
+- :func:`offset` (``offset(d)``): the offset polygon and the border faces, one per edge, with
+  mitre corners; inward offsets follow the straight skeleton, so a polygon that shrinks away
+  leaves only border faces;
+- :func:`setback` (``setback``, ``setbackPerEdge``, ``shapeL/U/O``): each edge set back by its
+  own distance (0 keeps it), the strip it sweeps and the remainder;
+- :func:`setback_to_area` (``setbackToArea``): the common extra distance that leaves a
+  remainder of a given area;
+- :func:`inner_rectangle` (``innerRectangle``): the largest rectangle inside the polygon,
+  parallel to the axes or to one of its edges, and the remainder.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "Offset",
+    "Setback",
+    "signed_area",
+    "checked_polygon",
+    "edges_moved_out",
+    "counter_clockwise",
+    "edge_normals",
+    "offset",
+    "setback",
+    "setback_to_area",
+    "union",
+    "inner_rectangle",
+]
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon as ShapelyPolygon
+
+from shapegen.errors import GeometryError
+from shapegen.geometry.skeleton import straight_skeleton
+from shapegen.tolerances import DEFAULT
+
+
+@dataclass(frozen=True)
+class Offset:
+    """The result of :func:`offset`: ``inside`` polygons and one ``border`` face per edge."""
+
+    inside: tuple[np.ndarray, ...]
+    border: tuple[np.ndarray, ...]
+
+
+@dataclass(frozen=True)
+class Setback:
+    """The result of :func:`setback`.
+
+    Attributes
+    ----------
+    strips
+        ``(edge index, polygon)`` for every edge set back by more than nothing, in edge order.
+    remainder
+        What is left of the polygon (several pieces when the setback cuts it in two).
+    """
+
+    strips: tuple[tuple[int, np.ndarray], ...]
+    remainder: tuple[np.ndarray, ...]
+
+
+def signed_area(polygon) -> float:
+    """Signed area (m²): positive when counter-clockwise."""
+    p = np.asarray(polygon, dtype=float)
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def checked_polygon(polygon) -> np.ndarray:
+    p = np.asarray(polygon, dtype=float).reshape(-1, 2)
+    if len(p) < 3 or not np.all(np.isfinite(p)):
+        raise GeometryError(f"a polygon needs at least 3 finite vertices, got {len(p)}")
+    if signed_area(p) <= 0:
+        raise GeometryError("the polygon is not counter-clockwise or has no area")
+    return p
+
+
+def counter_clockwise(polygon) -> np.ndarray:
+    """The polygon with repeated vertices dropped, turned counter-clockwise if it was not."""
+    p = np.asarray(polygon, dtype=float).reshape(-1, 2)
+    eps = DEFAULT.merge_rel * max(float(np.ptp(p, axis=0).max()), 1e-300)
+    keep = [q for k, q in enumerate(p) if np.linalg.norm(q - p[k - 1]) > eps]
+    p = np.array(keep).reshape(-1, 2)
+    return p if signed_area(p) >= 0 else p[::-1].copy()
+
+
+def edge_normals(polygon) -> np.ndarray:
+    """``(n, 2)`` outward unit normals of the edges of a counter-clockwise polygon."""
+    p = np.asarray(polygon, dtype=float)
+    d = np.roll(p, -1, axis=0) - p
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    return np.stack([d[:, 1], -d[:, 0]], axis=1)
+
+
+def edges_moved_out(polygon: np.ndarray, distances: np.ndarray) -> np.ndarray:
+    """Each edge moved outward by its distance; vertices where neighbouring lines meet (mitre)."""
+    normals = edge_normals(polygon)
+    out = []
+    n = len(polygon)
+    for k in range(n):
+        a, b = (k - 1) % n, k
+        na, nb = normals[a], normals[b]
+        ca = na @ polygon[k] + distances[a]
+        cb = nb @ polygon[k] + distances[b]
+        det = na[0] * nb[1] - na[1] * nb[0]
+        if abs(det) < 1e-12:
+            out.append(polygon[k] + na * distances[a])
+        else:
+            out.append(np.array([ca * nb[1] - cb * na[1], na[0] * cb - nb[0] * ca]) / det)
+    return np.array(out)
+
+
+def offset(polygon, distance: float) -> Offset:
+    """CGA's ``offset(distance)`` on one polygon.
+
+    Negative ``distance`` (m) shrinks: the inside polygons are the straight skeleton's
+    wavefront, and border face ``k`` is the part of the polygon edge ``k`` sweeps
+    (counter-clockwise, starting with the edge). Positive grows: the inside polygon has its
+    edges moved outward with mitre corners, and border face ``k`` runs from the original edge to
+    the moved one, clockwise, so that inside plus border faces is the original face in both
+    cases (CityEngine's convention).
+    """
+    p = checked_polygon(polygon)
+    d = float(distance)
+    if not math.isfinite(d):
+        raise GeometryError(f"offset distance must be a finite number, got {distance}")
+    if d == 0:
+        return Offset((p.copy(),), ())
+    if d < 0:
+        skeleton = straight_skeleton(p, until=-d)
+        border = tuple(skeleton.face_points(k) for k in range(len(p)))
+        return Offset(tuple(skeleton.front_points()), border)
+    grown = edges_moved_out(p, np.full(len(p), d))
+    border = tuple(
+        np.array([p[k], p[(k + 1) % len(p)], grown[(k + 1) % len(p)], grown[k]])
+        for k in range(len(p))
+    )
+    inside = _pieces(shapely.make_valid(ShapelyPolygon(grown)))
+    return Offset(tuple(inside) if inside else (grown,), border)
+
+
+def setback(polygon, distances) -> Setback:
+    """Set each edge ``k`` of ``polygon`` back by ``distances[k]`` (m, >= 0; 0 keeps it).
+
+    The strip of edge ``k`` is the part of the polygon its line sweeps while moving inward
+    (a weighted straight skeleton's face: corners between two moving edges are mitred, an edge
+    that stays put is slid along), counter-clockwise starting with the edge.
+    """
+    p = checked_polygon(polygon)
+    d = np.asarray(distances, dtype=float).reshape(-1)
+    if len(d) != len(p):
+        raise GeometryError(f"setback needs one distance per edge ({len(p)}), got {len(d)}")
+    if not np.all(np.isfinite(d)) or np.any(d < 0):
+        raise GeometryError("setback distances must be finite numbers >= 0")
+    if not np.any(d > 0):
+        return Setback((), (p.copy(),))
+    skeleton = straight_skeleton(p, weights=d, until=1.0)
+    eps = DEFAULT.merge_rel * float(np.ptp(p, axis=0).max())
+    strips = []
+    for k in range(len(p)):
+        if d[k] > 0:
+            face = skeleton.face_points(k)
+            if len(face) >= 3 and signed_area(face) > eps**2:
+                strips.append((k, face))
+    return Setback(tuple(strips), tuple(skeleton.front_points()))
+
+
+def setback_to_area(polygon, area: float, selected, min_distances=None, max_distances=None):
+    """CGA's ``setbackToArea``: the setback whose remainder has ``area`` (m²).
+
+    The ``selected`` edges (booleans) are set back by ``min_distances + c`` (clamped to
+    ``max_distances``) with the common ``c`` >= 0 found by bisection; the others stay.
+
+    Returns
+    -------
+    (Setback, distances)
+    """
+    p = checked_polygon(polygon)
+    n = len(p)
+    selected = np.asarray(selected, dtype=bool).reshape(n)
+    low = np.zeros(n) if min_distances is None else np.asarray(min_distances, float).reshape(n)
+    high = np.full(n, np.inf) if max_distances is None else np.asarray(max_distances, float)
+    total = signed_area(p)
+    if not (math.isfinite(area) and 0 < area):
+        raise GeometryError(f"setbackToArea needs an area > 0, got {area}")
+    if area > total:
+        raise GeometryError(f"setbackToArea: the face has {total:.6g} m², less than {area:.6g}")
+
+    def remaining(c: float) -> tuple[float, np.ndarray]:
+        d = np.where(selected, np.minimum(low + c, high.reshape(n)), 0.0)
+        result = setback(p, np.maximum(d, 0.0))
+        return sum(signed_area(r) for r in result.remainder), d
+
+    if remaining(0.0)[0] < area:
+        raise GeometryError("setbackToArea: the minimum distances already leave less than the area")
+    lo, hi = 0.0, float(np.ptp(p, axis=0).max())
+    if remaining(hi)[0] > area:
+        raise GeometryError("setbackToArea: the maximum distances leave more than the area")
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if remaining(mid)[0] > area:
+            lo = mid
+        else:
+            hi = mid
+    distances = remaining(0.5 * (lo + hi))[1]
+    return setback(p, distances), distances
+
+
+def _pieces(geometry) -> list[np.ndarray]:
+    """Counter-clockwise exterior rings of the polygons in a shapely geometry (holes dropped)."""
+    out = []
+    for part in getattr(geometry, "geoms", [geometry]):
+        if isinstance(part, ShapelyPolygon) and not part.is_empty and part.area > 0:
+            ring = np.asarray(part.exterior.coords)[:-1]
+            out.append(counter_clockwise(ring))
+        elif hasattr(part, "geoms"):
+            out.extend(_pieces(part))
+    return out
+
+
+def union(polygons) -> list[np.ndarray]:
+    """The union of polygons, as counter-clockwise pieces."""
+    merged = shapely.union_all([ShapelyPolygon(p) for p in polygons])
+    return _pieces(merged)
+
+
+def _largest_axis_rectangle(polygon: np.ndarray, samples: int) -> tuple[float, np.ndarray]:
+    """Largest axis-parallel rectangle inside ``polygon`` on a grid through its vertices plus
+    ``samples`` evenly spaced lines per axis: ``(area, (4, 2) corners)``."""
+    shape = ShapelyPolygon(polygon)
+    shapely.prepare(shape)
+    lo, hi = polygon.min(axis=0), polygon.max(axis=0)
+    xs = np.unique(np.concatenate([polygon[:, 0], np.linspace(lo[0], hi[0], samples)]))
+    ys = np.unique(np.concatenate([polygon[:, 1], np.linspace(lo[1], hi[1], samples)]))
+    cells = [
+        shapely.box(xs[i], ys[j], xs[i + 1], ys[j + 1])
+        for j in range(len(ys) - 1)
+        for i in range(len(xs) - 1)
+    ]
+    shrink = 1e-9 * float(np.ptp(polygon, axis=0).max())
+    inside = shapely.contains(shape, shapely.buffer(cells, -shrink)).reshape(
+        len(ys) - 1, len(xs) - 1
+    )
+    best = (0.0, None)
+    heights = np.zeros(len(xs) - 1)
+    widths = np.diff(xs)
+    for j in range(len(ys) - 1):
+        # Largest rectangle in a histogram of column heights (metres), for rows up to j.
+        row_height = ys[j + 1] - ys[j]
+        heights = np.where(inside[j], heights + row_height, 0.0)
+        for i in range(len(heights)):
+            h = heights[i]
+            if h <= 0:
+                continue
+            # Extend left and right while the columns are at least as tall.
+            a = i
+            while a > 0 and heights[a - 1] >= h:
+                a -= 1
+            b = i
+            while b + 1 < len(heights) and heights[b + 1] >= h:
+                b += 1
+            area = h * widths[a : b + 1].sum()
+            if area > best[0]:
+                x0, x1, y1 = xs[a], xs[b + 1], ys[j + 1]
+                corners = np.array([[x0, y1 - h], [x1, y1 - h], [x1, y1], [x0, y1]])
+                best = (area, corners)
+    return best
+
+
+def inner_rectangle(polygon, alignment: str = "scope", samples: int = 48):
+    """CGA's ``innerRectangle``: the largest rectangle inside ``polygon`` and the remainder.
+
+    ``alignment`` "scope": sides parallel to the axes; "edge": parallel to one of the edges at
+    least a quarter as long as the longest. The search runs on a grid through the vertices
+    plus ``samples`` lines per axis, so the area is exact for axis-parallel polygons and
+    within one grid cell otherwise.
+
+    Returns
+    -------
+    (rectangle ``(4, 2)`` counter-clockwise or None, remainder pieces)
+    """
+    p = checked_polygon(polygon)
+    if alignment not in ("scope", "edge"):
+        raise GeometryError(f"innerRectangle alignment must be scope or edge, got {alignment!r}")
+    candidates = [np.eye(2)]
+    if alignment == "edge":
+        d = np.roll(p, -1, axis=0) - p
+        lengths = np.linalg.norm(d, axis=1)
+        candidates = []
+        for k in np.flatnonzero(lengths >= lengths.max() / 4):
+            u = d[k] / lengths[k]
+            candidates.append(np.array([u, [-u[1], u[0]]]))  # rows: the rectangle's axes
+    best = (0.0, None)
+    for axes in candidates:
+        area, corners = _largest_axis_rectangle(p @ axes.T, samples)
+        if corners is not None and area > best[0]:
+            best = (area, corners @ axes)
+    rectangle = best[1]
+    if rectangle is None:
+        return None, (p.copy(),)
+    rest = ShapelyPolygon(p).difference(ShapelyPolygon(rectangle))
+    eps = (DEFAULT.merge_rel * float(np.ptp(p, axis=0).max())) ** 0.5
+    pieces = [r for r in _pieces(rest) if signed_area(r) > eps * signed_area(p)]
+    return rectangle, tuple(pieces)

@@ -1,0 +1,287 @@
+"""CityEngine's roofs and taper on one flat face, as polygon meshes in the face's frame.
+
+The face is a counter-clockwise ``(n, 2)`` polygon in its own plane (metres); a roof is a
+:class:`RoofMesh` whose vertices are ``(x, y, h)`` with ``h`` the height above the face along
+its normal. Faces are counter-clockwise seen from outside; the first is the original face
+turned down (``roof.bottom``), then one face per edge in edge order, each starting with its
+edge, as CityEngine builds them:
+
+- :func:`roof_hip`: every edge carries a plane at ``angle``; the planes meet along the
+  straight skeleton (height = skeleton time times ``tan(angle)``);
+- :func:`roof_gable`: as a hip roof, but the gable edges stay vertical (a weighted skeleton
+  with weight 0 on them): the ends of a rectangle's ridge, each wing end of an L;
+- :func:`roof_shed`: one plane rising from edge ``index``, vertical sides, a top;
+- :func:`roof_pyramid`: the vertex average raised, joined to every edge;
+- :func:`taper`: the area centroid raised, joined to every edge.
+"""
+
+from __future__ import annotations
+
+__all__ = ["RoofMesh", "roof_hip", "roof_gable", "roof_shed", "roof_pyramid", "taper"]
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from shapegen.errors import GeometryError
+from shapegen.geometry.polygon2d import checked_polygon, edge_normals, edges_moved_out, signed_area
+from shapegen.geometry.skeleton import straight_skeleton
+from shapegen.tolerances import DEFAULT
+
+
+@dataclass(frozen=True)
+class RoofMesh:
+    """A polygon mesh in a face's frame.
+
+    Attributes
+    ----------
+    vertices
+        ``(m, 3)`` points ``(x, y, h)``, metres; ``h`` along the face's normal.
+    faces
+        Vertex-index tuples, counter-clockwise seen from outside.
+    tags
+        One CityEngine component tag per face (``roof.bottom``, ``roof.top``, ``roof.side``...).
+    """
+
+    vertices: np.ndarray
+    faces: tuple[tuple[int, ...], ...]
+    tags: tuple[str, ...]
+
+    def volume(self) -> float:
+        """Enclosed volume (m³) by the divergence theorem (meaningful for a closed mesh)."""
+        total = 0.0
+        for face in self.faces:
+            p = self.vertices[list(face)]
+            for k in range(1, len(p) - 1):
+                total += float(np.dot(p[0], np.cross(p[k], p[k + 1]))) / 6.0
+        return total
+
+
+class _Welder:
+    """Collects points and faces, one index per distinct point."""
+
+    def __init__(self, size: float):
+        self.eps = DEFAULT.merge_rel * max(size, 1e-300) * 10
+        self.points: list[np.ndarray] = []
+        self.faces: list[tuple[int, ...]] = []
+        self.tags: list[str] = []
+
+    def index(self, point) -> int:
+        point = np.asarray(point, dtype=float)
+        for k, q in enumerate(self.points):
+            if np.abs(q - point).max() <= self.eps:
+                return k
+        self.points.append(point)
+        return len(self.points) - 1
+
+    def face(self, points, tag: str) -> None:
+        ids: list[int] = []
+        for p in points:
+            k = self.index(p)
+            if not ids or ids[-1] != k:
+                ids.append(k)
+        while len(ids) > 1 and ids[0] == ids[-1]:
+            ids.pop()
+        if len(ids) >= 3:
+            self.faces.append(tuple(ids))
+            self.tags.append(tag)
+
+    def mesh(self) -> RoofMesh:
+        return RoofMesh(np.array(self.points).reshape(-1, 3), tuple(self.faces), tuple(self.tags))
+
+
+def _bottom(welder: _Welder, polygon: np.ndarray, tag: str) -> None:
+    welder.face([(x, y, 0.0) for x, y in polygon[::-1]], tag)
+
+
+def _slope(angle: float | None, height: float | None, reach: float) -> float:
+    """tan of the roof planes: from an angle (degrees) or from a height over ``reach`` (m)."""
+    if height is not None:
+        if not math.isfinite(height):
+            raise GeometryError(f"a roof height must be a finite number, got {height}")
+        return height / reach if reach > 0 else 0.0
+    if angle is None or not math.isfinite(angle) or not -90 < angle < 90:
+        raise GeometryError(f"a roof angle must be between -90 and 90 degrees, got {angle}")
+    return math.tan(math.radians(angle))
+
+
+def _skeleton_roof(
+    polygon: np.ndarray,
+    weights: np.ndarray,
+    angle: float | None,
+    height: float | None,
+    grow: np.ndarray,
+    drop: float,
+    even: bool,
+    side_tags: list[str],
+) -> RoofMesh:
+    eaves = edges_moved_out(polygon, grow) if np.any(grow) else polygon
+    skeleton = straight_skeleton(eaves, weights=weights)
+    slope = _slope(angle, height, float(skeleton.times.max()))
+    times = skeleton.times
+    if even:  # every ridge node at the average ridge height (non-planar faces, as CityEngine)
+        inner = times > DEFAULT.merge_rel * float(times.max())
+        if np.any(inner):
+            times = np.where(inner, times[inner].mean(), times)
+    welder = _Welder(float(np.ptp(eaves, axis=0).max()))
+    _bottom(welder, polygon, "roof.bottom")
+    for k in range(len(eaves)):
+        ids = list(skeleton.faces[k])
+        points = np.column_stack([skeleton.nodes[ids], times[ids] * slope - drop])
+        welder.face(points, side_tags[k])
+    return welder.mesh()
+
+
+def roof_hip(
+    polygon,
+    angle: float | None = None,
+    *,
+    height: float | None = None,
+    overhang: float = 0.0,
+    even: bool = False,
+) -> RoofMesh:
+    """A hip roof: a plane at ``angle`` (degrees) on every edge, meeting along the skeleton.
+
+    ``height`` (m) instead of ``angle`` gives the highest ridge that height. ``overhang`` (m,
+    measured on the roof plane) extends the roof faces beyond the edges and below the face.
+    """
+    p = checked_polygon(polygon)
+    grow, drop = _overhang(angle, height, overhang)
+    n = len(p)
+    return _skeleton_roof(
+        p, np.ones(n), angle, height, np.full(n, grow), drop, even, ["roof.top"] * n
+    )
+
+
+def _overhang(angle, height, overhang) -> tuple[float, float]:
+    if not math.isfinite(overhang) or overhang < 0:
+        raise GeometryError(f"a roof overhang must be a finite number >= 0, got {overhang}")
+    if overhang == 0:
+        return 0.0, 0.0
+    if angle is None:
+        raise GeometryError("a roof overhang needs the roof's angle (byAngle)")
+    a = math.radians(angle)
+    return overhang * math.cos(a), overhang * math.sin(a)
+
+
+def gable_edges(polygon, index: int | None = None) -> np.ndarray:
+    """Which edges of ``polygon`` are gables (booleans).
+
+    With ``index`` (a convex polygon): the edges parallel within 45 degrees to edge ``index``.
+    Otherwise the ends of the ridges: the edges whose hip-roof face is a triangle, shortest
+    first, never two neighbours, leaving at least two eaves.
+    """
+    p = checked_polygon(polygon)
+    n = len(p)
+    d = np.roll(p, -1, axis=0) - p
+    lengths = np.linalg.norm(d, axis=1)
+    u = d / lengths[:, None]
+    if index is not None:
+        k = int(index) % n
+        return np.abs(u @ u[k]) >= math.cos(math.radians(45)) - 1e-12
+    skeleton = straight_skeleton(p)
+    triangles = [k for k in range(n) if len(skeleton.face_points(k)) == 3]
+    chosen = np.zeros(n, dtype=bool)
+    for k in sorted(triangles, key=lambda k: lengths[k]):
+        if chosen[(k - 1) % n] or chosen[(k + 1) % n] or n - chosen.sum() - 1 < 2:
+            continue
+        chosen[k] = True
+    return chosen
+
+
+def roof_gable(
+    polygon,
+    angle: float | None = None,
+    *,
+    height: float | None = None,
+    overhang_x: float = 0.0,
+    overhang_y: float = 0.0,
+    even: bool = False,
+    index: int | None = None,
+) -> RoofMesh:
+    """A gable roof: planes at ``angle`` (degrees) on the eaves, vertical gables on the ends.
+
+    ``overhang_x`` (m, on the roof plane) extends the roof beyond the eaves, ``overhang_y`` (m)
+    beyond the gables; ``index`` makes the edges parallel to that edge the gables (convex
+    faces only, as CityEngine).
+    """
+    p = checked_polygon(polygon)
+    if index is not None and not _convex(p):
+        index = None  # CityEngine uses the index on convex faces only
+    gables = gable_edges(p, index)
+    grow_x, drop = _overhang(angle, height, overhang_x)
+    if not math.isfinite(overhang_y) or overhang_y < 0:
+        raise GeometryError(f"a roof overhang must be a finite number >= 0, got {overhang_y}")
+    grow = np.where(gables, overhang_y, grow_x)
+    weights = np.where(gables, 0.0, 1.0)
+    tags = ["roof.side" if g else "roof.top" for g in gables]
+    return _skeleton_roof(p, weights, angle, height, grow, drop, even, tags)
+
+
+def _convex(p: np.ndarray) -> bool:
+    d = np.roll(p, -1, axis=0) - p
+    cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
+    return bool(np.all(cross >= -1e-12 * float(np.abs(cross).max())))
+
+
+def roof_shed(
+    polygon, angle: float | None = None, *, height: float | None = None, index: int = 0
+) -> RoofMesh:
+    """A shed roof: one plane through edge ``index`` rising inward at ``angle`` (degrees).
+
+    ``height`` (m) instead of ``angle`` makes the highest point that high. Vertical side faces
+    close it (``roof.side.outer``); a side of zero height is left out.
+    """
+    p = checked_polygon(polygon)
+    n = len(p)
+    k = int(index) % n
+    inward = -edge_normals(p)[k]
+    reach = (p - p[k]) @ inward
+    slope = _slope(angle, height, float(reach.max()))
+    h = reach * slope
+    welder = _Welder(float(np.ptp(p, axis=0).max()))
+    _bottom(welder, p, "roof.bottom")
+    for e in range(n):
+        a, b = e, (e + 1) % n
+        welder.face([(*p[a], 0.0), (*p[b], 0.0), (*p[b], h[b]), (*p[a], h[a])], "roof.side.outer")
+    welder.face([(*q, z) for q, z in zip(p, h, strict=True)], "roof.top")
+    return welder.mesh()
+
+
+def _apex_roof(p: np.ndarray, apex: np.ndarray, rise: float, bottom: str, side: str):
+    welder = _Welder(float(np.ptp(p, axis=0).max()))
+    _bottom(welder, p, bottom)
+    top = (*apex, rise)
+    for e in range(len(p)):
+        welder.face([(*p[e], 0.0), (*p[(e + 1) % len(p)], 0.0), top], side)
+    return welder.mesh()
+
+
+def roof_pyramid(polygon, angle: float | None = None, *, height: float | None = None):
+    """A pyramid roof: the vertex average raised and joined to every edge.
+
+    By angle (degrees), the first roof triangle makes that angle with the face.
+    """
+    p = checked_polygon(polygon)
+    apex = p.mean(axis=0)
+    reach = float((apex - p[0]) @ -edge_normals(p)[0])
+    rise = height if height is not None else _slope(angle, None, reach) * reach
+    return _apex_roof(p, apex, float(rise), "roof.bottom", "roof.top")
+
+
+def taper(polygon, height: float) -> RoofMesh:
+    """CGA's ``taper(height)``: the face's area centroid raised by ``height`` (m), joined to
+    every edge (``taper.bottom``, ``taper.side``)."""
+    p = checked_polygon(polygon)
+    if not math.isfinite(height):
+        raise GeometryError(f"taper height must be a finite number, got {height}")
+    x, y = p[:, 0], p[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    area = signed_area(p)
+    centroid = np.array([((x + xn) * cross).sum(), ((y + yn) * cross).sum()]) / (6 * area)
+    mesh = _apex_roof(p, centroid, float(height), "taper.bottom", "taper.side")
+    if height < 0:  # downward: turn every face so they still face outward
+        mesh = RoofMesh(mesh.vertices, tuple(f[::-1] for f in mesh.faces), mesh.tags)
+    return mesh

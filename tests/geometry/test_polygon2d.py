@@ -1,0 +1,133 @@
+"""Offsets, setbacks and inner rectangles against closed-form areas, and the straight skeleton
+against hand-built skeletons of rectangles and L-shapes."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shapegen.errors import GeometryError
+from shapegen.geometry import polygon2d as P
+from shapegen.geometry.skeleton import straight_skeleton
+
+RECT = [(0, 0), (12, 0), (12, 8), (0, 8)]
+L_SHAPE = [(0, 0), (10, 0), (10, 4), (6, 4), (6, 10), (0, 10)]  # arms 4 and 6 wide, area 76
+
+
+def _same_polygon(a, b):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    assert len(a) == len(b)
+    shift = int(np.argmin(np.linalg.norm(b - a[0], axis=1)))
+    np.testing.assert_allclose(np.roll(b, -shift, axis=0), a, atol=1e-9)
+
+
+def test_skeleton_of_a_rectangle_has_a_ridge_of_length_w_minus_d():
+    s = straight_skeleton(RECT)
+    _same_polygon(s.face_points(0), [(0, 0), (12, 0), (8, 4), (4, 4)])
+    _same_polygon(s.face_points(1), [(12, 0), (12, 8), (8, 4)])
+    assert s.times.max() == pytest.approx(4.0)
+
+
+def test_skeleton_of_an_l_shape():
+    s = straight_skeleton(L_SHAPE)
+    # The reflex vertex (6, 4) runs to (4, 2), where the 4 m arm ends; the 6 m arm's ridge
+    # runs from (3, 3) to (3, 7).
+    _same_polygon(s.face_points(3), [(6, 4), (6, 10), (3, 7), (3, 3), (4, 2)])
+    _same_polygon(s.face_points(0), [(0, 0), (10, 0), (8, 2), (4, 2), (3, 3)])
+    areas = [P.signed_area(s.face_points(k)) for k in range(6)]
+    assert sum(areas) == pytest.approx(76.0)
+    assert min(areas) > 0
+
+
+@pytest.mark.parametrize(
+    "polygon", [RECT, L_SHAPE, [(0, 0), (4, 0), (4, 4), (0, 4)], [(0, 0), (9, 0), (7, 5), (1, 6)]]
+)
+def test_skeleton_faces_tile_the_polygon_and_times_are_distances(polygon):
+    s = straight_skeleton(polygon)
+    p = np.asarray(polygon, float)
+    assert sum(P.signed_area(s.face_points(k)) for k in range(len(p))) == pytest.approx(
+        P.signed_area(p)
+    )
+    normals = -P.edge_normals(p)
+    for k in range(len(p)):
+        for x, y, t in s.face_xyt(k):  # a face's points are as far from its edge as their time
+            assert (np.array([x, y]) - p[k]) @ normals[k] == pytest.approx(t, abs=1e-9)
+
+
+@pytest.mark.parametrize("d", [0.5, 1.0, 3.0])
+def test_inward_offset_of_a_rectangle(d):
+    o = P.offset(RECT, -d)
+    assert len(o.inside) == 1
+    assert P.signed_area(o.inside[0]) == pytest.approx((12 - 2 * d) * (8 - 2 * d))
+    assert [P.signed_area(b) for b in o.border] == pytest.approx(
+        [d * (12 - d), d * (8 - d), d * (12 - d), d * (8 - d)]
+    )
+    _same_polygon(o.border[0][:2], [(0, 0), (12, 0)])  # each border face starts with its edge
+
+
+def test_offset_past_the_middle_leaves_only_border_faces():
+    o = P.offset(RECT, -5)
+    assert o.inside == ()
+    assert sum(P.signed_area(b) for b in o.border) == pytest.approx(96)
+
+
+def test_outward_offset_border_faces_are_clockwise_and_sum_to_the_face():
+    o = P.offset(L_SHAPE, 1)
+    grown = P.signed_area(o.inside[0])
+    # A + P d + (convex - reflex corners) d^2: perimeter 40, 5 convex corners, 1 reflex
+    assert grown == pytest.approx(76 + 40 * 1 + (5 - 1) * 1)
+    assert all(P.signed_area(b) < 0 for b in o.border)
+    assert grown + sum(P.signed_area(b) for b in o.border) == pytest.approx(76)
+
+
+def test_offset_of_an_l_shape_inward_follows_the_skeleton():
+    o = P.offset(L_SHAPE, -1)
+    assert P.signed_area(o.inside[0]) == pytest.approx(76 - 40 * 1 + (5 - 1) * 1)
+    assert P.signed_area(o.inside[0]) + sum(P.signed_area(b) for b in o.border) == pytest.approx(76)
+
+
+def test_setback_front_and_left_of_a_rectangle():
+    s = P.setback(RECT, [2, 0, 0, 3])
+    strips = dict(s.strips)
+    assert sorted(strips) == [0, 3]
+    assert P.signed_area(strips[0]) == pytest.approx(12 * 2 - 0.5 * 3 * 2)
+    assert P.signed_area(strips[3]) == pytest.approx(8 * 3 - 0.5 * 3 * 2)
+    assert P.signed_area(s.remainder[0]) == pytest.approx(9 * 6)
+
+
+def test_shape_l_is_the_union_of_its_strips():
+    s = P.setback(RECT, [2, 0, 0, 3])
+    (shape,) = P.union([poly for _, poly in s.strips])
+    assert P.signed_area(shape) == pytest.approx(96 - 54)
+
+
+def test_setback_to_area_of_a_rectangle():
+    result, d = P.setback_to_area(RECT, 24.0, [True] * 4)
+    # (12 - 2d)(8 - 2d) = 24
+    expected = (10 - math.sqrt(100 - 4 * 18)) / 2  # d² - 10 d + 18 = 0
+    assert d == pytest.approx([expected] * 4, rel=1e-9)
+    assert P.signed_area(result.remainder[0]) == pytest.approx(24.0)
+
+
+def test_inner_rectangle_of_an_l_and_a_triangle():
+    rectangle, rest = P.inner_rectangle(L_SHAPE)
+    assert P.signed_area(rectangle) == pytest.approx(60)  # the 6 m arm: 6 x 10
+    assert sum(P.signed_area(r) for r in rest) == pytest.approx(16)
+    rectangle, _ = P.inner_rectangle([(0, 0), (10, 0), (5, 8)], "edge")
+    assert P.signed_area(rectangle) == pytest.approx(20, rel=0.01)  # half the triangle
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: P.offset([(0, 0), (1, 0)], -1), "at least 3"),
+        (lambda: P.offset([(0, 0), (0, 1), (1, 0)], -1), "counter-clockwise"),
+        (lambda: P.setback(RECT, [1, 2]), "one distance per edge"),
+        (lambda: P.setback(RECT, [1, -1, 0, 0]), ">= 0"),
+        (lambda: P.setback_to_area(RECT, 200, [True] * 4), "less than"),
+        (lambda: P.inner_rectangle(RECT, "diagonal"), "scope or edge"),
+    ],
+)
+def test_bad_input_is_one_clear_error(call, message):
+    with pytest.raises(GeometryError, match=message):
+        call()

@@ -1,0 +1,130 @@
+"""Roofs against closed-form volumes and ridges, and CityEngine's face layout (checked with
+PyPRT on the Building_From_FootprintSMALL package: one roof face per edge, starting with it)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shapegen.errors import GeometryError
+from shapegen.geometry import roofs as R
+from shapegen.geometry.polygon2d import signed_area
+
+RECT = [(0, 0), (12, 0), (12, 8), (0, 8)]
+L_SHAPE = [(0, 0), (10, 0), (10, 4), (4, 4), (4, 10), (0, 10)]  # both arms 4 wide, area 64
+
+
+def _ridge(mesh, height):
+    top = mesh.vertices[np.isclose(mesh.vertices[:, 2], height)]
+    return top
+
+
+@pytest.mark.parametrize("w, d, angle", [(12, 8, 45), (12, 8, 30), (20, 5, 60), (6, 6, 40)])
+def test_hip_roof_of_a_rectangle(w, d, angle):
+    t = math.tan(math.radians(angle))
+    h = d / 2 * t
+    mesh = R.roof_hip([(0, 0), (w, 0), (w, d), (0, d)], angle)
+    assert mesh.vertices[:, 2].max() == pytest.approx(h)
+    ridge = _ridge(mesh, h)
+    assert np.ptp(ridge[:, 0]) == pytest.approx(w - d)  # ridge length w - d
+    assert mesh.volume() == pytest.approx(h * d * (3 * w - d) / 6)
+    assert mesh.tags == ("roof.bottom",) + ("roof.top",) * 4
+
+
+@pytest.mark.parametrize("w, d, angle", [(12, 8, 45), (12, 8, 20), (5, 9, 35)])
+def test_gable_roof_of_a_rectangle_is_a_prism(w, d, angle):
+    t = math.tan(math.radians(angle))
+    mesh = R.roof_gable([(0, 0), (w, 0), (w, d), (0, d)], angle)
+    short = min(w, d)
+    assert mesh.volume() == pytest.approx(max(w, d) * short**2 * t / 4)
+    assert mesh.vertices[:, 2].max() == pytest.approx(short / 2 * t)
+    assert mesh.tags.count("roof.side") == 2  # the gables: the short edges
+
+
+def test_gable_index_chooses_the_gable_edges():
+    mesh = R.roof_gable(RECT, 45, index=0)  # edge 0 (12 m) and its opposite are the gables
+    assert mesh.tags == ("roof.bottom", "roof.side", "roof.top", "roof.side", "roof.top")
+    assert mesh.volume() == pytest.approx(8 * 12**2 / 4)
+
+
+def test_hip_and_gable_roofs_of_an_l_shape():
+    # As PyPRT builds them: hip ridges (2,2)-(8,2) and (2,2)-(2,8) at height 2; the gable
+    # ridges run to the wing ends.
+    hip = R.roof_hip(L_SHAPE, 45)
+    top = hip.vertices[np.isclose(hip.vertices[:, 2], 2)]
+    assert sorted(map(tuple, np.round(top[:, :2], 9))) == [(2, 2), (2, 8), (8, 2)]
+    # Two 4 m wide arms: each a hip-ended prism, minus the overlap counted twice.
+    arm = 2 * 4 * (3 * 10 - 4) / 6  # hip roof of a 10 x 4 rectangle, h = 2
+    assert hip.volume() == pytest.approx(2 * arm - 4 * 4 * 2 / 3)  # the corner pyramid twice
+    gable = R.roof_gable(L_SHAPE, 45)
+    assert gable.tags.count("roof.side") == 2
+    ends = gable.vertices[np.isclose(gable.vertices[:, 2], 2)][:, :2]
+    assert sorted(map(tuple, np.round(ends, 9))) == [(2, 2), (2, 10), (10, 2)]
+
+
+def test_roof_faces_start_with_their_edges_as_cityengine():
+    mesh = R.roof_hip(RECT, 45)
+    p = np.asarray(RECT, float)
+    for k, face in enumerate(mesh.faces[1:]):
+        first, second = mesh.vertices[face[0]], mesh.vertices[face[1]]
+        np.testing.assert_allclose(first, [*p[k], 0])
+        np.testing.assert_allclose(second, [*p[(k + 1) % 4], 0])
+
+
+def test_rectangle_roofs_are_closed_convex_solids():
+    for mesh in (
+        R.roof_hip(RECT, 45),
+        R.roof_gable(RECT, 45),
+        R.roof_pyramid(RECT, 45),
+        R.roof_shed(RECT, 20),
+    ):
+        edges = {}
+        for face in mesh.faces:
+            for a, b in zip(face, face[1:] + face[:1], strict=True):
+                edges[(a, b)] = edges.get((a, b), 0) + 1
+        assert all(edges.get((b, a)) == 1 for a, b in edges)  # every edge used once each way
+        centre = mesh.vertices.mean(axis=0)
+        for face in mesh.faces:  # every vertex behind every face plane
+            q = mesh.vertices[list(face)]
+            normal = np.cross(q[1] - q[0], q[2] - q[0])
+            assert np.all((mesh.vertices - q[0]) @ normal <= 1e-9)
+            assert (centre - q[0]) @ normal < 0
+
+
+def test_shed_pyramid_and_taper_volumes():
+    t = math.tan(math.radians(15))
+    assert R.roof_shed(RECT, 15).volume() == pytest.approx(12 * 8 * 8 * t / 2)
+    shed = R.roof_shed(RECT, 15, index=1)  # rising from the 8 m edge at x = 12
+    assert shed.vertices[:, 2].max() == pytest.approx(12 * t)
+    assert R.roof_pyramid(RECT, 45).volume() == pytest.approx(96 * 4 / 3)  # apex 4 m above
+    assert R.roof_pyramid(RECT, height=3).volume() == pytest.approx(96)
+    assert R.taper(L_SHAPE, 5).volume() == pytest.approx(64 * 5 / 3)
+    assert R.taper(L_SHAPE, -5).volume() == pytest.approx(64 * 5 / 3)
+
+
+def test_by_height_and_overhang():
+    hip = R.roof_hip(RECT, height=2)
+    assert hip.vertices[:, 2].max() == pytest.approx(2)
+    gable = R.roof_gable(RECT, 30, overhang_x=1, overhang_y=0.5)
+    z = gable.vertices[:, 2]
+    assert z.min() == pytest.approx(-0.5)  # 1 m down a 30 degree slope
+    assert z.max() == pytest.approx(4 * math.tan(math.radians(30)))
+    xy = gable.vertices[:, :2]
+    assert xy[:, 0].min() == pytest.approx(-0.5)
+    assert xy[:, 1].min() == pytest.approx(-math.cos(math.radians(30)))
+    bottom = gable.vertices[list(gable.faces[0])]
+    assert signed_area(bottom[::-1, :2]) == pytest.approx(96)  # the face itself stays
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: R.roof_hip(RECT, 95), "between -90 and 90"),
+        (lambda: R.roof_hip(RECT, 45, overhang=-1), ">= 0"),
+        (lambda: R.roof_hip(RECT, height=2, overhang=1), "byAngle"),
+        (lambda: R.taper(RECT, float("nan")), "finite"),
+    ],
+)
+def test_bad_input_is_one_clear_error(call, message):
+    with pytest.raises(GeometryError, match=message):
+        call()
