@@ -1,10 +1,11 @@
 """Offline pictures of a model: the depth-buffered rendering of :mod:`shapegen.export.render`
 with a title and a legend drawn around it by matplotlib (no screen needed).
 
-Without an analysis the blocks take their label colours and the legend names the labels; with
-one, they are coloured by the worst tension they need (grey = none, red = the most, as in the
-glTF output) and a colour bar gives the scale in newtons. Colours come from
-:mod:`shapegen.export.colors`.
+Without an analysis the blocks take the colour their rule gave them (``color(...)``), else
+their label colours, and the legend names the labels; with one, they are coloured by the worst
+tension they need (grey = none, red = the most, as in the glTF output) and a colour bar gives
+the scale in newtons. Surfaces (leaves left out of the statics) are drawn in their rule's
+colour or light grey, from both sides. Colours come from :mod:`shapegen.export.colors`.
 """
 
 from __future__ import annotations
@@ -21,11 +22,13 @@ from shapegen.export.atomic import atomic_write, check_writable
 from shapegen.export.colors import (
     NON_STRUCTURAL,
     SUPPORT,
+    SURFACE,
     TENSION_MAX,
     TENSION_STEPS,
     TENSION_ZERO,
     UNLABELLED,
-    block_label_color,
+    appearance_color,
+    display_color,
     label_color,
     tension_colors,
     tension_levels,
@@ -115,13 +118,21 @@ def model_figure(
         colors, entries, peak = _tension_colors(model, analysis)
     else:
         colors, entries, peak = _label_colors(model), _label_entries(model), None
+    surfaces = list(getattr(model, "surfaces", None) or [])
+    entries = entries + _surface_entries(surfaces)
     if legend is None:
         legend = analysis is not None or len(entries) > 1
     legend_px = max(120, round(0.2 * width)) if legend else 0
     title_px = max(24, round(0.06 * height)) if title else 0
     view_px = (width - legend_px, height - title_px)
     rendering = render_blocks(
-        model, colors, size_px=view_px, elevation=elevation, azimuth=azimuth, bounds=bounds
+        model,
+        colors,
+        size_px=view_px,
+        elevation=elevation,
+        azimuth=azimuth,
+        bounds=bounds,
+        surface_colors=np.array([display_color(s) for s in surfaces]).reshape(-1, 4),
     )
     figure = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI, facecolor="white")
     figure.figimage(rendering.rgb, xo=0, yo=0, origin="upper")
@@ -155,22 +166,31 @@ def _tension_colors(model: Model, analysis) -> tuple[np.ndarray, list, float]:
 
 
 def _label_colors(model: Model) -> np.ndarray:
-    return np.array(
-        [block_label_color(b.tags, fixed=b.fixed, structural=b.structural) for b in model.blocks],
-        dtype=np.uint8,
-    ).reshape(-1, 4)
+    return np.array([display_color(b) for b in model.blocks], dtype=np.uint8).reshape(-1, 4)
+
+
+def _surface_entries(surfaces: list) -> list[tuple[str, np.ndarray | None]]:
+    """The legend row of the surfaces painted in the default surface colour."""
+    plain = sum(1 for s in surfaces if appearance_color(s.appearance) is None and not s.tags)
+    return [("not judged", SURFACE)] if plain else []
 
 
 def _label_entries(model: Model) -> list[tuple[str, np.ndarray]]:
     """Legend rows in label mode: the labels by how many blocks carry them, then the kinds of
     block that :func:`~shapegen.export.colors.block_label_color` paints apart."""
+    painted = [appearance_color(b.appearance) is not None for b in model.blocks]
     labels = Counter(
-        b.tags[0] for b in model.blocks if b.tags and b.structural and not b.fixed
+        b.tags[0]
+        for b, own in zip(model.blocks, painted, strict=True)
+        if b.tags and b.structural and not b.fixed and not own
     ).most_common()
     entries = [(label, label_color(label)) for label, _ in labels[:_MAX_LABELS]]
     if len(labels) > _MAX_LABELS:
         entries.append((f"+{len(labels) - _MAX_LABELS} more labels", None))
-    if any(b.structural and not b.fixed and not b.tags for b in model.blocks):
+    if any(
+        b.structural and not b.fixed and not b.tags and not own
+        for b, own in zip(model.blocks, painted, strict=True)
+    ):
         entries.append(("unlabelled", UNLABELLED))
     if any(b.fixed for b in model.blocks):
         entries.append(("support", SUPPORT))

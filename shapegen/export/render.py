@@ -80,8 +80,9 @@ def render_blocks(
     ground: bool = True,
     background: tuple[int, int, int] = (255, 255, 255),
     supersample: int = SUPERSAMPLE,
+    surface_colors: np.ndarray | None = None,
 ) -> Rendering:
-    """Render ``model`` with one colour per block.
+    """Render ``model`` with one colour per block, and its surfaces (seen from both sides).
 
     Parameters
     ----------
@@ -100,6 +101,8 @@ def render_blocks(
     supersample
         Samples a pixel along each axis (anti-aliasing); lowered for pictures so large that
         the samples would exceed :data:`MAX_SAMPLES`.
+    surface_colors
+        ``(m, 4)`` RGBA, one row per surface of ``model.surfaces``; default a light grey.
     """
     width, height = (int(v) for v in size_px)
     if width < 1 or height < 1 or width * height > MAX_SAMPLES:
@@ -114,25 +117,45 @@ def render_blocks(
         raise ValueError(f"{len(colors)} colours for {len(model.blocks)} blocks")
     right, up, eye = view_axes(elevation, azimuth)
     w, h = width * s, height * s
-    if not model.blocks:
+    sheets, sheet_owner = _surface_triangles(model)
+    if not model.blocks and not len(sheets):
         rgb = np.broadcast_to(np.array(background, np.uint8), (height, width, 3)).copy()
         return Rendering(rgb, np.zeros((height, width)), 1.0)
     pack = pack_blocks(model.blocks)
-    framed = pack.vertices if bounds is None else _box_corners(np.asarray(bounds, float))
+    everything = np.vstack([pack.vertices, sheets.reshape(-1, 3)])
+    framed = everything if bounds is None else _box_corners(np.asarray(bounds, float))
     project, scale = _camera(framed, right, up, eye, w, h)
 
     # Front faces only: every block is a closed convex solid, so a face turned away is hidden.
     front = pack.face_normal @ eye > 1e-9
-    face_rgb = colors[pack.face_block, :3] * _shade(pack.face_normal, right, up, eye)[:, None]
-    alpha = colors[pack.face_block, 3] / 255.0
     triangles, triangle_face = _fan_triangles(pack.corners, pack.corner_start, front)
     xy, depth = project(pack.vertices)
-    opaque = alpha[triangle_face] >= 1.0
     tri_xy, tri_depth = xy[triangles], depth[triangles]
-    nf = len(pack.face_block)
+    # Surfaces are seen from both sides: each triangle is a face of its own, turned to the eye,
+    # and owned by a "block" numbered after the real ones (so joints between them are drawn).
+    face_block, face_normal = pack.face_block, pack.face_normal
+    if len(sheets):
+        normal = np.cross(sheets[:, 1] - sheets[:, 0], sheets[:, 2] - sheets[:, 0])
+        length = np.linalg.norm(normal, axis=1)
+        keep = length > 0
+        sheets, sheet_owner = sheets[keep], sheet_owner[keep]
+        normal = normal[keep] / length[keep, None]
+        normal *= np.where(normal @ eye < 0, -1.0, 1.0)[:, None]
+        paint = _surface_paint(surface_colors, len(model.surfaces))
+        colors = np.vstack([colors, paint])
+        sheet_xy, sheet_depth = project(sheets.reshape(-1, 3))
+        tri_xy = np.concatenate([tri_xy, sheet_xy.reshape(-1, 3, 2)])
+        tri_depth = np.concatenate([tri_depth, sheet_depth.reshape(-1, 3)])
+        triangle_face = np.concatenate([triangle_face, len(face_block) + np.arange(len(sheets))])
+        face_block = np.concatenate([face_block, len(model.blocks) + sheet_owner])
+        face_normal = np.vstack([face_normal, normal])
+    face_rgb = colors[face_block, :3] * _shade(face_normal, right, up, eye)[:, None]
+    alpha = colors[face_block, 3] / 255.0
+    opaque = alpha[triangle_face] >= 1.0
+    nf = len(face_block)
     ground_id = nf  # face number of the ground patch, after the blocks' faces
     if ground and model.ground is not None and eye[1] > 1e-6:
-        patch_xy, patch_depth = project(_ground_patch(pack.vertices, float(model.ground)))
+        patch_xy, patch_depth = project(_ground_patch(everything, float(model.ground)))
         patch = np.array([[0, 1, 2], [0, 2, 3]])
         tri_xy = np.concatenate([tri_xy, patch_xy[patch]])
         tri_depth = np.concatenate([tri_depth, patch_depth[patch]])
@@ -154,11 +177,36 @@ def render_blocks(
         a = alpha[glass_face[over]][:, None]
         image[over] = a * face_rgb[glass_face[over]] + (1 - a) * image[over]
         visible = np.where(over, glass_face, solid_face)
-    edges = _edges(visible, pack.face_block, pack.face_normal, ground_id, background_id)
+    edges = _edges(visible, face_block, face_normal, ground_id, background_id)
     image *= np.where(edges, np.float32(EDGE_SHADE), np.float32(1.0))[:, :, None]
     rgb = _downsample(image, s)
     block_samples = _downsample((visible < nf).astype(np.float32), s)
     return Rendering(np.clip(np.round(rgb), 0, 255).astype(np.uint8), block_samples, scale / s)
+
+
+def _surface_triangles(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """``(t, 3, 3)`` corner positions of every surface triangle, and its surface's number."""
+    from shapegen.export.surfaces import face_triangles
+
+    corners, owner = [], []
+    for k, surface in enumerate(getattr(model, "surfaces", None) or []):
+        triangles = face_triangles(surface.vertices, surface.faces)
+        corners.append(surface.vertices[triangles].reshape(-1, 3, 3))
+        owner.append(np.full(len(triangles), k))
+    if not corners:
+        return np.empty((0, 3, 3)), np.empty(0, dtype=np.int64)
+    return np.concatenate(corners), np.concatenate(owner)
+
+
+def _surface_paint(colors: np.ndarray | None, count: int) -> np.ndarray:
+    if colors is None:
+        from shapegen.export.colors import SURFACE
+
+        return np.tile(SURFACE.astype(float), (count, 1))
+    colors = np.asarray(colors, dtype=float).reshape(-1, 4)
+    if len(colors) != count:
+        raise ValueError(f"{len(colors)} colours for {count} surfaces")
+    return colors
 
 
 def _camera(framed: np.ndarray, right, up, eye, w: int, h: int):

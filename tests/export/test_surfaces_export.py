@@ -155,3 +155,26 @@ def test_bad_surface_entries_are_one_clear_error(entry, message):
     document["surfaces"] = [entry]
     with pytest.raises(InputFormatError, match=message):
         model_from_dict(document)
+
+
+def test_picture_draws_surfaces_from_both_sides():
+    from shapegen.export.render import render_blocks
+
+    model = Model([])
+    green = Appearance(color=(0.0, 1.0, 0.0))
+    model.surfaces = [Surface(L_SHAPE, [tuple(range(6))], green)]
+    reversed_face = Model([])
+    reversed_face.surfaces = [Surface(L_SHAPE, [tuple(reversed(range(6)))], green)]
+    seen = []
+    for case in (model, reversed_face):
+        colors = np.array([[0, 255, 0, 255]])
+        rendering = render_blocks(case, np.empty((0, 4)), size_px=(80, 60), surface_colors=colors)
+        rgb = rendering.rgb.reshape(-1, 3).astype(int)
+        seen.append(int(((rgb[:, 1] > 150) & (rgb[:, 0] < 100) & (rgb[:, 2] < 100)).sum()))
+    assert seen[0] > 200 and seen[0] == seen[1]  # the same pixels whichever way it faces
+
+
+def test_picture_of_a_model_with_surfaces_has_their_legend_row():
+    from shapegen.export.picture import _surface_entries
+
+    assert [name for name, _ in _surface_entries(_model().surfaces)] == ["not judged"]
