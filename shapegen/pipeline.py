@@ -149,7 +149,13 @@ def design(
 
 
 def build_report(model: Model) -> dict:
-    """The build part of a report, from what the model records of its derivation."""
+    """The build part of a report, from what the model records of its derivation.
+
+    ``left_out`` counts the leaves drawn but left out of the statics (the model's surfaces) by
+    reason; ``warnings`` are the derivation's (an asset file not found...), one line each.
+    """
+    from shapegen.export.surfaces import left_out_summary
+
     metadata = model.metadata or {}
     lot = metadata.get("lot")
     structure = metadata.get("structure") or {}
@@ -159,6 +165,8 @@ def build_report(model: Model) -> dict:
         "lot": list(lot) if lot is not None else None,
         "structure": structure.get("name"),
         "blocks": len(model.blocks),
+        "left_out": left_out_summary(model),
+        "warnings": [str(w) for w in metadata.get("warnings", [])],
         "volume": model.volume,
         "attrs": dict(metadata.get("attrs", {})),
         "free_parameters": {

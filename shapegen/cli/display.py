@@ -6,6 +6,7 @@ __all__ = [
     "SearchProgress",
     "SimulationProgress",
     "fmt",
+    "left_out_line",
     "print_analysis",
     "print_build",
     "print_simulation",
@@ -160,15 +161,30 @@ def print_build(title: str, report: dict) -> None:
     table = _grid()
     table.add_row("grammar", Text(title))
     table.add_row("blocks", str(report["blocks"]))
+    left_out = left_out_line(report.get("left_out"))
+    if left_out:
+        table.add_row("left out", Text(left_out))
     table.add_row("volume", f"{fmt(report['volume'])} m^3")
     table.add_row("seconds", fmt(report["seconds"]))
     for name, value in report.get("reports", {}).items():
         table.add_row(Text(f"report {name}"), Text(str(value)))
     console.print(table)
+    for warning in report.get("warnings", []):
+        console.print(Text(f"warning: {warning}", style="yellow"))
     if "optimization" in report:
         console.print(optimization_table(report["optimization"]))
     if "analysis" in report:
         console.print(analysis_table(title, report["analysis"]))
+
+
+def left_out_line(left_out: dict | None) -> str:
+    """``3 leaves not judged by the statics: 2 a face (no volume), 1 not convex``, or ``""``
+    when every leaf is a block."""
+    if not left_out or not left_out.get("leaves"):
+        return ""
+    count = left_out["leaves"]
+    reasons = ", ".join(f"{n} {reason}" for reason, n in left_out.get("by_reason", {}).items())
+    return f"{count} {'leaf' if count == 1 else 'leaves'} not judged by the statics: {reasons}"
 
 
 def print_simulation(title: str, result, args, build: dict) -> None:
