@@ -157,14 +157,30 @@ def _blocks_path(folder: Path, record: dict) -> Path:
 
 
 def _building(path: Path):
-    """The placed model of a lot, or None when it has none."""
-    from shapegen.export.blocks_json import model_from_dict
+    """The placed blocks of a lot (a Model of them), or None when it has none.
+
+    The file was written by this run from a checked model, so its blocks are taken as they are
+    (``model_from_dict`` would check every face's orientation again: 0.15 s per house).
+    """
+    from shapegen.model.block import Block
+    from shapegen.model.model import Model
 
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        blocks = [
+            Block(
+                np.asarray(entry["vertices"], dtype=float),
+                tuple(tuple(face) for face in entry["faces"]),
+                id=str(entry["id"]),
+                tags=tuple(entry.get("tags", ())),
+                structural=bool(entry.get("structural", True)),
+                fixed=bool(entry.get("fixed", False)),
+            )
+            for entry in document["blocks"]
+        ]
+    except (OSError, ValueError, KeyError, TypeError):
         return None
-    return model_from_dict(document)
+    return Model(blocks)
 
 
 def city_scene(city, buildings):

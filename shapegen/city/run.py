@@ -148,20 +148,21 @@ def run_city(
     records: list[dict | None] = [None] * len(city.lots)
     where = {lot.id: k for k, lot in enumerate(city.lots)}
     tasks = []
+    resumed = 0
     for k, lot in enumerate(city.lots):
         fingerprint = _fingerprint(lot)
         old = read_record(folder / "lots" / f"{lot_key(lot.id)}.json")
         if old is not None and old.get("input") == fingerprint:
             records[k] = old
+            resumed += 1
         elif lot.problem is not None:
             record = new_record(lot.id, lot_seed(lot.id, settings.seed))
-            record.update(error=f"lot {lot.id}: {lot.problem}", seconds=0.0, input=fingerprint)
+            record.update(error=lot.problem, seconds=0.0, input=fingerprint)
             _save(folder, record)
             records[k] = record
         else:
             ring = tuple((float(e), float(n)) for e, n in lot.ring)
             tasks.append(LotTask(lot.id, ring, dict(lot.properties)))
-    resumed = sum(1 for r in records if r is not None)
     run = CityRun(city, records, resumed, 0.0, executor=executor.describe())
     total = len(city.lots)
 

@@ -1,4 +1,5 @@
-"""The ``shapegen`` command: ``build``, ``analyze``, ``simulate``, ``landscape``, ``rules``.
+"""The ``shapegen`` command: ``build``, ``analyze``, ``simulate``, ``landscape``, ``rules``,
+``city``.
 
 A user's mistake (a bad file, a bad option value, a grammar error) ends with exit status 2 and one
 line ``shapegen: error: <message>`` on stderr (grammar errors add their source excerpt); nothing
@@ -34,7 +35,7 @@ def __getattr__(name: str):
 def build_parser():
     """The ``shapegen`` argument parser with every command."""
     from shapegen import __version__
-    from shapegen.cli import analyze, build, edit, landscape, rules, simulate
+    from shapegen.cli import analyze, build, city, edit, landscape, rules, simulate
     from shapegen.cli.options import Parser
 
     parser = Parser(
@@ -48,7 +49,7 @@ def build_parser():
     parser.add_argument("--version", action="version", version=f"shapegen {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     commands.required = True
-    for command in (analyze, build, edit, landscape, rules, simulate):
+    for command in (analyze, build, city, edit, landscape, rules, simulate):
         command.add_command(commands)
     return parser
 

@@ -1,0 +1,196 @@
+"""``shapegen city LOTS RULE.grammar -o OUTDIR``: one rule over every lot of a city."""
+
+from __future__ import annotations
+
+__all__ = ["add_command", "run"]
+
+import argparse
+import sys
+from pathlib import Path
+
+from shapegen.cli.options import (
+    CommandLineError,
+    add_derivation_options,
+    add_search_options,
+    add_statics_options,
+    check_statics_apply,
+    checked_attrs,
+    load_grammar,
+    positive,
+    search_settings,
+    statics_options,
+)
+from shapegen.cli.outputs import check_outputs
+
+
+def _workers(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def add_command(commands) -> None:
+    city = commands.add_parser(
+        "city",
+        help="build and judge one rule on every lot of a city (GeoJSON or OSM buildings)",
+        description=(
+            "Derive RULE on every polygon of LOTS, judge (and with --optimize tune) each"
+            " building, and write a results table (CSV and GeoJSON) and the city as glTF to"
+            " OUTDIR. A lot's properties set the rule's attrs of the same names. Lots run on"
+            " this machine's cores, or on a Dask cluster with --scheduler; each lot's result is"
+            " written as it finishes, and a rerun into the same OUTDIR skips the lots done."
+        ),
+    )
+    city.add_argument(
+        "lots",
+        metavar="LOTS",
+        help="a GeoJSON FeatureCollection of polygons, or an OSM XML file (its buildings)",
+    )
+    city.add_argument(
+        "grammar", metavar="RULE.grammar", help="rule file, or the name of a bundled one"
+    )
+    city.add_argument(
+        "-o", "--output", metavar="OUTDIR", required=True, help="the output folder (created)"
+    )
+    city.add_argument(
+        "--crs",
+        choices=["lonlat", "metres"],
+        help="the coordinates of LOTS: WGS84 longitude/latitude or projected metres (default:"
+        " detected from the file's crs member or its coordinates' range)",
+    )
+    add_derivation_options(city, prefix="for every lot: ")
+    add_statics_options(city, prefix="for block statics: ")
+    add_search_options(city)
+    city.add_argument(
+        "--timeout",
+        type=positive,
+        metavar="S",
+        help="seconds one lot may take; a lot past it is a row with status 'timeout'",
+    )
+    city.add_argument(
+        "--workers",
+        type=_workers,
+        metavar="N",
+        help="local worker processes (default: one per core)",
+    )
+    city.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on an existing Dask cluster (tcp://host:8786) instead of local processes;"
+        " its workers need shapegen installed",
+    )
+    city.add_argument("--picture", metavar="OUT.png", help="also draw the built city")
+    city.add_argument("-q", "--quiet", action="store_true", help="print nothing")
+    city.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from shapegen.city import read_lots, run_city
+
+    if args.lot is not None:
+        raise CommandLineError("--lot: a city's lots are the polygons of LOTS")
+    if args.workers is not None and args.scheduler is not None:
+        raise CommandLineError("--workers applies to local processes; a Dask cluster has its own")
+    check_outputs({"--picture": args.picture}, folders={"-o": args.output})
+    if args.picture and Path(args.picture).suffix.lower() != ".png":
+        raise CommandLineError(f"--picture {args.picture}: a picture is written as .png")
+    search = search_settings(args)
+    statics = statics_options(args)
+    grammar = load_grammar(args.grammar)
+    check_statics_apply(args, grammar, args.grammar)
+    attrs = checked_attrs(grammar, args.assignments)
+    city = read_lots(args.lots, crs=args.crs)
+    if city.skipped and not args.quiet:
+        sys.stderr.write(
+            f"shapegen: warning: {args.lots}: {city.skipped} feature(s) that are not polygon"
+            " footprints skipped\n"
+        )
+    with _ProgressBar(quiet=args.quiet) as progress:
+        outcome = run_city(
+            city,
+            grammar,
+            args.output,
+            attrs=attrs,
+            seed=args.seed,
+            search=search,
+            statics=statics,
+            timeout=args.timeout,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=progress,
+        )
+    if args.picture:
+        from shapegen.city.outputs import encode_city_picture
+        from shapegen.pipeline import write_outputs
+
+        title = f"{Path(args.grammar).name} on {Path(args.lots).name}"
+        picture = encode_city_picture(Path(args.output), outcome.records, title=title)
+        write_outputs([(Path(args.picture), picture)])
+    if not args.quiet:
+        _summary(outcome, args)
+    return 0
+
+
+def _summary(outcome, args) -> None:
+    records = [r for r in outcome.records if r is not None]
+    ok = [r for r in records if r["status"] == "ok"]
+    stands = sum(1 for r in ok if r["stands"])
+    errors = sum(1 for r in records if r["status"] == "error")
+    timeouts = sum(1 for r in records if r["status"] == "timeout")
+    ran = len(records) - outcome.resumed
+    rate = ran / outcome.seconds if outcome.seconds > 0 else 0.0
+    mapped = sorted({name for r in records for name in r.get("from_properties") or []})
+    print(
+        f"{len(records)} lots: {stands} stand, {len(ok) - stands} do not stand,"
+        f" {errors} failed, {timeouts} timed out"
+        + (f" ({outcome.resumed} done by an earlier run)" if outcome.resumed else "")
+    )
+    print(f"{ran} lots in {outcome.seconds:.1f} s ({rate:.2f} lots/s) on {outcome.executor}")
+    if mapped:
+        print(f"attrs set by the lots' properties: {', '.join(mapped)}")
+    for record in [r for r in records if r["status"] != "ok"][:5]:
+        print(f"  {record['id']}: {record['status']}: {record['error']}")
+    print(f"results: {outcome.files['csv']}, {outcome.files['geojson']}")
+    if "glb" in outcome.files:
+        print(f"city: {outcome.files['glb']}")
+
+
+class _ProgressBar:
+    """A rich progress bar on stderr: lots done of all, failures and the rate."""
+
+    def __init__(self, quiet: bool):
+        self.quiet = quiet
+        self.bar = None
+        self.task = None
+
+    def __enter__(self):
+        if not self.quiet:
+            from rich.console import Console
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
+
+            self.bar = Progress(
+                TextColumn("lots"),
+                BarColumn(),
+                MofNCompleteColumn(),
+                TextColumn("{task.fields[failed]} failed, {task.fields[rate]:.2f} lots/s"),
+                console=Console(stderr=True),
+                transient=True,
+            )
+            self.bar.__enter__()
+        return self
+
+    def __call__(self, event) -> None:
+        if self.bar is None:
+            return
+        if self.task is None:
+            self.task = self.bar.add_task("lots", total=event.total, failed=0, rate=0.0)
+        self.bar.update(self.task, completed=event.done, failed=event.failed, rate=event.rate)
+
+    def __exit__(self, *exc_info):
+        if self.bar is not None:
+            self.bar.__exit__(*exc_info)
+        return False
