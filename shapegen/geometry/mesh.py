@@ -31,7 +31,7 @@ _UNIT_BOX = np.array(
     dtype=float,
 )
 BOX_FACES = (
-    (0, 1, 2, 3),  # bottom (-y)
+    (2, 3, 0, 1),  # bottom (-y): PyPRT starts it on the lot's second vertex
     (7, 6, 5, 4),  # top (+y)
     (3, 2, 6, 7),  # front (+z)
     (2, 1, 5, 6),  # right (+x)

@@ -1,0 +1,117 @@
+"""Cutting meshes by planes (CityEngine's ``split`` of a shape with geometry).
+
+:func:`clip_half` keeps the part of a mesh on one side of an axis-aligned plane (coordinates are
+the shape's scope coordinates, so a split plane is ``coordinate[axis] = value``). Faces are
+clipped as polygons (a non-convex face stays one polygon); an intersection point is computed once
+per cut edge, so two faces that shared the edge share the new vertex and a closed mesh stays
+closed once capped. A closed mesh is capped with the loops of the cut ("hollow meshes are closed
+after the cut", op_split); open meshes (faces) are not. Holes in a cap are not represented:
+each loop becomes its own face.
+"""
+
+from __future__ import annotations
+
+__all__ = ["clip_half", "clip_slab"]
+
+import numpy as np
+
+from shapegen.geometry.mesh import Mesh
+
+_REL = 1e-9  # points closer than this times the mesh size to the plane lie on it
+
+
+def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | None:
+    """The part of ``mesh`` with ``coordinate[axis] >= value`` (``keep_above``) or ``<=``,
+    capped if ``mesh`` is closed; None when nothing of positive extent is left."""
+    if mesh.n_faces == 0:
+        return None
+    eps = _REL * max(mesh.size(), 1e-12)
+    sign = 1.0 if keep_above else -1.0
+    depth = (mesh.vertices[:, axis] - value) * sign
+    if depth.min() >= -eps:
+        return mesh
+    if depth.max() <= eps:
+        return None
+    closed = mesh.is_closed
+    points = [p for p in mesh.vertices]
+    cut_points: dict[tuple[int, int], int] = {}
+
+    def crossing(a: int, b: int) -> int:
+        key = (a, b) if a < b else (b, a)
+        index = cut_points.get(key)
+        if index is None:
+            i, j = key
+            t = depth[i] / (depth[i] - depth[j])
+            point = mesh.vertices[i] + t * (mesh.vertices[j] - mesh.vertices[i])
+            point[axis] = value
+            index = cut_points[key] = len(points)
+            points.append(point)
+        return index
+
+    faces = []
+    for face in mesh.faces:
+        ring: list[int] = []
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            if depth[a] >= -eps:
+                ring.append(a)
+            if (depth[a] > eps and depth[b] < -eps) or (depth[a] < -eps and depth[b] > eps):
+                ring.append(crossing(a, b))
+        ring = _without_repeats(ring)
+        if len(ring) >= 3:
+            faces.append(tuple(ring))
+    if not faces:
+        return None
+    vertices = np.array(points)
+    if closed:
+        faces.extend(_caps(faces))
+    return _compact(vertices, faces)
+
+
+def clip_slab(mesh: Mesh, axis: int, low: float, high: float) -> Mesh | None:
+    """The part of ``mesh`` with ``low <= coordinate[axis] <= high`` (m), or None."""
+    piece = clip_half(mesh, axis, low, True)
+    if piece is None:
+        return None
+    return clip_half(piece, axis, high, False)
+
+
+def _without_repeats(ring: list[int]) -> list[int]:
+    out: list[int] = []
+    for i in ring:
+        if not out or out[-1] != i:
+            out.append(i)
+    while len(out) > 1 and out[0] == out[-1]:
+        out.pop()
+    return out
+
+
+def _caps(faces: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
+    """Faces closing the boundary loops of a clipped closed mesh (each boundary edge turned
+    around, chained into loops)."""
+    directed = set()
+    for face in faces:
+        directed.update(zip(face, face[1:] + face[:1], strict=True))
+    following: dict[int, int] = {}
+    for a, b in directed:
+        if (b, a) not in directed:
+            following[b] = a  # the cap runs the edge the other way
+    caps = []
+    while following:
+        start, nxt = following.popitem()
+        loop = [start]
+        while nxt != start and nxt in following:
+            loop.append(nxt)
+            nxt = following.pop(nxt)
+        if nxt == start and len(loop) >= 3:
+            caps.append(tuple(loop))
+    return caps
+
+
+def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
+    used: dict[int, int] = {}
+    remapped = [tuple(used.setdefault(i, len(used)) for i in face) for face in faces]
+    mesh = Mesh(vertices[list(used)], remapped)
+    low, high = mesh.bounds()
+    if float(np.max(high - low)) <= 0:
+        return None
+    return mesh

@@ -1,0 +1,135 @@
+"""Scope frames of geometry, as CityEngine sets them.
+
+- a face's frame (``comp(f)``, the lot): x along its first edge, z along its normal, y = z x x;
+- a scope fitted to geometry in a given frame: the origin at the bounding box's minimum corner,
+  the size its extent (``attr_scope``: "the scope is the bounding box of the geometry");
+- the lot polygon: points ``(x, z)`` counter-clockwise seen from above (+y); its scope has x along
+  the first edge and y up.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "face_rotation",
+    "fitted_scope",
+    "lot_polygon",
+    "quadrant",
+    "rotation_keeping_x",
+]
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.model.scope import Scope
+
+
+def _unit(vector: np.ndarray) -> np.ndarray | None:
+    length = float(np.linalg.norm(vector))
+    return None if length <= 1e-15 else vector / length
+
+
+def face_rotation(points: np.ndarray, normal: np.ndarray | None = None) -> np.ndarray:
+    """The frame of a planar polygon (columns x, y, z): x along its first edge of non-zero
+    length, z its normal (Newell's unless given), y = z x x. A degenerate polygon gets a frame
+    with z along ``normal`` or +y."""
+    p = np.asarray(points, float)
+    z = _unit(polygon_normal(p)) if normal is None else _unit(np.asarray(normal, float))
+    if z is None:
+        z = np.array([0.0, 1.0, 0.0])
+    x = None
+    for k in range(len(p)):
+        edge = p[(k + 1) % len(p)] - p[k]
+        x = _unit(edge - z * float(edge @ z))
+        if x is not None:
+            break
+    if x is None:
+        x = _unit(np.cross([0.0, 1.0, 0.0], z))
+        if x is None:
+            x = np.array([1.0, 0.0, 0.0])
+    y = np.cross(z, x)
+    return np.column_stack([x, y, z])
+
+
+def rotation_keeping_x(old_x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """A frame with y along ``y`` and x as close to ``old_x`` as possible (``old_x`` projected to
+    the plane normal to y), z = x x y (CityEngine's scope after ``extrude``)."""
+    y = _unit(np.asarray(y, float))
+    if y is None:
+        raise ValueError("a frame needs a direction of non-zero length")
+    x = _unit(old_x - y * float(old_x @ y))
+    if x is None:
+        # old x along the new y: take any perpendicular, preferring world x then z
+        for guess in ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)):
+            g = np.asarray(guess)
+            x = _unit(g - y * float(g @ y))
+            if x is not None:
+                break
+    z = np.cross(x, y)
+    return np.column_stack([x, y, z])
+
+
+def fitted_scope(world_points: np.ndarray, rotation: np.ndarray) -> tuple[Scope, np.ndarray]:
+    """The scope with axes ``rotation`` that is the bounding box of ``world_points``, and the
+    points in that scope's coordinates (m)."""
+    points = np.asarray(world_points, float).reshape(-1, 3)
+    local = points @ rotation
+    low = local.min(axis=0)
+    size = local.max(axis=0) - low
+    size[np.abs(size) < 1e-12 * max(1.0, float(np.abs(local).max()))] = 0.0
+    return Scope(rotation @ low, rotation, size), local - low
+
+
+def lot_polygon(points: Sequence[Sequence[float]]) -> tuple[Scope, Mesh]:
+    """The start shape of a polygon lot: ``points`` ``(x, z)`` in metres, counter-clockwise seen
+    from above. Returns the scope (x along the first edge, y up, the bounding box in that frame)
+    and the face in scope coordinates.
+
+    Raises ``ValueError`` with a message for the user for fewer than three points, non-finite
+    values, a polygon of no area or one that runs clockwise.
+    """
+    try:
+        flat = np.array([[float(x), float(z)] for x, z in points], dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"a polygon lot is a list of (x, z) points in metres ({exc})") from None
+    if len(flat) < 3:
+        raise ValueError(f"a polygon lot needs at least 3 (x, z) points, got {len(flat)}")
+    if not np.all(np.isfinite(flat)):
+        raise ValueError("a polygon lot's points must be finite numbers")
+    world = np.column_stack([flat[:, 0], np.zeros(len(flat)), flat[:, 1]])
+    normal = polygon_normal(world)
+    span = float(np.ptp(flat, axis=0).max())
+    if float(np.linalg.norm(normal)) <= 1e-12 * max(span, 1e-12) ** 2:
+        raise ValueError("the polygon lot has no area")
+    if normal[1] < 0:
+        raise ValueError(
+            "the polygon lot runs clockwise seen from above; give its points counter-clockwise"
+        )
+    rotation = face_rotation(world, np.array([0.0, 1.0, 0.0]))
+    # x along the first edge, y up (the lot's normal), z = x x y
+    rotation = np.column_stack(
+        [rotation[:, 0], [0.0, 1.0, 0.0], np.cross(rotation[:, 0], [0, 1, 0])]
+    )
+    scope, local = fitted_scope(world, rotation)
+    return scope, Mesh.polygon(local)
+
+
+_QUADRANTS = {
+    (0, 1): "right",
+    (0, -1): "left",
+    (1, 1): "top",
+    (1, -1): "bottom",
+    (2, 1): "front",
+    (2, -1): "back",
+}
+
+
+def quadrant(normal: np.ndarray) -> str:
+    """``front back left right top bottom`` of a direction in scope coordinates: its largest
+    component (CityEngine classifies face normals into the scope's quadrants)."""
+    n = np.asarray(normal, float)
+    axis = int(np.argmax(np.abs(n)))
+    if abs(n[1]) >= max(abs(n[0]), abs(n[2])) - 1e-12 and n[1] != 0:
+        axis = 1
+    return _QUADRANTS[(axis, 1 if n[axis] >= 0 else -1)]
