@@ -107,14 +107,16 @@ def _whole(minimum: int):
     return convert
 
 
-def _lot(text: str) -> tuple[float, float]:
-    parts = text.split(",")
-    if len(parts) != 2:
-        raise argparse.ArgumentTypeError(f"expected WIDTH,DEPTH in metres, got {text!r}")
-    width, depth = (finite(p.strip()) for p in parts)
-    if width <= 0 or depth <= 0:
-        raise argparse.ArgumentTypeError(f"lot sides must be > 0 m, got {text!r}")
-    return width, depth
+def _lot(text: str):
+    """``--lot``: WIDTH,DEPTH, a polygon ``"x,z x,z ..."``, a GeoJSON or OBJ file
+    (:func:`shapegen.export.lots.read_lot`)."""
+    from shapegen.errors import InputFormatError
+    from shapegen.export.lots import read_lot
+
+    try:
+        return read_lot(text)
+    except InputFormatError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--lot ")) from None
 
 
 def _assignment(text: str) -> tuple[str, object]:
@@ -196,8 +198,9 @@ def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") ->
     parser.add_argument(
         "--lot",
         type=_lot,
-        metavar="W,D",
-        help=prefix + "lot width (x) and depth (z) in metres, instead of the grammar's @Lot",
+        metavar="LOT",
+        help=prefix + "the lot instead of the grammar's @Lot: WIDTH,DEPTH in metres (x, z), a"
+        ' polygon "x,z x,z x,z ..." in metres, FILE.geojson[#ID] or FILE.obj (its first face)',
     )
     parser.add_argument(
         "--seed",
