@@ -38,6 +38,8 @@ CRS_CHOICES = ("lonlat", "metres")
 _MERGE_M = 1e-3
 # Smallest lot area built, m^2.
 _MIN_AREA_M2 = 0.01
+# Widest lot built, m: wider is a mistake of units (metres near the origin read as degrees).
+_MAX_LOT_M = 5000.0
 
 
 @dataclass(frozen=True)
@@ -146,10 +148,15 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     features, declared = _geojson_features(document, path)
     polygons = [f for f in features if _kind(f) in ("Polygon", "MultiPolygon")]
     skipped = len(features) - len(polygons)
+    if declared is not None and declared != "lonlat" and crs != "metres":
+        raise InputFormatError(
+            f"{path}: its crs is {declared!r}; give --crs metres if its units are metres"
+            " (other units are not read)"
+        )
+    if declared == "lonlat" and crs == "metres":
+        raise InputFormatError(f"{path}: its crs member says WGS84 longitude/latitude, not metres")
     if crs is None:
         crs = declared or _detected_crs(polygons)
-    elif declared == "lonlat" and crs == "metres":
-        raise InputFormatError(f"{path}: its crs member says WGS84 longitude/latitude, not metres")
     return _city(polygons, crs, skipped, str(path))
 
 
@@ -197,20 +204,18 @@ def _geojson_features(document, path: Path) -> tuple[list[dict], str | None]:
     features = document.get("features") if document["type"] == "FeatureCollection" else [document]
     if not isinstance(features, list) or not all(isinstance(f, dict) for f in features):
         raise InputFormatError(f"{path}: 'features' must be a list of Feature objects")
-    return features, _declared_crs(document.get("crs"), path)
+    return features, _declared_crs(document.get("crs"))
 
 
-def _declared_crs(member, path: Path) -> str | None:
-    """``lonlat`` for a crs member naming WGS84; any other crs needs ``--crs metres``."""
+def _declared_crs(member) -> str | None:
+    """``lonlat`` for a crs member naming WGS84, the name of any other, None without one."""
     if member is None:
         return None
-    name = str((member.get("properties") or {}).get("name", "")) if isinstance(member, dict) else ""
+    properties = member.get("properties") if isinstance(member, dict) else None
+    name = str((properties or {}).get("name", "")) or str(member)
     if "CRS84" in name.upper() or name.endswith((":4326", "::4326")):
         return "lonlat"
-    raise InputFormatError(
-        f"{path}: its crs is {name or member!r}; give --crs metres if its units are metres"
-        " (other units are not read)"
-    )
+    return name
 
 
 def _detected_crs(features: list[dict]) -> str:
@@ -301,6 +306,10 @@ def _ring(geometry: dict, crs: str, origin: tuple[float, float]) -> tuple[np.nda
         ring = ring[:-1]
     if len(ring) < 3:
         return ring, f"a polygon of {len(ring)} distinct corner(s); a lot needs 3"
+    span = float(np.max(np.ptp(ring, axis=0)))
+    if span > _MAX_LOT_M:
+        hint = "; are its coordinates metres? (--crs metres)" if crs == "lonlat" else ""
+        return ring, f"a lot {span / 1000:.4g} km across (at most {_MAX_LOT_M / 1000:g} km){hint}"
     from shapely.geometry import Polygon
 
     shape = Polygon(ring)

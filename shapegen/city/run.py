@@ -66,6 +66,10 @@ class CityRun:
         return sum(1 for r in self.records if r is not None and r["status"] != "ok")
 
     @property
+    def built(self) -> int:
+        return sum(1 for r in self.records if r is not None and r["status"] == "ok")
+
+    @property
     def standing(self) -> int:
         return sum(1 for r in self.records if r is not None and r.get("stands"))
 

@@ -123,7 +123,9 @@ def run(args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             progress=progress,
         )
-    if args.picture:
+    if args.picture and outcome.built == 0:
+        sys.stderr.write(f"shapegen: warning: --picture {args.picture}: no lot was built\n")
+    elif args.picture:
         from shapegen.city.outputs import encode_city_picture
         from shapegen.pipeline import write_outputs
 

@@ -1,0 +1,137 @@
+"""Running a city: each lot's verdict is the pipeline's on that lot, failures are rows, a rerun
+resumes, and local processes and a Dask cluster give the same city."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shapegen
+from shapegen import pipeline
+from shapegen.city import city_from_polygons, lot_seed, read_lots, run_city
+from shapegen.errors import InputFormatError
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "data"
+HOUSE = DOCS / "house.grammar"
+# Lots in metres: (corners, properties). House walls are 0.6 m: a jetty past 0.3 m needs tension.
+LOTS = [
+    ([(0, 0), (12, 0), (12, 8), (0, 8)], {"jetty": 0.1}),
+    ([(20, 0), (28, 0), (28, 9), (20, 9)], {"jetty": 0.4, "storeys": 2}),
+    ([(40, 0), (49, 3), (46, 12), (37, 9)], {"storeys": 3}),  # turned 18 degrees
+    ([(60, 0), (72, 0), (70, 9), (61, 8)], {}),  # a trapezoid: its bounding rectangle
+    ([(80, 0), (90, 0), (90, 10), (80, 10)], {"storeys": "three"}),  # fails: not a number
+    ([(100, 0), (101, 0), (100, 0)], {}),  # fails: two corners
+]
+VARYING = ("seconds", "peak_rss_mib")  # what may differ between two runs of one city
+
+
+def _city():
+    return city_from_polygons(
+        [ring for ring, _ in LOTS], properties=[props for _, props in LOTS], crs="metres"
+    )
+
+
+def _same(record: dict) -> dict:
+    return {key: value for key, value in record.items() if key not in VARYING}
+
+
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("city")
+    grammar = shapegen.load_grammar(HOUSE)
+    events = []
+    run = run_city(_city(), grammar, folder, workers=2, progress=events.append)
+    return folder, grammar, run, events
+
+
+def test_each_lot_is_judged_as_the_pipeline_judges_it_alone(small_run):
+    _, grammar, run, _ = small_run
+    statuses = [record["status"] for record in run.records]
+    assert statuses == ["ok", "ok", "ok", "ok", "error", "error"]
+    for record, (_, props) in zip(run.records[:4], LOTS, strict=False):
+        alone = pipeline.design(
+            grammar, attrs=props, seed=lot_seed(record["id"]), lot=tuple(record["lot"]), assess=True
+        )
+        assert record["stands"] == alone.assessment.stands
+        assert record["measure"] == pytest.approx(alone.assessment.measure, rel=1e-6, abs=1e-12)
+        assert record["blocks"] == len(alone.model.blocks)
+    assert [r["stands"] for r in run.records[:4]] == [True, False, True, True]
+    assert run.records[1]["from_properties"] == ["jetty", "storeys"]
+    assert run.records[3]["footprint"] == "bounding rectangle"
+    assert "'storeys' is a number" in run.records[4]["error"]
+    assert "distinct corner" in run.records[5]["error"]
+
+
+def test_progress_counts_lots_and_failures(small_run):
+    _, _, run, events = small_run
+    # The two-corner lot is a row before any work; the other five follow one by one.
+    assert events[0].record is None and events[0].done == 1
+    assert len(events) == 6 and events[-1].done == events[-1].total == len(LOTS)
+    assert events[-1].failed == 2 and run.failed == 2
+    assert [e.done for e in events] == sorted(e.done for e in events)
+
+
+def test_the_tables_and_the_city_hold_every_lot(small_run):
+    folder, _, run, _ = small_run
+    with open(folder / "results.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [row["id"] for row in rows] == [r["id"] for r in run.records]
+    assert rows[1]["stands"] == "false" and float(rows[0]["measure"]) == run.records[0]["measure"]
+    assert rows[0]["attr.jetty"] == "0.1" and rows[4]["error"]
+    geo = json.loads((folder / "results.geojson").read_text())
+    assert len(geo["features"]) == len(LOTS) and geo["shapegen"]["crs"] == "metres"
+    import trimesh
+
+    scene = trimesh.load(folder / "city.glb", force="scene")
+    assert sorted(scene.graph.nodes_geometry) == sorted(r["id"] for r in run.records[:4])
+    # The first house stands on its lot: x 0..12 east, z -8..0 (north is -z), about the origin.
+    origin = np.array(run.city.origin)
+    lo, hi = scene.geometry[run.records[0]["id"]].bounds
+    assert np.allclose([lo[0], hi[0]], np.array([0, 12]) - origin[0] + [-0.1, 0.1], atol=1e-6)
+    assert np.allclose([lo[2], hi[2]], -(np.array([8, 0]) - origin[1]) + [-0.1, 0.1], atol=1e-6)
+
+
+def test_a_rerun_skips_what_is_done_and_gives_the_same_city(small_run):
+    folder, grammar, run, _ = small_run
+    again = run_city(_city(), grammar, folder, workers=2)
+    assert again.resumed == len(LOTS)
+    assert [_same(r) for r in again.records] == [_same(r) for r in run.records]
+
+
+def test_a_folder_of_another_run_is_refused(small_run):
+    folder, grammar, _, _ = small_run
+    with pytest.raises(InputFormatError, match="holds a run with another seed"):
+        run_city(_city(), grammar, folder, seed=5)
+
+
+def test_a_lot_past_its_timeout_is_a_row(tmp_path):
+    grammar = shapegen.load_grammar(HOUSE)
+    city = city_from_polygons([LOTS[0][0]], crs="metres")
+    run = run_city(city, grammar, tmp_path, workers=1, timeout=0.001)
+    (record,) = run.records
+    assert record["status"] == "timeout" and "--timeout" in record["error"]
+    assert record["stands"] is None
+
+
+@pytest.mark.slow
+def test_the_district_is_the_same_on_local_processes_on_a_cluster_and_on_a_rerun(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    grammar = shapegen.load_grammar(HOUSE)
+    city = read_lots(DOCS / "district.geojson")
+    local = run_city(city, grammar, tmp_path / "local")
+    fresh = run_city(city, grammar, tmp_path / "fresh", workers=1)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster, distributed.Client(cluster) as client:  # fmt: skip
+        remote = run_city(city, grammar, tmp_path / "cluster", scheduler=client)
+    assert remote.executor.startswith("the Dask cluster")
+    expected = [_same(r) for r in local.records]
+    assert [_same(r) for r in remote.records] == expected
+    assert [_same(r) for r in fresh.records] == expected
+    statuses = [r["status"] for r in local.records]
+    assert statuses.count("error") == 3 and statuses.count("ok") == 27
+    assert 0 < sum(1 for r in local.records if r["stands"] is False) < 27
