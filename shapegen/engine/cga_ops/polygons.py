@@ -1,3 +1,425 @@
-"""placeholder: filled by its owner"""
+"""CityEngine's polygon operations on faces: offset, setback, setbackPerEdge, setbackToArea,
+shapeL, shapeU, shapeO and innerRectangle.
+
+Each acts on every face of a flat shape (the lot, a ``comp(f)`` face, an earlier result): the
+face is laid in its own plane (x along the scope's in-plane axis, counter-clockwise seen from
+its normal), the 2D work is done by :mod:`shapegen.geometry.polygon2d`, and the pieces come
+back as flat shapes whose scope keeps the orientation and fits the new geometry ("the scope's
+size is adapted to the new geometry"). Edge selectors classify each edge's outward normal into
+the scope's quadrants (``front`` +z, ``back`` -z, ``right`` +x, ``left`` -x, ``top`` +y,
+``bottom`` -y); a number selects that edge (modulo the count).
+
+``offset(d)`` without a selector keeps both the inside and the border faces in one shape; its
+faces carry the component tags ``inside`` / ``border`` in ``mesh.component_tags`` for a later
+``comp(f) { inside : ... | border : ... }``.
+"""
 
 from __future__ import annotations
+
+__all__ = ["FaceFrame", "face_frames", "edge_quadrants", "flat_shape", "component_tags"]
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from shapegen.engine.cga_ops import compiles
+from shapegen.engine.expressions import type_name
+from shapegen.engine.shape import FACE, Shape
+from shapegen.errors import GeometryError
+from shapegen.geometry import polygon2d
+from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.grammar import ast
+from shapegen.model.scope import Scope
+
+_QUADRANT = {(0, 1): "right", (0, -1): "left", (1, 1): "top", (1, -1): "bottom",
+             (2, 1): "front", (2, -1): "back"}  # fmt: skip
+_EDGE_SELECTORS = {
+    "front": {"front"},
+    "back": {"back"},
+    "left": {"left"},
+    "right": {"right"},
+    "top": {"top"},
+    "bottom": {"bottom"},
+    "side": {"left", "right"},
+    "all": {"front", "back", "left", "right", "top", "bottom"},
+}
+# street.* fall back to object.* without a street-width map (CityEngine), and the object's
+# frame is the lot's scope here.
+for _prefix in ("object", "street"):
+    for _name in ("front", "back", "left", "right", "side"):
+        _EDGE_SELECTORS[f"{_prefix}.{_name}"] = _EDGE_SELECTORS[_name]
+for _name in ("top", "bottom"):
+    _EDGE_SELECTORS[f"object.{_name}"] = _EDGE_SELECTORS[_name]
+
+
+@dataclass(frozen=True)
+class FaceFrame:
+    """A face's plane in its shape's scope coordinates: ``point = u a + v b + (h0 + h) n``."""
+
+    a: np.ndarray
+    b: np.ndarray
+    n: np.ndarray
+    h0: float
+
+    def lift(self, points2d: np.ndarray, height=0.0) -> np.ndarray:
+        """``(k, 2)`` plane points (and heights along n, m) to ``(k, 3)`` scope coordinates."""
+        p = np.asarray(points2d, float)
+        h = self.h0 + np.broadcast_to(np.asarray(height, float), (len(p),))
+        return np.outer(p[:, 0], self.a) + np.outer(p[:, 1], self.b) + np.outer(h, self.n)
+
+
+def component_tags(mesh: Mesh) -> tuple[str, ...] | None:
+    """The component tag of each face of ``mesh`` set by an operation here, or None."""
+    return mesh.__dict__.get("component_tags")
+
+
+def _tagged(mesh: Mesh, tags) -> Mesh:
+    mesh.__dict__["component_tags"] = tuple(tags)
+    return mesh
+
+
+def face_frames(shape: Shape) -> list[tuple[FaceFrame, np.ndarray]]:
+    """Each face of a flat shape as its frame and its counter-clockwise ``(k, 2)`` polygon."""
+    mesh = shape.mesh()
+    axis = shape.normal_axis
+    guess = np.eye(3)[1 if axis == 0 else 0]  # the scope axis that runs along the face
+    out = []
+    for k in range(mesh.n_faces):
+        points = mesh.face_points(k)
+        normal = polygon_normal(points)
+        length = float(np.linalg.norm(normal))
+        if length <= 0:
+            continue
+        n = normal / length
+        a = guess - n * float(guess @ n)
+        if np.linalg.norm(a) < 1e-9:
+            a = points[1] - points[0]
+            a = a - n * float(a @ n)
+        a = a / np.linalg.norm(a)
+        b = np.cross(n, a)
+        polygon = polygon2d.counter_clockwise(np.column_stack([points @ a, points @ b]))
+        if len(polygon) >= 3:
+            out.append((FaceFrame(a, b, n, float(points[0] @ n)), polygon))
+    return out
+
+
+def edge_quadrants(frame: FaceFrame, polygon: np.ndarray) -> list[str]:
+    """``front back left right top bottom`` of each edge's outward normal in scope axes."""
+    out = []
+    for m in polygon2d.edge_normals(polygon):
+        direction = m[0] * frame.a + m[1] * frame.b
+        axis = int(np.argmax(np.abs(direction)))
+        out.append(_QUADRANT[(axis, 1 if direction[axis] >= 0 else -1)])
+    return out
+
+
+def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None) -> Shape:
+    """A flat shape made of ``faces`` (``(k, 3)`` in ``parent``'s scope coordinates): the
+    parent's orientation, the scope fitted to the faces."""
+    points = np.concatenate(faces)
+    low, high = points.min(axis=0), points.max(axis=0)
+    size = high - low
+    size[size < 1e-12 * max(1.0, float(np.abs(points).max()))] = 0.0
+    scope = Scope(parent.scope.to_world(low), parent.scope.rotation, size)
+    offsets = np.cumsum([0] + [len(f) for f in faces])
+    mesh = Mesh(points - low, [tuple(range(offsets[i], offsets[i + 1])) for i in range(len(faces))])
+    if tags is not None:
+        _tagged(mesh, tags)
+    return Shape(scope, FACE, parent.normal_axis, None, mesh)
+
+
+def _flat_input(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndarray]]:
+    shape = state.shape
+    if shape.kind != FACE:
+        raise program.error(node, f"{what} needs a flat shape (the lot or a comp(f) face)")
+    return face_frames(shape)
+
+
+def _arguments(program, node, params, low: int, high: int):
+    positional = [a for a in node.arguments if a.kind == "plain"]
+    if len(positional) != len(node.arguments):
+        raise program.error(node, f"{node.name}() takes plain arguments only")
+    if not low <= len(positional) <= high:
+        count = f"{low}" if low == high else f"{low} to {high}"
+        raise program.error(node, f"{node.name}() takes {count} arguments, got {len(positional)}")
+    return [a.value for a in positional]
+
+
+def _number(program, node, expression, params, what: str):
+    compiled = program.expressions.compile(expression, params)
+
+    def number(args, state):
+        value = compiled(args, state)
+        if type(value) is bool or not isinstance(value, (int, float)):
+            raise program.error(node, f"{what} must be a number, got a {type_name(value)}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise program.error(node, f"{what} must be a finite number, got {value}")
+        return value
+
+    return number
+
+
+def _selector_name(expression) -> str | None:
+    from shapegen.grammar import expressions as ex
+
+    if isinstance(expression, ex.Name):
+        return expression.name
+    if isinstance(expression, ex.ShapeAttribute):
+        return f"{expression.obj}.{expression.field}"
+    return None
+
+
+def _branches(program, node, params, allowed: set[str], edges: bool):
+    """``(selector, body, merge, branch)`` for each branch: a name or an edge index."""
+    from shapegen.grammar import expressions as ex
+
+    out = []
+    for branch in node.branches:
+        name = _selector_name(branch.key)
+        if name is None and isinstance(branch.key, ex.Number) and edges:
+            selector: str | int = int(branch.key.value)
+        elif name in allowed or (edges and name in _EDGE_SELECTORS):
+            selector = name
+        else:
+            choices = sorted(allowed | (set(_EDGE_SELECTORS) if edges else set()))
+            raise program.error(
+                branch,
+                f"{node.name}() has no selector {name or 'of this form'}; "
+                f"shapegen knows {', '.join(choices)} and edge indices"
+                if edges
+                else f"{node.name}() selects {' or '.join(sorted(allowed))}, not {name}",
+            )
+        out.append((selector, program._body(branch.body, params), branch.merge, branch))
+    return out
+
+
+# -- offset ---------------------------------------------------------------------------------
+
+
+@compiles("offset")
+def compile_offset(program, node: ast.Operation, params):
+    """``offset(distance[, all|inside|border])``."""
+    values = _arguments(program, node, params, 1, 2)
+    if node.branches:
+        raise program.error(node, "offset() takes no { ... } block; use comp(f) after it")
+    distance = _number(program, node, values[0], params, "offset distance")
+    keep = "all"
+    if len(values) == 2:
+        keep = _selector_name(values[1]) or ""
+        if keep not in ("all", "inside", "border"):
+            raise program.error(node, "offset()'s second argument is all, inside or border")
+
+    def offset_op(state, args, out):
+        d = distance(args, state)
+        faces, tags = [], []
+        for frame, polygon in _flat_input(state, node, program, "offset()"):
+            try:
+                result = polygon2d.offset(polygon, d)
+            except GeometryError as exc:
+                raise program.error(node, f"offset({d:g}): {exc}") from None
+            if keep in ("all", "inside"):
+                faces += [frame.lift(p) for p in result.inside]
+                tags += ["inside"] * len(result.inside)
+            if keep in ("all", "border"):
+                faces += [frame.lift(p) for p in result.border if len(p) >= 3]
+                tags += ["border"] * sum(len(p) >= 3 for p in result.border)
+        if not faces:
+            return False  # nothing is left of the face: an empty shape makes nothing
+        state.shape = flat_shape(state.shape, faces, tags)
+        return True
+
+    return offset_op
+
+
+# -- setbacks -------------------------------------------------------------------------------
+
+
+def _edge_selected(selector, quadrant: str, index: int, count: int) -> bool:
+    if isinstance(selector, int):
+        return index == selector % count
+    return quadrant in _EDGE_SELECTORS[selector]
+
+
+def _setback_operation(program, node, branches, distances_of, shape_selector: bool):
+    """The closure of setback-like operations. ``distances_of(args, state, frame, polygon,
+    quadrants, selected)`` gives each edge's distance."""
+
+    def setback_op(state, args, out):
+        strips: dict[object, list[list[np.ndarray]]] = {}  # selector -> groups of faces
+        remainder: list[list[np.ndarray]] = []
+        shape_pieces: list[np.ndarray] = []
+        for frame, polygon in _flat_input(state, node, program, f"{node.name}()"):
+            n = len(polygon)
+            quadrants = edge_quadrants(frame, polygon)
+            owner: list[object] = [None] * n  # the first selector that takes each edge
+            for selector, _, _, _ in branches:
+                if selector in ("remainder", "shape"):
+                    continue
+                for k in range(n):
+                    if owner[k] is None and _edge_selected(selector, quadrants[k], k, n):
+                        owner[k] = selector
+            selected = np.array([o is not None for o in owner]) if not shape_selector else None
+            distances = distances_of(args, state, frame, polygon, quadrants, selected)
+            try:
+                result = polygon2d.setback(polygon, distances)
+            except GeometryError as exc:
+                raise program.error(node, f"{node.name}(): {exc}") from None
+            for k, piece in result.strips:
+                if shape_selector:
+                    shape_pieces.append(piece)
+                elif owner[k] is not None:
+                    strips.setdefault(owner[k], []).append([frame.lift(piece)])
+            if shape_selector and shape_pieces:
+                strips.setdefault("shape", []).extend(_joined(frame, shape_pieces))
+                shape_pieces = []
+            remainder += [[frame.lift(p)] for p in result.remainder]
+
+        def pieces_of(selector):
+            return remainder if selector == "remainder" else strips.get(selector, [])
+
+        _emit_all(state, args, branches, pieces_of, out)
+        return True
+
+    return setback_op
+
+
+def _joined(frame: FaceFrame, pieces: list[np.ndarray]) -> list[list[np.ndarray]]:
+    """The union of strips as face groups: one polygon per piece, or (a ring, which a face
+    without holes cannot hold) the strips together as one shape."""
+    merged = polygon2d.union(pieces)
+    if abs(sum(map(polygon2d.signed_area, merged)) - sum(map(polygon2d.signed_area, pieces))) > (
+        1e-9 * sum(map(polygon2d.signed_area, pieces))
+    ):
+        return [[frame.lift(p) for p in pieces]]
+    return [[frame.lift(p)] for p in merged]
+
+
+def _emit_all(state, args, branches, pieces_of, out) -> None:
+    """Give each branch its face groups: ``:`` one shape per group, ``=`` one for all."""
+    run = state.run
+    parent = state.shape
+    for selector, body, merge, branch in branches:
+        pieces = pieces_of(selector)
+        if not pieces:
+            continue
+        groups = [[face for group in pieces for face in group]] if merge else pieces
+        for index, group in enumerate(groups):
+            child = run.child(state, flat_shape(parent, group), branch)
+            child.comp_index = index
+            child.comp_total = len(groups)
+            if body(child, args, out) and child.children[0] == 0:
+                out.append((child, None, ()))
+
+
+def _distance_list(program, node, value, n: int) -> np.ndarray:
+    if isinstance(value, (list, tuple)):
+        d = np.zeros(n)
+        for k, item in enumerate(value[:n]):
+            if type(item) is bool or not isinstance(item, (int, float)):
+                raise program.error(node, f"setback distances must be numbers, got {item!r}")
+            d[k] = float(item)
+        return d
+    if type(value) is bool or not isinstance(value, (int, float)):
+        raise program.error(node, f"a setback distance must be a number, got {type_name(value)}")
+    return np.full(n, float(value))
+
+
+@compiles("setback", "setbackPerEdge")
+def compile_setback(program, node: ast.Operation, params):
+    """``setback(distance | distances) { selector : ... | remainder : ... }``; setbackPerEdge
+    evaluates its distance once per edge (with ``comp.index`` the edge's index)."""
+    values = _arguments(program, node, params, 1, 1)
+    branches = _branches(program, node, params, {"remainder"}, edges=True)
+    distance = program.expressions.compile(values[0], params)
+    per_edge = node.name == "setbackPerEdge"
+
+    def distances_of(args, state, frame, polygon, quadrants, selected):
+        n = len(polygon)
+        if per_edge:
+            saved = state.comp_index, state.comp_total
+            d = np.zeros(n)
+            try:
+                for k in range(n):
+                    state.comp_index, state.comp_total = k, n
+                    d[k] = _distance_list(program, node, distance(args, state), 1)[0]
+            finally:
+                state.comp_index, state.comp_total = saved
+        else:
+            d = _distance_list(program, node, distance(args, state), n)
+        if np.any(d < 0):
+            raise program.error(node, f"{node.name}() distances must be >= 0, got {d.min():g}")
+        return np.where(selected, d, 0.0)
+
+    return _setback_operation(program, node, branches, distances_of, shape_selector=False)
+
+
+@compiles("setbackToArea")
+def compile_setback_to_area(program, node: ast.Operation, params):
+    """``setbackToArea(area[, minDistances[, maxDistances]]) { selector : ... }``."""
+    values = _arguments(program, node, params, 1, 3)
+    branches = _branches(program, node, params, {"remainder"}, edges=True)
+    area = _number(program, node, values[0], params, "setbackToArea area")
+    bounds = [program.expressions.compile(v, params) for v in values[1:]]
+
+    def distances_of(args, state, frame, polygon, quadrants, selected):
+        n = len(polygon)
+        limits = [_distance_list(program, node, b(args, state), n) for b in bounds]
+        try:
+            _, d = polygon2d.setback_to_area(polygon, area(args, state), selected, *limits)
+        except GeometryError as exc:
+            raise program.error(node, str(exc)) from None
+        return d
+
+    return _setback_operation(program, node, branches, distances_of, shape_selector=False)
+
+
+_LUO = {"shapeL": ("front", "left"), "shapeU": ("front", "right", "left"),
+        "shapeO": ("front", "right", "back", "left")}  # fmt: skip
+
+
+@compiles("shapeL", "shapeU", "shapeO")
+def compile_shape_luo(program, node: ast.Operation, params):
+    """``shapeL(front, left)``, ``shapeU(front, right, left)``, ``shapeO(front, right, back,
+    left) { shape : ... | remainder : ... }``: a setback of those sides, the strips as one
+    polygon."""
+    sides = _LUO[node.name]
+    values = _arguments(program, node, params, len(sides), len(sides))
+    widths = [_number(program, node, v, params, f"{node.name} width") for v in values]
+    branches = _branches(program, node, params, {"shape", "remainder"}, edges=False)
+
+    def distances_of(args, state, frame, polygon, quadrants, selected):
+        by_side = {side: w(args, state) for side, w in zip(sides, widths, strict=True)}
+        if any(v < 0 for v in by_side.values()):
+            raise program.error(node, f"{node.name}() widths must be >= 0")
+        return np.array([by_side.get(q, 0.0) for q in quadrants])
+
+    return _setback_operation(program, node, branches, distances_of, shape_selector=True)
+
+
+@compiles("innerRectangle", "innerRect")
+def compile_inner_rectangle(program, node: ast.Operation, params):
+    """``innerRectangle(scope|edge) { shape : ... | remainder : ... }``."""
+    values = _arguments(program, node, params, 0 if node.name == "innerRect" else 1, 1)
+    alignment = _selector_name(values[0]) if values else "scope"
+    if alignment not in ("scope", "edge"):
+        raise program.error(node, f"{node.name}()'s alignment is scope or edge")
+    branches = _branches(program, node, params, {"shape", "remainder"}, edges=False)
+
+    def inner_op(state, args, out):
+        pieces: dict[str, list[np.ndarray]] = {"shape": [], "remainder": []}
+        for frame, polygon in _flat_input(state, node, program, f"{node.name}()"):
+            rectangle, rest = polygon2d.inner_rectangle(polygon, alignment)
+            if rectangle is not None:
+                pieces["shape"].append([frame.lift(rectangle)])
+            pieces["remainder"] += [[frame.lift(p)] for p in rest]
+        if not node.branches:  # innerRect without a block: the shape becomes the rectangle
+            if not pieces["shape"]:
+                return False
+            state.shape = flat_shape(state.shape, [g[0] for g in pieces["shape"]])
+            return True
+        _emit_all(state, args, branches, lambda s: pieces[s], out)
+        return True
+
+    return inner_op

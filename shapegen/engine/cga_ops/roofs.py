@@ -1,3 +1,161 @@
-"""placeholder: filled by its owner"""
+"""CityEngine's roofs and taper: roofGable, roofHip, roofShed, roofPyramid, taper.
+
+Each builds a roof on every face of a flat shape (:mod:`shapegen.geometry.roofs` does the
+geometry in the face's plane) and makes the shape a 3D one holding the roof meshes. The scope
+follows CityEngine: x as close to the old x as the first face's plane allows, y along that
+face's normal, z = x × y, sized to fit the roof; ``s('1, h, '1)`` after a roof then scales its
+height. A rectangle's roof is a closed convex solid (it becomes a block); other roofs are
+surfaces. The faces carry CityEngine's component tags (``roof.bottom``, ``roof.top``,
+``roof.side``...) in ``mesh.component_tags``.
+"""
 
 from __future__ import annotations
+
+__all__ = ["roof_shape"]
+
+import numpy as np
+
+from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops.polygons import (
+    _arguments,
+    _flat_input,
+    _number,
+    _selector_name,
+    _tagged,
+)
+from shapegen.engine.expressions import type_name
+from shapegen.engine.shape import MASS, Shape
+from shapegen.errors import GeometryError
+from shapegen.geometry import roofs
+from shapegen.geometry.mesh import Mesh
+from shapegen.grammar import ast
+from shapegen.model.scope import Scope
+
+
+def roof_shape(parent: Shape, built: list[tuple[object, roofs.RoofMesh]]) -> Shape:
+    """The 3D shape holding the roofs ``(frame, RoofMesh)`` built on ``parent``'s faces."""
+    points, faces, tags = [], [], []
+    start = 0
+    for frame, mesh in built:
+        points.append(frame.lift(mesh.vertices[:, :2], mesh.vertices[:, 2]))
+        faces += [tuple(start + i for i in face) for face in mesh.faces]
+        tags += mesh.tags
+        start += len(mesh.vertices)
+    local = np.concatenate(points)
+    rotation = parent.scope.rotation
+    normal = rotation @ built[0][0].n
+    x = rotation[:, 0] - normal * float(rotation[:, 0] @ normal)
+    if np.linalg.norm(x) < 1e-9:  # the old x along the normal: keep the old z's direction
+        x = rotation[:, 2] - normal * float(rotation[:, 2] @ normal)
+    x /= np.linalg.norm(x)
+    frame = np.column_stack([x, normal, np.cross(x, normal)])
+    in_frame = parent.scope.to_world(local) @ frame
+    low = in_frame.min(axis=0)
+    size = in_frame.max(axis=0) - low
+    size[size < 1e-12 * max(1.0, float(np.abs(in_frame).max()))] = 0.0
+    mesh = _tagged(Mesh(in_frame - low, faces), tags)
+    return Shape(Scope(frame @ low, frame, size), MASS, 1, None, mesh)
+
+
+def _value_type(node) -> tuple[str, list]:
+    """``("angle" | "height", remaining argument expressions)``."""
+    values = [a.value for a in node.arguments]
+    first = _selector_name(values[0]) if values else None
+    if first in ("byAngle", "byHeight"):
+        return ("angle" if first == "byAngle" else "height"), values[1:]
+    return "angle", values
+
+
+def _flag(program, node, expression, params, what: str):
+    compiled = program.expressions.compile(expression, params)
+
+    def flag(args, state):
+        value = compiled(args, state)
+        if type(value) is not bool:
+            raise program.error(node, f"{what} must be true or false, got a {type_name(value)}")
+        return value
+
+    return flag
+
+
+_SIGNATURES = {
+    # the optional arguments after the angle (or the value type and value), in order
+    "roofHip": ("overhang", "even"),
+    "roofGable": ("overhang_x", "overhang_y", "even", "index"),
+    "roofShed": ("index",),
+    "roofPyramid": (),
+}
+
+
+@compiles("roofHip", "roofGable", "roofShed", "roofPyramid")
+def compile_roof(program, node: ast.Operation, params):
+    """``roofX(angle, ...)`` or ``roofX(byAngle|byHeight, value, ...)``."""
+    if any(a.kind != "plain" for a in node.arguments):
+        raise program.error(node, f"{node.name}() takes plain arguments only")
+    kind, values = _value_type(node)
+    optional = _SIGNATURES[node.name]
+    if node.name == "roofGable" and len(values) < len(node.arguments):
+        optional = optional[:3]  # the byAngle/byHeight form has no index
+    if not 1 <= len(values) <= 1 + len(optional):
+        raise program.error(
+            node,
+            f"{node.name}() takes an angle (or byAngle/byHeight and a value)"
+            + (f", then up to: {', '.join(optional)}" if optional else " only")
+            + f"; got {len(node.arguments)} arguments",
+        )
+    value = _number(program, node, values[0], params, f"{node.name} {kind}")
+    extras = {}
+    for name, expression in zip(optional, values[1:], strict=False):
+        if name == "even":
+            extras[name] = _flag(program, node, expression, params, f"{node.name} even")
+        else:
+            extras[name] = _number(program, node, expression, params, f"{node.name} {name}")
+    build = {
+        "roofHip": roofs.roof_hip,
+        "roofGable": roofs.roof_gable,
+        "roofShed": roofs.roof_shed,
+        "roofPyramid": roofs.roof_pyramid,
+    }[node.name]
+
+    def roof_op(state, args, out):
+        options = {k: f(args, state) for k, f in extras.items()}
+        if "index" in options:
+            options["index"] = int(options["index"])
+        amount = value(args, state)
+        built = []
+        for frame, polygon in _flat_input(state, node, program, f"{node.name}()"):
+            try:
+                if kind == "angle":
+                    mesh = build(polygon, amount, **options)
+                else:
+                    mesh = build(polygon, height=amount, **options)
+            except GeometryError as exc:
+                raise program.error(node, f"{node.name}(): {exc}") from None
+            built.append((frame, mesh))
+        if not built:
+            return False
+        state.shape = roof_shape(state.shape, built)
+        return True
+
+    return roof_op
+
+
+@compiles("taper")
+def compile_taper(program, node: ast.Operation, params):
+    """``taper(height)``: a pyramid over the first face, apex above its centroid."""
+    (height_expression,) = _arguments(program, node, params, 1, 1)
+    height = _number(program, node, height_expression, params, "taper height")
+
+    def taper_op(state, args, out):
+        faces = _flat_input(state, node, program, "taper()")
+        if not faces:
+            return False
+        frame, polygon = faces[0]  # CityEngine tapers the first polygon only
+        try:
+            mesh = roofs.taper(polygon, height(args, state))
+        except GeometryError as exc:
+            raise program.error(node, f"taper(): {exc}") from None
+        state.shape = roof_shape(state.shape, [(frame, mesh)])
+        return True
+
+    return taper_op

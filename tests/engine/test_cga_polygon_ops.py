@@ -1,0 +1,256 @@
+"""The CGA polygon and roof operations on shapes: geometry, scopes and branches as CityEngine
+makes them (areas and heights in closed form; the roofs' layout as PyPRT builds it)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import shapegen
+from shapegen.engine.cga_ops import compiler_for
+from shapegen.engine.cga_ops.polygons import component_tags
+from shapegen.engine.derivation import Derivation, root_state
+from shapegen.engine.shape import FACE, MASS, Shape, lot_scope
+from shapegen.errors import GrammarError
+from shapegen.grammar import ast
+
+
+@pytest.fixture(scope="module")
+def program():
+    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program
+
+
+def _state(program, width=12.0, depth=8.0):
+    run = Derivation(program, seed=0)
+    return root_state(run, Shape(lot_scope(width, depth), FACE, 1), {}, ())
+
+
+def _value(v):
+    if isinstance(v, bool):
+        return ast.Boolean(v)
+    if isinstance(v, int | float):
+        return ast.Number(float(v))
+    if isinstance(v, str) and "." in v:
+        obj, field = v.split(".")
+        return ast.ShapeAttribute(obj, field)
+    if isinstance(v, str):
+        return ast.Name(v)
+    return v
+
+
+def _operation(name, *values, branches=()):
+    arguments = tuple(ast.OperationArgument("plain", _value(v)) for v in values)
+    block = tuple(
+        ast.OperationBranch(_value(key), "absolute", ast.Sequence(()), merge)
+        for key, merge in branches
+    )
+    return ast.Operation(name, arguments, block)
+
+
+def run(program, operation, state=None):
+    """Run one operation; returns the state and the leaves its branches made."""
+    state = state or _state(program)
+    out: list = []
+    assert compiler_for(operation.name)(program, operation, {})(state, (), out) is True
+    return state, [leaf for leaf, _, _ in out]
+
+
+def _area(shape: Shape) -> float:
+    return shape.mesh().area()
+
+
+def _world(shape: Shape) -> np.ndarray:
+    return shape.scope.to_world(shape.mesh().vertices)
+
+
+# ---------------------------------------------------------------------------------- offset
+def test_offset_inside_shrinks_the_lot_and_fits_the_scope(program):
+    state, _ = run(program, _operation("offset", -1, "inside"))
+    shape = state.shape
+    assert shape.kind == FACE and shape.normal_axis == 1
+    assert _area(shape) == pytest.approx(10 * 6)
+    np.testing.assert_allclose(shape.scope.size, [10, 0, 6], atol=1e-12)
+    np.testing.assert_allclose(shape.scope.origin, [1, 0, 1], atol=1e-12)
+
+
+def test_offset_keeps_inside_and_border_faces_with_their_tags(program):
+    state, _ = run(program, _operation("offset", -1))
+    mesh = state.shape.mesh()
+    assert component_tags(mesh) == ("inside",) + ("border",) * 4
+    assert mesh.area() == pytest.approx(96)
+    assert mesh.face_area(0) == pytest.approx(60)
+    normals = mesh.face_normals()
+    assert np.allclose(normals @ [0, 1, 0], 1)  # every face still faces up, as the lot
+
+
+def test_offset_border_only_and_outward(program):
+    state, _ = run(program, _operation("offset", -1, "border"))
+    assert _area(state.shape) == pytest.approx(96 - 60)
+    state, _ = run(program, _operation("offset", 2, "inside"))
+    assert _area(state.shape) == pytest.approx(16 * 12)
+    np.testing.assert_allclose(state.shape.scope.origin, [-2, 0, -2], atol=1e-12)
+
+
+def test_offset_past_the_middle_deletes_the_inside(program):
+    state = _state(program)
+    op = compiler_for("offset")(program, _operation("offset", -5, "inside"), {})
+    assert op(state, (), []) is False
+
+
+# --------------------------------------------------------------------------------- setback
+def test_setback_front_strip_and_remainder(program):
+    operation = _operation("setback", 2, branches=[("front", False), ("remainder", False)])
+    _, leaves = run(program, operation)
+    front, remainder = (leaf.shape for leaf in leaves)
+    assert _area(front) == pytest.approx(12 * 2)
+    assert _area(remainder) == pytest.approx(12 * 6)
+    # front is the lot's first edge, at z = depth (scope +z, CityEngine's street side)
+    assert _world(front)[:, 2].min() == pytest.approx(6)
+    assert _world(remainder)[:, 2].max() == pytest.approx(6)
+
+
+def test_setback_all_each_strip_its_own_shape_or_merged(program):
+    _, leaves = run(program, _operation("setback", 1, branches=[("all", False)]))
+    assert sorted(_area(leaf.shape) for leaf in leaves) == pytest.approx([7, 7, 11, 11])
+    _, leaves = run(program, _operation("setback", 1, branches=[("all", True)]))
+    assert len(leaves) == 1
+    assert _area(leaves[0].shape) == pytest.approx(96 - 60)
+
+
+def test_setback_by_edge_index_and_side(program):
+    _, leaves = run(program, _operation("setback", 3, branches=[(1, False)]))
+    assert _area(leaves[0].shape) == pytest.approx(3 * 8)
+    _, leaves = run(program, _operation("setback", 3, branches=[("side", True)]))
+    assert _area(leaves[0].shape) == pytest.approx(2 * 3 * 8)
+
+
+def test_setback_to_area(program):
+    operation = _operation("setbackToArea", 24, branches=[("all", False), ("remainder", False)])
+    _, leaves = run(program, operation)
+    assert _area(leaves[-1].shape) == pytest.approx(24)
+
+
+@pytest.mark.parametrize(
+    "name, widths, area",
+    [
+        ("shapeL", (2, 3), 96 - 9 * 6),
+        ("shapeU", (2, 3, 3), 96 - 6 * 6),
+        ("shapeO", (2, 1, 2, 1), 96 - 10 * 4),
+    ],
+)
+def test_shape_l_u_o(program, name, widths, area):
+    operation = _operation(name, *widths, branches=[("shape", False), ("remainder", False)])
+    _, leaves = run(program, operation)
+    assert len(leaves) == 2
+    assert _area(leaves[0].shape) == pytest.approx(area)
+    assert _area(leaves[0].shape) + _area(leaves[1].shape) == pytest.approx(96)
+
+
+def test_inner_rectangle(program):
+    operation = _operation("innerRectangle", "scope", branches=[("shape", False)])
+    _, leaves = run(program, operation)
+    assert _area(leaves[0].shape) == pytest.approx(96)
+
+
+@pytest.mark.parametrize(
+    "operation, message",
+    [
+        (_operation("offset", -1, "outside"), "all, inside or border"),
+        (_operation("setback", 1, branches=[("uv.left", False)]), "no selector uv.left"),
+        (_operation("shapeL", 1), "takes 2 arguments"),
+        (_operation("innerRectangle", "diagonal"), "scope or edge"),
+    ],
+)
+def test_bad_calls_are_one_clear_error(program, operation, message):
+    with pytest.raises(GrammarError, match=message):
+        run(program, operation)
+
+
+def test_polygon_operations_need_a_flat_shape(program):
+    state = _state(program)
+    state.shape = Shape(state.shape.scope, MASS)
+    with pytest.raises(GrammarError, match="needs a flat shape"):
+        run(program, _operation("offset", -1), state)
+
+
+# ----------------------------------------------------------------------------------- roofs
+def test_hip_roof_on_the_lot_as_pyprt_builds_it(program):
+    # PyPRT on a 12 x 8 m face at 45 degrees: ridge (4, 4, 4)-(8, 4, 4), one face per edge.
+    state, _ = run(program, _operation("roofHip", 45))
+    shape = state.shape
+    assert shape.kind == MASS
+    np.testing.assert_allclose(shape.scope.rotation, np.eye(3), atol=1e-12)
+    np.testing.assert_allclose(shape.scope.size, [12, 4, 8], atol=1e-12)
+    world = _world(shape)
+    ridge = world[np.isclose(world[:, 1], 4)]
+    assert sorted(map(tuple, np.round(ridge, 9))) == [(4, 4, 4), (8, 4, 4)]
+    mesh = shape.mesh()
+    assert mesh.is_closed and mesh.is_convex()
+    assert mesh.volume() == pytest.approx(4 * 8 * (3 * 12 - 8) / 6)
+    assert component_tags(mesh) == ("roof.bottom",) + ("roof.top",) * 4
+
+
+def test_gable_roof_on_the_lot(program):
+    # PyPRT: ridge along the 12 m side at height 4, vertical gables on the 8 m sides.
+    state, _ = run(program, _operation("roofGable", 45))
+    world = _world(state.shape)
+    ridge = world[np.isclose(world[:, 1], 4)]
+    assert sorted(map(tuple, np.round(ridge, 9))) == [(0, 4, 4), (12, 4, 4)]
+    assert state.shape.mesh().volume() == pytest.approx(12 * 8**2 / 4)
+    assert component_tags(state.shape.mesh()).count("roof.side") == 2
+    # with index 0 the lot's first edge (12 m, along x) is a gable: the ridge runs along z
+    state, _ = run(program, _operation("roofGable", 45, 0, 0, False, 0))
+    world = _world(state.shape)
+    ridge = world[np.isclose(world[:, 1], 6)]
+    assert sorted(map(tuple, np.round(ridge, 9))) == [(6, 6, 0), (6, 6, 8)]
+
+
+def test_shed_pyramid_by_height_and_taper(program):
+    t = math.tan(math.radians(15))
+    state, _ = run(program, _operation("roofShed", 15))
+    world = _world(state.shape)
+    # rises from the lot's first edge (z = 8) towards z = 0
+    assert world[np.isclose(world[:, 2], 0), 1].max() == pytest.approx(8 * t)
+    assert world[np.isclose(world[:, 2], 8), 1].max() == pytest.approx(0)
+    state, _ = run(program, _operation("roofPyramid", "byHeight", 3))
+    assert state.shape.scope.sy == pytest.approx(3)
+    assert state.shape.mesh().volume() == pytest.approx(96)
+    state, _ = run(program, _operation("roofHip", "byHeight", 2))
+    assert state.shape.scope.sy == pytest.approx(2)
+    state, _ = run(program, _operation("taper", 5))
+    assert state.shape.mesh().volume() == pytest.approx(96 * 5 / 3)
+    assert component_tags(state.shape.mesh())[0] == "taper.bottom"
+
+
+def test_roof_on_an_offset_face_and_on_a_comp_face(program):
+    state, _ = run(program, _operation("offset", -1, "inside"))
+    state, _ = run(program, _operation("roofHip", 45), state)
+    world = _world(state.shape)
+    assert world[:, 1].max() == pytest.approx(3)
+    assert world[:, 0].min() == pytest.approx(1)
+    # a vertical face (a comp face: flat along its z): the roof grows along the face normal
+    from shapegen.engine.shape import face_scopes
+
+    front = dict(face_scopes(lot_scope(12, 8).__class__.axis_aligned(size=(12, 6, 8))))["front"]
+    state = _state(program)
+    state.shape = Shape(front, FACE, 2)
+    state, _ = run(program, _operation("roofGable", 45), state)
+    np.testing.assert_allclose(state.shape.scope.rotation[:, 1], [0, 0, 1], atol=1e-12)
+    assert _world(state.shape)[:, 2].max() == pytest.approx(8 + 3)
+
+
+@pytest.mark.parametrize(
+    "operation, message",
+    [
+        (_operation("roofHip", 95), "between -90 and 90"),
+        (_operation("roofShed", 10, 1, 2), "up to: index"),
+        (_operation("roofPyramid", 10, 1), "angle .* only"),
+        (_operation("roofHip", 30, 1, 2), "even must be true or false"),
+        (_operation("taper", ast.String("high")), "taper height must be a number"),
+    ],
+)
+def test_bad_roof_calls_are_one_clear_error(program, operation, message):
+    with pytest.raises(GrammarError, match=message):
+        run(program, operation)
