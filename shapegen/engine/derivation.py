@@ -110,6 +110,8 @@ class Derivation:
         self.call_depth = 0
         self.string_chars = 0
         self.reports: dict[str, list] = {}
+        # The start shape's axes: the frame of CGA's object.* selectors.
+        self.object_rotation = None
         self.started = time.monotonic()
         self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
 

@@ -43,11 +43,12 @@ from shapegen.engine.derivation import (
 )
 from shapegen.engine.expressions import ExpressionCompiler, format_value
 from shapegen.engine.operations import INSERT, ShapeOperations
-from shapegen.engine.shape import FACE, MASS, Shape, lot_scope
+from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.limits import limit_hint
+from shapegen.model.appearance import DEFAULT_APPEARANCE, Surface
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.model.scope import Scope
@@ -84,6 +85,9 @@ class Program(AttributeValues, ShapeOperations):
 
     def __init__(self, grammar: ast.Grammar):
         self.grammar = grammar
+        # CityEngine rule files (.cga) get CityEngine's scope after extruding a comp face (y
+        # along the extrusion); .grammar files keep shapegen's (the face's z grows).
+        self.cityengine_scopes = str(grammar.filename).lower().endswith(".cga")
         self.attr_nodes = {a.name: a for a in grammar.attrs}
         self.const_nodes = {c.name: c for c in grammar.consts}
         global_names = set(self.attr_nodes) | set(self.const_nodes) | set(RESERVED_ATTRIBUTES)
@@ -132,11 +136,12 @@ class Program(AttributeValues, ShapeOperations):
         if lot is None:
             defaults = self.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
             lot = self.lot_size(defaults)
-        width, depth = _checked_lot(lot)
-        start_scope = lot_scope(width, depth)
+        start, lot_metadata = _checked_lot(lot)
+        start_scope = start.scope
         values = self.initial_values(attrs, seed, start_scope)
         run = Derivation(self, seed, max_depth, max_shapes)
-        root = root_state(run, Shape(start_scope, FACE, 1), values, ())
+        run.object_rotation = start_scope.rotation
+        root = root_state(run, start, values, ())
         root.rule_path = (self.start.name,)
         leaves: list[ShapeState] = []
         stack: list[tuple] = [(root, self.rules[(self.start.name, 0)], ())]
@@ -152,11 +157,11 @@ class Program(AttributeValues, ShapeOperations):
                 stack.extend(reversed(out))
         except RecursionError:
             raise GrammarError(TOO_DEEP) from None
-        blocks = self._blocks(leaves, run)
+        blocks, surfaces = self._blocks(leaves, run)
         metadata = {
             "grammar": self.grammar.filename,
             "seed": int(seed),
-            "lot": [width, depth],
+            **lot_metadata,
             "attrs": {name: values[name] for name in self.attr_nodes},
             "free_parameters": self.free_parameters(values, start_scope),
             "reports": {k: v[0] if len(v) == 1 else v for k, v in run.reports.items()},
@@ -165,10 +170,21 @@ class Program(AttributeValues, ShapeOperations):
                 "arguments": self.structure_arguments(values, start_scope),
             },
         }
-        return Model(blocks, metadata=metadata)
+        return Model(blocks, metadata=metadata, surfaces=surfaces)
 
-    def _blocks(self, leaves: list[ShapeState], run: Derivation) -> list[Block]:
-        boxes = [s for s in leaves if s.shape.kind == MASS and s.shape.scope.size.min() > _MIN_SIZE]
+    def _blocks(
+        self, leaves: list[ShapeState], run: Derivation
+    ) -> tuple[list[Block], list[Surface]]:
+        """The blocks and surfaces of the leaves, in derivation order: a box filling its scope
+        or a closed convex mesh with volume is a block, an inserted primitive gives its blocks,
+        any other geometry (a face, an open or non-convex mesh) a surface."""
+        boxes = [
+            s
+            for s in leaves
+            if s.shape.kind == MASS
+            and s.shape.geometry is None
+            and s.shape.scope.size.min() > _MIN_SIZE
+        ]
         limit = run.limits.max_blocks
         if len(boxes) > limit:
             raise self._too_many_blocks(len(boxes), run, boxes[limit].rule_path)
@@ -181,8 +197,21 @@ class Program(AttributeValues, ShapeOperations):
             world = origins[:, None, :] + np.einsum("nij,nkj->nki", rotations, local)
             corners = {id(s): world[k] for k, s in enumerate(boxes)}
         blocks: list[Block] = []
+        surfaces: list[Surface] = []
         for state in leaves:
             kind = state.shape.kind
+            if state.shape.geometry is not None and kind in (MASS, FACE):
+                block = self._geometry_leaf(state, len(blocks), surfaces)
+                if block is not None:
+                    if len(blocks) + 1 > limit:
+                        raise self._too_many_blocks(len(blocks) + 1, run, state.rule_path)
+                    blocks.append(block)
+                continue
+            if kind == FACE:
+                face = state.shape.world_mesh()
+                if face.area() > _MIN_SIZE**2:
+                    surfaces.append(_surface(state, face, "a face (no volume)", len(surfaces)))
+                continue
             if kind == MASS:
                 vertices = corners.get(id(state))
                 if vertices is None:
@@ -198,6 +227,7 @@ class Program(AttributeValues, ShapeOperations):
                         structural=structural,
                         fixed=fixed,
                         rule_path=state.rule_path,
+                        appearance=state.appearance,
                     )
                 )
             elif kind == INSERT:
@@ -220,8 +250,37 @@ class Program(AttributeValues, ShapeOperations):
                         t for t in piece.tags if t not in state.labels
                     )
                     piece.rule_path = state.rule_path
+                    if state.appearance is not None:
+                        piece.appearance = state.appearance
                     blocks.append(piece)
-        return blocks
+        return blocks, surfaces
+
+    def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> Block | None:
+        """The block of a leaf with geometry, or None after adding it to ``surfaces``."""
+        mesh = state.shape.world_mesh()
+        if state.shape.kind == FACE or not mesh.is_closed:
+            if mesh.area() > _MIN_SIZE**2:
+                reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
+                surfaces.append(_surface(state, mesh, reason, len(surfaces)))
+            return None
+        if mesh.volume() <= _MIN_SIZE**3:
+            return None
+        if not mesh.is_convex():
+            surfaces.append(_surface(state, mesh, "not convex", len(surfaces)))
+            return None
+        density, structural, fixed = self._properties(state)
+        clean = mesh.cleaned()
+        return Block(
+            clean.vertices,
+            clean.faces,
+            density=density,
+            id=f"b{number}",
+            tags=state.labels,
+            structural=structural,
+            fixed=fixed,
+            rule_path=state.rule_path,
+            appearance=state.appearance,
+        )
 
     def _too_many_blocks(self, count: int, run: Derivation, chain: tuple) -> GrammarError:
         return GrammarError(
@@ -247,18 +306,42 @@ class Program(AttributeValues, ShapeOperations):
         return density, structural, fixed
 
 
-def _checked_lot(lot: object) -> tuple[float, float]:
-    """``(width, depth)`` of a lot given to :meth:`Program.derive`: two finite numbers > 0, m."""
+def _surface(state: ShapeState, mesh, reason: str, number: int) -> Surface:
+    return Surface(
+        mesh.vertices,
+        mesh.faces,
+        appearance=state.appearance or DEFAULT_APPEARANCE,
+        tags=state.labels,
+        rule_path=state.rule_path,
+        reason=reason,
+        id=f"s{number}",
+    )
+
+
+def _checked_lot(lot: object) -> tuple[Shape, dict]:
+    """The start shape of a lot given to :meth:`Program.derive` and its metadata: ``(width,
+    depth)``, two finite numbers > 0 in metres, or a polygon of ``(x, z)`` points in metres,
+    counter-clockwise seen from above."""
+    try:
+        items = list(lot)
+    except TypeError:
+        items = None
+    if items is not None and len(items) >= 3:
+        try:
+            return lot_shape(items)
+        except ValueError as exc:
+            raise GrammarError(f"lot: {exc}") from None
     try:
         width, depth = (float(v) for v in lot)
     except (TypeError, ValueError, OverflowError):
         raise GrammarError(
-            f"lot must be (width, depth): two finite numbers > 0 in metres, got {shown(lot)}"
+            f"lot must be (width, depth): two finite numbers > 0 in metres, or a polygon of "
+            f"(x, z) points, got {shown(lot)}"
         ) from None
     for side, value in (("width", width), ("depth", depth)):
         if not math.isfinite(value) or value <= 0:
             raise GrammarError(f"lot {side} must be a finite number > 0 in metres, got {value!r}")
-    return width, depth
+    return lot_shape((width, depth))
 
 
 def _insert(name: str, scope: Scope, params: dict) -> list[Block]:

@@ -24,12 +24,9 @@ from shapegen.engine.shape import (
     Shape,
     axis_index,
     center,
-    extrude,
-    face_scopes,
-    flat_face,
+    extrude_shape,
     rotate,
-    select_faces,
-    split_scope,
+    split_piece,
     translate,
 )
 from shapegen.engine.split import (
@@ -55,6 +52,7 @@ class ShapeOperations:
     attr_nodes: dict[str, ast.Attribute]
     const_nodes: dict[str, ast.Constant]
     error: Callable[..., GrammarError]
+    cityengine_scopes: bool
 
     def _body(self, node: ast.Body, params: dict[str, int]) -> Operation:
         if isinstance(node, ast.Sequence):
@@ -156,6 +154,7 @@ class ShapeOperations:
     def _op_Extrude(self, node: ast.Extrude, params) -> Operation:
         height = self._number(node, node.height, params, "extrude height")
         error = self.error
+        cityengine = self.cityengine_scopes
 
         def extrude_op(state, args, out):
             shape = state.shape
@@ -165,8 +164,10 @@ class ShapeOperations:
                     "extrude() needs a flat shape (the lot or a comp(f) face); "
                     "this shape is already 3D",
                 )
-            scope = extrude(shape.scope, shape.normal_axis, height(args, state))
-            state.shape = Shape(scope, MASS)
+            try:
+                state.shape = extrude_shape(shape, height(args, state), cityengine)
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
             return True
 
         return extrude_op
@@ -236,11 +237,14 @@ class ShapeOperations:
                 ) from None
             except ValueError as exc:
                 raise error(node, str(exc)) from None
-            total = len(pieces)
-            for index, piece in enumerate(pieces):
-                body, part = piece.key
-                scope = split_scope(shape.scope, axis, piece.start, piece.size)
-                child = run.child(state, Shape(scope, shape.kind, shape.normal_axis), part)
+            made = []
+            for piece in pieces:
+                cut = split_piece(shape, axis, piece.start, piece.size)
+                if cut is not None:  # CityEngine drops pieces with no geometry
+                    made.append((piece.key, cut))
+            total = len(made)
+            for index, ((body, part), cut) in enumerate(made):
+                child = run.child(state, cut, part)
                 child.split_index = index
                 child.split_total = total
                 if body(child, args, out) and child.children[0] == 0:
@@ -250,43 +254,13 @@ class ShapeOperations:
         return split_op
 
     def _op_Comp(self, node: ast.Comp, params) -> Operation:
-        if node.kind != "f":
-            raise self.error(node, f"comp({node.kind}) is not supported; only comp(f)")
-        branches = []
-        for branch in node.branches:
-            if branch.merge:
-                raise self.error(
-                    branch,
-                    f"'{branch.selector} =' (all selected faces as one "
-                    f"shape) is not supported; write "
-                    f"'{branch.selector} :'",
-                )
-            branches.append((branch.selector, self._body(branch.body, params), branch))
-        selectors = [_selector(s) for s, _, _ in branches]
-        error = self.error
+        from shapegen.engine.cga_ops.topology import comp_operation
 
-        def comp_op(state, args, out):
-            shape = state.shape
-            if shape.kind == MASS:
-                faces = face_scopes(shape.scope)
-            elif shape.kind == FACE:
-                faces = [flat_face(shape.scope, shape.normal_axis)]
-            else:
-                raise error(node, "comp(f) cannot take apart an inserted primitive")
-            run = state.run
-            for (_, body, branch), chosen in zip(
-                branches, select_faces(faces, selectors), strict=True
-            ):
-                total = len(chosen)
-                for index, (_, scope) in enumerate(chosen):
-                    child = run.child(state, Shape(scope, FACE, 2), branch)
-                    child.comp_index = index
-                    child.comp_total = total
-                    if body(child, args, out) and child.children[0] == 0:
-                        out.append((child, None, ()))
-            return True
-
-        return comp_op
+        branches = [
+            (branch.selector, branch.merge, self._body(branch.body, params), branch)
+            for branch in node.branches
+        ]
+        return comp_operation(self, node, node.kind, branches, params)
 
     def _coordinates(self, node, coordinates, params, what: str):
         compiled = [
@@ -361,6 +335,12 @@ class ShapeOperations:
 
     def _op_Set(self, node: ast.Set, params) -> Operation:
         attribute = node.attribute
+        if attribute.startswith("material."):
+            from shapegen.engine.cga_ops import appearance
+
+            compile_material_set = getattr(appearance, "compile_material_set", None)
+            if compile_material_set is not None:
+                return compile_material_set(self, node, params)
         if attribute in self.const_nodes:
             raise self.error(node, f"set() changes attrs; {attribute!r} is a const")
         if attribute not in self.attr_nodes and attribute not in RESERVED_ATTRIBUTES:

@@ -37,6 +37,10 @@ __all__ = [
     "resize",
     "center",
     "rotation_matrix",
+    "extrude_shape",
+    "split_piece",
+    "lot_shape",
+    "shape_geometry_value",
 ]
 
 import math
@@ -60,10 +64,13 @@ _FACE_FRAMES = {
     "back": ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, 0, -1), (0, 1)),
     "left": ((0, 0, 0), (0, 0, 1), (0, 1, 0), (-1, 0, 0), (2, 1)),
     "top": ((0, 1, 1), (1, 0, 0), (0, 0, -1), (0, 1, 0), (0, 2)),
-    "bottom": ((0, 0, 0), (1, 0, 0), (0, 0, 1), (0, -1, 0), (0, 2)),
+    # PyPRT starts an extruded lot's bottom on the lot's second vertex: x runs along -x.
+    "bottom": ((1, 0, 1), (-1, 0, 0), (0, 0, -1), (0, -1, 0), (0, 2)),
 }
-FACE_ORDER = ("front", "right", "back", "left", "top", "bottom")
-"""The order of a box's faces in ``comp(f)``: the index a numeric selector refers to."""
+FACE_ORDER = ("bottom", "top", "front", "right", "back", "left")
+"""The order of a box's faces in ``comp(f)``: the index a numeric selector refers to. It is
+CityEngine's for an extruded lot (checked with PyPRT on a 12 x 8 m lot): 0 bottom, 1 top, then
+the sides from the lot's first edge, which runs along +x on the lot's +z side."""
 
 _FACE_NAME_OF_NORMAL = {
     (2, 1): "front",
@@ -290,3 +297,118 @@ def center(scope: Scope, reference: Scope, axes: str) -> Scope:
 def axis_index(name: str) -> int:
     """0, 1, 2 for "x", "y", "z"."""
     return _AXES[name]
+
+
+def _box_fills(mesh: Mesh, size: np.ndarray) -> bool:
+    """Whether ``mesh`` (scope coordinates) is the box filling a scope of ``size``, its faces in
+    :data:`~shapegen.geometry.mesh.BOX_FACES` order (so the fast path gives the same comp)."""
+    if mesh.n_vertices != 8 or mesh.n_faces != 6:
+        return False
+    box = Mesh.box(size)
+    slack = 1e-9 * max(float(size.max()), 1e-9)
+    for k in range(6):
+        if not np.allclose(mesh.face_points(k), box.face_points(k), atol=slack):
+            return False
+    return True
+
+
+def extrude_shape(shape: Shape, height: float, cityengine_scope: bool) -> Shape:
+    """The mass of ``shape`` (a face) extruded by ``height`` (m) along its normal.
+
+    Its scope follows CityEngine's op_extrude (x kept as far as possible, y along the
+    extrusion, z normal to both, fitted to the geometry) when ``cityengine_scope`` or the face
+    is flat along its y axis (the lot); otherwise (a comp face in a ``.grammar`` rule) the face's
+    own scope grows along its z axis, as shapegen always did. A face filling its scope stays on
+    the fast path (a box, no geometry)."""
+    if not math.isfinite(height):
+        raise ValueError(f"extrude height must be a finite number, got {height}")
+    scope = shape.scope
+    if shape.geometry is None and (shape.normal_axis == 1 or not cityengine_scope):
+        return Shape(extrude(scope, shape.normal_axis, height), MASS)
+    from shapegen.geometry.extrude import extrude_faces
+    from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
+
+    face = shape.mesh()
+    if face.n_faces == 0:
+        raise ValueError("extrude() of a shape without faces")
+    prism = extrude_faces(face, height)
+    if prism.n_faces == 0:
+        raise ValueError("extrude() of a face with no area")
+    world = scope.to_world(prism.vertices)
+    if shape.normal_axis == 1 or cityengine_scope:
+        normal = scope.rotation @ face.face_normal(0)
+        rotation = rotation_keeping_x(scope.rotation[:, 0], normal)
+    else:
+        rotation = scope.rotation
+    new_scope, local = fitted_scope(world, rotation)
+    mesh = Mesh(local, prism.faces)
+    if _box_fills(mesh, new_scope.size):
+        return Shape(new_scope, MASS)
+    return Shape.with_geometry(new_scope, mesh, MASS)
+
+
+def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | None:
+    """The piece ``[start, start + size]`` (m) along scope ``axis`` of ``shape``: the scope slice
+    for a shape filling its scope, else its geometry cut by the two planes with the scope fitted
+    to what is left (op_split's default ``adjust``); None when nothing is left."""
+    if shape.geometry is None:
+        return Shape(split_scope(shape.scope, axis, start, size), shape.kind, shape.normal_axis)
+    from shapegen.geometry.cut import clip_slab
+
+    piece = clip_slab(shape.geometry, axis, start, start + size)
+    if piece is None:
+        return None
+    low, high = piece.bounds()
+    scope = shape.scope
+    new_scope = Scope(scope.origin + scope.rotation @ low, scope.rotation, high - low)
+    return Shape.with_geometry(
+        new_scope, Mesh(piece.vertices - low, piece.faces), shape.kind, shape.normal_axis
+    )
+
+
+def lot_shape(lot) -> tuple[Shape, dict]:
+    """The start shape of a derivation and what the model's metadata records of its lot.
+
+    ``lot`` is ``(width, depth)`` in metres (a rectangle filling its scope: the fast path) or a
+    polygon: a sequence of at least three ``(x, z)`` points in metres, counter-clockwise seen
+    from above. Raises ``ValueError`` with a message for the user."""
+    points = list(lot)
+    if len(points) == 2 and not any(isinstance(p, Sequence | np.ndarray) for p in points):
+        width, depth = (float(v) for v in points)
+        return Shape(lot_scope(width, depth), FACE, 1), {"lot": [width, depth]}
+    from shapegen.geometry.frames import lot_polygon
+
+    scope, mesh = lot_polygon(points)
+    shape = Shape.with_geometry(scope, mesh, FACE, 1)
+    if _rectangle_fills(mesh, scope.size):
+        shape = Shape(scope, FACE, 1)
+    world = scope.to_world(mesh.vertices)
+    return shape, {
+        "lot": [float(scope.size[0]), float(scope.size[2])],
+        "lot_polygon": [[float(p[0]), float(p[2])] for p in world],
+    }
+
+
+def _rectangle_fills(mesh: Mesh, size: np.ndarray) -> bool:
+    rectangle = Mesh.rectangle(size, 1)
+    slack = 1e-9 * max(float(size.max()), 1e-9)
+    return mesh.n_vertices == 4 and np.allclose(mesh.vertices, rectangle.vertices, atol=slack)
+
+
+def shape_geometry_value(state, name: str, *args):
+    """``geometry.<name>(*args)`` of the shape of ``state`` (a
+    :class:`~shapegen.engine.derivation.ShapeState`); the names are those of
+    :func:`shapegen.geometry.queries.geometry_value` (area, volume, height, nVertices, nFaces,
+    nEdges, nHoles, isClosedSurface, isConcave, isPlanar, isRectangular, isOriented, angle,
+    boundaryLength, du, dv). Raises ``ValueError`` with a message for the user."""
+    from shapegen.geometry.queries import geometry_value
+
+    shape = state.shape
+    return geometry_value(
+        shape.mesh(),
+        shape.scope.rotation,
+        name,
+        *args,
+        size=shape.scope.size,
+        object_rotation=getattr(state.run, "object_rotation", None),
+    )

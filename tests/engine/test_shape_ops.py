@@ -50,14 +50,15 @@ def test_split_scope_slices_along_the_scope_axis():
 
 
 # Expected outward normal (world) and the world direction of the face's x axis for BOX (world
-# axes): x along the bottom edge, left to right seen from outside.
+# axes): x along the face's first edge as PyPRT gives it on an extruded 12 x 8 m lot (a side's
+# bottom edge left to right seen from outside; the bottom's first edge runs along -x).
 FACES = {
     "front": ([0, 0, 1], [1, 0, 0], (4, 5)),
     "right": ([1, 0, 0], [0, 0, -1], (6, 5)),
     "back": ([0, 0, -1], [-1, 0, 0], (4, 5)),
     "left": ([-1, 0, 0], [0, 0, 1], (6, 5)),
     "top": ([0, 1, 0], [1, 0, 0], (4, 6)),
-    "bottom": ([0, -1, 0], [1, 0, 0], (4, 6)),
+    "bottom": ([0, -1, 0], [-1, 0, 0], (4, 6)),
 }
 
 
@@ -101,7 +102,7 @@ def test_selectors_are_exclusive_left_to_right():
     faces = face_scopes(BOX)
     groups = select_faces(faces, ["front", "side", "all"])
     names = [[FACE_ORDER[k] for k, _ in group] for group in groups]
-    assert names == [["front"], ["right", "back", "left"], ["top", "bottom"]]
+    assert names == [["front"], ["right", "back", "left"], ["bottom", "top"]]
     groups = select_faces(faces, ["all", "top"])
     assert [len(g) for g in groups] == [6, 0]
 
