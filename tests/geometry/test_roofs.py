@@ -1,7 +1,9 @@
 """Roofs against closed-form volumes and ridges, and CityEngine's face layout (checked with
 PyPRT on the Building_From_FootprintSMALL package: one roof face per edge, starting with it)."""
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -128,3 +130,29 @@ def test_by_height_and_overhang():
 def test_bad_input_is_one_clear_error(call, message):
     with pytest.raises(GeometryError, match=message):
         call()
+
+
+PYPRT = json.loads((Path(__file__).parent / "pyprt_roofs.json").read_text())["roofs"]
+
+
+@pytest.mark.parametrize("key", sorted(PYPRT))
+def test_roofs_match_pyprt(key):
+    """CityEngine's roofs of a rectangle, a trapezoid and two L-shapes (the rule rescales them
+    to 4 m high, so heights are compared after the same rescaling)."""
+    form, _ = key.split("/")
+    lot = np.array(PYPRT[key]["lot"], float).reshape(-1, 3)
+    polygon = np.column_stack([lot[:, 0], -lot[:, 2]])  # the top face's plane, seen from +y
+    build = {
+        "hip": lambda p: R.roof_hip(p, 45),
+        "gable": lambda p: R.roof_gable(p, 45, index=0),
+        "shed": lambda p: R.roof_shed(p, 15),
+        "pyramid": lambda p: R.roof_pyramid(p, 45),
+    }[form]
+    mesh = build(polygon)
+    v = mesh.vertices
+    ours = np.column_stack([v[:, 0], 10 + 4 * v[:, 2] / v[:, 2].max(), -v[:, 1]])
+    theirs = np.array([p for face in PYPRT[key]["faces"] for p in face])
+    distance = np.linalg.norm(ours[:, None] - theirs[None], axis=2)
+    assert distance.min(axis=1).max() < 1e-5  # every vertex of ours is one of theirs
+    assert distance.min(axis=0).max() < 1e-5  # and the other way round
+    assert len(mesh.faces) - 1 == len(PYPRT[key]["faces"])  # one roof face per edge
