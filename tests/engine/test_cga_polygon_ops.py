@@ -254,3 +254,12 @@ def test_roof_on_an_offset_face_and_on_a_comp_face(program):
 def test_bad_roof_calls_are_one_clear_error(program, operation, message):
     with pytest.raises(GrammarError, match=message):
         run(program, operation)
+
+
+def test_offset_faces_share_their_edges_so_comp_finds_inside_and_border(program):
+    from shapegen.geometry.queries import border_faces
+
+    state, _ = run(program, _operation("offset", -1))
+    mesh = state.shape.mesh()
+    assert mesh.n_vertices == 8  # the inner and outer rectangles' corners, each once
+    assert border_faces(mesh) == [False, True, True, True, True]

@@ -114,6 +114,29 @@ def edge_quadrants(frame: FaceFrame, polygon: np.ndarray) -> list[str]:
     return out
 
 
+def _welded(points: np.ndarray, counts: list[int]):
+    """One vertex per distinct point (within round-off of the size), so that faces sharing an
+    edge share its vertices: ``comp(f)``'s ``inside`` / ``border`` read that adjacency."""
+    eps = 1e-9 * max(1.0, float(np.ptp(points, axis=0).max()))
+    keys = np.round(points / eps).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first)  # keep the vertices in the order they first appear
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    index = rank[inverse.reshape(-1)]
+    faces, start = [], 0
+    for count in counts:
+        face: list[int] = []
+        for k in index[start : start + count]:
+            if not face or face[-1] != k:
+                face.append(int(k))
+        if len(face) > 1 and face[0] == face[-1]:
+            face.pop()
+        faces.append(tuple(face))
+        start += count
+    return points[np.sort(first)], faces
+
+
 def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None) -> Shape:
     """A flat shape made of ``faces`` (``(k, 3)`` in ``parent``'s scope coordinates): the
     parent's orientation, the scope fitted to the faces."""
@@ -122,8 +145,8 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None) -> Shape:
     size = high - low
     size[size < 1e-12 * max(1.0, float(np.abs(points).max()))] = 0.0
     scope = Scope(parent.scope.to_world(low), parent.scope.rotation, size)
-    offsets = np.cumsum([0] + [len(f) for f in faces])
-    mesh = Mesh(points - low, [tuple(range(offsets[i], offsets[i + 1])) for i in range(len(faces))])
+    vertices, indexed = _welded(points - low, [len(f) for f in faces])
+    mesh = Mesh(vertices, indexed)
     if tags is not None:
         _tagged(mesh, tags)
     return Shape(scope, FACE, parent.normal_axis, None, mesh)

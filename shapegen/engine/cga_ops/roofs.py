@@ -27,9 +27,9 @@ from shapegen.engine.expressions import type_name
 from shapegen.engine.shape import MASS, Shape
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs
+from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
-from shapegen.model.scope import Scope
 
 
 def roof_shape(parent: Shape, built: list[tuple[object, roofs.RoofMesh]]) -> Shape:
@@ -42,19 +42,10 @@ def roof_shape(parent: Shape, built: list[tuple[object, roofs.RoofMesh]]) -> Sha
         tags += mesh.tags
         start += len(mesh.vertices)
     local = np.concatenate(points)
-    rotation = parent.scope.rotation
-    normal = rotation @ built[0][0].n
-    x = rotation[:, 0] - normal * float(rotation[:, 0] @ normal)
-    if np.linalg.norm(x) < 1e-9:  # the old x along the normal: keep the old z's direction
-        x = rotation[:, 2] - normal * float(rotation[:, 2] @ normal)
-    x /= np.linalg.norm(x)
-    frame = np.column_stack([x, normal, np.cross(x, normal)])
-    in_frame = parent.scope.to_world(local) @ frame
-    low = in_frame.min(axis=0)
-    size = in_frame.max(axis=0) - low
-    size[size < 1e-12 * max(1.0, float(np.abs(in_frame).max()))] = 0.0
-    mesh = _tagged(Mesh(in_frame - low, faces), tags)
-    return Shape(Scope(frame @ low, frame, size), MASS, 1, None, mesh)
+    normal = parent.scope.rotation @ built[0][0].n
+    frame = rotation_keeping_x(parent.scope.rotation[:, 0], normal)
+    scope, fitted = fitted_scope(parent.scope.to_world(local), frame)
+    return Shape(scope, MASS, 1, None, _tagged(Mesh(fitted, faces), tags))
 
 
 def _value_type(node) -> tuple[str, list]:
