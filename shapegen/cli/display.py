@@ -161,16 +161,16 @@ def print_build(title: str, report: dict) -> None:
     table = _grid()
     table.add_row("grammar", Text(title))
     table.add_row("blocks", str(report["blocks"]))
-    left_out = left_out_line(report.get("left_out"))
-    if left_out:
-        table.add_row("left out", Text(left_out))
     table.add_row("volume", f"{fmt(report['volume'])} m^3")
     table.add_row("seconds", fmt(report["seconds"]))
     for name, value in report.get("reports", {}).items():
         table.add_row(Text(f"report {name}"), Text(str(value)))
     console.print(table)
+    left_out = left_out_line(report.get("left_out"))
+    if left_out:  # one line, never wrapped
+        console.print(Text(f"left out: {left_out}"), soft_wrap=True)
     for warning in report.get("warnings", []):
-        console.print(Text(f"warning: {warning}", style="yellow"))
+        console.print(Text(f"warning: {warning}", style="yellow"), soft_wrap=True)
     if "optimization" in report:
         console.print(optimization_table(report["optimization"]))
     if "analysis" in report:

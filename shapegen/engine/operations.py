@@ -357,7 +357,13 @@ class ShapeOperations:
         return set_op
 
     def _op_Insert(self, node: ast.Insert, params) -> Operation:
-        if isinstance(node.primitive, ast.String):
+        from shapegen.engine.cga_ops.assets import asset_insert, is_asset_name
+
+        literal = isinstance(node.primitive, ast.String)
+        if literal and is_asset_name(node.primitive.value):  # a file or builtin: asset
+            return asset_insert(self, node, params)
+        assets = None if literal or node.parameters else asset_insert(self, node, params)
+        if literal:
             _check_primitive_call(node, self.error)
         name_of = self.expressions.compile(node.primitive, params)
         keywords = [(k.name, self.expressions.compile(k.value, params)) for k in node.parameters]
@@ -367,6 +373,8 @@ class ShapeOperations:
             name = name_of(args, state)
             if type(name) is not str:
                 raise error(node, f"i() needs a primitive name (a string), got a {type_name(name)}")
+            if assets is not None and is_asset_name(name):
+                return assets(state, args, out)
             values = {key: value(args, state) for key, value in keywords}
             scope = state.shape.scope
             if name == "box" and not values:

@@ -1,3 +1,422 @@
-"""placeholder: filled by its owner"""
+"""Inserting geometry: asset files (``i("assets/door.obj")``), built-in assets
+(``i("builtin:cube")``) and CityEngine's primitives (``primitiveCube()``, ``primitiveQuad()``,
+``primitiveCylinder(n, r, h)``...).
+
+Semantics of CityEngine's reference (``op_i``, ``op_primitive``):
+
+- the asset's bounding box is fitted to the scope, each axis scaled on its own; a scope size of
+  0 keeps the asset's proportion: all three 0 keep the asset as it is (the scope takes its size
+  and is moved by its offset), two 0 scale the asset uniformly by the third, one 0 takes the
+  mean scale of the other two;
+- a primitive given its dimensions keeps them and sits in the scope's x-z centre on y = 0;
+  ``primitiveQuad``/``primitiveDisk`` lie in the plane of the scope's two non-zero sizes
+  (x-z when all three are non-zero);
+- the defaults: 16 sides for cylinder, cone and disk, 16 x 16 for the sphere.
+
+An asset file is found next to the rule file, then in each folder above it that holds a
+``rules`` or ``assets`` folder (the project of an extracted rule package), as ``<project>/PATH``
+and ``<project>/assets/PATH``. OBJ, glTF, PLY and STL files are read with trimesh. A file that
+is not found leaves the shape empty (as CityEngine does) and is a warning of the derivation
+naming the file and the chain of rules. The inserted geometry becomes a block when it is a closed
+convex solid, else a surface (see the interpreter).
+"""
 
 from __future__ import annotations
+
+__all__ = ["asset_insert", "is_asset_name", "load_asset", "primitive_mesh"]
+
+import math
+import os
+from collections import OrderedDict
+from pathlib import Path
+
+import numpy as np
+
+from shapegen.engine.cga_ops import compiles
+from shapegen.engine.derivation import format_chain
+from shapegen.engine.expressions import format_value
+from shapegen.engine.shape import FACE, MASS, Shape
+from shapegen.errors import GeometryError
+from shapegen.geometry.mesh import Mesh
+from shapegen.grammar import ast
+from shapegen.limits import current_limits, limit_hint
+from shapegen.model.scope import Scope
+
+ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
+"""Asset files shapegen reads (trimesh); CityEngine also reads .dae, .fbx, .usd, .dwg, .ifc."""
+OTHER_CITYENGINE_SUFFIXES = (".dae", ".fbx", ".usd", ".usda", ".usdc", ".usdz", ".dwg", ".ifc")
+BUILTIN_ASSETS = ("builtin:cube", "builtin:cube:notex")
+DEFAULT_SIDES = 16
+_CACHE_SIZE = 64
+_cache: OrderedDict[tuple, Mesh] = OrderedDict()
+
+
+def is_asset_name(name: str) -> bool:
+    """True when ``i(name)`` names an asset (a file or ``builtin:``), not a template primitive."""
+    suffix = os.path.splitext(name)[1].lower()
+    return (
+        name.startswith("builtin:")
+        or "/" in name
+        or "\\" in name
+        or suffix in ASSET_SUFFIXES + OTHER_CITYENGINE_SUFFIXES
+    )
+
+
+# ------------------------------------------------------------------------- meshes
+def primitive_mesh(kind: str, sides: int = DEFAULT_SIDES, divisions: int = DEFAULT_SIDES) -> Mesh:
+    """The unit template of a CityEngine primitive, in its bounding box ``[0, 1]^3`` (the quad
+    and the disk flat in ``y = 0``), faces counter-clockwise seen from outside (or from +y)."""
+    angles = 2 * np.pi * np.arange(sides) / sides
+    # a ring in x-z, counter-clockwise seen from +y: x = cos, z = -sin
+    ring = np.column_stack(
+        [0.5 + 0.5 * np.cos(angles), np.zeros(sides), 0.5 - 0.5 * np.sin(angles)]
+    )
+    n = sides
+    if kind == "cube":
+        return Mesh.box((1.0, 1.0, 1.0))
+    if kind == "quad":
+        return Mesh.polygon([(0, 0, 1), (1, 0, 1), (1, 0, 0), (0, 0, 0)])
+    if kind == "disk":
+        return Mesh.polygon(ring)
+    if kind == "cylinder":
+        top = ring + [0.0, 1.0, 0.0]
+        faces = [tuple(range(n - 1, -1, -1)), tuple(range(n, 2 * n))]
+        faces += [(k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n)]
+        return Mesh(np.vstack([ring, top]), faces)
+    if kind == "cone":
+        faces = [tuple(range(n - 1, -1, -1))] + [(k, (k + 1) % n, n) for k in range(n)]
+        return Mesh(np.vstack([ring, [[0.5, 1.0, 0.5]]]), faces)
+    if kind == "sphere":
+        rows = []
+        for j in range(1, divisions):
+            polar = np.pi * j / divisions  # from the top
+            rows.append(
+                np.column_stack(
+                    [
+                        0.5 + 0.5 * math.sin(polar) * np.cos(angles),
+                        np.full(n, 0.5 + 0.5 * math.cos(polar)),
+                        0.5 - 0.5 * math.sin(polar) * np.sin(angles),
+                    ]
+                )
+            )
+        vertices = np.vstack([[[0.5, 1.0, 0.5]], *rows, [[0.5, 0.0, 0.5]]])
+        bottom = len(vertices) - 1
+        faces = [(0, 1 + (k + 1) % n, 1 + k) for k in range(n)]
+        for j in range(divisions - 2):
+            a, b = 1 + j * n, 1 + (j + 1) * n
+            faces += [(a + k, a + (k + 1) % n, b + (k + 1) % n, b + k) for k in range(n)]
+        last = 1 + (divisions - 2) * n
+        faces += [(last + k, last + (k + 1) % n, bottom) for k in range(n)]
+        return Mesh(vertices, [face[::-1] for face in faces])  # listed inward: turned out
+    raise AssertionError(kind)
+
+
+def fitted(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
+    """``mesh`` (asset coordinates) fitted into ``scope`` as op_i does: its bounding box scaled
+    onto the scope, zero scope sizes taking the asset's proportion. Returns the new scope and
+    the mesh in its coordinates."""
+    lo, hi = mesh.bounds()
+    extent = hi - lo
+    size = np.asarray(scope.size, dtype=float).copy()
+    origin = np.asarray(scope.origin, dtype=float).copy()
+    zero = size <= 0
+    if zero.all():
+        size = extent.copy()
+        origin = origin + scope.rotation @ lo
+    elif zero.sum() == 2:
+        k = int(np.flatnonzero(~zero)[0])
+        scale = size[k] / extent[k] if extent[k] > 0 else 1.0
+        for axis in np.flatnonzero(zero):
+            size[axis] = scale * extent[axis]
+            origin = origin + scope.rotation[:, axis] * scale * lo[axis]
+    elif zero.sum() == 1:
+        axis = int(np.flatnonzero(zero)[0])
+        others = [k for k in range(3) if k != axis and extent[k] > 0]
+        scale = np.mean([size[k] / extent[k] for k in others]) if others else 1.0
+        size[axis] = scale * extent[axis]
+    factors = np.divide(size, extent, out=np.zeros(3), where=extent > 0)
+    local = (mesh.vertices - lo) * factors
+    return Scope(origin, scope.rotation, size), Mesh(local, mesh.faces)
+
+
+def _placed(mesh: Mesh, scope: Scope, dimensions) -> tuple[Scope, Mesh]:
+    """A primitive of the given ``dimensions`` (m, x y z: a radius r gives 2r) in the scope's
+    x-z centre on y = 0; the template's nominal box ``[0, 1]^3`` is scaled, so a hexagon of
+    radius r keeps its true width across the flats."""
+    dimensions = np.asarray(dimensions, dtype=float)
+    offset = np.array(
+        [(scope.size[0] - dimensions[0]) / 2, 0.0, (scope.size[2] - dimensions[2]) / 2]
+    )
+    return scope, Mesh(mesh.vertices * dimensions + offset, mesh.faces)
+
+
+def _flat_in_scope(mesh: Mesh, scope: Scope) -> tuple[Mesh, int]:
+    """A flat template (in y = 0) turned into the plane of the scope's two non-zero sizes (x-z
+    when none or several are zero); returns it and the axis it is flat along."""
+    zero = [k for k in range(3) if scope.size[k] <= 0]
+    if len(zero) != 1 or zero[0] == 1:
+        return mesh, 1
+    v = mesh.vertices
+    if zero[0] == 2:  # the x-y plane, front facing +z: (x, z) -> (x, 1 - z)
+        return Mesh(np.column_stack([v[:, 0], 1.0 - v[:, 2], np.zeros(len(v))]), mesh.faces), 2
+    # the y-z plane, facing +x: (x, z) -> (z, x)... keep it counter-clockwise seen from +x
+    return Mesh(np.column_stack([np.zeros(len(v)), v[:, 0], v[:, 2]]), mesh.faces), 0
+
+
+# ------------------------------------------------------------------------- asset files
+def _search_roots(rule_file: str | None) -> list[Path]:
+    if not rule_file or rule_file.startswith("<"):
+        return [Path.cwd()]
+    folder = Path(rule_file).resolve().parent
+    roots = [folder]
+    for parent in [folder, *folder.parents]:
+        if (parent / "rules").is_dir() or (parent / "assets").is_dir():
+            roots += [parent, parent / "assets"]
+    return list(dict.fromkeys(roots))
+
+
+def find_asset(name: str, rule_file: str | None) -> Path | None:
+    """The file ``i(name)`` inserts for a rule written in ``rule_file``, or None."""
+    relative = name.lstrip("/\\")
+    candidates = [relative]
+    if name.startswith("/"):  # CityEngine's project-absolute /Project/assets/x.obj
+        candidates.append(relative.split("/", 1)[1] if "/" in relative else relative)
+    for root in _search_roots(rule_file):
+        for candidate in candidates:
+            path = root / candidate
+            if path.is_file():
+                return path
+    return None
+
+
+def load_asset(path: Path) -> Mesh:
+    """The mesh of an asset file (its own coordinates, y up), read once and kept."""
+    status = path.stat()
+    key = (str(path), status.st_mtime_ns, status.st_size)
+    mesh = _cache.get(key)
+    if mesh is not None:
+        _cache.move_to_end(key)
+        return mesh
+    limit = current_limits().max_file_bytes
+    if status.st_size > limit:
+        raise GeometryError(
+            f"asset {path} has {status.st_size} bytes, more than {limit} "
+            + limit_hint("max_file_bytes")
+        )
+    try:
+        if path.suffix.lower() == ".obj":
+            vertices, faces = _read_obj(path)
+        else:
+            vertices, faces = _read_triangles(path)
+    except GeometryError:
+        raise
+    except Exception as exc:  # any parser failure on a user's file
+        text = str(exc).strip().splitlines()
+        raise GeometryError(f"cannot read asset {path}: {text[0] if text else exc}") from None
+    if not faces:
+        raise GeometryError(f"asset {path} holds no face")
+    if not np.all(np.isfinite(vertices)):
+        raise GeometryError(f"asset {path}: vertex coordinates must be finite numbers")
+    mesh = _welded(vertices, faces)
+    _cache[key] = mesh
+    while len(_cache) > _CACHE_SIZE:
+        _cache.popitem(last=False)
+    return mesh
+
+
+def _read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    """The vertices and polygon faces of an OBJ file (materials, groups, texture coordinates
+    and normals are skipped). Polygons are kept whole: a non-convex face fanned into
+    triangles, as mesh readers do, would cover more than the face."""
+    vertices: list[list[float]] = []
+    faces: list[list[int]] = []
+    with open(path, encoding="utf-8", errors="replace") as handle:
+        for number, line in enumerate(handle, start=1):
+            fields = line.split()
+            if not fields:
+                continue
+            if fields[0] == "v":
+                vertices.append([float(v) for v in fields[1:4]])
+            elif fields[0] == "f":
+                face = []
+                for item in fields[1:]:
+                    index = int(item.split("/")[0])
+                    position = index - 1 if index > 0 else len(vertices) + index
+                    if not 0 <= position < len(vertices):
+                        raise GeometryError(f"asset {path}:{number}: no vertex {index}")
+                    face.append(position)
+                faces.append(face)
+    return np.array(vertices, dtype=float).reshape(-1, 3), faces
+
+
+def _read_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    """The triangles of a glTF, PLY or STL file (trimesh), the scene flattened."""
+    import trimesh
+
+    loaded = trimesh.load(str(path), force="mesh", process=False)
+    if not isinstance(loaded, trimesh.Trimesh):
+        raise GeometryError(f"asset {path} holds no mesh")
+    return np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces).tolist()
+
+
+def _welded(vertices: np.ndarray, faces: list[list[int]]) -> Mesh:
+    """The mesh with vertices at one position merged (asset files repeat a corner per
+    texture coordinate), so a closed solid reads as closed; faces left with fewer than three
+    corners are dropped."""
+    unique, inverse = np.unique(vertices, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    kept = []
+    for face in faces:
+        corners = [int(inverse[i]) for i in face]
+        corners = [c for k, c in enumerate(corners) if c != corners[k - 1]]
+        if len(set(corners)) >= 3:
+            kept.append(corners)
+    return Mesh(unique, kept)
+
+
+def _warn(state, message: str) -> None:
+    run = state.run
+    warnings = getattr(run, "warnings", None)
+    if warnings is None:
+        warnings = run.warnings = []
+    if message not in warnings:
+        warnings.append(message)
+
+
+def _shape_of(mesh: Mesh, scope: Scope) -> Shape:
+    lo, hi = mesh.bounds()
+    flat = [k for k in range(3) if hi[k] - lo[k] <= 0]
+    if flat:
+        return Shape.with_geometry(scope, mesh, FACE, flat[0])
+    return Shape.with_geometry(scope, mesh, MASS)
+
+
+def asset_insert(program, node: ast.Insert, params):
+    """The operation of ``i(name)`` for an asset name (see :func:`is_asset_name`); a literal
+    name is checked when the rule is compiled (a built-in asset shapegen lacks, a format it
+    does not read)."""
+    if node.parameters:
+        raise program.error(node, "i() of an asset file takes no keyword parameters")
+    if isinstance(node.primitive, ast.String):
+        problem = _name_problem(node.primitive.value)
+        if problem:
+            raise program.error(node, problem)
+    name_of = program.expressions.compile(node.primitive, params)
+    rule_file = getattr(getattr(node, "location", None), "file", None) or program.grammar.filename
+    error = program.error
+
+    def insert_asset(state, args, out):
+        name = name_of(args, state)
+        problem = _name_problem(name) if type(name) is str else "i() needs a file name"
+        if problem:
+            raise error(node, problem)
+        scope = state.shape.scope
+        if name in BUILTIN_ASSETS:
+            state.shape = _box_shape(scope)
+            return True
+        path = find_asset(name, rule_file)
+        if path is None:
+            _warn(state, f"asset {name!r} not found (rules: {format_chain(state.rule_path)}); "
+                         f"the shape is left empty")  # fmt: skip
+            return False
+        try:
+            mesh = load_asset(path)
+        except (GeometryError, OSError, ValueError) as exc:
+            raise error(node, f"i({name!r}): {exc}") from None
+        new_scope, local = fitted(mesh, scope)
+        state.shape = _shape_of(local, new_scope)
+        return True
+
+    return insert_asset
+
+
+def _name_problem(name: str) -> str | None:
+    if name.startswith("builtin:") and name not in BUILTIN_ASSETS:
+        return f"i({name!r}): shapegen has the built-in assets {', '.join(BUILTIN_ASSETS)}"
+    suffix = os.path.splitext(name)[1].lower()
+    if suffix in OTHER_CITYENGINE_SUFFIXES:
+        return (
+            f"i({name!r}): {suffix} assets are not read by shapegen; "
+            f"it reads {', '.join(ASSET_SUFFIXES)}"
+        )
+    return None
+
+
+def _box_shape(scope: Scope) -> Shape:
+    """The unit cube fitted to the scope: the box that fills it (the fast path), zero sizes
+    taking the cube's proportion."""
+    new_scope, _ = fitted(Mesh.box((1.0, 1.0, 1.0)), scope)
+    return Shape(new_scope, MASS)
+
+
+# ------------------------------------------------------------------------- primitives
+_PRIMITIVES = {
+    # name: (template, counts of arguments, names of the numbers, dimensions from them)
+    "primitiveCube": ("cube", (0, 3)),
+    "primitiveQuad": ("quad", (0, 2)),
+    "primitiveDisk": ("disk", (0, 1, 2)),
+    "primitiveCylinder": ("cylinder", (0, 1, 3)),
+    "primitiveCone": ("cone", (0, 1, 3)),
+    "primitiveSphere": ("sphere", (0, 2, 3)),
+}
+
+
+@compiles(*_PRIMITIVES)
+def compile_primitive(program, node: ast.Operation, params):
+    kind, counts = _PRIMITIVES[node.name]
+    if node.branches or any(a.kind != "plain" for a in node.arguments):
+        raise program.error(node, f"{node.name}() takes plain numbers only")
+    if len(node.arguments) not in counts:
+        expected = " or ".join(str(c) for c in counts)
+        raise program.error(
+            node, f"{node.name}() takes {expected} arguments, got {len(node.arguments)}"
+        )
+    numbers = [program._number(node, a.value, params, f"a {node.name}() argument")
+               for a in node.arguments]  # fmt: skip
+    error = program.error
+
+    def primitive(state, args, out):
+        values = [n(args, state) for n in numbers]
+        sides, divisions, dimensions = DEFAULT_SIDES, DEFAULT_SIDES, None
+        if kind in ("cylinder", "cone", "disk") and values:
+            sides = values[0]
+            if len(values) == 3:  # sides, radius, height
+                dimensions = (2 * values[1], values[2], 2 * values[1])
+            elif kind == "disk" and len(values) == 2:  # sides, radius
+                dimensions = (2 * values[1], 0.0, 2 * values[1])
+        elif kind == "sphere" and values:
+            sides, divisions = values[0], values[1]
+            if len(values) == 3:
+                dimensions = (2 * values[2],) * 3
+        elif kind == "quad" and values:
+            dimensions = (values[0], 0.0, values[1])
+        elif kind == "cube" and values:
+            dimensions = tuple(values)
+        for what, count, least in (("sides", sides, 3), ("divisions", divisions, 2)):
+            if count != int(count) or count < least or count > 4096:
+                raise error(node, f"{node.name}(): {what} is a whole number {least}..4096, got "
+                                  f"{format_value(count)}")  # fmt: skip
+        if dimensions is not None and any(d < 0 for d in dimensions):
+            raise error(node, f"{node.name}(): dimensions must be >= 0 m")
+        if kind == "cube" and dimensions is None:
+            state.shape = _box_shape(state.shape.scope)
+            return True
+        template = primitive_mesh(kind, int(sides), int(divisions))
+        scope = state.shape.scope
+        if kind in ("quad", "disk"):
+            if dimensions is not None:
+                scope, local = _placed(template, scope, dimensions)
+                state.shape = Shape.with_geometry(scope, local, FACE, 1)
+                return True
+            template, axis = _flat_in_scope(template, scope)
+            scope, local = fitted(template, scope)
+            state.shape = Shape.with_geometry(scope, local, FACE, axis)
+            return True
+        if dimensions is not None:
+            scope, local = _placed(template, scope, dimensions)
+        else:
+            scope, local = fitted(template, scope)
+        state.shape = Shape.with_geometry(scope, local, MASS)
+        return True
+
+    return primitive

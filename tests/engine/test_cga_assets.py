@@ -1,0 +1,206 @@
+"""Inserting assets and CityEngine's primitives: files found in the rule's project, fitted into
+the scope as op_i says (zero sizes keep the asset's proportion), blocks for closed convex
+solids and surfaces for the rest; a missing file is a warning, never a silent empty leaf."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import trimesh
+
+import shapegen
+from shapegen.engine.cga_ops import compiler_for
+from shapegen.engine.cga_ops.assets import fitted, is_asset_name, primitive_mesh
+from shapegen.engine.derivation import Derivation, root_state
+from shapegen.engine.shape import MASS, Shape
+from shapegen.errors import GrammarError
+from shapegen.geometry.mesh import Mesh
+from shapegen.grammar import ast
+from shapegen.model.scope import Scope
+
+
+@pytest.fixture
+def project(tmp_path):
+    """An extracted rule package: rules/ and assets/ side by side."""
+    (tmp_path / "rules").mkdir()
+    (tmp_path / "assets" / "doors").mkdir(parents=True)
+    # a closed box 1 x 2 x 0.1 m centred on the origin, and an open L-shaped plate
+    trimesh.creation.box(extents=(1, 2, 0.1)).export(tmp_path / "assets" / "doors" / "door.obj")
+    (tmp_path / "assets" / "plate.obj").write_text(
+        "v 0 0 0\nv 2 0 0\nv 2 0 1\nv 1 0 1\nv 1 0 2\nv 0 0 2\nf 6 5 4 3 2 1\n"
+    )
+    return tmp_path
+
+
+def _build(project, text, lot=(12, 8)):
+    path = project / "rules" / "house.cga"
+    path.write_text("@StartRule\n" + text)
+    return shapegen.load_grammar(path).build(lot=lot)
+
+
+def test_asset_is_found_in_the_project_and_fitted_to_the_scope(project):
+    model = _build(project, 'Lot --> extrude(4) split(x) { 3 : Door | ~1 : NIL }\n'
+                            'Door --> s(\'1, \'1, 0.2) i("doors/door.obj")')  # fmt: skip
+    (door,) = model.blocks
+    assert door.vertices.min(axis=0) == pytest.approx([0, 0, 0])
+    assert door.vertices.max(axis=0) == pytest.approx([3, 4, 0.2])
+    assert door.volume == pytest.approx(3 * 4 * 0.2)
+    assert door.rule_path == ("Lot", "Door")
+
+
+def test_open_asset_is_a_surface(project):
+    model = _build(project, 'Lot --> i("assets/plate.obj")')
+    assert not model.blocks
+    (plate,) = model.surfaces
+    assert plate.reason  # says why it is not a block
+    # fitted to the 12 x 8 lot: the L keeps three quarters of its bounding box
+    mesh = Mesh(plate.vertices, plate.faces)
+    assert mesh.area() == pytest.approx(0.75 * 12 * 8)
+
+
+def test_missing_asset_is_a_warning_naming_file_and_rule(project):
+    rules = "Lot --> extrude(2) split(x) { 6 : Gone | ~1 : Kept }\n"
+    rules += 'Gone --> i("assets/nothere.obj")\nKept --> i("builtin:cube")'
+    model = _build(project, rules)
+    assert len(model.blocks) == 1 and not model.surfaces
+    (warning,) = model.metadata["warnings"]
+    assert "'assets/nothere.obj' not found" in warning and "Lot -> Gone" in warning
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        ('i("assets/tree.fbx")', r"\.fbx assets are not read by shapegen; it reads \.obj"),
+        ('i("builtin:sphere")', r"shapegen has the built-in assets builtin:cube"),
+    ],
+)
+def test_asset_names_shapegen_cannot_read_are_load_errors(project, call, message):
+    with pytest.raises(GrammarError, match=message):
+        _build(project, f"Lot --> extrude(1) {call}")
+
+
+def test_builtin_cube_fills_the_scope_and_template_primitives_still_work(project):
+    model = _build(project, 'Lot --> extrude(3) split(x) { 4 : i("builtin:cube") C. | ~1 : '
+                            'i("box") B. }')  # fmt: skip
+    assert [b.volume for b in model.blocks] == pytest.approx([4 * 3 * 8, 8 * 3 * 8])
+
+
+def test_asset_names():
+    assert is_asset_name("assets/x.obj") and is_asset_name("builtin:cube")
+    assert is_asset_name("door.glb") and not is_asset_name("box") and not is_asset_name("arch")
+
+
+# ------------------------------------------------------------------------------ op_i fitting
+ASSET = Mesh.box((2.0, 4.0, 1.0)).transformed(None, (10.0, 20.0, 30.0))  # bbox (10, 20, 30)+
+
+
+def _scope(size):
+    return Scope(np.zeros(3), np.eye(3), np.asarray(size, float))
+
+
+def test_fit_all_sizes_scale_each_axis():
+    scope, mesh = fitted(ASSET, _scope((6, 2, 3)))
+    assert scope.size.tolist() == [6, 2, 3]
+    assert mesh.bounds()[0].tolist() == [0, 0, 0] and mesh.bounds()[1].tolist() == [6, 2, 3]
+
+
+def test_fit_zero_scope_keeps_the_asset_and_its_offset():
+    scope, mesh = fitted(ASSET, _scope((0, 0, 0)))
+    assert scope.size.tolist() == [2, 4, 1] and scope.origin.tolist() == [10, 20, 30]
+
+
+def test_fit_two_zero_sizes_scale_uniformly():
+    """op_i: only sy = 8 given (asset sy 4): scale 2 on every axis, the offsets scaled too."""
+    scope, _ = fitted(ASSET, _scope((0, 8, 0)))
+    assert scope.size.tolist() == [4, 8, 2]
+    assert scope.origin.tolist() == [20, 0, 60]
+
+
+def test_fit_one_zero_size_takes_the_mean_scale():
+    """op_i: sz = (sx/asset.sx + sy/asset.sy) * 0.5 * asset.sz = (3/2 + 2/4) / 2 * 1 = 1."""
+    scope, _ = fitted(ASSET, _scope((3, 2, 0)))
+    assert scope.size.tolist() == [3, 2, 1.0] and scope.origin.tolist() == [0, 0, 0]
+
+
+# ------------------------------------------------------------------------------ primitives
+@pytest.fixture(scope="module")
+def program():
+    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program
+
+
+def _primitive(program, name, *numbers, size=(2.0, 3.0, 2.0)):
+    node = ast.Operation(name, tuple(ast.OperationArgument("plain", ast.Number(float(v)))
+                                     for v in numbers))  # fmt: skip
+    state = root_state(Derivation(program, seed=0), Shape(_scope(size), MASS), {}, ())
+    assert compiler_for(name)(program, node, {})(state, (), []) is True
+    return state.shape
+
+
+def _polygon_area(n: int, radius: float) -> float:
+    return 0.5 * n * radius * radius * math.sin(2 * math.pi / n)
+
+
+@pytest.mark.parametrize(
+    "name, numbers, volume",
+    [
+        ("primitiveCube", (), 2 * 3 * 2),
+        ("primitiveCube", (1, 2, 3), 6),
+        ("primitiveCylinder", (), _polygon_area(16, 1.0) * 3),
+        ("primitiveCylinder", (8, 0.5, 2), _polygon_area(8, 0.5) * 2),
+        ("primitiveCone", (), _polygon_area(16, 1.0) * 3 / 3),
+        ("primitiveCone", (6, 1, 1.5), _polygon_area(6, 1.0) * 1.5 / 3),
+    ],
+)
+def test_solid_primitives_have_their_closed_form_volume(program, name, numbers, volume):
+    shape = _primitive(program, name, *numbers)
+    mesh = shape.mesh()
+    assert mesh.is_closed and mesh.is_convex(1e-9)
+    assert mesh.volume() == pytest.approx(volume, rel=1e-9)
+
+
+def test_primitive_with_dimensions_sits_in_the_xz_centre_on_y0(program):
+    lo, hi = _primitive(program, "primitiveCylinder", 8, 0.5, 2).mesh().bounds()
+    assert lo.tolist() == pytest.approx([0.5, 0, 0.5]) and hi.tolist() == pytest.approx(
+        [1.5, 2, 1.5]
+    )
+
+
+def test_sphere_is_a_closed_convex_solid_inside_its_sphere(program):
+    mesh = _primitive(program, "primitiveSphere", size=(2, 2, 2)).mesh()
+    assert mesh.is_closed and mesh.is_convex(1e-9)
+    assert 0.95 * 4 / 3 * math.pi < mesh.volume() < 4 / 3 * math.pi
+    assert _primitive(program, "primitiveSphere", 8, 4).mesh().n_vertices == 8 * 3 + 2
+
+
+@pytest.mark.parametrize(
+    "name, area", [("primitiveQuad", 4.0), ("primitiveDisk", _polygon_area(16, 1))]
+)
+def test_flat_primitives_lie_in_the_non_zero_plane(program, name, area):
+    lying = _primitive(program, name, size=(2, 0, 2))
+    standing = _primitive(program, name, size=(2, 2, 0))
+    assert lying.mesh().area() == pytest.approx(area) and lying.normal_axis == 1
+    assert standing.mesh().area() == pytest.approx(area) and standing.normal_axis == 2
+    assert np.ptp(standing.mesh().vertices[:, 2]) == 0  # flat in the scope's x-y plane
+    assert standing.mesh().face_normal(0) == pytest.approx([0, 0, 1])
+
+
+@pytest.mark.parametrize(
+    "name, numbers, message",
+    [
+        ("primitiveCylinder", (2,), r"sides is a whole number 3\.\.4096, got 2"),
+        ("primitiveSphere", (8, 1), r"divisions is a whole number 2\.\.4096, got 1"),
+        ("primitiveCube", (1, 2), r"takes 0 or 3 arguments, got 2"),
+        ("primitiveCube", (1, -2, 1), r"dimensions must be >= 0 m"),
+    ],
+)
+def test_primitive_errors(program, name, numbers, message):
+    with pytest.raises(GrammarError, match=message):
+        _primitive(program, name, *numbers)
+
+
+def test_templates_are_in_the_unit_box():
+    for kind in ("cube", "quad", "disk", "cylinder", "cone", "sphere"):
+        lo, hi = primitive_mesh(kind).bounds()
+        assert lo.tolist() == pytest.approx([0, 0, 0]) and hi.max() == pytest.approx(1.0)
