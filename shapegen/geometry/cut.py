@@ -15,7 +15,7 @@ __all__ = ["clip_half", "clip_slab"]
 
 import numpy as np
 
-from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.mesh import Mesh, polygon_area
 
 _REL = 1e-9  # points closer than this times the mesh size to the plane lie on it
 
@@ -49,7 +49,8 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
         return index
 
     faces = []
-    for face in mesh.faces:
+    normals = mesh.face_normals()
+    for k, face in enumerate(mesh.faces):
         ring: list[int] = []
         for a, b in zip(face, face[1:] + face[:1], strict=True):
             if depth[a] >= -eps:
@@ -57,8 +58,15 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
             if (depth[a] > eps and depth[b] < -eps) or (depth[a] < -eps and depth[b] > eps):
                 ring.append(crossing(a, b))
         ring = _without_repeats(ring)
-        if len(ring) >= 3:
-            faces.append(tuple(ring))
+        if len(ring) < 3:
+            continue
+        flags = [i >= len(depth) or abs(depth[i]) <= eps for i in ring]
+        # the direction along the cut in which the kept part's boundary runs (interior on the
+        # left): t = d x n, d the kept side, n the face normal
+        side = np.zeros(3)
+        side[axis] = sign
+        along = np.cross(side, normals[k])
+        faces.extend(_split_at_bridges(ring, flags, points, along))
     if not faces:
         return None
     vertices = np.array(points)
@@ -85,6 +93,58 @@ def _without_repeats(ring: list[int]) -> list[int]:
     return out
 
 
+def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
+    """The polygons of a clipped ring: the ring is cut at its edges lying on the cut plane
+    (where a non-convex face left several parts joined by zero-width bridges), and the chains
+    in between are joined again along the cut in the boundary's direction ``along``."""
+    n = len(ring)
+    if all(flags):  # a face lying on the cut: the cap replaces it
+        return []
+    on_edges = [flags[k] and flags[(k + 1) % n] for k in range(n)]
+    if not any(on_edges) or float(np.linalg.norm(along)) == 0:
+        return [tuple(ring)] if len(ring) >= 3 else []
+    start = (on_edges.index(True) + 1) % n  # a chain begins after an edge on the plane
+    chains: list[list[int]] = []
+    current: list[int] = []
+    for step in range(n):
+        k = (start + step) % n
+        current.append(ring[k])
+        if on_edges[k]:
+            chains.append(current)
+            current = []
+    if current:
+        chains.append(current)
+    chains = [c for c in chains if len(c) >= 2]
+    if not chains:
+        return []
+    position = {i: float(np.asarray(points[i]) @ along) for c in chains for i in (c[0], c[-1])}
+    starts = sorted(range(len(chains)), key=lambda c: position[chains[c][0]])
+    link: dict[int, int] = {}
+    free = list(starts)
+    for c in sorted(range(len(chains)), key=lambda c: position[chains[c][-1]]):
+        end = position[chains[c][-1]]
+        choice = next((s for s in free if position[chains[s][0]] >= end - 1e-12), None)
+        if choice is None:
+            choice = free[0]
+        free.remove(choice)
+        link[c] = choice
+    polygons = []
+    seen: set[int] = set()
+    for first in range(len(chains)):
+        if first in seen:
+            continue
+        polygon: list[int] = []
+        c = first
+        while c not in seen:
+            seen.add(c)
+            polygon.extend(chains[c])
+            c = link[c]
+        polygon = _without_repeats(polygon)
+        if len(polygon) >= 3:
+            polygons.append(tuple(polygon))
+    return polygons
+
+
 def _caps(faces: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
     """Faces closing the boundary loops of a clipped closed mesh (each boundary edge turned
     around, chained into loops)."""
@@ -108,6 +168,11 @@ def _caps(faces: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
 
 
 def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
+    """The mesh of the faces with area (a bridge left along an earlier cut has none), or None."""
+    span = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
+    faces = [f for f in faces if polygon_area(vertices[list(f)]) > _REL * span * span]
+    if not faces:
+        return None
     used: dict[int, int] = {}
     remapped = [tuple(used.setdefault(i, len(used)) for i in face) for face in faces]
     mesh = Mesh(vertices[list(used)], remapped)

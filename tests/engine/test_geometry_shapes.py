@@ -1,0 +1,192 @@
+"""Shapes with geometry: polygon lots, extrude, split, comp and the leaves they make.
+
+The face order and vertices of an extruded L-shaped lot are PyPRT's (CityEngine's runtime, run on
+the corpus package extrusion_rule with this lot: see tools/cga_reference.py for the set-up).
+"""
+
+import numpy as np
+import pytest
+
+import shapegen
+from shapegen.engine.shape import (
+    FACE,
+    MASS,
+    Shape,
+    extrude_shape,
+    lot_shape,
+    shape_geometry_value,
+    split_piece,
+)
+from shapegen.errors import GrammarError
+
+L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
+
+# PyPRT: the L lot above extruded (its rule extrudes 15.46 m; the vertices' y is scaled to 1 here)
+PYPRT_L_FACES = [
+    ((0, -1, 0), [(4, 0, 0), (0, 0, 0), (0, 0, -4), (2, 0, -4), (2, 0, -2), (4, 0, -2)]),
+    ((0, 1, 0), [(0, 1, 0), (4, 1, 0), (4, 1, -2), (2, 1, -2), (2, 1, -4), (0, 1, -4)]),
+    ((0, 0, 1), [(0, 0, 0), (4, 0, 0), (4, 1, 0), (0, 1, 0)]),
+    ((1, 0, 0), [(4, 0, 0), (4, 0, -2), (4, 1, -2), (4, 1, 0)]),
+    ((0, 0, -1), [(4, 0, -2), (2, 0, -2), (2, 1, -2), (4, 1, -2)]),
+    ((1, 0, 0), [(2, 0, -2), (2, 0, -4), (2, 1, -4), (2, 1, -2)]),
+    ((0, 0, -1), [(2, 0, -4), (0, 0, -4), (0, 1, -4), (2, 1, -4)]),
+    ((-1, 0, 0), [(0, 0, -4), (0, 0, 0), (0, 1, 0), (0, 1, -4)]),
+]
+
+
+def _state(shape):
+    class Run:
+        object_rotation = None
+
+    class State:
+        pass
+
+    state = State()
+    state.shape = shape
+    state.run = Run()
+    return state
+
+
+def test_extruded_l_lot_matches_pyprt_face_by_face():
+    start, metadata = lot_shape(L_LOT)
+    assert metadata["lot_polygon"] == [[float(x), float(z)] for x, z in L_LOT]
+    mass = extrude_shape(start, 1.0, cityengine_scope=True)
+    world = mass.world_mesh()
+    assert world.n_faces == len(PYPRT_L_FACES)
+    for k, (normal, points) in enumerate(PYPRT_L_FACES):
+        assert np.allclose(world.face_normal(k), normal), k
+        assert np.allclose(world.face_points(k), points), k
+    assert np.allclose(mass.scope.origin, [0, 0, -4]) and np.allclose(mass.scope.size, [4, 1, 4])
+    assert world.volume() == pytest.approx(12.0)
+
+
+def test_a_box_keeps_pyprts_face_order_on_the_fast_path():
+    # PyPRT on the 12 x 8 m lot: bottom, top, then +z, +x, -z, -x (the lot's first edge on +z)
+    model = shapegen.parse_grammar(
+        "@StartRule\nLot --> extrude(2) comp(f) { 0 : A | 1 : B | 2 : C | 3 : D | 4 : E | 5 : F }\n"
+    ).build(lot=(12, 8))
+    normals = [s.vertices for s in model.surfaces]
+    centre = np.array([6, 1, 4])
+    expected = [(0, -1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 0), (0, 0, -1), (-1, 0, 0)]
+    for vertices, direction in zip(normals, expected, strict=True):
+        offset = vertices.mean(axis=0) - centre
+        assert np.allclose(offset / np.linalg.norm(offset), direction)
+
+
+def test_rectangle_polygon_lot_is_the_fast_path():
+    rectangle, meta = lot_shape([(0, 3), (5, 3), (5, 0), (0, 0)])
+    assert rectangle.geometry is None
+    assert np.allclose(rectangle.scope.size, [5, 0, 3]) and meta["lot"] == [5.0, 3.0]
+    grammar = shapegen.parse_grammar("@StartRule\nLot --> extrude(2) split(x) { ~1 : S }*\n")
+    a = grammar.build(lot=(5, 3))
+    b = grammar.build(lot=[(0, 3), (5, 3), (5, 0), (0, 0)])
+    assert [bl.vertices.tolist() for bl in a.blocks] == [bl.vertices.tolist() for bl in b.blocks]
+
+
+@pytest.mark.parametrize(
+    "axis, start, size, volume",
+    [(0, 0, 1, 4), (0, 1, 2, 6), (0, 2.5, 1.5, 3), (1, 0.25, 0.5, 6), (2, 0, 2, 4)],
+)
+def test_split_of_an_l_prism_has_the_closed_form_volume(axis, start, size, volume):
+    start_shape, _ = lot_shape(L_LOT)
+    mass = extrude_shape(start_shape, 1.0, True)
+    piece = split_piece(mass, axis, start, size)
+    mesh = piece.mesh()
+    assert mesh.is_closed
+    assert mesh.volume() == pytest.approx(volume)
+    low, high = mesh.bounds()
+    assert np.allclose(low, 0) and np.allclose(high, piece.scope.size)
+
+
+def test_split_drops_pieces_without_geometry():
+    # a U: its two arms (z < -1) have the gap 2 < x < 4 between them; the gap piece of a split
+    # of the arms has no geometry and is dropped, and split.total counts the pieces made
+    u_lot = [(0, 0), (6, 0), (6, -4), (4, -4), (4, -1), (2, -1), (2, -4), (0, -4)]
+    grammar = shapegen.parse_grammar(
+        "@StartRule\nLot --> extrude(1) split(z) { 3 : Arms | ~1 : NIL }\n"
+        "Arms --> split(x) { 2 : A | 2 : Gap | ~1 : A }\n"
+        'A --> report("total", split.total) Stone\nGap --> report("gap", 1)\n'
+    )
+    model = grammar.build(lot=u_lot)
+    assert "gap" not in model.metadata["reports"]
+    assert model.metadata["reports"]["total"] == [2.0, 2.0]
+    assert [b.volume for b in model.blocks] == pytest.approx([6.0, 6.0])
+
+
+def test_leaves_become_blocks_or_surfaces_with_a_reason():
+    model = shapegen.parse_grammar("@StartRule\nLot --> extrude(2) Mass\n").build(lot=L_LOT)
+    assert model.blocks == []
+    (surface,) = model.surfaces
+    assert surface.reason == "not convex"
+    model = shapegen.parse_grammar("@StartRule\nLot --> Flat\n").build(lot=L_LOT)
+    assert [s.reason for s in model.surfaces] == ["a face (no volume)"]
+
+
+def test_comp_merge_makes_one_shape_of_the_selected_faces():
+    model = shapegen.parse_grammar(
+        "@StartRule\nLot --> extrude(2) comp(f) { side = Walls | all : NIL }\n"
+    ).build(lot=L_LOT)
+    (walls,) = model.surfaces
+    assert len(walls.faces) == 6
+    area = sum(
+        0.5
+        * np.linalg.norm(np.cross(*(walls.vertices[list(f)][1:3] - walls.vertices[list(f)][0])))
+        * 2
+        for f in walls.faces
+    )
+    assert area == pytest.approx(2 * 16)  # perimeter 16 m, height 2 m
+
+
+def test_bad_polygon_lots_are_one_line():
+    grammar = shapegen.parse_grammar("@StartRule\nLot --> extrude(1) S\n")
+    with pytest.raises(GrammarError, match="clockwise"):
+        grammar.build(lot=list(reversed(L_LOT)))
+    with pytest.raises(GrammarError, match="no area"):
+        grammar.build(lot=[(0, 0), (1, 0), (2, 0)])
+
+
+def test_cityengine_extrude_of_a_comp_face_turns_the_scope(tmp_path):
+    text = "@StartRule\nLot --> extrude(3) comp(f) { front : Wall }\nWall --> extrude(0.5) W\n"
+    cga = tmp_path / "wall.cga"
+    cga.write_text(text)
+    grammar_file = tmp_path / "wall.grammar"
+    grammar_file.write_text(text)
+    for path in (cga, grammar_file):
+        model = shapegen.load_grammar(str(path)).build(lot=(4, 2))
+        (block,) = model.blocks
+        assert block.volume == pytest.approx(4 * 3 * 0.5)
+        low, high = block.vertices.min(axis=0), block.vertices.max(axis=0)
+        assert np.allclose(low, [0, 0, 2]) and np.allclose(high, [4, 3, 2.5])
+    # the scope's y axis is the face normal for the .cga file (op_extrude)
+    face = Shape(shapegen.engine.shape.lot_scope(4, 3), FACE, 1)
+    box = extrude_shape(face, 3, True)
+    assert box.kind == MASS and box.geometry is None
+
+
+def test_geometry_queries():
+    start, _ = lot_shape(L_LOT)
+    mass = extrude_shape(start, 2.0, True)
+    state = _state(mass)
+    assert shape_geometry_value(state, "volume") == pytest.approx(24.0)
+    assert shape_geometry_value(state, "area") == pytest.approx(2 * 12 + 16 * 2)
+    assert shape_geometry_value(state, "area", "top") == pytest.approx(12.0)
+    assert shape_geometry_value(state, "area", "world.north") == pytest.approx(2 * 4)
+    assert shape_geometry_value(state, "nVertices") == 12.0
+    assert shape_geometry_value(state, "nFaces") == 8.0
+    assert shape_geometry_value(state, "nEdges") == 18.0
+    assert shape_geometry_value(state, "height") == pytest.approx(2.0)
+    assert shape_geometry_value(state, "isClosedSurface") is True
+    assert shape_geometry_value(state, "isConcave") is True
+    assert shape_geometry_value(_state(start), "isRectangular", 0) is False
+    assert shape_geometry_value(state, "angle", "maxSlope") == pytest.approx(90.0)
+    with pytest.raises(ValueError, match="not supported"):
+        shape_geometry_value(state, "nonsense")
+
+
+def test_s_scales_the_geometry_with_the_scope():
+    model = shapegen.parse_grammar("@StartRule\nLot --> extrude(1) s('0.5, '2, '1) Mass\n").build(
+        lot=L_LOT
+    )
+    (surface,) = model.surfaces
+    low, high = surface.vertices.min(axis=0), surface.vertices.max(axis=0)
+    assert np.allclose(low, [0, 0, -4]) and np.allclose(high, [2, 2, 0])
