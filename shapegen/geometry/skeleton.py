@@ -119,6 +119,14 @@ class _Builder:
         self.times: list[float] = [0.0] * n
         self.arcs: list[tuple[int, int, int, int]] = []  # node, node, side, side (-1: none)
 
+    def add_wall(self, point: np.ndarray, direction: np.ndarray) -> int:
+        """A line that stays put (weight 0) through ``point`` along ``direction``: the step
+        between two collinear edges that move at different speeds."""
+        self.u = np.vstack([self.u, direction])
+        self.normal = np.vstack([self.normal, [-direction[1], direction[0]]])
+        self.weights = np.append(self.weights, 0.0)
+        return len(self.weights) - 1
+
     def node(self, pos: np.ndarray, t: float) -> int:
         self.nodes.append(pos.copy())
         self.times.append(t)
@@ -139,6 +147,10 @@ class _Builder:
             return na * 0.5 * (self.weights[a] + self.weights[b])
         return np.zeros(2)  # a zero-width spike; cleanup retracts it before it moves
 
+    def growing(self, a: _Vertex, b: _Vertex) -> bool:
+        """Whether the edge from ``a`` to ``b`` lengthens (a step just born between them)."""
+        return (self.velocity(b) - self.velocity(a)) @ self.u[a.e_out] > _PARALLEL
+
     def reflex(self, vertex: _Vertex) -> bool:
         ua, ub = self.u[vertex.e_in], self.u[vertex.e_out]
         return ua[0] * ub[1] - ua[1] * ub[0] < -_PARALLEL
@@ -152,7 +164,7 @@ class _Builder:
             changed = False
             for i in range(len(loop)):
                 a, b = loop[i], loop[(i + 1) % len(loop)]
-                if np.linalg.norm(a.pos - b.pos) <= self.eps:
+                if np.linalg.norm(a.pos - b.pos) <= self.eps and not self.growing(a, b):
                     loop = self.merge(loop, i, t)
                     changed = True
                     break
@@ -308,8 +320,9 @@ class _Builder:
         n = len(self.polygon)
         by_side: dict[int, list[tuple[int, int]]] = {k: [] for k in range(n)}
         for a, b, s1, s2 in self.arcs:
-            for side in {s1, s2} - {-1}:
-                by_side[side].append((a, b))
+            for side in {s1, s2}:
+                if 0 <= side < n:  # not the walls added between collinear edges
+                    by_side[side].append((a, b))
         out = []
         for k in range(n):
             start, goal = k, (k + 1) % n
@@ -356,7 +369,19 @@ def straight_skeleton(polygon, weights=None, until: float | None = None) -> Skel
     if np.any(weights < 0) or not np.all(np.isfinite(weights)):
         raise GeometryError("straight skeleton weights must be finite and >= 0")
     builder = _Builder(polygon, weights)
-    loop = [_Vertex(k, polygon[k].copy(), (k - 1) % n, k) for k in range(n)]
+    loop = []
+    for k in range(n):
+        a = (k - 1) % n
+        ua, ub = builder.u[a], builder.u[k]
+        collinear = abs(ua[0] * ub[1] - ua[1] * ub[0]) <= _PARALLEL and ua @ ub > 0
+        if collinear and weights[a] != weights[k]:
+            # The faster edge runs ahead: a step grows between them along the inward normal.
+            inward = builder.normal[k] * np.sign(weights[k] - weights[a])
+            wall = builder.add_wall(polygon[k], inward)
+            loop.append(_Vertex(k, polygon[k].copy(), a, wall))
+            loop.append(_Vertex(k, polygon[k].copy(), wall, k))
+        else:
+            loop.append(_Vertex(k, polygon[k].copy(), a, k))
     fronts = builder.run(loop, until)
     faces = builder.faces()
     return Skeleton(

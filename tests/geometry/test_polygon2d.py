@@ -131,3 +131,46 @@ def test_inner_rectangle_of_an_l_and_a_triangle():
 def test_bad_input_is_one_clear_error(call, message):
     with pytest.raises(GeometryError, match=message):
         call()
+
+
+def test_collinear_edges_set_back_by_different_distances_make_a_step():
+    s = P.setback([(0, 0), (6, 0), (12, 0), (12, 8), (0, 8)], [1, 3, 0, 0, 0])
+    strips = dict(s.strips)
+    assert P.signed_area(strips[0]) == pytest.approx(6 * 1)
+    assert P.signed_area(strips[1]) == pytest.approx(6 * 3)
+    assert P.signed_area(s.remainder[0]) == pytest.approx(96 - 6 - 18)
+
+
+def _random_polygons(count, seed):
+    """Star-shaped simple polygons, every third snapped to a 1 m grid (collinear edges, equal
+    lengths, simultaneous events)."""
+    import shapely
+
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < count:
+        n = int(rng.integers(3, 12))
+        angle = np.sort(rng.uniform(0, 2 * np.pi, n))
+        radius = rng.uniform(3, 10, n)
+        points = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+        if len(out) % 3 == 0:
+            points = np.round(points)
+        points = P.counter_clockwise(points)
+        if len(points) >= 3 and shapely.Polygon(points).is_valid:
+            out.append(
+                (points, rng.uniform(0, 2, len(points)) * (rng.uniform(size=len(points)) < 0.6))
+            )
+    return out
+
+
+@pytest.mark.parametrize("polygon, distances", _random_polygons(40, seed=7))
+def test_random_polygons_skeleton_offset_and_setback_tile_the_face(polygon, distances):
+    area = P.signed_area(polygon)
+    s = straight_skeleton(polygon)
+    assert sum(P.signed_area(s.face_points(k)) for k in range(len(polygon))) == pytest.approx(area)
+    o = P.offset(polygon, -1.0)
+    inside = sum(map(P.signed_area, o.inside))
+    assert inside + sum(map(P.signed_area, o.border)) == pytest.approx(area)
+    b = P.setback(polygon, distances)
+    kept = sum(P.signed_area(r) for r in b.remainder)
+    assert kept + sum(P.signed_area(p) for _, p in b.strips) == pytest.approx(area)
