@@ -205,3 +205,43 @@ def test_checked_polygon_accepts_arrays():
     assert checked_polygon(np.array([[0, 1], [1, 1], [1, 0]]), "test") == [
         (0.0, 1.0), (1.0, 1.0), (1.0, 0.0)
     ]  # fmt: skip
+
+
+# ------------------------------------------------------------------------------ end to end
+def _blocks(path):
+    return json.loads(path.read_text())["blocks"]
+
+
+def test_a_rectangle_polygon_builds_the_width_by_depth_model(tmp_path):
+    """CityEngine's 12 x 8 lot: corners counter-clockwise from above, first edge along +x."""
+    polygon, rectangle = tmp_path / "polygon.json", tmp_path / "rectangle.json"
+    assert main(["build", "wall_windows.grammar", "--lot", "0,8 12,8 12,0 0,0", "-q",
+                 "-o", str(polygon)]) == 0  # fmt: skip
+    assert main(["build", "wall_windows.grammar", "--lot", "12x8", "-q", "-o", str(rectangle)]) == 0
+    assert _blocks(polygon) == _blocks(rectangle)
+
+
+def test_a_geojson_lot_builds_on_its_footprint(tmp_path):
+    grammar = tmp_path / "mass.grammar"
+    grammar.write_text("@StartRule\nLot --> extrude(3) Mass.\n")
+    collection = {"type": "FeatureCollection",
+                  "features": [_feature(_lonlat_rectangle(), feature_id="plot-1")]}  # fmt: skip
+    lots = _write(tmp_path / "lots.geojson", collection)
+    report = tmp_path / "report.json"
+    assert main(["build", str(grammar), "--lot", f"{lots}#plot-1", "-q",
+                 "--report", str(report)]) == 0  # fmt: skip
+    built = json.loads(report.read_text())
+    assert built["blocks"] == 1 and built["volume"] == pytest.approx(12 * 8 * 3, rel=1e-4)
+
+
+def test_an_l_shaped_lot_is_a_surface_and_says_so(tmp_path, capsys):
+    grammar = tmp_path / "mass.grammar"
+    grammar.write_text("@StartRule\nLot --> extrude(3) Mass.\n")
+    report = tmp_path / "report.json"
+    assert main(["build", str(grammar), "--lot", "0,10 10,10 10,6 4,6 4,0 0,0",
+                 "--report", str(report)]) == 0  # fmt: skip
+    out = capsys.readouterr().out
+    assert "left out: 1 leaf not judged by the statics: 1 not convex" in out
+    assert json.loads(report.read_text())["left_out"] == {
+        "leaves": 1, "by_reason": {"not convex": 1}
+    }  # fmt: skip

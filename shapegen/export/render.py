@@ -33,6 +33,7 @@ CREASE_DEGREES = 30.0  # a fold within one block sharper than this is drawn as a
 AMBIENT = 0.55  # share of the light that reaches every face, whatever its direction
 EDGE_SHADE = 0.3  # an edge pixel keeps this share of its colour (darker = stronger lines)
 GROUND_RGB = np.array([236.0, 233.0, 224.0])
+SURFACE_BIAS = 1e-4  # surfaces are drawn this share of the model's size nearer the eye
 MAX_SAMPLES = 40_000_000  # depth-buffer samples at most (about 1 GB of buffers)
 _CHUNK_ROWS = 1 << 17  # triangle rows per rasterizer pass: bounds the memory
 
@@ -144,6 +145,9 @@ def render_blocks(
         paint = _surface_paint(surface_colors, len(model.surfaces))
         colors = np.vstack([colors, paint])
         sheet_xy, sheet_depth = project(sheets.reshape(-1, 3))
+        # A surface lying on a block's face (a roof plane, a comp face kept as a leaf) is
+        # drawn over it rather than fighting it sample by sample.
+        sheet_depth = sheet_depth - SURFACE_BIAS * float(np.ptp(everything, axis=0).max())
         tri_xy = np.concatenate([tri_xy, sheet_xy.reshape(-1, 3, 2)])
         tri_depth = np.concatenate([tri_depth, sheet_depth.reshape(-1, 3)])
         triangle_face = np.concatenate([triangle_face, len(face_block) + np.arange(len(sheets))])

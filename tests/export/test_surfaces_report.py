@@ -4,8 +4,10 @@ line; warnings of the derivation are listed."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from shapegen.cli.display import left_out_line, print_build
+from shapegen.geometry.mesh import Mesh
 from shapegen.model import Model
 from shapegen.model.appearance import Surface
 from shapegen.model.block import Block
@@ -52,3 +54,30 @@ def test_print_build_shows_the_line_and_the_warnings(capsys):
     lines = [line for line in out.splitlines() if "not judged" in line]
     assert len(lines) == 1 and "1 a face (no volume), 1 not convex" in lines[0]
     assert "warning: asset 'assets/door.obj' not found" in out
+
+
+def test_a_written_model_keeps_its_surfaces_and_is_analyzed_again(tmp_path):
+    """build writes the roof face as a surface; analyze of the written file gives the same
+    verdict and reads the surface back."""
+    import json
+
+    from shapegen.cli import main
+    from shapegen.export.model_io import read_model
+
+    grammar = tmp_path / "roofed.grammar"
+    grammar.write_text("@StartRule\nLot --> extrude(3) [ comp(f) { top : Roof. } ] Box.\n")
+    for suffix in (".json", ".glb"):
+        model, first, second = (tmp_path / f"model{suffix}", tmp_path / f"r1{suffix}.json",
+                                tmp_path / f"r2{suffix}.json")  # fmt: skip
+        assert main(["build", str(grammar), "--lot", "12,8", "--analyze", "-q", "-o", str(model),
+                     "--report", str(first)]) == 0  # fmt: skip
+        back = read_model(model)
+        assert len(back.blocks) == 1 and [s.reason for s in back.surfaces] == ["a face (no volume)"]
+        assert Mesh(back.surfaces[0].vertices, back.surfaces[0].faces).area() == pytest.approx(96)
+        assert main(["analyze", str(model), "-q", "--report", str(second)]) == 0
+        built, analyzed = json.loads(first.read_text()), json.loads(second.read_text())
+        assert built["left_out"]["by_reason"] == {"a face (no volume)": 1}
+        assert analyzed["stands"] is built["analysis"]["stands"] is True
+        assert analyzed["infeasibility"] == pytest.approx(
+            built["analysis"]["infeasibility"], rel=1e-6, abs=1e-6
+        )
