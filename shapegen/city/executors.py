@@ -149,16 +149,16 @@ class LocalProcesses:
                         record = self._lost(worker, settings)
                         worker = self._replace(workers, worker, settings)
                     worker.task = None
-                    yield record
-                    if pending:
+                    if pending:  # before the record is written, so the worker never waits
                         worker.give(pending.pop())
+                    yield record
                 for worker in list(workers):
                     if worker.task is not None and self._overdue(worker, settings):
                         task, seconds = worker.task, time.perf_counter() - worker.started
                         worker = self._replace(workers, worker, settings)
-                        yield _timeout_record(task, settings, seconds)
                         if pending:
                             worker.give(pending.pop())
+                        yield _timeout_record(task, settings, seconds)
         finally:
             for worker in workers:
                 worker.stop(kill=worker.task is not None)

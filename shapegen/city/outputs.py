@@ -62,9 +62,9 @@ def lot_key(lot_id: str) -> str:
     return f"{safe}-{hashlib.blake2b(lot_id.encode(), digest_size=4).hexdigest()}"
 
 
-def write_json(path: Path, document) -> None:
+def write_json(path: Path, document, *, indent: int | None = 1) -> None:
     with atomic_write(path) as handle:
-        json.dump(json_ready(document), handle, indent=1, allow_nan=False)
+        json.dump(json_ready(document), handle, indent=indent, allow_nan=False)
         handle.write("\n")
 
 

@@ -23,6 +23,7 @@ from shapegen.city.lots import City
 from shapegen.city.outputs import lot_key, read_record, write_json, write_tables
 from shapegen.city.work import CitySettings, LotTask, lot_seed, new_record
 from shapegen.errors import InputFormatError, OptionError
+from shapegen.export.atomic import atomic_write
 from shapegen.json_values import json_ready
 
 RUN_FORMAT = "shapegen-city"
@@ -261,5 +262,6 @@ def _save(folder: Path, record: dict) -> None:
     key = lot_key(record["id"])
     model = record.get("model")
     if model is not None:
-        write_json(folder / "lots" / f"{key}.blocks.json", model)
+        with atomic_write(folder / "lots" / f"{key}.blocks.json", "wb") as handle:
+            handle.write(model)
     write_json(folder / "lots" / f"{key}.json", {k: v for k, v in record.items() if k != "model"})

@@ -20,6 +20,7 @@ from __future__ import annotations
 __all__ = ["CitySettings", "LotTask", "lot_seed", "new_record", "run_lot", "timeout_message"]
 
 import hashlib
+import json
 import math
 import os
 import time
@@ -108,7 +109,7 @@ def run_lot(settings: CitySettings, task: LotTask) -> dict:
     the rule's ranged attrs as built, optimized ones included), ``from_properties`` (attrs the
     lot's properties set), ``seed``, ``footprint``, ``lot`` (width, depth, m), ``seconds``,
     ``error``, ``peak_rss_mib`` (the worker's peak so far) and, for a built lot, ``model``: the
-    placed blocks as a shapegen-blocks document.
+    placed blocks as shapegen-blocks JSON (UTF-8 bytes).
     """
     started = time.perf_counter()
     seed = lot_seed(task.id, settings.seed)
@@ -165,6 +166,7 @@ def timeout_message(timeout: float) -> str:
 
 def _run(settings: CitySettings, task: LotTask, seed: int, started: float, record: dict) -> None:
     from shapegen.export.blocks_json import model_to_dict
+    from shapegen.json_values import json_ready
     from shapegen.limits import current_limits, work_limits
     from shapegen.pipeline import design
 
@@ -215,7 +217,9 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
     record["attrs"] = {name: _number(built.get(name)) for name in names if name in built}
     if outcome.optimization is not None:
         record["iterations"] = outcome.optimization.iterations
-    record["model"] = model_to_dict(outcome.model)
+    # Encoded here, in parallel, rather than by the one parent that writes every lot's files.
+    document = json_ready(model_to_dict(outcome.model))
+    record["model"] = json.dumps(document, allow_nan=False).encode("utf-8")
 
 
 def _input_error(message: str):
