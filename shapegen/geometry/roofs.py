@@ -12,12 +12,22 @@ edge, as CityEngine builds them:
   with weight 0 on them): the ends of a rectangle's ridge, each wing end of an L;
 - :func:`roof_shed`: one plane rising from edge ``index``, vertical sides, a top;
 - :func:`roof_pyramid`: the vertex average raised, joined to every edge;
-- :func:`taper`: the area centroid raised, joined to every edge.
+- :func:`taper`: the area centroid raised, joined to every edge;
+- :func:`envelope`: walls to a base height, then planes sloping inward at each edge's angle
+  (a skeleton whose edges move at ``cot(angle)``), cut flat at a maximum height.
 """
 
 from __future__ import annotations
 
-__all__ = ["RoofMesh", "roof_hip", "roof_gable", "roof_shed", "roof_pyramid", "taper"]
+__all__ = [
+    "RoofMesh",
+    "roof_hip",
+    "roof_gable",
+    "roof_shed",
+    "roof_pyramid",
+    "taper",
+    "envelope",
+]
 
 import math
 from dataclasses import dataclass
@@ -285,3 +295,51 @@ def taper(polygon, height: float) -> RoofMesh:
     if height < 0:  # downward: turn every face so they still face outward
         mesh = RoofMesh(mesh.vertices, tuple(f[::-1] for f in mesh.faces), mesh.tags)
     return mesh
+
+
+def envelope(polygon, max_height: float, base_heights, angles) -> RoofMesh:
+    """CGA's ``envelope``: each edge ``k`` a wall up to ``base_heights[k]`` (m), then a plane
+    sloping inward at ``angles[k]`` (degrees, 90 = vertical), all cut at ``max_height`` (m).
+
+    The sloped edges must share one base height (the planes then meet along a weighted
+    straight skeleton); vertical edges (90 degrees) may have any.
+    """
+    p = checked_polygon(polygon)
+    n = len(p)
+    base = np.asarray(base_heights, float).reshape(n)
+    angle = np.asarray(angles, float).reshape(n)
+    if not (math.isfinite(max_height) and max_height > 0):
+        raise GeometryError(f"envelope's maximum height must be > 0, got {max_height}")
+    if not np.all(np.isfinite(base)) or np.any(base < 0):
+        raise GeometryError("envelope base heights must be finite numbers >= 0")
+    if not np.all((angle > 0) & (angle <= 90)):
+        raise GeometryError("envelope angles must be in (0, 90] degrees")
+    sloped = angle < 90
+    heights = np.unique(np.round(base[sloped], 12))
+    if len(heights) > 1:
+        raise GeometryError(
+            "envelope with different base heights on its sloped sides is not supported "
+            f"(got {', '.join(f'{h:g}' for h in heights)} m)"
+        )
+    start = min(float(heights[0]) if len(heights) else max_height, max_height)
+    welder = _Welder(float(max(np.ptp(p, axis=0).max(), max_height)))
+    _bottom(welder, p, "envelope.bottom")
+    if start > 0:
+        for k in range(n):
+            a, b = p[k], p[(k + 1) % n]
+            welder.face([(*a, 0.0), (*b, 0.0), (*b, start), (*a, start)], "envelope.side.base")
+    rise = max_height - start
+    if rise <= 0:
+        welder.face([(x, y, start) for x, y in p], "envelope.top")
+        return welder.mesh()
+    weights = np.where(sloped, 1.0 / np.tan(np.radians(np.where(sloped, angle, 45.0))), 0.0)
+    skeleton = straight_skeleton(p, weights=weights, until=rise)
+    for k in range(n):
+        ids = list(skeleton.faces[k])
+        points = np.column_stack([skeleton.nodes[ids], start + skeleton.times[ids]])
+        welder.face(points, "envelope.side.slope")
+    for loop in skeleton.fronts:
+        ids = list(loop)
+        welder.face(np.column_stack([skeleton.nodes[ids], start + skeleton.times[ids]]),
+                    "envelope.top")  # fmt: skip
+    return welder.mesh()

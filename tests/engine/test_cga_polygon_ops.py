@@ -263,3 +263,13 @@ def test_offset_faces_share_their_edges_so_comp_finds_inside_and_border(program)
     mesh = state.shape.mesh()
     assert mesh.n_vertices == 8  # the inner and outer rectangles' corners, each once
     assert border_faces(mesh) == [False, True, True, True, True]
+
+
+def test_envelope_on_the_lot(program):
+    operation = _operation("envelope", "world.up", 10, 3, 45, 3, 45, 3, 45)
+    state, _ = run(program, operation)
+    assert state.shape.kind == MASS
+    assert state.shape.scope.sy == pytest.approx(7)  # the slopes meet at 3 + 4 m
+    assert state.shape.mesh().volume() == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
+    with pytest.raises(GrammarError, match="4, 6, 8 or 10 arguments"):
+        run(program, _operation("envelope", "normal", 10, 3))

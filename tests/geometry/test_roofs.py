@@ -156,3 +156,24 @@ def test_roofs_match_pyprt(key):
     assert distance.min(axis=1).max() < 1e-5  # every vertex of ours is one of theirs
     assert distance.min(axis=0).max() < 1e-5  # and the other way round
     assert len(mesh.faces) - 1 == len(PYPRT[key]["faces"])  # one roof face per edge
+
+
+def test_envelope_of_a_rectangle():
+    # candler's ventilation: walls to 0.45 m, 45 degree slopes, cut at 0.6 m: a prism and a
+    # prismatoid h/6 (A_bottom + A_top + 4 A_middle).
+    mesh = R.envelope(RECT, 0.6, [0.45] * 4, [45] * 4)
+    h = 0.15
+    prismatoid = h / 6 * (96 + (12 - 2 * h) * (8 - 2 * h) + 4 * (12 - h) * (8 - h))
+    assert mesh.volume() == pytest.approx(96 * 0.45 + prismatoid)
+    assert mesh.tags.count("envelope.top") == 1
+    # the front (edge 0) alone slopes, from 3 m: a wedge cut off a 10 m box
+    mesh = R.envelope(RECT, 10, [3, 0, 0, 0], [45, 90, 90, 90])
+    assert mesh.volume() == pytest.approx(96 * 10 - 12 * 7 * 7 / 2)
+    # below the cut the slopes meet in a hip roof
+    mesh = R.envelope(RECT, 10, [3] * 4, [45] * 4)
+    assert mesh.volume() == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
+
+
+def test_envelope_refuses_different_sloped_base_heights():
+    with pytest.raises(GeometryError, match="different base heights"):
+        R.envelope(RECT, 10, [3, 2, 3, 3], [45] * 4)

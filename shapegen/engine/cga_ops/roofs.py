@@ -22,6 +22,7 @@ from shapegen.engine.cga_ops.polygons import (
     _number,
     _selector_name,
     _tagged,
+    edge_quadrants,
 )
 from shapegen.engine.expressions import type_name
 from shapegen.engine.shape import MASS, Shape
@@ -150,3 +151,77 @@ def compile_taper(program, node: ast.Operation, params):
         return True
 
     return taper_op
+
+
+_ENVELOPE_SIDES = {
+    2: ("front",),
+    4: ("front", "back"),
+    6: ("front", "back", "side"),
+    8: ("front", "back", "right", "left"),
+}
+
+
+@compiles("envelope")
+def compile_envelope(program, node: ast.Operation, params):
+    """``envelope(normal|world.up, maxHeight, frontBaseHeight, frontAngle[, back...[, side...
+    | right..., left...]])`` or ``envelope(direction, maxHeight, baseHeights, angles)``."""
+    if any(a.kind != "plain" for a in node.arguments):
+        raise program.error(node, "envelope() takes plain arguments only")
+    values = [a.value for a in node.arguments]
+    if len(values) - 2 not in _ENVELOPE_SIDES:
+        raise program.error(
+            node, f"envelope() takes 4, 6, 8 or 10 arguments, got {len(values)}"
+        )  # fmt: skip
+    direction = _selector_name(values[0])
+    if direction not in ("normal", "world.up"):
+        raise program.error(node, "envelope()'s direction is normal or world.up")
+    max_height = _number(program, node, values[1], params, "envelope maximum height")
+    pairs = [program.expressions.compile(v, params) for v in values[2:]]
+    sides = _ENVELOPE_SIDES[len(values) - 2]
+
+    def per_edge(value, n: int, default: float, what: str) -> np.ndarray:
+        if isinstance(value, (list, tuple)):
+            out = np.full(n, default)
+            for k, item in enumerate(value[:n]):
+                if type(item) is bool or not isinstance(item, (int, float)):
+                    raise program.error(node, f"envelope {what} must be numbers, got {item!r}")
+                out[k] = float(item)
+            return out
+        if type(value) is bool or not isinstance(value, (int, float)):
+            raise program.error(node, f"envelope {what} must be numbers, got {type_name(value)}")
+        return np.full(n, float(value))
+
+    def envelope_op(state, args, out):
+        top = max_height(args, state)
+        evaluated = [f(args, state) for f in pairs]
+        built = []
+        for frame, polygon in _flat_input(state, node, program, "envelope()"):
+            if direction == "world.up":
+                up = state.shape.scope.rotation @ frame.n
+                if up[1] < 1 - 1e-9:
+                    raise program.error(
+                        node, "envelope(world.up, ...) on a face that does not face up is not "
+                        "supported; use envelope(normal, ...)"
+                    )  # fmt: skip
+            n = len(polygon)
+            quadrants = edge_quadrants(frame, polygon)
+            if len(pairs) == 2 and isinstance(evaluated[0], (list, tuple)):
+                base = per_edge(evaluated[0], n, 0.0, "base heights")
+                angle = per_edge(evaluated[1], n, 90.0, "angles")
+            else:
+                base, angle = np.zeros(n), np.full(n, 90.0)
+                for side, k in zip(sides, range(0, len(evaluated), 2), strict=True):
+                    chosen = {"side": ("left", "right")}.get(side, (side,))
+                    mask = np.array([q in chosen for q in quadrants])
+                    base[mask] = per_edge(evaluated[k], 1, 0.0, "base heights")[0]
+                    angle[mask] = per_edge(evaluated[k + 1], 1, 90.0, "angles")[0]
+            try:
+                built.append((frame, roofs.envelope(polygon, top, base, angle)))
+            except GeometryError as exc:
+                raise program.error(node, f"envelope(): {exc}") from None
+        if not built:
+            return False
+        state.shape = roof_shape(state.shape, built)
+        return True
+
+    return envelope_op
