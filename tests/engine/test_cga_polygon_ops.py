@@ -273,3 +273,13 @@ def test_envelope_on_the_lot(program):
     assert state.shape.mesh().volume() == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
     with pytest.raises(GrammarError, match="4, 6, 8 or 10 arguments"):
         run(program, _operation("envelope", "normal", 10, 3))
+
+
+def test_footprint_of_a_roof_is_its_plan(program):
+    state, _ = run(program, _operation("roofHip", 30))
+    state, _ = run(program, _operation("footprint"), state)
+    shape = state.shape
+    assert shape.kind == FACE and shape.normal_axis == 1
+    assert shape.mesh().area() == pytest.approx(96)
+    assert shape.scope.sy == 0
+    assert np.allclose(shape.mesh().face_normals() @ [0, 1, 0], 1)

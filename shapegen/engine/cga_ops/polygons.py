@@ -446,3 +446,31 @@ def compile_inner_rectangle(program, node: ast.Operation, params):
         return True
 
     return inner_op
+
+
+@compiles("footprint")
+def compile_footprint(program, node: ast.Operation, params):
+    """``footprint()``: the shape's geometry projected on its scope's plane y = 0, as a flat
+    shape facing +y (the union of the projected faces)."""
+    _arguments(program, node, params, 0, 0)
+
+    def footprint_op(state, args, out):
+        mesh = state.shape.mesh()
+        # (x, -z) is counter-clockwise seen from +y.
+        plan = [
+            np.column_stack([p[:, 0], -p[:, 2]])
+            for p in (mesh.face_points(k) for k in range(mesh.n_faces))
+        ]
+        plan = [polygon2d.counter_clockwise(p) for p in plan if len(p) >= 3]
+        plan = [p for p in plan if len(p) >= 3 and polygon2d.signed_area(p) > 0]
+        if not plan:
+            return False
+        faces = [np.column_stack([p[:, 0], np.zeros(len(p)), -p[:, 1]]) for p in plan]
+        faces = [
+            np.column_stack([q[:, 0], np.zeros(len(q)), -q[:, 1]]) for q in polygon2d.union(plan)
+        ] or faces
+        shape = flat_shape(state.shape, faces)
+        state.shape = Shape(shape.scope, FACE, 1, None, shape.geometry)
+        return True
+
+    return footprint_op
