@@ -112,6 +112,7 @@ class Derivation:
         self.reports: dict[str, list] = {}
         # The start shape's axes: the frame of CGA's object.* selectors.
         self.object_rotation = None
+        self.start_shape: Shape | None = None  # what resetGeometry() goes back to
         self.started = time.monotonic()
         self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
 

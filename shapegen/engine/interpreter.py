@@ -141,6 +141,7 @@ class Program(AttributeValues, ShapeOperations):
         values = self.initial_values(attrs, seed, start_scope)
         run = Derivation(self, seed, max_depth, max_shapes)
         run.object_rotation = start_scope.rotation
+        run.start_shape = start
         root = root_state(run, start, values, ())
         root.rule_path = (self.start.name,)
         leaves: list[ShapeState] = []

@@ -1,3 +1,412 @@
-"""placeholder: filled by its owner"""
+"""CityEngine's scope and geometry operations (op_*.html of the CGA reference).
+
+- ``alignScopeToAxes([axes])``: the scope's axes parallel to the world's (``world.xyz``, the
+  default), the object's (``object.xyz``) or one of them (``y``, ``world.y``...: the second axis
+  projected as the reference says); the geometry stays where it is and the scope is refitted;
+- ``alignScopeToGeometry(yUp|zUp, face, edge)``: the up axis along a face's normal, x along one
+  of its edges (a face index, ``largest``, ``world.lowest`` or ``any``; an edge index,
+  ``longest`` or ``world.lowest``; negative indices count from the end);
+- ``rotateScope(x, y, z)``: the scope turned (degrees, x then y then z), the geometry not;
+- ``mirror(x, y, z)``: the geometry flipped inside its scope along the scope axes given true;
+- ``mirrorScope(x, y, z)``: the scope's axes flipped, the geometry not;
+- ``setPivot(xyz|yzx|zxy, corner)``: the scope's axes permuted and put at corner 0-7 of the
+  scope (0 the origin, 1 +x, 2 +x+z, 3 +z, 4-7 the same above), every axis pointing inside;
+- ``reverseNormals()``; ``cleanupGeometry(vertices|edges|faces|all, tolerance)`` merges
+  vertices closer than ``tolerance`` metres (0-1, as the reference's 1 m at 1) and drops
+  degenerate faces (shared edges of coplanar faces are kept);
+- ``resetGeometry()``: the start shape's geometry and scope;
+- ``trim()``: shapegen makes no trim planes, so there is nothing to apply (the shape is kept);
+- ``convexify([maxLength])``: every concave face cut into convex polygons (constrained
+  triangulation, then diagonals removed while the pieces stay convex, Hertel and Mehlhorn; with
+  ``maxLength`` only cuts shorter than it are kept).
+"""
 
 from __future__ import annotations
+
+__all__ = ["refit"]
+
+import math
+
+import numpy as np
+
+from shapegen.engine.cga_ops import compiles
+from shapegen.engine.expressions import type_name
+from shapegen.engine.shape import FACE, MASS, Shape, rotation_matrix
+from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
+from shapegen.geometry.mesh import Mesh
+from shapegen.grammar import ast
+
+
+def refit(shape: Shape, rotation: np.ndarray) -> Shape:
+    """``shape`` with its scope's axes ``rotation`` (columns) and the scope fitted to its
+    geometry, which stays where it is in the world."""
+    mesh = shape.mesh()
+    world = shape.scope.to_world(mesh.vertices)
+    scope, local = fitted_scope(world, rotation)
+    faces = mesh.faces
+    if np.linalg.det(shape.scope.rotation) * np.linalg.det(rotation) < 0:
+        faces = tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
+    kind = shape.kind if shape.kind in (FACE, MASS) else MASS
+    return Shape.with_geometry(scope, Mesh(local, faces), kind, shape.normal_axis)
+
+
+# ---------------------------------------------------------------------------- arguments
+def _arguments(program, node: ast.Operation, counts: tuple[int, ...]) -> list:
+    for argument in node.arguments:
+        if argument.kind != "plain":
+            raise program.error(node, f"{node.name}() takes plain arguments, not {argument.kind}")
+    if node.branches:
+        raise program.error(node, f"{node.name}() takes no {{ ... }} block")
+    if len(node.arguments) not in counts:
+        expected = " or ".join(str(c) for c in counts)
+        raise program.error(
+            node, f"{node.name}() takes {expected} arguments, got {len(node.arguments)}"
+        )
+    return [a.value for a in node.arguments]
+
+
+def _word(expression) -> str | None:
+    if isinstance(expression, ast.Name):
+        return expression.name
+    if isinstance(expression, ast.ShapeAttribute):
+        return f"{expression.obj}.{expression.field}"
+    if isinstance(expression, ast.String):
+        return expression.value
+    return None
+
+
+def _choice(program, node, expression, choices: tuple[str, ...], what: str) -> str:
+    word = _word(expression)
+    if word not in choices:
+        raise program.error(
+            node, f"{node.name}(): {what} is one of {', '.join(choices)}; got {word or 'a value'}"
+        )
+    return word
+
+
+_KIND_NAMES = {float: "finite number", bool: "boolean", str: "string"}
+
+
+def _value(program, node, expression, params, kind: type, what: str):
+    compiled = program.expressions.compile(expression, params)
+    error = program.error
+
+    def value(args, state):
+        result = compiled(args, state)
+        if type(result) is not kind or (kind is float and not math.isfinite(result)):
+            raise error(
+                node,
+                f"{node.name}(): {what} must be a {_KIND_NAMES[kind]}, got a {type_name(result)}",
+            )
+        return result
+
+    return value
+
+
+def _geometry_shape(program, node, state) -> Shape:
+    if state.shape.kind not in (FACE, MASS):
+        raise program.error(node, f"{node.name}() needs a shape with geometry, not an insert")
+    return state.shape
+
+
+# ---------------------------------------------------------------------------- operations
+_WORLD_AXES = ("x", "y", "z", "world.x", "world.y", "world.z", "world.xyz")
+_OBJECT_AXES = ("object.x", "object.y", "object.z", "object.xyz")
+
+
+@compiles("alignScopeToAxes")
+def compile_align_scope_to_axes(program, node, params):
+    arguments = _arguments(program, node, (0, 1))
+    which = "world.xyz"
+    if arguments:
+        which = _choice(program, node, arguments[0], _WORLD_AXES + _OBJECT_AXES, "the axes")
+
+    def align(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        frame = np.eye(3)
+        if which.startswith("object."):
+            frame = getattr(state.run, "object_rotation", None)
+            frame = np.eye(3) if frame is None else frame
+        axis = which.split(".")[-1]
+        old = shape.scope.rotation
+        if axis == "xyz":
+            rotation = frame
+        elif axis == "y":
+            rotation = rotation_keeping_x(old[:, 0], frame[:, 1])
+        elif axis == "x":
+            # z projected onto the frame's yz-plane, x along the frame's x
+            x = frame[:, 0]
+            z = old[:, 2] - x * float(old[:, 2] @ x)
+            if np.linalg.norm(z) < 1e-12:
+                z = frame[:, 2]
+            z = z / np.linalg.norm(z)
+            rotation = np.column_stack([x, np.cross(z, x), z])
+        else:
+            # x projected onto the frame's xy-plane, z along the frame's z
+            z = frame[:, 2]
+            x = old[:, 0] - z * float(old[:, 0] @ z)
+            if np.linalg.norm(x) < 1e-12:
+                x = frame[:, 0]
+            x = x / np.linalg.norm(x)
+            rotation = np.column_stack([x, np.cross(z, x), z])
+        state.shape = refit(shape, rotation)
+        return True
+
+    return align
+
+
+_FACE_CHOICES = ("world.lowest", "largest", "any")
+_EDGE_CHOICES = ("world.lowest", "longest")
+
+
+@compiles("alignScopeToGeometry")
+def compile_align_scope_to_geometry(program, node, params):
+    arguments = _arguments(program, node, (3,))
+    up = _choice(program, node, arguments[0], ("yUp", "zUp"), "the up axis")
+    face_word = _word(arguments[1])
+    edge_word = _word(arguments[2])
+    if face_word is not None and face_word not in _FACE_CHOICES:
+        face_word = None
+    if edge_word is not None and edge_word not in _EDGE_CHOICES:
+        edge_word = None
+    face_index = (
+        None if face_word else _value(program, node, arguments[1], params, float, "the face index")
+    )
+    edge_index = (
+        None if edge_word else _value(program, node, arguments[2], params, float, "the edge index")
+    )
+    if face_word == "any" and edge_word is None:
+        raise program.error(node, "alignScopeToGeometry(): 'any' face needs an edge selector")
+    error = program.error
+
+    def align(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        mesh = shape.mesh()
+        scope = shape.scope
+        world = scope.to_world(mesh.vertices)
+        if mesh.n_faces == 0:
+            raise error(node, "alignScopeToGeometry() of a shape without faces")
+        candidates = range(mesh.n_faces)
+        if face_word is None:
+            k = int(face_index(args, state))
+            if not -mesh.n_faces <= k < mesh.n_faces:
+                raise error(
+                    node, f"alignScopeToGeometry(): no face {k} (the shape has {mesh.n_faces})"
+                )
+            candidates = [k % mesh.n_faces]
+        elif face_word == "largest":
+            candidates = [max(range(mesh.n_faces), key=mesh.face_area)]
+        elif face_word == "world.lowest":
+            candidates = [
+                min(range(mesh.n_faces), key=lambda f: (world[list(mesh.faces[f])][:, 1].mean(), f))
+            ]
+        best = None
+        for f in candidates:
+            face = mesh.faces[f]
+            n = len(face)
+            if edge_word is None:
+                e = int(edge_index(args, state))
+                if not -n <= e < n:
+                    raise error(
+                        node, f"alignScopeToGeometry(): face {f} has no edge {e} ({n} edges)"
+                    )
+                edges = [e % n]
+            else:
+                edges = range(n)
+            for e in edges:
+                a, b = world[face[e]], world[face[(e + 1) % n]]
+                if edge_word == "longest":
+                    key = -float(np.linalg.norm(b - a))
+                elif edge_word == "world.lowest":
+                    key = float(a[1] + b[1])
+                else:
+                    key = 0.0
+                if best is None or key < best[0] - 1e-12:
+                    best = (key, f, a, b)
+        _, f, a, b = best
+        normal = scope.rotation @ mesh.face_normal(f)
+        x = b - a
+        if np.linalg.norm(x) == 0 or np.linalg.norm(normal) == 0:
+            raise error(node, "alignScopeToGeometry(): the chosen edge or face is degenerate")
+        if up == "yUp":
+            frame = rotation_keeping_x(x, normal)
+        else:
+            y_frame = rotation_keeping_x(x, normal)  # x, normal, x cross normal
+            frame = np.column_stack([y_frame[:, 0], -y_frame[:, 2], y_frame[:, 1]])
+        state.shape = refit(shape, frame)
+        return True
+
+    return align
+
+
+@compiles("rotateScope")
+def compile_rotate_scope(program, node, params):
+    angles = [
+        _value(program, node, a, params, float, "an angle") for a in _arguments(program, node, (3,))
+    ]
+
+    def rotate_scope(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        turn = rotation_matrix([angle(args, state) for angle in angles])
+        state.shape = refit(shape, shape.scope.rotation @ turn)
+        return True
+
+    return rotate_scope
+
+
+def _flips(program, node, params):
+    return [
+        _value(program, node, a, params, bool, "a flip") for a in _arguments(program, node, (3,))
+    ]
+
+
+@compiles("mirror")
+def compile_mirror(program, node, params):
+    flips = _flips(program, node, params)
+
+    def mirror(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        chosen = np.array([flip(args, state) for flip in flips])
+        if not chosen.any():
+            return True
+        mesh = shape.mesh()
+        size = shape.scope.size
+        factors = np.where(chosen, -1.0, 1.0)
+        mirrored = mesh.scaled(factors)
+        mirrored = Mesh(mirrored.vertices + np.where(chosen, size, 0.0), mirrored.faces)
+        state.shape = Shape.with_geometry(shape.scope, mirrored, shape.kind, shape.normal_axis)
+        return True
+
+    return mirror
+
+
+@compiles("mirrorScope")
+def compile_mirror_scope(program, node, params):
+    flips = _flips(program, node, params)
+
+    def mirror_scope(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        chosen = np.array([flip(args, state) for flip in flips])
+        if not chosen.any():
+            return True
+        rotation = shape.scope.rotation * np.where(chosen, -1.0, 1.0)[None, :]
+        state.shape = refit(shape, rotation)
+        return True
+
+    return mirror_scope
+
+
+_AXIS_MAPS = {"xyz": (0, 1, 2), "yzx": (2, 0, 1), "zxy": (1, 2, 0)}
+_CORNERS = ((0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1), (0, 1, 0), (1, 1, 0), (1, 1, 1), (0, 1, 1))
+
+
+def pivot_frame(rotation: np.ndarray, axis_map: str, corner: int) -> np.ndarray:
+    """setPivot's axes: the scope axes permuted by ``axis_map`` and, at ``corner``, turned to
+    point inside the scope with y along (or against) the mapped y and a right-handed frame."""
+    order = _AXIS_MAPS[axis_map]
+    inside = [1.0 if c == 0 else -1.0 for c in _CORNERS[corner]]  # per old axis
+    x_old, y_old, z_old = order
+    y = rotation[:, y_old] * inside[y_old]
+    for candidate in (x_old, z_old):
+        x = rotation[:, candidate] * inside[candidate]
+        z = np.cross(x, y)
+        other = z_old if candidate == x_old else x_old
+        if float(z @ (rotation[:, other] * inside[other])) > 0.5:
+            return np.column_stack([x, y, z])
+    raise AssertionError("no right-handed pivot")  # one of the two always is
+
+
+@compiles("setPivot")
+def compile_set_pivot(program, node, params):
+    arguments = _arguments(program, node, (2,))
+    axis_map = _choice(program, node, arguments[0], tuple(_AXIS_MAPS), "the axis map")
+    corner_of = _value(program, node, arguments[1], params, float, "the corner index")
+    error = program.error
+
+    def set_pivot(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        corner = corner_of(args, state)
+        if corner != int(corner) or not 0 <= corner <= 7:
+            raise error(
+                node, f"setPivot(): the corner index is a whole number 0..7, got {corner:g}"
+            )
+        frame = pivot_frame(shape.scope.rotation, axis_map, int(corner))
+        state.shape = refit(shape, frame)
+        return True
+
+    return set_pivot
+
+
+@compiles("reverseNormals")
+def compile_reverse_normals(program, node, params):
+    _arguments(program, node, (0,))
+
+    def reverse_normals(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        state.shape = Shape.with_geometry(
+            shape.scope, shape.mesh().reversed(), shape.kind, shape.normal_axis
+        )
+        return True
+
+    return reverse_normals
+
+
+@compiles("cleanupGeometry")
+def compile_cleanup_geometry(program, node, params):
+    arguments = _arguments(program, node, (2,))
+    _choice(program, node, arguments[0], ("vertices", "edges", "faces", "all"), "the components")
+    tolerance_of = _value(program, node, arguments[1], params, float, "the tolerance")
+
+    def cleanup(state, args, out):
+        shape = _geometry_shape(program, node, state)
+        tolerance = min(
+            max(tolerance_of(args, state), 0.0), 1.0
+        )  # metres, as the reference's 1 m at 1
+        if shape.geometry is not None:
+            state.shape = Shape.with_geometry(
+                shape.scope, shape.geometry.cleaned(tolerance), shape.kind, shape.normal_axis
+            )
+        return True
+
+    return cleanup
+
+
+@compiles("resetGeometry")
+def compile_reset_geometry(program, node, params):
+    _arguments(program, node, (0,))
+
+    def reset(state, args, out):
+        start = getattr(state.run, "start_shape", None)
+        if start is None:
+            raise program.error(node, "resetGeometry(): no start shape")
+        state.shape = start.copy()
+        return True
+
+    return reset
+
+
+@compiles("trim")
+def compile_trim(program, node, params):
+    _arguments(program, node, (0,))
+    return lambda state, args, out: True
+
+
+@compiles("convexify")
+def compile_convexify(program, node, params):
+    arguments = _arguments(program, node, (0, 1))
+    limit_of = (
+        _value(program, node, arguments[0], params, float, "maxLength") if arguments else None
+    )
+
+    def convexify(state, args, out):
+        from shapegen.geometry.convex import convex_faces
+
+        shape = _geometry_shape(program, node, state)
+        limit = None if limit_of is None else limit_of(args, state)
+        mesh = shape.mesh()
+        state.shape = Shape.with_geometry(
+            shape.scope, convex_faces(mesh, limit), shape.kind, shape.normal_axis
+        )
+        return True
+
+    return convexify

@@ -1,0 +1,105 @@
+"""Cutting concave polygon faces into convex ones (CityEngine's ``convexify``).
+
+A concave face is triangulated without new vertices (shapely's constrained Delaunay
+triangulation, in the face's own plane), then diagonals are removed while the two pieces they
+separate stay convex together (Hertel and Mehlhorn: at most four times the minimum number of
+pieces). With ``max_length``, diagonals longer than it are removed first whatever the result,
+as op_convexify only applies split lines shorter than its ``maxLength``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["convex_faces", "convex_pieces"]
+
+import numpy as np
+import shapely
+
+from shapegen.geometry.frames import face_rotation
+from shapegen.geometry.mesh import Mesh
+
+
+def convex_faces(mesh: Mesh, max_length: float | None = None) -> Mesh:
+    """``mesh`` with each concave face replaced by convex faces (same vertices)."""
+    faces: list[tuple[int, ...]] = []
+    for k, face in enumerate(mesh.faces):
+        if len(face) <= 3 or mesh.face(k).is_convex():
+            faces.append(face)
+            continue
+        pieces = convex_pieces(mesh.face_points(k), max_length)
+        faces.extend(tuple(face[i] for i in piece) for piece in pieces)
+    return Mesh(mesh.vertices, faces)
+
+
+def convex_pieces(points: np.ndarray, max_length: float | None = None) -> list[tuple[int, ...]]:
+    """Convex polygons (indices into ``points``, counter-clockwise like the face) covering the
+    planar polygon ``points`` ``(n, 3)``."""
+    points = np.asarray(points, float)
+    frame = face_rotation(points)
+    flat = (points - points[0]) @ frame[:, :2]
+    polygon = shapely.Polygon(flat)
+    if not polygon.is_valid:
+        polygon = shapely.make_valid(polygon)
+    triangles = shapely.constrained_delaunay_triangles(polygon)
+    pieces: list[list[int]] = []
+    for triangle in shapely.get_parts(triangles):
+        corners = np.asarray(triangle.exterior.coords)[:3]
+        ids = [int(np.argmin(np.linalg.norm(flat - c, axis=1))) for c in corners]
+        if len(set(ids)) < 3:
+            continue
+        if _signed_area(flat[ids]) < 0:
+            ids.reverse()
+        pieces.append(ids)
+    if not pieces:
+        return [tuple(range(len(points)))]
+    length = None if max_length is None else float(max_length)
+    if length is not None:
+        _merge(pieces, flat, lambda a, b, merged: np.linalg.norm(flat[a] - flat[b]) > length)
+    _merge(pieces, flat, lambda a, b, merged: _is_convex(flat[merged]))
+    return [tuple(p) for p in pieces]
+
+
+def _merge(pieces: list[list[int]], flat: np.ndarray, accept) -> None:
+    """Remove shared edges (diagonals) between pieces while ``accept(a, b, merged)``."""
+    changed = True
+    while changed:
+        changed = False
+        owner: dict[tuple[int, int], int] = {}
+        for p, piece in enumerate(pieces):
+            for a, b in zip(piece, piece[1:] + piece[:1], strict=True):
+                owner[(a, b)] = p
+        for (a, b), p in owner.items():
+            q = owner.get((b, a))
+            if q is None or q == p:
+                continue
+            merged = _joined(pieces[p], pieces[q], a, b)
+            if merged is not None and accept(a, b, merged):
+                pieces[p] = merged
+                del pieces[q]
+                changed = True
+                break
+
+
+def _joined(first: list[int], second: list[int], a: int, b: int) -> list[int] | None:
+    """The polygon of ``first`` (with edge a->b) and ``second`` (with b->a) without that edge."""
+    i = first.index(b)
+    path_first = first[i:] + first[:i]  # b ... a
+    j = second.index(a)
+    path_second = second[j:] + second[:j]  # a ... b
+    if path_first[-1] != a or path_second[-1] != b:
+        return None
+    merged = path_first[:-1] + path_second[:-1]
+    return merged if len(set(merged)) == len(merged) else None
+
+
+def _signed_area(flat: np.ndarray) -> float:
+    x, y = flat[:, 0], flat[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def _is_convex(flat: np.ndarray) -> bool:
+    edge = np.roll(flat, -1, axis=0) - flat
+    turn = (
+        edge[:, 0] * np.roll(edge, -1, axis=0)[:, 1] - edge[:, 1] * np.roll(edge, -1, axis=0)[:, 0]
+    )
+    scale = float(np.abs(flat).max()) or 1.0
+    return bool(turn.min() >= -1e-12 * scale * scale)
