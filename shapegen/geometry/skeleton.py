@@ -208,40 +208,56 @@ class _Builder:
         return loop
 
     def next_event(self, loop: list[_Vertex], velocity: np.ndarray):
-        """The earliest event of ``loop``: ``(dt, kind, i, j)`` or None."""
-        best = None
+        """The earliest event of ``loop``: ``(dt, kind, i, j)`` or None. An edge event wins a
+        tie; among split events the first reflex vertex, then the first edge."""
         m = len(loop)
-        for i in range(m):
-            a, b = loop[i], loop[(i + 1) % m]
-            u = self.u[a.e_out]
-            rate = (velocity[(i + 1) % m] - velocity[i]) @ u
-            if rate < -_PARALLEL:
-                dt = max((b.pos - a.pos) @ u, 0.0) / -rate
-                if best is None or dt < best[0]:
-                    best = (dt, "edge", i, i)
-        for i, vertex in enumerate(loop):
-            if not self.reflex(vertex):
-                continue
-            for j in range(m):
-                x, y = loop[j], loop[(j + 1) % m]
-                if j in (i, (i - 1) % m):
-                    continue
-                e = x.e_out
-                if e in (vertex.e_in, vertex.e_out):
-                    continue
-                gap = self.normal[e] @ (vertex.pos - x.pos)
-                approach = self.weights[e] - self.normal[e] @ velocity[i]
-                if gap < -self.eps or approach <= _PARALLEL:
-                    continue
-                dt = max(gap, 0.0) / approach
-                if best is not None and dt >= best[0]:
-                    continue
-                p = vertex.pos + dt * velocity[i]
-                px, py = x.pos + dt * velocity[j], y.pos + dt * velocity[(j + 1) % m]
-                span = (py - px) @ self.u[e]
-                s = (p - px) @ self.u[e]
-                if -self.eps <= s <= span + self.eps:
-                    best = (dt, "split", i, j)
+        pos = np.array([v.pos for v in loop])
+        e_out = np.array([v.e_out for v in loop])
+        e_in = np.array([v.e_in for v in loop])
+        after = np.roll(np.arange(m), -1)
+        u = self.u[e_out]
+        rate = np.einsum("ij,ij->i", velocity[after] - velocity, u)
+        length = np.maximum(np.einsum("ij,ij->i", pos[after] - pos, u), 0.0)
+        shrinking = rate < -_PARALLEL
+        best = None
+        if np.any(shrinking):
+            times = np.full(m, np.inf)
+            times[shrinking] = length[shrinking] / -rate[shrinking]
+            i = int(np.argmin(times))
+            best = (float(times[i]), "edge", i, i)
+        ua, ub = self.u[e_in], u
+        reflex = np.flatnonzero(ua[:, 0] * ub[:, 1] - ua[:, 1] * ub[:, 0] < -_PARALLEL)
+        if len(reflex) == 0:
+            return best
+        # Every reflex vertex (rows) against every edge (columns), the edge from j to j + 1.
+        normal = self.normal[e_out]  # (m, 2)
+        gap = np.einsum("ijk,jk->ij", pos[reflex][:, None, :] - pos[None, :, :], normal)
+        approach = self.weights[e_out][None, :] - velocity[reflex] @ normal.T
+        j = np.arange(m)[None, :]
+        rows = reflex[:, None]
+        valid = (
+            (j != rows)
+            & (j != (rows - 1) % m)
+            & (e_out[None, :] != e_in[rows])
+            & (e_out[None, :] != e_out[rows])
+            & (gap >= -self.eps)
+            & (approach > _PARALLEL)
+        )
+        if not np.any(valid):
+            return best
+        dt = np.where(valid, np.maximum(gap, 0.0) / np.where(valid, approach, 1.0), 0.0)
+        hit = pos[reflex][:, None, :] + dt[..., None] * velocity[reflex][:, None, :]
+        start = pos[None, :, :] + dt[..., None] * velocity[None, :, :]
+        end = pos[after][None, :, :] + dt[..., None] * velocity[after][None, :, :]
+        span = np.einsum("ijk,jk->ij", end - start, u)
+        along = np.einsum("ijk,jk->ij", hit - start, u)
+        valid &= (along >= -self.eps) & (along <= span + self.eps)
+        if not np.any(valid):
+            return best
+        dt = np.where(valid, dt, np.inf)
+        row, column = np.unravel_index(int(np.argmin(dt)), dt.shape)
+        if best is None or dt[row, column] < best[0]:
+            best = (float(dt[row, column]), "split", int(reflex[row]), int(column))
         return best
 
     def split(self, loop: list[_Vertex], i: int, j: int, t: float):
@@ -287,7 +303,7 @@ class _Builder:
                 if len(loop) <= 2:
                     self.finish(loop, t)
                     break
-                velocity = np.array([self.velocity(v) for v in loop])
+                velocity = np.array([self.velocity(v) for v in loop]).reshape(-1, 2)
                 event = self.next_event(loop, velocity)
                 stop = until is not None and (event is None or t + event[0] > until)
                 if event is None or stop:
