@@ -312,18 +312,24 @@ def _box_fills(mesh: Mesh, size: np.ndarray) -> bool:
     return True
 
 
-def extrude_shape(shape: Shape, height: float, cityengine_scope: bool) -> Shape:
+def extrude_shape(
+    shape: Shape, height: float, cityengine_scope: bool, kind: str = "face.normal"
+) -> Shape:
     """The mass of ``shape`` (a face) extruded by ``height`` (m) along its normal.
 
     Its scope follows CityEngine's op_extrude (x kept as far as possible, y along the
     extrusion, z normal to both, fitted to the geometry) when ``cityengine_scope`` or the face
     is flat along its y axis (the lot); otherwise (a comp face in a ``.grammar`` rule) the face's
     own scope grows along its z axis, as shapegen always did. A face filling its scope stays on
-    the fast path (a box, no geometry)."""
+    the fast path (a box, no geometry). ``kind`` is op_extrude's extrusion type: ``face.normal``
+    (the default), ``world.up`` (along world y; the scope's y too) or ``world.up.flatTop``."""
     if not math.isfinite(height):
         raise ValueError(f"extrude height must be a finite number, got {height}")
     scope = shape.scope
-    if shape.geometry is None and (shape.normal_axis == 1 or not cityengine_scope):
+    world_up = kind.startswith("world.up")
+    if world_up and shape.normal_axis == 1 and np.allclose(scope.rotation[:, 1], [0, 1, 0]):
+        world_up = kind == "world.up.flatTop" and shape.geometry is not None
+    if not world_up and shape.geometry is None and (shape.normal_axis == 1 or not cityengine_scope):
         return Shape(extrude(scope, shape.normal_axis, height), MASS)
     from shapegen.geometry.extrude import extrude_faces
     from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
@@ -331,11 +337,17 @@ def extrude_shape(shape: Shape, height: float, cityengine_scope: bool) -> Shape:
     face = shape.mesh()
     if face.n_faces == 0:
         raise ValueError("extrude() of a shape without faces")
-    prism = extrude_faces(face, height)
+    up = scope.rotation.T @ np.array([0.0, 1.0, 0.0])  # world y in scope coordinates
+    if world_up:
+        prism = extrude_faces(face, height, up, flat_top=kind == "world.up.flatTop")
+    else:
+        prism = extrude_faces(face, height)
     if prism.n_faces == 0:
         raise ValueError("extrude() of a face with no area")
     world = scope.to_world(prism.vertices)
-    if shape.normal_axis == 1 or cityengine_scope:
+    if world_up:
+        rotation = rotation_keeping_x(scope.rotation[:, 0], np.array([0.0, 1.0, 0.0]))
+    elif shape.normal_axis == 1 or cityengine_scope:
         normal = scope.rotation @ face.face_normal(0)
         rotation = rotation_keeping_x(scope.rotation[:, 0], normal)
     else:

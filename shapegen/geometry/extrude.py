@@ -30,10 +30,20 @@ def prism(points: np.ndarray, offset: np.ndarray) -> Mesh:
     return mesh
 
 
-def extrude_faces(mesh: Mesh, distance: float, direction: np.ndarray | None = None) -> Mesh:
+def extrude_faces(
+    mesh: Mesh,
+    distance: float,
+    direction: np.ndarray | None = None,
+    flat_top: bool = False,
+) -> Mesh:
     """Every face of ``mesh`` extruded by ``distance`` (m) along its own normal (or along the
     unit ``direction`` for all), the prisms in one mesh in face order (CityEngine's
-    ``face.normal`` extrusion: internal faces are kept)."""
+    ``face.normal`` extrusion: internal faces are kept).
+
+    ``flat_top`` (with a ``direction``: ``world.up.flatTop``) puts every top corner at the same
+    height along ``direction``: ``distance`` above the face's lowest corner (below its highest
+    for a negative distance), and at least as high as the face's own extent (a zero distance
+    gives the flat top at the highest corner)."""
     vertices: list[np.ndarray] = []
     faces: list[tuple[int, ...]] = []
     count = 0
@@ -49,10 +59,31 @@ def extrude_faces(mesh: Mesh, distance: float, direction: np.ndarray | None = No
             step = normal / length * distance
         else:
             step = np.asarray(direction, float) * distance
-        piece = prism(points, step)
+        if flat_top and direction is not None:
+            piece = _flat_top_prism(points, np.asarray(direction, float), distance)
+        else:
+            piece = prism(points, step)
         vertices.append(piece.vertices)
         faces.extend(tuple(i + count for i in f) for f in piece.faces)
         count += piece.n_vertices
     if not faces:
         return Mesh(np.empty((0, 3)), ())
     return Mesh(np.vstack(vertices), faces)
+
+
+def _flat_top_prism(points: np.ndarray, up: np.ndarray, distance: float) -> Mesh:
+    heights = points @ up
+    low, high = float(heights.min()), float(heights.max())
+    if distance >= 0:
+        level = max(low + distance, high)
+    else:
+        level = min(high + distance, low)
+    top = points + np.outer(level - heights, up)
+    n = len(points)
+    bottom_face = (1, 0) + tuple(range(n - 1, 1, -1))
+    faces = [bottom_face, tuple(range(n, 2 * n))]
+    faces += [(k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n)]
+    mesh = Mesh(np.vstack([points, top]), faces)
+    if float(polygon_normal(points) @ up) * (1 if distance >= 0 else -1) < 0:
+        mesh = mesh.reversed()
+    return mesh

@@ -190,3 +190,29 @@ def test_s_scales_the_geometry_with_the_scope():
     (surface,) = model.surfaces
     low, high = surface.vertices.min(axis=0), surface.vertices.max(axis=0)
     assert np.allclose(low, [0, 0, -4]) and np.allclose(high, [2, 2, 0])
+
+
+def test_extrude_world_up_of_a_wall_and_flat_top_of_a_slope():
+    # a wall face (normal +z) extruded along world y sweeps no volume sideways: a 4 x 3 face
+    # moved up 1 m gives a prism of zero volume, its scope y is world y
+    start, _ = lot_shape((4, 2))
+    box = extrude_shape(start, 3, True)
+    from shapegen.engine.cga_ops.topology import face_components
+
+    front = face_components(box, None)[2].shape
+    up = extrude_shape(front, 1.0, True, "world.up")
+    assert np.allclose(up.scope.rotation[:, 1], [0, 1, 0])
+    assert up.mesh().volume() == pytest.approx(0.0, abs=1e-9)
+    # a slope 4 m long rising 1 m along x: flatTop 2 m puts the top at 2 m above its low edge
+    slope = Shape.with_geometry(
+        start.scope,
+        shapegen.geometry.mesh.Mesh.polygon([(0, 0, 2), (4, 1, 2), (4, 1, 0), (0, 0, 0)]),
+        FACE,
+        1,
+    )
+    flat = extrude_shape(slope, 2.0, True, "world.up.flatTop")
+    world = flat.world_mesh()
+    assert world.is_closed
+    assert world.vertices[:, 1].max() == pytest.approx(2.0)
+    # volume: the cross-section is a trapezoid, heights 2 and 1 over 4 m, times 2 m deep
+    assert world.volume() == pytest.approx((2 + 1) / 2 * 4 * 2)
