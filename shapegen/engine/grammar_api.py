@@ -92,7 +92,7 @@ class Grammar:
         self,
         attrs: Mapping[str, object] | None = None,
         seed: int = 0,
-        lot: tuple[float, float] | None = None,
+        lot=None,
     ) -> dict[str, object]:
         """The ``@Structure(...)`` keyword arguments for these attrs, without deriving a model:
         what a structure that judges from its arguments alone reads of the design."""
@@ -101,7 +101,9 @@ class Grammar:
         values = self.program.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
         if lot is None:
             lot = self.program.lot_size(values)
-        scope = lot_scope(*lot)
+        from shapegen.engine.interpreter import _checked_lot
+
+        scope = _checked_lot(lot)[0].scope
         values = self.program.initial_values(attrs, seed, scope)
         return self.program.structure_arguments(values, scope)
 
@@ -116,7 +118,7 @@ class Grammar:
         self,
         attrs: Mapping[str, object] | None = None,
         seed: int = 0,
-        lot: tuple[float, float] | None = None,
+        lot=None,
         *,
         max_depth: int | None = None,
         max_shapes: int | None = None,
@@ -131,7 +133,10 @@ class Grammar:
         seed
             Seed of ``rand()`` and stochastic rules; the same seed gives the same model.
         lot
-            ``(width, depth)`` of the start lot in metres, overriding ``@Lot``.
+            ``(width, depth)`` of the start lot in metres, overriding ``@Lot``, or a polygon:
+            three or more ``(x, z)`` points in metres, counter-clockwise seen from above; the
+            start shape's scope then has x along the first edge and y up (CityEngine's), and
+            ``metadata["lot_polygon"]`` records the points.
         max_depth, max_shapes
             Derivation limits: the longest chain of rules and the most shapes (default: the
             current :class:`~shapegen.limits.WorkLimits`, which bound the rest of the work too);

@@ -122,7 +122,7 @@ class Program(AttributeValues, ShapeOperations):
         self,
         attrs: Mapping[str, object] | None = None,
         seed: int = 0,
-        lot: tuple[float, float] | None = None,
+        lot=None,
         max_depth: int | None = None,
         max_shapes: int | None = None,
     ) -> Model:
