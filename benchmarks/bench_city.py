@@ -6,8 +6,11 @@ a 12 m lot; widths vary from 8 to 16 m, so the walls have 48 to 112 blocks) on 1
 local worker processes, and prints for each: the wall-clock seconds of the lots (workers' start
 included), lots per second, the scaling against one worker, the median and 95th percentile of
 one lot's seconds inside its worker, and the largest peak resident memory of a worker (MiB).
-Then the seconds to write the tables and the city glTF of all the lots, which the parent does
-once at the end. The figures are recorded in docs/performance.md.
+Then what the one parent process spends per lot (writing its record and building file), the
+seconds to write the tables and the city glTF of all the lots (once, at the end), and, with
+dask.distributed installed, the rate on a two-worker ``LocalCluster`` over the first 300 lots
+(the scheduler's cost per task against local processes). The figures are recorded in
+docs/performance.md.
 """
 
 from __future__ import annotations
@@ -58,6 +61,7 @@ def main() -> None:
                 f" 95th percentile {lot_seconds[int(0.95 * (len(lot_seconds) - 1))]:.3f} s;"
                 f" peak memory per worker {peak:.0f} MiB"
             )
+        _parent_cost(out, run.records)
         started = time.perf_counter()
         write_tables(out, city, run.records, scene=True)
         size = (out / "city.glb").stat().st_size
@@ -65,6 +69,50 @@ def main() -> None:
             f"tables and city.glb of {count} lots: {time.perf_counter() - started:.1f} s"
             f" (city.glb {size / 2**20:.1f} MiB)"
         )
+    _dask(city, grammar)
+
+
+def _parent_cost(folder: Path, records: list) -> None:
+    """Seconds the parent spends writing one lot's record and building file."""
+    from shapegen.city.outputs import lot_key
+    from shapegen.city.run import _save
+
+    sample = [r for r in records if r is not None][:200]
+    built = []
+    for record in sample:
+        blocks = folder / "lots" / f"{lot_key(record['id'])}.blocks.json"
+        built.append({**record, "model": blocks.read_bytes()})
+    started = time.perf_counter()
+    for record in built:
+        _save(folder, record)
+    each = (time.perf_counter() - started) / len(built)
+    print(f"the parent writes one lot's files in {each * 1000:.2f} ms")
+
+
+def _dask(city, grammar, count: int = 300) -> None:
+    try:
+        import distributed
+    except ImportError:
+        print("dask.distributed not installed: no cluster figure")
+        return
+    from shapegen.city.lots import City
+
+    part = City(city.lots[:count], city.crs, city.origin)
+    with tempfile.TemporaryDirectory() as folder:
+        for label, kwargs in (("2 local processes", {"workers": 2}), ("dask", {})):
+            if label == "dask":
+                cluster = distributed.LocalCluster(
+                    n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+                )
+                client = distributed.Client(cluster)
+                kwargs = {"scheduler": client}
+            started = time.perf_counter()
+            run_city(part, grammar, Path(folder) / label, scene=False, **kwargs)
+            seconds = time.perf_counter() - started
+            if label == "dask":
+                client.close()
+                cluster.close()
+            print(f"{count} lots on {label}: {seconds:.1f} s, {count / seconds:.2f} lots/s")
 
 
 if __name__ == "__main__":

@@ -11,8 +11,8 @@ Seeds. A lot's seed is drawn from its id and the run's seed with BLAKE2b (not Py
 ``hash``, which changes between processes), so a rerun, on any machine and in any order, gives
 the same city.
 
-Placement. The rule derives on the lot in its own frame (scope x along the lot's first edge, y
-up, as CityEngine) and the model is then turned and moved into the city's frame.
+Placement. The rule derives on the lot's polygon where it lies in the city's frame; the start
+shape's scope has x along the lot's first edge and y up, as CityEngine's.
 """
 
 from __future__ import annotations
@@ -179,9 +179,13 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
                                    " takes a number, boolean or string")  # fmt: skip
             attrs[name] = value
             record["from_properties"].append(name)
-    lot, rotation, offset, footprint = lot_frame(np.asarray(task.ring, dtype=float))
+    ring = np.asarray(task.ring, dtype=float)
+    size, _, _, footprint = lot_frame(ring)
     record["footprint"] = footprint
-    record["lot"] = [float(lot[0]), float(lot[1])]
+    record["lot"] = [float(size[0]), float(size[1])]
+    # The lot as Grammar.build takes a polygon: (x, z) in the city's frame (east +x, north -z),
+    # counter-clockwise seen from above; the model is derived where it stands in the city.
+    lot = [(float(east), -float(north)) for east, north in ring]
 
     deadline = None if settings.timeout is None else started + settings.timeout
 
@@ -202,7 +206,6 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
             statics=settings.statics,
             search=settings.search,
             assess=True,
-            place=lambda model: place_model(model, rotation, offset),
             progress=check_time,
         )
     check_time()
@@ -239,10 +242,11 @@ def lot_frame(ring: np.ndarray) -> tuple[tuple[float, float], np.ndarray, np.nda
     """The lot a rule derives on and where it goes in the city.
 
     ``ring`` is ``(k, 2)`` east/north corners, counter-clockwise seen from above. The lot's frame
-    has x along the first edge and y up (CityEngine's scope of a lot) and z = x cross y; the
-    rule derives on the lot's bounding rectangle in that frame, ``(width, depth)`` m, which is
-    the lot itself when the lot is a rectangle (``footprint`` ``"rectangle"``) and encloses it
-    otherwise (``"bounding rectangle"``).
+    has x along the first edge and y up (CityEngine's scope of a lot) and z = x cross y; its
+    scope is the lot's bounding rectangle in that frame, ``(width, depth)`` m, which is the lot
+    itself when the lot is a rectangle (``footprint`` ``"rectangle"``; else ``"polygon"``).
+    A lot is derived as its polygon (:meth:`~shapegen.Grammar.build` takes one); the rotation
+    and offset place a model derived on the rectangle ``(width, depth)`` instead.
 
     Returns
     -------
@@ -266,7 +270,7 @@ def lot_frame(ring: np.ndarray) -> tuple[tuple[float, float], np.ndarray, np.nda
     area = 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(z, np.roll(x, -1))))
     # A polygon fills its bounding rectangle only when it is that rectangle.
     rectangle = width * depth - area <= _RECTANGLE_M * (width + depth)
-    return (width, depth), rotation, offset, "rectangle" if rectangle else "bounding rectangle"
+    return (width, depth), rotation, offset, "rectangle" if rectangle else "polygon"
 
 
 def place_model(model, rotation: np.ndarray, offset: np.ndarray):

@@ -195,7 +195,7 @@ def test_a_rectangular_lot_frame_puts_the_lot_on_its_polygon_without_mirroring(a
     assert footprint_xz == expected
 
 
-def test_a_lot_that_is_not_a_rectangle_derives_on_its_bounding_rectangle():
+def test_a_lot_that_is_not_a_rectangle_has_its_bounding_rectangle_as_scope():
     ring = np.array([(0, 0), (14, 0), (12, 10), (1, 9)], dtype=float)
     lot, _, _, footprint = lot_frame(ring)
-    assert footprint == "bounding rectangle" and lot == pytest.approx((14.0, 10.0))
+    assert footprint == "polygon" and lot == pytest.approx((14.0, 10.0))

@@ -22,7 +22,7 @@ LOTS = [
     ([(0, 0), (12, 0), (12, 8), (0, 8)], {"jetty": 0.1}),
     ([(20, 0), (28, 0), (28, 9), (20, 9)], {"jetty": 0.4, "storeys": 2}),
     ([(40, 0), (49, 3), (46, 12), (37, 9)], {"storeys": 3}),  # turned 18 degrees
-    ([(60, 0), (72, 0), (70, 9), (61, 8)], {}),  # a trapezoid: its bounding rectangle
+    ([(60, 0), (72, 0), (70, 9), (61, 8)], {}),  # a trapezoid
     ([(80, 0), (90, 0), (90, 10), (80, 10)], {"storeys": "three"}),  # fails: not a number
     ([(100, 0), (101, 0), (100, 0)], {}),  # fails: two corners
 ]
@@ -52,16 +52,17 @@ def test_each_lot_is_judged_as_the_pipeline_judges_it_alone(small_run):
     _, grammar, run, _ = small_run
     statuses = [record["status"] for record in run.records]
     assert statuses == ["ok", "ok", "ok", "ok", "error", "error"]
-    for record, (_, props) in zip(run.records[:4], LOTS, strict=False):
-        alone = pipeline.design(
-            grammar, attrs=props, seed=lot_seed(record["id"]), lot=tuple(record["lot"]), assess=True
-        )
+    origin = np.array(run.city.origin)
+    for record, (ring, props) in zip(run.records[:4], LOTS, strict=False):
+        lot = [(x - origin[0], -(y - origin[1])) for x, y in ring]  # east +x, north -z
+        seed = lot_seed(record["id"])
+        alone = pipeline.design(grammar, attrs=props, seed=seed, lot=lot, assess=True)
         assert record["stands"] == alone.assessment.stands
         assert record["measure"] == pytest.approx(alone.assessment.measure, rel=1e-6, abs=1e-12)
         assert record["blocks"] == len(alone.model.blocks)
     assert [r["stands"] for r in run.records[:4]] == [True, False, True, True]
     assert run.records[1]["from_properties"] == ["jetty", "storeys"]
-    assert run.records[3]["footprint"] == "bounding rectangle"
+    assert run.records[3]["footprint"] == "polygon"
     assert "'storeys' is a number" in run.records[4]["error"]
     assert "distinct corner" in run.records[5]["error"]
 
