@@ -279,3 +279,21 @@ def test_parse_hex_color():
     assert parse_hex_color("#FFFFFF") == ((1.0, 1.0, 1.0), None)
     with pytest.raises(ValueError):
         parse_hex_color("#fff")
+
+
+def test_rule_text_end_to_end():
+    """From rule text to the blocks' appearance: each piece keeps its own colour and UV set-up,
+    and the colour never changes the geometry (a 16-sided cylinder in a 2 x 2 x 4 m scope:
+    8 sin(pi/8) x 1 x 2 m^2 of base, 2 m high)."""
+    import math
+
+    grammar = shapegen.parse_grammar(
+        "@StartRule\n"
+        'Lot --> extrude(2) split(x) { 2 : color("#ff0000") A. | 2 : set(material.color.g, 0.5)'
+        " primitiveCylinder() B. | ~1 : setupProjection(0, scope.xy, 1, 1) projectUV(0) C. }"
+    )
+    a, b, c = grammar.build(lot=(8, 4)).blocks
+    assert a.appearance.color == (1.0, 0.0, 0.0) and a.volume == pytest.approx(2 * 2 * 4)
+    assert b.appearance.color == (1.0, 0.5, 1.0)
+    assert b.volume == pytest.approx(8 * math.sin(math.pi / 8) * 1 * 2 * 2)
+    assert c.appearance.uv == (("setupProjection", (0, "scope.xy", 1.0, 1.0)), ("projectUV", (0,)))
