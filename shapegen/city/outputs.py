@@ -45,12 +45,14 @@ COLUMNS = [
     "measure",
     "structure",
     "blocks",
+    "left_out",
     "seconds",
     "seed",
     "footprint",
     "lot_width",
     "lot_depth",
     "from_properties",
+    "warnings",
     "error",
 ]
 _FAILED = np.array([220, 30, 30, 255], dtype=np.uint8)  # a building that does not stand
@@ -90,6 +92,7 @@ def table_rows(records: list[dict]) -> tuple[list[str], list[dict]]:
             lot_width=lot[0],
             lot_depth=lot[1],
             from_properties=";".join(record.get("from_properties") or []),
+            warnings="; ".join(record.get("warnings") or []),
         )
         row.update({f"attr.{name}": (record.get("attrs") or {}).get(name) for name in attrs})
         rows.append(row)

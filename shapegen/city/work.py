@@ -105,7 +105,8 @@ def run_lot(settings: CitySettings, task: LotTask) -> dict:
     """Build, judge (and optimize) one lot; the record of what happened (see module doc).
 
     The record holds ``id``, ``status`` (``ok``, ``error``, ``timeout``), ``stands``,
-    ``measure`` (y/W^2 for block statics), ``structure``, ``blocks``, ``attrs`` (the values of
+    ``measure`` (y/W^2 for block statics), ``structure``, ``blocks``, ``left_out`` (leaves drawn
+    but not judged: not convex blocks), ``warnings`` (the derivation's), ``attrs`` (the values of
     the rule's ranged attrs as built, optimized ones included), ``from_properties`` (attrs the
     lot's properties set), ``seed``, ``footprint``, ``lot`` (width, depth, m), ``seconds``,
     ``error``, ``peak_rss_mib`` (the worker's peak so far) and, for a built lot, ``model``: the
@@ -147,6 +148,8 @@ def new_record(lot_id: str, seed: int) -> dict:
         "measure": None,
         "structure": None,
         "blocks": None,
+        "left_out": None,
+        "warnings": [],
         "attrs": {},
         "from_properties": [],
         "seed": seed,
@@ -214,6 +217,10 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
     record["stands"] = bool(assessment.stands)
     record["measure"] = _number(assessment.measure)
     record["blocks"] = len(outcome.model.blocks)
+    # Leaves drawn but not judged (not convex blocks) and the derivation's warnings: said, so a
+    # building judged on part of itself is never taken for the whole.
+    record["left_out"] = int((outcome.report.get("left_out") or {}).get("leaves", 0))
+    record["warnings"] = list(outcome.report.get("warnings") or [])
     built = outcome.model.metadata.get("attrs", {})
     ranged = outcome.report.get("free_parameters") or {}
     names = list(settings.search.free or ranged) if settings.search is not None else list(ranged)

@@ -151,7 +151,14 @@ def _summary(outcome, args) -> None:
         f" {errors} failed, {timeouts} timed out"
         + (f" ({outcome.resumed} done by an earlier run)" if outcome.resumed else "")
     )
-    print(f"{ran} lots in {outcome.seconds:.1f} s ({rate:.2f} lots/s) on {outcome.executor}")
+    if ran:
+        print(f"{ran} lots in {outcome.seconds:.1f} s ({rate:.2f} lots/s) on {outcome.executor}")
+    partial = [r["id"] for r in ok if r.get("left_out")]
+    if partial:
+        shown = ", ".join(partial[:5]) + (
+            f" and {len(partial) - 5} more" if len(partial) > 5 else ""
+        )
+        print(f"judged without the leaves that are not convex blocks (left_out): {shown}")
     if mapped:
         print(f"attrs set by the lots' properties: {', '.join(mapped)}")
     for record in [r for r in records if r["status"] != "ok"][:5]:
