@@ -45,6 +45,7 @@ from shapegen.engine.expressions import ExpressionCompiler, format_value
 from shapegen.engine.operations import INSERT, ShapeOperations
 from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
+from shapegen.geometry.cut import convex_decomposition
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.limits import limit_hint
@@ -203,11 +204,10 @@ class Program(AttributeValues, ShapeOperations):
         for state in leaves:
             kind = state.shape.kind
             if state.shape.geometry is not None and kind in (MASS, FACE):
-                block = self._geometry_leaf(state, len(blocks), surfaces)
-                if block is not None:
-                    if len(blocks) + 1 > limit:
-                        raise self._too_many_blocks(len(blocks) + 1, run, state.rule_path)
-                    blocks.append(block)
+                made = self._geometry_leaf(state, len(blocks), surfaces)
+                if len(blocks) + len(made) > limit:
+                    raise self._too_many_blocks(len(blocks) + len(made), run, state.rule_path)
+                blocks.extend(made)
                 continue
             if kind == FACE:
                 face = state.shape.world_mesh()
@@ -257,32 +257,40 @@ class Program(AttributeValues, ShapeOperations):
                     blocks.append(piece)
         return blocks, surfaces
 
-    def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> Block | None:
-        """The block of a leaf with geometry, or None after adding it to ``surfaces``."""
+    def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> list[Block]:
+        """The blocks of a leaf with geometry: one for a closed convex mesh, the convex pieces of
+        a closed non-convex one (cut by the planes of its faces); otherwise none, and the leaf
+        is added to ``surfaces`` with the reason."""
         mesh = state.shape.world_mesh()
         if state.shape.kind == FACE or not mesh.is_closed:
             if mesh.area() > _MIN_SIZE**2:
                 reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
                 surfaces.append(_surface(state, mesh, reason, len(surfaces)))
-            return None
+            return []
         if mesh.volume() <= _MIN_SIZE**3:
-            return None
-        if not mesh.is_convex():
+            return []
+        pieces = [mesh] if mesh.is_convex() else convex_decomposition(mesh)
+        if pieces is None:
             surfaces.append(_surface(state, mesh, "not convex", len(surfaces)))
-            return None
+            return []
         density, structural, fixed = self._properties(state)
-        clean = mesh.cleaned()
-        return Block(
-            clean.vertices,
-            clean.faces,
-            density=density,
-            id=f"b{number}",
-            tags=state.labels,
-            structural=structural,
-            fixed=fixed,
-            rule_path=state.rule_path,
-            appearance=state.appearance,
-        )
+        blocks = []
+        for piece in pieces:
+            clean = piece.cleaned()
+            blocks.append(
+                Block(
+                    clean.vertices,
+                    clean.faces,
+                    density=density,
+                    id=f"b{number + len(blocks)}",
+                    tags=state.labels,
+                    structural=structural,
+                    fixed=fixed,
+                    rule_path=state.rule_path,
+                    appearance=state.appearance,
+                )
+            )
+        return blocks
 
     def _too_many_blocks(self, count: int, run: Derivation, chain: tuple) -> GrammarError:
         return GrammarError(

@@ -11,7 +11,7 @@ each loop becomes its own face.
 
 from __future__ import annotations
 
-__all__ = ["clip_half", "clip_slab"]
+__all__ = ["clip_half", "clip_plane", "clip_slab", "convex_decomposition"]
 
 import numpy as np
 
@@ -180,3 +180,62 @@ def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
     if float(np.max(high - low)) <= 0:
         return None
     return mesh
+
+
+def clip_plane(mesh: Mesh, normal, offset: float, keep_above: bool) -> Mesh | None:
+    """The part of ``mesh`` with ``normal . p >= offset`` (``keep_above``) or ``<=``; ``normal``
+    a unit vector. The mesh is turned so that ``normal`` is its z axis, clipped, turned back."""
+    from shapegen.geometry.frames import rotation_keeping_x
+
+    normal = np.asarray(normal, float)
+    guess = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    frame = rotation_keeping_x(guess, normal)  # y along the normal
+    turned = Mesh(mesh.vertices @ frame, mesh.faces)
+    piece = clip_half(turned, 1, offset, keep_above)
+    if piece is None:
+        return None
+    return Mesh(piece.vertices @ frame.T, piece.faces)
+
+
+def convex_decomposition(mesh: Mesh, max_pieces: int = 64) -> list[Mesh] | None:
+    """Convex closed pieces whose union is the closed mesh ``mesh``: a non-convex piece is cut by
+    the plane of one of its faces that has corners in front of it, until every piece is convex
+    (the pieces share the cut planes as faces). None when it would take more than
+    ``max_pieces`` pieces or a cut fails to close."""
+    done: list[Mesh] = []
+    todo = [mesh]
+    while todo:
+        piece = todo.pop()
+        if piece.is_convex():
+            done.append(piece)
+            if len(done) > max_pieces:
+                return None
+            continue
+        plane = _splitting_plane(piece)
+        if plane is None:
+            return None
+        normal, offset = plane
+        halves = [clip_plane(piece, normal, offset, side) for side in (False, True)]
+        if any(h is None or not h.is_closed for h in halves):
+            return None
+        todo.extend(halves)
+        if len(done) + len(todo) > max_pieces:
+            return None
+    return done
+
+
+def _splitting_plane(mesh: Mesh):
+    """The plane of the face with the most corners in front of it (a reflex face's plane)."""
+    normals, centres = mesh._normals
+    slack = _REL * max(mesh.size(), 1e-12)
+    best = None
+    for k in range(mesh.n_faces):
+        n = normals[k]
+        if not n.any():
+            continue
+        heights = (mesh.vertices - centres[k]) @ n
+        ahead = int((heights > slack * 1e3).sum())
+        behind = int((heights < -slack * 1e3).sum())
+        if ahead and behind and (best is None or ahead > best[0]):
+            best = (ahead, n, float(centres[k] @ n))
+    return None if best is None else (best[1], best[2])

@@ -114,10 +114,13 @@ def test_split_drops_pieces_without_geometry():
 
 
 def test_leaves_become_blocks_or_surfaces_with_a_reason():
+    # the L prism is cut into convex blocks by the plane of one of its inner walls
     model = shapegen.parse_grammar("@StartRule\nLot --> extrude(2) Mass\n").build(lot=L_LOT)
-    assert model.blocks == []
-    (surface,) = model.surfaces
-    assert surface.reason == "not convex"
+    assert model.surfaces == []
+    assert sorted(b.volume for b in model.blocks) == pytest.approx([8.0, 16.0])
+    for block in model.blocks:
+        block.validate()
+    # a lot never extruded is a surface
     model = shapegen.parse_grammar("@StartRule\nLot --> Flat\n").build(lot=L_LOT)
     assert [s.reason for s in model.surfaces] == ["a face (no volume)"]
 
@@ -187,9 +190,11 @@ def test_s_scales_the_geometry_with_the_scope():
     model = shapegen.parse_grammar("@StartRule\nLot --> extrude(1) s('0.5, '2, '1) Mass\n").build(
         lot=L_LOT
     )
-    (surface,) = model.surfaces
-    low, high = surface.vertices.min(axis=0), surface.vertices.max(axis=0)
-    assert np.allclose(low, [0, 0, -4]) and np.allclose(high, [2, 2, 0])
+    points = np.vstack([b.vertices for b in model.blocks])
+    assert np.allclose(points.min(axis=0), [0, 0, -4]) and np.allclose(
+        points.max(axis=0), [2, 2, 0]
+    )
+    assert sum(b.volume for b in model.blocks) == pytest.approx(12 * 0.5 * 2)
 
 
 def test_extrude_world_up_of_a_wall_and_flat_top_of_a_slope():
