@@ -1,0 +1,90 @@
+"""Plane cuts of meshes and the convex pieces of closed ones, against closed-form volumes."""
+
+import numpy as np
+import pytest
+
+from shapegen.geometry.convex import convex_faces, convex_pieces
+from shapegen.geometry.cut import clip_half, clip_plane, clip_slab, convex_decomposition
+from shapegen.geometry.extrude import prism
+from shapegen.geometry.frames import lot_polygon
+from shapegen.geometry.mesh import Mesh
+
+L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
+U_LOT = [(0, 0), (6, 0), (6, -4), (4, -4), (4, -1), (2, -1), (2, -4), (0, -4)]
+
+
+def _prism(lot, height=3.0):
+    _, face = lot_polygon(lot)
+    return prism(face.vertices, (0, height, 0))
+
+
+def test_box_slab_is_a_closed_convex_box():
+    piece = clip_slab(Mesh.box((4, 2, 2)), 0, 1, 2.5)
+    assert piece.is_closed and piece.is_convex()
+    assert piece.volume() == pytest.approx(1.5 * 2 * 2)
+    low, high = piece.bounds()
+    assert np.allclose(low, [1, 0, 0]) and np.allclose(high, [2.5, 2, 2])
+
+
+@pytest.mark.parametrize(
+    "axis, low, high, area",
+    # the U (area 18: 6 x 4 less the 2 x 3 notch), local z: 0 the arms' end, 4 the base's side
+    [
+        (0, 0, 1, 4),
+        (0, 0.5, 2.5, 6.5),
+        (0, 1, 3.5, 5.5),
+        (0, 2, 4, 2),
+        (2, 0, 1, 4),
+        (2, 0.5, 2.5, 8),
+        (2, 1, 3.5, 11),
+        (2, 2, 4, 10),
+    ],
+)
+def test_u_prism_slices(axis, low, high, area):
+    piece = clip_slab(_prism(U_LOT, 1.0), axis, low, high)
+    assert piece.is_closed
+    assert piece.volume() == pytest.approx(area)
+
+
+def test_cut_through_the_arms_leaves_two_closed_parts_and_no_bridge():
+    arms = clip_slab(_prism(U_LOT, 1.0), 2, 0, 3)
+    assert arms.is_closed and arms.volume() == pytest.approx(12.0)
+    # no face spans the gap 2 < x < 4 of the arms
+    for k in range(arms.n_faces):
+        x = arms.face_points(k)[:, 0]
+        assert x.max() <= 2 + 1e-9 or x.min() >= 4 - 1e-9
+    assert clip_slab(arms, 0, 2.2, 3.8) is None
+
+
+def test_open_faces_are_clipped_without_caps():
+    square = Mesh.rectangle((4, 0, 2), 1)
+    half = clip_half(square, 0, 1, True)
+    assert half.n_faces == 1 and not half.is_closed
+    assert half.area() == pytest.approx(6.0)
+
+
+def test_clip_by_a_slanted_plane_halves_a_cube():
+    cube = Mesh.box((1, 1, 1))
+    normal = np.array([1.0, 1.0, 0.0]) / np.sqrt(2)
+    half = clip_plane(cube, normal, float(normal @ [0.5, 0.5, 0.5]), True)
+    assert half.is_closed and half.volume() == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize("lot, count", [(L_LOT, 2), (U_LOT, 3)])
+def test_convex_decomposition_of_prisms(lot, count):
+    whole = _prism(lot)
+    pieces = convex_decomposition(whole)
+    assert len(pieces) == count
+    assert all(p.is_closed and p.is_convex() for p in pieces)
+    assert sum(p.volume() for p in pieces) == pytest.approx(whole.volume())
+
+
+def test_convexify_faces():
+    _, face = lot_polygon(U_LOT)
+    pieces = convex_pieces(face.vertices)
+    assert len(pieces) == 3  # Hertel-Mehlhorn: the U's minimum
+    mesh = convex_faces(face)
+    assert all(mesh.face(k).is_convex() for k in range(mesh.n_faces))
+    assert mesh.area() == pytest.approx(18.0)
+    # with maxLength 1 every cut the triangulation offers is longer: the face stays whole
+    assert convex_faces(face, 1.0).n_faces == 1
