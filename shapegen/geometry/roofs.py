@@ -126,7 +126,12 @@ def _skeleton_roof(
     even: bool,
     side_tags: list[str],
 ) -> RoofMesh:
-    eaves = edges_moved_out(polygon, grow) if np.any(grow) else polygon
+    eaves = polygon
+    if np.any(grow):  # overhangs (negative ones set the eaves in)
+        eaves = edges_moved_out(polygon, grow)
+        turned = np.einsum("ij,ij->i", edge_normals(eaves), edge_normals(polygon)) < 0
+        if signed_area(eaves) <= 0 or np.any(turned) or not _simple(eaves):
+            raise GeometryError("the roof's negative overhang is larger than the face")
     skeleton = straight_skeleton(eaves, weights=weights)
     slope = _slope(angle, height, float(skeleton.times.max()))
     times = skeleton.times
@@ -165,8 +170,8 @@ def roof_hip(
 
 
 def _overhang(angle, height, overhang) -> tuple[float, float]:
-    if not math.isfinite(overhang) or overhang < 0:
-        raise GeometryError(f"a roof overhang must be a finite number >= 0, got {overhang}")
+    if not math.isfinite(overhang):
+        raise GeometryError(f"a roof overhang must be a finite number, got {overhang}")
     if overhang == 0:
         return 0.0, 0.0
     if angle is None:
@@ -221,12 +226,18 @@ def roof_gable(
         index = None  # CityEngine uses the index on convex faces only
     gables = gable_edges(p, index)
     grow_x, drop = _overhang(angle, height, overhang_x)
-    if not math.isfinite(overhang_y) or overhang_y < 0:
-        raise GeometryError(f"a roof overhang must be a finite number >= 0, got {overhang_y}")
+    if not math.isfinite(overhang_y):
+        raise GeometryError(f"a roof overhang must be a finite number, got {overhang_y}")
     grow = np.where(gables, overhang_y, grow_x)
     weights = np.where(gables, 0.0, 1.0)
     tags = ["roof.side" if g else "roof.top" for g in gables]
     return _skeleton_roof(p, weights, angle, height, grow, drop, even, tags)
+
+
+def _simple(p: np.ndarray) -> bool:
+    from shapely.geometry import Polygon
+
+    return bool(Polygon(p).is_valid)
 
 
 def _convex(p: np.ndarray) -> bool:

@@ -118,11 +118,22 @@ def test_by_height_and_overhang():
     assert signed_area(bottom[::-1, :2]) == pytest.approx(96)  # the face itself stays
 
 
+def test_negative_overhangs_set_the_eaves_in():
+    hip = R.roof_hip(RECT, 45, overhang=-1)  # the same planes, cut 1 m up the slope
+    z = hip.vertices[:, 2]
+    assert z.max() == pytest.approx(4)
+    assert z[z > 0].min() == pytest.approx(math.sin(math.radians(45)))
+    gable = R.roof_gable(RECT, 45, overhang_y=-1)  # the gables 1 m in from the 8 m edges
+    ridge = gable.vertices[np.isclose(gable.vertices[:, 2], 4)]
+    assert np.ptp(ridge[:, 0]) == pytest.approx(10)
+
+
 @pytest.mark.parametrize(
     "call, message",
     [
         (lambda: R.roof_hip(RECT, 95), "between -90 and 90"),
-        (lambda: R.roof_hip(RECT, 45, overhang=-1), ">= 0"),
+        (lambda: R.roof_hip(RECT, 45, overhang=-7), "larger than the face"),
+        (lambda: R.roof_gable(RECT, 45, overhang_y=float("inf")), "finite"),
         (lambda: R.roof_hip(RECT, height=2, overhang=1), "byAngle"),
         (lambda: R.taper(RECT, float("nan")), "finite"),
     ],
