@@ -168,11 +168,18 @@ def test_bad_calls_are_one_clear_error(program, operation, message):
         run(program, operation)
 
 
-def test_polygon_operations_need_a_flat_shape(program):
+def test_polygon_operations_need_a_flat_shape_but_offset_takes_a_mass(program):
     state = _state(program)
-    state.shape = Shape(state.shape.scope, MASS)
+    state.shape = Shape(state.shape.scope.__class__.axis_aligned(size=(12, 3, 8)), MASS)
     with pytest.raises(GrammarError, match="needs a flat shape"):
-        run(program, _operation("offset", -1), state)
+        run(program, _operation("setback", 1, branches=[("all", False)]), state)
+    # offset works on every face of a 3D shape, each in its own plane (op_offset)
+    state, _ = run(program, _operation("offset", -0.5, "inside"), state)
+    assert state.shape.kind == MASS
+    mesh = state.shape.mesh()
+    assert mesh.n_faces == 6 and not mesh.is_closed
+    expected = 2 * (11 * 7 + 11 * 2 + 7 * 2)  # each face 1 m smaller in both directions
+    assert mesh.area() == pytest.approx(expected)
 
 
 # ----------------------------------------------------------------------------------- roofs

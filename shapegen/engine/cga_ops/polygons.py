@@ -25,7 +25,7 @@ import numpy as np
 
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.expressions import type_name
-from shapegen.engine.shape import FACE, Shape
+from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
 from shapegen.geometry.mesh import Mesh, polygon_normal
@@ -137,7 +137,7 @@ def _welded(points: np.ndarray, counts: list[int]):
     return points[np.sort(first)], faces
 
 
-def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None) -> Shape:
+def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None, kind: str = FACE) -> Shape:
     """A flat shape made of ``faces`` (``(k, 3)`` in ``parent``'s scope coordinates): the
     parent's orientation, the scope fitted to the faces."""
     points = np.concatenate(faces)
@@ -149,7 +149,7 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None) -> Shape:
     mesh = Mesh(vertices, indexed)
     if tags is not None:
         _tagged(mesh, tags)
-    return Shape(scope, FACE, parent.normal_axis, None, mesh)
+    return Shape(scope, kind, parent.normal_axis, None, mesh)
 
 
 def _flat_input(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndarray]]:
@@ -237,7 +237,10 @@ def compile_offset(program, node: ast.Operation, params):
     def offset_op(state, args, out):
         d = distance(args, state)
         faces, tags = [], []
-        for frame, polygon in _flat_input(state, node, program, "offset()"):
+        shape = state.shape
+        if shape.kind not in (FACE, MASS):
+            raise program.error(node, "offset() cannot offset an inserted primitive's faces")
+        for frame, polygon in face_frames(shape):  # every face in its own plane, 3D ones too
             try:
                 result = polygon2d.offset(polygon, d)
             except GeometryError as exc:
@@ -250,7 +253,7 @@ def compile_offset(program, node: ast.Operation, params):
                 tags += ["border"] * sum(len(p) >= 3 for p in result.border)
         if not faces:
             return False  # nothing is left of the face: an empty shape makes nothing
-        state.shape = flat_shape(state.shape, faces, tags)
+        state.shape = flat_shape(shape, faces, tags, shape.kind)
         return True
 
     return offset_op
