@@ -373,9 +373,24 @@ def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | N
     low, high = piece.bounds()
     scope = shape.scope
     new_scope = Scope(scope.origin + scope.rotation @ low, scope.rotation, high - low)
-    return Shape.with_geometry(
-        new_scope, Mesh(piece.vertices - low, piece.faces), shape.kind, shape.normal_axis
-    )
+    local = piece.vertices - low
+    if shape.kind == MASS and _is_scope_box(local, new_scope.size, piece.n_faces):
+        return Shape(new_scope, MASS)  # a box filling its scope: back on the fast path
+    return Shape.with_geometry(new_scope, Mesh(local, piece.faces), shape.kind, shape.normal_axis)
+
+
+def _is_scope_box(local: np.ndarray, size: np.ndarray, n_faces: int) -> bool:
+    """Whether the points are the 8 corners of the box ``[0, size]`` (a six-faced closed mesh
+    with these corners is that box)."""
+    if len(local) != 8 or n_faces != 6 or size.min() <= 0:
+        return False
+    slack = 1e-9 * float(size.max())
+    at_low = np.abs(local) <= slack
+    at_high = np.abs(local - size) <= slack
+    if not np.all(at_low | at_high):
+        return False
+    corners = {tuple(row) for row in at_high.tolist()}
+    return len(corners) == 8
 
 
 def lot_shape(lot) -> tuple[Shape, dict]:
