@@ -234,45 +234,103 @@ def union(polygons) -> list[np.ndarray]:
 
 
 def _largest_axis_rectangle(polygon: np.ndarray, samples: int) -> tuple[float, np.ndarray]:
-    """Largest axis-parallel rectangle inside ``polygon`` on a grid through its vertices plus
-    ``samples`` evenly spaced lines per axis: ``(area, (4, 2) corners)``."""
+    """Largest axis-parallel rectangle inside ``polygon``: on a grid through its vertices plus
+    ``samples`` evenly spaced lines per axis, then three times on a finer grid around the best
+    rectangle's sides (a corner on a slanted edge converges to it): ``(area, corners)``."""
+    lo, hi = polygon.min(axis=0), polygon.max(axis=0)
+    lines = [np.linspace(lo[k], hi[k], samples) for k in (0, 1)]
+    best = _grid_rectangle(polygon, *lines)
+    step = (hi - lo) / max(samples - 1, 1)
+    for _ in range(3):
+        if best[1] is None:
+            break
+        corners = best[1]
+        lines = [
+            np.concatenate(
+                [np.linspace(c - step[k], c + step[k], 17) for c in (corners[0, k], corners[2, k])]
+                + [np.linspace(lo[k], hi[k], samples)]
+            )
+            for k in (0, 1)
+        ]
+        best = max(best, _grid_rectangle(polygon, *lines), key=lambda b: b[0])
+        step = step / 8
+    return best
+
+
+def _convex(p: np.ndarray) -> bool:
+    d = np.roll(p, -1, axis=0) - p
+    cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
+    return bool(np.all(cross >= -1e-12 * float(np.abs(cross).max())))
+
+
+def _convex_optimum(polygon: np.ndarray, corners: np.ndarray) -> tuple[float, np.ndarray]:
+    """The largest axis-parallel rectangle in a convex polygon: maximise log(w) + log(h) with
+    its four corners inside every edge's half-plane (a concave problem, solved by SLSQP from the
+    grid's answer ``corners``)."""
+    from scipy.optimize import minimize
+
+    d = np.roll(polygon, -1, axis=0) - polygon
+    inward = np.stack([-d[:, 1], d[:, 0]], axis=1)
+    offset = np.einsum("ij,ij->i", inward, polygon)
+    rows = []
+    for cx, cy in ((0, 0), (1, 0), (0, 1), (1, 1)):  # corner = (x0 + cx w, y0 + cy h)
+        rows.append(np.column_stack([inward[:, 0], inward[:, 1], cx * inward[:, 0],
+                                     cy * inward[:, 1]]))  # fmt: skip
+    a = np.concatenate(rows)
+    b = np.tile(offset, 4)
+    start = np.array([*corners[0], *(corners[2] - corners[0])])
+    scale = float(np.ptp(polygon, axis=0).max())
+    result = minimize(
+        lambda v: -(math.log(max(v[2], 1e-300)) + math.log(max(v[3], 1e-300))),
+        start,
+        jac=lambda v: np.array([0.0, 0.0, -1.0 / max(v[2], 1e-300), -1.0 / max(v[3], 1e-300)]),
+        constraints=[
+            {"type": "ineq", "fun": lambda v: (a @ v - b) / scale, "jac": lambda v: a / scale}
+        ],
+        method="SLSQP",
+        options={"ftol": 1e-12, "maxiter": 200},
+    )
+    x0, y0, w, h = result.x
+    area = w * h
+    if (
+        not result.success
+        or np.any(a @ result.x - b < -1e-9 * scale**2)
+        or area <= (np.prod(corners[2] - corners[0]))
+    ):
+        return float(np.prod(corners[2] - corners[0])), corners
+    return float(area), np.array([[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]])
+
+
+def _grid_rectangle(polygon: np.ndarray, xs: np.ndarray, ys: np.ndarray):
     shape = ShapelyPolygon(polygon)
     shapely.prepare(shape)
     lo, hi = polygon.min(axis=0), polygon.max(axis=0)
-    xs = np.unique(np.concatenate([polygon[:, 0], np.linspace(lo[0], hi[0], samples)]))
-    ys = np.unique(np.concatenate([polygon[:, 1], np.linspace(lo[1], hi[1], samples)]))
-    cells = [
-        shapely.box(xs[i], ys[j], xs[i + 1], ys[j + 1])
-        for j in range(len(ys) - 1)
-        for i in range(len(xs) - 1)
-    ]
+    xs = np.unique(np.clip(np.concatenate([polygon[:, 0], xs]), lo[0], hi[0]))
+    ys = np.unique(np.clip(np.concatenate([polygon[:, 1], ys]), lo[1], hi[1]))
     shrink = 1e-9 * float(np.ptp(polygon, axis=0).max())
-    inside = shapely.contains(shape, shapely.buffer(cells, -shrink)).reshape(
-        len(ys) - 1, len(xs) - 1
-    )
+    x0, y0 = np.meshgrid(xs[:-1], ys[:-1])
+    x1, y1 = np.meshgrid(xs[1:], ys[1:])
+    cells = shapely.box(x0 + shrink, y0 + shrink, x1 - shrink, y1 - shrink)
+    inside = shapely.contains(shape, cells) & (x1 - x0 > 2 * shrink) & (y1 - y0 > 2 * shrink)
     best = (0.0, None)
     heights = np.zeros(len(xs) - 1)
-    widths = np.diff(xs)
+    edges = np.concatenate([[0.0], np.cumsum(np.diff(xs))])  # x of each column's left side
     for j in range(len(ys) - 1):
-        # Largest rectangle in a histogram of column heights (metres), for rows up to j.
-        row_height = ys[j + 1] - ys[j]
-        heights = np.where(inside[j], heights + row_height, 0.0)
-        for i in range(len(heights)):
-            h = heights[i]
-            if h <= 0:
-                continue
-            # Extend left and right while the columns are at least as tall.
-            a = i
-            while a > 0 and heights[a - 1] >= h:
-                a -= 1
-            b = i
-            while b + 1 < len(heights) and heights[b + 1] >= h:
-                b += 1
-            area = h * widths[a : b + 1].sum()
-            if area > best[0]:
-                x0, x1, y1 = xs[a], xs[b + 1], ys[j + 1]
-                corners = np.array([[x0, y1 - h], [x1, y1 - h], [x1, y1], [x0, y1]])
-                best = (area, corners)
+        # Largest rectangle in the histogram of column heights (m) for rows up to j: a stack of
+        # columns with rising heights; a lower column closes the taller ones before it.
+        heights = np.where(inside[j], heights + (ys[j + 1] - ys[j]), 0.0)
+        stack: list[tuple[int, float]] = []  # (first column, height)
+        for i, h in enumerate([*heights, 0.0]):
+            first = i
+            while stack and stack[-1][1] >= h:
+                first, top = stack.pop()
+                area = top * (edges[i] - edges[first])
+                if area > best[0]:
+                    x0, x1, y1 = xs[first], xs[i], ys[j + 1]
+                    corners = np.array([[x0, y1 - top], [x1, y1 - top], [x1, y1], [x0, y1]])
+                    best = (area, corners)
+            if h > 0:
+                stack.append((first, h))
     return best
 
 
@@ -280,9 +338,10 @@ def inner_rectangle(polygon, alignment: str = "scope", samples: int = 48):
     """CGA's ``innerRectangle``: the largest rectangle inside ``polygon`` and the remainder.
 
     ``alignment`` "scope": sides parallel to the axes; "edge": parallel to one of the edges at
-    least a quarter as long as the longest. The search runs on a grid through the vertices
-    plus ``samples`` lines per axis, so the area is exact for axis-parallel polygons and
-    within one grid cell otherwise.
+    least a quarter as long as the longest. In a convex polygon the rectangle is the exact
+    optimum (a concave problem); otherwise the search runs on a grid through the vertices plus
+    ``samples`` lines per axis, refined three times around the best rectangle (exact for
+    axis-parallel polygons).
 
     Returns
     -------
@@ -301,13 +360,35 @@ def inner_rectangle(polygon, alignment: str = "scope", samples: int = 48):
             candidates.append(np.array([u, [-u[1], u[0]]]))  # rows: the rectangle's axes
     best = (0.0, None)
     for axes in candidates:
-        area, corners = _largest_axis_rectangle(p @ axes.T, samples)
+        turned = p @ axes.T
+        if _convex(turned):  # a coarse grid to start from, then the exact optimum
+            lo, hi = turned.min(axis=0), turned.max(axis=0)
+            lines = [np.linspace(lo[k], hi[k], 16) for k in (0, 1)]
+            area, corners = _grid_rectangle(turned, *lines)
+            if corners is not None:
+                area, corners = _convex_optimum(turned, corners)
+        else:
+            area, corners = _largest_axis_rectangle(turned, samples)
         if corners is not None and area > best[0]:
-            best = (area, corners @ axes)
+            best = (area, corners @ axes, axes, corners)
     rectangle = best[1]
     if rectangle is None:
         return None, (p.copy(),)
-    rest = ShapelyPolygon(p).difference(ShapelyPolygon(rectangle))
+    # The remainder, cut along the rectangle's sides extended (left, right, below, above), so
+    # that no piece has the rectangle as a hole.
+    axes, (x0, y0), (x1, y1) = best[2], best[3][0], best[3][2]
+    turned = ShapelyPolygon(p @ axes.T)
+    far = 2 * float(np.abs(p).max()) + 1
+    regions = [
+        shapely.box(-far, -far, x0, far),
+        shapely.box(x1, -far, far, far),
+        shapely.box(x0, -far, x1, y0),
+        shapely.box(x0, y1, x1, far),
+    ]
     eps = (DEFAULT.merge_rel * float(np.ptp(p, axis=0).max())) ** 0.5
-    pieces = [r for r in _pieces(rest) if signed_area(r) > eps * signed_area(p)]
+    pieces = []
+    for region in regions:
+        for r in _pieces(turned.intersection(region)):
+            if signed_area(r) > eps * signed_area(p):
+                pieces.append(counter_clockwise(r @ axes))
     return rectangle, tuple(pieces)
