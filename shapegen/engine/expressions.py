@@ -19,6 +19,17 @@ __all__ = ["ExpressionCompiler", "format_value", "type_name"]
 import math
 from collections.abc import Callable
 
+from shapegen.engine.functions import PURE_FUNCTIONS, file_functions
+from shapegen.engine.functions_arrays import (
+    Array,
+    array_from,
+    colon_range,
+    format_value,
+    type_name,
+)
+from shapegen.engine.functions_arrays import index_array as _index_array
+from shapegen.engine.functions_calls import OCCLUSION, BuiltinCalls
+from shapegen.engine.functions_shape import shape_reader
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.limits import limit_hint
@@ -27,59 +38,7 @@ Value = float | bool | str
 Compiled = Callable[[tuple, object], Value]
 
 
-def type_name(value: object) -> str:
-    """The grammar's name for a value's type (for error messages)."""
-    if isinstance(value, bool):
-        return "boolean"
-    if isinstance(value, float):
-        return "number"
-    if isinstance(value, str):
-        return "string"
-    return type(value).__name__
-
-
-def format_value(value: object) -> str:
-    """A value as CGA prints it: ``3`` for 3.0, ``true`` for True."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
-            return str(int(value))
-        return repr(value)
-    return str(value)
-
-
-def _degrees(function: Callable[[float], float]) -> Callable[[float], float]:
-    return lambda x: function(math.radians(x))
-
-
-def _inverse_degrees(function: Callable[..., float]) -> Callable[..., float]:
-    return lambda *x: math.degrees(function(*x))
-
-
-_MATH: dict[str, Callable[..., float]] = {
-    "sin": _degrees(math.sin),
-    "cos": _degrees(math.cos),
-    "tan": _degrees(math.tan),
-    "asin": _inverse_degrees(math.asin),
-    "acos": _inverse_degrees(math.acos),
-    "atan": _inverse_degrees(math.atan),
-    "atan2": _inverse_degrees(math.atan2),
-    "sqrt": math.sqrt,
-    "abs": abs,
-    "min": min,
-    "max": max,
-    "floor": lambda x: float(math.floor(x)),
-    "ceil": lambda x: float(math.ceil(x)),
-    "rint": lambda x: float(round(x)),
-    "pow": math.pow,
-    "exp": math.exp,
-    "ln": math.log,
-    "log10": math.log10,
-}
-
-
-class ExpressionCompiler:
+class ExpressionCompiler(BuiltinCalls):
     """Compiles expressions of one grammar.
 
     Parameters
@@ -95,6 +54,7 @@ class ExpressionCompiler:
         self.global_names = global_names
         self.functions: dict[str, tuple[int, Compiled]] = {}
         self.function_nodes = {f.name: f for f in grammar.functions}
+        self.files = file_functions(grammar.filename)
 
     # ------------------------------------------------------------------ errors
     def error(self, node: object, message: str) -> GrammarError:
@@ -145,11 +105,107 @@ class ExpressionCompiler:
         raise self.error(node, f"unknown name {name!r}")
 
     def _ShapeAttribute(self, node: ast.ShapeAttribute, params) -> Compiled:
-        key = f"{node.obj}.{node.field}"
-        reader = _SHAPE_READERS.get(key)
+        key = f"{node.obj}.{node.field}" if node.field else node.obj
+        arguments = tuple(self.compile(arg, params) for arg in node.args)
+        try:
+            reader = shape_reader(node.obj, node.field, self.grammar)
+        except ValueError as exc:
+            raise self.error(node, str(exc)) from None
         if reader is None:
-            raise self.error(node, f"unknown shape attribute {key!r}")
-        return lambda args, state: reader(state)
+            raise self.error(node, f"the shape attribute {key!r} is not supported by shapegen")
+        error = self.error
+
+        def read(args, state):
+            values = [a(args, state) for a in arguments]
+            try:
+                return reader(state, *values)
+            except (ValueError, KeyError) as exc:
+                message = exc.args[0] if exc.args else str(exc)
+                raise error(node, f"{key}: {message}") from None
+
+        return read
+
+    def _Array(self, node: ast.Array, params) -> Compiled:
+        rows = [[self._item(item, params) for item in row] for row in node.rows]
+        error = self.error
+
+        def array(args, state):
+            values = []
+            for row in rows:
+                items = []
+                for item, colon in row:
+                    value = item(args, state)
+                    if colon:
+                        items.extend(value)
+                    elif isinstance(value, Array) and len(node.rows) == 1 and len(row) == 1:
+                        return value
+                    else:
+                        items.append(value)
+                values.append(items)
+            try:
+                return array_from(values)
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
+
+        return array
+
+    def _item(self, item, params) -> tuple[Compiled, bool]:
+        """An array item: a value, or a :class:`~shapegen.grammar.ast.Colon` range (a list)."""
+        if not isinstance(item, ast.Colon):
+            return self.compile(item, params), False
+        if item.start is None:
+            raise self.error(item, "a lone ':' is only an index (a[:, 0])")
+        start, stop = self.compile(item.start, params), self.compile(item.stop, params)
+        step = self.compile(item.step, params) if item.step is not None else None
+        error = self.error
+
+        def values(args, state):
+            numbers = [start(args, state), step(args, state) if step else 1.0, stop(args, state)]
+            if any(type(v) is not float for v in numbers):
+                raise error(item, "a range a:b or a:step:b needs numbers")
+            try:
+                return colon_range(*numbers)
+            except ValueError as exc:
+                raise error(item, str(exc)) from None
+
+        return values, True
+
+    def _Colon(self, node: ast.Colon, params) -> Compiled:
+        raise self.error(node, "a range a:b is written inside brackets: [1:5] or a[0:2]")
+
+    def _Index(self, node: ast.Index, params) -> Compiled:
+        target = self.compile(node.target, params)
+        indices = []
+        for index in node.indices:
+            if isinstance(index, ast.Colon) and index.start is None:
+                indices.append((None, False))
+            else:
+                indices.append(self._item(index, params))
+        error = self.error
+
+        def index(args, state):
+            array = target(args, state)
+            values = []
+            for k, (item, colon) in enumerate(indices):
+                if item is None:  # ':' takes every row or column
+                    length = array.rows if k == 0 else array.columns
+                    values.append(Array(tuple(map(float, range(length))), 1, length))
+                elif colon:
+                    numbers = item(args, state)
+                    values.append(Array(tuple(numbers), 1, len(numbers)))
+                else:
+                    values.append(item(args, state))
+            try:
+                return _index_array(array, values)
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
+
+        return index
+
+    def _ComponentValues(self, node: ast.ComponentValues, params) -> Compiled:
+        raise self.error(
+            node, "the comp() function (an array of component values) is not supported by shapegen"
+        )
 
     def _Unary(self, node: ast.Unary, params) -> Compiled:
         operand = self.compile(node.operand, params)
@@ -255,17 +311,22 @@ class ExpressionCompiler:
         raise self.error(node, f"unknown operator {op!r}")
 
     def _Call(self, node: ast.Call, params) -> Compiled:
-        arguments = tuple(self.compile(arg, params) for arg in node.args)
         name = node.name
+        if name in OCCLUSION:
+            return self._call_occlusion(node, params)
+        arguments = tuple(self.compile(arg, params) for arg in node.args)
         if name in self.function_nodes:
             return self._call_user(node, name, arguments)
-        if name in _MATH:
-            return self._call_math(node, _MATH[name], arguments)
         if name == "rand":
             return self._call_rand(node, arguments)
-        if name in ("str", "float", "bool") and len(arguments) == 1:
-            return self._call_conversion(node, name, arguments[0])
-        raise self.error(node, f"unknown function {name!r}")
+        if name in ("p", "listRandom", "fileRandom"):
+            return self._call_random_choice(node, name, arguments)
+        if name == "print":
+            return self._call_print(node, arguments)
+        function = self.files.get(name) or PURE_FUNCTIONS.get(name)
+        if function is not None:
+            return self._call_pure(node, function, arguments)
+        raise self.error(node, f"the CGA function {name}() is not supported by shapegen")
 
     def _call_user(self, node, name: str, arguments: tuple) -> Compiled:
         functions = self.functions
@@ -295,24 +356,6 @@ class ExpressionCompiler:
 
         return call
 
-    def _call_math(self, node, function, arguments: tuple) -> Compiled:
-        error = self.error
-        name = node.name
-
-        def call(args, state):
-            values = [a(args, state) for a in arguments]
-            for value in values:
-                if type(value) is not float:
-                    raise error(node, f"{name}() needs numbers, got a {type_name(value)}")
-            try:
-                result = function(*values)
-            except (ValueError, OverflowError):
-                shown = ", ".join(format_value(v) for v in values)
-                raise error(node, f"{name}({shown}) is not defined") from None
-            return float(result)
-
-        return call
-
     def _call_rand(self, node, arguments: tuple) -> Compiled:
         error = self.error
         if len(arguments) > 2:
@@ -329,26 +372,6 @@ class ExpressionCompiler:
                 else ((0.0, values[0]) if len(values) == 1 else (values[0], values[1]))
             )
             return low + (high - low) * state.random()
-
-        return call
-
-    def _call_conversion(self, node, name: str, argument: Compiled) -> Compiled:
-        error = self.error
-
-        def call(args, state):
-            value = argument(args, state)
-            if name == "str":
-                return format_value(value)
-            if name == "bool":
-                if type(value) is str:
-                    return value.strip().lower() in ("true", "1")
-                return bool(value)
-            if type(value) is str:
-                try:
-                    return float(value)
-                except ValueError:
-                    raise error(node, f"float({value!r}): not a number") from None
-            return float(value)
 
         return call
 
@@ -410,31 +433,4 @@ _ORDER = {
     "<=": lambda a, b: a <= b,
     ">": lambda a, b: a > b,
     ">=": lambda a, b: a >= b,
-}
-
-
-def _euler(state, k: int) -> float:
-    r = state.shape.scope.rotation
-    # Angles of rotation_matrix(): R = Rz @ Ry @ Rx, in degrees.
-    if k == 0:
-        return math.degrees(math.atan2(r[2, 1], r[2, 2]))
-    if k == 1:
-        return math.degrees(-math.asin(max(-1.0, min(1.0, float(r[2, 0])))))
-    return math.degrees(math.atan2(r[1, 0], r[0, 0]))
-
-
-_SHAPE_READERS: dict[str, Callable[[object], Value]] = {
-    "scope.sx": lambda state: float(state.shape.scope.size[0]),
-    "scope.sy": lambda state: float(state.shape.scope.size[1]),
-    "scope.sz": lambda state: float(state.shape.scope.size[2]),
-    "scope.tx": lambda state: float(state.shape.scope.origin[0]),
-    "scope.ty": lambda state: float(state.shape.scope.origin[1]),
-    "scope.tz": lambda state: float(state.shape.scope.origin[2]),
-    "scope.rx": lambda state: _euler(state, 0),
-    "scope.ry": lambda state: _euler(state, 1),
-    "scope.rz": lambda state: _euler(state, 2),
-    "split.index": lambda state: float(state.split_index),
-    "split.total": lambda state: float(state.split_total),
-    "comp.index": lambda state: float(state.comp_index),
-    "comp.total": lambda state: float(state.comp_total),
 }

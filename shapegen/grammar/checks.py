@@ -23,11 +23,17 @@ from collections.abc import Iterable
 
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
-from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
+from shapegen.grammar.checks_annotations import AnnotationChecks
+from shapegen.grammar.constant_folding import constant_value
 from shapegen.grammar.names import (
-    ANNOTATIONS,
-    ANY_KEYWORD,
     BUILTIN_FUNCTIONS,
+    CGA_OPERATIONS,
+    COMP_KINDS,
+    COMP_SELECTORS,
+    FUNCTION_KEYWORDS,
+    GEOMETRY_FUNCTIONS,
+    LIBRARY_FUNCTIONS,
+    OPERATION_KEYWORDS,
     OPERATIONS,
     RESERVED_ATTRIBUTES,
     SHAPE_ATTRIBUTES,
@@ -63,7 +69,7 @@ def _arity(low: int, high: int) -> str:
     return f"{low} to {high} arguments"
 
 
-class _Checker:
+class _Checker(AnnotationChecks):
     """Walks a Grammar once and collects problems."""
 
     def __init__(self, grammar: ast.Grammar):
@@ -73,6 +79,10 @@ class _Checker:
         # Rules by (name, number of parameters): as in CGA, one name may be overloaded by arity.
         self.rules: dict[tuple[str, int], ast.Rule] = {}
         self.arities: dict[str, list[int]] = {}
+        # ids of the names that may be CityEngine keywords: an operation's arguments and
+        # branch keys (alignScopeToAxes(y), comp(f) { world.up : A }), a builtin's (inside(inter))
+        self.keyword_names: dict[int, frozenset[str]] = {}
+        self.cga = grammar.filename.endswith(".cga")
 
     def report(self, location: SourceLocation | None, message: str) -> None:
         self.problems.append((location, message))
@@ -81,6 +91,7 @@ class _Checker:
 
     def run(self) -> list[Problem]:
         self._collect_definitions()
+        self._collect_keyword_names()
         for definition in self.grammar.definitions:
             self._check_annotations(definition)
             if isinstance(definition, ast.Attribute | ast.Constant):
@@ -95,7 +106,7 @@ class _Checker:
         for definition in self.grammar.definitions:
             name = definition.name
             if isinstance(definition, ast.Rule):
-                if name in OPERATIONS or name == "NIL":
+                if name in OPERATIONS or name in CGA_OPERATIONS or name == "NIL":
                     self.report(
                         definition.location,
                         f"'{name}' is an operation; a rule cannot use its name",
@@ -111,7 +122,11 @@ class _Checker:
                     self.rules[key] = definition
                     self.arities.setdefault(name, []).append(key[1])
                 continue
-            if isinstance(definition, ast.Function) and name in BUILTIN_FUNCTIONS:
+            if (
+                isinstance(definition, ast.Function)
+                and name in BUILTIN_FUNCTIONS
+                and name not in LIBRARY_FUNCTIONS
+            ):
                 self.report(
                     definition.location,
                     f"'{name}' is a builtin function; choose another name",
@@ -132,119 +147,6 @@ class _Checker:
                 self.report(param.location, f"parameter '{param.name}' is listed twice")
             seen[param.name] = param
         return seen
-
-    # Annotations -------------------------------------------------------------------------------
-
-    def _check_annotations(self, definition: ast.Definition) -> None:
-        kind = _KIND_NAMES[type(definition)]
-        seen: set[str] = set()
-        for annotation in definition.annotations:
-            name = annotation.name
-            if name not in ANNOTATIONS:
-                self.report(
-                    annotation.location,
-                    f"unknown annotation '@{name}'" + _suggestion(name, ANNOTATIONS),
-                )
-                continue
-            if name in seen:
-                self.report(annotation.location, f"'@{name}' is given twice")
-            seen.add(name)
-            low, high, keywords = ANNOTATIONS[name]
-            count = len(annotation.args)
-            if not (low <= count <= high) and not (name == "Range" and annotation.keywords):
-                self.report(
-                    annotation.location,
-                    f"@{name} takes {_arity(low, high)}, got {count}",
-                )
-            for keyword in annotation.keywords:
-                if ANY_KEYWORD not in keywords and keyword.name not in keywords:
-                    valid = ", ".join(keywords) if keywords else "none"
-                    self.report(
-                        keyword.location,
-                        f"@{name} has no argument '{keyword.name}' (valid: {valid})"
-                        + _suggestion(keyword.name, keywords),
-                    )
-            self._visit(annotation, {})
-            if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
-                self.report(annotation.location, f"@{name} belongs on a rule, not on {kind}")
-            if name in _ATTR_ONLY_ANNOTATIONS and not isinstance(definition, ast.Attribute):
-                self.report(annotation.location, f"@{name} belongs on an attr, not on {kind}")
-        if isinstance(definition, ast.Attribute):
-            self._check_range(definition)
-
-    def _check_range(self, attribute: ast.Attribute) -> None:
-        annotation = attribute.annotation("Range")
-        if annotation is None:
-            if attribute.free:
-                self.report(
-                    attribute.annotation("Free").location,
-                    f"@Free attr '{attribute.name}' needs a @Range(min=..., max=...) "
-                    "for its bounds",
-                )
-            return
-        bounds = attribute.range
-        if bounds is None:
-            self.report(annotation.location, "@Range needs both a min and a max")
-            return
-        low, high = (constant_value(bound, self.values) for bound in bounds)
-        for bound, value in zip(bounds, (low, high), strict=True):
-            if value is UNKNOWN and attribute.free:
-                self.report(
-                    bound.location,
-                    f"the @Range bounds of @Free attr '{attribute.name}' must be constants",
-                )
-            elif value is not UNKNOWN and not is_number(value):
-                self.report(bound.location, "a @Range bound must be a number")
-        if not (is_number(low) and is_number(high)):
-            return
-        if low > high:
-            self.report(
-                annotation.location,
-                f"@Range min {_show(low)} is greater than its max {_show(high)}",
-            )
-            return
-        default = constant_value(attribute.value, self.values)
-        if is_number(default) and not (low <= default <= high):
-            self.report(
-                attribute.value.location,
-                f"the value {_show(default)} of '{attribute.name}' is outside its "
-                f"@Range [{_show(low)}, {_show(high)}]",
-            )
-        elif attribute.free and default is not UNKNOWN and not is_number(default):
-            self.report(
-                attribute.value.location,
-                f"@Free attr '{attribute.name}' must have a numeric value",
-            )
-
-    def _check_start_rule(self) -> None:
-        starts = [rule for rule in self.rules.values() if rule.start]
-        for extra in starts[1:]:
-            self.report(
-                extra.annotation("StartRule").location,
-                f"more than one @StartRule (the first is '{starts[0].name}' at "
-                f"{starts[0].location})",
-            )
-        start = self.grammar.start_rule
-        if start is not None and start.start and start.params:
-            self.report(start.location, f"the start rule '{start.name}' cannot take parameters")
-        for rule in self.rules.values():
-            for name in ("Lot", "Structure"):  # annotations of the start rule only
-                annotation = rule.annotation(name)
-                if annotation is None:
-                    continue
-                if rule is not start:
-                    self.report(annotation.location, f"@{name} belongs on the start rule")
-                for argument in annotation.args:
-                    self._start_annotation_value(name, argument)
-
-    def _start_annotation_value(self, name: str, argument: ast.Expression) -> None:
-        value = constant_value(argument, self.values)
-        if value is UNKNOWN:
-            return
-        if name == "Lot" and not (is_number(value) and value > 0):
-            self.report(argument.location, "@Lot sizes must be positive numbers (metres)")
-        if name == "Structure" and not isinstance(value, str):
-            self.report(argument.location, "@Structure names a structure: a string")
 
     def _check_cycles(self) -> None:
         """Report attrs/consts whose value depends on itself through other attrs/consts."""
@@ -307,13 +209,21 @@ class _Checker:
             )
 
     def _successor(self, successor: ast.Successor) -> None:
-        if successor.name in OPERATIONS:
+        if successor.name in OPERATIONS or successor.name in CGA_OPERATIONS:
             self.report(
                 successor.location,
                 f"'{successor.name}' is an operation: write {successor.name}(...)",
             )
             return
         arities = self.arities.get(successor.name)
+        if arities is None and successor.called and _looks_like_call(successor.name):
+            known = [*CGA_OPERATIONS, *(name for name, _ in self.rules)]
+            self.report(
+                successor.location,
+                f"'{successor.name}(...)' is neither a CGA operation nor a rule of this file"
+                + _suggestion(successor.name, known),
+            )
+            return
         if arities is None:
             return  # a leaf shape, as in CGA
         if len(successor.args) not in arities:
@@ -331,6 +241,8 @@ class _Checker:
         target = self.values.get(name)
         if isinstance(target, ast.Attribute) or (target is None and name in RESERVED_ATTRIBUTES):
             return
+        if target is None and name.partition(".")[0] in _SETTABLE_OBJECTS:
+            return  # a shape attribute: the interpreter says which it can set
         if target is not None:
             kind = "a const" if isinstance(target, ast.Constant) else "a function"
             self.report(item.location, f"set() needs an attr, and '{name}' is {kind}")
@@ -357,6 +269,8 @@ class _Checker:
             )
             return
         if target is not None:
+            return
+        if name in self.keyword_names.get(id(node), ()):
             return
         if name in BUILTIN_FUNCTIONS:
             self.report(node.location, f"'{name}' is a builtin function: write {name}(...)")
@@ -390,17 +304,91 @@ class _Checker:
             f"undefined function '{name}'" + _suggestion(name, [*BUILTIN_FUNCTIONS, *functions]),
         )
 
+    def _collect_keyword_names(self) -> None:
+        """Mark the names that may be CityEngine keywords where they are written."""
+        for node in ast.walk(self.grammar):
+            if isinstance(node, ast.Operation):
+                for argument in node.arguments:
+                    self._mark(argument.value, OPERATION_KEYWORDS)
+                for branch in node.branches:
+                    self._mark(branch.key, OPERATION_KEYWORDS)
+                if node.name == "comp":
+                    self._comp_words(node)
+            elif isinstance(node, ast.ComponentValues):
+                for argument in node.arguments:
+                    self._mark(argument, OPERATION_KEYWORDS)
+                for branch in node.branches:
+                    self._mark(branch.selector, OPERATION_KEYWORDS)
+            elif isinstance(node, ast.Call) and node.name in FUNCTION_KEYWORDS:
+                for argument in node.args:
+                    self._mark(argument, FUNCTION_KEYWORDS[node.name])
+
+    def _comp_words(self, node: ast.Operation) -> None:
+        """comp's kind and selectors: an unknown one is named as such (not as an undefined
+        name), with the valid ones."""
+        kind = node.arguments[0].value if node.arguments else None
+        if isinstance(kind, ast.Name) and kind.name not in COMP_KINDS:
+            self.report(
+                kind.location,
+                f"unknown component type '{kind.name}' in comp(); valid: {', '.join(COMP_KINDS)}",
+            )
+            self.keyword_names[id(kind)] = frozenset({kind.name})
+        for branch in node.branches:
+            key = branch.key
+            if (
+                isinstance(key, ast.Name)
+                and key.name not in COMP_SELECTORS
+                and key.name not in self.values
+            ):
+                self.report(
+                    key.location,
+                    f"unknown comp selector '{key.name}'; valid: {', '.join(COMP_SELECTORS[:6])}"
+                    + "..."
+                    + _suggestion(key.name, COMP_SELECTORS),
+                )
+                self.keyword_names[id(key)] = frozenset({key.name})
+
+    def _mark(self, expression, words: frozenset[str]) -> None:
+        for node in ast.walk(expression):
+            if isinstance(node, ast.Name | ast.ShapeAttribute):
+                self.keyword_names[id(node)] = words
+
     def _shape_attribute(self, node: ast.ShapeAttribute) -> None:
+        written = f"{node.obj}.{node.field}" if node.field else node.obj
+        if written in self.keyword_names.get(id(node), ()):
+            return
+        if node.obj == "material" or (node.obj == "seedian" and not node.field):
+            return  # material fields are checked against the catalogue when compiled
         fields = SHAPE_ATTRIBUTES.get(node.obj)
+        if node.obj == "geometry" and node.field in GEOMETRY_FUNCTIONS:
+            low, high = GEOMETRY_FUNCTIONS[node.field]
+            if not low <= len(node.args) <= high:
+                self.report(
+                    node.location, f"{written}() takes {_arity(low, high)}, got {len(node.args)}"
+                )
+            return
         if fields is not None and node.field in fields:
+            if node.args:
+                self.report(node.location, f"'{written}' is a shape attribute, not a function")
             return
         valid = [f"{obj}.{field}" for obj, names in SHAPE_ATTRIBUTES.items() for field in names]
-        written = f"{node.obj}.{node.field}"
         self.report(
             node.location,
             f"unknown shape attribute '{written}'"
             + (_suggestion(written, valid) or f"; valid: {', '.join(valid)}"),
         )
+
+
+#: Objects whose attributes ``set()`` may name (``set(material.color.r, 1)``, ``set(trim.vertical,
+#: false)``); the interpreter reports the ones it does not honour.
+_SETTABLE_OBJECTS = frozenset({"material", "scope", "trim", "pivot", "comp", "initialShape"})
+
+
+def _looks_like_call(name: str) -> bool:
+    """A call ``name(...)`` with no rule: an error when it reads as a misspelt operation or
+    function (lower-case, as CGA writes them); ``Window(2)`` stays a leaf, as CGA leaves
+    successors without a rule."""
+    return name.rpartition(".")[2][:1].islower()
 
 
 def _show(value: float) -> str:

@@ -20,6 +20,7 @@ __all__ = [
     "Definition",
     "Function",
     "Grammar",
+    "Import",
     "Parameter",
     "Rule",
 ]
@@ -136,6 +137,24 @@ Definition = Attribute | Constant | Function | Rule
 
 
 @node
+class Import:
+    """``import prefix : "file.cga" (args)`` or ``import "file.cga"`` (``prefix`` None).
+
+    ``protected`` lists the attrs named bare in the argument list (not propagated from the
+    importing file); ``protect_all`` is True for empty parentheses; ``overrides`` gives the attrs
+    set to an expression of the importing file (``(height = 20)``). ``path`` is as written.
+    """
+
+    prefix: str | None
+    path: str
+    protected: tuple[str, ...] = ()
+    protect_all: bool = False
+    overrides: tuple[Keyword, ...] = ()
+    annotations: tuple[Annotation, ...] = ()
+    location: SourceLocation = location_field()
+
+
+@node
 class Grammar:
     """A whole .grammar file.
 
@@ -147,6 +166,12 @@ class Grammar:
         The text of the ``version "..."`` line.
     filename : str
         Name used in error messages.
+    imports : tuple
+        The file's ``import`` lines (their definitions are merged into ``definitions`` under
+        their prefix by :func:`shapegen.grammar.imports.resolve_imports`).
+    styles : tuple
+        Names of the ``style`` sections; only the default style is derived, so the definitions
+        after a ``style`` line are parsed and left out of ``definitions``.
     source : str
         The file's text (for error carets); excluded from equality.
     """
@@ -154,6 +179,8 @@ class Grammar:
     definitions: tuple[Definition, ...]
     version: str | None = None
     filename: str = "<string>"
+    imports: tuple[Import, ...] = ()
+    styles: tuple[str, ...] = ()
     source: str = field(default="", compare=False, repr=False)
     location: SourceLocation = location_field()
 
@@ -182,9 +209,13 @@ class Grammar:
 
     @property
     def start_rule(self) -> Rule | None:
-        """The ``@StartRule`` rule, else the first rule, else None."""
+        """The ``@StartRule`` rule, else the first rule without parameters (else the first
+        rule), else None."""
         rules = self.rules
         for rule in rules:
             if rule.start:
+                return rule
+        for rule in rules:  # a rule with parameters cannot start a derivation
+            if not rule.params:
                 return rule
         return rules[0] if rules else None

@@ -11,6 +11,11 @@ from shapegen.errors import SourceLocation
 from shapegen.grammar.tree import location_field, node
 
 __all__ = [
+    "Array",
+    "Colon",
+    "ComponentValue",
+    "ComponentValues",
+    "Index",
     "Binary",
     "Boolean",
     "Call",
@@ -64,12 +69,16 @@ class Name:
 class ShapeAttribute:
     """A property of the current shape: ``scope.sx``, ``split.index``, ``comp.total``...
 
-    ``obj`` is the part before the dot (``"scope"``, ``"split"``, ``"comp"``) and ``field`` the
-    part after it; valid pairs are listed in :data:`shapegen.grammar.names.SHAPE_ATTRIBUTES`.
+    ``obj`` is the part before the first dot (``"scope"``, ``"split"``, ``"comp"``) and ``field``
+    the part after it; valid pairs are listed in :data:`shapegen.grammar.names.SHAPE_ATTRIBUTES`.
+    ``args`` holds the arguments of the call form (``geometry.isRectangular(15)``); the call
+    without arguments (``geometry.area()``) and the attribute form (``geometry.area``) are one.
+    ``seedian`` has ``field`` ``""``.
     """
 
     obj: str
     field: str
+    args: tuple[Expression, ...] = ()
     location: SourceLocation = location_field()
 
 
@@ -98,6 +107,55 @@ class Call:
 
     name: str
     args: tuple[Expression, ...]
+    location: SourceLocation = location_field()
+
+
+@node
+class Array:
+    """``[1, 2, 3]`` (one row) or ``[1, 2; 3, 4]`` (rows split by ``;``), as CGA writes arrays.
+    An item may be a :class:`Colon` range (``[1:5]``)."""
+
+    rows: tuple[tuple[Expression, ...], ...]
+    location: SourceLocation = location_field()
+
+
+@node
+class Colon:
+    """``start : stop`` or ``start : step : stop`` inside brackets (``[1:2:9]``, ``a[0:2]``);
+    all three None for a lone ``:`` (every row or column of an index)."""
+
+    start: Expression | None
+    step: Expression | None
+    stop: Expression | None
+    location: SourceLocation = location_field()
+
+
+@node
+class Index:
+    """``array[i]`` or ``array[row, column]``; an index may be an array or a :class:`Colon`."""
+
+    target: Expression
+    indices: tuple[Expression, ...]
+    location: SourceLocation = location_field()
+
+
+@node
+class ComponentValue:
+    """``selector : value`` (``selector = value`` with ``merge``) in a :class:`ComponentValues`."""
+
+    selector: Expression
+    value: Expression
+    merge: bool = False
+    location: SourceLocation = location_field()
+
+
+@node
+class ComponentValues:
+    """The comp function (func_comp): ``comp(fe) { all : 2 }``, an array with one value per
+    selected component; ``arguments`` as in the comp operation."""
+
+    arguments: tuple[Expression, ...]
+    branches: tuple[ComponentValue, ...]
     location: SourceLocation = location_field()
 
 
@@ -146,6 +204,10 @@ Expression = (
     | Unary
     | Binary
     | Call
+    | Array
+    | Colon
+    | Index
+    | ComponentValues
     | CaseExpression
     | StochasticExpression
 )

@@ -21,6 +21,10 @@ __all__ = ["DefinitionNames", "lark_parser"]
 _GRAMMAR_FILE = "cga.lark"
 
 
+# Words that are keywords only at bracket depth 0 and before these tokens.
+_KEYWORDS = {"import": ("NAME", "STRING"), "style": ("NAME",), "extension": ("NAME",)}
+
+
 class DefinitionNames:
     """Post-lexer: a NAME that starts a definition becomes DEF_NAME.
 
@@ -54,6 +58,10 @@ class DefinitionNames:
                 depth = max(depth - 1, 0)
             elif token.type == "NAME" and depth == 0 and self._starts_definition(peek):
                 token = Token.new_borrow_pos("DEF_NAME", token.value, token)
+            elif token.type == "NAME" and depth == 0 and token.value in _KEYWORDS:
+                following = peek(0)
+                if following is not None and following.type in _KEYWORDS[token.value]:
+                    token = Token.new_borrow_pos("_" + token.value.upper(), token.value, token)
             yield token
 
     @staticmethod

@@ -17,6 +17,7 @@ from shapegen.grammar.names import (
     CENTER_MODES,
     COMP_KINDS,
     COMP_SELECTORS,
+    OPERATIONS,
     ROTATE_PIVOTS,
     SPLIT_AXES,
 )
@@ -94,12 +95,76 @@ class OperationBuilders:
             argument.value, relative=argument.kind == "relative", location=argument.location
         )
 
+    def _dedicated(self, name: str, arguments: list[Argument], block: Block | None) -> bool:
+        """True when the call fits the operation's node of its own (``extrude(h)``, ``comp(f)``
+        with named or numbered selectors...); other forms become a generic Operation."""
+        if name not in OPERATIONS:
+            return False
+        positional = [a for a in arguments if a.kind != "keyword"]
+        if name == "split":
+            return len(positional) == 1 or (
+                len(positional) == 2
+                and isinstance(positional[1].value, ast.Name)
+                and positional[1].value.name in ("adjust", "noAdjust")
+            )
+        if name == "extrude":
+            return len(positional) == 1
+        if name == "i":
+            return len(positional) == 1
+        if name == "comp":
+            kind = positional[0].value if len(positional) == 1 else None
+            if not (isinstance(kind, ast.Name) and kind.name in COMP_KINDS) or block.repeat:
+                return False
+            return all(
+                isinstance(entry, BlockEntry)
+                and entry.mode == "absolute"
+                and (
+                    (isinstance(entry.key, ast.Name) and entry.key.name in COMP_SELECTORS)
+                    or _is_face_index(entry.mode, entry.key)
+                )
+                for entry in block.entries
+            )
+        low, high = OPERATIONS[name]
+        return low <= len(positional) <= high
+
+    def _generic(self, name: str, arguments: list[Argument], block: Block | None, location):
+        """A generic :class:`~shapegen.grammar.ast.Operation` node for the call."""
+        branches = []
+        if name == "comp" and block is not None and block.repeat:
+            self._problem(block.location, "a comp block cannot be repeated with '*'")
+        for entry in block.entries if block is not None else ():
+            if isinstance(entry, Block):
+                self._problem(entry.location, f"{name} branches cannot be grouped with {{ }}")
+                continue
+            if name == "comp" and entry.mode != "absolute":
+                valid = ", ".join(COMP_SELECTORS[:6])
+                self._problem(
+                    entry.location,
+                    f"a comp selector must be a face index or one of: {valid}...",
+                )
+            branches.append(
+                ast.OperationBranch(
+                    entry.key, entry.mode, entry.body, merge=entry.merge, location=entry.location
+                )
+            )
+        return ast.Operation(
+            name,
+            tuple(
+                ast.OperationArgument(a.kind, a.value, a.name, location=a.location)
+                for a in arguments
+            ),
+            tuple(branches),
+            repeat=block is not None and block.repeat,
+            location=location,
+        )
+
     def _op_extrude(self, arguments, block, location):
         return ast.Extrude(self._plain("extrude", arguments[0]), location=location)
 
     def _op_split(self, arguments, block, location):
         axis = self._keyword_choice("split", "axis", arguments[0], SPLIT_AXES)
-        return ast.Split(axis, self._split_group(block), location=location)
+        adjust = len(arguments) == 1 or arguments[1].value.name == "adjust"
+        return ast.Split(axis, self._split_group(block), adjust=adjust, location=location)
 
     def _split_group(self, block: Block) -> ast.SplitGroup:
         parts = []
@@ -171,6 +236,8 @@ class OperationBuilders:
         target, value = arguments
         if target.kind == "plain" and isinstance(target.value, ast.Name):
             attribute = target.value.name
+        elif target.kind == "plain" and isinstance(target.value, ast.ShapeAttribute):
+            attribute = f"{target.value.obj}.{target.value.field}"
         else:
             self._problem(target.location, "set() needs an attribute name as its first argument")
             attribute = ""

@@ -6,6 +6,7 @@ The whole tree is described in :mod:`shapegen.grammar.ast`, which re-exports the
 
 from __future__ import annotations
 
+from dataclasses import field
 from typing import Literal
 
 from shapegen.errors import SourceLocation
@@ -61,11 +62,13 @@ class Coordinate:
 
 @node
 class Successor:
-    """``Name``, ``Name(args)`` or the explicit leaf ``Name.`` (``leaf=True``)."""
+    """``Name``, ``Name(args)`` or the explicit leaf ``Name.`` (``leaf=True``); ``called`` is
+    True when written with parentheses (``Name()``), which a rule must then define."""
 
     name: str
     args: tuple[Expression, ...] = ()
     leaf: bool = False
+    called: bool = field(default=False, compare=False)
     location: SourceLocation = location_field()
 
 
@@ -116,10 +119,12 @@ class SplitGroup:
 
 @node
 class Split:
-    """``split(axis) { ... }``: ``axis`` is ``"x"``, ``"y"`` or ``"z"``."""
+    """``split(axis) { ... }``: ``axis`` is ``"x"``, ``"y"`` or ``"z"``; ``adjust`` False for
+    ``split(axis, noAdjust)`` (the pieces keep the cut scope, not one fitted to their geometry)."""
 
     axis: Literal["x", "y", "z"]
     group: SplitGroup
+    adjust: bool = True
     location: SourceLocation = location_field()
 
 
@@ -227,7 +232,8 @@ class Report:
 @node
 class OperationArgument:
     """One argument of a generic :class:`Operation` call: ``kind`` is ``"plain"``,
-    ``"relative"`` (``'x``), ``"floating"`` (``~x``) or ``"keyword"`` (``name=x``, with ``name``)."""
+    ``"relative"`` (``'x``), ``"floating"`` (``~x``) or ``"keyword"`` (``name=x``, with
+    ``name``)."""
 
     kind: Literal["plain", "relative", "floating", "keyword"]
     value: Expression

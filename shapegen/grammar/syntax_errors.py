@@ -33,9 +33,12 @@ _TERMINAL_WORDS = {
     "$END": "end of file",
     "QUOTE": "a relative value ('0.5)",
     "TILDE": "a floating size (~1)",
+    "_IMPORT": "'import'",
+    "_STYLE": "'style'",
+    "_EXTENSION": "'extension'",
 }
 _SINGLE_ARROW = re.compile(r"[ \t]*(\([^()\n]*\))?[ \t]*(?P<arrow>->)")
-_EXPRESSION_STARTS = {"NUMBER", "STRING", "NAME", "LPAR", "MINUS", "PLUS", "BANG"}
+_EXPRESSION_STARTS = {"NUMBER", "STRING", "NAME", "LPAR", "MINUS", "PLUS", "BANG", "LSQB"}
 _OPERATORS = {"OR_OP", "AND_OP", "EQ_OP", "REL_OP", "PLUS", "MINUS", "STAR", "SLASH", "PERCENT"}
 
 
@@ -58,7 +61,7 @@ def _describe_expected(expected: set[str]) -> str:
     if "DEF_NAME" in expected:
         if {"ATTR", "CONST"} & expected:
             words.append("a definition (attr, const, function or rule)")
-            expected -= {"ATTR", "CONST"}
+            expected -= {"ATTR", "CONST", "_EXTENSION", "_IMPORT", "_STYLE"}
         else:
             words.append("a name")
         expected.discard("DEF_NAME")

@@ -16,8 +16,11 @@ from lark import Token, Transformer, v_args
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.names import (
+    BLOCK_OPERATIONS,
+    CGA_OPERATIONS,
     OPERATIONS,
-    UNSUPPORTED_OPERATIONS,
+    SHAPE_ATTRIBUTES,
+    SHAPE_VALUES,
 )
 from shapegen.grammar.operation_calls import (
     Argument,
@@ -35,6 +38,11 @@ Problem = tuple[SourceLocation | None, str]
 @dataclasses.dataclass(frozen=True)
 class _Version:
     text: str
+
+
+@dataclasses.dataclass(frozen=True)
+class _Style:
+    name: str
 
 
 class _Repeat:
@@ -85,17 +93,82 @@ class AstBuilder(OperationBuilders, Transformer):
     def start(self, meta, children):
         version = None
         definitions = []
+        imports = []
+        styles = []
         for child in children:
             if isinstance(child, _Version):
                 version = child.text
-            else:
+            elif isinstance(child, _Style):
+                styles.append(child.name)
+            elif isinstance(child, ast.Import):
+                imports.append(child)
+            elif not styles:  # only the default style is derived
                 definitions.append(child)
         return ast.Grammar(
             definitions=tuple(definitions),
             version=version,
             filename=self.filename,
+            imports=tuple(imports),
+            styles=tuple(styles),
             location=SourceLocation(self.filename, 1, 1),
         )
+
+    def style_def(self, meta, children):
+        return _Style(str(children[0]))
+
+    def import_prefixed(self, meta, children):
+        annotations = [c for c in children if isinstance(c, ast.Annotation)]
+        rest = [c for c in children if not isinstance(c, ast.Annotation)]
+        prefix = rest[0]
+        path = next(c for c in rest[1:] if isinstance(c, Token) and c.type == "STRING")
+        arguments = rest[-1] if isinstance(rest[-1], list) else None
+        return self._import(str(prefix), path, arguments, annotations, self._at(prefix))
+
+    def import_plain(self, meta, children):
+        annotations = [c for c in children if isinstance(c, ast.Annotation)]
+        rest = [c for c in children if not isinstance(c, ast.Annotation)]
+        arguments = rest[-1] if isinstance(rest[-1], list) else None
+        return self._import(None, rest[0], arguments, annotations, self._at(rest[0]))
+
+    def _import(self, prefix, path, arguments, annotations, location):
+        protected, overrides = [], []
+        for argument in arguments or ():
+            if isinstance(argument, ast.Keyword):
+                overrides.append(argument)
+            elif isinstance(argument, ast.Rule):
+                self._problem(
+                    argument.location,
+                    f"overriding the rule '{argument.name}' in an import is not supported by "
+                    "shapegen",
+                )
+            else:
+                protected.append(str(argument))
+        return ast.Import(
+            prefix,
+            _unescape(path),
+            tuple(protected),
+            protect_all=arguments is not None and not arguments,
+            overrides=tuple(overrides),
+            annotations=tuple(annotations),
+            location=location,
+        )
+
+    def import_styles(self, meta, children):
+        return tuple(str(c) for c in children)
+
+    def import_args(self, meta, children):
+        return list(children)
+
+    def import_protect(self, meta, children):
+        return children[0]
+
+    def import_override(self, meta, children):
+        name, value = children
+        return ast.Keyword(str(name), value, location=self._at(name))
+
+    def import_rule(self, meta, children):
+        name = children[0]
+        return ast.Rule(str(name), (), children[-1], location=self._at(name))
 
     def version(self, meta, children):
         return _Version(_unescape(children[0]))
@@ -181,6 +254,9 @@ class AstBuilder(OperationBuilders, Transformer):
         (name,) = children
         if name == "NIL":
             return ast.Nil(location=self._at(name))
+        if name in CGA_OPERATIONS and CGA_OPERATIONS[name][0] == 0 and name not in OPERATIONS:
+            # CGA lets an operation without arguments drop its parentheses (``innerRect``)
+            return self._generic(str(name), [], None, self._at(name))
         return ast.Successor(str(name), location=self._at(name))
 
     def leaf(self, meta, children):
@@ -197,6 +273,12 @@ class AstBuilder(OperationBuilders, Transformer):
 
     def plain_arg(self, meta, children):
         return Argument("plain", children[0], self._at(meta))
+
+    def case_arg(self, meta, children):
+        return Argument("plain", self.function_case(meta, children), self._at(meta))
+
+    def stochastic_arg(self, meta, children):
+        return Argument("plain", self.function_stochastic(meta, children), self._at(meta))
 
     def relative_arg(self, meta, children):
         return Argument("relative", children[0], self._at(meta))
@@ -245,31 +327,34 @@ class AstBuilder(OperationBuilders, Transformer):
         if block is not None and any(c is _REPEAT for c in children[1:]):
             block = dataclasses.replace(block, repeat=True)
 
-        if name in ("split", "comp"):
-            if block is None:
-                self._problem(location, f"{name}() needs a {{ ... }} block of branches after it")
-                return ast.Nil(location=location)
-        elif block is not None:
-            self._problem(block.location, f"only split and comp take a {{ ... }} block, not {name}")
-
-        builder = getattr(self, f"_op_{name}", None) if name in OPERATIONS else None
-        if builder is not None:
-            low, high = OPERATIONS[name]
-            positional = [a for a in arguments if a.kind != "keyword"]
+        positional = [a for a in arguments if a.kind != "keyword"]
+        if name in CGA_OPERATIONS:
+            low, high = CGA_OPERATIONS[name]
             if not low <= len(positional) <= high:
                 self._problem(location, _count_message(name, low, high, len(positional)))
                 return ast.Nil(location=location)
-            if name != "i":
-                for argument in arguments:
-                    if argument.kind == "keyword":
-                        self._problem(
-                            argument.location,
-                            f"{name}() takes no keyword arguments (got '{argument.name}=')",
-                        )
-            return builder(arguments, block, location)
-        if name in UNSUPPORTED_OPERATIONS:
-            self._problem(location, f"the CGA operation '{name}' is not supported by shapegen")
-            return ast.Nil(location=location)
+            if name in ("split", "comp") and block is None:
+                self._problem(location, f"{name}() needs a {{ ... }} block of branches after it")
+                return ast.Nil(location=location)
+            if block is not None and name not in BLOCK_OPERATIONS:
+                self._problem(block.location, f"{name}() takes no {{ ... }} block")
+                block = None
+            if self._dedicated(name, arguments, block):
+                builder = getattr(self, f"_op_{name}")
+                if name != "i":
+                    for argument in arguments:
+                        if argument.kind == "keyword":
+                            self._problem(
+                                argument.location,
+                                f"{name}() takes no keyword arguments (got '{argument.name}=')",
+                            )
+                return builder(arguments, block, location)
+            return self._generic(name, arguments, block, location)
+        if block is not None:
+            self._problem(
+                block.location,
+                f"'{name}' is not a CGA operation, and only operations take a {{ ... }} block",
+            )
         args = []
         for argument in arguments:
             if argument.kind != "plain":
@@ -279,7 +364,7 @@ class AstBuilder(OperationBuilders, Transformer):
                     f"({prefix_in_words(argument)} is not allowed here)",
                 )
             args.append(argument.value)
-        return ast.Successor(name, tuple(args), location=location)
+        return ast.Successor(name, tuple(args), called=True, location=location)
 
     # Expressions -------------------------------------------------------------------------------
 
@@ -309,15 +394,61 @@ class AstBuilder(OperationBuilders, Transformer):
         (token,) = children
         if token in ("true", "false"):
             return ast.Boolean(token == "true", location=self._at(token))
-        return ast.Name(str(token), location=self._at(token))
+        return _dotted_name(str(token), (), self._at(token), call=False)
 
     def call(self, meta, children):
         name, *args = children
-        return ast.Call(str(name), tuple(args), location=self._at(name))
+        return _dotted_name(str(name), tuple(args), self._at(name), call=True)
 
-    def shape_attribute(self, meta, children):
-        obj, field = children
-        return ast.ShapeAttribute(str(obj), str(field), location=self._at(obj))
+    def component_values(self, meta, children):
+        name, *rest = children
+        args = tuple(c for c in rest if not isinstance(c, ast.ComponentValue))
+        branches = tuple(c for c in rest if isinstance(c, ast.ComponentValue))
+        if name != "comp":
+            self._problem(self._at(name), "only comp() takes a { ... } block in an expression")
+        return ast.ComponentValues(args, branches, location=self._at(name))
+
+    def comp_value(self, meta, children):
+        return ast.ComponentValue(children[0], children[1], location=self._at(meta))
+
+    def comp_value_merged(self, meta, children):
+        return ast.ComponentValue(children[0], children[1], merge=True, location=self._at(meta))
+
+    def array(self, meta, children):
+        return ast.Array(tuple(children), location=self._at(meta))
+
+    def array_row(self, meta, children):
+        return tuple(children)
+
+    def index(self, meta, children):
+        target, *indices = children
+        return ast.Index(target, tuple(indices), location=self._at(meta))
+
+    def colon(self, meta, children):
+        if len(children) == 2:
+            return ast.Colon(children[0], None, children[1], location=self._at(meta))
+        start, step, stop = children
+        return ast.Colon(start, step, stop, location=self._at(meta))
+
+    def colon_all(self, meta, children):
+        return ast.Colon(None, None, None, location=self._at(meta))
+
+
+#: Objects whose dotted names are shape attributes (``scope.sx``, ``geometry.area``...).
+_SHAPE_OBJECTS = frozenset({*SHAPE_ATTRIBUTES, "material"})
+
+
+def _dotted_name(name: str, args: tuple, location: SourceLocation, *, call: bool):
+    """A name as written: a shape attribute (``scope.sx``, ``geometry.area()``, ``seedian``), a
+    call, or a plain (possibly dotted: ``prefix.attr``, ``world.up``) name."""
+    head, _, rest = name.partition(".")
+    if rest and head in _SHAPE_OBJECTS:
+        return ast.ShapeAttribute(head, rest, args, location=location)
+    if name in SHAPE_VALUES and not call:
+        return ast.ShapeAttribute(name, "", location=location)
+    if call:
+        return ast.Call(name, args, location=location)
+    return ast.Name(name, location=location)
 
 
 def _percent(token: Token) -> float:

@@ -10,11 +10,11 @@ from shapegen.errors import GrammarError, ShapegenError, SourceLocation
 from shapegen.grammar import check, load, parse
 
 SYNTAX_ERRORS = [
-    ("unexpected name 'B'; expected an operator, ')' or ','", "A --> extrude(2 B", 1, 17),
+    ("unexpected name 'B'; expected an operator, ')', ',' or '['", "A --> extrude(2 B", 1, 17),
     ("unexpected '->'; a rule is written 'Name --> ...'", "A --> B\nC -> D", 2, 3),
     ("unexpected '->'; a rule is written 'Name --> ...'", "A(x) -> B", 1, 6),
     (
-        "expected an expression, a floating size (~1), a relative value ('0.5) or ')'",
+        "expected an expression, a floating size (~1), a percentage like '30%', a relative",
         "A --> B(",
         1,
         9,
@@ -38,29 +38,23 @@ SYNTAX_ERRORS = [
 
 STRUCTURE_ERRORS = [
     ("unknown axis 'w' in split(); valid: x, y, z", "A --> split(w) { 1 : B }", 1, 13),
-    (
-        "unknown comp selector 'fron'; valid: front, back, left, right, top, bottom",
-        "A --> comp(f) { fron : B }",
-        1,
-        17,
-    ),
     ("a comp selector must be a face index or one of", "A --> comp(f) { '1 : B }", 1, 17),
     ("unknown axes 'xw' in center(); valid: x, y, z, xy, xz, yz, xyz", "A --> center(xw)", 1, 14),
-    ("unknown component type 'e' in comp(); valid: f", "A --> comp(e) { all : B }", 1, 12),
     (
         "unknown pivot 'middle' in r(); valid: scopeOrigin, scopeCenter",
         "A --> r(middle, 0, 0, 0)",
         1,
         9,
     ),
-    ("extrude() takes 1 argument, got 2", "A --> extrude(1, 2)", 1, 7),
+    ("extrude() takes 1 to 2 arguments, got 3", "A --> extrude(1, 2, 3)", 1, 7),
     ("t() takes 3 arguments, got 2", "A --> t(1, 2)", 1, 7),
     ("r() takes 3 to 4 arguments, got 5", "A --> r(1, 2, 3, 4, 5)", 1, 7),
-    ("i() takes 1 argument, got 0", "A --> i(width=1)", 1, 7),
+    ("i() takes 1 to 4 arguments, got 0", "A --> i(width=1)", 1, 7),
     ("print() takes at least 1 argument, got 0", "A --> print()", 1, 7),
-    ("the CGA operation 'color' is not supported by shapegen", 'A --> color("#fff")', 1, 7),
+    ("color() takes 1 to 4 arguments, got 5", "A --> color(1, 1, 1, 1, 1)", 1, 7),
     ("split() needs a { ... } block of branches", "A --> split(x)", 1, 7),
-    ("only split and comp take a { ... } block, not extrude", "A --> extrude(1) { 1 : B }", 1, 18),
+    ("extrude() takes no { ... } block", "A --> extrude(1) { 1 : B }", 1, 18),
+    ("'B' is not a CGA operation, and only operations take a", "A --> B(1) { 1 : C }", 1, 12),
     ("a floating size (~) is not allowed in t()", "A --> t(~1, 0, 0)", 1, 9),
     (
         "a relative value (') is not allowed in the arguments of extrude()",
@@ -83,6 +77,20 @@ STRUCTURE_ERRORS = [
 ]
 
 SEMANTIC_ERRORS = [
+    (
+        "'primitiveQuadd(...)' is neither a CGA operation nor a rule of this file; did you mean "
+        "'primitiveQuad'?",
+        "A --> extrude(2) primitiveQuadd()",
+        1,
+        18,
+    ),
+    (
+        "unknown comp selector 'fron'; valid: front, back, left, right, top, bottom",
+        "A --> comp(f) { fron : B }",
+        1,
+        17,
+    ),
+    ("unknown component type 'q' in comp(); valid: f, e, v", "A --> comp(q) { all : B }", 1, 12),
     (
         "undefined name 'heigth'; did you mean 'height'?",
         "attr height = 1\nattr x = heigth * 2",
@@ -123,7 +131,9 @@ SEMANTIC_ERRORS = [
     ("set() of undefined attr 'densty'; did you mean 'density'?", "A --> set(densty, 2)", 1, 7),
     ("set() needs an attr, and 'k' is a const", "const k = 1\nA --> set(k, 2)", 2, 7),
     ("unknown shape attribute 'scope.sw'; did you mean 'scope.s", "attr x = scope.sw", 1, 10),
-    ("unknown shape attribute 'shape.q'; valid: scope.sx", "attr x = shape.q", 1, 10),
+    ("unknown shape attribute 'scope.q'", "attr x = scope.q", 1, 10),
+    ("undefined name 'shape.q'", "attr x = shape.q", 1, 10),
+    ("geometry.area() takes 0 to 1 arguments, got 2", "attr x = geometry.area(1, 2)", 1, 10),
     ("'a' depends on itself: a -> b -> a", "attr a = b\nattr b = a + 1", 1, 6),
     ("'c' depends on itself: c -> c", "const c = c * 2", 1, 7),
     (
@@ -146,8 +156,9 @@ SEMANTIC_ERRORS = [
     ),
     ("@Range needs both a min and a max", "@Range(min=1)\nattr x = 3", 1, 2),
     ("@Range has no argument 'maximum'", "@Range(min=1, maximum=3)\nattr x = 2", 1, 15),
-    ("@Range takes 0 to 2 arguments, got 3", "@Range(1, 2, 3)\nattr x = 2", 1, 2),
-    ("a @Range bound must be a number", '@Range("a", 2)\nattr x = 1', 1, 8),
+    ("@Description takes 1 argument, got 2", '@Description("a", "b")\nattr x = 2', 1, 2),
+    ("a @Range bound must be a number", "@Range(true, 2)\nattr x = 1", 1, 8),
+    ("a @Range bound must be a number", '@Free @Range("a", 2)\nattr x = 1', 1, 14),
     (
         "the @Range bounds of @Free attr 'x' must be constants",
         "@Free @Range(0, scope.sx)\nattr x = 1",

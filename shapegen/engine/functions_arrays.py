@@ -1,0 +1,260 @@
+"""CGA arrays: the value type and the array builtins (arrayTypes.html, func_*.html).
+
+An array is a table of floats, booleans or strings, stored row by row: ``[1, 2, 3]`` is one row
+of three columns, ``[1; 2]`` two rows of one column. Indices start at 0; a one-row or one-column
+array takes one index (``a[1]``), any array two (``a[row, column]``).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ARRAY_FUNCTIONS",
+    "Array",
+    "array_from",
+    "format_array",
+    "format_value",
+    "index_array",
+    "type_name",
+]
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Array:
+    """A CGA array: ``values`` row by row, ``rows`` x ``columns``."""
+
+    values: tuple
+    rows: int
+    columns: int
+
+    @property
+    def size(self) -> int:
+        return len(self.values)
+
+    def element_type(self) -> type | None:
+        return type(self.values[0]) if self.values else None
+
+
+def array_from(rows: list[list]) -> Array:
+    """An array from its rows; every row the same length and every element the same type."""
+    widths = {len(row) for row in rows}
+    if len(widths) > 1:
+        raise ValueError("the rows of an array must have the same number of elements")
+    values = tuple(value for row in rows for value in row)
+    types = {type(value) for value in values}
+    if len(types) > 1:
+        raise ValueError("an array holds values of one type (numbers, booleans or strings)")
+    if any(isinstance(value, Array) for value in values):
+        raise ValueError("an array cannot hold arrays")
+    return Array(values, len(rows) if values else 0, widths.pop() if values else 0)
+
+
+def format_array(array: Array, format_value: Callable[[object], str]) -> str:
+    """CGA's text of an array: ``[1,2,3]``, rows split by ``;`` (``[1,2;3,4]``)."""
+    rows = [
+        ",".join(format_value(v) for v in array.values[r * array.columns : (r + 1) * array.columns])
+        for r in range(array.rows)
+    ]
+    return "[" + ";".join(rows) + "]"
+
+
+def _position(index: object, length: int) -> int:
+    if type(index) is not float or not math.isfinite(index):
+        raise ValueError(f"an array index must be a number, got {index!r}")
+    position = int(math.floor(index))
+    if not 0 <= position < length:
+        raise ValueError(f"index {position} is out of range (the array has {length} elements)")
+    return position
+
+
+def index_array(array: Array, indices: list) -> object:
+    """``array[i]`` or ``array[row, column]``; an index may be an array of indices (a
+    sub-array) or of booleans (a mask)."""
+    if not isinstance(array, Array):
+        raise ValueError("only arrays can be indexed with [ ]")
+    if len(indices) == 1:
+        (index,) = indices
+        if isinstance(index, Array):
+            chosen = _chosen(index, array.size)
+            values = tuple(array.values[k] for k in chosen)
+            if array.rows == 1:
+                return Array(values, 1 if values else 0, len(values))
+            return Array(values, len(values), 1 if values else 0)
+        return array.values[_position(index, array.size)]
+    row, column = indices
+    if not isinstance(row, Array) and not isinstance(column, Array):
+        r = _position(row, array.rows)
+        c = _position(column, array.columns)
+        return array.values[r * array.columns + c]
+    rows = _chosen(row, array.rows) if isinstance(row, Array) else [_position(row, array.rows)]
+    columns = (
+        _chosen(column, array.columns)
+        if isinstance(column, Array)
+        else [_position(column, array.columns)]
+    )
+    values = tuple(array.values[r * array.columns + c] for r in rows for c in columns)
+    return Array(values, len(rows) if values else 0, len(columns) if values else 0)
+
+
+def _chosen(index: Array, length: int) -> list[int]:
+    if index.element_type() is bool:
+        if index.size != length:
+            raise ValueError("a boolean index needs one boolean per element")
+        return [k for k, keep in enumerate(index.values) if keep]
+    return [_position(value, length) for value in index.values]
+
+
+def colon_range(start: float, step: float, stop: float) -> list[float]:
+    """``start : step : stop`` (colon.html): the numbers from start towards stop."""
+    if step == 0 or not all(math.isfinite(v) for v in (start, step, stop)):
+        return []
+    count = math.floor((stop - start) / step + 1e-9) + 1
+    if count > 10_000_000:
+        raise ValueError(f"the range {start}:{step}:{stop} has too many elements")
+    return [start + k * step for k in range(max(count, 0))]
+
+
+def type_name(value: object) -> str:
+    """The grammar's name for a value's type (for error messages)."""
+    if isinstance(value, bool):
+        return "boolean"
+    if isinstance(value, float):
+        return "number"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, Array):
+        kind = type_name(value.values[0]) if value.values else "empty"
+        return f"{kind} array"
+    return type(value).__name__
+
+
+def format_value(value: object) -> str:
+    """A value as CGA prints it: ``3`` for 3.0, ``true`` for True."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
+            return str(int(value))
+        return repr(value)
+    if isinstance(value, Array):
+        return format_array(value, format_value)
+    return str(value)
+
+
+def _typed(name: str, kind: type) -> Callable:
+    def convert(value: object = None) -> Array:
+        if value is None:
+            return Array((), 0, 0)
+        if isinstance(value, Array):
+            return Array(tuple(_convert(v, kind) for v in value.values), value.rows, value.columns)
+        return Array((_convert(value, kind),), 1, 1)
+
+    convert.__name__ = name
+    return convert
+
+
+def _convert(value: object, kind: type) -> object:
+    if kind is str:
+        return format_value(value)
+    if kind is bool:
+        if type(value) is str:
+            return value.strip().lower() in ("true", "1")
+        return bool(value)
+    if type(value) is str:
+        try:
+            return float(value)
+        except ValueError:
+            return math.nan
+    return float(value)
+
+
+def _need_array(name: str, value: object) -> Array:
+    if not isinstance(value, Array):
+        raise ValueError(f"{name}() needs an array")
+    return value
+
+
+def _sum(array: object) -> object:
+    array = _need_array("sum", array)
+    if array.element_type() is str:
+        return "".join(array.values)
+    if array.element_type() is bool:
+        raise ValueError("sum() needs numbers or strings")
+    return float(sum(array.values))
+
+
+def _transpose(array: object) -> Array:
+    array = _need_array("transpose", array)
+    values = tuple(
+        array.values[r * array.columns + c] for c in range(array.columns) for r in range(array.rows)
+    )
+    return Array(values, array.columns, array.rows)
+
+
+def _sort_indices(array: object) -> Array:
+    array = _need_array("sortIndices", array)
+    order = sorted(range(array.size), key=lambda k: array.values[k])
+    return Array(tuple(float(k) for k in order), array.rows, array.columns)
+
+
+def _find_first(array: object, value: object, epsilon: float = 0.0) -> float:
+    if isinstance(array, str):  # the string form of the utility library
+        return float(array.find(value)) if isinstance(value, str) else -1.0
+    array = _need_array("findFirst", array)
+    for k, element in enumerate(array.values):
+        if type(element) is float and type(value) is float:
+            if abs(element - value) <= epsilon:
+                return float(k)
+        elif element == value and type(element) is type(value):
+            return float(k)
+    return -1.0
+
+
+def _set_elems(array: object, *rest: object) -> Array:
+    array = _need_array("setElems", array)
+    values = list(array.values)
+    if len(rest) == 2:
+        indices, new = rest
+        positions = (
+            _chosen(indices, array.size)
+            if isinstance(indices, Array)
+            else [_position(indices, array.size)]
+        )
+    else:
+        rows, columns, new = rest
+        row_list = (
+            _chosen(rows, array.rows) if isinstance(rows, Array) else [_position(rows, array.rows)]
+        )
+        column_list = (
+            _chosen(columns, array.columns)
+            if isinstance(columns, Array)
+            else [_position(columns, array.columns)]
+        )
+        positions = [r * array.columns + c for r in row_list for c in column_list]
+    news = list(new.values) if isinstance(new, Array) else [new] * len(positions)
+    if len(news) != len(positions):
+        raise ValueError("setElems() needs one value per index, or one value for all")
+    for position, value in zip(positions, news, strict=True):
+        if array.values and type(value) is not array.element_type():
+            raise ValueError("setElems() values must have the array's element type")
+        values[position] = value
+    return Array(tuple(values), array.rows, array.columns)
+
+
+#: Array builtins: name -> function of the evaluated arguments.
+ARRAY_FUNCTIONS: dict[str, Callable[..., object]] = {
+    "size": lambda a: float(_need_array("size", a).size),
+    "nRows": lambda a: float(_need_array("nRows", a).rows),
+    "nColumns": lambda a: float(_need_array("nColumns", a).columns),
+    "sum": _sum,
+    "transpose": _transpose,
+    "sortIndices": _sort_indices,
+    "findFirst": _find_first,
+    "setElems": _set_elems,
+    "floatArray": _typed("floatArray", float),
+    "boolArray": _typed("boolArray", bool),
+    "stringArray": _typed("stringArray", str),
+}

@@ -1,0 +1,99 @@
+"""Compiling the calls of CGA builtins that need more than their arguments: the shape's random
+generator (``p``, ``listRandom``, ``fileRandom``), the console (``print``) and the occlusion
+queries (``inside``, ``overlaps``, ``touches``, answered by ``shapegen.engine.occlusion``).
+
+:class:`BuiltinCalls` is mixed into :class:`~shapegen.engine.expressions.ExpressionCompiler`.
+"""
+
+from __future__ import annotations
+
+__all__ = ["OCCLUSION", "BuiltinCalls"]
+
+from shapegen.engine.functions_arrays import format_value, type_name
+from shapegen.grammar import ast
+
+OCCLUSION = ("inside", "overlaps", "touches")
+
+
+class BuiltinCalls:
+    """Compilers of builtin calls; the host provides ``compile``, ``error`` and ``files``."""
+
+    def _call_pure(self, node, function, arguments: tuple):
+        error = self.error
+        name = node.name
+
+        def call(args, state):
+            values = [a(args, state) for a in arguments]
+            try:
+                return function(*values)
+            except (ValueError, TypeError, OverflowError, ZeroDivisionError) as exc:
+                message = str(exc) if isinstance(exc, ValueError) else None
+                if not message:
+                    shown = ", ".join(format_value(v) for v in values)
+                    message = f"{name}({shown}) is not defined"
+                raise error(node, message) from None
+
+        return call
+
+    def _call_random_choice(self, node, name: str, arguments: tuple):
+        error = self.error
+        files = self.files
+
+        def call(args, state):
+            value = arguments[0](args, state)
+            if name == "p":
+                if type(value) is not float:
+                    raise error(node, f"p() needs a probability (a number), got {type_name(value)}")
+                return state.random() < value
+            if type(value) is not str:
+                raise error(node, f"{name}() needs a string, got a {type_name(value)}")
+            try:
+                items = files["fileRandom"](value) if name == "fileRandom" else _list(value)
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
+            if not items:
+                return ""
+            return items[min(int(state.random() * len(items)), len(items) - 1)]
+
+        return call
+
+    def _call_print(self, node, arguments: tuple):
+        def call(args, state):
+            value = arguments[0](args, state)
+            print(format_value(value))
+            return value
+
+        return call
+
+    def _call_occlusion(self, node, params):
+        name = node.name
+        target = "all"
+        label = None
+        if node.args:
+            first = node.args[0]
+            if not (isinstance(first, ast.Name) and first.name in ("intra", "inter", "all")):
+                raise self.error(node, f"{name}()'s target is intra, inter or all")
+            target = first.name
+        if len(node.args) == 2:
+            label = self.compile(node.args[1], params)
+        error = self.error
+
+        def call(args, state):
+            try:
+                from shapegen.engine import occlusion
+            except ImportError:
+                raise error(node, f"{name}() is not supported by shapegen") from None
+            query = getattr(occlusion, name)
+            if label is None:
+                return query(state, target)
+            return query(state, target, label(args, state))
+
+        return call
+
+
+def _list(text: str) -> list[str]:
+    """The items of a CGA string list (``"a;b;c;"``)."""
+    items = text.split(";")
+    if items and items[-1] == "":
+        items.pop()
+    return items

@@ -1,0 +1,104 @@
+"""Reading the current shape's attributes in expressions: ``scope.*``, ``split.*``, ``comp.*``,
+``geometry.*`` (asked of :func:`shapegen.engine.shape.shape_geometry_value`), ``material.*``
+(:func:`shapegen.model.appearance.material_value`), ``initialShape.*``, ``pivot.*``, ``trim.*``
+and ``seedian``.
+
+:func:`shape_reader` gives, at compile time, a reader ``value(state, *args)`` for one of them.
+"""
+
+from __future__ import annotations
+
+__all__ = ["shape_reader"]
+
+import math
+import random
+from collections.abc import Callable
+
+from shapegen.grammar.names import GEOMETRY_FUNCTIONS, SHAPE_ATTRIBUTES
+
+Reader = Callable[..., object]
+
+
+def _euler(state, k: int) -> float:
+    r = state.shape.scope.rotation
+    # Angles of rotation_matrix(): R = Rz @ Ry @ Rx, in degrees.
+    if k == 0:
+        return math.degrees(math.atan2(r[2, 1], r[2, 2]))
+    if k == 1:
+        return math.degrees(-math.asin(max(-1.0, min(1.0, float(r[2, 0])))))
+    return math.degrees(math.atan2(r[1, 0], r[0, 0]))
+
+
+def _no_arguments(reader: Callable[[object], object]) -> Reader:
+    def read(state, *args):
+        if args:
+            raise ValueError("takes no arguments")
+        return reader(state)
+
+    return read
+
+
+def _seedian(state) -> float:
+    # one number per derivation and initial shape, from the derivation's seed (attr_seedian)
+    return random.Random(f"seedian/{state.run.seed}").random()
+
+
+_READERS: dict[str, Callable[[object], object]] = {
+    "scope.sx": lambda state: float(state.shape.scope.size[0]),
+    "scope.sy": lambda state: float(state.shape.scope.size[1]),
+    "scope.sz": lambda state: float(state.shape.scope.size[2]),
+    "scope.tx": lambda state: float(state.shape.scope.origin[0]),
+    "scope.ty": lambda state: float(state.shape.scope.origin[1]),
+    "scope.tz": lambda state: float(state.shape.scope.origin[2]),
+    "scope.rx": lambda state: _euler(state, 0),
+    "scope.ry": lambda state: _euler(state, 1),
+    "scope.rz": lambda state: _euler(state, 2),
+    # the height of the scope's origin above the ground plane y = 0 (world coordinates)
+    "scope.elevation": lambda state: float(state.shape.scope.origin[1]),
+    "split.index": lambda state: float(state.split_index),
+    "split.total": lambda state: float(state.split_total),
+    "comp.index": lambda state: float(state.comp_index),
+    "comp.total": lambda state: float(state.comp_total),
+    # shapegen derives one initial shape, its lot, placed at the origin with identity axes
+    **{f"initialShape.origin.{k}": (lambda state: 0.0) for k in ("px", "py", "pz")},
+    **{f"initialShape.origin.{k}": (lambda state: 0.0) for k in ("ox", "oy", "oz")},
+    "initialShape.name": lambda state: "Lot",
+    "seedian": _seedian,
+    "trim.horizontal": lambda state: True,
+    "trim.vertical": lambda state: True,
+}
+
+
+def shape_reader(obj: str, field: str, grammar) -> Reader | None:
+    """The reader of ``obj.field`` (``field`` empty for ``seedian``), or None when shapegen does
+    not evaluate it. Raises ``ValueError`` for a name CGA does not have."""
+    key = f"{obj}.{field}" if field else obj
+    if obj == "geometry":
+        if field not in GEOMETRY_FUNCTIONS:
+            raise ValueError(f"unknown geometry function {key!r}")
+
+        def geometry(state, *args):
+            from shapegen.engine.shape import shape_geometry_value
+
+            return shape_geometry_value(state, field, *args)
+
+        return geometry
+    if obj == "material":
+        from shapegen.model.appearance import material_value
+
+        def material(state, *args):
+            if args:
+                raise ValueError("takes no arguments")
+            return material_value(state.appearance, field)
+
+        return material
+    if key == "initialShape.startRule":
+        start = grammar.start_rule
+        name = start.name if start is not None else ""
+        return _no_arguments(lambda state: name)
+    reader = _READERS.get(key)
+    if reader is not None:
+        return _no_arguments(reader)
+    if obj in SHAPE_ATTRIBUTES and field in SHAPE_ATTRIBUTES[obj]:
+        return None  # CGA has it; shapegen does not evaluate it
+    raise ValueError(f"unknown shape attribute {key!r}")

@@ -1,0 +1,164 @@
+"""Load-time checks of annotations: unknown names (ignored in ``.cga`` files, as CityEngine only
+warns), argument counts and keywords, misplaced ones, ``@Range`` bounds and the start rule's
+``@StartRule``, ``@Lot`` and ``@Structure``.
+
+:class:`AnnotationChecks` is mixed into the checker of :mod:`shapegen.grammar.checks`, which
+provides ``grammar``, ``values``, ``rules``, ``cga``, ``report`` and ``_visit``.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+from shapegen.grammar import ast
+from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
+from shapegen.grammar.names import ANNOTATIONS, ANY_KEYWORD
+
+__all__ = ["AnnotationChecks"]
+
+_RULE_ONLY_ANNOTATIONS = ("StartRule", "Lot", "Structure")
+_ATTR_ONLY_ANNOTATIONS = ("Range", "Free")
+_KIND_NAMES = {
+    ast.Attribute: "an attr",
+    ast.Constant: "a const",
+    ast.Function: "a function",
+    ast.Rule: "a rule",
+}
+
+
+def _suggestion(name: str, candidates: Iterable[str]) -> str:
+    matches = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
+    return f"; did you mean '{matches[0]}'?" if matches else ""
+
+
+def _arity(low: int, high: int) -> str:
+    if low == high:
+        return f"{low} argument" if low == 1 else f"{low} arguments"
+    return f"{low} to {high} arguments"
+
+
+def _show(value: float) -> str:
+    return f"{value:g}"
+
+
+class AnnotationChecks:
+    """The annotation part of the load-time checks."""
+
+    # Annotations -------------------------------------------------------------------------------
+
+    def _check_annotations(self, definition: ast.Definition) -> None:
+        kind = _KIND_NAMES[type(definition)]
+        seen: set[str] = set()
+        for annotation in definition.annotations:
+            name = annotation.name
+            if name not in ANNOTATIONS and self.cga:
+                continue  # CityEngine takes any annotation (it only warns)
+            if name not in ANNOTATIONS:
+                self.report(
+                    annotation.location,
+                    f"unknown annotation '@{name}'" + _suggestion(name, ANNOTATIONS),
+                )
+                continue
+            if name in seen:
+                self.report(annotation.location, f"'@{name}' is given twice")
+            seen.add(name)
+            low, high, keywords = ANNOTATIONS[name]
+            count = len(annotation.args)
+            if not (low <= count <= high) and not (name == "Range" and annotation.keywords):
+                self.report(
+                    annotation.location,
+                    f"@{name} takes {_arity(low, high)}, got {count}",
+                )
+            for keyword in annotation.keywords:
+                if ANY_KEYWORD not in keywords and keyword.name not in keywords:
+                    valid = ", ".join(keywords) if keywords else "none"
+                    self.report(
+                        keyword.location,
+                        f"@{name} has no argument '{keyword.name}' (valid: {valid})"
+                        + _suggestion(keyword.name, keywords),
+                    )
+            self._visit(annotation, {})
+            if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
+                self.report(annotation.location, f"@{name} belongs on a rule, not on {kind}")
+            if name in _ATTR_ONLY_ANNOTATIONS and not isinstance(definition, ast.Attribute):
+                self.report(annotation.location, f"@{name} belongs on an attr, not on {kind}")
+        if isinstance(definition, ast.Attribute):
+            self._check_range(definition)
+
+    def _check_range(self, attribute: ast.Attribute) -> None:
+        annotation = attribute.annotation("Range")
+        if annotation is None:
+            if attribute.free:
+                self.report(
+                    attribute.annotation("Free").location,
+                    f"@Free attr '{attribute.name}' needs a @Range(min=..., max=...) "
+                    "for its bounds",
+                )
+            return
+        bounds = attribute.range
+        if bounds is None:
+            self.report(annotation.location, "@Range needs both a min and a max")
+            return
+        low, high = (constant_value(bound, self.values) for bound in bounds)
+        for bound, value in zip(bounds, (low, high), strict=True):
+            if value is UNKNOWN and attribute.free:
+                self.report(
+                    bound.location,
+                    f"the @Range bounds of @Free attr '{attribute.name}' must be constants",
+                )
+            elif value is not UNKNOWN and not is_number(value) and attribute.free:
+                self.report(bound.location, "a @Range bound must be a number")
+            elif value is not UNKNOWN and not is_number(value) and not isinstance(value, str):
+                # CityEngine's older string form @Range("a", "b") lists choices, like @Enum
+                self.report(bound.location, "a @Range bound must be a number")
+        if not (is_number(low) and is_number(high)):
+            return
+        if low > high:
+            self.report(
+                annotation.location,
+                f"@Range min {_show(low)} is greater than its max {_show(high)}",
+            )
+            return
+        default = constant_value(attribute.value, self.values)
+        if is_number(default) and not (low <= default <= high):
+            self.report(
+                attribute.value.location,
+                f"the value {_show(default)} of '{attribute.name}' is outside its "
+                f"@Range [{_show(low)}, {_show(high)}]",
+            )
+        elif attribute.free and default is not UNKNOWN and not is_number(default):
+            self.report(
+                attribute.value.location,
+                f"@Free attr '{attribute.name}' must have a numeric value",
+            )
+
+    def _check_start_rule(self) -> None:
+        starts = [rule for rule in self.rules.values() if rule.start]
+        for extra in starts[1:]:
+            self.report(
+                extra.annotation("StartRule").location,
+                f"more than one @StartRule (the first is '{starts[0].name}' at "
+                f"{starts[0].location})",
+            )
+        start = self.grammar.start_rule
+        if start is not None and start.start and start.params:
+            self.report(start.location, f"the start rule '{start.name}' cannot take parameters")
+        for rule in self.rules.values():
+            for name in ("Lot", "Structure"):  # annotations of the start rule only
+                annotation = rule.annotation(name)
+                if annotation is None:
+                    continue
+                if rule is not start:
+                    self.report(annotation.location, f"@{name} belongs on the start rule")
+                for argument in annotation.args:
+                    self._start_annotation_value(name, argument)
+
+    def _start_annotation_value(self, name: str, argument: ast.Expression) -> None:
+        value = constant_value(argument, self.values)
+        if value is UNKNOWN:
+            return
+        if name == "Lot" and not (is_number(value) and value > 0):
+            self.report(argument.location, "@Lot sizes must be positive numbers (metres)")
+        if name == "Structure" and not isinstance(value, str):
+            self.report(argument.location, "@Structure names a structure: a string")
