@@ -198,3 +198,41 @@ def test_inner_rectangle_by_edge_matches_pyprt(lot, area):
     assert P.signed_area(rectangle) + sum(map(P.signed_area, rest)) == pytest.approx(
         P.signed_area(polygon)
     )
+
+
+# The same package with lots three times larger and frontSetbackRel 0, 10, 25: the rule sets
+# the front edge (the longest, once the scope is aligned to it) back by d and reports the
+# area of innerRectangle(edge) of the remainder.
+PYPRT_SETBACKS = {
+    "rect": ([(0, 0), (0, 8), (12, 8), (12, 0)], [(0, 864.0), (3.6, 734.4), (9.0, 540.0)]),
+    "trapezoid": (
+        [(0, 0), (2, 9), (11, 9), (14, 0)],
+        [(0, 728.9946000099998), (4.2, 615.5955266677777), (10.5, 445.4956500100001)],
+    ),
+    "L": (
+        [(0, 0), (0, 10), (4, 10), (4, 4), (10, 4), (10, 0)],
+        [(0, 360.0), (3.0, 324.0), (7.5, 269.99655000999996)],
+    ),
+    "pentagon": (
+        [(0, 0), (-2, 6), (5, 11), (13, 7), (12, -1)],
+        [(0, 864.6147987467602), (4.459542268145836, 710.4834896384293),
+         (11.14885567036459, 474.68487521048553)],
+    ),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(PYPRT_SETBACKS))
+def test_front_setback_then_inner_rectangle_matches_pyprt(name):
+    lot, cases = PYPRT_SETBACKS[name]
+    polygon = P.counter_clockwise(np.array([(3 * x, -3 * z) for x, z in lot], float))
+    d = np.roll(polygon, -1, axis=0) - polygon
+    longest = int(np.argmax(np.linalg.norm(d, axis=1)))
+    normals = P.edge_normals(polygon)
+    # front: outward normals in the longest edge's outward quadrant of the aligned scope
+    along = d[longest] / np.linalg.norm(d[longest])
+    front = (normals @ normals[longest]) > np.abs(normals @ along)
+    for distance, area in cases:
+        remainder = P.setback(polygon, np.where(front, distance, 0.0)).remainder
+        rectangles = [P.inner_rectangle(r, "edge")[0] for r in remainder]
+        largest = max(P.signed_area(r) for r in rectangles)
+        assert largest == pytest.approx(area, rel=2e-5)
