@@ -122,8 +122,14 @@ def test_setback_all_each_strip_its_own_shape_or_merged(program):
 def test_setback_by_edge_index_and_side(program):
     _, leaves = run(program, _operation("setback", 3, branches=[(1, False)]))
     assert _area(leaves[0].shape) == pytest.approx(3 * 8)
-    _, leaves = run(program, _operation("setback", 3, branches=[("side", True)]))
-    assert _area(leaves[0].shape) == pytest.approx(2 * 3 * 8)
+    _, leaves = run(program, _operation("setback", 3, branches=[("left", True)]))
+    assert _area(leaves[0].shape) == pytest.approx(3 * 8)
+    # side is comp's: every edge whose normal is not vertical, so all of a lot's
+    _, leaves = run(program, _operation("setback", 1, branches=[("side", True)]))
+    assert _area(leaves[0].shape) == pytest.approx(96 - 60)
+    # world.* by the world directions: the lot's +z edge faces south
+    _, leaves = run(program, _operation("setback", 2, branches=[("world.south", False)]))
+    assert _world(leaves[0].shape)[:, 2].min() == pytest.approx(6)
 
 
 def test_setback_to_area(program):

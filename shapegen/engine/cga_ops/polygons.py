@@ -16,7 +16,14 @@ faces carry the component tags ``inside`` / ``border`` in ``mesh.component_tags`
 
 from __future__ import annotations
 
-__all__ = ["FaceFrame", "face_frames", "edge_quadrants", "flat_shape", "component_tags"]
+__all__ = [
+    "FaceFrame",
+    "face_frames",
+    "edge_normals",
+    "edge_quadrants",
+    "flat_shape",
+    "component_tags",
+]
 
 import math
 from dataclasses import dataclass
@@ -28,29 +35,15 @@ from shapegen.engine.expressions import type_name
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
+from shapegen.geometry.frames import quadrant
 from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.geometry.queries import FACE_SELECTORS, face_matches
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
 
-_QUADRANT = {(0, 1): "right", (0, -1): "left", (1, 1): "top", (1, -1): "bottom",
-             (2, 1): "front", (2, -1): "back"}  # fmt: skip
-_EDGE_SELECTORS = {
-    "front": {"front"},
-    "back": {"back"},
-    "left": {"left"},
-    "right": {"right"},
-    "top": {"top"},
-    "bottom": {"bottom"},
-    "side": {"left", "right"},
-    "all": {"front", "back", "left", "right", "top", "bottom"},
-}
-# street.* fall back to object.* without a street-width map (CityEngine), and the object's
-# frame is the lot's scope here.
-for _prefix in ("object", "street"):
-    for _name in ("front", "back", "left", "right", "side"):
-        _EDGE_SELECTORS[f"{_prefix}.{_name}"] = _EDGE_SELECTORS[_name]
-for _name in ("top", "bottom"):
-    _EDGE_SELECTORS[f"object.{_name}"] = _EDGE_SELECTORS[_name]
+# Edge selectors are comp(f)'s, applied to each edge's outward normal in the face's plane
+# (op_setback: "classifying their directions into the corresponding scope quadrants").
+_EDGE_SELECTORS = frozenset(FACE_SELECTORS) - {"border", "inside"}
 
 
 @dataclass(frozen=True)
@@ -104,14 +97,15 @@ def face_frames(shape: Shape) -> list[tuple[FaceFrame, np.ndarray]]:
     return out
 
 
+def edge_normals(frame: FaceFrame, polygon: np.ndarray) -> np.ndarray:
+    """``(n, 3)`` outward unit normals of the edges in the face's plane, scope coordinates."""
+    m = polygon2d.edge_normals(polygon)
+    return np.outer(m[:, 0], frame.a) + np.outer(m[:, 1], frame.b)
+
+
 def edge_quadrants(frame: FaceFrame, polygon: np.ndarray) -> list[str]:
     """``front back left right top bottom`` of each edge's outward normal in scope axes."""
-    out = []
-    for m in polygon2d.edge_normals(polygon):
-        direction = m[0] * frame.a + m[1] * frame.b
-        axis = int(np.argmax(np.abs(direction)))
-        out.append(_QUADRANT[(axis, 1 if direction[axis] >= 0 else -1)])
-    return out
+    return [quadrant(n) for n in edge_normals(frame, polygon)]
 
 
 def _welded(points: np.ndarray, counts: list[int]):
@@ -262,10 +256,11 @@ def compile_offset(program, node: ast.Operation, params):
 # -- setbacks -------------------------------------------------------------------------------
 
 
-def _edge_selected(selector, quadrant: str, index: int, count: int) -> bool:
+def _edge_selected(selector, normals, index: int, count: int) -> bool:
+    """Whether edge ``index`` with ``normals`` (scope, world, object) matches ``selector``."""
     if isinstance(selector, int):
         return index == selector % count
-    return quadrant in _EDGE_SELECTORS[selector]
+    return face_matches(selector, *normals, True)
 
 
 def _setback_operation(program, node, branches, distances_of, shape_selector: bool):
@@ -278,13 +273,18 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
         shape_pieces: list[np.ndarray] = []
         for frame, polygon in _flat_input(state, node, program, f"{node.name}()"):
             n = len(polygon)
-            quadrants = edge_quadrants(frame, polygon)
+            scope_normals = edge_normals(frame, polygon)
+            quadrants = [quadrant(v) for v in scope_normals]
+            world = scope_normals @ state.shape.scope.rotation.T
+            rotation = getattr(state.run, "object_rotation", None)
+            objects = world if rotation is None else world @ rotation
             owner: list[object] = [None] * n  # the first selector that takes each edge
             for selector, _, _, _ in branches:
                 if selector in ("remainder", "shape"):
                     continue
                 for k in range(n):
-                    if owner[k] is None and _edge_selected(selector, quadrants[k], k, n):
+                    normals = (scope_normals[k], world[k], objects[k])
+                    if owner[k] is None and _edge_selected(selector, normals, k, n):
                         owner[k] = selector
             selected = np.array([o is not None for o in owner]) if not shape_selector else None
             distances = distances_of(args, state, frame, polygon, quadrants, selected)
