@@ -60,6 +60,13 @@ def _unescape(literal: str) -> str:
     for char in chars:
         if char == "\\":
             escaped = next(chars, "")
+            if escaped == "u":  # \uXXXX, as CGA writes its NULL string "\ue000"
+                digits = "".join(next(chars, "") for _ in range(4))
+                try:
+                    out.append(chr(int(digits, 16)))
+                except ValueError:
+                    out.append("\\u" + digits)
+                continue
             out.append(escapes.get(escaped, "\\" + escaped))
         else:
             out.append(char)
