@@ -395,6 +395,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("stretch", "fitArea", "keepSizeAndPosition", "alignSizeAndPosition"),
         *("recompose", "unify"),
         *("extend", "default", "pos", "orient", "dir"),
+        *("edge", "normal"),  # innerRectangle(edge), envelope(normal, ...)
     }
 )
 FUNCTION_KEYWORDS["convert"] = OPERATION_KEYWORDS
