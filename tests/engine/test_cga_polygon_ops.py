@@ -4,6 +4,7 @@ makes them (areas and heights in closed form; the roofs' layout as PyPRT builds 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -296,3 +297,24 @@ def test_footprint_of_a_roof_is_its_plan(program):
     assert shape.mesh().area() == pytest.approx(96)
     assert shape.scope.sy == 0
     assert np.allclose(shape.mesh().face_normals() @ [0, 1, 0], 1)
+
+
+CORPUS = Path(__file__).resolve().parents[3] / "shared" / "cga-corpus" / "rules"
+SIMPLE_RULE = CORPUS / "simpleRuleDataset_b6acc245.cga"
+
+
+@pytest.mark.skipif(not SIMPLE_RULE.exists(), reason="the CGA corpus is not next to the checkout")
+@pytest.mark.parametrize(
+    "lot, rel, area",
+    [
+        ([(0, 0), (2, 9), (11, 9), (14, 0)], 10.0, 615.5955266677777),
+        ([(0, 0), (0, 10), (4, 10), (4, 4), (10, 4), (10, 0)], 25.0, 269.99655000999996),
+        ([(0, 0), (-2, 6), (5, 11), (13, 7), (12, -1)], 25.0, 474.68487521048553),
+    ],
+)
+def test_corpus_setback_and_inner_rectangle_report_pyprts_footprint(lot, rel, area):
+    """The corpus rule's setback(d) { front : NIL | remainder = ... } and innerRectangle(edge)
+    on lots three times these sizes: the 'Footprint Area (m2)' PyPRT reports."""
+    grammar = shapegen.load_grammar(SIMPLE_RULE)
+    model = grammar.build(attrs={"frontSetbackRel": rel}, lot=[(3 * x, 3 * z) for x, z in lot])
+    assert model.metadata["reports"]["Footprint Area (m2)"] == pytest.approx(area, rel=2e-5)
