@@ -235,13 +235,14 @@ def test_a_geojson_lot_builds_on_its_footprint(tmp_path):
 
 
 def test_an_l_shaped_lot_is_a_surface_and_says_so(tmp_path, capsys):
+    # the L's prism is cut into two convex blocks; the lot itself, never extruded, is a surface
     grammar = tmp_path / "mass.grammar"
-    grammar.write_text("@StartRule\nLot --> extrude(3) Mass.\n")
+    grammar.write_text("@StartRule\nLot --> [ extrude(3) Mass. ] Ground.\n")
     report = tmp_path / "report.json"
     assert main(["build", str(grammar), "--lot", "0,10 10,10 10,6 4,6 4,0 0,0",
                  "--report", str(report)]) == 0  # fmt: skip
     out = capsys.readouterr().out
-    assert "left out: 1 leaf not judged by the statics: 1 not convex" in out
+    assert "left out: 1 leaf not judged by the statics: 1 a face (no volume)" in out
     assert json.loads(report.read_text())["left_out"] == {
-        "leaves": 1, "by_reason": {"not convex": 1}
+        "leaves": 1, "by_reason": {"a face (no volume)": 1}
     }  # fmt: skip
