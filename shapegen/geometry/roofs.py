@@ -13,6 +13,8 @@ edge, as CityEngine builds them:
 - :func:`roof_shed`: one plane rising from edge ``index``, vertical sides, a top;
 - :func:`roof_pyramid`: the vertex average raised, joined to every edge;
 - :func:`taper`: the area centroid raised, joined to every edge;
+- :func:`roof_ridge`: two planes rising from the extremes across the x axis to one ridge
+  along it, vertical sides under the outline;
 - :func:`envelope`: walls to a base height, then planes sloping inward at each edge's angle
   (a skeleton whose edges move at ``cot(angle)``), cut flat at a maximum height.
 """
@@ -27,6 +29,7 @@ __all__ = [
     "roof_pyramid",
     "taper",
     "envelope",
+    "roof_ridge",
 ]
 
 import math
@@ -353,4 +356,48 @@ def envelope(polygon, max_height: float, base_heights, angles) -> RoofMesh:
         ids = list(loop)
         welder.face(np.column_stack([skeleton.nodes[ids], start + skeleton.times[ids]]),
                     "envelope.top")  # fmt: skip
+    return welder.mesh()
+
+
+def roof_ridge(polygon, angle: float | None = None, *, height: float | None = None) -> RoofMesh:
+    """CGA's ``roofRidge``: one ridge parallel to the x axis (the scope's x in the face's
+    plane), halfway across the face; two planes at ``angle`` (degrees) rise to it from the
+    face's extreme lines across x, and the outline is lifted onto them over vertical sides
+    (``roof.side.outer``). ``height`` (m) instead of ``angle`` is the ridge's height."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    p = checked_polygon(polygon)
+    low, high = float(p[:, 1].min()), float(p[:, 1].max())
+    middle = 0.5 * (low + high)
+    slope = _slope(angle, height, middle - low)
+
+    def rise(y):
+        return slope * np.minimum(np.asarray(y) - low, high - np.asarray(y))
+
+    # The outline with a vertex wherever it crosses the ridge line.
+    outline = []
+    for k in range(len(p)):
+        a, b = p[k], p[(k + 1) % len(p)]
+        outline.append(a)
+        if (a[1] - middle) * (b[1] - middle) < 0:
+            outline.append(a + (b - a) * (middle - a[1]) / (b[1] - a[1]))
+    outline = np.array(outline)
+    welder = _Welder(float(np.ptp(p, axis=0).max()))
+    _bottom(welder, outline, "roof.bottom")  # with the ridge crossings, so the mesh closes
+    h = rise(outline[:, 1])
+    for k in range(len(outline)):
+        a, b = outline[k], outline[(k + 1) % len(outline)]
+        ha, hb = h[k], h[(k + 1) % len(outline)]
+        welder.face([(*a, 0.0), (*b, 0.0), (*b, hb), (*a, ha)], "roof.side.outer")
+    face = Polygon(outline)
+    far = 2 * float(np.abs(p).max()) + 1
+    for half in (shapely.box(-far, -far, far, middle), shapely.box(-far, middle, far, far)):
+        part = face.intersection(half)
+        for piece in getattr(part, "geoms", [part]):
+            if isinstance(piece, Polygon) and piece.area > 0:
+                ring = np.asarray(piece.exterior.coords)[:-1]
+                if signed_area(ring) < 0:
+                    ring = ring[::-1]
+                welder.face(np.column_stack([ring, rise(ring[:, 1])]), "roof.top")
     return welder.mesh()

@@ -221,6 +221,13 @@ def test_gable_roof_on_the_lot(program):
     assert sorted(map(tuple, np.round(ridge, 9))) == [(6, 6, 0), (6, 6, 8)]
 
 
+def test_roof_ridge_runs_along_the_scope_x(program):
+    state, _ = run(program, _operation("roofRidge", "byAngle", 45))
+    world = _world(state.shape)
+    ridge = world[np.isclose(world[:, 1], 4)]
+    assert sorted(map(tuple, np.round(ridge, 9))) == [(0, 4, 4), (12, 4, 4)]
+
+
 def test_shed_pyramid_by_height_and_taper(program):
     t = math.tan(math.radians(15))
     state, _ = run(program, _operation("roofShed", 15))

@@ -188,3 +188,22 @@ def test_envelope_of_a_rectangle():
 def test_envelope_refuses_different_sloped_base_heights():
     with pytest.raises(GeometryError, match="different base heights"):
         R.envelope(RECT, 10, [3, 2, 3, 3], [45] * 4)
+
+
+def test_roof_ridge():
+    # a ridge along x halfway across: on a rectangle it is the gable roof along x
+    assert R.roof_ridge(RECT, 45).volume() == pytest.approx(12 * 8**2 / 4)
+    deep = R.roof_ridge([(0, 0), (4, 0), (4, 12), (0, 12)], 45)  # across the long side
+    assert deep.vertices[:, 2].max() == pytest.approx(6)
+    assert deep.volume() == pytest.approx(4 * 12 * 6 / 2)
+    # an L: planes from y = 0 and y = 10, the outline lifted onto them, closed
+    ridge = R.roof_ridge(L_SHAPE, height=5)
+    edges = {}
+    for face in ridge.faces:
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            edges[(a, b)] = edges.get((a, b), 0) + 1
+    assert all(edges.get((b, a)) == 1 for a, b in edges)
+    assert ridge.vertices[:, 2].max() == pytest.approx(5)
+    # volume: the L's two arms under the two planes (heights y and 10 - y, ridge y = 5)
+    expected = 10 * 4 * 2 + 4 * (1 / 2) * (4 + 5) * 1 + 4 * 5 * 5 / 2
+    assert ridge.volume() == pytest.approx(expected)

@@ -1,4 +1,4 @@
-"""CityEngine's roofs and taper: roofGable, roofHip, roofShed, roofPyramid, taper.
+"""CityEngine's roofs, taper and envelope: roofGable, roofHip, roofShed, roofPyramid, roofRidge.
 
 Each builds a roof on every face of a flat shape (:mod:`shapegen.geometry.roofs` does the
 geometry in the face's plane) and makes the shape a 3D one holding the roof meshes. The scope
@@ -76,10 +76,11 @@ _SIGNATURES = {
     "roofGable": ("overhang_x", "overhang_y", "even", "index"),
     "roofShed": ("index",),
     "roofPyramid": (),
+    "roofRidge": (),
 }
 
 
-@compiles("roofHip", "roofGable", "roofShed", "roofPyramid")
+@compiles("roofHip", "roofGable", "roofShed", "roofPyramid", "roofRidge")
 def compile_roof(program, node: ast.Operation, params):
     """``roofX(angle, ...)`` or ``roofX(byAngle|byHeight, value, ...)``."""
     if any(a.kind != "plain" for a in node.arguments):
@@ -107,6 +108,7 @@ def compile_roof(program, node: ast.Operation, params):
         "roofGable": roofs.roof_gable,
         "roofShed": roofs.roof_shed,
         "roofPyramid": roofs.roof_pyramid,
+        "roofRidge": roofs.roof_ridge,
     }[node.name]
 
     def roof_op(state, args, out):
