@@ -213,3 +213,15 @@ def test_bad_scope_op_arguments_are_one_line(program):
     state = _state(program, _l_mass())
     with pytest.raises(GrammarError, match="corner index is a whole number"):
         run(program, _operation("setPivot", "xyz", 9), state)
+
+
+def test_comp_face_vertices(program):
+    box = extrude_shape(lot_shape((4, 2))[0], 3, True)
+    state = _state(program, box)
+    _, corners = run(program, _operation("comp", "fv", branches=[("all", False)]), state)
+    assert len(corners) == 24  # six faces of four corners
+    first = corners[0].shape.scope  # the bottom's first corner: (4, 0, 2), edge along -x
+    assert np.allclose(first.origin, [4, 0, 2])
+    assert np.allclose(first.rotation[:, 0], [-1, 0, 0])
+    assert np.allclose(first.rotation[:, 1], [0, -1, 0])  # the bottom's normal
+    assert np.allclose(first.rotation[:, 2], [0, 0, 1])  # out of the face, in its plane

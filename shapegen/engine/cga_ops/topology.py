@@ -1,4 +1,4 @@
-"""CityEngine's component split: ``comp(f)``, ``comp(e)``, ``comp(v)`` and ``comp(fe)``.
+"""CityEngine's component split: ``comp(f)``, ``comp(e)``, ``comp(v)``, ``comp(fe)``, ``comp(fv)``.
 
 The components of a shape's geometry (a box filling its scope when it has none) become new
 shapes, with scopes as op_comp sets them:
@@ -10,7 +10,9 @@ shapes, with scopes as op_comp sets them:
   edges are numbered around the faces in order, a shared edge counted once;
 - a face edge (``fe``): every face's edges, x in the face's direction, z out of the face in its
   plane;
-- a vertex (``v``): the origin at the vertex, z along the mean of its faces' normals, size 0.
+- a vertex (``v``): the origin at the vertex, z along the mean of its faces' normals, size 0;
+- a face vertex (``fv``): every face's corners, x along the face's edge leaving the corner, y the
+  face normal, z out of the face in its plane, size 0.
 
 Selectors are exclusive from left to right. ``sel : A`` makes one shape per component,
 ``sel = A`` one shape of all of them. A selector is a name (``front``, ``world.up``,
@@ -39,7 +41,7 @@ from shapegen.model.scope import Scope
 
 EDGE = "edge"
 VERTEX = "vertex"
-_KINDS = ("f", "e", "v", "fe")
+_KINDS = ("f", "e", "v", "fe", "fv")
 _ROOF_EDGES = ("eave", "hip", "valley", "ridge")
 
 
@@ -190,6 +192,42 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
     return out
 
 
+def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
+    """comp(fv): every corner of every face; x along the face's edge leaving it, y the face
+    normal, z = x cross y (out of the face, in its plane), size 0."""
+    scope = shape.scope
+    mesh = shape.mesh()
+    world_vertices = scope.to_world(mesh.vertices)
+    normals = mesh.face_normals() @ scope.rotation.T
+    borders = border_faces(mesh)
+    out = []
+    for f, face in enumerate(mesh.faces):
+        for j, i in enumerate(face):
+            tangent = world_vertices[face[(j + 1) % len(face)]] - world_vertices[i]
+            rotation = rotation_keeping_x(tangent, normals[f]) if tangent.any() else None
+            if rotation is None or not normals[f].any():
+                continue
+            out.append(
+                Component(
+                    len(out),
+                    scope.rotation.T @ rotation[:, 2],
+                    rotation[:, 2],
+                    rotation[:, 2]
+                    if object_rotation is None
+                    else object_rotation.T @ rotation[:, 2],
+                    borders[f],
+                    Shape.with_geometry(
+                        Scope(world_vertices[i], rotation, np.zeros(3)),
+                        Mesh([(0, 0, 0)], ()),
+                        VERTEX,
+                        2,
+                    ),
+                    (f,),
+                )
+            )
+    return out
+
+
 def _frame(x: np.ndarray, z: np.ndarray) -> np.ndarray:
     """Columns x, y, z with x along ``x`` and z as close to ``z`` as possible."""
     length = float(np.linalg.norm(z))
@@ -287,7 +325,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
     if kind not in _KINDS:
         raise program.error(
             node,
-            f"comp({kind}) is not supported by shapegen; it splits into f, e, v or fe",
+            f"comp({kind}) is not supported by shapegen; it splits into f, e, v, fe or fv",
         )
     compiled = [
         (_selector(program, key, params, kind), merge, body, branch)
@@ -304,6 +342,8 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             components = face_components(shape, object_rotation)
         elif kind in ("e", "fe"):
             components = _edge_components(shape, object_rotation, kind == "fe")
+        elif kind == "fv":
+            components = _face_vertex_components(shape, object_rotation)
         else:
             components = _vertex_components(shape, object_rotation)
         taken = [False] * len(components)
