@@ -1,19 +1,21 @@
 """CityEngine's polygon operations on faces: offset, setback, setbackPerEdge, setbackToArea,
-shapeL, shapeU, shapeO and innerRectangle.
+shapeL, shapeU, shapeO, innerRectangle and footprint.
 
-Each acts on every face of a flat shape (the lot, a ``comp(f)`` face, an earlier result): the
-face is laid in its own plane (x along the scope's in-plane axis, counter-clockwise seen from
-its normal), the 2D work is done by :mod:`shapegen.geometry.polygon2d`, and the pieces come
-back as flat shapes whose scope keeps the orientation and fits the new geometry ("the scope's
-size is adapted to the new geometry"). Edge selectors classify each edge's outward normal into
-the scope's quadrants (``front`` +z, ``back`` -z, ``right`` +x, ``left`` -x, ``top`` +y,
-``bottom`` -y); a number selects that edge (modulo the count).
+Each acts on every face of a flat shape (the lot, a ``comp(f)`` face, an earlier result; offset
+also on a 3D shape's faces): the face is laid in its own plane (x along the scope's in-plane
+axis, counter-clockwise seen from its normal), the 2D work is done by
+:mod:`shapegen.geometry.polygon2d`, and the pieces come back as shapes whose scope keeps the
+orientation and fits the new geometry ("the scope's size is adapted to the new geometry").
+Edge selectors are ``comp(f)``'s (:func:`shapegen.geometry.queries.face_matches`) applied to
+each edge's outward normal in the face's plane: ``front`` +z, ``back`` -z, ``right`` +x,
+``left`` -x, ``side``, ``world.*``...; a number selects that edge (modulo the count).
 
-``offset(d)`` without a selector keeps both the inside and the border faces in one shape; its
-faces carry the component tags ``inside`` / ``border`` in ``mesh.component_tags`` for a later
-``comp(f) { inside : ... | border : ... }``.
+``offset(d)`` without a selector keeps both the inside and the border faces in one shape, with
+the vertices they share welded, so ``comp(f) { inside : ... | border : ... }`` tells them apart
+by adjacency (border faces have an edge no other face has). Each face's CityEngine component
+tag (``inside``, ``border``, ``roof.top``...) is also recorded in ``mesh.component_tags``; no
+operation reads it yet, and a mesh made from another (scaled, cut) does not keep it.
 """
-
 from __future__ import annotations
 
 __all__ = [
