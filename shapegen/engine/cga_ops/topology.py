@@ -254,13 +254,14 @@ def _merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
 Selector = Callable[[Component, object, tuple], bool]
 
 
-def _selector(program, key, params, kind: str) -> Selector:
-    """A predicate on components from a branch key (an AST expression or a name string)."""
+def _selector(program, key, params, kind: str, where=None) -> Selector:
+    """A predicate on components from a branch key (an AST expression, or a name string of the
+    branch ``where``)."""
     if isinstance(key, str):
         if key.isdigit():
             index = int(key)
             return lambda c, state, args: c.index == index
-        return _named(program, key, key, kind)
+        return _named(program, where, key, kind)
     if isinstance(key, ast.Number):
         index = int(key.value)
         return lambda c, state, args: c.index == index
@@ -328,7 +329,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             f"comp({kind}) is not supported by shapegen; it splits into f, e, v, fe or fv",
         )
     compiled = [
-        (_selector(program, key, params, kind), merge, body, branch)
+        (_selector(program, key, params, kind, branch), merge, body, branch)
         for key, merge, body, branch in branches
     ]
     error = program.error
