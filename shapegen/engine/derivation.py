@@ -59,6 +59,7 @@ class ShapeState:
         "split_total",
         "comp_index",
         "comp_total",
+        "comp_sel",
         "path",
         "children",
         "rng",
@@ -186,6 +187,7 @@ class Derivation:
         state.split_total = parent.split_total
         state.comp_index = parent.comp_index
         state.comp_total = parent.comp_total
+        state.comp_sel = parent.comp_sel
         state.path = parent.path + (parent.children[0],)
         parent.children[0] += 1
         state.children = [0]
@@ -241,6 +243,7 @@ def root_state(run: Derivation, shape: Shape, attrs, path: tuple) -> ShapeState:
     state.split_total = 0
     state.comp_index = 0
     state.comp_total = 0
+    state.comp_sel = ""  # comp.sel: the selector of the last comp, as written ("" before one)
     state.path = path
     state.children = [0]
     state.rng = [None]

@@ -225,3 +225,14 @@ def test_comp_face_vertices(program):
     assert np.allclose(first.rotation[:, 0], [-1, 0, 0])
     assert np.allclose(first.rotation[:, 1], [0, -1, 0])  # the bottom's normal
     assert np.allclose(first.rotation[:, 2], [0, 0, 1])  # out of the face, in its plane
+
+
+def test_comp_records_its_selector_for_comp_sel(program):
+    state = _state(program, extrude_shape(lot_shape((4, 2))[0], 3, True))
+    _, faces = run(
+        program,
+        _operation("comp", "f", branches=[("front", False), ("side", False), (1, False)]),
+        state,
+    )
+    assert [f.comp_sel for f in faces] == ["front", "side", "side", "side", "1"]
+    assert [f.comp_index for f in faces] == [0, 0, 1, 2, 0]

@@ -296,6 +296,19 @@ def _selector(program, key, params, kind: str, where=None) -> Selector:
     return condition
 
 
+def _selector_text(key) -> str:
+    """``comp.sel``: the selector as written (a name, an index), "" for an expression."""
+    if isinstance(key, str):
+        return key
+    if isinstance(key, ast.Number):
+        return str(int(key.value))
+    if isinstance(key, ast.Name):
+        return key.name
+    if isinstance(key, ast.ShapeAttribute):
+        return f"{key.obj}.{key.field}"
+    return ""
+
+
 def _is_selector(key) -> bool:
     if isinstance(key, ast.Number):
         return True
@@ -329,7 +342,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             f"comp({kind}) is not supported by shapegen; it splits into f, e, v, fe or fv",
         )
     compiled = [
-        (_selector(program, key, params, kind, branch), merge, body, branch)
+        (_selector(program, key, params, kind, branch), merge, body, branch, _selector_text(key))
         for key, merge, body, branch in branches
     ]
     error = program.error
@@ -349,7 +362,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             components = _vertex_components(shape, object_rotation)
         taken = [False] * len(components)
         run = state.run
-        for select, merge, body, branch in compiled:
+        for select, merge, body, branch, text in compiled:
             chosen = []
             for k, component in enumerate(components):
                 if not taken[k] and select(component, state, args):
@@ -368,6 +381,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                 child = run.child(state, piece, branch)
                 child.comp_index = index
                 child.comp_total = total
+                child.comp_sel = text
                 if body(child, args, out) and child.children[0] == 0:
                     out.append((child, None, ()))
         return True
