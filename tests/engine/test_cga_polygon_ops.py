@@ -325,3 +325,38 @@ def test_corpus_setback_and_inner_rectangle_report_pyprts_footprint(lot, rel, ar
     grammar = shapegen.load_grammar(SIMPLE_RULE)
     model = grammar.build(attrs={"frontSetbackRel": rel}, lot=[(3 * x, 3 * z) for x, z in lot])
     assert model.metadata["reports"]["Footprint Area (m2)"] == pytest.approx(area, rel=2e-5)
+
+
+def _surface_areas(model) -> list[float]:
+    from shapegen.geometry.mesh import Mesh
+
+    return [Mesh(s.vertices, s.faces).area() for s in model.surfaces]
+
+
+@pytest.mark.parametrize(
+    "body, lot, areas",
+    [
+        ("{ 20 : A | ~1 : A | '0.25 : A }", (12, 8), [20, 52, 24]),
+        # a triangle (48 m²): the cuts are where the area below them reaches 20 and 36
+        ("{ 20 : A | ~1 : A | '0.25 : A }", [(0, 0), (12, 0), (6, -8)], [20, 16, 12]),
+        ("{ 10 : A }*", [(0, 0), (12, 0), (6, -8)], [10, 10, 10, 10, 8]),
+    ],
+)
+def test_split_area(tmp_path, body, lot, areas):
+    rule = tmp_path / "split_area.cga"
+    rule.write_text(f"@StartRule\nLot --> splitArea(x) {body}\nA --> color(1, 0, 0)\n")
+    model = shapegen.load_grammar(rule).build(lot=lot)
+    assert _surface_areas(model) == pytest.approx(areas, rel=1e-6)  # cuts bisected
+
+
+def test_split_area_refuses_no_adjust(program):
+    operation = ast.Operation(
+        "splitArea",
+        (
+            ast.OperationArgument("plain", ast.Name("x")),
+            ast.OperationArgument("plain", ast.Name("noAdjust")),
+        ),
+        (ast.OperationBranch(ast.Number(1.0), "absolute", ast.Sequence(())),),
+    )
+    with pytest.raises(GrammarError, match="only adjust"):
+        run(program, operation)

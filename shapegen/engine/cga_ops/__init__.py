@@ -52,5 +52,6 @@ from shapegen.engine.cga_ops import (  # noqa: E402, F401
     polygons,
     roofs,
     scope_ops,
+    split_area,
     topology,
 )
