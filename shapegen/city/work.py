@@ -24,6 +24,7 @@ import json
 import math
 import os
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -116,7 +117,16 @@ def run_lot(settings: CitySettings, task: LotTask) -> dict:
     seed = lot_seed(task.id, settings.seed)
     record = new_record(task.id, seed)
     try:
-        _run(settings, task, seed, started, record)
+        # A warning (an attr outside its @Range...) belongs to its lot's row, not to a terminal
+        # that many workers share.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                _run(settings, task, seed, started, record)
+            finally:
+                record["warnings"] = list(record["warnings"]) + [
+                    " ".join(str(w.message).split()) for w in caught
+                ]
         record["status"] = "ok"
     except LotTimeout:
         record["status"] = "timeout"
