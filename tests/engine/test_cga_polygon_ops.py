@@ -360,3 +360,31 @@ def test_split_area_refuses_no_adjust(program):
     )
     with pytest.raises(GrammarError, match="only adjust"):
         run(program, operation)
+
+
+@pytest.mark.parametrize(
+    "rule",
+    [
+        "Lot --> setback([2, 0, 0, 3]) { all = Strip | remainder : Rest }",
+        # op_setbackPerEdge's example: the distance evaluated once per edge with comp.index
+        "const dists = [2, 0, 0, 3]\ndist = dists[comp.index]\n@StartRule\n"
+        "Lot --> setbackPerEdge(dist) { all = Strip | remainder : Rest }",
+    ],
+)
+def test_setback_distances_per_edge_from_an_array(tmp_path, rule):
+    text = rule if "@StartRule" in rule else "@StartRule\n" + rule
+    path = tmp_path / "per_edge.cga"
+    path.write_text(text + "\nStrip --> color(1, 0, 0)\nRest --> color(0, 1, 0)\n")
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    # edge 0 (front, 12 m) by 2 m and edge 3 (left, 8 m) by 3 m: the rest is 9 x 6
+    assert _surface_areas(model) == pytest.approx([96 - 54, 54])
+
+
+def test_envelope_per_edge_arrays(tmp_path):
+    path = tmp_path / "envelope.cga"
+    path.write_text(
+        "@StartRule\nLot --> envelope(normal, 10, [3, 3, 3, 3], [45, 45, 45, 45]) Mass\n"
+    )
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    volume = sum(b.volume for b in model.blocks)
+    assert volume == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)

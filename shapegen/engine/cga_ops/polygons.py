@@ -16,6 +16,7 @@ by adjacency (border faces have an edge no other face has). Each face's CityEngi
 tag (``inside``, ``border``, ``roof.top``...) is also recorded in ``mesh.component_tags``; no
 operation reads it yet, and a mesh made from another (scaled, cut) does not keep it.
 """
+
 from __future__ import annotations
 
 __all__ = [
@@ -341,8 +342,18 @@ def _emit_all(state, args, branches, pieces_of, out) -> None:
                 out.append((child, None, ()))
 
 
+def _elements(value):
+    """The elements of a CGA array (or a Python sequence), or None for a single value."""
+    from shapegen.engine.functions_arrays import Array
+
+    if isinstance(value, Array):
+        return value.values
+    return value if isinstance(value, (list, tuple)) else None
+
+
 def _distance_list(program, node, value, n: int) -> np.ndarray:
-    if isinstance(value, (list, tuple)):
+    if _elements(value) is not None:
+        value = _elements(value)
         d = np.zeros(n)
         for k, item in enumerate(value[:n]):
             if type(item) is bool or not isinstance(item, (int, float)):

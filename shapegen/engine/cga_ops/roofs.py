@@ -18,6 +18,7 @@ import numpy as np
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.cga_ops.polygons import (
     _arguments,
+    _elements,
     _flat_input,
     _number,
     _selector_name,
@@ -182,7 +183,8 @@ def compile_envelope(program, node: ast.Operation, params):
     sides = _ENVELOPE_SIDES[len(values) - 2]
 
     def per_edge(value, n: int, default: float, what: str) -> np.ndarray:
-        if isinstance(value, (list, tuple)):
+        if _elements(value) is not None:
+            value = _elements(value)
             out = np.full(n, default)
             for k, item in enumerate(value[:n]):
                 if type(item) is bool or not isinstance(item, (int, float)):
@@ -207,7 +209,7 @@ def compile_envelope(program, node: ast.Operation, params):
                     )  # fmt: skip
             n = len(polygon)
             quadrants = edge_quadrants(frame, polygon)
-            if len(pairs) == 2 and isinstance(evaluated[0], (list, tuple)):
+            if len(pairs) == 2 and _elements(evaluated[0]) is not None:
                 base = per_edge(evaluated[0], n, 0.0, "base heights")
                 angle = per_edge(evaluated[1], n, 90.0, "angles")
             else:
