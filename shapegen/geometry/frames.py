@@ -87,7 +87,7 @@ def lot_polygon(points: Sequence[Sequence[float]]) -> tuple[Scope, Mesh]:
     and the face in scope coordinates.
 
     Raises ``ValueError`` with a message for the user for fewer than three points, non-finite
-    values, a polygon of no area or one that runs clockwise.
+    values, a polygon of no area, one that runs clockwise or one that crosses itself.
     """
     try:
         flat = np.array([[float(x), float(z)] for x, z in points], dtype=float)
@@ -106,6 +106,10 @@ def lot_polygon(points: Sequence[Sequence[float]]) -> tuple[Scope, Mesh]:
         raise ValueError(
             "the polygon lot runs clockwise seen from above; give its points counter-clockwise"
         )
+    import shapely
+
+    if not shapely.LinearRing(flat).is_simple:
+        raise ValueError("the polygon lot crosses itself")
     rotation = face_rotation(world, np.array([0.0, 1.0, 0.0]))
     # x along the first edge, y up (the lot's normal), z = x x y
     rotation = np.column_stack(

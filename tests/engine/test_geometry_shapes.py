@@ -146,6 +146,8 @@ def test_bad_polygon_lots_are_one_line():
         grammar.build(lot=list(reversed(L_LOT)))
     with pytest.raises(GrammarError, match="no area"):
         grammar.build(lot=[(0, 0), (1, 0), (2, 0)])
+    with pytest.raises(GrammarError, match="crosses itself"):
+        grammar.build(lot=[(0, 0), (4, 0), (4, -4), (2, 2), (0, -4)])
 
 
 def test_cityengine_extrude_of_a_comp_face_turns_the_scope(tmp_path):

@@ -88,3 +88,42 @@ def test_convexify_faces():
     assert mesh.area() == pytest.approx(18.0)
     # with maxLength 1 every cut the triangulation offers is longer: the face stays whole
     assert convex_faces(face, 1.0).n_faces == 1
+
+
+def _random_lots(count, seed=1):
+    """Simple polygons: corners at sorted angles around the origin, random radii (those that
+    cross themselves are skipped)."""
+    import shapely
+
+    rng = np.random.default_rng(seed)
+    lots = []
+    while len(lots) < count:
+        n = int(rng.integers(3, 12))
+        angles = np.sort(rng.uniform(0, 2 * np.pi, n))
+        radii = rng.uniform(1, 5, n)
+        points = np.column_stack([radii * np.cos(angles), -radii * np.sin(angles)])
+        if shapely.LinearRing(points).is_simple and shapely.Polygon(points).area > 0.5:
+            lots.append(points.tolist())
+    return lots
+
+
+@pytest.mark.parametrize("lot", _random_lots(20))
+def test_slices_of_random_prisms_are_closed_and_add_up(lot):
+    whole = _prism(lot, 2.0)
+    total = whole.volume()
+    assert total == pytest.approx(2.0 * abs(_signed_area(lot)))
+    low, high = whole.bounds()
+    for axis in (0, 1, 2):
+        cuts = np.linspace(low[axis], high[axis], 5)
+        pieces = [clip_slab(whole, axis, a, b) for a, b in zip(cuts, cuts[1:], strict=False)]
+        pieces = [p for p in pieces if p is not None]
+        assert all(p.is_closed for p in pieces)
+        assert sum(p.volume() for p in pieces) == pytest.approx(total)
+    parts = convex_decomposition(whole)
+    assert parts is not None and all(p.is_convex() for p in parts)
+    assert sum(p.volume() for p in parts) == pytest.approx(total)
+
+
+def _signed_area(points):
+    x, z = np.asarray(points).T
+    return 0.5 * float(np.dot(x, np.roll(z, -1)) - np.dot(z, np.roll(x, -1)))
