@@ -136,3 +136,21 @@ def test_the_district_is_the_same_on_local_processes_on_a_cluster_and_on_a_rerun
     statuses = [r["status"] for r in local.records]
     assert statuses.count("error") == 3 and statuses.count("ok") == 27
     assert 0 < sum(1 for r in local.records if r["stands"] is False) < 27
+
+
+@pytest.mark.slow
+def test_a_lot_stuck_in_one_long_solve_is_stopped_and_the_next_lot_still_runs(tmp_path):
+    # A 3 km row of houses: about 16 000 stones, derived in about a second; its analysis (one
+    # call that a lot cannot interrupt itself) takes much longer than the timeout, so the
+    # worker is killed 2 s after it and replaced for the next lot.
+    grammar = shapegen.load_grammar(HOUSE)
+    city = city_from_polygons(
+        [[(0, 0), (3000, 0), (3000, 8), (0, 8)], LOTS[0][0]],
+        ids=["long", "short"],
+        properties=[{"storeys": 1}, {}],
+        crs="metres",
+    )
+    run = run_city(city, grammar, tmp_path, workers=1, timeout=3.0)
+    long, short = run.records
+    assert long["status"] == "timeout" and long["seconds"] >= 3.0
+    assert short["status"] == "ok" and short["stands"] is True
