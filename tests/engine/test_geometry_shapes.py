@@ -151,18 +151,22 @@ def test_bad_polygon_lots_are_one_line():
 
 
 def test_cityengine_extrude_of_a_comp_face_turns_the_scope(tmp_path):
-    text = "@StartRule\nLot --> extrude(3) comp(f) { front : Wall }\nWall --> extrude(0.5) W\n"
-    cga = tmp_path / "wall.cga"
-    cga.write_text(text)
-    grammar_file = tmp_path / "wall.grammar"
-    grammar_file.write_text(text)
-    for path in (cga, grammar_file):
+    # op_extrude: y along the extrusion. In a .cga file split(y) of an extruded wall cuts its
+    # thickness; a .grammar file keeps shapegen's scope (y up the wall), so it cuts its height.
+    text = (
+        "@StartRule\nLot --> extrude(3) comp(f) { front : Wall }\n"
+        "Wall --> extrude(0.5) split(y) { 0.2 : A | ~1 : B }\n"
+    )
+    extents = {}
+    for suffix in ("cga", "grammar"):
+        path = tmp_path / f"wall.{suffix}"
+        path.write_text(text)
         model = shapegen.load_grammar(str(path)).build(lot=(4, 2))
-        (block,) = model.blocks
-        assert block.volume == pytest.approx(4 * 3 * 0.5)
-        low, high = block.vertices.min(axis=0), block.vertices.max(axis=0)
-        assert np.allclose(low, [0, 0, 2]) and np.allclose(high, [4, 3, 2.5])
-    # the scope's y axis is the face normal for the .cga file (op_extrude)
+        first = model.blocks[0]
+        extents[suffix] = (first.vertices.max(axis=0) - first.vertices.min(axis=0)).round(9)
+        assert sum(b.volume for b in model.blocks) == pytest.approx(4 * 3 * 0.5)
+    assert extents["cga"].tolist() == [4, 3, 0.2]
+    assert extents["grammar"].tolist() == [4, 0.2, 0.5]
     face = Shape(shapegen.engine.shape.lot_scope(4, 3), FACE, 1)
     box = extrude_shape(face, 3, True)
     assert box.kind == MASS and box.geometry is None
