@@ -74,18 +74,24 @@ class RoofMesh:
 class _Welder:
     """Collects points and faces, one index per distinct point."""
 
+    _NEAR = [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]
+
     def __init__(self, size: float):
         self.eps = DEFAULT.merge_rel * max(size, 1e-300) * 10
         self.points: list[np.ndarray] = []
         self.faces: list[tuple[int, ...]] = []
         self.tags: list[str] = []
+        self.cells: dict[tuple[int, int, int], list[int]] = {}  # grid of cell size eps
 
     def index(self, point) -> int:
         point = np.asarray(point, dtype=float)
-        for k, q in enumerate(self.points):
-            if np.abs(q - point).max() <= self.eps:
-                return k
+        cell = tuple(int(c) for c in np.floor(point / self.eps))
+        for di, dj, dk in self._NEAR:  # a point within eps lies in this cell or a neighbour
+            for k in self.cells.get((cell[0] + di, cell[1] + dj, cell[2] + dk), ()):
+                if np.abs(self.points[k] - point).max() <= self.eps:
+                    return k
         self.points.append(point)
+        self.cells.setdefault(cell, []).append(len(self.points) - 1)
         return len(self.points) - 1
 
     def face(self, points, tag: str) -> None:
