@@ -5,6 +5,7 @@ on meshes: the geometry stays where it is in the world, the scope is refitted as
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -236,3 +237,38 @@ def test_comp_records_its_selector_for_comp_sel(program):
     )
     assert [f.comp_sel for f in faces] == ["front", "side", "side", "side", "1"]
     assert [f.comp_index for f in faces] == [0, 0, 1, 2, 0]
+
+
+CORPUS_RULE = (
+    Path(__file__).resolve().parents[3]
+    / "shared"
+    / "cga-corpus"
+    / "rules"
+    / "simpleRuleDataset_b6acc245.cga"
+)
+
+
+@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus is not next to the checkout")
+@pytest.mark.parametrize(
+    "lot, setback_x, setback_z, edges",
+    # PyPRT on the corpus package simpleRuleDataset with these lots: the reports of its
+    # alignScopeToGeometry(yUp, any, longest) scope (sx, sz) and comp(e)'s scope.sx (sum,
+    # min, max of "Parcel Edges Length (m)")
+    [
+        ([(0, 0), (6, 27), (33, 27), (42, 0)], 42.0, 27.0, (125.11913231339409, 27.0, 42.0)),
+        ([(0, 0), (0, 30), (12, 30), (12, 12), (30, 12), (30, 0)], 30.0, 30.0, (120, 12, 30)),
+        ([(0, 0), (0, 8), (12, 8), (12, 0)], 12.0, 8.0, (40, 8, 12)),
+        ([(0, 0), (-6, 18), (15, 33), (39, 21), (36, -3)], 44.59542268145836, 34.13169221988713,
+         None),
+    ],
+)  # fmt: skip
+def test_align_scope_to_geometry_and_comp_edges_report_pyprts_figures(
+    lot, setback_x, setback_z, edges
+):
+    model = shapegen.load_grammar(CORPUS_RULE).build(lot=lot)
+    reports = model.metadata["reports"]
+    assert reports["Max Setback X (m)"] == pytest.approx(setback_x, rel=1e-12)
+    assert reports["Max Setback Z (m)"] == pytest.approx(setback_z, rel=1e-12)
+    if edges is not None:
+        lengths = reports["Parcel Edges Length (m)"]
+        assert (sum(lengths), min(lengths), max(lengths)) == pytest.approx(edges, rel=1e-12)
