@@ -1,22 +1,28 @@
 """Shapes and the scope operations of CGA: extrude, split, comp, t, r, s, center.
 
 A :class:`Shape` is a :class:`~shapegen.model.scope.Scope` plus what fills it: a flat face (the
-lot, a ``comp(f)`` face), a box mass (after ``extrude``) or an inserted primitive. The functions
-here are pure: they take a scope and return new scopes; the interpreter decides what to do with
+lot, a ``comp(f)`` face), a mass (after ``extrude``) or an inserted primitive. Its ``geometry`` is
+a :class:`~shapegen.geometry.mesh.Mesh` in scope coordinates, or None when the shape fills its
+scope (a box, a rectangle: the fast path every bundled rule stays on). The functions here are
+pure: they take shapes or scopes and return new ones; the interpreter decides what to do with
 them. A wrong use raises ``ValueError`` with a message for the user; the interpreter adds the place
 in the grammar file.
 
 Conventions (CGA's):
 
-- the lot is a rectangle in the x-z plane with a corner at the origin and its first edge along +x;
-  its scope axes are the world axes (y up) and its size is ``(width, 0, depth)``;
+- a ``(width, depth)`` lot is a rectangle in the x-z plane with a corner at the origin and its
+  first edge along +x; its scope axes are the world axes (y up) and its size is
+  ``(width, 0, depth)``; a polygon lot's scope has x along its first edge (:func:`lot_shape`);
 - ``extrude(h)`` grows a face along its normal (+y for the lot, the scope's +z for a comp face);
-- ``comp(f)`` gives each face of a box a scope whose x axis runs along the face's bottom edge (left
-  to right seen from outside), whose z axis is the outward normal and whose z size is 0; side faces
-  keep the box's y axis (up); ``front``/``back`` are the faces whose normals are the scope's +z/-z,
-  ``right``/``left`` +x/-x, ``top``/``bottom`` +y/-y;
+  a polygon face becomes a prism, faces numbered as CityEngine does (:func:`extrude_shape`);
+- ``comp(f)`` gives each face a scope whose x axis runs along the face's first edge (for a box's
+  sides, the bottom edge left to right seen from outside), whose z axis is the outward normal and
+  whose z size is 0; a box's faces come in CityEngine's order (:data:`FACE_ORDER`);
+- ``split`` slices the scope, and cuts the geometry of a shape that has one
+  (:func:`split_piece`);
 - ``t``, ``s`` and ``r`` act in the scope's own axes; ``r`` turns about the scope's origin, first
-  about its x axis, then y, then z (degrees).
+  about its x axis, then y, then z (degrees); the geometry moves with the scope, and ``s``
+  scales it to the new size.
 """
 
 from __future__ import annotations
