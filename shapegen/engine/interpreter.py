@@ -5,10 +5,13 @@
 
 The derivation is depth first, in the order successors appear in the rules, and uses an explicit
 stack rather than recursion, so deep grammars need no Python recursion. Each 3D leaf shape (not
-``NIL``, positive volume) becomes one block (a box filling its scope) or the blocks of its
-inserted primitive, numbered ``b0``, ``b1``... in derivation order. Randomness (``rand``,
-stochastic rules) comes from a generator seeded by the seed and the shape's position in the shape
-tree, so a shape's draws do not depend on how many shapes were derived before it.
+``NIL``, positive volume) becomes one block (a box filling its scope, a closed convex mesh), the
+convex pieces of a closed non-convex mesh, or the blocks of its inserted primitive, numbered
+``b0``, ``b1``... in derivation order; any other leaf (a face, an open mesh) is a
+:class:`~shapegen.model.appearance.Surface` of the model, with the reason it is not a block.
+Randomness (``rand``, stochastic rules) comes from a generator seeded by the seed and the shape's
+position in the shape tree, so a shape's draws do not depend on how many shapes were derived
+before it.
 
 The work is shared with :mod:`~shapegen.engine.derivation` (the state of a derivation),
 :mod:`~shapegen.engine.operations` (compiling rule bodies and operations) and
