@@ -61,7 +61,8 @@ class ExpressionCompiler(BuiltinCalls):
         location = getattr(node, "location", None)
         if location is not None and location.line == 0:
             location = None
-        return GrammarError(message, location, self.grammar.source)
+        file = location.file if location is not None else None
+        return GrammarError(message, location, self.grammar.source_of(file))
 
     # ------------------------------------------------------------------ functions
     def compile_functions(self) -> None:

@@ -182,11 +182,12 @@ def load_grammar(path: str | os.PathLike) -> Grammar:
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
         raise GrammarError(f"cannot read {str(path)!r}: {reason}") from None
-    return Grammar(_parse(text, str(path)), path)
+    return Grammar(_parse(text, str(path), origin=path), path)
 
 
 def parse_grammar(text: str, name: str = "<string>") -> Grammar:
     """Parse and check grammar source ``text``; ``name`` is how errors and reports call it.
+    Its ``import`` lines (if any) name files relative to the working directory.
 
     >>> parse_grammar("@StartRule @Lot(2, 1)\\nLot --> extrude(1) Stone").lot
     (2.0, 1.0)
@@ -267,13 +268,14 @@ def _is_bare_name(text: str) -> bool:
     )
 
 
-def _parse(text: str, filename: str) -> ast.Grammar:
-    """Parse and check ``text`` with the grammar package's loader."""
+def _parse(text: str, filename: str, origin: Path | None = None) -> ast.Grammar:
+    """Parse and check ``text`` with the grammar package's loader; imports are resolved from
+    ``origin``'s folder (the working directory without one)."""
     from shapegen import grammar as language
 
     load = getattr(language, "load", None)
     if load is not None:
-        return load(text, filename)
+        return load(text, filename, origin)
     from shapegen.grammar.parser import parse
 
     return parse(text, filename)

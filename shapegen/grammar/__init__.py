@@ -5,8 +5,10 @@ Public entry points:
 - :func:`parse` ``(text, filename="<string>") -> ast.Grammar``: syntax only;
 - :func:`check` ``(grammar) -> ast.Grammar``: load-time semantic checks (undefined names, argument
   counts, annotations...), raising one :class:`GrammarError` that lists every problem;
-- :func:`load` ``(text, filename="<string>") -> ast.Grammar``: both, with the problems of the two
-  stages reported together.
+- :func:`load` ``(text, filename="<string>", origin=None) -> ast.Grammar``: both, with the
+  problems of the two stages reported together, and the files it imports merged in
+  (:mod:`shapegen.grammar.imports`; paths relative to ``origin``'s folder, or to the working
+  directory without one).
 
 The AST node classes are in :mod:`shapegen.grammar.ast`; the language's fixed vocabulary
 (operations, builtins, selectors, annotations, reserved attrs) in :mod:`shapegen.grammar.names`.
@@ -14,16 +16,37 @@ The AST node classes are in :mod:`shapegen.grammar.ast`; the language's fixed vo
 
 from __future__ import annotations
 
-from shapegen.errors import GrammarError
+from pathlib import Path
+
+from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast, names
 from shapegen.grammar.checks import check, find_problems
+from shapegen.grammar.imports import resolve_imports
 from shapegen.grammar.parser import parse, parse_with_problems
 
-__all__ = ["GrammarError", "ast", "check", "load", "names", "parse"]
+__all__ = ["GrammarError", "FilesGrammarError", "ast", "check", "load", "names", "parse"]
 
 
-def load(text: str, filename: str = "<string>") -> ast.Grammar:
-    """Parse and check .grammar ``text``.
+class FilesGrammarError(GrammarError):
+    """A :class:`GrammarError` whose problems may lie in several files (an importing file and
+    the files it imports): each problem's caret is drawn under its own file's line."""
+
+    def __init__(self, grammar: ast.Grammar, problems: list[tuple[SourceLocation | None, str]]):
+        self.grammar = grammar
+        location, message = problems[0]
+        file = location.file if location is not None else None
+        super().__init__(message, location, source=grammar.source_of(file), problems=problems)
+
+    def _render(self) -> str:
+        parts = []
+        for location, message in self.problems:
+            source = self.grammar.source_of(location.file if location is not None else None)
+            parts.append(GrammarError(message, location, source)._render())
+        return "\n".join(parts)
+
+
+def load(text: str, filename: str = "<string>", origin: str | Path | None = None) -> ast.Grammar:
+    """Parse and check .grammar ``text``, with the files it imports merged in.
 
     Parameters
     ----------
@@ -31,6 +54,9 @@ def load(text: str, filename: str = "<string>") -> ast.Grammar:
         The file's contents.
     filename : str
         Name shown in error messages (``file:line:col: message``).
+    origin : str or Path, optional
+        The file the text was read from: its ``import`` paths are relative to its folder (and
+        project). Without one they are relative to the working directory.
 
     Returns
     -------
@@ -44,12 +70,21 @@ def load(text: str, filename: str = "<string>") -> ast.Grammar:
         found, all in one error (``.problems``), in file order.
     """
     grammar, problems = parse_with_problems(text, filename)
+    if grammar.imports:
+        grammar, imported = resolve_imports(grammar, origin)
+        problems = problems + imported
     problems = problems + find_problems(grammar)
     if problems:
+        # the importing file's problems first, then each imported file's, each in line order
+        files = list(dict.fromkeys([grammar.filename, *(p[0].file for p in problems if p[0])]))
         problems = sorted(
             dict.fromkeys(problems),
-            key=lambda p: (p[0].line, p[0].column) if p[0] is not None else (0, 0),
+            key=lambda p: (
+                (files.index(p[0].file), p[0].line, p[0].column) if p[0] is not None else (0, 0, 0)
+            ),
         )
+        if grammar.sources:
+            raise FilesGrammarError(grammar, problems)
         location, message = problems[0]
         raise GrammarError(message, location, source=grammar.source, problems=problems)
     return grammar

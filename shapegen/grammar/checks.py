@@ -92,12 +92,6 @@ class _Checker(AnnotationChecks):
     def run(self) -> list[Problem]:
         self._collect_definitions()
         self._collect_keyword_names()
-        for item in self.grammar.imports:  # refused in one line, never ignored
-            self.report(
-                item.location,
-                f'import of "{item.path}" is not supported by shapegen yet (its rules, attrs and '
-                "functions would be missing)",
-            )
         for definition in self.grammar.definitions:
             self._check_annotations(definition)
             if isinstance(definition, ast.Attribute | ast.Constant):

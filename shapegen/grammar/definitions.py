@@ -125,6 +125,8 @@ class Rule(_Annotated):
     params: tuple[Parameter, ...]
     body: Body
     annotations: tuple[Annotation, ...] = ()
+    #: Written ``extension Name --> ...``: an import may redefine it (extension.html).
+    extension: bool = field(default=False, compare=False)
     location: SourceLocation = location_field()
 
     @property
@@ -142,7 +144,9 @@ class Import:
 
     ``protected`` lists the attrs named bare in the argument list (not propagated from the
     importing file); ``protect_all`` is True for empty parentheses; ``overrides`` gives the attrs
-    set to an expression of the importing file (``(height = 20)``). ``path`` is as written.
+    set to an expression of the importing file (``(height = 20)``); ``rules`` the extension rules
+    redefined there (``(Roof --> roofHip(30))``); ``styles`` the styles named after the prefix
+    (``import p (mystyle) : "x.cga"``). ``path`` is as written.
     """
 
     prefix: str | None
@@ -151,6 +155,8 @@ class Import:
     protect_all: bool = False
     overrides: tuple[Keyword, ...] = ()
     annotations: tuple[Annotation, ...] = ()
+    rules: tuple[Rule, ...] = ()
+    styles: tuple[str, ...] = ()
     location: SourceLocation = location_field()
 
 
@@ -174,6 +180,9 @@ class Grammar:
         after a ``style`` line are parsed and left out of ``definitions``.
     source : str
         The file's text (for error carets); excluded from equality.
+    sources : dict
+        ``file name -> text`` of every file merged into this one by its imports (for the carets
+        of problems found in them); excluded from equality.
     """
 
     definitions: tuple[Definition, ...]
@@ -182,7 +191,14 @@ class Grammar:
     imports: tuple[Import, ...] = ()
     styles: tuple[str, ...] = ()
     source: str = field(default="", compare=False, repr=False)
+    sources: dict[str, str] = field(default_factory=dict, compare=False, repr=False)
     location: SourceLocation = location_field()
+
+    def source_of(self, file: str | None) -> str:
+        """The text of ``file`` (this file's or an imported one's), for an error's caret."""
+        if file is None or file == self.filename:
+            return self.source
+        return self.sources.get(file, "")
 
     @property
     def attrs(self) -> tuple[Attribute, ...]:

@@ -50,6 +50,7 @@ class _Repeat:
 
 
 _REPEAT = _Repeat()
+_EXTENSION_MARK = object()  # ``extension`` before a rule
 
 
 def _unescape(literal: str) -> str:
@@ -129,7 +130,9 @@ class AstBuilder(OperationBuilders, Transformer):
         prefix = rest[0]
         path = next(c for c in rest[1:] if isinstance(c, Token) and c.type == "STRING")
         arguments = rest[-1] if isinstance(rest[-1], list) else None
-        return self._import(str(prefix), path, arguments, annotations, self._at(prefix))
+        styles = next((c for c in rest[1:] if isinstance(c, tuple)), ())
+        item = self._import(str(prefix), path, arguments, annotations, self._at(prefix))
+        return dataclasses.replace(item, styles=styles)
 
     def import_plain(self, meta, children):
         annotations = [c for c in children if isinstance(c, ast.Annotation)]
@@ -138,16 +141,12 @@ class AstBuilder(OperationBuilders, Transformer):
         return self._import(None, rest[0], arguments, annotations, self._at(rest[0]))
 
     def _import(self, prefix, path, arguments, annotations, location):
-        protected, overrides = [], []
+        protected, overrides, rules = [], [], []
         for argument in arguments or ():
             if isinstance(argument, ast.Keyword):
                 overrides.append(argument)
             elif isinstance(argument, ast.Rule):
-                self._problem(
-                    argument.location,
-                    f"overriding the rule '{argument.name}' in an import is not supported by "
-                    "shapegen",
-                )
+                rules.append(argument)
             else:
                 protected.append(str(argument))
         return ast.Import(
@@ -157,6 +156,7 @@ class AstBuilder(OperationBuilders, Transformer):
             protect_all=arguments is not None and not arguments,
             overrides=tuple(overrides),
             annotations=tuple(annotations),
+            rules=tuple(rules),
             location=location,
         )
 
@@ -175,7 +175,8 @@ class AstBuilder(OperationBuilders, Transformer):
 
     def import_rule(self, meta, children):
         name = children[0]
-        return ast.Rule(str(name), (), children[-1], location=self._at(name))
+        params = next((c for c in children[1:-1] if isinstance(c, tuple)), ())
+        return ast.Rule(str(name), params, children[-1], location=self._at(name))
 
     def version(self, meta, children):
         return _Version(_unescape(children[0]))
@@ -210,10 +211,14 @@ class AstBuilder(OperationBuilders, Transformer):
         return ast.Function(str(name), params, rest[-1], location=self._at(name))
 
     def rule_def(self, meta, children):
-        name, *rest = children
+        extension = children[0] is _EXTENSION_MARK
+        name, *rest = children[1:] if extension else children
         rest = [child for child in rest if not (isinstance(child, Token) and child.type == "ARROW")]
         params = rest[0] if len(rest) == 2 else ()
-        return ast.Rule(str(name), params, rest[-1], location=self._at(name))
+        return ast.Rule(str(name), params, rest[-1], extension=extension, location=self._at(name))
+
+    def extension_mark(self, meta, children):
+        return _EXTENSION_MARK
 
     def params(self, meta, children):
         return tuple(ast.Parameter(str(name), location=self._at(name)) for name in children)

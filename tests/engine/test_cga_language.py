@@ -50,8 +50,9 @@ def test_only_default_style_is_kept():
     assert len(grammar.rules) == 1
 
 
-def test_import_is_refused_in_one_line():
-    with pytest.raises(GrammarError, match='import of "lib.cga" is not supported'):
+def test_missing_import_is_one_line_naming_the_paths_tried(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(GrammarError, match='import of "lib.cga": no such file .tried .*lib.cga'):
         load('import lib : "lib.cga"\nLot --> lib.X', "r.cga")
 
 

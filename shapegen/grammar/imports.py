@@ -1,0 +1,413 @@
+"""CityEngine's ``import``: the rule files a file imports, merged into one :class:`ast.Grammar`.
+
+Semantics (CityEngine's import.html, extension.html and the changelog's notes on imports):
+
+- ``import p : "x.cga"`` makes every rule, attr, const and function of ``x.cga`` available as
+  ``p.Name``; references inside ``x.cga`` are renamed with it, so the merged grammar is one flat
+  namespace (``p.Lot``, ``p.height``, ``p.f(1)``, ``set(p.height, 2)``). A successor of ``x.cga``
+  without a rule there becomes ``p.Name`` too, which the importing file may define
+  (``p.Slab --> ...``): a definition of the importing file wins over the imported one of the
+  same name. An imported file's ``@StartRule`` (and ``@Lot``, ``@Structure``) is ignored.
+- Attr propagation: an attr of ``x.cga`` that the importing file also defines takes the
+  importing file's value (``p.height = height``), unless it is protected (``(height)``, or ``()``
+  for all) or overridden (``(height = 20)``, evaluated in the importing file). Propagation goes
+  one level down at a time: a second-level attr follows the first-level file's attr of its name,
+  if that file defines one. An importing attr that reads the imported one (``attr x = p.x + 1``)
+  reads the imported file's own value, as CityEngine's "special case" allows.
+- ``(Roof --> ops)`` redefines the imported ``extension`` rule ``Roof``; its operations are
+  those of the importing file.
+- ``import "x.cga"`` (no prefix; not in today's reference) merges the names as written; the
+  importing file's definition wins where both define a name.
+- Paths: relative to the importing file's folder, then to its project (the nearest folder above
+  holding ``rules/``); ``/Project/rest`` is the project itself when named so, else a project
+  beside it in the workspace, else ``.ws/Project/rest`` (a ``.rpk`` package) or the project's
+  ``.resolvemap.xml``. A text without a file resolves against the working directory.
+
+Cycles, missing files, unknown protected or overridden attrs and rules are problems located at
+the import line; problems inside an imported file are located in that file.
+"""
+
+from __future__ import annotations
+
+__all__ = ["resolve_imports", "project_folder", "import_candidates"]
+
+import dataclasses
+import functools
+import xml.etree.ElementTree as ElementTree
+from pathlib import Path
+
+from shapegen.errors import GrammarError, SourceLocation
+from shapegen.grammar import ast
+from shapegen.grammar.parser import parse_with_problems, source_too_long
+from shapegen.limits import current_limits
+
+Problem = tuple[SourceLocation | None, str]
+
+#: Annotations of a start rule, ignored on an imported file's rules.
+_START_ANNOTATIONS = frozenset({"StartRule", "Lot", "Structure"})
+#: Suffix of the hidden const that keeps an imported attr's own value (CGA names have no ``$``).
+_OWN_VALUE = "$default"
+
+
+def project_folder(folder: Path) -> Path | None:
+    """The nearest folder at or above ``folder`` that holds a ``rules/`` folder, or None."""
+    folder = folder.resolve()
+    for parent in (folder, *folder.parents):
+        if (parent / "rules").is_dir():
+            return parent
+    return None
+
+
+@functools.lru_cache(maxsize=64)
+def _resolve_map(project: Path) -> dict[str, str]:
+    """``key -> value`` of a package's ``.resolvemap.xml`` (empty without one)."""
+    try:
+        root = ElementTree.parse(project / ".resolvemap.xml").getroot()
+    except (OSError, ElementTree.ParseError):
+        return {}
+    return {
+        entry.get("key", ""): entry.get("value", "")
+        for entry in root.iter("entry")
+        if entry.get("key")
+    }
+
+
+def import_candidates(path: str, folder: Path) -> list[Path]:
+    """Where ``import "path"`` written in a file of ``folder`` may be, in search order."""
+    project = project_folder(folder)
+    found: list[Path] = []
+    if project is not None:
+        mapped = _resolve_map(project).get(path)
+        if mapped:
+            found.append(project / mapped)
+    if path.startswith("/"):
+        name, _, rest = path.lstrip("/").partition("/")
+        if project is not None and rest:
+            if name == project.name:
+                found.append(project / rest)
+            found += [project.parent / name / rest, project / ".ws" / name / rest]
+            found.append(project / rest)  # a package keeps no project name
+        elif rest:
+            found.append(folder / rest)
+    else:
+        found.append(folder / path)
+        if project is not None:
+            found.append(project / path)
+    return list(dict.fromkeys(found))
+
+
+@dataclasses.dataclass(frozen=True)
+class _Merged:
+    """A file with its imports merged: the grammar and the names of its own attrs."""
+
+    grammar: ast.Grammar
+    own_attrs: frozenset[str]
+
+
+class _Merger:
+    """Merges the imports of one file and, recursively, of the files it imports."""
+
+    def __init__(self) -> None:
+        self.problems: list[Problem] = []
+        self.sources: dict[str, str] = {}
+        self.cache: dict[Path, _Merged | None] = {}
+
+    def merge(self, grammar: ast.Grammar, folder: Path, stack: tuple[Path, ...]) -> _Merged:
+        own = list(grammar.definitions)
+        own_attrs = frozenset(d.name for d in own if isinstance(d, ast.Attribute))
+        importer_attrs = {d.name: d for d in own if isinstance(d, ast.Attribute)}
+        imported: list[ast.Definition] = []
+        prefixes: dict[str, ast.Import] = {}
+        redirects: dict[str, dict[str, str]] = {}
+        for item in grammar.imports:
+            if item.prefix is not None:
+                first = prefixes.setdefault(item.prefix, item)
+                if first is not item:
+                    self.problems.append(
+                        (
+                            item.location,
+                            f"the import prefix '{item.prefix}' is used twice (first at "
+                            f"{first.location})",
+                        )
+                    )
+                    continue
+            sub = self._imported(item, folder, stack)
+            if sub is not None:
+                imported += self._prefixed(sub, item, importer_attrs, redirects)
+        if redirects:
+            own = [_redirected(d, redirects.get(d.name)) for d in own]
+        values = {d.name for d in own if not isinstance(d, ast.Rule)}
+        rules = {(d.name, len(d.params)) for d in own if isinstance(d, ast.Rule)}
+        merged = list(own)
+        for definition in imported:  # the importing file's definitions win
+            if isinstance(definition, ast.Rule):
+                key = (definition.name, len(definition.params))
+                if key in rules:
+                    continue
+                rules.add(key)
+            else:
+                if definition.name in values:
+                    continue
+                values.add(definition.name)
+            merged.append(definition)
+        result = dataclasses.replace(grammar, definitions=tuple(merged), sources=self.sources)
+        return _Merged(result, own_attrs)
+
+    # Files -------------------------------------------------------------------------------------
+
+    def _imported(self, item: ast.Import, folder: Path, stack: tuple[Path, ...]) -> _Merged | None:
+        candidates = import_candidates(item.path, folder)
+        path = next((c.resolve() for c in candidates if c.is_file()), None)
+        if path is None:
+            tried = ", ".join(str(c) for c in candidates)
+            self.problems.append(
+                (item.location, f'import of "{item.path}": no such file (tried {tried})')
+            )
+            return None
+        if path in stack:
+            chain = " -> ".join(p.name for p in (*stack[stack.index(path) :], path))
+            self.problems.append((item.location, f'import of "{item.path}" makes a cycle: {chain}'))
+            return None
+        if item.styles and set(item.styles) != {"Default"}:
+            self.problems.append(
+                (
+                    item.location,
+                    f'importing the style(s) {", ".join(item.styles)} of "{item.path}" is not '
+                    "supported by shapegen (it derives the Default style only)",
+                )
+            )
+        if path not in self.cache:
+            self.cache[path] = None  # a file met again below itself is a cycle, caught above
+            self.cache[path] = self._load(path, stack + (path,))
+        return self.cache[path]
+
+    def _load(self, path: Path, stack: tuple[Path, ...]) -> _Merged:
+        filename = str(path)
+        try:
+            if path.stat().st_size > 4 * current_limits().max_source_chars:
+                raise GrammarError(f"{path}: {source_too_long(path.stat().st_size, 'bytes')}")
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+            raise GrammarError(f"cannot read the imported file {filename!r}: {reason}") from None
+        grammar, problems = parse_with_problems(text, filename)
+        self.sources[filename] = grammar.source
+        self.problems += problems
+        return self.merge(grammar, path.parent, stack)
+
+    # Prefixes, propagation and overrides -------------------------------------------------------
+
+    def _prefixed(
+        self,
+        sub: _Merged,
+        item: ast.Import,
+        importer_attrs: dict[str, ast.Attribute],
+        redirects: dict[str, dict[str, str]],
+    ) -> list[ast.Definition]:
+        prefix = item.prefix
+        grammar = sub.grammar
+
+        def rename(name: str) -> str:
+            return f"{prefix}.{name}" if prefix else name
+
+        renamer = _Renamer(grammar, rename)
+        definitions = [renamer.definition(d) for d in grammar.definitions]
+        overrides = {keyword.name: keyword for keyword in item.overrides}
+        for name, where in [
+            *((n, item.location) for n in item.protected),
+            *((k.name, k.location) for k in item.overrides),
+        ]:
+            if name not in sub.own_attrs:
+                deeper = any(a.name.endswith("." + name) for a in grammar.attrs)
+                self.problems.append(
+                    (
+                        where if where.line else item.location,
+                        f"\"{item.path}\" has no attr '{name}'"
+                        + (
+                            " of its own (an attr of a file it imports cannot be set here)"
+                            if deeper
+                            else ""
+                        ),
+                    )
+                )
+        for name in set(item.protected) & set(overrides):
+            self.problems.append(
+                (item.location, f"the attr '{name}' is both protected and overridden")
+            )
+        extra: list[ast.Definition] = []
+        for k, definition in enumerate(definitions):
+            name = grammar.definitions[k].name
+            if not isinstance(definition, ast.Attribute) or name not in sub.own_attrs:
+                continue
+            own_value = definition.name + _OWN_VALUE
+            keeps_own = False
+            if name in overrides:
+                value = overrides[name].value
+                if _reads(value, definition.name):  # (h = p.h * 2): the imported file's own h
+                    value = _with_names(value, {definition.name: own_value})
+                    keeps_own = True
+            elif item.protect_all or name in item.protected or prefix is None:
+                continue
+            elif name in importer_attrs:
+                value = ast.Name(name, location=importer_attrs[name].location)
+                if _reads(importer_attrs[name].value, definition.name):  # attr x = p.x + 1
+                    redirects.setdefault(name, {})[definition.name] = own_value
+                    keeps_own = True
+            else:
+                continue
+            if keeps_own:
+                extra.append(
+                    ast.Constant(own_value, definition.value, location=definition.location)
+                )
+            definitions[k] = dataclasses.replace(definition, value=value)
+        for rule in item.rules:
+            definitions = self._rule_override(definitions, grammar, rule, item, rename)
+        return definitions + extra
+
+    def _rule_override(self, definitions, grammar, rule, item, rename):
+        target = rename(rule.name)
+        found = [
+            k
+            for k, d in enumerate(definitions)
+            if isinstance(d, ast.Rule)
+            and d.name == target
+            and grammar.definitions[k].name == rule.name
+        ]
+        if not found:
+            self.problems.append((rule.location, f"\"{item.path}\" has no rule '{rule.name}'"))
+            return definitions
+        k = found[0]
+        original = definitions[k]
+        if not original.extension:
+            self.problems.append(
+                (
+                    rule.location,
+                    f"'{rule.name}' of \"{item.path}\" is not an extension rule; only rules "
+                    "written 'extension Name --> ...' can be redefined in an import",
+                )
+            )
+        elif len(original.params) != len(rule.params):
+            self.problems.append(
+                (
+                    rule.location,
+                    f"'{rule.name}' of \"{item.path}\" takes {len(original.params)} "
+                    f"parameter(s), the redefinition {len(rule.params)}",
+                )
+            )
+        else:
+            definitions = list(definitions)
+            definitions[k] = dataclasses.replace(original, params=rule.params, body=rule.body)
+        return definitions
+
+
+def _rebuilt(tree, change, params: frozenset[str] = frozenset()):
+    """``tree`` rebuilt bottom-up with ``change(node, params)`` applied to every node (a dict of
+    fields to replace, or None); unchanged subtrees are kept as they are."""
+    if isinstance(tree, tuple):
+        items = tuple(_rebuilt(item, change, params) for item in tree)
+        return tree if all(a is b for a, b in zip(items, tree, strict=True)) else items
+    if not dataclasses.is_dataclass(tree) or isinstance(tree, type):
+        return tree
+    changes = {}
+    for field in dataclasses.fields(tree):
+        if field.name == "location":
+            continue
+        value = getattr(tree, field.name)
+        if isinstance(value, tuple) or dataclasses.is_dataclass(value):
+            new = _rebuilt(value, change, params)
+            if new is not value:
+                changes[field.name] = new
+    changes.update(change(tree, params) or {})
+    return dataclasses.replace(tree, **changes) if changes else tree
+
+
+class _Renamer:
+    """Renames the definitions of one imported file and every reference to them."""
+
+    def __init__(self, grammar: ast.Grammar, rename):
+        self.rename = rename
+        self.values = frozenset(d.name for d in grammar.definitions if not isinstance(d, ast.Rule))
+        self.functions = frozenset(d.name for d in grammar.functions)
+        self.attrs = frozenset(d.name for d in grammar.attrs)
+
+    def definition(self, definition: ast.Definition) -> ast.Definition:
+        params = frozenset(p.name for p in getattr(definition, "params", ()))
+        annotations = tuple(
+            _rebuilt(a, self.change)
+            for a in definition.annotations
+            if not (isinstance(definition, ast.Rule) and a.name in _START_ANNOTATIONS)
+        )
+        changes = {"name": self.rename(definition.name), "annotations": annotations}
+        if isinstance(definition, ast.Function | ast.Rule):
+            changes["body"] = _rebuilt(definition.body, self.change, params)
+        else:
+            changes["value"] = _rebuilt(definition.value, self.change)
+        return dataclasses.replace(definition, **changes)
+
+    def change(self, tree, params: frozenset[str]) -> dict | None:
+        if isinstance(tree, ast.Name) and tree.name in self.values and tree.name not in params:
+            return {"name": self.rename(tree.name)}
+        if isinstance(tree, ast.Call) and tree.name in self.functions:
+            return {"name": self.rename(tree.name)}
+        if isinstance(tree, ast.Successor):
+            return {"name": self.rename(tree.name)}
+        if isinstance(tree, ast.Set) and tree.attribute in self.attrs:
+            return {"attribute": self.rename(tree.attribute)}
+        return None
+
+
+def _reads(expression, name: str) -> bool:
+    return any(isinstance(n, ast.Name) and n.name == name for n in ast.walk(expression))
+
+
+def _with_names(expression, mapping: dict[str, str]):
+    """``expression`` with the names in ``mapping`` replaced (nothing else renamed)."""
+
+    def change(tree, params):
+        if isinstance(tree, ast.Name) and tree.name in mapping:
+            return {"name": mapping[tree.name]}
+        return None
+
+    return _rebuilt(expression, change)
+
+
+def _redirected(definition: ast.Definition, mapping: dict[str, str] | None) -> ast.Definition:
+    """An importing attr that reads the imported attr it propagates to reads its own value."""
+    if not mapping or not isinstance(definition, ast.Attribute):
+        return definition
+    return dataclasses.replace(definition, value=_with_names(definition.value, mapping))
+
+
+def resolve_imports(
+    grammar: ast.Grammar, origin: str | Path | None = None
+) -> tuple[ast.Grammar, list[Problem]]:
+    """Merge the files ``grammar`` imports (and theirs) into it.
+
+    Parameters
+    ----------
+    grammar
+        The parsed importing file.
+    origin
+        The file it was read from: import paths are relative to its folder. None (a text)
+        resolves them against the working directory.
+
+    Returns
+    -------
+    (ast.Grammar, list)
+        The merged grammar (``sources`` holds the imported files' texts) and the problems found
+        (missing files, cycles, unknown protected or overridden names, and the problems the
+        imported files' parse let through); a syntax error in an imported file raises its
+        :class:`GrammarError`.
+    """
+    merger = _Merger()
+    if origin is not None:
+        path = Path(origin).resolve()
+        folder, stack = path.parent, (path,)
+    else:
+        folder, stack = Path.cwd(), ()
+    try:
+        merged = merger.merge(grammar, folder, stack)
+    except RecursionError:
+        location = SourceLocation(grammar.filename, 1, 1)
+        return grammar, [(location, "the imported files nest too deeply to process")]
+    return merged.grammar, merger.problems
