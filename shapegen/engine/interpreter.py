@@ -270,7 +270,11 @@ class Program(AttributeValues, ShapeOperations):
                 reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
                 surfaces.append(_surface(state, mesh, reason, len(surfaces)))
             return []
-        if mesh.volume() <= _MIN_SIZE**3:
+        volume = mesh.signed_volume()
+        if abs(volume) <= _MIN_SIZE**3:
+            return []
+        if volume < 0:
+            surfaces.append(_surface(state, mesh, "faces turned inwards", len(surfaces)))
             return []
         pieces = [mesh] if mesh.is_convex() else convex_decomposition(mesh)
         if pieces is None:

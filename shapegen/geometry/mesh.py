@@ -167,6 +167,10 @@ class Mesh:
 
     def volume(self) -> float:
         """Enclosed volume (m^3) by the divergence theorem; 0 for a mesh that is not closed."""
+        return abs(self.signed_volume())
+
+    def signed_volume(self) -> float:
+        """The enclosed volume (m^3), negative when the faces look inwards; 0 when not closed."""
         if not self.is_closed:
             return 0.0
         centre = self.vertices.mean(axis=0)
@@ -174,7 +178,7 @@ class Mesh:
         for k in range(self.n_faces):
             p = self.face_points(k) - centre
             total += float(p[0] @ polygon_normal(p)) if len(p) >= 3 else 0.0
-        return abs(total) / 6.0 if abs(total) > 0 else 0.0
+        return total / 6.0
 
     def size(self) -> float:
         """The diagonal of the bounding box, m (0 for no vertices)."""

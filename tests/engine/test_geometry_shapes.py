@@ -227,3 +227,11 @@ def test_extrude_world_up_of_a_wall_and_flat_top_of_a_slope():
     assert world.vertices[:, 1].max() == pytest.approx(2.0)
     # volume: the cross-section is a trapezoid, heights 2 and 1 over 4 m, times 2 m deep
     assert world.volume() == pytest.approx((2 + 1) / 2 * 4 * 2)
+
+
+def test_a_mass_turned_inside_out_is_a_surface():
+    model = shapegen.parse_grammar("@StartRule\nLot --> extrude(2) reverseNormals() M\n").build(
+        lot=(3, 2)
+    )
+    assert model.blocks == []
+    assert [s.reason for s in model.surfaces] == ["faces turned inwards"]

@@ -107,3 +107,10 @@ def test_cleaned_merges_duplicates_and_drops_slivers():
 def test_bad_face_index_refused():
     with pytest.raises(ValueError, match="does not index"):
         Mesh([(0, 0, 0)], [(0, 1, 2)])
+
+
+def test_signed_volume_of_a_turned_box_is_negative():
+    box = Mesh.box((1, 2, 3))
+    assert box.signed_volume() == pytest.approx(6.0)
+    assert box.reversed().signed_volume() == pytest.approx(-6.0)
+    assert box.reversed().volume() == pytest.approx(6.0)
