@@ -59,8 +59,10 @@ def read_lot(text: str) -> Lot:
         if feature:
             raise InputFormatError(f"--lot {text}: an OBJ lot takes no #ID (its first face)")
         return lot_from_obj(path)
-    corners = stripped.replace(";", " ").split()
+    # "3.4, 3" is WIDTH,DEPTH and "0, 0 12, 0 ..." corners: spaces beside a comma do not separate
+    corners = re.sub(r"\s*,\s*", ",", stripped).replace(";", " ").split()
     if len(corners) == 1:
+        stripped = corners[0]
         sides = stripped.split(",") if "," in stripped else stripped.lower().split("x")
         if len(sides) != 2:
             raise InputFormatError(
