@@ -272,3 +272,21 @@ def test_align_scope_to_geometry_and_comp_edges_report_pyprts_figures(
     if edges is not None:
         lengths = reports["Parcel Edges Length (m)"]
         assert (sum(lengths), min(lengths), max(lengths)) == pytest.approx(edges, rel=1e-12)
+
+
+@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus is not next to the checkout")
+@pytest.mark.parametrize(
+    "lot, high",
+    # PyPRT: the same L lot from three corners; its two 10 m edges tie for 'longest' and the
+    # rule's innerRectangle then keeps the arm along the edge alignScopeToGeometry chose
+    [
+        ([(0, 0), (0, 10), (4, 10), (4, 4), (10, 4), (10, 0)], [4, 10]),
+        ([(0, 10), (4, 10), (4, 4), (10, 4), (10, 0), (0, 0)], [10, 4]),
+        ([(4, 4), (10, 4), (10, 0), (0, 0), (0, 10), (4, 10)], [10, 4]),
+    ],
+)
+def test_align_scope_to_geometry_breaks_ties_as_pyprt(lot, high):
+    model = shapegen.load_grammar(CORPUS_RULE).build(lot=lot)
+    (surface,) = model.surfaces
+    assert np.allclose(surface.vertices.min(axis=0)[[0, 2]], [0, 0])
+    assert np.allclose(surface.vertices.max(axis=0)[[0, 2]], high)

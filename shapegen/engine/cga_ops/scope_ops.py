@@ -221,7 +221,9 @@ def compile_align_scope_to_geometry(program, node, params):
                     key = float(a[1] + b[1])
                 else:
                     key = 0.0
-                if best is None or key < best[0] - 1e-12:
+                # among equal edges the last wins: PyPRT's choice on an L with two longest
+                # edges, whichever corner the lot starts at (tests/engine/test_geometry_scope_ops)
+                if best is None or key <= best[0] + 1e-12:
                     best = (key, f, a, b)
         _, f, a, b = best
         normal = scope.rotation @ mesh.face_normal(f)
