@@ -32,6 +32,7 @@ from shapegen.engine.functions_calls import OCCLUSION, BuiltinCalls
 from shapegen.engine.functions_shape import shape_reader
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
+from shapegen.grammar.names import BUILTIN_FUNCTIONS, GEOMETRY_KEYWORDS
 from shapegen.limits import limit_hint
 
 Value = float | bool | str
@@ -52,8 +53,10 @@ class ExpressionCompiler(BuiltinCalls):
     def __init__(self, grammar: ast.Grammar, global_names: set[str]):
         self.grammar = grammar
         self.global_names = global_names
-        self.functions: dict[str, tuple[int, Compiled]] = {}
-        self.function_nodes = {f.name: f for f in grammar.functions}
+        # User functions by (name, number of parameters): CGA overloads a name by its arity.
+        self.functions: dict[tuple[str, int], Compiled | None] = {}
+        self.overloads = {(f.name, len(f.params)): f for f in grammar.functions}
+        self.function_nodes = {f.name: f for f in reversed(grammar.functions)}
         self.files = file_functions(grammar.filename)
 
     # ------------------------------------------------------------------ errors
@@ -67,12 +70,11 @@ class ExpressionCompiler(BuiltinCalls):
     # ------------------------------------------------------------------ functions
     def compile_functions(self) -> None:
         """Compile every user function (they may call each other, recursively)."""
-        for function in self.grammar.functions:
+        for key in self.overloads:
+            self.functions[key] = None
+        for key, function in self.overloads.items():
             params = {p.name: k for k, p in enumerate(function.params)}
-            self.functions[function.name] = (len(params), None)
-        for function in self.grammar.functions:
-            params = {p.name: k for k, p in enumerate(function.params)}
-            self.functions[function.name] = (len(params), self.compile(function.body, params))
+            self.functions[key] = self.compile(function.body, params)
 
     # ------------------------------------------------------------------ expressions
     def compile(self, node: ast.Expression, params: dict[str, int]) -> Compiled:
@@ -107,7 +109,14 @@ class ExpressionCompiler(BuiltinCalls):
 
     def _ShapeAttribute(self, node: ast.ShapeAttribute, params) -> Compiled:
         key = f"{node.obj}.{node.field}" if node.field else node.obj
-        arguments = tuple(self.compile(arg, params) for arg in node.args)
+        arguments = tuple(
+            self._geometry_selector(arg, params) if node.obj == "geometry" else None
+            for arg in node.args
+        )
+        arguments = tuple(
+            given or self.compile(arg, params)
+            for given, arg in zip(arguments, node.args, strict=True)
+        )
         try:
             reader = shape_reader(node.obj, node.field, self.grammar)
         except ValueError as exc:
@@ -125,6 +134,16 @@ class ExpressionCompiler(BuiltinCalls):
                 raise error(node, f"{key}: {message}") from None
 
         return read
+
+    def _geometry_selector(self, node, params) -> Compiled | None:
+        """A selector of a geometry function (``maxSlope``, ``top``, ``world.up``) read as its
+        name, unless a parameter, attr, const or function has that name."""
+        if not isinstance(node, ast.Name) or node.name not in GEOMETRY_KEYWORDS:
+            return None
+        name = node.name
+        if name in params or name in self.global_names or name in self.function_nodes:
+            return None
+        return lambda args, state: name
 
     def _Array(self, node: ast.Array, params) -> Compiled:
         rows = [[self._item(item, params) for item in row] for row in node.rows]
@@ -316,7 +335,9 @@ class ExpressionCompiler(BuiltinCalls):
         if name in OCCLUSION:
             return self._call_occlusion(node, params)
         arguments = tuple(self.compile(arg, params) for arg in node.args)
-        if name in self.function_nodes:
+        if (name, len(arguments)) in self.overloads or (
+            name in self.function_nodes and name not in BUILTIN_FUNCTIONS
+        ):  # a user function may overload a builtin with another number of parameters
             return self._call_user(node, name, arguments)
         if name == "rand":
             return self._call_rand(node, arguments)
@@ -331,8 +352,9 @@ class ExpressionCompiler(BuiltinCalls):
 
     def _call_user(self, node, name: str, arguments: tuple) -> Compiled:
         functions = self.functions
-        expected = len(self.function_nodes[name].params)
-        if len(arguments) != expected:
+        key = (name, len(arguments))
+        if key not in self.overloads:
+            expected = " or ".join(str(n) for f, n in sorted(self.overloads) if f == name)
             raise self.error(
                 node, f"function {name!r} takes {expected} arguments, got {len(arguments)}"
             )
@@ -340,7 +362,7 @@ class ExpressionCompiler(BuiltinCalls):
         error = self.error
 
         def call(args, state):
-            body = functions[name][1]
+            body = functions[key]
             values = tuple(a(args, state) for a in arguments)
             run = state.run
             run.enter_call(node, name)

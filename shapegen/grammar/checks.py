@@ -32,6 +32,7 @@ from shapegen.grammar.names import (
     COMP_SELECTORS,
     FUNCTION_KEYWORDS,
     GEOMETRY_FUNCTIONS,
+    GEOMETRY_KEYWORDS,
     LIBRARY_FUNCTIONS,
     OPERATION_KEYWORDS,
     OPERATIONS,
@@ -79,6 +80,7 @@ class _Checker(AnnotationChecks):
         # Rules by (name, number of parameters): as in CGA, one name may be overloaded by arity.
         self.rules: dict[tuple[str, int], ast.Rule] = {}
         self.arities: dict[str, list[int]] = {}
+        self.function_arities: dict[str, set[int]] = {}
         # ids of the names that may be CityEngine keywords: an operation's arguments and
         # branch keys (alignScopeToAxes(y), comp(f) { world.up : A }), a builtin's (inside(inter))
         self.keyword_names: dict[int, frozenset[str]] = {}
@@ -126,12 +128,19 @@ class _Checker(AnnotationChecks):
                 isinstance(definition, ast.Function)
                 and name in BUILTIN_FUNCTIONS
                 and name not in LIBRARY_FUNCTIONS
-            ):
+                and _overlaps(BUILTIN_FUNCTIONS[name], len(definition.params))
+            ):  # CGA resolves a call by its signature: another arity is an overload
                 self.report(
                     definition.location,
                     f"'{name}' is a builtin function; choose another name",
                 )
             previous = self.values.get(name)
+            if isinstance(definition, ast.Function):
+                arities = self.function_arities.setdefault(name, set())
+                if isinstance(previous, ast.Function) and len(definition.params) not in arities:
+                    arities.add(len(definition.params))
+                    continue  # an overload: CGA tells functions apart by their arity
+                arities.add(len(definition.params))
             if previous is not None:
                 self.report(
                     definition.location,
@@ -261,7 +270,7 @@ class _Checker(AnnotationChecks):
         target = self.values.get(name)
         if target is None and name in RESERVED_ATTRIBUTES:
             return
-        if isinstance(target, ast.Function) and target.params:
+        if isinstance(target, ast.Function) and 0 not in self.function_arities[name]:
             self.report(
                 node.location,
                 f"function '{name}' takes {_plural(len(target.params), 'argument')}: "
@@ -285,9 +294,15 @@ class _Checker(AnnotationChecks):
             self.report(node.location, f"'{name}' is not a function")
             return
         target = self.values.get(name)
+        if (
+            isinstance(target, ast.Function)
+            and name in BUILTIN_FUNCTIONS
+            and count not in self.function_arities[name]
+        ):
+            target = None  # the builtin of that name (user functions overload by arity)
         if isinstance(target, ast.Function):
             expected = len(target.params)
-            if count != expected:
+            if count not in self.function_arities[name]:
                 self.report(
                     node.location,
                     f"function '{name}' takes {_plural(expected, 'argument')}, got {count}",
@@ -322,6 +337,9 @@ class _Checker(AnnotationChecks):
             elif isinstance(node, ast.Call) and node.name in FUNCTION_KEYWORDS:
                 for argument in node.args:
                     self._mark(argument, FUNCTION_KEYWORDS[node.name])
+            elif isinstance(node, ast.ShapeAttribute) and node.obj == "geometry":
+                for argument in node.args:
+                    self._mark(argument, GEOMETRY_KEYWORDS)
 
     def _comp_words(self, node: ast.Operation) -> None:
         """comp's kind and selectors: an unknown one is named as such (not as an undefined
@@ -382,6 +400,10 @@ class _Checker(AnnotationChecks):
 #: Objects whose attributes ``set()`` may name (``set(material.color.r, 1)``, ``set(trim.vertical,
 #: false)``); the interpreter reports the ones it does not honour.
 _SETTABLE_OBJECTS = frozenset({"material", "scope", "trim", "pivot", "comp", "initialShape"})
+
+
+def _overlaps(arity: tuple[int, int], count: int) -> bool:
+    return arity[0] <= count <= arity[1]
 
 
 def _looks_like_call(name: str) -> bool:

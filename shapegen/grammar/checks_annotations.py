@@ -52,9 +52,7 @@ class AnnotationChecks:
         seen: set[str] = set()
         for annotation in definition.annotations:
             name = annotation.name
-            if name not in ANNOTATIONS and (
-                self.cga or annotation.location.file.endswith(".cga")
-            ):
+            if name not in ANNOTATIONS and (self.cga or annotation.location.file.endswith(".cga")):
                 continue  # CityEngine takes any annotation (it only warns)
             if name not in ANNOTATIONS:
                 self.report(

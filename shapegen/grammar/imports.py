@@ -136,19 +136,13 @@ class _Merger:
                 imported += self._prefixed(sub, item, importer_attrs, redirects)
         if redirects:
             own = [_redirected(d, redirects.get(d.name)) for d in own]
-        values = {d.name for d in own if not isinstance(d, ast.Rule)}
-        rules = {(d.name, len(d.params)) for d in own if isinstance(d, ast.Rule)}
+        # rules and functions are told apart by name and arity, attrs and consts by name
+        taken = {_key(d) for d in own}
         merged = list(own)
         for definition in imported:  # the importing file's definitions win
-            if isinstance(definition, ast.Rule):
-                key = (definition.name, len(definition.params))
-                if key in rules:
-                    continue
-                rules.add(key)
-            else:
-                if definition.name in values:
-                    continue
-                values.add(definition.name)
+            if _key(definition) in taken:
+                continue
+            taken.add(_key(definition))
             merged.append(definition)
         result = dataclasses.replace(grammar, definitions=tuple(merged), sources=self.sources)
         return _Merged(result, own_attrs)
@@ -354,6 +348,11 @@ class _Renamer:
         if isinstance(tree, ast.Set) and tree.attribute in self.attrs:
             return {"attribute": self.rename(tree.attribute)}
         return None
+
+
+def _key(definition: ast.Definition) -> tuple[str, int]:
+    params = getattr(definition, "params", None)
+    return (definition.name, -1 if params is None else len(params))
 
 
 def _reads(expression, name: str) -> bool:

@@ -22,6 +22,9 @@ _GRAMMAR_FILE = "cga.lark"
 
 
 # Words that are keywords only at bracket depth 0 and before these tokens.
+# Tokens looked at to tell a block of operations (scatter's) from a block of branches.
+_BARE_BLOCK_LOOKAHEAD = 5000
+
 _KEYWORDS = {"import": ("NAME", "STRING"), "style": ("NAME",), "extension": ("NAME",)}
 
 
@@ -52,7 +55,10 @@ class DefinitionNames:
         depth = 0
         while peek(0) is not None:
             token = pending.popleft()
-            if token.type in ("LPAR", "LSQB", "LBRACE"):
+            if token.type == "LBRACE" and self._bare_block(peek):
+                token = Token.new_borrow_pos("BARE_LBRACE", token.value, token)
+                depth += 1
+            elif token.type in ("LPAR", "LSQB", "LBRACE"):
                 depth += 1
             elif token.type in ("RPAR", "RSQB", "RBRACE"):
                 depth = max(depth - 1, 0)
@@ -63,6 +69,30 @@ class DefinitionNames:
                 if following is not None and following.type in _KEYWORDS[token.value]:
                     token = Token.new_borrow_pos("_" + token.value.upper(), token.value, token)
             yield token
+
+    @staticmethod
+    def _bare_block(peek) -> bool:
+        """True for a ``{`` whose block holds operations without ``key :`` (scatter's)."""
+        first = peek(0)
+        if first is None or first.type == "LBRACE":  # a group of split parts: {{ ... }*}
+            return False
+        nesting = 0
+        index = 0
+        while (token := peek(index)) is not None and index < _BARE_BLOCK_LOOKAHEAD:
+            if token.type in ("LPAR", "LSQB", "LBRACE"):
+                nesting += 1
+            elif token.type in ("RPAR", "RSQB"):
+                nesting -= 1
+            elif token.type == "RBRACE":
+                if nesting == 0:
+                    return index > 0
+                nesting -= 1
+            elif nesting == 0 and token.type in ("COLON", "EQUAL", "VBAR", "PROBABILITY"):
+                return False
+            elif nesting < 0:
+                return False
+            index += 1
+        return False
 
     @staticmethod
     def _starts_definition(peek) -> bool:

@@ -16,6 +16,7 @@ __all__ = [
     "COMP_SELECTORS",
     "FUNCTION_KEYWORDS",
     "GEOMETRY_FUNCTIONS",
+    "GEOMETRY_KEYWORDS",
     "LIBRARY_FUNCTIONS",
     "OPERATIONS",
     "OPERATION_KEYWORDS",
@@ -372,6 +373,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
             for axes in ("xy", "xz", "yx", "yz", "zx", "zy")
         ),
         *("world", "object", "scope", "pivot", "abs", "rel", "worldUp"),
+        *(f"{frame}.{axis}" for frame in ("world", "object") for axis in ("x", "y", "z", "xyz")),
         *("world.lowest", "world.highest", "object.lowest", "object.highest"),
         *("largest", "longest", "shortest", "lowest", "highest", "smallest", "any"),
         *("adjust", "noAdjust"),
@@ -396,9 +398,14 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("recompose", "unify"),
         *("extend", "default", "pos", "orient", "dir"),
         *("edge", "normal"),  # innerRectangle(edge), envelope(normal, ...)
+        *("surface", "volume"),  # scatter(surface, 10, uniform)
     }
 )
 FUNCTION_KEYWORDS["convert"] = OPERATION_KEYWORDS
+
+#: Selectors the ``geometry.*`` functions take (``geometry.angle(maxSlope)``,
+#: ``geometry.area(top)``, ``geometry.nVertices(world.up)``): read as their names.
+GEOMETRY_KEYWORDS: frozenset[str] = OPERATION_KEYWORDS | {"maxSlope", "azimuth", "zenith"}
 
 #: Operations recognised in rule bodies: name -> (minimum, maximum) positional arguments.
 OPERATIONS: dict[str, tuple[int, int]] = {

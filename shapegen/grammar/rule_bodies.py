@@ -246,9 +246,11 @@ class OperationBranch:
     """``key : body`` (``key = body`` with ``merge``) in the ``{ ... }`` block of a generic
     :class:`Operation` (``offset(-1) { inside : A | border : B }``, ``setback(2) { front : A |
     remainder : B }``, ``comp(e) { all : E }``). ``key`` is the expression before the colon,
-    usually a :class:`~shapegen.grammar.expressions.Name` selector; ``mode`` its prefix."""
+    usually a :class:`~shapegen.grammar.expressions.Name` selector; ``mode`` its prefix. ``key``
+    is None for scatter's block of operations without keys (``scatter(surface, 10, uniform)
+    { Tree }``)."""
 
-    key: Expression
+    key: Expression | None
     mode: SizeMode
     body: Body
     merge: bool = False

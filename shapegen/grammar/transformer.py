@@ -308,6 +308,12 @@ class AstBuilder(OperationBuilders, Transformer):
     def block(self, meta, children):
         return Block(tuple(children), False, self._at(meta))
 
+    def bare_block(self, meta, children):
+        body = children[-1]
+        return Block(
+            (BlockEntry("absolute", None, body, False, self._at(meta)),), False, self._at(meta)
+        )
+
     def block_part(self, meta, children):
         (mode, key), body = children
         return BlockEntry(mode, key, body, False, self._at(meta))
@@ -351,6 +357,12 @@ class AstBuilder(OperationBuilders, Transformer):
             if block is not None and name not in BLOCK_OPERATIONS:
                 self._problem(block.location, f"{name}() takes no {{ ... }} block")
                 block = None
+            bare = block is not None and any(
+                isinstance(e, BlockEntry) and e.key is None for e in block.entries
+            )
+            if bare and name != "scatter":
+                self._problem(block.location, f"{name}() needs 'key : operations' in its block")
+                return ast.Nil(location=location)
             if self._dedicated(name, arguments, block):
                 builder = getattr(self, f"_op_{name}")
                 if name != "i":

@@ -116,7 +116,7 @@ SEMANTIC_ERRORS = [
         2,
         7,
     ),
-    ("duplicate definition of 'f'", "f(a) = a\nf = 2", 2, 1),
+    ("duplicate definition of 'f'", "f(a) = a\nf(b) = 2", 2, 1),
     ("duplicate rule 'A' (first defined at <string>:1:1)", "A --> B\nA --> C", 2, 1),
     ("'sin' is a builtin function; choose another name", "sin(x) = x", 1, 1),
     ("'extrude' is an operation; a rule cannot use its name", "extrude --> A", 1, 1),
