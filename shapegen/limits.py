@@ -71,7 +71,7 @@ class WorkLimits:
     max_depth: int = 500
     max_shapes: int = 200_000
     max_calls: int = 500_000
-    max_call_depth: int = 100
+    max_call_depth: int = 200
     max_string_length: int = 100_000
     max_string_chars: int = 10_000_000
     max_primitive_blocks: int = 20_000

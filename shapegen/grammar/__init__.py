@@ -21,7 +21,7 @@ from pathlib import Path
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast, names
 from shapegen.grammar.checks import check, find_problems
-from shapegen.grammar.imports import resolve_imports
+from shapegen.grammar.imports import resolve_imports, used_definitions
 from shapegen.grammar.parser import parse, parse_with_problems
 
 __all__ = ["GrammarError", "FilesGrammarError", "ast", "check", "load", "names", "parse"]
@@ -87,4 +87,4 @@ def load(text: str, filename: str = "<string>", origin: str | Path | None = None
             raise FilesGrammarError(grammar, problems)
         location, message = problems[0]
         raise GrammarError(message, location, source=grammar.source, problems=problems)
-    return grammar
+    return used_definitions(grammar)

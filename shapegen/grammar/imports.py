@@ -29,7 +29,7 @@ the import line; problems inside an imported file are located in that file.
 
 from __future__ import annotations
 
-__all__ = ["resolve_imports", "project_folder", "import_candidates"]
+__all__ = ["resolve_imports", "project_folder", "import_candidates", "used_definitions"]
 
 import dataclasses
 import functools
@@ -410,3 +410,37 @@ def resolve_imports(
         location = SourceLocation(grammar.filename, 1, 1)
         return grammar, [(location, "the imported files nest too deeply to process")]
     return merged.grammar, merger.problems
+
+
+def used_definitions(grammar: ast.Grammar) -> ast.Grammar:
+    """``grammar`` without the imported rules, functions and consts that nothing uses.
+
+    The importing file's own definitions and every attr (the Inspector's, which a caller may
+    set) are kept, with all they reach through successors, calls and names. CityEngine compiles
+    an imported library whole, but what no rule reaches changes no model; leaving it out spares
+    compiling it and refusing an operation that would never run. Load-time checks run before,
+    on the whole merge, so a mistake in an unused part is still reported.
+    """
+    if not grammar.sources:
+        return grammar
+    by_name: dict[str, list[ast.Definition]] = {}
+    for definition in grammar.definitions:
+        by_name.setdefault(definition.name, []).append(definition)
+    kept: set[int] = set()
+    pending = [
+        d
+        for d in grammar.definitions
+        if d.location.file == grammar.filename or isinstance(d, ast.Attribute)
+    ]
+    while pending:
+        definition = pending.pop()
+        if id(definition) in kept:
+            continue
+        kept.add(id(definition))
+        for node in ast.walk(definition):
+            if isinstance(node, ast.Name | ast.Call | ast.Successor):
+                pending.extend(by_name.get(node.name, ()))
+            elif isinstance(node, ast.Set):
+                pending.extend(by_name.get(node.attribute, ()))
+    definitions = tuple(d for d in grammar.definitions if id(d) in kept)
+    return dataclasses.replace(grammar, definitions=definitions)
