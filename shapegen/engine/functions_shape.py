@@ -59,13 +59,16 @@ _READERS: dict[str, Callable[[object], object]] = {
     "split.total": lambda state: float(state.split_total),
     "comp.index": lambda state: float(state.comp_index),
     "comp.total": lambda state: float(state.comp_total),
+    # the selector that took the component, as written (attr_comp: "" before any comp)
+    "comp.sel": lambda state: state.comp_sel,
     # shapegen derives one initial shape, its lot, placed at the origin with identity axes
     **{f"initialShape.origin.{k}": (lambda state: 0.0) for k in ("px", "py", "pz")},
     **{f"initialShape.origin.{k}": (lambda state: 0.0) for k in ("ox", "oy", "oz")},
     "initialShape.name": lambda state: "Lot",
     "seedian": _seedian,
-    "trim.horizontal": lambda state: True,
-    "trim.vertical": lambda state: True,
+    # true unless set(trim.vertical, false) in the shape's past (names.SETTABLE_SHAPE_ATTRIBUTES)
+    "trim.horizontal": lambda state: state.attrs.get("trim.horizontal", True),
+    "trim.vertical": lambda state: state.attrs.get("trim.vertical", True),
 }
 
 

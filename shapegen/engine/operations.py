@@ -37,7 +37,7 @@ from shapegen.engine.split import (
 )
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.grammar import ast
-from shapegen.grammar.names import RESERVED_ATTRIBUTES
+from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES
 
 INSERT = "insert"
 """The kind of a shape that holds an inserted primitive (``i(...)``), beside FACE and MASS."""
@@ -343,7 +343,11 @@ class ShapeOperations:
                 return compile_material_set(self, node, params)
         if attribute in self.const_nodes:
             raise self.error(node, f"set() changes attrs; {attribute!r} is a const")
-        if attribute not in self.attr_nodes and attribute not in RESERVED_ATTRIBUTES:
+        if (
+            attribute not in self.attr_nodes
+            and attribute not in RESERVED_ATTRIBUTES
+            and attribute not in SETTABLE_SHAPE_ATTRIBUTES
+        ):
             known = sorted(set(self.attr_nodes) | set(RESERVED_ATTRIBUTES))
             close = difflib.get_close_matches(attribute, known, n=1)
             hint = f" (did you mean {close[0]!r}?)" if close else ""

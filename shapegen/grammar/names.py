@@ -21,6 +21,7 @@ __all__ = [
     "OPERATIONS",
     "OPERATION_KEYWORDS",
     "RESERVED_ATTRIBUTES",
+    "SETTABLE_SHAPE_ATTRIBUTES",
     "ROTATE_PIVOTS",
     "SHAPE_ATTRIBUTES",
     "SHAPE_VALUES",
@@ -486,6 +487,10 @@ ANNOTATIONS: dict[str, tuple[int, int, tuple[str, ...]]] = {
 
 #: Attributes read at each leaf to set its block's properties; usable without an ``attr`` line.
 #: ``density`` in kg/m^3, ``structural`` and ``fixed`` booleans.
+#: Shape attributes that ``set()`` changes like an attr, with their value before any set
+#: (attr_trim: shapegen cuts with no trim planes, so they only answer reads).
+SETTABLE_SHAPE_ATTRIBUTES: dict[str, object] = {"trim.horizontal": True, "trim.vertical": True}
+
 RESERVED_ATTRIBUTES: dict[str, object] = {
     "density": 2400.0,
     "structural": True,

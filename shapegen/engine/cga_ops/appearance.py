@@ -299,21 +299,27 @@ _PROJECTION_AXES = tuple(
 )
 
 
+_NO_OFFSET = ast.OperationArgument("plain", ast.Number(0.0))
+
+
 @compiles("setupProjection")
 def compile_setup_projection(program, node: ast.Operation, params):
     """setupProjection(uvSet, axes, width, height[, widthOffset, heightOffset[, uwFactor]]):
     width and height may be relative (``'0.5``: that share of the scope) or floating (``~2``:
-    tiles of about 2 m fitting the scope a whole number of times), resolved on the scope."""
+    tiles of about 2 m fitting the scope a whole number of times), resolved on the scope.
+    CGA's older form ``setupProjection(uvSet, axes, width, height, uwFactor)`` (the corpus's
+    candler.cga) is the 7-argument one with both offsets 0."""
     count = len(node.arguments)
-    if count not in (4, 6, 7):
-        raise program.error(node, f"setupProjection() takes 4, 6 or 7 arguments, got {count}")
+    if count not in (4, 5, 6, 7):
+        raise program.error(node, f"setupProjection() takes 4, 5, 6 or 7 arguments, got {count}")
     if node.branches:
         raise program.error(node, "setupProjection() takes no { ... } block")
     first, second, *rest = node.arguments
-    for argument in (first, second, *rest[2:]):
+    for argument in (first, second, *rest[4:]):
         if argument.kind != "plain":
             raise program.error(
-                node, "setupProjection(): only the texture width and height may be relative"
+                node,
+                "setupProjection(): only the texture width, height and offsets may be relative",
             )
     uv_set = _uv_set(program, node, first.value, params)
     axes = _selector(program, node, second.value, _PROJECTION_AXES, "the projection axes")
@@ -324,7 +330,14 @@ def compile_setup_projection(program, node: ast.Operation, params):
             raise program.error(node, "setupProjection() takes no keyword arguments")
         number = _typed(program, node, argument.value, params, float, ("width", "height")[k])
         sizes.append((number, argument.kind, scope_axes[k]))
-    others = [_typed(program, node, a.value, params, float, "an offset") for a in rest[2:]]
+    if count == 5:  # (..., uwFactor): no offsets
+        rest = [*rest[:2], _NO_OFFSET, _NO_OFFSET, rest[2]]
+    for k, argument in enumerate(rest[2:4]):  # offsets: '0.5 is half the scope, as a size
+        if argument.kind in ("keyword", "floating"):
+            raise program.error(node, "setupProjection(): an offset is a number or relative ('x)")
+        number = _typed(program, node, argument.value, params, float, "an offset")
+        sizes.append((number, argument.kind, scope_axes[k]))
+    others = [_typed(program, node, a.value, params, float, "uwFactor") for a in rest[4:]]
     error = program.error
 
     def size(args, state, number, kind, axis):
