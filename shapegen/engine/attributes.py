@@ -18,6 +18,7 @@ import numpy as np
 
 from shapegen.engine.derivation import TOO_DEEP, Derivation, root_state
 from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
+from shapegen.engine.functions_arrays import Array, array_from
 from shapegen.engine.shape import FACE, Shape, lot_scope
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.grammar import ast
@@ -216,10 +217,80 @@ def _coerce(name: str, value: object, default: object) -> object:
     if isinstance(default, str):
         if isinstance(value, str):
             return value
+        if isinstance(value, list | tuple | np.ndarray | Array | dict | set):
+            raise GrammarError(f"attr {name!r} is a string, got {shown(value)}")
         if isinstance(value, int) and not isinstance(value, bool):
             return str(value) if abs(value) >= 10**15 else format_value(float(value))
         return format_value(value)
+    if isinstance(default, Array):
+        return _coerce_array(name, value, default)
     return value
+
+
+_ELEMENT_NAMES = {float: "numbers", bool: "booleans", str: "strings"}
+
+
+def _coerce_array(name: str, value: object, default: Array) -> Array:
+    """An overriding value for an array attr: an array, a (nested) list, tuple or numpy array,
+    or CGA's text of one (``"[1, 2, 3]"``, ``"[1, 2; 3, 4]"``, or ``"1, 2, 3"`` for --set),
+    its elements converted to the type of the default's (numbers if it is empty)."""
+    element = default.element_type()
+    kind = f"an array of {_ELEMENT_NAMES.get(element, 'values')}"
+    if isinstance(value, Array):
+        rows = [
+            list(value.values[r * value.columns : (r + 1) * value.columns])
+            for r in range(value.rows)
+        ]
+    elif isinstance(value, np.ndarray):
+        if value.ndim > 2:
+            raise GrammarError(f"attr {name!r} is {kind} (at most 2 dimensions), got {value.ndim}")
+        rows = value.tolist() if value.ndim == 2 else [value.tolist()]
+    elif isinstance(value, list | tuple):
+        nested = [isinstance(item, list | tuple) for item in value]
+        if any(nested) and not all(nested):
+            raise GrammarError(f"attr {name!r} is {kind}: rows and values mixed in {shown(value)}")
+        rows = [list(row) for row in value] if value and all(nested) else [list(value)]
+    elif isinstance(value, str):
+        text = value.strip()
+        if text.startswith("[") and text.endswith("]"):
+            text = text[1:-1]
+        rows = [[_unquoted(item.strip()) for item in row.split(",")] for row in text.split(";")]
+        if rows == [[""]]:
+            rows = []
+    else:
+        raise GrammarError(f"attr {name!r} is {kind}, got {shown(value)}")
+    if element is None:  # an empty default: the text or values say which
+        element = _element_type(rows)
+    converted = []
+    for row in rows:
+        converted.append([])
+        for item in row:
+            try:
+                converted[-1].append(_coerce(name, item, element()))
+            except GrammarError:
+                raise GrammarError(
+                    f"attr {name!r} is {kind}, and {shown(item)} is not one of them"
+                ) from None
+    try:
+        return array_from(converted) if converted else Array((), 0, 0)
+    except ValueError as exc:
+        raise GrammarError(f"attr {name!r}: {exc}") from None
+
+
+def _unquoted(item: str) -> str:
+    return item[1:-1] if len(item) >= 2 and item[0] == item[-1] == '"' else item
+
+
+def _element_type(rows: list[list]) -> type:
+    items = [item for row in rows for item in row]
+    if items and all(isinstance(i, bool) or str(i).lower() in ("true", "false") for i in items):
+        return bool
+    try:
+        for item in items:
+            float(item)
+    except (TypeError, ValueError):
+        return str
+    return float
 
 
 def shown(value: object, width: int = 60) -> str:
