@@ -32,7 +32,7 @@ from shapegen.engine.functions_calls import OCCLUSION, BuiltinCalls
 from shapegen.engine.functions_shape import shape_reader
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
-from shapegen.grammar.names import BUILTIN_FUNCTIONS, GEOMETRY_KEYWORDS
+from shapegen.grammar.names import BUILTIN_FUNCTIONS, FUNCTION_KEYWORDS, GEOMETRY_KEYWORDS
 from shapegen.limits import limit_hint
 
 Value = float | bool | str
@@ -136,9 +136,13 @@ class ExpressionCompiler(BuiltinCalls):
         return read
 
     def _geometry_selector(self, node, params) -> Compiled | None:
-        """A selector of a geometry function (``maxSlope``, ``top``, ``world.up``) read as its
-        name, unless a parameter, attr, const or function has that name."""
-        if not isinstance(node, ast.Name) or node.name not in GEOMETRY_KEYWORDS:
+        return self._keyword(node, params, GEOMETRY_KEYWORDS)
+
+    def _keyword(self, node, params, words: frozenset[str]) -> Compiled | None:
+        """A selector among ``words`` (``maxSlope`` of geometry.angle, ``tx`` of assetInfo,
+        ``world.up``) read as its name, unless a parameter, attr, const or function has that
+        name."""
+        if not isinstance(node, ast.Name) or node.name not in words:
             return None
         name = node.name
         if name in params or name in self.global_names or name in self.function_nodes:
@@ -334,7 +338,10 @@ class ExpressionCompiler(BuiltinCalls):
         name = node.name
         if name in OCCLUSION:
             return self._call_occlusion(node, params)
-        arguments = tuple(self.compile(arg, params) for arg in node.args)
+        words = FUNCTION_KEYWORDS.get(name, frozenset())
+        arguments = tuple(
+            self._keyword(arg, params, words) or self.compile(arg, params) for arg in node.args
+        )
         if (name, len(arguments)) in self.overloads or (
             name in self.function_nodes and name not in BUILTIN_FUNCTIONS
         ):  # a user function may overload a builtin with another number of parameters
