@@ -100,3 +100,110 @@ def test_geometry_and_scope_reads():
     assert reports["area"] == pytest.approx(2 * 12 * 8 + 2 * 2 * (12 + 8))
     assert reports["n"] == 8.0
     assert reports["h"] == 0.0
+
+
+def test_geometry_selectors_are_read_as_names():
+    grammar = parse_grammar(
+        'Lot --> extrude(2) report("top", geometry.area(top)) '
+        'report("slope", geometry.angle(maxSlope)) X.',
+        "g.cga",
+    )
+    reports = grammar.build(lot=(12, 8)).metadata["reports"]
+    assert reports["top"] == pytest.approx(12 * 8)
+    assert reports["slope"] == pytest.approx(90.0)  # the box's walls are vertical
+
+
+def test_functions_overload_by_arity_even_over_a_builtin():
+    grammar = parse_grammar(
+        "height(x) = 2 * x\nheight = 5\nsize = 3\n"
+        'Lot --> report("one", height(4)) report("none", height) report("mine", size) '
+        'report("builtin", size([1, 2])) X.',
+        "f.cga",
+    )
+    assert grammar.build().metadata["reports"] == {
+        "one": 8.0,
+        "none": 5.0,
+        "mine": 3.0,
+        "builtin": 2.0,
+    }
+    with pytest.raises(GrammarError, match="'sin' is a builtin function"):
+        load("sin(x) = x\nLot --> X", "f.cga")
+
+
+def test_scatter_takes_a_block_of_operations():
+    (rule, _) = load(
+        "Lot --> scatter(surface, 10, uniform) { Tree(2) t(0, 1, 0) }\nTree(h) --> X", "s.cga"
+    ).rules
+    (branch,) = rule.body.items[0].branches
+    assert branch.key is None and len(branch.body.items) == 2
+    with pytest.raises(GrammarError, match=r"offset\(\) needs 'key : operations'"):
+        load("Lot --> offset(-1) { A }", "s.cga")
+    # a split's group of parts is not a block of operations
+    assert load("Lot --> split(x) { { ~1 : A }* }", "s.cga").rules
+
+
+def test_case_values_as_function_arguments():
+    assert _value('len(case 1 > 2 : "ab" else : "abc")') == 3.0
+
+
+@pytest.mark.parametrize("arguments", ["0, scope.xy, 5, 5, 1", "0, scope.xz, '1, '20, 0, '8"])
+def test_setup_projection_older_forms(arguments):
+    grammar = parse_grammar(f"Lot --> setupProjection({arguments}) projectUV(0) X.", "p.cga")
+    model = grammar.build(lot=(12, 8))
+    ((name, values), _) = model.surfaces[0].appearance.uv
+    assert name == "setupProjection"
+    if "'8" in arguments:  # '8: eight times the scope's extent along v (z: 8 m)
+        assert values[2:] == pytest.approx((12.0, 20 * 8, 0.0, 8 * 8))
+    else:  # (uvSet, axes, width, height, uwFactor): offsets 0
+        assert values[2:] == (5.0, 5.0, 0.0, 0.0, 1.0)
+
+
+def test_comp_sel_and_trim_reads():
+    grammar = parse_grammar(
+        "Lot --> extrude(3) comp(f) { front : A | side : B | all = C }\n"
+        'A --> report("a", comp.sel) X.\nB --> report("b", comp.sel) X.\n'
+        'C --> report("c", comp.sel) set(trim.vertical, false) report("t", trim.vertical) X.',
+        "c.cga",
+    )
+    reports = grammar.build().metadata["reports"]
+    assert reports["a"] == "front" and reports["b"] == ["side"] * 3 and reports["c"] == "all"
+    assert reports["t"] is False
+
+
+@pytest.mark.parametrize(
+    "given, expected",
+    [
+        ("[4, 5]", (4.0, 5.0)),
+        ("4,5,6", (4.0, 5.0, 6.0)),
+        ([7, 8], (7.0, 8.0)),
+        ((1.5,), (1.5,)),
+        ("[]", ()),
+    ],
+)
+def test_set_of_an_array_attr_converts(given, expected):
+    grammar = parse_grammar('attr a = [1, 2, 3]\nLot --> report("n", size(a)) X.', "a.cga")
+    model = grammar.build(attrs={"a": given})
+    assert model.metadata["attrs"]["a"].values == expected
+    assert model.metadata["reports"]["n"] == float(len(expected))
+
+
+@pytest.mark.parametrize(
+    "attr, given, message",
+    [
+        ("a", "1,x", "attr 'a' is an array of numbers, and 'x' is not one of them"),
+        ("a", 5, "attr 'a' is an array of numbers, got 5"),
+        ("b", "true, maybe", "attr 'b' is an array of booleans, and 'maybe'"),
+        ("s", [1, 2], None),
+        ("t", [1, 2], "attr 't' is a string, got \\[1, 2\\]"),
+    ],
+)
+def test_set_of_an_array_attr_refuses_in_one_line(attr, given, message):
+    grammar = parse_grammar(
+        'attr a = [1, 2]\nattr b = [true]\nattr s = ["x"]\nattr t = "q"\nLot --> X.', "a.cga"
+    )
+    if message is None:  # numbers for strings are written as CGA writes them, as for one string
+        assert grammar.build(attrs={attr: given}).metadata["attrs"][attr].values == ("1", "2")
+        return
+    with pytest.raises(GrammarError, match=message) as caught:
+        grammar.build(attrs={attr: given})
+    assert "\n" not in str(caught.value)
