@@ -7,6 +7,7 @@ in ``tools/cga_reference``.
 """
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -307,3 +308,12 @@ def test_corpus_envelope_merges_its_four_imports_and_esri_lib(package):
     except ShapegenError as error:  # what shapegen does not do yet, in one line
         message = str(error).splitlines()[0]
         assert "import" not in message and "not supported by shapegen" in message
+
+
+def test_the_docs_example_prints_what_it_says(capsys):
+    page = (ROOT / "docs" / "grammar.md").read_text()
+    (example,) = [b for b in re.findall(r"```python\n(.*?)```", page, re.S) if "import tower" in b]
+    exec(compile(example, "docs/grammar.md", "exec"), {})
+    printed = capsys.readouterr().out.splitlines()
+    expected = [line.split("# ", 1)[1] for line in example.splitlines() if "print(" in line]
+    assert printed == expected
