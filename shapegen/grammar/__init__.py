@@ -70,7 +70,7 @@ def load(text: str, filename: str = "<string>", origin: str | Path | None = None
         found, all in one error (``.problems``), in file order.
     """
     grammar, problems = parse_with_problems(text, filename)
-    if grammar.imports:
+    if grammar.imports or any(isinstance(n, ast.DynamicImport) for n in ast.walk(grammar)):
         grammar, imported = resolve_imports(grammar, origin)
         problems = problems + imported
     problems = problems + find_problems(grammar)

@@ -136,6 +136,8 @@ class _Merger:
                 imported += self._prefixed(sub, item, importer_attrs, redirects)
         if redirects:
             own = [_redirected(d, redirects.get(d.name)) for d in own]
+        imported_attrs = [d for d in imported if isinstance(d, ast.Attribute)]
+        own = [self._dynamic_imports(d, set(prefixes), imported_attrs) for d in own]
         # rules and functions are told apart by name and arity, attrs and consts by name
         taken = {_key(d) for d in own}
         merged = list(own)
@@ -146,6 +148,29 @@ class _Merger:
             merged.append(definition)
         result = dataclasses.replace(grammar, definitions=tuple(merged), sources=self.sources)
         return _Merged(result, own_attrs)
+
+    def _dynamic_imports(
+        self, definition: ast.Definition, prefixes: set[str], attrs: list[ast.Attribute]
+    ) -> ast.Definition:
+        """``p(a = v).Rule`` becomes ``[ set(p.x, ...) ... p.Rule ]``: every attr of the import
+        set again in dependency order, to ``v`` where overridden, else to its definition (with
+        the static import's propagation and overrides), for this invocation only."""
+        if not isinstance(definition, ast.Rule | ast.Function):
+            return definition
+
+        def change(tree, params):
+            if not isinstance(tree, ast.DynamicImport):
+                return None
+            if tree.prefix not in prefixes:
+                self.problems.append(
+                    (tree.location, f"dynamic import of '{tree.prefix}', which is not imported")
+                )
+                return ast.Nil(location=tree.location)
+            return _reinitialised(
+                tree, [a for a in attrs if a.name.startswith(tree.prefix + ".")], self.problems
+            )
+
+        return _rebuilt(definition, change)
 
     # Files -------------------------------------------------------------------------------------
 
@@ -311,8 +336,14 @@ def _rebuilt(tree, change, params: frozenset[str] = frozenset()):
             new = _rebuilt(value, change, params)
             if new is not value:
                 changes[field.name] = new
-    changes.update(change(tree, params) or {})
-    return dataclasses.replace(tree, **changes) if changes else tree
+    if changes:
+        tree = dataclasses.replace(tree, **changes)
+    replaced = change(tree, params)
+    if replaced is None:
+        return tree
+    if isinstance(replaced, dict):
+        return dataclasses.replace(tree, **replaced)
+    return replaced
 
 
 class _Renamer:
@@ -348,6 +379,46 @@ class _Renamer:
         if isinstance(tree, ast.Set) and tree.attribute in self.attrs:
             return {"attribute": self.rename(tree.attribute)}
         return None
+
+
+def _reinitialised(
+    call: ast.DynamicImport, attrs: list[ast.Attribute], problems: list[Problem]
+) -> ast.Push:
+    """The push that re-initialises an import's attrs for one dynamic invocation."""
+    prefix = call.prefix + "."
+    overrides = {}
+    by_name = {a.name: a for a in attrs}
+    for keyword in call.overrides:
+        if prefix + keyword.name not in by_name:
+            problems.append(
+                (
+                    keyword.location if keyword.location.line else call.location,
+                    f"'{keyword.name}' is not an attr of the import '{call.prefix}'",
+                )
+            )
+        overrides[prefix + keyword.name] = keyword.value
+    order: list[str] = []
+    state: dict[str, int] = {}
+
+    def visit(name: str) -> None:  # dependencies first; cycles are the checks' to report
+        if state.get(name):
+            return
+        state[name] = 1
+        for node in ast.walk(by_name[name].value):
+            if isinstance(node, ast.Name) and node.name in by_name:
+                visit(node.name)
+        order.append(name)
+
+    for attr in attrs:
+        visit(attr.name)
+    items = [
+        ast.Set(name, overrides.get(name, by_name[name].value), location=call.location)
+        for name in order
+    ]
+    items.append(
+        ast.Successor(prefix + call.rule, call.args, called=bool(call.args), location=call.location)
+    )
+    return ast.Push(ast.Sequence(tuple(items), location=call.location), location=call.location)
 
 
 def _key(definition: ast.Definition) -> tuple[str, int]:

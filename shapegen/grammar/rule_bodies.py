@@ -21,6 +21,7 @@ __all__ = [
     "ConditionalBody",
     "ConditionalBranch",
     "Coordinate",
+    "DynamicImport",
     "Extrude",
     "Insert",
     "Item",
@@ -271,6 +272,21 @@ class Operation:
     arguments: tuple[OperationArgument, ...] = ()
     branches: tuple[OperationBranch, ...] = ()
     repeat: bool = False
+    location: SourceLocation = location_field()
+
+
+@node
+class DynamicImport:
+    """``prefix(attr = value, ...).Rule(args)``: the imported rule set re-initialised with these
+    values for one invocation (import.html, dynamic imports). Only the parser makes it; merging
+    the imports (:mod:`shapegen.grammar.imports`) replaces it by a :class:`Push` that sets every
+    attr of the import (``overrides`` where given, else its own definition, in dependency order)
+    and calls ``prefix.Rule``, so the interpreter never meets one."""
+
+    prefix: str
+    overrides: tuple[Keyword, ...]
+    rule: str
+    args: tuple[Expression, ...] = ()
     location: SourceLocation = location_field()
 
 

@@ -390,6 +390,24 @@ class AstBuilder(OperationBuilders, Transformer):
             args.append(argument.value)
         return ast.Successor(name, tuple(args), called=True, location=location)
 
+    def dynamic_import(self, meta, children):
+        name = children[0]
+        arguments = [c for c in children[1:] if isinstance(c, Argument)]
+        rest = [c for c in children[1:] if not isinstance(c, Argument)]
+        rule, args = rest[0], tuple(rest[1:])
+        overrides = []
+        for argument in arguments:
+            if argument.kind != "keyword":
+                self._problem(
+                    argument.location,
+                    f"a dynamic import {name}(...) takes attr = value overrides only",
+                )
+                continue
+            overrides.append(ast.Keyword(argument.name, argument.value, location=argument.location))
+        return ast.DynamicImport(
+            str(name), tuple(overrides), str(rule), args, location=self._at(name)
+        )
+
     # Expressions -------------------------------------------------------------------------------
 
     def binary(self, meta, children):

@@ -317,3 +317,24 @@ def test_the_docs_example_prints_what_it_says(capsys):
     printed = capsys.readouterr().out.splitlines()
     expected = [line.split("# ", 1)[1] for line in example.splitlines() if "print(" in line]
     assert printed == expected
+
+
+def test_dynamic_imports_reinitialise_the_imported_attrs(tmp_path):
+    """import.html's dynamic import examples: imp(height = 5).Lot re-evaluates angle with the
+    new height; imp().Lot starts again from the static import (a set() before it is lost)."""
+    imported = (
+        "attr height = 10\nattr angle = case height > 10 : 0 else : 30\n"
+        'Lot --> extrude(height) report("h", scope.sy) report("a", angle) X.'
+    )
+    main = (
+        'import imp : "imp.cga" (height = 20)\n'
+        "Init --> split(x) { ~1 : imp(height = 5).Lot | ~1 : imp.Lot "
+        "| ~1 : set(imp.height, 1) imp().Lot }"
+    )
+    _files(tmp_path, {"imp.cga": imported, "main.cga": main})
+    reports = load_grammar(tmp_path / "main.cga").build(lot=LOT).metadata["reports"]
+    assert reports == {"h": [5.0, 20.0, 20.0], "a": [30.0, 0.0, 0.0]}
+    with pytest.raises(GrammarError, match="'width' is not an attr of the import 'imp'"):
+        _height(tmp_path, 'import imp : "imp.cga"\nInit --> imp(width = 2).Lot', imported)
+    with pytest.raises(GrammarError, match="dynamic import of 'other', which is not imported"):
+        _height(tmp_path, 'import imp : "imp.cga"\nInit --> other(h = 2).Lot', imported)
