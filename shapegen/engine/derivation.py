@@ -116,6 +116,8 @@ class Derivation:
         self.start_shape: Shape | None = None  # what resetGeometry() goes back to
         self.started = time.monotonic()
         self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
+        # inside()/overlaps()/touches(): set by the interpreter (shapegen.engine.occlusion)
+        self.occlusion = None
 
     def check_clock(self, node) -> None:
         """Stop the derivation past its ``max_seconds``."""
@@ -178,6 +180,8 @@ class Derivation:
             )
         if self.deadline is not None and self.shape_count % 64 == 0:
             self.check_clock(node)
+        if self.occlusion is not None and shape.kind != parent.shape.kind:
+            self.occlusion.parent(parent)  # a comp of a mass: an occluder (engine/occlusion.py)
         state = ShapeState.__new__(ShapeState)
         state.run = self
         state.shape = shape

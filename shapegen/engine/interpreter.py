@@ -45,6 +45,7 @@ from shapegen.engine.derivation import (
     root_state,
 )
 from shapegen.engine.expressions import ExpressionCompiler, format_value
+from shapegen.engine.occlusion import Occlusion
 from shapegen.engine.operations import INSERT, ShapeOperations
 from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
@@ -129,6 +130,7 @@ class Program(AttributeValues, ShapeOperations):
         lot=None,
         max_depth: int | None = None,
         max_shapes: int | None = None,
+        _occluders: list | None = None,
     ) -> Model:
         """Derive the block model; see :meth:`shapegen.engine.grammar_api.Grammar.build`.
 
@@ -146,6 +148,7 @@ class Program(AttributeValues, ShapeOperations):
         run = Derivation(self, seed, max_depth, max_shapes)
         run.object_rotation = start_scope.rotation
         run.start_shape = start
+        run.occlusion = Occlusion(_occluders)
         root = root_state(run, start, values, ())
         root.rule_path = (self.start.name,)
         leaves: list[ShapeState] = []
@@ -162,6 +165,9 @@ class Program(AttributeValues, ShapeOperations):
                 stack.extend(reversed(out))
         except RecursionError:
             raise GrammarError(TOO_DEEP) from None
+        if run.occlusion.asked and _occluders is None:  # CityEngine's second pass
+            occluders = run.occlusion.second_pass(leaves)
+            return self.derive(attrs, seed, lot, max_depth, max_shapes, occluders)
         blocks, surfaces = self._blocks(leaves, run)
         metadata = {
             "grammar": self.grammar.filename,
