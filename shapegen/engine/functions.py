@@ -20,6 +20,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from shapegen.engine.functions_arrays import ARRAY_FUNCTIONS, Array, format_value, type_name
+from shapegen.grammar.import_paths import project_folder
 
 #: CGA's NULL string (func_isnull): U+E000.
 NULL_STRING = "\ue000"
@@ -389,11 +390,7 @@ def project_files(rule_file: str | None) -> tuple[Path | None, list[str]]:
     if not rule_file or rule_file.startswith("<"):
         return None, []
     folder = Path(rule_file).resolve().parent
-    project = folder
-    for parent in (folder, *folder.parents):
-        if (parent / "rules").is_dir():
-            project = parent
-            break
+    project = project_folder(folder) or folder  # the one rule imports use too
     names = []
     for root, _, files in os.walk(project):
         for name in files:

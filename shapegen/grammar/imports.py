@@ -32,12 +32,11 @@ from __future__ import annotations
 __all__ = ["resolve_imports", "project_folder", "import_candidates", "used_definitions"]
 
 import dataclasses
-import functools
-import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.import_paths import import_candidates, project_folder
 from shapegen.grammar.parser import parse_with_problems, source_too_long
 from shapegen.limits import current_limits
 
@@ -47,53 +46,6 @@ Problem = tuple[SourceLocation | None, str]
 _START_ANNOTATIONS = frozenset({"StartRule", "Lot", "Structure"})
 #: Suffix of the hidden const that keeps an imported attr's own value (CGA names have no ``$``).
 _OWN_VALUE = "$default"
-
-
-def project_folder(folder: Path) -> Path | None:
-    """The nearest folder at or above ``folder`` that holds a ``rules/`` folder, or None."""
-    folder = folder.resolve()
-    for parent in (folder, *folder.parents):
-        if (parent / "rules").is_dir():
-            return parent
-    return None
-
-
-@functools.lru_cache(maxsize=64)
-def _resolve_map(project: Path) -> dict[str, str]:
-    """``key -> value`` of a package's ``.resolvemap.xml`` (empty without one)."""
-    try:
-        root = ElementTree.parse(project / ".resolvemap.xml").getroot()
-    except (OSError, ElementTree.ParseError):
-        return {}
-    return {
-        entry.get("key", ""): entry.get("value", "")
-        for entry in root.iter("entry")
-        if entry.get("key")
-    }
-
-
-def import_candidates(path: str, folder: Path) -> list[Path]:
-    """Where ``import "path"`` written in a file of ``folder`` may be, in search order."""
-    project = project_folder(folder)
-    found: list[Path] = []
-    if project is not None:
-        mapped = _resolve_map(project).get(path)
-        if mapped:
-            found.append(project / mapped)
-    if path.startswith("/"):
-        name, _, rest = path.lstrip("/").partition("/")
-        if project is not None and rest:
-            if name == project.name:
-                found.append(project / rest)
-            found += [project.parent / name / rest, project / ".ws" / name / rest]
-            found.append(project / rest)  # a package keeps no project name
-        elif rest:
-            found.append(folder / rest)
-    else:
-        found.append(folder / path)
-        if project is not None:
-            found.append(project / path)
-    return list(dict.fromkeys(found))
 
 
 @dataclasses.dataclass(frozen=True)

@@ -15,6 +15,7 @@ from lark import Token, Transformer, v_args
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.import_syntax import ImportBuilders
 from shapegen.grammar.names import (
     BLOCK_OPERATIONS,
     CGA_OPERATIONS,
@@ -79,8 +80,10 @@ def _plural(count: int, word: str) -> str:
 
 
 @v_args(meta=True)
-class AstBuilder(OperationBuilders, Transformer):
+class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
     """Builds AST nodes; problems that the syntax lets through are collected, not raised."""
+
+    _string_value = staticmethod(_unescape)
 
     def __init__(self, filename: str):
         super().__init__()
@@ -123,60 +126,6 @@ class AstBuilder(OperationBuilders, Transformer):
 
     def style_def(self, meta, children):
         return _Style(str(children[0]))
-
-    def import_prefixed(self, meta, children):
-        annotations = [c for c in children if isinstance(c, ast.Annotation)]
-        rest = [c for c in children if not isinstance(c, ast.Annotation)]
-        prefix = rest[0]
-        path = next(c for c in rest[1:] if isinstance(c, Token) and c.type == "STRING")
-        arguments = rest[-1] if isinstance(rest[-1], list) else None
-        styles = next((c for c in rest[1:] if isinstance(c, tuple)), ())
-        item = self._import(str(prefix), path, arguments, annotations, self._at(prefix))
-        return dataclasses.replace(item, styles=styles)
-
-    def import_plain(self, meta, children):
-        annotations = [c for c in children if isinstance(c, ast.Annotation)]
-        rest = [c for c in children if not isinstance(c, ast.Annotation)]
-        arguments = rest[-1] if isinstance(rest[-1], list) else None
-        return self._import(None, rest[0], arguments, annotations, self._at(rest[0]))
-
-    def _import(self, prefix, path, arguments, annotations, location):
-        protected, overrides, rules = [], [], []
-        for argument in arguments or ():
-            if isinstance(argument, ast.Keyword):
-                overrides.append(argument)
-            elif isinstance(argument, ast.Rule):
-                rules.append(argument)
-            else:
-                protected.append(str(argument))
-        return ast.Import(
-            prefix,
-            _unescape(path),
-            tuple(protected),
-            protect_all=arguments is not None and not arguments,
-            overrides=tuple(overrides),
-            annotations=tuple(annotations),
-            rules=tuple(rules),
-            location=location,
-        )
-
-    def import_styles(self, meta, children):
-        return tuple(str(c) for c in children)
-
-    def import_args(self, meta, children):
-        return list(children)
-
-    def import_protect(self, meta, children):
-        return children[0]
-
-    def import_override(self, meta, children):
-        name, value = children
-        return ast.Keyword(str(name), value, location=self._at(name))
-
-    def import_rule(self, meta, children):
-        name = children[0]
-        params = next((c for c in children[1:-1] if isinstance(c, tuple)), ())
-        return ast.Rule(str(name), params, children[-1], location=self._at(name))
 
     def version(self, meta, children):
         return _Version(_unescape(children[0]))
@@ -389,24 +338,6 @@ class AstBuilder(OperationBuilders, Transformer):
                 )
             args.append(argument.value)
         return ast.Successor(name, tuple(args), called=True, location=location)
-
-    def dynamic_import(self, meta, children):
-        name = children[0]
-        arguments = [c for c in children[1:] if isinstance(c, Argument)]
-        rest = [c for c in children[1:] if not isinstance(c, Argument)]
-        rule, args = rest[0], tuple(rest[1:])
-        overrides = []
-        for argument in arguments:
-            if argument.kind != "keyword":
-                self._problem(
-                    argument.location,
-                    f"a dynamic import {name}(...) takes attr = value overrides only",
-                )
-                continue
-            overrides.append(ast.Keyword(argument.name, argument.value, location=argument.location))
-        return ast.DynamicImport(
-            str(name), tuple(overrides), str(rule), args, location=self._at(name)
-        )
 
     # Expressions -------------------------------------------------------------------------------
 
