@@ -1,0 +1,85 @@
+"""The CityEngine rule corpus (tests/data/cga-corpus): each file loads and derives on the 12 x 8
+lot or fails with one line naming what shapegen does not support; at least 90 % derive; where a
+package's main rule derives, its figures match the reference PyPRT made (tools/cga_reference).
+
+The figures and tolerances are those of tools/cga_compare.py: volume within 1 %, bounding box
+within 0.01 m (extents sorted: the stored references' lot has its first edge along +z), report()
+sums to 1e-6 relative, text reports equal. Figures driven by rand() are listed in
+``cga_compare.RANDOM`` and not checked; the known differences below are asserted to still
+differ, so that fixing one shows here. The rules' assets (textures, .obj models) are not in
+tests/data: an insert of an asset finds no file, which is what the candler difference is.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+_TOOL = Path(__file__).resolve().parents[2] / "tools" / "cga_compare.py"
+_spec = importlib.util.spec_from_file_location("cga_compare", _TOOL)
+cga_compare = sys.modules["cga_compare"] = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(cga_compare)
+
+FILES = cga_compare.corpus_files()
+REQUIRED_SHARE = 0.90
+
+KNOWN_DIFFERENCES = {
+    # The bounding box's two horizontal extents: 8.2 x 12.2 m here, 10.4 x 13.3 m in PyPRT
+    # (height 62.4 vs 62.82 m): candler inserts cornice and roof assets (.obj) that stick out of
+    # the lot; tests/data has no assets.
+    **{name: {"bbox"} for name, _ in FILES if name.startswith("candler_")},
+}
+
+
+@functools.cache
+def _row(name: str):
+    path = dict(FILES)[name]
+    row = cga_compare.derive(name, path)
+    cga_compare.compare(row, cga_compare.reference(row.package))
+    return row
+
+
+def test_the_corpus_is_complete():
+    assert len(FILES) == 53
+    assert all(path.exists() for _, path in FILES)
+
+
+@pytest.mark.parametrize("name", [name for name, _ in FILES])
+def test_derives_or_names_what_is_unsupported(name):
+    row = _row(name)
+    assert not row.crash, row.error
+    if row.derives:
+        return
+    first, *excerpt = row.error.strip().splitlines()
+    assert "not supported" in first, row.error  # names the construct, not a generic failure
+    assert len(excerpt) <= 2, row.error  # at most the source line and a caret under it
+    assert "Traceback" not in row.error
+
+
+def test_share_that_derives():
+    derived = [name for name, _ in FILES if _row(name).derives]
+    share = len(derived) / len(FILES)
+    assert share >= REQUIRED_SHARE, f"{len(derived)} of {len(FILES)} derive"
+
+
+MAIN_RULES = [name for name, path in FILES if cga_compare.is_main_rule(path)]
+
+
+@pytest.mark.parametrize("name", MAIN_RULES)
+def test_matches_the_reference(name):
+    row = _row(name)
+    if not row.derives:
+        pytest.skip(f"does not derive: {row.error}")
+    assert row.checks, "a main rule that derives has reference figures to compare"
+    known = KNOWN_DIFFERENCES.get(name, set())
+    for figure, (ok, ours, theirs) in row.checks.items():
+        if ok is None:  # rand()-driven
+            continue
+        if figure in known:
+            assert not ok, f"{figure} now matches: remove it from KNOWN_DIFFERENCES"
+            continue
+        assert ok, f"{figure}: shapegen {ours}, PyPRT {theirs}"
