@@ -71,9 +71,13 @@ def load(text: str, filename: str = "<string>", origin: str | Path | None = None
     """
     grammar, problems = parse_with_problems(text, filename)
     if grammar.imports or any(isinstance(n, ast.DynamicImport) for n in ast.walk(grammar)):
-        grammar, imported = resolve_imports(grammar, origin)
+        grammar, imported, failed = resolve_imports(grammar, origin)
         problems = problems + imported
-    problems = problems + find_problems(grammar)
+    else:
+        failed = set()
+    problems = problems + [
+        p for p in find_problems(grammar) if not any(f"'{f}." in p[1] for f in failed)
+    ]
     if problems:
         # the importing file's problems first, then each imported file's, each in line order
         files = list(dict.fromkeys([grammar.filename, *(p[0].file for p in problems if p[0])]))

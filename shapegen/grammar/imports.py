@@ -63,6 +63,7 @@ class _Merger:
         self.problems: list[Problem] = []
         self.sources: dict[str, str] = {}
         self.cache: dict[Path, _Merged | None] = {}
+        self.failed: set[str] = set()  # prefixes whose file could not be merged
 
     def merge(self, grammar: ast.Grammar, folder: Path, stack: tuple[Path, ...]) -> _Merged:
         own = list(grammar.definitions)
@@ -86,6 +87,8 @@ class _Merger:
             sub = self._imported(item, folder, stack)
             if sub is not None:
                 imported += self._prefixed(sub, item, importer_attrs, redirects)
+            elif item.prefix is not None:
+                self.failed.add(item.prefix)
         if redirects:
             own = [_redirected(d, redirects.get(d.name)) for d in own]
         imported_attrs = [d for d in imported if isinstance(d, ast.Attribute)]
@@ -402,7 +405,7 @@ def _redirected(definition: ast.Definition, mapping: dict[str, str] | None) -> a
 
 def resolve_imports(
     grammar: ast.Grammar, origin: str | Path | None = None
-) -> tuple[ast.Grammar, list[Problem]]:
+) -> tuple[ast.Grammar, list[Problem], set[str]]:
     """Merge the files ``grammar`` imports (and theirs) into it.
 
     Parameters
@@ -415,11 +418,12 @@ def resolve_imports(
 
     Returns
     -------
-    (ast.Grammar, list)
-        The merged grammar (``sources`` holds the imported files' texts) and the problems found
+    (ast.Grammar, list, set)
+        The merged grammar (``sources`` holds the imported files' texts), the problems found
         (missing files, cycles, unknown protected or overridden names, and the problems the
-        imported files' parse let through); a syntax error in an imported file raises its
-        :class:`GrammarError`.
+        imported files' parse let through) and the prefixes whose file could not be merged
+        (references to ``prefix.*`` are not worth reporting after that); a syntax error in an
+        imported file raises its :class:`GrammarError`.
     """
     merger = _Merger()
     if origin is not None:
@@ -431,8 +435,8 @@ def resolve_imports(
         merged = merger.merge(grammar, folder, stack)
     except RecursionError:
         location = SourceLocation(grammar.filename, 1, 1)
-        return grammar, [(location, "the imported files nest too deeply to process")]
-    return merged.grammar, merger.problems
+        return grammar, [(location, "the imported files nest too deeply to process")], set()
+    return merged.grammar, merger.problems, merger.failed
 
 
 def used_definitions(grammar: ast.Grammar) -> ast.Grammar:

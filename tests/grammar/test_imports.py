@@ -204,6 +204,8 @@ def test_missing_file_names_the_import_line_and_the_paths_tried(tmp_path):
     assert first.startswith(f"{tmp_path / 'main.cga'}:2:8: ")
     assert 'import of "nowhere.cga": no such file (tried ' in first
     assert str(tmp_path / "nowhere.cga") in first
+    # one problem: the names the missing file would have defined are not listed after it
+    assert len(caught.value.problems) == 1
 
 
 def test_cycles_are_one_error_at_the_import_line(tmp_path):
@@ -338,3 +340,19 @@ def test_dynamic_imports_reinitialise_the_imported_attrs(tmp_path):
         _height(tmp_path, 'import imp : "imp.cga"\nInit --> imp(width = 2).Lot', imported)
     with pytest.raises(GrammarError, match="dynamic import of 'other', which is not imported"):
         _height(tmp_path, 'import imp : "imp.cga"\nInit --> other(h = 2).Lot', imported)
+
+
+def test_attr_only_library_with_consts_functions_and_a_style(tmp_path):
+    library = (
+        "attr height = 4\nconst width = height / 2\narea(d) = width * d\n"
+        "style Tall\nattr height = 40\n"
+    )
+    main = (
+        'import lib : "imp.cga"\n'
+        'Lot --> extrude(lib.height) report("w", lib.width) report("a", lib.area(3)) X.'
+    )
+    reports = _height(tmp_path, main, library, key="w")
+    assert reports == 2.0  # the Default style's height: Tall's definitions are left out
+    grammar = load_grammar(tmp_path / "main.cga")
+    assert grammar.build(lot=LOT).metadata["reports"] == {"w": 2.0, "a": 6.0}
+    assert grammar.attrs == {"lib.height": 4.0}
