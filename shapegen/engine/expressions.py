@@ -29,7 +29,7 @@ from shapegen.engine.functions_arrays import (
 )
 from shapegen.engine.functions_arrays import index_array as _index_array
 from shapegen.engine.functions_calls import OCCLUSION, BuiltinCalls
-from shapegen.engine.functions_shape import shape_reader
+from shapegen.engine.functions_shape import convert_value, shape_reader
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.grammar.names import BUILTIN_FUNCTIONS, FUNCTION_KEYWORDS, GEOMETRY_KEYWORDS
@@ -352,6 +352,8 @@ class ExpressionCompiler(BuiltinCalls):
             return self._call_random_choice(node, name, arguments)
         if name == "print":
             return self._call_print(node, arguments)
+        if name == "convert":
+            return self._call_pure(node, convert_value, arguments, with_state=True)
         function = self.files.get(name) or PURE_FUNCTIONS.get(name)
         if function is not None:
             return self._call_pure(node, function, arguments)

@@ -18,16 +18,20 @@ OCCLUSION = ("inside", "overlaps", "touches")
 class BuiltinCalls:
     """Compilers of builtin calls; the host provides ``compile``, ``error`` and ``files``."""
 
-    def _call_pure(self, node, function, arguments: tuple):
+    def _call_pure(self, node, function, arguments: tuple, *, with_state: bool = False):
+        """``function(*values)`` (``function(state, *values)`` with ``with_state``); its
+        ValueError is the user's message, located at the call."""
         error = self.error
         name = node.name
 
         def call(args, state):
             values = [a(args, state) for a in arguments]
             try:
-                return function(*values)
+                return function(state, *values) if with_state else function(*values)
             except (ValueError, TypeError, OverflowError, ZeroDivisionError) as exc:
                 message = str(exc) if isinstance(exc, ValueError) else None
+                if message and with_state:
+                    message = f"{name}(): {message}"
                 if not message:
                     shown = ", ".join(format_value(v) for v in values)
                     message = f"{name}({shown}) is not defined"

@@ -8,11 +8,13 @@ and ``seedian``.
 
 from __future__ import annotations
 
-__all__ = ["shape_reader"]
+__all__ = ["convert_value", "shape_reader"]
 
 import math
 import random
 from collections.abc import Callable
+
+import numpy as np
 
 from shapegen.grammar.names import GEOMETRY_FUNCTIONS, SHAPE_ATTRIBUTES
 
@@ -105,3 +107,70 @@ def shape_reader(obj: str, field: str, grammar) -> Reader | None:
     if obj in SHAPE_ATTRIBUTES and field in SHAPE_ATTRIBUTES[obj]:
         return None  # CGA has it; shapegen does not evaluate it
     raise ValueError(f"unknown shape attribute {key!r}")
+
+
+# convert() (func_convert) ---------------------------------------------------------------------
+
+
+def _euler_matrix(angles) -> np.ndarray:
+    """CGA's Euler angles (degrees) as a rotation matrix: Rz(c) Ry(b) Rx(a), cga_eulerAngles."""
+    a, b, c = (math.radians(float(v)) for v in angles)
+    rx = np.array([[1, 0, 0], [0, math.cos(a), -math.sin(a)], [0, math.sin(a), math.cos(a)]])
+    ry = np.array([[math.cos(b), 0, math.sin(b)], [0, 1, 0], [-math.sin(b), 0, math.cos(b)]])
+    rz = np.array([[math.cos(c), -math.sin(c), 0], [math.sin(c), math.cos(c), 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def _euler_angles(r: np.ndarray) -> list[float]:
+    return [
+        math.degrees(math.atan2(r[2, 1], r[2, 2])),
+        math.degrees(-math.asin(max(-1.0, min(1.0, float(r[2, 0]))))),
+        math.degrees(math.atan2(r[1, 0], r[0, 0])),
+    ]
+
+
+def _frame(state, system: object) -> tuple[np.ndarray, np.ndarray]:
+    if system == "scope":
+        scope = state.shape.scope
+        return np.asarray(scope.origin, float), np.asarray(scope.rotation, float)
+    if system == "world":
+        return np.zeros(3), np.eye(3)
+    if system == "object":  # the lot's frame, placed at the origin
+        rotation = getattr(state.run, "object_rotation", None)
+        return np.zeros(3), np.eye(3) if rotation is None else np.asarray(rotation, float)
+    if system == "pivot":
+        raise ValueError("the pivot frame is not supported by shapegen")
+    raise ValueError(f"the coordinate systems are scope, pivot, object and world, got {system!r}")
+
+
+def convert_value(state, *values):
+    """``convert(coordinate, from, to, type, x, y, z)`` (one float) or ``convert(from, to, type,
+    [x, y, z])`` (an array): a position (``pos``, metres) or an orientation (``orient``, CGA
+    Euler angles in degrees) given in one of the shape's frames, in another."""
+    from shapegen.engine.functions_arrays import Array
+
+    if len(values) == 7:
+        coordinate, source, target, kind, *triple = values
+        if coordinate not in ("x", "y", "z"):
+            raise ValueError(f"the coordinate is x, y or z, got {coordinate!r}")
+    elif len(values) == 4:
+        coordinate, (source, target, kind, array) = None, values
+        if not isinstance(array, Array) or array.size != 3:
+            raise ValueError("the coordinates are an array of 3 numbers")
+        triple = list(array.values)
+    else:
+        raise ValueError(f"takes 4 or 7 arguments, got {len(values)}")
+    if any(type(v) is not float for v in triple):
+        raise ValueError("the coordinates are numbers")
+    origin_from, rotation_from = _frame(state, source)
+    origin_to, rotation_to = _frame(state, target)
+    if kind == "pos":
+        world = origin_from + rotation_from @ np.asarray(triple, float)
+        result = [float(v) for v in rotation_to.T @ (world - origin_to)]
+    elif kind == "orient":
+        result = _euler_angles(rotation_to.T @ rotation_from @ _euler_matrix(triple))
+    else:
+        raise ValueError(f"the type is pos or orient, got {kind!r}")
+    if coordinate is not None:
+        return result["xyz".index(coordinate)]
+    return Array(tuple(result), 3, 1)

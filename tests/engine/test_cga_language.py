@@ -207,3 +207,27 @@ def test_set_of_an_array_attr_refuses_in_one_line(attr, given, message):
     with pytest.raises(GrammarError, match=message) as caught:
         grammar.build(attrs={attr: given})
     assert "\n" not in str(caught.value)
+
+
+def test_convert_positions_and_orientations():
+    """func_convert's example on a 10 x 10 lot placed at the origin with the world's axes: the
+    scope origin after t('0.2, 0, '0.7) is at (2, 0, 7) in world coordinates, and its
+    orientation after r(-10, 70, 0) is (-10, 70, 0); back from world to scope is the inverse."""
+    grammar = parse_grammar(
+        "Init --> extrude(3) t('0.2, 0, '0.7) s('0.5, '1, '0.5) r(-10, 70, 0)\n"
+        '  report("p", convert(scope, world, pos, [0, 0, 0]))\n'
+        '  report("x", convert(x, scope, world, pos, 0, 0, 0))\n'
+        '  report("o", convert(scope, world, orient, [0, 0, 0]))\n'
+        '  report("back", convert(world, scope, pos, convert(scope, world, pos, [1, 2, 3])))\n'
+        "  X.",
+        "c.cga",
+    )
+    reports = grammar.build(lot=(10, 10)).metadata["reports"]
+    assert reports["p"].values == pytest.approx((2.0, 0.0, 7.0))
+    assert reports["x"] == pytest.approx(2.0)
+    assert reports["o"].values == pytest.approx((-10.0, 70.0, 0.0))
+    assert reports["back"].values == pytest.approx((1.0, 2.0, 3.0))
+    with pytest.raises(GrammarError, match=r"convert\(\): the pivot frame is not supported"):
+        parse_grammar(
+            'Lot --> report("p", convert(x, scope, pivot, pos, 0, 0, 0)) X.', "c.cga"
+        ).build()
