@@ -28,8 +28,13 @@ from pathlib import Path
 import numpy as np
 
 CORPUS = Path(__file__).resolve().parents[2] / "shared" / "cga-corpus"
-LOT = [0.0, 0.0, 0.0, 0.0, 0.0, 8.0, 12.0, 0.0, 8.0, 12.0, 0.0, 0.0]
-"""The 12 x 8 m lot, counter-clockwise seen from above (+y), as PyPRT's flat coordinate list."""
+LOT = [0.0, 0.0, 8.0, 12.0, 0.0, 8.0, 12.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+"""The 12 x 8 m lot as PyPRT's flat coordinate list: (0,0,8) (12,0,8) (12,0,0) (0,0,0).
+
+Counter-clockwise seen from above (+y), first edge along +x: CityEngine puts the scope's x along
+the first edge, so the scope is x along +x (12 m), z along +z (8 m), y up -- shapegen's
+``lot=(12, 8)``. PyPRT's encoder merges the leaves into one mesh, so leaf counts are not stored.
+"""
 
 
 def package_rules(package: Path) -> dict[str, str]:
