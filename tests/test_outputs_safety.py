@@ -202,6 +202,15 @@ TRIP = textwrap.dedent(
     sys.meta_path.insert(0, Trip())
     """
 )
+
+
+def _interruptible() -> None:
+    """In the child: Ctrl-C as a terminal delivers it. A job started in the background by a
+    non-interactive shell inherits SIGINT ignored, and Python then installs no KeyboardInterrupt
+    handler, so before shapegen's own handler is in place an interrupt would go unseen."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 CONSOLE_SCRIPT = "from shapegen.cli import main\nsys.exit(main())\n"  # what pip's wrapper runs
 
 
@@ -227,7 +236,14 @@ def test_ctrl_c_at_any_import_is_one_line_and_130(tmp_path, entry, module):
         command = [sys.executable, "-c", trip + "import runpy\nrunpy.run_module('shapegen',"
                    " run_name='__main__', alter_sys=True)\n"]  # fmt: skip
     command += ["build", "wall_windows.grammar", "--analyze", "-o", str(tmp_path / "w.json")]
-    done = subprocess.run(command, capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    done = subprocess.run(
+        command,
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+        preexec_fn=_interruptible,
+    )
     assert (done.returncode, done.stderr) == (130, "shapegen: interrupted\n")
     assert list(tmp_path.iterdir()) == []
 
