@@ -306,11 +306,17 @@ def test_footprint_of_a_roof_is_its_plan(program):
     assert np.allclose(shape.mesh().face_normals() @ [0, 1, 0], 1)
 
 
-CORPUS = Path(__file__).resolve().parents[3] / "shared" / "cga-corpus" / "rules"
-SIMPLE_RULE = CORPUS / "simpleRuleDataset_b6acc245.cga"
+SIMPLE_RULE = (
+    Path(__file__).resolve().parents[1]
+    / "data"
+    / "cga-corpus"
+    / "caseStudy_Tensorflow_simpleRuleDataset__de221ff8"
+    / "rules"
+    / "simpleRuleDataset.cga"
+)
 
 
-@pytest.mark.skipif(not SIMPLE_RULE.exists(), reason="the CGA corpus is not next to the checkout")
+@pytest.mark.skipif(not SIMPLE_RULE.exists(), reason="the CGA corpus test data is missing")
 @pytest.mark.parametrize(
     "lot, rel, area",
     [

@@ -240,15 +240,16 @@ def test_comp_records_its_selector_for_comp_sel(program):
 
 
 CORPUS_RULE = (
-    Path(__file__).resolve().parents[3]
-    / "shared"
+    Path(__file__).resolve().parents[1]
+    / "data"
     / "cga-corpus"
+    / "caseStudy_Tensorflow_simpleRuleDataset__de221ff8"
     / "rules"
-    / "simpleRuleDataset_b6acc245.cga"
+    / "simpleRuleDataset.cga"
 )
 
 
-@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus is not next to the checkout")
+@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus test data is missing")
 @pytest.mark.parametrize(
     "lot, setback_x, setback_z, edges",
     # PyPRT on the corpus package simpleRuleDataset with these lots: the reports of its
@@ -274,7 +275,7 @@ def test_align_scope_to_geometry_and_comp_edges_report_pyprts_figures(
         assert (sum(lengths), min(lengths), max(lengths)) == pytest.approx(edges, rel=1e-12)
 
 
-@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus is not next to the checkout")
+@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus test data is missing")
 @pytest.mark.parametrize(
     "lot, high",
     # PyPRT: the same L lot from three corners; its two 10 m edges tie for 'longest' and the
