@@ -63,6 +63,9 @@ def add_command(commands) -> None:
         " detected from the file's crs member or its coordinates' range)",
     )
     add_derivation_options(city, prefix="for every lot: ")
+    for action in city._actions:  # the lots are LOTS' polygons: --lot is refused, so not offered
+        if "--lot" in action.option_strings:
+            action.help = argparse.SUPPRESS
     add_statics_options(city, prefix="for block statics: ")
     add_search_options(city)
     city.add_argument(
