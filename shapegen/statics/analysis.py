@@ -201,7 +201,6 @@ def analyze(
     interfaces: list[Interface] | None = None,
     check: bool = True,
     stood: Analysis | None = None,
-    expect_tension: bool = False,
     **settings: object,
 ) -> Analysis:
     """Check whether ``model`` stands under self-weight and its point loads.
@@ -221,10 +220,6 @@ def analyze(
         margin) that stands: its interfaces and checks are reused, and its forces, moved to
         these joints (:mod:`shapegen.statics.reserve`), are the certificate without a solve
         (a search that judged its design with a reserve reports it without one this way).
-    expect_tension
-        Solve the QP first (a search whose last design needed tension): when its lower bound
-        proves the tension, phase one is not run at all; otherwise phase one decides as usual
-        and the QP is not solved again. The verdict and ``y`` are the same either way.
     settings
         Instead of ``options``, its fields by name: ``analyze(model, friction=0.5)``.
 
@@ -282,18 +277,7 @@ def analyze(
             screen=screen,
         )
 
-    qp = None
-    if expect_tension:
-        # the QP first: when its lower bound proves the tension, it is the only solve
-        qp, qp_used = _solve(problem, order)
-        m = problem.n_vertices
-        if qp.status.solved and _proves_tension(qp):
-            timings["solve"] = time.perf_counter() - start
-            y_norm = float(np.sum(qp.x[m : 2 * m] ** 2))
-            return _build_analysis(model, problem, qp, qp_used, False, y_norm, timings)
-        if not qp.status.solved:
-            qp = None  # judged from scratch below
-    phase_one, used = solve_phase_one(screen=qp is None)
+    phase_one, used = solve_phase_one(screen=True)
     timings["solve"] = time.perf_counter() - start
     start = time.perf_counter()
     feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
@@ -320,19 +304,13 @@ def analyze(
         solution.multipliers = np.zeros_like(phase_one.multipliers)
     else:
         start = time.perf_counter()
-        if qp is not None:  # solved already
-            solution, used = qp, qp_used
-        else:  # the QP starts from phase one's forces (same constraints) where it can
-            solution, used = _solve(problem, order, warm_start=phase_one.x)
+        # the QP starts from phase one's forces (same constraints) where the back-end can
+        solution, used = _solve(problem, order, warm_start=phase_one.x)
         timings["solve"] += time.perf_counter() - start
         if solution.status.solved:
             m = problem.n_vertices
             y_norm = float(np.sum(solution.x[m : 2 * m] ** 2))
-            if (
-                phase_one.info.get("screened")
-                and y_norm <= tol.screen_rel
-                and not _proves_tension(solution)
-            ):
+            if phase_one.info.get("screened") and y_norm <= tol.screen_rel:
                 # phase one stopped on an estimate and the QP's tension is small: decide exactly
                 start = time.perf_counter()
                 phase_one, _ = solve_phase_one(screen=False)
@@ -366,22 +344,6 @@ def _known_solution(stood: Analysis, problem: StaticsProblem, tol) -> Solution |
     m = problem.n_vertices
     y_norm = float(np.sum(x[m : 2 * m] ** 2))
     return Solution(SolveStatus.OPTIMAL, x, np.zeros(6 * problem.n_free), y_norm, info=timings)
-
-
-def _proves_tension(qp: Solution) -> bool:
-    """True when the QP's lower bound on ``y / W^2`` (its objective less the duality gap, with
-    the same factor 2 as phase one's stop) is at least ``PHASE_ONE_STOP ** 2``: since
-    ``(sum s)^2 >= sum s^2 >= y`` for any forces, phase one's least sum of tensions is then at
-    least ``PHASE_ONE_STOP``, which is what phase one's early stop proves. Back-ends that do
-    not report their gap never prove it."""
-    gap = qp.info.get("gap")
-    if qp.status is not SolveStatus.OPTIMAL or gap is None or qp.x is None:
-        return False
-    m = len(qp.x) // 4
-    # the objective holds the minute regularisation of the other forces too: leave it out,
-    # ten times over
-    regularization = max(qp.objective - float(np.sum(qp.x[m : 2 * m] ** 2)), 0.0)
-    return qp.objective - 2.0 * gap - 10.0 * regularization >= PHASE_ONE_STOP**2
 
 
 def _tension_sum(problem: StaticsProblem, x: np.ndarray | None) -> float:

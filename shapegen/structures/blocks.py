@@ -16,10 +16,6 @@ from shapegen.statics.sensitivity import infeasibility_change
 from shapegen.structures.base import Assessment, Design, Structure
 from shapegen.structures.registry import register_structure
 
-# y / W^2 of the last design judged above which the next is judged QP first (ten times what the
-# QP must prove, PHASE_ONE_STOP ** 2 = 1e-6, since a search's step rarely divides y by ten)
-EXPECT_TENSION_ABOVE = 1e-5
-
 
 @register_structure
 class BlockStatics(Structure):
@@ -33,7 +29,6 @@ class BlockStatics(Structure):
 
     options: StaticsOptions
     _stood: tuple[float, object] | None = None  # the last design that stood with a margin
-    _last: tuple[float, float] | None = None  # margin and measure of the last design judged
 
     def _options(self, margin: float) -> StaticsOptions:
         return self.options.shrunk(margin) if margin > 0 else self.options
@@ -42,20 +37,11 @@ class BlockStatics(Structure):
         margin = self.checked_margin(margin)
         stood = self._stood if self._stood is not None and self._stood[0] >= margin else None
         model = design.model
-        # A search moves in small steps: after a design that needed clear tension the next
-        # most likely needs some too, and the QP alone may prove it (analyze's expect_tension).
-        expect_tension = (
-            self._last is not None
-            and self._last[0] == margin
-            and self._last[1] >= EXPECT_TENSION_ABOVE
-        )
         analysis = analyze(
             model,
             self._options(margin),
             stood=stood[1] if stood is not None and stood[1].model is model else None,
-            expect_tension=expect_tension,
         )
-        self._last = (margin, float(analysis.infeasibility_normalized))
         if analysis.feasible and margin > 0:
             # A search judges with a reserve and reports without one: the forces that stand
             # with the reserve certify the design without another solve.

@@ -144,33 +144,3 @@ def test_a_design_judged_with_a_reserve_is_reported_without_one_by_moving_its_fo
     leaning = Design(model=stack(overhang=0.2))  # with its corbel
     assert not structure.assess(leaning, margin=0.1).stands
     assert structure.assess(leaning, margin=0.0).detail.timings["solve"] > 0.0
-
-
-@pytest.mark.parametrize(
-    ("overhang", "solves"),
-    [
-        (0.55, 1),  # y / W^2 = 5e-4: the QP's lower bound proves the tension alone
-        (0.505, 1),  # 4e-6: still above the 1e-6 the bound must reach
-        (0.501, 2),  # 1.6e-7: below it, phase one decides (and the QP is not solved again)
-        (0.5, 2),  # stands (the top block's centre right over the edge): phase one certifies
-    ],
-)
-def test_the_qp_first_gives_the_same_verdict_and_measure(overhang, solves, monkeypatch):
-    from shapegen.statics import analysis as analysis_module
-
-    model = stack(overhang=overhang, corbel=None)
-    usual = analyze(model)
-    calls = []
-    solve = analysis_module._solve
-
-    def counted(problem, *args, **kwargs):
-        calls.append(problem.objective)
-        return solve(problem, *args, **kwargs)
-
-    monkeypatch.setattr(analysis_module, "_solve", counted)
-    first = analyze(model, expect_tension=True)
-    assert first.feasible == usual.feasible == (overhang <= 0.5)
-    assert first.infeasibility_normalized == pytest.approx(usual.infeasibility_normalized,
-                                                           rel=1e-3, abs=1e-12)  # fmt: skip
-    assert calls[0] == "tension_squared"
-    assert len(calls) == solves

@@ -230,7 +230,6 @@ class ReducedBackend(Backend):
             point, status = best, SolveStatus.OPTIMAL_INACCURATE
         x = kkt.join(point.x_cut, point.x_s)
         value = _objective(problem, x)
-        info["gap"] = _complementarity(point)  # the objective less the dual bound, about
         return Solution(status, x, point.y.copy(), value, iterations, seconds, info)
 
     @staticmethod
