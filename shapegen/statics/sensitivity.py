@@ -28,9 +28,8 @@ from scipy.spatial import cKDTree
 from shapegen.errors import ShapegenError
 from shapegen.statics.analysis import Analysis
 from shapegen.statics.assembly import StaticsProblem, assemble, polygon_centroids
-from shapegen.statics.contacts import candidate_pairs, find_interfaces
+from shapegen.statics.contacts import find_interfaces
 from shapegen.statics.options import StaticsOptions
-from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 
 
 def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> float | None:
@@ -128,12 +127,18 @@ def _local_change(problem: StaticsProblem, old, moved, x: np.ndarray, lam: np.nd
         return None
     changed, shift = _block_moves(problem, old_blocks, new_blocks)
     # joints to redo: a changed block, or two sides shifted differently (the ground never moves)
+    interfaces = problem.interfaces
     first, second, old_frames, old_centroids = _base_arrays(problem, old_blocks)
-    redo = _relevant(np.stack([first, second], axis=1), changed, shift)
+    on_block = second >= 0
+    second_shift = np.zeros((len(interfaces), 3))
+    second_shift[on_block] = shift[second[on_block]]
+    second_changed = np.zeros(len(interfaces), bool)
+    second_changed[on_block] = changed[second[on_block]]
+    redo = changed[first] | second_changed | np.any(shift[first] != second_shift, axis=1)
     redo_index = np.flatnonzero(redo)
     work = 0.0
     if len(redo_index):
-        found = _redo_joints(problem, moved, redo_index, changed, shift)
+        found = _redo_joints(problem, moved, redo_index, first[redo], second[redo])
         if found is None:
             return None
         points, frames, counts = found
@@ -220,53 +225,26 @@ def _block_moves(problem: StaticsProblem, old_blocks, new_blocks):
     return changed, shift
 
 
-def _relevant(pairs: np.ndarray, changed: np.ndarray, shift: np.ndarray) -> np.ndarray:
-    """Joints ``(first, second)`` whose terms a move changes: a changed block, or two sides
-    shifted differently (the ground never moves)."""
-    first, second = pairs[:, 0], pairs[:, 1]
-    on_block = second >= 0
-    second_shift = np.zeros((len(pairs), 3))
-    second_shift[on_block] = shift[second[on_block]]
-    second_changed = np.zeros(len(pairs), bool)
-    second_changed[on_block] = changed[second[on_block]]
-    return changed[first] | second_changed | np.any(shift[first] != second_shift, axis=1)
-
-
 def _local_forces(x: np.ndarray, m: int) -> np.ndarray:
     """``(m, 3)`` per vertex: normal force ``c - s`` and the two friction components."""
     c, s, u, t = x.reshape(4, m)
     return np.stack([c - s, u, t], axis=1)
 
 
-def _redo_joints(problem: StaticsProblem, moved, redo, changed, shift):
-    """The moved contact polygons of the base's joints number ``redo`` (those a changed block
-    or two differently shifted blocks make), in that order and scaled by the base's kern:
-    ``(points, frames (ni, 3, 3), counts)``, or None when the moved model's such joints differ
-    in number, pairs or vertex count from the base's (a joint appeared, vanished or split)."""
-    # A joint can appear only between blocks that moved apart (a pair _relevant says so) and
-    # whose boxes touch, or between the ground and a block that moved near it: the search runs
-    # among those blocks.
-    vertices = [b.vertices for b in moved.blocks]
-    counts = np.array([len(v) for v in vertices])
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    stacked = np.concatenate(vertices)
-    lower = np.minimum.reduceat(stacked, starts)
-    upper = np.maximum.reduceat(stacked, starts)
-    tol = DEFAULT_TOLERANCES.for_size(float(np.linalg.norm(upper.max(axis=0) - lower.min(axis=0))))
-    near = candidate_pairs(lower, upper, padding=tol.planar)
-    involved = [near[_relevant(near, changed, shift)].ravel()]
-    if moved.ground is not None:
-        low = lower[:, 1] <= float(moved.ground) + tol.planar
-        involved.append(np.flatnonzero(low & (changed | np.any(shift != 0.0, axis=1))))
-    involved = np.unique(np.concatenate(involved))
+def _redo_joints(problem: StaticsProblem, moved, redo, first: np.ndarray, second: np.ndarray):
+    """The moved contact polygons of the base's joints number ``redo``, which join the blocks
+    ``(first, second)``, in that order and scaled by the base's kern: ``(points, frames
+    (ni, 3, 3), counts)``, or None when they differ in number or vertex count from the base's."""
+    involved = np.unique(np.concatenate([first, second[second >= 0]]))
+    wanted = set(zip(first.tolist(), second.tolist(), strict=True))
     try:
-        found = find_interfaces(moved, tol, blocks=involved)
+        found = find_interfaces(moved, blocks=involved)
     except ShapegenError:
         return None
-    pairs = np.array([(i.first, i.second) for i in found], dtype=np.int64).reshape(-1, 2)
-    found = [found[k] for k in np.flatnonzero(_relevant(pairs, changed, shift))]
-    base_pairs = [(problem.interfaces[k].first, problem.interfaces[k].second) for k in redo]
-    if [(i.first, i.second) for i in found] != base_pairs:
+    found = [i for i in found if (i.first, i.second) in wanted]
+    if [(i.first, i.second) for i in found] != list(
+        zip(first.tolist(), second.tolist(), strict=True)
+    ):
         return None
     counts = np.array([len(i.vertices) for i in found])
     old_counts = np.bincount(problem.vertex_interface, minlength=len(problem.interfaces))
