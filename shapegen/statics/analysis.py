@@ -89,8 +89,6 @@ class Analysis:
         The back-end that produced the solution.
     problem
         The assembled problem (reusable: sparsity pattern, orderings, index arrays).
-    model
-        The model analysed (the adjoint gradient compares a moved model with it).
     """
 
     status: SolveStatus
@@ -110,7 +108,6 @@ class Analysis:
     solver: str
     problem: StaticsProblem | None = field(default=None, repr=False)
     n_blocks: int = 0
-    model: object = field(default=None, repr=False)
 
     def to_report(self) -> dict:
         """A JSON-ready summary (plain Python numbers and strings)."""
@@ -390,5 +387,4 @@ def _build_analysis(model, problem, solution, used, feasible, y_norm, timings) -
         solver=used,
         problem=problem,
         n_blocks=nb,
-        model=model,
     )

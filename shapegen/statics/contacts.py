@@ -168,9 +168,7 @@ def facing_face_pairs(pack: PackedBlocks, tol: Tolerances) -> tuple[np.ndarray, 
 
 
 # ------------------------------------------------------------------------------------- interfaces
-def find_interfaces(
-    model: Model, tol: Tolerances | None = None, blocks: np.ndarray | None = None
-) -> list[Interface]:
+def find_interfaces(model: Model, tol: Tolerances | None = None) -> list[Interface]:
     """Every contact polygon between structural blocks, fixed supports and the ground plane.
 
     Parameters
@@ -180,10 +178,6 @@ def find_interfaces(
         (or a fixed block and the ground) are not reported, since supports need no equilibrium.
     tol
         Absolute tolerances; default ``model.tolerances()`` (scaled to the model's size).
-    blocks
-        Indices into ``model.blocks``: only the contacts among these blocks (and between them
-        and the ground) are searched; default every block. The adjoint gradient redoes only the
-        contacts of the blocks a parameter moved.
 
     Returns
     -------
@@ -194,10 +188,6 @@ def find_interfaces(
     """
     tol = model.tolerances() if tol is None else tol
     structural = np.array([b.structural for b in model.blocks], dtype=bool)
-    if blocks is not None:
-        chosen = np.zeros(len(model.blocks), dtype=bool)
-        chosen[np.asarray(blocks, dtype=np.int64)] = True
-        structural &= chosen
     pack = pack_blocks(model.blocks, np.flatnonzero(structural))
     if len(pack.index) == 0:
         return []

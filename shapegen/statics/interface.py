@@ -4,7 +4,6 @@ from __future__ import annotations
 
 __all__ = ["Interface", "GROUND"]
 
-import math
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -58,13 +57,9 @@ class Interface:
 
 def tangent_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit tangents with t1 x t2 = normal, chosen deterministically from the normal."""
-    # np.cross costs ~20 us on 3-vectors; a contact search and each parameter of the adjoint
-    # gradient frame hundreds of joints, so the products are written out.
-    x, y, z = (float(v) for v in np.asarray(normal, float).reshape(3))
-    # helper (1, 0, 0) x n = (0, -z, y); helper (0, 0, 1) x n = (-y, x, 0)
-    a, b, c = (0.0, -z, y) if abs(x) < 0.9 else (-y, x, 0.0)
-    length = math.sqrt(a * a + b * b + c * c)
-    a, b, c = a / length, b / length, c / length
-    t1 = np.array([a, b, c])
-    t2 = np.array([y * c - z * b, z * a - x * c, x * b - y * a])
+    n = np.asarray(normal, float)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    t1 = np.cross(helper, n)
+    t1 /= np.linalg.norm(t1)
+    t2 = np.cross(n, t1)
     return t1, t2
