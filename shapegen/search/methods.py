@@ -16,7 +16,7 @@ along the boundary.
 
 from __future__ import annotations
 
-__all__ = ["Search", "FIRST_STEP", "MAX_FIRST_STEP", "POWELL_XTOL", "POWELL_FTOL"]
+__all__ = ["Search", "FIRST_STEP", "POWELL_XTOL", "POWELL_FTOL"]
 
 import math
 import time
@@ -28,10 +28,7 @@ from shapegen.search.evaluator import Evaluation, Evaluator
 from shapegen.search.result import IterationRecord
 
 FIRST_STEP = 0.1
-"""Shortest first step of the SQP, as a fraction of the parameter ranges (its largest move)."""
-
-MAX_FIRST_STEP = 0.5
-"""Longest first step of the SQP, as a fraction of the parameter ranges (its largest move)."""
+"""Length of the SQP's first step, as a fraction of the parameter ranges."""
 
 POWELL_XTOL = 1e-4
 """Powell's tolerance on the parameters, as a fraction of their ranges."""
@@ -174,23 +171,13 @@ class Search:
 
     def _scale(self, first: Evaluation) -> float:
         """Divides sqrt(measure) so that SLSQP's first step (the plain gradient: SLSQP starts
-        with the identity Hessian) goes to where the linearised sqrt(measure) vanishes, moving
-        no parameter less than FIRST_STEP nor more than MAX_FIRST_STEP of its range (not
-        straight into a corner). sqrt(measure) bends upwards towards the standing region, so
-        this step still falls short; a fixed FIRST_STEP took one or two more iterations, each
-        an analysis and a gradient (Cluny 5 -> 3 evaluations with 10 parameters, the Sainte
-        Chapelle 12 -> 8)."""
+        with the identity Hessian) moves FIRST_STEP of the ranges, not straight into a corner."""
         if not (first.ok and first.infeasibility > 0):
             return 1.0
-        root = math.sqrt(first.infeasibility)
-        scale = root
+        scale = math.sqrt(first.infeasibility)
         if self.gradient_method != "none":
             slope0 = self._root_slope(first) * self.span
-            largest = float(np.abs(slope0).max())
-            if largest > 0:
-                to_zero = root * largest / float(slope0 @ slope0)  # largest move of that step
-                step = min(max(to_zero, FIRST_STEP), MAX_FIRST_STEP)
-                scale = max(largest / step, scale)
+            scale = max(float(np.abs(slope0).max()) / FIRST_STEP, scale)
         return scale
 
     def _root_slope(self, evaluation: Evaluation) -> np.ndarray:
