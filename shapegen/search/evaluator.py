@@ -72,6 +72,7 @@ class Evaluator:
         self.margin = margin
         self.evaluations = 0
         self._cache: dict[tuple, Evaluation] = {}
+        self._gradients: dict[tuple, np.ndarray] = {}
 
     @property
     def lower(self) -> np.ndarray:
@@ -126,9 +127,11 @@ class Evaluator:
         base = self.evaluate(theta)
         if not base.ok:
             return np.zeros(len(self.parameters))
-        if method == "adjoint":
-            return np.array([self._adjoint(base, j) for j in range(len(self.parameters))])
-        return np.array([self._forward(base, j) for j in range(len(self.parameters))])
+        key = (tuple(np.round(base.theta, 15)), method)
+        if key not in self._gradients:  # the search's scale and its first step ask for the same
+            step = self._adjoint if method == "adjoint" else self._forward
+            self._gradients[key] = np.array([step(base, j) for j in range(len(self.parameters))])
+        return self._gradients[key].copy()
 
     def _step(self, theta: np.ndarray, j: int, relative: float) -> float:
         h = relative * self.parameters[j].span

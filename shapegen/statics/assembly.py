@@ -259,6 +259,7 @@ def assemble(
     pyramid: str = "4",
     kern: float = 1.0,
     objective: str = "tension_squared",
+    length: float | None = None,
 ) -> StaticsProblem:
     """Assemble the dimensionless tension-penalty problem of ``model`` over ``interfaces``.
 
@@ -280,6 +281,9 @@ def assemble(
         Every interface polygon is scaled about its centroid by this factor in (0, 1].
     objective
         ``"tension_squared"`` (default) or ``"tension_sum"``.
+    length
+        The length scale ``L``; ``model.size`` when None (a caller that has it saves a pass
+        over the blocks).
     """
     if pyramid not in PYRAMIDS:
         raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
@@ -306,7 +310,7 @@ def assemble(
     masses = np.array([b.mass for b in blocks]) if nb else np.zeros(0)
     weight = float(g * masses[free].sum()) if nb else 0.0
     weight_scale = weight if weight > 0 else 1.0
-    length = float(model.size)
+    length = float(model.size if length is None else length)
     centroids = np.array([b.centroid for b in blocks]).reshape(nb, 3)
 
     first = np.array([i.first for i in interfaces], dtype=int)

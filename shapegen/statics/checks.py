@@ -23,8 +23,9 @@ _LISTED_IDS = 5  # ids named in a message before "and N more"
 _SAT_ENTRIES_PER_CHUNK = 4_000_000  # (pair, face, vertex) heights per chunk, ~32 MB
 
 
-def check_model(model: Model, interfaces: list[Interface]) -> None:
-    """Raise if ``model`` cannot be analysed with ``interfaces`` (from ``find_interfaces``).
+def check_model(model: Model, interfaces: list[Interface], tol: Tolerances | None = None) -> None:
+    """Raise if ``model`` cannot be analysed with ``interfaces`` (from ``find_interfaces``);
+    ``tol`` defaults to ``model.tolerances()``.
 
     Raises
     ------
@@ -35,7 +36,7 @@ def check_model(model: Model, interfaces: list[Interface]) -> None:
         No support at all, or free blocks with no chain of contacts to a support.
     """
     model.validate()
-    tol = model.tolerances()
+    tol = model.tolerances() if tol is None else tol
     structural = np.flatnonzero([b.structural for b in model.blocks])
     has_fixed = any(model.blocks[i].fixed for i in structural)
     has_free = not all(model.blocks[i].fixed for i in structural)

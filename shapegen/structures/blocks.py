@@ -28,13 +28,24 @@ class BlockStatics(Structure):
     has_gradient = True
 
     options: StaticsOptions
+    _stood: tuple[float, object] | None = None  # the last design that stood with a margin
 
     def _options(self, margin: float) -> StaticsOptions:
         return self.options.shrunk(margin) if margin > 0 else self.options
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         margin = self.checked_margin(margin)
-        analysis = analyze(design.model, self._options(margin))
+        stood = self._stood if self._stood is not None and self._stood[0] >= margin else None
+        model = design.model
+        analysis = analyze(
+            model,
+            self._options(margin),
+            stood=stood[1] if stood is not None and stood[1].model is model else None,
+        )
+        if analysis.feasible and margin > 0:
+            # A search judges with a reserve and reports without one: the forces that stand
+            # with the reserve certify the design without another solve.
+            self._stood = (margin, analysis)
         return Assessment(
             structure=self.name,
             stands=bool(analysis.feasible),
