@@ -67,6 +67,7 @@ class ShapeState:
         "depth",
         "initial_scope",
         "appearance",
+        "trim_planes",
     )
 
     def random(self) -> float:
@@ -198,6 +199,7 @@ class Derivation:
         state.rng = [None]
         state.initial_scope = shape.scope
         state.appearance = parent.appearance
+        state.trim_planes = parent.trim_planes
         if name is None:
             state.rule_path = parent.rule_path
             state.depth = parent.depth
@@ -255,4 +257,5 @@ def root_state(run: Derivation, shape: Shape, attrs, path: tuple) -> ShapeState:
     state.depth = 0
     state.initial_scope = shape.scope
     state.appearance = None
+    state.trim_planes = ()  # geometry.trim.TrimPlane of the last comp(f), world coordinates
     return state

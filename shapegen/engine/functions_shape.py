@@ -68,8 +68,8 @@ _READERS: dict[str, Callable[[object], object]] = {
     **{f"initialShape.origin.{k}": (lambda state: 0.0) for k in ("ox", "oy", "oz")},
     "initialShape.name": lambda state: "Lot",
     "seedian": _seedian,
-    # true unless set(trim.vertical, false) in the shape's past (names.SETTABLE_SHAPE_ATTRIBUTES)
-    "trim.horizontal": lambda state: state.attrs.get("trim.horizontal", True),
+    # as set() left them in the shape's past, else attr_trim's defaults (names.SETTABLE_...)
+    "trim.horizontal": lambda state: state.attrs.get("trim.horizontal", False),
     "trim.vertical": lambda state: state.attrs.get("trim.vertical", True),
 }
 

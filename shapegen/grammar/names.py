@@ -488,8 +488,8 @@ ANNOTATIONS: dict[str, tuple[int, int, tuple[str, ...]]] = {
 #: Attributes read at each leaf to set its block's properties; usable without an ``attr`` line.
 #: ``density`` in kg/m^3, ``structural`` and ``fixed`` booleans.
 #: Shape attributes that ``set()`` changes like an attr, with their value before any set
-#: (attr_trim: shapegen cuts with no trim planes, so they only answer reads).
-SETTABLE_SHAPE_ATTRIBUTES: dict[str, object] = {"trim.horizontal": True, "trim.vertical": True}
+#: (attr_trim: horizontal trim planes are off by default, vertical ones on).
+SETTABLE_SHAPE_ATTRIBUTES: dict[str, object] = {"trim.horizontal": False, "trim.vertical": True}
 
 RESERVED_ATTRIBUTES: dict[str, object] = {
     "density": 2400.0,

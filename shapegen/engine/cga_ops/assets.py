@@ -16,9 +16,11 @@ Semantics of CityEngine's reference (``op_i``, ``op_primitive``):
 An asset file is found next to the rule file, then in each folder above it that holds a
 ``rules`` or ``assets`` folder (the project of an extracted rule package), as ``<project>/PATH``
 and ``<project>/assets/PATH``. OBJ, glTF, PLY and STL files are read with trimesh. A file that
-is not found leaves the shape empty (as CityEngine does) and is a warning of the derivation
-naming the file and the chain of rules. The inserted geometry becomes a block when it is a closed
-convex solid, else a surface (see the interpreter).
+is not found is replaced by a box filling the scope, as CityEngine's runtime does (its model of
+the candler package without the asset files has the bounding box of these boxes, trimmed), and
+is a warning of the derivation naming the file and the chain of rules. The inserted geometry is
+cut to the shape's trim planes (:mod:`shapegen.engine.trim`); it becomes a block when it is a
+closed convex solid, else a surface (see the interpreter).
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from shapegen.engine.cga_ops import compiles
 from shapegen.engine.derivation import format_chain
 from shapegen.engine.expressions import format_value
 from shapegen.engine.shape import FACE, MASS, Shape
+from shapegen.engine.trim import apply_trim
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
@@ -313,19 +316,20 @@ def asset_insert(program, node: ast.Insert, params):
         scope = state.shape.scope
         if name in BUILTIN_ASSETS:
             state.shape = _box_shape(scope)
-            return True
+            return apply_trim(state)
         path = find_asset(name, rule_file)
         if path is None:
             _warn(state, f"asset {name!r} not found (rules: {format_chain(state.rule_path)}); "
-                         f"the shape is left empty")  # fmt: skip
-            return False
+                         f"a box fills its scope instead")  # fmt: skip
+            state.shape = _box_shape(scope)
+            return apply_trim(state)
         try:
             mesh = load_asset(path)
         except (GeometryError, OSError, ValueError) as exc:
             raise error(node, f"i({name!r}): {exc}") from None
         new_scope, local = fitted(mesh, scope)
         state.shape = _shape_of(local, new_scope)
-        return True
+        return apply_trim(state)
 
     return insert_asset
 
@@ -376,6 +380,9 @@ def compile_primitive(program, node: ast.Operation, params):
     error = program.error
 
     def primitive(state, args, out):
+        return place(state, args) and apply_trim(state)
+
+    def place(state, args):
         values = [n(args, state) for n in numbers]
         sides, divisions, dimensions = DEFAULT_SIDES, DEFAULT_SIDES, None
         if kind in ("cylinder", "cone", "disk") and values:

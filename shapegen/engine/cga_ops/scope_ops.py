@@ -15,7 +15,7 @@
   vertices closer than ``tolerance`` metres (0-1, as the reference's 1 m at 1) and drops
   degenerate faces (shared edges of coplanar faces are kept);
 - ``resetGeometry()``: the start shape's geometry and scope;
-- ``trim()``: shapegen makes no trim planes, so there is nothing to apply (the shape is kept);
+- ``trim()``: the shape's geometry cut to its enabled trim planes (:mod:`shapegen.engine.trim`);
 - ``convexify([maxLength])``: every concave face cut into convex polygons (constrained
   triangulation, then diagonals removed while the pieces stay convex, Hertel and Mehlhorn; with
   ``maxLength`` only cuts shorter than it are kept).
@@ -32,6 +32,7 @@ import numpy as np
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.expressions import type_name
 from shapegen.engine.shape import FACE, MASS, Shape, rotation_matrix
+from shapegen.engine.trim import apply_trim
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
@@ -390,7 +391,7 @@ def compile_reset_geometry(program, node, params):
 @compiles("trim")
 def compile_trim(program, node, params):
     _arguments(program, node, (0,))
-    return lambda state, args, out: True
+    return lambda state, args, out: apply_trim(state)
 
 
 @compiles("convexify")

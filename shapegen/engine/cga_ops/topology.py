@@ -33,6 +33,7 @@ import numpy as np
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.expressions import type_name
 from shapegen.engine.shape import FACE, MASS, Shape, extrude_shape, face_scopes
+from shapegen.engine.trim import comp_trim_planes
 from shapegen.geometry.frames import face_rotation, fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.queries import FACE_SELECTORS, border_faces, face_matches
@@ -346,6 +347,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
         for key, merge, body, branch in branches
     ]
     error = program.error
+    trims = program.cityengine_scopes
 
     def comp_op(state, args, out):
         shape = state.shape
@@ -362,6 +364,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             components = _vertex_components(shape, object_rotation)
         taken = [False] * len(components)
         run = state.run
+        planes = comp_trim_planes(shape, object_rotation) if trims and kind == "f" else None
         for select, merge, body, branch, text in compiled:
             chosen = []
             for k, component in enumerate(components):
@@ -382,6 +385,8 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                 child.comp_index = index
                 child.comp_total = total
                 child.comp_sel = text
+                if planes is not None:  # op_comp: only the ':' operator makes trim planes
+                    child.trim_planes = () if merge else planes[chosen[index].index]
                 if body(child, args, out) and child.children[0] == 0:
                     out.append((child, None, ()))
         return True

@@ -1,0 +1,102 @@
+"""Trim planes: CityEngine's cut of inserted geometry at the shared edges of a component split.
+
+op_comp: "for faces, the component split generates trim planes. Trim planes are placed along
+the shared edges of the new faces in a bisecting angle." attr_trim: a plane is *horizontal* when
+its generating edge makes less than 40 degrees with the pivot's x-z plane, else *vertical*;
+inserted assets and primitives are cut by the enabled ones (vertical by default).
+
+A face's plane at an edge it shares with a neighbour contains the edge and bisects the dihedral
+angle between them: its normal is ``n_face - n_neighbour`` (both perpendicular to the edge),
+turned so that the face itself lies on the kept side. Two coplanar faces give the plane through
+the edge perpendicular to them.
+"""
+
+from __future__ import annotations
+
+__all__ = ["HORIZONTAL_LIMIT_DEGREES", "TrimPlane", "face_trim_planes", "trimmed"]
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from shapegen.geometry.cut import clip_plane
+from shapegen.geometry.mesh import Mesh, polygon_normal
+
+HORIZONTAL_LIMIT_DEGREES = 40.0
+_SIN_LIMIT = math.sin(math.radians(HORIZONTAL_LIMIT_DEGREES))
+_TINY = 1e-9
+
+
+@dataclass(frozen=True)
+class TrimPlane:
+    """The half-space ``normal . p >= offset`` (world coordinates, ``normal`` a unit vector)
+    that inserted geometry is cut to; ``horizontal`` classifies its generating edge."""
+
+    normal: tuple[float, float, float]
+    offset: float
+    horizontal: bool
+
+
+def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[TrimPlane, ...]]:
+    """The trim planes of each face of a mesh given in world coordinates (``vertices``), one per
+    edge the face shares with another face; ``up`` is the pivot's y axis (world)."""
+    vertices = np.asarray(vertices, dtype=float)
+    faces = [tuple(face) for face in faces]
+    normals = []
+    for face in faces:
+        normal = polygon_normal(vertices[list(face)])
+        length = float(np.linalg.norm(normal))
+        normals.append(normal / length if length > 0 else normal)
+    sharing: dict[tuple[int, int], list[int]] = {}
+    for f, face in enumerate(faces):
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            sharing.setdefault((min(a, b), max(a, b)), []).append(f)
+    out = []
+    for f, face in enumerate(faces):
+        planes = []
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            others = [g for g in sharing[(min(a, b), max(a, b))] if g != f]
+            if not others:
+                continue
+            plane = _bisector(vertices[a], vertices[b], normals[f], normals[others[0]], up)
+            if plane is not None:
+                planes.append(plane)
+        out.append(tuple(planes))
+    return out
+
+
+def _bisector(start, end, own: np.ndarray, other: np.ndarray, up) -> TrimPlane | None:
+    edge = end - start
+    length = float(np.linalg.norm(edge))
+    if length <= _TINY:
+        return None
+    edge = edge / length
+    inward = np.cross(own, edge)  # in the face's plane, into the face (it runs counter-clockwise)
+    normal = own - other
+    if np.linalg.norm(normal) <= _TINY or abs(float(normal @ inward)) <= _TINY:
+        normal = inward  # coplanar neighbours (or folded flat): the plane across the edge
+    normal = normal / np.linalg.norm(normal)
+    if normal @ inward < 0:
+        normal = -normal
+    horizontal = abs(float(edge @ up)) < _SIN_LIMIT
+    return TrimPlane(tuple(float(c) for c in normal), float(normal @ start), horizontal)
+
+
+def trimmed(mesh: Mesh, origin, rotation, planes) -> Mesh | None:
+    """``mesh`` (coordinates of the frame ``origin``, ``rotation``) cut to every plane in
+    ``planes``; None when nothing is left, ``mesh`` itself when no plane cuts it."""
+    origin = np.asarray(origin, dtype=float)
+    rotation = np.asarray(rotation, dtype=float)
+    for plane in planes:
+        normal = np.asarray(plane.normal)
+        local_normal = rotation.T @ normal
+        local_offset = plane.offset - float(normal @ origin)
+        heights = mesh.vertices @ local_normal - local_offset
+        if heights.min() >= -_TINY * max(mesh.size(), 1.0):
+            continue
+        piece = clip_plane(mesh, local_normal, local_offset, keep_above=True)
+        if piece is None:
+            return None
+        mesh = piece
+    return mesh
