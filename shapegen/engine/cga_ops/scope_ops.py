@@ -202,6 +202,7 @@ def compile_align_scope_to_geometry(program, node, params):
                 min(range(mesh.n_faces), key=lambda f: (world[list(mesh.faces[f])][:, 1].mean(), f))
             ]
         best = None
+        last_wins = edge_word != "world.lowest"
         for f in candidates:
             face = mesh.faces[f]
             n = len(face)
@@ -222,9 +223,10 @@ def compile_align_scope_to_geometry(program, node, params):
                     key = float(a[1] + b[1])
                 else:
                     key = 0.0
-                # among equal edges the last wins: PyPRT's choice on an L with two longest
-                # edges, whichever corner the lot starts at (tests/engine/test_geometry_scope_ops)
-                if best is None or key <= best[0] + 1e-12:
+                # Ties, as PyPRT breaks them: among equally long edges the last wins (an L with
+                # two longest edges, whichever corner the lot starts at); among equally low ones
+                # the first (a rectangle's x along its first edge, from any starting corner)
+                if best is None or key < best[0] - 1e-12 or (last_wins and key <= best[0] + 1e-12):
                     best = (key, f, a, b)
         _, f, a, b = best
         normal = scope.rotation @ mesh.face_normal(f)
