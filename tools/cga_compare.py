@@ -46,7 +46,8 @@ _RANDOM_HEIGHT = frozenset({"volume", "bbox", "report Building Height.0"})
 RANDOM = {
     "extrusion_rule": _RANDOM_HEIGHT,
     "simple_rule2019": _RANDOM_HEIGHT,
-    "Building_From_FootprintSMALL": frozenset({"bbox", "volume"}),  # Eave_Ht + rand(3, 6)
+    # Eave_Ht + rand(3, 6); the roof form is 40% hip, 50% gable, else gambrel (PyPRT: gambrel)
+    "Building_From_FootprintSMALL": frozenset({"bbox", "volume", "leaves"}),
 }
 """Figures driven by rand() (``extrude(rand(min, max))``), by rule family: shapegen's draws are
 not CityEngine's, so these are flagged ("random"), never failed."""
@@ -124,7 +125,7 @@ def derive(name: str, path: Path) -> Row:
         row.crash = True
         return row
     points = [b.vertices for b in model.blocks] + [s.vertices for s in model.surfaces]
-    row.leaves = len(model.blocks) + len(model.surfaces)
+    row.leaves = int(model.metadata["leaves"])  # leaf shapes, before any convex decomposition
     row.volume = sum(
         enclosed_volume(leaf.vertices, leaf.faces) for leaf in [*model.blocks, *model.surfaces]
     )

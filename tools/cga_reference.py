@@ -11,9 +11,11 @@ For every package in ``../shared/cga-corpus/packages`` it generates the start ru
 12 x 8 m lot (CityEngine's initial shape in the x-z plane, first edge along +x) with the rule's
 default attrs, and writes one JSON file per package: the rule files it contains (matched to the
 corpus by the SHA-1 prefix in their names), the generated mesh's vertex and face counts, its
-bounding box, its enclosed volume (divergence theorem over the triangulated faces; only
-meaningful for closed meshes) and the ``report()`` values. shapegen's tests read these files;
-nothing in shapegen imports PyPRT.
+bounding box, its enclosed volume (divergence theorem over the triangulated faces), the
+``report()`` values, and the number of leaves: PyPRT's own encoder merges the leaves into one
+mesh, so they are counted in a second generation with CityEngine's OBJ encoder and
+``meshGranularity=AS_GENERATED``, which writes one OBJ group per generated leaf mesh.
+shapegen's tests read these files; nothing in shapegen imports PyPRT.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ LOT = [0.0, 0.0, 8.0, 12.0, 0.0, 8.0, 12.0, 0.0, 0.0, 0.0, 0.0, 0.0]
 
 Counter-clockwise seen from above (+y), first edge along +x: CityEngine puts the scope's x along
 the first edge, so the scope is x along +x (12 m), z along +z (8 m), y up -- shapegen's
-``lot=(12, 8)``. PyPRT's encoder merges the leaves into one mesh, so leaf counts are not stored.
+``lot=(12, 8)``.
 """
 
 
@@ -89,7 +91,23 @@ def reference(package: Path) -> dict:
         )
     )
     out["reports"] = {k: v for k, v in sorted(model.get_report().items()) if k.endswith("_sum")}
+    out["leaves"] = leaf_count(package)
     return out
+
+
+def leaf_count(package: Path) -> int:
+    """The generated leaf meshes: OBJ groups written with ``meshGranularity=AS_GENERATED``."""
+    import pyprt
+
+    with tempfile.TemporaryDirectory() as folder:
+        generator = pyprt.ModelGenerator([pyprt.InitialShape(LOT)])
+        options = {"outputPath": folder, "meshGranularity": "AS_GENERATED"}
+        generator.generate_model([{}], str(package), "com.esri.prt.codecs.OBJEncoder", options)
+        count = 0
+        for obj in Path(folder).glob("*.obj"):
+            with open(obj, encoding="utf-8", errors="replace") as handle:
+                count += sum(1 for line in handle if line.startswith("g "))
+        return count
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -50,6 +50,7 @@ from shapegen.engine.operations import INSERT, ShapeOperations
 from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.cut import convex_decomposition
+from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.limits import limit_hint
@@ -177,6 +178,7 @@ class Program(AttributeValues, ShapeOperations):
             "free_parameters": self.free_parameters(values, start_scope),
             "reports": {k: v[0] if len(v) == 1 else v for k, v in run.reports.items()},
             "warnings": list(getattr(run, "warnings", ())),  # assets not found (cga_ops/assets)
+            "leaves": run.leaf_count,  # leaf shapes that gave a block or a surface
             "structure": {
                 "name": self.structure,
                 "arguments": self.structure_arguments(values, start_scope),
@@ -210,7 +212,11 @@ class Program(AttributeValues, ShapeOperations):
             corners = {id(s): world[k] for k, s in enumerate(boxes)}
         blocks: list[Block] = []
         surfaces: list[Surface] = []
+        seen = produced = 0  # leaves that gave geometry: CityEngine's generated meshes
         for state in leaves:
+            count = len(blocks) + len(surfaces)
+            produced += count > seen  # the previous leaf gave something
+            seen = count
             kind = state.shape.kind
             if state.shape.geometry is not None and kind in (MASS, FACE):
                 made = self._geometry_leaf(state, len(blocks), surfaces)
@@ -226,6 +232,8 @@ class Program(AttributeValues, ShapeOperations):
             if kind == MASS:
                 vertices = corners.get(id(state))
                 if vertices is None:
+                    if self.cityengine_scopes:  # extrude(0): CityEngine draws the face
+                        self._flat_box(state, surfaces)
                     continue
                 density, structural, fixed = self._properties(state)
                 blocks.append(
@@ -264,7 +272,18 @@ class Program(AttributeValues, ShapeOperations):
                     if state.appearance is not None:
                         piece.appearance = state.appearance
                     blocks.append(piece)
+        run.leaf_count = produced + (len(blocks) + len(surfaces) > seen)
         return blocks, surfaces
+
+    @staticmethod
+    def _flat_box(state: ShapeState, surfaces: list) -> None:
+        """A box leaf flat along one scope axis (``extrude(0)``) as the face it is."""
+        size = state.shape.scope.size
+        flat = [k for k in range(3) if size[k] <= _MIN_SIZE]
+        if len(flat) == 1:
+            face = Mesh.rectangle(size, flat[0])
+            world = face.transformed(state.shape.scope.rotation, state.shape.scope.origin)
+            surfaces.append(_surface(state, world, "a face (no volume)", len(surfaces)))
 
     def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> list[Block]:
         """The blocks of a leaf with geometry: one for a closed convex mesh, the convex pieces of

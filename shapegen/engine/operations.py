@@ -207,6 +207,7 @@ class ShapeOperations:
         items = self._split_items(node.group, params)
         repeat = node.group.repeat
         error = self.error
+        best_counts = self.cityengine_scopes  # CityEngine's repeat counts in .cga files
 
         def split_op(state, args, out):
             shape = state.shape
@@ -225,6 +226,7 @@ class ShapeOperations:
                     float(shape.scope.size[axis]),
                     pattern,
                     max_pieces=max(run.max_shapes - run.shape_count, 0) + 1,
+                    best_counts=best_counts,
                 )
             except PieceLimitError:
                 raise error(

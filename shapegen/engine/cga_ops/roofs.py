@@ -34,8 +34,13 @@ from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 
 
-def roof_shape(parent: Shape, built: list[tuple[object, roofs.RoofMesh]]) -> Shape:
-    """The 3D shape holding the roofs ``(frame, RoofMesh)`` built on ``parent``'s faces."""
+def roof_shape(
+    parent: Shape, built: list[tuple[object, roofs.RoofMesh]], keep_axes: bool = False
+) -> Shape:
+    """The 3D shape holding the roofs ``(frame, RoofMesh)`` built on ``parent``'s faces: its
+    scope's y along the face normal (the roofs), or the parent's axes (``keep_axes``: the
+    envelope, whose scope PyPRT only resizes; candler's ventilation moves along the envelope's
+    scope z to its top)."""
     points, faces, tags = [], [], []
     start = 0
     for frame, mesh in built:
@@ -45,7 +50,11 @@ def roof_shape(parent: Shape, built: list[tuple[object, roofs.RoofMesh]]) -> Sha
         start += len(mesh.vertices)
     local = np.concatenate(points)
     normal = parent.scope.rotation @ built[0][0].n
-    frame = rotation_keeping_x(parent.scope.rotation[:, 0], normal)
+    frame = (
+        parent.scope.rotation
+        if keep_axes
+        else rotation_keeping_x(parent.scope.rotation[:, 0], normal)
+    )
     scope, fitted = fitted_scope(parent.scope.to_world(local), frame)
     return Shape(scope, MASS, 1, None, _tagged(Mesh(fitted, faces), tags))
 
@@ -225,7 +234,7 @@ def compile_envelope(program, node: ast.Operation, params):
                 raise program.error(node, f"envelope(): {exc}") from None
         if not built:
             return False
-        state.shape = roof_shape(state.shape, built)
+        state.shape = roof_shape(state.shape, built, keep_axes=True)
         return True
 
     return envelope_op
