@@ -112,6 +112,7 @@ class Derivation:
         self.call_depth = 0
         self.string_chars = 0
         self.reports: dict[str, list] = {}
+        self.warnings: list[str] = []  # what the model's metadata lists under "warnings"
         # The start shape's axes: the frame of CGA's object.* selectors.
         self.object_rotation = None
         self.start_shape: Shape | None = None  # what resetGeometry() goes back to
@@ -119,6 +120,11 @@ class Derivation:
         self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
         # inside()/overlaps()/touches(): set by the interpreter (shapegen.engine.occlusion)
         self.occlusion = None
+
+    def warn(self, message: str) -> None:
+        """Record a warning of the derivation once (an asset not found, an operation ignored)."""
+        if message not in self.warnings:
+            self.warnings.append(message)
 
     def check_clock(self, node) -> None:
         """Stop the derivation past its ``max_seconds``."""

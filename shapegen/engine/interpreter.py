@@ -177,7 +177,7 @@ class Program(AttributeValues, ShapeOperations):
             "attrs": {name: values[name] for name in self.attr_nodes},
             "free_parameters": self.free_parameters(values, start_scope),
             "reports": {k: v[0] if len(v) == 1 else v for k, v in run.reports.items()},
-            "warnings": list(getattr(run, "warnings", ())),  # assets not found (cga_ops/assets)
+            "warnings": list(run.warnings),  # assets not found, operations ignored
             "leaves": run.leaf_count,  # leaf shapes that gave a block or a surface
             "structure": {
                 "name": self.structure,

@@ -29,12 +29,8 @@ _spec.loader.exec_module(cga_compare)
 FILES = cga_compare.corpus_files()
 REQUIRED_SHARE = 0.90
 
-# Figures known to differ from PyPRT, per file (asserted to still differ).
-KNOWN_DIFFERENCES: dict[str, set[str]] = {
-    # 1 722 leaves here, 1 734 in PyPRT: the roof's pipes (12 fewer cylinders and holders);
-    # every facade material's count matches (bricks 1 027, sills 414, windows 207...)
-    **{name: {"leaves"} for name, _ in FILES if name.startswith("candler_")},
-}
+# Figures known to differ from PyPRT, per file (asserted to still differ); none at present.
+KNOWN_DIFFERENCES: dict[str, set[str]] = {}
 
 
 @functools.cache

@@ -85,3 +85,18 @@ def test_leaves_count_leaf_shapes_and_extrude_zero_is_a_face(tmp_path):
     assert len(model.blocks) == 2 and model.metadata["leaves"] == 2
     (face,) = model.surfaces
     assert face.reason == "a face (no volume)"
+
+
+def test_an_offset_that_leaves_nothing_is_ignored_with_a_warning(tmp_path):
+    # PyPRT's candler: "offset(): no face selected, ignoring operation" on its roof's narrowest
+    # pipe ring; the ring is then laid on the face as it was
+    path = tmp_path / "offset.cga"
+    path.write_text('@StartRule\nLot --> offset(-5, inside) report("area", geometry.area()) X.\n')
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    assert model.metadata["reports"]["area"] == pytest.approx(96.0)
+    (warning,) = model.metadata["warnings"]
+    assert "offset(-5, inside) left no face" in warning and "Lot" in warning
+    path.write_text('@StartRule\nLot --> offset(-3, inside) report("area", geometry.area()) X.\n')
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    assert model.metadata["reports"]["area"] == pytest.approx(6 * 2)
+    assert not model.metadata["warnings"]

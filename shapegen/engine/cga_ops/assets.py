@@ -277,15 +277,6 @@ def _welded(vertices: np.ndarray, faces: list[list[int]]) -> Mesh:
     return Mesh(unique, kept)
 
 
-def _warn(state, message: str) -> None:
-    run = state.run
-    warnings = getattr(run, "warnings", None)
-    if warnings is None:
-        warnings = run.warnings = []
-    if message not in warnings:
-        warnings.append(message)
-
-
 def _shape_of(mesh: Mesh, scope: Scope) -> Shape:
     lo, hi = mesh.bounds()
     flat = [k for k in range(3) if hi[k] - lo[k] <= 0]
@@ -319,7 +310,7 @@ def asset_insert(program, node: ast.Insert, params):
             return apply_trim(state)
         path = find_asset(name, rule_file)
         if path is None:
-            _warn(state, f"asset {name!r} not found (rules: {format_chain(state.rule_path)}); "
+            state.run.warn(f"asset {name!r} not found (rules: {format_chain(state.rule_path)}); "
                          f"a box fills its scope instead")  # fmt: skip
             state.shape = _box_shape(scope)
             return apply_trim(state)

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
+from shapegen.engine.derivation import format_chain
 from shapegen.engine.expressions import type_name
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
@@ -248,8 +249,12 @@ def compile_offset(program, node: ast.Operation, params):
             if keep in ("all", "border"):
                 faces += [frame.lift(p) for p in result.border if len(p) >= 3]
                 tags += ["border"] * sum(len(p) >= 3 for p in result.border)
-        if not faces:
-            return False  # nothing is left of the face: an empty shape makes nothing
+        if not faces:  # CityEngine: "offset(): no face selected, ignoring operation"
+            state.run.warn(
+                f"offset({d:g}, {keep}) left no face; the operation is ignored, as CityEngine "
+                f"does (rules: {format_chain(state.rule_path)})"
+            )
+            return True
         state.shape = flat_shape(shape, faces, tags, shape.kind)
         return True
 
