@@ -94,10 +94,14 @@ def test_offset_border_only_and_outward(program):
     np.testing.assert_allclose(state.shape.scope.origin, [-2, 0, -2], atol=1e-12)
 
 
-def test_offset_past_the_middle_deletes_the_inside(program):
+def test_offset_past_the_middle_is_ignored_with_a_warning(program):
+    # CityEngine's runtime: "offset(): no face selected, ignoring operation"
     state = _state(program)
+    before = state.shape
     op = compiler_for("offset")(program, _operation("offset", -5, "inside"), {})
-    assert op(state, (), []) is False
+    assert op(state, (), []) is True
+    assert state.shape is before
+    assert any("left no face" in w for w in state.run.warnings)
 
 
 # --------------------------------------------------------------------------------- setback
