@@ -109,6 +109,8 @@ class AttributeValues:
             if bounds is None:
                 raise self.error(node, f"@Free attr {name!r} needs a @Range(min, max)")
             low, high = (self.expressions.compile(b, {})((), state) for b in bounds)
+            if not node.free and not (type(low) is float and type(high) is float):
+                continue  # CityEngine's old @Range("a", "b") lists a string attr's values
             for bound in (low, high):
                 if type(bound) is not float:
                     raise self.error(

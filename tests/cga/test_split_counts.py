@@ -100,3 +100,14 @@ def test_an_offset_that_leaves_nothing_is_ignored_with_a_warning(tmp_path):
     model = shapegen.load_grammar(path).build(lot=(12, 8))
     assert model.metadata["reports"]["area"] == pytest.approx(6 * 2)
     assert not model.metadata["warnings"]
+
+
+def test_the_old_string_range_is_not_a_numeric_parameter(tmp_path):
+    # candler: @Range("Visualization", "3DPrint") on a string attr (CityEngine's old form)
+    path = tmp_path / "mode.cga"
+    path.write_text(
+        '@Range("Visualization", "3DPrint")\nattr Mode = "Visualization"\n'
+        "@Range(28, 150)\nattr H = 62\n@StartRule\nLot --> extrude(H) X.\n"
+    )
+    grammar = shapegen.load_grammar(path)
+    assert set(grammar.parameter_ranges()) == {"H"}
