@@ -51,6 +51,7 @@ from shapegen.engine.cga_ops import (  # noqa: E402, F401
     assets,
     polygons,
     roofs,
+    scatter,
     scope_ops,
     split_area,
     topology,

@@ -16,6 +16,7 @@
   degenerate faces (shared edges of coplanar faces are kept);
 - ``resetGeometry()``: the start shape's geometry and scope;
 - ``trim()``: the shape's geometry cut to its enabled trim planes (:mod:`shapegen.engine.trim`);
+- ``deleteHoles()``: nothing to do, shapegen's faces have no holes;
 - ``convexify([maxLength])``: every concave face cut into convex polygons (constrained
   triangulation, then diagonals removed while the pieces stay convex, Hertel and Mehlhorn; with
   ``maxLength`` only cuts shorter than it are kept).
@@ -394,6 +395,14 @@ def compile_reset_geometry(program, node, params):
 def compile_trim(program, node, params):
     _arguments(program, node, (0,))
     return lambda state, args, out: apply_trim(state)
+
+
+@compiles("deleteHoles")
+def compile_delete_holes(program, node, params):
+    """``deleteHoles()``: shapegen's faces have no holes (a face with holes is read as its
+    outer boundary), so the geometry is already what deleting them gives."""
+    _arguments(program, node, (0,))
+    return lambda state, args, out: True
 
 
 @compiles("convexify")

@@ -1,0 +1,83 @@
+"""scatter (op_scatter): point shapes on a surface, in a volume or in the scope; a uniform
+or gaussian draw around a side of the scope; each point a zero-size scope with one vertex, y along
+the surface normal on a surface; the same points for the same seed."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import shapegen
+from shapegen.errors import GrammarError
+
+
+def _build(tmp_path, text, seed=0):
+    path = tmp_path / "scatter.cga"
+    path.write_text("@StartRule\n" + text)
+    return shapegen.load_grammar(path).build(lot=(12, 8), seed=seed)
+
+
+CUBE = "Leaf --> primitiveCube() s(0.2, 0.2, 0.2) center(xz)\n"
+
+
+def _centres(model):
+    return np.array([b.vertices.mean(axis=0) for b in model.blocks])
+
+
+def test_points_on_a_surface_stand_on_it_along_its_normal(tmp_path):
+    model = _build(
+        tmp_path,
+        "Lot --> extrude(2) comp(f) { top : scatter(surface, 50, uniform) { Leaf } }\n" + CUBE,
+    )
+    centres = _centres(model)
+    assert len(centres) == 50
+    assert np.allclose(centres[:, 1], 2.1)  # a 0.2 m cube on the roof at y = 2
+    assert centres[:, 0].min() > -0.2 and centres[:, 0].max() < 12.2
+    assert centres[:, 2].min() > -0.2 and centres[:, 2].max() < 8.2
+
+
+def test_points_in_a_volume_and_in_the_scope_lie_inside(tmp_path):
+    for domain in ("volume", "scope"):
+        model = _build(tmp_path, f"Lot --> extrude(3) scatter({domain}, 200, uniform) {{ P }}\n"
+                                 "P --> primitiveCube() s(0.01, 0.01, 0.01)\n")  # fmt: skip
+        c = _centres(model)
+        assert len(c) == 200
+        assert (c >= -0.01).all() and (c <= [12.01, 3.01, 8.01]).all()
+        # uniform: the mean is near the middle (standard error of 200 draws: 0.29 m in x)
+        assert abs(c[:, 0].mean() - 6) < 1.2 and abs(c[:, 1].mean() - 1.5) < 0.4
+
+
+def test_a_gaussian_on_the_left_side_is_a_half_normal_on_the_face(tmp_path):
+    text = "Lot --> scatter(surface, 400, gaussian, left, '0.1) { Leaf }\n" + CUBE
+    x = _centres(_build(tmp_path, text))[:, 0]
+    # accepted draws on x >= 0 around x = 0 with sigma 0.1 x 12 m: mean sigma sqrt(2/pi)
+    assert x.mean() == pytest.approx(1.2 * math.sqrt(2 / math.pi), abs=0.2)
+    assert np.percentile(x, 95) < 3.5
+
+
+def test_same_seed_same_points_and_points_draw_nothing(tmp_path):
+    text = "Lot --> scatter(surface, 20, uniform) { Leaf }\n" + CUBE
+    a, b, c = (_centres(_build(tmp_path, text, seed)) for seed in (1, 1, 2))
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+    empty = _build(tmp_path, "Lot --> scatter(scope, 20, uniform) { X. }\n")
+    assert not empty.blocks and not empty.surfaces
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        ("scatter(edges, 3, uniform)", "domain is surface, volume or scope"),
+        ("scatter(surface, 3, poisson)", "undefined name 'poisson'"),
+        ("scatter(surface, 3, uniform, left)", "belong to a gaussian"),
+    ],
+)
+def test_bad_calls_are_load_errors(tmp_path, call, message):
+    with pytest.raises(GrammarError, match=message):
+        _build(tmp_path, f"Lot --> {call} {{ X }}\n")
+
+
+def test_a_fractional_count_is_refused_when_derived(tmp_path):
+    with pytest.raises(shapegen.ShapegenError, match="whole number of points"):
+        _build(tmp_path, "Lot --> scatter(surface, 2.5, uniform) { X }\n")
