@@ -371,6 +371,8 @@ class ShapeOperations:
         assets = None if literal or node.parameters else asset_insert(self, node, params)
         if literal:
             _check_primitive_call(node, self.error)
+        if node.options and (literal or node.parameters):
+            raise self.error(node, "i() of a template primitive takes key=value parameters only")
         name_of = self.expressions.compile(node.primitive, params)
         keywords = [(k.name, self.expressions.compile(k.value, params)) for k in node.parameters]
         error = self.error
@@ -381,6 +383,10 @@ class ShapeOperations:
                 raise error(node, f"i() needs a primitive name (a string), got a {type_name(name)}")
             if assets is not None and is_asset_name(name):
                 return assets(state, args, out)
+            if node.options:
+                raise error(
+                    node, f"i({name!r}): a template primitive takes key=value parameters only"
+                )
             values = {key: value(args, state) for key, value in keywords}
             scope = state.shape.scope
             if name == "box" and not values:

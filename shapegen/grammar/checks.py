@@ -329,6 +329,9 @@ class _Checker(AnnotationChecks):
                     self._mark(branch.key, OPERATION_KEYWORDS)
                 if node.name == "comp":
                     self._comp_words(node)
+            elif isinstance(node, ast.Insert):
+                for option in node.options:  # i(asset, yUp, keepSizeAlignPosition)
+                    self._mark(option, OPERATION_KEYWORDS)
             elif isinstance(node, ast.ComponentValues):
                 for argument in node.arguments:
                     self._mark(argument, OPERATION_KEYWORDS)

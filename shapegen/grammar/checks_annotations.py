@@ -27,6 +27,14 @@ _KIND_NAMES = {
 }
 
 
+#: CityEngine's annotations for its inspector and viewport whose arguments are CityEngine's own
+#: words (``@Handle(shape=Lot, axis=y)``, ``@Out(granularity=separate)``): never evaluated here,
+#: so their names are not looked up.
+_UNEVALUATED = frozenset(
+    {"Handle", "Location", "Out", "Macro", "File", "Directory", "MaterialFile", "Label"}
+)
+
+
 def _suggestion(name: str, candidates: Iterable[str]) -> str:
     matches = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
     return f"; did you mean '{matches[0]}'?" if matches else ""
@@ -78,7 +86,8 @@ class AnnotationChecks:
                         f"@{name} has no argument '{keyword.name}' (valid: {valid})"
                         + _suggestion(keyword.name, keywords),
                     )
-            self._visit(annotation, {})
+            if name not in _UNEVALUATED:
+                self._visit(annotation, {})
             if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
                 self.report(annotation.location, f"@{name} belongs on a rule, not on {kind}")
             if name in _ATTR_ONLY_ANNOTATIONS and not isinstance(definition, ast.Attribute):

@@ -396,6 +396,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("intra", "inter"),
         *("uv", "uvSpace", "index", "total", "unitSpace"),
         *("stretch", "fitArea", "keepSizeAndPosition", "alignSizeAndPosition"),
+        *("keepSizeAlignPosition", "numericalCleanup"),  # i(asset, upAxis, mode, cleanup)
         *("recompose", "unify"),
         *("extend", "default", "pos", "orient", "dir"),
         *("edge", "normal"),  # innerRectangle(edge), envelope(normal, ...)
@@ -419,7 +420,7 @@ OPERATIONS: dict[str, tuple[int, int]] = {
     "center": (1, 1),
     "label": (1, 1),
     "set": (2, 2),
-    "i": (1, 1),
+    "i": (1, 4),  # i(asset[, upAxis[, insertMode[, cleanupMode]]]); a template takes key=value
     "print": (1, 1_000_000),
     "report": (2, 2),
 }

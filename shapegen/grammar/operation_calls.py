@@ -109,8 +109,8 @@ class OperationBuilders:
             )
         if name == "extrude":
             return len(positional) == 1
-        if name == "i":
-            return len(positional) == 1
+        if name == "i":  # i(asset[, upAxis[, insertMode[, cleanupMode]]])
+            return 1 <= len(positional) <= 4
         if name == "comp":
             kind = positional[0].value if len(positional) == 1 else None
             if not (isinstance(kind, ast.Name) and kind.name in COMP_KINDS) or block.repeat:
@@ -247,13 +247,17 @@ class OperationBuilders:
         primitive, *rest = arguments
         if primitive.kind == "keyword":
             self._problem(primitive.location, "i() needs the primitive's name first")
-        keywords = []
+        keywords, options = [], []
         for argument in rest:
             if argument.kind == "keyword":
                 keywords.append(
                     ast.Keyword(argument.name, argument.value, location=argument.location)
                 )
-        return ast.Insert(self._plain("i", primitive), tuple(keywords), location=location)
+            else:  # i(asset, yUp, keepSizeAlignPosition): read by the asset insert
+                options.append(self._plain("i", argument))
+        return ast.Insert(
+            self._plain("i", primitive), tuple(keywords), location=location, options=tuple(options)
+        )
 
     def _op_print(self, arguments, block, location):
         values = tuple(self._plain("print", a) for a in arguments)

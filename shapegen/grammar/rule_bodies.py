@@ -211,6 +211,7 @@ class Insert:
     primitive: Expression
     parameters: tuple[Keyword, ...] = ()
     location: SourceLocation = location_field()
+    options: tuple[Expression, ...] = ()  # an asset's upAxis, insertMode, cleanupMode (op_i)
 
 
 @node

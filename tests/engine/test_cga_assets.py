@@ -206,3 +206,44 @@ def test_templates_are_in_the_unit_box():
     for kind in ("cube", "quad", "disk", "cylinder", "cone", "sphere"):
         lo, hi = primitive_mesh(kind).bounds()
         assert lo.tolist() == pytest.approx([0, 0, 0]) and hi.max() == pytest.approx(1.0)
+
+
+def _slab(project):
+    """A 1 x 2 x 3 m box asset (x, y, z) with its corner at (1, 0, 0)."""
+    trimesh.creation.box(extents=(1, 2, 3)).apply_translation((1.5, 1, 1.5)).export(
+        project / "assets" / "slab.obj"
+    )
+
+
+@pytest.mark.parametrize(
+    "options, low, high",
+    [
+        # op_i: keepSizeAndPosition is s(0, 0, 0): the asset as it is, moved by its offset
+        ("yUp, keepSizeAndPosition", (1, 0, 0), (2, 2, 3)),
+        # zUp turns the asset by -90 degrees about x: its z (3 m) becomes y, its y points to -z
+        ("zUp, keepSizeAndPosition", (1, 0, -2), (2, 3, 0)),
+        # keepSizeAlignPosition: its own size, centred in the scope's x and z, bottom on y = 0
+        ("yUp, keepSizeAlignPosition", (5.5, 0, 2.5), (6.5, 2, 5.5)),
+        ("yUp, alignSizeAndPosition, noCleanup", (0, 0, 0), (12, 4, 8)),
+    ],
+)
+def test_insert_options_up_axis_and_mode(project, options, low, high):
+    _slab(project)
+    model = _build(project, f'Lot --> extrude(4) i("slab.obj", {options})')
+    (block,) = model.blocks
+    assert block.vertices.min(axis=0) == pytest.approx(low)
+    assert block.vertices.max(axis=0) == pytest.approx(high)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        ('i("slab.obj", xUp)', "argument 2 is one of yUp, zUp"),
+        ('i("slab.obj", yUp, stretch)', "argument 3 is one of alignSizeAndPosition"),
+        ('i("box", yUp)', "template primitive takes key=value parameters only"),
+    ],
+)
+def test_bad_insert_options_are_load_errors(project, call, message):
+    _slab(project)
+    with pytest.raises(GrammarError, match=message):
+        _build(project, f"Lot --> extrude(4) {call}")

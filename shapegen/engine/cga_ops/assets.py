@@ -298,6 +298,7 @@ def asset_insert(program, node: ast.Insert, params):
     name_of = program.expressions.compile(node.primitive, params)
     rule_file = getattr(getattr(node, "location", None), "file", None) or program.grammar.filename
     error = program.error
+    up_axis, mode = _insert_options(program, node)
 
     def insert_asset(state, args, out):
         name = name_of(args, state)
@@ -318,11 +319,54 @@ def asset_insert(program, node: ast.Insert, params):
             mesh = load_asset(path)
         except (GeometryError, OSError, ValueError) as exc:
             raise error(node, f"i({name!r}): {exc}") from None
-        new_scope, local = fitted(mesh, scope)
+        if up_axis == "zUp":  # op_i: "rotated by -90 degrees around the x-axis"
+            mesh = Mesh(mesh.vertices @ _Z_UP.T, mesh.faces)
+        if mode == "keepSizeAndPosition":  # as s(0, 0, 0)
+            scope = Scope(scope.origin, scope.rotation, np.zeros(3))
+        if mode == "keepSizeAlignPosition":
+            new_scope, local = _kept_size(mesh, scope)
+        else:
+            new_scope, local = fitted(mesh, scope)
         state.shape = _shape_of(local, new_scope)
         return apply_trim(state)
 
     return insert_asset
+
+
+_Z_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # -90 degrees about x
+_INSERT_OPTIONS = (
+    ("yUp", "zUp"),
+    ("alignSizeAndPosition", "keepSizeAndPosition", "keepSizeAlignPosition"),
+    ("numericalCleanup", "noCleanup"),
+)
+
+
+def _insert_options(program, node) -> tuple[str, str]:
+    """``i(asset, upAxis, insertMode, cleanupMode)``'s words (op_i), checked when compiled; the
+    cleanup mode only concerns CityEngine's mesh repair, so both are accepted."""
+    options = getattr(node, "options", ())
+    if len(options) > len(_INSERT_OPTIONS):
+        raise program.error(node, "i() takes a file, an up axis, an insert mode and a cleanup mode")
+    words = []
+    for option, allowed in zip(options, _INSERT_OPTIONS, strict=False):
+        word = option.name if isinstance(option, ast.Name) else None
+        if word not in allowed:
+            raise program.error(
+                node, f"i()'s argument {len(words) + 2} is one of {', '.join(allowed)}"
+            )
+        words.append(word)
+    words += [allowed[0] for allowed in _INSERT_OPTIONS[len(words) :]]
+    return words[0], words[1]
+
+
+def _kept_size(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
+    """``keepSizeAlignPosition``: the asset at its own size, its bounding box on the scope's
+    y = 0 and centred in the scope's x and z."""
+    lo, hi = mesh.bounds()
+    extent = hi - lo
+    offset = np.array([(scope.size[0] - extent[0]) / 2, 0.0, (scope.size[2] - extent[2]) / 2])
+    origin = scope.origin + scope.rotation @ offset
+    return Scope(origin, scope.rotation, extent), Mesh(mesh.vertices - lo, mesh.faces)
 
 
 def _name_problem(name: str) -> str | None:

@@ -1,0 +1,32 @@
+"""CityEngine's inspector annotations take CityEngine's own words as arguments; shapegen never
+evaluates them, so their names are not looked up (a typo elsewhere still is)."""
+
+from __future__ import annotations
+
+import pytest
+
+import shapegen
+from shapegen.errors import GrammarError
+
+
+@pytest.mark.parametrize(
+    "annotation",
+    [
+        "@Handle(shape=Lot, axis=y, slip=screen, reference=center)",
+        "@Location(shape=Lot, slip=screen)",
+        "@Out(granularity=separate)",
+        '@File("assets") @Group("Building", 1) @Order(2)',
+    ],
+)
+def test_inspector_annotations_load(tmp_path, annotation):
+    path = tmp_path / "annotated.cga"
+    path.write_text(f"{annotation}\nattr height = 10\n@StartRule\nLot --> extrude(height) X.\n")
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    assert model.blocks[0].volume == pytest.approx(960)
+
+
+def test_names_in_evaluated_annotations_are_still_checked(tmp_path):
+    path = tmp_path / "range.cga"
+    path.write_text("@Range(min=1, max=hieght)\nattr height = 10\n@StartRule\nLot --> X.\n")
+    with pytest.raises(GrammarError, match="undefined name 'hieght'"):
+        shapegen.load_grammar(path)
