@@ -18,11 +18,12 @@ from shapegen.engine.shape import Shape
 from shapegen.geometry.trim import face_trim_planes, trimmed
 
 
-def comp_trim_planes(shape: Shape, object_rotation) -> list[tuple]:
-    """The trim planes of each face of ``shape``'s geometry (its ``comp(f)`` components)."""
+def comp_trim_planes(shape: Shape, faces: list[Shape]) -> list[tuple]:
+    """The trim planes of each face of ``shape``'s geometry, whose ``comp(f)`` components are
+    ``faces`` (in the geometry's face order): classified in each face's own frame."""
     mesh = shape.mesh()
-    up = np.array([0.0, 1.0, 0.0]) if object_rotation is None else object_rotation[:, 1]
-    return face_trim_planes(shape.scope.to_world(mesh.vertices), mesh.faces, up)
+    ups = np.array([face.scope.rotation[:, 1] for face in faces])
+    return face_trim_planes(shape.scope.to_world(mesh.vertices), mesh.faces, ups)
 
 
 def apply_trim(state) -> bool:

@@ -2,7 +2,9 @@
 
 op_comp: "for faces, the component split generates trim planes. Trim planes are placed along
 the shared edges of the new faces in a bisecting angle." attr_trim: a plane is *horizontal* when
-its generating edge makes less than 40 degrees with the pivot's x-z plane, else *vertical*;
+its generating edge makes less than 40 degrees with the pivot's x-z plane, else *vertical*
+(the pivot of a component is its face's frame: x along the face's first edge, z its normal, so
+an edge along the face's y direction is vertical: a wall's corners, a roof plane's hips);
 inserted assets and primitives are cut by the enabled ones (vertical by default).
 
 A face's plane at an edge it shares with a neighbour contains the edge and bisects the dihedral
@@ -40,7 +42,10 @@ class TrimPlane:
 
 def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[TrimPlane, ...]]:
     """The trim planes of each face of a mesh given in world coordinates (``vertices``), one per
-    edge the face shares with another face; ``up`` is the pivot's y axis (world)."""
+    edge the face shares with another face; ``up`` is the pivot's y axis (world), one for all
+    faces or one row per face (a component's pivot is its face's frame: y in the face)."""
+    up = np.asarray(up, dtype=float)
+    ups = np.broadcast_to(up, (len(faces), 3)) if up.ndim == 1 else up
     vertices = np.asarray(vertices, dtype=float)
     faces = [tuple(face) for face in faces]
     normals = []
@@ -59,7 +64,7 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
             others = [g for g in sharing[(min(a, b), max(a, b))] if g != f]
             if not others:
                 continue
-            plane = _bisector(vertices[a], vertices[b], normals[f], normals[others[0]], up)
+            plane = _bisector(vertices[a], vertices[b], normals[f], normals[others[0]], ups[f])
             if plane is not None:
                 planes.append(plane)
         out.append(tuple(planes))

@@ -29,8 +29,12 @@ _spec.loader.exec_module(cga_compare)
 FILES = cga_compare.corpus_files()
 REQUIRED_SHARE = 0.90
 
-# Figures known to differ from PyPRT, per file (asserted to still differ); none at present.
-KNOWN_DIFFERENCES: dict[str, set[str]] = {}
+# Figures known to differ from PyPRT, per file (asserted to still differ).
+KNOWN_DIFFERENCES: dict[str, set[str]] = {
+    # 245 leaves here, 241 in PyPRT: each of the 4 raking simas, split(x) { ~2.145 : Sima }* on
+    # 5.46 m, is laid out 3 times here (1.82 m, the closest to 2.145) and twice in PyPRT
+    "parthenon_c56c809a.cga": {"leaves"},
+}
 
 
 @functools.cache

@@ -37,13 +37,14 @@ from shapegen.engine.trim import comp_trim_planes
 from shapegen.geometry.frames import face_rotation, fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.queries import FACE_SELECTORS, border_faces, face_matches
+from shapegen.geometry.roof_edges import ROOF_EDGE_CLASSES, roof_edge_classes
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
 
 EDGE = "edge"
 VERTEX = "vertex"
 _KINDS = ("f", "e", "v", "fe", "fv")
-_ROOF_EDGES = ("eave", "hip", "valley", "ridge")
+_ROOF_EDGES = ROOF_EDGE_CLASSES
 
 
 @dataclass
@@ -58,6 +59,7 @@ class Component:
     border: bool
     shape: Shape
     mesh_faces: tuple[int, ...] = ()
+    roof: str = ""  # comp(e): eave, hip, valley, ridge or "" (shapegen.geometry.roof_edges)
 
 
 def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Component]:
@@ -117,9 +119,13 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
             for a, b in zip(face, face[1:] + face[:1], strict=True)
             if a != b
         ]
+        roofs = [("", False)] * len(pairs)
     else:
         pairs = [(a, b, None) for a, b in _ordered_edges(mesh)]
-    for k, (a, b, f) in enumerate(pairs):
+        roofs = roof_edge_classes(world_vertices, mesh.faces, [(a, b) for a, b, _ in pairs])
+    for k, ((a, b, f), (roof, turn)) in enumerate(zip(pairs, roofs, strict=True)):
+        if turn:  # hips, valleys and ridges run upwards; eaves as their roof face runs
+            a, b = b, a
         start, end = world_vertices[a], world_vertices[b]
         faces = edge_faces[(min(a, b), max(a, b))]
         if f is None:
@@ -143,6 +149,7 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
                 len(faces) == 1,
                 Shape.with_geometry(edge_scope, geometry, EDGE, 2),
                 tuple(faces),
+                roof,
             )
         )
     return out
@@ -326,9 +333,11 @@ def _is_selector(key) -> bool:
 
 def _named(program, node, name: str, kind: str) -> Selector:
     if name in _ROOF_EDGES:
-        raise program.error(
-            node, f"the roof-edge selector {name!r} of comp({kind}) is not supported by shapegen"
-        )
+        if kind != "e":  # op_comp: "These selectors can only be applied on edge component splits"
+            raise program.error(
+                node, f"the roof-edge selector {name!r} needs comp(e), not comp({kind})"
+            )
+        return lambda c, state, args: c.roof == name
     if name not in FACE_SELECTORS:
         raise program.error(node, f"unknown comp selector {name!r}")
     return lambda c, state, args: face_matches(name, c.normal, c.world, c.object, c.border)
@@ -364,7 +373,9 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             components = _vertex_components(shape, object_rotation)
         taken = [False] * len(components)
         run = state.run
-        planes = comp_trim_planes(shape, object_rotation) if trims and kind == "f" else None
+        planes = None
+        if trims and kind == "f":
+            planes = comp_trim_planes(shape, [c.shape for c in components])
         for select, merge, body, branch, text in compiled:
             chosen = []
             for k, component in enumerate(components):
