@@ -40,9 +40,11 @@ class AttributeValues:
     error: Callable[..., GrammarError]
 
     def initial_values(
-        self, overrides: Mapping[str, object] | None, seed: int, lot: Scope
+        self, overrides: Mapping[str, object] | None, seed: int, lot: Scope, run=None
     ) -> dict[str, object]:
-        """Values of every attr and const (with ``overrides``) and of the reserved attrs."""
+        """Values of every attr and const (with ``overrides``) and of the reserved attrs;
+        warnings of their evaluation (a table file not found) go to ``run``, the derivation
+        they start."""
         if overrides is not None and not isinstance(overrides, Mapping):
             raise GrammarError(
                 f"attrs must be a mapping of names to values, got {shown(overrides)}"
@@ -58,7 +60,7 @@ class AttributeValues:
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             listing = ", ".join(known) if known else "none"
             raise GrammarError(f"unknown attribute {name!r}{hint}; attributes: {listing}")
-        run = Derivation(self, seed)
+        run = run or Derivation(self, seed)
         values: dict[str, object] = {}
         resolving: list[str] = []
 
@@ -274,7 +276,7 @@ def _coerce_array(name: str, value: object, default: Array) -> Array:
                     f"attr {name!r} is {kind}, and {shown(item)} is not one of them"
                 ) from None
     try:
-        return array_from(converted) if converted else Array((), 0, 0)
+        return array_from(converted) if converted else Array((), 0, 0, element)
     except ValueError as exc:
         raise GrammarError(f"attr {name!r}: {exc}") from None
 

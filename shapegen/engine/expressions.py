@@ -22,13 +22,14 @@ from collections.abc import Callable
 from shapegen.engine.functions import PURE_FUNCTIONS, file_functions
 from shapegen.engine.functions_arrays import (
     Array,
-    array_from,
     colon_range,
+    concatenated,
     format_value,
     type_name,
 )
 from shapegen.engine.functions_arrays import index_array as _index_array
 from shapegen.engine.functions_calls import OCCLUSION, BuiltinCalls
+from shapegen.engine.functions_files import reading_functions
 from shapegen.engine.functions_shape import convert_value, shape_reader
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
@@ -58,6 +59,7 @@ class ExpressionCompiler(BuiltinCalls):
         self.overloads = {(f.name, len(f.params)): f for f in grammar.functions}
         self.function_nodes = {f.name: f for f in reversed(grammar.functions)}
         self.files = file_functions(grammar.filename)
+        self.readers = reading_functions(grammar.filename)
 
     # ------------------------------------------------------------------ errors
     def error(self, node: object, message: str) -> GrammarError:
@@ -159,15 +161,13 @@ class ExpressionCompiler(BuiltinCalls):
                 items = []
                 for item, colon in row:
                     value = item(args, state)
-                    if colon:
-                        items.extend(value)
-                    elif isinstance(value, Array) and len(node.rows) == 1 and len(row) == 1:
-                        return value
+                    if colon:  # a range is a row of numbers
+                        items.append(Array(tuple(value), 1 if value else 0, len(value), float))
                     else:
                         items.append(value)
                 values.append(items)
             try:
-                return array_from(values)
+                return concatenated(values)
             except ValueError as exc:
                 raise error(node, str(exc)) from None
 
@@ -227,9 +227,11 @@ class ExpressionCompiler(BuiltinCalls):
         return index
 
     def _ComponentValues(self, node: ast.ComponentValues, params) -> Compiled:
-        raise self.error(
-            node, "the comp() function (an array of component values) is not supported by shapegen"
-        )
+        # the comp function takes the shape apart as the comp operation does (cga_ops imports
+        # this module, so it is looked up when a rule file uses it, as operations.py does)
+        from shapegen.engine.cga_ops.comp_values import compile_component_values
+
+        return compile_component_values(self, node, params)
 
     def _Unary(self, node: ast.Unary, params) -> Compiled:
         operand = self.compile(node.operand, params)
@@ -354,6 +356,8 @@ class ExpressionCompiler(BuiltinCalls):
             return self._call_print(node, arguments)
         if name == "convert":
             return self._call_pure(node, convert_value, arguments, with_state=True)
+        if name in self.readers:
+            return self._call_pure(node, self.readers[name], arguments, with_state=True)
         function = self.files.get(name) or PURE_FUNCTIONS.get(name)
         if function is not None:
             return self._call_pure(node, function, arguments)

@@ -2,7 +2,9 @@
 
 An array is a table of floats, booleans or strings, stored row by row: ``[1, 2, 3]`` is one row
 of three columns, ``[1; 2]`` two rows of one column. Indices start at 0; a one-row or one-column
-array takes one index (``a[1]``), any array two (``a[row, column]``).
+array takes one index (``a[1]``), any array two (``a[row, column]``). An index outside the array
+gives the default of the array's type (0, false or ""), as func_index says ("Invalid indexing");
+an array of indices gives an array of the indices' shape.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ __all__ = [
     "ARRAY_FUNCTIONS",
     "Array",
     "array_from",
+    "concatenated",
     "format_array",
     "format_value",
     "index_array",
@@ -19,23 +22,28 @@ __all__ = [
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 
 @dataclass(frozen=True)
 class Array:
-    """A CGA array: ``values`` row by row, ``rows`` x ``columns``."""
+    """A CGA array: ``values`` row by row, ``rows`` x ``columns``; ``element`` is the type of an
+    empty array's elements (``floatArray()``, a missing table), which its indexing needs."""
 
     values: tuple
     rows: int
     columns: int
+    element: type | None = field(default=None, compare=False)
 
     @property
     def size(self) -> int:
         return len(self.values)
 
     def element_type(self) -> type | None:
-        return type(self.values[0]) if self.values else None
+        return type(self.values[0]) if self.values else self.element
+
+
+_DEFAULTS = {float: 0.0, bool: False, str: ""}
 
 
 def array_from(rows: list[list]) -> Array:
@@ -52,6 +60,52 @@ def array_from(rows: list[list]) -> Array:
     return Array(values, len(rows) if values else 0, widths.pop() if values else 0)
 
 
+def concatenated(rows: list[list[object]]) -> Array:
+    """An array literal (func_array): each row of the literal is its items side by side, the
+    rows one above the other; an item is a value (one element) or an array (its block of rows
+    and columns: ``[a, b; b, a]``); empty arrays add nothing. All elements are of one type."""
+    blocks = []
+    element = None
+    for items in rows:
+        parts = []
+        for item in items:
+            if isinstance(item, Array):
+                kind = item.element_type()
+                if element is not None and kind is not None and kind is not element:
+                    raise ValueError(
+                        "an array holds values of one type (numbers, booleans or strings)"
+                    )
+                element = element or kind
+                if item.size:
+                    parts.append(item)
+            else:
+                parts.append(Array((item,), 1, 1))
+        if not parts:
+            continue
+        heights = {part.rows for part in parts}
+        if len(heights) > 1:
+            raise ValueError("the arrays side by side in a row must have the same number of rows")
+        height = heights.pop()
+        values = tuple(
+            value
+            for r in range(height)
+            for part in parts
+            for value in part.values[r * part.columns : (r + 1) * part.columns]
+        )
+        blocks.append(Array(values, height, sum(part.columns for part in parts)))
+    if not blocks:
+        return Array((), 0, 0, element)
+    if len({block.columns for block in blocks}) > 1:
+        raise ValueError("the rows of an array must have the same number of elements")
+    values = tuple(value for block in blocks for value in block.values)
+    if any(isinstance(value, Array) for value in values):
+        raise ValueError("an array cannot hold arrays")
+    types = {type(value) for value in values}
+    if len(types) > 1 or (element is not None and types != {element}):
+        raise ValueError("an array holds values of one type (numbers, booleans or strings)")
+    return Array(values, sum(block.rows for block in blocks), blocks[0].columns)
+
+
 def format_array(array: Array, format_value: Callable[[object], str]) -> str:
     """CGA's text of an array: ``[1,2,3]``, rows split by ``;`` (``[1,2;3,4]``)."""
     rows = [
@@ -62,48 +116,61 @@ def format_array(array: Array, format_value: Callable[[object], str]) -> str:
 
 
 def _position(index: object, length: int) -> int:
+    """The element ``index`` names, -1 when it is outside the array."""
     if type(index) is not float or not math.isfinite(index):
         raise ValueError(f"an array index must be a number, got {index!r}")
     position = int(math.floor(index))
-    if not 0 <= position < length:
-        raise ValueError(f"index {position} is out of range (the array has {length} elements)")
-    return position
+    return position if 0 <= position < length else -1
+
+
+def _default(array: Array) -> object:
+    element = array.element_type()
+    if element not in _DEFAULTS:
+        raise ValueError("an empty array of unknown type cannot be indexed")
+    return _DEFAULTS[element]
 
 
 def index_array(array: Array, indices: list) -> object:
-    """``array[i]`` or ``array[row, column]``; an index may be an array of indices (a
-    sub-array) or of booleans (a mask)."""
+    """``array[i]`` or ``array[row, column]``; an index may be an array of indices (the result
+    has its shape) or of booleans (a mask, always linear). Indices outside the array give the
+    default of the array's type."""
     if not isinstance(array, Array):
         raise ValueError("only arrays can be indexed with [ ]")
+    element = array.element_type()
+
+    def at(position: int) -> object:
+        return array.values[position] if position >= 0 else _default(array)
+
     if len(indices) == 1:
         (index,) = indices
-        if isinstance(index, Array):
-            chosen = _chosen(index, array.size)
-            values = tuple(array.values[k] for k in chosen)
-            if array.rows == 1:
-                return Array(values, 1 if values else 0, len(values))
-            return Array(values, len(values), 1 if values else 0)
-        return array.values[_position(index, array.size)]
+        if not isinstance(index, Array):
+            return at(_position(index, array.size))
+        values = tuple(at(k) for k in _chosen(index, array.size))
+        if index.element_type() is bool:  # logical indexing keeps the array's orientation
+            if array.rows == 1 or not values:
+                return Array(values, 1 if values else 0, len(values), element)
+            return Array(values, len(values), 1, element)
+        return Array(values, index.rows, index.columns, element)
     row, column = indices
+
+    def positions(index: object, length: int) -> list[int]:
+        return _chosen(index, length) if isinstance(index, Array) else [_position(index, length)]
+
     if not isinstance(row, Array) and not isinstance(column, Array):
-        r = _position(row, array.rows)
-        c = _position(column, array.columns)
-        return array.values[r * array.columns + c]
-    rows = _chosen(row, array.rows) if isinstance(row, Array) else [_position(row, array.rows)]
-    columns = (
-        _chosen(column, array.columns)
-        if isinstance(column, Array)
-        else [_position(column, array.columns)]
+        r, c = _position(row, array.rows), _position(column, array.columns)
+        return at(r * array.columns + c if r >= 0 and c >= 0 else -1)
+    rows, columns = positions(row, array.rows), positions(column, array.columns)
+    values = tuple(
+        at(r * array.columns + c if r >= 0 and c >= 0 else -1) for r in rows for c in columns
     )
-    values = tuple(array.values[r * array.columns + c] for r in rows for c in columns)
-    return Array(values, len(rows) if values else 0, len(columns) if values else 0)
+    return Array(values, len(rows) if values else 0, len(columns) if values else 0, element)
 
 
 def _chosen(index: Array, length: int) -> list[int]:
+    """The positions an index array names (row-wise), -1 for those outside the array; a
+    boolean array names the positions of its true values (those past the end are outside)."""
     if index.element_type() is bool:
-        if index.size != length:
-            raise ValueError("a boolean index needs one boolean per element")
-        return [k for k, keep in enumerate(index.values) if keep]
+        return [k if k < length else -1 for k, keep in enumerate(index.values) if keep]
     return [_position(value, length) for value in index.values]
 
 
@@ -147,7 +214,7 @@ def format_value(value: object) -> str:
 def _typed(name: str, kind: type) -> Callable:
     def convert(value: object = None) -> Array:
         if value is None:
-            return Array((), 0, 0)
+            return Array((), 0, 0, kind)
         if isinstance(value, Array):
             return Array(tuple(_convert(v, kind) for v in value.values), value.rows, value.columns)
         return Array((_convert(value, kind),), 1, 1)

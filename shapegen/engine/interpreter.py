@@ -145,8 +145,8 @@ class Program(AttributeValues, ShapeOperations):
             lot = self.lot_size(defaults)
         start, lot_metadata = _checked_lot(lot)
         start_scope = start.scope
-        values = self.initial_values(attrs, seed, start_scope)
         run = Derivation(self, seed, max_depth, max_shapes)
+        values = self.initial_values(attrs, seed, start_scope, run)
         run.object_rotation = start_scope.rotation
         run.start_shape = start
         run.occlusion = Occlusion(_occluders)

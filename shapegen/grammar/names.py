@@ -96,7 +96,7 @@ BUILTIN_FUNCTIONS: dict[str, tuple[int, int]] = {
     **{name: (1, 1) for name in ("fileBasename", "fileDirectory", "fileExtension", "fileName")},
     **{name: (1, 1) for name in ("readTextFile", "readFloatTable", "readStringTable")},
     "readMaterial": (1, 1),
-    "assetInfo": (2, 3),
+    "assetInfo": (2, 2),
     "imageInfo": (2, 2),
     "assetMetadata": (3, 3),
     "assetNamingInfo": (2, 2),
@@ -192,7 +192,7 @@ FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
     **{name: frozenset({"intra", "inter", "all"}) for name in ("inside", "overlaps", "touches")},
     **{name: frozenset({"intra", "inter", "all"}) for name in ("minimumDistance", "contextCount")},
     "contextCompare": frozenset({"intra", "inter", "all", "world.lowest", "world.highest"}),
-    "assetInfo": frozenset({"sx", "sy", "sz", "tx", "ty", "tz", "size", "pos"}),
+    "assetInfo": frozenset({"sx", "sy", "sz", "tx", "ty", "tz"}),
     "imageInfo": frozenset({"sx", "sy"}),
     "getGeoCoord": frozenset({"lat", "lon", "alt", "latitude", "longitude", "altitude"}),
 }

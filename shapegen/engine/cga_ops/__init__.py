@@ -49,6 +49,7 @@ def registered() -> frozenset[str]:
 from shapegen.engine.cga_ops import (  # noqa: E402, F401
     appearance,
     assets,
+    extrusion,
     polygons,
     roofs,
     scatter,

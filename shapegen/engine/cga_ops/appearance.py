@@ -33,7 +33,7 @@ import math
 from dataclasses import replace
 
 from shapegen.engine.cga_ops import compiles
-from shapegen.engine.expressions import format_value, type_name
+from shapegen.engine.functions_arrays import format_value, type_name
 from shapegen.grammar import ast
 from shapegen.model.appearance import (
     DEFAULT_APPEARANCE,

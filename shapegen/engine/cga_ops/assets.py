@@ -25,24 +25,22 @@ closed convex solid, else a surface (see the interpreter).
 
 from __future__ import annotations
 
-__all__ = ["asset_insert", "is_asset_name", "load_asset", "primitive_mesh"]
+__all__ = ["asset_insert", "is_asset_name", "primitive_mesh"]
 
 import math
 import os
-from collections import OrderedDict
-from pathlib import Path
 
 import numpy as np
 
+from shapegen.engine.asset_files import find_asset, load_asset
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.derivation import format_chain
-from shapegen.engine.expressions import format_value
+from shapegen.engine.functions_arrays import format_value
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.engine.trim import apply_trim
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
-from shapegen.limits import current_limits, limit_hint
 from shapegen.model.scope import Scope
 
 ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
@@ -50,8 +48,6 @@ ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
 OTHER_CITYENGINE_SUFFIXES = (".dae", ".fbx", ".usd", ".usda", ".usdc", ".usdz", ".dwg", ".ifc")
 BUILTIN_ASSETS = ("builtin:cube", "builtin:cube:notex")
 DEFAULT_SIDES = 16
-_CACHE_SIZE = 64
-_cache: OrderedDict[tuple, Mesh] = OrderedDict()
 
 
 def is_asset_name(name: str) -> bool:
@@ -164,117 +160,6 @@ def _flat_in_scope(mesh: Mesh, scope: Scope) -> tuple[Mesh, int]:
         return Mesh(np.column_stack([v[:, 0], 1.0 - v[:, 2], np.zeros(len(v))]), mesh.faces), 2
     # the y-z plane, facing +x: (x, z) -> (z, x)... keep it counter-clockwise seen from +x
     return Mesh(np.column_stack([np.zeros(len(v)), v[:, 0], v[:, 2]]), mesh.faces), 0
-
-
-# ------------------------------------------------------------------------- asset files
-def _search_roots(rule_file: str | None) -> list[Path]:
-    if not rule_file or rule_file.startswith("<"):
-        return [Path.cwd()]
-    folder = Path(rule_file).resolve().parent
-    roots = [folder]
-    for parent in [folder, *folder.parents]:
-        if (parent / "rules").is_dir() or (parent / "assets").is_dir():
-            roots += [parent, parent / "assets"]
-    return list(dict.fromkeys(roots))
-
-
-def find_asset(name: str, rule_file: str | None) -> Path | None:
-    """The file ``i(name)`` inserts for a rule written in ``rule_file``, or None."""
-    relative = name.lstrip("/\\")
-    candidates = [relative]
-    if name.startswith("/"):  # CityEngine's project-absolute /Project/assets/x.obj
-        candidates.append(relative.split("/", 1)[1] if "/" in relative else relative)
-    for root in _search_roots(rule_file):
-        for candidate in candidates:
-            path = root / candidate
-            if path.is_file():
-                return path
-    return None
-
-
-def load_asset(path: Path) -> Mesh:
-    """The mesh of an asset file (its own coordinates, y up), read once and kept."""
-    status = path.stat()
-    key = (str(path), status.st_mtime_ns, status.st_size)
-    mesh = _cache.get(key)
-    if mesh is not None:
-        _cache.move_to_end(key)
-        return mesh
-    limit = current_limits().max_file_bytes
-    if status.st_size > limit:
-        raise GeometryError(
-            f"asset {path} has {status.st_size} bytes, more than {limit} "
-            + limit_hint("max_file_bytes")
-        )
-    try:
-        if path.suffix.lower() == ".obj":
-            vertices, faces = _read_obj(path)
-        else:
-            vertices, faces = _read_triangles(path)
-    except GeometryError:
-        raise
-    except Exception as exc:  # any parser failure on a user's file
-        text = str(exc).strip().splitlines()
-        raise GeometryError(f"cannot read asset {path}: {text[0] if text else exc}") from None
-    if not faces:
-        raise GeometryError(f"asset {path} holds no face")
-    if not np.all(np.isfinite(vertices)):
-        raise GeometryError(f"asset {path}: vertex coordinates must be finite numbers")
-    mesh = _welded(vertices, faces)
-    _cache[key] = mesh
-    while len(_cache) > _CACHE_SIZE:
-        _cache.popitem(last=False)
-    return mesh
-
-
-def _read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
-    """The vertices and polygon faces of an OBJ file (materials, groups, texture coordinates
-    and normals are skipped). Polygons are kept whole: a non-convex face fanned into
-    triangles, as mesh readers do, would cover more than the face."""
-    vertices: list[list[float]] = []
-    faces: list[list[int]] = []
-    with open(path, encoding="utf-8", errors="replace") as handle:
-        for number, line in enumerate(handle, start=1):
-            fields = line.split()
-            if not fields:
-                continue
-            if fields[0] == "v":
-                vertices.append([float(v) for v in fields[1:4]])
-            elif fields[0] == "f":
-                face = []
-                for item in fields[1:]:
-                    index = int(item.split("/")[0])
-                    position = index - 1 if index > 0 else len(vertices) + index
-                    if not 0 <= position < len(vertices):
-                        raise GeometryError(f"asset {path}:{number}: no vertex {index}")
-                    face.append(position)
-                faces.append(face)
-    return np.array(vertices, dtype=float).reshape(-1, 3), faces
-
-
-def _read_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:
-    """The triangles of a glTF, PLY or STL file (trimesh), the scene flattened."""
-    import trimesh
-
-    loaded = trimesh.load(str(path), force="mesh", process=False)
-    if not isinstance(loaded, trimesh.Trimesh):
-        raise GeometryError(f"asset {path} holds no mesh")
-    return np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces).tolist()
-
-
-def _welded(vertices: np.ndarray, faces: list[list[int]]) -> Mesh:
-    """The mesh with vertices at one position merged (asset files repeat a corner per
-    texture coordinate), so a closed solid reads as closed; faces left with fewer than three
-    corners are dropped."""
-    unique, inverse = np.unique(vertices, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    kept = []
-    for face in faces:
-        corners = [int(inverse[i]) for i in face]
-        corners = [c for k, c in enumerate(corners) if c != corners[k - 1]]
-        if len(set(corners)) >= 3:
-            kept.append(corners)
-    return Mesh(unique, kept)
 
 
 def _shape_of(mesh: Mesh, scope: Scope) -> Shape:

@@ -35,7 +35,7 @@ import numpy as np
 
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.derivation import format_chain
-from shapegen.engine.expressions import type_name
+from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d

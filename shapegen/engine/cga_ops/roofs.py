@@ -25,7 +25,7 @@ from shapegen.engine.cga_ops.polygons import (
     _tagged,
     edge_quadrants,
 )
-from shapegen.engine.expressions import type_name
+from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import MASS, Shape
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs

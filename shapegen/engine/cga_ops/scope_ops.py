@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
-from shapegen.engine.expressions import type_name
+from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.trim import apply_trim
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x

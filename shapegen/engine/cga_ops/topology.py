@@ -23,7 +23,18 @@ the component's shape (``geometry.area() > 1``).
 
 from __future__ import annotations
 
-__all__ = ["compile_comp", "comp_operation", "face_components"]
+__all__ = [
+    "COMPONENT_KINDS",
+    "EDGE",
+    "compile_comp",
+    "comp_operation",
+    "component_selector",
+    "components_of",
+    "face_components",
+    "merged_shape",
+    "selector_text",
+    "selector_word",
+]
 
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -31,8 +42,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
-from shapegen.engine.expressions import type_name
-from shapegen.engine.shape import FACE, MASS, Shape, extrude_shape, face_scopes
+from shapegen.engine.functions_arrays import type_name
+from shapegen.engine.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.trim import comp_trim_planes
 from shapegen.geometry.frames import face_rotation, fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
@@ -43,7 +54,7 @@ from shapegen.model.scope import Scope
 
 EDGE = "edge"
 VERTEX = "vertex"
-_KINDS = ("f", "e", "v", "fe", "fv")
+COMPONENT_KINDS = ("f", "e", "v", "fe", "fv")
 _ROOF_EDGES = ROOF_EDGE_CLASSES
 
 
@@ -246,7 +257,7 @@ def _frame(x: np.ndarray, z: np.ndarray) -> np.ndarray:
     return np.column_stack([frame[:, 0], -frame[:, 2], frame[:, 1]])
 
 
-def _merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
+def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
     """All ``chosen`` faces as one shape, in the frame of the first."""
     mesh = shape.mesh()
     faces = [f for c in chosen for f in c.mesh_faces]
@@ -262,7 +273,7 @@ def _merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
 Selector = Callable[[Component, object, tuple], bool]
 
 
-def _selector(program, key, params, kind: str, where=None) -> Selector:
+def component_selector(program, key, params, kind: str, where=None) -> Selector:
     """A predicate on components from a branch key (an AST expression, or a name string of the
     branch ``where``)."""
     if isinstance(key, str):
@@ -278,13 +289,13 @@ def _selector(program, key, params, kind: str, where=None) -> Selector:
     if isinstance(key, ast.ShapeAttribute) and f"{key.obj}.{key.field}" in FACE_SELECTORS:
         return _named(program, key, f"{key.obj}.{key.field}", kind)
     if isinstance(key, ast.Binary) and key.op in ("||", "&&") and _is_selector(key):
-        left = _selector(program, key.left, params, kind)
-        right = _selector(program, key.right, params, kind)
+        left = component_selector(program, key.left, params, kind)
+        right = component_selector(program, key.right, params, kind)
         if key.op == "||":
             return lambda c, state, args: left(c, state, args) or right(c, state, args)
         return lambda c, state, args: left(c, state, args) and right(c, state, args)
     if isinstance(key, ast.Unary) and key.op == "!" and _is_selector(key.operand):
-        inner = _selector(program, key.operand, params, kind)
+        inner = component_selector(program, key.operand, params, kind)
         return lambda c, state, args: not inner(c, state, args)
     # any other expression: a condition evaluated on the component's own shape
     compiled = program.expressions.compile(key, params)
@@ -304,7 +315,7 @@ def _selector(program, key, params, kind: str, where=None) -> Selector:
     return condition
 
 
-def _selector_text(key) -> str:
+def selector_text(key) -> str:
     """``comp.sel``: the selector as written (a name, an index), "" for an expression."""
     if isinstance(key, str):
         return key
@@ -346,13 +357,19 @@ def _named(program, node, name: str, kind: str) -> Selector:
 # ---------------------------------------------------------------------------- the operation
 def comp_operation(program, node, kind: str, branches, params, align: bool = True):
     """The closure of ``comp(kind) { ... }``; ``branches`` are ``(key, merge, body, node)``."""
-    if kind not in _KINDS:
+    if kind not in COMPONENT_KINDS:
         raise program.error(
             node,
             f"comp({kind}) is not supported by shapegen; it splits into f, e, v, fe or fv",
         )
     compiled = [
-        (_selector(program, key, params, kind, branch), merge, body, branch, _selector_text(key))
+        (
+            component_selector(program, key, params, kind, branch),
+            merge,
+            body,
+            branch,
+            selector_text(key),
+        )
         for key, merge, body, branch in branches
     ]
     error = program.error
@@ -362,15 +379,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
         shape = state.shape
         if shape.kind not in (FACE, MASS, EDGE):
             raise error(node, f"comp({kind}) cannot take apart an inserted primitive")
-        object_rotation = getattr(state.run, "object_rotation", None)
-        if kind == "f":
-            components = face_components(shape, object_rotation)
-        elif kind in ("e", "fe"):
-            components = _edge_components(shape, object_rotation, kind == "fe")
-        elif kind == "fv":
-            components = _face_vertex_components(shape, object_rotation)
-        else:
-            components = _vertex_components(shape, object_rotation)
+        components = components_of(shape, kind, getattr(state.run, "object_rotation", None))
         taken = [False] * len(components)
         run = state.run
         planes = None
@@ -385,7 +394,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             if not chosen:
                 continue
             if merge and kind == "f":
-                shapes = [_merged_shape(shape, chosen)]
+                shapes = [merged_shape(shape, chosen)]
             else:
                 shapes = [c.shape for c in chosen]
             if not align:
@@ -405,6 +414,17 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
     return comp_op
 
 
+def components_of(shape: Shape, kind: str, object_rotation) -> list[Component]:
+    """The components of ``shape`` of one ``kind`` (f, e, fe, fv or v), in CityEngine's order."""
+    if kind == "f":
+        return face_components(shape, object_rotation)
+    if kind in ("e", "fe"):
+        return _edge_components(shape, object_rotation, kind == "fe")
+    if kind == "fv":
+        return _face_vertex_components(shape, object_rotation)
+    return _vertex_components(shape, object_rotation)
+
+
 def _unaligned(piece: Shape, parent: Scope) -> Shape:
     """``noAlign``: the component in the parent's scope axes, the scope fitted to it."""
     world = piece.scope.to_world(piece.mesh().vertices)
@@ -418,10 +438,10 @@ def compile_comp(program, node: ast.Operation, params):
     """``comp(f|e|v|fe [, zUp|noAlign]) { selector : body | ... }`` as a generic operation."""
     if not node.arguments:
         raise program.error(node, "comp() needs the kind of component: comp(f), comp(e)...")
-    kind = _word(node.arguments[0].value)
+    kind = selector_word(node.arguments[0].value)
     align = True
     if len(node.arguments) > 1:
-        mode = _word(node.arguments[1].value)
+        mode = selector_word(node.arguments[1].value)
         if mode not in ("zUp", "noAlign"):
             raise program.error(node, f"comp's alignment is zUp or noAlign, got {mode!r}")
         align = mode == "zUp"
@@ -432,56 +452,9 @@ def compile_comp(program, node: ast.Operation, params):
     return comp_operation(program, node, kind, branches, params, align)
 
 
-def _word(expression) -> str:
+def selector_word(expression) -> str:
     if isinstance(expression, ast.Name):
         return expression.name
-    if isinstance(expression, ast.String):
-        return expression.value
-    return type(expression).__name__
-
-
-_EXTRUSION_TYPES = ("face.normal", "world.up", "world.up.flatTop")
-
-
-@compiles("extrude")
-def compile_extrude(program, node: ast.Operation, params):
-    """``extrude(type, distance)``: op_extrude's extrusion types ``face.normal`` (the default),
-    ``world.up`` and ``world.up.flatTop``; ``vertex.normal`` is refused."""
-    arguments = [a.value for a in node.arguments]
-    if len(arguments) not in (1, 2) or node.branches:
-        raise program.error(node, "extrude() takes (distance) or (type, distance)")
-    kind = "face.normal"
-    if len(arguments) == 2:
-        kind = _dotted(arguments[0])
-        if kind == "vertex.normal":
-            raise program.error(node, "extrude(vertex.normal, ...) is not supported by shapegen")
-        if kind not in _EXTRUSION_TYPES:
-            raise program.error(
-                node, f"extrude()'s type is one of {', '.join(_EXTRUSION_TYPES)}; got {kind!r}"
-            )
-    distance = program._number(node, arguments[-1], params, "extrude height")
-    cityengine = program.cityengine_scopes
-    error = program.error
-
-    def extrude_op(state, args, out):
-        shape = state.shape
-        if shape.kind != FACE:
-            raise error(node, "extrude() needs a flat shape; this shape is already 3D")
-        try:
-            state.shape = extrude_shape(shape, distance(args, state), cityengine, kind)
-        except ValueError as exc:
-            raise error(node, str(exc)) from None
-        return True
-
-    return extrude_op
-
-
-def _dotted(expression) -> str:
-    """``world.up.flatTop`` and the like, as the parser spelt them."""
-    if isinstance(expression, ast.Name):
-        return expression.name
-    if isinstance(expression, ast.ShapeAttribute):
-        return f"{expression.obj}.{expression.field}"
     if isinstance(expression, ast.String):
         return expression.value
     return type(expression).__name__

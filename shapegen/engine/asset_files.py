@@ -1,0 +1,135 @@
+"""Where CityEngine's asset search finds a file named in a rule (cga_assetSearch): next to the
+rule file, then in each folder above it that holds a ``rules`` or ``assets`` folder (the project
+of an extracted rule package), as ``<project>/PATH`` and ``<project>/assets/PATH``; CityEngine's
+project-absolute ``/Project/assets/x.obj`` works too. Used by ``i()``, ``assetInfo()`` and the
+table readers.
+
+Asset files are read into a :class:`~shapegen.geometry.mesh.Mesh` in their own coordinates (y
+up): OBJ by shapegen's reader (polygons kept whole), glTF, PLY and STL with trimesh; a file is
+read once and kept while it is unchanged."""
+
+from __future__ import annotations
+
+__all__ = ["find_asset", "load_asset"]
+
+from collections import OrderedDict
+from pathlib import Path
+
+import numpy as np
+
+from shapegen.errors import GeometryError
+from shapegen.geometry.mesh import Mesh
+from shapegen.limits import current_limits, limit_hint
+
+_CACHE_SIZE = 64
+_cache: OrderedDict[tuple, Mesh] = OrderedDict()
+
+
+def _search_roots(rule_file: str | None) -> list[Path]:
+    if not rule_file or rule_file.startswith("<"):
+        return [Path.cwd()]
+    folder = Path(rule_file).resolve().parent
+    roots = [folder]
+    for parent in [folder, *folder.parents]:
+        if (parent / "rules").is_dir() or (parent / "assets").is_dir():
+            roots += [parent, parent / "assets"]
+    return list(dict.fromkeys(roots))
+
+
+def find_asset(name: str, rule_file: str | None) -> Path | None:
+    """The file ``name`` names for a rule written in ``rule_file``, or None."""
+    relative = name.lstrip("/\\")
+    candidates = [relative]
+    if name.startswith("/"):  # CityEngine's project-absolute /Project/assets/x.obj
+        candidates.append(relative.split("/", 1)[1] if "/" in relative else relative)
+    for root in _search_roots(rule_file):
+        for candidate in candidates:
+            path = root / candidate
+            if path.is_file():
+                return path
+    return None
+
+
+def load_asset(path: Path) -> Mesh:
+    """The mesh of an asset file (its own coordinates, y up), read once and kept."""
+    status = path.stat()
+    key = (str(path), status.st_mtime_ns, status.st_size)
+    mesh = _cache.get(key)
+    if mesh is not None:
+        _cache.move_to_end(key)
+        return mesh
+    limit = current_limits().max_file_bytes
+    if status.st_size > limit:
+        raise GeometryError(
+            f"asset {path} has {status.st_size} bytes, more than {limit} "
+            + limit_hint("max_file_bytes")
+        )
+    try:
+        if path.suffix.lower() == ".obj":
+            vertices, faces = _read_obj(path)
+        else:
+            vertices, faces = _read_triangles(path)
+    except GeometryError:
+        raise
+    except Exception as exc:  # any parser failure on a user's file
+        text = str(exc).strip().splitlines()
+        raise GeometryError(f"cannot read asset {path}: {text[0] if text else exc}") from None
+    if not faces:
+        raise GeometryError(f"asset {path} holds no face")
+    if not np.all(np.isfinite(vertices)):
+        raise GeometryError(f"asset {path}: vertex coordinates must be finite numbers")
+    mesh = _welded(vertices, faces)
+    _cache[key] = mesh
+    while len(_cache) > _CACHE_SIZE:
+        _cache.popitem(last=False)
+    return mesh
+
+
+def _read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    """The vertices and polygon faces of an OBJ file (materials, groups, texture coordinates
+    and normals are skipped). Polygons are kept whole: a non-convex face fanned into
+    triangles, as mesh readers do, would cover more than the face."""
+    vertices: list[list[float]] = []
+    faces: list[list[int]] = []
+    with open(path, encoding="utf-8", errors="replace") as handle:
+        for number, line in enumerate(handle, start=1):
+            fields = line.split()
+            if not fields:
+                continue
+            if fields[0] == "v":
+                vertices.append([float(v) for v in fields[1:4]])
+            elif fields[0] == "f":
+                face = []
+                for item in fields[1:]:
+                    index = int(item.split("/")[0])
+                    position = index - 1 if index > 0 else len(vertices) + index
+                    if not 0 <= position < len(vertices):
+                        raise GeometryError(f"asset {path}:{number}: no vertex {index}")
+                    face.append(position)
+                faces.append(face)
+    return np.array(vertices, dtype=float).reshape(-1, 3), faces
+
+
+def _read_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    """The triangles of a glTF, PLY or STL file (trimesh), the scene flattened."""
+    import trimesh
+
+    loaded = trimesh.load(str(path), force="mesh", process=False)
+    if not isinstance(loaded, trimesh.Trimesh):
+        raise GeometryError(f"asset {path} holds no mesh")
+    return np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces).tolist()
+
+
+def _welded(vertices: np.ndarray, faces: list[list[int]]) -> Mesh:
+    """The mesh with vertices at one position merged (asset files repeat a corner per
+    texture coordinate), so a closed solid reads as closed; faces left with fewer than three
+    corners are dropped."""
+    unique, inverse = np.unique(vertices, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    kept = []
+    for face in faces:
+        corners = [int(inverse[i]) for i in face]
+        corners = [c for k, c in enumerate(corners) if c != corners[k - 1]]
+        if len(set(corners)) >= 3:
+            kept.append(corners)
+    return Mesh(unique, kept)

@@ -1,0 +1,156 @@
+"""The functions that read a file of the rule's project, found by the asset search
+(:mod:`shapegen.engine.asset_files`).
+
+``readStringTable(path)`` and ``readFloatTable(path)`` (func_readTable): a CSV file as a 2D
+array, its delimiter detected (commas, semicolons, tabs or spaces), ASCII, UTF-8 or UTF-16 (by
+its byte-order mark), unprintable control characters read as ``?``. ``readFloatTable`` is the
+string table with each cell read as a number (``nan`` where it is not one). A file that is
+missing or unreadable gives an empty table and a warning of the build, as CityEngine's runtime
+does ("error, using empty table").
+
+``readTextFile(path)`` (func_readTextFile): the file's text ("" and a warning when it cannot be
+read).
+
+``assetInfo(path, sx|sy|sz|tx|ty|tz)`` (func_assetInfo): the size of the asset's bounding box
+along an axis, or the coordinate of its lowest corner (``tx`` is its smallest x), in the asset's
+own coordinates. An asset that is missing or unreadable gives 0 and a warning (``i()`` of such
+an asset inserts a box filling the scope)."""
+
+from __future__ import annotations
+
+__all__ = ["read_table", "reading_functions"]
+
+import csv
+import math
+import re
+from pathlib import Path
+
+from shapegen.engine.asset_files import find_asset, load_asset
+from shapegen.engine.derivation import format_chain
+from shapegen.engine.functions_arrays import Array
+from shapegen.errors import GeometryError
+from shapegen.limits import current_limits, limit_hint
+
+_CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
+_EMPTY_STRINGS = Array((), 0, 0, str)
+_EMPTY_FLOATS = Array((), 0, 0, float)
+
+
+def read_table(path: Path) -> list[list[str]]:
+    """The rows of the CSV file at ``path`` (ragged rows padded with empty cells)."""
+    limit = current_limits().max_file_bytes
+    if path.stat().st_size > limit:
+        raise ValueError(f"it has more than {limit} bytes " + limit_hint("max_file_bytes"))
+    raw = path.read_bytes()
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        text = raw.decode("utf-16")
+    else:
+        text = raw.decode("utf-8-sig", errors="replace")
+    text = _CONTROL.sub("?", text)
+    lines = [line for line in text.splitlines() if line.strip()]
+    if not lines:
+        return []
+    try:
+        dialect = csv.Sniffer().sniff("\n".join(lines[:20]), delimiters=",;\t ")
+        delimiter = dialect.delimiter
+    except csv.Error:
+        delimiter = ","
+    rows = [[cell.strip() for cell in row] for row in csv.reader(lines, delimiter=delimiter)]
+    width = max(len(row) for row in rows)
+    return [row + [""] * (width - len(row)) for row in rows]
+
+
+def _number(cell: str) -> float:
+    try:
+        value = float(cell)
+    except ValueError:
+        return math.nan
+    return value
+
+
+def _table(rule_file: str | None, as_floats: bool):
+    name = "readFloatTable" if as_floats else "readStringTable"
+
+    def read(state, path: object) -> Array:
+        if type(path) is not str:
+            raise ValueError("needs a file path (a string)")
+        found = find_asset(path, rule_file)
+        problem = "not found"
+        if found is not None:
+            try:
+                rows = read_table(found)
+            except (OSError, ValueError) as exc:
+                problem = f"cannot be read: {exc}"
+            else:
+                cells = [_number(c) if as_floats else c for row in rows for c in row]
+                return Array(tuple(cells), len(rows), len(rows[0]) if rows else 0)
+        _warn(state, f"{name}({path!r}): the file {problem}; an empty table is used, as "
+                     "CityEngine does")  # fmt: skip
+        return _EMPTY_FLOATS if as_floats else _EMPTY_STRINGS
+
+    return read
+
+
+_ASSET_INFO = {"sx": (0, False), "sy": (1, False), "sz": (2, False),
+               "tx": (0, True), "ty": (1, True), "tz": (2, True)}  # fmt: skip
+_BUILTIN_CUBES = ("builtin:cube", "builtin:cube:notex")
+
+
+def _warn(state, text: str) -> None:
+    state.run.warn(f"{text} (rules: {format_chain(state.rule_path)})")
+
+
+def _asset_info(rule_file: str | None):
+    def info(state, path: object, selector: object = None, *extra) -> float:
+        if type(path) is not str:
+            raise ValueError("needs an asset path (a string)")
+        if extra or selector not in _ASSET_INFO:
+            raise ValueError("takes an asset path and one of sx, sy, sz, tx, ty, tz")
+        axis, corner = _ASSET_INFO[selector]
+        if path in _BUILTIN_CUBES:
+            return 0.0 if corner else 1.0
+        found = find_asset(path, rule_file)
+        if found is None:
+            _warn(state, f"assetInfo({path!r}, {selector}): the asset is not found; 0 is used")
+            return 0.0
+        try:
+            low, high = load_asset(found).bounds()
+        except (OSError, GeometryError) as exc:
+            _warn(state, f"assetInfo({path!r}, {selector}): {exc}; 0 is used")
+            return 0.0
+        return float(low[axis] if corner else high[axis] - low[axis])
+
+    return info
+
+
+def _text_file(rule_file: str | None):
+    def read(state, path: object) -> str:
+        if type(path) is not str:
+            raise ValueError("needs a file path (a string)")
+        found = find_asset(path, rule_file)
+        problem = "not found"
+        if found is not None:
+            limit = current_limits().max_file_bytes
+            try:
+                if found.stat().st_size > limit:
+                    raise ValueError(
+                        f"it has more than {limit} bytes " + limit_hint("max_file_bytes")
+                    )
+                return found.read_bytes().decode("utf-8-sig", errors="replace")
+            except (OSError, ValueError) as exc:
+                problem = f"cannot be read: {exc}"
+        _warn(state, f'readTextFile({path!r}): the file {problem}; "" is used')
+        return ""
+
+    return read
+
+
+def reading_functions(rule_file: str | None) -> dict:
+    """The file-reading functions for a rule written in ``rule_file``:
+    ``name -> f(state, *values)``."""
+    return {
+        "readStringTable": _table(rule_file, False),
+        "readFloatTable": _table(rule_file, True),
+        "readTextFile": _text_file(rule_file),
+        "assetInfo": _asset_info(rule_file),
+    }
