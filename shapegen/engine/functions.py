@@ -3,9 +3,11 @@
 project folder (see :func:`project_files`).
 
 :data:`PURE_FUNCTIONS` maps a name to a Python function of the evaluated arguments; it raises
-``ValueError`` with a message for the user. Functions that need the shape or the random
-generator (``rand``, ``p``, ``fileRandom``, ``listRandom``, occlusion, ``geometry.*``) are
-compiled in :mod:`shapegen.engine.expressions`.
+``ValueError`` with a message for the user. The maths follow IEEE arithmetic, as CityEngine's
+runtime does: ``sqrt(-1)`` is nan (func_sqrt says so), as are ``ln(-1)`` and ``asin(2)``; ``ln(0)``
+is -inf and ``exp(1000)`` inf (rule files write ``const nan = ln(-1)``). Functions that need
+the shape or the random generator (``rand``, ``p``, ``fileRandom``, ``listRandom``, occlusion,
+``geometry.*``) are compiled in :mod:`shapegen.engine.expressions`.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ import os
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
+
 from shapegen.engine.functions_arrays import ARRAY_FUNCTIONS, Array, format_value, type_name
 from shapegen.grammar.import_paths import project_folder
 
@@ -26,12 +30,23 @@ from shapegen.grammar.import_paths import project_folder
 NULL_STRING = "\ue000"
 
 
+def _ieee(function: Callable[..., object]) -> Callable[..., float]:
+    """``function`` (a numpy ufunc) on floats, with IEEE's nan and infinities for results
+    outside its domain or range."""
+
+    def call(*x: float) -> float:
+        with np.errstate(all="ignore"):
+            return float(function(*x))
+
+    return call
+
+
 def _degrees(function: Callable[[float], float]) -> Callable[[float], float]:
-    return lambda x: function(math.radians(x))
+    return _ieee(lambda x: function(np.radians(x)))
 
 
 def _inverse_degrees(function: Callable[..., float]) -> Callable[..., float]:
-    return lambda *x: math.degrees(function(*x))
+    return _ieee(lambda *x: np.degrees(function(*x)))
 
 
 def _numbers(name: str, function: Callable[..., float]) -> Callable[..., float]:
@@ -82,7 +97,7 @@ def _strings(name: str, count: int, *numbers: int) -> Callable:
 
 
 def _rint(x: float) -> float:
-    return float(math.floor(x + 0.5))
+    return float(np.floor(x + 0.5))
 
 
 def _min_max(name: str, pick: Callable) -> Callable:
@@ -280,22 +295,22 @@ def _file_part(part: str) -> Callable[[str], str]:
 
 #: Builtins of the evaluated arguments alone.
 PURE_FUNCTIONS: dict[str, Callable[..., object]] = {
-    "sin": _numbers("sin", _degrees(math.sin)),
-    "cos": _numbers("cos", _degrees(math.cos)),
-    "tan": _numbers("tan", _degrees(math.tan)),
-    "asin": _numbers("asin", _inverse_degrees(math.asin)),
-    "acos": _numbers("acos", _inverse_degrees(math.acos)),
-    "atan": _numbers("atan", _inverse_degrees(math.atan)),
-    "atan2": _numbers("atan2", _inverse_degrees(math.atan2)),
-    "sqrt": _numbers("sqrt", math.sqrt),
+    "sin": _numbers("sin", _degrees(np.sin)),
+    "cos": _numbers("cos", _degrees(np.cos)),
+    "tan": _numbers("tan", _degrees(np.tan)),
+    "asin": _numbers("asin", _inverse_degrees(np.arcsin)),
+    "acos": _numbers("acos", _inverse_degrees(np.arccos)),
+    "atan": _numbers("atan", _inverse_degrees(np.arctan)),
+    "atan2": _numbers("atan2", _inverse_degrees(np.arctan2)),
+    "sqrt": _numbers("sqrt", _ieee(np.sqrt)),
     "abs": _numbers("abs", abs),
-    "floor": _numbers("floor", math.floor),
-    "ceil": _numbers("ceil", math.ceil),
+    "floor": _numbers("floor", _ieee(np.floor)),
+    "ceil": _numbers("ceil", _ieee(np.ceil)),
     "rint": _numbers("rint", _rint),
-    "pow": _numbers("pow", math.pow),
-    "exp": _numbers("exp", math.exp),
-    "ln": _numbers("ln", math.log),
-    "log10": _numbers("log10", math.log10),
+    "pow": _numbers("pow", _ieee(np.power)),
+    "exp": _numbers("exp", _ieee(np.exp)),
+    "ln": _numbers("ln", _ieee(np.log)),
+    "log10": _numbers("log10", _ieee(np.log10)),
     "isinf": lambda x: math.isinf(x) if type(x) is float else False,
     "isnan": lambda x: math.isnan(x) if type(x) is float else False,
     "min": _min_max("min", min),

@@ -11,7 +11,6 @@ from __future__ import annotations
 __all__ = ["convert_value", "shape_reader"]
 
 import math
-import random
 from collections.abc import Callable
 
 import numpy as np
@@ -41,8 +40,9 @@ def _no_arguments(reader: Callable[[object], object]) -> Reader:
 
 
 def _seedian(state) -> float:
-    # one number per derivation and initial shape, from the derivation's seed (attr_seedian)
-    return random.Random(f"seedian/{state.run.seed}").random()
+    # the seed of the random numbers (attr_seedian): the derivation's --seed, as PyPRT prints
+    # the initial shape's seed (0 by default) for print(seedian)
+    return float(state.run.seed)
 
 
 _READERS: dict[str, Callable[[object], object]] = {

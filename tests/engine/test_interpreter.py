@@ -398,7 +398,7 @@ def test_runaway_repeat_split_is_stopped():
         ('Lot --> extrude(1) i("nosuchthing")', "unknown primitive", 1, 20),
         ('Lot --> extrude(1) i("box", size = 2)', "no parameter 'size'", 1, 29),
         ("Lot --> extrude(1) extrude(2)", "already 3D", 1, 20),
-        ("Lot --> extrude(1) A(sqrt(0 - 1))\nA(x) --> B", "sqrt(-1)", 1, 22),
+        ("Lot --> extrude(1) s(sqrt(0 - 1), 1, 1)", "must be a finite number, got nan", 1, 20),
         ('Lot --> extrude(1) split(x) { "wide" : A }', "split size must be a number", 1, 31),
         ("Lot --> extrude(1) s(1, 0 - 1, 1)", "s() sizes", 1, 20),
     ],
