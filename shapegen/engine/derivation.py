@@ -241,7 +241,8 @@ def format_chain(chain: tuple[str, ...], keep: int = 12) -> str:
     return " -> ".join(parts)
 
 
-# An operation: op(state, args, out) -> False when the shape was deleted (NIL), else True.
+# An operation: op(state, args, out) -> False when the shape was replaced by others (a split, a
+# comp...), else True.
 Operation = Callable[[ShapeState, tuple, list], bool]
 
 

@@ -2,10 +2,10 @@
 
 A compiled operation is called as ``op(state, args, out)`` (:data:`~shapegen.engine.derivation.
 Operation`): it changes the shape ``state``, appends the successors it creates to ``out`` and
-returns False when the shape was deleted (``NIL``). :class:`ShapeOperations` is mixed into
-:class:`~shapegen.engine.interpreter.Program`, which provides ``expressions``, ``rules``,
-``arities``, ``attr_nodes``, ``const_nodes`` and ``error``; the compiler of an AST node type
-``T`` is its method ``_op_T``.
+returns False when the shape was replaced by others (a split, a comp...).
+:class:`ShapeOperations` is mixed into :class:`~shapegen.engine.interpreter.Program`, which
+provides ``expressions``, ``rules``, ``arities``, ``attr_nodes``, ``const_nodes`` and ``error``;
+the compiler of an AST node type ``T`` is its method ``_op_T``.
 """
 
 from __future__ import annotations
@@ -140,7 +140,16 @@ class ShapeOperations:
         return successor
 
     def _op_Nil(self, node, params) -> Operation:
-        return lambda state, args, out: False
+        """``NIL`` (op_nil): the current shape is deleted, counted as a child that is never
+        derived, so it leaves no leaf. The operations after it still run: CityEngine's runtime
+        counts a ``report`` written after ``NIL`` (envelope2002's "total report for
+        optimisation")."""
+
+        def delete(state, args, out):
+            state.children[0] += 1
+            return True
+
+        return delete
 
     def _op_Push(self, node: ast.Push, params) -> Operation:
         body = self._body(node.body, params)

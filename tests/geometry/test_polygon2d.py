@@ -95,6 +95,19 @@ def test_setback_front_and_left_of_a_rectangle():
     assert P.signed_area(s.remainder[0]) == pytest.approx(9 * 6)
 
 
+def test_a_setback_that_leaves_nothing_keeps_the_face_whole():
+    # PyPRT (envelope2002): a 3 m setback of all edges of a 4.8 x 4 m roof is the whole roof
+    roof = np.array([(0, 0), (4.8, 0), (4.8, 4), (0, 4)], float)
+    s = P.setback(roof, [3, 3, 3, 3])
+    assert s.remainder == ()
+    ((k, whole),) = s.strips
+    assert k == 0 and np.allclose(whole, roof)
+    s = P.setback(roof, [0, 5, 0, 0])  # the first set-back edge owns it
+    assert [k for k, _ in s.strips] == [1]
+    s = P.setback(roof, [1.9, 1.9, 1.9, 1.9])  # something left: strips as before
+    assert len(s.strips) == 4 and P.signed_area(s.remainder[0]) == pytest.approx(1.0 * 0.2)
+
+
 def test_shape_l_is_the_union_of_its_strips():
     s = P.setback(RECT, [2, 0, 0, 3])
     (shape,) = P.union([poly for _, poly in s.strips])
