@@ -48,6 +48,12 @@ RANDOM = {
     "simple_rule2019": _RANDOM_HEIGHT,
     # Eave_Ht + rand(3, 6); the roof form is 40% hip, 50% gable, else gambrel (PyPRT: gambrel)
     "Building_From_FootprintSMALL": frozenset({"bbox", "volume", "leaves"}),
+    # vertical greenery: split(y) { ~rand(1.5, 3) : Tile_y }*, 12.5% of the tiles NIL, each image
+    # s(.., scope.sy * rand(1.4, 1.6), ..); seeds 0-11 here give 437-445 leaves, 161-262 m3 and
+    # a top at 12.66-12.86 m, around PyPRT's 442, 226.5 and 12.81
+    "envelope2002": frozenset(
+        {"leaves", "volume", "bbox", "report Greenery Area", "report green area"}
+    ),
 }
 """Figures driven by rand() (``extrude(rand(min, max))``), by rule family: shapegen's draws are
 not CityEngine's, so these are flagged ("random"), never failed."""
