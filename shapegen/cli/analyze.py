@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     from shapegen.structures import Design, make_structure
 
     name = str(args.model)
-    if name.endswith((".grammar", ".cga")) or (
+    if name.endswith((".grammar", ".cga", ".rpk")) or (
         not Path(name).exists() and find_bundled_rule(name) is not None
     ):
         raise CommandLineError(

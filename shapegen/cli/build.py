@@ -25,14 +25,17 @@ from shapegen.cli.outputs import check_outputs, write_all
 def add_command(commands) -> None:
     build = commands.add_parser(
         "build",
-        help="derive a model from a .grammar file",
+        help="derive a model from a rule file",
         description=(
-            "Derive a model from a .grammar file. A bare file name that is not in the working"
-            " directory is looked up among the bundled rules (see `shapegen rules`)."
+            "Derive a model from a rule file (.grammar, .cga or .rpk). A bare file name that is"
+            " not in the working directory is looked up among the bundled rules (see"
+            " `shapegen rules`)."
         ),
     )
     build.add_argument(
-        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+        "grammar",
+        metavar="FILE.grammar",
+        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     add_derivation_options(build)
     build.add_argument(

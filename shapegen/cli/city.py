@@ -51,7 +51,9 @@ def add_command(commands) -> None:
         help="a GeoJSON FeatureCollection of polygons, or an OSM XML file (its buildings)",
     )
     city.add_argument(
-        "grammar", metavar="RULE.grammar", help="rule file, or the name of a bundled one"
+        "grammar",
+        metavar="RULE.grammar",
+        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     city.add_argument(
         "-o", "--output", metavar="OUTDIR", required=True, help="the output folder (created)"

@@ -44,7 +44,9 @@ def add_command(commands) -> None:
         ),
     )
     edit.add_argument(
-        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+        "grammar",
+        metavar="FILE.grammar",
+        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     edit.add_argument(
         "--port",

@@ -31,7 +31,9 @@ def add_command(commands) -> None:
         ),
     )
     landscape.add_argument(
-        "grammar", metavar="FILE.grammar", help="rule file, or the name of a bundled one"
+        "grammar",
+        metavar="FILE.grammar",
+        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     landscape.add_argument("first", metavar="P1", help="attr on the horizontal axis")
     landscape.add_argument("second", metavar="P2", help="attr on the vertical axis")

@@ -164,13 +164,13 @@ def _simulation_model(args: argparse.Namespace):
     from shapegen.engine.rules_path import find_bundled_rule
 
     name = str(args.model)
-    is_grammar = name.endswith(".grammar") or (
+    is_grammar = name.endswith((".grammar", ".cga", ".rpk")) or (
         not Path(name).exists() and find_bundled_rule(name) is not None
     )
     if not is_grammar:
         if args.assignments or args.optimize or args.lot or args.free or args.fixed:
             raise CommandLineError(
-                "--set, --lot, --optimize, --free and --fix apply only to a .grammar MODEL"
+                "--set, --lot, --optimize, --free and --fix apply only to a rule file MODEL"
             )
         from shapegen.export.model_io import read_model
 

@@ -23,6 +23,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from shapegen.engine.interpreter import Program
+from shapegen.engine.rule_packages import PACKAGE_SUFFIX, start_rule_of_package
 from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shape import lot_scope
 from shapegen.errors import GrammarError
@@ -236,6 +237,8 @@ def _rule_file(path: str | os.PathLike) -> Path:
     candidate = Path(name)
     try:
         if candidate.is_file():
+            if candidate.suffix.lower() == PACKAGE_SUFFIX:
+                return start_rule_of_package(candidate)
             return candidate
         exists = candidate.exists()
     except OSError as exc:  # a name too long for the file system, a bad character...

@@ -84,7 +84,7 @@ def test_grammar_is_built_with_set_values(tmp_path):
     [
         (["-o", "x.mp4"], ".gif"),
         (["--remove", "nothing"], "no block has the id or label 'nothing'"),
-        (["--set", "a=1"], "apply only to a .grammar"),
+        (["--set", "a=1"], "apply only to a rule file"),
         (["--seconds", "-1"], "must be > 0"),
         (["--seconds", "0.4"], "settling window"),
         (["--report", "no/such/folder/r.json"], "does not exist"),

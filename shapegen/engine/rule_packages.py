@@ -1,0 +1,131 @@
+"""CityEngine rule packages (``.rpk``): a 7z archive of a rule's sources (``rules/*.cga``), the
+files they import (``.ws/ESRI.lib/...``), its assets and its compiled rules (``.cgb``).
+
+``load_grammar("building.rpk")`` and ``shapegen build building.rpk`` unpack the package once into
+a cache folder (``$SHAPEGEN_CACHE``, else ``$XDG_CACHE_HOME/shapegen``, else
+``~/.cache/shapegen``; one folder per package content) and load its start rule: the ``.cga``
+whose compiled rule has no ``$`` in its name (``bin/candler.cgb`` -> ``rules/candler.cga``;
+``envelope2002$facade.cgb`` is an import compiled for it). Imports and assets then resolve in
+the unpacked package as in CityEngine. A package whose members would land outside its folder,
+that unpacks to more than ``max_file_bytes`` x 16, or that is not a 7z archive is refused with
+one line.
+"""
+
+from __future__ import annotations
+
+__all__ = ["PACKAGE_SUFFIX", "start_rule_of_package"]
+
+import hashlib
+import os
+import shutil
+import tempfile
+from pathlib import Path, PurePosixPath
+
+from shapegen.errors import GrammarError
+from shapegen.limits import current_limits, limit_hint
+
+PACKAGE_SUFFIX = ".rpk"
+_UNPACKED_FACTOR = 16  # an unpacked package may hold this many max_file_bytes
+
+
+def _cache_root() -> Path:
+    configured = os.environ.get("SHAPEGEN_CACHE")
+    if configured:
+        return Path(configured)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "shapegen"
+
+
+def _digest(path: Path) -> str:
+    hasher = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for chunk in iter(lambda: handle.read(1 << 20), b""):
+            hasher.update(chunk)
+    return hasher.hexdigest()[:20]
+
+
+def _safe_members(archive, package: Path) -> None:
+    total = 0
+    limit = _UNPACKED_FACTOR * current_limits().max_file_bytes
+    for entry in archive.list():
+        name = PurePosixPath(entry.filename.replace("\\", "/"))
+        if name.is_absolute() or ".." in name.parts:
+            raise GrammarError(
+                f"{package}: the member {entry.filename!r} would be unpacked outside the "
+                "package's folder"
+            )
+        total += int(entry.uncompressed or 0)
+        if total > limit:
+            raise GrammarError(f"{package}: it unpacks to more than {limit} bytes "
+                               + limit_hint("max_file_bytes"))  # fmt: skip
+
+
+def _archive_errors() -> tuple[type[BaseException], ...]:
+    from py7zr import exceptions
+
+    names = (
+        *("Bad7zFile", "ArchiveError", "CrcError", "DecompressionError", "InternalError"),
+        *("UnsupportedCompressionMethodError", "PasswordRequired", "DecompressionBombError"),
+    )
+    return (EOFError, *(getattr(exceptions, n) for n in names if hasattr(exceptions, n)))
+
+
+def _unpacked(package: Path) -> Path:
+    """The folder the package is unpacked in (unpacked on first use)."""
+    import py7zr
+
+    _ARCHIVE_ERRORS = _archive_errors()  # noqa: N806
+    try:
+        folder = _cache_root() / "packages" / f"{package.stem}-{_digest(package)}"
+    except OSError as exc:
+        raise GrammarError(f"cannot read {str(package)!r}: {exc.strerror or exc}") from None
+    if folder.is_dir():
+        return folder
+    try:
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=".unpacking-"))
+    except OSError as exc:
+        raise GrammarError(
+            f"{package}: cannot unpack it into {folder.parent}: {exc.strerror or exc} (set "
+            "SHAPEGEN_CACHE to a writable folder)"
+        ) from None
+    try:
+        with py7zr.SevenZipFile(package, mode="r") as archive:
+            _safe_members(archive, package)
+            archive.extractall(path=staging)
+        os.replace(staging, folder)
+    except _ARCHIVE_ERRORS as exc:
+        raise GrammarError(
+            f"{package}: not a readable CityEngine rule package (a 7z archive): "
+            f"{exc or type(exc).__name__}"
+        ) from None
+    except OSError as exc:
+        if folder.is_dir():  # another process unpacked it first
+            return folder
+        raise GrammarError(f"{package}: cannot unpack it: {exc.strerror or exc}") from None
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return folder
+
+
+def start_rule_of_package(package: Path) -> Path:
+    """The start rule file of the rule package ``package``, unpacked."""
+    folder = _unpacked(package)
+    compiled = sorted(p.relative_to(folder) for p in folder.rglob("*.cgb") if "$" not in p.stem)
+    candidates = []
+    for rule in compiled:
+        parts = rule.with_suffix(".cga").parts
+        tail = parts[1:] if parts[0] in ("bin", "rules") else parts
+        source = folder / "rules" / Path(*tail)
+        if source.is_file():
+            candidates.append(source)
+    if len(candidates) == 1:
+        return candidates[0]
+    sources = sorted(str(p.relative_to(folder)) for p in folder.rglob("*.cga"))
+    if not candidates and len(sources) == 1:
+        return folder / sources[0]
+    listing = ", ".join(sources) if sources else "none"
+    raise GrammarError(
+        f"{package}: cannot tell its start rule ({len(candidates)} compiled start rules; rule "
+        f"files: {listing}); load one of them from {folder}"
+    )
