@@ -16,7 +16,6 @@ from __future__ import annotations
 
 __all__ = ["ExpressionCompiler", "format_value", "type_name"]
 
-import math
 from collections.abc import Callable
 
 from shapegen.engine.functions import PURE_FUNCTIONS, file_functions
@@ -31,6 +30,13 @@ from shapegen.engine.functions_arrays import index_array as _index_array
 from shapegen.engine.functions_calls import OCCLUSION, BuiltinCalls
 from shapegen.engine.functions_files import reading_functions
 from shapegen.engine.functions_shape import convert_value, shape_reader
+from shapegen.engine.operators import (
+    ARITHMETIC,
+    ELEMENTWISE_OPERATORS,
+    ORDER,
+    elementwise,
+    elementwise_unary,
+)
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.grammar.names import BUILTIN_FUNCTIONS, FUNCTION_KEYWORDS, GEOMETRY_KEYWORDS
@@ -236,6 +242,15 @@ class ExpressionCompiler(BuiltinCalls):
     def _Unary(self, node: ast.Unary, params) -> Compiled:
         operand = self.compile(node.operand, params)
         error = self.error
+        if node.op.startswith("."):  # .! .- .+ on an array
+
+            def each(args, state):
+                try:
+                    return elementwise_unary(node.op, operand(args, state))
+                except ValueError as exc:
+                    raise error(node, str(exc)) from None
+
+            return each
         if node.op == "!":
 
             def negate(args, state):
@@ -261,6 +276,15 @@ class ExpressionCompiler(BuiltinCalls):
         right = self.compile(node.right, params)
         op = node.op
         error = self.error
+        if op in ELEMENTWISE_OPERATORS:
+
+            def each(args, state):
+                try:
+                    return elementwise(op, left(args, state), right(args, state))
+                except ValueError as exc:
+                    raise error(node, str(exc)) from None
+
+            return each
         if op in ("&&", "||"):
             want = op == "||"
 
@@ -290,8 +314,8 @@ class ExpressionCompiler(BuiltinCalls):
                 raise error(node, f"cannot add a {type_name(a)} and a {type_name(b)}")
 
             return add
-        if op in _ARITHMETIC:
-            function = _ARITHMETIC[op]
+        if op in ARITHMETIC:
+            function = ARITHMETIC[op]
 
             def arithmetic(args, state):
                 a = left(args, state)
@@ -319,8 +343,8 @@ class ExpressionCompiler(BuiltinCalls):
                 return (type(a) is type(b) and a == b) is equal
 
             return compare_equal
-        if op in _ORDER:
-            function = _ORDER[op]
+        if op in ORDER:
+            function = ORDER[op]
 
             def compare(args, state):
                 a = left(args, state)
@@ -445,28 +469,3 @@ class ExpressionCompiler(BuiltinCalls):
             return otherwise(args, state)
 
         return stochastic
-
-
-def _divide(a: float, b: float) -> float:
-    return a / b
-
-
-def _remainder(a: float, b: float) -> float:
-    if b == 0.0:
-        raise ZeroDivisionError
-    return math.fmod(a, b)
-
-
-_ARITHMETIC = {
-    "-": lambda a, b: a - b,
-    "*": lambda a, b: a * b,
-    "/": _divide,
-    "%": _remainder,
-}
-
-_ORDER = {
-    "<": lambda a, b: a < b,
-    "<=": lambda a, b: a <= b,
-    ">": lambda a, b: a > b,
-    ">=": lambda a, b: a >= b,
-}

@@ -39,7 +39,10 @@ _TERMINAL_WORDS = {
 }
 _SINGLE_ARROW = re.compile(r"[ \t]*(\([^()\n]*\))?[ \t]*(?P<arrow>->)")
 _EXPRESSION_STARTS = {"NUMBER", "STRING", "NAME", "LPAR", "MINUS", "PLUS", "BANG", "LSQB"}
-_OPERATORS = {"OR_OP", "AND_OP", "EQ_OP", "REL_OP", "PLUS", "MINUS", "STAR", "SLASH", "PERCENT"}
+_OPERATORS = {
+    *("OR_OP", "AND_OP", "EQ_OP", "REL_OP", "PLUS", "MINUS", "STAR", "SLASH", "PERCENT"),
+    *("DOT_PLUS", "DOT_MINUS", "DOT_STAR", "DOT_SLASH", "DOT_PERCENT", "DOT_BANG"),
+}
 
 
 def _describe_token(token: Token) -> str:

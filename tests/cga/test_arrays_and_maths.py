@@ -1,6 +1,7 @@
 """Arrays and maths as CityEngine's reference gives them: an index outside an array gives the
 default of its type (func_index "Invalid indexing"), an array of indices gives an array of its
-shape, an array literal places arrays as blocks (func_array), and the maths follow IEEE
+shape, an array literal places arrays as blocks (func_array), the element-wise operators work
+element by element (arrayTypes.html), and the maths follow IEEE
 arithmetic (func_sqrt: "If x is negative, nan is generated"). The expected values are the
 reference's own examples."""
 
@@ -48,6 +49,27 @@ def _value(expression: str):
         ('str(["A", abc, "E"])', "[A,B,C,D,E]"),
         ("str([a, b; b, a])", "[-1,0,1,2;-2,3,3,3;0,1,2,-1;3,3,3,-2]"),
         ('str([stringArray(); "x"; "y"])', "[x;y]"),
+        # arrayTypes.html: element-wise operators
+        ("str(.![true, false])", "[false,true]"),
+        ("str(false .|| [false; true])", "[false;true]"),
+        ("str([false; true] .&& true)", "[false;true]"),
+        ("str(1 .+ [1; 2])", "[2;3]"),
+        ("str(.-[1; 2])", "[-1;-2]"),
+        ("str([1, 2; 3, 4] .- 1)", "[0,1;2,3]"),
+        ("str(-4 .* [0.25; -0.75; -1])", "[-1;3;4]"),
+        ("str([1, 2; 3, 4] .* [4, 3; 2, 1])", "[4,6;6,4]"),
+        ("str(12 ./ [2, 3, 4])", "[6,4,3]"),
+        ("str([8; -5; 0] .% 3)", "[2;-2;0]"),
+        ("abs((7 .% [2.7, -3])[0] - 1.6) < 1e-12 && (7 .% [2.7, -3])[1] == 1", True),
+        ("str([1, 1; 2, 2] .!= [1, 2; 1, 2])", "[false,true;true,false]"),
+        ('str(["a", "b"] .== "b")', "[false,true]"),
+        ("str([1, 2; 3, 4] .> [1, 1; 3, 3])", "[false,true;false,true]"),
+        ("str(2 .>= [1, 2, 3])", "[true,true,false]"),
+        ('str(["a"; "b"] .> "a")', "[false;true]"),
+        ('str(["a", "b"] .+ 1)', "[a1,b1]"),
+        ('str([1; 2] .+ ["a"; "b"])', "[1a;2b]"),
+        ('str([true; false] .+ "a")', "[truea;falsea]"),
+        ("str(array[array .> 2])", "[3,4]"),
         # maths (IEEE)
         ("isnan(sqrt(-1))", True),
         ("isnan(ln(-1))", True),
@@ -59,6 +81,20 @@ def _value(expression: str):
 )
 def test_follows_the_reference(expression, expected):
     assert _value(expression) == expected
+
+
+@pytest.mark.parametrize(
+    "expression, message",
+    [
+        ("[1, 2] .+ [1; 2]", "equal dimensions"),
+        ("1 .+ 2", "works on arrays"),
+        ("[true] .* 2", "needs numbers"),
+        ('.-["a"]', "needs numbers"),
+    ],
+)
+def test_element_wise_operators_refuse_in_one_line(expression, message):
+    with pytest.raises(GrammarError, match=message):
+        _value(expression)
 
 
 def test_blocks_side_by_side_need_as_many_rows():
