@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-__all__ = ["Block", "DEFAULT_DENSITY"]
+__all__ = ["Block", "DEFAULT_DENSITY", "compute_mass_properties"]
 
+from collections import defaultdict
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -289,3 +290,48 @@ def _hull_polygons(points: np.ndarray, hull) -> tuple[np.ndarray, tuple]:
         faces.append(tuple(int(i) for i in ids[np.argsort(angles)]))
     del group
     return vertices, tuple(faces)
+
+
+def _fan(faces) -> np.ndarray:
+    return np.array(
+        [(face[0], face[i], face[i + 1]) for face in faces for i in range(1, len(face) - 1)],
+        dtype=int,
+    ).reshape(-1, 3)
+
+
+def compute_mass_properties(blocks: Iterable[Block]) -> None:
+    """Compute the volume and centroid of many blocks at once (what :attr:`Block.volume` and
+    :attr:`Block.centroid` compute one block at a time, by the same formula): blocks of one face
+    layout (all the boxes of a wall) are done together, so a 10 000-block model costs a few
+    array operations instead of 10 000 small ones. Blocks that have them already are skipped."""
+    groups: dict[tuple, list[Block]] = defaultdict(list)
+    for block in blocks:
+        if "_mass_properties" not in block.__dict__:
+            faces = block.faces
+            key = faces if isinstance(faces, tuple) else tuple(map(tuple, faces))
+            groups[(len(block.vertices), key)].append(block)
+    for (_, faces), members in groups.items():
+        if len(members) == 1:
+            continue  # computed when read
+        vertices = np.stack([b.vertices for b in members])  # (k, n, 3)
+        reference = vertices.mean(axis=1)  # (k, 3)
+        corners = vertices[:, _fan(faces)] - reference[:, None, None, :]  # (k, t, 3, 3)
+        a, b, c = corners[:, :, 0], corners[:, :, 1], corners[:, :, 2]
+        bc = np.stack(
+            [
+                b[..., 1] * c[..., 2] - b[..., 2] * c[..., 1],
+                b[..., 2] * c[..., 0] - b[..., 0] * c[..., 2],
+                b[..., 0] * c[..., 1] - b[..., 1] * c[..., 0],
+            ],
+            axis=-1,
+        )
+        six_v = np.einsum("kti,kti->kt", a, bc)
+        volumes = six_v.sum(axis=1) / 6.0
+        moments = (six_v[..., None] * (a + b + c)).sum(axis=1)  # (k, 3)
+        for k, block in enumerate(members):
+            volume = float(volumes[k])
+            if volume == 0.0:
+                block.__dict__["_mass_properties"] = (0.0, reference[k].copy())
+            else:
+                centroid = reference[k] + moments[k] / (24.0 * volume)
+                block.__dict__["_mass_properties"] = (volume, centroid)

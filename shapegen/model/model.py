@@ -10,7 +10,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.model.appearance import Surface
-from shapegen.model.block import Block
+from shapegen.model.block import Block, compute_mass_properties
 from shapegen.model.validation import validate_blocks
 from shapegen.tolerances import DEFAULT, Tolerances
 
@@ -88,11 +88,13 @@ class Model:
     def total_weight(self) -> float:
         """Weight of the structural, non-fixed blocks, N."""
         g = float(np.linalg.norm(self.gravity))
+        compute_mass_properties(self.blocks)
         return g * sum(b.mass for b in self.blocks if b.structural and not b.fixed)
 
     @property
     def volume(self) -> float:
         """Total block volume, m^3."""
+        compute_mass_properties(self.blocks)
         return float(sum(b.volume for b in self.blocks))
 
     def index_of(self, block_id: str) -> int:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.model.block import Block
+from shapegen.model.block import Block, compute_mass_properties
 from shapegen.model.scope import Scope
 
 _MIRROR = np.diag([1.0, 1.0, -1.0])
@@ -57,6 +57,7 @@ class Template:
         sizes = [len(b.vertices) for b in blocks]
         starts = (0, *np.cumsum(sizes).tolist())
         points = np.concatenate([b.vertices for b in blocks]) if blocks else np.zeros((0, 3))
+        compute_mass_properties(blocks)
         volumes = tuple(b.volume for b in blocks)
         centroids = np.array([b.centroid for b in blocks]).reshape(-1, 3)
         return cls(points, starts, tuple(blocks), canonical.rotation, volumes, centroids)

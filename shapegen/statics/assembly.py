@@ -28,6 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from shapegen.errors import StaticsError
+from shapegen.model.block import compute_mass_properties
 from shapegen.statics.interface import GROUND, Interface
 
 PYRAMIDS = ("4", "4r", "8", "cone")
@@ -307,6 +308,7 @@ def assemble(
     usable = np.append(structural | fixed, True)
 
     g = float(np.linalg.norm(model.gravity))
+    compute_mass_properties(blocks)
     masses = np.array([b.mass for b in blocks]) if nb else np.zeros(0)
     weight = float(g * masses[free].sum()) if nb else 0.0
     weight_scale = weight if weight > 0 else 1.0

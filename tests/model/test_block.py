@@ -133,3 +133,24 @@ def test_a_unit_cube_far_from_the_origin_is_valid_and_stands(offset):
     expected = Block.box((0, 0, 0), (1, 1, 1)).face_normals
     np.testing.assert_allclose(cube.face_normals, expected, atol=1e-12)
     assert analyze(Model([cube])).feasible
+
+
+def test_mass_properties_in_bulk_equal_one_at_a_time():
+    from shapegen.model.block import compute_mass_properties
+
+    rng = np.random.default_rng(3)
+    boxes = [Block.box(rng.uniform(-5, 5, 3), rng.uniform(-5, 5, 3) + 6) for _ in range(20)]
+    hulls = [Block.from_hull(rng.normal(size=(12, 3)) + k) for k in range(5)]
+    tilted = [b.transformed(np.eye(3)[[1, 2, 0]], np.array([1.0, 2.0, 3.0])) for b in boxes[:4]]
+    bulk = boxes + hulls + tilted
+    alone = [Block(b.vertices.copy(), b.faces) for b in bulk]
+    compute_mass_properties(bulk)
+    assert all("_mass_properties" in b.__dict__ for b in boxes)  # done in bulk, not on reading
+    for a, b in zip(bulk, alone, strict=True):
+        assert a.volume == pytest.approx(b.volume, rel=1e-14)
+        assert np.allclose(a.centroid, b.centroid, rtol=0, atol=1e-12)
+    # the closed forms: a box's volume and centre
+    lo, hi = np.array([0.0, 0.0, 0.0]), np.array([2.0, 3.0, 4.0])
+    box, other = Block.box(lo, hi), Block.box(lo + 1, hi + 1)
+    compute_mass_properties([box, other])
+    assert box.volume == pytest.approx(24.0) and np.allclose(box.centroid, [1.0, 1.5, 2.0])
