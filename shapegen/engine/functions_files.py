@@ -14,7 +14,15 @@ read).
 ``assetInfo(path, sx|sy|sz|tx|ty|tz)`` (func_assetInfo): the size of the asset's bounding box
 along an axis, or the coordinate of its lowest corner (``tx`` is its smallest x), in the asset's
 own coordinates. An asset that is missing or unreadable gives 0 and a warning (``i()`` of such
-an asset inserts a box filling the scope)."""
+an asset inserts a box filling the scope).
+
+``imageInfo(path, sx|sy)`` (func_imageInfo): an image's width or height in pixels (Pillow reads
+it); 0 and a warning when it cannot be read.
+
+``assetMetadata(path, key, default)`` (func_assetMetadata): the metadata "potentially included in
+the geometry asset", which OBJ, PLY and STL files do not carry: ``default``. Metadata of glTF
+assets (their ``extras``) is not read: an error names it rather than a guess at which extras
+CityEngine reads."""
 
 from __future__ import annotations
 
@@ -145,6 +153,48 @@ def _text_file(rule_file: str | None):
     return read
 
 
+def _image_info(rule_file: str | None):
+    def info(state, path: object, selector: object = None) -> float:
+        if type(path) is not str:
+            raise ValueError("needs an image path (a string)")
+        if selector not in ("sx", "sy"):
+            raise ValueError("takes an image path and sx (width) or sy (height)")
+        found = find_asset(path, rule_file)
+        problem = "is not found"
+        if found is not None:
+            from PIL import Image, UnidentifiedImageError
+
+            try:
+                with Image.open(found) as image:
+                    width, height = image.size
+                return float(width if selector == "sx" else height)
+            except (OSError, UnidentifiedImageError, ValueError) as exc:
+                problem = f"cannot be read ({exc})"
+        _warn(state, f"imageInfo({path!r}, {selector}): the image {problem}; 0 is used")
+        return 0.0
+
+    return info
+
+
+_NO_METADATA = (".obj", ".ply", ".stl")
+
+
+def _asset_metadata(rule_file: str | None):
+    def metadata(state, path: object, key: object, default: object) -> object:
+        if type(path) is not str or type(key) is not str:
+            raise ValueError("takes an asset path, a key (strings) and a default value")
+        found = find_asset(path, rule_file)
+        if found is None:
+            _warn(state, f"assetMetadata({path!r}, {key!r}): the asset is not found; the "
+                         "default is used")  # fmt: skip
+            return default
+        if found.suffix.lower() in _NO_METADATA:
+            return default  # these formats carry no metadata
+        raise ValueError(f"metadata of {found.suffix} assets is not read by shapegen")
+
+    return metadata
+
+
 def reading_functions(rule_file: str | None) -> dict:
     """The file-reading functions for a rule written in ``rule_file``:
     ``name -> f(state, *values)``."""
@@ -153,4 +203,6 @@ def reading_functions(rule_file: str | None) -> dict:
         "readFloatTable": _table(rule_file, True),
         "readTextFile": _text_file(rule_file),
         "assetInfo": _asset_info(rule_file),
+        "imageInfo": _image_info(rule_file),
+        "assetMetadata": _asset_metadata(rule_file),
     }

@@ -92,3 +92,33 @@ def test_asset_info_needs_an_axis(tmp_path):
     grammar = _project(tmp_path, 'Lot --> report("a", assetInfo("x.obj", 1)) X.\n', {})
     with pytest.raises(shapegen.errors.GrammarError, match="one of sx, sy, sz, tx, ty, tz"):
         grammar.build(lot=(4, 2))
+
+
+def test_image_info_gives_the_resolution(tmp_path):
+    from PIL import Image
+
+    (tmp_path / "assets").mkdir()
+    Image.new("RGB", (64, 32)).save(tmp_path / "assets" / "tile.png")
+    rule = (
+        'Lot --> report("w", imageInfo("assets/tile.png", sx)) '
+        'report("h", imageInfo("assets/tile.png", sy)) report("none", imageInfo("no.png", sx)) X.\n'
+    )
+    reports, model = _reports(_project(tmp_path, rule, {}))
+    assert (reports["w"], reports["h"], reports["none"]) == (64.0, 32.0, 0.0)
+    assert any("imageInfo('no.png', sx)" in w for w in model.metadata["warnings"])
+
+
+def test_asset_metadata_of_an_obj_is_the_default(tmp_path):
+    rule = 'Lot --> report("m", assetMetadata("assets/box.obj", "height", 2.5)) X.\n'
+    reports, _ = _reports(_project(tmp_path, rule, {"assets/box.obj": OBJ}))
+    assert reports["m"] == 2.5
+
+
+def test_asset_metadata_of_a_gltf_is_refused_in_one_line(tmp_path):
+    grammar = _project(
+        tmp_path,
+        'Lot --> report("m", assetMetadata("a.gltf", "k", 1)) X.\n',
+        {"rules/a.gltf": "{}"},
+    )
+    with pytest.raises(shapegen.errors.GrammarError, match="metadata of .gltf assets"):
+        grammar.build(lot=(4, 2))
