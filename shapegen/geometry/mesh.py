@@ -14,7 +14,7 @@ Faces may be non-convex polygons; holes are not represented.
 
 from __future__ import annotations
 
-__all__ = ["Mesh", "BOX_FACES", "polygon_normal", "polygon_area"]
+__all__ = ["Mesh", "BOX_FACES", "polygon_normal", "polygon_area", "unit_face_normals"]
 
 from collections.abc import Sequence
 from functools import cached_property
@@ -57,6 +57,16 @@ def polygon_normal(points: np.ndarray) -> np.ndarray:
     return np.array(
         [float((y * w - z * v).sum()), float((z * u - x * w).sum()), float((x * v - y * u).sum())]
     )
+
+
+def unit_face_normals(vertices: np.ndarray, faces) -> list[np.ndarray]:
+    """Each face's unit normal (Newell's); a zero vector for a face without area."""
+    normals = []
+    for face in faces:
+        normal = polygon_normal(vertices[list(face)])
+        length = float(np.linalg.norm(normal))
+        normals.append(normal / length if length > 0 else normal)
+    return normals
 
 
 def polygon_area(points: np.ndarray) -> float:

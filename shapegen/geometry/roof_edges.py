@@ -19,7 +19,7 @@ __all__ = ["ROOF_EDGE_CLASSES", "roof_edge_classes"]
 
 import numpy as np
 
-from shapegen.geometry.mesh import polygon_normal
+from shapegen.geometry.mesh import unit_face_normals
 
 ROOF_EDGE_CLASSES = ("eave", "hip", "valley", "ridge")
 _DOWN = -0.99  # cosine with world up of a face turned down (a bottom)
@@ -33,11 +33,7 @@ def roof_edge_classes(
     none) and whether it should be turned around to run as the class says."""
     vertices = np.asarray(vertices, dtype=float)
     faces = [tuple(face) for face in faces]
-    normals = []
-    for face in faces:
-        normal = polygon_normal(vertices[list(face)])
-        length = float(np.linalg.norm(normal))
-        normals.append(normal / length if length > 0 else normal)
+    normals = unit_face_normals(vertices, faces)
     bottom = [float(n[1]) < _DOWN for n in normals]
     size = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
     tolerance = _FLAT * max(size, 1e-9)

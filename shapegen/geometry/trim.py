@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.geometry.cut import clip_plane
-from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.geometry.mesh import Mesh, unit_face_normals
 
 HORIZONTAL_LIMIT_DEGREES = 40.0
 _SIN_LIMIT = math.sin(math.radians(HORIZONTAL_LIMIT_DEGREES))
@@ -48,11 +48,7 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
     ups = np.broadcast_to(up, (len(faces), 3)) if up.ndim == 1 else up
     vertices = np.asarray(vertices, dtype=float)
     faces = [tuple(face) for face in faces]
-    normals = []
-    for face in faces:
-        normal = polygon_normal(vertices[list(face)])
-        length = float(np.linalg.norm(normal))
-        normals.append(normal / length if length > 0 else normal)
+    normals = unit_face_normals(vertices, faces)
     sharing: dict[tuple[int, int], list[int]] = {}
     for f, face in enumerate(faces):
         for a, b in zip(face, face[1:] + face[:1], strict=True):

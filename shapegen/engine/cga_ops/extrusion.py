@@ -5,6 +5,7 @@ from __future__ import annotations
 __all__ = ["compile_extrude"]
 
 from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops.scope_ops import argument_word
 from shapegen.engine.shape import FACE, extrude_shape
 from shapegen.grammar import ast
 
@@ -20,7 +21,7 @@ def compile_extrude(program, node: ast.Operation, params):
         raise program.error(node, "extrude() takes (distance) or (type, distance)")
     kind = "face.normal"
     if len(arguments) == 2:
-        kind = _dotted(arguments[0])
+        kind = argument_word(arguments[0]) or type(arguments[0]).__name__
         if kind == "vertex.normal":
             raise program.error(node, "extrude(vertex.normal, ...) is not supported by shapegen")
         if kind not in _EXTRUSION_TYPES:
@@ -42,14 +43,3 @@ def compile_extrude(program, node: ast.Operation, params):
         return True
 
     return extrude_op
-
-
-def _dotted(expression) -> str:
-    """``world.up.flatTop`` and the like, as the parser spelt them."""
-    if isinstance(expression, ast.Name):
-        return expression.name
-    if isinstance(expression, ast.ShapeAttribute):
-        return f"{expression.obj}.{expression.field}"
-    if isinstance(expression, ast.String):
-        return expression.value
-    return type(expression).__name__

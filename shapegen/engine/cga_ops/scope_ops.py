@@ -24,7 +24,7 @@
 
 from __future__ import annotations
 
-__all__ = ["refit"]
+__all__ = ["argument_word", "refit"]
 
 import math
 
@@ -67,7 +67,8 @@ def _arguments(program, node: ast.Operation, counts: tuple[int, ...]) -> list:
     return [a.value for a in node.arguments]
 
 
-def _word(expression) -> str | None:
+def argument_word(expression) -> str | None:
+    """A selector argument as written (``world.up``, ``yUp``, a string), or None."""
     if isinstance(expression, ast.Name):
         return expression.name
     if isinstance(expression, ast.ShapeAttribute):
@@ -78,7 +79,7 @@ def _word(expression) -> str | None:
 
 
 def _choice(program, node, expression, choices: tuple[str, ...], what: str) -> str:
-    word = _word(expression)
+    word = argument_word(expression)
     if word not in choices:
         raise program.error(
             node, f"{node.name}(): {what} is one of {', '.join(choices)}; got {word or 'a value'}"
@@ -165,8 +166,8 @@ _EDGE_CHOICES = ("world.lowest", "longest")
 def compile_align_scope_to_geometry(program, node, params):
     arguments = _arguments(program, node, (3,))
     up = _choice(program, node, arguments[0], ("yUp", "zUp"), "the up axis")
-    face_word = _word(arguments[1])
-    edge_word = _word(arguments[2])
+    face_word = argument_word(arguments[1])
+    edge_word = argument_word(arguments[2])
     if face_word is not None and face_word not in _FACE_CHOICES:
         face_word = None
     if edge_word is not None and edge_word not in _EDGE_CHOICES:
