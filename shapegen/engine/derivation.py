@@ -68,7 +68,12 @@ class ShapeState:
         "initial_scope",
         "appearance",
         "trim_planes",
+        "deleted",
     )
+
+    def is_leaf(self) -> bool:
+        """No successor was made of this shape and no ``NIL`` deleted it: it is a leaf."""
+        return self.children[0] == 0 and not self.deleted
 
     def random(self) -> float:
         """A uniform draw in [0, 1) from this shape's own generator."""
@@ -206,6 +211,7 @@ class Derivation:
         state.initial_scope = shape.scope
         state.appearance = parent.appearance
         state.trim_planes = parent.trim_planes
+        state.deleted = False
         if name is None:
             state.rule_path = parent.rule_path
             state.depth = parent.depth
@@ -265,4 +271,5 @@ def root_state(run: Derivation, shape: Shape, attrs, path: tuple) -> ShapeState:
     state.initial_scope = shape.scope
     state.appearance = None
     state.trim_planes = ()  # geometry.trim.TrimPlane of the last comp(f), world coordinates
+    state.deleted = False  # NIL
     return state

@@ -161,7 +161,7 @@ class Program(AttributeValues, ShapeOperations):
                     leaves.append(state)
                     continue
                 out: list[tuple] = []
-                if rule.body(state, args, out) and state.children[0] == 0:
+                if rule.body(state, args, out) and state.is_leaf():
                     out.append((state, None, ()))
                 stack.extend(reversed(out))
         except RecursionError:

@@ -140,13 +140,13 @@ class ShapeOperations:
         return successor
 
     def _op_Nil(self, node, params) -> Operation:
-        """``NIL`` (op_nil): the current shape is deleted, counted as a child that is never
-        derived, so it leaves no leaf. The operations after it still run: CityEngine's runtime
-        counts a ``report`` written after ``NIL`` (envelope2002's "total report for
-        optimisation")."""
+        """``NIL`` (op_nil): the current shape is deleted, so it leaves no leaf. The operations
+        after it still run: CityEngine's runtime counts a ``report`` written after ``NIL``
+        (envelope2002's "total report for optimisation"). Inside ``[ ]`` it deletes the pushed
+        copy only (op_pushpop: ``]`` deletes that copy anyway)."""
 
         def delete(state, args, out):
-            state.children[0] += 1
+            state.deleted = True
             return True
 
         return delete
@@ -258,7 +258,7 @@ class ShapeOperations:
                 child = run.child(state, cut, part)
                 child.split_index = index
                 child.split_total = total
-                if body(child, args, out) and child.children[0] == 0:
+                if body(child, args, out) and child.is_leaf():
                     out.append((child, None, ()))
             return True
 

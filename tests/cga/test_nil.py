@@ -26,3 +26,9 @@ def test_a_successor_after_nil_is_derived():
 def test_nil_in_a_split_makes_a_hole():
     model = _build("Lot --> extrude(3) split(x) { 1 : A. | 2 : NIL | ~1 : B. }")
     assert sorted(round(b.volume, 9) for b in model.blocks) == [6.0, 6.0]
+
+
+def test_nil_inside_brackets_deletes_the_pushed_copy_only():
+    # op_pushpop: ']' pops the pushed shape and deletes it; the shape outside stays a leaf
+    model = _build("Lot --> extrude(3) [ t(5, 0, 0) NIL ]")
+    assert len(model.blocks) == 1 and model.blocks[0].volume == 24.0

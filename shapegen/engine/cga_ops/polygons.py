@@ -343,7 +343,7 @@ def _emit_all(state, args, branches, pieces_of, out) -> None:
             child = run.child(state, flat_shape(parent, group), branch)
             child.comp_index = index
             child.comp_total = len(groups)
-            if body(child, args, out) and child.children[0] == 0:
+            if body(child, args, out) and child.is_leaf():
                 out.append((child, None, ()))
 
 

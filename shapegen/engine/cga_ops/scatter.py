@@ -98,7 +98,7 @@ def compile_scatter(program, node: ast.Operation, params):
                                                          POINT, MASS), branch)  # fmt: skip
             child.split_index = index
             child.split_total = int(n)
-            if body(child, args_, out) and child.children[0] == 0:
+            if body(child, args_, out) and child.is_leaf():
                 out.append((child, None, ()))
         return True
 

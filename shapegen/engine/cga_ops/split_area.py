@@ -100,7 +100,7 @@ def compile_split_area(program, node: ast.Operation, params):
             child = run.child(state, cut, branch)
             child.split_index = index
             child.split_total = len(made)
-            if body(child, args, out) and child.children[0] == 0:
+            if body(child, args, out) and child.is_leaf():
                 out.append((child, None, ()))
         return True
 

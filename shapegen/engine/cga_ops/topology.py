@@ -407,7 +407,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                 child.comp_sel = text
                 if planes is not None:  # op_comp: only the ':' operator makes trim planes
                     child.trim_planes = () if merge else planes[chosen[index].index]
-                if body(child, args, out) and child.children[0] == 0:
+                if body(child, args, out) and child.is_leaf():
                     out.append((child, None, ()))
         return True
 
