@@ -13,7 +13,9 @@ compas_cra is not a dependency of shapegen; install it in a separate environment
 
 Without a Python that imports compas_cra the script says so and exits (status 0). The peer's
 verdict: compas_cra reports forces, not a verdict; the wall stands for it when the sum of its
-tension forces is at most 1e-4 of the wall's weight (shapegen certifies 1e-7).
+tension forces is at most 1 % of the wall's weight (shapegen certifies 1e-7 of it). RBE penalises
+tension (weight 1e6) instead of forbidding it, so some always remains: about 2e-4 W on the 100-brick
+wall that stands, against 0.4 W on the one that slides.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from pathlib import Path
 
 TILT_DEGREES = 12.0
 CASES = {"stands": (0.0, 0.7), "slides": (TILT_DEGREES, 0.2)}  # tilt (degrees), friction
-TENSION_REL = 1e-4  # the peer's wall stands when its tension sum is below this fraction of W
+TENSION_REL = 1e-2  # the peer's wall stands when its tension sum is below this fraction of W
 
 
 # ---------------------------------------------------------------- the peer side (compas_cra)
@@ -45,24 +47,25 @@ def peer_run(path: str) -> None:
     wall = json.loads(Path(path).read_text())
     start = time.process_time()
     assembly = CRA_Assembly()
-    # compas is z-up: shapegen's (x, y, z) with y up is compas's (x, -z, y)
-    span = max(box[1][0] for box in wall["boxes"])
-    depth = max(box[1][2] for box in wall["boxes"])
-    slab = Box(
-        span + 1.0,
-        depth + 1.0,
-        0.2,
-        frame=Frame([span / 2, -depth / 2, -0.1], [1, 0, 0], [0, 1, 0]),
-    )
-    assembly.add_block(Block.from_shape(slab))
+    # compas is z-up: shapegen's (x, y, z) with y up is compas's (x, -z, y). The ground is one
+    # support block under each brick of the first course: compas_cra's interface search only
+    # looks at each block's ``nmax`` nearest blocks by centroid, so a single slab under the
+    # whole wall would touch only the bricks nearest its centre and leave the rest hanging.
+    supports = 0
+    for (x0, y0, z0), (x1, _y1, z1) in wall["boxes"]:
+        if abs(y0) < 1e-9:
+            frame = Frame([(x0 + x1) / 2, -(z0 + z1) / 2, -0.05], [1, 0, 0], [0, 1, 0])
+            assembly.add_block(Block.from_shape(Box(x1 - x0, z1 - z0, 0.1, frame=frame)))
+            supports += 1
     volume = 0.0
     for (x0, y0, z0), (x1, y1, z1) in wall["boxes"]:
         frame = Frame([(x0 + x1) / 2, -(z0 + z1) / 2, (y0 + y1) / 2], [1, 0, 0], [0, 1, 0])
         assembly.add_block(Block.from_shape(Box(x1 - x0, z1 - z0, y1 - y0, frame=frame)))
         volume += (x1 - x0) * (y1 - y0) * (z1 - z0)
-    assembly.set_boundary_conditions([0])
+    assembly.set_boundary_conditions(list(range(supports)))
     if wall["tilt"]:
-        assembly.rotate_assembly([0, 0, 0], [0, 1, 0], math.radians(wall["tilt"]))
+        # compas_cra takes the angle in degrees (is_rad=False by default)
+        assembly.rotate_assembly([0, 0, 0], [0, 1, 0], wall["tilt"])
     setup = time.process_time()
     assembly_interfaces_numpy(assembly, nmax=10, amin=1e-4, tmax=1e-4)
     interfaces = time.process_time()
