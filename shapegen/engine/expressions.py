@@ -36,6 +36,7 @@ from shapegen.engine.operators import (
     ORDER,
     elementwise,
     elementwise_unary,
+    ordered,
 )
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
@@ -344,18 +345,12 @@ class ExpressionCompiler(BuiltinCalls):
 
             return compare_equal
         if op in ORDER:
-            function = ORDER[op]
 
             def compare(args, state):
-                a = left(args, state)
-                b = right(args, state)
-                if type(a) is not type(b) or type(a) is bool:
-                    raise error(
-                        node,
-                        f"'{op}' compares two numbers or two strings, "
-                        f"got a {type_name(a)} and a {type_name(b)}",
-                    )
-                return function(a, b)
+                try:
+                    return ordered(op, left(args, state), right(args, state))
+                except ValueError as exc:
+                    raise error(node, str(exc)) from None
 
             return compare
         raise self.error(node, f"unknown operator {op!r}")

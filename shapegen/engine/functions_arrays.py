@@ -107,12 +107,22 @@ def concatenated(rows: list[list[object]]) -> Array:
 
 
 def format_array(array: Array, format_value: Callable[[object], str]) -> str:
-    """CGA's text of an array: ``[1,2,3]``, rows split by ``;`` (``[1,2;3,4]``)."""
-    rows = [
-        ",".join(format_value(v) for v in array.values[r * array.columns : (r + 1) * array.columns])
+    """CGA's text of an array, as its ``print`` shows it (func_array, func_colon, func_readTable):
+    a row as ``(3)[1,2,3]``; more rows as ``(2x3)`` then one line per row, each column right-aligned
+    three spaces wider than its widest element."""
+    cells = [format_value(v) for v in array.values]
+    if array.rows <= 1:
+        return f"({len(cells)})[{','.join(cells)}]"
+    columns = array.columns
+    widths = [3 + max(len(cell) for cell in cells[c::columns]) for c in range(columns)]
+    lines = [
+        "".join(
+            cell.rjust(width)
+            for cell, width in zip(cells[r * columns : (r + 1) * columns], widths, strict=True)
+        )
         for r in range(array.rows)
     ]
-    return "[" + ";".join(rows) + "]"
+    return "\n".join([f"({array.rows}x{columns})", *lines])
 
 
 def _position(index: object, length: int) -> int:
@@ -199,12 +209,16 @@ def type_name(value: object) -> str:
 
 
 def format_value(value: object) -> str:
-    """A value as CGA prints it: ``3`` for 3.0, ``true`` for True."""
+    """A value as CGA prints it: ``3`` for 3.0, ``true`` for True, other numbers to 16
+    significant digits (func_colon: ``[0 : 0.15 : 0.5]`` prints ``0.45`` though its last element
+    is not 0.45, "due to an implicit rounding"; func_convert prints 16 digits)."""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
         if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
             return str(int(value))
+        if math.isfinite(value):
+            return f"{value:.16g}"
         return repr(value)
     if isinstance(value, Array):
         return format_array(value, format_value)

@@ -1,13 +1,16 @@
 """Operators of CGA's expressions on values: the arithmetic and ordering of two numbers (or
-strings), and the element-wise array operators of arrayTypes.html (``.+``, ``.-``, ``.*``,
-``./``, ``.%``, ``.==``, ``.!=``, ``.<``, ``.<=``, ``.>``, ``.>=``, ``.&&``, ``.||`` and the
+strings, or two arrays), and the element-wise array operators of arrayTypes.html (``.+``, ``.-``,
+``.*``, ``./``, ``.%``, ``.==``, ``.!=``, ``.<``, ``.<=``, ``.>``, ``.>=``, ``.&&``, ``.||`` and the
 unary ``.!``, ``.-``, ``.+``).
 
 An element-wise operator applies its operator to each element and gives an array of the
 array operand's dimensions; two arrays must have equal dimensions, and one operand at least is an
 array. ``.+`` adds numbers or, where a string is involved, concatenates (``["a", "b"] .+ 1`` is
 ``["a1", "b1"]``); ``.%`` is C's remainder (the sign of the dividend: ``[8; -5; 0] .% 3`` is
-``[2; -2; 0]``). The operators raise ``ValueError`` with the user's message.
+``[2; -2; 0]``). Two arrays are ordered row by row (arrayTypes.html, "Relational operators"): the
+first differing element decides; a row that is the start of the other's is less (fewer columns),
+and then the array with fewer rows is less. The operators raise ``ValueError`` with the user's
+message.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ __all__ = [
     "ORDER",
     "elementwise",
     "elementwise_unary",
+    "ordered",
     "remainder",
 ]
 
@@ -47,6 +51,30 @@ ORDER: dict[str, Callable[[object, object], bool]] = {
     ">": lambda a, b: a > b,
     ">=": lambda a, b: a >= b,
 }
+
+
+def _rows(array: Array) -> list[tuple]:
+    columns = array.columns
+    return [array.values[r * columns : (r + 1) * columns] for r in range(array.rows)]
+
+
+def ordered(op: str, a: object, b: object) -> bool:
+    """``a op b`` for ``op`` in :data:`ORDER`: two numbers, two strings, or two arrays of numbers
+    or of strings, ordered row by row."""
+    if isinstance(a, Array) and isinstance(b, Array):
+        kinds = {type(value) for value in a.values + b.values}
+        if len(kinds) > 1 or kinds - {float, str}:
+            raise ValueError(
+                f"'{op}' compares two arrays of numbers or two of strings, got a {type_name(a)} "
+                f"and a {type_name(b)}"
+            )
+        return ORDER[op](_rows(a), _rows(b))
+    if type(a) is not type(b) or type(a) not in (float, str):
+        raise ValueError(
+            f"'{op}' compares two numbers, two strings or two arrays, got a {type_name(a)} and a "
+            f"{type_name(b)}"
+        )
+    return ORDER[op](a, b)
 
 
 def _plus(a: object, b: object) -> object:

@@ -12,6 +12,7 @@ import math
 import pytest
 
 from shapegen import parse_grammar
+from shapegen.engine.functions_arrays import Array
 from shapegen.errors import GrammarError
 
 ARRAYS = """
@@ -23,6 +24,21 @@ const abc = ["B", "C", "D"]
 """
 
 
+def _array(notation: str) -> Array:
+    """The array the reference's comment notation ``[1,2;3,4]`` stands for."""
+    rows = [row.split(",") for row in notation[1:-1].split(";")]
+
+    def element(text: str) -> object:
+        if text in ("true", "false"):
+            return text == "true"
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+    return Array(tuple(element(t) for row in rows for t in row), len(rows), len(rows[0]))
+
+
 def _value(expression: str):
     grammar = parse_grammar(f"{ARRAYS}attr v = {expression}\nLot --> X.", "values.cga")
     return grammar.attrs["v"]
@@ -32,44 +48,59 @@ def _value(expression: str):
     "expression, expected",
     [
         # func_index.html
-        ("str(array[3:-1:1])", "[4,3,2]"),
-        ("str(array[[0, 1; 2, 3]])", "[1,2;3,4]"),
-        ("str(array2d[1, [0, 2]])", "[4,6]"),
-        ("str(array2d[[0, 0, 1], 2])", "[3;3;6]"),
-        ("str(array2d[0:2, [0, 2]])", "[1,3;4,6;7,9]"),
+        ("array[3:-1:1]", _array("[4,3,2]")),
+        ("array[[0, 1; 2, 3]]", _array("[1,2;3,4]")),
+        ("array2d[1, [0, 2]]", _array("[4,6]")),
+        ("array2d[[0, 0, 1], 2]", _array("[3;3;6]")),
+        ("array2d[0:2, [0, 2]]", _array("[1,3;4,6;7,9]")),
         ("array[-1]", 0.0),
-        ("str(array[[false, false, true, true, true]])", "[3,4,0]"),
-        ("str(array2d[[2, 3], -1:1])", "[0,7,8;0,0,0]"),
-        ("str(array2d[[0; 3; 6]])", "[1;4;7]"),
-        ("str(array2d[0, [0, 1; 2, 3]])", "[1,2,3,0]"),
-        ("str(floatArray()[1:2, 1:3])", "[0,0,0;0,0,0]"),
+        ("array[[false, false, true, true, true]]", _array("[3,4,0]")),
+        ("array2d[[2, 3], -1:1]", _array("[0,7,8;0,0,0]")),
+        ("array2d[[0; 3; 6]]", _array("[1;4;7]")),
+        ("array2d[0, [0, 1; 2, 3]]", _array("[1,2,3,0]")),
+        ("floatArray()[1:2, 1:3]", _array("[0,0,0;0,0,0]")),
         ('["a", "b"][5] == ""', True),
         ("[true][1]", False),
         # func_array.html
-        ('str(["A", abc, "E"])', "[A,B,C,D,E]"),
-        ("str([a, b; b, a])", "[-1,0,1,2;-2,3,3,3;0,1,2,-1;3,3,3,-2]"),
-        ('str([stringArray(); "x"; "y"])', "[x;y]"),
+        ('["A", abc, "E"]', _array("[A,B,C,D,E]")),
+        ("[a, b; b, a]", _array("[-1,0,1,2;-2,3,3,3;0,1,2,-1;3,3,3,-2]")),
+        ('[stringArray(); "x"; "y"]', _array("[x;y]")),
         # arrayTypes.html: element-wise operators
-        ("str(.![true, false])", "[false,true]"),
-        ("str(false .|| [false; true])", "[false;true]"),
-        ("str([false; true] .&& true)", "[false;true]"),
-        ("str(1 .+ [1; 2])", "[2;3]"),
-        ("str(.-[1; 2])", "[-1;-2]"),
-        ("str([1, 2; 3, 4] .- 1)", "[0,1;2,3]"),
-        ("str(-4 .* [0.25; -0.75; -1])", "[-1;3;4]"),
-        ("str([1, 2; 3, 4] .* [4, 3; 2, 1])", "[4,6;6,4]"),
-        ("str(12 ./ [2, 3, 4])", "[6,4,3]"),
-        ("str([8; -5; 0] .% 3)", "[2;-2;0]"),
+        (".![true, false]", _array("[false,true]")),
+        ("false .|| [false; true]", _array("[false;true]")),
+        ("[false; true] .&& true", _array("[false;true]")),
+        ("1 .+ [1; 2]", _array("[2;3]")),
+        (".-[1; 2]", _array("[-1;-2]")),
+        ("[1, 2; 3, 4] .- 1", _array("[0,1;2,3]")),
+        ("-4 .* [0.25; -0.75; -1]", _array("[-1;3;4]")),
+        ("[1, 2; 3, 4] .* [4, 3; 2, 1]", _array("[4,6;6,4]")),
+        ("12 ./ [2, 3, 4]", _array("[6,4,3]")),
+        ("[8; -5; 0] .% 3", _array("[2;-2;0]")),
         ("abs((7 .% [2.7, -3])[0] - 1.6) < 1e-12 && (7 .% [2.7, -3])[1] == 1", True),
-        ("str([1, 1; 2, 2] .!= [1, 2; 1, 2])", "[false,true;true,false]"),
-        ('str(["a", "b"] .== "b")', "[false,true]"),
-        ("str([1, 2; 3, 4] .> [1, 1; 3, 3])", "[false,true;false,true]"),
-        ("str(2 .>= [1, 2, 3])", "[true,true,false]"),
-        ('str(["a"; "b"] .> "a")', "[false;true]"),
-        ('str(["a", "b"] .+ 1)', "[a1,b1]"),
-        ('str([1; 2] .+ ["a"; "b"])', "[1a;2b]"),
-        ('str([true; false] .+ "a")', "[truea;falsea]"),
-        ("str(array[array .> 2])", "[3,4]"),
+        ("[1, 1; 2, 2] .!= [1, 2; 1, 2]", _array("[false,true;true,false]")),
+        ('["a", "b"] .== "b"', _array("[false,true]")),
+        ("[1, 2; 3, 4] .> [1, 1; 3, 3]", _array("[false,true;false,true]")),
+        ("2 .>= [1, 2, 3]", _array("[true,true,false]")),
+        ('["a"; "b"] .> "a"', _array("[false;true]")),
+        ('["a", "b"] .+ 1', _array("[a1,b1]")),
+        ('[1; 2] .+ ["a"; "b"]', _array("[1a;2b]")),
+        ('[true; false] .+ "a"', _array("[truea;falsea]")),
+        ("array[array .> 2]", _array("[3,4]")),
+        # arrayTypes.html: relational and equality operators on whole arrays, string concatenation
+        ("[1, 2] < [1, 3]", True),
+        ('["a", "b"] < ["a"; "b"]', False),
+        ("[1, 2] <= [1, 2]", True),
+        ('["a"; "b"] <= ["a"]', False),
+        ("[1, 3] > [1, 2]", True),
+        ('["a"; "b"] > ["a"]', True),
+        ("[1, 2, 3] >= [1, 2]", True),
+        ('["a"; "b"] >= ["a"; "b"]', True),
+        ("[1, 2; 9, 9] < [1, 2, 0]", True),
+        ("[1, 2] == [1, 2]", True),
+        ('["a", "b"] == ["a"; "b"]', False),
+        ("[1, 2] != [1; 2]", True),
+        ('"array: " + ["element"]', "array: (1)[element]"),
+        ('[true, true] + " is an array"', "(2)[true,true] is an array"),
         # maths (IEEE)
         ("isnan(sqrt(-1))", True),
         ("isnan(ln(-1))", True),
@@ -84,12 +115,41 @@ def test_follows_the_reference(expression, expected):
 
 
 @pytest.mark.parametrize(
+    "expression, printed",
+    [
+        # func_array.html
+        ("str(abc)", "(3)[B,C,D]"),
+        ('str(["A", abc, "E"])', "(5)[A,B,C,D,E]"),
+        ("str(a)", "(2x1)\n   -1\n   -2"),
+        ("str(b)", "(2x3)\n   0   1   2\n   3   3   3"),
+        (
+            "str([a, b; b, a])",
+            "(4x4)\n   -1   0   1    2\n   -2   3   3    3\n    0   1   2   -1\n    3   3   3   -2",
+        ),
+        # func_colon.html, "Floating point imprecision": printed with an implicit rounding
+        ("str([0.5 : 3])", "(3)[0.5,1.5,2.5]"),
+        ("str([4 : 2])", "(0)[]"),
+        ("str([0 : 0.15 : 0.5])", "(4)[0,0.15,0.3,0.45]"),
+        ("[0 : 0.15 : 0.5][3] == 0.45", False),
+        # func_str.html
+        ("str(1.69 - 69/100)", "1"),
+        ("str(0.1 + 0.2)", "0.3"),
+    ],
+)
+def test_prints_arrays_as_the_reference_does(expression, printed):
+    assert _value(expression) == printed
+
+
+@pytest.mark.parametrize(
     "expression, message",
     [
         ("[1, 2] .+ [1; 2]", "equal dimensions"),
         ("1 .+ 2", "works on arrays"),
         ("[true] .* 2", "needs numbers"),
         ('.-["a"]', "needs numbers"),
+        ('[1, 2] < ["a", "b"]', "two arrays of numbers or two of strings"),
+        ("[true] < [false]", "two arrays of numbers or two of strings"),
+        ("[1] < 2", "two numbers, two strings or two arrays"),
     ],
 )
 def test_element_wise_operators_refuse_in_one_line(expression, message):

@@ -16,7 +16,8 @@ def _report(body: str):
 
 
 def _numbers(text: str) -> list[float]:
-    return [float(v) for v in text.strip("[]").replace(";", ",").split(",")]
+    """The elements of a printed row, ``(3)[1,2,3]``."""
+    return [float(v) for v in text.split(")", 1)[1].strip("[]").split(",")]
 
 
 def test_edge_lengths_of_a_box():
@@ -38,8 +39,8 @@ def test_merge_evaluates_once_on_the_selected_faces():
 @pytest.mark.parametrize(
     "body, expected",
     [
-        ('comp(f) { bottom : "b" }', "[b,,,,,]"),
-        ("comp(f) { top : true }", "[false,true" + ",false" * 4 + "]"),
+        ('comp(f) { bottom : "b" }', "(6)[b,,,,,]"),  # as func_splitString prints (3)[,b,]
+        ("comp(f) { top : true }", "(6)[false,true" + ",false" * 4 + "]"),
     ],
 )
 def test_components_no_selector_takes_get_the_default(body, expected):
