@@ -275,10 +275,32 @@ def _transpose(array: object) -> Array:
     return Array(values, array.columns, array.rows)
 
 
+def _sortable(name: str, array: object) -> Array:
+    array = _need_array(name, array)
+    if array.values and array.element_type() not in (float, str):
+        raise ValueError(f"{name}() sorts numbers or strings, got a {type_name(array)}")
+    return array
+
+
 def _sort_indices(array: object) -> Array:
-    array = _need_array("sortIndices", array)
-    order = sorted(range(array.size), key=lambda k: array.values[k])
-    return Array(tuple(float(k) for k in order), array.rows, array.columns)
+    """func_sortIndices: each row sorted on its own (stable), as indices into the whole array."""
+    array = _sortable("sortIndices", array)
+    columns, values = array.columns, array.values
+    order = [
+        float(r * columns + k)
+        for r in range(array.rows)
+        for k in sorted(range(columns), key=lambda k, r=r: values[r * columns + k])
+    ]
+    return Array(tuple(order), array.rows, array.columns, float)
+
+
+def _sort_row_indices(array: object) -> Array:
+    """func_sortRowIndices: the rows' indices in the order of the sorted rows (stable; rows
+    compare element by element)."""
+    array = _sortable("sortRowIndices", array)
+    columns, values = array.columns, array.values
+    order = sorted(range(array.rows), key=lambda r: values[r * columns : (r + 1) * columns])
+    return Array(tuple(float(r) for r in order), 1, len(order), float)
 
 
 def _find_first(array: object, value: object, epsilon: float = 0.0) -> float:
@@ -333,6 +355,7 @@ ARRAY_FUNCTIONS: dict[str, Callable[..., object]] = {
     "sum": _sum,
     "transpose": _transpose,
     "sortIndices": _sort_indices,
+    "sortRowIndices": _sort_row_indices,
     "findFirst": _find_first,
     "setElems": _set_elems,
     "floatArray": _typed("floatArray", float),

@@ -82,7 +82,7 @@ BUILTIN_FUNCTIONS: dict[str, tuple[int, int]] = {
     "sum": (1, 1),
     "transpose": (1, 1),
     "sortIndices": (1, 1),
-    "sortRowIndices": (1, 2),
+    "sortRowIndices": (1, 1),
     "setElems": (3, 4),
     # colours
     **{f"colorHexTo{c}": (1, 1) for c in "RGBOHSV"},

@@ -21,6 +21,9 @@ const array2d = [1, 2, 3; 4, 5, 6; 7, 8, 9]
 const a = [-1; -2]
 const b = [0:2; 3, 3, 3]
 const abc = ["B", "C", "D"]
+const table = [4, 0, 1; 2, 1, 9; 1, 3, 0; 2, 1, 0]
+sortRows(a, columnPrecedence) =
+    a[sortRowIndices(a[0:nRows(a)-1, columnPrecedence]), 0:nColumns(a)-1]
 """
 
 
@@ -101,6 +104,18 @@ def _value(expression: str):
         ("[1, 2] != [1; 2]", True),
         ('"array: " + ["element"]', "array: (1)[element]"),
         ('[true, true] + " is an array"', "(2)[true,true] is an array"),
+        # func_sortIndices.html, func_sortRowIndices.html
+        ('["c", "b", "d", "a"][sortIndices(["c", "b", "d", "a"])]', _array("[a,b,c,d]")),
+        ("sortIndices([2, 1, 3, 3, 1])", _array("[1,4,0,2,3]")),
+        (
+            'sortIndices(["e", "c", "d"; "b", "a", "c"; "d", "a", "d"])',
+            _array("[1,2,0;4,3,5;7,6,8]"),
+        ),
+        ("sortRowIndices(table)", _array("[2,3,1,0]")),
+        ("table[sortRowIndices(table), 0:nColumns(table)-1]", _array("[1,3,0;2,1,0;2,1,9;4,0,1]")),
+        ("sortRows(table, 1)", _array("[4,0,1;2,1,9;2,1,0;1,3,0]")),
+        ("sortRows(table, [1, 0, 2])", _array("[4,0,1;2,1,0;2,1,9;1,3,0]")),
+        ('sortRowIndices(["b"; "a"; "b"])', _array("[1,0,2]")),
         # maths (IEEE)
         ("isnan(sqrt(-1))", True),
         ("isnan(ln(-1))", True),
@@ -150,6 +165,7 @@ def test_prints_arrays_as_the_reference_does(expression, printed):
         ('[1, 2] < ["a", "b"]', "two arrays of numbers or two of strings"),
         ("[true] < [false]", "two arrays of numbers or two of strings"),
         ("[1] < 2", "two numbers, two strings or two arrays"),
+        ("sortRowIndices([true; false])", "sorts numbers or strings"),
     ],
 )
 def test_element_wise_operators_refuse_in_one_line(expression, message):
