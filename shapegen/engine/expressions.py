@@ -27,7 +27,7 @@ from shapegen.engine.functions_arrays import (
     type_name,
 )
 from shapegen.engine.functions_arrays import index_array as _index_array
-from shapegen.engine.functions_calls import OCCLUSION, BuiltinCalls
+from shapegen.engine.functions_calls import CONTEXT_QUERIES, OCCLUSION, BuiltinCalls
 from shapegen.engine.functions_files import reading_functions
 from shapegen.engine.functions_shape import convert_value, shape_reader
 from shapegen.engine.operators import (
@@ -359,6 +359,8 @@ class ExpressionCompiler(BuiltinCalls):
         name = node.name
         if name in OCCLUSION:
             return self._call_occlusion(node, params)
+        if name in CONTEXT_QUERIES:
+            return self._call_context(node, params)
         words = FUNCTION_KEYWORDS.get(name, frozenset())
         arguments = tuple(
             self._keyword(arg, params, words) or self.compile(arg, params) for arg in node.args

@@ -1,15 +1,19 @@
 """Compiling the calls of CGA builtins that need more than their arguments: the shape's random
-generator (``p``, ``listRandom``, ``fileRandom``), the console (``print``) and the occlusion
-queries (``inside``, ``overlaps``, ``touches``, answered by ``shapegen.engine.occlusion``).
+generator (``p``, ``listRandom``, ``fileRandom``), the console (``print``), the occlusion
+queries (``inside``, ``overlaps``, ``touches``, answered by ``shapegen.engine.occlusion``) and the
+context queries (``contextCount``, ``contextCompare``, ``minimumDistance``, answered by
+``shapegen.engine.context_queries``).
 
 :class:`BuiltinCalls` is mixed into :class:`~shapegen.engine.expressions.ExpressionCompiler`.
 """
 
 from __future__ import annotations
 
-__all__ = ["OCCLUSION", "BuiltinCalls"]
+__all__ = ["CONTEXT_QUERIES", "OCCLUSION", "BuiltinCalls"]
 
+from shapegen.engine.context_queries import COMPARISONS, CONTEXT_QUERIES, context_query
 from shapegen.engine.functions_arrays import format_value, type_name
+from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 
 OCCLUSION = ("inside", "overlaps", "touches")
@@ -91,6 +95,34 @@ class BuiltinCalls:
             if label is None:
                 return query(state, target)
             return query(state, target, label(args, state))
+
+        return call
+
+    def _call_context(self, node, params):
+        name = node.name
+        _, count = CONTEXT_QUERIES[name]
+        if len(node.args) != count:
+            raise self.error(node, f"{name}() takes {count} arguments, got {len(node.args)}")
+        first = node.args[0]
+        if not (isinstance(first, ast.Name) and first.name in ("intra", "inter", "all")):
+            raise self.error(node, f"{name}()'s target is intra, inter or all")
+        target = first.name
+        label = self.compile(node.args[1], params)
+        comparison = ""
+        if count == 3:
+            third = node.args[2]
+            if not (isinstance(third, ast.Name) and third.name in COMPARISONS):
+                raise self.error(
+                    node, f"{name}()'s comparison is one of {', '.join(sorted(COMPARISONS))}"
+                )
+            comparison = third.name
+        error = self.error
+
+        def call(args, state):
+            try:
+                return context_query(name, state, target, label(args, state), comparison)
+            except GrammarError as exc:
+                raise error(node, str(exc)) from None
 
         return call
 

@@ -131,7 +131,7 @@ class Program(AttributeValues, ShapeOperations):
         lot=None,
         max_depth: int | None = None,
         max_shapes: int | None = None,
-        _occluders: list | None = None,
+        _first_pass: Occlusion | None = None,
     ) -> Model:
         """Derive the block model; see :meth:`shapegen.engine.grammar_api.Grammar.build`.
 
@@ -149,7 +149,7 @@ class Program(AttributeValues, ShapeOperations):
         values = self.initial_values(attrs, seed, start_scope, run)
         run.object_rotation = start_scope.rotation
         run.start_shape = start
-        run.occlusion = Occlusion(_occluders)
+        run.occlusion = Occlusion() if _first_pass is None else _first_pass
         root = root_state(run, start, values, ())
         root.rule_path = (self.start.name,)
         leaves: list[ShapeState] = []
@@ -166,9 +166,9 @@ class Program(AttributeValues, ShapeOperations):
                 stack.extend(reversed(out))
         except RecursionError:
             raise GrammarError(TOO_DEEP) from None
-        if run.occlusion.asked and _occluders is None:  # CityEngine's second pass
-            occluders = run.occlusion.second_pass(leaves)
-            return self.derive(attrs, seed, lot, max_depth, max_shapes, occluders)
+        if run.occlusion.asked and _first_pass is None:  # CityEngine's second pass
+            first_pass = run.occlusion.second_pass(leaves)
+            return self.derive(attrs, seed, lot, max_depth, max_shapes, first_pass)
         blocks, surfaces = self._blocks(leaves, run)
         metadata = {
             "grammar": self.grammar.filename,

@@ -79,20 +79,29 @@ class Occlusion:
     queries test against ``occluders``.
     """
 
-    __slots__ = ("occluders", "asked", "_parents")
+    __slots__ = ("occluders", "labelled", "asked", "_parents")
 
-    def __init__(self, occluders: list[Occluder] | None = None):
+    def __init__(self, occluders: list[Occluder] | None = None, labelled: list | None = None):
         self.occluders = occluders
+        #: every ``label()`` of the first pass as ``(label, path, shape)``: each one "creates a
+        #: labeled copy of the current shape" (cga_context), which the context queries count
+        self.labelled: list[tuple] = [] if labelled is None else labelled
         self.asked = False
         self._parents: dict[tuple, tuple] = {}
+
+    def label(self, state, text: str) -> None:
+        """Record a ``label(text)`` of the first pass."""
+        if self.occluders is None:
+            self.labelled.append((text, state.path, state.shape))
 
     def parent(self, state) -> None:
         """Note ``state``'s current shape: a child of another kind is being made from it."""
         if self.occluders is None and state.shape.kind == "mass":
             self._parents.setdefault((state.path, id(state.shape)), (state, state.shape))
 
-    def second_pass(self, leaves) -> list[Occluder]:
-        """The occluders of this (first) pass: the noted comp parents and the leaves, closed."""
+    def second_pass(self, leaves) -> Occlusion:
+        """The state the second pass starts from: this (first) pass's occluders (the noted comp
+        parents and the leaves, closed) and its labelled shapes."""
         found = []
         for state, shape in [*self._parents.values(), *((s, s.shape) for s in leaves)]:
             if shape.kind != "mass":
@@ -100,7 +109,7 @@ class Occlusion:
             mesh = shape.world_mesh()
             if mesh.is_closed and mesh.volume() > TOLERANCE**3:
                 found.append(Occluder(state.path, tuple(state.labels), mesh))
-        return found
+        return Occlusion(found, self.labelled)
 
 
 def inside(state, target: str = "all", label: str = "") -> bool:

@@ -340,6 +340,8 @@ class ShapeOperations:
             text = format_value(name(args, state))
             if text not in state.labels:
                 state.labels = state.labels + (text,)
+            if state.run.occlusion is not None:  # None while attrs are evaluated
+                state.run.occlusion.label(state, text)
             return True
 
         return label_op

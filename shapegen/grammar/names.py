@@ -191,7 +191,11 @@ LIBRARY_FUNCTIONS: frozenset[str] = frozenset(
 FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
     **{name: frozenset({"intra", "inter", "all"}) for name in ("inside", "overlaps", "touches")},
     **{name: frozenset({"intra", "inter", "all"}) for name in ("minimumDistance", "contextCount")},
-    "contextCompare": frozenset({"intra", "inter", "all", "world.lowest", "world.highest"}),
+    "contextCompare": frozenset(
+        {"intra", "inter", "all", "area.largest", "area.smallest"}
+        | {f"world.{side}most" for side in ("northern", "southern", "eastern", "western")}
+        | {"world.highest", "world.lowest"}
+    ),
     "assetInfo": frozenset({"sx", "sy", "sz", "tx", "ty", "tz"}),
     "imageInfo": frozenset({"sx", "sy"}),
     "getGeoCoord": frozenset({"lat", "lon", "alt", "latitude", "longitude", "altitude"}),
