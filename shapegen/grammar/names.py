@@ -187,15 +187,12 @@ LIBRARY_FUNCTIONS: frozenset[str] = frozenset(
     }
 )
 
+_TARGETS = frozenset({"intra", "inter", "all"})  # of the occlusion and context queries
+_RANKS = ("northernmost", "southernmost", "easternmost", "westernmost", "highest", "lowest")
 #: Words a builtin takes as arguments besides values (``inside(intra)``, ``assetInfo(f, sx)``).
 FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
-    **{name: frozenset({"intra", "inter", "all"}) for name in ("inside", "overlaps", "touches")},
-    **{name: frozenset({"intra", "inter", "all"}) for name in ("minimumDistance", "contextCount")},
-    "contextCompare": frozenset(
-        {"intra", "inter", "all", "area.largest", "area.smallest"}
-        | {f"world.{side}most" for side in ("northern", "southern", "eastern", "western")}
-        | {"world.highest", "world.lowest"}
-    ),
+    **dict.fromkeys(("inside", "overlaps", "touches", "minimumDistance", "contextCount"), _TARGETS),
+    "contextCompare": _TARGETS | {f"world.{r}" for r in _RANKS} | {"area.largest", "area.smallest"},
     "assetInfo": frozenset({"sx", "sy", "sz", "tx", "ty", "tz"}),
     "imageInfo": frozenset({"sx", "sy"}),
     "getGeoCoord": frozenset({"lat", "lon", "alt", "latitude", "longitude", "altitude"}),
