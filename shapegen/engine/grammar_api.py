@@ -28,8 +28,7 @@ from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shape import lot_scope
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
-from shapegen.grammar.parser import source_too_long
-from shapegen.limits import current_limits
+from shapegen.grammar.source_files import read_rule_file
 from shapegen.model.model import Model
 
 
@@ -175,15 +174,9 @@ def load_grammar(path: str | os.PathLike) -> Grammar:
         at once, with file, line, column and caret).
     """
     path = _rule_file(path)
-    try:
-        # Refused before reading: UTF-8 spends at most 4 bytes on a character.
-        if path.stat().st_size > 4 * current_limits().max_source_chars:
-            raise GrammarError(f"{path}: {source_too_long(path.stat().st_size, 'bytes')}")
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
-        raise GrammarError(f"cannot read {str(path)!r}: {reason}") from None
-    return Grammar(_parse(text, str(path), origin=path), path)
+    text, encoding = read_rule_file(path)
+    warnings = (f"{path}: {encoding}",) if encoding is not None else ()
+    return Grammar(_parse(text, str(path), origin=path, warnings=warnings), path)
 
 
 def parse_grammar(text: str, name: str = "<string>") -> Grammar:
@@ -271,14 +264,11 @@ def _is_bare_name(text: str) -> bool:
     )
 
 
-def _parse(text: str, filename: str, origin: Path | None = None) -> ast.Grammar:
+def _parse(
+    text: str, filename: str, origin: Path | None = None, warnings: tuple[str, ...] = ()
+) -> ast.Grammar:
     """Parse and check ``text`` with the grammar package's loader; imports are resolved from
     ``origin``'s folder (the working directory without one)."""
     from shapegen import grammar as language
 
-    load = getattr(language, "load", None)
-    if load is not None:
-        return load(text, filename, origin)
-    from shapegen.grammar.parser import parse
-
-    return parse(text, filename)
+    return language.load(text, filename, origin, warnings)

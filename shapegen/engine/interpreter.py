@@ -91,9 +91,11 @@ class Program(AttributeValues, ShapeOperations):
 
     def __init__(self, grammar: ast.Grammar):
         self.grammar = grammar
-        # CityEngine rule files (.cga) get CityEngine's scope after extruding a comp face (y
-        # along the extrusion); .grammar files keep shapegen's (the face's z grows).
-        self.cityengine_scopes = str(grammar.filename).lower().endswith(".cga")
+        # CityEngine rule files (.cga) get CityEngine's semantics: its scope after extruding a
+        # comp face (y along the extrusion; .grammar files keep shapegen's, the face's z grows),
+        # its repeat counts, and its leniency: where its runtime warns and carries on, so does
+        # the derivation (the model's metadata lists the warnings); .grammar files stay strict.
+        self.cga_dialect = grammar.dialect == "cga"
         self.attr_nodes = {a.name: a for a in grammar.attrs}
         self.const_nodes = {c.name: c for c in grammar.consts}
         global_names = set(self.attr_nodes) | set(self.const_nodes) | set(RESERVED_ATTRIBUTES)
@@ -146,6 +148,7 @@ class Program(AttributeValues, ShapeOperations):
         start, lot_metadata = _checked_lot(lot)
         start_scope = start.scope
         run = Derivation(self, seed, max_depth, max_shapes)
+        run.warnings.extend(self.grammar.warnings)  # what the load let through (.cga only)
         values = self.initial_values(attrs, seed, start_scope, run)
         run.object_rotation = start_scope.rotation
         run.start_shape = start
@@ -232,7 +235,7 @@ class Program(AttributeValues, ShapeOperations):
             if kind == MASS:
                 vertices = corners.get(id(state))
                 if vertices is None:
-                    if self.cityengine_scopes:  # extrude(0): CityEngine draws the face
+                    if self.cga_dialect:  # extrude(0): CityEngine draws the face
                         self._flat_box(state, surfaces)
                     continue
                 density, structural, fixed = self._properties(state)

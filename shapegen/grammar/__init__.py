@@ -16,11 +16,12 @@ The AST node classes are in :mod:`shapegen.grammar.ast`; the language's fixed vo
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast, names
-from shapegen.grammar.checks import check, find_problems
+from shapegen.grammar.checks import check, examine
 from shapegen.grammar.imports import resolve_imports, used_definitions
 from shapegen.grammar.parser import parse, parse_with_problems
 
@@ -45,7 +46,12 @@ class FilesGrammarError(GrammarError):
         return "\n".join(parts)
 
 
-def load(text: str, filename: str = "<string>", origin: str | Path | None = None) -> ast.Grammar:
+def load(
+    text: str,
+    filename: str = "<string>",
+    origin: str | Path | None = None,
+    warnings: tuple[str, ...] = (),
+) -> ast.Grammar:
     """Parse and check .grammar ``text``, with the files it imports merged in.
 
     Parameters
@@ -57,6 +63,8 @@ def load(text: str, filename: str = "<string>", origin: str | Path | None = None
     origin : str or Path, optional
         The file the text was read from: its ``import`` paths are relative to its folder (and
         project). Without one they are relative to the working directory.
+    warnings : tuple of str
+        Warnings of reading the file (its encoding), put first in the grammar's ``warnings``.
 
     Returns
     -------
@@ -75,9 +83,8 @@ def load(text: str, filename: str = "<string>", origin: str | Path | None = None
         problems = problems + imported
     else:
         failed = set()
-    problems = problems + [
-        p for p in find_problems(grammar) if not any(f"'{f}." in p[1] for f in failed)
-    ]
+    found, found_warnings = examine(grammar)
+    problems = problems + [p for p in found if not any(f"'{f}." in p[1] for f in failed)]
     if problems:
         # the importing file's problems first, then each imported file's, each in line order
         files = list(dict.fromkeys([grammar.filename, *(p[0].file for p in problems if p[0])]))
@@ -91,4 +98,12 @@ def load(text: str, filename: str = "<string>", origin: str | Path | None = None
             raise FilesGrammarError(grammar, problems)
         location, message = problems[0]
         raise GrammarError(message, location, source=grammar.source, problems=problems)
+    warnings = (*warnings, *grammar.warnings, *(_warning_line(w) for w in found_warnings))
+    if warnings:
+        grammar = dataclasses.replace(grammar, warnings=warnings)
     return used_definitions(grammar)
+
+
+def _warning_line(problem: tuple[SourceLocation | None, str]) -> str:
+    location, message = problem
+    return f"{location}: {message}" if location is not None else message

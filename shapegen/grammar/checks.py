@@ -41,7 +41,7 @@ from shapegen.grammar.names import (
 )
 from shapegen.tolerances import PERCENT_SLACK
 
-__all__ = ["check", "find_problems", "constant_value"]
+__all__ = ["check", "examine", "find_problems", "constant_value"]
 
 Problem = tuple[SourceLocation | None, str]
 
@@ -84,10 +84,19 @@ class _Checker(AnnotationChecks):
         # ids of the names that may be CityEngine keywords: an operation's arguments and
         # branch keys (alignScopeToAxes(y), comp(f) { world.up : A }), a builtin's (inside(inter))
         self.keyword_names: dict[int, frozenset[str]] = {}
-        self.cga = grammar.filename.endswith(".cga")
+        self.cga = grammar.dialect == "cga"
+        self.warnings: list[Problem] = []
 
     def report(self, location: SourceLocation | None, message: str) -> None:
         self.problems.append((location, message))
+
+    def warn(self, location: SourceLocation | None, message: str) -> None:
+        """A problem CityEngine's compiler only warns about: in a ``.cga`` file a warning, and
+        the file loads; in a ``.grammar`` file an error, as that dialect is strict."""
+        if self.cga:
+            self.warnings.append((location, message))
+        else:
+            self.report(location, message)
 
     # Definitions -------------------------------------------------------------------------------
 
@@ -224,12 +233,15 @@ class _Checker(AnnotationChecks):
                 f"'{successor.name}' is an operation: write {successor.name}(...)",
             )
             return
+        if successor.leaf:
+            return  # ``Name.`` invokes no rule, whatever rules of that name take
         arities = self.arities.get(successor.name)
         if arities is None and successor.called and _looks_like_call(successor.name):
             known = [*CGA_OPERATIONS, *(name for name, _ in self.rules)]
-            self.report(
+            self.warn(
                 successor.location,
                 f"'{successor.name}(...)' is neither a CGA operation nor a rule of this file"
+                + (" (the shape stays a leaf)" if self.cga else "")
                 + _suggestion(successor.name, known),
             )
             return
@@ -238,9 +250,10 @@ class _Checker(AnnotationChecks):
         if len(successor.args) not in arities:
             counts = " or ".join(str(n) for n in sorted(arities))
             noun = "argument" if sorted(arities) == [1] else "arguments"
-            self.report(
+            self.warn(
                 successor.location,
-                f"rule '{successor.name}' takes {counts} {noun}, got {len(successor.args)}",
+                f"rule '{successor.name}' takes {counts} {noun}, got {len(successor.args)}"
+                + (": an undefined rule, the shape stays a leaf" if self.cga else ""),
             )
 
     def _set_target(self, item: ast.Set) -> None:
@@ -434,15 +447,25 @@ def _order(problem: Problem) -> tuple[int, int]:
     return (location.line, location.column) if location is not None else (0, 0)
 
 
-def find_problems(grammar: ast.Grammar) -> list[Problem]:
-    """Every load-time problem of ``grammar`` as ``(location, message)`` pairs, in file order."""
+def examine(grammar: ast.Grammar) -> tuple[list[Problem], list[Problem]]:
+    """The load-time problems and warnings of ``grammar``, each as ``(location, message)``
+    pairs in file order. Warnings come only from ``.cga`` files: what CityEngine's compiler
+    warns about and derives anyway (see :meth:`_Checker.warn`)."""
+    checker = _Checker(grammar)
     try:
-        problems = _Checker(grammar).run()
+        problems = checker.run()
     except RecursionError:
         location = SourceLocation(grammar.filename, 1, 1)
-        return [(location, "the file nests too deeply to process")]
-    unique = list(dict.fromkeys(problems))
-    return sorted(unique, key=_order)
+        return [(location, "the file nests too deeply to process")], []
+    return (
+        sorted(dict.fromkeys(problems), key=_order),
+        sorted(dict.fromkeys(checker.warnings), key=_order),
+    )
+
+
+def find_problems(grammar: ast.Grammar) -> list[Problem]:
+    """Every load-time problem of ``grammar`` as ``(location, message)`` pairs, in file order."""
+    return examine(grammar)[0]
 
 
 def check(grammar: ast.Grammar) -> ast.Grammar:

@@ -18,6 +18,10 @@ from shapegen.grammar.names import ANNOTATIONS, ANY_KEYWORD
 __all__ = ["AnnotationChecks"]
 
 _RULE_ONLY_ANNOTATIONS = ("StartRule", "Lot", "Structure")
+#: shapegen's own annotations, which decide how a model is built, searched and judged.
+_SHAPEGEN_ANNOTATIONS = frozenset({"Free", "Lot", "Structure"})
+#: Annotations whose arguments are evaluated in a .cga file (their names must exist).
+_EVALUATED_IN_CGA = _SHAPEGEN_ANNOTATIONS | {"Range"}
 _ATTR_ONLY_ANNOTATIONS = ("Range", "Free")
 _KIND_NAMES = {
     ast.Attribute: "an attr",
@@ -55,6 +59,16 @@ class AnnotationChecks:
 
     # Annotations -------------------------------------------------------------------------------
 
+    def _annotation_problem(self, name: str, location, message: str) -> None:
+        """A problem with annotation ``@name``: CityEngine's compiler only warns about its own
+        annotations (the inspector ignores what it cannot read), so in a ``.cga`` file it is a
+        warning; shapegen's own (``@Free``, ``@Lot``, ``@Structure``) decide how a model is
+        built and judged, so they stay errors."""
+        if name in _SHAPEGEN_ANNOTATIONS:
+            self.report(location, message)
+        else:
+            self.warn(location, message + (" (ignored)" if self.cga else ""))
+
     def _check_annotations(self, definition: ast.Definition) -> None:
         kind = _KIND_NAMES[type(definition)]
         seen: set[str] = set()
@@ -69,24 +83,27 @@ class AnnotationChecks:
                 )
                 continue
             if name in seen:
-                self.report(annotation.location, f"'@{name}' is given twice")
+                self._annotation_problem(name, annotation.location, f"'@{name}' is given twice")
             seen.add(name)
             low, high, keywords = ANNOTATIONS[name]
             count = len(annotation.args)
             if not (low <= count <= high) and not (name == "Range" and annotation.keywords):
-                self.report(
+                self._annotation_problem(
+                    name,
                     annotation.location,
                     f"@{name} takes {_arity(low, high)}, got {count}",
                 )
             for keyword in annotation.keywords:
                 if ANY_KEYWORD not in keywords and keyword.name not in keywords:
                     valid = ", ".join(keywords) if keywords else "none"
-                    self.report(
+                    self._annotation_problem(
+                        name,
                         keyword.location,
                         f"@{name} has no argument '{keyword.name}' (valid: {valid})"
                         + _suggestion(keyword.name, keywords),
                     )
-            if name not in _UNEVALUATED:
+            if name not in _UNEVALUATED and (not self.cga or name in _EVALUATED_IN_CGA):
+                # CityEngine reads the other inspector hints' unquoted words as words
                 self._visit(annotation, {})
             if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
                 self.report(annotation.location, f"@{name} belongs on a rule, not on {kind}")
@@ -105,9 +122,16 @@ class AnnotationChecks:
                     "for its bounds",
                 )
             return
+        # a @Free attr's bounds are the search's; any other @Range is an inspector hint, which
+        # CityEngine only warns about
+        problem = (
+            self.report
+            if attribute.free
+            else lambda location, message: self._annotation_problem("Range", location, message)
+        )
         bounds = attribute.range
         if bounds is None:
-            self.report(annotation.location, "@Range needs both a min and a max")
+            problem(annotation.location, "@Range needs both a min and a max")
             return
         low, high = (constant_value(bound, self.values) for bound in bounds)
         for bound, value in zip(bounds, (low, high), strict=True):
@@ -120,18 +144,18 @@ class AnnotationChecks:
                 self.report(bound.location, "a @Range bound must be a number")
             elif value is not UNKNOWN and not is_number(value) and not isinstance(value, str):
                 # CityEngine's older string form @Range("a", "b") lists choices, like @Enum
-                self.report(bound.location, "a @Range bound must be a number")
+                problem(bound.location, "a @Range bound must be a number")
         if not (is_number(low) and is_number(high)):
             return
         if low > high:
-            self.report(
+            problem(
                 annotation.location,
                 f"@Range min {_show(low)} is greater than its max {_show(high)}",
             )
             return
         default = constant_value(attribute.value, self.values)
         if is_number(default) and not (low <= default <= high):
-            self.report(
+            self.warn(
                 attribute.value.location,
                 f"the value {_show(default)} of '{attribute.name}' is outside its "
                 f"@Range [{_show(low)}, {_show(high)}]",
@@ -145,10 +169,11 @@ class AnnotationChecks:
     def _check_start_rule(self) -> None:
         starts = [rule for rule in self.rules.values() if rule.start]
         for extra in starts[1:]:
-            self.report(
+            # CityEngine lets a file offer several start rules and the user pick one
+            self.warn(
                 extra.annotation("StartRule").location,
                 f"more than one @StartRule (the first is '{starts[0].name}' at "
-                f"{starts[0].location})",
+                f"{starts[0].location})" + (f": '{starts[0].name}' is derived" if self.cga else ""),
             )
         start = self.grammar.start_rule
         if start is not None and start.start and start.params:

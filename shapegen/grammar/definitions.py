@@ -183,6 +183,11 @@ class Grammar:
     sources : dict
         ``file name -> text`` of every file merged into this one by its imports (for the carets
         of problems found in them); excluded from equality.
+    warnings : tuple
+        What the load found and let through in a ``.cga`` file, where CityEngine's compiler only
+        warns (an unknown annotation, an undefined rule, a default outside its ``@Range``), one
+        ``file:line:col: message`` line each; the derivation carries them into the model's
+        ``metadata["warnings"]``. Excluded from equality.
     """
 
     definitions: tuple[Definition, ...]
@@ -192,7 +197,14 @@ class Grammar:
     styles: tuple[str, ...] = ()
     source: str = field(default="", compare=False, repr=False)
     sources: dict[str, str] = field(default_factory=dict, compare=False, repr=False)
+    warnings: tuple[str, ...] = field(default=(), compare=False, repr=False)
     location: SourceLocation = location_field()
+
+    @property
+    def dialect(self) -> str:
+        """``"cga"`` for a CityEngine rule file (``.cga``, any case: lenient where CityEngine
+        is), ``"grammar"`` for shapegen's own ``.grammar`` files and texts (strict)."""
+        return "cga" if self.filename.lower().endswith(".cga") else "grammar"
 
     def source_of(self, file: str | None) -> str:
         """The text of ``file`` (this file's or an imported one's), for an error's caret."""

@@ -34,11 +34,11 @@ __all__ = ["resolve_imports", "project_folder", "import_candidates", "used_defin
 import dataclasses
 from pathlib import Path
 
-from shapegen.errors import GrammarError, SourceLocation
+from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.import_paths import import_candidates, project_folder
-from shapegen.grammar.parser import parse_with_problems, source_too_long
-from shapegen.limits import current_limits
+from shapegen.grammar.parser import parse_with_problems
+from shapegen.grammar.source_files import read_rule_file
 
 Problem = tuple[SourceLocation | None, str]
 
@@ -64,6 +64,7 @@ class _Merger:
         self.sources: dict[str, str] = {}
         self.cache: dict[Path, _Merged | None] = {}
         self.failed: set[str] = set()  # prefixes whose file could not be merged
+        self.warnings: list[str] = []  # an imported file read in another encoding than UTF-8
 
     def merge(self, grammar: ast.Grammar, folder: Path, stack: tuple[Path, ...]) -> _Merged:
         own = list(grammar.definitions)
@@ -157,13 +158,9 @@ class _Merger:
 
     def _load(self, path: Path, stack: tuple[Path, ...]) -> _Merged:
         filename = str(path)
-        try:
-            if path.stat().st_size > 4 * current_limits().max_source_chars:
-                raise GrammarError(f"{path}: {source_too_long(path.stat().st_size, 'bytes')}")
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
-            raise GrammarError(f"cannot read the imported file {filename!r}: {reason}") from None
+        text, encoding = read_rule_file(path, "the imported file")
+        if encoding is not None:
+            self.warnings.append(f"{filename}: {encoding}")
         grammar, problems = parse_with_problems(text, filename)
         self.sources[filename] = grammar.source
         self.problems += problems
@@ -436,7 +433,10 @@ def resolve_imports(
     except RecursionError:
         location = SourceLocation(grammar.filename, 1, 1)
         return grammar, [(location, "the imported files nest too deeply to process")], set()
-    return merged.grammar, merger.problems, merger.failed
+    merged_grammar = dataclasses.replace(
+        merged.grammar, warnings=(*merged.grammar.warnings, *merger.warnings)
+    )
+    return merged_grammar, merger.problems, merger.failed
 
 
 def used_definitions(grammar: ast.Grammar) -> ast.Grammar:

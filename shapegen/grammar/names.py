@@ -367,7 +367,7 @@ BLOCK_OPERATIONS: frozenset[str] = frozenset(
 #: bare name among these in an operation's arguments or a branch key is not an undefined name.
 OPERATION_KEYWORDS: frozenset[str] = frozenset(
     {
-        *("x", "y", "z", "xy", "xz", "yx", "yz", "zx", "zy", "xyz"),
+        *("x", "y", "z", "xy", "xz", "yx", "yz", "zx", "zy", "xyz", "yzx", "zxy"),
         *("xUp", "yUp", "zUp", "xDown", "yDown", "zDown"),
         *(
             f"{frame}.{axes}"

@@ -35,9 +35,14 @@ def test_operation_without_node_is_generic():
     assert [a.value.value for a in operation.arguments] == [0.0, 2.0, 3.0]
 
 
-def test_unknown_call_is_a_load_error_with_a_suggestion():
+def test_unknown_call_is_an_undefined_rule_warning_with_a_suggestion():
+    # CityEngine's compiler warns of an undefined rule (cga_changelog: an invocation that is
+    # no operation and no rule) and the shape stays a leaf; a .grammar file refuses it
+    grammar = load("Lot --> extrude(2) primitiveQuadd()", "r.cga")
+    (warning,) = grammar.warnings
+    assert "r.cga:1:20" in warning and "did you mean 'primitiveQuad'" in warning
     with pytest.raises(GrammarError, match="did you mean 'primitiveQuad'"):
-        load("Lot --> extrude(2) primitiveQuadd()", "r.cga")
+        load("Lot --> extrude(2) primitiveQuadd()", "r.grammar")
 
 
 def test_undefined_rule_stays_a_leaf():

@@ -29,7 +29,7 @@ def compile_extrude(program, node: ast.Operation, params):
                 node, f"extrude()'s type is one of {', '.join(_EXTRUSION_TYPES)}; got {kind!r}"
             )
     distance = program._number(node, arguments[-1], params, "extrude height")
-    cityengine = program.cityengine_scopes
+    cityengine = program.cga_dialect
     error = program.error
 
     def extrude_op(state, args, out):

@@ -373,7 +373,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
         for key, merge, body, branch in branches
     ]
     error = program.error
-    trims = program.cityengine_scopes
+    trims = program.cga_dialect
 
     def comp_op(state, args, out):
         shape = state.shape
