@@ -49,7 +49,7 @@ from shapegen.engine.occlusion import Occlusion
 from shapegen.engine.operations import INSERT, ShapeOperations
 from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
-from shapegen.geometry.cut import convex_decomposition
+from shapegen.geometry.cut import placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
@@ -304,7 +304,11 @@ class Program(AttributeValues, ShapeOperations):
         if volume < 0:
             surfaces.append(_surface(state, mesh, "faces turned inwards", len(surfaces)))
             return []
-        pieces = [mesh] if mesh.is_convex() else convex_decomposition(mesh)
+        if mesh.is_convex():
+            pieces = [mesh]
+        else:  # cut in scope coordinates, where the same asset gives the same mesh
+            scope = state.shape.scope
+            pieces = placed_convex_decomposition(state.shape.mesh(), scope.rotation, scope.origin)
         if pieces is None:
             surfaces.append(_surface(state, mesh, "not convex", len(surfaces)))
             return []

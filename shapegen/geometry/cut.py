@@ -11,11 +11,19 @@ each loop becomes its own face.
 
 from __future__ import annotations
 
-__all__ = ["clip_half", "clip_plane", "clip_slab", "convex_decomposition"]
+__all__ = [
+    "clip_half",
+    "clip_plane",
+    "clip_slab",
+    "convex_decomposition",
+    "placed_convex_decomposition",
+]
+
+from itertools import compress
 
 import numpy as np
 
-from shapegen.geometry.mesh import Mesh, polygon_area
+from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 
 _REL = 1e-9  # points closer than this times the mesh size to the plane lie on it
 
@@ -27,52 +35,80 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
         return None
     eps = _REL * max(mesh.size(), 1e-12)
     sign = 1.0 if keep_above else -1.0
-    depth = (mesh.vertices[:, axis] - value) * sign
+    vertices = mesh.vertices
+    depth = (vertices[:, axis] - value) * sign
     if depth.min() >= -eps:
         return mesh
     if depth.max() <= eps:
         return None
-    closed = mesh.is_closed
-    points = [p for p in mesh.vertices]
-    cut_points: dict[tuple[int, int], int] = {}
-
-    def crossing(a: int, b: int) -> int:
-        key = (a, b) if a < b else (b, a)
-        index = cut_points.get(key)
-        if index is None:
-            i, j = key
-            t = depth[i] / (depth[i] - depth[j])
-            point = mesh.vertices[i] + t * (mesh.vertices[j] - mesh.vertices[i])
-            point[axis] = value
-            index = cut_points[key] = len(points)
-            points.append(point)
-        return index
-
-    faces = []
-    normals = mesh.face_normals()
-    for k, face in enumerate(mesh.faces):
-        ring: list[int] = []
-        for a, b in zip(face, face[1:] + face[:1], strict=True):
-            if depth[a] >= -eps:
-                ring.append(a)
-            if (depth[a] > eps and depth[b] < -eps) or (depth[a] < -eps and depth[b] > eps):
-                ring.append(crossing(a, b))
-        ring = _without_repeats(ring)
-        if len(ring) < 3:
-            continue
-        flags = [i >= len(depth) or abs(depth[i]) <= eps for i in ring]
-        # the direction along the cut in which the kept part's boundary runs (interior on the
-        # left): t = d x n, d the kept side, n the face normal
-        side = np.zeros(3)
-        side[axis] = sign
-        along = np.cross(side, normals[k])
-        faces.extend(_split_at_bridges(ring, flags, points, along))
+    # Faces wholly in front of the plane stay as they are and faces nowhere in front of it go;
+    # only the faces the plane crosses or touches are clipped one by one.
+    corners, start = mesh._corners
+    heads = start[:-1]
+    corner_depth = depth[corners]
+    successor = np.arange(1, len(corners) + 1)
+    successor[start[1:] - 1] = heads
+    repeated = np.logical_or.reduceat(corners == corners[successor], heads)
+    whole = (np.minimum.reduceat(corner_depth, heads) > eps) & ~repeated & (np.diff(start) >= 3)
+    clipped = np.flatnonzero(~whole & (np.maximum.reduceat(corner_depth, heads) > eps))
+    # one new vertex per crossed edge, shared by the two faces of the edge
+    a, b = corners, corners[successor]
+    da, db = corner_depth, corner_depth[successor]
+    crossed = ((da > eps) & (db < -eps)) | ((da < -eps) & (db > eps))
+    crossed &= np.repeat(~whole, np.diff(start))
+    n = len(vertices)
+    low, high = np.minimum(a[crossed], b[crossed]), np.maximum(a[crossed], b[crossed])
+    keys, first = np.unique(low * n + high, return_index=True)
+    i, j = low[first], high[first]
+    t = (depth[i] / (depth[i] - depth[j]))[:, None]
+    new_points = vertices[i] + t * (vertices[j] - vertices[i])
+    new_points[:, axis] = value
+    crossing = dict(zip(keys.tolist(), range(n, n + len(keys)), strict=True))
+    points = np.concatenate([vertices, new_points]) if len(keys) else vertices
+    pieces = _clipped_faces(mesh, clipped, depth.tolist(), eps, crossing, points, axis, sign)
+    whole_flags = whole.tolist()
+    faces: list[tuple[int, ...]] = []
+    done = 0
+    for k, polygons in zip(clipped.tolist(), pieces, strict=True):
+        faces.extend(compress(mesh.faces[done:k], whole_flags[done:k]))
+        faces.extend(polygons)
+        done = k + 1
+    faces.extend(compress(mesh.faces[done:], whole_flags[done:]))
     if not faces:
         return None
-    vertices = np.array(points)
-    if closed:
-        faces.extend(_caps(faces))
-    return _compact(vertices, faces)
+    if mesh.is_closed:
+        faces.extend(_caps(faces, len(points)))
+    return _compact(points, faces)
+
+
+def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign):
+    """The polygons left of each face in ``clipped`` (a list per face)."""
+    normals = mesh.face_normals()
+    n = len(depth)
+    out = []
+    for k in clipped.tolist():
+        face = mesh.faces[k]
+        ring: list[int] = []
+        count = len(face)
+        for m in range(count):
+            p, q = face[m], face[(m + 1) % count]
+            dp, dq = depth[p], depth[q]
+            if dp >= -eps:
+                ring.append(p)
+            if (dp > eps and dq < -eps) or (dp < -eps and dq > eps):
+                ring.append(crossing[p * n + q if p < q else q * n + p])
+        ring = _without_repeats(ring)
+        if len(ring) < 3:
+            out.append(())
+            continue
+        flags = [i >= n or abs(depth[i]) <= eps for i in ring]
+        # the direction along the cut in which the kept part's boundary runs (interior on the
+        # left): t = d x n, d the kept side (sign along axis), n the face normal
+        nx, ny, nz = normals[k].tolist()
+        along = ((0.0, -nz, ny), (nz, 0.0, -nx), (-ny, nx, 0.0))[axis]
+        along = tuple(sign * c for c in along)
+        out.append(_split_at_bridges(ring, flags, points, along))
+    return out
 
 
 def clip_slab(mesh: Mesh, axis: int, low: float, high: float) -> Mesh | None:
@@ -101,7 +137,7 @@ def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
     if all(flags):  # a face lying on the cut: the cap replaces it
         return []
     on_edges = [flags[k] and flags[(k + 1) % n] for k in range(n)]
-    if not any(on_edges) or float(np.linalg.norm(along)) == 0:
+    if not any(on_edges) or not any(along):
         return [tuple(ring)] if len(ring) >= 3 else []
     start = (on_edges.index(True) + 1) % n  # a chain begins after an edge on the plane
     chains: list[list[int]] = []
@@ -117,7 +153,12 @@ def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
     chains = [c for c in chains if len(c) >= 2]
     if not chains:
         return []
-    position = {i: float(np.asarray(points[i]) @ along) for c in chains for i in (c[0], c[-1])}
+    ax, ay, az = along
+    position = {}
+    for c in chains:
+        for i in (c[0], c[-1]):
+            x, y, z = points[i].tolist()
+            position[i] = x * ax + y * ay + z * az
     starts = sorted(range(len(chains)), key=lambda c: position[chains[c][0]])
     link: dict[int, int] = {}
     free = list(starts)
@@ -145,24 +186,26 @@ def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
     return polygons
 
 
-def _caps(faces: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
+def _caps(faces: list[tuple[int, ...]], count: int) -> list[tuple[int, ...]]:
     """Faces closing the boundary loops of a clipped closed mesh (each boundary edge turned
-    around, chained into loops)."""
-    directed = set()
-    for face in faces:
-        directed.update(zip(face, face[1:] + face[:1], strict=True))
-    following: dict[int, int] = {}
-    for a, b in directed:
-        if (b, a) not in directed:
-            following[b] = a  # the cap runs the edge the other way
+    around, chained into loops); ``count`` vertices."""
+    corners, start = corner_layout(faces)
+    successor = np.arange(1, len(corners) + 1)
+    successor[start[1:] - 1] = start[:-1]
+    edges = corners * count + corners[successor]
+    reverse = corners[successor] * count + corners
+    boundary = ~np.isin(edges, reverse)
+    following: dict[int, int] = dict(
+        zip(corners[successor][boundary].tolist(), corners[boundary].tolist(), strict=True)
+    )  # the cap runs each boundary edge the other way
     caps = []
     while following:
-        start, nxt = following.popitem()
-        loop = [start]
-        while nxt != start and nxt in following:
+        first, nxt = following.popitem()
+        loop = [first]
+        while nxt != first and nxt in following:
             loop.append(nxt)
             nxt = following.pop(nxt)
-        if nxt == start and len(loop) >= 3:
+        if nxt == first and len(loop) >= 3:
             caps.append(tuple(loop))
     return caps
 
@@ -170,31 +213,56 @@ def _caps(faces: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
 def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
     """The mesh of the faces with area (a bridge left along an earlier cut has none), or None."""
     span = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
-    faces = [f for f in faces if polygon_area(vertices[list(f)]) > _REL * span * span]
-    if not faces:
+    corners, start = corner_layout(faces)
+    area = 0.5 * np.linalg.norm(area_vectors(vertices, corners, start), axis=1)
+    keep = area > _REL * span * span
+    if not keep.any():
         return None
-    used: dict[int, int] = {}
-    remapped = [tuple(used.setdefault(i, len(used)) for i in face) for face in faces]
-    mesh = Mesh(vertices[list(used)], remapped)
-    low, high = mesh.bounds()
-    if float(np.max(high - low)) <= 0:
+    counts = np.diff(start)[keep]
+    corners = corners[np.repeat(keep, np.diff(start))]
+    # vertices renumbered in the order the kept faces first use them
+    used, first = np.unique(corners, return_index=True)
+    order = used[np.argsort(first, kind="stable")]
+    number = np.empty(len(vertices), dtype=np.intp)
+    number[order] = np.arange(len(order))
+    corners = number[corners]
+    start = np.zeros(len(counts) + 1, dtype=np.intp)
+    np.cumsum(counts, out=start[1:])
+    flat = corners.tolist()
+    faces = tuple(
+        tuple(flat[a:b]) for a, b in zip(start[:-1].tolist(), start[1:].tolist(), strict=True)
+    )
+    kept = vertices[order]
+    if float(np.ptp(kept, axis=0).max()) <= 0:
         return None
-    return mesh
+    return Mesh._checked(kept, faces, (corners, start))
 
 
 def clip_plane(mesh: Mesh, normal, offset: float, keep_above: bool) -> Mesh | None:
     """The part of ``mesh`` with ``normal . p >= offset`` (``keep_above``) or ``<=``; ``normal``
-    a unit vector. The mesh is turned so that ``normal`` is its z axis, clipped, turned back."""
+    a unit vector. The mesh is turned so that ``normal`` is its y axis, clipped, turned back."""
+    frame = _frame_of(normal)
+    return _turned_back(clip_half(_turned(mesh, frame), 1, offset, keep_above), frame)
+
+
+def _frame_of(normal) -> np.ndarray:
+    """A rotation whose y axis (second column) is the unit vector ``normal``."""
     from shapegen.geometry.frames import rotation_keeping_x
 
     normal = np.asarray(normal, float)
     guess = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    frame = rotation_keeping_x(guess, normal)  # y along the normal
-    turned = Mesh(mesh.vertices @ frame, mesh.faces)
-    piece = clip_half(turned, 1, offset, keep_above)
-    if piece is None:
-        return None
-    return Mesh(piece.vertices @ frame.T, piece.faces)
+    return rotation_keeping_x(guess, normal)  # y along the normal
+
+
+def _turned(mesh: Mesh, frame: np.ndarray) -> Mesh:
+    turned = Mesh._checked(mesh.vertices @ frame, mesh.faces, mesh._corners)
+    if "is_closed" in mesh.__dict__:
+        turned.__dict__["is_closed"] = mesh.is_closed  # a rotation keeps the topology
+    return turned
+
+
+def _turned_back(piece: Mesh | None, frame: np.ndarray) -> Mesh | None:
+    return None if piece is None else _turned(piece, frame.T)
 
 
 def convex_decomposition(mesh: Mesh, max_pieces: int = 64) -> list[Mesh] | None:
@@ -206,16 +274,20 @@ def convex_decomposition(mesh: Mesh, max_pieces: int = 64) -> list[Mesh] | None:
     todo = [mesh]
     while todo:
         piece = todo.pop()
-        if piece.is_convex():
+        slack = _REL * max(piece.size(), 1e-12)
+        heights = piece.heights_above_faces()
+        if heights.max(initial=0.0) <= slack:  # convex: Mesh.is_convex's test
             done.append(piece)
             if len(done) > max_pieces:
                 return None
             continue
-        plane = _splitting_plane(piece)
+        plane = _splitting_plane(piece, heights, slack)
         if plane is None:
             return None
         normal, offset = plane
-        halves = [clip_plane(piece, normal, offset, side) for side in (False, True)]
+        frame = _frame_of(normal)
+        turned = _turned(piece, frame)
+        halves = [_turned_back(clip_half(turned, 1, offset, side), frame) for side in (False, True)]
         if any(h is None or not h.is_closed for h in halves):
             return None
         todo.extend(halves)
@@ -224,18 +296,40 @@ def convex_decomposition(mesh: Mesh, max_pieces: int = 64) -> list[Mesh] | None:
     return done
 
 
-def _splitting_plane(mesh: Mesh):
-    """The plane of the face with the most corners in front of it (a reflex face's plane)."""
+def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | None:
+    """:func:`convex_decomposition` of ``mesh`` (scope coordinates), the pieces moved by
+    ``rotation`` and ``origin`` into world coordinates.
+
+    The pieces in scope coordinates are kept (a bounded cache keyed by the mesh's vertices and
+    faces): a rule inserts the same asset in many places (a temple's columns) and a rebuild
+    (a search, the design page) derives the same leaves again, so each distinct mesh is cut
+    once. A decomposition depends only on the mesh, so the world pieces are those of a
+    decomposition in world coordinates up to round-off."""
+    key = (mesh.vertices.tobytes(), mesh.faces)
+    pieces = _DECOMPOSED.get(key, _MISSING)
+    if pieces is _MISSING:
+        pieces = convex_decomposition(mesh)
+        if len(_DECOMPOSED) >= _DECOMPOSED_LIMIT:
+            del _DECOMPOSED[next(iter(_DECOMPOSED))]  # the oldest entry
+        _DECOMPOSED[key] = pieces
+    if pieces is None:
+        return None
+    return [piece.transformed(rotation, origin) for piece in pieces]
+
+
+_DECOMPOSED: dict = {}
+_DECOMPOSED_LIMIT = 512  # distinct meshes kept by placed_convex_decomposition
+_MISSING = object()
+
+
+def _splitting_plane(mesh: Mesh, heights: np.ndarray, slack: float):
+    """The plane of the face with the most corners in front of it (a reflex face's plane);
+    ``heights`` are :meth:`Mesh.heights_above_faces`, ``slack`` the mesh's round-off (m)."""
     normals, centres = mesh._normals
-    slack = _REL * max(mesh.size(), 1e-12)
-    best = None
-    for k in range(mesh.n_faces):
-        n = normals[k]
-        if not n.any():
-            continue
-        heights = (mesh.vertices - centres[k]) @ n
-        ahead = int((heights > slack * 1e3).sum())
-        behind = int((heights < -slack * 1e3).sum())
-        if ahead and behind and (best is None or ahead > best[0]):
-            best = (ahead, n, float(centres[k] @ n))
-    return None if best is None else (best[1], best[2])
+    ahead = (heights > slack * 1e3).sum(axis=1)
+    behind = (heights < -slack * 1e3).sum(axis=1)
+    usable = (ahead > 0) & (behind > 0) & normals.any(axis=1)
+    if not usable.any():
+        return None
+    k = int(np.argmax(np.where(usable, ahead, -1)))
+    return normals[k], float(centres[k] @ normals[k])

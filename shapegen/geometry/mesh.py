@@ -14,14 +14,23 @@ Faces may be non-convex polygons; holes are not represented.
 
 from __future__ import annotations
 
-__all__ = ["Mesh", "BOX_FACES", "polygon_normal", "polygon_area", "unit_face_normals"]
+__all__ = [
+    "Mesh",
+    "BOX_FACES",
+    "area_vectors",
+    "corner_layout",
+    "polygon_normal",
+    "polygon_area",
+    "unit_face_normals",
+]
 
 from collections.abc import Sequence
 from functools import cached_property
+from itertools import chain
 
 import numpy as np
 
-from shapegen.model.polygons import face_normals
+from shapegen.model.polygons import cross, face_normals
 
 # The unit box's corners (scope coordinates) and faces in CityEngine's comp(f) order for an
 # extruded rectangle lot: 0 bottom, 1 top, then the sides from the lot's first edge (which runs
@@ -42,6 +51,7 @@ BOX_FACES = (
 edge (the bottom edge of a side, left to right seen from outside)."""
 
 _REL = 1e-9  # relative tolerance of the shape queries (times the mesh's size)
+_BAND_NUMBERS = 1 << 21  # numbers held at once by heights_above_faces (16 MiB)
 
 
 def polygon_normal(points: np.ndarray) -> np.ndarray:
@@ -74,6 +84,30 @@ def polygon_area(points: np.ndarray) -> float:
     return 0.5 * float(np.linalg.norm(polygon_normal(points)))
 
 
+def corner_layout(faces: Sequence[Sequence[int]]) -> tuple[np.ndarray, np.ndarray]:
+    """The faces as flat arrays: every face's corners one after the other, and the ``(F + 1,)``
+    offsets where each face starts (the last is the number of corners)."""
+    counts = np.fromiter(map(len, faces), dtype=np.intp, count=len(faces))
+    start = np.zeros(len(faces) + 1, dtype=np.intp)
+    np.cumsum(counts, out=start[1:])
+    corners = np.fromiter(chain.from_iterable(faces), dtype=np.intp, count=int(start[-1]))
+    return corners, start
+
+
+def area_vectors(vertices: np.ndarray, corners: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """Newell's vector of each face (about its corner mean), ``(F, 3)``: normal to the face,
+    its length twice the face's area (m^2); the faces given as by :func:`corner_layout`."""
+    count = np.diff(start)
+    if len(count) == 0:
+        return np.empty((0, 3))
+    p = vertices[corners]
+    centre = np.add.reduceat(p, start[:-1], axis=0) / count[:, None]
+    p -= np.repeat(centre, count, axis=0)
+    successor = np.arange(1, len(corners) + 1)
+    successor[start[1:] - 1] = start[:-1]  # a face's last corner wraps to its first
+    return np.add.reduceat(cross(p, p[successor]), start[:-1], axis=0)
+
+
 class Mesh:
     """An immutable polygon mesh.
 
@@ -91,10 +125,32 @@ class Mesh:
         v = np.array(vertices, dtype=float).reshape(-1, 3)
         v.setflags(write=False)
         self.vertices = v
-        self.faces = tuple(tuple(int(i) for i in face) for face in faces)
-        for face in self.faces:
-            if len(face) < 2 or min(face) < 0 or max(face) >= len(v):
-                raise ValueError(f"a mesh face {face} does not index its {len(v)} vertices")
+        self.faces = tuple(tuple(map(int, face)) for face in faces)
+        if not self.faces:
+            return
+        corners, start = self._corners
+        short = np.flatnonzero(np.diff(start) < 2)
+        if len(short):
+            bad = short[0]
+        elif corners.min() < 0 or corners.max() >= len(v):
+            bad = np.flatnonzero(_faces_out_of_range(corners, start, len(v)))[0]
+        else:
+            return
+        raise ValueError(f"a mesh face {self.faces[bad]} does not index its {len(v)} vertices")
+
+    @classmethod
+    def _checked(cls, vertices: np.ndarray, faces: tuple, layout=None) -> Mesh:
+        """A mesh of faces known to be valid (tuples of ints indexing ``vertices``), made by
+        shapegen's own cuts: no conversion and no check. ``layout`` is the faces'
+        :func:`corner_layout` when the caller has it."""
+        mesh = cls.__new__(cls)
+        v = np.array(vertices, dtype=float).reshape(-1, 3)
+        v.setflags(write=False)
+        mesh.vertices = v
+        mesh.faces = faces
+        if layout is not None:
+            mesh.__dict__["_corners"] = layout
+        return mesh
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -155,11 +211,18 @@ class Mesh:
         return self.vertices[list(self.faces[index])]
 
     @cached_property
+    def _corners(self) -> tuple[np.ndarray, np.ndarray]:
+        """The faces' :func:`corner_layout`: flat corners and ``(F + 1,)`` start offsets."""
+        return corner_layout(self.faces)
+
+    @cached_property
     def _normals(self) -> tuple[np.ndarray, np.ndarray]:
-        corners = np.fromiter((i for f in self.faces for i in f), dtype=np.intp)
-        start = np.zeros(len(self.faces) + 1, dtype=np.intp)
-        np.cumsum([len(f) for f in self.faces], out=start[1:])
+        corners, start = self._corners
         return face_normals(self.vertices, corners, start)
+
+    def face_areas(self) -> np.ndarray:
+        """Each face's area, ``(F,)`` m^2."""
+        return 0.5 * np.linalg.norm(area_vectors(self.vertices, *self._corners), axis=1)
 
     def face_normals(self) -> np.ndarray:
         """Unit normals ``(F, 3)`` (zero for a degenerate face)."""
@@ -173,7 +236,7 @@ class Mesh:
 
     def area(self) -> float:
         """Total area of the faces, m^2."""
-        return float(sum(self.face_area(k) for k in range(self.n_faces)))
+        return float(self.face_areas().sum()) if self.faces else 0.0
 
     def volume(self) -> float:
         """Enclosed volume (m^3) by the divergence theorem; 0 for a mesh that is not closed."""
@@ -184,11 +247,12 @@ class Mesh:
         if not self.is_closed:
             return 0.0
         centre = self.vertices.mean(axis=0)
-        total = 0.0
-        for k in range(self.n_faces):
-            p = self.face_points(k) - centre
-            total += float(p[0] @ polygon_normal(p)) if len(p) >= 3 else 0.0
-        return total / 6.0
+        corners, start = self._corners
+        # each face's cone from the mesh's centre: its first corner . its Newell vector
+        first = self.vertices[corners[start[:-1]]] - centre
+        cones = np.einsum("fk,fk->f", first, area_vectors(self.vertices - centre, corners, start))
+        cones[np.diff(start) < 3] = 0.0
+        return float(cones.sum()) / 6.0
 
     def size(self) -> float:
         """The diagonal of the bounding box, m (0 for no vertices)."""
@@ -208,11 +272,18 @@ class Mesh:
         consistently oriented surface)."""
         if not self.faces:
             return False
-        directed: dict[tuple[int, int], int] = {}
-        for face in self.faces:
-            for a, b in zip(face, face[1:] + face[:1], strict=True):
-                directed[(a, b)] = directed.get((a, b), 0) + 1
-        return all(n == 1 and directed.get((b, a)) == 1 for (a, b), n in directed.items())
+        corners, start = self._corners
+        successor = np.arange(1, len(corners) + 1)
+        successor[start[1:] - 1] = start[:-1]
+        n = len(self.vertices)
+        edges = corners * n + corners[successor]
+        edges.sort()
+        if len(edges) > 1 and bool((edges[1:] == edges[:-1]).any()):
+            return False  # a directed edge used twice
+        reverse = (edges % n) * n + edges // n
+        found = np.searchsorted(edges, reverse)
+        found[found == len(edges)] = 0
+        return bool((edges[found] == reverse).all())
 
     def is_planar(self, tolerance: float = 0.0) -> bool:
         """All vertices lie in one plane within ``tolerance`` (m, plus a round-off margin)."""
@@ -228,12 +299,27 @@ class Mesh:
         ``tolerance`` m). For an open mesh: each face is a convex polygon."""
         slack = tolerance + _REL * max(self.size(), 1e-12)
         if self.is_closed:
-            normals, centres = self._normals
-            distance = np.einsum(
-                "fvk,fk->fv", self.vertices[None, :, :] - centres[:, None], normals
-            )
-            return bool(distance.max(initial=0.0) <= slack)
+            return bool(self.heights_above_faces(slack).max(initial=0.0) <= slack)
         return all(self._face_is_convex(k, slack) for k in range(self.n_faces))
+
+    def heights_above_faces(self, slack: float = np.inf) -> np.ndarray:
+        """``(F, V)``: how far each vertex lies in front of each face's plane (m), measured from
+        the face's centre. Worked out in bands of faces so that a large mesh never holds
+        ``F x V x 3`` numbers at once; with a finite ``slack`` (m) it stops at the first band
+        with a vertex more than ``slack`` in front, leaving the later rows at 0."""
+        normals, centres = self._normals
+        out = np.zeros((self.n_faces, self.n_vertices))
+        band = max(1, _BAND_NUMBERS // max(3 * self.n_vertices, 1))
+        for low in range(0, self.n_faces, band):
+            high = min(low + band, self.n_faces)
+            out[low:high] = np.einsum(
+                "fvk,fk->fv",
+                self.vertices[None, :, :] - centres[low:high, None],
+                normals[low:high],
+            )
+            if out[low:high].max(initial=0.0) > slack:
+                break
+        return out
 
     def _face_is_convex(self, index: int, slack: float) -> bool:
         p = self.face_points(index)
@@ -270,22 +356,26 @@ class Mesh:
         still face out)."""
         v = self.vertices
         faces = self.faces
+        layout = self.__dict__.get("_corners")
         if rotation is not None:
             rotation = np.asarray(rotation, float)
             v = v @ rotation.T
             if np.linalg.det(rotation) < 0:
                 faces = tuple(_reversed(f) for f in faces)
+                layout = None
         if offset is not None:
             v = v + np.asarray(offset, float)
-        return Mesh(v, faces)
+        moved = Mesh._checked(v, faces, layout)
+        if "is_closed" in self.__dict__:
+            moved.__dict__["is_closed"] = self.is_closed  # reversing every face keeps it
+        return moved
 
     def scaled(self, factors: Sequence[float]) -> Mesh:
         """Each coordinate times ``factors`` (about the origin); a negative factor mirrors."""
         factors = np.asarray(factors, float)
-        faces = self.faces
         if np.prod(np.sign(factors)) < 0:
-            faces = tuple(_reversed(f) for f in faces)
-        return Mesh(self.vertices * factors, faces)
+            return Mesh._checked(self.vertices * factors, tuple(_reversed(f) for f in self.faces))
+        return Mesh._checked(self.vertices * factors, self.faces, self.__dict__.get("_corners"))
 
     def reversed(self) -> Mesh:
         """The same mesh with every face turned around (CityEngine's ``reverseNormals``)."""
@@ -330,6 +420,12 @@ class Mesh:
 
     def __repr__(self) -> str:
         return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces)"
+
+
+def _faces_out_of_range(corners: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
+    """``(F,)``: the faces with a corner outside ``0 .. count - 1``."""
+    bad = ((corners < 0) | (corners >= count)).astype(np.intp)
+    return np.add.reduceat(bad, start[:-1]) > 0
 
 
 def _reversed(face: tuple[int, ...]) -> tuple[int, ...]:

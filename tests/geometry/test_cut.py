@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 from shapegen.geometry.convex import convex_faces, convex_pieces
-from shapegen.geometry.cut import clip_half, clip_plane, clip_slab, convex_decomposition
+from shapegen.geometry.cut import (
+    clip_half,
+    clip_plane,
+    clip_slab,
+    convex_decomposition,
+    placed_convex_decomposition,
+)
 from shapegen.geometry.extrude import prism
 from shapegen.geometry.frames import lot_polygon
 from shapegen.geometry.mesh import Mesh
@@ -127,3 +133,39 @@ def test_slices_of_random_prisms_are_closed_and_add_up(lot):
 def _signed_area(points):
     x, z = np.asarray(points).T
     return 0.5 * float(np.dot(x, np.roll(z, -1)) - np.dot(z, np.roll(x, -1)))
+
+
+def test_placed_decomposition_is_the_world_decomposition():
+    local = _prism(U_LOT)
+    angle = np.radians(30.0)
+    rotation = np.array(
+        [[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]]
+    )
+    origin = np.array([100.0, 5.0, -40.0])
+    world = local.transformed(rotation, origin)
+    expected = convex_decomposition(world)
+    for _ in range(2):  # the second call takes the kept pieces
+        placed = placed_convex_decomposition(local, rotation, origin)
+        assert len(placed) == len(expected) == 3
+        assert all(p.is_closed and p.is_convex() for p in placed)
+        assert sorted(p.volume() for p in placed) == pytest.approx(
+            sorted(p.volume() for p in expected)
+        )
+        low = np.min([p.bounds()[0] for p in placed], axis=0)
+        assert np.allclose(low, world.bounds()[0])
+
+
+def test_placed_decomposition_of_a_mirrored_scope_faces_out():
+    mirror = np.diag([-1.0, 1.0, 1.0])
+    pieces = placed_convex_decomposition(_prism(L_LOT), mirror, np.zeros(3))
+    assert len(pieces) == 2
+    assert all(p.signed_volume() > 0 and p.is_convex() for p in pieces)
+
+
+def test_clipping_keeps_the_order_of_the_faces_it_does_not_cut():
+    box = Mesh.box((4, 2, 2))
+    half = clip_half(box, 0, 1, True)
+    normals = [tuple(np.round(half.face_normal(k), 9)) for k in range(half.n_faces)]
+    # bottom, top, front, right, back, then the cap at x = 1; the left face is gone
+    assert normals == [(0, -1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 0), (0, 0, -1), (-1, 0, 0)]
+    assert half.is_closed and half.volume() == pytest.approx(3 * 2 * 2)

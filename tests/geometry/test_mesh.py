@@ -114,3 +114,22 @@ def test_signed_volume_of_a_turned_box_is_negative():
     assert box.signed_volume() == pytest.approx(6.0)
     assert box.reversed().signed_volume() == pytest.approx(-6.0)
     assert box.reversed().volume() == pytest.approx(6.0)
+
+
+@pytest.mark.parametrize(
+    "faces, closed",
+    [
+        (BOX_FACES, True),
+        (BOX_FACES[:-1], False),  # a hole
+        (BOX_FACES + (BOX_FACES[0],), False),  # a face twice: an edge used twice one way
+        (tuple(f[::-1] for f in BOX_FACES[:1]) + BOX_FACES[1:], False),  # one face turned
+    ],
+)
+def test_closedness_needs_each_edge_once_each_way(faces, closed):
+    assert Mesh(Mesh.box((1, 2, 3)).vertices, faces).is_closed is closed
+
+
+def test_areas_and_volume_of_a_box_far_from_the_origin():
+    box = Mesh.box((2.0, 3.0, 4.0)).transformed(None, (1e6, -2e5, 3e6))
+    assert box.face_areas().tolist() == pytest.approx([8, 8, 6, 12, 6, 12])
+    assert box.volume() == pytest.approx(24.0, rel=1e-9)
