@@ -25,6 +25,7 @@ __all__ = [
     "SIMULATION_MOVING_REL",
     "SIMULATION_DECAY_RATIO",
     "COORDINATE_ROUNDOFF_REL",
+    "TILT_RESOLUTION_DEG",
 ]
 
 from dataclasses import dataclass, replace
@@ -166,3 +167,9 @@ SIMULATION_DECAY_RATIO = 0.5
 #: ``COORDINATE_ROUNDOFF_REL`` times the block's largest |coordinate| on top of ``convex``
 #: (dimensionless, about 45 float64 epsilons).
 COORDINATE_ROUNDOFF_REL = 1e-14
+
+#: Lateral capacity: the critical tilt is reported to ``TILT_RESOLUTION_DEG`` degrees. The
+#: load-multiplier program finds it far closer; the statics verdict confirms that the assembly
+#: stands half this below the figure and does not stand half this above it
+#: (:mod:`shapegen.statics.capacity`).
+TILT_RESOLUTION_DEG = 0.05

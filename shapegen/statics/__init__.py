@@ -1,7 +1,9 @@
-"""Statics: contact interfaces, the tension-penalty QP (Whiting et al. 2009) and its verdict."""
+"""Statics: contact interfaces, the tension-penalty QP (Whiting et al. 2009) and its verdict, and
+the lateral capacity (the largest tilt at which an assembly stands)."""
 
 from shapegen.statics.analysis import Analysis, analyze, certify
 from shapegen.statics.assembly import StaticsProblem, assemble, friction_cone
+from shapegen.statics.capacity import Capacity, lateral_capacity
 from shapegen.statics.checks import check_model
 from shapegen.statics.contacts import find_interfaces
 from shapegen.statics.interface import GROUND, Interface, tangent_frame
@@ -13,6 +15,8 @@ __all__ = [
     "StaticsOptions",
     "analyze",
     "certify",
+    "Capacity",
+    "lateral_capacity",
     "StaticsProblem",
     "assemble",
     "friction_cone",

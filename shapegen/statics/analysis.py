@@ -29,6 +29,7 @@ from __future__ import annotations
 
 __all__ = ["Analysis", "analyze", "certify"]
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -36,7 +37,7 @@ import numpy as np
 
 from shapegen.errors import StaticsError
 from shapegen.json_values import finite_or_none
-from shapegen.statics.assembly import StaticsProblem, assemble
+from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveStatus, get_backend
@@ -85,13 +86,16 @@ class Analysis:
         with ``dy/dw = multipliers`` for the external wrench ``w`` (units N for force rows and
         N / m for torque rows, so that their products with N and N m give N^2), or None.
     timings
-        Seconds spent in "interfaces", "assembly", "solve", "certify".
+        Seconds spent in "interfaces", "assembly", "solve", "certify" (and "directions", the
+        search for the worst direction of a tilt without an azimuth).
     solver
         The back-end that produced the solution.
     problem
         The assembled problem (reusable: sparsity pattern, orderings, index arrays).
     model
         The model analysed (``analyze(model, stood=...)`` checks it is the same one).
+    worst_direction
+        True when a tilt without an azimuth was turned towards the worst direction found.
     """
 
     status: SolveStatus
@@ -112,6 +116,22 @@ class Analysis:
     problem: StaticsProblem | None = field(default=None, repr=False)
     n_blocks: int = 0
     model: object = field(default=None, repr=False)
+    worst_direction: bool = False
+
+    @property
+    def tilt(self) -> dict | None:
+        """The tilt the loads were turned by (``tilt_deg``, ``azimuth_deg``, its
+        ``load_multiplier`` ``tan(tilt)``, and ``azimuth``: ``"worst"`` when the direction is
+        the one of least lateral capacity, else ``"given"``), or None when upright."""
+        problem = self.problem
+        if problem is None or not problem.tilt:
+            return None
+        return {
+            "tilt_deg": float(problem.tilt),
+            "azimuth_deg": round(float(problem.azimuth), 6),
+            "load_multiplier": math.tan(math.radians(problem.tilt)),
+            "azimuth": "worst" if self.worst_direction else "given",
+        }
 
     def to_report(self) -> dict:
         """A JSON-ready summary (plain Python numbers and strings)."""
@@ -130,6 +150,7 @@ class Analysis:
             "friction": number(self.problem.friction) if self.problem is not None else None,
             "pyramid": self.problem.pyramid if self.problem is not None else None,
             "timings": {k: float(v) for k, v in self.timings.items()},
+            **({"tilt": self.tilt} if self.tilt is not None else {}),
         }
 
 
@@ -210,7 +231,8 @@ def analyze(
     model
         The :class:`~shapegen.model.model.Model`.
     options
-        A :class:`~shapegen.statics.options.StaticsOptions` (friction, pyramid, kern, solver).
+        A :class:`~shapegen.statics.options.StaticsOptions` (friction, pyramid, kern, solver,
+        and a tilt of the loads towards an azimuth, or towards the worst direction).
     interfaces
         Precomputed contact interfaces (unscaled); found with ``find_interfaces`` when None.
     check
@@ -259,12 +281,22 @@ def analyze(
     )
     problem.cache["interfaces"] = interfaces
     timings["assembly"] = time.perf_counter() - start
+    worst = options.tilted and options.azimuth is None
+    if options.tilted:
+        azimuth = options.azimuth
+        if worst:
+            from shapegen.statics.multiplier import worst_direction
+
+            start = time.perf_counter()
+            azimuth = worst_direction(model, problem)[0].azimuth
+            timings["directions"] = time.perf_counter() - start
+        problem = tilted(problem, model, options.tilt, azimuth)
     if reuse:
         known = _known_solution(stood, problem, tol)
         if known is not None:
             timings["certify"] = known.info["certify"]
             return _build_analysis(model, problem, known, stood.solver, True, known.objective,
-                                   timings)  # fmt: skip
+                                   timings, worst)  # fmt: skip
 
     start = time.perf_counter()
 
@@ -327,7 +359,7 @@ def analyze(
             y_norm = float("inf")
         else:
             y_norm = float("nan")
-    return _build_analysis(model, problem, solution, used, feasible, y_norm, timings)
+    return _build_analysis(model, problem, solution, used, feasible, y_norm, timings, worst)
 
 
 def _known_solution(stood: Analysis, problem: StaticsProblem, tol) -> Solution | None:
@@ -354,7 +386,9 @@ def _tension_sum(problem: StaticsProblem, x: np.ndarray | None) -> float:
     return float(np.sum(x[m : 2 * m]))
 
 
-def _build_analysis(model, problem, solution, used, feasible, y_norm, timings) -> Analysis:
+def _build_analysis(
+    model, problem, solution, used, feasible, y_norm, timings, worst=False
+) -> Analysis:
     m = problem.n_vertices
     ni = len(problem.interfaces)
     nb = len(model.blocks)
@@ -427,4 +461,5 @@ def _build_analysis(model, problem, solution, used, feasible, y_norm, timings) -
         problem=problem,
         n_blocks=nb,
         model=model,
+        worst_direction=bool(worst),
     )

@@ -20,7 +20,15 @@ only the back-ends that take cones can solve.
 
 from __future__ import annotations
 
-__all__ = ["StaticsProblem", "assemble", "friction_cone", "PYRAMIDS", "OBJECTIVES"]
+__all__ = [
+    "StaticsProblem",
+    "assemble",
+    "friction_cone",
+    "load_vector",
+    "tilted",
+    "PYRAMIDS",
+    "OBJECTIVES",
+]
 
 from dataclasses import dataclass, field, replace
 
@@ -112,6 +120,9 @@ class StaticsProblem:
         ``L``, m: the length scale (model size).
     friction, pyramid, kern, objective
         The options the problem was assembled with.
+    tilt, azimuth
+        Degrees: every load turned by ``tilt`` towards ``azimuth`` (:func:`tilted`); 0 and None
+        for the loads as the model gives them.
     cache
         Scratch space for solvers that reuse sparsity patterns and orderings across solves.
     """
@@ -134,6 +145,8 @@ class StaticsProblem:
     pyramid: str
     kern: float
     objective: str = "tension_squared"
+    tilt: float = 0.0
+    azimuth: float | None = None
     cache: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -198,6 +211,58 @@ class StaticsProblem:
     def residual(self, x: np.ndarray) -> np.ndarray:
         """Scaled equilibrium residual ``A x + w`` (force rows / W, torque rows / (W L))."""
         return self.equality @ x + self.load
+
+
+def _load_vector(
+    model, free_index, free_blocks, masses, centroids, length, weight_scale, transform=None
+) -> np.ndarray:
+    """``(6 nf,)`` scaled wrench of the weights and point loads on the free blocks, each force
+    first mapped by the ``(3, 3)`` matrix ``transform`` (None: as they are) at its own point."""
+    nf = len(free_blocks)
+    load = np.zeros(6 * nf)
+    gravity = np.asarray(model.gravity, float)
+    if transform is not None:
+        gravity = transform @ gravity
+    if nf:
+        gravity_force = masses[free_blocks, None] * gravity[None, :]
+        load.reshape(nf, 6)[:, :3] += gravity_force / weight_scale
+    for point_load in model.loads:
+        k = model.index_of(point_load.block)
+        if free_index[k] < 0:
+            continue  # a load on a support goes straight into the ground
+        force = np.asarray(point_load.force, float)
+        if transform is not None:
+            force = transform @ force
+        row = 6 * free_index[k]
+        lever = (point_load.point - centroids[k]) / length
+        load[row : row + 3] += force / weight_scale
+        load[row + 3 : row + 6] += np.cross(lever, force) / weight_scale
+    return load
+
+
+def load_vector(model, problem: StaticsProblem, transform: np.ndarray | None = None) -> np.ndarray:
+    """The scaled external wrench of ``model``'s loads in ``problem``'s rows, every force mapped
+    by ``transform`` first: a rotation turns them (:func:`shapegen.statics.tilt.rotation`), the
+    lateral map gives the horizontal load of a tilting table
+    (:func:`shapegen.statics.tilt.lateral_map`). ``model`` is the model ``problem`` was
+    assembled from."""
+    blocks = model.blocks
+    compute_mass_properties(blocks)
+    masses = np.array([b.mass for b in blocks]) if blocks else np.zeros(0)
+    centroids = np.array([b.centroid for b in blocks]).reshape(len(blocks), 3)
+    return _load_vector(model, problem.free_index, problem.free_blocks, masses, centroids,
+                        problem.length, problem.weight, transform)  # fmt: skip
+
+
+def tilted(problem: StaticsProblem, model, tilt: float, azimuth: float) -> StaticsProblem:
+    """``problem`` with every load turned by ``tilt`` degrees towards ``azimuth`` (degrees in
+    the ground plane from +x towards +z): the tilting-table test, :mod:`shapegen.statics.tilt`.
+    The matrices and caches are shared; only the load changes. The scales (``W``, ``L``) stay
+    those of the upright problem, so ``y / W^2`` keeps its meaning."""
+    from shapegen.statics.tilt import rotation
+
+    load = load_vector(model, problem, rotation(tilt, azimuth))
+    return replace(problem, load=load, tilt=float(tilt), azimuth=float(azimuth))
 
 
 def _objective(m: int, objective: str) -> tuple[np.ndarray, np.ndarray]:
@@ -377,18 +442,8 @@ def assemble(
     nf = len(free_blocks)
     equality = sp.csc_matrix((vals, (rows, cols)), shape=(6 * nf, 4 * m))
 
-    load = np.zeros(6 * nf)
-    if nf:
-        gravity_force = masses[free_blocks, None] * np.asarray(model.gravity, float)[None, :]
-        load.reshape(nf, 6)[:, :3] += gravity_force / weight_scale
-    for point_load in model.loads:
-        k = model.index_of(point_load.block)
-        if free_index[k] < 0:
-            continue  # a load on a support goes straight into the ground
-        row = 6 * free_index[k]
-        lever = (point_load.point - centroids[k]) / length
-        load[row : row + 3] += point_load.force / weight_scale
-        load[row + 3 : row + 6] += np.cross(lever, point_load.force) / weight_scale
+    load = _load_vector(model, free_index[:nb], free_blocks, masses, centroids, length,
+                        weight_scale)  # fmt: skip
 
     quadratic, linear = _objective(m, objective)
     return StaticsProblem(

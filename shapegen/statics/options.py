@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from shapegen.errors import StaticsError
 from shapegen.statics.assembly import PYRAMIDS
 from shapegen.statics.solvers import BACKENDS
+from shapegen.statics.tilt import normalized_azimuth
 
 AUTO_ORDER = ("reduced", "clarabel")
 """``solver="auto"``: the fastest back-end first, the next if it fails (for the exact cone, only
@@ -49,6 +50,13 @@ class StaticsOptions:
     solver
         QP back-end: ``"auto"`` (the reduced interior point method, Clarabel if it fails; Clarabel
         alone for the cone), ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``.
+    tilt
+        Degrees in [0, 90): every load turned by this angle, the tilting-table test
+        (:mod:`shapegen.statics.tilt`); 0 judges the model as it is loaded.
+    azimuth
+        Degrees in the ground plane from +x towards +z: the direction gravity is tilted towards
+        (normalised to [0, 360)); None, with a tilt, tilts it towards the worst direction, the
+        one of least lateral capacity (:func:`shapegen.statics.multiplier.worst_direction`).
 
     Raises
     ------
@@ -60,6 +68,8 @@ class StaticsOptions:
     pyramid: str = "4"
     kern: float = 1.0
     solver: str = "auto"
+    tilt: float = 0.0
+    azimuth: float | None = None
 
     def __post_init__(self) -> None:
         if self.pyramid not in PYRAMIDS:
@@ -84,6 +94,19 @@ class StaticsOptions:
             if friction is None or friction < 0:
                 raise StaticsError(f"friction must be a finite number >= 0; got {self.friction!r}")
             object.__setattr__(self, "friction", friction)
+        tilt = _number(self.tilt)
+        if tilt is None or not 0 <= tilt < 90:
+            raise StaticsError(
+                f"tilt must be a number of degrees, at least 0 and below 90; got {self.tilt!r}"
+            )
+        object.__setattr__(self, "tilt", tilt)
+        if self.azimuth is not None:
+            azimuth = _number(self.azimuth)
+            if azimuth is None:
+                raise StaticsError(
+                    f"azimuth must be a finite number of degrees; got {self.azimuth!r}"
+                )
+            object.__setattr__(self, "azimuth", normalized_azimuth(azimuth))
 
     @classmethod
     def from_mapping(cls, settings: Mapping[str, object]) -> StaticsOptions:
@@ -111,6 +134,15 @@ class StaticsOptions:
         """The same options with every joint shrunk to ``1 - margin`` of the kern: a design that
         stands with them stands with that geometric reserve."""
         return dataclasses.replace(self, kern=self.kern * (1.0 - margin))
+
+    def towards(self, azimuth: float | None) -> StaticsOptions:
+        """The same options with the tilt towards ``azimuth`` (degrees; None: the worst)."""
+        return dataclasses.replace(self, azimuth=azimuth)
+
+    @property
+    def tilted(self) -> bool:
+        """True when the loads are turned (a tilt above 0)."""
+        return self.tilt > 0
 
     def to_report(self) -> dict:
         """Plain JSON values."""

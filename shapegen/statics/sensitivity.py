@@ -20,7 +20,7 @@ from scipy.spatial import cKDTree
 
 from shapegen.errors import ShapegenError
 from shapegen.statics.analysis import Analysis
-from shapegen.statics.assembly import StaticsProblem, assemble
+from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.contacts import find_interfaces
 from shapegen.statics.options import StaticsOptions
 
@@ -36,7 +36,8 @@ def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> floa
     moved
         The model after a small change of its geometry (same blocks, slightly moved).
     options
-        The options ``base`` was analysed with.
+        The options ``base`` was analysed with (a tilt is read from ``base``'s problem, which
+        knows the direction it was turned towards).
 
     Returns
     -------
@@ -60,6 +61,8 @@ def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> floa
             pyramid=options.pyramid,
             kern=options.kern,
         )
+        if problem.tilt:  # the same tilt, towards the same direction as the base analysis
+            moved_problem = tilted(moved_problem, moved, problem.tilt, problem.azimuth)
     except ShapegenError:
         return None
     order = _match_vertices(problem, moved_problem)

@@ -51,4 +51,9 @@ def test_a_margin_shrinks_the_kern():
         "pyramid": "4",
         "kern": 1.0,
         "solver": "auto",
+        "tilt": 0.0,
+        "azimuth": None,
     }
+    # a margin shrinks the joints and keeps the tilt
+    tilted = StaticsOptions(tilt=10.0, azimuth=90.0).shrunk(0.1)
+    assert (tilted.tilt, tilted.azimuth, tilted.kern) == (10.0, 90.0, pytest.approx(0.9))
