@@ -37,6 +37,10 @@ class SourceLocation:
         return f"{self.file}:{self.line}:{self.column}"
 
 
+#: Characters of a source line shown under an error; a longer line is shown around the caret.
+_SHOWN_LINE = 160
+
+
 class GrammarError(ShapegenError):
     """A problem in a .grammar file, with its place and the offending source line.
 
@@ -78,7 +82,16 @@ class GrammarError(ShapegenError):
             text = f"{location}: {message}"
             if 1 <= location.line <= len(lines):
                 source_line = lines[location.line - 1].expandtabs(1)
-                caret = " " * max(location.column - 1, 0) + "^"
+                column = max(location.column - 1, 0)
+                if len(source_line) > _SHOWN_LINE:  # a window around the caret
+                    start = max(0, min(column - _SHOWN_LINE // 2, len(source_line) - _SHOWN_LINE))
+                    source_line = source_line[start : start + _SHOWN_LINE]
+                    column -= start
+                    if start > 0:
+                        source_line, column = "..." + source_line[3:], column
+                    if start + _SHOWN_LINE < len(lines[location.line - 1]):
+                        source_line = source_line[:-3] + "..."
+                caret = " " * column + "^"
                 text += f"\n    {source_line}\n    {caret}"
             parts.append(text)
         return "\n".join(parts)

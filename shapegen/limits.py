@@ -43,6 +43,10 @@ class WorkLimits:
     ----------
     max_source_chars
         Characters of grammar source text (a rule file or a string).
+    max_definition_tokens
+        Tokens of one definition (an attr, const, function or rule with its annotations): what
+        bounds the parse of runaway text (a 5 MB expression), while a long file of ordinary
+        definitions loads.
     max_depth
         Longest chain of rules from the start rule to a shape.
     max_shapes
@@ -67,7 +71,8 @@ class WorkLimits:
         Seconds of one derivation (wall clock), or None for no time limit.
     """
 
-    max_source_chars: int = 100_000
+    max_source_chars: int = 10_000_000
+    max_definition_tokens: int = 100_000
     max_depth: int = 500
     max_shapes: int = 200_000
     max_calls: int = 500_000

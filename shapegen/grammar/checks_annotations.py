@@ -167,8 +167,8 @@ class AnnotationChecks:
             )
 
     def _check_start_rule(self) -> None:
-        starts = [rule for rule in self.rules.values() if rule.start]
-        for extra in starts[1:]:
+        starts = list({id(r): r for r in self.rules.values() if r.start}.values())
+        for extra in [rule for rule in starts if rule.name != starts[0].name]:
             # CityEngine lets a file offer several start rules and the user pick one
             self.warn(
                 extra.annotation("StartRule").location,
@@ -178,6 +178,13 @@ class AnnotationChecks:
         start = self.grammar.start_rule
         if start is not None and start.start and start.params:
             self.report(start.location, f"the start rule '{start.name}' cannot take parameters")
+        if self.cga and starts and start is not None and start not in starts:
+            # start.html: a start rule with parameters is called as rule.start(...)
+            self.warn(
+                starts[0].location,
+                f"the start rule '{starts[0].name}' takes parameters, so it cannot start a "
+                f"derivation on a lot: '{start.name}' is derived",
+            )
         for rule in self.rules.values():
             for name in ("Lot", "Structure"):  # annotations of the start rule only
                 annotation = rule.annotation(name)

@@ -237,12 +237,15 @@ class Grammar:
 
     @property
     def start_rule(self) -> Rule | None:
-        """The ``@StartRule`` rule, else the first rule without parameters (else the first
-        rule), else None."""
+        """The first ``@StartRule`` (or ``start``) rule without parameters, else the first
+        rule without parameters (else the first rule), else None."""
         rules = self.rules
-        for rule in rules:
-            if rule.start:
+        starts = [rule for rule in rules if rule.start]
+        for rule in starts:
+            if not rule.params:
                 return rule
+        if starts and self.dialect != "cga":
+            return starts[0]  # refused by the checks: a start rule cannot take parameters
         for rule in rules:  # a rule with parameters cannot start a derivation
             if not rule.params:
                 return rule

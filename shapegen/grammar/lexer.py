@@ -16,7 +16,9 @@ from collections.abc import Iterator
 import lark
 from lark import Token
 
-__all__ = ["DefinitionNames", "lark_parser"]
+from shapegen.limits import current_limits
+
+__all__ = ["DefinitionNames", "DefinitionTooLong", "lark_parser"]
 
 _GRAMMAR_FILE = "cga.lark"
 
@@ -26,6 +28,21 @@ _GRAMMAR_FILE = "cga.lark"
 _BARE_BLOCK_LOOKAHEAD = 5000
 
 _KEYWORDS = {"import": ("NAME", "STRING"), "style": ("NAME",), "extension": ("NAME",)}
+# ``start Name --> ...`` (start.html) marks the start rule: a keyword only first on its line and
+# before a rule's name, so that a successor or rule called ``start`` stays one.
+_START = "start"
+# Tokens that begin a new definition at bracket depth 0 (for max_definition_tokens).
+_DEFINITION_STARTS = frozenset({"DEF_NAME", "_START", "_IMPORT", "_STYLE", "_EXTENSION", "AT"})
+
+
+class DefinitionTooLong(Exception):
+    """Raised by the post-lexer when one definition has more tokens than the work limits allow;
+    ``token`` is where the definition started."""
+
+    def __init__(self, token: Token, limit: int):
+        super().__init__(token, limit)
+        self.token = token
+        self.limit = limit
 
 
 class DefinitionNames:
@@ -53,8 +70,15 @@ class DefinitionNames:
             return pending[index] if index < len(pending) else None
 
         depth = 0
+        previous: Token | None = None
+        limit = current_limits().max_definition_tokens
+        started: Token | None = None  # the first token of the definition being read
+        count = 0
         while peek(0) is not None:
             token = pending.popleft()
+            count += 1
+            if count > limit and started is not None:
+                raise DefinitionTooLong(started, limit)
             if token.type == "LBRACE" and self._bare_block(peek):
                 token = Token.new_borrow_pos("BARE_LBRACE", token.value, token)
                 depth += 1
@@ -62,12 +86,25 @@ class DefinitionNames:
                 depth += 1
             elif token.type in ("RPAR", "RSQB", "RBRACE"):
                 depth = max(depth - 1, 0)
+            elif (
+                token.type == "NAME"
+                and token.value == _START
+                and depth == 0
+                and (previous is None or previous.end_line < token.line)
+                and (following := peek(0)) is not None
+                and following.type == "NAME"
+                and self._starts_definition(lambda k: peek(k + 1))
+            ):
+                token = Token.new_borrow_pos("_START", token.value, token)
             elif token.type == "NAME" and depth == 0 and self._starts_definition(peek):
                 token = Token.new_borrow_pos("DEF_NAME", token.value, token)
             elif token.type == "NAME" and depth == 0 and token.value in _KEYWORDS:
                 following = peek(0)
                 if following is not None and following.type in _KEYWORDS[token.value]:
                     token = Token.new_borrow_pos("_" + token.value.upper(), token.value, token)
+            if depth == 0 and token.type in _DEFINITION_STARTS:
+                started, count = token, 0
+            previous = token
             yield token
 
     @staticmethod

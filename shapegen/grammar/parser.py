@@ -16,7 +16,7 @@ from lark.exceptions import UnexpectedInput
 
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
-from shapegen.grammar.lexer import lark_parser
+from shapegen.grammar.lexer import DefinitionTooLong, lark_parser
 from shapegen.grammar.syntax_errors import (
     blank_before,
     error_offset,
@@ -71,6 +71,12 @@ def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Gram
         except RecursionError:
             syntax.append((SourceLocation(filename, 1, 1), _TOO_DEEP))
             break
+        except DefinitionTooLong as long:
+            location = SourceLocation(filename, long.token.line or 1, long.token.column or 1)
+            message = f"this definition has more than {long.limit} tokens " + limit_hint(
+                "max_definition_tokens"
+            )
+            raise GrammarError(message, location, source=text) from None
     if syntax:
         raise GrammarError(syntax[0][1], syntax[0][0], source=text, problems=syntax)
     builder = AstBuilder(filename)

@@ -36,6 +36,8 @@ _TERMINAL_WORDS = {
     "_IMPORT": "'import'",
     "_STYLE": "'style'",
     "_EXTENSION": "'extension'",
+    "_START": "'start'",
+    "BARE_LBRACE": "'{'",
 }
 _SINGLE_ARROW = re.compile(r"[ \t]*(\([^()\n]*\))?[ \t]*(?P<arrow>->)")
 _EXPRESSION_STARTS = {"NUMBER", "STRING", "NAME", "LPAR", "MINUS", "PLUS", "BANG", "LSQB"}
@@ -64,7 +66,7 @@ def _describe_expected(expected: set[str]) -> str:
     if "DEF_NAME" in expected:
         if {"ATTR", "CONST"} & expected:
             words.append("a definition (attr, const, function or rule)")
-            expected -= {"ATTR", "CONST", "_EXTENSION", "_IMPORT", "_STYLE"}
+            expected -= {"ATTR", "CONST", "_EXTENSION", "_IMPORT", "_STYLE", "_START"}
         else:
             words.append("a name")
         expected.discard("DEF_NAME")

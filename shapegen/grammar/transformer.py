@@ -52,6 +52,7 @@ class _Repeat:
 
 _REPEAT = _Repeat()
 _EXTENSION_MARK = object()  # ``extension`` before a rule
+_START_MARK = object()  # ``start`` before a rule
 
 
 def _unescape(literal: str) -> str:
@@ -89,6 +90,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
         super().__init__()
         self.filename = filename
         self.problems: list[Problem] = []
+        self.start_keyword_rules: set[SourceLocation] = set()  # rules written `start Name`
 
     # Locations -------------------------------------------------------------------------------
 
@@ -115,6 +117,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
                 imports.append(child)
             elif not styles:  # only the default style is derived
                 definitions.append(child)
+        definitions += _generic_start_rules(definitions, self.start_keyword_rules)
         return ast.Grammar(
             definitions=tuple(definitions),
             version=version,
@@ -132,7 +135,9 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
 
     def definition(self, meta, children):
         *annotations, definition = children
-        return dataclasses.replace(definition, annotations=tuple(annotations))
+        written = {a.name for a in annotations}  # `@StartRule start A -->` says it once
+        marks = tuple(a for a in definition.annotations if a.name not in written)
+        return dataclasses.replace(definition, annotations=(*annotations, *marks))
 
     def annotation(self, meta, children):
         name, *arguments = children
@@ -161,13 +166,29 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
 
     def rule_def(self, meta, children):
         extension = children[0] is _EXTENSION_MARK
-        name, *rest = children[1:] if extension else children
+        children = children[1:] if extension else children
+        start = children[0] is _START_MARK
+        name, *rest = children[1:] if start else children
         rest = [child for child in rest if not (isinstance(child, Token) and child.type == "ARROW")]
         params = rest[0] if len(rest) == 2 else ()
-        return ast.Rule(str(name), params, rest[-1], extension=extension, location=self._at(name))
+        # the start keyword means what @StartRule means, and lets start(...) call the rule
+        annotations = (ast.Annotation("StartRule", location=self._at(name)),) if start else ()
+        if start:
+            self.start_keyword_rules.add(self._at(name))
+        return ast.Rule(
+            str(name),
+            params,
+            rest[-1],
+            annotations=annotations,
+            extension=extension,
+            location=self._at(name),
+        )
 
     def extension_mark(self, meta, children):
         return _EXTENSION_MARK
+
+    def start_mark(self, meta, children):
+        return _START_MARK
 
     def params(self, meta, children):
         return tuple(ast.Parameter(str(name), location=self._at(name)) for name in children)
@@ -436,3 +457,22 @@ def _count_message(name: str, low: int, high: int, got: int) -> str:
     else:
         wanted = f"{low} to {high} arguments"
     return f"{name}() takes {wanted}, got {got}"
+
+
+def _generic_start_rules(definitions: list, marked: set) -> list[ast.Rule]:
+    """``start(p...) --> Init(p...)`` for each rule ``Init`` written ``start Init`` (its location
+    in ``marked``): start.html, ``start(20)`` is the same as ``Init(20)`` and an importing file's
+    ``lib.start(10)`` as ``lib.Init(10)``; unless the file has a rule ``start`` of that arity."""
+    rules = [d for d in definitions if isinstance(d, ast.Rule)]
+    taken = {(rule.name, len(rule.params)) for rule in rules}
+    generic = []
+    for rule in rules:
+        key = ("start", len(rule.params))
+        if rule.location in marked and key not in taken:
+            taken.add(key)
+            where = rule.location
+            args = tuple(ast.Name(p.name, location=where) for p in rule.params)
+            call = ast.Successor(rule.name, args, called=bool(args), location=where)
+            body = ast.Sequence((call,), location=where)
+            generic.append(ast.Rule("start", rule.params, body, location=where))
+    return generic

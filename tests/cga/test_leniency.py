@@ -63,9 +63,7 @@ def test_a_leaf_followed_by_a_comment(comment):
 
 def test_element_wise_division_still_lexes():
     grammar = parse_grammar("attr v = [4, 6] ./ 2\n@StartRule\nLot --> extrude(v[1]) A.", "r.cga")
-    assert grammar.build(lot=LOT).volume == pytest.approx(
-        12 * 8 * 3.0
-    )  # extrude(v[1]), v = [2, 3]
+    assert grammar.build(lot=LOT).volume == pytest.approx(12 * 8 * 3.0)  # extrude(v[1]), v = [2, 3]
 
 
 def test_setpivot_axis_permutations_load():
@@ -105,3 +103,77 @@ def test_a_binary_file_is_one_clear_error(tmp_path):
     path.write_bytes(b"\x00\x01\x02\xff")
     with pytest.raises(GrammarError, match="not text"):
         load_grammar(path)
+
+
+def test_the_start_keyword_marks_the_start_rule_and_start_calls_it(tmp_path):
+    # start.html's example: start(20) is Init(20); an importing file's rule.start(10) is
+    # rule.Init(10)
+    (tmp_path / "rule.cga").write_text(
+        "start Init --> start(20)\nstart Init(height) --> extrude(height) A.\n"
+    )
+    (tmp_path / "main.cga").write_text('import rule : "rule.cga"\nLot --> rule.start(10)\n')
+    alone = load_grammar(tmp_path / "rule.cga").build(lot=LOT)
+    imported = load_grammar(tmp_path / "main.cga").build(lot=LOT)
+    assert alone.volume == pytest.approx(12 * 8 * 20)
+    assert imported.volume == pytest.approx(12 * 8 * 10)
+    assert alone.metadata["warnings"] == imported.metadata["warnings"] == []
+
+
+def test_start_stays_a_name_elsewhere():
+    text = "attr start = 2\n@StartRule\nLot --> extrude(start) start\nstart --> A."
+    assert parse_grammar(text, "r.cga").build(lot=LOT).volume == pytest.approx(12 * 8 * 2)
+
+
+@pytest.mark.parametrize(
+    ("value", "expected"),
+    [
+        ("(case a > 1: 5 else: 1)", 5.0),
+        ("(case a > 3: 5 case a > 1: 4 else: 1)", 4.0),
+        ("(100%: 7 else: 1)", 7.0),
+        ("2 * (case a > 1: 3 else: 1)", 6.0),
+    ],
+)
+def test_case_and_stochastic_values_in_parentheses(value, expected):
+    text = f"attr a = 2\nattr b = {value}\n@StartRule\nLot --> extrude((case b > 0: b else: 1))"
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert model.metadata["attrs"]["b"] == expected
+    assert model.volume == pytest.approx(12 * 8 * expected)
+
+
+def test_an_import_override_may_be_a_case_value(tmp_path):
+    (tmp_path / "lib.cga").write_text("attr h = 1\nHouse --> extrude(h) A.\n")
+    (tmp_path / "main.cga").write_text(
+        'attr tall = true\nimport lib : "lib.cga" (h = case tall: 9 else: 3)\n'
+        "@StartRule\nLot --> lib.House\n"
+    )
+    assert load_grammar(tmp_path / "main.cga").build(lot=LOT).volume == pytest.approx(12 * 8 * 9)
+
+
+def test_identifiers_in_any_script():
+    text = "attr Höhe = 3\nconst façade_β = 2\n@StartRule\nLot --> extrude(Höhe * façade_β) Façade."
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert model.volume == pytest.approx(12 * 8 * 6)
+
+
+def _long_rule_file(count: int) -> str:
+    rules = "".join(f"R{k} --> split(x) {{ 1 : R{k + 1} | ~1 : A{k}. }}\n" for k in range(count))
+    return "@StartRule\nLot --> extrude(1) R0\n" + rules
+
+
+def test_a_file_larger_than_the_largest_real_one_loads():
+    # the largest real rule file seen is a 219 kB street rule; 100 000 characters refused it
+    text = _long_rule_file(6_000)
+    assert len(text) > 230_000
+    assert len(parse_grammar(text, "long.cga").ast.rules) == 6_001
+
+
+@pytest.mark.slow
+def test_a_5_mb_rule_file_loads():
+    text = _long_rule_file(125_000)
+    assert len(text) > 5_000_000
+    assert len(parse_grammar(text, "long.cga").ast.rules) == 125_001
+
+
+def test_a_runaway_definition_is_refused_by_its_token_count():
+    with pytest.raises(GrammarError, match="more than 100000 tokens.*max_definition_tokens"):
+        parse_grammar("attr a = " + "1 + " * 60_000 + "1\nLot --> A.", "r.cga")
