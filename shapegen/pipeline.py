@@ -29,6 +29,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from shapegen.errors import OptionError
 from shapegen.json_values import json_ready
 from shapegen.model import Model
 from shapegen.search.defaults import DEFAULT_MARGIN
@@ -83,6 +84,7 @@ def design(
     assess: bool = False,
     place: Callable[[Model], Model] | None = None,
     progress: Callable | None = None,
+    capacity: Sequence[float] | None = None,
 ) -> Outcome:
     """Optimize (with ``search``), build and assess (with ``assess`` or ``search``) a design.
 
@@ -104,9 +106,20 @@ def design(
         stands.
     progress
         Called with each :class:`~shapegen.search.IterationRecord` of the search.
+    capacity
+        Also find the final design's lateral capacity, the largest tilt at which it stands
+        (implies ``assess``): towards each azimuth given (degrees from +x towards +z), or, for
+        an empty sequence, over a sweep of directions and the worst. Refused
+        (:class:`~shapegen.errors.OptionError`) for a structure that has none (cables). The
+        report's ``analysis`` gets a ``capacity``.
     """
     started = time.perf_counter()
     structure = make_structure(grammar.structure, statics)
+    if capacity is not None and not structure.has_capacity:
+        raise OptionError(
+            f"the lateral capacity is a rigid-block figure; this design is judged by the"
+            f" {structure.name!r} structure ({structure.description})"
+        )
     attrs = dict(attrs or {})
     optimization = None
     if search is not None:
@@ -134,7 +147,7 @@ def design(
     if place is not None:
         model = place(model)
     assessment = None
-    if assess or optimization is not None:
+    if assess or optimization is not None or capacity is not None:
         if optimization is not None and place is None and optimization.assessment is not None:
             assessment = optimization.assessment
         else:
@@ -144,6 +157,9 @@ def design(
         report["optimization"] = optimization.to_report()
     if assessment is not None:
         report["analysis"] = assessment.to_report()
+    if capacity is not None:
+        found = structure.lateral_capacity(Design.of_model(model), list(capacity))
+        report["analysis"]["capacity"] = found.to_report()
     report["seconds"] = time.perf_counter() - started
     return Outcome(grammar, model, structure, assessment, optimization, report)
 

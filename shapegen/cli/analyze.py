@@ -9,7 +9,14 @@ import argparse
 from pathlib import Path
 
 from shapegen.cli.display import print_analysis
-from shapegen.cli.options import CommandLineError, add_statics_options, statics_options
+from shapegen.cli.options import (
+    CommandLineError,
+    add_lateral_options,
+    add_statics_options,
+    block_statics_flags,
+    capacity_request,
+    statics_options,
+)
 from shapegen.cli.outputs import check_outputs, write_all
 
 EXIT_OK = 0
@@ -23,6 +30,7 @@ def add_command(commands) -> None:
             "Check whether a block model stands under its own weight and its loads, with"
             " compression-only frictional joints (the tension-penalty QP); a model written by"
             " `shapegen build` is judged by the structure it records (a bridge by its cables)."
+            " --tilt judges it on a tilting table, --capacity reports how far it can tilt."
             " Exits 0 whether or not it stands; exits 2 for bad input."
         ),
     )
@@ -32,6 +40,7 @@ def add_command(commands) -> None:
         help="block model: shapegen-blocks .json, or a mesh (.obj .gltf .glb .ply .stl)",
     )
     add_statics_options(analyze)
+    add_lateral_options(analyze)
     analyze.add_argument(
         "-o",
         "--output",
@@ -62,13 +71,19 @@ def run(args: argparse.Namespace) -> int:
     design = Design.of_model(model)
     recorded = (model.metadata.get("structure") or {}).get("name")
     options = statics_options(args)
-    if options is not None and recorded not in (None, "blocks"):
+    given = block_statics_flags(args)
+    if given and recorded not in (None, "blocks"):
+        verb = "applies" if len(given) == 1 else "apply"
         raise CommandLineError(
-            f"--friction, --pyramid, --kern, --solver apply to block statics; {name} is judged by"
-            f" the {recorded!r} structure it records"
+            f"{', '.join(given)} {verb} to block statics; {name} is judged by the"
+            f" {recorded!r} structure it records"
         )
-    assessment = make_structure(recorded, options).assess(design)
+    structure = make_structure(recorded, options)
+    assessment = structure.assess(design)
     report = {"model": name, **assessment.to_report()}
+    azimuths = capacity_request(args)
+    if azimuths is not None:
+        report["capacity"] = structure.lateral_capacity(design, azimuths).to_report()
     write_all(encode_outputs(model, assessment, report, model_path=args.output,
                              report_path=args.report))  # fmt: skip
     if not args.quiet:

@@ -11,8 +11,10 @@ from shapegen.cli.display import SearchProgress, print_build
 from shapegen.cli.options import (
     CommandLineError,
     add_derivation_options,
+    add_lateral_options,
     add_search_options,
     add_statics_options,
+    capacity_request,
     check_statics_apply,
     checked_attrs,
     load_grammar,
@@ -58,6 +60,7 @@ def add_command(commands) -> None:
         ' or the cable model of a @Structure("cable") bridge); the report gets an "analysis"',
     )
     add_statics_options(build, prefix="with --analyze or --optimize, for block statics: ")
+    add_lateral_options(build, prefix="with --analyze or --optimize, for block statics: ")
     add_search_options(build)
     build.add_argument(
         "--osm",
@@ -79,11 +82,10 @@ def run(args: argparse.Namespace) -> int:
     if args.picture and Path(args.picture).suffix.lower() != ".png":
         raise CommandLineError(f"--picture {args.picture}: a picture is written as .png")
     search = search_settings(args)
-    statics = statics_options(
-        args,
-        applies=args.analyze or search is not None,
-        why="they apply with --analyze or --optimize",
-    )
+    judged = args.analyze or search is not None
+    why = "they apply with --analyze or --optimize"
+    statics = statics_options(args, applies=judged, why=why)
+    capacity = capacity_request(args, applies=judged, why="it applies with --analyze or --optimize")
     grammar = load_grammar(args.grammar)
     check_statics_apply(args, grammar, args.grammar)
     attrs = checked_attrs(grammar, args.assignments)
@@ -111,6 +113,7 @@ def run(args: argparse.Namespace) -> int:
             assess=args.analyze,
             place=place,
             progress=progress,
+            capacity=capacity,
         )
     report = outcome.report
     if way is not None:

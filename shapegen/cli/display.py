@@ -5,6 +5,8 @@ from __future__ import annotations
 __all__ = [
     "SearchProgress",
     "SimulationProgress",
+    "capacity_line",
+    "directions_line",
     "fmt",
     "left_out_line",
     "print_analysis",
@@ -126,8 +128,53 @@ def analysis_table(title: str, analysis: dict):
     )
     table.add_row("max tension", f"{fmt(analysis.get('max_tension'))} N")
     table.add_row("total weight", f"{fmt(analysis.get('total_weight'))} N")
+    tilt = analysis.get("tilt")
+    if tilt:
+        towards = " (the worst direction)" if tilt.get("azimuth") == "worst" else ""
+        table.add_row(
+            "tilt",
+            f"{fmt(tilt['tilt_deg'])} deg towards azimuth {fmt(tilt['azimuth_deg'])} deg"
+            f"{towards}: horizontal load {fmt(tilt['load_multiplier'])} x the weight",
+        )
+    capacity = analysis.get("capacity")
+    if capacity:
+        table.add_row("lateral capacity", Text(capacity_line(capacity)))
+        table.add_row("by direction", Text(directions_line(capacity)))
     table.add_row("seconds", f"{fmt(analysis.get('seconds'))}")
     return table
+
+
+def capacity_line(capacity: dict) -> str:
+    """``15.84 deg (load multiplier 0.2838) towards azimuth 0 deg, the worst of 17 directions``."""
+    if not capacity.get("stands_upright"):
+        return "none: the design does not stand upright"
+    tilt = capacity.get("tilt_deg")
+    if tilt is None:
+        return "not found (the solver failed)"
+    count = len(capacity.get("directions", []))
+    where = ""
+    if capacity.get("sweep"):
+        where = f", the worst of {count} directions"
+    elif count > 1:
+        where = f", the least of the {count} directions asked for"
+    multiplier = capacity.get("load_multiplier")
+    multiplier = "unbounded" if multiplier is None else fmt(multiplier)
+    return (
+        f"{tilt:.2f} deg (load multiplier {multiplier}) towards azimuth"
+        f" {fmt(capacity.get('azimuth_deg'))} deg{where}"
+    )
+
+
+def directions_line(capacity: dict) -> str:
+    """``azimuth: tilt`` for every direction, in degrees."""
+
+    def shown(entry: dict) -> str:
+        tilt = entry.get("tilt_deg")
+        return "-" if tilt is None else f"{tilt:.2f}"
+
+    return ", ".join(
+        f"{fmt(entry['azimuth_deg'])}: {shown(entry)}" for entry in capacity.get("directions", [])
+    )
 
 
 def print_analysis(title: str, analysis: dict) -> None:

@@ -13,7 +13,7 @@ __all__ = ["Assessment", "Design", "Structure", "StructureArgument"]
 
 import math
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -150,6 +150,8 @@ class Structure(ABC):
         False when it judges from its arguments alone: a search then builds no model.
     has_gradient
         True when :meth:`measure_change` gives first-order changes of the measure.
+    has_capacity
+        True when :meth:`lateral_capacity` gives the largest tilt at which a design stands.
     """
 
     name: ClassVar[str]
@@ -159,6 +161,7 @@ class Structure(ABC):
     options_type: ClassVar[type | None] = None
     needs_model: ClassVar[bool] = True
     has_gradient: ClassVar[bool] = False
+    has_capacity: ClassVar[bool] = False
 
     def __init__(self, options: object | None = None):
         if options is not None and (
@@ -187,6 +190,15 @@ class Structure(ABC):
         """First-order change of the measure from ``base``'s design to ``moved`` (a design a
         small step away), or None when it is not known there."""
         return None
+
+    def lateral_capacity(self, design: Design, azimuths: Sequence[float] | None = None):
+        """The largest tilt at which ``design`` stands, towards each of ``azimuths`` (degrees in
+        the ground plane from +x towards +z) or over a sweep of directions and the worst; an
+        object with ``to_report()``. Only for structures that declare :attr:`has_capacity`."""
+        raise OptionError(
+            f"the lateral capacity is a rigid-block figure; the {self.name!r} structure"
+            f" ({self.description}) has none"
+        )
 
     def checked_arguments(self, arguments: Mapping[str, object]) -> dict[str, object]:
         """The arguments with defaults filled in; a missing or unknown one is an error."""

@@ -3,18 +3,26 @@
 The measure is ``y / W^2``, the least sum of squared joint tensions that holds every block in
 equilibrium, over the squared weight; zero exactly when the assembly stands with compression and
 friction alone. A margin shrinks every joint about its centroid (the kern) to ``1 - margin`` of
-its size. The adjoint gradient of :mod:`shapegen.statics.sensitivity` gives the measure's change.
+its size; a tilt of the options (the tilting-table test) turns every load, towards a given
+azimuth or the design's worst direction. The adjoint gradient of
+:mod:`shapegen.statics.sensitivity` gives the measure's change. The lateral capacity is the
+largest tilt at which the design stands (:mod:`shapegen.statics.capacity`).
 """
 
 from __future__ import annotations
 
 __all__ = ["BlockStatics"]
 
+import math
+from collections.abc import Sequence
+
 from shapegen.statics.analysis import analyze
+from shapegen.statics.capacity import lateral_capacity
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.sensitivity import infeasibility_change
 from shapegen.structures.base import Assessment, Design, Structure
 from shapegen.structures.registry import register_structure
+from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 
 
 @register_structure
@@ -26,9 +34,15 @@ class BlockStatics(Structure):
     measure_name = "y/W²"
     options_type = StaticsOptions
     has_gradient = True
+    has_capacity = True
 
     options: StaticsOptions
     _stood: tuple[float, object] | None = None  # the last design that stood with a margin
+
+    def __init__(self, options: StaticsOptions | None = None):
+        super().__init__(options)
+        # azimuths (degrees) in which designs judged so far fell at the tilt of the options
+        self._directions: list[float] = []
 
     def _options(self, margin: float) -> StaticsOptions:
         return self.options.shrunk(margin) if margin > 0 else self.options
@@ -37,11 +51,15 @@ class BlockStatics(Structure):
         margin = self.checked_margin(margin)
         stood = self._stood if self._stood is not None and self._stood[0] >= margin else None
         model = design.model
-        analysis = analyze(
-            model,
-            self._options(margin),
-            stood=stood[1] if stood is not None and stood[1].model is model else None,
-        )
+        options = self._options(margin)
+        if options.tilted and options.azimuth is None:
+            analysis = self._towards_the_worst(model, options)
+        else:
+            analysis = analyze(
+                model,
+                options,
+                stood=stood[1] if stood is not None and stood[1].model is model else None,
+            )
         if analysis.feasible and margin > 0:
             # A search judges with a reserve and reports without one: the forces that stand
             # with the reserve certify the design without another solve.
@@ -57,4 +75,44 @@ class BlockStatics(Structure):
         )
 
     def measure_change(self, base: Assessment, moved: Design) -> float | None:
+        # the base analysis knows the direction it was tilted towards
         return infeasibility_change(base.detail, moved.model, self._options(base.margin))
+
+    def lateral_capacity(self, design: Design, azimuths: Sequence[float] | None = None):
+        return lateral_capacity(design.model, self.options, azimuths)
+
+    def _towards_the_worst(self, model, options: StaticsOptions):
+        """The analysis tilted towards the worst direction of ``model``.
+
+        A search judges many designs: the directions earlier ones fell in are tried first (one
+        analysis each); a design that stands in all of them gets the sweep for its own worst
+        direction (:func:`~shapegen.statics.multiplier.worst_direction`), which joins them when
+        the design falls there. So the search's measure is the largest ``y`` over the
+        directions known so far, and a design is only called standing once its own worst
+        direction has been checked: the verdict of ``analyze`` with the same tilt.
+        """
+        from shapegen.statics.checks import check_model
+        from shapegen.statics.contacts import find_interfaces
+
+        tol = DEFAULT_TOLERANCES.for_size(float(model.size))
+        interfaces = find_interfaces(model, tol)
+        check_model(model, interfaces, tol)
+        falling = []
+        for azimuth in self._directions:
+            tried = analyze(model, options.towards(azimuth), interfaces=interfaces, check=False)
+            if not tried.feasible:
+                falling.append(tried)
+        if falling:
+            worst = max(falling, key=_infeasibility)
+            worst.worst_direction = True
+            return worst
+        analysis = analyze(model, options, interfaces=interfaces, check=False)
+        azimuth = analysis.problem.azimuth if analysis.problem is not None else None
+        if not analysis.feasible and azimuth is not None and azimuth not in self._directions:
+            self._directions.append(azimuth)
+        return analysis
+
+
+def _infeasibility(analysis) -> float:
+    value = analysis.infeasibility_normalized
+    return math.inf if math.isnan(value) else value

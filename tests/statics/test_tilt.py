@@ -131,3 +131,25 @@ def test_loads_that_are_not_vertical_are_named():
     assert "gravity" in load_direction_problem(sideways)
     pushed = leaning_model(loads=[PointLoad("b", np.array([50.0, 0, 0]), np.array([0, 1, 0.3]))])
     assert "'b'" in load_direction_problem(pushed)
+
+
+def test_the_adjoint_gradient_keeps_the_tilt():
+    # A 0.3 m wide pier falls at 20 deg towards +x; widening it by h lowers y/W^2 as the
+    # tilted analyses of the two piers say (the envelope theorem, with the loads turned).
+    from shapegen.statics.sensitivity import infeasibility_change
+
+    options = StaticsOptions(tilt=20.0, azimuth=0.0, friction=5.0)
+
+    def pier(width):
+        return Model([Block.box([0, 0, 0], [width, 1.0, 0.8])], friction=5.0)
+
+    base = analyze(pier(0.3), options)
+    assert not base.feasible
+    h = 1e-5
+    change = infeasibility_change(base, pier(0.3 + h), options)
+    difference = analyze(pier(0.3 + h), options).infeasibility_normalized
+    difference -= base.infeasibility_normalized
+    assert change is not None and change < 0
+    assert change == pytest.approx(difference, rel=1e-2)
+    upright = infeasibility_change(analyze(pier(0.3), friction=5.0), pier(0.3 + h), options)
+    assert upright == 0.0  # it stands upright: nothing to change
