@@ -114,6 +114,9 @@ class ExpressionCompiler(BuiltinCalls):
             return lambda args, state: state.attrs[name]
         if name in self.function_nodes:
             return self._call_user(node, name, ())
+        if self.grammar.dialect == "cga" and BUILTIN_FUNCTIONS.get(name, (1,))[0] == 0:
+            # CityEngine calls a builtin that takes no argument without its () (rand, uid)
+            return self.compile(ast.Call(name, (), location=node.location), params)
         raise self.error(node, f"unknown name {name!r}")
 
     def _ShapeAttribute(self, node: ast.ShapeAttribute, params) -> Compiled:

@@ -219,6 +219,7 @@ class ShapeOperations:
         repeat = node.group.repeat
         error = self.error
         best_counts = self.cga_dialect  # CityEngine's repeat counts in .cga files
+        where = node.location
 
         def split_op(state, args, out):
             shape = state.shape
@@ -232,9 +233,20 @@ class ShapeOperations:
             if repeat:
                 pattern = SplitRepeat(tuple(pattern))
             run = state.run
+            extent = float(shape.scope.size[axis])
+            scale = 1.0
+            if node.texture is not None:
+                run.warn(
+                    f"{where}: split({'u' if axis == 0 else 'v'}, {node.texture}) runs along "
+                    f"the scope's {'x' if axis == 0 else 'y'} axis: shapegen keeps no texture "
+                    "coordinates"
+                    + (" (uv taken as 0..1 over the scope)" if node.texture == "uvSpace" else "")
+                )
+                if node.texture == "uvSpace":
+                    extent, scale = 1.0, extent
             try:
                 pieces = resolve_split(
-                    float(shape.scope.size[axis]),
+                    extent,
                     pattern,
                     max_pieces=max(run.max_shapes - run.shape_count, 0) + 1,
                     best_counts=best_counts,
@@ -252,7 +264,7 @@ class ShapeOperations:
                 raise error(node, str(exc)) from None
             made = []
             for piece in pieces:
-                cut = split_piece(shape, axis, piece.start, piece.size)
+                cut = split_piece(shape, axis, piece.start * scale, piece.size * scale)
                 if cut is not None:  # CityEngine drops pieces with no geometry
                     made.append((piece.key, cut))
             total = len(made)

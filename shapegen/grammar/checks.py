@@ -110,7 +110,8 @@ class _Checker(AnnotationChecks):
             elif isinstance(definition, ast.Function | ast.Rule):
                 self._visit(definition.body, self._params(definition.params))
         self._check_start_rule()
-        self._check_cycles()
+        if not self.cga:  # CityEngine evaluates lazily: a cycle is an error only when reached
+            self._check_cycles()
         return self.problems
 
     def _collect_definitions(self) -> None:
@@ -295,7 +296,8 @@ class _Checker(AnnotationChecks):
         if name in self.keyword_names.get(id(node), ()):
             return
         if name in BUILTIN_FUNCTIONS:
-            self.report(node.location, f"'{name}' is a builtin function: write {name}(...)")
+            if not (self.cga and BUILTIN_FUNCTIONS[name][0] == 0):  # CityEngine calls rand
+                self.report(node.location, f"'{name}' is a builtin function: write {name}(...)")
             return
         candidates = [*params, *self.values, *RESERVED_ATTRIBUTES]
         self.report(node.location, f"undefined name '{name}'" + _suggestion(name, candidates))

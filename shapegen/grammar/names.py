@@ -318,7 +318,7 @@ CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "shapeO": (4, 4),
     "shapeU": (3, 3),
     "softenNormals": (1, 1),
-    "split": (1, 2),
+    "split": (1, 3),  # split(axis, adjustMode) and the UV split(u|v, space, uvSet)
     "splitAndSetbackPerimeter": (1, 3),
     "splitArea": (1, 2),
     "subtract": (0, 0),
@@ -379,7 +379,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("world.lowest", "world.highest", "object.lowest", "object.highest"),
         *("largest", "longest", "shortest", "lowest", "highest", "smallest", "any"),
         *("adjust", "noAdjust"),
-        *("f", "e", "v", "fe", "fv", "g", "h", "zUp", "noAlign"),
+        *("f", "e", "v", "u", "fe", "fv", "g", "h", "zUp", "noAlign"),
         *("inside", "border", "remainder", "shape", "all", "none", "keep", "remove"),
         *("front", "back", "left", "right", "top", "bottom", "side", "vertical", "horizontal"),
         *("aslant", "nutant", "nonaside", "street", "eave", "hip", "valley", "ridge"),

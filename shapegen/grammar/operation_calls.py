@@ -22,6 +22,9 @@ from shapegen.grammar.names import (
     SPLIT_AXES,
 )
 
+_UV_DIRECTIONS = {"u": "x", "v": "y"}
+_UV_SPACES = ("unitSpace", "uvSpace")
+
 __all__ = ["Argument", "Block", "BlockEntry", "OperationBuilders", "prefix_in_words"]
 
 
@@ -102,6 +105,9 @@ class OperationBuilders:
             return False
         positional = [a for a in arguments if a.kind != "keyword"]
         if name == "split":
+            first = positional[0].value if positional else None
+            if isinstance(first, ast.Name) and first.name in _UV_DIRECTIONS:
+                return len(positional) <= 3
             return len(positional) == 1 or (
                 len(positional) == 2
                 and isinstance(positional[1].value, ast.Name)
@@ -162,9 +168,27 @@ class OperationBuilders:
         return ast.Extrude(self._plain("extrude", arguments[0]), location=location)
 
     def _op_split(self, arguments, block, location):
+        first = arguments[0].value
+        if isinstance(first, ast.Name) and first.name in _UV_DIRECTIONS:
+            return self._uv_split(arguments, block, location)
         axis = self._keyword_choice("split", "axis", arguments[0], SPLIT_AXES)
         adjust = len(arguments) == 1 or arguments[1].value.name == "adjust"
         return ast.Split(axis, self._split_group(block), adjust=adjust, location=location)
+
+    def _uv_split(self, arguments, block, location):
+        """op_split's UV split, ``split(u|v, uvSpace|unitSpace, uvSet)``: shapegen keeps no
+        texture coordinates, so it runs along the scope's x (u) or y (v), as a facade's
+        ``setupProjection(0, scope.xy, ...)`` lays them; uvSpace sizes are fractions of the
+        scope's extent. The derivation warns that it did so."""
+        direction = _UV_DIRECTIONS[arguments[0].value.name]
+        space = "unitSpace"
+        if len(arguments) > 1:
+            space = self._keyword_choice(
+                "split", "surface parameterization", arguments[1], _UV_SPACES
+            )
+        return ast.Split(
+            direction, self._split_group(block), adjust=True, texture=space, location=location
+        )
 
     def _split_group(self, block: Block) -> ast.SplitGroup:
         parts = []

@@ -126,6 +126,8 @@ class Split:
     axis: Literal["x", "y", "z"]
     group: SplitGroup
     adjust: bool = True
+    #: For a UV split (``split(u|v, space, uvSet)``): ``"unitSpace"`` or ``"uvSpace"``.
+    texture: str | None = None
     location: SourceLocation = location_field()
 
 

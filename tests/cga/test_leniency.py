@@ -4,6 +4,7 @@ files keep refusing the same text."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from shapegen import load_grammar, parse_grammar
@@ -177,3 +178,42 @@ def test_a_5_mb_rule_file_loads():
 def test_a_runaway_definition_is_refused_by_its_token_count():
     with pytest.raises(GrammarError, match="more than 100000 tokens.*max_definition_tokens"):
         parse_grammar("attr a = " + "1 + " * 60_000 + "1\nLot --> A.", "r.cga")
+
+
+def test_a_cycle_that_no_evaluation_reaches_loads_and_a_reached_one_is_one_error():
+    text = (
+        "attr detailed = false\nattr a = case detailed: b else: 2\nattr b = a + 1\n"
+        "@StartRule\nLot --> extrude(b) A."
+    )
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert model.metadata["attrs"] == {"detailed": False, "a": 2.0, "b": 3.0}
+    with pytest.raises(GrammarError, match="refer to each other in a cycle: a -> b -> a"):
+        parse_grammar(text, "r.cga").build(lot=LOT, attrs={"detailed": True})
+    with pytest.raises(GrammarError, match="depends on itself"):
+        parse_grammar(text, "r.grammar")
+
+
+def test_uv_split_runs_along_the_scope_with_a_warning():
+    # op_split's UV split on a facade (u along its width, v along its height): 12 x 6 m front,
+    # two 3 m floors in unitSpace, each in four tiles of a quarter (uvSpace) of its width
+    text = (
+        "@StartRule\nLot --> extrude(6) comp(f) { front : Facade | all : NIL }\n"
+        "Facade --> split(v, unitSpace, 0) { 3 : Floor }*\n"
+        "Floor --> split(u, uvSpace, 0) { 0.25 : Tile }*\nTile --> T."
+    )
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert len(model.surfaces) == 8
+    extents = {tuple(np.round(np.ptp(s.vertices, axis=0), 6)) for s in model.surfaces}
+    assert extents == {(3.0, 3.0, 0.0)}  # the front face lies in z = 0
+    warnings = model.metadata["warnings"]
+    assert any("split(v, unitSpace) runs along the scope's y axis" in w for w in warnings)
+    assert any("split(u, uvSpace)" in w and "0..1 over the scope" in w for w in warnings)
+
+
+def test_a_builtin_without_arguments_may_drop_its_parentheses_in_cga():
+    text = "@StartRule\nLot --> extrude(1 + rand) A."
+    model = parse_grammar(text, "r.cga").build(lot=LOT, seed=3)
+    same = parse_grammar(text.replace("rand", "rand()"), "r.cga").build(lot=LOT, seed=3)
+    assert model.volume == pytest.approx(same.volume) and 96 < model.volume < 192
+    with pytest.raises(GrammarError, match="'rand' is a builtin function: write rand"):
+        parse_grammar(text, "r.grammar")
