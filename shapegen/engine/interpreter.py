@@ -304,11 +304,9 @@ class Program(AttributeValues, ShapeOperations):
         if volume < 0:
             surfaces.append(_surface(state, mesh, "faces turned inwards", len(surfaces)))
             return []
-        if mesh.is_convex():
-            pieces = [mesh]
-        else:  # cut in scope coordinates, where the same asset gives the same mesh
-            scope = state.shape.scope
-            pieces = placed_convex_decomposition(state.shape.mesh(), scope.rotation, scope.origin)
+        # judged and cut in scope coordinates, where the same asset gives the same mesh
+        scope = state.shape.scope
+        pieces = placed_convex_decomposition(state.shape.mesh(), scope.rotation, scope.origin)
         if pieces is None:
             surfaces.append(_surface(state, mesh, "not convex", len(surfaces)))
             return []

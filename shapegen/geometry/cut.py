@@ -49,13 +49,17 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
     successor = np.arange(1, len(corners) + 1)
     successor[start[1:] - 1] = heads
     repeated = np.logical_or.reduceat(corners == corners[successor], heads)
-    whole = (np.minimum.reduceat(corner_depth, heads) > eps) & ~repeated & (np.diff(start) >= 3)
+    whole = (
+        (np.minimum.reduceat(corner_depth, heads) > eps)
+        & ~repeated
+        & ((start[1:] - start[:-1]) >= 3)
+    )
     clipped = np.flatnonzero(~whole & (np.maximum.reduceat(corner_depth, heads) > eps))
     # one new vertex per crossed edge, shared by the two faces of the edge
     a, b = corners, corners[successor]
     da, db = corner_depth, corner_depth[successor]
     crossed = ((da > eps) & (db < -eps)) | ((da < -eps) & (db > eps))
-    crossed &= np.repeat(~whole, np.diff(start))
+    crossed &= np.repeat(~whole, (start[1:] - start[:-1]))
     n = len(vertices)
     low, high = np.minimum(a[crossed], b[crossed]), np.maximum(a[crossed], b[crossed])
     keys, first = np.unique(low * n + high, return_index=True)
@@ -218,8 +222,8 @@ def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
     keep = area > _REL * span * span
     if not keep.any():
         return None
-    counts = np.diff(start)[keep]
-    corners = corners[np.repeat(keep, np.diff(start))]
+    counts = (start[1:] - start[:-1])[keep]
+    corners = corners[np.repeat(keep, (start[1:] - start[:-1]))]
     # vertices renumbered in the order the kept faces first use them
     used, first = np.unique(corners, return_index=True)
     order = used[np.argsort(first, kind="stable")]
@@ -304,11 +308,14 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | No
     faces): a rule inserts the same asset in many places (a temple's columns) and a rebuild
     (a search, the design page) derives the same leaves again, so each distinct mesh is cut
     once. A decomposition depends only on the mesh, so the world pieces are those of a
-    decomposition in world coordinates up to round-off."""
+    decomposition in world coordinates up to round-off. A convex mesh is its own one piece;
+    the pieces are :meth:`~Mesh.cleaned`."""
     key = (mesh.vertices.tobytes(), mesh.faces)
     pieces = _DECOMPOSED.get(key, _MISSING)
     if pieces is _MISSING:
         pieces = convex_decomposition(mesh)
+        if pieces is not None:
+            pieces = [piece.cleaned() for piece in pieces]
         if len(_DECOMPOSED) >= _DECOMPOSED_LIMIT:
             del _DECOMPOSED[next(iter(_DECOMPOSED))]  # the oldest entry
         _DECOMPOSED[key] = pieces

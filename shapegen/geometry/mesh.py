@@ -26,11 +26,10 @@ __all__ = [
 
 from collections.abc import Sequence
 from functools import cached_property
-from itertools import chain
 
 import numpy as np
 
-from shapegen.model.polygons import cross, face_normals
+from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_layout, face_normals
 
 # The unit box's corners (scope coordinates) and faces in CityEngine's comp(f) order for an
 # extruded rectangle lot: 0 bottom, 1 top, then the sides from the lot's first edge (which runs
@@ -85,19 +84,15 @@ def polygon_area(points: np.ndarray) -> float:
 
 
 def corner_layout(faces: Sequence[Sequence[int]]) -> tuple[np.ndarray, np.ndarray]:
-    """The faces as flat arrays: every face's corners one after the other, and the ``(F + 1,)``
-    offsets where each face starts (the last is the number of corners)."""
-    counts = np.fromiter(map(len, faces), dtype=np.intp, count=len(faces))
-    start = np.zeros(len(faces) + 1, dtype=np.intp)
-    np.cumsum(counts, out=start[1:])
-    corners = np.fromiter(chain.from_iterable(faces), dtype=np.intp, count=int(start[-1]))
-    return corners, start
+    """The faces (tuples of ints) as flat arrays: every face's corners one after the other, and
+    the ``(F + 1,)`` offsets where each face starts (the last is the number of corners)."""
+    return face_layout(faces if type(faces) is CheckedFaces else CheckedFaces(faces))
 
 
 def area_vectors(vertices: np.ndarray, corners: np.ndarray, start: np.ndarray) -> np.ndarray:
     """Newell's vector of each face (about its corner mean), ``(F, 3)``: normal to the face,
     its length twice the face's area (m^2); the faces given as by :func:`corner_layout`."""
-    count = np.diff(start)
+    count = start[1:] - start[:-1]
     if len(count) == 0:
         return np.empty((0, 3))
     p = vertices[corners]
@@ -125,11 +120,11 @@ class Mesh:
         v = np.array(vertices, dtype=float).reshape(-1, 3)
         v.setflags(write=False)
         self.vertices = v
-        self.faces = tuple(tuple(map(int, face)) for face in faces)
+        self.faces = checked_faces(faces)
         if not self.faces:
             return
-        corners, start = self._corners
-        short = np.flatnonzero(np.diff(start) < 2)
+        corners, start = face_layout(self.faces)
+        short = np.flatnonzero((start[1:] - start[:-1]) < 2)
         if len(short):
             bad = short[0]
         elif corners.min() < 0 or corners.max() >= len(v):
@@ -147,9 +142,9 @@ class Mesh:
         v = np.array(vertices, dtype=float).reshape(-1, 3)
         v.setflags(write=False)
         mesh.vertices = v
-        mesh.faces = faces
-        if layout is not None:
-            mesh.__dict__["_corners"] = layout
+        mesh.faces = faces if type(faces) is CheckedFaces else CheckedFaces(faces)
+        if layout is not None and "layout" not in mesh.faces.__dict__:
+            mesh.faces.__dict__["layout"] = layout
         return mesh
 
     # ------------------------------------------------------------------ constructors
@@ -210,10 +205,10 @@ class Mesh:
         """The corners of face ``index``, ``(k, 3)`` m."""
         return self.vertices[list(self.faces[index])]
 
-    @cached_property
+    @property
     def _corners(self) -> tuple[np.ndarray, np.ndarray]:
         """The faces' :func:`corner_layout`: flat corners and ``(F + 1,)`` start offsets."""
-        return corner_layout(self.faces)
+        return face_layout(self.faces)
 
     @cached_property
     def _normals(self) -> tuple[np.ndarray, np.ndarray]:
@@ -251,7 +246,7 @@ class Mesh:
         # each face's cone from the mesh's centre: its first corner . its Newell vector
         first = self.vertices[corners[start[:-1]]] - centre
         cones = np.einsum("fk,fk->f", first, area_vectors(self.vertices - centre, corners, start))
-        cones[np.diff(start) < 3] = 0.0
+        cones[(start[1:] - start[:-1]) < 3] = 0.0
         return float(cones.sum()) / 6.0
 
     def size(self) -> float:
@@ -356,7 +351,7 @@ class Mesh:
         still face out)."""
         v = self.vertices
         faces = self.faces
-        layout = self.__dict__.get("_corners")
+        layout = None
         if rotation is not None:
             rotation = np.asarray(rotation, float)
             v = v @ rotation.T
@@ -375,7 +370,7 @@ class Mesh:
         factors = np.asarray(factors, float)
         if np.prod(np.sign(factors)) < 0:
             return Mesh._checked(self.vertices * factors, tuple(_reversed(f) for f in self.faces))
-        return Mesh._checked(self.vertices * factors, self.faces, self.__dict__.get("_corners"))
+        return Mesh._checked(self.vertices * factors, self.faces)
 
     def reversed(self) -> Mesh:
         """The same mesh with every face turned around (CityEngine's ``reverseNormals``)."""
@@ -398,8 +393,15 @@ class Mesh:
         faces with fewer than three corners dropped, unused vertices removed."""
         slack = tolerance + _REL * max(self.size(), 1e-12)
         keys = np.round(self.vertices / max(slack, 1e-15)).astype(np.int64)
+        if not self.faces:
+            return Mesh(np.empty((0, 3)), ())
+        corners, start = self._corners
+        order = np.lexsort(keys.T)
+        twins = (keys[order[1:]] == keys[order[:-1]]).all(axis=1)
+        if not twins.any() and self._plain(corners, start):
+            return self  # nothing to merge or drop
         first: dict[tuple, int] = {}
-        remap = [first.setdefault(tuple(key), k) for k, key in enumerate(keys)]
+        remap = [first.setdefault(key, k) for k, key in enumerate(map(tuple, keys.tolist()))]
         faces = []
         for face in self.faces:
             ring = []
@@ -414,6 +416,19 @@ class Mesh:
         used: dict[int, int] = {}
         faces = [tuple(used.setdefault(i, len(used)) for i in f) for f in faces]
         return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces)
+
+    def _plain(self, corners: np.ndarray, start: np.ndarray) -> bool:
+        """Every face has three corners or more, none repeated next to itself, and every
+        vertex is used."""
+        if int((start[1:] - start[:-1]).min()) < 3:
+            return False
+        successor = np.arange(1, len(corners) + 1)
+        successor[start[1:] - 1] = start[:-1]
+        if bool((corners == corners[successor]).any()):
+            return False
+        used = np.zeros(len(self.vertices), dtype=bool)
+        used[corners] = True
+        return bool(used.all())
 
     def to_vertices_and_faces(self) -> tuple[np.ndarray, tuple[tuple[int, ...], ...]]:
         return self.vertices, self.faces

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from shapegen.model.polygons import checked_faces
+
 
 @dataclass(frozen=True)
 class Appearance:
@@ -245,7 +247,7 @@ class Surface:
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=float).reshape(-1, 3)
-        self.faces = tuple(tuple(int(i) for i in face) for face in self.faces)
+        self.faces = checked_faces(self.faces)
         self.tags = tuple(self.tags)
         self.rule_path = tuple(self.rule_path)
 

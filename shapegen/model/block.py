@@ -13,7 +13,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.model.appearance import Appearance
-from shapegen.model.polygons import cross, face_normals
+from shapegen.model.polygons import checked_faces, cross, face_normals
 from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, COPLANAR_REL, DEFAULT, Tolerances
 
 DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
@@ -59,7 +59,7 @@ class Block:
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=float).reshape(-1, 3)
-        self.faces = tuple(tuple(int(i) for i in face) for face in self.faces)
+        self.faces = checked_faces(self.faces)
         self.tags = tuple(self.tags)
         self.rule_path = tuple(self.rule_path)
         self.density = float(self.density)

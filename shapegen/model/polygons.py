@@ -7,9 +7,42 @@ face's centre); :class:`~shapegen.model.block.Block` and
 
 from __future__ import annotations
 
-__all__ = ["cross", "face_normals"]
+__all__ = ["CheckedFaces", "checked_faces", "cross", "face_layout", "face_normals"]
+
+from itertools import chain
 
 import numpy as np
+
+
+class CheckedFaces(tuple):
+    """Polygons as tuples of Python ints (vertex numbers), as :func:`checked_faces` makes them.
+
+    A plain tuple of tuples in every use; its type records that the conversion is done, so a
+    mesh or block made from another's faces (a move, a scale, a cut) does not convert them
+    again, and it keeps its :func:`face_layout` once worked out."""
+
+
+def checked_faces(faces) -> CheckedFaces:
+    """``faces`` (any iterables of integers) as :class:`CheckedFaces`; returned as they are when
+    they already are."""
+    if type(faces) is CheckedFaces:
+        return faces
+    return CheckedFaces(tuple(map(int, face)) for face in faces)
+
+
+def face_layout(faces: CheckedFaces) -> tuple[np.ndarray, np.ndarray]:
+    """The faces as flat arrays: every face's corners one after the other, and the ``(F + 1,)``
+    offsets where each face starts (the last is the number of corners). Kept on ``faces``."""
+    layout = faces.__dict__.get("layout")
+    if layout is None:
+        counts = np.fromiter(map(len, faces), dtype=np.intp, count=len(faces))
+        start = np.zeros(len(faces) + 1, dtype=np.intp)
+        np.cumsum(counts, out=start[1:])
+        corners = np.fromiter(chain.from_iterable(faces), dtype=np.intp, count=int(start[-1]))
+        corners.setflags(write=False)
+        start.setflags(write=False)
+        layout = faces.__dict__["layout"] = (corners, start)
+    return layout
 
 
 def face_normals(
