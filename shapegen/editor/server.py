@@ -5,6 +5,13 @@ one designer, a handful of small JSON requests, and files from the package; a th
 lets the page read the state while a search runs. Every answer to a bad request is a 4xx with a
 JSON body ``{"error": "..."}``; an unexpected failure is a 500 with the same shape, and the
 server keeps running.
+
+Only the page itself may change the design. A web page on another site can make the browser send
+a request to 127.0.0.1 (a form, or ``fetch`` with ``mode: "no-cors"``) although it cannot read the
+answer; so every request other than GET and HEAD is refused (403) when its ``Origin`` is not this
+server's own (``"null"`` included: files and sandboxed frames) or its ``Sec-Fetch-Site`` is not
+``same-origin``, and (415) unless its ``Content-Type`` is ``application/json``, which no page can
+send to another origin without the browser first asking (a CORS preflight this server refuses).
 """
 
 from __future__ import annotations
@@ -12,6 +19,7 @@ from __future__ import annotations
 __all__ = ["API", "MAX_BODY", "EditorServer", "make_server"]
 
 import json
+import math
 import mimetypes
 import sys
 import traceback
@@ -27,6 +35,11 @@ from shapegen.json_values import json_ready
 
 MAX_BODY = 64 * 1024  # bytes: far more than any attr update needs
 HOST = "127.0.0.1"
+HOST_NAMES = (HOST, "localhost")  # the names the page may be served under
+JSON_TYPE = "application/json"
+# Sec-Fetch-Site values of a request the page itself makes ("none": typed by the user); a
+# "same-site" request comes from another port of this machine, another program's page
+SAME_ORIGIN_SITES = ("same-origin", "none")
 
 # path -> {method: what it does}; the docs list the same table.
 API = {
@@ -57,6 +70,11 @@ class EditorServer(ThreadingHTTPServer):
     def url(self) -> str:
         return f"http://{HOST}:{self.server_address[1]}/"
 
+    @property
+    def origins(self) -> tuple[str, ...]:
+        """The origins of the page as served: ``http://127.0.0.1:PORT``, ``http://localhost:PORT``."""
+        return tuple(f"http://{name}:{self.server_address[1]}" for name in HOST_NAMES)
+
 
 def make_server(
     session: EditorSession | None, port: int = 0, *, quiet: bool = True
@@ -65,6 +83,51 @@ def make_server(
     ``serve_forever()`` on it. The session may be given later (``server.session = ...``), so
     that a port in use is known before any work."""
     return EditorServer(port, session, quiet=quiet)
+
+
+def parsed_body(raw: bytes) -> object:
+    """A request body as JSON (None when empty), or a :class:`RequestError` (400) in one line.
+
+    Strict JSON: UTF-8, no ``NaN`` or ``Infinity``, no number beyond a float's range (a
+    400-digit integer, ``1e400``), and no deeper nesting than the parser's stack allows.
+    """
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        where, byte = exc.start, raw[exc.start]
+        raise RequestError(f"the body is not UTF-8 text (byte {where} is {byte:#04x})") from None
+    if not text.strip():
+        return None
+    try:
+        return json.loads(text, parse_constant=_no_constant, parse_int=_int, parse_float=_float)
+    except RecursionError:
+        raise RequestError("the body is not valid JSON: it nests too deeply") from None
+    except ValueError as exc:
+        raise RequestError(f"the body is not valid JSON: {exc}") from None
+
+
+def _no_constant(name: str) -> object:
+    raise ValueError(f"{name} is not a JSON number")
+
+
+def _int(text: str) -> int:
+    value = int(text)  # more than 4 300 digits: Python's own ValueError
+    try:
+        float(value)
+    except OverflowError:
+        raise ValueError(f"the number {_shown(text)} ({len(text)} digits) is too large") from None
+    return value
+
+
+def _float(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"the number {_shown(text)} is too large")
+    return value
+
+
+def _shown(text: str) -> str:
+    return repr(text) if len(text) <= 40 else repr(text[:37]) + "..."
 
 
 def _static_root():
@@ -101,6 +164,8 @@ class _Handler(BaseHTTPRequestHandler):
     def _dispatch(self, method: str) -> None:
         try:
             self._check_host()
+            if method not in ("GET", "HEAD"):
+                self._check_origin()
             path = urlsplit(self.path).path
             if path in API:
                 allowed = API[path]
@@ -130,8 +195,25 @@ class _Handler(BaseHTTPRequestHandler):
         # Only pages served from this address may drive it (a web page elsewhere could reach
         # 127.0.0.1 through a rebound DNS name, but it cannot forge the Host header).
         host = (self.headers.get("Host") or "").rsplit(":", 1)[0]
-        if host not in (HOST, "localhost"):
+        if host not in HOST_NAMES:
             raise RequestError(f"requests must be addressed to {HOST}", 403)
+
+    def _check_origin(self) -> None:
+        """Refuse a request that changes something unless the page itself sent it: a browser
+        names the page in ``Origin`` (``null`` for a file or a sandboxed frame) and says in
+        ``Sec-Fetch-Site`` whether it is this server's; a script that sends neither is let in."""
+        for origin in self.headers.get_all("Origin") or ():
+            if origin.strip().lower() not in self.server.origins:
+                raise RequestError(
+                    f"a request from {_shown(origin)} may not change the design: only the page "
+                    f"at {self.server.url} may", 403
+                )  # fmt: skip
+        for site in self.headers.get_all("Sec-Fetch-Site") or ():
+            if site.strip().lower() not in SAME_ORIGIN_SITES:
+                raise RequestError(
+                    f"a {_shown(site)} request may not change the design: only the page at "
+                    f"{self.server.url} may", 403
+                )  # fmt: skip
 
     # ------------------------------------------------------------------ the API
     def _api(self, method: str, path: str) -> None:
@@ -156,7 +238,17 @@ class _Handler(BaseHTTPRequestHandler):
             self._json(session.reload())
 
     def _body(self) -> object:
-        """The request's JSON body (None when empty)."""
+        """The request's JSON body (None when empty); it must be sent as ``application/json``."""
+        kind = self.headers.get("Content-Type")
+        media, _, parameters = (kind or "").partition(";")
+        charset = parameters.strip().lower().removeprefix("charset=").strip('"')
+        if media.strip().lower() != JSON_TYPE or charset not in ("", "utf-8"):
+            self.close_connection = True
+            shown = "none" if kind is None else _shown(kind)
+            raise RequestError(
+                f"send the body as JSON with Content-Type: {JSON_TYPE} (this request's: {shown})",
+                415,
+            )
         text = self.headers.get("Content-Length")
         if self.headers.get("Transfer-Encoding", "").lower() == "chunked":
             self.close_connection = True
@@ -165,20 +257,17 @@ class _Handler(BaseHTTPRequestHandler):
             length = int(text) if text is not None else 0
         except ValueError:
             self.close_connection = True
-            raise RequestError(f"bad Content-Length {text!r}") from None
+            raise RequestError(f"bad Content-Length {_shown(text)}") from None
         if length < 0:
             self.close_connection = True
-            raise RequestError(f"bad Content-Length {text!r}")
+            raise RequestError(f"bad Content-Length {_shown(text)}")
         if length > MAX_BODY:
             self.close_connection = True  # the body is not read: the connection cannot be reused
             raise RequestError(f"the body is {length} bytes; at most {MAX_BODY} are accepted", 413)
         raw = self.rfile.read(length) if length else b""
-        if not raw.strip():
-            return None
-        try:
-            return json.loads(raw.decode("utf-8"))
-        except (UnicodeDecodeError, ValueError) as exc:
-            raise RequestError(f"the body is not valid JSON: {exc}") from None
+        if len(raw) < length:
+            raise ConnectionResetError("the client hung up before sending the whole body")
+        return parsed_body(raw)
 
     def _drain(self) -> None:
         length = self.headers.get("Content-Length")
