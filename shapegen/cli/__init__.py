@@ -79,6 +79,7 @@ def _run(argv) -> int:
         with warnings.catch_warnings():
             warnings.showwarning = _warning_line
             args = parser.parse_args(argv)
+            _apply_rules_path(getattr(args, "rules_path", None))
             return args.handler(args)
     except SystemExit as exc:  # --help and --version
         return exc.code if isinstance(exc.code, int) else EXIT_OK
@@ -87,6 +88,20 @@ def _run(argv) -> int:
     except OSError as exc:
         where = f"{exc.filename}: " if exc.filename else ""
         return _fail(f"{where}{exc.strerror or exc}")
+
+
+def _apply_rules_path(folders: list[str] | None) -> None:
+    """``--rules-path`` folders go before SHAPEGEN_RULES_PATH's, for every rule file this run
+    loads (the page's reloads and the city's workers included); each is checked at once."""
+    if not folders:
+        return
+    import os
+
+    from shapegen.engine.rule_packages import RULES_PATH_VARIABLE, import_search_folders
+
+    import_search_folders(folders)  # a missing folder is one line now, not at the first import
+    current = os.environ.get(RULES_PATH_VARIABLE, "")
+    os.environ[RULES_PATH_VARIABLE] = os.pathsep.join([*folders, *([current] if current else [])])
 
 
 def _interrupted(exc: KeyboardInterrupt) -> int:

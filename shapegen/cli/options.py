@@ -289,6 +289,19 @@ def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") ->
         metavar="N",
         help=prefix + "seed of rand() and stochastic rules (default 0)",
     )
+    add_rules_path_option(parser)
+
+
+def add_rules_path_option(parser: argparse.ArgumentParser) -> None:
+    """--rules-path: where a .cga file's imports are looked up beyond its own project."""
+    parser.add_argument(
+        "--rules-path",
+        action="append",
+        metavar="DIR",
+        help="a folder (or rule package .rpk) where imports are looked up after the rule "
+        "file's own project, e.g. one holding ESRI.lib; repeatable; SHAPEGEN_RULES_PATH lists "
+        "more",
+    )
 
 
 def add_search_options(parser: argparse.ArgumentParser, margin: float | None = None) -> None:

@@ -23,11 +23,15 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from shapegen.engine.interpreter import Program
-from shapegen.engine.rule_packages import PACKAGE_SUFFIX, start_rule_of_package
+from shapegen.engine.rule_packages import (
+    PACKAGE_SUFFIX,
+    import_search_folders,
+    start_rule_of_package,
+)
 from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shape import lot_scope
 from shapegen.errors import GrammarError
-from shapegen.grammar import ast
+from shapegen.grammar import ast, import_paths
 from shapegen.grammar.source_files import read_rule_file
 from shapegen.model.model import Model
 
@@ -158,13 +162,18 @@ class Grammar:
         return f"Grammar({self.name!r}, {len(self.ast.rules)} rules)"
 
 
-def load_grammar(path: str | os.PathLike) -> Grammar:
+def load_grammar(path: str | os.PathLike, rules_path=()) -> Grammar:
     """Load a grammar from a rule file.
 
     ``path`` names a file (a ``str`` or any ``PathLike``); a bare file name that is not in the
     working directory is looked up among the bundled rules (``load_grammar("wall_windows.grammar")``
     works anywhere, so does ``load_grammar("wall_windows")``). Grammar text is never guessed from
     a string: pass it to :func:`parse_grammar`.
+
+    ``rules_path`` names folders (or rule packages, ``.rpk``) where the file's imports are
+    looked up after its own project, such as the one holding ``ESRI.lib``; the folders listed
+    in ``SHAPEGEN_RULES_PATH`` come after them. A source not in UTF-8 is read as Windows-1252,
+    as CityEngine reads it, with a warning in the model's metadata.
 
     Raises
     ------
@@ -173,10 +182,12 @@ def load_grammar(path: str | os.PathLike) -> Grammar:
         a pointer to :func:`parse_grammar`), syntax errors and load-time problems (all of them
         at once, with file, line, column and caret).
     """
+    folders = import_search_folders(rules_path)
     path = _rule_file(path)
     text, encoding = read_rule_file(path)
     warnings = (f"{path}: {encoding}",) if encoding is not None else ()
-    return Grammar(_parse(text, str(path), origin=path, warnings=warnings), path)
+    with import_paths.rules_path(folders):
+        return Grammar(_parse(text, str(path), origin=path, warnings=warnings), path)
 
 
 def parse_grammar(text: str, name: str = "<string>") -> Grammar:

@@ -129,3 +129,35 @@ def start_rule_of_package(package: Path) -> Path:
         f"{package}: cannot tell its start rule ({len(candidates)} compiled start rules; rule "
         f"files: {listing}); load one of them from {folder}"
     )
+
+
+#: The environment variable that lists folders (or rule packages) to look imports up in, as
+#: ``--rules-path`` does, separated by the platform's path separator (``:``, ``;`` on Windows).
+RULES_PATH_VARIABLE = "SHAPEGEN_RULES_PATH"
+
+
+def import_search_folders(given=()) -> tuple[Path, ...]:
+    """The folders imports are looked up in beyond a file's own project: ``given`` (the
+    ``--rules-path`` options) then :data:`RULES_PATH_VARIABLE`'s; a rule package (``.rpk``)
+    among them stands for its unpacked folder.
+
+    Raises
+    ------
+    GrammarError
+        For an entry that is neither a folder nor a rule package.
+    """
+    entries = [(str(e), "--rules-path") for e in given]
+    variable = os.environ.get(RULES_PATH_VARIABLE, "")
+    entries += [(e, RULES_PATH_VARIABLE) for e in variable.split(os.pathsep) if e.strip()]
+    folders = []
+    for entry, origin in entries:
+        path = Path(entry).expanduser()
+        if path.is_dir():
+            folders.append(path.resolve())
+        elif path.is_file() and path.suffix.lower() == PACKAGE_SUFFIX:
+            folders.append(_unpacked(path))
+        else:
+            raise GrammarError(
+                f"{origin} {entry!r}: not a folder nor a rule package (.rpk) to look imports up in"
+            )
+    return tuple(dict.fromkeys(folders))

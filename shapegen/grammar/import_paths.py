@@ -3,16 +3,42 @@
 Relative to the importing file's folder, then to its project (the nearest folder above holding
 ``rules/``); ``/Project/rest`` is the project itself when named so, else a project beside it in
 the workspace, else ``.ws/Project/rest`` (an extracted ``.rpk``), or what the project's
-``.resolvemap.xml`` maps the path to.
+``.resolvemap.xml`` maps the path to. Last come the folders the user names
+(:func:`rules_path`: ``--rules-path DIR``, ``SHAPEGEN_RULES_PATH``), each searched as a
+workspace (``/ESRI.lib/rules/x.cga`` as ``DIR/ESRI.lib/rules/x.cga``) and as a project
+(``DIR/rules/x.cga``).
 """
 
 from __future__ import annotations
 
-__all__ = ["import_candidates", "project_folder"]
+__all__ = ["import_candidates", "project_folder", "rules_path", "search_folders"]
 
+import contextlib
+import contextvars
 import functools
 import xml.etree.ElementTree as ElementTree
+from collections.abc import Iterator
 from pathlib import Path
+
+_SEARCH_FOLDERS: contextvars.ContextVar[tuple[Path, ...]] = contextvars.ContextVar(
+    "shapegen_rules_path", default=()
+)
+
+
+def search_folders() -> tuple[Path, ...]:
+    """The folders imports are looked up in after the importing file's own project."""
+    return _SEARCH_FOLDERS.get()
+
+
+@contextlib.contextmanager
+def rules_path(folders) -> Iterator[tuple[Path, ...]]:
+    """Look imports up in ``folders`` too (after the importing file's project), within the
+    block."""
+    token = _SEARCH_FOLDERS.set(tuple(Path(f) for f in folders))
+    try:
+        yield _SEARCH_FOLDERS.get()
+    finally:
+        _SEARCH_FOLDERS.reset(token)
 
 
 def project_folder(folder: Path) -> Path | None:
@@ -59,4 +85,12 @@ def import_candidates(path: str, folder: Path) -> list[Path]:
         found.append(folder / path)
         if project is not None:
             found.append(project / path)
+    relative = path.lstrip("/")
+    name, _, rest = relative.partition("/")
+    for extra in search_folders():
+        found.append(extra / relative)  # a workspace: /ESRI.lib/rules/x.cga
+        if path.startswith("/") and rest:
+            found.append(extra / rest)  # the project itself: /ESRI.lib/rules/x.cga
+        else:
+            found.append(extra / "rules" / relative)  # a project's rules/
     return list(dict.fromkeys(found))

@@ -136,7 +136,11 @@ class _Merger:
         if path is None:
             tried = ", ".join(str(c) for c in candidates)
             self.problems.append(
-                (item.location, f'import of "{item.path}": no such file (tried {tried})')
+                (
+                    item.location,
+                    f'import of "{item.path}": no such file (tried {tried}; name the folder '
+                    "that holds it with --rules-path or SHAPEGEN_RULES_PATH)",
+                )
             )
             return None
         if path in stack:

@@ -217,3 +217,39 @@ def test_a_builtin_without_arguments_may_drop_its_parentheses_in_cga():
     assert model.volume == pytest.approx(same.volume) and 96 < model.volume < 192
     with pytest.raises(GrammarError, match="'rand' is a builtin function: write rand"):
         parse_grammar(text, "r.grammar")
+
+
+def _esri_lib_project(tmp_path):
+    library = tmp_path / "lib" / "ESRI.lib" / "rules" / "Helpers"
+    library.mkdir(parents=True)
+    (library / "box.cga").write_text("attr h = 4\nBox --> extrude(h) A.\n")
+    rules = tmp_path / "proj" / "rules"
+    rules.mkdir(parents=True)
+    main = rules / "main.cga"
+    main.write_text('import b : "/ESRI.lib/rules/Helpers/box.cga"\n@StartRule\nLot --> b.Box\n')
+    return main, tmp_path / "lib"
+
+
+def test_imports_are_looked_up_in_the_rules_path(tmp_path, monkeypatch):
+    main, library = _esri_lib_project(tmp_path)
+    monkeypatch.setenv("SHAPEGEN_RULES_PATH", "")  # restored after the test, whatever the CLI sets
+    with pytest.raises(GrammarError, match="no such file .tried .*--rules-path"):
+        load_grammar(main)
+    assert load_grammar(main, rules_path=[library]).build(lot=LOT).volume == pytest.approx(384)
+    monkeypatch.setenv("SHAPEGEN_RULES_PATH", str(library))
+    assert load_grammar(main).build(lot=LOT).volume == pytest.approx(384)
+
+
+def test_a_rules_path_entry_that_is_no_folder_is_one_line(tmp_path):
+    with pytest.raises(GrammarError, match="--rules-path '.*nowhere': not a folder nor a rule"):
+        load_grammar(tmp_path / "x.cga", rules_path=[tmp_path / "nowhere"])
+
+
+def test_the_cli_takes_rules_path(tmp_path, monkeypatch, capsys):
+    from shapegen.cli import main as cli
+
+    main, library = _esri_lib_project(tmp_path)
+    monkeypatch.setenv("SHAPEGEN_RULES_PATH", "")  # restored after the test, whatever the CLI sets
+    assert cli(["build", str(main), "--lot", "12,8"]) == 2
+    assert "no such file" in capsys.readouterr().err
+    assert cli(["build", str(main), "--lot", "12,8", "--rules-path", str(library)]) == 0
