@@ -4,7 +4,7 @@ The standard library's :class:`~http.server.ThreadingHTTPServer` serves it, on 1
 one designer, a handful of small JSON requests, and files from the package; a thread per request
 lets the page read the state while a search runs. Every answer to a bad request is a 4xx with a
 JSON body ``{"error": "..."}``; an unexpected failure is a 500 with the same shape, and the
-server keeps running.
+server keeps running. A client that hangs up is no failure: nothing is printed for it.
 
 Only the page itself may change the design. A web page on another site can make the browser send
 a request to 127.0.0.1 (a form, or ``fetch`` with ``mode: "no-cors"``) although it cannot read the
@@ -60,6 +60,7 @@ class EditorServer(ThreadingHTTPServer):
 
     daemon_threads = True
     allow_reuse_address = True
+    request_queue_size = 64  # the page opens several connections at once; 5 made some wait 1 s
 
     def __init__(self, port: int, session: EditorSession | None, *, quiet: bool = True):
         self.session = session
@@ -74,6 +75,12 @@ class EditorServer(ThreadingHTTPServer):
     def origins(self) -> tuple[str, ...]:
         """The origins of the page as served: ``http://127.0.0.1:PORT``, ``http://localhost:PORT``."""
         return tuple(f"http://{name}:{self.server_address[1]}" for name in HOST_NAMES)
+
+    def handle_error(self, request, client_address) -> None:
+        # a client that hangs up (a closed tab, an abandoned fetch) is not an error of the server
+        if isinstance(sys.exc_info()[1], ConnectionError | TimeoutError):
+            return
+        super().handle_error(request, client_address)
 
 
 def make_server(
@@ -163,6 +170,12 @@ class _Handler(BaseHTTPRequestHandler):
 
     def _dispatch(self, method: str) -> None:
         try:
+            self._answer(method)
+        except (ConnectionError, TimeoutError):  # the client hung up: no one to answer
+            self.close_connection = True
+
+    def _answer(self, method: str) -> None:
+        try:
             self._check_host()
             if method not in ("GET", "HEAD"):
                 self._check_origin()
@@ -184,8 +197,8 @@ class _Handler(BaseHTTPRequestHandler):
         except ShapegenError as exc:
             self.close_connection = True
             self._json({"error": str(exc).splitlines()[0]}, 422)
-        except (BrokenPipeError, ConnectionResetError):
-            pass
+        except (ConnectionError, TimeoutError):
+            raise
         except Exception as exc:  # the server keeps running; the page shows the message
             sys.stderr.write(traceback.format_exc())
             self.close_connection = True
@@ -326,7 +339,7 @@ class _Handler(BaseHTTPRequestHandler):
             code, message = HTTPStatus.METHOD_NOT_ALLOWED, f"no address takes {self.command}"
         try:
             self._json({"error": message or HTTPStatus(code).phrase}, code)
-        except (BrokenPipeError, ConnectionResetError):
+        except (ConnectionError, TimeoutError):
             pass
 
     def log_message(self, format: str, *args) -> None:  # noqa: A002 (the standard library's name)

@@ -3,6 +3,7 @@
 import json
 import signal
 import socket
+import struct
 import subprocess
 import sys
 import urllib.request
@@ -64,3 +65,40 @@ def test_a_port_in_use_is_refused_with_one_line(stack_file):
     assert done.returncode == 2
     assert f"port {port} on 127.0.0.1 is in use" in done.stderr
     assert done.stderr.count("\n") == 1
+
+
+def hang_up(port: int, data: bytes, *, reset: bool) -> None:
+    """Connect, send ``data`` and leave: with a reset (RST, as a killed tab) or a plain close."""
+    with socket.create_connection(("127.0.0.1", port), timeout=60) as client:
+        client.sendall(data)
+        if reset:
+            client.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+
+
+def test_a_client_that_hangs_up_leaves_nothing_in_the_terminal(stack_file):
+    process, line = start(str(stack_file), "--port", "0", "--no-open")
+    try:
+        url = line.split()[2]
+        port = int(url.rstrip("/").rsplit(":", 1)[1])
+        head = f"Host: 127.0.0.1:{port}\r\nContent-Type: application/json\r\n"
+        requests = [
+            b"GET /api/sta",  # gone in the middle of the request line
+            f"GET /api/model.glb HTTP/1.1\r\n{head}\r\n".encode(),  # before the answer
+            f"GET /api/state HTTP/1.1\r\n{head}\r\n".encode(),
+            f'POST /api/attrs HTTP/1.1\r\n{head}Content-Length: 100\r\n\r\n{{"off'.encode(),
+            f"POST /api/attrs HTTP/1.1\r\n{head}Content-Length: 15\r\n\r\n".encode()
+            + b'{"offset": 0.3}',
+            f"POST /api/attrs HTTP/1.1\r\n{head}Content-Length: 999999\r\n\r\n".encode(),
+            f"GET /static/vendor/three/three.core.js HTTP/1.1\r\n{head}\r\n".encode(),  # large
+        ]
+        for _ in range(10):
+            for data in requests:
+                hang_up(port, data, reset=True)
+                hang_up(port, data, reset=False)
+        with urllib.request.urlopen(url + "api/state", timeout=60) as response:
+            assert response.status == 200  # still serving
+    finally:
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    assert process.returncode == 0
+    assert err == "shapegen edit: stopped\n", err[-2000:]
