@@ -49,7 +49,7 @@ API = {
     "/api/attrs": {"POST": 'set attrs: {"name": value, ...}; returns the new state'},
     "/api/optimize": {"POST": 'search the free attrs: {"objective": "energy" | "closest"}'},
     "/api/cancel": {"POST": "stop a running search after its current iteration"},
-    "/api/reload": {"POST": "re-read the grammar file now"},
+    "/api/reload": {"POST": "re-read the grammar file now (during a search: when it ends)"},
 }
 _PAGES = {"/": "index.html", "/index.html": "index.html"}
 _TYPES = {".js": "text/javascript", ".css": "text/css", ".html": "text/html", ".txt": "text/plain"}
@@ -248,7 +248,8 @@ class _Handler(BaseHTTPRequestHandler):
         elif path == "/api/cancel":
             self._json(session.cancel())
         else:
-            self._json(session.reload())
+            state = session.reload()  # during a search: at once, re-read when it ends
+            self._json(state, HTTPStatus.ACCEPTED if state["reload_pending"] else HTTPStatus.OK)
 
     def _body(self) -> object:
         """The request's JSON body (None when empty); it must be sent as ``application/json``."""

@@ -65,6 +65,8 @@ class EditorSession:
         self._text = _read(self.path)
         self._work = threading.Lock()  # one change at a time
         self._state_lock = threading.RLock()
+        self._searching = False  # a search holds ``_work`` (set and read under _state_lock)
+        self._reload_pending = False  # the file is to be re-read when the search ends
         self._scanner: StabilityScanner | None = None
         self._idle = threading.Event()  # set while no foreground work runs: the scans wait for it
         self._idle.set()
@@ -94,9 +96,9 @@ class EditorSession:
 
     def set_attrs(self, payload: object) -> dict:
         """Build and judge the design with the attr values in ``payload`` (checked first)."""
-        if self._optimization is not None and self._optimization.get("running"):
+        if not self._take_work():
             raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        with self._work:
+        try:
             values = checked_values(self.grammar, self._current_values(), payload)
             self._idle.clear()
             try:
@@ -110,6 +112,8 @@ class EditorSession:
                 self._timings = self._last_timings
                 self._changed(model=True)
                 return self.state()
+        finally:
+            self._work.release()
 
     def optimize(self, payload: object = None) -> dict:
         """Search the free attrs from the current values (``{"objective": "energy"}``, the
@@ -130,45 +134,55 @@ class EditorSession:
         if not self._work.acquire(blocking=False):
             raise RequestError("the design is being changed; try again when it is done", 409)
         try:
-            self._cancel.clear()
             with self._state_lock:
-                self._optimization = {"running": True, "objective": objective, "iteration": 0}
-                self.version += 1
-            self._idle.clear()
-            try:
-                outcome = self._design(
-                    dict(self.attrs),
-                    search=pipeline.SearchSettings(objective=objective),
-                )
-            except Cancelled:
-                with self._state_lock:
-                    self._optimization = {
-                        **self._optimization, "running": False, "message": "stopped"
-                    }  # fmt: skip
-                    self.version += 1
-                    return self.state()
-            finally:
-                self._idle.set()
-            result = outcome.optimization
+                self._searching = True
+            answer = self._search(objective)
+        finally:
             with self._state_lock:
-                free = set(self.grammar.free_parameters)
-                self.attrs.update({k: v for k, v in result.attrs.items() if k in free})
-                self._outcome = outcome
-                self._timings = self._last_timings
+                self._searching = False
+                reload_now, self._reload_pending = self._reload_pending, False
+            self._work.release()
+        # the file changed during the search: the page shows it now, with the values found
+        return self.reload() if reload_now else answer
+
+    def _search(self, objective: str) -> dict:
+        self._cancel.clear()
+        with self._state_lock:
+            self._optimization = {"running": True, "objective": objective, "iteration": 0}
+            self.version += 1
+        self._idle.clear()
+        try:
+            outcome = self._design(
+                dict(self.attrs),
+                search=pipeline.SearchSettings(objective=objective),
+            )
+        except Cancelled:
+            with self._state_lock:
                 self._optimization = {
-                    "running": False,
-                    "objective": objective,
-                    "iteration": result.iterations,
-                    "evaluations": result.evaluations,
-                    "measure": finite_or_none(result.final_infeasibility),
-                    "stands": bool(result.feasible),
-                    "seconds": result.seconds,
-                    "message": result.message,
-                }
-                self._changed(model=True)
+                    **self._optimization, "running": False, "message": "stopped"
+                }  # fmt: skip
+                self.version += 1
                 return self.state()
         finally:
-            self._work.release()
+            self._idle.set()
+        result = outcome.optimization
+        with self._state_lock:
+            free = set(self.grammar.free_parameters)
+            self.attrs.update({k: v for k, v in result.attrs.items() if k in free})
+            self._outcome = outcome
+            self._timings = self._last_timings
+            self._optimization = {
+                "running": False,
+                "objective": objective,
+                "iteration": result.iterations,
+                "evaluations": result.evaluations,
+                "measure": finite_or_none(result.final_infeasibility),
+                "stands": bool(result.feasible),
+                "seconds": result.seconds,
+                "message": result.message,
+            }
+            self._changed(model=True)
+            return self.state()
 
     def cancel(self) -> dict:
         """Stop a running search after its current iteration."""
@@ -178,34 +192,59 @@ class EditorSession:
         return {"cancelled": bool(running)}
 
     def reload(self) -> dict:
-        """Re-read the grammar file; on an error keep the last good design."""
+        """Re-read the grammar file; on an error keep the last good design.
+
+        During a search it answers at once: the file is re-read when the search ends (the
+        state's ``reload_pending`` is true until then), so a save in the middle of a long
+        search neither waits for it nor stops it.
+        """
         if self.path is None:
             raise RequestError("this grammar was not read from a file", 422)
-        with self._work:
+        if not self._take_work(defer_reload=True):
+            return self.state()
+        try:
+            return self._reload()
+        finally:
+            self._work.release()
+
+    def _reload(self) -> dict:
+        try:
+            grammar = pipeline.load(str(self.path))
+            text = _read(self.path)
+            kept = self._kept_attrs(grammar)
+            self._idle.clear()
             try:
-                grammar = pipeline.load(str(self.path))
-                text = _read(self.path)
-                kept = self._kept_attrs(grammar)
-                self._idle.clear()
-                try:
-                    outcome = self._design(kept, grammar=grammar)
-                finally:
-                    self._idle.set()
-            except ShapegenError as exc:
-                with self._state_lock:
-                    self._error = _error_json(exc)
-                    self.version += 1
-                    return self.state()
+                outcome = self._design(kept, grammar=grammar)
+            finally:
+                self._idle.set()
+        except ShapegenError as exc:
             with self._state_lock:
-                self.grammar = grammar
-                self._text = text
-                self.attrs = kept
-                self._outcome = outcome
-                self._timings = self._last_timings
-                self._error = None
-                self._stability = {}
-                self._changed(model=True)
+                self._error = _error_json(exc)
+                self.version += 1
                 return self.state()
+        with self._state_lock:
+            self.grammar = grammar
+            self._text = text
+            self.attrs = kept
+            self._outcome = outcome
+            self._timings = self._last_timings
+            self._error = None
+            self._stability = {}
+            self._changed(model=True)
+            return self.state()
+
+    def _take_work(self, *, defer_reload: bool = False) -> bool:
+        """Wait for the change under way, if any, and hold ``_work``; False (at once) when a
+        search holds it, after noting, with ``defer_reload``, that the file is to be re-read
+        when it ends."""
+        while not self._work.acquire(timeout=0.05):
+            with self._state_lock:  # the search notes the reload under the same lock as it ends
+                if self._searching:
+                    if defer_reload and not self._reload_pending:
+                        self._reload_pending = True
+                        self.version += 1
+                    return False
+        return True
 
     def glb(self) -> bytes:
         """The current model as binary glTF (blocks coloured by tension, resultant arrows)."""
@@ -380,6 +419,7 @@ class EditorSession:
             "timings": dict(self._timings),
             "stability": dict(self._stability),
             "optimization": self._optimization,
+            "reload_pending": self._reload_pending,
             "error": self._error,
         }
 

@@ -2,6 +2,7 @@
 
 import json
 import struct
+import threading
 
 import pytest
 from editor_http import request, serving
@@ -120,3 +121,45 @@ def test_the_page_and_every_script_it_needs_are_served_by_the_package(server):
     assert request(server, "GET", "/static/editor.js")[1].startswith("text/javascript")
     editor = request(server, "GET", "/static/editor.js")[2].decode()
     assert "http://" not in editor and "https://" not in editor
+
+
+def test_a_reload_during_a_search_answers_at_once_and_happens_when_it_ends(stack_file):
+    # The search is held in its first iteration until the reload has been answered: a reload
+    # that waited for the search would wait forever (the request's 60 s timeout fails the test).
+    with serving(stack_file) as server:
+        session = server.session
+        request(server, "POST", "/api/attrs", {"offset": 0.8})
+        searching, held = threading.Event(), threading.Event()
+        progress = session._progress
+
+        def held_progress(record):
+            searching.set()
+            held.wait(300)
+            progress(record)
+
+        session._progress = held_progress
+        answers = []
+        search = threading.Thread(
+            target=lambda: answers.append(request(server, "POST", "/api/optimize", {}))
+        )
+        search.start()
+        try:
+            assert searching.wait(120), "the search did not start"
+            good = stack_file.read_text()
+            stack_file.write_text(good.replace("attr courses = 2", "attr courses = 3"))
+            status, _, content = request(server, "POST", "/api/reload")
+            state = json.loads(content)
+            assert status == 202 and state["reload_pending"] is True
+            assert state["optimization"]["running"] is True
+            assert {a["name"]: a["value"] for a in state["attrs"]}["courses"] == 2  # not yet
+            status, _, content = request(server, "POST", "/api/attrs", {"offset": 0.1})
+            assert status == 409 and "a search is running" in json.loads(content)["error"]
+        finally:
+            held.set()
+            search.join(120)
+        ((status, _, content),) = answers
+        state = json.loads(content)
+        values = {a["name"]: a["value"] for a in state["attrs"]}
+        assert status == 200 and state["reload_pending"] is False and state["error"] is None
+        assert values["courses"] == 3  # re-read once the search ended
+        assert state["verdict"]["stands"] and values["offset"] <= 0.5 + 1e-6  # what it found

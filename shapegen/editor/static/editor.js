@@ -387,6 +387,7 @@ function applyState(state) {
   showError(state.error);
   showCables(state.cables);
   showProgress(state.optimization);
+  if (state.reload_pending) $('progress').textContent += ' · the file changed: it is re-read when the search ends';
   inspector(state);
   if (state.model_version !== app.renderedModelVersion) loadModel();
 }
