@@ -163,3 +163,32 @@ def test_a_reload_during_a_search_answers_at_once_and_happens_when_it_ends(stack
         assert status == 200 and state["reload_pending"] is False and state["error"] is None
         assert values["courses"] == 3  # re-read once the search ended
         assert state["verdict"]["stands"] and values["offset"] <= 0.5 + 1e-6  # what it found
+
+
+COUNTED = """\
+@Description("Drums of the column")
+@Range(1, 6)
+attr drums = 3
+
+@StartRule @Lot(1, 1)
+Lot --> extrude(3) label("column") i("column", courses = drums)
+"""
+
+
+def test_a_count_steps_by_one_and_a_fraction_of_it_is_refused(tmp_path):
+    path = tmp_path / "column.grammar"
+    path.write_text(COUNTED, encoding="utf-8")
+    with serving(path) as server:
+        before = json.loads(request(server, "GET", "/api/state")[2])
+        (drums,) = before["attrs"]
+        assert drums["whole"] is True and drums["step"] == 1
+        status, _, content = request(server, "POST", "/api/attrs", {"drums": 2.5})
+        assert status == 422
+        assert json.loads(content)["error"] == (
+            "attr 'drums' is a count: it takes a whole number; got 2.5"
+        )
+        after = json.loads(request(server, "GET", "/api/state")[2])
+        assert after["model_version"] == before["model_version"]
+        assert after["grammar"]["blocks"] == before["grammar"]["blocks"]
+        status, _, content = request(server, "POST", "/api/attrs", {"drums": 5})
+        assert status == 200 and json.loads(content)["grammar"]["blocks"] == 5

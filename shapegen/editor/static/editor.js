@@ -423,7 +423,7 @@ function showProgress(o) {
 const rows = new Map();
 
 function inspector(state) {
-  const names = state.attrs.map((a) => `${a.name}:${a.kind}:${a.minimum}:${a.maximum}`).join('|');
+  const names = state.attrs.map((a) => `${a.name}:${a.kind}:${a.minimum}:${a.maximum}:${a.step}`).join('|');
   if ($('attrs').dataset.names !== names) {
     $('attrs').dataset.names = names;
     $('attrs').innerHTML = '';
@@ -466,11 +466,15 @@ function makeRow(attr) {
   } else {
     input = document.createElement('input');
     input.type = attr.kind === 'number' ? 'number' : 'text';
-    if (attr.kind === 'number') input.step = 'any';
+    if (attr.kind === 'number') input.step = attr.whole ? '1' : 'any';
     input.addEventListener('change', () => {
       const value = attr.kind === 'number' ? Number(input.value) : input.value;
       if (attr.kind === 'number' && (input.value.trim() === '' || !Number.isFinite(value))) {
         note(`${attr.name} takes a number`);
+        return;
+      }
+      if (attr.whole && !Number.isInteger(value)) {
+        note(`${attr.name} is a count: it takes a whole number`);
         return;
       }
       change(attr.name, value);
