@@ -101,7 +101,7 @@ def add_command(commands) -> None:
     add_derivation_options(simulate, prefix="for a .grammar: ")
     add_statics_options(simulate, prefix="with --optimize (and --friction for the run): ")
     # A design to simulate is searched with a safety margin by default.
-    from shapegen.simulation.run import SIMULATION_MARGIN
+    from shapegen.simulation.settings import SIMULATION_MARGIN
 
     add_search_options(simulate, margin=SIMULATION_MARGIN)
     simulate.add_argument("-q", "--quiet", action="store_true", help="print nothing")

@@ -35,8 +35,6 @@ __all__ = ["TOLERANCE", "Occluder", "Occlusion", "inside", "overlaps", "touches"
 from dataclasses import dataclass, field
 
 import numpy as np
-import shapely
-from scipy.optimize import linprog
 
 from shapegen.errors import GrammarError
 from shapegen.geometry.convex import convex_faces
@@ -206,6 +204,8 @@ def _depth(corners: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     a_ub = np.hstack([a @ corners.T, np.ones((len(a), 1))])
     a_eq = np.hstack([np.ones((1, k)), np.zeros((1, 1))])
     bounds = [(0, None)] * k + [(None, 1.0)]
+    from scipy.optimize import linprog  # loaded when a rule asks an occlusion query
+
     result = linprog(cost, A_ub=a_ub, b_ub=b, A_eq=a_eq, b_eq=[1.0], bounds=bounds)
     return -float(result.fun) if result.status == 0 else -np.inf
 
@@ -251,6 +251,8 @@ def _shared_area(first: np.ndarray, second: np.ndarray, normal: np.ndarray) -> f
     u /= np.linalg.norm(u)
     v = np.cross(normal, u)
     basis = np.stack([u, v], axis=1)
+    import shapely
+
     a = shapely.Polygon(first @ basis).buffer(0)
     b = shapely.Polygon(second @ basis).buffer(0)
     return float(a.intersection(b).area)

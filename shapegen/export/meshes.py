@@ -13,7 +13,6 @@ Writing: :func:`encode_obj` (a group per block, the blocks' own polygon faces, f
 from __future__ import annotations
 
 __all__ = [
-    "MESH_READ_SUFFIXES",
     "block_triangles",
     "block_mesh",
     "model_mesh",
@@ -47,7 +46,6 @@ from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.tolerances import FLAT_REL
 
-MESH_READ_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
 SURFACE_GROUP = "surface:"
 """Prefix of the OBJ group (or any mesh node) name of a surface: read back as a surface."""
 

@@ -27,6 +27,7 @@ __all__ = [
     "write_bytes_atomic",
 ]
 
+import importlib
 import json
 from collections.abc import Callable
 from pathlib import Path
@@ -34,16 +35,10 @@ from pathlib import Path
 from shapegen.errors import InputFormatError
 from shapegen.export.atomic import atomic_write, check_writable
 from shapegen.export.blocks_json import model_to_dict, read_blocks_json
-from shapegen.export.gltf import encode_glb, encode_gltf
-from shapegen.export.meshes import (
-    MESH_READ_SUFFIXES,
-    encode_obj,
-    encode_ply,
-    encode_stl,
-    read_mesh_model,
-)
 from shapegen.model.model import Model
 
+MESH_READ_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
+"""The mesh formats read through trimesh (:func:`shapegen.export.meshes.read_mesh_model`)."""
 READ_SUFFIXES = (".json", *MESH_READ_SUFFIXES)
 
 
@@ -52,13 +47,24 @@ def _encode_json(model: Model, analysis=None) -> bytes:
     return (text + "\n").encode("utf-8")
 
 
+def _encoder(module: str, name: str, takes_analysis: bool) -> Callable[..., bytes]:
+    """The encoder ``module.name``, its module (and trimesh behind it) imported when a file of
+    its format is first written."""
+
+    def encode(model: Model, analysis=None) -> bytes:
+        function = getattr(importlib.import_module(module), name)
+        return function(model, analysis) if takes_analysis else function(model)
+
+    return encode
+
+
 _ENCODERS: dict[str, Callable[..., bytes]] = {
     ".json": _encode_json,
-    ".glb": encode_glb,
-    ".gltf": encode_gltf,
-    ".obj": lambda model, analysis=None: encode_obj(model),
-    ".ply": lambda model, analysis=None: encode_ply(model),
-    ".stl": lambda model, analysis=None: encode_stl(model),
+    ".glb": _encoder("shapegen.export.gltf", "encode_glb", True),
+    ".gltf": _encoder("shapegen.export.gltf", "encode_gltf", True),
+    ".obj": _encoder("shapegen.export.meshes", "encode_obj", False),
+    ".ply": _encoder("shapegen.export.meshes", "encode_ply", False),
+    ".stl": _encoder("shapegen.export.meshes", "encode_stl", False),
 }
 WRITE_SUFFIXES = tuple(_ENCODERS)
 
@@ -85,6 +91,8 @@ def read_model(path: str | Path) -> Model:
             return read_blocks_json(path)
         except UnicodeDecodeError as exc:
             raise InputFormatError(f"{path}: not UTF-8 text ({exc.reason})") from None
+    from shapegen.export.meshes import read_mesh_model
+
     return read_mesh_model(path)
 
 

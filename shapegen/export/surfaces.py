@@ -19,14 +19,16 @@ __all__ = [
 ]
 
 from collections import Counter
+from typing import TYPE_CHECKING
 
 import numpy as np
-import shapely
-import trimesh
 
 from shapegen.errors import InputFormatError
 from shapegen.model.appearance import Appearance, Surface
 from shapegen.model.model import Model
+
+if TYPE_CHECKING:
+    import trimesh
 
 SURFACE_ROLE = "surface"
 """The ``role`` in the glTF node extras of a surface (blocks have ``"block"``)."""
@@ -108,6 +110,8 @@ def _is_convex(plane: np.ndarray) -> bool:
 
 def _triangulated(plane: np.ndarray, face: list[int]) -> list[tuple[int, int, int]]:
     index = {tuple(p): face[k] for k, p in enumerate(plane.tolist())}
+    import shapely  # loaded by the first concave face to draw
+
     polygon = shapely.Polygon(plane)
     if not polygon.is_valid:  # self-touching: fan it rather than drop it
         return [(face[0], face[k], face[k + 1]) for k in range(1, len(face) - 1)]
@@ -126,6 +130,8 @@ def _triangulated(plane: np.ndarray, face: list[int]) -> list[tuple[int, int, in
 
 def surface_mesh(surface: Surface) -> trimesh.Trimesh:
     """The surface as a triangle mesh (its vertices as they are)."""
+    import trimesh
+
     return trimesh.Trimesh(
         surface.vertices, face_triangles(surface.vertices, surface.faces), process=False
     )

@@ -12,7 +12,6 @@ from __future__ import annotations
 __all__ = ["convex_faces", "convex_pieces"]
 
 import numpy as np
-import shapely
 
 from shapegen.geometry.frames import face_rotation
 from shapegen.geometry.mesh import Mesh
@@ -33,6 +32,8 @@ def convex_faces(mesh: Mesh, max_length: float | None = None) -> Mesh:
 def convex_pieces(points: np.ndarray, max_length: float | None = None) -> list[tuple[int, ...]]:
     """Convex polygons (indices into ``points``, counter-clockwise like the face) covering the
     planar polygon ``points`` ``(n, 3)``."""
+    import shapely  # loaded by the first concave face
+
     points = np.asarray(points, float)
     frame = face_rotation(points)
     flat = (points - points[0]) @ frame[:, :2]

@@ -10,16 +10,23 @@ moving at the end): :mod:`shapegen.simulation.verdict`. pybullet is imported onl
 simulation runs; without it a :class:`ShapegenError` says how to install it.
 """
 
-from shapegen.simulation.inertia import PrincipalInertia, inertia_tensor, principal_inertia
-from shapegen.simulation.run import (
-    SimulationFrame,
-    SimulationResult,
-    moved_model,
-    remove_blocks,
-    simulate,
-)
-from shapegen.simulation.settings import SIMULATION_MARGIN, SimulationSettings
-from shapegen.simulation.verdict import BlockMotion, MotionTrack, smallest_width
+import importlib
+
+_HOMES = {
+    "PrincipalInertia": "shapegen.simulation.inertia",
+    "inertia_tensor": "shapegen.simulation.inertia",
+    "principal_inertia": "shapegen.simulation.inertia",
+    "SimulationFrame": "shapegen.simulation.run",
+    "SimulationResult": "shapegen.simulation.run",
+    "moved_model": "shapegen.simulation.run",
+    "remove_blocks": "shapegen.simulation.run",
+    "simulate": "shapegen.simulation.run",
+    "SIMULATION_MARGIN": "shapegen.simulation.settings",
+    "SimulationSettings": "shapegen.simulation.settings",
+    "BlockMotion": "shapegen.simulation.verdict",
+    "MotionTrack": "shapegen.simulation.verdict",
+    "smallest_width": "shapegen.simulation.verdict",
+}
 
 __all__ = [
     "SIMULATION_MARGIN",
@@ -36,3 +43,18 @@ __all__ = [
     "simulate",
     "smallest_width",
 ]
+
+
+def __getattr__(name: str):
+    # The names load with their modules on first use: importing the package for one light
+    # module (its options, say) does not load them all, nor scipy behind them.
+    module = _HOMES.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -38,10 +38,8 @@ import scipy.sparse as sp
 from shapegen.errors import StaticsError
 from shapegen.model.block import compute_mass_properties
 from shapegen.statics.interface import GROUND, Interface
+from shapegen.statics.options import PYRAMIDS
 
-PYRAMIDS = ("4", "4r", "8", "cone")
-"""Friction models: pyramids inscribed in the Coulomb cone (4, 4 turned by 45 degrees, 8 sides),
-or the exact cone (a second-order cone: the verdict does not turn with the model)."""
 OBJECTIVES = ("tension_squared", "tension_sum")
 
 # A minute Tikhonov term on c, u, t (dimensionless, relative to the unit weight) keeps the optimal

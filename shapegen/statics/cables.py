@@ -38,7 +38,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from shapegen.errors import GeometryError, StaticsError
 from shapegen.model.model import STANDARD_GRAVITY
@@ -93,6 +92,8 @@ def catenary_parameter(span: float, sag: float) -> float:
     # With u = span / (2 a) the sag ratio is sinh(u/2)^2 / u, which rises from 0 without bound
     # and is at least u / 4, so the root lies below 4 * ratio + 1; the sinh form keeps full
     # precision for the tiny u of a flat cable, where cosh(u) - 1 would cancel.
+    from scipy.optimize import brentq  # loaded when a cable is sized
+
     half_angle = brentq(
         lambda u: math.sinh(u / 2.0) ** 2 / u - ratio,
         1e-12 * ratio,

@@ -10,7 +10,7 @@ shapegen.errors.StaticsError: unknown statics option 'frcition' (did you mean 'f
 
 from __future__ import annotations
 
-__all__ = ["StaticsOptions", "SOLVERS", "AUTO_ORDER"]
+__all__ = ["StaticsOptions", "SOLVERS", "AUTO_ORDER", "PYRAMIDS"]
 
 import dataclasses
 import difflib
@@ -19,7 +19,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from shapegen.errors import StaticsError
-from shapegen.statics.assembly import PYRAMIDS
 from shapegen.statics.solvers import BACKENDS
 from shapegen.statics.tilt import normalized_azimuth
 
@@ -27,6 +26,9 @@ AUTO_ORDER = ("reduced", "clarabel")
 """``solver="auto"``: the fastest back-end first, the next if it fails (for the exact cone, only
 those that take cones: Clarabel)."""
 
+PYRAMIDS = ("4", "4r", "8", "cone")
+"""Friction models: pyramids inscribed in the Coulomb cone (4, 4 turned by 45 degrees, 8 sides),
+or the exact cone (a second-order cone: the verdict does not turn with the model)."""
 SOLVERS = ("auto", *BACKENDS)
 """Valid values of :attr:`StaticsOptions.solver`."""
 

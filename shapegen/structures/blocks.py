@@ -16,10 +16,7 @@ __all__ = ["BlockStatics"]
 import math
 from collections.abc import Sequence
 
-from shapegen.statics.analysis import analyze
-from shapegen.statics.capacity import lateral_capacity
 from shapegen.statics.options import StaticsOptions
-from shapegen.statics.sensitivity import infeasibility_change
 from shapegen.structures.base import Assessment, Design, Structure
 from shapegen.structures.registry import register_structure
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
@@ -48,6 +45,8 @@ class BlockStatics(Structure):
         return self.options.shrunk(margin) if margin > 0 else self.options
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
+        from shapegen.statics.analysis import analyze  # scipy loads when a design is judged
+
         margin = self.checked_margin(margin)
         stood = self._stood if self._stood is not None and self._stood[0] >= margin else None
         model = design.model
@@ -75,10 +74,14 @@ class BlockStatics(Structure):
         )
 
     def measure_change(self, base: Assessment, moved: Design) -> float | None:
+        from shapegen.statics.sensitivity import infeasibility_change
+
         # the base analysis knows the direction it was tilted towards
         return infeasibility_change(base.detail, moved.model, self._options(base.margin))
 
     def lateral_capacity(self, design: Design, azimuths: Sequence[float] | None = None):
+        from shapegen.statics.capacity import lateral_capacity
+
         return lateral_capacity(design.model, self.options, azimuths)
 
     def _towards_the_worst(self, model, options: StaticsOptions):
@@ -91,6 +94,7 @@ class BlockStatics(Structure):
         directions known so far, and a design is only called standing once its own worst
         direction has been checked: the verdict of ``analyze`` with the same tilt.
         """
+        from shapegen.statics.analysis import analyze
         from shapegen.statics.checks import check_model
         from shapegen.statics.contacts import find_interfaces
 

@@ -9,17 +9,35 @@ from __future__ import annotations
 
 __all__ = ["SolveStatus", "Solution", "Backend", "BACKENDS", "get_backend"]
 
+import importlib
+from collections.abc import Iterator, Mapping
+
 from shapegen.errors import StaticsError
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus
-from shapegen.statics.solvers.clarabel_direct import ClarabelBackend
-from shapegen.statics.solvers.cvxpy_reference import CvxpyBackend
-from shapegen.statics.solvers.reduced import ReducedBackend
 
-BACKENDS: dict[str, type[Backend]] = {
-    "reduced": ReducedBackend,
-    "clarabel": ClarabelBackend,
-    "cvxpy": CvxpyBackend,
+_CLASSES = {
+    "reduced": ("shapegen.statics.solvers.reduced", "ReducedBackend"),
+    "clarabel": ("shapegen.statics.solvers.clarabel_direct", "ClarabelBackend"),
+    "cvxpy": ("shapegen.statics.solvers.cvxpy_reference", "CvxpyBackend"),
 }
+
+
+class _Backends(Mapping):
+    """Name -> back-end class; a back-end's module (and so scipy, Clarabel or cvxpy) is imported
+    when its class is first asked for, so naming and checking options loads no solver."""
+
+    def __getitem__(self, name: str) -> type[Backend]:
+        module, cls = _CLASSES[name]
+        return getattr(importlib.import_module(module), cls)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(_CLASSES)
+
+    def __len__(self) -> int:
+        return len(_CLASSES)
+
+
+BACKENDS: Mapping[str, type[Backend]] = _Backends()
 
 
 def get_backend(name: str) -> Backend:
