@@ -158,7 +158,9 @@ class DefinitionNames:
 
 @functools.lru_cache(maxsize=1)
 def lark_parser() -> lark.Lark:
-    """The LALR(1) parser of ``cga.lark``, built once."""
+    """The LALR(1) parser of ``cga.lark``, built once. lark keeps the analysed tables in a file
+    of the temporary folder, keyed by the grammar's text and options (``cache=True``): a new
+    process loads them instead of computing them again (0.3 s of every command's start)."""
     text = importlib.resources.files("shapegen.grammar").joinpath(_GRAMMAR_FILE).read_text()
     return lark.Lark(
         text,
@@ -167,4 +169,5 @@ def lark_parser() -> lark.Lark:
         postlex=DefinitionNames(),
         propagate_positions=True,
         maybe_placeholders=False,
+        cache=True,
     )
