@@ -145,6 +145,12 @@ def lateral_capacity(
 
     swept = not azimuths
     upright = analyze(model, options, interfaces=interfaces, check=False).feasible
+    if not upright:  # no capacity in any direction: nothing to solve
+        computed = [
+            DirectionCapacity(a, math.nan, "not_upright", "verdict", True)
+            for a in dict.fromkeys(normalized_azimuth(a) for a in azimuths or ())
+        ]
+        return Capacity(computed, None, swept, False, time.perf_counter() - started, options)
     if swept:
         worst, computed = worst_direction(model, problem, directions=directions, solver=solver)
         if all(c.azimuth != worst.azimuth for c in computed):
@@ -156,28 +162,16 @@ def lateral_capacity(
             for azimuth in dict.fromkeys(normalized_azimuth(a) for a in azimuths)
         ]
         checked_azimuths = {c.azimuth for c in computed}
-    if not upright:
-        computed = [_not_upright(c) for c in computed]
-    else:
-        computed = [_confirmed(c, stands) if c.azimuth in checked_azimuths else c for c in computed]
+    computed = [_confirmed(c, stands) if c.azimuth in checked_azimuths else c for c in computed]
     computed.sort(key=lambda c: c.azimuth)
-    worst = None
-    if upright:
-        # the sweep's worst direction (checked), or the least of the directions asked for
-        candidates = [c for c in computed if c.azimuth in checked_azimuths]
-        least = min(c.tilt if c.tilt is not None else math.inf for c in candidates)
-        worst = min(
-            (c for c in candidates if (c.tilt if c.tilt is not None else math.inf) <= least + 1e-9),
-            key=lambda c: c.azimuth,
-        )
-    return Capacity(computed, worst, swept, upright, time.perf_counter() - started, options)
-
-
-def _not_upright(capacity: DirectionCapacity) -> DirectionCapacity:
-    """The entry of an assembly that does not stand upright (by the verdict): no capacity."""
-    if capacity.status in ("limit", "unbounded"):
-        return dataclasses.replace(capacity, status="not_upright", checked=True)
-    return capacity
+    # the sweep's worst direction (checked), or the least of the directions asked for
+    candidates = [c for c in computed if c.azimuth in checked_azimuths]
+    least = min(c.tilt if c.tilt is not None else math.inf for c in candidates)
+    worst = min(
+        (c for c in candidates if (c.tilt if c.tilt is not None else math.inf) <= least + 1e-9),
+        key=lambda c: c.azimuth,
+    )
+    return Capacity(computed, worst, swept, True, time.perf_counter() - started, options)
 
 
 def _confirmed(capacity: DirectionCapacity, stands) -> DirectionCapacity:
