@@ -156,13 +156,51 @@ class DefinitionNames:
         return False
 
 
+class _StartPositions:
+    """What lark's ``propagate_positions`` does for where a node starts (its ``line`` and
+    ``column``, from its first child, anonymous tokens such as ``(`` included), without where it
+    ends, which nothing here reads: half of the parse's time went to the end positions and the
+    ``getattr`` calls around them."""
+
+    __slots__ = ("node_builder",)
+
+    def __init__(self, node_builder):
+        self.node_builder = node_builder
+
+    def __call__(self, children):
+        node = self.node_builder(children)
+        if type(node) is not _Tree:
+            return node
+        for child in children:
+            kind = type(child)
+            if kind is Token:
+                line, column = child.line, child.column
+                break
+            if kind is _Tree:
+                meta = child.meta
+                if not meta.empty:
+                    line, column = meta.container_line, meta.container_column
+                    break
+        else:
+            return node
+        meta = node.meta
+        if meta.empty:
+            meta.line, meta.column = line, column
+            meta.empty = False
+        meta.container_line, meta.container_column = line, column
+        return node
+
+
+_Tree = lark.Tree
+
+
 @functools.lru_cache(maxsize=1)
 def lark_parser() -> lark.Lark:
     """The LALR(1) parser of ``cga.lark``, built once. lark keeps the analysed tables in a file
     of the temporary folder, keyed by the grammar's text and options (``cache=True``): a new
     process loads them instead of computing them again (0.3 s of every command's start)."""
     text = importlib.resources.files("shapegen.grammar").joinpath(_GRAMMAR_FILE).read_text()
-    return lark.Lark(
+    parser = lark.Lark(
         text,
         parser="lalr",
         lexer="basic",
@@ -171,3 +209,12 @@ def lark_parser() -> lark.Lark:
         maybe_placeholders=False,
         cache=True,
     )
+    # lark's position callbacks, each replaced by one that sets start positions only; where a
+    # lark version keeps them elsewhere, its own stay (the same positions, more slowly)
+    frontend = getattr(parser.parser, "parser", None)
+    callbacks = getattr(getattr(frontend, "parser", None), "callbacks", {})
+    for rule, callback in list(callbacks.items()):
+        builder = getattr(callback, "node_builder", None)
+        if type(callback).__name__ == "PropagatePositions" and builder is not None:
+            callbacks[rule] = _StartPositions(builder)
+    return parser
