@@ -94,3 +94,73 @@ def test_editing_the_file_reloads_the_model_and_shows_a_grammar_error(browser, t
         value = page.inner_text('.attr[data-attr="column_height"] .value')
         assert float(value) == 4
         assert not page.problems, page.problems
+
+
+# How many animation frames the page's code asks for while ``frames`` frames pass.
+ASKED_FOR_FRAMES = """frames => new Promise((resolve) => {
+  const original = window.requestAnimationFrame.bind(window);
+  let asked = 0;
+  let passed = 0;
+  window.requestAnimationFrame = (callback) => { asked += 1; return original(callback); };
+  const tick = () => {
+    passed += 1;
+    if (passed < frames) { original(tick); return; }
+    window.requestAnimationFrame = original;
+    resolve(asked);
+  };
+  original(tick);
+})"""
+
+
+def test_an_idle_page_draws_nothing_and_the_shading_lines_up_with_the_slider(browser, tmp_path):
+    from editor_stack import STACK
+
+    # the stack on a column of `courses` drums: a count, whose slider steps by 1
+    grammar = tmp_path / "stack.grammar"
+    grammar.write_text(
+        STACK.replace("attr courses = 2", "@Range(1, 4)\nattr courses = 2").replace(
+            'Lower --> label("lower") i("box")',
+            'Lower --> label("lower") i("column", courses = courses)',
+        ),
+        encoding="utf-8",
+    )
+    with page_steps.Editor(grammar) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        status = page_steps.wait_for_stable_range(page, "offset")
+        assert status.startswith("stands for "), status
+        # the green shading and the grey band are centred on the slider's own track
+        boxes = page.evaluate(
+            """() => Object.fromEntries(['input', '.band', '.shade'].map((s) => {
+                 const box = document.querySelector(`.attr[data-attr="offset"] ${s}`)
+                   .getBoundingClientRect();
+                 return [s, box.top + box.height / 2];
+               }))"""
+        )
+        assert abs(boxes[".shade"] - boxes["input"]) <= 1, boxes
+        assert abs(boxes[".band"] - boxes["input"]) <= 1, boxes
+        # idle, the page asks for no frame (it drew one every frame): counted over a few
+        # frames of the browser's own, so the count does not depend on the machine's speed
+        page.wait_for_function("window.shapegenEditor.renderedModelVersion"
+                               " === window.shapegenEditor.state.model_version")  # fmt: skip
+        asked = page.evaluate(ASKED_FOR_FRAMES, 10)
+        assert asked == 0, f"the idle page asked for {asked} frames in 10"
+        drawn = page.evaluate("window.shapegenEditor.framesDrawn")
+        # orbiting draws: a drag across the canvas
+        box = page.locator("#canvas").bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + 120, y + 30, steps=6)
+        page.mouse.up()
+        page.wait_for_function("n => window.shapegenEditor.framesDrawn > n + 3", arg=drawn)
+        assert page_steps.model_coverage(page) > 0.02
+        # a count's slider steps by 1: a click between two values sends the nearest whole one
+        courses = page.locator('#attrs input[type=range][name="courses"]')
+        assert courses.get_attribute("step") == "1"
+        assert page_steps.drag_slider(page, "courses", 2.7) == 3
+        page.wait_for_function(
+            "() => window.shapegenEditor.state.attrs.find((a) => a.name === 'courses').value === 3"
+        )
+        assert page.evaluate("window.shapegenEditor.errors") == []
+        assert not page.problems, page.problems
+    assert "Traceback" not in editor.stderr

@@ -19,6 +19,7 @@ const app = {
   dragging: null,
   lastLatencyMs: null,
   errors: [],
+  framesDrawn: 0,
 };
 window.shapegenEditor = app;
 
@@ -52,16 +53,30 @@ function resize() {
   renderer.setSize(box.width, box.height, false);
   camera.aspect = box.width / Math.max(box.height, 1);
   camera.updateProjectionMatrix();
+  requestRender();
 }
+
+// The view is drawn only when something changed (a new model, colours, forces, the camera):
+// an idle page draws nothing, which with software WebGL saves a whole processor. The controls
+// ask for a frame on every move; with damping the view glides on for a few frames after a drag,
+// while update() says the camera still moves.
+let frameQueued = false;
+function requestRender() {
+  if (frameQueued) return;
+  frameQueued = true;
+  requestAnimationFrame(drawFrame);
+}
+
+function drawFrame() {
+  frameQueued = false;
+  const moving = controls.update();
+  renderer.render(view, camera);
+  app.framesDrawn += 1;
+  if (moving) requestRender();
+}
+controls.addEventListener('change', requestRender);
 window.addEventListener('resize', resize);
 resize();
-
-function animate() {
-  controls.update();
-  renderer.render(view, camera);
-  requestAnimationFrame(animate);
-}
-requestAnimationFrame(animate);
 
 // The fraction of the canvas's pixels the model changes (drawn with and without it): the
 // browser tests' check that the view shows the model, not a blank or ground-only canvas.
@@ -144,6 +159,7 @@ function showModel(sceneData, gltf) {
   drawForces();
   frame(sceneData);
   legend();
+  requestRender();
 }
 
 function frame(sceneData) {
@@ -189,6 +205,7 @@ function applyColours() {
     o.material.depthWrite = opacity >= 1;
     o.material.needsUpdate = true;
   });
+  requestRender();
 }
 
 // Arrows as in the seed paper's Figure 1: solid shafts and heads, drawn through translucent
