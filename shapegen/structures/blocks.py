@@ -14,6 +14,7 @@ from __future__ import annotations
 __all__ = ["BlockStatics"]
 
 import math
+import time
 from collections.abc import Sequence
 
 from shapegen.statics.options import StaticsOptions
@@ -98,9 +99,11 @@ class BlockStatics(Structure):
         from shapegen.statics.checks import check_model
         from shapegen.statics.contacts import find_interfaces
 
+        start = time.perf_counter()
         tol = DEFAULT_TOLERANCES.for_size(float(model.size))
         interfaces = find_interfaces(model, tol)
         check_model(model, interfaces, tol)
+        found = time.perf_counter() - start  # once for every direction: counted in the report
         falling = []
         for azimuth in self._directions:
             tried = analyze(model, options.towards(azimuth), interfaces=interfaces, check=False)
@@ -109,8 +112,10 @@ class BlockStatics(Structure):
         if falling:
             worst = max(falling, key=_infeasibility)
             worst.worst_direction = True
+            worst.timings["interfaces"] += found
             return worst
         analysis = analyze(model, options, interfaces=interfaces, check=False)
+        analysis.timings["interfaces"] += found
         azimuth = analysis.problem.azimuth if analysis.problem is not None else None
         if not analysis.feasible and azimuth is not None and azimuth not in self._directions:
             self._directions.append(azimuth)
