@@ -23,7 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.geometry.cut import clip_plane
-from shapegen.geometry.mesh import Mesh, unit_face_normals
+from shapegen.geometry.mesh import Mesh, corner_layout, unit_face_normals
+from shapegen.model.polygons import cross
 
 HORIZONTAL_LIMIT_DEGREES = 40.0
 _SIN_LIMIT = math.sin(math.radians(HORIZONTAL_LIMIT_DEGREES))
@@ -48,7 +49,49 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
     ups = np.broadcast_to(up, (len(faces), 3)) if up.ndim == 1 else up
     vertices = np.asarray(vertices, dtype=float)
     faces = [tuple(face) for face in faces]
-    normals = unit_face_normals(vertices, faces)
+    if not faces:
+        return []
+    normals = np.array(unit_face_normals(vertices, faces))
+    corners, start = corner_layout(faces)
+    successor = np.arange(1, len(corners) + 1)
+    successor[start[1:] - 1] = start[:-1]
+    owner = np.repeat(np.arange(len(faces)), start[1:] - start[:-1])
+    a, b = corners, corners[successor]
+    n = len(vertices)
+    key = np.minimum(a, b) * n + np.maximum(a, b)
+    order = np.lexsort((owner, key))  # by edge, then by face: the faces of an edge in order
+    keys, first, count = np.unique(key[order], return_index=True, return_counts=True)
+    if (count > 2).any():  # an edge of three faces or more: the general rule, face by face
+        return _face_trim_planes_by_face(vertices, faces, list(normals), ups)
+    group = np.searchsorted(keys, key)
+    lead, last = owner[order[first[group]]], owner[order[first[group] + count[group] - 1]]
+    other = np.where(lead == owner, last, lead)  # the first face of the edge that is not this one
+    shared = other != owner
+    edge = vertices[b] - vertices[a]
+    length = np.linalg.norm(edge, axis=1)
+    shared &= length > _TINY
+    k = np.flatnonzero(shared)
+    edge = edge[k] / length[k, None]
+    own = normals[owner[k]]
+    inward = cross(own, edge)  # in the face's plane, into the face (it runs counter-clockwise)
+    normal = own - normals[other[k]]
+    flat = (np.linalg.norm(normal, axis=1) <= _TINY) | (
+        np.abs(np.einsum("ij,ij->i", normal, inward)) <= _TINY
+    )
+    normal[flat] = inward[flat]  # coplanar neighbours (or folded flat): the plane across the edge
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    normal[np.einsum("ij,ij->i", normal, inward) < 0] *= -1.0
+    offset = np.einsum("ij,ij->i", normal, vertices[a[k]])
+    horizontal = np.abs(np.einsum("ij,ij->i", edge, ups[owner[k]])) < _SIN_LIMIT
+    out: list[list[TrimPlane]] = [[] for _ in faces]
+    for f, plane, height, flag in zip(
+        owner[k].tolist(), normal.tolist(), offset.tolist(), horizontal.tolist(), strict=True
+    ):
+        out[f].append(TrimPlane(tuple(plane), height, flag))
+    return [tuple(planes) for planes in out]
+
+
+def _face_trim_planes_by_face(vertices, faces, normals, ups) -> list[tuple[TrimPlane, ...]]:
     sharing: dict[tuple[int, int], list[int]] = {}
     for f, face in enumerate(faces):
         for a, b in zip(face, face[1:] + face[:1], strict=True):

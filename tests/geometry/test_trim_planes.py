@@ -1,0 +1,51 @@
+"""Trim planes of a component split: the whole-array form against the face-by-face rule."""
+
+import numpy as np
+import pytest
+
+from shapegen.geometry.extrude import prism
+from shapegen.geometry.frames import lot_polygon
+from shapegen.geometry.mesh import Mesh, unit_face_normals
+from shapegen.geometry.trim import _face_trim_planes_by_face, face_trim_planes
+
+L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
+
+
+def _l_prism():
+    _, face = lot_polygon(L_LOT)
+    return prism(face.vertices, (0, 3.0, 0))
+
+
+@pytest.mark.parametrize("mesh", [Mesh.box((2.0, 3.0, 4.0)), _l_prism()], ids=["box", "L prism"])
+@pytest.mark.parametrize("per_face_up", [False, True])
+def test_planes_are_those_of_the_face_by_face_rule(mesh, per_face_up):
+    turn = np.array([[0.8, 0.0, 0.6], [0.0, 1.0, 0.0], [-0.6, 0.0, 0.8]])
+    vertices = mesh.vertices @ turn.T + [10.0, 2.0, -5.0]
+    faces = mesh.faces
+    up = np.tile([0.0, 1.0, 0.0], (len(faces), 1)) if per_face_up else np.array([0.0, 1.0, 0.0])
+    ups = np.broadcast_to(up, (len(faces), 3))
+    expected = _face_trim_planes_by_face(vertices, faces, unit_face_normals(vertices, faces), ups)
+    got = face_trim_planes(vertices, faces, up)
+    assert [len(p) for p in got] == [len(p) for p in expected]
+    for planes, reference in zip(got, expected, strict=True):
+        for plane, other in zip(planes, reference, strict=True):
+            assert plane.normal == pytest.approx(other.normal, abs=1e-12)
+            assert plane.offset == pytest.approx(other.offset, abs=1e-9)
+            assert plane.horizontal == other.horizontal
+
+
+def test_a_box_face_has_a_plane_at_each_edge_halfway_between_its_faces():
+    planes = face_trim_planes(
+        Mesh.box((2.0, 2.0, 2.0)).vertices, Mesh.box((2, 2, 2)).faces, [0, 1, 0]
+    )
+    assert all(len(p) == 4 for p in planes)
+    top = planes[1]  # faces +y; its edges are horizontal, its planes lean 45 degrees
+    assert all(p.horizontal for p in top)
+    assert all(abs(abs(p.normal[1]) - np.sqrt(0.5)) < 1e-12 for p in top)
+
+
+def test_an_edge_of_three_faces_takes_the_face_by_face_rule():
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0, -1, 0]], float)
+    faces = [(0, 1, 2), (1, 0, 3), (0, 1, 4)]
+    planes = face_trim_planes(vertices, faces, np.array([0.0, 1.0, 0.0]))
+    assert [len(p) for p in planes] == [1, 1, 1]
