@@ -36,6 +36,7 @@ from shapegen.engine.operators import (
     ORDER,
     elementwise,
     elementwise_unary,
+    ieee_arithmetic,
     ordered,
 )
 from shapegen.errors import GrammarError
@@ -320,6 +321,7 @@ class ExpressionCompiler(BuiltinCalls):
             return add
         if op in ARITHMETIC:
             function = ARITHMETIC[op]
+            ieee = self.grammar.dialect == "cga"
 
             def arithmetic(args, state):
                 a = left(args, state)
@@ -330,10 +332,12 @@ class ExpressionCompiler(BuiltinCalls):
                     )
                 try:
                     return function(a, b)
-                except ZeroDivisionError:
-                    raise error(node, "division by zero") from None
-                except (ValueError, OverflowError):  # fmod of an infinity
-                    raise error(
+                except (ZeroDivisionError, ValueError, OverflowError):
+                    if ieee:  # .cga: CityEngine's doubles give inf or nan, and it goes on
+                        return ieee_arithmetic(op, a, b)
+                    if b == 0.0:
+                        raise error(node, "division by zero") from None
+                    raise error(  # fmod of an infinity
                         node, f"{format_value(a)} {op} {format_value(b)} is not defined"
                     ) from None
 

@@ -13,11 +13,11 @@ from __future__ import annotations
 __all__ = ["INSERT", "ShapeOperations"]
 
 import difflib
-import math
 from collections.abc import Callable
 
 from shapegen.engine.derivation import Operation, format_chain
 from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
+from shapegen.engine.finite import finite_parameter
 from shapegen.engine.shape import (
     FACE,
     MASS,
@@ -115,9 +115,7 @@ class ShapeOperations:
             value = compiled(args, state)
             if type(value) is not float:
                 raise error(node, f"{what} must be a number, got a {type_name(value)}")
-            if not math.isfinite(value):
-                raise error(node, f"{what} must be a finite number, got {value}")
-            return value
+            return finite_parameter(self, node, state, value, what)
 
         return number
 

@@ -20,6 +20,7 @@ __all__ = [
     "ELEMENTWISE_OPERATORS",
     "ORDER",
     "elementwise",
+    "ieee_arithmetic",
     "elementwise_unary",
     "ordered",
     "remainder",
@@ -36,6 +37,17 @@ def remainder(a: float, b: float) -> float:
     if b == 0.0:
         raise ZeroDivisionError
     return math.fmod(a, b)
+
+
+def ieee_arithmetic(op: str, a: float, b: float) -> float:
+    """``a op b`` as IEEE 754 gives it where Python raises: ``x / 0`` is an infinity of the
+    sign of ``x`` (nan for ``0 / 0``), a remainder by zero or of an infinity is nan. What
+    CityEngine's runtime computes (its maths are C++ doubles)."""
+    if op == "/" and b == 0.0:
+        if a == 0.0 or math.isnan(a):
+            return math.nan
+        return math.copysign(math.inf, a) * math.copysign(1.0, b)
+    return math.nan
 
 
 ARITHMETIC: dict[str, Callable[[float, float], float]] = {

@@ -164,13 +164,22 @@ class Shape:
 
     def resized(self, size) -> Shape:
         """The shape with scope size ``size`` (m), its geometry scaled along each scope axis to
-        fill the new size as it filled the old one (CityEngine's ``s()``)."""
-        scope = resize(self.scope, size)
+        fill the new size as it filled the old one (CityEngine's ``s()``). A negative size
+        mirrors the geometry along that axis within the scope of the size's magnitude (op_s:
+        "negative sizes result in mirroring"; the faces stay outward, as ``mirror`` keeps
+        them, so the block stays a solid)."""
+        signed = np.asarray(size, float)
+        scope = resize(self.scope, np.abs(signed))
         geometry = self.geometry
         if geometry is not None:
             old = self.scope.size
             factors = np.divide(scope.size, old, out=np.ones(3), where=old > 0)
-            geometry = geometry.scaled(factors)
+            flips = signed < 0
+            geometry = geometry.scaled(np.where(flips, -factors, factors))
+            if flips.any():
+                geometry = Mesh(
+                    geometry.vertices + np.where(flips, scope.size, 0.0), geometry.faces
+                )
         return Shape(scope, self.kind, self.normal_axis, self.insert, geometry)
 
 
@@ -283,7 +292,7 @@ def resize(scope: Scope, size: Sequence[float]) -> Scope:
     """The scope with a new ``size`` (m), its origin and axes kept."""
     size = np.asarray(size, float)
     if not np.all(np.isfinite(size)) or np.any(size < 0):
-        raise ValueError(f"s() sizes must be finite numbers >= 0, got {size.tolist()}")
+        raise ValueError(f"scope sizes must be finite numbers >= 0, got {size.tolist()}")
     return Scope(scope.origin, scope.rotation, size)
 
 

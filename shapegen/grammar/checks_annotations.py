@@ -106,9 +106,13 @@ class AnnotationChecks:
                 # CityEngine reads the other inspector hints' unquoted words as words
                 self._visit(annotation, {})
             if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
-                self.report(annotation.location, f"@{name} belongs on a rule, not on {kind}")
+                self._annotation_problem(
+                    name, annotation.location, f"@{name} belongs on a rule, not on {kind}"
+                )
             if name in _ATTR_ONLY_ANNOTATIONS and not isinstance(definition, ast.Attribute):
-                self.report(annotation.location, f"@{name} belongs on an attr, not on {kind}")
+                self._annotation_problem(
+                    name, annotation.location, f"@{name} belongs on an attr, not on {kind}"
+                )
         if isinstance(definition, ast.Attribute):
             self._check_range(definition)
 

@@ -183,10 +183,14 @@ def test_empty_arrays_keep_their_type():
         _value("[floatArray(), stringArray()]")
 
 
-def test_nan_reaching_an_operation_is_an_error_at_the_call():
-    grammar = parse_grammar("Lot --> extrude(ln(0 - 1))", "nan.cga")
+def test_nan_reaching_an_operation_is_zero_with_a_warning_at_the_call():
+    # cga_changelog 2013.1: the runtime replaces an inf/nan float parameter with zero by default
+    model = parse_grammar("Lot --> extrude(ln(0 - 1))", "nan.cga").build(lot=(4, 2))
+    assert model.metadata["warnings"] == [
+        "nan.cga:1:9: extrude height is nan: replaced by 0, as CityEngine does"
+    ]
     with pytest.raises(GrammarError, match="finite number, got nan"):
-        grammar.build(lot=(4, 2))
+        parse_grammar("Lot --> extrude(ln(0 - 1))", "nan.grammar").build(lot=(4, 2))
 
 
 @pytest.mark.parametrize("seed", [0, 7])

@@ -253,3 +253,38 @@ def test_the_cli_takes_rules_path(tmp_path, monkeypatch, capsys):
     assert cli(["build", str(main), "--lot", "12,8"]) == 2
     assert "no such file" in capsys.readouterr().err
     assert cli(["build", str(main), "--lot", "12,8", "--rules-path", str(library)]) == 0
+
+
+def test_division_by_zero_follows_ieee_in_cga_and_is_an_error_in_grammar():
+    text = "attr w = 0\nattr q = 3 / w\nattr r = 0 / w\nattr m = 5 % w\n@StartRule\nLot --> X."
+    attrs = parse_grammar(text, "r.cga").build(lot=LOT).metadata["attrs"]
+    assert attrs["q"] == float("inf") and np.isnan(attrs["r"]) and np.isnan(attrs["m"])
+    with pytest.raises(GrammarError, match="division by zero"):
+        parse_grammar(text, "r.grammar").build(lot=LOT)
+
+
+def test_a_non_finite_operation_parameter_becomes_zero_with_a_warning():
+    # cga_changelog 2013.1: the runtime's default for inf/nan float parameters is "replace
+    # with zero"
+    text = "attr w = 0\n@StartRule\nLot --> extrude(3) t(1 / w, 0, 0) A."
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert model.volume == pytest.approx(12 * 8 * 3)
+    low = np.min([b.vertices.min(axis=0) for b in model.blocks], axis=0)
+    assert low.tolist() == pytest.approx([0.0, 0.0, 0.0])  # t(0, 0, 0)
+    (warning,) = model.metadata["warnings"]
+    assert "r.cga:3:20" in warning and "inf: replaced by 0" in warning
+    with pytest.raises(GrammarError, match="division by zero"):
+        parse_grammar(text, "r.grammar").build(lot=LOT)
+
+
+def test_a_negative_size_mirrors_the_geometry_within_the_scope():
+    # op_s: "Negative sizes result in mirroring along the corresponding axes"; a shed roof
+    # rising along z, mirrored in z, rises the other way over the same footprint
+    roof = "@StartRule\nLot --> roofShed(20) s('1, '1, {sz}) R."
+    up = parse_grammar(roof.format(sz="'1"), "r.cga").build(lot=LOT)
+    down = parse_grammar(roof.format(sz="-scope.sz"), "r.cga").build(lot=LOT)
+    (a,), (b,) = up.blocks, down.blocks
+    assert b.volume == pytest.approx(a.volume) and b.volume > 0  # still a solid, faces outward
+    top_a = a.vertices[np.argmax(a.vertices[:, 1])]
+    top_b = b.vertices[np.argmax(b.vertices[:, 1])]
+    assert top_a[2] + top_b[2] == pytest.approx(8.0)  # the ridge moved to the other side

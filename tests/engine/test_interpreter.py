@@ -400,7 +400,7 @@ def test_runaway_repeat_split_is_stopped():
         ("Lot --> extrude(1) extrude(2)", "already 3D", 1, 20),
         ("Lot --> extrude(1) s(sqrt(0 - 1), 1, 1)", "must be a finite number, got nan", 1, 20),
         ('Lot --> extrude(1) split(x) { "wide" : A }', "split size must be a number", 1, 31),
-        ("Lot --> extrude(1) s(1, 0 - 1, 1)", "s() sizes", 1, 20),
+        ("Lot --> extrude(1) s(1, true, 1)", "must be a number, got a boolean", 1, 20),
     ],
 )
 def test_evaluation_errors_point_at_the_node(text, message, line, column):

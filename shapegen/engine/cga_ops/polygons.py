@@ -28,13 +28,13 @@ __all__ = [
     "component_tags",
 ]
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.derivation import format_chain
+from shapegen.engine.finite import finite_parameter
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
@@ -174,10 +174,7 @@ def _number(program, node, expression, params, what: str):
         value = compiled(args, state)
         if type(value) is bool or not isinstance(value, (int, float)):
             raise program.error(node, f"{what} must be a number, got a {type_name(value)}")
-        value = float(value)
-        if not math.isfinite(value):
-            raise program.error(node, f"{what} must be a finite number, got {value}")
-        return value
+        return finite_parameter(program, node, state, float(value), what)
 
     return number
 
