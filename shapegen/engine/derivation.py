@@ -69,6 +69,7 @@ class ShapeState:
         "appearance",
         "trim_planes",
         "deleted",
+        "pivot",
     )
 
     def is_leaf(self) -> bool:
@@ -212,6 +213,7 @@ class Derivation:
         state.appearance = parent.appearance
         state.trim_planes = parent.trim_planes
         state.deleted = False
+        state.pivot = parent.pivot
         if name is None:
             state.rule_path = parent.rule_path
             state.depth = parent.depth
@@ -272,4 +274,7 @@ def root_state(run: Derivation, shape: Shape, attrs, path: tuple) -> ShapeState:
     state.appearance = None
     state.trim_planes = ()  # geometry.trim.TrimPlane of the last comp(f), world coordinates
     state.deleted = False  # NIL
+    # attr_pivot: (origin, axes as columns) in world coordinates, set by comp, setPivot and the
+    # alignScopeTo* operations; None is the initial shape's pivot, the object frame
+    state.pivot = None
     return state

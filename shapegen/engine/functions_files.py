@@ -196,9 +196,13 @@ def _asset_metadata(rule_file: str | None):
 
 
 def reading_functions(rule_file: str | None) -> dict:
-    """The file-reading functions for a rule written in ``rule_file``:
-    ``name -> f(state, *values)``."""
+    """The builtins that need the shape being derived, for a rule written in ``rule_file``:
+    ``name -> f(state, *values)``: the file-reading ones and
+    :data:`~shapegen.engine.functions_shape.STATE_FUNCTIONS`."""
+    from shapegen.engine.functions_shape import STATE_FUNCTIONS
+
     return {
+        **STATE_FUNCTIONS,
         "readStringTable": _table(rule_file, False),
         "readFloatTable": _table(rule_file, True),
         "readTextFile": _text_file(rule_file),

@@ -115,7 +115,14 @@ class Program(AttributeValues, ShapeOperations):
             rule.body = self._body(rule.node.body, params)
         self.start = grammar.start_rule
         if self.start is None:
-            raise GrammarError(f"{grammar.filename}: the grammar has no rules")
+            raise GrammarError(
+                f"{grammar.filename}: the grammar has no rules"
+                + (
+                    " (a library of attrs and functions, for rule files that import it)"
+                    if self.cga_dialect and grammar.definitions
+                    else ""
+                )
+            )
         if self.start.params:
             raise self.error(
                 self.start, f"the start rule {self.start.name!r} cannot take parameters"
@@ -149,9 +156,10 @@ class Program(AttributeValues, ShapeOperations):
         start_scope = start.scope
         run = Derivation(self, seed, max_depth, max_shapes)
         run.warnings.extend(self.grammar.warnings)  # what the load let through (.cga only)
-        values = self.initial_values(attrs, seed, start_scope, run)
+        # the object frame (initialShape.origin) is known before attrs read it
         run.object_rotation = start_scope.rotation
         run.start_shape = start
+        values = self.initial_values(attrs, seed, start_scope, run)
         run.occlusion = Occlusion() if _first_pass is None else _first_pass
         root = root_state(run, start, values, ())
         root.rule_path = (self.start.name,)

@@ -123,6 +123,7 @@ BUILTIN_FUNCTIONS: dict[str, tuple[int, int]] = {
     "convert": (4, 7),
     "getGeoCoord": (1, 1),
     "getTreeKey": (0, 0),
+    "uid": (0, 0),  # the shape attribute deprecated in 2015.0 (cga_changelog), read as a call
     "getMaterial": (2, 2),
     "edgeAttr.getFloat": (1, 1),
     "edgeAttr.getString": (1, 1),
@@ -132,59 +133,14 @@ BUILTIN_FUNCTIONS: dict[str, tuple[int, int]] = {
 #: CityEngine's utility library (celib): a rule file may define a function of the same name,
 #: which then replaces it.
 LIBRARY_FUNCTIONS: frozenset[str] = frozenset(
-    {
-        "assetApproxRatio",
-        "assetApproxSize",
-        "assetBestRatio",
-        "assetBestSize",
-        "assetFitSize",
-        "clamp",
-        "colorHSVOToHex",
-        "colorHSVToHex",
-        "colorHexToB",
-        "colorHexToG",
-        "colorHexToH",
-        "colorHexToO",
-        "colorHexToR",
-        "colorHexToS",
-        "colorHexToV",
-        "colorRGBOToHex",
-        "colorRGBToHex",
-        "colorRamp",
-        "fileBasename",
-        "fileDirectory",
-        "fileExtension",
-        "fileName",
-        "fileRandom",
-        "findFirst",
-        "findLast",
-        "getPrefix",
-        "getRange",
-        "getSuffix",
-        "imageApproxRatio",
-        "imageBestRatio",
-        "listAdd",
-        "listClean",
-        "listCount",
-        "listFirst",
-        "listFromArray",
-        "listIndex",
-        "listItem",
-        "listLast",
-        "listRandom",
-        "listRange",
-        "listRemove",
-        "listRemoveAll",
-        "listRetainAll",
-        "listSize",
-        "listTerminate",
-        "listToArray",
-        "max",
-        "min",
-        "replace",
-        "toUpperCase",
-        "toLowerCase",
-    }
+    "assetApproxRatio assetApproxSize assetBestRatio assetBestSize assetFitSize clamp "
+    "colorHSVOToHex colorHSVToHex colorHexToB colorHexToG colorHexToH colorHexToO "
+    "colorHexToR colorHexToS colorHexToV colorRGBOToHex colorRGBToHex colorRamp "
+    "fileBasename fileDirectory fileExtension fileName fileRandom findFirst findLast "
+    "getPrefix getRange getSuffix imageApproxRatio imageBestRatio listAdd listClean "
+    "listCount listFirst listFromArray listIndex listItem listLast listRandom listRange "
+    "listRemove listRemoveAll listRetainAll listSize listTerminate listToArray max min "
+    "replace toUpperCase toLowerCase".split()
 )
 
 _TARGETS = frozenset({"intra", "inter", "all"})  # of the occlusion and context queries
@@ -195,7 +151,7 @@ FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
     "contextCompare": _TARGETS | {f"world.{r}" for r in _RANKS} | {"area.largest", "area.smallest"},
     "assetInfo": frozenset({"sx", "sy", "sz", "tx", "ty", "tz"}),
     "imageInfo": frozenset({"sx", "sy"}),
-    "getGeoCoord": frozenset({"lat", "lon", "alt", "latitude", "longitude", "altitude"}),
+    "getGeoCoord": frozenset({"X", "Y", "lat", "lon"}),
 }
 
 #: ``geometry.<name>``: CityEngine's geometry functions, read as ``geometry.area`` or
@@ -213,7 +169,7 @@ GEOMETRY_FUNCTIONS: dict[str, tuple[int, int]] = {
     "isClosedSurface": (0, 0),
     "isConcave": (0, 0),
     "isInstanced": (0, 0),
-    "isOriented": (0, 0),
+    "isOriented": (1, 1),
     "isPlanar": (0, 1),
     "isRectangular": (0, 1),
     "materials": (0, 0),
@@ -238,6 +194,7 @@ SHAPE_ATTRIBUTES: dict[str, tuple[str, ...]] = {
     "initialShape": (
         "name",
         "startRule",
+        "symbol",  # deprecated: startRule
         *(f"origin.{k}" for k in ("px", "py", "pz", "ox", "oy", "oz")),
     ),
     "pivot": ("px", "py", "pz", "ox", "oy", "oz"),
@@ -254,7 +211,7 @@ SHAPE_VALUES: tuple[str, ...] = ("seedian",)
 CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "alignScopeToAxes": (0, 1),
     "alignScopeToGeometry": (2, 3),
-    "alignScopeToGeometryBBox": (0, 1),
+    "alignScopeToGeometryBBox": (1, 1),
     "center": (1, 1),
     "cleanupGeometry": (0, 2),
     "color": (1, 4),
@@ -264,7 +221,7 @@ CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "deleteHoles": (0, 0),
     "deleteTags": (0, 2),
     "deleteUV": (1, 1),
-    "envelope": (4, 1_000),
+    "envelope": (3, 10),  # 3, 5, 7, 9: the deprecated forms without a direction
     "extrude": (1, 2),
     "footprint": (0, 0),
     "i": (1, 4),
@@ -278,6 +235,7 @@ CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "mirrorScope": (3, 3),
     "modify": (1, 2),
     "normalizeUV": (3, 3),
+    "offsetUV": (3, 3),  # deprecated: translateUV
     "offset": (1, 2),
     "primitiveCone": (0, 3),
     "primitiveCube": (0, 3),
@@ -288,7 +246,7 @@ CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "print": (1, 1_000_000),
     "projectUV": (1, 1),
     "r": (3, 4),
-    "rectify": (0, 1),
+    "rectify": (1, 1),
     "reduceGeometry": (1, 1),
     "report": (2, 2),
     "resetGeometry": (0, 0),
@@ -395,7 +353,8 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("byAngle", "byHeight", "angle", "height", "keepFaces", "noCleanup", "cleanup"),
         *("hard", "soft", "auto", "conform", "faces", "edges", "vertices", "holes"),
         *("intra", "inter"),
-        *("uv", "uvSpace", "index", "total", "unitSpace"),
+        *("uv", "uvSpace", "index", "total", "unitSpace", "uvUniform"),
+        *("separatePerFace", "collectiveAllFaces"),  # normalizeUV
         *("stretch", "fitArea", "keepSizeAndPosition", "alignSizeAndPosition"),
         *("keepSizeAlignPosition", "numericalCleanup"),  # i(asset, upAxis, mode, cleanup)
         *("recompose", "unify"),

@@ -10,6 +10,7 @@ resumes at the next definition, so one run reports the syntax errors of several 
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import lark
 from lark.exceptions import UnexpectedInput
@@ -50,7 +51,8 @@ def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Gram
     parser = lark_parser()
     syntax: list[Problem] = []
     tree = None
-    attempt = text
+    original = text
+    attempt = text = blank_viewport_hints(text)
     started_at = -1
     while True:
         try:
@@ -76,22 +78,68 @@ def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Gram
             message = f"this definition has more than {long.limit} tokens " + limit_hint(
                 "max_definition_tokens"
             )
-            raise GrammarError(message, location, source=text) from None
+            raise GrammarError(message, location, source=original) from None
     if syntax:
-        raise GrammarError(syntax[0][1], syntax[0][0], source=text, problems=syntax)
+        raise GrammarError(syntax[0][1], syntax[0][0], source=original, problems=syntax)
     builder = AstBuilder(filename)
     try:
         grammar = builder.transform(tree)
     except RecursionError:
         location = SourceLocation(filename, 1, 1)
-        raise GrammarError(_TOO_DEEP, location, source=text) from None
+        raise GrammarError(_TOO_DEEP, location, source=original) from None
     except lark.exceptions.VisitError as error:
         if isinstance(error.orig_exc, RecursionError):
             location = SourceLocation(filename, 1, 1)
-            raise GrammarError(_TOO_DEEP, location, source=text) from None
+            raise GrammarError(_TOO_DEEP, location, source=original) from None
         raise
-    grammar = dataclasses.replace(grammar, source=text)
+    grammar = dataclasses.replace(grammar, source=original)
     return grammar, builder.problems
+
+
+#: CityEngine's viewport and export hints, whose arguments shapegen never reads and which real
+#: files fill with CityEngine's own notation (``@Handle(shape=Curb^4, translate={.1,0,0})``).
+VIEWPORT_HINTS = ("Handle", "Location", "Out", "Macro")
+_VIEWPORT_HINT = re.compile(r"@(?:" + "|".join(VIEWPORT_HINTS) + r")\s*\(")
+
+
+def blank_viewport_hints(text: str) -> str:
+    """``text`` with the arguments of every viewport hint (:data:`VIEWPORT_HINTS`) turned into
+    spaces, newlines kept, so that every other place keeps its line and column."""
+    pieces = []
+    done = 0
+    for match in _VIEWPORT_HINT.finditer(text):
+        start = match.end()
+        if start <= done:
+            continue
+        end = _closing_parenthesis(text, start)
+        if end is None:
+            continue  # the parser reports the unclosed parenthesis
+        pieces += [text[done:start], re.sub(r"[^\n]", " ", text[start:end])]
+        done = end
+    return "".join(pieces) + text[done:] if pieces else text
+
+
+def _closing_parenthesis(text: str, start: int) -> int | None:
+    """The index of the ``)`` closing the ``(`` just before ``start``, skipping strings."""
+    depth = 1
+    index = start
+    while index < len(text):
+        character = text[index]
+        if character == '"':
+            end = text.find('"', index + 1)
+            while end != -1 and text[end - 1] == "\\":
+                end = text.find('"', end + 1)
+            if end == -1:
+                return None
+            index = end
+        elif character == "(":
+            depth += 1
+        elif character == ")":
+            depth -= 1
+            if depth == 0:
+                return index
+        index += 1
+    return None
 
 
 def source_too_long(size: int, unit: str) -> str:

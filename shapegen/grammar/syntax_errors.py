@@ -106,7 +106,7 @@ def syntax_problem(error: UnexpectedInput, text: str, filename: str) -> Problem:
     if isinstance(error, UnexpectedCharacters):
         character = error.char
         if character == '"':
-            return location, "unterminated string (a string ends with '\"' on the same line)"
+            return location, "unterminated string (no closing '\"' before the end of the file)"
         return location, f"unexpected character {character!r}"
     if isinstance(error, UnexpectedEOF):
         expected = _describe_expected(set(error.expected))

@@ -128,7 +128,8 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
         )
 
     def style_def(self, meta, children):
-        return _Style(str(children[0]))
+        name = next(c for c in children if isinstance(c, Token))
+        return _Style(str(name))
 
     def version(self, meta, children):
         return _Version(_unescape(children[0]))

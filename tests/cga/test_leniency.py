@@ -288,3 +288,31 @@ def test_a_negative_size_mirrors_the_geometry_within_the_scope():
     top_a = a.vertices[np.argmax(a.vertices[:, 1])]
     top_b = b.vertices[np.argmax(b.vertices[:, 1])]
     assert top_a[2] + top_b[2] == pytest.approx(8.0)  # the ridge moved to the other side
+
+
+def test_viewport_hints_may_hold_cityengine_notation():
+    # @Handle's arguments are CityEngine's viewport notation (a shape's 4th instance, a
+    # translation vector); shapegen never reads them, and the rest keeps its places
+    text = (
+        '@Handle(shape=RightCurb^4, axis=x, translate={.1,0,0}, color="#FF11FF")\n'
+        "@Handle(shape=Mass.)\nattr w = 2\n@StartRule\nLot --> extrude(w) A.\n"
+    )
+    assert parse_grammar(text, "r.cga").build(lot=LOT).volume == pytest.approx(12 * 8 * 2)
+    # an error shows the line as written
+    with pytest.raises(GrammarError, match=r"r.cga:1:32: undefined name 'v'\n.*Curb\^4"):
+        parse_grammar("@Handle(shape=Curb^4) attr w = v\nLot --> X.", "r.cga")
+
+
+def test_a_style_may_carry_annotations_and_a_string_may_span_lines():
+    text = (
+        '@Enum("a", "b",\n  "c")\nattr e = "a"\n@StartRule\nLot --> extrude(1) A.\n'
+        '@Description("A variation\nin red")\nstyle Red\nLot --> extrude(2) A.\n'
+    )
+    grammar = parse_grammar(text, "r.cga")
+    assert grammar.ast.styles == ("Red",)
+    assert grammar.build(lot=LOT).volume == pytest.approx(12 * 8)  # the Default style
+
+
+def test_a_file_of_attrs_only_is_named_a_library():
+    with pytest.raises(GrammarError, match="no rules .a library of attrs and functions"):
+        parse_grammar("attr a = 1\nf(x) = x * 2\n", "lib.cga")

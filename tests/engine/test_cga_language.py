@@ -232,7 +232,8 @@ def test_convert_positions_and_orientations():
     assert reports["x"] == pytest.approx(2.0)
     assert reports["o"].values == pytest.approx((-10.0, 70.0, 0.0))
     assert reports["back"].values == pytest.approx((1.0, 2.0, 3.0))
-    with pytest.raises(GrammarError, match=r"convert\(\): the pivot frame is not supported"):
-        parse_grammar(
-            'Lot --> report("p", convert(x, scope, pivot, pos, 0, 0, 0)) X.', "c.cga"
-        ).build()
+    # the lot's pivot is its first vertex, (0, 0, 10): the scope's origin is 10 m before it
+    pivot = parse_grammar(
+        'Lot --> report("p", convert(scope, pivot, pos, [0, 0, 0])) X.', "c.cga"
+    ).build(lot=(10, 10))
+    assert pivot.metadata["reports"]["p"].values == pytest.approx((0.0, 0.0, -10.0))

@@ -9,30 +9,51 @@ when the rule is compiled; it returns the operation closure ``op(state, args, ou
 (compile a branch's body).
 
 Each area of the language has its own module below; importing this package registers them all.
+An operation honoured with a difference from CityEngine's reference (a form it refuses, a
+texture-only operation accepted and ignored with a warning) is registered with the difference in
+a few words, ``@compiles("name", partial="...")``; :func:`partial_notes` lists them (the
+coverage table of docs/cga-compatibility.md is made from them).
 """
 
 from __future__ import annotations
 
-__all__ = ["compiles", "compiler_for", "registered"]
+__all__ = ["compiles", "compiler_for", "partial_notes", "registered", "warn_at"]
 
 from collections.abc import Callable
 
 Compiler = Callable[..., Callable]
 
 _COMPILERS: dict[str, Compiler] = {}
+_PARTIAL: dict[str, str] = {}
 
 
-def compiles(*names: str) -> Callable[[Compiler], Compiler]:
-    """Register the decorated function as the compiler of the operations ``names``."""
+def compiles(*names: str, partial: str | dict[str, str] | None = None):
+    """Register the decorated function as the compiler of the operations ``names``; ``partial``
+    says what of the reference it does not honour (one text for all the names, or per name)."""
 
     def register(function: Compiler) -> Compiler:
         for name in names:
             if name in _COMPILERS:
                 raise AssertionError(f"two compilers for the operation {name!r}")
             _COMPILERS[name] = function
+            note = partial.get(name) if isinstance(partial, dict) else partial
+            if note:
+                _PARTIAL[name] = note
         return function
 
     return register
+
+
+def warn_at(state, node, message: str) -> None:
+    """A warning of the derivation (CityEngine's runtime warns and carries on), located at the
+    operation ``node`` as ``file:line:col: message``."""
+    location = getattr(node, "location", None)
+    state.run.warn(f"{location}: {message}" if location is not None else message)
+
+
+def partial_notes() -> dict[str, str]:
+    """``operation -> what of the reference it does not honour``, for those registered so."""
+    return dict(_PARTIAL)
 
 
 def compiler_for(name: str) -> Compiler | None:
@@ -53,7 +74,9 @@ from shapegen.engine.cga_ops import (  # noqa: E402, F401
     polygons,
     roofs,
     scatter,
+    scope_fit,
     scope_ops,
     split_area,
     topology,
+    transforms,
 )

@@ -5,7 +5,12 @@
   projected as the reference says); the geometry stays where it is and the scope is refitted;
 - ``alignScopeToGeometry(yUp|zUp, face, edge)``: the up axis along a face's normal, x along one
   of its edges (a face index, ``largest``, ``world.lowest`` or ``any``; an edge index,
-  ``longest`` or ``world.lowest``; negative indices count from the end);
+  ``longest`` or ``world.lowest``; negative indices count from the end); the forms deprecated in
+  2011 (cga_changelog), ``(upAxis, faceIndex)`` (that face's first edge) and ``(upAxis, auto)``
+  (the lowest edge of any face, the longest when all lie at one height), with a warning;
+- ``alignScopeToGeometryBBox(xy|yx|xz|zx|yz|zy)``: the two named scope axes turned about the
+  third to the minimum-area rectangle around the geometry seen along the third, the first
+  named along its longer side;
 - ``rotateScope(x, y, z)``: the scope turned (degrees, x then y then z), the geometry not;
 - ``mirror(x, y, z)``: the geometry flipped inside its scope along the scope axes given true;
 - ``mirrorScope(x, y, z)``: the scope's axes flipped, the geometry not;
@@ -24,13 +29,13 @@
 
 from __future__ import annotations
 
-__all__ = ["argument_word", "refit"]
+__all__ = ["argument_word", "refit", "set_scope_pivot"]
 
 import math
 
 import numpy as np
 
-from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.trim import apply_trim
@@ -50,6 +55,13 @@ def refit(shape: Shape, rotation: np.ndarray) -> Shape:
         faces = tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
     kind = shape.kind if shape.kind in (FACE, MASS) else MASS
     return Shape.with_geometry(scope, Mesh(local, faces), kind, shape.normal_axis)
+
+
+def set_scope_pivot(state) -> None:
+    """The pivot at the scope's origin, along its axes (attr_pivot: after alignScopeToAxes,
+    alignScopeToGeometry(BBox) and setPivot "the scope has zero translation and rotation")."""
+    scope = state.shape.scope
+    state.pivot = (np.asarray(scope.origin, float), np.asarray(scope.rotation, float))
 
 
 # ---------------------------------------------------------------------------- arguments
@@ -153,6 +165,7 @@ def compile_align_scope_to_axes(program, node, params):
             x = x / np.linalg.norm(x)
             rotation = np.column_stack([x, np.cross(z, x), z])
         state.shape = refit(shape, rotation)
+        set_scope_pivot(state)
         return True
 
     return align
@@ -164,13 +177,20 @@ _EDGE_CHOICES = ("world.lowest", "longest")
 
 @compiles("alignScopeToGeometry")
 def compile_align_scope_to_geometry(program, node, params):
-    arguments = _arguments(program, node, (3,))
+    arguments = _arguments(program, node, (2, 3))
     up = _choice(program, node, arguments[0], ("yUp", "zUp"), "the up axis")
+    deprecated = None
+    if len(arguments) == 2:  # cga_changelog 2011: (upAxis, faceIndex) and (upAxis, auto)
+        auto = argument_word(arguments[1]) == "auto"
+        deprecated = "auto" if auto else "faceIndex"
+        arguments = [arguments[0], ast.Name("any"), ast.Name("auto")] if auto else [
+            *arguments, ast.Number(0.0)
+        ]  # fmt: skip
     face_word = argument_word(arguments[1])
     edge_word = argument_word(arguments[2])
     if face_word is not None and face_word not in _FACE_CHOICES:
         face_word = None
-    if edge_word is not None and edge_word not in _EDGE_CHOICES:
+    if edge_word is not None and edge_word not in (*_EDGE_CHOICES, "auto"):
         edge_word = None
     face_index = (
         None if face_word else _value(program, node, arguments[1], params, float, "the face index")
@@ -187,15 +207,21 @@ def compile_align_scope_to_geometry(program, node, params):
         mesh = shape.mesh()
         scope = shape.scope
         world = scope.to_world(mesh.vertices)
+        if deprecated is not None:
+            warn_at(
+                state,
+                node,
+                f"alignScopeToGeometry(upAxis, {deprecated}) is deprecated (cga_changelog); "
+                + ("the lowest edge of any face is taken, the longest when all lie at one "
+                   "height" if deprecated == "auto" else "the face's first edge is taken"),
+            )  # fmt: skip
         if mesh.n_faces == 0:
             raise error(node, "alignScopeToGeometry() of a shape without faces")
         candidates = range(mesh.n_faces)
         if face_word is None:
             k = int(face_index(args, state))
             if not -mesh.n_faces <= k < mesh.n_faces:
-                raise error(
-                    node, f"alignScopeToGeometry(): no face {k} (the shape has {mesh.n_faces})"
-                )
+                _wrapped(state, node, f"face index {k}", mesh.n_faces, "faces")
             candidates = [k % mesh.n_faces]
         elif face_word == "largest":
             candidates = [max(range(mesh.n_faces), key=mesh.face_area)]
@@ -203,25 +229,28 @@ def compile_align_scope_to_geometry(program, node, params):
             candidates = [
                 min(range(mesh.n_faces), key=lambda f: (world[list(mesh.faces[f])][:, 1].mean(), f))
             ]
+        rule = edge_word
+        if edge_word == "auto":  # 2009.2: the longest edge when all lie at one height
+            heights = world[:, 1]
+            flat = float(np.ptp(heights)) <= 1e-9 * max(1.0, float(np.abs(world).max()))
+            rule = "longest" if flat else "world.lowest"
         best = None
-        last_wins = edge_word != "world.lowest"
+        last_wins = rule != "world.lowest"
         for f in candidates:
             face = mesh.faces[f]
             n = len(face)
             if edge_word is None:
                 e = int(edge_index(args, state))
                 if not -n <= e < n:
-                    raise error(
-                        node, f"alignScopeToGeometry(): face {f} has no edge {e} ({n} edges)"
-                    )
+                    _wrapped(state, node, f"edge index {e} of face {f}", n, "edges")
                 edges = [e % n]
             else:
                 edges = range(n)
             for e in edges:
                 a, b = world[face[e]], world[face[(e + 1) % n]]
-                if edge_word == "longest":
+                if rule == "longest":
                     key = -float(np.linalg.norm(b - a))
-                elif edge_word == "world.lowest":
+                elif rule == "world.lowest":
                     key = float(a[1] + b[1])
                 else:
                     key = 0.0
@@ -241,9 +270,19 @@ def compile_align_scope_to_geometry(program, node, params):
             y_frame = rotation_keeping_x(x, normal)  # x, normal, x cross normal
             frame = np.column_stack([y_frame[:, 0], -y_frame[:, 2], y_frame[:, 1]])
         state.shape = refit(shape, frame)
+        set_scope_pivot(state)
         return True
 
     return align
+
+
+def _wrapped(state, node, what: str, count: int, things: str) -> None:
+    """An index past the end: op_alignScopeToGeometry adjusts negative indices modulo the count
+    (and splitAndSetbackPerimeter "too large or negative" ones); taken so, with a warning."""
+    warn_at(
+        state, node, f"alignScopeToGeometry(): {what} is past the {count} {things}; "
+        f"taken modulo {count}"
+    )  # fmt: skip
 
 
 @compiles("rotateScope")
@@ -338,7 +377,9 @@ def compile_set_pivot(program, node, params):
                 node, f"setPivot(): the corner index is a whole number 0..7, got {corner:g}"
             )
         frame = pivot_frame(shape.scope.rotation, axis_map, int(corner))
+        point = shape.scope.to_world(np.asarray(_CORNERS[int(corner)], float) * shape.scope.size)
         state.shape = refit(shape, frame)
+        state.pivot = (point, frame)  # op_setPivot: "pivot.p will lie at a selected corner"
         return True
 
     return set_pivot
@@ -387,6 +428,7 @@ def compile_reset_geometry(program, node, params):
         if start is None:
             raise program.error(node, "resetGeometry(): no start shape")
         state.shape = start.copy()
+        state.pivot = None  # op_resetGeometry: "scope and pivot are reset"
         return True
 
     return reset

@@ -71,6 +71,7 @@ class Component:
     shape: Shape
     mesh_faces: tuple[int, ...] = ()
     roof: str = ""  # comp(e): eave, hip, valley, ridge or "" (shapegen.geometry.roof_edges)
+    first: np.ndarray | None = None  # the pivot's origin (op_comp): the first vertex, world
 
 
 def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Component]:
@@ -81,15 +82,17 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
         mesh = Mesh.box(scope.size)
         scopes = [s for _, s in face_scopes(scope)]
         shapes = [Shape(s, FACE, 2) for s in scopes]
+        firsts = [s.origin for s in scopes]  # each face's first edge starts at its origin
     else:
         mesh = shape.mesh()
-        shapes = []
+        shapes, firsts = [], []
         for k in range(mesh.n_faces):
             world = scope.to_world(mesh.face_points(k))
             face_scope, local = fitted_scope(
                 world, face_rotation(world, rotation @ mesh.face_normal(k))
             )
             shapes.append(_face_shape(face_scope, local))
+            firsts.append(world[0])
     normals = mesh.face_normals()
     worlds = normals @ rotation.T
     objects = worlds if object_rotation is None else worlds @ object_rotation
@@ -97,7 +100,9 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
         border_faces(mesh) if shape.kind != MASS or shape.geometry is not None else [False] * 6
     )
     return [
-        Component(k, normals[k], worlds[k], objects[k], borders[k], shapes[k], (k,))
+        Component(
+            k, normals[k], worlds[k], objects[k], borders[k], shapes[k], (k,), first=firsts[k]
+        )
         for k in range(mesh.n_faces)
     ]
 
@@ -161,6 +166,7 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
                 Shape.with_geometry(edge_scope, geometry, EDGE, 2),
                 tuple(faces),
                 roof,
+                start,
             )
         )
     return out
@@ -206,6 +212,7 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
                 any(borders[f] for f in faces),
                 Shape.with_geometry(vertex_scope, Mesh([(0, 0, 0)], ()), VERTEX, 2),
                 tuple(faces),
+                first=world_vertices[k],
             )
         )
     return out
@@ -242,6 +249,7 @@ def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
                         2,
                     ),
                     (f,),
+                    first=world_vertices[i],
                 )
             )
     return out
@@ -397,6 +405,8 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                 shapes = [merged_shape(shape, chosen)]
             else:
                 shapes = [c.shape for c in chosen]
+            # op_comp: the pivot at the (first) component's first vertex, along its scope
+            firsts = [chosen[0].first] if merge and kind == "f" else [c.first for c in chosen]
             if not align:
                 shapes = [_unaligned(s, shape.scope) for s in shapes]
             total = len(shapes)
@@ -405,6 +415,8 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                 child.comp_index = index
                 child.comp_total = total
                 child.comp_sel = text
+                if align and firsts[index] is not None:  # noAlign keeps the pivot
+                    child.pivot = (np.asarray(firsts[index], float), piece.scope.rotation)
                 if planes is not None:  # op_comp: only the ':' operator makes trim planes
                     child.trim_planes = () if merge else planes[chosen[index].index]
                 if body(child, args, out) and child.is_leaf():
