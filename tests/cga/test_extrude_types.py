@@ -1,0 +1,85 @@
+"""extrude(type, distance) in op_extrude's types (face.normal, vertex.normal, world.up,
+world.up.flatTop) and the axes the changelog deprecates (world.x, world.y, world.z, x, y, z),
+checked on boxes and rings whose solids follow from their coordinates."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from shapegen import parse_grammar
+
+#: The reference entries each test shows (tools/cga_coverage.py reads this table).
+COVERS = {
+    "test_extrusion_types_on_the_lot": ("op:extrude",),
+    "test_deprecated_world_axes": ("op:extrude",),
+    "test_vertex_normals_keep_a_ring_of_faces_joined": ("op:extrude",),
+}
+
+
+def _model(text: str, lot=(12.0, 8.0)):
+    return parse_grammar("@StartRule\n" + text, "extrude.cga").build(lot=lot)
+
+
+def _bounds(model) -> np.ndarray:
+    points = np.vstack([b.vertices for b in model.blocks])
+    return np.round(np.array([points.min(axis=0), points.max(axis=0)]), 9)
+
+
+@pytest.mark.parametrize("kind", ["face.normal", "world.up", "world.up.flatTop", "vertex.normal"])
+def test_extrusion_types_on_the_lot(kind):
+    # a lot faces up: every type gives the 12 x 3 x 8 box of extrude(3)
+    typed, plain = _model(f"Lot --> extrude({kind}, 3) X."), _model("Lot --> extrude(3) X.")
+    assert np.allclose(_bounds(typed), _bounds(plain))
+    assert math.isclose(sum(b.volume for b in typed.blocks), 288.0)
+    assert not typed.metadata["warnings"]
+
+
+@pytest.mark.parametrize(
+    ("face", "kind", "low", "high"),
+    [
+        # the right side (x = 12) pushed 2 m along world x
+        ("right", "world.x", (12, 0, 0), (14, 3, 8)),
+        ("right", "x", (12, 0, 0), (14, 3, 8)),
+        # the back side (z = 0, facing -z) pushed 2 m along world +z: into the mass
+        ("back", "world.z", (0, 0, 0), (12, 3, 2)),
+        # the top pushed 2 m up: world.y is world.up
+        ("top", "world.y", (0, 3, 0), (12, 5, 8)),
+        ("top", "y", (0, 3, 0), (12, 5, 8)),
+    ],
+)
+def test_deprecated_world_axes(face, kind, low, high):
+    # cga_changelog 2016.0: "The axes x, y, z, world.x, world.y and world.z are deprecated"
+    model = _model(f"Lot --> extrude(3) comp(f) {{ {face} : extrude({kind}, 2) X. }}")
+    assert np.allclose(_bounds(model), [low, high])
+    assert math.isclose(sum(b.volume for b in model.blocks), np.prod(np.subtract(high, low)))
+    (warning,) = model.metadata["warnings"]
+    assert warning.startswith("extrude.cga:2:") and "deprecated" in warning
+
+
+def test_vertex_normals_keep_a_ring_of_faces_joined():
+    # the four sides of a 12 x 3 x 8 mass as one shape: at each corner the vertex normal is the
+    # mean of two side normals, so the corners move 1 m diagonally and each side 1/sqrt(2) m
+    # out; the sides stay joined (no internal faces): a ring (12 + 2a) x (8 + 2a) around
+    # 12 x 8, 3 m high
+    model = _model("Lot --> extrude(3) comp(f) { side = extrude(vertex.normal, 1) X. }")
+    a = 1 / math.sqrt(2)
+    volume = sum(b.volume for b in model.blocks) + sum(
+        abs(_signed_volume(s.vertices, s.faces)) for s in model.surfaces
+    )
+    assert math.isclose(volume, 3 * ((12 + 2 * a) * (8 + 2 * a) - 96), rel_tol=1e-9)
+    points = np.vstack([b.vertices for b in model.blocks] + [s.vertices for s in model.surfaces])
+    assert np.allclose(points.min(axis=0), [-a, 0, -a]) and np.allclose(
+        points.max(axis=0), [12 + a, 3, 8 + a]
+    )
+
+
+def _signed_volume(vertices, faces) -> float:
+    total = 0.0
+    for face in faces:
+        p = np.asarray(vertices)[list(face)]
+        for k in range(1, len(p) - 1):
+            total += float(np.dot(p[0], np.cross(p[k], p[k + 1]))) / 6
+    return total
