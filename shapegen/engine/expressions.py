@@ -84,7 +84,30 @@ class ExpressionCompiler(BuiltinCalls):
             self.functions[key] = None
         for key, function in self.overloads.items():
             params = {p.name: k for k, p in enumerate(function.params)}
-            self.functions[key] = self.compile(function.body, params)
+            scope, extend = self.local_scope(function, params)
+            body = self.compile(function.body, scope)
+            self.functions[key] = body if extend is None else _with_locals(body, extend)
+
+    def local_scope(self, definition, params: dict[str, int]):
+        """``params`` with the definition's ``with`` variables after them, and a closure
+        ``extend(args, state)`` that appends their values to ``args`` (None without any):
+        with.html, each is evaluated once when the definition is called, and may read the
+        parameters and the variables before it."""
+        if not definition.local_variables:
+            return params, None
+        scope = dict(params)
+        compiled = []
+        for index, variable in enumerate(definition.local_variables, start=len(params)):
+            compiled.append(self.compile(variable.value, scope))
+            scope[variable.name] = index
+
+        def extend(args, state):
+            values = list(args)
+            for value in compiled:
+                values.append(value(tuple(values), state))
+            return tuple(values)
+
+        return scope, extend
 
     # ------------------------------------------------------------------ expressions
     def compile(self, node: ast.Expression, params: dict[str, int]) -> Compiled:
@@ -473,3 +496,7 @@ class ExpressionCompiler(BuiltinCalls):
             return otherwise(args, state)
 
         return stochastic
+
+
+def _with_locals(body: Compiled, extend) -> Compiled:
+    return lambda args, state: body(extend(args, state), state)

@@ -102,7 +102,7 @@ class Program(AttributeValues, ShapeOperations):
         self.expressions = ExpressionCompiler(grammar, global_names)
         self.expressions.compile_functions()
         self.definitions = {
-            name: self.expressions.compile(node.value, {})
+            name: self._value(node)
             for name, node in {**self.attr_nodes, **self.const_nodes}.items()
         }
         # Rules by (name, arity): CGA overloads a rule name by its number of parameters.
@@ -112,7 +112,10 @@ class Program(AttributeValues, ShapeOperations):
             self.arities.setdefault(name, []).append(arity)
         for rule in self.rules.values():
             params = {p.name: k for k, p in enumerate(rule.node.params)}
-            rule.body = self._body(rule.node.body, params)
+            scope, extend = self.expressions.local_scope(rule.node, params)
+            rule.body = self._body(rule.node.body, scope)
+            if extend is not None:  # with ( ... ): the values follow the rule's arguments
+                rule.body = _rule_with_locals(rule.body, extend)
         self.start = grammar.start_rule
         if self.start is None:
             raise GrammarError(
@@ -128,6 +131,14 @@ class Program(AttributeValues, ShapeOperations):
                 self.start, f"the start rule {self.start.name!r} cannot take parameters"
             )
         self.structure = checked_structure(self.start, self.error)
+
+    def _value(self, node):
+        """An attr's or const's compiled value, its ``with`` variables evaluated first."""
+        scope, extend = self.expressions.local_scope(node, {})
+        value = self.expressions.compile(node.value, scope)
+        if extend is None:
+            return value
+        return lambda args, state: value(extend(args, state), state)
 
     def error(self, node, message: str) -> GrammarError:
         return self.expressions.error(node, message)
@@ -403,3 +414,10 @@ def _insert(name: str, scope: Scope, params: dict) -> list[Block]:
     from shapegen.primitives import insert
 
     return insert(name, scope, **params)
+
+
+def _rule_with_locals(body, extend):
+    def with_locals(state, args, out):
+        return body(state, extend(args, state), out)
+
+    return with_locals

@@ -117,6 +117,7 @@ from shapegen.grammar.definitions import (
     Function,
     Grammar,
     Import,
+    LocalVariable,
     Parameter,
     Rule,
 )
@@ -209,6 +210,7 @@ __all__ = [
     "Item",
     "Keyword",
     "Label",
+    "LocalVariable",
     "Name",
     "Nil",
     "Number",

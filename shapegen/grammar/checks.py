@@ -105,10 +105,14 @@ class _Checker(AnnotationChecks):
         self._collect_keyword_names()
         for definition in self.grammar.definitions:
             self._check_annotations(definition)
+            scope = self._params(getattr(definition, "params", ()))
+            for variable in definition.local_variables:  # each reads those before it
+                self._visit(variable.value, scope)
+                scope = {**scope, variable.name: variable}
             if isinstance(definition, ast.Attribute | ast.Constant):
-                self._visit(definition.value, {})
+                self._visit(definition.value, scope)
             elif isinstance(definition, ast.Function | ast.Rule):
-                self._visit(definition.body, self._params(definition.params))
+                self._visit(definition.body, scope)
         self._check_start_rule()
         if not self.cga:  # CityEngine evaluates lazily: a cycle is an error only when reached
             self._check_cycles()

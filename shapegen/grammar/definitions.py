@@ -70,12 +70,23 @@ class Parameter:
 
 
 @node
+class LocalVariable:
+    """``name := value`` in a definition's ``with ( ... )`` (with.html): evaluated once, in
+    order, when the definition is called; later ones and the body may read it."""
+
+    name: str
+    value: Expression
+    location: SourceLocation = location_field()
+
+
+@node
 class Attribute(_Annotated):
     """``attr name = value``."""
 
     name: str
     value: Expression
     annotations: tuple[Annotation, ...] = ()
+    local_variables: tuple[LocalVariable, ...] = ()
     location: SourceLocation = location_field()
 
     @property
@@ -103,6 +114,7 @@ class Constant(_Annotated):
     name: str
     value: Expression
     annotations: tuple[Annotation, ...] = ()
+    local_variables: tuple[LocalVariable, ...] = ()
     location: SourceLocation = location_field()
 
 
@@ -114,6 +126,7 @@ class Function(_Annotated):
     params: tuple[Parameter, ...]
     body: Expression
     annotations: tuple[Annotation, ...] = ()
+    local_variables: tuple[LocalVariable, ...] = ()
     location: SourceLocation = location_field()
 
 
@@ -125,6 +138,7 @@ class Rule(_Annotated):
     params: tuple[Parameter, ...]
     body: Body
     annotations: tuple[Annotation, ...] = ()
+    local_variables: tuple[LocalVariable, ...] = ()
     #: Written ``extension Name --> ...``: an import may redefine it (extension.html).
     extension: bool = field(default=False, compare=False)
     location: SourceLocation = location_field()

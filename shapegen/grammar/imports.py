@@ -312,13 +312,17 @@ class _Renamer:
         self.attrs = frozenset(d.name for d in grammar.attrs)
 
     def definition(self, definition: ast.Definition) -> ast.Definition:
-        params = frozenset(p.name for p in getattr(definition, "params", ()))
+        params = frozenset(p.name for p in getattr(definition, "params", ())) | frozenset(
+            v.name for v in definition.local_variables
+        )
         annotations = tuple(
             _rebuilt(a, self.change)
             for a in definition.annotations
             if not (isinstance(definition, ast.Rule) and a.name in _START_ANNOTATIONS)
         )
         changes = {"name": self.rename(definition.name), "annotations": annotations}
+        if definition.local_variables:
+            changes["local_variables"] = _rebuilt(definition.local_variables, self.change, params)
         if isinstance(definition, ast.Function | ast.Rule):
             changes["body"] = _rebuilt(definition.body, self.change, params)
         else:

@@ -31,6 +31,9 @@ _KEYWORDS = {"import": ("NAME", "STRING"), "style": ("NAME",), "extension": ("NA
 # ``start Name --> ...`` (start.html) marks the start rule: a keyword only first on its line and
 # before a rule's name, so that a successor or rule called ``start`` stays one.
 _START = "start"
+# ``Name with (x := ...) = ...`` (with.html): a keyword at depth 0 after a definition's name or
+# parameters, before its parenthesis.
+_WITH = "with"
 # Tokens that begin a new definition at bracket depth 0 (for max_definition_tokens).
 _DEFINITION_STARTS = frozenset({"DEF_NAME", "_START", "_IMPORT", "_STYLE", "_EXTENSION", "AT"})
 
@@ -96,6 +99,16 @@ class DefinitionNames:
                 and self._starts_definition(lambda k: peek(k + 1))
             ):
                 token = Token.new_borrow_pos("_START", token.value, token)
+            elif (
+                token.type == "NAME"
+                and token.value == _WITH
+                and depth == 0
+                and previous is not None
+                and previous.type in ("DEF_NAME", "RPAR")
+                and (following := peek(0)) is not None
+                and following.type == "LPAR"
+            ):
+                token = Token.new_borrow_pos("_WITH", token.value, token)
             elif token.type == "NAME" and depth == 0 and self._starts_definition(peek):
                 token = Token.new_borrow_pos("DEF_NAME", token.value, token)
             elif token.type == "NAME" and depth == 0 and token.value in _KEYWORDS:
@@ -133,27 +146,43 @@ class DefinitionNames:
 
     @staticmethod
     def _starts_definition(peek) -> bool:
-        following = peek(0)
-        if following is None:
-            return False
-        if following.type in ("EQUAL", "ARROW"):
-            return True
-        if following.type != "LPAR":
-            return False
-        nesting = 0
+        """``= ...`` or ``--> ...`` follows, after an optional ``(params)`` and an optional
+        ``with (...)``."""
         index = 0
+        following = peek(0)
+        if following is not None and following.type == "LPAR":
+            index = DefinitionNames._after_parentheses(peek, 0, params=True)
+            if index is None:
+                return False
+            following = peek(index)
+        if following is not None and following.type == "NAME" and following.value == _WITH:
+            after = peek(index + 1)
+            if after is None or after.type != "LPAR":
+                return False
+            index = DefinitionNames._after_parentheses(peek, index + 1, params=False)
+            if index is None:
+                return False
+            following = peek(index)
+        return following is not None and following.type in ("EQUAL", "ARROW")
+
+    @staticmethod
+    def _after_parentheses(peek, index: int, params: bool) -> int | None:
+        """The index after the parenthesis opened at ``index`` closes; None when a token that
+        cannot be in a parameter list comes first (with ``params``)."""
+        nesting = 0
         while (token := peek(index)) is not None:
             if token.type == "LPAR":
                 nesting += 1
             elif token.type == "RPAR":
                 nesting -= 1
                 if nesting == 0:
-                    after = peek(index + 1)
-                    return after is not None and after.type in ("EQUAL", "ARROW")
-            elif token.type in ("LBRACE", "RBRACE", "LSQB", "RSQB", "ARROW"):
-                return False
+                    return index + 1
+            elif token.type == "ARROW" or (
+                params and token.type in ("LBRACE", "RBRACE", "LSQB", "RSQB")
+            ):
+                return None
             index += 1
-        return False
+        return None
 
 
 class _StartPositions:

@@ -37,6 +37,7 @@ _TERMINAL_WORDS = {
     "_STYLE": "'style'",
     "_EXTENSION": "'extension'",
     "_START": "'start'",
+    "_WITH": "'with'",
     "BARE_LBRACE": "'{'",
 }
 _SINGLE_ARROW = re.compile(r"[ \t]*(\([^()\n]*\))?[ \t]*(?P<arrow>->)")

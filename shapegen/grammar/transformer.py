@@ -46,6 +46,18 @@ class _Style:
     name: str
 
 
+class _WithClause:
+    """A definition's ``with ( ... )``: its local variables."""
+
+    def __init__(self, variables: tuple):
+        self.variables = variables
+
+
+def _locals(children) -> tuple:
+    """The local variables of the ``with`` clause among a definition's ``children``."""
+    return next((c.variables for c in children if isinstance(c, _WithClause)), ())
+
+
 class _Repeat:
     """Marker for a ``*`` after a block."""
 
@@ -153,17 +165,34 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
         return ast.Keyword(str(name), value, location=self._at(name))
 
     def attr_def(self, meta, children):
-        name, value = children
-        return ast.Attribute(str(name), value, location=self._at(name))
+        name, *local_variables, value = children
+        return ast.Attribute(
+            str(name), value, local_variables=_locals(local_variables), location=self._at(name)
+        )
 
     def const_def(self, meta, children):
-        name, value = children
-        return ast.Constant(str(name), value, location=self._at(name))
+        name, *local_variables, value = children
+        return ast.Constant(
+            str(name), value, local_variables=_locals(local_variables), location=self._at(name)
+        )
 
     def function_def(self, meta, children):
         name, *rest = children
-        params = rest[0] if len(rest) == 2 else ()
-        return ast.Function(str(name), params, rest[-1], location=self._at(name))
+        params = next((r for r in rest[:-1] if type(r) is tuple), ())
+        return ast.Function(
+            str(name),
+            params,
+            rest[-1],
+            local_variables=_locals(rest[:-1]),
+            location=self._at(name),
+        )
+
+    def with_clause(self, meta, children):
+        return _WithClause(tuple(children))
+
+    def local_variable(self, meta, children):
+        name, value = children
+        return ast.LocalVariable(str(name), value, location=self._at(name))
 
     def rule_def(self, meta, children):
         extension = children[0] is _EXTENSION_MARK
@@ -171,7 +200,8 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
         start = children[0] is _START_MARK
         name, *rest = children[1:] if start else children
         rest = [child for child in rest if not (isinstance(child, Token) and child.type == "ARROW")]
-        params = rest[0] if len(rest) == 2 else ()
+        params = next((r for r in rest[:-1] if type(r) is tuple), ())
+        local_variables = _locals(rest[:-1])
         # the start keyword means what @StartRule means, and lets start(...) call the rule
         annotations = (ast.Annotation("StartRule", location=self._at(name)),) if start else ()
         if start:
@@ -181,6 +211,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
             params,
             rest[-1],
             annotations=annotations,
+            local_variables=local_variables,
             extension=extension,
             location=self._at(name),
         )

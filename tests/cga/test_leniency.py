@@ -316,3 +316,40 @@ def test_a_style_may_carry_annotations_and_a_string_may_span_lines():
 def test_a_file_of_attrs_only_is_named_a_library():
     with pytest.raises(GrammarError, match="no rules .a library of attrs and functions"):
         parse_grammar("attr a = 1\nf(x) = x * 2\n", "lib.cga")
+
+
+def test_with_local_variables_as_the_reference_gives_them():
+    # with.html: attr, const, function and rule forms; each variable may read those before it
+    text = (
+        'attr a with ( x := "example" ) = x\n'
+        "const b with ( x := [0,1,2]  y := 1 ) = x[y]\n"
+        "f(a) with ( x := a  y := x ) = y\n"
+        "dist2d(x1, y1, x2, y2) with ( d1 := x2-x1\n  d2 := y2-y1 )\n= sqrt(d1*d1 + d2*d2)\n"
+        "@StartRule\n"
+        'Lot with ( x := f(2) + b ) --> extrude(x) report("d", dist2d(1, 1, 4, 5)) A.\n'
+    )
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert model.metadata["attrs"] == {"a": "example"}
+    assert model.metadata["reports"] == {"d": 5.0}
+    assert model.volume == pytest.approx(12 * 8 * 3)  # f(2) + b = 2 + 1
+
+
+def test_a_rule_local_variable_keeps_its_value_once_evaluated():
+    # with.html: "The value does not change despite the area of the shape is altered."
+    text = (
+        "@StartRule\nLot with ( area := geometry.area() ) --> s('2, 0, '2)\n"
+        '  report("initial", area) report("altered", geometry.area()) X.'
+    )
+    reports = parse_grammar(text, "r.cga").build(lot=LOT).metadata["reports"]
+    assert reports == {"initial": pytest.approx(96.0), "altered": pytest.approx(384.0)}
+
+
+def test_with_in_an_imported_file_and_names_outside_their_definition(tmp_path):
+    (tmp_path / "lib.cga").write_text(
+        "attr h = 2\ng(k) with (m := k * h) = m\nHouse with (t := g(3)) --> extrude(t) A.\n"
+    )
+    main = tmp_path / "main.cga"
+    main.write_text('import lib : "lib.cga"\n@StartRule\nLot --> lib.House\n')
+    assert load_grammar(main).build(lot=LOT).volume == pytest.approx(12 * 8 * 6)
+    with pytest.raises(GrammarError, match="undefined name 'm'"):
+        parse_grammar("g(k) with (m := k) = m\n@StartRule\nLot --> extrude(m) A.", "r.cga")

@@ -10,7 +10,7 @@ from shapegen.errors import GrammarError, ShapegenError, SourceLocation
 from shapegen.grammar import check, load, parse
 
 SYNTAX_ERRORS = [
-    ("unexpected name 'B'; expected an operator, ')', ',' or '['", "A --> extrude(2 B", 1, 17),
+    ("unexpected name 'B'; expected ')' or ','", "A --> extrude(2 B", 1, 17),
     ("unexpected '->'; a rule is written 'Name --> ...'", "A --> B\nC -> D", 2, 3),
     ("unexpected '->'; a rule is written 'Name --> ...'", "A(x) -> B", 1, 6),
     (
