@@ -80,6 +80,11 @@ def test_bad_calls_are_load_errors(tmp_path, call, message):
         _build(tmp_path, f"Lot --> {call} {{ X }}\n")
 
 
-def test_a_fractional_count_is_refused_when_derived(tmp_path):
-    with pytest.raises(shapegen.ShapegenError, match="whole number of points"):
-        _build(tmp_path, "Lot --> scatter(surface, 2.5, uniform) { X }\n")
+@pytest.mark.parametrize(("count", "points"), [("2.5", 2), ("2.99", 2), ("-1", 0)])
+def test_a_count_that_is_not_whole_places_its_whole_part_with_a_warning(tmp_path, count, points):
+    # op_scatter: nPoints is a float; the derivation goes on with the count's whole part
+    model = _build(tmp_path, f"Lot --> scatter(surface, {count}, uniform) {{ Leaf }}\n" + CUBE)
+    assert len(model.blocks) == points
+    (warning,) = [w for w in model.metadata["warnings"] if "scatter()" in w]
+    assert warning.startswith(str(tmp_path / "scatter.cga") + ":2:9: ")
+    assert f"places {points}" in warning

@@ -72,11 +72,13 @@ from shapegen.engine.cga_ops import (  # noqa: E402, F401
     assets,
     extrusion,
     polygons,
+    rectify,
     roofs,
     scatter,
     scope_fit,
     scope_ops,
     split_area,
+    tags,
     topology,
     transforms,
 )

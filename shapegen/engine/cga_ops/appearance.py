@@ -16,7 +16,11 @@ What is kept where:
 - every other ``material.*`` attribute: :attr:`Appearance.material`;
 - ``setupProjection``, ``projectUV``, ``tileUV``, ``translateUV``, ``rotateUV``, ``scaleUV``,
   ``normalizeUV``, ``copyUV``, ``deleteUV``: recorded in :attr:`Appearance.uv` (no texture
-  coordinates are computed);
+  coordinates are computed); ``offsetUV``, translateUV's name before 2009.3 (cga_changelog), is
+  recorded as translateUV with a warning;
+- the deprecated material names (cga_changelog 2011.1: ``material.color.a`` for
+  ``material.opacity``, ``material.map3``/``map4``/``map5`` for the specular, opacity and normal
+  maps) set and read the current ones, with a warning;
 - ``setNormals``, ``softenNormals``: :attr:`Appearance.normals`.
 
 :func:`compile_material_set` compiles ``set(material.X, value)``; :func:`material_value` reads
@@ -32,8 +36,9 @@ import difflib
 import math
 from dataclasses import replace
 
-from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.functions_arrays import format_value, type_name
+from shapegen.engine.functions_shape import material_alias
 from shapegen.grammar import ast
 from shapegen.model.appearance import (
     DEFAULT_APPEARANCE,
@@ -81,9 +86,9 @@ def _from_text(name: str, text: str) -> object:
 
 
 def _material_name(program, node, attribute: str) -> str:
-    """The catalogue name of ``material.<...>`` (prefix removed), or a load-time error with a
-    did-you-mean."""
-    name = attribute.removeprefix("material.")
+    """The catalogue name of ``material.<...>`` (prefix removed, a deprecated name replaced),
+    or a load-time error with a did-you-mean."""
+    name = material_alias(attribute.removeprefix("material."))
     if name in MATERIAL_ATTRIBUTES:
         return name
     close = difflib.get_close_matches(name, list(MATERIAL_ATTRIBUTES), n=1, cutoff=0.6)
@@ -98,8 +103,12 @@ def compile_material_set(program, node: ast.Set, params: dict[str, int]):
     name = _material_name(program, node, node.attribute)
     value_of = program.expressions.compile(node.value, params)
     error = program.error
+    written = node.attribute.removeprefix("material.")
 
     def set_material(state, args, out):
+        if written != name:
+            warn_at(state, node, f"material.{written} is deprecated (cga_changelog 2011.1); "
+                                 f"it sets material.{name}")  # fmt: skip
         try:
             value = _checked_value(name, value_of(args, state))
             state.appearance = with_material(state.appearance, name, value)
@@ -251,7 +260,7 @@ def compile_set_material(program, node: ast.Operation, params):
         look = state.appearance
         for key, text in zip(values[::2], values[1::2], strict=True):
             key, text = format_value(key), format_value(text)
-            name = key.removeprefix("material.")
+            name = material_alias(key.removeprefix("material."))
             if name not in MATERIAL_ATTRIBUTES:
                 close = difflib.get_close_matches(name, list(MATERIAL_ATTRIBUTES), n=1)
                 hint = f" (did you mean {close[0]!r}?)" if close else ""
@@ -300,6 +309,7 @@ _PROJECTION_AXES = tuple(
 
 
 _NO_OFFSET = ast.OperationArgument("plain", ast.Number(0.0))
+_OFFSET_UV = "deprecated name of translateUV (cga_changelog 2009.3), with a warning"
 
 
 @compiles("setupProjection")
@@ -408,13 +418,22 @@ def compile_tile_uv(program, node: ast.Operation, params):
     return _recorder("tileUV", [uv_set, *compiled])
 
 
-@compiles("translateUV", "scaleUV", "rotateUV")
+@compiles("translateUV", "scaleUV", "rotateUV", "offsetUV", partial={"offsetUV": _OFFSET_UV})
 def compile_uv_transform(program, node: ast.Operation, params):
     counts = (2,) if node.name == "rotateUV" else (3,)
     first, *rest = _plain_arguments(program, node, counts)
     uv_set = _uv_set(program, node, first, params)
     numbers = [_typed(program, node, r, params, float, "a factor or offset") for r in rest]
-    return _recorder(node.name, [uv_set, *numbers])
+    if node.name != "offsetUV":
+        return _recorder(node.name, [uv_set, *numbers])
+    record = _recorder("translateUV", [uv_set, *numbers])
+
+    def offset_uv(state, args, out):
+        warn_at(state, node, "offsetUV() is deprecated (cga_changelog 2009.3: it is now "
+                             "translateUV); recorded as translateUV")  # fmt: skip
+        return record(state, args, out)
+
+    return offset_uv
 
 
 @compiles("normalizeUV")

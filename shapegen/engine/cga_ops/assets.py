@@ -33,7 +33,7 @@ import os
 import numpy as np
 
 from shapegen.engine.asset_files import find_asset, load_asset
-from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.derivation import format_chain
 from shapegen.engine.functions_arrays import format_value
 from shapegen.engine.shape import FACE, MASS, Shape
@@ -51,10 +51,12 @@ DEFAULT_SIDES = 16
 
 
 def is_asset_name(name: str) -> bool:
-    """True when ``i(name)`` names an asset (a file or ``builtin:``), not a template primitive."""
+    """True when ``i(name)`` names an asset (a file or ``builtin:``), not a template primitive:
+    the empty name (an asset that cannot be found) and a name with a ``:`` are assets too."""
     suffix = os.path.splitext(name)[1].lower()
     return (
-        name.startswith("builtin:")
+        not name
+        or ":" in name
         or "/" in name
         or "\\" in name
         or suffix in ASSET_SUFFIXES + OTHER_CITYENGINE_SUFFIXES
@@ -194,7 +196,12 @@ def asset_insert(program, node: ast.Insert, params):
         if name in BUILTIN_ASSETS:
             state.shape = _box_shape(scope)
             return apply_trim(state)
-        path = find_asset(name, rule_file)
+        path = find_asset(name, rule_file) if name else None
+        if not name:
+            warn_at(state, node, 'i(""): the asset name is empty; a box fills the scope, as '
+                    "for an asset that is not found")  # fmt: skip
+            state.shape = _box_shape(scope)
+            return apply_trim(state)
         if path is None:
             state.run.warn(f"asset {name!r} not found (rules: {format_chain(state.rule_path)}); "
                          f"a box fills its scope instead")  # fmt: skip

@@ -15,7 +15,7 @@ __all__ = ["roof_shape"]
 
 import numpy as np
 
-from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.cga_ops.polygons import (
     _arguments,
     _elements,
@@ -173,13 +173,21 @@ _ENVELOPE_SIDES = {
 }
 
 
-@compiles("envelope")
+@compiles(
+    "envelope",
+    partial="refused: world.up on a face that does not face up, and sloped sides of "
+    "different base heights",
+)
 def compile_envelope(program, node: ast.Operation, params):
     """``envelope(normal|world.up, maxHeight, frontBaseHeight, frontAngle[, back...[, side...
     | right..., left...]])`` or ``envelope(direction, maxHeight, baseHeights, angles)``."""
     if any(a.kind != "plain" for a in node.arguments):
         raise program.error(node, "envelope() takes plain arguments only")
     values = [a.value for a in node.arguments]
+    # cga_changelog: the deprecated signatures without a direction (3, 5, 7 or 9 arguments)
+    deprecated = len(values) % 2 == 1 and _selector_name(values[0]) not in ("normal", "world.up")
+    if deprecated:
+        values = [ast.Name("normal"), *values]
     if len(values) - 2 not in _ENVELOPE_SIDES:
         raise program.error(
             node, f"envelope() takes 4, 6, 8 or 10 arguments, got {len(values)}"
@@ -205,6 +213,11 @@ def compile_envelope(program, node: ast.Operation, params):
         return np.full(n, float(value))
 
     def envelope_op(state, args, out):
+        if deprecated:
+            warn_at(
+                state, node, "envelope() without a direction is deprecated (cga_changelog: "
+                "signatures without direction parameter); it is built along the normal"
+            )  # fmt: skip
         top = max_height(args, state)
         evaluated = [f(args, state) for f in pairs]
         built = []

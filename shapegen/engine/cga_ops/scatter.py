@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.cga_ops.polygons import _number, _selector_name
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.geometry.frames import rotation_keeping_x
@@ -78,7 +78,14 @@ def compile_scatter(program, node: ast.Operation, params):
     def scatter_op(state, args_, out):
         n = count(args_, state)
         if n < 0 or n != int(n):
-            raise error(node, f"scatter() needs a whole number of points >= 0, got {n:g}")
+            # op_scatter's nPoints is a float; the reference does not say how a fractional
+            # count is made whole: its whole part (C's conversion), none for a negative count
+            whole = max(int(n), 0)
+            warn_at(
+                state, node, f"scatter(): {n:g} points is not a whole number >= 0; shapegen "
+                f"places {whole} (the whole part; CityEngine's rounding is not documented)"
+            )  # fmt: skip
+            n = whole
         shape = state.shape
         if shape.kind not in (FACE, MASS):
             raise error(node, "scatter() needs a shape with faces (not an inserted primitive)")
