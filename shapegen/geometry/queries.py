@@ -12,6 +12,7 @@ from __future__ import annotations
 __all__ = [
     "FACE_SELECTORS",
     "GEOMETRY_FUNCTIONS",
+    "PARTIAL_GEOMETRY",
     "face_matches",
     "geometry_value",
     "slope_class",
@@ -48,6 +49,7 @@ FACE_SELECTORS: tuple[str, ...] = (
     *_WORLD,
     "world.side",
     *(f"street.{name}" for name in ("front", "back", "left", "right", "side")),
+    *("streetSide", "streetFront", "noStreetSide"),
 )
 """Every face selector :func:`face_matches` knows. ``street.*`` falls back to ``object.*``, as
 CityEngine does when the lot has no street widths."""
@@ -89,6 +91,10 @@ def face_matches(
         return border
     if selector == "inside":
         return not border
+    if selector in ("streetSide", "streetFront"):  # deprecated: the street side, the front
+        selector = "street.front"
+    elif selector == "noStreetSide":
+        return quadrant(normal_object) not in ("front", "top", "bottom")
     if selector.startswith("street."):
         selector = "object." + selector.removeprefix("street.")
     if selector.startswith("object."):
@@ -122,6 +128,13 @@ GEOMETRY_FUNCTIONS: tuple[str, ...] = (
     "dv",
 )
 """The ``geometry.*`` names :func:`geometry_value` answers."""
+
+#: Those answered with a difference from the reference (func_geometry), in a few words.
+PARTIAL_GEOMETRY: dict[str, str] = {
+    "du": "unitSpace only: uvSpace needs texture coordinates (refused when derived)",
+    "dv": "unitSpace only: uvSpace needs texture coordinates (refused when derived)",
+    "nHoles": "always 0: shapegen's faces have no holes",
+}
 
 
 def geometry_value(

@@ -338,6 +338,8 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("largest", "longest", "shortest", "lowest", "highest", "smallest", "any"),
         *("adjust", "noAdjust"),
         *("f", "e", "v", "u", "fe", "fv", "g", "h", "zUp", "noAlign"),
+        *("separatePerFace", "collectiveAllFaces"),  # normalizeUV's modes
+        *("streetSide", "noStreetSide", "streetFront"),  # deprecated selectors, still compiled
         *("inside", "border", "remainder", "shape", "all", "none", "keep", "remove"),
         *("front", "back", "left", "right", "top", "bottom", "side", "vertical", "horizontal"),
         *("aslant", "nutant", "nonaside", "street", "eave", "hip", "valley", "ridge"),
@@ -396,7 +398,7 @@ COMP_SELECTORS: tuple[str, ...] = (
     *(f"object.{name}" for name in ("front", "back", "left", "right", "top", "bottom", "side")),
     *(f"world.{name}" for name in ("up", "down", "north", "south", "east", "west", "side")),
     *(f"street.{name}" for name in ("front", "back", "left", "right", "side")),
-    *("streetSide", "streetFront", "aside", "nonaside"),
+    *("streetSide", "noStreetSide", "streetFront", "aside", "nonaside"),
 )
 CENTER_MODES: tuple[str, ...] = ("x", "y", "z", "xy", "xz", "yz", "xyz")
 #: First argument of ``r(pivot, x, y, z)`` -> pivot name in :class:`~shapegen.grammar.ast.Rotate`.

@@ -353,3 +353,15 @@ def test_with_in_an_imported_file_and_names_outside_their_definition(tmp_path):
     assert load_grammar(main).build(lot=LOT).volume == pytest.approx(12 * 8 * 6)
     with pytest.raises(GrammarError, match="undefined name 'm'"):
         parse_grammar("g(k) with (m := k) = m\n@StartRule\nLot --> extrude(m) A.", "r.cga")
+
+
+def test_the_deprecated_street_side_selectors_still_compile():
+    # cga_changelog: streetSide and noStreetSide are deprecated, not removed; without street
+    # widths the street side is the front (the lot's first edge)
+    text = "@StartRule\nLot --> setback(2) { noStreetSide : G. | remainder : C. }"
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    names = sorted(s.rule_path[-1] for s in model.surfaces)
+    assert names == ["C", "G", "G", "G"]  # back, left and right strips; the front stays in C
+    front = "@StartRule\nLot --> extrude(3) comp(f) { streetSide : F. | noStreetSide : N. }"
+    faces = parse_grammar(front, "r.cga").build(lot=LOT).surfaces
+    assert sorted(s.rule_path[-1] for s in faces) == ["F", "N", "N", "N"]
