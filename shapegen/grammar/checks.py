@@ -232,14 +232,14 @@ class _Checker(AnnotationChecks):
             )
 
     def _successor(self, successor: ast.Successor) -> None:
+        if successor.leaf:
+            return  # ``Name.`` is a leaf named Name, whatever rules or operations are called so
         if successor.name in OPERATIONS or successor.name in CGA_OPERATIONS:
             self.report(
                 successor.location,
                 f"'{successor.name}' is an operation: write {successor.name}(...)",
             )
             return
-        if successor.leaf:
-            return  # ``Name.`` invokes no rule, whatever rules of that name take
         arities = self.arities.get(successor.name)
         if arities is None and successor.called and _looks_like_call(successor.name):
             known = [*CGA_OPERATIONS, *(name for name, _ in self.rules)]

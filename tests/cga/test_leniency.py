@@ -365,3 +365,9 @@ def test_the_deprecated_street_side_selectors_still_compile():
     front = "@StartRule\nLot --> extrude(3) comp(f) { streetSide : F. | noStreetSide : N. }"
     faces = parse_grammar(front, "r.cga").build(lot=LOT).surfaces
     assert sorted(s.rule_path[-1] for s in faces) == ["F", "N", "N", "N"]
+
+
+def test_a_leaf_may_be_named_like_an_operation():
+    # Name. is a leaf whatever Name is: real files end rules with r. or t.
+    model = parse_grammar("@StartRule\nLot --> extrude(2) r.", "r.cga").build(lot=LOT)
+    assert len(model.blocks) == 1 and model.blocks[0].rule_path[-1] == "r"
