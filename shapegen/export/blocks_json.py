@@ -244,7 +244,10 @@ def _block(entry: object, k: int) -> Block:
         tags=_strings(entry.get("tags", []), f'{where}: "tags"'),
         rule_path=_strings(entry.get("rule_path", []), f'{where}: "rule_path"'),
         appearance=appearance_from_entry(entry.get("appearance"), where, _number),
+        body=entry.get("body", ""),
     )
+    if not isinstance(kwargs["body"], str):
+        raise InputFormatError(f'{where}: "body" must be a string')
     if kwargs["density"] < 0:
         raise InputFormatError(f'{where}: "density" must be >= 0')
     faces = entry.get("faces")

@@ -44,6 +44,10 @@ class Block:
     appearance
         Its look (:class:`~shapegen.model.appearance.Appearance`), or None for the default;
         carried to the export, never to the statics.
+    body
+        The rigid body it is a part of: blocks with the same non-empty ``body`` are one body
+        (the convex parts of one non-convex leaf); empty, it is its own body (glued to the
+        blocks it overlaps, :mod:`shapegen.statics.bodies`).
     """
 
     vertices: np.ndarray
@@ -56,6 +60,7 @@ class Block:
     rule_path: tuple[str, ...] = ()
     extras: dict = field(default_factory=dict)
     appearance: Appearance | None = None
+    body: str = ""
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=float).reshape(-1, 3)
@@ -224,6 +229,8 @@ class Block:
         }
         if self.rule_path:
             out["rule_path"] = list(self.rule_path)
+        if self.body:
+            out["body"] = self.body
         return out
 
     def with_vertices(self, vertices: np.ndarray) -> Block:
@@ -239,6 +246,7 @@ class Block:
             rule_path=self.rule_path,
             extras=dict(self.extras),
             appearance=self.appearance,
+            body=self.body,
         )
 
     def transformed(self, matrix: np.ndarray, offset: np.ndarray) -> Block:

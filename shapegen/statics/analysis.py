@@ -96,6 +96,9 @@ class Analysis:
         The model analysed (``analyze(model, stood=...)`` checks it is the same one).
     worst_direction
         True when a tilt without an azimuth was turned towards the worst direction found.
+    bodies
+        The :class:`~shapegen.statics.bodies.Bodies` judged (the blocks' own when each block is
+        its own body and nothing rides as load).
     """
 
     status: SolveStatus
@@ -117,6 +120,7 @@ class Analysis:
     n_blocks: int = 0
     model: object = field(default=None, repr=False)
     worst_direction: bool = False
+    bodies: object = field(default=None, repr=False)
 
     @property
     def tilt(self) -> dict | None:
@@ -151,6 +155,11 @@ class Analysis:
             "pyramid": self.problem.pyramid if self.problem is not None else None,
             "timings": {k: float(v) for k, v in self.timings.items()},
             **({"tilt": self.tilt} if self.tilt is not None else {}),
+            **(
+                {"bodies": self.bodies.to_report()}
+                if self.bodies is not None and not self.bodies.trivial
+                else {}
+            ),
         }
 
 
@@ -222,6 +231,7 @@ def analyze(
     interfaces: list[Interface] | None = None,
     check: bool = True,
     stood: Analysis | None = None,
+    bodies=None,
     **settings: object,
 ) -> Analysis:
     """Check whether ``model`` stands under self-weight and its point loads.
@@ -236,12 +246,15 @@ def analyze(
     interfaces
         Precomputed contact interfaces (unscaled); found with ``find_interfaces`` when None.
     check
-        Run ``check_model`` (interpenetration, unsupported blocks) first.
+        Run ``check_model`` (unsupported bodies, blocks below the ground) first.
     stood
         An analysis of this same model with every joint shrunk as much or more (a larger
         margin) that stands: its interfaces and checks are reused, and its forces, moved to
         these joints (:mod:`shapegen.statics.reserve`), are the certificate without a solve
         (a search that judged its design with a reserve reports it without one this way).
+    bodies
+        The model's :class:`~shapegen.statics.bodies.Bodies` for these ``interfaces`` (found
+        with :func:`~shapegen.statics.bodies.find_bodies` when None).
     settings
         Instead of ``options``, its fields by name: ``analyze(model, friction=0.5)``.
 
@@ -265,21 +278,19 @@ def analyze(
     reuse = stood is not None and stood.model is model and stood.feasible and stood.problem
     if reuse and interfaces is None:
         interfaces, check = stood.problem.cache.get("interfaces"), False
-    if interfaces is None:
-        from shapegen.statics.contacts import find_interfaces
-
-        interfaces = find_interfaces(model, tol)
-    if check:
-        from shapegen.statics.checks import check_model
-
-        check_model(model, interfaces, tol)
+        bodies = stood.bodies if bodies is None else bodies
+    interfaces, bodies = contacts_and_bodies(
+        model, options, tol, interfaces=interfaces, bodies=bodies, check=check
+    )
     timings["interfaces"] = time.perf_counter() - start
 
     start = time.perf_counter()
     problem = assemble(
-        model, interfaces, friction=friction, pyramid=pyramid, kern=float(kern), length=size
-    )
+        model, interfaces, friction=friction, pyramid=pyramid, kern=float(kern), length=size,
+        bodies=None if bodies.trivial else bodies,
+    )  # fmt: skip
     problem.cache["interfaces"] = interfaces
+    problem.cache["bodies"] = bodies
     timings["assembly"] = time.perf_counter() - start
     worst = options.tilted and options.azimuth is None
     if options.tilted:
@@ -362,6 +373,27 @@ def analyze(
     return _build_analysis(model, problem, solution, used, feasible, y_norm, timings, worst)
 
 
+def contacts_and_bodies(model, options: StaticsOptions, tol, *, interfaces=None, bodies=None,
+                        check: bool = True):  # fmt: skip
+    """The contacts of ``model`` and its bodies under the structure ``options`` select (each
+    found when not given), checked with ``check_model`` when ``check``."""
+    if interfaces is None:
+        from shapegen.statics.contacts import find_interfaces
+
+        interfaces = find_interfaces(model, tol)
+    if bodies is None:
+        from shapegen.statics.bodies import find_bodies
+
+        bodies = find_bodies(
+            model, interfaces, tol, structural=options.structural, ignore=options.ignore
+        )
+    if check:
+        from shapegen.statics.checks import check_model
+
+        check_model(model, interfaces, tol, bodies)
+    return interfaces, bodies
+
+
 def _known_solution(stood: Analysis, problem: StaticsProblem, tol) -> Solution | None:
     """``stood``'s forces moved to ``problem``'s wider joints, if they certify it."""
     from shapegen.statics.reserve import widened_forces
@@ -427,8 +459,7 @@ def _build_analysis(
         np.maximum.at(block_tension, first, safe)
         on_block = second >= 0
         np.maximum.at(block_tension, second[on_block], safe[on_block])
-        structural_free = np.zeros(nb, bool)
-        structural_free[problem.free_blocks] = True
+        structural_free = problem.free_index >= 0
         block_tension[~structural_free] = 0.0
     multipliers = None
     if solution.multipliers is not None:
@@ -462,4 +493,5 @@ def _build_analysis(
         n_blocks=nb,
         model=model,
         worst_direction=bool(worst),
+        bodies=problem.cache.get("bodies"),
     )

@@ -123,6 +123,12 @@ class StaticsProblem:
         for the loads as the model gives them.
     cache
         Scratch space for solvers that reuse sparsity patterns and orderings across solves.
+    bodies
+        The :class:`~shapegen.statics.bodies.Bodies` the rows belong to (None: one body per
+        block, as a ``.grammar`` rule's blocks are).
+    loading
+        Where each block's weight goes (its row and the point its torque is taken about), to
+        turn the loads again (:func:`load_vector`).
     """
 
     interfaces: list[Interface]
@@ -146,6 +152,8 @@ class StaticsProblem:
     tilt: float = 0.0
     azimuth: float | None = None
     cache: dict = field(default_factory=dict, repr=False)
+    bodies: object = None
+    loading: _Loading | None = field(default=None, repr=False)
 
     @property
     def n_vertices(self) -> int:
@@ -211,28 +219,47 @@ class StaticsProblem:
         return self.equality @ x + self.load
 
 
-def _load_vector(
-    model, free_index, free_blocks, masses, centroids, length, weight_scale, transform=None
-) -> np.ndarray:
-    """``(6 nf,)`` scaled wrench of the weights and point loads on the free blocks, each force
+@dataclass(frozen=True)
+class _Loading:
+    """Where each block's weight and point loads go: ``row`` (the free row group of the body
+    that carries it, -1 for none), ``loaded`` (its weight counts), ``reference`` (the centroid
+    of that body, m: torques are taken about it), with the blocks' ``masses`` (kg) and
+    ``centroids`` (m)."""
+
+    row: np.ndarray
+    loaded: np.ndarray
+    reference: np.ndarray
+    masses: np.ndarray
+    centroids: np.ndarray
+
+
+def _load_vector(model, loading: _Loading, nf, length, weight_scale, transform=None) -> np.ndarray:
+    """``(6 nf,)`` scaled wrench of the weights and point loads on the free bodies, each force
     first mapped by the ``(3, 3)`` matrix ``transform`` (None: as they are) at its own point."""
-    nf = len(free_blocks)
     load = np.zeros(6 * nf)
     gravity = np.asarray(model.gravity, float)
     if transform is not None:
         gravity = transform @ gravity
-    if nf:
-        gravity_force = masses[free_blocks, None] * gravity[None, :]
-        load.reshape(nf, 6)[:, :3] += gravity_force / weight_scale
+    loaded = np.flatnonzero(loading.loaded)
+    if nf and len(loaded):
+        rows = loading.row[loaded]
+        gravity_force = loading.masses[loaded, None] * gravity[None, :]
+        np.add.at(load.reshape(nf, 6)[:, :3], rows, gravity_force / weight_scale)
+        # a part off its body's centroid adds a torque; a body of one block has none
+        lever = loading.centroids[loaded] - loading.reference[loaded]
+        off = np.any(lever != 0.0, axis=1)
+        if off.any():
+            torque = np.cross(lever[off] / length, gravity_force[off]) / weight_scale
+            np.add.at(load.reshape(nf, 6)[:, 3:], rows[off], torque)
     for point_load in model.loads:
         k = model.index_of(point_load.block)
-        if free_index[k] < 0:
+        if loading.row[k] < 0:
             continue  # a load on a support goes straight into the ground
         force = np.asarray(point_load.force, float)
         if transform is not None:
             force = transform @ force
-        row = 6 * free_index[k]
-        lever = (point_load.point - centroids[k]) / length
+        row = 6 * loading.row[k]
+        lever = (point_load.point - loading.reference[k]) / length
         load[row : row + 3] += force / weight_scale
         load[row + 3 : row + 6] += np.cross(lever, force) / weight_scale
     return load
@@ -244,12 +271,10 @@ def load_vector(model, problem: StaticsProblem, transform: np.ndarray | None = N
     lateral map gives the horizontal load of a tilting table
     (:func:`shapegen.statics.tilt.lateral_map`). ``model`` is the model ``problem`` was
     assembled from."""
-    blocks = model.blocks
-    compute_mass_properties(blocks)
-    masses = np.array([b.mass for b in blocks]) if blocks else np.zeros(0)
-    centroids = np.array([b.centroid for b in blocks]).reshape(len(blocks), 3)
-    return _load_vector(model, problem.free_index, problem.free_blocks, masses, centroids,
-                        problem.length, problem.weight, transform)  # fmt: skip
+    loading = problem.loading
+    if loading is None:
+        loading = _block_loading(model, problem.bodies, problem.n_free)[0]
+    return _load_vector(model, loading, problem.n_free, problem.length, problem.weight, transform)
 
 
 def tilted(problem: StaticsProblem, model, tilt: float, azimuth: float) -> StaticsProblem:
@@ -324,6 +349,7 @@ def assemble(
     kern: float = 1.0,
     objective: str = "tension_squared",
     length: float | None = None,
+    bodies=None,
 ) -> StaticsProblem:
     """Assemble the dimensionless tension-penalty problem of ``model`` over ``interfaces``.
 
@@ -348,6 +374,10 @@ def assemble(
     length
         The length scale ``L``; ``model.size`` when None (a caller that has it saves a pass
         over the blocks).
+    bodies
+        The :class:`~shapegen.statics.bodies.Bodies` whose rows the equilibrium has (six per
+        free body, about its centroid; the contacts between parts of one body are dropped, the
+        ornaments' weight is added to the body that carries it); None: each block its own body.
     """
     if pyramid not in PYRAMIDS:
         raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
@@ -361,22 +391,12 @@ def assemble(
 
     blocks = model.blocks
     nb = len(blocks)
-    structural = np.array([b.structural for b in blocks], dtype=bool)
-    fixed = np.array([b.fixed for b in blocks], dtype=bool)
-    free = structural & ~fixed
-    free_blocks = np.flatnonzero(free)
-    free_index = np.full(nb + 1, -1)  # the extra last entry stands for GROUND (-1)
-    free_index[free_blocks] = np.arange(len(free_blocks))
-    support = np.append(fixed, True)  # fixed blocks and the ground
-    usable = np.append(structural | fixed, True)
-
     g = float(np.linalg.norm(model.gravity))
-    compute_mass_properties(blocks)
-    masses = np.array([b.mass for b in blocks]) if nb else np.zeros(0)
-    weight = float(g * masses[free].sum()) if nb else 0.0
+    loading, free_index, free_blocks, support, usable, body = _block_loading(model, bodies)
+    weight = float(g * loading.masses[loading.loaded].sum()) if nb else 0.0
     weight_scale = weight if weight > 0 else 1.0
     length = float(model.size if length is None else length)
-    centroids = np.array([b.centroid for b in blocks]).reshape(nb, 3)
+    centroids = loading.reference
 
     first = np.array([i.first for i in interfaces], dtype=int)
     second = np.array([i.second for i in interfaces], dtype=int)
@@ -386,6 +406,8 @@ def assemble(
         if len(interfaces)
         else np.zeros(0, bool)
     )
+    if body is not None and len(interfaces):  # contacts inside a body are not joints
+        keep &= body[first] != np.append(body, -2)[second_slot]
     kept = [interfaces[k] for k in np.flatnonzero(keep)]
     first, second_slot = first[keep], second_slot[keep]
     ni = len(kept)
@@ -440,8 +462,7 @@ def assemble(
     nf = len(free_blocks)
     equality = sp.csc_matrix((vals, (rows, cols)), shape=(6 * nf, 4 * m))
 
-    load = _load_vector(model, free_index[:nb], free_blocks, masses, centroids, length,
-                        weight_scale)  # fmt: skip
+    load = _load_vector(model, loading, len(free_blocks), length, weight_scale)
 
     quadratic, linear = _objective(m, objective)
     return StaticsProblem(
@@ -463,4 +484,76 @@ def assemble(
         pyramid=pyramid,
         kern=float(kern),
         objective=objective,
+        bodies=bodies,
+        loading=loading,
     )
+
+
+def _block_loading(model, bodies):
+    """Per block of ``model``: where its weight goes (:class:`_Loading`), its free row
+    (``free_index``, with a last entry -1 for the ground), one block of each free body
+    (``free_blocks``), whether it is a support (``support``, the ground last) or takes part in
+    the statics (``usable``), and its body (None without ``bodies``: each block its own)."""
+    blocks = model.blocks
+    nb = len(blocks)
+    structural = np.array([b.structural for b in blocks], dtype=bool)
+    fixed = np.array([b.fixed for b in blocks], dtype=bool)
+    compute_mass_properties(blocks)
+    masses = np.array([b.mass for b in blocks]) if nb else np.zeros(0)
+    centroids = np.array([b.centroid for b in blocks]).reshape(nb, 3)
+    free_index = np.full(nb + 1, -1)  # the extra last entry stands for GROUND (-1)
+    if bodies is None:
+        free = structural & ~fixed
+        free_blocks = np.flatnonzero(free)
+        free_index[free_blocks] = np.arange(len(free_blocks))
+        support = np.append(fixed, True)  # fixed blocks and the ground
+        usable = np.append(structural | fixed, True)
+        loading = _Loading(free_index[:nb].copy(), free, centroids, masses, centroids)
+        return loading, free_index, free_blocks, support, usable, None
+    body = bodies.body
+    inside = body >= 0
+    free_bodies = np.flatnonzero(~bodies.fixed)
+    body_row = np.full(bodies.count, -1)
+    body_row[free_bodies] = np.arange(len(free_bodies))
+    free_index[:nb][inside] = body_row[body[inside]]
+    first_part = np.full(bodies.count, nb)
+    np.minimum.at(first_part, body[inside], np.flatnonzero(inside))
+    free_blocks = first_part[free_bodies]
+    support = np.append(inside & bodies.fixed[np.maximum(body, 0)], True)
+    usable = np.append(inside, True)
+    # a body's centroid: the mass centroid of its parts, the common volume of two overlapping
+    # parts counted once (a body of one block keeps its own centroid)
+    parts = np.flatnonzero(inside)
+    overlaps = bodies.overlaps
+    if overlaps is not None and len(overlaps.body):
+        masses = np.concatenate([masses, overlaps.mass])
+        centroids = np.concatenate([centroids, overlaps.centroid])
+        owner = np.concatenate([body[parts], overlaps.body])
+        entries = np.concatenate([parts, nb + np.arange(len(overlaps.body))])
+    else:
+        owner, entries = body[parts], parts
+    mass = np.bincount(owner, masses[entries], minlength=bodies.count)
+    weighted = np.where(mass[owner] > 0, masses[entries], 1.0)  # massless: the volume's mean
+    total = np.bincount(owner, weighted, minlength=bodies.count)
+    moment = np.stack(
+        [np.bincount(owner, weighted * centroids[entries, k], bodies.count) for k in range(3)],
+        axis=1,
+    )
+    centre = moment / np.where(total != 0, total, 1.0)[:, None]
+    count = np.bincount(owner, minlength=bodies.count)
+    single = parts[count[body[parts]] == 1]
+    centre[body[single]] = centroids[single]
+    reference = centroids.copy()
+    reference[entries] = centre[owner]
+    row = np.full(len(masses), -1)
+    row[:nb] = free_index[:nb]
+    row[entries] = body_row[owner]
+    loaded = row >= 0
+    riders = bodies.riders
+    if len(riders):
+        host = bodies.host[riders]
+        row[riders] = body_row[host]
+        reference[riders] = centre[host]
+        loaded[riders] = row[riders] >= 0
+    loading = _Loading(row, loaded, reference, masses, centroids)
+    return loading, free_index, free_blocks, support, usable, body

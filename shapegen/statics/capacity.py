@@ -25,7 +25,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from shapegen.statics.analysis import analyze
+from shapegen.statics.analysis import analyze, contacts_and_bodies
 from shapegen.statics.assembly import assemble
 from shapegen.statics.multiplier import (
     SWEEP_DIRECTIONS,
@@ -106,6 +106,7 @@ def lateral_capacity(
     interfaces=None,
     check: bool = True,
     directions: int = SWEEP_DIRECTIONS,
+    bodies=None,
 ) -> Capacity:
     """The largest tilt at which ``model`` stands, towards each of ``azimuths`` (degrees from +x
     towards +z), or over a sweep of ``directions`` directions and the worst of them when
@@ -125,26 +126,22 @@ def lateral_capacity(
     started = time.perf_counter()
     options = dataclasses.replace(options or StaticsOptions(), tilt=0.0, azimuth=None)
     size = float(model.size)
-    if interfaces is None:
-        from shapegen.statics.contacts import find_interfaces
-
-        interfaces = find_interfaces(model, DEFAULT_TOLERANCES.for_size(size))
-    if check:
-        from shapegen.statics.checks import check_model
-
-        check_model(model, interfaces, DEFAULT_TOLERANCES.for_size(size))
+    interfaces, bodies = contacts_and_bodies(
+        model, options, DEFAULT_TOLERANCES.for_size(size), interfaces=interfaces,
+        bodies=bodies, check=check,
+    )  # fmt: skip
     problem = assemble(
         model, interfaces, friction=options.friction, pyramid=options.pyramid,
-        kern=options.kern, length=size,
+        kern=options.kern, length=size, bodies=None if bodies.trivial else bodies,
     )  # fmt: skip
     solver = "cvxpy" if options.solver == "cvxpy" else "clarabel"
 
     def stands(tilt: float, azimuth: float) -> bool:
         tilted = dataclasses.replace(options, tilt=tilt, azimuth=azimuth)
-        return analyze(model, tilted, interfaces=interfaces, check=False).feasible
+        return analyze(model, tilted, interfaces=interfaces, bodies=bodies, check=False).feasible
 
     swept = not azimuths
-    upright = analyze(model, options, interfaces=interfaces, check=False).feasible
+    upright = analyze(model, options, interfaces=interfaces, bodies=bodies, check=False).feasible
     if not upright:  # no capacity in any direction: nothing to solve
         computed = [
             DirectionCapacity(a, math.nan, "not_upright", "verdict", True)

@@ -6,7 +6,13 @@ at fault, instead of letting a broken model produce a meaningless infeasibility.
 
 from __future__ import annotations
 
-__all__ = ["check_model", "check_interpenetration", "check_ground", "check_support"]
+__all__ = [
+    "check_model",
+    "check_interpenetration",
+    "check_ground",
+    "check_support",
+    "overlapping_pairs",
+]
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -23,9 +29,15 @@ _LISTED_IDS = 5  # ids named in a message before "and N more"
 _SAT_ENTRIES_PER_CHUNK = 4_000_000  # (pair, face, vertex) heights per chunk, ~32 MB
 
 
-def check_model(model: Model, interfaces: list[Interface], tol: Tolerances | None = None) -> None:
+def check_model(
+    model: Model, interfaces: list[Interface], tol: Tolerances | None = None, bodies=None
+) -> None:
     """Raise if ``model`` cannot be analysed with ``interfaces`` (from ``find_interfaces``);
     ``tol`` defaults to ``model.tolerances()``.
+
+    With ``bodies`` (:class:`~shapegen.statics.bodies.Bodies`), blocks that overlap are parts
+    of one body (no error), a body is supported through any of its parts, and the blocks left
+    out of the statics (ornaments riding as load) need no support.
 
     Raises
     ------
@@ -45,10 +57,13 @@ def check_model(model: Model, interfaces: list[Interface], tol: Tolerances | Non
             "the model has no support: no ground plane (ground is null) and no fixed "
             "structural block"
         )
+    if bodies is not None:
+        structural = np.flatnonzero(bodies.body >= 0)
     pack = pack_blocks(model.blocks, structural)
     check_ground(model, pack, tol)
-    check_interpenetration(model, pack, tol)
-    check_support(model, interfaces)
+    if bodies is None:
+        check_interpenetration(model, pack, tol)
+    check_support(model, interfaces, bodies)
 
 
 def check_ground(model: Model, pack: PackedBlocks, tol: Tolerances) -> None:
@@ -76,10 +91,39 @@ def check_interpenetration(model: Model, pack: PackedBlocks, tol: Tolerances) ->
     ``tol.penetration_rel`` times the smaller volume is an error. Two fixed blocks may overlap
     (supports carry no equilibrium).
     """
+    fixed = np.array([model.blocks[i].fixed for i in pack.index], dtype=bool)
+    for a, b, overlap, _ in _overlaps(model, pack, tol, fixed):
+        block_a, block_b = model.blocks[pack.index[a]], model.blocks[pack.index[b]]
+        raise GeometryError(
+            f"blocks {block_a.id!r} and {block_b.id!r} interpenetrate ({overlap:.3g} m^3 overlap)"
+        )
+
+
+def overlapping_pairs(
+    model: Model, pack: PackedBlocks, tol: Tolerances
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every pair of packed blocks that overlap in volume, as :func:`check_interpenetration`
+    judges it (two fixed blocks included).
+
+    Returns
+    -------
+    pairs, volumes, centroids
+        ``(k, 2)`` pack positions (lower first), ``(k,)`` intersection volumes (m^3) and
+        ``(k, 3)`` their centroids (m).
+    """
+    found = list(_overlaps(model, pack, tol, np.zeros(len(pack.index), dtype=bool), True))
+    pairs = np.array([(a, b) for a, b, _, _ in found], dtype=np.int64).reshape(-1, 2)
+    volumes = np.array([v for _, _, v, _ in found], dtype=float)
+    return pairs, volumes, np.array([c for *_, c in found], dtype=float).reshape(-1, 3)
+
+
+def _overlaps(model: Model, pack: PackedBlocks, tol: Tolerances, fixed: np.ndarray, centroid=False):
+    """``(a, b, volume, centroid)`` for each pair of packed blocks, not both ``fixed``, whose
+    intersection volume is above ``tol.penetration_rel`` of the smaller block's, in order of
+    the pairs; the intersection's centroid (m) only with ``centroid``, else None."""
     pairs = candidate_pairs(pack.lower, pack.upper, 0.0)
     if len(pairs) == 0:
         return
-    fixed = np.array([model.blocks[i].fixed for i in pack.index], dtype=bool)
     pairs = pairs[~(fixed[pairs[:, 0]] & fixed[pairs[:, 1]])]
     # Cheap first pass: the face of each block that looks most towards the other one is the
     # separating plane of most neighbours in an assembly (the joints of an arch).
@@ -91,7 +135,7 @@ def check_interpenetration(model: Model, pack: PackedBlocks, tol: Tolerances) ->
         return
     from manifold3d import Manifold  # only needed when boxes and face planes cannot decide
 
-    for a, b in suspects:
+    for a, b in suspects.tolist():
         block_a, block_b = model.blocks[pack.index[a]], model.blocks[pack.index[b]]
         # manifold3d's precision is relative to the largest coordinate: centre the pair first.
         center = 0.5 * (
@@ -99,12 +143,22 @@ def check_interpenetration(model: Model, pack: PackedBlocks, tol: Tolerances) ->
         )
         solid_a = Manifold.hull_points(block_a.vertices - center)
         solid_b = Manifold.hull_points(block_b.vertices - center)
-        overlap = (solid_a ^ solid_b).volume()
+        common = solid_a ^ solid_b
+        overlap = common.volume()
         if overlap > tol.penetration_rel * min(block_a.volume, block_b.volume):
-            raise GeometryError(
-                f"blocks {block_a.id!r} and {block_b.id!r} interpenetrate "
-                f"({overlap:.3g} m^3 overlap)"
-            )
+            yield a, b, overlap, _centroid(common) + center if centroid else None
+
+
+def _centroid(solid) -> np.ndarray:
+    """The centroid of a manifold3d solid (divergence theorem over its triangles), m."""
+    mesh = solid.to_mesh()
+    points = np.asarray(mesh.vert_properties, float)[:, :3]
+    corners = points[np.asarray(mesh.tri_verts, dtype=np.int64)]
+    six_volume = np.einsum("ij,ij->i", corners[:, 0], np.cross(corners[:, 1], corners[:, 2]))
+    total = six_volume.sum()
+    if total == 0:
+        return points.mean(axis=0)
+    return (six_volume[:, None] * corners.sum(axis=1)).sum(axis=0) / (4.0 * total)
 
 
 def _separated_by_face(pack: PackedBlocks, a: np.ndarray, b: np.ndarray, slack: float):
@@ -171,11 +225,12 @@ def _padded_vertices(pack: PackedBlocks) -> np.ndarray:
     return pack.vertices[index]
 
 
-def check_support(model: Model, interfaces: list[Interface]) -> None:
+def check_support(model: Model, interfaces: list[Interface], bodies=None) -> None:
     """Raise :class:`StaticsError` naming free structural blocks with no path to a support.
 
     The graph has one node per block plus one for the ground; fixed blocks and the ground are
-    supports; every interface is an edge.
+    supports; every interface is an edge. With ``bodies``, the parts of a body are joined,
+    and only the blocks in the statics (``bodies.body >= 0``) count.
     """
     n = len(model.blocks)
     support = n  # the node standing for the ground plane; fixed blocks are joined to it
@@ -183,11 +238,21 @@ def check_support(model: Model, interfaces: list[Interface]) -> None:
     second = np.array([i.second for i in interfaces], dtype=np.int64)
     second = np.where(second == GROUND, support, second)
     fixed = np.flatnonzero([b.fixed and b.structural for b in model.blocks])
-    rows = np.concatenate([first, fixed])
-    cols = np.concatenate([second, np.full(len(fixed), support)])
+    free = np.array([b.structural and not b.fixed for b in model.blocks] + [False], dtype=bool)
+    rows, cols = [first, fixed], [second, np.full(len(fixed), support)]
+    if bodies is not None:
+        inside = np.append(bodies.body >= 0, True)
+        keep = inside[first] & inside[second]
+        rows[0], cols[0] = first[keep], second[keep]
+        parts = np.flatnonzero(bodies.body >= 0)
+        leader = np.full(bodies.count, n, dtype=np.int64)
+        np.minimum.at(leader, bodies.body[parts], parts)
+        rows.append(parts)
+        cols.append(leader[bodies.body[parts]])
+        free[:n] &= bodies.body >= 0
+    rows, cols = np.concatenate(rows), np.concatenate(cols)
     graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n + 1, n + 1))
     _, label = connected_components(graph, directed=False)
-    free = np.array([b.structural and not b.fixed for b in model.blocks] + [False], dtype=bool)
     stranded = np.flatnonzero(free & (label != label[support]))
     if len(stranded) == 0:
         return

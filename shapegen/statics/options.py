@@ -59,6 +59,13 @@ class StaticsOptions:
         Degrees in the ground plane from +x towards +z: the direction gravity is tilted towards
         (normalised to [0, 360)); None, with a tilt, tilts it towards the worst direction, the
         one of least lateral capacity (:func:`shapegen.statics.multiplier.worst_direction`).
+    structural
+        Labels or rule names (``"A,B"`` or a sequence): only the blocks with one of them are
+        structure, the other structural blocks are ornaments that ride as load on the body
+        they rest on (:mod:`shapegen.statics.bodies`); empty: every structural block.
+    ignore
+        Labels or rule names of ornaments: blocks that ride as load, whatever ``structural``
+        says.
 
     Raises
     ------
@@ -72,8 +79,12 @@ class StaticsOptions:
     solver: str = "auto"
     tilt: float = 0.0
     azimuth: float | None = None
+    structural: tuple[str, ...] = ()
+    ignore: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        for name in ("structural", "ignore"):
+            object.__setattr__(self, name, _labels(getattr(self, name), name))
         if self.pyramid not in PYRAMIDS:
             raise StaticsError(
                 f"pyramid must be one of {', '.join(PYRAMIDS)}; got {self.pyramid!r}"
@@ -141,14 +152,43 @@ class StaticsOptions:
         """The same options with the tilt towards ``azimuth`` (degrees; None: the worst)."""
         return dataclasses.replace(self, azimuth=azimuth)
 
+    def selecting(self, structural=None, ignore=None) -> StaticsOptions:
+        """The same options with the structure selected by ``structural`` and ``ignore`` where
+        these options select none (the command line's choice wins over the rule's)."""
+        changes = {}
+        if not self.structural and structural:
+            changes["structural"] = structural
+        if not self.ignore and ignore:
+            changes["ignore"] = ignore
+        return dataclasses.replace(self, **changes) if changes else self
+
     @property
     def tilted(self) -> bool:
         """True when the loads are turned (a tilt above 0)."""
         return self.tilt > 0
 
     def to_report(self) -> dict:
-        """Plain JSON values."""
-        return dataclasses.asdict(self)
+        """Plain JSON values (the structure selected only when one is)."""
+        report = dataclasses.asdict(self)
+        for name in ("structural", "ignore"):
+            if report[name]:
+                report[name] = list(report[name])
+            else:
+                del report[name]
+        return report
+
+
+def _labels(value: object, name: str) -> tuple[str, ...]:
+    """Labels or rule names from ``"A,B"`` or a sequence of strings, in order, once each."""
+    if value is None:
+        return ()
+    if isinstance(value, str):
+        items = value.split(",")
+    elif isinstance(value, list | tuple) and all(isinstance(v, str) for v in value):
+        items = list(value)
+    else:
+        raise StaticsError(f"{name} takes labels or rule names separated by commas; got {value!r}")
+    return tuple(dict.fromkeys(item.strip() for item in items if item.strip()))
 
 
 def _number(value: object) -> float | None:

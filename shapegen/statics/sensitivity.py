@@ -54,12 +54,23 @@ def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> floa
     lam = base.multipliers.reshape(-1, 6).copy() / weight
     lam[:, 3:] *= length
     try:
+        interfaces = find_interfaces(moved)
+        bodies = None
+        if problem.bodies is not None:  # the moved model's bodies, found as the base's were
+            from shapegen.statics.bodies import find_bodies
+
+            bodies = find_bodies(
+                moved, interfaces, structural=options.structural, ignore=options.ignore
+            )
+            if bodies.count != problem.bodies.count:
+                return None
         moved_problem = assemble(
             moved,
-            find_interfaces(moved),
+            interfaces,
             friction=options.friction,
             pyramid=options.pyramid,
             kern=options.kern,
+            bodies=bodies,
         )
         if problem.tilt:  # the same tilt, towards the same direction as the base analysis
             moved_problem = tilted(moved_problem, moved, problem.tilt, problem.azimuth)

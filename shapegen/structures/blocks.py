@@ -18,7 +18,7 @@ import time
 from collections.abc import Sequence
 
 from shapegen.statics.options import StaticsOptions
-from shapegen.structures.base import Assessment, Design, Structure
+from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
 from shapegen.structures.registry import register_structure
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 
@@ -33,6 +33,18 @@ class BlockStatics(Structure):
     options_type = StaticsOptions
     has_gradient = True
     has_capacity = True
+    arguments = {
+        "structural": StructureArgument(
+            "labels or rule names of the blocks that are structure, separated by commas (the"
+            " other blocks ride as load on the body they rest on); empty: every block",
+            "",
+        ),
+        "ignore": StructureArgument(
+            "labels or rule names of ornaments, separated by commas: they ride as load on the"
+            " body they rest on, without being judged",
+            "",
+        ),
+    }
 
     options: StaticsOptions
     _stood: tuple[float, object] | None = None  # the last design that stood with a margin
@@ -42,8 +54,14 @@ class BlockStatics(Structure):
         # azimuths (degrees) in which designs judged so far fell at the tilt of the options
         self._directions: list[float] = []
 
-    def _options(self, margin: float) -> StaticsOptions:
-        return self.options.shrunk(margin) if margin > 0 else self.options
+    def _options(self, margin: float, design: Design | None = None) -> StaticsOptions:
+        options = self.options.shrunk(margin) if margin > 0 else self.options
+        if design is None:
+            return options
+        # the structure the rule selects (@Structure's structural, ignore), unless the
+        # command line selects one
+        arguments = self.checked_arguments(design.arguments)
+        return options.selecting(arguments["structural"] or None, arguments["ignore"] or None)
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         from shapegen.statics.analysis import analyze  # scipy loads when a design is judged
@@ -51,7 +69,7 @@ class BlockStatics(Structure):
         margin = self.checked_margin(margin)
         stood = self._stood if self._stood is not None and self._stood[0] >= margin else None
         model = design.model
-        options = self._options(margin)
+        options = self._options(margin, design)
         if options.tilted and options.azimuth is None:
             analysis = self._towards_the_worst(model, options)
         else:
@@ -78,12 +96,12 @@ class BlockStatics(Structure):
         from shapegen.statics.sensitivity import infeasibility_change
 
         # the base analysis knows the direction it was tilted towards
-        return infeasibility_change(base.detail, moved.model, self._options(base.margin))
+        return infeasibility_change(base.detail, moved.model, self._options(base.margin, moved))
 
     def lateral_capacity(self, design: Design, azimuths: Sequence[float] | None = None):
         from shapegen.statics.capacity import lateral_capacity
 
-        return lateral_capacity(design.model, self.options, azimuths)
+        return lateral_capacity(design.model, self._options(0.0, design), azimuths)
 
     def _towards_the_worst(self, model, options: StaticsOptions):
         """The analysis tilted towards the worst direction of ``model``.
@@ -95,18 +113,17 @@ class BlockStatics(Structure):
         directions known so far, and a design is only called standing once its own worst
         direction has been checked: the verdict of ``analyze`` with the same tilt.
         """
-        from shapegen.statics.analysis import analyze
-        from shapegen.statics.checks import check_model
-        from shapegen.statics.contacts import find_interfaces
+        from shapegen.statics.analysis import analyze, contacts_and_bodies
 
         start = time.perf_counter()
         tol = DEFAULT_TOLERANCES.for_size(float(model.size))
-        interfaces = find_interfaces(model, tol)
-        check_model(model, interfaces, tol)
+        interfaces, bodies = contacts_and_bodies(model, options, tol)
         found = time.perf_counter() - start  # once for every direction: counted in the report
         falling = []
         for azimuth in self._directions:
-            tried = analyze(model, options.towards(azimuth), interfaces=interfaces, check=False)
+            tried = analyze(
+                model, options.towards(azimuth), interfaces=interfaces, bodies=bodies, check=False
+            )
             if not tried.feasible:
                 falling.append(tried)
         if falling:
@@ -114,7 +131,7 @@ class BlockStatics(Structure):
             worst.worst_direction = True
             worst.timings["interfaces"] += found
             return worst
-        analysis = analyze(model, options, interfaces=interfaces, check=False)
+        analysis = analyze(model, options, interfaces=interfaces, bodies=bodies, check=False)
         analysis.timings["interfaces"] += found
         azimuth = analysis.problem.azimuth if analysis.problem is not None else None
         if not analysis.feasible and azimuth is not None and azimuth not in self._directions:
