@@ -1,7 +1,10 @@
-"""Drive ``shapegen edit`` in headless Chromium: the screenshots of docs/editor.md.
+"""Drive ``shapegen edit`` in headless Chromium: the steps of the browser tests, and the
+screenshots of docs/editor.md.
 
-The browser tests (tests/editor/test_editor_browser.py) run the same steps and check them; run
-this file to refresh the pictures in docs/images/:
+The browser tests (tests/editor/test_editor_browser.py) take the pictures as they check the
+page (:func:`screenshot`): into the test's own folder, or into the folder named by
+``SHAPEGEN_SCREENSHOTS``. Run this file to refresh the pictures in docs/images/ (it runs those
+tests with ``SHAPEGEN_SCREENSHOTS=docs/images``):
 
     .venv/bin/python docs/editor_screenshots.py
 
@@ -24,6 +27,7 @@ BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stab
 # Software WebGL: a headless machine has no GPU.
 BROWSER_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
 VIEWPORT = {"width": 1280, "height": 760}
+SCREENSHOTS_VARIABLE = "SHAPEGEN_SCREENSHOTS"
 
 
 def find_browser() -> str | None:
@@ -126,46 +130,36 @@ def wait_for_stable_range(page, name: str, timeout_ms: float = 300_000) -> str:
     return page.inner_text(f'.attr[data-attr="{name}"] .status')
 
 
+def settle(page) -> None:
+    """Wait until the page shows the state's model and has drawn what it asked to draw."""
+    page.wait_for_function("window.shapegenEditor.renderedModelVersion"
+                           " === window.shapegenEditor.state.model_version")  # fmt: skip
+    page.evaluate(
+        "() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))"
+    )
+
+
+def screenshot(page, name: str, folder: Path) -> Path:
+    """A picture of the page as ``name``.png: into ``SHAPEGEN_SCREENSHOTS`` when it is set
+    (the documentation's pictures), else into ``folder``."""
+    chosen = os.environ.get(SCREENSHOTS_VARIABLE)
+    path = (Path(chosen) if chosen else Path(folder)) / f"{name}.png"
+    page.screenshot(path=str(path))
+    return path
+
+
 def main() -> None:
-    import tempfile
-
-    from playwright.sync_api import sync_playwright
-
-    executable = find_browser()
-    if executable is None:
+    if find_browser() is None:
         sys.exit("no Chromium found: apt-get install chromium")
     IMAGES.mkdir(exist_ok=True)
-    rules = Path(__file__).resolve().parent.parent / "rules"
-    with tempfile.TemporaryDirectory() as folder:
-        grammar = Path(folder) / "barrel_vault.grammar"
-        good = (rules / "barrel_vault.grammar").read_text(encoding="utf-8")
-        grammar.write_text(good, encoding="utf-8")
-        with Editor(grammar) as editor, sync_playwright() as playwright:
-            browser = launch(playwright, executable)
-            page = open_page(browser, editor.url)
-            drag_slider(page, "angle", 60)
-            wait_for_verdict(page, "stands")
-            latency = page.evaluate("window.shapegenEditor.lastLatencyMs")
-            print(f"slider change to verdict on screen: {latency / 1000:.3f} s")
-            wait_for_stable_range(page, "angle")
-            page.check("#show-ground")
-            time.sleep(1.0)
-            page.screenshot(path=str(IMAGES / "editor_barrel_vault.png"))
-            drag_slider(page, "angle", 85)
-            wait_for_verdict(page, "needs tension")
-            page.check("#colour-tension")
-            page.check("#show-joints")
-            page.uncheck("#show-ground")
-            wait_for_stable_range(page, "angle")
-            time.sleep(1.0)
-            page.screenshot(path=str(IMAGES / "editor_tension.png"))
-            grammar.write_text(good.replace("attr span = 6.0", "attr span = 6.0 *"))
-            page.wait_for_selector("#grammar-error", state="visible", timeout=10_000)
-            time.sleep(0.5)
-            page.screenshot(path=str(IMAGES / "editor_error.png"))
-            browser.close()
-    for name in ("editor_barrel_vault", "editor_tension", "editor_error"):
-        print(f"wrote {IMAGES / name}.png")
+    tests = Path(__file__).resolve().parent.parent / "tests" / "editor" / "test_editor_browser.py"
+    environment = {**os.environ, SCREENSHOTS_VARIABLE: str(IMAGES)}
+    command = [sys.executable, "-m", "pytest", "-q", "-m", "slow", str(tests)]
+    done = subprocess.run(command, env=environment)
+    if done.returncode:
+        sys.exit(done.returncode)
+    for path in sorted(IMAGES.glob("editor_*.png")):
+        print(f"{path}")
 
 
 if __name__ == "__main__":

@@ -1,10 +1,13 @@
 """The Inspector's view of a grammar's attrs, and the checks on values a client sends.
 
-Every attr is listed with its kind (number, boolean or string), its current value, its
-``@Range`` (a slider) when it has one, whether it is ``@Free`` and its ``@Description``, and
-whether it is a whole number (a count: :mod:`shapegen.editor.counts`), whose slider steps by 1.
+Every attr is listed with its kind (number, bool, string, color, file, directory, array), its
+current value and the rule's default, its ``@Range`` (a slider) when it has one, whether it is
+``@Free``, and what its other annotations ask of the Inspector (:mod:`shapegen.editor.
+annotations`: step, choices, group, order, description, hidden), and whether it is a whole
+number (a count: :mod:`shapegen.editor.counts`), whose slider steps by 1.
 A value sent to the editor is checked here before any work: an unknown name, a value of the wrong
-kind, a number that is not finite or lies outside its ``@Range``, a fraction for a count is a
+kind, a number that is not finite or lies outside its ``@Range`` (unless ``restricted=false``)
+or off its stepsize, a value not among its ``@Enum``'s, a fraction for a count is a
 :class:`RequestError` naming it.
 """
 
@@ -14,12 +17,17 @@ __all__ = ["AttrSpec", "RequestError", "attr_specs", "checked_values"]
 
 import difflib
 import math
-from collections.abc import Mapping
+import re
+import weakref
+from collections.abc import Collection, Mapping
 from dataclasses import asdict, dataclass
 
+from shapegen.editor.annotations import AttrHints, asset_choices, attr_hints, on_grid
 from shapegen.editor.counts import count_attrs, is_whole
 from shapegen.errors import ShapegenError
-from shapegen.grammar.ast import String
+
+_COLOUR = re.compile(r"#[0-9a-fA-F]{6}")
+_ASSETS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # grammar -> {attr: files}
 
 
 class RequestError(ShapegenError):
@@ -35,12 +43,14 @@ class AttrSpec:
     """One row of the Inspector.
 
     ``minimum``, ``maximum`` are the ``@Range`` bounds (None without one); ``step`` is the
-    slider's step: 1 for a ``whole`` number (a count), else about 1/500 of the range rounded
-    down to a power of ten.
+    slider's step: the ``@Range`` stepsize, 1 for a ``whole`` number (a count), else about
+    1/500 of the range rounded down to a power of ten. ``restricted`` False lets a value lie
+    outside the range (or the ``choices``); ``user`` says the value is the designer's (set on
+    the page, by ``--set`` or by a search) rather than the rule's ``default``.
     """
 
     name: str
-    kind: str  # "number", "boolean" or "string"
+    kind: str  # number, bool, string, color, file, directory or array
     value: object
     minimum: float | None
     maximum: float | None
@@ -48,25 +58,17 @@ class AttrSpec:
     free: bool
     description: str
     whole: bool = False
+    default: object = None
+    user: bool = False
+    restricted: bool = True
+    choices: list | None = None
+    group: list[str] | None = None
+    order: float | None = None
+    hidden: bool = False
+    display_name: str = ""
 
     def to_json(self) -> dict:
         return asdict(self)
-
-
-def _kind(value: object) -> str:
-    if isinstance(value, bool):
-        return "boolean"
-    if isinstance(value, int | float):
-        return "number"
-    return "string"
-
-
-def _description(node) -> str:
-    annotation = node.annotation("Description")
-    if annotation is None or not annotation.args:
-        return ""
-    first = annotation.args[0]
-    return first.value if isinstance(first, String) else ""
 
 
 def _step(low: float, high: float) -> float:
@@ -76,34 +78,99 @@ def _step(low: float, high: float) -> float:
     return 10.0 ** math.floor(math.log10(span / 500.0))
 
 
-def attr_specs(grammar, values: Mapping[str, object]) -> list[AttrSpec]:
+def _plain(value: object) -> object:
+    """A CGA array as a list of its values, anything else as it is."""
+    values = getattr(value, "values", None)
+    return list(values) if isinstance(values, tuple) else value
+
+
+def choices_of(grammar, name: str, hint: AttrHints, values: Mapping[str, object]) -> list | None:
+    """The values a drop-down offers for attr ``name``: its ``@Enum`` or ``@Range`` of strings,
+    the array its ``@Enum(valuesAttr=...)`` names (at its current value), or the asset files
+    (folders) of a ``@File`` (``@Directory``) attr; None for none."""
+    if hint.choices is not None:
+        return list(hint.choices)
+    if hint.values_attr is not None:
+        source = _plain(values.get(hint.values_attr, grammar.attrs.get(hint.values_attr)))
+        if isinstance(source, list):
+            return [float(v) if isinstance(v, int | float) and not isinstance(v, bool) else v
+                    for v in source]  # fmt: skip
+        return None
+    if hint.kind in ("file", "directory"):
+        listed = _ASSETS.setdefault(grammar, {})
+        if name not in listed:
+            listed[name] = asset_choices(
+                grammar.path, hint.extensions, directories=hint.kind == "directory"
+            )
+        return listed[name]
+    return None
+
+
+def attr_specs(
+    grammar,
+    values: Mapping[str, object],
+    user: Collection[str] = (),
+    free: Collection[str] | None = None,
+) -> list[AttrSpec]:
     """The Inspector rows of ``grammar`` in file order, with the attrs' current ``values`` (the
-    built model's final values) and the ranges evaluated for them."""
+    built model's final values) and the ranges evaluated for them; ``user`` names the attrs
+    whose values are the designer's, ``free`` the attrs the search may change (the ``@Free``
+    ones by default)."""
     ranges = grammar.parameter_ranges(dict(values))
     nodes = grammar.program.attr_nodes
     counts = count_attrs(grammar)
+    hints = attr_hints(grammar)
+    defaults = grammar.attrs
     rows = []
-    for name, default in grammar.attrs.items():
+    for name, default in defaults.items():
         value = values.get(name, default)
         spec = ranges.get(name)
+        hint = hints[name]
         whole = name in counts
         low = high = step = None
-        if spec is not None:
+        if spec is not None and hint.kind == "number":
             low, high = float(spec["min"]), float(spec["max"])
-            step = 1.0 if whole else _step(low, high)
-        node = nodes[name]
-        kind, free, description = _kind(default), node.free, _description(node)
-        rows.append(AttrSpec(name, kind, value, low, high, step, free, description, whole))
+            step = hint.step or (1.0 if whole else _step(low, high))
+        is_free = nodes[name].free if free is None else name in free
+        rows.append(
+            AttrSpec(
+                name,
+                hint.kind,
+                _plain(value),
+                low,
+                high,
+                step,
+                is_free,
+                hint.description,
+                whole,
+                default=_plain(default),
+                user=name in user,
+                restricted=hint.restricted or is_free,
+                choices=choices_of(grammar, name, hint, values),
+                group=list(hint.group),
+                order=hint.order,
+                hidden=hint.hidden,
+                display_name=hint.display_name,
+            )
+        )
     return rows
 
 
-def checked_values(grammar, current: Mapping[str, object], payload: object) -> dict[str, object]:
+def checked_values(
+    grammar,
+    current: Mapping[str, object],
+    payload: object,
+    free: Collection[str] = (),
+) -> dict[str, object]:
     """The attr values of a request body, checked: ``{"name": value, ...}``.
 
     Numbers must be finite JSON numbers within the attr's ``@Range`` (evaluated with the new
-    values, since a bound may depend on another attr), and whole for a count; booleans
-    ``true``/``false``; strings strings. Raises :class:`RequestError` naming the first problem:
-    400 for a request the page cannot mean, 422 for a fraction given to a count.
+    values, since a bound may depend on another attr; any number for ``restricted=false``
+    unless the attr is ``@Free`` or named in ``free``), on its stepsize's grid, and whole for
+    a count; booleans ``true``/``false``; strings strings, a ``@Color`` ``"#rrggbb"``, one of
+    the ``@Enum``'s values when restricted. Raises :class:`RequestError` naming the first
+    problem: 400 for a request the page cannot mean, 422 for a fraction given to a count or a
+    number off its stepsize.
     """
     if not isinstance(payload, dict):
         raise RequestError('send a JSON object of attr values, such as {"span": 7.5}')
@@ -111,13 +178,14 @@ def checked_values(grammar, current: Mapping[str, object], payload: object) -> d
         raise RequestError("no attr values given")
     defaults = grammar.attrs
     counts = count_attrs(grammar)
+    hints = attr_hints(grammar)
     values: dict[str, object] = {}
     for name, value in payload.items():
         if name not in defaults:
             close = difflib.get_close_matches(str(name), list(defaults), n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
             raise RequestError(f"the grammar has no attr {name!r}{hint}")
-        kind = _kind(defaults[name])
+        kind = hints[name].kind
         if kind == "number":
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise RequestError(f"attr {name!r} takes a number; got {_shown(value)}")
@@ -132,22 +200,54 @@ def checked_values(grammar, current: Mapping[str, object], payload: object) -> d
                     f"attr {name!r} is a count: it takes a whole number; got {number:g}", 422
                 )
             value = number
-        elif kind == "boolean" and not isinstance(value, bool):
+        elif kind == "bool" and not isinstance(value, bool):
             raise RequestError(f"attr {name!r} takes true or false; got {_shown(value)}")
-        elif kind == "string" and not isinstance(value, str):
+        elif kind == "array":
+            raise RequestError(f"attr {name!r} is an array: the editor shows it but cannot set it")
+        elif kind not in ("number", "bool") and not isinstance(value, str):
             raise RequestError(f"attr {name!r} takes a string; got {_shown(value)}")
-        values[name] = value
-    ranges = grammar.parameter_ranges({**current, **values})
-    for name, value in values.items():
-        spec = ranges.get(name)
-        if spec is None or isinstance(value, bool) or not isinstance(value, float):
-            continue
-        if not spec["min"] <= value <= spec["max"]:
+        elif kind == "color" and not _COLOUR.fullmatch(value):
             raise RequestError(
-                f"attr {name!r} = {value:g} is outside its @Range [{spec['min']:g}, "
-                f"{spec['max']:g}]"
+                f'attr {name!r} is a @Color: it takes "#rrggbb"; got {_shown(value)}'
+            )
+        values[name] = value
+    given = {**current, **values}
+    ranges = grammar.parameter_ranges(given)
+    nodes = grammar.program.attr_nodes
+    for name, value in values.items():
+        hint = hints[name]
+        restricted = hint.restricted or nodes[name].free or name in free
+        # an asset not listed may still be found by the asset search: a path is not refused
+        choices = None if hint.kind in ("file", "directory") else hint.choices
+        if hint.values_attr is not None:
+            choices = choices_of(grammar, name, hint, given)
+        if restricted and choices is not None:
+            if value not in choices:
+                listed = ", ".join(_choice(c) for c in choices[:8])
+                more = ", ..." if len(choices) > 8 else ""
+                raise RequestError(
+                    f"attr {name!r} takes one of {listed}{more}; got {_choice(value)}"
+                )
+        spec = ranges.get(name)
+        if spec is None or hint.kind != "number":
+            continue
+        low, high = spec["min"], spec["max"]
+        if restricted and not low <= value <= high:
+            raise RequestError(
+                f"attr {name!r} = {value:g} is outside its @Range [{low:g}, {high:g}]"
+            )
+        if restricted and hint.step and not on_grid(value, low, hint.step):
+            below = low + math.floor((value - low) / hint.step) * hint.step
+            raise RequestError(
+                f"attr {name!r} steps by {hint.step:g} from {low:g}: the values nearest are "
+                f"{below:g} and {below + hint.step:g}; got {value:g}",
+                422,
             )
     return values
+
+
+def _choice(value: object) -> str:
+    return f"{value:g}" if isinstance(value, float) else _shown(value)
 
 
 def _shown(value: object) -> str:

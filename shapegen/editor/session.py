@@ -21,6 +21,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from shapegen import pipeline
+from shapegen.editor.annotations import attr_hints, inspector_sections
 from shapegen.editor.attrs import RequestError, attr_specs, checked_values
 from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
@@ -375,7 +376,11 @@ class EditorSession:
         return ScanJob(
             self._text,
             self.grammar.name,
-            {k: v for k, v in values.items() if k in self.grammar.attrs},
+            {  # arrays are not sent: the scanning process derives them as the editor did
+                k: v
+                for k, v in values.items()
+                if k in self.grammar.attrs and isinstance(v, bool | int | float | str)
+            },
             free,
             {name: (values[name], bool(assessment.stands)) for name in free},
             seed=self.seed,
@@ -413,7 +418,8 @@ class EditorSession:
                 "structure": outcome.structure.name,
                 "blocks": len(outcome.model.blocks),
             },
-            "attrs": [spec.to_json() for spec in attr_specs(self.grammar, values)],
+            "attrs": [spec.to_json() for spec in attr_specs(self.grammar, values, user=self.attrs)],
+            "sections": inspector_sections(attr_hints(self.grammar)),
             "verdict": verdict,
             "cables": section if outcome.structure.name == "cable" else None,
             "timings": dict(self._timings),

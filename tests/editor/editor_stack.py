@@ -24,3 +24,75 @@ Upper --> t(offset, 0, 0) label("upper") i("box")
 """
 STACK_BOUNDARY = 0.5  # m: the largest offset that stands
 STACK_WEIGHT = 2 * 2400.0 * 9.81  # N: two unit cubes of the default stone
+
+
+# The stack of editor_stack.py with an attr of every kind the Inspector knows.
+ANNOTATED = """\
+const widest = 0.9
+
+@Free
+@Description("Shift of the upper block along x (m)")
+@Range(0, widest)
+attr offset = 0.2
+
+@Range(min=0, max=45, stepsize=15)
+attr angle = 30
+
+@Range(min=0, max=45, stepsize=15, restricted=false)
+attr loose = 30
+
+@Enum("limestone", "granite", "marble")
+attr stone = "limestone"
+
+@Range("low", "high")
+attr detail = "low"
+
+@Enum(1, 2, 4, restricted=false)
+attr lanes = 2
+
+@Enum(valuesAttr=sizes)
+attr size = 2
+
+@Hidden
+attr sizes = [1, 2, 3]
+
+@Group("Look", 2) @Color @Description("Colour of the upper block")
+attr tint = "#aa8844"
+
+@File("obj")
+attr asset = "plate.obj"
+
+@Directory
+attr textures = "tex"
+
+@Group("Structure", 1) @Order(2)
+attr mortar = false
+
+@Order(1)
+attr courses = 2
+
+@Group("Structure", "Deep")
+attr depth = 1
+
+@Group
+attr loose_end = 0
+
+@StartRule @Lot(1, 1)
+Lot --> extrude(2) split(y) { 1 : Lower | 1 : Upper }
+Lower --> label("lower") i("box")
+Upper --> t(offset, 0, 0) color(tint) label("upper") i("box")
+"""
+
+
+def annotated_project(folder):
+    """A CityEngine-like project in ``folder`` with :data:`ANNOTATED` as
+    ``rules/stack.grammar``, asset files next to it and in its ``assets`` folder; its path."""
+    project = folder / "project"
+    (project / "rules").mkdir(parents=True)
+    (project / "assets" / "doors").mkdir(parents=True)
+    for name in ("plate.obj", "doors/door.obj", "doors/door.png", ".hidden.obj"):
+        (project / "assets" / name).write_text("", encoding="utf-8")
+    (project / "rules" / "near.obj").write_text("", encoding="utf-8")
+    path = project / "rules" / "stack.grammar"
+    path.write_text(ANNOTATED, encoding="utf-8")
+    return path

@@ -19,7 +19,7 @@ def test_rows_list_every_attr_with_kind_range_free_and_description(grammar):
     assert offset.free and offset.description == "Shift of the upper block along x (m)"
     assert 0 < offset.step <= 0.9 / 500
     assert rows["stone"].kind == "string" and rows["stone"].minimum is None
-    assert rows["mortar"].kind == "boolean" and not rows["mortar"].free
+    assert rows["mortar"].kind == "bool" and not rows["mortar"].free
     assert rows["courses"].kind == "number" and rows["courses"].step is None
 
 

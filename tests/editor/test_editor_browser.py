@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 DOCS = Path(__file__).resolve().parents[2] / "docs"
+RULES = Path(__file__).resolve().parents[2] / "rules"
 sys.path.insert(0, str(DOCS))
 import editor_screenshots as page_steps  # noqa: E402
 
@@ -164,3 +165,88 @@ def test_an_idle_page_draws_nothing_and_the_shading_lines_up_with_the_slider(bro
         assert page.evaluate("window.shapegenEditor.errors") == []
         assert not page.problems, page.problems
     assert "Traceback" not in editor.stderr
+
+
+def test_the_inspector_honours_the_cga_annotations(browser, tmp_path):
+    from editor_stack import annotated_project
+
+    with page_steps.Editor(annotated_project(tmp_path)) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        # @Group sections in their order, a subgroup inside its group; @Order within a group
+        groups = page.eval_on_selector_all(
+            "#attrs details.group", "els => els.map((e) => e.dataset.group)"
+        )
+        assert groups == ["Structure", "Structure / Deep", "Look"]
+        names = page.eval_on_selector_all(".attr", "els => els.map((e) => e.dataset.attr)")
+        assert names[:8] == ["offset", "angle", "loose", "stone", "detail", "lanes", "size",
+                             "loose_end"]  # fmt: skip
+        assert names[8:] == ["courses", "mortar", "depth", "tint", "asset", "textures"]
+        assert page.locator('#attrs details[data-group="Structure / Deep"] .attr').count() == 1
+        assert "sizes" not in names  # @Hidden
+        # @Description as the tooltip; @Range's stepsize as the slider's step
+        offset = page.locator('.attr[data-attr="offset"]')
+        assert offset.get_attribute("title") == "Shift of the upper block along x (m)"
+        assert page.locator('input[type=range][name="angle"]').get_attribute("step") == "15"
+        # an @Enum is a drop-down of its values; choosing one changes the design
+        stone = page.locator('select[name="stone"]')
+        options = stone.locator("option").evaluate_all("els => els.map((e) => e.value)")
+        assert options == ["limestone", "granite", "marble"]
+        version = page.evaluate("window.shapegenEditor.state.model_version")
+        stone.select_option("granite")
+        page.wait_for_function(
+            "v => window.shapegenEditor.state.model_version > v"
+            " && window.shapegenEditor.state.attrs.find((a) => a.name === 'stone').value"
+            " === 'granite'",
+            arg=version,
+        )
+        assert page.locator('select[name="size"] option').count() == 3  # valuesAttr
+        assert page.locator('input[name="lanes"]').get_attribute("list")  # unrestricted @Enum
+        # @Color: a colour picker; its value reaches the design
+        page.locator('input[type=color][name="tint"]').fill("#336699")
+        page.wait_for_function(
+            "() => window.shapegenEditor.state.attrs.find((a) => a.name === 'tint').value"
+            " === '#336699'"
+        )
+        # @File: the project's assets; a boolean: a check box
+        files = page.locator('select[name="asset"] option').evaluate_all(
+            "els => els.map((e) => e.value)"
+        )
+        assert files == ["doors/door.obj", "near.obj", "plate.obj"]
+        assert page.locator('input[type=checkbox][name="mortar"]').count() == 1
+        # an array attr (the hidden one) does not keep the free attr's stable range from being
+        # scanned: the upper block stands up to half a block of offset
+        status = page_steps.wait_for_stable_range(page, "offset")
+        assert status.startswith("stands for 0–0.49"), status
+        page_steps.settle(page)
+        page_steps.screenshot(page, "editor_inspector", tmp_path)
+        assert page.evaluate("window.shapegenEditor.errors") == []
+        assert not page.problems, page.problems
+
+
+def test_the_barrel_vault_stands_at_60_degrees_and_needs_tension_at_85(browser, tmp_path):
+    # the pictures at the top of docs/editor.md
+    good = (RULES / "barrel_vault.grammar").read_text(encoding="utf-8")
+    grammar = tmp_path / "barrel_vault.grammar"
+    grammar.write_text(good, encoding="utf-8")
+    with page_steps.Editor(grammar) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        page_steps.drag_slider(page, "angle", 60)
+        page_steps.wait_for_verdict(page, "stands")
+        status = page_steps.wait_for_stable_range(page, "angle")
+        assert status.startswith("stands for 15–"), status
+        page.check("#show-ground")
+        page_steps.settle(page)
+        page_steps.screenshot(page, "editor_barrel_vault", tmp_path)
+        page_steps.drag_slider(page, "angle", 85)
+        page_steps.wait_for_verdict(page, "needs tension")
+        page.check("#colour-tension")
+        page.check("#show-joints")
+        page.uncheck("#show-ground")
+        page_steps.wait_for_stable_range(page, "angle")
+        page_steps.settle(page)
+        assert "largest joint tension" in page.inner_text("#legend")
+        page_steps.screenshot(page, "editor_tension", tmp_path)
+        grammar.write_text(good.replace("attr span = 6.0", "attr span = 6.0 *"))
+        page.wait_for_selector("#grammar-error", state="visible", timeout=10_000)
+        page_steps.screenshot(page, "editor_error", tmp_path)
+        assert not page.problems, page.problems

@@ -365,7 +365,7 @@ function setBusy(busy) {
   $('optimize').disabled = busy;
   $('closest').disabled = busy;
   $('stop').disabled = !busy;
-  for (const input of document.querySelectorAll('#attrs input')) input.disabled = busy;
+  for (const input of document.querySelectorAll('#attrs input, #attrs select')) input.disabled = busy;
 }
 
 $('optimize').addEventListener('click', () => search('energy'));
@@ -437,28 +437,66 @@ function showProgress(o) {
   $('progress').textContent = running ? `${what}: ${figures}…` : `${what}: ${o.message || ''} (${figures})`;
 }
 
+// The Inspector: one row per attr, in the sections of its @Group and @Order annotations
+// (state.sections); hidden attrs are not shown. A row's control follows the attr's kind:
+// a slider for a number with a @Range, a drop-down for an @Enum (or a @Range of strings, or the
+// asset files of a @File), a colour picker for a @Color, a check box for a boolean.
 const rows = new Map();
 
 function inspector(state) {
-  const names = state.attrs.map((a) => `${a.name}:${a.kind}:${a.minimum}:${a.maximum}:${a.step}`).join('|');
-  if ($('attrs').dataset.names !== names) {
-    $('attrs').dataset.names = names;
+  const layout = JSON.stringify([
+    state.sections,
+    state.attrs.map((a) => [a.name, a.kind, a.minimum, a.maximum, a.step, a.choices, a.restricted, a.free, a.description, a.display_name]),
+  ]);
+  if ($('attrs').dataset.layout !== layout) {
+    $('attrs').dataset.layout = layout;
     $('attrs').innerHTML = '';
     rows.clear();
-    for (const attr of state.attrs) rows.set(attr.name, makeRow(attr));
+    const byName = new Map(state.attrs.map((a) => [a.name, a]));
+    const sections = new Map([['', $('attrs')]]);
+    for (const section of state.sections) {
+      const parent = sectionFor(sections, section.group);
+      for (const name of section.attrs) rows.set(name, makeRow(byName.get(name), parent));
+    }
   }
-  for (const attr of state.attrs) updateRow(rows.get(attr.name), attr, state.stability[attr.name]);
+  for (const attr of state.attrs) {
+    const row = rows.get(attr.name);
+    if (row) updateRow(row, attr, state.stability[attr.name]);
+  }
 }
 
-function makeRow(attr) {
+// The element that holds a group's rows: a collapsible section in its parent group's.
+function sectionFor(sections, group) {
+  const key = group.join('\u0000');
+  if (sections.has(key)) return sections.get(key);
+  const parent = sectionFor(sections, group.slice(0, -1));
+  const details = document.createElement('details');
+  details.className = 'group';
+  details.open = true;
+  details.dataset.group = group.join(' / ');
+  const summary = document.createElement('summary');
+  summary.textContent = group[group.length - 1];
+  details.appendChild(summary);
+  parent.appendChild(details);
+  sections.set(key, details);
+  return details;
+}
+
+function shown(attr, value) {
+  return attr.kind === 'number' ? number(value) : String(value);
+}
+
+function makeRow(attr, parent) {
   const row = document.createElement('div');
   row.className = 'attr';
   row.dataset.attr = attr.name;
+  row.dataset.kind = attr.kind;
   row.title = attr.description || '';
   row.innerHTML = `<div class="head"><span class="name"></span>${attr.free ? '<span class="free" title="@Free: the search may change it">free</span>' : ''}<span class="value"></span></div>`;
-  row.querySelector('.name').textContent = attr.name;
+  row.querySelector('.name').textContent = attr.display_name || attr.name;
+  if (attr.display_name) row.querySelector('.name').title = attr.name;
   let input;
-  if (attr.kind === 'number' && attr.minimum !== null) {
+  if (attr.kind === 'number' && attr.minimum !== null && !attr.choices) {
     const track = document.createElement('div');
     track.className = 'track';
     track.innerHTML = '<div class="lane" style="position:absolute;left:8px;right:8px;top:0;bottom:0"><div class="band"></div></div>';
@@ -475,15 +513,33 @@ function makeRow(attr) {
     const status = document.createElement('div');
     status.className = 'status';
     row.appendChild(status);
-  } else if (attr.kind === 'boolean') {
+  } else if (attr.kind === 'bool') {
     input = document.createElement('input');
     input.type = 'checkbox';
     input.addEventListener('change', () => change(attr.name, input.checked));
     row.querySelector('.head').appendChild(input);
+  } else if (attr.kind === 'color') {
+    input = document.createElement('input');
+    input.type = 'color';
+    input.addEventListener('change', () => change(attr.name, input.value));
+    row.querySelector('.head').appendChild(input);
+  } else if (attr.choices && (attr.restricted || attr.kind === 'file' || attr.kind === 'directory')) {
+    input = document.createElement('select');
+    fillChoices(input, attr, attr.value);
+    input.addEventListener('change', () => change(attr.name, attr.kind === 'number' ? Number(input.value) : input.value));
+    row.appendChild(input);
   } else {
     input = document.createElement('input');
     input.type = attr.kind === 'number' ? 'number' : 'text';
+    if (attr.kind === 'array') input.readOnly = true;
     if (attr.kind === 'number') input.step = attr.whole ? '1' : 'any';
+    if (attr.choices) { // an unrestricted @Enum: its values are offered, others typed
+      const list = document.createElement('datalist');
+      list.id = `choices-${attr.name}`;
+      for (const c of attr.choices) list.appendChild(new Option(shown(attr, c), String(c)));
+      row.appendChild(list);
+      input.setAttribute('list', list.id);
+    }
     input.addEventListener('change', () => {
       const value = attr.kind === 'number' ? Number(input.value) : input.value;
       if (attr.kind === 'number' && (input.value.trim() === '' || !Number.isFinite(value))) {
@@ -500,15 +556,30 @@ function makeRow(attr) {
   }
   input.name = attr.name;
   row.input = input;
-  $('attrs').appendChild(row);
+  parent.appendChild(row);
   return row;
+}
+
+// A drop-down's options: the attr's choices, and its current value if it is none of them (a
+// file named in the rule but not found in the project).
+function fillChoices(select, attr, value) {
+  select.innerHTML = '';
+  const values = attr.choices.map(String);
+  if (!values.includes(String(value))) select.appendChild(new Option(shown(attr, value), String(value)));
+  for (const c of attr.choices) select.appendChild(new Option(shown(attr, c), String(c)));
+  select.dataset.current = String(value);
 }
 
 function updateRow(row, attr, stability) {
   const input = row.input;
-  const busy = app.dragging === attr.name || (app.pending && attr.name in app.pending) || document.activeElement === input && input.type !== 'range';
+  const busy = app.dragging === attr.name || (app.pending && attr.name in app.pending) || (document.activeElement === input && input.type !== 'range');
   if (!busy) {
     if (input.type === 'checkbox') input.checked = Boolean(attr.value);
+    else if (input.type === 'color') input.value = String(attr.value).toLowerCase();
+    else if (input.tagName === 'SELECT') {
+      if (!attr.choices.map(String).includes(String(attr.value)) || input.dataset.current !== String(attr.value)) fillChoices(input, attr, attr.value);
+      input.value = String(attr.value);
+    } else if (attr.kind === 'array') input.value = JSON.stringify(attr.value);
     else input.value = attr.value;
     row.querySelector('.value').textContent = attr.kind === 'number' ? number(attr.value) : '';
   }

@@ -1,0 +1,120 @@
+"""The CityEngine annotations the Inspector honours (cga_annotations): what the state says of
+each attr, the sections and their order, and the values the API takes or refuses for them."""
+
+import json
+
+import pytest
+from editor_http import request, serving
+from editor_stack import annotated_project
+
+from shapegen import pipeline
+from shapegen.editor.annotations import asset_choices, attr_hints, inspector_sections
+from shapegen.editor.attrs import RequestError, checked_values
+
+
+@pytest.fixture
+def annotated(tmp_path):
+    return annotated_project(tmp_path)
+
+
+def rows(state) -> dict:
+    return {a["name"]: a for a in state["attrs"]}
+
+
+def test_the_state_says_how_each_attr_is_shown(annotated):
+    with serving(annotated) as server:
+        state = json.loads(request(server, "GET", "/api/state")[2])
+    attrs = rows(state)
+    offset = attrs["offset"]
+    assert (offset["kind"], offset["minimum"], offset["maximum"]) == ("number", 0, 0.9)
+    assert offset["free"] and offset["restricted"]
+    assert offset["description"] == "Shift of the upper block along x (m)"
+    assert (attrs["angle"]["step"], attrs["angle"]["restricted"]) == (15, True)
+    assert (attrs["loose"]["step"], attrs["loose"]["restricted"]) == (15, False)
+    assert attrs["stone"]["choices"] == ["limestone", "granite", "marble"]
+    assert attrs["stone"]["kind"] == "string" and attrs["stone"]["restricted"]
+    assert attrs["detail"]["choices"] == ["low", "high"]  # CityEngine's older string @Range
+    assert attrs["lanes"]["choices"] == [1, 2, 4] and not attrs["lanes"]["restricted"]
+    assert attrs["size"]["choices"] == [1, 2, 3]  # read from the hidden array attr
+    assert attrs["sizes"]["hidden"] and attrs["sizes"]["kind"] == "array"
+    assert attrs["tint"]["kind"] == "color" and attrs["tint"]["group"] == ["Look"]
+    assert attrs["tint"]["description"] == "Colour of the upper block"
+    assert attrs["asset"]["kind"] == "file"
+    assert attrs["asset"]["choices"] == ["doors/door.obj", "near.obj", "plate.obj"]
+    assert attrs["textures"]["kind"] == "directory" and attrs["textures"]["choices"] == ["doors"]
+    assert attrs["mortar"]["kind"] == "bool" and attrs["mortar"]["order"] == 2
+    # a @Group holds for the attrs after it, until the next one; a bare @Group leaves it
+    assert attrs["asset"]["group"] == ["Look"] and attrs["courses"]["group"] == ["Structure"]
+    assert attrs["depth"]["group"] == ["Structure", "Deep"]
+    assert attrs["loose_end"]["group"] == []
+    assert attrs["offset"]["group"] == [] and attrs["offset"]["order"] is None
+
+
+def test_sections_follow_group_and_order_and_leave_hidden_attrs_out(annotated):
+    hints = attr_hints(pipeline.load(str(annotated)))
+    sections = inspector_sections(hints)
+    assert sections == [
+        {
+            "group": [],
+            "attrs": ["offset", "angle", "loose", "stone", "detail", "lanes", "size", "loose_end"],
+        },
+        {"group": ["Structure"], "attrs": ["courses", "mortar"]},  # @Order(1), @Order(2)
+        {"group": ["Structure", "Deep"], "attrs": ["depth"]},
+        {"group": ["Look"], "attrs": ["tint", "asset", "textures"]},  # group order 2 after 1
+    ]
+
+
+def test_asset_choices_list_files_next_to_the_rule_and_in_the_projects_assets(annotated):
+    assert asset_choices(annotated, ["OBJ"]) == ["doors/door.obj", "near.obj", "plate.obj"]
+    assert asset_choices(annotated) == ["doors/door.obj", "doors/door.png", "near.obj",
+                                        "plate.obj"]  # fmt: skip
+    assert asset_choices(annotated, directories=True) == ["doors"]
+    assert asset_choices(None) == []
+
+
+@pytest.mark.parametrize(
+    ("payload", "status", "message"),
+    [
+        ({"angle": 20}, 422, "attr 'angle' steps by 15 from 0: the values nearest are 15 and 30"),
+        ({"angle": 60}, 400, "attr 'angle' = 60 is outside its @Range [0, 45]"),
+        ({"stone": "slate"}, 400, "attr 'stone' takes one of 'limestone', 'granite', 'marble'"),
+        ({"detail": "mid"}, 400, "attr 'detail' takes one of 'low', 'high'; got 'mid'"),
+        ({"size": 5}, 400, "attr 'size' takes one of 1, 2, 3; got 5"),
+        ({"tint": "red"}, 400, "attr 'tint' is a @Color: it takes \"#rrggbb\"; got 'red'"),
+        ({"tint": "#12345"}, 400, "is a @Color"),
+        ({"sizes": [1, 2]}, 400, "attr 'sizes' is an array: the editor shows it but cannot set"),
+        ({"mortar": "yes"}, 400, "attr 'mortar' takes true or false"),
+        ({"offset": 1.5}, 400, "outside its @Range [0, 0.9]"),  # @Free: always restricted
+    ],
+)
+def test_values_the_annotations_refuse(annotated, payload, status, message):
+    grammar = pipeline.load(str(annotated))
+    with pytest.raises(RequestError) as caught:
+        checked_values(grammar, {}, payload)
+    assert caught.value.status == status
+    assert message in str(caught.value)
+
+
+def test_values_the_annotations_take(annotated):
+    grammar = pipeline.load(str(annotated))
+    taken = {
+        "angle": 45,  # on the stepsize's grid
+        "loose": 52.5,  # restricted=false: outside the range and off the grid
+        "lanes": 3,  # an unrestricted @Enum takes other values
+        "stone": "marble",
+        "tint": "#FFEE00",
+        "asset": "elsewhere/other.obj",  # a path not listed may still be found by the rules
+        "mortar": True,
+    }
+    assert checked_values(grammar, {}, taken) == {**taken, "angle": 45.0, "lanes": 3.0}
+
+
+def test_the_page_sets_annotated_attrs_through_the_api(annotated):
+    with serving(annotated) as server:
+        status, _, content = request(server, "POST", "/api/attrs", {"tint": "#336699"})
+        assert status == 200
+        assert rows(json.loads(content))["tint"]["value"] == "#336699"
+        status, _, content = request(server, "POST", "/api/attrs", {"loose": 60})
+        assert status == 200 and rows(json.loads(content))["loose"]["value"] == 60
+        status, _, content = request(server, "POST", "/api/attrs", {"angle": 10})
+        assert status == 422 and "steps by 15" in json.loads(content)["error"]
