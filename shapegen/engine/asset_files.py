@@ -12,6 +12,8 @@ from __future__ import annotations
 
 __all__ = ["find_asset", "load_asset"]
 
+import functools
+import os
 from collections import OrderedDict
 from pathlib import Path
 
@@ -25,15 +27,23 @@ _CACHE_SIZE = 64
 _cache: OrderedDict[tuple, Mesh] = OrderedDict()
 
 
-def _search_roots(rule_file: str | None) -> list[Path]:
+def _search_roots(rule_file: str | None) -> tuple[Path, ...]:
     if not rule_file or rule_file.startswith("<"):
-        return [Path.cwd()]
-    folder = Path(rule_file).resolve().parent
+        return (Path.cwd(),)
+    return _project_roots(rule_file, os.getcwd())
+
+
+@functools.lru_cache(maxsize=64)
+def _project_roots(rule_file: str, working_folder: str) -> tuple[Path, ...]:
+    """The folders searched for a rule file's assets, worked out once per rule file (an
+    ``i()`` in a repeat asks for them at every shape: resolving the path and looking for
+    ``rules`` and ``assets`` folders up to the root took 0.1 ms each time)."""
+    folder = Path(working_folder, rule_file).resolve().parent
     roots = [folder]
     for parent in [folder, *folder.parents]:
         if (parent / "rules").is_dir() or (parent / "assets").is_dir():
             roots += [parent, parent / "assets"]
-    return list(dict.fromkeys(roots))
+    return tuple(dict.fromkeys(roots))
 
 
 def find_asset(name: str, rule_file: str | None) -> Path | None:

@@ -197,8 +197,10 @@ def _caps(faces: list[tuple[int, ...]], count: int) -> list[tuple[int, ...]]:
     successor = np.arange(1, len(corners) + 1)
     successor[start[1:] - 1] = start[:-1]
     edges = corners * count + corners[successor]
-    reverse = corners[successor] * count + corners
-    boundary = ~np.isin(edges, reverse)
+    reverse = np.sort(corners[successor] * count + corners)
+    found = np.searchsorted(reverse, edges)
+    found[found == len(reverse)] = 0
+    boundary = reverse[found] != edges  # no face runs this edge the other way
     following: dict[int, int] = dict(
         zip(corners[successor][boundary].tolist(), corners[boundary].tolist(), strict=True)
     )  # the cap runs each boundary edge the other way

@@ -17,6 +17,7 @@ __all__ = [
     "rotation_keeping_x",
 ]
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -30,44 +31,53 @@ def _unit(vector: np.ndarray) -> np.ndarray | None:
     return None if length <= 1e-15 else vector / length
 
 
+def _unit3(x: float, y: float, z: float) -> tuple[float, float, float] | None:
+    """A 3-vector of Python floats divided by its length, or None when it is shorter than
+    1e-15 (frames are built one polygon at a time: numpy's per-call cost would dominate)."""
+    length = math.sqrt(x * x + y * y + z * z)
+    return None if length <= 1e-15 else (x / length, y / length, z / length)
+
+
+def _cross3(a, b) -> tuple[float, float, float]:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
 def face_rotation(points: np.ndarray, normal: np.ndarray | None = None) -> np.ndarray:
     """The frame of a planar polygon (columns x, y, z): x along its first edge of non-zero
     length, z its normal (Newell's unless given), y = z x x. A degenerate polygon gets a frame
     with z along ``normal`` or +y."""
     p = np.asarray(points, float)
-    z = _unit(polygon_normal(p)) if normal is None else _unit(np.asarray(normal, float))
-    if z is None:
-        z = np.array([0.0, 1.0, 0.0])
+    n = polygon_normal(p) if normal is None else np.asarray(normal, float)
+    z = _unit3(*n.tolist()) or (0.0, 1.0, 0.0)
+    corners = p.tolist()
     x = None
-    for k in range(len(p)):
-        edge = p[(k + 1) % len(p)] - p[k]
-        x = _unit(edge - z * float(edge @ z))
-        if x is not None:
+    for k, (a, b) in enumerate(zip(corners, corners[1:] + corners[:1], strict=True)):
+        edge = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
+        along = edge[0] * z[0] + edge[1] * z[1] + edge[2] * z[2]
+        x = _unit3(edge[0] - z[0] * along, edge[1] - z[1] * along, edge[2] - z[2] * along)
+        if x is not None or k == len(corners) - 1:
             break
     if x is None:
-        x = _unit(np.cross([0.0, 1.0, 0.0], z))
-        if x is None:
-            x = np.array([1.0, 0.0, 0.0])
-    y = np.cross(z, x)
-    return np.column_stack([x, y, z])
+        x = _unit3(*_cross3((0.0, 1.0, 0.0), z)) or (1.0, 0.0, 0.0)
+    y = _cross3(z, x)
+    return np.array([x, y, z]).T.copy()
 
 
 def rotation_keeping_x(old_x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """A frame with y along ``y`` and x as close to ``old_x`` as possible (``old_x`` projected to
     the plane normal to y), z = x x y (CityEngine's scope after ``extrude``)."""
-    y = _unit(np.asarray(y, float))
+    y = _unit3(*np.asarray(y, float).tolist())
     if y is None:
         raise ValueError("a frame needs a direction of non-zero length")
-    x = _unit(old_x - y * float(old_x @ y))
-    if x is None:
-        # old x along the new y: take any perpendicular, preferring world x then z
-        for guess in ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)):
-            g = np.asarray(guess)
-            x = _unit(g - y * float(g @ y))
-            if x is not None:
-                break
-    z = np.cross(x, y)
-    return np.column_stack([x, y, z])
+    x = None
+    # old x along the new y: take any perpendicular, preferring world x then z
+    for guess in (np.asarray(old_x, float).tolist(), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)):
+        along = guess[0] * y[0] + guess[1] * y[1] + guess[2] * y[2]
+        x = _unit3(guess[0] - y[0] * along, guess[1] - y[1] * along, guess[2] - y[2] * along)
+        if x is not None:
+            break
+    z = _cross3(x, y)
+    return np.array([x, y, z]).T.copy()
 
 
 def fitted_scope(world_points: np.ndarray, rotation: np.ndarray) -> tuple[Scope, np.ndarray]:

@@ -38,18 +38,22 @@ _UNIT_BOX = np.array(
     [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
     dtype=float,
 )
-BOX_FACES = (
-    (2, 3, 0, 1),  # bottom (-y): PyPRT starts it on the lot's second vertex
-    (7, 6, 5, 4),  # top (+y)
-    (3, 2, 6, 7),  # front (+z)
-    (2, 1, 5, 6),  # right (+x)
-    (1, 0, 4, 5),  # back (-z)
-    (0, 3, 7, 4),  # left (-x)
+BOX_FACES = CheckedFaces(
+    (
+        (2, 3, 0, 1),  # bottom (-y): PyPRT starts it on the lot's second vertex
+        (7, 6, 5, 4),  # top (+y)
+        (3, 2, 6, 7),  # front (+z)
+        (2, 1, 5, 6),  # right (+x)
+        (1, 0, 4, 5),  # back (-z)
+        (0, 3, 7, 4),  # left (-x)
+    )
 )
 """Faces of :meth:`Mesh.box`, outward, in CityEngine's comp(f) order; each starts on its first
 edge (the bottom edge of a side, left to right seen from outside)."""
 
 _REL = 1e-9  # relative tolerance of the shape queries (times the mesh's size)
+_FEW_CORNERS = 8  # polygons with no more corners are summed in Python floats
+_FEW_FACES = 16  # meshes with no more faces are checked face by face
 _BAND_NUMBERS = 1 << 21  # numbers held at once by heights_above_faces (16 MiB)
 
 
@@ -57,6 +61,8 @@ def polygon_normal(points: np.ndarray) -> np.ndarray:
     """Newell's (area-weighted) normal of a polygon, not normalised: its length is twice the
     area (m^2)."""
     p = np.asarray(points, float)
+    if len(p) <= _FEW_CORNERS:
+        return _small_polygon_normal(p.tolist())
     p = p - p.mean(axis=0)
     q = np.empty_like(p)  # the next corner of each (np.cross and np.roll cost more than this)
     q[:-1] = p[1:]
@@ -66,6 +72,24 @@ def polygon_normal(points: np.ndarray) -> np.ndarray:
     return np.array(
         [float((y * w - z * v).sum()), float((z * u - x * w).sum()), float((x * v - y * u).sum())]
     )
+
+
+def _small_polygon_normal(points: list[list[float]]) -> np.ndarray:
+    """:func:`polygon_normal` of a few corners, in Python floats (numpy's calls cost more than
+    the arithmetic there)."""
+    count = len(points)
+    if count == 0:
+        return np.zeros(3)
+    cx = sum(p[0] for p in points) / count
+    cy = sum(p[1] for p in points) / count
+    cz = sum(p[2] for p in points) / count
+    centred = [(x - cx, y - cy, z - cz) for x, y, z in points]
+    nx = ny = nz = 0.0
+    for (x, y, z), (u, v, w) in zip(centred, centred[1:] + centred[:1], strict=True):
+        nx += y * w - z * v
+        ny += z * u - x * w
+        nz += x * v - y * u
+    return np.array([nx, ny, nz])
 
 
 def unit_face_normals(vertices: np.ndarray, faces) -> list[np.ndarray]:
@@ -121,7 +145,11 @@ class Mesh:
         v.setflags(write=False)
         self.vertices = v
         self.faces = checked_faces(faces)
-        if not self.faces:
+        if len(self.faces) <= _FEW_FACES:  # a face or a box: plain Python is quicker than arrays
+            count = len(v)
+            for face in self.faces:
+                if len(face) < 2 or min(face) < 0 or max(face) >= count:
+                    raise ValueError(f"a mesh face {face} does not index its {count} vertices")
             return
         corners, start = face_layout(self.faces)
         short = np.flatnonzero((start[1:] - start[:-1]) < 2)
@@ -151,13 +179,15 @@ class Mesh:
     @classmethod
     def box(cls, size: Sequence[float]) -> Mesh:
         """The box ``[0, sx] x [0, sy] x [0, sz]`` (m), faces in :data:`BOX_FACES` order."""
-        return cls(_UNIT_BOX * np.asarray(size, float), BOX_FACES)
+        return cls._checked(_UNIT_BOX * np.asarray(size, float), BOX_FACES)
 
     @classmethod
     def polygon(cls, points) -> Mesh:
         """One polygon face through ``points`` ``(n, 3)`` in order."""
         points = np.asarray(points, float).reshape(-1, 3)
-        return cls(points, (tuple(range(len(points))),))
+        if len(points) < 2:
+            return cls(points, (tuple(range(len(points))),))  # refused with the usual message
+        return cls._checked(points, (tuple(range(len(points))),))
 
     @classmethod
     def rectangle(cls, size: Sequence[float], normal_axis: int) -> Mesh:
@@ -217,6 +247,8 @@ class Mesh:
 
     def face_areas(self) -> np.ndarray:
         """Each face's area, ``(F,)`` m^2."""
+        if len(self.faces) <= 2:  # a face: numpy's calls would cost more than the sums
+            return np.array([polygon_area(self.face_points(k)) for k in range(len(self.faces))])
         return 0.5 * np.linalg.norm(area_vectors(self.vertices, *self._corners), axis=1)
 
     def face_normals(self) -> np.ndarray:

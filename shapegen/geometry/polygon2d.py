@@ -369,8 +369,13 @@ def inner_rectangle(polygon, alignment: str = "scope", samples: int = 48):
     best = (0.0, None)
     for axes in candidates:
         turned = p @ axes.T
-        if _convex(turned):  # a coarse grid to start from, then the exact optimum
-            lo, hi = turned.min(axis=0), turned.max(axis=0)
+        lo, hi = turned.min(axis=0), turned.max(axis=0)
+        box_area = float(np.prod(hi - lo))
+        if _convex(turned) and abs(signed_area(turned)) >= box_area * (1 - 1e-12):
+            # the polygon fills its bounding box: it is the rectangle (a rectangular lot)
+            area = box_area
+            corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
+        elif _convex(turned):  # a coarse grid to start from, then the exact optimum
             lines = [np.linspace(lo[k], hi[k], 16) for k in (0, 1)]
             area, corners = _grid_rectangle(turned, *lines)
             if corners is not None:
