@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.geometry.cut import clip_plane
-from shapegen.geometry.mesh import Mesh, corner_layout, unit_face_normals
+from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout, unit_face_normals
 from shapegen.model.polygons import cross
 
 HORIZONTAL_LIMIT_DEGREES = 40.0
@@ -51,8 +51,12 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
     faces = [tuple(face) for face in faces]
     if not faces:
         return []
-    normals = np.array(unit_face_normals(vertices, faces))
     corners, start = corner_layout(faces)
+    normals = area_vectors(vertices, corners, start)
+    lengths = np.linalg.norm(normals, axis=1)
+    normals = np.divide(
+        normals, lengths[:, None], out=np.zeros_like(normals), where=lengths[:, None] > 0
+    )
     successor = np.arange(1, len(corners) + 1)
     successor[start[1:] - 1] = start[:-1]
     owner = np.repeat(np.arange(len(faces)), start[1:] - start[:-1])
@@ -62,7 +66,7 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
     order = np.lexsort((owner, key))  # by edge, then by face: the faces of an edge in order
     keys, first, count = np.unique(key[order], return_index=True, return_counts=True)
     if (count > 2).any():  # an edge of three faces or more: the general rule, face by face
-        return _face_trim_planes_by_face(vertices, faces, list(normals), ups)
+        return _face_trim_planes_by_face(vertices, faces, unit_face_normals(vertices, faces), ups)
     group = np.searchsorted(keys, key)
     lead, last = owner[order[first[group]]], owner[order[first[group] + count[group] - 1]]
     other = np.where(lead == owner, last, lead)  # the first face of the edge that is not this one
@@ -129,13 +133,42 @@ def _bisector(start, end, own: np.ndarray, other: np.ndarray, up) -> TrimPlane |
 
 def trimmed(mesh: Mesh, origin, rotation, planes) -> Mesh | None:
     """``mesh`` (coordinates of the frame ``origin``, ``rotation``) cut to every plane in
-    ``planes``; None when nothing is left, ``mesh`` itself when no plane cuts it."""
+    ``planes``; None when nothing is left, ``mesh`` itself when no plane cuts it.
+
+    The outcome is kept for the same mesh and the same planes in the mesh's frame (a bounded
+    cache): a rebuild (a search, the design page) inserts the same assets at the same places
+    and would cut them again, plane by plane."""
     origin = np.asarray(origin, dtype=float)
     rotation = np.asarray(rotation, dtype=float)
+    local = []
     for plane in planes:
         normal = np.asarray(plane.normal)
-        local_normal = rotation.T @ normal
-        local_offset = plane.offset - float(normal @ origin)
+        local.append((rotation.T @ normal, plane.offset - float(normal @ origin)))
+    key = (
+        mesh.vertices.tobytes(),
+        id(mesh.faces),
+        tuple((*n.tolist(), offset) for n, offset in local),
+    )
+    kept = _TRIMMED.get(key)
+    if kept is not None and kept[0] is mesh.faces:  # the same faces object, not a reused id
+        return mesh if kept[1] is _UNCUT else kept[1]
+    cut = _trimmed(mesh, local)
+    while _TRIMMED and (len(_TRIMMED) >= _TRIMMED_LIMIT or _held[0] > _TRIMMED_BYTES):
+        oldest = next(iter(_TRIMMED))  # the oldest entry goes first
+        _held[0] -= _entry_bytes(oldest, _TRIMMED.pop(oldest)[1])
+    entry = (mesh.faces, _UNCUT if cut is mesh else cut)
+    _TRIMMED[key] = entry
+    _held[0] += _entry_bytes(key, entry[1])
+    return cut
+
+
+def _entry_bytes(key, cut) -> int:
+    """About what an entry of the cut cache holds: the key's vertices and the cut's."""
+    return len(key[0]) + (cut.vertices.nbytes * 3 if isinstance(cut, Mesh) else 0)
+
+
+def _trimmed(mesh: Mesh, local) -> Mesh | None:
+    for local_normal, local_offset in local:
         heights = mesh.vertices @ local_normal - local_offset
         if heights.min() >= -_TINY * max(mesh.size(), 1.0):
             continue
@@ -144,3 +177,10 @@ def trimmed(mesh: Mesh, origin, rotation, planes) -> Mesh | None:
             return None
         mesh = piece
     return mesh
+
+
+_TRIMMED: dict = {}
+_TRIMMED_LIMIT = 256  # cuts kept by trimmed()
+_TRIMMED_BYTES = 64 << 20  # and about this much memory at most
+_held = [0]  # bytes held by _TRIMMED now
+_UNCUT = object()

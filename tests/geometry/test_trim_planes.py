@@ -6,7 +6,12 @@ import pytest
 from shapegen.geometry.extrude import prism
 from shapegen.geometry.frames import lot_polygon
 from shapegen.geometry.mesh import Mesh, unit_face_normals
-from shapegen.geometry.trim import _face_trim_planes_by_face, face_trim_planes
+from shapegen.geometry.trim import (
+    TrimPlane,
+    _face_trim_planes_by_face,
+    face_trim_planes,
+    trimmed,
+)
 
 L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
 
@@ -49,3 +54,16 @@ def test_an_edge_of_three_faces_takes_the_face_by_face_rule():
     faces = [(0, 1, 2), (1, 0, 3), (0, 1, 4)]
     planes = face_trim_planes(vertices, faces, np.array([0.0, 1.0, 0.0]))
     assert [len(p) for p in planes] == [1, 1, 1]
+
+
+def test_a_cut_is_kept_only_for_the_same_mesh_and_planes():
+    box = Mesh.box((2.0, 2.0, 2.0))
+    plane = TrimPlane((1.0, 0.0, 0.0), 1.0, False)  # keep x >= 1 (world)
+    first = trimmed(box, np.zeros(3), np.eye(3), [plane])
+    again = trimmed(box, np.zeros(3), np.eye(3), [plane])
+    assert again is first and first.volume() == pytest.approx(4.0)
+    moved = trimmed(box, np.array([0.5, 0.0, 0.0]), np.eye(3), [plane])  # x >= 0.5 locally
+    assert moved.volume() == pytest.approx(6.0)
+    other = Mesh(box.vertices, tuple(tuple(f) for f in box.faces))  # same numbers, new faces
+    assert trimmed(other, np.zeros(3), np.eye(3), [plane]).volume() == pytest.approx(4.0)
+    assert trimmed(box, np.zeros(3), np.eye(3), []) is box
