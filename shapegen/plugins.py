@@ -7,7 +7,6 @@ __all__ = ["find_registered", "load_plugins"]
 
 import difflib
 from collections.abc import Mapping
-from importlib.metadata import entry_points
 
 from shapegen.errors import GeometryError
 
@@ -17,6 +16,8 @@ def load_plugins(group: str, what: str) -> None:
 
     A broken plug-in is one clear error naming it, not a failure of the built-in ones.
     """
+    from importlib.metadata import entry_points  # 0.03 s: only when plug-ins are looked for
+
     for entry in entry_points(group=group):
         try:
             entry.load()

@@ -34,7 +34,6 @@ import re
 from pathlib import Path
 
 import numpy as np
-import shapely
 
 from shapegen.errors import InputFormatError
 
@@ -110,6 +109,8 @@ def checked_polygon(points, source: str) -> list[tuple[float, float]]:
         raise InputFormatError(
             f"{source}: a lot needs at least 3 distinct corners, got {len(ring)}"
         )
+    import shapely  # a polygon lot's check; a WIDTH,DEPTH lot needs none
+
     polygon = shapely.Polygon(ring)
     spread = np.linalg.svd(ring - ring.mean(axis=0), compute_uv=False)
     if spread[1] <= 1e-9 * spread[0]:
@@ -125,6 +126,8 @@ def checked_polygon(points, source: str) -> list[tuple[float, float]]:
 
 def _why(polygon) -> str:
     """shapely's reason, its point written as x and z: ``self-intersection at x=1, z=0.5``."""
+    import shapely
+
     reason = shapely.is_valid_reason(polygon)
     point = re.compile(r"\[([-\d.e+]+) ([-\d.e+]+)\]")
     return point.sub(lambda m: f" at x={float(m[1]):g}, z={float(m[2]):g}", reason).lower()

@@ -25,8 +25,9 @@ def _discover() -> None:
 
 def structure_class(name: str | None) -> type[Structure]:
     """The structure registered as ``name`` (None: the default); the error suggests names."""
-    _discover()
     name = DEFAULT_STRUCTURE if name is None else name
+    if name not in registry.REGISTRY:  # the installed plug-ins, looked for when first needed
+        _discover()
     return find_registered(registry.REGISTRY, name, "structure")
 
 
