@@ -26,7 +26,7 @@ import traceback
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
-from urllib.parse import urlsplit
+from urllib.parse import parse_qsl, urlsplit
 
 from shapegen.editor.attrs import RequestError
 from shapegen.editor.session import EditorSession
@@ -47,6 +47,9 @@ API = {
     "/api/scene": {"GET": "per-block colours by label and tension, forces, legend"},
     "/api/model.glb": {"GET": "the current model as binary glTF"},
     "/api/attrs": {"POST": 'set attrs: {"name": value, ...}; returns the new state'},
+    "/api/undo": {"POST": "take the designer's values back to before the last change"},
+    "/api/redo": {"POST": "make the last undone change again"},
+    "/api/reset": {"POST": 'rule defaults again: {"attrs": ["name", ...]}, or {} for all'},
     "/api/optimize": {"POST": 'search the free attrs: {"objective": "energy" | "closest"}'},
     "/api/cancel": {"POST": "stop a running search after its current iteration"},
     "/api/reload": {"POST": "re-read the grammar file now (during a search: when it ends)"},
@@ -242,7 +245,15 @@ class _Handler(BaseHTTPRequestHandler):
             return
         body = self._body()
         if path == "/api/attrs":
-            self._json(session.set_attrs(body))
+            self._json(session.set_attrs(body, gesture=self._query().get("gesture")))
+        elif path == "/api/undo":
+            self._empty(body, path)
+            self._json(session.undo())
+        elif path == "/api/redo":
+            self._empty(body, path)
+            self._json(session.redo())
+        elif path == "/api/reset":
+            self._json(session.reset(body))
         elif path == "/api/optimize":
             self._json(session.optimize(body))
         elif path == "/api/cancel":
@@ -282,6 +293,15 @@ class _Handler(BaseHTTPRequestHandler):
         if len(raw) < length:
             raise ConnectionResetError("the client hung up before sending the whole body")
         return parsed_body(raw)
+
+    def _query(self) -> dict[str, str]:
+        """The request's query parameters (the last of each name)."""
+        return dict(parse_qsl(urlsplit(self.path).query))
+
+    @staticmethod
+    def _empty(body: object, path: str) -> None:
+        if body not in (None, {}):
+            raise RequestError(f"{path} takes no values: send {{}} or nothing")
 
     def _drain(self) -> None:
         length = self.headers.get("Content-Length")

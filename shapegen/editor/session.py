@@ -79,7 +79,12 @@ class EditorSession:
         self._stability: dict[str, dict] = {}
         self._glb: tuple[int, bytes] | None = None
         self._scene: tuple[int, dict] | None = None
-        self.attrs: dict[str, object] = {}
+        self.attrs: dict[str, object] = {}  # the designer's values; the others are the rule's
+        # the designer's values before each change (undo) and after each undone one (redo)
+        self._undo: list[dict[str, object]] = []
+        self._redo: list[dict[str, object]] = []
+        self._gesture: str | None = None  # the drag the last change belonged to
+        self._last_attrs: dict[str, object] = {}  # the designer's values before the last change
         initial = checked_values(self.grammar, {}, dict(attrs)) if attrs else {}
         self._outcome = self._design(initial)
         self.attrs = initial
@@ -95,26 +100,89 @@ class EditorSession:
         with self._state_lock:
             return json_ready(self._state())
 
-    def set_attrs(self, payload: object) -> dict:
-        """Build and judge the design with the attr values in ``payload`` (checked first)."""
+    def set_attrs(self, payload: object, *, gesture: str | None = None) -> dict:
+        """Build and judge the design with the attr values in ``payload`` (checked first).
+
+        The changes of one ``gesture`` (a drag of a slider: the page names it) are one step of
+        the history: undo takes the design back to before the drag, not to its last pixel.
+        """
         if not self._take_work():
             raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
         try:
             values = checked_values(self.grammar, self._current_values(), payload)
-            self._idle.clear()
-            try:
-                outcome = self._design({**self.attrs, **values})
-            finally:
-                self._idle.set()
+            same_gesture = gesture is not None and gesture == self._gesture and self._undo
+            return self._apply({**self.attrs, **values}, record=not same_gesture, gesture=gesture)
+        finally:
+            self._work.release()
+
+    def undo(self) -> dict:
+        """Take the designer's values back to before the last change (a drag, a typed value, a
+        reset, a search's result)."""
+        return self._step_history(self._undo, self._redo, "undo")
+
+    def redo(self) -> dict:
+        """Make the last undone change again."""
+        return self._step_history(self._redo, self._undo, "redo")
+
+    def reset(self, payload: object = None) -> dict:
+        """Give attrs back their rule defaults: ``{"attrs": ["span", ...]}``, or every attr the
+        designer set for ``{}`` or no body. The defaults then follow the file: a changed default
+        saved in it shows at the next reload."""
+        payload = {} if payload is None else payload
+        if not isinstance(payload, dict) or set(payload) - {"attrs"}:
+            raise RequestError('send {"attrs": ["name", ...]} to reset those, or {} for all')
+        names = payload.get("attrs")
+        if names is not None:
+            if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+                raise RequestError('"attrs" is a list of attr names, such as ["span"]')
+            unknown = [n for n in names if n not in self.grammar.attrs]
+            if unknown:
+                raise RequestError(f"the grammar has no attr {unknown[0]!r}")
+        if not self._take_work():
+            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
+        try:
+            gone = set(self.attrs) if names is None else set(names)
+            return self._apply({k: v for k, v in self.attrs.items() if k not in gone})
+        finally:
+            self._work.release()
+
+    def _step_history(self, source: list, target: list, what: str) -> dict:
+        if not self._take_work():
+            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
+        try:
+            if not source:
+                raise RequestError(f"nothing to {what}", 409)
+            attrs = self._valid_attrs(self.grammar, source[-1])
+            self._apply(attrs, record=False)
             with self._state_lock:
-                self.attrs.update(values)
-                self._optimization = None  # the last search's message no longer applies
-                self._outcome = outcome
-                self._timings = self._last_timings
-                self._changed(model=True)
+                target.append(self._last_attrs)
+                source.pop()
+                self.version += 1
                 return self.state()
         finally:
             self._work.release()
+
+    def _apply(self, attrs: dict, *, record: bool = True, gesture: str | None = None) -> dict:
+        """Build and judge the design with the designer's values ``attrs`` and take it; with
+        ``record``, the values before are the next undo step (and the redo steps are dropped).
+        Holds ``_work``."""
+        self._idle.clear()
+        try:
+            outcome = self._design(attrs)
+        finally:
+            self._idle.set()
+        with self._state_lock:
+            self._last_attrs = dict(self.attrs)
+            if record and attrs != self.attrs:
+                self._undo.append(dict(self.attrs))
+                self._redo.clear()
+            self._gesture = gesture
+            self.attrs = dict(attrs)
+            self._optimization = None  # the last search's message no longer applies
+            self._outcome = outcome
+            self._timings = self._last_timings
+            self._changed(model=True)
+            return self.state()
 
     def optimize(self, payload: object = None) -> dict:
         """Search the free attrs from the current values (``{"objective": "energy"}``, the
@@ -169,7 +237,12 @@ class EditorSession:
         result = outcome.optimization
         with self._state_lock:
             free = set(self.grammar.free_parameters)
-            self.attrs.update({k: v for k, v in result.attrs.items() if k in free})
+            self._undo.append(dict(self.attrs))
+            self._redo.clear()
+            self._gesture = None
+            self.attrs = {
+                **self.attrs, **{k: v for k, v in result.attrs.items() if k in free}
+            }  # fmt: skip
             self._outcome = outcome
             self._timings = self._last_timings
             self._optimization = {
@@ -327,9 +400,15 @@ class EditorSession:
 
     def _kept_attrs(self, grammar) -> dict:
         """The designer's values that still mean something in the re-read ``grammar``."""
+        return self._valid_attrs(grammar, self.attrs)
+
+    @staticmethod
+    def _valid_attrs(grammar, attrs: Mapping[str, object]) -> dict:
+        """The values of ``attrs`` that mean something in ``grammar``: an attr it has, of the
+        same type, within its range (a value of the history may predate a reload)."""
         kept = {}
         defaults = grammar.attrs
-        for name, value in self.attrs.items():
+        for name, value in attrs.items():
             if name in defaults and type(defaults[name]) is type(value):
                 kept[name] = value
         try:
@@ -426,6 +505,7 @@ class EditorSession:
             "stability": dict(self._stability),
             "optimization": self._optimization,
             "reload_pending": self._reload_pending,
+            "history": {"undo": len(self._undo), "redo": len(self._redo)},
             "error": self._error,
         }
 

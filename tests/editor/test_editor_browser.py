@@ -250,3 +250,69 @@ def test_the_barrel_vault_stands_at_60_degrees_and_needs_tension_at_85(browser, 
         page.wait_for_selector("#grammar-error", state="visible", timeout=10_000)
         page_steps.screenshot(page, "editor_error", tmp_path)
         assert not page.problems, page.problems
+
+
+def attr_value(page, name: str):
+    return page.evaluate(
+        "n => window.shapegenEditor.state.attrs.find((a) => a.name === n).value", name
+    )
+
+
+def wait_for_value(page, name: str, value) -> None:
+    page.wait_for_function(
+        "([n, v]) => window.shapegenEditor.state.attrs.find((a) => a.name === n).value === v",
+        arg=[name, value],
+    )
+
+
+def test_undo_redo_reset_and_the_mark_on_the_designers_values(browser, tmp_path):
+    from editor_stack import STACK
+
+    grammar = tmp_path / "stack.grammar"
+    grammar.write_text(STACK, encoding="utf-8")
+    with page_steps.Editor(grammar) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        mark = '.attr[data-attr="{}"] .user'
+        assert page.is_hidden(mark.format("offset")) and page.is_disabled("#undo")
+        # a drag of the slider, then a check box: two changes, both marked
+        page_steps.drag_slider(page, "offset", 0.7)
+        page_steps.wait_for_verdict(page, "needs tension")
+        page.check('input[type=checkbox][name="mortar"]')
+        wait_for_value(page, "mortar", True)
+        assert page.is_visible(mark.format("offset")) and page.is_visible(mark.format("mortar"))
+        title = page.get_attribute(mark.format("offset"), "title")
+        assert "the rule's default: 0.2" in title, title
+        # Ctrl+Z undoes the check box, then the drag; Ctrl+Shift+Z and Ctrl+Y redo them
+        page.keyboard.press("Control+z")
+        wait_for_value(page, "mortar", False)
+        assert page.is_hidden(mark.format("mortar"))
+        page.keyboard.press("Control+z")
+        page_steps.wait_for_verdict(page, "stands")
+        assert attr_value(page, "offset") == 0.2
+        assert page.input_value('input[type=range][name="offset"]') == "0.2"
+        page.keyboard.press("Control+Shift+z")
+        page_steps.wait_for_verdict(page, "needs tension")
+        page.keyboard.press("Control+y")
+        wait_for_value(page, "mortar", True)
+        assert page.is_checked('input[type=checkbox][name="mortar"]')
+        # the row's reset button: the rule's default again
+        page.click('.attr[data-attr="offset"] .reset')
+        page_steps.wait_for_verdict(page, "stands")
+        assert page.is_hidden(mark.format("offset"))
+        # a typed count, then the file's defaults change: the untouched offset takes its new
+        # default, the designer's courses keeps its value, marked with the default it hides
+        page.fill('input[name="courses"]', "4")
+        page.press('input[name="courses"]', "Enter")
+        wait_for_value(page, "courses", 4)
+        text = STACK.replace("attr offset = 0.2", "attr offset = 0.1")
+        grammar.write_text(text.replace("attr courses = 2", "attr courses = 3"))
+        wait_for_value(page, "offset", 0.1)
+        assert attr_value(page, "courses") == 4
+        assert page.is_hidden(mark.format("offset")) and page.is_visible(mark.format("courses"))
+        title = page.get_attribute(mark.format("courses"), "title")
+        assert "the rule's default: 3" in title, title
+        page.click("#reset-all")
+        wait_for_value(page, "courses", 3)
+        assert page.locator(".attr .user:visible").count() == 0
+        assert page.evaluate("window.shapegenEditor.errors") == []
+        assert not page.problems, page.problems

@@ -16,7 +16,9 @@ const app = {
   colourMode: 'labels',
   inflight: false,
   pending: null,
+  pendingGesture: null,
   dragging: null,
+  gesture: null,
   lastLatencyMs: null,
   errors: [],
   framesDrawn: 0,
@@ -311,8 +313,11 @@ function post(url, value) {
   });
 }
 
-function change(name, value) {
+// A change of the design; ``gesture`` names the drag it belongs to, so that the server keeps
+// a whole drag as one step of the undo history.
+function change(name, value, gesture = null) {
   app.pending = { ...(app.pending || {}), [name]: value };
+  app.pendingGesture = gesture;
   pump();
 }
 
@@ -321,11 +326,12 @@ function change(name, value) {
 async function pump() {
   if (app.inflight || !app.pending) return;
   const body = app.pending;
+  const gesture = app.pendingGesture;
   app.pending = null;
   app.inflight = true;
   const started = performance.now();
   try {
-    const state = await post('/api/attrs', body);
+    const state = await post(gesture ? `/api/attrs?gesture=${encodeURIComponent(gesture)}` : '/api/attrs', body);
     app.lastLatencyMs = performance.now() - started;
     note('');
     applyState(state);
@@ -364,9 +370,34 @@ async function search(objective) {
 function setBusy(busy) {
   $('optimize').disabled = busy;
   $('closest').disabled = busy;
+  for (const id of ['undo', 'redo', 'reset-all']) if (busy) $(id).disabled = true;
   $('stop').disabled = !busy;
   for (const input of document.querySelectorAll('#attrs input, #attrs select')) input.disabled = busy;
 }
+
+// Undo, redo and reset: the server keeps the history (every change, a drag as one step).
+async function historyStep(path, body = {}) {
+  try {
+    applyState(await post(path, body));
+    note('');
+  } catch (err) {
+    note(err.message);
+  }
+}
+
+$('undo').addEventListener('click', () => historyStep('/api/undo'));
+$('redo').addEventListener('click', () => historyStep('/api/redo'));
+$('reset-all').addEventListener('click', () => historyStep('/api/reset', {}));
+document.addEventListener('keydown', (event) => {
+  if (!(event.ctrlKey || event.metaKey) || event.altKey) return;
+  const target = event.target;
+  // a text field keeps its own undo of what is being typed
+  const typing = target.tagName === 'TEXTAREA' || (target.tagName === 'INPUT' && ['text', 'number', 'search'].includes(target.type));
+  if (typing) return;
+  const key = event.key.toLowerCase();
+  if (key === 'z' && !event.shiftKey) { event.preventDefault(); historyStep('/api/undo'); }
+  else if ((key === 'z' && event.shiftKey) || key === 'y') { event.preventDefault(); historyStep('/api/redo'); }
+});
 
 $('optimize').addEventListener('click', () => search('energy'));
 $('closest').addEventListener('click', () => search('closest'));
@@ -406,6 +437,10 @@ function applyState(state) {
   showProgress(state.optimization);
   if (state.reload_pending) $('progress').textContent += ' · the file changed: it is re-read when the search ends';
   inspector(state);
+  const searching = Boolean(state.optimization && state.optimization.running);
+  $('undo').disabled = searching || !state.history.undo;
+  $('redo').disabled = searching || !state.history.redo;
+  $('reset-all').disabled = searching || !state.attrs.some((a) => a.user);
   if (state.model_version !== app.renderedModelVersion) loadModel();
 }
 
@@ -442,6 +477,7 @@ function showProgress(o) {
 // a slider for a number with a @Range, a drop-down for an @Enum (or a @Range of strings, or the
 // asset files of a @File), a colour picker for a @Color, a check box for a boolean.
 const rows = new Map();
+let gestures = 0;
 
 function inspector(state) {
   const layout = JSON.stringify([
@@ -492,8 +528,9 @@ function makeRow(attr, parent) {
   row.dataset.attr = attr.name;
   row.dataset.kind = attr.kind;
   row.title = attr.description || '';
-  row.innerHTML = `<div class="head"><span class="name"></span>${attr.free ? '<span class="free" title="@Free: the search may change it">free</span>' : ''}<span class="value"></span></div>`;
+  row.innerHTML = `<div class="head"><span class="name"></span>${attr.free ? '<span class="free" title="@Free: the search may change it">free</span>' : ''}<span class="user" hidden>set</span><button class="reset" hidden title="back to the rule's default">↺</button><span class="value"></span></div>`;
   row.querySelector('.name').textContent = attr.display_name || attr.name;
+  row.querySelector('.reset').addEventListener('click', () => historyStep('/api/reset', { attrs: [attr.name] }));
   if (attr.display_name) row.querySelector('.name').title = attr.name;
   let input;
   if (attr.kind === 'number' && attr.minimum !== null && !attr.choices) {
@@ -502,11 +539,11 @@ function makeRow(attr, parent) {
     track.innerHTML = '<div class="lane" style="position:absolute;left:8px;right:8px;top:0;bottom:0"><div class="band"></div></div>';
     input = document.createElement('input');
     Object.assign(input, { type: 'range', min: attr.minimum, max: attr.maximum, step: attr.step });
-    input.addEventListener('pointerdown', () => { app.dragging = attr.name; });
+    input.addEventListener('pointerdown', () => { app.dragging = attr.name; app.gesture = `drag-${++gestures}`; });
     input.addEventListener('pointerup', () => { app.dragging = null; });
     input.addEventListener('input', () => {
       row.querySelector('.value').textContent = number(Number(input.value));
-      change(attr.name, Number(input.value));
+      change(attr.name, Number(input.value), app.dragging === attr.name ? app.gesture : null);
     });
     track.appendChild(input);
     row.appendChild(track);
@@ -583,6 +620,12 @@ function updateRow(row, attr, stability) {
     else input.value = attr.value;
     row.querySelector('.value').textContent = attr.kind === 'number' ? number(attr.value) : '';
   }
+  // the designer's value is marked, with the rule's default it hides, and can be reset
+  const mark = row.querySelector('.user');
+  mark.hidden = !attr.user;
+  row.querySelector('.reset').hidden = !attr.user;
+  row.classList.toggle('set', attr.user);
+  mark.title = attr.user ? `set on the page: ${shown(attr, attr.value)}; the rule's default: ${shown(attr, attr.default)}` : '';
   if (input.type !== 'range' || !attr.free) return;
   const lane = row.querySelector('.lane');
   lane.querySelectorAll('.shade, .tick').forEach((e) => e.remove());
