@@ -341,6 +341,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("separatePerFace", "collectiveAllFaces"),  # normalizeUV's modes
         *("streetSide", "noStreetSide", "streetFront"),  # deprecated selectors, still compiled
         *("inside", "border", "remainder", "shape", "all", "none", "keep", "remove"),
+        "center",  # scatter's gaussian mean (op_scatter: center, front, back...)
         *("front", "back", "left", "right", "top", "bottom", "side", "vertical", "horizontal"),
         *("aslant", "nutant", "nonaside", "street", "eave", "hip", "valley", "ridge"),
         *("face.normal", "vertex.normal", "world.up", "world.up.flatTop", "world.down"),

@@ -371,3 +371,10 @@ def test_a_leaf_may_be_named_like_an_operation():
     # Name. is a leaf whatever Name is: real files end rules with r. or t.
     model = parse_grammar("@StartRule\nLot --> extrude(2) r.", "r.cga").build(lot=LOT)
     assert len(model.blocks) == 1 and model.blocks[0].rule_path[-1] == "r"
+
+
+def test_scatter_takes_center_as_the_gaussian_mean():
+    # op_scatter: scatterMean is center (the default), front, back, left, right, top or bottom
+    text = "@StartRule\nLot --> scatter(surface, 5, gaussian, center, 0.4) { primitiveCube() P. }"
+    model = parse_grammar(text, "r.cga").build(lot=LOT, seed=2)
+    assert len(model.blocks) + len(model.surfaces) == 5
