@@ -12,18 +12,25 @@ the shape or the random generator (``rand``, ``p``, ``fileRandom``, ``listRandom
 
 from __future__ import annotations
 
-__all__ = ["NULL_STRING", "PURE_FUNCTIONS", "file_functions", "project_files"]
+__all__ = ["NULL_STRING", "PARTIAL_FUNCTIONS", "PURE_FUNCTIONS", "file_functions", "project_files"]
 
 import colorsys
 import fnmatch
 import math
 import os
+import re
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from shapegen.engine.functions_arrays import ARRAY_FUNCTIONS, Array, format_value, type_name
+from shapegen.engine.functions_arrays import (
+    ARRAY_FUNCTIONS,
+    Array,
+    format_value,
+    string_truth,
+    type_name,
+)
 from shapegen.grammar.import_paths import project_folder
 
 #: CGA's NULL string (func_isnull): U+E000.
@@ -145,17 +152,25 @@ def _get_suffix(text: str, match: str) -> str:
 
 
 def _get_range(text: str, left: str, right: str) -> str:
-    start = text.find(left)
-    if start < 0:
+    """celib getRange: from the end of the first ``left`` to the start of the last ``right``
+    ("our city with " of "rule your city with cityengine", "y", "city"); "" when they overlap."""
+    start, end = text.find(left), text.rfind(right)
+    if start < 0 or end < 0 or end < start + len(left):
         return ""
-    start += len(left)
-    end = text.find(right, start)
-    return text[start:end] if end >= 0 else ""
+    return text[start + len(left) : end]
 
 
 def _split_string(text: str, delimiter: str) -> Array:
-    parts = text.split(delimiter) if delimiter else list(text)
-    return Array(tuple(parts), len(parts), 1)
+    """func_splitString: a 1D array of the parts; a delimiter starting with ``$`` is a regular
+    expression; an empty one splits between every character and at both ends."""
+    if delimiter.startswith("$"):
+        try:
+            parts = re.split(delimiter[1:], text)
+        except re.error as exc:
+            raise ValueError(f"bad regular expression {delimiter[1:]!r}: {exc}") from None
+    else:
+        parts = text.split(delimiter) if delimiter else ["", *text, ""]
+    return Array(tuple(parts), 1, len(parts))
 
 
 def _str(value: object) -> str:
@@ -177,7 +192,7 @@ def _bool(value: object) -> object:
     if isinstance(value, Array):
         return ARRAY_FUNCTIONS["boolArray"](value)
     if type(value) is str:
-        return value.strip().lower() in ("true", "1")
+        return string_truth(value)
     return bool(value)
 
 
@@ -286,8 +301,8 @@ def _file_part(part: str) -> Callable[[str], str]:
             return directory + "/" if directory else ""
         if part == "name":
             return name
-        if part == "extension":
-            return "." + extension if dot else ""
+        if part == "extension":  # celib fileExtension: "obj" of "assets/x.01.obj"
+            return extension if dot else ""
         return stem if dot else name
 
     return call
@@ -332,7 +347,8 @@ PURE_FUNCTIONS: dict[str, Callable[..., object]] = {
     "replace": _strings("replace", 3)(lambda text, old, new: text.replace(old, new)),
     "toUpperCase": _strings("toUpperCase", 1)(str.upper),
     "toLowerCase": _strings("toLowerCase", 1)(str.lower),
-    "listAdd": _strings("listAdd", 2)(lambda text, item: _joined([*_items(text), item])),
+    # celib listAdd: listAdd("rule;your;", "city;") is "rule;your;city;" too
+    "listAdd": _strings("listAdd", 2)(lambda text, item: _joined([*_items(text), *_items(item)])),
     "listClean": _strings("listClean", 1)(lambda text: _joined([i for i in _items(text) if i])),
     "listCount": _strings("listCount", 2)(
         lambda text, pattern: float(sum(_list_matches(i, pattern) for i in _items(text)))
@@ -356,7 +372,7 @@ PURE_FUNCTIONS: dict[str, Callable[..., object]] = {
         lambda text: text if not text or text.endswith(";") else text + ";"
     ),
     "listToArray": _strings("listToArray", 1)(
-        lambda text: Array(tuple(_items(text)), len(_items(text)), 1 if _items(text) else 0)
+        lambda text: Array(tuple(_items(text)), 1 if _items(text) else 0, len(_items(text)))
     ),
     "listFromArray": lambda array: (
         _joined([_show(v) for v in array.values])
@@ -382,6 +398,10 @@ PURE_FUNCTIONS: dict[str, Callable[..., object]] = {
     **ARRAY_FUNCTIONS,
 }
 PURE_FUNCTIONS["isInf"] = PURE_FUNCTIONS["isinf"]
+
+_SEARCH = "the file properties (Name:, Ext:...) are not read; paths start at the project"
+#: Builtins here that differ from the reference, in a few words.
+PARTIAL_FUNCTIONS: dict[str, str] = {"fileSearch": _SEARCH, "filesSearch": _SEARCH}
 PURE_FUNCTIONS["isNaN"] = PURE_FUNCTIONS["isnan"]
 
 
@@ -415,6 +435,34 @@ def project_files(rule_file: str | None) -> tuple[Path | None, list[str]]:
     return project, sorted(names)
 
 
+def _search_terms(query: str) -> list[str]:
+    """func_fileSearch: whitespace means AND; a term in single quotes keeps its spaces."""
+    terms = re.findall(r"'([^']*)'|(\S+)", query)
+    return [quoted or plain for quoted, plain in terms]
+
+
+def _search_term(term: str) -> Callable[[str], bool]:
+    """A term as a test of a path: a regular expression after ``$``, else ``*`` and ``?``
+    wildcards; the whole path must match."""
+    if term.startswith("$"):
+        try:
+            pattern = re.compile(term[1:])
+        except re.error as exc:
+            raise ValueError(f"bad regular expression {term[1:]!r}: {exc}") from None
+    else:
+        pattern = re.compile(fnmatch.translate(term.lstrip("/")))
+    return lambda path: pattern.fullmatch(path.lstrip("/")) is not None
+
+
+def _search_forms(project: Path, name: str) -> tuple[str, ...]:
+    """A project file's paths a query is matched against (func_fileSearch's pseudocode):
+    relative to the assets folder, to the project and to the workspace."""
+    forms = [name, f"{project.name}/{name}"]
+    if name.startswith("assets/"):
+        forms.append(name.removeprefix("assets/"))
+    return tuple(forms)
+
+
 def file_functions(rule_file: str | None) -> dict[str, Callable[..., object]]:
     """``fileExists``, ``fileSearch``, ``filesSearch`` and the candidates of ``fileRandom``,
     answered from the files of the rule file's project (:func:`project_files`), read once."""
@@ -429,8 +477,14 @@ def file_functions(rule_file: str | None) -> dict[str, Callable[..., object]]:
         if type(query) is not str:
             raise ValueError("a file search query is a string")
         project, names = files()
-        pattern = query.lstrip("/")
-        return ["/" + name for name in names if fnmatch.fnmatchcase(name, pattern)]
+        if project is None:
+            return []
+        tests = [_search_term(term) for term in _search_terms(query)]
+        return [
+            "/" + name
+            for name in names
+            if tests and all(any(t(form) for form in _search_forms(project, name)) for t in tests)
+        ]
 
     def exists(path: object) -> bool:
         if type(path) is not str:
@@ -442,13 +496,12 @@ def file_functions(rule_file: str | None) -> dict[str, Callable[..., object]]:
         candidates = [project / path.lstrip("/"), folder / path]
         return any(candidate.is_file() for candidate in candidates)
 
-    def search(query: object) -> str:
-        found = matching(query)
-        return found[0] if found else ""
+    def search(query: object) -> str:  # func_fileSearch: a string list, each entry with ";"
+        return "".join(f"{name};" for name in matching(query))
 
     def search_all(query: object) -> Array:
         found = matching(query)
-        return Array(tuple(found), len(found), 1 if found else 0)
+        return Array(tuple(found), 1 if found else 0, len(found))
 
     return {
         "fileExists": exists,

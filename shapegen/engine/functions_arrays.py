@@ -17,6 +17,7 @@ __all__ = [
     "format_array",
     "format_value",
     "index_array",
+    "string_truth",
     "type_name",
 ]
 
@@ -237,12 +238,24 @@ def _typed(name: str, kind: type) -> Callable:
     return convert
 
 
+def string_truth(text: str) -> bool:
+    """func_bool of a string: false for "f", "false" and the numbers equal to 0 ("0", "0.0"),
+    true for any other text (boolArray(["f", "schwiizer nati"]) is [false, true])."""
+    word = text.strip().lower()
+    if word in ("f", "false"):
+        return False
+    try:
+        return float(word) != 0.0
+    except ValueError:
+        return True
+
+
 def _convert(value: object, kind: type) -> object:
     if kind is str:
         return format_value(value)
     if kind is bool:
         if type(value) is str:
-            return value.strip().lower() in ("true", "1")
+            return string_truth(value)
         return bool(value)
     if type(value) is str:
         try:
@@ -262,9 +275,7 @@ def _sum(array: object) -> object:
     array = _need_array("sum", array)
     if array.element_type() is str:
         return "".join(array.values)
-    if array.element_type() is bool:
-        raise ValueError("sum() needs numbers or strings")
-    return float(sum(array.values))
+    return float(sum(array.values))  # func_sum: a bool array's count of true elements
 
 
 def _transpose(array: object) -> Array:
