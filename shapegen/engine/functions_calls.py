@@ -9,7 +9,7 @@ context queries (``contextCount``, ``contextCompare``, ``minimumDistance``, answ
 
 from __future__ import annotations
 
-__all__ = ["CONTEXT_QUERIES", "OCCLUSION", "BuiltinCalls"]
+__all__ = ["CONTEXT_QUERIES", "OCCLUSION", "PARTIAL_FUNCTIONS", "BuiltinCalls"]
 
 from shapegen.engine.context_queries import COMPARISONS, CONTEXT_QUERIES, context_query
 from shapegen.engine.functions_arrays import format_value, type_name
@@ -17,6 +17,10 @@ from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 
 OCCLUSION = ("inside", "overlaps", "touches")
+
+_ONE_LOT = "inter answers as if alone: shapegen derives one lot at a time"
+#: Builtins compiled here that differ from the reference, in a few words.
+PARTIAL_FUNCTIONS: dict[str, str] = dict.fromkeys((*OCCLUSION, *CONTEXT_QUERIES), _ONE_LOT)
 
 
 class BuiltinCalls:

@@ -26,7 +26,7 @@ CityEngine reads."""
 
 from __future__ import annotations
 
-__all__ = ["read_table", "reading_functions"]
+__all__ = ["PARTIAL_FUNCTIONS", "read_table", "reading_functions"]
 
 import csv
 import math
@@ -38,6 +38,11 @@ from shapegen.engine.derivation import format_chain
 from shapegen.engine.functions_arrays import Array
 from shapegen.errors import GeometryError
 from shapegen.limits import current_limits, limit_hint
+
+#: File functions that differ from the reference, in a few words.
+PARTIAL_FUNCTIONS: dict[str, str] = {
+    "assetMetadata": "OBJ, PLY and STL carry none (the default); glTF assets are refused",
+}
 
 _CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
 _EMPTY_STRINGS = Array((), 0, 0, str)

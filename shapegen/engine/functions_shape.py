@@ -37,10 +37,15 @@ from shapegen.grammar.names import GEOMETRY_FUNCTIONS, SHAPE_ATTRIBUTES
 
 Reader = Callable[..., object]
 
+_READ_ONLY = "read only: set() of it is refused when the file loads"
 #: Shape attributes read with a difference from the reference: name -> what differs.
 PARTIAL_ATTRIBUTES: dict[str, str] = {
     "initialShape.name": 'always "Lot" (shapegen derives one unnamed lot)',
-    "material.color.a": "deprecated alias of material.opacity (cga_changelog 2011.1)",
+    "material.color.a": "deprecated alias of material.opacity (cga_changelog 2011.1), warned",
+    "initialShape.symbol": "deprecated alias of initialShape.startRule, warned",
+    **{f"scope.{k}": _READ_ONLY for k in ("tx", "ty", "tz", "rx", "ry", "rz", "sx", "sy", "sz")},
+    "seedian": _READ_ONLY,
+    "uid": "deprecated (cga_changelog 2015.0): a number unique per shape, not CityEngine's",
 }
 
 #: Deprecated names of material attributes (cga_changelog 2011.1) -> the current ones.
@@ -240,7 +245,6 @@ STATE_FUNCTIONS: dict[str, Callable[..., object]] = {
 
 #: Builtins answered with a difference from the reference: name -> what differs.
 PARTIAL_FUNCTIONS: dict[str, str] = {
-    "uid": "deprecated (cga_changelog 2015.0): a number unique per shape, not CityEngine's",
     "getGeoCoord": "no georeference: X and Y are scene metres (east, north), lon and lat nan",
 }
 

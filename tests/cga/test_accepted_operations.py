@@ -18,7 +18,6 @@ COVERS = {
     "test_normalize_uv_takes_its_modes": ("op:normalizeUV",),
     "test_tags_change_nothing_and_warn": ("op:tag", "op:deleteTags", "op:setTagsFromEdgeAttrs"),
     "test_material_color_a_is_the_opacity": ("attr:material.color.a", "attr:material.opacity"),
-    "test_an_empty_asset_name_inserts_a_box_with_a_warning": ("op:i",),
     "test_envelope_without_a_direction": ("op:envelope",),
     "test_rectify_squares_a_nearly_rectangular_lot": ("op:rectify",),
 }

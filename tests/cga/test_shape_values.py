@@ -16,8 +16,11 @@ from shapegen.errors import GrammarError
 COVERS = {
     "test_is_oriented_takes_a_face_selector": ("func:geometry.isOriented",),
     "test_uid_numbers_each_shape_with_a_warning": ("attr:uid",),
-    "test_initial_shape_names": ("attr:initialShape.startRule", "attr:initialShape.name")
-    + ("attr:initialShape.symbol",),
+    "test_initial_shape_names": (
+        "attr:initialShape.startRule",
+        "attr:initialShape.name",
+        "attr:initialShape.symbol",
+    ),
     "test_get_geo_coord_without_a_georeference": ("func:getGeoCoord",),
 }
 

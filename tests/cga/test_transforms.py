@@ -17,16 +17,36 @@ COVERS = {
     "test_translate_in_each_frame": ("op:translate",),
     "test_rotate_abs_world_sets_the_orientation": ("op:rotate",),
     "test_rotate_rel_adds_the_angles": ("op:rotate",),
-    "test_the_pivot_after_comp": ("attr:pivot.px", "attr:pivot.py", "attr:pivot.pz")
-    + ("attr:pivot.ox", "attr:pivot.oy", "attr:pivot.oz"),
-    "test_initial_shape_origin_is_the_first_vertex": ("attr:initialShape.origin.px",)
-    + ("attr:initialShape.origin.py", "attr:initialShape.origin.pz")
-    + ("attr:initialShape.origin.ox", "attr:initialShape.origin.oy")
-    + ("attr:initialShape.origin.oz",),
-    "test_scope_placement_is_relative_to_the_pivot": ("attr:scope.tx", "attr:scope.ty")
-    + ("attr:scope.tz", "attr:scope.rx", "attr:scope.ry", "attr:scope.rz"),
+    "test_the_pivot_after_comp": (
+        "attr:pivot.px",
+        "attr:pivot.py",
+        "attr:pivot.pz",
+        "attr:pivot.ox",
+        "attr:pivot.oy",
+        "attr:pivot.oz",
+    ),
+    "test_initial_shape_origin_is_the_first_vertex": (
+        "attr:initialShape.origin.px",
+        "attr:initialShape.origin.py",
+        "attr:initialShape.origin.pz",
+        "attr:initialShape.origin.ox",
+        "attr:initialShape.origin.oy",
+        "attr:initialShape.origin.oz",
+    ),
+    "test_scope_placement_is_relative_to_the_pivot": (
+        "attr:scope.tx",
+        "attr:scope.ty",
+        "attr:scope.tz",
+        "attr:scope.rx",
+        "attr:scope.ry",
+        "attr:scope.rz",
+    ),
     "test_convert_to_the_pivot_as_the_reference_example": ("func:convert",),
-    "test_operations_that_put_the_pivot_at_the_scope": ("op:alignScopeToAxes", "op:setPivot"),
+    "test_scope_sizes": ("attr:scope.sx", "attr:scope.sy", "attr:scope.sz"),
+    "test_operations_that_put_the_pivot_at_the_scope": (
+        "op:alignScopeToAxes",
+        "op:setPivot",
+    ),
 }
 
 
@@ -148,6 +168,14 @@ def test_scope_placement_is_relative_to_the_pivot():
     assert np.allclose(list(reports["r"].values), [0, 30, 0])
     # a comp face's scope and pivot are aligned: zero rotation, the origin at its first vertex
     assert np.allclose(list(reports["top"].values)[3:], [0, 0, 0])
+
+
+def test_scope_sizes():
+    # attr_scope's example: s() sets the size, scope.s* read it
+    reports = _reports(
+        "Lot --> extrude(3) s('0.5, '1, 2) report(\"s\", [scope.sx, scope.sy, scope.sz]) X."
+    )
+    assert list(reports["s"].values) == [6.0, 3.0, 2.0]
 
 
 def test_convert_to_the_pivot_as_the_reference_example():

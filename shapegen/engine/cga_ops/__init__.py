@@ -17,7 +17,7 @@ coverage table of docs/cga-compatibility.md is made from them).
 
 from __future__ import annotations
 
-__all__ = ["compiles", "compiler_for", "partial_notes", "registered", "warn_at"]
+__all__ = ["DEDICATED_NOTES", "compiles", "compiler_for", "partial_notes", "registered", "warn_at"]
 
 from collections.abc import Callable
 
@@ -25,6 +25,16 @@ Compiler = Callable[..., Callable]
 
 _COMPILERS: dict[str, Compiler] = {}
 _PARTIAL: dict[str, str] = {}
+
+#: What the operations with a node of their own (compiled by shapegen.engine.operations) do not
+#: honour of the reference, in a few words.
+DEDICATED_NOTES: dict[str, str] = {
+    "i": "reads OBJ, glTF, PLY and STL assets; .dae, .fbx, .usd, .dwg and .ifc are refused",
+    "r": "turns about the scope's own axes: rotate(rel, pivot, ...) while they are the pivot's",
+    "set": "scope.* and seedian cannot be set (refused when the file loads)",
+    "split": "split(u|v, ...) runs along the scope's x or y, with a warning (no texture "
+    "coordinates)",
+}
 
 
 def compiles(*names: str, partial: str | dict[str, str] | None = None):

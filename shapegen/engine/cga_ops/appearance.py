@@ -310,9 +310,10 @@ _PROJECTION_AXES = tuple(
 
 _NO_OFFSET = ast.OperationArgument("plain", ast.Number(0.0))
 _OFFSET_UV = "deprecated name of translateUV (cga_changelog 2009.3), with a warning"
+_RECORDED = "recorded for the export; shapegen computes no texture coordinates"
 
 
-@compiles("setupProjection")
+@compiles("setupProjection", partial=_RECORDED)
 def compile_setup_projection(program, node: ast.Operation, params):
     """setupProjection(uvSet, axes, width, height[, widthOffset, heightOffset[, uwFactor]]):
     width and height may be relative (``'0.5``: that share of the scope) or floating (``~2``:
@@ -375,7 +376,7 @@ def compile_setup_projection(program, node: ast.Operation, params):
     return setup_projection
 
 
-@compiles("projectUV", "deleteUV")
+@compiles("projectUV", "deleteUV", partial=_RECORDED)
 def compile_uv_set_only(program, node: ast.Operation, params):
     (uv_set,) = _plain_arguments(program, node, (1,))
     uv_set_of = _uv_set(program, node, uv_set, params)
@@ -398,7 +399,7 @@ def _uv_target(entry: tuple) -> int:
     return values[1] if name == "copyUV" else values[0]
 
 
-@compiles("tileUV")
+@compiles("tileUV", partial=_RECORDED)
 def compile_tile_uv(program, node: ast.Operation, params):
     """tileUV(uvSet, width, height): the sizes are kept with their mode (``'``, ``~``) since
     they refer to the texture space, which shapegen does not compute."""
@@ -418,7 +419,14 @@ def compile_tile_uv(program, node: ast.Operation, params):
     return _recorder("tileUV", [uv_set, *compiled])
 
 
-@compiles("translateUV", "scaleUV", "rotateUV", "offsetUV", partial={"offsetUV": _OFFSET_UV})
+@compiles(
+    "translateUV",
+    "scaleUV",
+    "rotateUV",
+    "offsetUV",
+    partial={"offsetUV": _OFFSET_UV, "translateUV": _RECORDED, "scaleUV": _RECORDED}
+    | {"rotateUV": _RECORDED},
+)
 def compile_uv_transform(program, node: ast.Operation, params):
     counts = (2,) if node.name == "rotateUV" else (3,)
     first, *rest = _plain_arguments(program, node, counts)
@@ -436,7 +444,7 @@ def compile_uv_transform(program, node: ast.Operation, params):
     return offset_uv
 
 
-@compiles("normalizeUV")
+@compiles("normalizeUV", partial=_RECORDED)
 def compile_normalize_uv(program, node: ast.Operation, params):
     first, mode, kind = _plain_arguments(program, node, (3,))
     uv_set = _uv_set(program, node, first, params)
@@ -447,7 +455,7 @@ def compile_normalize_uv(program, node: ast.Operation, params):
     return _recorder("normalizeUV", [uv_set, mode, kind])
 
 
-@compiles("copyUV")
+@compiles("copyUV", partial=_RECORDED)
 def compile_copy_uv(program, node: ast.Operation, params):
     source, target = _plain_arguments(program, node, (2,))
     source_of = _uv_set(program, node, source, params, "the source uv-set")

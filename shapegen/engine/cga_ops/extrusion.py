@@ -34,7 +34,7 @@ _WORLD_AXES = {"x": 0, "y": 1, "z": 2}
 _DEPRECATED = tuple(f"{prefix}{axis}" for prefix in ("world.", "") for axis in "xyz")
 
 
-@compiles("extrude")
+@compiles("extrude", partial="the edges of comp(e) cannot be extruded (refused when derived)")
 def compile_extrude(program, node: ast.Operation, params):
     """``extrude(type, distance)`` with one of :data:`_EXTRUSION_TYPES` or a deprecated axis."""
     arguments = [a.value for a in node.arguments]

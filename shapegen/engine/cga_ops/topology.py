@@ -445,7 +445,10 @@ def _unaligned(piece: Shape, parent: Scope) -> Shape:
     return Shape.with_geometry(scope, Mesh(local, faces), piece.kind, piece.normal_axis)
 
 
-@compiles("comp")
+@compiles(
+    "comp",
+    partial="refused: the components g, m and h, the =: operator and isTagged() selectors",
+)
 def compile_comp(program, node: ast.Operation, params):
     """``comp(f|e|v|fe [, zUp|noAlign]) { selector : body | ... }`` as a generic operation."""
     if not node.arguments:
