@@ -26,7 +26,7 @@ import traceback
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
-from urllib.parse import parse_qsl, urlsplit
+from urllib.parse import parse_qsl, unquote, urlsplit
 
 from shapegen.editor.attrs import RequestError
 from shapegen.editor.session import EditorSession
@@ -46,6 +46,7 @@ API = {
     "/api/state": {"GET": "attrs, verdict, timings, stable intervals, search progress, error"},
     "/api/scene": {"GET": "per-block colours by label and tension, forces, legend"},
     "/api/model.glb": {"GET": "the current model as binary glTF"},
+    "/api/blocks/ID": {"GET": "one block: labels, rule path, attrs, joints' forces, tension"},
     "/api/attrs": {"POST": 'set attrs: {"name": value, ...}; returns the new state'},
     "/api/undo": {"POST": "take the designer's values back to before the last change"},
     "/api/redo": {"POST": "make the last undone change again"},
@@ -140,6 +141,16 @@ def _shown(text: str) -> str:
     return repr(text) if len(text) <= 40 else repr(text[:37]) + "..."
 
 
+_BLOCKS = "/api/blocks/"
+
+
+def _route(path: str) -> str:
+    """The entry of :data:`API` that answers ``path`` (``/api/blocks/b3``: ``/api/blocks/ID``)."""
+    if path.startswith(_BLOCKS) and len(path) > len(_BLOCKS) and "/" not in path[len(_BLOCKS) :]:
+        return _BLOCKS + "ID"
+    return path
+
+
 def _static_root():
     return resources.files("shapegen.editor").joinpath("static")
 
@@ -183,11 +194,12 @@ class _Handler(BaseHTTPRequestHandler):
             if method not in ("GET", "HEAD"):
                 self._check_origin()
             path = urlsplit(self.path).path
-            if path in API:
-                allowed = API[path]
+            route = _route(path)
+            if route in API:
+                allowed = API[route]
                 if method not in allowed and not (method == "HEAD" and "GET" in allowed):
                     raise RequestError(f"{path} takes {', '.join(allowed)}, not {method}", 405)
-                self._api(method, path)
+                self._api(method, path if route == path else route)
             elif method in ("GET", "HEAD"):
                 self._file(path, head=method == "HEAD")
             elif path in _PAGES or path.startswith("/static/"):
@@ -238,6 +250,9 @@ class _Handler(BaseHTTPRequestHandler):
             self._drain()
             if path == "/api/model.glb":
                 self._send(session.glb(), "model/gltf-binary", head=method == "HEAD")
+            elif path == "/api/blocks/ID":
+                block_id = unquote(urlsplit(self.path).path[len(_BLOCKS) :])
+                self._json(session.block(block_id), head=method == "HEAD")
             elif path == "/api/scene":
                 self._json(session.scene(), head=method == "HEAD")
             else:
@@ -345,7 +360,7 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("Cache-Control", "max-age=300" if cache else "no-store")
         self.send_header("X-Content-Type-Options", "nosniff")
         if status == HTTPStatus.METHOD_NOT_ALLOWED:
-            path = urlsplit(self.path).path
+            path = _route(urlsplit(self.path).path)
             self.send_header("Allow", ", ".join(API.get(path, {"GET": ""})))
         if self.close_connection:
             self.send_header("Connection", "close")

@@ -23,6 +23,7 @@ from pathlib import Path
 from shapegen import pipeline
 from shapegen.editor.annotations import attr_hints, inspector_sections
 from shapegen.editor.attrs import RequestError, attr_specs, checked_values
+from shapegen.editor.blocks import block_details
 from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
 from shapegen.errors import GrammarError, ShapegenError
@@ -345,6 +346,18 @@ class EditorSession:
         with self._state_lock:
             self._scene = (version, data)
         return data
+
+    def block(self, block_id: str) -> dict:
+        """One block of the current model: labels, rule path, the attrs its rules read, its
+        joints' forces and the tension it needs (see :mod:`shapegen.editor.blocks`)."""
+        with self._state_lock:
+            outcome, version = self._outcome, self.model_version
+            values, user = self._current_values(), set(self.attrs)
+        details = block_details(outcome, block_id, values, user)
+        if details is None:
+            raise RequestError(f"the current model has no block {block_id!r}", 404)
+        details["model_version"] = version
+        return json_ready(details)
 
     def close(self) -> None:
         """Stop the background scan."""

@@ -316,3 +316,42 @@ def test_undo_redo_reset_and_the_mark_on_the_designers_values(browser, tmp_path)
         assert page.locator(".attr .user:visible").count() == 0
         assert page.evaluate("window.shapegenEditor.errors") == []
         assert not page.problems, page.problems
+
+
+def test_a_block_clicked_is_highlighted_and_its_account_shown(browser, tmp_path):
+    from editor_stack import STACK
+
+    grammar = tmp_path / "stack.grammar"
+    grammar.write_text(STACK, encoding="utf-8")
+    # the upper block shifted beyond half a block: its joint with the lower one needs tension
+    with page_steps.Editor(grammar, "--set", "offset=0.7") as editor:
+        page = page_steps.open_page(browser, editor.url)
+        assert page_steps.verdict(page) == "needs tension"
+        x, y = page.evaluate("window.shapegenEditor.blockScreenPoint('b1')")
+        before = page.evaluate(f"window.shapegenEditor.pixelAt({x}, {y})")
+        page.mouse.click(x, y)
+        page.wait_for_selector("#block", state="visible")
+        assert page.evaluate("window.shapegenEditor.selected") == "b1"
+        after = page.evaluate(f"window.shapegenEditor.pixelAt({x}, {y})")
+        assert sum(abs(a - b) for a, b in zip(after, before, strict=True)) > 30, (before, after)
+        text = page.inner_text("#block")
+        assert "Block b1" in text and "labels: upper" in text
+        assert "rules: Lot › Upper" in text
+        assert "attrs its rules read: offset = 0.7" in text
+        details = page.evaluate("window.shapegenEditor.blockDetails")
+        (joint,) = details["joints"]
+        assert joint["other"] == "b0" and joint["tension"] > 0
+        assert "its worst joint needs" in text and "of tension" in text
+        # the attr's link shows its row in the Inspector
+        page.click('#block a[data-attr="offset"]')
+        assert page.locator('.attr[data-attr="offset"]').is_visible()
+        page_steps.screenshot(page, "editor_block", tmp_path)
+        # a drag orbits and selects nothing; Esc deselects
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + 80, y + 10, steps=4)
+        page.mouse.up()
+        assert page.evaluate("window.shapegenEditor.selected") == "b1"
+        page.keyboard.press("Escape")
+        page.wait_for_selector("#block", state="hidden")
+        assert not page.problems, page.problems

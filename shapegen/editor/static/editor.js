@@ -22,6 +22,8 @@ const app = {
   lastLatencyMs: null,
   errors: [],
   framesDrawn: 0,
+  selected: null,
+  blockDetails: null,
 };
 window.shapegenEditor = app;
 
@@ -45,6 +47,7 @@ groundPlane.rotation.x = -Math.PI / 2;
 view.add(groundPlane);
 let grid = null;
 let modelGroup = null;
+let sectionPlane = null; // the section plane, when one cuts the model (a THREE.Plane)
 const forceGroups = { joints: new THREE.Group(), ground: new THREE.Group() };
 view.add(forceGroups.joints, forceGroups.ground);
 const FORCE_COLOURS = { joints: 0x202020, ground: 0x1b7f3b };
@@ -105,6 +108,18 @@ app.modelCoverage = () => {
   return changed / (w * h);
 };
 
+// The colour the view shows at a point of the screen (client pixels), drawn afresh.
+app.pixelAt = (clientX, clientY) => {
+  const gl = renderer.getContext();
+  const box = canvas.getBoundingClientRect();
+  const x = Math.round(((clientX - box.left) / box.width) * gl.drawingBufferWidth);
+  const y = Math.round((1 - (clientY - box.top) / box.height) * gl.drawingBufferHeight);
+  renderer.render(view, camera);
+  const pixel = new Uint8Array(4);
+  gl.readPixels(x, y, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
+  return Array.from(pixel.slice(0, 3));
+};
+
 function rgb(c) {
   return new THREE.Color().setRGB(c[0] / 255, c[1] / 255, c[2] / 255, THREE.SRGBColorSpace);
 }
@@ -127,6 +142,7 @@ async function loadModel() {
       showModel(sceneData, gltf);
       app.renderedModelVersion = sceneData.model_version;
       app.modelsRendered += 1;
+      if (app.selected) select(app.selected); // the same id in the new model, if it has one
     } while (loadAgain);
   } catch (err) {
     note(`the model could not be loaded: ${err.message || err}`);
@@ -205,10 +221,93 @@ function applyColours() {
     o.material.transparent = opacity < 1;
     o.material.opacity = opacity;
     o.material.depthWrite = opacity >= 1;
+    // the block clicked: lit from within, so it shows in any colour mode
+    o.material.emissive = new THREE.Color(block.id === app.selected ? 0x8a6d00 : 0x000000);
     o.material.needsUpdate = true;
   });
   requestRender();
 }
+
+// ------------------------------------------------------------------ a block clicked
+// A click (not a drag: the orbit) on a block selects it: highlighted, and its account shown
+// (GET /api/blocks/ID): labels, rule path, the attrs its rules read, its joints' forces.
+const raycaster = new THREE.Raycaster();
+let pressed = null;
+canvas.addEventListener('pointerdown', (event) => { pressed = { x: event.clientX, y: event.clientY }; });
+canvas.addEventListener('pointerup', (event) => {
+  if (!pressed || Math.hypot(event.clientX - pressed.x, event.clientY - pressed.y) > 4) return;
+  pressed = null;
+  select(blockAt(event.clientX, event.clientY));
+});
+
+function blockAt(clientX, clientY) {
+  if (!modelGroup) return null;
+  const box = canvas.getBoundingClientRect();
+  const pointer = new THREE.Vector2(((clientX - box.left) / box.width) * 2 - 1, -((clientY - box.top) / box.height) * 2 + 1);
+  raycaster.setFromCamera(pointer, camera);
+  const meshes = [];
+  modelGroup.traverse((o) => { if (o.isMesh && o.userData.block && o.visible && o.parent.visible) meshes.push(o); });
+  for (const hit of raycaster.intersectObjects(meshes, false)) {
+    if (visibleHit(hit.point)) return hit.object.userData.block.id;
+  }
+  return null;
+}
+
+// A hit the view shows (not cut away by the section plane).
+function visibleHit(point) {
+  return !sectionPlane || sectionPlane.distanceToPoint(point) >= 0;
+}
+
+// Where a block's centre shows on the screen (client pixels): for the tests and the console.
+app.blockScreenPoint = (id) => {
+  let mesh = null;
+  modelGroup?.traverse((o) => { if (o.isMesh && o.userData.block?.id === id) mesh = o; });
+  if (!mesh) return null;
+  const centre = new THREE.Box3().setFromObject(mesh).getCenter(new THREE.Vector3()).project(camera);
+  const box = canvas.getBoundingClientRect();
+  return [box.left + ((centre.x + 1) / 2) * box.width, box.top + ((1 - centre.y) / 2) * box.height];
+};
+
+async function select(id) {
+  app.selected = id;
+  applyColours();
+  if (!id) { app.blockDetails = null; showBlock(null); return; }
+  try {
+    const details = await getJSON(`/api/blocks/${encodeURIComponent(id)}`);
+    if (app.selected === id) { app.blockDetails = details; showBlock(details); }
+  } catch (err) {
+    if (app.selected === id) { app.selected = null; app.blockDetails = null; showBlock(null); applyColours(); }
+  }
+}
+
+function showBlock(b) {
+  const panel = $('block');
+  panel.hidden = !b;
+  if (!b) return;
+  const rows = (b.joints || []).map((j) => `<tr><td>${escape(j.other)}${j.support ? ' (support)' : ''}</td><td>${newtons(j.compression)}</td><td>${newtons(j.shear)}</td><td class="${j.tension > 0 ? 'needs' : ''}">${newtons(j.tension)}</td></tr>`).join('');
+  const attrs = b.attrs.map((a) => `<a href="#" data-attr="${escape(a.name)}" title="show it in the Inspector">${escape(a.name)}</a> = ${escape(typeof a.value === 'number' ? number(a.value) : JSON.stringify(a.value))}`).join(', ');
+  const tension = b.tension === null ? '' : (b.tension > 0 ? `its worst joint needs <strong>${newtons(b.tension)}</strong> of tension` : 'needs no tension');
+  panel.innerHTML = `<div class="title"><strong>Block ${escape(b.id)}</strong><button class="close" title="deselect (Esc)">×</button></div>
+    <div>labels: ${b.labels.length ? b.labels.map(escape).join(', ') : '–'}${b.fixed ? ' · support (fixed)' : ''}${b.structural ? '' : ' · not structural'}</div>
+    <div>rules: ${b.rule_path.map(escape).join(' › ') || '–'}</div>
+    <div>attrs its rules read: ${attrs || '–'}</div>
+    <div>weight ${newtons(b.weight)}${tension ? ` · ${tension}` : ''}</div>
+    ${b.joints ? `<table class="joints"><tr><th>joint with</th><th>compression</th><th>shear</th><th title="the sum of the tensions at the joint's corners">tension</th></tr>${rows}</table>` : '<div>its cables, not its joints, judge this design</div>'}`;
+  panel.querySelector('.close').addEventListener('click', () => select(null));
+  for (const link of panel.querySelectorAll('a[data-attr]')) {
+    link.addEventListener('click', (event) => {
+      event.preventDefault();
+      const row = attrRows.get(link.dataset.attr);
+      if (!row) return;
+      for (let e = row.parentElement; e; e = e.parentElement) if (e.tagName === 'DETAILS') e.open = true;
+      row.scrollIntoView({ block: 'center' });
+      row.classList.add('flash');
+      setTimeout(() => row.classList.remove('flash'), 1200);
+    });
+  }
+}
+
+document.addEventListener('keydown', (event) => { if (event.key === 'Escape' && app.selected) select(null); });
 
 // Arrows as in the seed paper's Figure 1: solid shafts and heads, drawn through translucent
 // blocks. A joint's resultant is centred on its centre of pressure; a reaction starts where the
@@ -476,7 +575,7 @@ function showProgress(o) {
 // (state.sections); hidden attrs are not shown. A row's control follows the attr's kind:
 // a slider for a number with a @Range, a drop-down for an @Enum (or a @Range of strings, or the
 // asset files of a @File), a colour picker for a @Color, a check box for a boolean.
-const rows = new Map();
+const attrRows = new Map();
 let gestures = 0;
 
 function inspector(state) {
@@ -487,16 +586,16 @@ function inspector(state) {
   if ($('attrs').dataset.layout !== layout) {
     $('attrs').dataset.layout = layout;
     $('attrs').innerHTML = '';
-    rows.clear();
+    attrRows.clear();
     const byName = new Map(state.attrs.map((a) => [a.name, a]));
     const sections = new Map([['', $('attrs')]]);
     for (const section of state.sections) {
       const parent = sectionFor(sections, section.group);
-      for (const name of section.attrs) rows.set(name, makeRow(byName.get(name), parent));
+      for (const name of section.attrs) attrRows.set(name, makeRow(byName.get(name), parent));
     }
   }
   for (const attr of state.attrs) {
-    const row = rows.get(attr.name);
+    const row = attrRows.get(attr.name);
     if (row) updateRow(row, attr, state.stability[attr.name]);
   }
 }
