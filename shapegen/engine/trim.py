@@ -15,7 +15,7 @@ __all__ = ["apply_trim", "comp_trim_planes"]
 import numpy as np
 
 from shapegen.engine.shape import Shape
-from shapegen.geometry.trim import face_trim_planes, trimmed
+from shapegen.geometry.trim import deferred_face_trim_planes, trimmed
 
 
 def comp_trim_planes(shape: Shape, faces: list[Shape]) -> list[tuple]:
@@ -23,7 +23,7 @@ def comp_trim_planes(shape: Shape, faces: list[Shape]) -> list[tuple]:
     ``faces`` (in the geometry's face order): classified in each face's own frame."""
     mesh = shape.mesh()
     ups = np.array([face.scope.rotation[:, 1] for face in faces])
-    return face_trim_planes(shape.scope.to_world(mesh.vertices), mesh.faces, ups)
+    return deferred_face_trim_planes(shape.scope.to_world(mesh.vertices), mesh.faces, ups)
 
 
 def apply_trim(state) -> bool:

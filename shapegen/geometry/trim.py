@@ -15,16 +15,24 @@ the edge perpendicular to them.
 
 from __future__ import annotations
 
-__all__ = ["HORIZONTAL_LIMIT_DEGREES", "TrimPlane", "face_trim_planes", "trimmed"]
+__all__ = [
+    "HORIZONTAL_LIMIT_DEGREES",
+    "FacePlanes",
+    "TrimPlane",
+    "deferred_face_trim_planes",
+    "face_trim_planes",
+    "trimmed",
+]
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from shapegen.geometry.cut import clip_plane
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout, unit_face_normals
-from shapegen.model.polygons import cross
+from shapegen.model.polygons import CheckedFaces, cross
 
 HORIZONTAL_LIMIT_DEGREES = 40.0
 _SIN_LIMIT = math.sin(math.radians(HORIZONTAL_LIMIT_DEGREES))
@@ -48,7 +56,8 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
     up = np.asarray(up, dtype=float)
     ups = np.broadcast_to(up, (len(faces), 3)) if up.ndim == 1 else up
     vertices = np.asarray(vertices, dtype=float)
-    faces = [tuple(face) for face in faces]
+    if not isinstance(faces, CheckedFaces):
+        faces = CheckedFaces(tuple(map(int, face)) for face in faces)
     if not faces:
         return []
     corners, start = corner_layout(faces)
@@ -93,6 +102,55 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
     ):
         out[f].append(TrimPlane(tuple(plane), height, flag))
     return [tuple(planes) for planes in out]
+
+
+def deferred_face_trim_planes(vertices, faces, up) -> list[FacePlanes]:
+    """:func:`face_trim_planes`, worked out when one face's planes are first read.
+
+    A component split makes trim planes for every face, but only an insert (``i()``, a
+    primitive, ``trim()``) below it reads them: most components of a building are split on
+    without ever inserting, and their planes need not be made."""
+    faces = faces if isinstance(faces, tuple) else tuple(faces)
+    pending = _PendingPlanes(np.array(vertices, dtype=float), faces, np.array(up, float))
+    return [FacePlanes(pending, k) for k in range(len(pending.faces))]
+
+
+class _PendingPlanes:
+    __slots__ = ("vertices", "faces", "up", "planes")
+
+    def __init__(self, vertices, faces, up):
+        self.vertices, self.faces, self.up, self.planes = vertices, faces, up, None
+
+    def of(self, index: int) -> tuple[TrimPlane, ...]:
+        if self.planes is None:
+            self.planes = face_trim_planes(self.vertices, self.faces, self.up)
+            self.vertices = self.up = None  # no longer needed
+        return self.planes[index]
+
+
+class FacePlanes(Sequence):
+    """One face's trim planes (a sequence of :class:`TrimPlane`), made with its mesh's others
+    when first read (:func:`deferred_face_trim_planes`)."""
+
+    __slots__ = ("_pending", "_index")
+
+    def __init__(self, pending: _PendingPlanes, index: int):
+        self._pending, self._index = pending, index
+
+    def __getitem__(self, k):
+        return self._pending.of(self._index)[k]
+
+    def __len__(self) -> int:
+        return len(self._pending.of(self._index))
+
+    def __eq__(self, other) -> bool:
+        return tuple(self) == (tuple(other) if isinstance(other, Sequence) else other)
+
+    def __hash__(self) -> int:
+        return hash(tuple(self))
+
+    def __repr__(self) -> str:
+        return repr(self._pending.of(self._index))
 
 
 def _face_trim_planes_by_face(vertices, faces, normals, ups) -> list[tuple[TrimPlane, ...]]:
