@@ -34,6 +34,13 @@ _START = "start"
 # ``Name with (x := ...) = ...`` (with.html): a keyword at depth 0 after a definition's name or
 # parameters, before its parenthesis.
 _WITH = "with"
+# op_boolOp's operations take a block of alternatives; op_inline's keyword form takes the item
+# after it (the operation form, inline(unify), is an ordinary call)
+_BOOLEAN_OPERATIONS = frozenset({"union", "subtract", "intersect"})
+_INLINE = "inline"
+_NOT_AFTER_INLINE = frozenset(
+    {"LPAR", "EQUAL", "ARROW", "COLON", "RBRACE", "VBAR", "RSQB", "DOT", "COMMA", "RPAR"}
+)
 # Tokens that begin a new definition at bracket depth 0 (for max_definition_tokens).
 _DEFINITION_STARTS = frozenset({"DEF_NAME", "_START", "_IMPORT", "_STYLE", "_EXTENSION", "AT"})
 
@@ -80,6 +87,17 @@ class DefinitionNames:
         while peek(0) is not None:
             token = pending.popleft()
             count += 1
+            if token.type == "NAME" and (following := peek(0)) is not None:
+                if token.value in _BOOLEAN_OPERATIONS and following.type == "LBRACE":
+                    # union { A | B }: alternatives, not a split's block
+                    yield Token.new_borrow_pos("BOOL_OP", token.value, token)
+                    brace = pending.popleft()
+                    depth += 1
+                    previous = Token.new_borrow_pos("ALT_LBRACE", brace.value, brace)
+                    yield previous
+                    continue
+                if token.value == _INLINE and following.type not in _NOT_AFTER_INLINE:
+                    token = Token.new_borrow_pos("_INLINE", token.value, token)
             if count > limit and started is not None:
                 raise DefinitionTooLong(started, limit)
             if token.type == "LBRACE" and self._bare_block(peek):

@@ -297,6 +297,7 @@ BLOCK_OPERATIONS: frozenset[str] = frozenset(
         "comp",
         "innerRectangle",
         "intersect",
+        "inline",
         "modify",
         "offset",
         "scatter",

@@ -38,6 +38,9 @@ _TERMINAL_WORDS = {
     "_EXTENSION": "'extension'",
     "_START": "'start'",
     "_WITH": "'with'",
+    "_INLINE": "'inline'",
+    "BOOL_OP": "'union', 'subtract' or 'intersect'",
+    "ALT_LBRACE": "'{'",
     "BARE_LBRACE": "'{'",
 }
 _SINGLE_ARROW = re.compile(r"[ \t]*(\([^()\n]*\))?[ \t]*(?P<arrow>->)")

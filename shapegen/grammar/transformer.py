@@ -262,7 +262,21 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
         return ast.StochasticBranch(_percent(probability), body, location=self._at(meta))
 
     def sequence(self, meta, children):
-        return ast.Sequence(tuple(children), location=self._at(meta))
+        items = []
+        for item in children:
+            previous = items[-1] if items else None
+            if (  # inline(strategy) Rule: the operation takes the item after it (op_inline)
+                isinstance(previous, ast.Operation)
+                and previous.name == "inline"
+                and previous.arguments
+                and not previous.branches
+            ):
+                body = ast.Sequence((item,), location=item.location)
+                branch = ast.OperationBranch(None, "absolute", body, location=item.location)
+                items[-1] = dataclasses.replace(previous, branches=(branch,))
+                continue
+            items.append(item)
+        return ast.Sequence(tuple(items), location=self._at(meta))
 
     def successor(self, meta, children):
         (name,) = children
@@ -278,6 +292,28 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
         if name == "NIL":
             return ast.Nil(location=self._at(name))
         return ast.Successor(str(name), leaf=True, location=self._at(name))
+
+    def boolean_operation(self, meta, children):
+        name, _brace, *bodies = children
+        return self._alternatives(str(name), bodies, self._at(name))
+
+    def inline_keyword(self, meta, children):
+        (item,) = children
+        body = ast.Sequence((item,), location=item.location)
+        return self._alternatives("inline", [body], self._at(meta))
+
+    def inline_block(self, meta, children):
+        body = children[-1]
+        return self._alternatives("inline", [body], self._at(meta))
+
+    @staticmethod
+    def _alternatives(name: str, bodies, location) -> ast.Operation:
+        """A generic operation whose branches are bodies without keys (op_boolOp's operands,
+        op_inline's operations)."""
+        branches = tuple(
+            ast.OperationBranch(None, "absolute", body, location=body.location) for body in bodies
+        )
+        return ast.Operation(name, (), branches, location=location)
 
     def push(self, meta, children):
         (body,) = children
