@@ -83,8 +83,8 @@ def import_candidates(path: str, folder: Path) -> list[Path]:
             found.append(folder / rest)
     else:
         found.append(folder / path)
-        if project is not None:
-            found.append(project / path)
+        if project is not None:  # relative to the project, and to its rules folder
+            found += [project / path, project / "rules" / path]
     relative = path.lstrip("/")
     name, _, rest = relative.partition("/")
     for extra in search_folders():

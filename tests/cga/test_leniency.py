@@ -404,3 +404,16 @@ def test_boolean_and_inline_syntax_parses_and_is_refused_in_one_line(body, opera
 def test_inline_and_union_stay_names_elsewhere():
     text = "attr union = 2\n@StartRule\nLot --> extrude(union) inline."
     assert parse_grammar(text, "r.cga").build(lot=LOT).volume == pytest.approx(12 * 8 * 2)
+
+
+def test_a_relative_import_is_looked_up_in_the_projects_rules_folder(tmp_path):
+    # rules/Complete_Lanes/Lane.cga imports "Complete_Lanes/Imports/Reference.cga", which lies
+    # in the project's rules folder (as CityEngine resolves it)
+    imports = tmp_path / "rules" / "Complete_Lanes" / "Imports"
+    imports.mkdir(parents=True)
+    (imports / "Reference.cga").write_text("attr w = 3\nLane --> extrude(w) A.\n")
+    lane = tmp_path / "rules" / "Complete_Lanes" / "Lane.cga"
+    lane.write_text(
+        'import ref : "Complete_Lanes/Imports/Reference.cga"\n@StartRule\nLot --> ref.Lane\n'
+    )
+    assert load_grammar(lane).build(lot=LOT).volume == pytest.approx(12 * 8 * 3)
