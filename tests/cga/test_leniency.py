@@ -392,13 +392,18 @@ def test_scatter_takes_center_as_the_gaussian_mean():
         ("inline(unify) split(x) { 2 : A | ~1 : B }*", "inline"),
     ],
 )
-def test_boolean_and_inline_syntax_parses_and_is_refused_in_one_line(body, operation):
-    # op_boolOp and op_inline: the syntax is read; shapegen does not derive them yet, and says so
+def test_boolean_and_inline_syntax_is_read(body, operation):
+    # op_boolOp and op_inline: the syntax is read into the operation with its operands; the
+    # operation either derives or is named in one line at its place, never a syntax error
     text = f"@StartRule\nLot --> extrude(2) {body}\nExtract --> X."
     tree = load(text, "r.cga")
-    assert any(isinstance(n, ast.Operation) and n.name == operation for n in ast.walk(tree))
-    with pytest.raises(GrammarError, match=f"r.cga:2:20: the CGA operation '{operation}' is not"):
-        parse_grammar(text, "r.cga")
+    (node,) = [n for n in ast.walk(tree) if isinstance(n, ast.Operation) and n.name == operation]
+    assert len(node.branches) == (1 if operation == "inline" else 2)
+    assert all(branch.key is None for branch in node.branches)
+    try:
+        parse_grammar(text, "r.cga").build(lot=LOT)
+    except GrammarError as error:
+        assert str(error).startswith(f"r.cga:2:20: the CGA operation '{operation}' is not")
 
 
 def test_inline_and_union_stay_names_elsewhere():
