@@ -402,14 +402,42 @@ def rate_lines(results: list[dict]) -> list[str]:
     rules = [r for r in results if r.get("kind") != "library"]
     plain = [r for r in rules if r.get("kind") != "generated"]
     heads = [r for r in plain if r.get("revision", "head") == "head"]
+    counted = [r for r in rules if not lacks_imports(r) and not is_library(r)]
+    counted_plain = [r for r in counted if r.get("kind") != "generated"]
     outcomes = Counter(r["outcome"] for r in results)
     return [
         line("all distinct files", results),
         line("rule files (library files left out)", rules),
         line("rule files outside generated families", plain),
         line("the same, at the repositories' HEAD only (earlier revisions left out)", heads),
+        line(
+            "the measure: rule files, without libraries and files whose imports their own "
+            "project lacks",
+            counted,
+        ),
+        line("the measure outside generated families", counted_plain),
         "outcomes: " + ", ".join(f"{k} {outcomes[k]}" for k in (*OUTCOME_ORDER, "missing")),
     ]
+
+
+def lacks_imports(record: dict) -> bool:
+    """True for a file that stopped because a file it imports is not in its own project (and
+    not on the rules path): CityEngine's ESRI.lib, a folder the repository never had."""
+    return (
+        record["outcome"] == "error"
+        and _IMPORT_MISSING.search(record.get("message", "")) is not None
+    )
+
+
+def is_library(record: dict) -> bool:
+    """True for a file shapegen found to define no rule a lot can start (only attrs and
+    functions, or only rules that take parameters): it is meant to be imported."""
+    message = record.get("message", "") if record["outcome"] == "error" else ""
+    return _LIBRARY.search(message) is not None
+
+
+_IMPORT_MISSING = re.compile(r'import of "[^"]*": no such file')
+_LIBRARY = re.compile(r"the grammar has no rules|the start rule '[^']*' cannot take parameters")
 
 
 def failure_ranking(results: list[dict], corpus: Path) -> list[dict]:
