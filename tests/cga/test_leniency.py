@@ -422,3 +422,15 @@ def test_a_relative_import_is_looked_up_in_the_projects_rules_folder(tmp_path):
         'import ref : "Complete_Lanes/Imports/Reference.cga"\n@StartRule\nLot --> ref.Lane\n'
     )
     assert load_grammar(lane).build(lot=LOT).volume == pytest.approx(12 * 8 * 3)
+
+
+def test_a_comp_selector_may_be_a_computed_index():
+    # comp(f) { k + 0 = A | ... }: op_comp's index, written as an expression (real files do)
+    text = (
+        "attr k = 4\n@StartRule\n"
+        "Lot --> extrude(3) comp(f) { k + 0 : Front. | k + 1 = Right. | all : Rest. }"
+    )
+    names = sorted(s.rule_path[-1] for s in parse_grammar(text, "r.cga").build(lot=LOT).surfaces)
+    assert names == ["Front", "Rest", "Rest", "Rest", "Rest", "Right"]
+    with pytest.raises(GrammarError, match="boolean or a component index, got 1.5"):
+        parse_grammar(text.replace("k + 0", "k - 2.5"), "r.cga").build(lot=LOT)

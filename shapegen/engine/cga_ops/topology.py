@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
-from shapegen.engine.functions_arrays import type_name
+from shapegen.engine.functions_arrays import format_value, type_name
 from shapegen.engine.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.trim import comp_trim_planes
 from shapegen.geometry.frames import face_rotation, fitted_scope, rotation_keeping_x
@@ -316,8 +316,14 @@ def component_selector(program, key, params, kind: str, where=None) -> Selector:
             value = compiled(args, state)
         finally:
             state.shape = saved
+        if type(value) is float and value == int(value):  # op_comp: an index may be computed
+            return c.index == int(value)
         if type(value) is not bool:
-            raise error(key, f"a comp selector must be a boolean, got a {type_name(value)}")
+            raise error(
+                key,
+                f"a comp selector must be a boolean or a component index, got "
+                f"{format_value(value) if type(value) is float else 'a ' + type_name(value)}",
+            )
         return value
 
     return condition
