@@ -13,7 +13,7 @@ or off its stepsize, a value not among its ``@Enum``'s, a fraction for a count i
 
 from __future__ import annotations
 
-__all__ = ["AttrSpec", "RequestError", "attr_specs", "checked_values"]
+__all__ = ["AttrSpec", "RequestError", "attr_specs", "checked_values", "plain_value"]
 
 import difflib
 import math
@@ -78,7 +78,7 @@ def _step(low: float, high: float) -> float:
     return 10.0 ** math.floor(math.log10(span / 500.0))
 
 
-def _plain(value: object) -> object:
+def plain_value(value: object) -> object:
     """A CGA array as a list of its values, anything else as it is."""
     values = getattr(value, "values", None)
     return list(values) if isinstance(values, tuple) else value
@@ -91,7 +91,7 @@ def choices_of(grammar, name: str, hint: AttrHints, values: Mapping[str, object]
     if hint.choices is not None:
         return list(hint.choices)
     if hint.values_attr is not None:
-        source = _plain(values.get(hint.values_attr, grammar.attrs.get(hint.values_attr)))
+        source = plain_value(values.get(hint.values_attr, grammar.attrs.get(hint.values_attr)))
         if isinstance(source, list):
             return [float(v) if isinstance(v, int | float) and not isinstance(v, bool) else v
                     for v in source]  # fmt: skip
@@ -136,14 +136,14 @@ def attr_specs(
             AttrSpec(
                 name,
                 hint.kind,
-                _plain(value),
+                plain_value(value),
                 low,
                 high,
                 step,
                 is_free,
                 hint.description,
                 whole,
-                default=_plain(default),
+                default=plain_value(default),
                 user=name in user,
                 restricted=hint.restricted or is_free,
                 choices=choices_of(grammar, name, hint, values),

@@ -47,6 +47,8 @@ API = {
     "/api/scene": {"GET": "per-block colours by label and tension, forces, legend"},
     "/api/model.glb": {"GET": "the current model as binary glTF"},
     "/api/blocks/ID": {"GET": "one block: labels, rule path, attrs, joints' forces, tension"},
+    "/api/report.json": {"GET": "the current design's report (as shapegen build --report)"},
+    "/api/attrs.json": {"GET": "the current attrs, and the shapegen build line that builds them"},
     "/api/attrs": {"POST": 'set attrs: {"name": value, ...}; returns the new state'},
     "/api/undo": {"POST": "take the designer's values back to before the last change"},
     "/api/redo": {"POST": "make the last undone change again"},
@@ -250,6 +252,10 @@ class _Handler(BaseHTTPRequestHandler):
             self._drain()
             if path == "/api/model.glb":
                 self._send(session.glb(), "model/gltf-binary", head=method == "HEAD")
+            elif path == "/api/report.json":
+                self._json(session.report(), head=method == "HEAD")
+            elif path == "/api/attrs.json":
+                self._json(session.attrs_export(), head=method == "HEAD")
             elif path == "/api/blocks/ID":
                 block_id = unquote(urlsplit(self.path).path[len(_BLOCKS) :])
                 self._json(session.block(block_id), head=method == "HEAD")

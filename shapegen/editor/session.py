@@ -22,8 +22,9 @@ from pathlib import Path
 
 from shapegen import pipeline
 from shapegen.editor.annotations import attr_hints, inspector_sections
-from shapegen.editor.attrs import RequestError, attr_specs, checked_values
+from shapegen.editor.attrs import RequestError, attr_specs, checked_values, plain_value
 from shapegen.editor.blocks import block_details
+from shapegen.editor.exports import command_line
 from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
 from shapegen.errors import GrammarError, ShapegenError
@@ -346,6 +347,31 @@ class EditorSession:
         with self._state_lock:
             self._scene = (version, data)
         return data
+
+    def report(self) -> dict:
+        """The current design's report, as ``shapegen build --analyze --report`` writes it."""
+        with self._state_lock:
+            return json_ready(self._outcome.report)
+
+    def attrs_export(self) -> dict:
+        """The current design's attrs: every value (``attrs``), the designer's (``set``), and
+        the ``shapegen build`` line that builds the design again (``command``: the designer's
+        values; ``command_every_attr``: every value, for a file whose defaults may change)."""
+        with self._state_lock:
+            values = self._current_values()
+            every = {k: plain_value(values[k]) for k in self.grammar.attrs if k in values}
+            user = {k: every[k] for k in every if k in self.attrs}
+            settable = {k: v for k, v in every.items() if not isinstance(v, list)}
+            path, seed, lot = self.path, self.seed, self.lot
+            return json_ready({
+                "grammar": str(path) if path else None,
+                "seed": seed,
+                "lot": lot,
+                "attrs": every,
+                "set": user,
+                "command": command_line(path, user, seed=seed, lot=lot),
+                "command_every_attr": command_line(path, settable, seed=seed, lot=lot),
+            })  # fmt: skip
 
     def block(self, block_id: str) -> dict:
         """One block of the current model: labels, rule path, the attrs its rules read, its

@@ -355,3 +355,42 @@ def test_a_block_clicked_is_highlighted_and_its_account_shown(browser, tmp_path)
         page.keyboard.press("Escape")
         page.wait_for_selector("#block", state="hidden")
         assert not page.problems, page.problems
+
+
+def test_the_page_exports_the_model_the_report_and_the_attrs(browser, tmp_path):
+    import json
+    import shlex
+
+    from editor_stack import STACK
+
+    from shapegen.cli import build_parser
+
+    grammar = tmp_path / "stack.grammar"
+    grammar.write_text(STACK, encoding="utf-8")
+    with page_steps.Editor(grammar) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        page_steps.drag_slider(page, "offset", 0.4)
+        page.wait_for_function("window.shapegenEditor.exported?.set?.offset !== undefined")
+        offset = attr_value(page, "offset")
+        downloads = {}
+        for link in ("download-model", "download-report", "download-attrs"):
+            with page.expect_download() as info:
+                page.click(f"#{link}")
+            download = info.value
+            downloads[download.suggested_filename] = Path(download.path()).read_bytes()
+        assert set(downloads) == {"stack.glb", "stack.report.json", "stack.attrs.json"}
+        assert downloads["stack.glb"][:4] == b"glTF"
+        report = json.loads(downloads["stack.report.json"])
+        assert report["attrs"]["offset"] == offset and report["analysis"]["feasible"]
+        exported = json.loads(downloads["stack.attrs.json"])
+        assert exported["set"] == {"offset": offset}
+        # the command line on the page builds this design again
+        line = page.inner_text("#command")
+        assert line == exported["command"]
+        args = build_parser().parse_args(shlex.split(line)[1:])
+        assert dict(args.assignments) == {"offset": offset}
+        page.click("#copy-command")  # copied, or selected where the page has no clipboard
+        page.wait_for_function(
+            "() => document.getElementById('message').textContent.startsWith('the command line is')"
+        )
+        assert not page.problems, page.problems

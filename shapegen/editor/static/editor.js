@@ -143,6 +143,7 @@ async function loadModel() {
       app.renderedModelVersion = sceneData.model_version;
       app.modelsRendered += 1;
       if (app.selected) select(app.selected); // the same id in the new model, if it has one
+      showExports();
     } while (loadAgain);
   } catch (err) {
     note(`the model could not be loaded: ${err.message || err}`);
@@ -227,6 +228,38 @@ function applyColours() {
   });
   requestRender();
 }
+
+// ------------------------------------------------------------------ export
+// Downloads named after the rule file, and the shapegen build line of the current design.
+async function showExports() {
+  const stem = (app.state?.grammar.name || 'design').replace(/\.[^.]*$/, '');
+  const v = app.state?.model_version ?? 0;
+  for (const [id, path, suffix] of [['download-model', '/api/model.glb', '.glb'], ['download-report', '/api/report.json', '.report.json'], ['download-attrs', '/api/attrs.json', '.attrs.json']]) {
+    $(id).href = `${path}?v=${v}`;
+    $(id).download = stem + suffix;
+  }
+  try {
+    const exported = await getJSON('/api/attrs.json');
+    app.exported = exported;
+    $('command').textContent = exported.command;
+  } catch (err) {
+    note(err.message);
+  }
+}
+
+$('copy-command').addEventListener('click', async () => {
+  const text = $('command').textContent;
+  try {
+    await navigator.clipboard.writeText(text);
+    note('the command line is copied');
+  } catch (err) { // no clipboard for this page: the text is selected, for Ctrl+C
+    const range = document.createRange();
+    range.selectNodeContents($('command'));
+    window.getSelection().removeAllRanges();
+    window.getSelection().addRange(range);
+    note('the command line is selected: Ctrl+C copies it');
+  }
+});
 
 // ------------------------------------------------------------------ a block clicked
 // A click (not a drag: the orbit) on a block selects it: highlighted, and its account shown
