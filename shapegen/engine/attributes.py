@@ -110,7 +110,12 @@ class AttributeValues:
                 continue
             if bounds is None:
                 raise self.error(node, f"@Free attr {name!r} needs a @Range(min, max)")
-            low, high = (self.expressions.compile(b, {})((), state) for b in bounds)
+            try:
+                low, high = (self.expressions.compile(b, {})((), state) for b in bounds)
+            except GrammarError:
+                if node.free:
+                    raise
+                continue  # a .cga inspector hint the load warned of (an undefined name)
             if not node.free and not (type(low) is float and type(high) is float):
                 continue  # CityEngine's old @Range("a", "b") lists a string attr's values
             for bound in (low, high):

@@ -104,7 +104,7 @@ class AnnotationChecks:
                     )
             if name not in _UNEVALUATED and (not self.cga or name in _EVALUATED_IN_CGA):
                 # CityEngine reads the other inspector hints' unquoted words as words
-                self._visit(annotation, {})
+                self._visit_annotation(name, definition, annotation)
             if name in _RULE_ONLY_ANNOTATIONS and not isinstance(definition, ast.Rule):
                 self._annotation_problem(
                     name, annotation.location, f"@{name} belongs on a rule, not on {kind}"
@@ -115,6 +115,19 @@ class AnnotationChecks:
                 )
         if isinstance(definition, ast.Attribute):
             self._check_range(definition)
+
+    def _visit_annotation(self, name: str, definition, annotation: ast.Annotation) -> None:
+        """Check the names in the annotation's arguments. A ``@Range`` that is only an
+        inspector hint (not ``@Free``) in a ``.cga`` file turns its problems into warnings: the
+        range is ignored, as the inspector can do nothing with it."""
+        hint = name == "Range" and not (isinstance(definition, ast.Attribute) and definition.free)
+        before = len(self.problems)
+        self._visit(annotation, {})
+        if hint and self.cga:
+            found = self.problems[before:]
+            del self.problems[before:]
+            for location, message in found:
+                self.warn(location, f"{message} (the @Range is ignored)")
 
     def _check_range(self, attribute: ast.Attribute) -> None:
         annotation = attribute.annotation("Range")
