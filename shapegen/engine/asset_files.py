@@ -48,16 +48,21 @@ def _project_roots(rule_file: str, working_folder: str) -> tuple[Path, ...]:
 
 def find_asset(name: str, rule_file: str | None) -> Path | None:
     """The file ``name`` names for a rule written in ``rule_file``, or None."""
+    for path in _candidates(name, rule_file, os.getcwd()):
+        if path.is_file():
+            return path
+    return None
+
+
+@functools.lru_cache(maxsize=1024)
+def _candidates(name: str, rule_file: str | None, working_folder: str) -> tuple[Path, ...]:
+    """The paths ``name`` may be, in search order (the files themselves are looked for at
+    each call: they may come and go)."""
     relative = name.lstrip("/\\")
     candidates = [relative]
     if name.startswith("/"):  # CityEngine's project-absolute /Project/assets/x.obj
         candidates.append(relative.split("/", 1)[1] if "/" in relative else relative)
-    for root in _search_roots(rule_file):
-        for candidate in candidates:
-            path = root / candidate
-            if path.is_file():
-                return path
-    return None
+    return tuple(root / candidate for root in _search_roots(rule_file) for candidate in candidates)
 
 
 def load_asset(path: Path) -> Mesh:
