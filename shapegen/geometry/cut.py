@@ -26,6 +26,7 @@ import numpy as np
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 
 _REL = 1e-9  # points closer than this times the mesh size to the plane lie on it
+_SPLIT_HEIGHT = 1e3  # a face plane splits a piece with corners this many _REL beyond it
 
 
 def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | None:
@@ -288,6 +289,13 @@ def convex_decomposition(mesh: Mesh, max_pieces: int = 64) -> list[Mesh] | None:
                 return None
             continue
         plane = _splitting_plane(piece, heights, slack)
+        if plane is None and heights.max() <= _SPLIT_HEIGHT * slack:
+            # convex but for round-off (an asset's nearly coplanar faces): no face plane
+            # can split it, and a block takes it as convex
+            done.append(piece)
+            if len(done) > max_pieces:
+                return None
+            continue
         if plane is None:
             return None
         normal, offset = plane
@@ -335,8 +343,8 @@ def _splitting_plane(mesh: Mesh, heights: np.ndarray, slack: float):
     """The plane of the face with the most corners in front of it (a reflex face's plane);
     ``heights`` are :meth:`Mesh.heights_above_faces`, ``slack`` the mesh's round-off (m)."""
     normals, centres = mesh._normals
-    ahead = (heights > slack * 1e3).sum(axis=1)
-    behind = (heights < -slack * 1e3).sum(axis=1)
+    ahead = (heights > slack * _SPLIT_HEIGHT).sum(axis=1)
+    behind = (heights < -slack * _SPLIT_HEIGHT).sum(axis=1)
     usable = (ahead > 0) & (behind > 0) & normals.any(axis=1)
     if not usable.any():
         return None
