@@ -33,6 +33,7 @@ from shapegen.engine.functions_frames import (
     pivot_frame,
 )
 from shapegen.geometry.queries import GEOMETRY_FUNCTIONS as ANSWERED_GEOMETRY
+from shapegen.geometry.queries import TEXTURE_BOUNDS
 from shapegen.grammar.names import GEOMETRY_FUNCTIONS, SHAPE_ATTRIBUTES
 
 Reader = Callable[..., object]
@@ -159,6 +160,17 @@ def shape_reader(obj: str, field: str, grammar) -> Reader | None:
             from shapegen.engine.shape import shape_geometry_value
 
             return shape_geometry_value(state, field, *args)
+
+        if field in TEXTURE_BOUNDS or field in ("du", "dv"):
+            plain = geometry
+
+            def geometry(state, *args):  # noqa: F811 -- the same read, said to be a stand-in
+                if field in TEXTURE_BOUNDS or (len(args) < 2 or str(args[1]) != "unitSpace"):
+                    state.run.warn(
+                        f"geometry.{field}: shapegen keeps no texture coordinates; uv is taken "
+                        "as 0..1 over the scope (u along x, v along y)"
+                    )
+                return plain(state, *args)
 
         return geometry
     if obj == "material":

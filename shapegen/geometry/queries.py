@@ -13,6 +13,7 @@ __all__ = [
     "FACE_SELECTORS",
     "GEOMETRY_FUNCTIONS",
     "PARTIAL_GEOMETRY",
+    "TEXTURE_BOUNDS",
     "face_matches",
     "geometry_value",
     "slope_class",
@@ -109,6 +110,11 @@ def face_matches(
     raise ValueError(f"unknown face selector {selector!r}")
 
 
+#: func_geometry's texture-coordinate bounds: shapegen keeps no texture coordinates, so they
+#: are the scope's, as a facade's ``setupProjection(0, scope.xy, ...)`` lays them: u along the
+#: scope's x, v along its y (its z for a flat shape), 0 to 1 in uvSpace.
+TEXTURE_BOUNDS = ("uMin", "uMax", "vMin", "vMax")
+
 GEOMETRY_FUNCTIONS: tuple[str, ...] = (
     "area",
     "volume",
@@ -126,13 +132,18 @@ GEOMETRY_FUNCTIONS: tuple[str, ...] = (
     "boundaryLength",
     "du",
     "dv",
+    *TEXTURE_BOUNDS,
 )
 """The ``geometry.*`` names :func:`geometry_value` answers."""
 
 #: Those answered with a difference from the reference (func_geometry), in a few words.
 PARTIAL_GEOMETRY: dict[str, str] = {
-    "du": "unitSpace only: uvSpace needs texture coordinates (refused when derived)",
-    "dv": "unitSpace only: uvSpace needs texture coordinates (refused when derived)",
+    "du": "uvSpace is 1, the scope's extent, with a warning: no texture coordinates",
+    "dv": "uvSpace is 1, the scope's extent, with a warning: no texture coordinates",
+    **{
+        name: "0 or 1 over the scope, with a warning: no texture coordinates"
+        for name in TEXTURE_BOUNDS
+    },
     "nHoles": "always 0: shapegen's faces have no holes",
 }
 
@@ -212,14 +223,13 @@ def geometry_value(
     if name in ("du", "dv"):
         space = str(args[1]) if len(args) > 1 else "uvSpace"
         if space != "unitSpace":
-            raise ValueError(
-                f"geometry.{name}(uvSet, {space}) needs texture coordinates; "
-                "shapegen answers only unitSpace"
-            )
+            return 1.0  # the scope's extent, 0 to 1 in uvSpace (TEXTURE_BOUNDS)
         if size is None:
             low, high = mesh.bounds()
             size = high - low
         return float(size[0] if name == "du" else size[1])
+    if name in TEXTURE_BOUNDS:
+        return 1.0 if name.endswith("Max") else 0.0
     raise ValueError(f"geometry.{name}() is not supported by shapegen")
 
 

@@ -434,3 +434,23 @@ def test_a_comp_selector_may_be_a_computed_index():
     assert names == ["Front", "Rest", "Rest", "Rest", "Rest", "Right"]
     with pytest.raises(GrammarError, match="boolean or a component index, got 1.5"):
         parse_grammar(text.replace("k + 0", "k - 2.5"), "r.cga").build(lot=LOT)
+
+
+def test_texture_coordinate_queries_read_the_scope_with_a_warning():
+    # func_geometry's uMin/uMax/vMin/vMax and du/dv in uvSpace: uv taken as 0..1 over the
+    # scope, as the UV split takes it; unitSpace is the scope's size in metres
+    text = (
+        "@StartRule\nLot --> extrude(3) comp(f) { front : F | all : X. }\n"
+        'F --> report("u", geometry.uMin + geometry.uMax) report("v", geometry.vMax)\n'
+        '  report("du", geometry.du(0, uvSpace)) report("dum", geometry.du(0, unitSpace)) A.'
+    )
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert model.metadata["reports"] == {"u": 1.0, "v": 1.0, "du": 1.0, "dum": 12.0}
+    warnings = model.metadata["warnings"]
+    assert {w.split(":")[0] for w in warnings} == {
+        "geometry.uMin",
+        "geometry.uMax",
+        "geometry.vMax",
+        "geometry.du",
+    }
+    assert all("no texture coordinates" in w for w in warnings)
