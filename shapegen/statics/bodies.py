@@ -68,6 +68,12 @@ class Bodies:
         The common volume of each pair of overlapping parts: counted once in its body's
         weight (a point of three parts is counted twice: overlaps of three are rare and
         small), as a negative mass at its centroid.
+    unsupported
+        What a body with no chain of contacts to a support is: ``"error"`` (a modelling error,
+        :func:`~shapegen.statics.checks.check_support` names it) or ``"ride"`` (an ornament
+        fixed to something the statics leave out, an open surface: it rides as load).
+    stranded
+        Blocks that ride as load because they touch no support (with ``"ride"``).
     """
 
     body: np.ndarray
@@ -78,6 +84,8 @@ class Bodies:
     ignored: int = 0
     selection: dict = field(default_factory=dict)
     overlaps: _Overlaps | None = None
+    unsupported: str = "error"
+    stranded: int = 0
 
     @property
     def riders(self) -> np.ndarray:
@@ -109,6 +117,7 @@ class Bodies:
             "ignored": int(self.ignored),
             "riding": int(carried.sum()),
             "riding_on_supports": int(self.ignored - carried.sum()),
+            "unsupported_riding": int(self.stranded),
             **self.selection,
         }
 
@@ -160,6 +169,7 @@ def find_bodies(
     *,
     structural: Sequence[str] | str | None = None,
     ignore: Sequence[str] | str | None = None,
+    unsupported: str = "error",
 ) -> Bodies:
     """The bodies of ``model`` and the ornaments they carry.
 
@@ -180,15 +190,38 @@ def find_bodies(
     ignore
         Labels or rule names of blocks that ride as load (ornaments), whatever ``structural``
         says.
+    unsupported
+        ``"error"``: a body with no chain of contacts to a support is left for the checks to
+        name; ``"ride"``: its blocks ride as load like ornaments (a real model's ornament
+        fixed to a surface the statics leave out).
 
     Raises
     ------
     StaticsError
         A name that no block has, or a selection that leaves no block to judge.
     """
-    from shapegen.statics.checks import overlapping_pairs
+    from shapegen.statics.checks import overlapping_pairs, stranded_blocks
 
+    if unsupported not in ("error", "ride"):
+        raise StaticsError(f"unsupported must be 'error' or 'ride'; got {unsupported!r}")
     tol = model.tolerances() if tol is None else tol
+    # overlaps among every structural block: glue between statics blocks, hosts for ornaments
+    pack = pack_blocks(model.blocks, np.flatnonzero([b.structural for b in model.blocks]))
+    pairs, volumes, centroids = overlapping_pairs(model, pack, tol)
+    overlaps = (pack.index[pairs] if len(pairs) else pairs, volumes, centroids)
+    bodies = _bodies(model, interfaces, structural, ignore, None, overlaps)
+    if unsupported == "ride":
+        stranded = stranded_blocks(model, interfaces, bodies)
+        if len(stranded):
+            bodies = _bodies(model, interfaces, structural, ignore, stranded, overlaps)
+            bodies.stranded = len(stranded)
+        bodies.unsupported = "ride"
+    return bodies
+
+
+def _bodies(model, interfaces, structural, ignore, stranded, overlaps) -> Bodies:
+    """:func:`find_bodies` with the ``overlaps`` found (block pairs, volumes, centroids), the
+    blocks ``stranded`` (positions) riding as load."""
     blocks = model.blocks
     nb = len(blocks)
     structural_names = _names(structural, "--structural")
@@ -201,6 +234,8 @@ def find_bodies(
     if ignore_names:
         chosen &= ~matching_blocks(model, ignore_names, "--ignore")
     chosen |= fixed & flagged  # a support stays a support
+    if stranded is not None:
+        chosen[stranded] = False
     ornaments = flagged & ~chosen
     if (structural_names or ignore_names) and not (chosen & ~fixed).any():
         raise StaticsError(
@@ -213,10 +248,7 @@ def find_bodies(
     if ignore_names:
         selection["ignore"] = list(ignore_names)
 
-    # overlaps among every structural block: glue between statics blocks, hosts for ornaments
-    pack = pack_blocks(blocks, np.flatnonzero(flagged))
-    pairs, volumes, overlap_centroids = overlapping_pairs(model, pack, tol)
-    pairs = pack.index[pairs] if len(pairs) else pairs
+    pairs, volumes, overlap_centroids = overlaps
     inside_pair = chosen[pairs[:, 0]] & chosen[pairs[:, 1]] if len(pairs) else np.zeros(0, bool)
 
     # parts of one body: overlapping statics blocks, and blocks naming the same body

@@ -135,15 +135,19 @@ def _overlaps(model: Model, pack: PackedBlocks, tol: Tolerances, fixed: np.ndarr
         return
     from manifold3d import Manifold  # only needed when boxes and face planes cannot decide
 
+    # manifold3d's precision is relative to the largest coordinate: work about the middle of
+    # the blocks in question; each block's solid is made once, however many pairs it is in
+    center = 0.5 * (pack.lower[suspects].min(axis=(0, 1)) + pack.upper[suspects].max(axis=(0, 1)))
+    solids: dict[int, Manifold] = {}
+
+    def solid(k: int) -> Manifold:
+        if k not in solids:
+            solids[k] = Manifold.hull_points(model.blocks[pack.index[k]].vertices - center)
+        return solids[k]
+
     for a, b in suspects.tolist():
         block_a, block_b = model.blocks[pack.index[a]], model.blocks[pack.index[b]]
-        # manifold3d's precision is relative to the largest coordinate: centre the pair first.
-        center = 0.5 * (
-            np.minimum(pack.lower[a], pack.lower[b]) + np.maximum(pack.upper[a], pack.upper[b])
-        )
-        solid_a = Manifold.hull_points(block_a.vertices - center)
-        solid_b = Manifold.hull_points(block_b.vertices - center)
-        common = solid_a ^ solid_b
+        common = solid(a) ^ solid(b)
         overlap = common.volume()
         if overlap > tol.penetration_rel * min(block_a.volume, block_b.volume):
             yield a, b, overlap, _centroid(common) + center if centroid else None
@@ -171,12 +175,29 @@ def _separated_by_face(pack: PackedBlocks, a: np.ndarray, b: np.ndarray, slack: 
     normals, offsets = _padded_faces(pack)
     vertices = _padded_vertices(pack)
     out = np.zeros(len(a), dtype=bool)
-    chunk = max(1, _SAT_ENTRIES_PER_CHUNK // (normals.shape[1] * vertices.shape[1]))
-    for start in range(0, len(a), chunk):
-        pa, pb = a[start : start + chunk], b[start : start + chunk]
+    # pairs in order of their work, each chunk padded only to its own largest blocks: one
+    # block of 400 faces (an asset's hull) must not pad every pair of boxes to its size
+    faces, points = pack.face_count[a], pack.vertex_count[b]
+    order = np.argsort(faces * points, kind="stable")
+    start = 0
+    while start < len(a):
+        width_f, width_v = int(faces[order[start]]), int(points[order[start]])
+        stop = start + 1
+        while stop < len(a):
+            f = max(width_f, int(faces[order[stop]]))
+            v = max(width_v, int(points[order[stop]]))
+            if (stop + 1 - start) * f * v > _SAT_ENTRIES_PER_CHUNK:
+                break
+            width_f, width_v, stop = f, v, stop + 1
+        chosen = order[start:stop]
+        pa, pb = a[chosen], b[chosen]
         # height[p, f, v]: signed distance of vertex v of b beyond face f of a.
-        height = np.matmul(normals[pa], vertices[pb].transpose(0, 2, 1)) - offsets[pa][:, :, None]
-        out[start : start + chunk] = np.any(height.min(axis=2) >= -slack, axis=1)
+        height = (
+            np.matmul(normals[pa, :width_f], vertices[pb, :width_v].transpose(0, 2, 1))
+            - offsets[pa, :width_f][:, :, None]
+        )
+        out[chosen] = np.any(height.min(axis=2) >= -slack, axis=1)
+        start = stop
     return out
 
 
@@ -225,6 +246,26 @@ def _padded_vertices(pack: PackedBlocks) -> np.ndarray:
     return pack.vertices[index]
 
 
+class _Stranded(Exception):
+    """The free blocks with no chain of contacts to a support (``blocks``), for a caller that
+    lets them ride as load."""
+
+    def __init__(self, blocks: np.ndarray):
+        super().__init__(f"{len(blocks)} blocks touch no support")
+        self.blocks = blocks
+
+
+def stranded_blocks(model: Model, interfaces: list[Interface], bodies) -> np.ndarray:
+    """Positions of the free blocks of ``bodies`` with no chain of contacts to a support."""
+    import dataclasses
+
+    try:
+        check_support(model, interfaces, dataclasses.replace(bodies, unsupported="ride"))
+    except _Stranded as stranded:
+        return stranded.blocks
+    return np.zeros(0, dtype=np.int64)
+
+
 def check_support(model: Model, interfaces: list[Interface], bodies=None) -> None:
     """Raise :class:`StaticsError` naming free structural blocks with no path to a support.
 
@@ -256,6 +297,8 @@ def check_support(model: Model, interfaces: list[Interface], bodies=None) -> Non
     stranded = np.flatnonzero(free & (label != label[support]))
     if len(stranded) == 0:
         return
+    if bodies is not None and bodies.unsupported == "ride":
+        raise _Stranded(stranded)
     group = stranded[label[stranded] == label[stranded[0]]]
     names = ", ".join(repr(model.blocks[k].id) for k in group[:_LISTED_IDS])
     if len(group) > _LISTED_IDS:

@@ -60,8 +60,9 @@ def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> floa
             from shapegen.statics.bodies import find_bodies
 
             bodies = find_bodies(
-                moved, interfaces, structural=options.structural, ignore=options.ignore
-            )
+                moved, interfaces, structural=options.structural, ignore=options.ignore,
+                unsupported=problem.bodies.unsupported,
+            )  # fmt: skip
             if bodies.count != problem.bodies.count:
                 return None
         moved_problem = assemble(
