@@ -120,6 +120,9 @@ def analysis_table(title: str, analysis: dict):
         table.add_row("measure", f"{fmt(analysis.get('measure'))} ((d/d_max - 1)^2)")
         return table
     table.add_row("blocks", str(analysis.get("blocks")))
+    bodies = analysis.get("bodies")
+    if bodies:
+        table.add_row("bodies", bodies_line(bodies))
     table.add_row("interfaces", str(analysis.get("interfaces")))
     table.add_row(
         "infeasibility",
@@ -142,6 +145,20 @@ def analysis_table(title: str, analysis: dict):
         table.add_row("by direction", Text(directions_line(capacity)))
     table.add_row("seconds", f"{fmt(analysis.get('seconds'))}")
     return table
+
+
+def bodies_line(bodies: dict) -> str:
+    """How many bodies the blocks make, and what rides on them."""
+    text = f"{bodies['bodies']} ({bodies['several_parts']} of several parts"
+    if bodies.get("glued"):
+        text += f", {bodies['glued']} glued from overlapping blocks"
+    text += ")"
+    if bodies.get("ignored"):
+        text += (
+            f"; {bodies['ignored']} ornaments ride as load ({bodies['riding']} on the structure,"
+            f" {bodies['riding_on_supports']} on the ground or supports)"
+        )
+    return text
 
 
 def capacity_line(capacity: dict) -> str:

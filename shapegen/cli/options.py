@@ -37,6 +37,7 @@ STATICS_FLAGS = {
     "solver": "--solver",
 }
 LATERAL_FLAGS = {"tilt": "--tilt", "capacity": "--capacity"}
+SELECTION_FLAGS = {"structural": "--structural", "ignore": "--ignore"}
 SEARCH_FLAGS = {
     "free": "--free",
     "fixed": "--fix",
@@ -205,6 +206,16 @@ def _attr_value(raw: str, name: str) -> object:
     return number
 
 
+def _labels(text: str) -> tuple[str, ...]:
+    """``--structural`` / ``--ignore``: labels or rule names separated by commas."""
+    names = tuple(dict.fromkeys(name.strip() for name in text.split(",") if name.strip()))
+    if not names:
+        raise argparse.ArgumentTypeError(
+            f"expected labels or rule names separated by commas, got {text!r}"
+        )
+    return names
+
+
 def _names(text: str) -> list[str]:
     names = [name.strip() for name in text.split(",") if name.strip()]
     if not names:
@@ -238,6 +249,22 @@ def add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> No
         "--solver",
         choices=["auto", "reduced", "clarabel", "cvxpy"],
         help=prefix + "QP back-end (default auto)",
+    )
+    parser.add_argument(
+        "--structural",
+        type=_labels,
+        metavar="LABEL,...",
+        help=prefix + "only the blocks with one of these labels or rule names are structure; the"
+        " other blocks ride as load on the body they rest on (default: every block, or the"
+        ' rule\'s @Structure("blocks", structural=...))',
+    )
+    parser.add_argument(
+        "--ignore",
+        type=_labels,
+        metavar="LABEL,...",
+        help=prefix + "blocks with one of these labels or rule names are ornaments: their weight"
+        " rides on the body they rest on, unjudged (default: none, or the rule's"
+        ' @Structure("blocks", ignore=...))',
     )
 
 
@@ -381,7 +408,7 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
     ``applies`` False refuses them with ``why`` (for example "they apply with --analyze or
     --optimize").
     """
-    given = _given(args, {**STATICS_FLAGS, "tilt": "--tilt"})
+    given = _given(args, {**STATICS_FLAGS, **SELECTION_FLAGS, "tilt": "--tilt"})
     if not given:
         return None
     if not applies:
@@ -389,7 +416,9 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
     from shapegen.statics.options import StaticsOptions
 
     values = {
-        dest: getattr(args, dest) for dest in STATICS_FLAGS if getattr(args, dest, None) is not None
+        dest: getattr(args, dest)
+        for dest in (*STATICS_FLAGS, *SELECTION_FLAGS)
+        if getattr(args, dest, None) is not None
     }
     tilt = getattr(args, "tilt", None)
     if tilt is not None:
@@ -408,7 +437,7 @@ def capacity_request(args, *, applies: bool = True, why: str = ""):
 
 def block_statics_flags(args) -> list[str]:
     """The options given that only block statics honour."""
-    return _given(args, {**STATICS_FLAGS, **LATERAL_FLAGS})
+    return _given(args, {**STATICS_FLAGS, **SELECTION_FLAGS, **LATERAL_FLAGS})
 
 
 def check_statics_apply(args, grammar, source: str) -> None:
