@@ -1,4 +1,4 @@
-"""--structural / --ignore and @Structure("blocks", structural=..., ignore=...): what is structure."""
+"""--structural, --ignore and @Structure("blocks", structural=..., ignore=...): the structure."""
 
 from __future__ import annotations
 
