@@ -394,3 +394,76 @@ def test_the_page_exports_the_model_the_report_and_the_attrs(browser, tmp_path):
             "() => document.getElementById('message').textContent.startsWith('the command line is')"
         )
         assert not page.problems, page.problems
+
+
+def in_view(page, fill: float = 0.6) -> bool:
+    """The model's box lies inside the view and spans at least ``fill`` of its width or height."""
+    x0, x1, y0, y1 = page.evaluate("window.shapegenEditor.modelExtent()")
+    inside = x0 >= -1 and x1 <= 1 and y0 >= -1 and y1 <= 1
+    return inside and max(x1 - x0, y1 - y0) >= 2 * fill
+
+
+def test_the_first_view_frames_the_bridge_and_a_tall_tower(browser):
+    with page_steps.Editor("suspension_bridge.grammar") as editor:
+        page = page_steps.open_page(browser, editor.url)
+        x0, x1, _, _ = page.evaluate("window.shapegenEditor.modelExtent()")
+        assert in_view(page) and x1 - x0 > 1.6, (x0, x1)  # the bridge runs across the view
+        assert page_steps.model_coverage(page) > 0.02  # it showed at 1 %
+    with page_steps.Editor("tower.grammar") as editor:
+        page = browser.new_page(viewport={"width": 760, "height": 520})  # a small window
+        page.problems = []
+        page.goto(editor.url)
+        page.wait_for_function("window.shapegenEditor.modelsRendered > 0")
+        assert in_view(page, 0.8), page.evaluate("window.shapegenEditor.modelExtent()")
+        page.set_viewport_size({"width": 1100, "height": 420})  # wider and lower: framed again
+        page.wait_for_function(
+            "() => { const [x0, x1, y0, y1] = window.shapegenEditor.modelExtent();"
+            " return y0 >= -1 && y1 <= 1 && y1 - y0 > 1.6; }"
+        )
+        assert not page.problems, page.problems
+
+
+def test_frame_all_views_and_the_orthographic_camera(browser, tmp_path):
+    source = RULES / "arch_columns.grammar"
+    with page_steps.Editor(source) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        assert in_view(page)
+        # taller columns: the model no longer fits, and is framed again
+        page_steps.drag_slider(page, "column_height", 6)
+        page.wait_for_function("window.shapegenEditor.renderedModelVersion"
+                               " === window.shapegenEditor.state.model_version")  # fmt: skip
+        assert in_view(page)
+        # the designer zooms in: the view is left alone until Frame all
+        box = page.locator("#canvas").bounding_box()
+        page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        for _ in range(6):
+            page.mouse.wheel(0, -400)
+        page.wait_for_function(
+            "() => { const [x0, x1, y0, y1] = window.shapegenEditor.modelExtent();"
+            " return x0 < -1 || x1 > 1 || y0 < -1 || y1 > 1; }"
+        )
+        assert page.evaluate("window.shapegenEditor.cameraView().auto") is False
+        page.click("#frame-all")
+        assert in_view(page)
+        # top, front, side
+        for button, axis in (("#view-top", 1), ("#view-front", 2), ("#view-side", 0)):
+            page.click(button)
+            direction = page.evaluate("window.shapegenEditor.cameraView().direction")
+            assert direction[axis] > 0.999, (button, direction)
+            assert in_view(page)
+        # orthographic keeps the view, and frames as the perspective does
+        page.click("#view-reset")
+        before = page.evaluate("window.shapegenEditor.modelExtent()")
+        page.check("#orthographic")
+        view = page.evaluate("window.shapegenEditor.cameraView()")
+        assert view["kind"] == "orthographic"
+        after = page.evaluate("window.shapegenEditor.modelExtent()")
+        assert abs((after[1] - after[0]) - (before[1] - before[0])) < 0.35, (before, after)
+        page.click("#view-front")
+        assert in_view(page)
+        assert page_steps.model_coverage(page) > 0.03
+        page_steps.screenshot(page, "editor_orthographic", tmp_path)
+        page.uncheck("#orthographic")
+        assert page.evaluate("window.shapegenEditor.cameraView().kind") == "perspective"
+        assert in_view(page, 0.4)
+        assert not page.problems, page.problems

@@ -33,7 +33,9 @@ const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDraw
 renderer.setPixelRatio(window.devicePixelRatio || 1);
 const view = new THREE.Scene();
 view.background = new THREE.Color(0xeef1f5);
-const camera = new THREE.PerspectiveCamera(40, 1, 0.05, 5000);
+const perspective = new THREE.PerspectiveCamera(40, 1, 0.05, 5000);
+const orthographic = new THREE.OrthographicCamera(-1, 1, 1, -1, 0.05, 5000);
+let camera = perspective;
 const controls = new OrbitControls(camera, canvas);
 controls.enableDamping = true;
 view.add(new THREE.HemisphereLight(0xffffff, 0x8a8470, 1.3));
@@ -56,8 +58,11 @@ const EDGE_MATERIAL = new THREE.LineBasicMaterial({ color: 0x000000, transparent
 function resize() {
   const box = canvas.parentElement.getBoundingClientRect();
   renderer.setSize(box.width, box.height, false);
-  camera.aspect = box.width / Math.max(box.height, 1);
-  camera.updateProjectionMatrix();
+  aspect = box.width / Math.max(box.height, 1);
+  perspective.aspect = aspect;
+  perspective.updateProjectionMatrix();
+  setOrthographicHeight(orthographicHalfHeight);
+  if (cameraAuto && app.scene) fit(currentDirection()); // the framed model stays framed
   requestRender();
 }
 
@@ -80,6 +85,180 @@ function drawFrame() {
   if (moving) requestRender();
 }
 controls.addEventListener('change', requestRender);
+
+// ------------------------------------------------------------------ the camera
+// Framing fits the model's box to the view from a direction (each corner inside, whatever the
+// window's shape), for the perspective or the orthographic camera. The first view looks from
+// the side across the model's longer horizontal extent, so a long bridge fills the width and a
+// tall tower the height. While the designer has not moved the camera since the last framing,
+// the view is framed again when the window changes size or a new model would not fit (or
+// would fill less than a third of it).
+let aspect = 1;
+let orthographicHalfHeight = 1;
+let cameraAuto = true;
+const FIT_MARGIN = 1.08;
+const UP = new THREE.Vector3(0, 1, 0);
+const VIEW_DIRECTIONS = {
+  top: new THREE.Vector3(0, 1, 1e-3),
+  front: new THREE.Vector3(0, 0, 1),
+  side: new THREE.Vector3(1, 0, 0),
+};
+
+function setOrthographicHeight(half) {
+  orthographicHalfHeight = half;
+  Object.assign(orthographic, { left: -half * aspect, right: half * aspect, top: half, bottom: -half });
+  orthographic.updateProjectionMatrix();
+}
+
+function modelBox() {
+  const [lo, hi] = app.scene.bounds;
+  return new THREE.Box3(new THREE.Vector3(...lo), new THREE.Vector3(...hi));
+}
+
+// The first view's direction: from the front and a little above, turned so that the model's
+// longer horizontal extent runs across the screen.
+function homeDirection() {
+  const size = modelBox().getSize(new THREE.Vector3());
+  const across = size.x >= size.z ? new THREE.Vector3(0.55, 0.45, 1) : new THREE.Vector3(1, 0.45, 0.55);
+  return across.normalize();
+}
+
+function currentDirection() {
+  return camera.position.clone().sub(controls.target).normalize();
+}
+
+// Stop the glide an orbit leaves (damping), so that it does not carry the view off a framing.
+function stopGlide() {
+  controls.enableDamping = false;
+  controls.update();
+  controls.enableDamping = true;
+}
+
+function fit(direction) {
+  if (!app.scene) return;
+  stopGlide();
+  const box = modelBox();
+  const size = Math.max(...box.getSize(new THREE.Vector3()).toArray(), 1e-3);
+  const back = direction.clone().normalize();
+  const right = new THREE.Vector3().crossVectors(UP, back);
+  if (right.lengthSq() < 1e-12) right.set(1, 0, 0);
+  right.normalize();
+  const up = new THREE.Vector3().crossVectors(back, right).normalize();
+  const corners = boxCorners(box);
+  // centre the view on the middle of the box's extent across the screen
+  const across = corners.map((c) => [c.dot(right), c.dot(up), c.dot(back)]);
+  const mid = (k) => (Math.min(...across.map((a) => a[k])) + Math.max(...across.map((a) => a[k]))) / 2;
+  const target = right.clone().multiplyScalar(mid(0)).addScaledVector(up, mid(1)).addScaledVector(back, mid(2));
+  const local = corners.map((c) => { const v = c.clone().sub(target); return [v.dot(right), v.dot(up), v.dot(back)]; });
+  const tanV = Math.tan(THREE.MathUtils.degToRad(perspective.fov / 2));
+  const tanH = tanV * aspect;
+  let distance = 0;
+  for (const [x, y, z] of local) distance = Math.max(distance, z + (FIT_MARGIN * Math.abs(x)) / tanH, z + (FIT_MARGIN * Math.abs(y)) / tanV);
+  const halfHeight = FIT_MARGIN * Math.max(...local.map(([x, y]) => Math.max(Math.abs(y), Math.abs(x) / aspect)));
+  const depth = Math.max(...local.map(([, , z]) => Math.abs(z)));
+  if (camera === orthographic) {
+    setOrthographicHeight(halfHeight);
+    orthographic.zoom = 1;
+    distance = 2 * depth + size;
+  }
+  const place = () => {
+    camera.position.copy(target).addScaledVector(back, distance);
+    camera.near = Math.max(size / 1000, (distance - depth) / 100);
+    camera.far = distance + size * 20;
+    camera.lookAt(target);
+    camera.updateProjectionMatrix();
+    camera.updateMatrixWorld();
+  };
+  place();
+  if (camera === perspective) {
+    // near corners spread more than far ones: centre and scale the projected box, a few times
+    for (let k = 0; k < 4; k += 1) {
+      const [x0, x1, y0, y1] = projectedExtent(corners);
+      target.addScaledVector(right, ((x0 + x1) / 2) * distance * tanH).addScaledVector(up, ((y0 + y1) / 2) * distance * tanV);
+      distance *= Math.max((x1 - x0) / 2, (y1 - y0) / 2) * FIT_MARGIN;
+      place();
+    }
+    for (let k = 0; k < 20 && !inside(projectedExtent(corners)); k += 1) { distance *= 1.05; place(); }
+  }
+  controls.target.copy(target);
+  controls.update();
+  cameraAuto = true;
+  requestRender();
+}
+
+function projectedExtent(points) {
+  const xs = [];
+  const ys = [];
+  for (const point of points) {
+    const p = point.clone().project(camera);
+    xs.push(p.x);
+    ys.push(p.y);
+  }
+  return [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
+}
+
+function inside([x0, x1, y0, y1]) {
+  return x0 >= -1 && x1 <= 1 && y0 >= -1 && y1 <= 1;
+}
+
+function boxCorners(box) {
+  const corners = [];
+  for (const x of [box.min.x, box.max.x]) for (const y of [box.min.y, box.max.y]) for (const z of [box.min.z, box.max.z]) corners.push(new THREE.Vector3(x, y, z));
+  return corners;
+}
+
+// The share of the view the model's box spans, and whether all of it is inside: the NDC
+// extent of its corners, [xmin, xmax, ymin, ymax]. For the tests and the auto framing.
+app.modelExtent = () => (app.scene ? projectedExtent(boxCorners(modelBox())) : null);
+
+app.cameraView = () => ({
+  kind: camera.isOrthographicCamera ? 'orthographic' : 'perspective',
+  direction: currentDirection().toArray(),
+  auto: cameraAuto,
+});
+
+function modelFits() {
+  const extent = app.modelExtent();
+  const [x0, x1, y0, y1] = extent;
+  return inside(extent) && Math.max(x1 - x0, y1 - y0) >= 2 / 3;
+}
+
+function useCamera(wanted) {
+  if (wanted === camera) return;
+  stopGlide();
+  // the same view: the orthographic height is what the perspective sees at the target
+  const distance = camera.position.distanceTo(controls.target);
+  const tanV = Math.tan(THREE.MathUtils.degToRad(perspective.fov / 2));
+  if (wanted === orthographic) {
+    setOrthographicHeight(distance * tanV);
+    orthographic.zoom = 1;
+    orthographic.position.copy(camera.position);
+    orthographic.near = camera.near;
+    orthographic.far = camera.far;
+  } else {
+    const seen = orthographicHalfHeight / orthographic.zoom;
+    const direction = currentDirection();
+    perspective.position.copy(controls.target).addScaledVector(direction, seen / tanV);
+    perspective.near = camera.near;
+    perspective.far = Math.max(camera.far, seen / tanV * 2);
+  }
+  wanted.updateProjectionMatrix();
+  camera = wanted;
+  controls.object = camera;
+  controls.update();
+  requestRender();
+}
+
+controls.addEventListener('start', () => { cameraAuto = false; });
+$('frame-all').addEventListener('click', () => fit(currentDirection()));
+$('view-reset').addEventListener('click', () => fit(homeDirection()));
+for (const [id, direction] of Object.entries(VIEW_DIRECTIONS)) $(`view-${id}`).addEventListener('click', () => fit(direction));
+$('orthographic').addEventListener('change', () => { useCamera($('orthographic').checked ? orthographic : perspective); });
+document.addEventListener('keydown', (event) => {
+  const target = event.target;
+  if (event.ctrlKey || event.metaKey || event.altKey || ['INPUT', 'SELECT', 'TEXTAREA'].includes(target.tagName)) return;
+  if (event.key === 'f') fit(currentDirection());
+});
 window.addEventListener('resize', resize);
 resize();
 
@@ -199,12 +378,9 @@ function frame(sceneData) {
   view.add(sun.target);
   if (!framed) {
     framed = true;
-    camera.position.set(centre.x + 1.1 * size, centre.y + 0.7 * size, centre.z + 1.5 * size);
-    camera.near = size / 500;
-    camera.far = size * 50;
-    camera.updateProjectionMatrix();
-    controls.target.copy(centre);
-    controls.update();
+    fit(homeDirection());
+  } else if (cameraAuto && !modelFits()) {
+    fit(currentDirection()); // a change of size: the model is framed again
   }
 }
 
