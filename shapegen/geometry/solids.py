@@ -26,7 +26,19 @@ from shapegen.geometry.mesh import Mesh
 def capped(mesh: Mesh) -> Mesh | None:
     """``mesh`` with each loop of its boundary closed by a face, or None when its boundary is
     not a set of simple loops (an edge used twice the same way, a vertex where two holes meet)
-    or the result is not closed."""
+    or the result is not closed. Kept per distinct mesh, as the hulls are: every open leaf of a
+    build asks, and an asset placed many times is the same mesh in its scope."""
+    key = (mesh.vertices.tobytes(), mesh.faces)
+    closed = _CAPPED.get(key, _MISSING)
+    if closed is _MISSING:
+        closed = _capped(mesh)
+        if len(_CAPPED) >= _HULLS_LIMIT:
+            del _CAPPED[next(iter(_CAPPED))]  # the oldest entry
+        _CAPPED[key] = closed
+    return closed
+
+
+def _capped(mesh: Mesh) -> Mesh | None:
     edges: set[tuple[int, int]] = set()
     for face in mesh.faces:
         for a, b in zip(face, face[1:] + face[:1], strict=True):
@@ -76,3 +88,5 @@ def placed_hull(mesh: Mesh, rotation, origin):
 
 _HULLS: dict = {}
 _HULLS_LIMIT = 512
+_CAPPED: dict = {}
+_MISSING = object()

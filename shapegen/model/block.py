@@ -13,7 +13,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.model.appearance import Appearance
-from shapegen.model.polygons import checked_faces, cross, face_normals
+from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_normals
 from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, COPLANAR_REL, DEFAULT, Tolerances
 
 DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
@@ -130,10 +130,7 @@ class Block:
 
     @cached_property
     def _triangles(self) -> np.ndarray:
-        tris = [
-            (face[0], face[i], face[i + 1]) for face in self.faces for i in range(1, len(face) - 1)
-        ]
-        return self.vertices[np.array(tris, dtype=int).reshape(-1, 3)]
+        return self.vertices[_fan_indices(self.faces)]
 
     @property
     def volume(self) -> float:
@@ -257,6 +254,18 @@ class Block:
         if np.linalg.det(matrix) < 0:
             out.faces = tuple(tuple(reversed(f)) for f in out.faces)
         return out
+
+
+def _fan_indices(faces) -> np.ndarray:
+    """``(T, 3)`` vertex numbers of the faces' fan triangles, kept on ``faces``: the blocks
+    moved from one shape (a kept decomposition's pieces, a hull placed many times) share it."""
+    kept = faces.__dict__ if type(faces) is CheckedFaces else {}  # a plain tuple keeps none
+    fan = kept.get("fan")
+    if fan is None:
+        tris = [(face[0], face[i], face[i + 1]) for face in faces for i in range(1, len(face) - 1)]
+        fan = kept["fan"] = np.array(tris, dtype=int).reshape(-1, 3)
+        fan.setflags(write=False)
+    return fan
 
 
 def _convex_hull(points: np.ndarray):
