@@ -44,8 +44,9 @@ class AttrSpec:
 
     ``minimum``, ``maximum`` are the ``@Range`` bounds (None without one); ``step`` is the
     slider's step: the ``@Range`` stepsize, 1 for a ``whole`` number (a count), else about
-    1/500 of the range rounded down to a power of ten. ``restricted`` False lets a value lie
-    outside the range (or the ``choices``); ``user`` says the value is the designer's (set on
+    1/500 of the range rounded down to a power of ten; ``grid`` is the stepsize a value must
+    keep to (from ``minimum``). ``restricted`` False lets a value lie outside the range (or
+    the ``choices``); ``user`` says the value is the designer's (set on
     the page, by ``--set`` or by a search) rather than the rule's ``default``.
     """
 
@@ -66,6 +67,7 @@ class AttrSpec:
     order: float | None = None
     hidden: bool = False
     display_name: str = ""
+    grid: float | None = None  # a restricted @Range's stepsize: values lie on minimum + k grid
 
     def to_json(self) -> dict:
         return asdict(self)
@@ -132,6 +134,7 @@ def attr_specs(
             low, high = float(spec["min"]), float(spec["max"])
             step = hint.step or (1.0 if whole else _step(low, high))
         is_free = nodes[name].free if free is None else name in free
+        restricted = hint.restricted or is_free
         rows.append(
             AttrSpec(
                 name,
@@ -145,12 +148,13 @@ def attr_specs(
                 whole,
                 default=plain_value(default),
                 user=name in user,
-                restricted=hint.restricted or is_free,
+                restricted=restricted,
                 choices=choices_of(grammar, name, hint, values),
                 group=list(hint.group),
                 order=hint.order,
                 hidden=hint.hidden,
                 display_name=hint.display_name,
+                grid=hint.step if hint.step and low is not None and restricted else None,
             )
         )
     return rows

@@ -31,6 +31,7 @@ def test_the_state_says_how_each_attr_is_shown(annotated):
     assert offset["description"] == "Shift of the upper block along x (m)"
     assert (attrs["angle"]["step"], attrs["angle"]["restricted"]) == (15, True)
     assert (attrs["loose"]["step"], attrs["loose"]["restricted"]) == (15, False)
+    assert attrs["angle"]["grid"] == 15 and attrs["loose"]["grid"] is None  # only restricted
     assert attrs["stone"]["choices"] == ["limestone", "granite", "marble"]
     assert attrs["stone"]["kind"] == "string" and attrs["stone"]["restricted"]
     assert attrs["detail"]["choices"] == ["low", "high"]  # CityEngine's older string @Range

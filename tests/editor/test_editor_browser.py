@@ -55,7 +55,7 @@ def test_the_canvas_shows_the_model_and_a_slider_changes_the_verdict(browser, tm
         page.wait_for_function("window.shapegenEditor.renderedModelVersion"
                                " === window.shapegenEditor.state.model_version")  # fmt: skip
         assert page_steps.model_coverage(page) > 0.02
-        value = page.inner_text('.attr[data-attr="arch_thickness"] .value')
+        value = page.input_value('.attr[data-attr="arch_thickness"] input.value')
         assert abs(float(value) - taken) < 1e-3
         status = page_steps.wait_for_stable_range(page, "arch_thickness")
         assert status.startswith("stands for "), status
@@ -92,7 +92,7 @@ def test_editing_the_file_reloads_the_model_and_shows_a_grammar_error(browser, t
         page.wait_for_selector("#grammar-error", state="hidden", timeout=10_000)
         page.wait_for_function("n => window.shapegenEditor.modelsRendered > n", arg=rendered,
                                timeout=10_000)  # fmt: skip
-        value = page.inner_text('.attr[data-attr="column_height"] .value')
+        value = page.input_value('.attr[data-attr="column_height"] input.value')
         assert float(value) == 4
         assert not page.problems, page.problems
 
@@ -131,14 +131,14 @@ def test_an_idle_page_draws_nothing_and_the_shading_lines_up_with_the_slider(bro
         assert status.startswith("stands for "), status
         # the green shading and the grey band are centred on the slider's own track
         boxes = page.evaluate(
-            """() => Object.fromEntries(['input', '.band', '.shade'].map((s) => {
+            """() => Object.fromEntries(['input[type=range]', '.band', '.shade'].map((s) => {
                  const box = document.querySelector(`.attr[data-attr="offset"] ${s}`)
                    .getBoundingClientRect();
                  return [s, box.top + box.height / 2];
                }))"""
         )
-        assert abs(boxes[".shade"] - boxes["input"]) <= 1, boxes
-        assert abs(boxes[".band"] - boxes["input"]) <= 1, boxes
+        assert abs(boxes[".shade"] - boxes["input[type=range]"]) <= 1, boxes
+        assert abs(boxes[".band"] - boxes["input[type=range]"]) <= 1, boxes
         # idle, the page asks for no frame (it drew one every frame): counted over a few
         # frames of the browser's own, so the count does not depend on the machine's speed
         page.wait_for_function("window.shapegenEditor.renderedModelVersion"
@@ -466,4 +466,51 @@ def test_frame_all_views_and_the_orthographic_camera(browser, tmp_path):
         page.uncheck("#orthographic")
         assert page.evaluate("window.shapegenEditor.cameraView().kind") == "perspective"
         assert in_view(page, 0.4)
+        assert not page.problems, page.problems
+
+
+def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, tmp_path):
+    from editor_stack import annotated_project
+
+    with page_steps.Editor(annotated_project(tmp_path)) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        field = '.attr[data-attr="{}"] input.value'
+        # an exact value, typed into the slider's field
+        page.fill(field.format("offset"), "0.4321")
+        page.press(field.format("offset"), "Enter")
+        wait_for_value(page, "offset", 0.4321)
+        # the slider goes to its nearest step; the design takes the value typed
+        assert page.input_value('input[type=range][name="offset"]') == "0.432"
+        # restricted: a value beyond the range is taken at its end, one off the stepsize's
+        # grid at the nearest step
+        page.fill(field.format("offset"), "5")
+        page.press(field.format("offset"), "Enter")
+        wait_for_value(page, "offset", 0.9)
+        page.wait_for_function(
+            "() => document.getElementById('message').textContent === 'offset: 5 is taken as 0.9'"
+        )
+        page.fill(field.format("angle"), "37")
+        page.press(field.format("angle"), "Enter")
+        wait_for_value(page, "angle", 30)
+        # restricted=false: the typed value is taken as it is
+        page.fill(field.format("loose"), "52.5")
+        page.press(field.format("loose"), "Enter")
+        wait_for_value(page, "loose", 52.5)
+        # arrow keys on the slider step by its step: 15 for angle, 1/500 of the range rounded
+        # down to a power of ten for offset (0.001)
+        page.focus('input[type=range][name="angle"]')
+        page.keyboard.press("ArrowRight")
+        wait_for_value(page, "angle", 45)
+        page.keyboard.press("ArrowLeft")
+        page.keyboard.press("ArrowLeft")
+        wait_for_value(page, "angle", 15)
+        page.focus('input[type=range][name="offset"]')
+        page.keyboard.press("ArrowLeft")
+        wait_for_value(page, "offset", 0.899)
+        # and in the typed field too
+        page.focus(field.format("angle"))
+        page.keyboard.press("ArrowUp")
+        page.press(field.format("angle"), "Enter")
+        wait_for_value(page, "angle", 30)
+        assert page.evaluate("window.shapegenEditor.errors") == []
         assert not page.problems, page.problems

@@ -24,6 +24,7 @@ const app = {
   framesDrawn: 0,
   selected: null,
   blockDetails: null,
+  noteAfterChange: '',
 };
 window.shapegenEditor = app;
 
@@ -641,7 +642,8 @@ async function pump() {
   try {
     const state = await post(gesture ? `/api/attrs?gesture=${encodeURIComponent(gesture)}` : '/api/attrs', body);
     app.lastLatencyMs = performance.now() - started;
-    note('');
+    note(app.noteAfterChange || '');
+    app.noteAfterChange = '';
     applyState(state);
   } catch (err) {
     note(err.message);
@@ -850,10 +852,29 @@ function makeRow(attr, parent) {
     input.addEventListener('pointerdown', () => { app.dragging = attr.name; app.gesture = `drag-${++gestures}`; });
     input.addEventListener('pointerup', () => { app.dragging = null; });
     input.addEventListener('input', () => {
-      row.querySelector('.value').textContent = number(Number(input.value));
+      row.querySelector('.value').value = Number(input.value);
       change(attr.name, Number(input.value), app.dragging === attr.name ? app.gesture : null);
     });
     track.appendChild(input);
+    // the exact value, typed: to the range and the stepsize when restricted, whole for a count
+    const field = document.createElement('input');
+    Object.assign(field, { type: 'number', className: 'value', step: attr.step, name: `${attr.name}-value` });
+    field.title = attr.restricted ? `type a value from ${number(attr.minimum)} to ${number(attr.maximum)}` : 'type any value (restricted=false)';
+    field.addEventListener('change', () => {
+      const typed = Number(field.value);
+      if (field.value.trim() === '' || !Number.isFinite(typed)) {
+        note(`${attr.name} takes a number`);
+        field.value = input.value;
+        return;
+      }
+      const value = typedValue(attr, typed);
+      // said once the change is answered (an answer clears the messages)
+      app.noteAfterChange = value !== typed ? `${attr.name}: ${number(typed)} is taken as ${number(value)}` : '';
+      field.value = value;
+      input.value = value;
+      change(attr.name, value);
+    });
+    row.querySelector('.value').replaceWith(field);
     row.appendChild(track);
     const status = document.createElement('div');
     status.className = 'status';
@@ -905,6 +926,17 @@ function makeRow(attr, parent) {
   return row;
 }
 
+// A typed number as the attr takes it: within its range and on its stepsize's grid when
+// restricted, whole for a count.
+function typedValue(attr, value) {
+  let v = value;
+  if (attr.restricted && attr.minimum !== null) v = Math.min(attr.maximum, Math.max(attr.minimum, v));
+  if (attr.grid) v = attr.minimum + Math.round((v - attr.minimum) / attr.grid) * attr.grid;
+  if (attr.whole) v = Math.round(v);
+  if (attr.restricted && attr.minimum !== null) v = Math.min(attr.maximum, Math.max(attr.minimum, v));
+  return Number(v.toPrecision(12)); // no 0.30000000000000004 from the grid
+}
+
 // A drop-down's options: the attr's choices, and its current value if it is none of them (a
 // file named in the rule but not found in the project).
 function fillChoices(select, attr, value) {
@@ -926,7 +958,9 @@ function updateRow(row, attr, stability) {
       input.value = String(attr.value);
     } else if (attr.kind === 'array') input.value = JSON.stringify(attr.value);
     else input.value = attr.value;
-    row.querySelector('.value').textContent = attr.kind === 'number' ? number(attr.value) : '';
+    const shownValue = row.querySelector('.value');
+    if (shownValue.tagName !== 'INPUT') shownValue.textContent = '';
+    else if (document.activeElement !== shownValue) shownValue.value = attr.value;
   }
   // the designer's value is marked, with the rule's default it hides, and can be reset
   const mark = row.querySelector('.user');
