@@ -361,7 +361,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("separatePerFace", "collectiveAllFaces"),  # normalizeUV
         *("stretch", "fitArea", "keepSizeAndPosition", "alignSizeAndPosition"),
         *("keepSizeAlignPosition", "numericalCleanup"),  # i(asset, upAxis, mode, cleanup)
-        *("recompose", "unify"),
+        *("append", "recompose", "unify"),  # inline's merge strategies
         *("extend", "default", "pos", "orient", "dir"),
         *("edge", "normal"),  # innerRectangle(edge), envelope(normal, ...)
         *("surface", "volume"),  # scatter(surface, 10, uniform)

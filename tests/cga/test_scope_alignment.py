@@ -15,6 +15,7 @@ COVERS = {
     "test_align_scope_to_geometry_selectors": ("op:alignScopeToGeometry",),
     "test_deprecated_two_argument_forms": ("op:alignScopeToGeometry",),
     "test_align_scope_to_geometry_bbox": ("op:alignScopeToGeometryBBox",),
+    "test_scope_operations_take_edge_shapes": ("op:alignScopeToAxes", "op:rotateScope"),
 }
 
 # A trapezoid lot (x, z), counter-clockwise seen from above: its first edge (0, 8)-(12, 8) is
@@ -131,3 +132,20 @@ def test_align_scope_to_geometry_bbox(axes):
     longer, shorter = _SEEN[fixed]
     assert np.isclose(size[first], longer) and np.isclose(size[second], shorter)
     assert np.allclose(list(reports["t"].values), 0, atol=1e-9)
+
+
+def test_scope_operations_take_edge_shapes():
+    # cga_changelog: alignScopeToAxes works on the empty geometry of comp(e|v) and scatter;
+    # the bottom's first edge runs 12 m along -x: aligned to the world it spans x
+    reports = (
+        parse_grammar(
+            "@StartRule\nLot --> extrude(3) comp(e) { 0 : "
+            'alignScopeToAxes() report("a", [scope.sx, scope.sy, scope.sz]) '
+            'rotateScope(0, 90, 0) report("r", [scope.sx, scope.sy, scope.sz]) X. }',
+            "edges.cga",
+        )
+        .build(lot=(12.0, 8.0))
+        .metadata["reports"]
+    )
+    assert np.allclose(list(reports["a"].values), [12, 0, 0])
+    assert np.allclose(list(reports["r"].values), [0, 0, 12])  # turned: the edge along z

@@ -91,7 +91,7 @@ def test_get_geo_coord_without_a_georeference():
 
 
 @pytest.mark.parametrize(
-    "read", ["geometry.hasTags", "geometry.tags", "geometry.uMin(0)", "geometry.groups"]
+    "read", ["geometry.hasTags", "geometry.tags", "geometry.materials", "geometry.groups"]
 )
 def test_geometry_functions_shapegen_does_not_answer_are_refused_when_loaded(read):
     with pytest.raises(GrammarError, match="is not supported by shapegen"):

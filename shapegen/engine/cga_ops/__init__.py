@@ -81,6 +81,7 @@ from shapegen.engine.cga_ops import (  # noqa: E402, F401
     appearance,
     assets,
     extrusion,
+    inline,
     polygons,
     rectify,
     roofs,

@@ -36,6 +36,7 @@ import math
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
+from shapegen.engine.cga_ops.topology import EDGE, VERTEX
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.trim import apply_trim
@@ -53,7 +54,7 @@ def refit(shape: Shape, rotation: np.ndarray) -> Shape:
     faces = mesh.faces
     if np.linalg.det(shape.scope.rotation) * np.linalg.det(rotation) < 0:
         faces = tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
-    kind = shape.kind if shape.kind in (FACE, MASS) else MASS
+    kind = shape.kind if shape.kind in (FACE, MASS, EDGE, VERTEX) else MASS
     return Shape.with_geometry(scope, Mesh(local, faces), kind, shape.normal_axis)
 
 
@@ -118,9 +119,15 @@ def _value(program, node, expression, params, kind: type, what: str):
     return value
 
 
-def _geometry_shape(program, node, state) -> Shape:
-    if state.shape.kind not in (FACE, MASS):
-        raise program.error(node, f"{node.name}() needs a shape with geometry, not an insert")
+def _geometry_shape(program, node, state, components: bool = False) -> Shape:
+    """The shape ``node`` works on: one with faces, or (``components``) also the edge and vertex
+    shapes of ``comp(e|v)`` and ``scatter``, whose scope the operation turns all the same."""
+    kind = state.shape.kind
+    if kind not in ((FACE, MASS, EDGE, VERTEX) if components else (FACE, MASS)):
+        what = (
+            "edges or vertices (comp(e|v))" if kind in (EDGE, VERTEX) else "an inserted primitive"
+        )
+        raise program.error(node, f"{node.name}() needs a shape with faces, not {what}")
     return state.shape
 
 
@@ -137,7 +144,7 @@ def compile_align_scope_to_axes(program, node, params):
         which = _choice(program, node, arguments[0], _WORLD_AXES + _OBJECT_AXES, "the axes")
 
     def align(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = _geometry_shape(program, node, state, components=True)
         frame = np.eye(3)
         if which.startswith("object."):
             frame = getattr(state.run, "object_rotation", None)
@@ -175,7 +182,10 @@ _FACE_CHOICES = ("world.lowest", "largest", "any")
 _EDGE_CHOICES = ("world.lowest", "longest")
 
 
-@compiles("alignScopeToGeometry")
+@compiles(
+    "alignScopeToGeometry",
+    partial="edge and vertex shapes (comp(e|v), scatter) are refused when derived",
+)
 def compile_align_scope_to_geometry(program, node, params):
     arguments = _arguments(program, node, (2, 3))
     up = _choice(program, node, arguments[0], ("yUp", "zUp"), "the up axis")
@@ -292,7 +302,7 @@ def compile_rotate_scope(program, node, params):
     ]
 
     def rotate_scope(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = _geometry_shape(program, node, state, components=True)
         turn = rotation_matrix([angle(args, state) for angle in angles])
         state.shape = refit(shape, shape.scope.rotation @ turn)
         return True
@@ -331,7 +341,7 @@ def compile_mirror_scope(program, node, params):
     flips = _flips(program, node, params)
 
     def mirror_scope(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = _geometry_shape(program, node, state, components=True)
         chosen = np.array([flip(args, state) for flip in flips])
         if not chosen.any():
             return True
@@ -370,7 +380,7 @@ def compile_set_pivot(program, node, params):
     error = program.error
 
     def set_pivot(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = _geometry_shape(program, node, state, components=True)
         corner = corner_of(args, state)
         if corner != int(corner) or not 0 <= corner <= 7:
             raise error(
