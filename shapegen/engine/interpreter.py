@@ -51,7 +51,6 @@ from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.cut import placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
-from shapegen.geometry.solids import capped, placed_hull
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.limits import limit_hint
@@ -310,18 +309,11 @@ class Program(AttributeValues, ShapeOperations):
 
     def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> list[Block]:
         """The blocks of a leaf with geometry: one for a closed convex mesh, the convex pieces of
-        a closed non-convex one (cut by the planes of its faces), parts of one body; a shell
-        open only where loops of edges can be capped (a shaft without its end discs) is closed
-        first, and a solid that does not cut into convex pieces stands on its convex hull (its
-        weight its own). Otherwise none, and the leaf is added to ``surfaces`` with the reason."""
+        a closed non-convex one (cut by the planes of its faces), parts of one body. Otherwise
+        none, and the leaf is added to ``surfaces`` with the reason. The model keeps the leaf's
+        own geometry: an open shell is not capped and a solid is not replaced by its hull here,
+        so the model is the one CityEngine's runtime derives (its volume and bounding box)."""
         mesh = state.shape.world_mesh()
-        local = state.shape.mesh()
-        made = ""
-        if state.shape.kind != FACE and not mesh.is_closed:
-            closed = capped(local)
-            if closed is not None and closed.signed_volume() > _MIN_SIZE**3:
-                local, made = closed, "capped"
-                mesh = closed.transformed(state.shape.scope.rotation, state.shape.scope.origin)
         if state.shape.kind == FACE or not mesh.is_closed:
             if mesh.area() > _MIN_SIZE**2:
                 reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
@@ -335,15 +327,14 @@ class Program(AttributeValues, ShapeOperations):
             return []
         # judged and cut in scope coordinates, where the same asset gives the same mesh
         scope = state.shape.scope
-        pieces = placed_convex_decomposition(local, scope.rotation, scope.origin)
-        density, structural, fixed = self._properties(state)
+        pieces = placed_convex_decomposition(state.shape.mesh(), scope.rotation, scope.origin)
         if pieces is None:
-            hull = placed_hull(local, scope.rotation, scope.origin)
-            pieces, made = [hull], " ".join(filter(None, (made, "convex hull")))
-            density *= volume / hull.volume
+            surfaces.append(_surface(state, mesh, "not convex", len(surfaces)))
+            return []
+        density, structural, fixed = self._properties(state)
         blocks = []
         for piece in pieces:
-            clean = piece if isinstance(piece, Block) else piece.cleaned()
+            clean = piece.cleaned()
             blocks.append(
                 Block(
                     clean.vertices,
@@ -354,7 +345,6 @@ class Program(AttributeValues, ShapeOperations):
                     structural=structural,
                     fixed=fixed,
                     rule_path=state.rule_path,
-                    extras={"solid": made} if made else {},
                     appearance=state.appearance,
                     body=f"b{number}" if len(pieces) > 1 else "",
                 )
