@@ -246,6 +246,13 @@ def test_the_barrel_vault_stands_at_60_degrees_and_needs_tension_at_85(browser, 
         page_steps.settle(page)
         assert "largest joint tension" in page.inner_text("#legend")
         page_steps.screenshot(page, "editor_tension", tmp_path)
+        # a section across z at mid-length shows the vault's profile and the walls' joints
+        page.uncheck("#show-joints")
+        page.check("#section-on")
+        assert page.evaluate("window.shapegenEditor.section")["axis"] == "z"
+        page_steps.settle(page)
+        page_steps.screenshot(page, "editor_section", tmp_path)
+        page.uncheck("#section-on")
         grammar.write_text(good.replace("attr span = 6.0", "attr span = 6.0 *"))
         page.wait_for_selector("#grammar-error", state="visible", timeout=10_000)
         page_steps.screenshot(page, "editor_error", tmp_path)
@@ -513,4 +520,51 @@ def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, 
         page.press(field.format("angle"), "Enter")
         wait_for_value(page, "angle", 30)
         assert page.evaluate("window.shapegenEditor.errors") == []
+        assert not page.problems, page.problems
+
+
+def test_labels_hide_and_a_section_plane_cuts_the_model(browser, tmp_path):
+    from editor_stack import STACK
+
+    grammar = tmp_path / "stack.grammar"
+    grammar.write_text(STACK, encoding="utf-8")
+    with page_steps.Editor(grammar) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        full = page_steps.model_coverage(page)
+        x, y = page.evaluate("window.shapegenEditor.blockScreenPoint('b1')")
+        upper = page.evaluate(f"window.shapegenEditor.pixelAt({x}, {y})")
+        # the upper block's label unchecked: it is neither drawn nor picked
+        page.uncheck('#legend input[data-label="upper"]')
+        hidden = page.evaluate(f"window.shapegenEditor.pixelAt({x}, {y})")
+        assert sum(abs(a - b) for a, b in zip(upper, hidden, strict=True)) > 30
+        assert page_steps.model_coverage(page) < 0.8 * full
+        page.mouse.click(x, y)
+        assert page.evaluate("window.shapegenEditor.selected") in (None, "b0")
+        # it stays hidden in the next model
+        page_steps.drag_slider(page, "offset", 0.3)
+        page.wait_for_function("window.shapegenEditor.renderedModelVersion"
+                               " === window.shapegenEditor.state.model_version")  # fmt: skip
+        assert not page.is_checked('#legend input[data-label="upper"]')
+        assert page_steps.model_coverage(page) < 0.8 * full
+        page.check('#legend input[data-label="upper"]')
+        assert page_steps.model_coverage(page) > 0.9 * full
+        # a section across y at half the height keeps the lower block only
+        page.keyboard.press("Escape")
+        page.check("#section-on")
+        page.select_option("#section-axis", "y")
+        page.fill("#section-at", "500")
+        page.dispatch_event("#section-at", "input")
+        section = page.evaluate("window.shapegenEditor.section")
+        assert section["axis"] == "y" and abs(section["at"] - 1.0) < 1e-6
+        assert page_steps.model_coverage(page) < 0.8 * full
+        x, y = page.evaluate("window.shapegenEditor.blockScreenPoint('b1')")
+        page.mouse.click(x, y)  # the cut-away block is not picked
+        assert page.evaluate("window.shapegenEditor.selected") in (None, "b0")
+        # the other side kept: the upper block only
+        page.check("#section-flip")
+        page.mouse.click(x, y)
+        page.wait_for_function("window.shapegenEditor.selected === 'b1'")
+        page_steps.screenshot(page, "stack_section", tmp_path)
+        page.uncheck("#section-on")
+        assert page_steps.model_coverage(page) > 0.9 * full
         assert not page.problems, page.problems

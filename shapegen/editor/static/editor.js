@@ -25,6 +25,8 @@ const app = {
   selected: null,
   blockDetails: null,
   noteAfterChange: '',
+  hiddenLabels: new Set(),
+  section: null,
 };
 window.shapegenEditor = app;
 
@@ -354,6 +356,8 @@ function showModel(sceneData, gltf) {
     o.add(new THREE.LineSegments(new THREE.EdgesGeometry(o.geometry, 25), EDGE_MATERIAL));
   }
   view.add(modelGroup);
+  showLabels();
+  updateSection();
   applyColours();
   drawForces();
   frame(sceneData);
@@ -586,8 +590,14 @@ function legend() {
     parts.push('<div>largest joint tension of each block</div>');
     parts.push(`<div class="ramp" style="background: linear-gradient(to right, rgb(${a.slice(0, 3)}), rgb(${b.slice(0, 3)}))"></div>`);
     parts.push(`<div class="ends"><span>0</span><span>${newtons(s.legend.max_tension)}</span></div>`);
-  } else {
-    for (const [label, c] of s.legend.labels) parts.push(`<div>${swatch(c)}${escape(label)}</div>`);
+  }
+  // every label of the model, with a check box that shows or hides its blocks
+  const colours = new Map(s.legend.labels);
+  for (const b of s.blocks) if (!colours.has(b.label)) colours.set(b.label, b.color);
+  for (const label of [...colours.keys()].sort()) {
+    const shown = !app.hiddenLabels.has(label);
+    const name = label === '' ? '(no label)' : label;
+    parts.push(`<label class="label-row" title="show or hide the blocks labelled so"><input type="checkbox" data-label="${escape(label)}"${shown ? ' checked' : ''}>${tension ? '' : swatch(colours.get(label))}${escape(name)}</label>`);
   }
   if (s.blocks.some((b) => b.color.join() === s.legend.support.join())) {
     parts.push(`<div>${swatch(s.legend.support)}support (fixed)</div>`);
@@ -600,7 +610,60 @@ function legend() {
     if (f.metres_per_newton > 0) parts.push(`<div>arrow of 1 m = ${newtons(1 / f.metres_per_newton)}</div>`);
   }
   $('legend').innerHTML = parts.join('');
+  for (const box of $('legend').querySelectorAll('input[data-label]')) {
+    box.addEventListener('change', () => {
+      if (box.checked) app.hiddenLabels.delete(box.dataset.label);
+      else app.hiddenLabels.add(box.dataset.label);
+      showLabels();
+    });
+  }
 }
+
+// Blocks of a hidden label are not drawn (nor picked): to see inside, hide the roof.
+function showLabels() {
+  if (!modelGroup) return;
+  modelGroup.traverse((o) => { if (o.isMesh && o.userData.block) o.visible = !app.hiddenLabels.has(o.userData.block.label); });
+  if (app.selected && app.hiddenLabels.has(app.blockDetails?.labels?.[0] ?? '')) select(null);
+  requestRender();
+}
+
+// ------------------------------------------------------------------ the section plane
+// A plane across one axis cuts the blocks (and their edges) away on one side, so the inside of
+// a vault shows; what is cut away is neither drawn nor picked.
+renderer.localClippingEnabled = true;
+
+function sectionBounds(axis) {
+  const [lo, hi] = app.scene ? app.scene.bounds : [[0, 0, 0], [1, 1, 1]];
+  const k = { x: 0, y: 1, z: 2 }[axis];
+  return [lo[k], hi[k]];
+}
+
+function updateSection() {
+  const on = $('section-on').checked;
+  const axis = $('section-axis').value;
+  const [lo, hi] = sectionBounds(axis);
+  const at = lo + (Number($('section-at').value) / 1000) * (hi - lo);
+  $('section-value').textContent = on ? `${axis} = ${number(at)} m` : '';
+  const normal = new THREE.Vector3(...{ x: [-1, 0, 0], y: [0, -1, 0], z: [0, 0, -1] }[axis]);
+  if ($('section-flip').checked) normal.negate();
+  // the side kept: normal · p + constant >= 0
+  const point = new THREE.Vector3().setComponent({ x: 0, y: 1, z: 2 }[axis], at);
+  sectionPlane = on ? new THREE.Plane(normal, -normal.dot(point)) : null;
+  const planes = sectionPlane ? [sectionPlane] : [];
+  EDGE_MATERIAL.clippingPlanes = planes;
+  modelGroup?.traverse((o) => {
+    if (!o.isMesh || !o.userData.block) return;
+    o.material.clippingPlanes = planes;
+    o.material.side = sectionPlane ? THREE.DoubleSide : THREE.FrontSide; // the cut shows the inside
+    o.material.needsUpdate = true;
+  });
+  EDGE_MATERIAL.needsUpdate = true;
+  app.section = sectionPlane ? { axis, at, keep: $('section-flip').checked ? 'above' : 'below' } : null;
+  requestRender();
+}
+
+for (const id of ['section-on', 'section-axis', 'section-flip']) $(id).addEventListener('change', updateSection);
+$('section-at').addEventListener('input', updateSection);
 
 // ------------------------------------------------------------------ talking to the server
 async function getJSON(url, options) {
