@@ -30,6 +30,7 @@ from shapegen.engine.functions_arrays import index_array as _index_array
 from shapegen.engine.functions_calls import CONTEXT_QUERIES, OCCLUSION, BuiltinCalls
 from shapegen.engine.functions_files import reading_functions
 from shapegen.engine.functions_shape import convert_value, shape_reader
+from shapegen.engine.local_variables import local_scope, with_locals
 from shapegen.engine.operators import (
     ARITHMETIC,
     ELEMENTWISE_OPERATORS,
@@ -84,30 +85,9 @@ class ExpressionCompiler(BuiltinCalls):
             self.functions[key] = None
         for key, function in self.overloads.items():
             params = {p.name: k for k, p in enumerate(function.params)}
-            scope, extend = self.local_scope(function, params)
+            scope, extend = local_scope(self, function, params)
             body = self.compile(function.body, scope)
-            self.functions[key] = body if extend is None else _with_locals(body, extend)
-
-    def local_scope(self, definition, params: dict[str, int]):
-        """``params`` with the definition's ``with`` variables after them, and a closure
-        ``extend(args, state)`` that appends their values to ``args`` (None without any):
-        with.html, each is evaluated once when the definition is called, and may read the
-        parameters and the variables before it."""
-        if not definition.local_variables:
-            return params, None
-        scope = dict(params)
-        compiled = []
-        for index, variable in enumerate(definition.local_variables, start=len(params)):
-            compiled.append(self.compile(variable.value, scope))
-            scope[variable.name] = index
-
-        def extend(args, state):
-            values = list(args)
-            for value in compiled:
-                values.append(value(tuple(values), state))
-            return tuple(values)
-
-        return scope, extend
+            self.functions[key] = body if extend is None else with_locals(body, extend)
 
     # ------------------------------------------------------------------ expressions
     def compile(self, node: ast.Expression, params: dict[str, int]) -> Compiled:
@@ -496,7 +476,3 @@ class ExpressionCompiler(BuiltinCalls):
             return otherwise(args, state)
 
         return stochastic
-
-
-def _with_locals(body: Compiled, extend) -> Compiled:
-    return lambda args, state: body(extend(args, state), state)

@@ -45,6 +45,7 @@ from shapegen.engine.derivation import (
     root_state,
 )
 from shapegen.engine.expressions import ExpressionCompiler, format_value
+from shapegen.engine.local_variables import local_scope, with_locals
 from shapegen.engine.occlusion import Occlusion
 from shapegen.engine.operations import INSERT, ShapeOperations
 from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
@@ -112,7 +113,7 @@ class Program(AttributeValues, ShapeOperations):
             self.arities.setdefault(name, []).append(arity)
         for rule in self.rules.values():
             params = {p.name: k for k, p in enumerate(rule.node.params)}
-            scope, extend = self.expressions.local_scope(rule.node, params)
+            scope, extend = local_scope(self.expressions, rule.node, params)
             rule.body = self._body(rule.node.body, scope)
             if extend is not None:  # with ( ... ): the values follow the rule's arguments
                 rule.body = _rule_with_locals(rule.body, extend)
@@ -134,11 +135,9 @@ class Program(AttributeValues, ShapeOperations):
 
     def _value(self, node):
         """An attr's or const's compiled value, its ``with`` variables evaluated first."""
-        scope, extend = self.expressions.local_scope(node, {})
+        scope, extend = local_scope(self.expressions, node, {})
         value = self.expressions.compile(node.value, scope)
-        if extend is None:
-            return value
-        return lambda args, state: value(extend(args, state), state)
+        return value if extend is None else with_locals(value, extend)
 
     def error(self, node, message: str) -> GrammarError:
         return self.expressions.error(node, message)

@@ -15,13 +15,12 @@ from lark import Token, Transformer, v_args
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.expression_builders import ExpressionBuilders, unescape
 from shapegen.grammar.import_syntax import ImportBuilders
 from shapegen.grammar.names import (
     BLOCK_OPERATIONS,
     CGA_OPERATIONS,
     OPERATIONS,
-    SHAPE_ATTRIBUTES,
-    SHAPE_VALUES,
 )
 from shapegen.grammar.operation_calls import (
     Argument,
@@ -67,36 +66,15 @@ _EXTENSION_MARK = object()  # ``extension`` before a rule
 _START_MARK = object()  # ``start`` before a rule
 
 
-def _unescape(literal: str) -> str:
-    """The value of a double-quoted string literal (``\\n``, ``\\t``, ``\\"``, ``\\\\``)."""
-    escapes = {"n": "\n", "t": "\t", '"': '"', "\\": "\\"}
-    out = []
-    chars = iter(literal[1:-1])
-    for char in chars:
-        if char == "\\":
-            escaped = next(chars, "")
-            if escaped == "u":  # \uXXXX, as CGA writes its NULL string "\ue000"
-                digits = "".join(next(chars, "") for _ in range(4))
-                try:
-                    out.append(chr(int(digits, 16)))
-                except ValueError:
-                    out.append("\\u" + digits)
-                continue
-            out.append(escapes.get(escaped, "\\" + escaped))
-        else:
-            out.append(char)
-    return "".join(out)
-
-
 def _plural(count: int, word: str) -> str:
     return f"{count} {word}" if count == 1 else f"{count} {word}s"
 
 
 @v_args(meta=True)
-class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
+class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transformer):
     """Builds AST nodes; problems that the syntax lets through are collected, not raised."""
 
-    _string_value = staticmethod(_unescape)
+    _string_value = staticmethod(unescape)
 
     def __init__(self, filename: str):
         super().__init__()
@@ -144,7 +122,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
         return _Style(str(name))
 
     def version(self, meta, children):
-        return _Version(_unescape(children[0]))
+        return _Version(unescape(children[0]))
 
     def definition(self, meta, children):
         *annotations, definition = children
@@ -427,90 +405,6 @@ class AstBuilder(ImportBuilders, OperationBuilders, Transformer):
                 )
             args.append(argument.value)
         return ast.Successor(name, tuple(args), called=True, location=location)
-
-    # Expressions -------------------------------------------------------------------------------
-
-    def binary(self, meta, children):
-        left, operator, right = children
-        return ast.Binary(str(operator), left, right, location=self._at(operator))
-
-    def add_op(self, meta, children):
-        return children[0]
-
-    mul_op = add_op
-    unary_op = add_op
-
-    def unary(self, meta, children):
-        operator, operand = children
-        return ast.Unary(str(operator), operand, location=self._at(operator))
-
-    def number(self, meta, children):
-        (token,) = children
-        return ast.Number(float(token), location=self._at(token))
-
-    def string(self, meta, children):
-        (token,) = children
-        return ast.String(_unescape(token), location=self._at(token))
-
-    def name(self, meta, children):
-        (token,) = children
-        if token in ("true", "false"):
-            return ast.Boolean(token == "true", location=self._at(token))
-        return _dotted_name(str(token), (), self._at(token), call=False)
-
-    def call(self, meta, children):
-        name, *args = children
-        return _dotted_name(str(name), tuple(args), self._at(name), call=True)
-
-    def component_values(self, meta, children):
-        name, *rest = children
-        args = tuple(c for c in rest if not isinstance(c, ast.ComponentValue))
-        branches = tuple(c for c in rest if isinstance(c, ast.ComponentValue))
-        if name != "comp":
-            self._problem(self._at(name), "only comp() takes a { ... } block in an expression")
-        return ast.ComponentValues(args, branches, location=self._at(name))
-
-    def comp_value(self, meta, children):
-        return ast.ComponentValue(children[0], children[1], location=self._at(meta))
-
-    def comp_value_merged(self, meta, children):
-        return ast.ComponentValue(children[0], children[1], merge=True, location=self._at(meta))
-
-    def array(self, meta, children):
-        return ast.Array(tuple(children), location=self._at(meta))
-
-    def array_row(self, meta, children):
-        return tuple(children)
-
-    def index(self, meta, children):
-        target, *indices = children
-        return ast.Index(target, tuple(indices), location=self._at(meta))
-
-    def colon(self, meta, children):
-        if len(children) == 2:
-            return ast.Colon(children[0], None, children[1], location=self._at(meta))
-        start, step, stop = children
-        return ast.Colon(start, step, stop, location=self._at(meta))
-
-    def colon_all(self, meta, children):
-        return ast.Colon(None, None, None, location=self._at(meta))
-
-
-#: Objects whose dotted names are shape attributes (``scope.sx``, ``geometry.area``...).
-_SHAPE_OBJECTS = frozenset({*SHAPE_ATTRIBUTES, "material"})
-
-
-def _dotted_name(name: str, args: tuple, location: SourceLocation, *, call: bool):
-    """A name as written: a shape attribute (``scope.sx``, ``geometry.area()``, ``seedian``), a
-    call, or a plain (possibly dotted: ``prefix.attr``, ``world.up``) name."""
-    head, _, rest = name.partition(".")
-    if rest and head in _SHAPE_OBJECTS:
-        return ast.ShapeAttribute(head, rest, args, location=location)
-    if name in SHAPE_VALUES and not call:
-        return ast.ShapeAttribute(name, "", location=location)
-    if call:
-        return ast.Call(name, args, location=location)
-    return ast.Name(name, location=location)
 
 
 def _percent(token: Token) -> float:
