@@ -9,12 +9,11 @@ import argparse
 from pathlib import Path
 
 from shapegen.cli.display import print_analysis
+from shapegen.cli.lateral_options import add_lateral_options, capacity_request
 from shapegen.cli.options import (
     CommandLineError,
-    add_lateral_options,
     add_statics_options,
     block_statics_flags,
-    capacity_request,
     statics_options,
 )
 from shapegen.cli.outputs import check_outputs, write_all

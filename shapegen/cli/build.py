@@ -8,13 +8,12 @@ import argparse
 from pathlib import Path
 
 from shapegen.cli.display import SearchProgress, print_build
+from shapegen.cli.lateral_options import add_lateral_options, capacity_request
 from shapegen.cli.options import (
     CommandLineError,
     add_derivation_options,
-    add_lateral_options,
     add_search_options,
     add_statics_options,
-    capacity_request,
     check_statics_apply,
     checked_attrs,
     load_grammar,

@@ -11,11 +11,9 @@ __all__ = [
     "CommandLineError",
     "Parser",
     "add_derivation_options",
-    "add_lateral_options",
     "add_search_options",
     "add_statics_options",
     "block_statics_flags",
-    "capacity_request",
     "checked_attrs",
     "finite",
     "nonnegative",
@@ -97,59 +95,6 @@ def _margin(text: str) -> float:
     if not 0 <= value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 0 and below 1, got {text}")
     return value
-
-
-def _tilt(text: str) -> tuple[float, float | None]:
-    """``--tilt DEG[@AZIMUTH]``: degrees in [0, 90), and the azimuth in degrees (None: the
-    worst direction)."""
-    tilt_text, sep, azimuth_text = text.partition("@")
-    try:
-        tilt = float(tilt_text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected DEG or DEG@AZIMUTH (degrees), got {text!r}"
-        ) from None
-    if not math.isfinite(tilt):
-        raise argparse.ArgumentTypeError(f"expected a finite number of degrees, got {text!r}")
-    if tilt >= 90:
-        raise argparse.ArgumentTypeError(f"the tilt must be below 90 degrees, got {tilt:g}")
-    if tilt < 0:
-        raise argparse.ArgumentTypeError(
-            f"the tilt must be at least 0, got {tilt:g}; to tilt the other way add 180 to the"
-            f" azimuth ({-tilt:g}@180)"
-        )
-    if not sep:
-        return tilt, None
-    return tilt, _azimuth(azimuth_text, text)
-
-
-def _azimuth(text: str, whole: str) -> float:
-    try:
-        azimuth = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"the azimuth {text.strip()!r} in {whole!r} is not a number of degrees"
-        ) from None
-    if not math.isfinite(azimuth):
-        raise argparse.ArgumentTypeError(f"the azimuth in {whole!r} must be a finite number")
-    return azimuth
-
-
-def _azimuths(text: str) -> tuple[float, ...]:
-    """``--capacity [AZIMUTH,...]``: azimuths in degrees; empty for the sweep."""
-    if not text.strip():
-        return ()
-    parts = [part.strip() for part in text.split(",")]
-    try:
-        values = tuple(float(part) for part in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected azimuths in degrees separated by commas (0,90), got {text!r}; write"
-            " --capacity after the model, or --capacity= for a sweep of directions"
-        ) from None
-    if not all(math.isfinite(v) for v in values):
-        raise argparse.ArgumentTypeError(f"azimuths must be finite numbers, got {text!r}")
-    return values
 
 
 def _whole(minimum: int):
@@ -265,29 +210,6 @@ def add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> No
         help=prefix + "blocks with one of these labels or rule names are ornaments: their weight"
         " rides on the body they rest on, unjudged (default: none, or the rule's"
         ' @Structure("blocks", ignore=...))',
-    )
-
-
-def add_lateral_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
-    """--tilt and --capacity: the tilting-table test of block statics."""
-    parser.add_argument(
-        "--tilt",
-        type=_tilt,
-        metavar="DEG[@AZIMUTH]",
-        help=prefix + "judge the design with gravity tilted by DEG degrees (below 90) towards"
-        " AZIMUTH, degrees in the ground plane from +x towards +z (default: the worst"
-        " direction found), as on a tilting table; with --optimize, find a design that stands"
-        " so tilted",
-    )
-    parser.add_argument(
-        "--capacity",
-        type=_azimuths,
-        nargs="?",
-        const=(),
-        metavar="AZIMUTH,...",
-        help=prefix + "report the lateral capacity: the largest tilt at which the design stands"
-        " (and its tangent, the horizontal load multiplier), to 0.05 degrees, towards each"
-        " azimuth given, or over a sweep of 16 directions and the worst when none is",
     )
 
 
@@ -424,15 +346,6 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
     if tilt is not None:
         values["tilt"], values["azimuth"] = tilt
     return StaticsOptions(**values)
-
-
-def capacity_request(args, *, applies: bool = True, why: str = ""):
-    """The azimuths of --capacity (an empty tuple for the sweep; None without it), or an
-    error when it cannot apply."""
-    azimuths = getattr(args, "capacity", None)
-    if azimuths is not None and not applies:
-        raise CommandLineError(f"--capacity: {why}")
-    return azimuths
 
 
 def block_statics_flags(args) -> list[str]:
