@@ -224,3 +224,14 @@ def test_bad_calls_are_refused_when_loaded(call, message):
 
     with pytest.raises(GrammarError, match=message):
         parse_grammar(f"@StartRule\nLot --> extrude(3) {call} X.", "frames.cga").build(lot=(4, 2))
+
+
+def test_a_nan_offset_is_zero_with_a_warning():
+    # cga_changelog 2013.1: an inf or nan parameter of a builtin operation is replaced by 0
+    model = parse_grammar(
+        "@StartRule\nLot --> extrude(3) translate(rel, world, ln(-1), 0, 0) "
+        'report("x", convert(x, scope, world, pos, 0, 0, 0)) X.',
+        "frames.cga",
+    ).build(lot=(12.0, 8.0))
+    assert model.metadata["reports"]["x"] == 0.0
+    assert any("replaced by 0" in w for w in model.metadata["warnings"])

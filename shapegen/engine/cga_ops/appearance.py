@@ -37,6 +37,7 @@ import math
 from dataclasses import replace
 
 from shapegen.engine.cga_ops import compiles, warn_at
+from shapegen.engine.finite import finite_parameter
 from shapegen.engine.functions_arrays import format_value, type_name
 from shapegen.engine.functions_shape import material_alias
 from shapegen.grammar import ast
@@ -144,12 +145,14 @@ def _typed(program, node, expression, params, kind: type, what: str):
 
     def value(args, state):
         result = compiled(args, state)
-        if type(result) is not kind or (kind is float and not math.isfinite(result)):
+        if type(result) is not kind:
             raise error(
                 node,
                 f"{node.name}(): {what} must be a {'finite ' if kind is float else ''}"
                 f"{_TYPE_NAMES[kind]}, got {format_value(result)!r}",
             )
+        if kind is float:  # .cga: nan and inf are 0 with a warning, as CityEngine's runtime
+            return finite_parameter(program, node, state, result, f"{node.name}(): {what}")
         return result
 
     return value

@@ -174,12 +174,14 @@ def _shape_of(mesh: Mesh, scope: Scope) -> Shape:
 
 def asset_insert(program, node: ast.Insert, params):
     """The operation of ``i(name)`` for an asset name (see :func:`is_asset_name`); a literal
-    name is checked when the rule is compiled (a built-in asset shapegen lacks, a format it
-    does not read)."""
+    name is checked when the rule is compiled (a format shapegen does not read; in a
+    ``.grammar`` file a built-in asset it lacks, which a ``.cga`` file inserts as an asset not
+    found: CityEngine's compiler cannot know the strings an insert is given)."""
     if node.parameters:
         raise program.error(node, "i() of an asset file takes no keyword parameters")
+    cga = program.cga_dialect
     if isinstance(node.primitive, ast.String):
-        problem = _name_problem(node.primitive.value)
+        problem = _name_problem(node.primitive.value, cga)
         if problem:
             raise program.error(node, problem)
     name_of = program.expressions.compile(node.primitive, params)
@@ -189,14 +191,15 @@ def asset_insert(program, node: ast.Insert, params):
 
     def insert_asset(state, args, out):
         name = name_of(args, state)
-        problem = _name_problem(name) if type(name) is str else "i() needs a file name"
+        problem = _name_problem(name, cga) if type(name) is str else "i() needs a file name"
         if problem:
             raise error(node, problem)
         scope = state.shape.scope
         if name in BUILTIN_ASSETS:
             state.shape = _box_shape(scope)
             return apply_trim(state)
-        path = find_asset(name, rule_file) if name else None
+        known = not name.startswith("builtin:")  # another built-in: not found, as in CityEngine
+        path = find_asset(name, rule_file) if name and known else None
         if not name:
             warn_at(state, node, 'i(""): the asset name is empty; a box fills the scope, as '
                     "for an asset that is not found")  # fmt: skip
@@ -261,8 +264,8 @@ def _kept_size(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
     return Scope(origin, scope.rotation, extent), Mesh(mesh.vertices - lo, mesh.faces)
 
 
-def _name_problem(name: str) -> str | None:
-    if name.startswith("builtin:") and name not in BUILTIN_ASSETS:
+def _name_problem(name: str, cga: bool = False) -> str | None:
+    if name.startswith("builtin:") and name not in BUILTIN_ASSETS and not cga:
         return f"i({name!r}): shapegen has the built-in assets {', '.join(BUILTIN_ASSETS)}"
     suffix = os.path.splitext(name)[1].lower()
     if suffix in OTHER_CITYENGINE_SUFFIXES:

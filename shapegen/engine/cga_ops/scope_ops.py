@@ -31,12 +31,12 @@ from __future__ import annotations
 
 __all__ = ["argument_word", "refit", "set_scope_pivot"]
 
-import math
 
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.cga_ops.topology import EDGE, VERTEX
+from shapegen.engine.finite import finite_parameter
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.trim import apply_trim
@@ -109,11 +109,13 @@ def _value(program, node, expression, params, kind: type, what: str):
 
     def value(args, state):
         result = compiled(args, state)
-        if type(result) is not kind or (kind is float and not math.isfinite(result)):
+        if type(result) is not kind:
             raise error(
                 node,
                 f"{node.name}(): {what} must be a {_KIND_NAMES[kind]}, got a {type_name(result)}",
             )
+        if kind is float:  # .cga: nan and inf are 0 with a warning, as CityEngine's runtime
+            return finite_parameter(program, node, state, result, f"{node.name}(): {what}")
         return result
 
     return value

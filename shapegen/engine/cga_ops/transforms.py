@@ -15,12 +15,12 @@ from __future__ import annotations
 
 __all__ = ["compile_rotate", "compile_translate"]
 
-import math
 
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
 from shapegen.engine.cga_ops.scope_ops import argument_word
+from shapegen.engine.finite import finite_parameter
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.functions_frames import FRAMES, euler_angles, euler_matrix, frame_of
 from shapegen.grammar import ast
@@ -32,10 +32,10 @@ _MODES = ("abs", "rel")
 def _vector(program, node, compiled, args, state) -> np.ndarray:
     values = [c(args, state) for c in compiled]
     for value in values:
-        if type(value) is not float or not math.isfinite(value):
-            shown = value if type(value) is float else f"a {type_name(value)}"
-            raise program.error(node, f"{node.name}() needs finite numbers, got {shown}")
-    return np.array(values)
+        if type(value) is not float:
+            raise program.error(node, f"{node.name}() needs numbers, got a {type_name(value)}")
+    # .cga: nan and inf are 0 with a warning, as CityEngine's runtime does
+    return np.array([finite_parameter(program, node, state, v, f"{node.name}()") for v in values])
 
 
 def _compiled_numbers(program, node, params):
