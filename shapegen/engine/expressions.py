@@ -18,7 +18,7 @@ __all__ = ["ExpressionCompiler", "format_value", "type_name"]
 
 from collections.abc import Callable
 
-from shapegen.engine.functions import PURE_FUNCTIONS, file_functions
+from shapegen.engine.functions import PURE_FUNCTIONS
 from shapegen.engine.functions_arrays import (
     Array,
     colon_range,
@@ -40,6 +40,7 @@ from shapegen.engine.operators import (
     ieee_arithmetic,
     ordered,
 )
+from shapegen.engine.project_files import file_functions
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.grammar.names import BUILTIN_FUNCTIONS, FUNCTION_KEYWORDS, GEOMETRY_KEYWORDS

@@ -382,7 +382,7 @@ def contacts_and_bodies(model, options: StaticsOptions, tol, *, interfaces=None,
 
         interfaces = find_interfaces(model, tol)
     if bodies is None:
-        from shapegen.statics.bodies import find_bodies
+        from shapegen.statics.bodies import find_bodies, from_cityengine
 
         bodies = find_bodies(
             model, interfaces, tol, structural=options.structural, ignore=options.ignore,
@@ -393,15 +393,6 @@ def contacts_and_bodies(model, options: StaticsOptions, tol, *, interfaces=None,
 
         check_model(model, interfaces, tol, bodies)
     return interfaces, bodies
-
-
-def from_cityengine(model) -> bool:
-    """True for a model derived from a CityEngine rule (``.cga``, or a rule package): its
-    ornaments are often fixed to surfaces the statics leave out (a triglyph's open mesh), so
-    a body that touches no support rides as load on the body below rather than being an
-    error, as it is in a ``.grammar`` design."""
-    grammar = str((model.metadata or {}).get("grammar") or "")
-    return grammar.lower().endswith(".cga")
 
 
 def _known_solution(stood: Analysis, problem: StaticsProblem, tol) -> Solution | None:

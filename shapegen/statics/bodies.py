@@ -22,7 +22,7 @@ it. An ornament over nothing but the ground or a support loads them, not the str
 
 from __future__ import annotations
 
-__all__ = ["Bodies", "find_bodies", "matching_blocks"]
+__all__ = ["Bodies", "find_bodies", "from_cityengine", "matching_blocks"]
 
 import difflib
 from collections.abc import Sequence
@@ -397,3 +397,12 @@ def _below(model, body, lone) -> np.ndarray:
             top = np.minimum(upper[candidates, 1], low[1])
             out[k] = body[parts[candidates[np.argmax(top)]]]
     return out
+
+
+def from_cityengine(model) -> bool:
+    """True for a model derived from a CityEngine rule (``.cga``, or a rule package): its
+    ornaments are often fixed to surfaces the statics leave out (a triglyph's open mesh), so
+    a body that touches no support rides as load on the body below rather than being an
+    error, as it is in a ``.grammar`` design."""
+    grammar = str((model.metadata or {}).get("grammar") or "")
+    return grammar.lower().endswith(".cga")
