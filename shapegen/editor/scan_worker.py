@@ -42,7 +42,10 @@ class Inbox:
                     fields = dict(message["job"])
                     fields["ranges"] = {k: tuple(v) for k, v in fields["ranges"].items()}
                     fields["current"] = {k: tuple(v) for k, v in fields["current"].items()}
-                    fields["lot"] = tuple(fields["lot"]) if fields.get("lot") else None
+                    lot = fields.get("lot")  # (width, depth) or a polygon's (x, z) points
+                    fields["lot"] = (
+                        tuple(tuple(p) if isinstance(p, list) else p for p in lot) if lot else None
+                    )
                     self.job = ScanJob(**fields)
                     self.generation = self.job.generation
                 elif "idle" in message:

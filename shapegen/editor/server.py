@@ -54,6 +54,7 @@ API = {
     "/api/redo": {"POST": "make the last undone change again"},
     "/api/reset": {"POST": 'rule defaults again: {"attrs": ["name", ...]}, or {} for all'},
     "/api/optimize": {"POST": 'search the free attrs: {"objective": "energy" | "closest"}'},
+    "/api/settings": {"POST": 'search and derivation: {"free", "margin", "seed", "lot"}'},
     "/api/cancel": {"POST": "stop a running search after its current iteration"},
     "/api/reload": {"POST": "re-read the grammar file now (during a search: when it ends)"},
 }
@@ -275,6 +276,8 @@ class _Handler(BaseHTTPRequestHandler):
             self._json(session.redo())
         elif path == "/api/reset":
             self._json(session.reset(body))
+        elif path == "/api/settings":
+            self._json(session.settings(body))
         elif path == "/api/optimize":
             self._json(session.optimize(body))
         elif path == "/api/cancel":

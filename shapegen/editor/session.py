@@ -15,9 +15,11 @@ from __future__ import annotations
 
 __all__ = ["EditorSession", "OBJECTIVES"]
 
+import math
 import threading
 import time
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 from shapegen import pipeline
@@ -29,8 +31,21 @@ from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
 from shapegen.errors import GrammarError, ShapegenError
 from shapegen.json_values import finite_or_none, json_ready
+from shapegen.search.defaults import DEFAULT_MARGIN
 
 OBJECTIVES = ("energy", "closest")
+_UNCHANGED = object()  # an argument not given (None is a value: the file's @Lot)
+MAX_SEED = 2**63 - 1
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """What the designer chose of a design: their attr values, the seed, the lot (None: the
+    file's ``@Lot``); one step of the undo history."""
+
+    attrs: dict
+    seed: int
+    lot: object
 
 
 class Cancelled(Exception):
@@ -82,11 +97,14 @@ class EditorSession:
         self._glb: tuple[int, bytes] | None = None
         self._scene: tuple[int, dict] | None = None
         self.attrs: dict[str, object] = {}  # the designer's values; the others are the rule's
-        # the designer's values before each change (undo) and after each undone one (redo)
-        self._undo: list[dict[str, object]] = []
-        self._redo: list[dict[str, object]] = []
+        # the design's inputs before each change (undo) and after each undone one (redo)
+        self._undo: list[Inputs] = []
+        self._redo: list[Inputs] = []
         self._gesture: str | None = None  # the drag the last change belonged to
-        self._last_attrs: dict[str, object] = {}  # the designer's values before the last change
+        self._last_inputs = Inputs({}, seed, lot)  # the inputs before the last change
+        self._free: list[str] | None = None  # the attrs the search varies; None: the @Free ones
+        self.margin = DEFAULT_MARGIN
+        self._scan_generation = 0  # the scans' results of an older generation are dropped
         initial = checked_values(self.grammar, {}, dict(attrs)) if attrs else {}
         self._outcome = self._design(initial)
         self.attrs = initial
@@ -111,7 +129,9 @@ class EditorSession:
         if not self._take_work():
             raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
         try:
-            values = checked_values(self.grammar, self._current_values(), payload)
+            values = checked_values(
+                self.grammar, self._current_values(), payload, free=self.free_attrs
+            )
             same_gesture = gesture is not None and gesture == self._gesture and self._undo
             return self._apply({**self.attrs, **values}, record=not same_gesture, gesture=gesture)
         finally:
@@ -154,32 +174,45 @@ class EditorSession:
         try:
             if not source:
                 raise RequestError(f"nothing to {what}", 409)
-            attrs = self._valid_attrs(self.grammar, source[-1])
-            self._apply(attrs, record=False)
+            entry = source[-1]
+            attrs = self._valid_attrs(self.grammar, entry.attrs)
+            self._apply(attrs, seed=entry.seed, lot=entry.lot, record=False)
             with self._state_lock:
-                target.append(self._last_attrs)
+                target.append(self._last_inputs)
                 source.pop()
                 self.version += 1
                 return self.state()
         finally:
             self._work.release()
 
-    def _apply(self, attrs: dict, *, record: bool = True, gesture: str | None = None) -> dict:
-        """Build and judge the design with the designer's values ``attrs`` and take it; with
-        ``record``, the values before are the next undo step (and the redo steps are dropped).
-        Holds ``_work``."""
+    def _apply(
+        self,
+        attrs: dict,
+        *,
+        seed: int | None = None,
+        lot=_UNCHANGED,
+        record: bool = True,
+        gesture: str | None = None,
+    ) -> dict:
+        """Build and judge the design with the designer's values ``attrs`` (and ``seed``,
+        ``lot`` when given) and take it; with ``record``, the inputs before are the next undo
+        step (and the redo steps are dropped). Holds ``_work``."""
+        seed = self.seed if seed is None else seed
+        lot = self.lot if lot is _UNCHANGED else lot
         self._idle.clear()
         try:
-            outcome = self._design(attrs)
+            outcome = self._design(attrs, seed=seed, lot=lot)
         finally:
             self._idle.set()
         with self._state_lock:
-            self._last_attrs = dict(self.attrs)
-            if record and attrs != self.attrs:
-                self._undo.append(dict(self.attrs))
+            before = self._inputs()
+            self._last_inputs = before
+            if record and Inputs(dict(attrs), seed, lot) != before:
+                self._undo.append(before)
                 self._redo.clear()
             self._gesture = gesture
             self.attrs = dict(attrs)
+            self.seed, self.lot = seed, lot
             self._optimization = None  # the last search's message no longer applies
             self._outcome = outcome
             self._timings = self._last_timings
@@ -200,8 +233,11 @@ class EditorSession:
             raise RequestError(
                 f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}"
             )
-        if not self.grammar.free_parameters:
-            raise RequestError("the grammar has no @Free attr to search", 422)
+        if not self.free_attrs:
+            raise RequestError(
+                'no attr is free to search: mark one free (POST /api/settings {"free": [...]})',
+                422,
+            )
         if not self._work.acquire(blocking=False):
             raise RequestError("the design is being changed; try again when it is done", 409)
         try:
@@ -225,7 +261,9 @@ class EditorSession:
         try:
             outcome = self._design(
                 dict(self.attrs),
-                search=pipeline.SearchSettings(objective=objective),
+                search=pipeline.SearchSettings(
+                    objective=objective, free=list(self.free_attrs), margin=self.margin
+                ),
             )
         except Cancelled:
             with self._state_lock:
@@ -238,8 +276,8 @@ class EditorSession:
             self._idle.set()
         result = outcome.optimization
         with self._state_lock:
-            free = set(self.grammar.free_parameters)
-            self._undo.append(dict(self.attrs))
+            free = set(self.free_attrs)
+            self._undo.append(self._inputs())
             self._redo.clear()
             self._gesture = None
             self.attrs = {
@@ -373,6 +411,61 @@ class EditorSession:
                 "command_every_attr": command_line(path, settable, seed=seed, lot=lot),
             })  # fmt: skip
 
+    @property
+    def free_attrs(self) -> list[str]:
+        """The attrs the search varies and the stable ranges cover: the ``@Free`` ones, or
+        those the designer chose (``POST /api/settings``) that the grammar still has with a
+        ``@Range``."""
+        if self._free is None:
+            return list(self.grammar.free_parameters)
+        ranged = self._ranged_numbers()
+        return [name for name in self._free if name in ranged]
+
+    def _ranged_numbers(self) -> set[str]:
+        try:
+            ranges = self.grammar.parameter_ranges(self._current_values())
+        except ShapegenError:
+            return set()
+        defaults = self.grammar.attrs
+        return {n for n in ranges if isinstance(defaults.get(n), float)}
+
+    def settings(self, payload: object) -> dict:
+        """The search's settings and the derivation's: ``{"free": [names] | null, "margin":
+        0.1, "seed": 3, "lot": [width, depth] | [[x, z], ...] | null}``, any of them. ``free``
+        null (and ``lot`` null) give back the file's ``@Free`` attrs (its ``@Lot``). A new seed
+        or lot rebuilds the design (an undoable change); free attrs and margin do not."""
+        if not isinstance(payload, dict) or not payload:
+            raise RequestError(
+                'send a JSON object with any of "free", "margin", "seed", "lot", such as'
+                ' {"margin": 0.2}'
+            )  # fmt: skip
+        unknown = sorted(set(payload) - {"free", "margin", "seed", "lot"})
+        if unknown:
+            raise RequestError(
+                f"the settings are free, margin, seed and lot; got {unknown[0]!r}"
+            )  # fmt: skip
+        free, margin = self._free, self.margin
+        if "free" in payload:
+            free = _checked_free(payload["free"], self.grammar, self._ranged_numbers())
+        if "margin" in payload:
+            margin = _checked_margin(payload["margin"])
+        seed = _checked_seed(payload["seed"]) if "seed" in payload else self.seed
+        lot = _checked_lot(payload["lot"]) if "lot" in payload else self.lot
+        if not self._take_work():
+            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
+        try:
+            if (seed, lot) != (self.seed, self.lot):
+                self._apply(dict(self.attrs), seed=seed, lot=lot)
+            with self._state_lock:
+                rescan = free != self._free
+                self._free, self.margin = free, margin
+                if rescan:
+                    self._changed(model=False)
+                self.version += 1
+                return self.state()
+        finally:
+            self._work.release()
+
     def block(self, block_id: str) -> dict:
         """One block of the current model: labels, rule path, the attrs its rules read, its
         joints' forces and the tension it needs (see :mod:`shapegen.editor.blocks`)."""
@@ -392,15 +485,17 @@ class EditorSession:
             self._scanner.stop()
 
     # ------------------------------------------------------------------ internals
-    def _design(self, attrs: dict, *, grammar=None, search=None):
+    def _design(self, attrs: dict, *, grammar=None, search=None, seed=None, lot=_UNCHANGED):
         grammar = grammar or self.grammar
+        seed = self.seed if seed is None else seed
+        lot = self.lot if lot is _UNCHANGED else lot
         started = time.perf_counter()
         try:
             outcome = pipeline.design(
                 grammar,
                 attrs=attrs,
-                seed=self.seed,
-                lot=self.lot,
+                seed=seed,
+                lot=lot,
                 search=search,
                 assess=True,
                 progress=self._progress if search is not None else None,
@@ -462,16 +557,21 @@ class EditorSession:
             or ranges[name]["min"] <= value <= ranges[name]["max"]
         }
 
+    def _inputs(self) -> Inputs:
+        return Inputs(dict(self.attrs), self.seed, self.lot)
+
     def _current_values(self) -> dict:
         metadata = self._outcome.model.metadata or {}
         return {**dict(metadata.get("attrs", {})), **self.attrs}
 
     def _changed(self, *, model: bool) -> None:
+        """Note a change (of the model, or of what the scans cover) and start the scans."""
         with self._state_lock:
             self.version += 1
             if model:
                 self.model_version += 1
-                self._stability = {}
+            self._stability = {}
+            self._scan_generation += 1
             job = self._scan_job()
         if job is not None and self._scanner is not None:
             self._scanner.request(job)
@@ -484,7 +584,7 @@ class EditorSession:
         ranges = self.grammar.parameter_ranges(values)
         free = {
             name: (float(ranges[name]["min"]), float(ranges[name]["max"]))
-            for name in self.grammar.free_parameters
+            for name in self.free_attrs
             if name in ranges and isinstance(values.get(name), float)
         }
         if not free:
@@ -503,12 +603,12 @@ class EditorSession:
             {name: (values[name], bool(assessment.stands)) for name in free},
             seed=self.seed,
             lot=self.lot,
-            generation=self.model_version,
+            generation=self._scan_generation,
         )
 
     def _publish_scan(self, generation: int, name: str, result: dict) -> None:
         with self._state_lock:
-            if generation != self.model_version:
+            if generation != self._scan_generation:
                 return
             self._stability[name] = result
             self.version += 1
@@ -536,7 +636,10 @@ class EditorSession:
                 "structure": outcome.structure.name,
                 "blocks": len(outcome.model.blocks),
             },
-            "attrs": [spec.to_json() for spec in attr_specs(self.grammar, values, user=self.attrs)],
+            "attrs": [
+                spec.to_json()
+                for spec in attr_specs(self.grammar, values, user=self.attrs, free=self.free_attrs)
+            ],
             "sections": inspector_sections(attr_hints(self.grammar)),
             "verdict": verdict,
             "cables": section if outcome.structure.name == "cable" else None,
@@ -545,8 +648,69 @@ class EditorSession:
             "optimization": self._optimization,
             "reload_pending": self._reload_pending,
             "history": {"undo": len(self._undo), "redo": len(self._redo)},
+            "settings": {
+                "free": self.free_attrs,
+                "free_from_file": self._free is None,
+                "margin": self.margin,
+                "seed": self.seed,
+                "lot": self.lot,
+                "file_lot": list(self.grammar.lot),
+            },
             "error": self._error,
         }
+
+
+def _checked_free(value: object, grammar, ranged: set[str]) -> list[str] | None:
+    if value is None:
+        return None
+    if not isinstance(value, list) or not all(isinstance(n, str) for n in value):
+        raise RequestError('"free" is a list of attr names, such as ["span"], or null')
+    for name in value:
+        if name not in grammar.attrs:
+            raise RequestError(f"the grammar has no attr {name!r}")
+        if name not in ranged:
+            raise RequestError(
+                f"attr {name!r} cannot be free: the search varies numbers within a @Range"
+            )  # fmt: skip
+    return list(dict.fromkeys(value))
+
+
+def _checked_margin(value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value < 1:
+        raise RequestError(f'"margin" is a number from 0 to below 1; got {value!r}')
+    return float(value)
+
+
+def _checked_seed(value: object) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SEED:
+        raise RequestError(f'"seed" is a whole number from 0 to {MAX_SEED}; got {value!r}')
+    return value
+
+
+def _checked_lot(value: object):
+    """A lot from JSON: null, ``[width, depth]`` (m, > 0) or ``[[x, z], ...]`` (3 or more
+    points, m, counter-clockwise seen from above) as the derivation takes it."""
+    if value is None:
+        return None
+
+    def finite(v: object) -> bool:
+        return not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v)
+
+    if isinstance(value, list) and len(value) == 2 and all(finite(v) for v in value):
+        if min(value) <= 0:
+            raise RequestError(f'"lot" width and depth must be > 0 m; got {value!r}')
+        return (float(value[0]), float(value[1]))
+    points = value if isinstance(value, list) else None
+    if (
+        points is None
+        or len(points) < 3
+        or not all(isinstance(p, list) and len(p) == 2 and all(finite(v) for v in p)
+                   for p in points)
+    ):  # fmt: skip
+        raise RequestError(
+            '"lot" is [width, depth] in metres, a polygon [[x, z], [x, z], [x, z], ...], or null'
+        )
+    return tuple((float(x), float(z)) for x, z in points)
 
 
 def _read(path: Path | None) -> str | None:

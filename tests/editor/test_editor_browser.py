@@ -414,7 +414,9 @@ def test_the_first_view_frames_the_bridge_and_a_tall_tower(browser):
     with page_steps.Editor("suspension_bridge.grammar") as editor:
         page = page_steps.open_page(browser, editor.url)
         x0, x1, _, _ = page.evaluate("window.shapegenEditor.modelExtent()")
-        assert in_view(page) and x1 - x0 > 1.6, (x0, x1)  # the bridge runs across the view
+        left, right, _, _ = page.evaluate("window.shapegenEditor.freeRegion()")
+        # the bridge runs across the view, beside the panel at its top left
+        assert in_view(page) and x0 >= left - 1e-6 and x1 - x0 > 0.8 * (right - left), (x0, x1)
         assert page_steps.model_coverage(page) > 0.02  # it showed at 1 %
     with page_steps.Editor("tower.grammar") as editor:
         page = browser.new_page(viewport={"width": 760, "height": 520})  # a small window
@@ -567,4 +569,57 @@ def test_labels_hide_and_a_section_plane_cuts_the_model(browser, tmp_path):
         page_steps.screenshot(page, "stack_section", tmp_path)
         page.uncheck("#section-on")
         assert page_steps.model_coverage(page) > 0.9 * full
+        assert not page.problems, page.problems
+
+
+def settings(page) -> dict:
+    return page.evaluate("window.shapegenEditor.state.settings")
+
+
+def test_the_searchs_settings_free_attrs_margin_seed_and_lot(browser, tmp_path):
+    from editor_stack import STACK
+
+    grammar = tmp_path / "stack.grammar"
+    grammar.write_text(STACK, encoding="utf-8")
+    with page_steps.Editor(grammar, "--set", "offset=0.8") as editor:
+        page = page_steps.open_page(browser, editor.url)
+        page.click("#settings summary")
+        # the margin: closest stands with every joint shrunk to half its size, offset <= 1/3
+        page.fill("#margin", "0.5")
+        page.press("#margin", "Enter")
+        page.wait_for_function("window.shapegenEditor.state.settings.margin === 0.5")
+        page.click("#closest")
+        page_steps.wait_for_verdict(page, "stands")
+        assert attr_value(page, "offset") <= 1 / 3 + 1e-3
+        # the free mark: clicked, the attr is fixed, and the search has nothing to vary
+        free = '.attr[data-attr="offset"] button.free'
+        page.click(free)
+        page.wait_for_function("window.shapegenEditor.state.settings.free.length === 0")
+        assert page.inner_text(free) == "fixed"
+        page.click("#optimize")
+        page.wait_for_function(
+            "() => document.getElementById('message').textContent.includes('no attr is free')"
+        )
+        page.click(free)
+        page.wait_for_function("window.shapegenEditor.state.settings.free[0] === 'offset'")
+        # the seed and the lot: a 2 x 1 lot, then a polygon, then the file's again
+        page.fill("#seed", "5")
+        page.press("#seed", "Enter")
+        page.wait_for_function("window.shapegenEditor.state.settings.seed === 5")
+        page.fill("#lot-width", "2")
+        page.press("#lot-width", "Enter")
+        page.wait_for_function("window.shapegenEditor.state.settings.lot?.[0] === 2")
+        volume = "fetch('/api/blocks/b1').then((r) => r.json()).then((b) => b.volume)"
+        assert abs(page.evaluate(volume) - 2.0) < 1e-9
+        page.fill("#lot-polygon", "0,0 0,2 2,2 2,0")
+        page.press("#lot-polygon", "Enter")
+        page.wait_for_function("window.shapegenEditor.state.settings.lot?.length === 4")
+        assert abs(page.evaluate(volume) - 4.0) < 1e-9
+        page_steps.settle(page)
+        assert "--lot '0,0 0,2 2,2 2,0'" in page.inner_text("#command")
+        assert in_view(page)  # a larger model: framed again
+        page_steps.screenshot(page, "editor_settings", tmp_path)
+        page.click("#lot-file")
+        page.wait_for_function("window.shapegenEditor.state.settings.lot === null")
+        assert page.input_value("#lot-width") == "1"
         assert not page.problems, page.problems

@@ -173,15 +173,23 @@ function fit(direction) {
     camera.updateMatrixWorld();
   };
   place();
-  if (camera === perspective) {
-    // near corners spread more than far ones: centre and scale the projected box, a few times
-    for (let k = 0; k < 4; k += 1) {
-      const [x0, x1, y0, y1] = projectedExtent(corners);
-      target.addScaledVector(right, ((x0 + x1) / 2) * distance * tanH).addScaledVector(up, ((y0 + y1) / 2) * distance * tanV);
-      distance *= Math.max((x1 - x0) / 2, (y1 - y0) / 2) * FIT_MARGIN;
-      place();
-    }
-    for (let k = 0; k < 20 && !inside(projectedExtent(corners)); k += 1) { distance *= 1.05; place(); }
+  // Centre and scale the projected box in the part of the view the panel leaves free, a few
+  // times: in perspective, near corners spread more than far ones.
+  const region = freeRegion();
+  const [centreX, halfWidth] = [(region[0] + region[1]) / 2, (region[1] - region[0]) / 2];
+  for (let k = 0; k < 4; k += 1) {
+    const [x0, x1, y0, y1] = projectedExtent(corners);
+    const seen = camera === perspective ? distance * tanV : orthographicHalfHeight;
+    target.addScaledVector(right, ((x0 + x1) / 2 - centreX) * seen * aspect).addScaledVector(up, ((y0 + y1) / 2) * seen);
+    const scale = Math.max((x1 - x0) / 2 / halfWidth, (y1 - y0) / 2) * FIT_MARGIN;
+    if (camera === perspective) distance *= scale;
+    else setOrthographicHeight(orthographicHalfHeight * scale);
+    place();
+  }
+  for (let k = 0; k < 20 && !inside(projectedExtent(corners), region); k += 1) {
+    if (camera === perspective) distance *= 1.05;
+    else setOrthographicHeight(orthographicHalfHeight * 1.05);
+    place();
   }
   controls.target.copy(target);
   controls.update();
@@ -200,8 +208,18 @@ function projectedExtent(points) {
   return [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
 }
 
-function inside([x0, x1, y0, y1]) {
-  return x0 >= -1 && x1 <= 1 && y0 >= -1 && y1 <= 1;
+function inside([x0, x1, y0, y1], [left, right, bottom, top] = [-1, 1, -1, 1]) {
+  return x0 >= left && x1 <= right && y0 >= bottom && y1 <= top;
+}
+
+// The part of the view the panel at its top left leaves free, in normalized device
+// coordinates [left, right, bottom, top]: the model is framed beside the panel (when the
+// panel takes less than 40 % of the view's width).
+function freeRegion() {
+  const view = canvas.getBoundingClientRect();
+  const panel = $('view-controls').getBoundingClientRect();
+  const covered = (panel.right - view.left) / Math.max(view.width, 1);
+  return [covered > 0 && covered < 0.4 ? 2 * covered - 1 : -1, 1, -1, 1];
 }
 
 function boxCorners(box) {
@@ -213,6 +231,7 @@ function boxCorners(box) {
 // The share of the view the model's box spans, and whether all of it is inside: the NDC
 // extent of its corners, [xmin, xmax, ymin, ymax]. For the tests and the auto framing.
 app.modelExtent = () => (app.scene ? projectedExtent(boxCorners(modelBox())) : null);
+app.freeRegion = () => freeRegion();
 
 app.cameraView = () => ({
   kind: camera.isOrthographicCamera ? 'orthographic' : 'perspective',
@@ -223,7 +242,7 @@ app.cameraView = () => ({
 function modelFits() {
   const extent = app.modelExtent();
   const [x0, x1, y0, y1] = extent;
-  return inside(extent) && Math.max(x1 - x0, y1 - y0) >= 2 / 3;
+  return inside(extent, freeRegion()) && Math.max(x1 - x0, y1 - y0) >= 2 / 3;
 }
 
 function useCamera(wanted) {
@@ -409,6 +428,47 @@ function applyColours() {
   });
   requestRender();
 }
+
+// ------------------------------------------------------------------ search and derivation
+// The margin of the search, the seed, the lot; which attrs are free (the marks on the rows).
+async function setSettings(body) {
+  try {
+    applyState(await post('/api/settings', body));
+    note('');
+  } catch (err) {
+    note(err.message);
+    refresh();
+  }
+}
+
+function showSettings(settings) {
+  const idle = (id) => document.activeElement !== $(id);
+  if (idle('margin')) $('margin').value = settings.margin;
+  if (idle('seed')) $('seed').value = settings.seed;
+  const lot = settings.lot;
+  const rectangle = lot === null ? settings.file_lot : (lot.length === 2 && !Array.isArray(lot[0]) ? lot : null);
+  if (idle('lot-width')) $('lot-width').value = rectangle ? rectangle[0] : '';
+  if (idle('lot-depth')) $('lot-depth').value = rectangle ? rectangle[1] : '';
+  if (idle('lot-polygon')) $('lot-polygon').value = rectangle ? '' : lot.map(([x, z]) => `${x},${z}`).join(' ');
+  $('lot-file').disabled = lot === null;
+}
+
+$('margin').addEventListener('change', () => setSettings({ margin: Number($('margin').value) }));
+$('seed').addEventListener('change', () => setSettings({ seed: Number($('seed').value) }));
+for (const id of ['lot-width', 'lot-depth']) {
+  $(id).addEventListener('change', () => setSettings({ lot: [Number($('lot-width').value), Number($('lot-depth').value)] }));
+}
+$('lot-file').addEventListener('click', () => setSettings({ lot: null }));
+$('lot-polygon').addEventListener('change', () => {
+  const text = $('lot-polygon').value.trim();
+  if (!text) return;
+  const points = text.split(/\s+/).map((pair) => pair.split(',').map(Number));
+  if (points.some((p) => p.length !== 2 || p.some((v) => !Number.isFinite(v)))) {
+    note('a polygon lot is x,z pairs separated by spaces: 0,0 0,8 10,8 10,0');
+    return;
+  }
+  setSettings({ lot: points });
+});
 
 // ------------------------------------------------------------------ export
 // Downloads named after the rule file, and the shapegen build line of the current design.
@@ -745,7 +805,7 @@ function setBusy(busy) {
   $('closest').disabled = busy;
   for (const id of ['undo', 'redo', 'reset-all']) if (busy) $(id).disabled = true;
   $('stop').disabled = !busy;
-  for (const input of document.querySelectorAll('#attrs input, #attrs select')) input.disabled = busy;
+  for (const input of document.querySelectorAll('#attrs input, #attrs select, #attrs button, #settings input, #settings button')) input.disabled = busy;
 }
 
 // Undo, redo and reset: the server keeps the history (every change, a drag as one step).
@@ -810,6 +870,7 @@ function applyState(state) {
   showProgress(state.optimization);
   if (state.reload_pending) $('progress').textContent += ' · the file changed: it is re-read when the search ends';
   inspector(state);
+  showSettings(state.settings);
   const searching = Boolean(state.optimization && state.optimization.running);
   $('undo').disabled = searching || !state.history.undo;
   $('redo').disabled = searching || !state.history.redo;
@@ -901,9 +962,18 @@ function makeRow(attr, parent) {
   row.dataset.attr = attr.name;
   row.dataset.kind = attr.kind;
   row.title = attr.description || '';
-  row.innerHTML = `<div class="head"><span class="name"></span>${attr.free ? '<span class="free" title="@Free: the search may change it">free</span>' : ''}<span class="user" hidden>set</span><button class="reset" hidden title="back to the rule's default">↺</button><span class="value"></span></div>`;
+  const searchable = attr.kind === 'number' && attr.minimum !== null;
+  const mark = attr.free
+    ? '<button class="free" title="free: the search varies it; click to fix it">free</button>'
+    : (searchable ? '<button class="free off" title="fixed: the search leaves it; click to free it">fixed</button>' : '');
+  row.innerHTML = `<div class="head"><span class="name"></span>${mark}<span class="user" hidden>set</span><button class="reset" hidden title="back to the rule's default">↺</button><span class="value"></span></div>`;
   row.querySelector('.name').textContent = attr.display_name || attr.name;
   row.querySelector('.reset').addEventListener('click', () => historyStep('/api/reset', { attrs: [attr.name] }));
+  row.querySelector('button.free')?.addEventListener('click', () => {
+    const free = app.state.settings.free.filter((n) => n !== attr.name);
+    if (!attr.free) free.push(attr.name);
+    setSettings({ free });
+  });
   if (attr.display_name) row.querySelector('.name').title = attr.name;
   let input;
   if (attr.kind === 'number' && attr.minimum !== null && !attr.choices) {
@@ -1023,7 +1093,8 @@ function updateRow(row, attr, stability) {
     else input.value = attr.value;
     const shownValue = row.querySelector('.value');
     if (shownValue.tagName !== 'INPUT') shownValue.textContent = '';
-    else if (document.activeElement !== shownValue) shownValue.value = attr.value;
+    // a search's value shown to 6 digits (one typed stays as typed: it has no more)
+    else if (document.activeElement !== shownValue) shownValue.value = Number(Number(attr.value).toPrecision(6));
   }
   // the designer's value is marked, with the rule's default it hides, and can be reset
   const mark = row.querySelector('.user');

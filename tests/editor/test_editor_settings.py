@@ -1,0 +1,99 @@
+"""POST /api/settings: which attrs the search varies, its margin, the seed and the lot."""
+
+import json
+
+import pytest
+from editor_http import request, serving
+
+
+def post(server, path, body=None):
+    status, _, content = request(server, "POST", path, {} if body is None else body)
+    return status, json.loads(content)
+
+
+def block_volume(server, block_id="b1") -> float:
+    return json.loads(request(server, "GET", f"/api/blocks/{block_id}")[2])["volume"]
+
+
+def test_the_margin_of_the_search(stack_file):
+    # The upper block stands on the lower one shrunk to 1 - m of its size while its offset is
+    # at most (1 - m) / (2 - m): 1/3 for a margin of 0.5 (0.5 without a margin).
+    with serving(stack_file) as server:
+        _, state = post(server, "/api/settings", {"margin": 0.5})
+        assert state["settings"]["margin"] == 0.5
+        post(server, "/api/attrs", {"offset": 0.8})
+        status, state = post(server, "/api/optimize", {"objective": "closest"})
+        offset = {a["name"]: a["value"] for a in state["attrs"]}["offset"]
+        assert status == 200 and offset <= 1 / 3 + 1e-3, offset
+        assert offset > 0.25, offset  # the closest: near the boundary, not anywhere
+
+
+def test_free_and_fixed_attrs(stack_file):
+    with serving(stack_file) as server:
+        state = json.loads(request(server, "GET", "/api/state")[2])
+        assert state["settings"]["free"] == ["offset"] and state["settings"]["free_from_file"]
+        _, state = post(server, "/api/settings", {"free": []})  # offset fixed
+        assert state["settings"]["free"] == [] and not state["settings"]["free_from_file"]
+        assert not {a["name"]: a for a in state["attrs"]}["offset"]["free"]
+        status, answer = post(server, "/api/optimize", {})
+        assert status == 422 and "no attr is free to search" in answer["error"]
+        _, state = post(server, "/api/settings", {"free": None})  # the file's @Free again
+        assert state["settings"]["free"] == ["offset"]
+
+
+def test_seed_and_lot_rebuild_the_design_and_can_be_undone(stack_file):
+    with serving(stack_file) as server:
+        _, state = post(server, "/api/settings", {"lot": [2, 1], "seed": 7})
+        assert state["settings"]["lot"] == [2, 1] and state["settings"]["seed"] == 7
+        assert state["settings"]["file_lot"] == [1, 1]
+        assert block_volume(server) == pytest.approx(2.0)  # a unit-high block on a 2 x 1 lot
+        # a polygon, counter-clockwise seen from above
+        _, state = post(server, "/api/settings", {"lot": [[0, 0], [0, 2], [2, 2], [2, 0]]})
+        assert block_volume(server) == pytest.approx(4.0)
+        exported = json.loads(request(server, "GET", "/api/attrs.json")[2])
+        command = exported["command"]
+        assert "--seed 7" in command and "--lot '0,0 0,2 2,2 2,0'" in command
+        _, state = post(server, "/api/undo")
+        assert state["settings"]["lot"] == [2, 1] and block_volume(server) == pytest.approx(2.0)
+        _, state = post(server, "/api/settings", {"lot": None})
+        assert state["settings"]["lot"] is None and block_volume(server) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize(
+    ("body", "status", "message"),
+    [
+        ({}, 400, 'send a JSON object with any of "free", "margin", "seed", "lot"'),
+        ([1], 400, "send a JSON object"),
+        ({"margins": 0.1}, 400, "the settings are free, margin, seed and lot; got 'margins'"),
+        ({"margin": 1}, 400, '"margin" is a number from 0 to below 1; got 1'),
+        ({"margin": -0.1}, 400, '"margin" is a number from 0 to below 1'),
+        ({"margin": True}, 400, '"margin" is a number'),
+        ({"seed": 1.5}, 400, '"seed" is a whole number'),
+        ({"seed": -1}, 400, '"seed" is a whole number'),
+        ({"free": "offset"}, 400, '"free" is a list of attr names'),
+        ({"free": ["ofset"]}, 400, "the grammar has no attr 'ofset'"),
+        ({"free": ["stone"]}, 400, "attr 'stone' cannot be free: the search varies numbers"),
+        ({"free": ["courses"]}, 400, "attr 'courses' cannot be free"),  # no @Range
+        ({"lot": [0, 1]}, 400, '"lot" width and depth must be > 0 m'),
+        ({"lot": [1]}, 400, '"lot" is [width, depth] in metres, a polygon'),
+        ({"lot": [[0, 0], [1, 0]]}, 400, '"lot" is [width, depth]'),
+        ({"lot": [[0, 0], [2, 0], [2, 2], [0, 2]]}, 422, "clockwise"),  # the build refuses it
+    ],
+)
+def test_bad_settings_are_refused_and_change_nothing(stack_file, body, status, message):
+    with serving(stack_file) as server:
+        before = json.loads(request(server, "GET", "/api/state")[2])
+        got, answer = post(server, "/api/settings", body)
+        assert got == status and message in answer["error"], answer
+        after = json.loads(request(server, "GET", "/api/state")[2])
+        assert after["settings"] == before["settings"]
+        assert after["model_version"] == before["model_version"]
+
+
+def test_settings_are_closed_to_other_sites(stack_file):
+    with serving(stack_file) as server:
+        got = request(server, "POST", "/api/settings", {"seed": 3}, {"Origin": "null"})[0]
+        assert got == 403
+        got = request(server, "POST", "/api/settings", b'{"seed": 3}', {"Content-Type": None})[0]
+        assert got == 415
+        assert json.loads(request(server, "GET", "/api/state")[2])["settings"]["seed"] == 0
