@@ -9,9 +9,11 @@
   ``restricted`` (the default) refuses any other value.
 - ``@Hidden``: not shown (the API still lists it and takes values for it).
 - ``@Group("level 1", ..., "level n", order)``: the Inspector's sections. As CityEngine's, it
-  sets the group of this attr *and the ones after it* until the next ``@Group`` (a ``@Group``
-  without names leaves the group); ``order`` sorts the groups. ``@Order(n)`` sorts the attrs
-  within their group; without one an attr comes after those with one, in file order.
+  sets the group of this attr *and the ones after it* in its file until the next ``@Group``
+  (a ``@Group`` without names leaves the group); ``order`` sorts the groups. The attrs of an
+  import (``lib.height``) are in a section of the import (``lib``), their groups within it.
+  ``@Order(n)`` sorts the attrs within their group; without one an attr comes after those
+  with one, in file order.
 - ``@Description``: the help text (a tooltip); ``@DisplayName``: the name shown.
 - ``@Color``: a colour picker for a string attr ``"#rrggbb"``.
 - ``@File`` / ``@File("ext", ...)`` / ``@Directory``: a choice among the files (or folders)
@@ -94,16 +96,22 @@ def _attr_hints(grammar) -> dict[str, AttrHints]:
     hints = {}
     group: tuple[str, ...] = ()
     group_order: float | None = None
+    file: tuple[str, ...] = ()
     for name, node in nodes.items():
         fold = _Folder(definitions)
+        # an imported attr (lib.height) shows in a section of its import, as in CityEngine's
+        # Inspector; a @Group holds within its own file
+        prefix = tuple(name.split(".")[:-1])
+        if prefix != file:
+            file, group, group_order = prefix, (), None
         annotation = node.annotation("Group")
         if annotation is not None:  # CityEngine's: the group of this attr and the next ones
             group, group_order = fold.group(annotation)
         hints[name] = AttrHints(
             kind=_kind(defaults[name], node),
             **fold.choices(node),
-            group=group,
-            group_order=group_order,
+            group=prefix + group,
+            group_order=group_order if group else None,
             order=fold.number(node.annotation("Order"), 0),
             description=fold.text(node.annotation("Description")),
             display_name=fold.text(node.annotation("DisplayName")),

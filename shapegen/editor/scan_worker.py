@@ -96,7 +96,7 @@ def main(argv: list[str] | None = None) -> None:
     # Ctrl-C in the terminal reaches the whole process group: the editor ends this process
     # (its standard input closes), so the interrupt is not for it
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    from shapegen.engine.grammar_api import parse_grammar
+    from shapegen.engine.grammar_api import load_grammar, parse_grammar
     from shapegen.structures import make_structure
 
     inbox = Inbox()
@@ -111,10 +111,15 @@ def main(argv: list[str] | None = None) -> None:
     cache: dict[tuple, dict] = {}
     while (job := inbox.next_job(pause)) is not None:
         try:
-            if job.text not in parsed:
+            source = (job.path, job.text)
+            if source not in parsed:
                 parsed.clear()
-                parsed[job.text] = parse_grammar(job.text, job.name)
-            grammar = parsed[job.text]
+                # from its file, whose folder and project resolve a .cga file's imports and
+                # assets; the text alone only when there is no file
+                parsed[source] = (
+                    load_grammar(job.path) if job.path else parse_grammar(job.text, job.name)
+                )
+            grammar = parsed[source]
             structure = make_structure(grammar.structure)
             scan(
                 job,

@@ -604,6 +604,7 @@ class EditorSession:
             seed=self.seed,
             lot=self.lot,
             generation=self._scan_generation,
+            path=str(self.path) if self.path is not None else None,
         )
 
     def _publish_scan(self, generation: int, name: str, result: dict) -> None:
@@ -635,7 +636,10 @@ class EditorSession:
                 "path": str(self.path) if self.path else None,
                 "structure": outcome.structure.name,
                 "blocks": len(outcome.model.blocks),
+                "dialect": getattr(self.grammar.ast, "dialect", "grammar"),
             },
+            # what the load let through and the derivation warned about (a .cga file's)
+            "warnings": [str(w) for w in (outcome.model.metadata or {}).get("warnings", [])],
             "attrs": [
                 spec.to_json()
                 for spec in attr_specs(self.grammar, values, user=self.attrs, free=self.free_attrs)

@@ -127,7 +127,8 @@ def stable_intervals(
 class ScanJob:
     """What to scan: the design at ``attrs`` (every override), one scan per free attr.
 
-    Plain data, sent to the scanning process: the grammar travels as its text.
+    Plain data, sent to the scanning process: the grammar travels as its text, and as its
+    file's path when it has one (a ``.cga`` file's imports and assets are found from there).
     """
 
     text: str  # the grammar's source
@@ -138,6 +139,7 @@ class ScanJob:
     seed: int = 0
     lot: tuple[float, float] | None = None
     generation: int = 0
+    path: str | None = None  # the rule file, read again by the scanning process
 
 
 class StabilityScanner:

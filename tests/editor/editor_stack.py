@@ -96,3 +96,49 @@ def annotated_project(folder):
     path = project / "rules" / "stack.grammar"
     path.write_text(ANNOTATED, encoding="utf-8")
     return path
+
+
+# A CityEngine project: a .cga start rule that imports another and names an asset it lacks (a
+# warning, not an error, in a .cga file).
+CGA_BUILDING = """\
+version "2023.0"
+import lib : "lib.cga"
+
+@Free @Group("Mass", 1) @Range(min=0.5, max=3)
+attr floor_height = 1
+
+@StartRule
+Lot --> extrude(lib.height) Mass
+Mass --> split(y) { floor_height : Floor }*
+Floor --> i("missing.obj") Stone.
+"""
+CGA_LIB = """\
+@Range(min=2, max=12)
+attr height = 6
+"""
+CGA_WARNING = "asset 'missing.obj' not found"
+
+
+def cga_project(folder):
+    """A CityEngine project in ``folder``: ``rules/building.cga`` importing ``rules/lib.cga``;
+    the start rule's path."""
+    rules = folder / "project" / "rules"
+    rules.mkdir(parents=True)
+    (folder / "project" / "assets").mkdir()
+    (rules / "lib.cga").write_text(CGA_LIB, encoding="utf-8")
+    path = rules / "building.cga"
+    path.write_text(CGA_BUILDING, encoding="utf-8")
+    return path
+
+
+def cga_package(folder):
+    """The project of :func:`cga_project` as a CityEngine rule package (a 7z archive)."""
+    import py7zr
+
+    path = folder / "building.rpk"
+    with py7zr.SevenZipFile(path, "w") as archive:
+        archive.writestr(CGA_BUILDING.encode(), "rules/building.cga")
+        archive.writestr(CGA_LIB.encode(), "rules/lib.cga")
+        archive.writestr(b"compiled", "bin/building.cgb")
+        archive.writestr(b"compiled import", "bin/building$lib.cgb")
+    return path

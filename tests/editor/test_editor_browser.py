@@ -623,3 +623,27 @@ def test_the_searchs_settings_free_attrs_margin_seed_and_lot(browser, tmp_path):
         page.wait_for_function("window.shapegenEditor.state.settings.lot === null")
         assert page.input_value("#lot-width") == "1"
         assert not page.problems, page.problems
+
+
+def test_a_cga_rule_opens_with_its_warnings_shown(browser, tmp_path):
+    from editor_stack import CGA_WARNING, cga_package
+
+    with page_steps.Editor(cga_package(tmp_path)) as editor:  # a .rpk: its start rule
+        page = page_steps.open_page(browser, editor.url)
+        assert page.inner_text("#file").startswith("building.cga")
+        assert page.is_visible("#warnings")
+        assert page.inner_text("#warnings-count") == "⚠ 1 warning from the rule file"
+        page.click("#warnings-count")
+        assert CGA_WARNING in page.inner_text("#warnings-list")
+        # the imported attr has its slider; the @Group its section
+        assert page.locator('#attrs details[data-group="Mass"] .attr').count() == 1
+        assert (
+            page.locator('#attrs details[data-group="lib"] .attr[data-attr="lib.height"]').count()
+            == 1
+        )
+        page_steps.drag_slider(page, "lib.height", 9)
+        page.wait_for_function("window.shapegenEditor.state.grammar.blocks === 9")
+        page_steps.settle(page)
+        page_steps.screenshot(page, "editor_cga", tmp_path)
+        assert page.evaluate("window.shapegenEditor.errors") == []
+        assert not page.problems, page.problems

@@ -866,6 +866,7 @@ function applyState(state) {
     $(id).parentElement.title = tensionRadio.disabled ? why : '';
   }
   showError(state.error);
+  showWarnings(state.warnings);
   showCables(state.cables);
   showProgress(state.optimization);
   if (state.reload_pending) $('progress').textContent += ' · the file changed: it is re-read when the search ends';
@@ -876,6 +877,18 @@ function applyState(state) {
   $('redo').disabled = searching || !state.history.redo;
   $('reset-all').disabled = searching || !state.attrs.some((a) => a.user);
   if (state.model_version !== app.renderedModelVersion) loadModel();
+}
+
+// What the rule file's load and derivation warned about (a .cga file's: an asset not found,
+// an operation shapegen does not carry out), one line each.
+function showWarnings(warnings) {
+  const box = $('warnings');
+  box.hidden = !warnings.length;
+  const key = JSON.stringify(warnings);
+  if (box.dataset.key === key) return;
+  box.dataset.key = key;
+  $('warnings-count').textContent = `⚠ ${warnings.length} warning${warnings.length === 1 ? '' : 's'} from the rule file`;
+  $('warnings-list').innerHTML = warnings.map((w) => `<li>${escape(w)}</li>`).join('');
 }
 
 function showError(error) {

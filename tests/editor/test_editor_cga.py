@@ -1,0 +1,64 @@
+"""CityEngine rule files in the editor: a .cga start rule with its imports, and a .rpk rule
+package, open as a .grammar file does; their warnings are in the state, and the stable range of
+a free attr is scanned from the file (whose folder resolves the imports)."""
+
+import json
+import time
+
+import pytest
+from editor_http import request, serving
+from editor_stack import CGA_WARNING, cga_package, cga_project
+
+from shapegen.editor import EditorSession
+
+
+@pytest.fixture(autouse=True)
+def _cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("SHAPEGEN_CACHE", str(tmp_path / "cache"))  # where packages unpack
+
+
+def values(state) -> dict:
+    return {a["name"]: a["value"] for a in state["attrs"]}
+
+
+def test_a_cga_file_opens_with_its_imports_and_warnings(tmp_path):
+    with serving(cga_project(tmp_path)) as server:
+        state = json.loads(request(server, "GET", "/api/state")[2])
+        assert state["grammar"]["name"] == "building.cga" and state["grammar"]["dialect"] == "cga"
+        assert any(CGA_WARNING in w for w in state["warnings"]), state["warnings"]
+        assert values(state) == {"floor_height": 1, "lib.height": 6}  # the import's attr too
+        # an import's attrs are in a section of their own; a @Group holds within its file
+        assert state["sections"] == [
+            {"group": ["Mass"], "attrs": ["floor_height"]},
+            {"group": ["lib"], "attrs": ["lib.height"]},
+        ]
+        assert state["grammar"]["blocks"] == 6 and state["verdict"]["stands"]
+        status, _, content = request(server, "POST", "/api/attrs", {"lib.height": 9})
+        assert status == 200 and json.loads(content)["grammar"]["blocks"] == 9
+        exported = json.loads(request(server, "GET", "/api/attrs.json")[2])
+        assert exported["command"].endswith("--set lib.height=9")
+
+
+def test_a_rule_package_opens_as_its_start_rule(tmp_path):
+    with serving(cga_package(tmp_path)) as server:
+        state = json.loads(request(server, "GET", "/api/state")[2])
+        assert state["grammar"]["name"] == "building.cga"
+        assert any(CGA_WARNING in w for w in state["warnings"])
+        assert state["grammar"]["blocks"] == 6
+
+
+def test_the_stable_range_of_a_cga_files_free_attr_is_scanned(tmp_path):
+    session = EditorSession(str(cga_project(tmp_path)))
+    try:
+        deadline = time.monotonic() + 120  # a scan of two dozen small designs
+        while time.monotonic() < deadline:
+            stability = session.state()["stability"].get("floor_height", {})
+            if stability.get("status") == "done":
+                break
+            time.sleep(0.2)
+        # the scanning process read the file, so its import was found: every design was judged
+        assert stability.get("status") == "done", stability
+        assert all(stands is not None for _, stands in stability["samples"])
+        assert stability["intervals"] == [[0.5, 3.0]]
+    finally:
+        session.close()
