@@ -15,18 +15,16 @@ from __future__ import annotations
 
 __all__ = ["EditorSession", "OBJECTIVES"]
 
-import math
 import threading
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 
 from shapegen import pipeline
-from shapegen.editor.annotations import attr_hints, inspector_sections
-from shapegen.editor.attrs import RequestError, attr_specs, checked_values, plain_value
-from shapegen.editor.blocks import block_details
-from shapegen.editor.exports import command_line
+from shapegen.editor.attrs import RequestError, checked_values
+from shapegen.editor.history import HistoryMixin
+from shapegen.editor.inputs import UNCHANGED, Inputs, SettingsMixin, valid_attrs
+from shapegen.editor.readouts import ReadoutsMixin
 from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
 from shapegen.errors import GrammarError, ShapegenError
@@ -34,25 +32,13 @@ from shapegen.json_values import finite_or_none, json_ready
 from shapegen.search.defaults import DEFAULT_MARGIN
 
 OBJECTIVES = ("energy", "closest")
-_UNCHANGED = object()  # an argument not given (None is a value: the file's @Lot)
-MAX_SEED = 2**63 - 1
-
-
-@dataclass(frozen=True)
-class Inputs:
-    """What the designer chose of a design: their attr values, the seed, the lot (None: the
-    file's ``@Lot``); one step of the undo history."""
-
-    attrs: dict
-    seed: int
-    lot: object
 
 
 class Cancelled(Exception):
     """The designer stopped the search."""
 
 
-class EditorSession:
+class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
     """One grammar being edited: thread-safe; every public method returns the new state.
 
     Parameters
@@ -137,60 +123,12 @@ class EditorSession:
         finally:
             self._work.release()
 
-    def undo(self) -> dict:
-        """Take the designer's values back to before the last change (a drag, a typed value, a
-        reset, a search's result)."""
-        return self._step_history(self._undo, self._redo, "undo")
-
-    def redo(self) -> dict:
-        """Make the last undone change again."""
-        return self._step_history(self._redo, self._undo, "redo")
-
-    def reset(self, payload: object = None) -> dict:
-        """Give attrs back their rule defaults: ``{"attrs": ["span", ...]}``, or every attr the
-        designer set for ``{}`` or no body. The defaults then follow the file: a changed default
-        saved in it shows at the next reload."""
-        payload = {} if payload is None else payload
-        if not isinstance(payload, dict) or set(payload) - {"attrs"}:
-            raise RequestError('send {"attrs": ["name", ...]} to reset those, or {} for all')
-        names = payload.get("attrs")
-        if names is not None:
-            if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
-                raise RequestError('"attrs" is a list of attr names, such as ["span"]')
-            unknown = [n for n in names if n not in self.grammar.attrs]
-            if unknown:
-                raise RequestError(f"the grammar has no attr {unknown[0]!r}")
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
-            gone = set(self.attrs) if names is None else set(names)
-            return self._apply({k: v for k, v in self.attrs.items() if k not in gone})
-        finally:
-            self._work.release()
-
-    def _step_history(self, source: list, target: list, what: str) -> dict:
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
-            if not source:
-                raise RequestError(f"nothing to {what}", 409)
-            entry = source[-1]
-            attrs = self._valid_attrs(self.grammar, entry.attrs)
-            self._apply(attrs, seed=entry.seed, lot=entry.lot, record=False)
-            with self._state_lock:
-                target.append(self._last_inputs)
-                source.pop()
-                self.version += 1
-                return self.state()
-        finally:
-            self._work.release()
-
     def _apply(
         self,
         attrs: dict,
         *,
         seed: int | None = None,
-        lot=_UNCHANGED,
+        lot=UNCHANGED,
         record: bool = True,
         gesture: str | None = None,
     ) -> dict:
@@ -198,7 +136,7 @@ class EditorSession:
         ``lot`` when given) and take it; with ``record``, the inputs before are the next undo
         step (and the redo steps are dropped). Holds ``_work``."""
         seed = self.seed if seed is None else seed
-        lot = self.lot if lot is _UNCHANGED else lot
+        lot = self.lot if lot is UNCHANGED else lot
         self._idle.clear()
         try:
             outcome = self._design(attrs, seed=seed, lot=lot)
@@ -386,98 +324,6 @@ class EditorSession:
             self._scene = (version, data)
         return data
 
-    def report(self) -> dict:
-        """The current design's report, as ``shapegen build --analyze --report`` writes it."""
-        with self._state_lock:
-            return json_ready(self._outcome.report)
-
-    def attrs_export(self) -> dict:
-        """The current design's attrs: every value (``attrs``), the designer's (``set``), and
-        the ``shapegen build`` line that builds the design again (``command``: the designer's
-        values; ``command_every_attr``: every value, for a file whose defaults may change)."""
-        with self._state_lock:
-            values = self._current_values()
-            every = {k: plain_value(values[k]) for k in self.grammar.attrs if k in values}
-            user = {k: every[k] for k in every if k in self.attrs}
-            settable = {k: v for k, v in every.items() if not isinstance(v, list)}
-            path, seed, lot = self.path, self.seed, self.lot
-            return json_ready({
-                "grammar": str(path) if path else None,
-                "seed": seed,
-                "lot": lot,
-                "attrs": every,
-                "set": user,
-                "command": command_line(path, user, seed=seed, lot=lot),
-                "command_every_attr": command_line(path, settable, seed=seed, lot=lot),
-            })  # fmt: skip
-
-    @property
-    def free_attrs(self) -> list[str]:
-        """The attrs the search varies and the stable ranges cover: the ``@Free`` ones, or
-        those the designer chose (``POST /api/settings``) that the grammar still has with a
-        ``@Range``."""
-        if self._free is None:
-            return list(self.grammar.free_parameters)
-        ranged = self._ranged_numbers()
-        return [name for name in self._free if name in ranged]
-
-    def _ranged_numbers(self) -> set[str]:
-        try:
-            ranges = self.grammar.parameter_ranges(self._current_values())
-        except ShapegenError:
-            return set()
-        defaults = self.grammar.attrs
-        return {n for n in ranges if isinstance(defaults.get(n), float)}
-
-    def settings(self, payload: object) -> dict:
-        """The search's settings and the derivation's: ``{"free": [names] | null, "margin":
-        0.1, "seed": 3, "lot": [width, depth] | [[x, z], ...] | null}``, any of them. ``free``
-        null (and ``lot`` null) give back the file's ``@Free`` attrs (its ``@Lot``). A new seed
-        or lot rebuilds the design (an undoable change); free attrs and margin do not."""
-        if not isinstance(payload, dict) or not payload:
-            raise RequestError(
-                'send a JSON object with any of "free", "margin", "seed", "lot", such as'
-                ' {"margin": 0.2}'
-            )  # fmt: skip
-        unknown = sorted(set(payload) - {"free", "margin", "seed", "lot"})
-        if unknown:
-            raise RequestError(
-                f"the settings are free, margin, seed and lot; got {unknown[0]!r}"
-            )  # fmt: skip
-        free, margin = self._free, self.margin
-        if "free" in payload:
-            free = _checked_free(payload["free"], self.grammar, self._ranged_numbers())
-        if "margin" in payload:
-            margin = _checked_margin(payload["margin"])
-        seed = _checked_seed(payload["seed"]) if "seed" in payload else self.seed
-        lot = _checked_lot(payload["lot"]) if "lot" in payload else self.lot
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
-            if (seed, lot) != (self.seed, self.lot):
-                self._apply(dict(self.attrs), seed=seed, lot=lot)
-            with self._state_lock:
-                rescan = free != self._free
-                self._free, self.margin = free, margin
-                if rescan:
-                    self._changed(model=False)
-                self.version += 1
-                return self.state()
-        finally:
-            self._work.release()
-
-    def block(self, block_id: str) -> dict:
-        """One block of the current model: labels, rule path, the attrs its rules read, its
-        joints' forces and the tension it needs (see :mod:`shapegen.editor.blocks`)."""
-        with self._state_lock:
-            outcome, version = self._outcome, self.model_version
-            values, user = self._current_values(), set(self.attrs)
-        details = block_details(outcome, block_id, values, user)
-        if details is None:
-            raise RequestError(f"the current model has no block {block_id!r}", 404)
-        details["model_version"] = version
-        return json_ready(details)
-
     def close(self) -> None:
         """Stop the background scan."""
         self._cancel.set()
@@ -485,10 +331,10 @@ class EditorSession:
             self._scanner.stop()
 
     # ------------------------------------------------------------------ internals
-    def _design(self, attrs: dict, *, grammar=None, search=None, seed=None, lot=_UNCHANGED):
+    def _design(self, attrs: dict, *, grammar=None, search=None, seed=None, lot=UNCHANGED):
         grammar = grammar or self.grammar
         seed = self.seed if seed is None else seed
-        lot = self.lot if lot is _UNCHANGED else lot
+        lot = self.lot if lot is UNCHANGED else lot
         started = time.perf_counter()
         try:
             outcome = pipeline.design(
@@ -534,28 +380,7 @@ class EditorSession:
 
     def _kept_attrs(self, grammar) -> dict:
         """The designer's values that still mean something in the re-read ``grammar``."""
-        return self._valid_attrs(grammar, self.attrs)
-
-    @staticmethod
-    def _valid_attrs(grammar, attrs: Mapping[str, object]) -> dict:
-        """The values of ``attrs`` that mean something in ``grammar``: an attr it has, of the
-        same type, within its range (a value of the history may predate a reload)."""
-        kept = {}
-        defaults = grammar.attrs
-        for name, value in attrs.items():
-            if name in defaults and type(defaults[name]) is type(value):
-                kept[name] = value
-        try:
-            ranges = grammar.parameter_ranges(kept)
-        except ShapegenError:
-            return {}
-        return {
-            name: value
-            for name, value in kept.items()
-            if name not in ranges
-            or not isinstance(value, float)
-            or ranges[name]["min"] <= value <= ranges[name]["max"]
-        }
+        return valid_attrs(grammar, self.attrs)
 
     def _inputs(self) -> Inputs:
         return Inputs(dict(self.attrs), self.seed, self.lot)
@@ -613,108 +438,6 @@ class EditorSession:
                 return
             self._stability[name] = result
             self.version += 1
-
-    def _state(self) -> dict:
-        outcome = self._outcome
-        assessment = outcome.assessment
-        values = self._current_values()
-        section = assessment.section if assessment is not None else {}
-        verdict = None
-        if assessment is not None:
-            verdict = {
-                "stands": bool(assessment.stands),
-                "measure": finite_or_none(assessment.measure),
-                "measure_name": outcome.structure.measure_name,
-                "status": assessment.status,
-                "max_tension": section.get("max_tension"),
-            }
-        return {
-            "version": self.version,
-            "model_version": self.model_version,
-            "grammar": {
-                "name": Path(self.grammar.name).name,
-                "path": str(self.path) if self.path else None,
-                "structure": outcome.structure.name,
-                "blocks": len(outcome.model.blocks),
-                "dialect": getattr(self.grammar.ast, "dialect", "grammar"),
-            },
-            # what the load let through and the derivation warned about (a .cga file's)
-            "warnings": [str(w) for w in (outcome.model.metadata or {}).get("warnings", [])],
-            "attrs": [
-                spec.to_json()
-                for spec in attr_specs(self.grammar, values, user=self.attrs, free=self.free_attrs)
-            ],
-            "sections": inspector_sections(attr_hints(self.grammar)),
-            "verdict": verdict,
-            "cables": section if outcome.structure.name == "cable" else None,
-            "timings": dict(self._timings),
-            "stability": dict(self._stability),
-            "optimization": self._optimization,
-            "reload_pending": self._reload_pending,
-            "history": {"undo": len(self._undo), "redo": len(self._redo)},
-            "settings": {
-                "free": self.free_attrs,
-                "free_from_file": self._free is None,
-                "margin": self.margin,
-                "seed": self.seed,
-                "lot": self.lot,
-                "file_lot": list(self.grammar.lot),
-            },
-            "error": self._error,
-        }
-
-
-def _checked_free(value: object, grammar, ranged: set[str]) -> list[str] | None:
-    if value is None:
-        return None
-    if not isinstance(value, list) or not all(isinstance(n, str) for n in value):
-        raise RequestError('"free" is a list of attr names, such as ["span"], or null')
-    for name in value:
-        if name not in grammar.attrs:
-            raise RequestError(f"the grammar has no attr {name!r}")
-        if name not in ranged:
-            raise RequestError(
-                f"attr {name!r} cannot be free: the search varies numbers within a @Range"
-            )  # fmt: skip
-    return list(dict.fromkeys(value))
-
-
-def _checked_margin(value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value < 1:
-        raise RequestError(f'"margin" is a number from 0 to below 1; got {value!r}')
-    return float(value)
-
-
-def _checked_seed(value: object) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SEED:
-        raise RequestError(f'"seed" is a whole number from 0 to {MAX_SEED}; got {value!r}')
-    return value
-
-
-def _checked_lot(value: object):
-    """A lot from JSON: null, ``[width, depth]`` (m, > 0) or ``[[x, z], ...]`` (3 or more
-    points, m, counter-clockwise seen from above) as the derivation takes it."""
-    if value is None:
-        return None
-
-    def finite(v: object) -> bool:
-        return not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v)
-
-    if isinstance(value, list) and len(value) == 2 and all(finite(v) for v in value):
-        if min(value) <= 0:
-            raise RequestError(f'"lot" width and depth must be > 0 m; got {value!r}')
-        return (float(value[0]), float(value[1]))
-    points = value if isinstance(value, list) else None
-    if (
-        points is None
-        or len(points) < 3
-        or not all(isinstance(p, list) and len(p) == 2 and all(finite(v) for v in p)
-                   for p in points)
-    ):  # fmt: skip
-        raise RequestError(
-            '"lot" is [width, depth] in metres, a polygon [[x, z], [x, z], [x, z], ...], or null'
-        )
-    return tuple((float(x), float(z)) for x, z in points)
 
 
 def _read(path: Path | None) -> str | None:

@@ -1,0 +1,109 @@
+"""What the page reads of a session: its state, the report, the attrs as JSON with the command
+line, and one block's account.
+
+:class:`ReadoutsMixin` is mixed into :class:`~shapegen.editor.session.EditorSession`, which
+provides the design (``_outcome``, ``grammar``, ``attrs``, ``seed``, ``lot``, ``path``), its
+versions, the search's and the scans' state, and ``_state_lock``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["ReadoutsMixin"]
+
+from pathlib import Path
+
+from shapegen.editor.annotations import attr_hints, inspector_sections
+from shapegen.editor.attrs import RequestError, attr_specs, plain_value
+from shapegen.editor.blocks import block_details
+from shapegen.editor.exports import command_line
+from shapegen.json_values import finite_or_none, json_ready
+
+
+class ReadoutsMixin:
+    """The state, the report, the attrs export and a block's account."""
+
+    def report(self) -> dict:
+        """The current design's report, as ``shapegen build --analyze --report`` writes it."""
+        with self._state_lock:
+            return json_ready(self._outcome.report)
+
+    def attrs_export(self) -> dict:
+        """The current design's attrs: every value (``attrs``), the designer's (``set``), and
+        the ``shapegen build`` line that builds the design again (``command``: the designer's
+        values; ``command_every_attr``: every value, for a file whose defaults may change)."""
+        with self._state_lock:
+            values = self._current_values()
+            every = {k: plain_value(values[k]) for k in self.grammar.attrs if k in values}
+            user = {k: every[k] for k in every if k in self.attrs}
+            settable = {k: v for k, v in every.items() if not isinstance(v, list)}
+            path, seed, lot = self.path, self.seed, self.lot
+            return json_ready({
+                "grammar": str(path) if path else None,
+                "seed": seed,
+                "lot": lot,
+                "attrs": every,
+                "set": user,
+                "command": command_line(path, user, seed=seed, lot=lot),
+                "command_every_attr": command_line(path, settable, seed=seed, lot=lot),
+            })  # fmt: skip
+
+    def block(self, block_id: str) -> dict:
+        """One block of the current model: labels, rule path, the attrs its rules read, its
+        joints' forces and the tension it needs (see :mod:`shapegen.editor.blocks`)."""
+        with self._state_lock:
+            outcome, version = self._outcome, self.model_version
+            values, user = self._current_values(), set(self.attrs)
+        details = block_details(outcome, block_id, values, user)
+        if details is None:
+            raise RequestError(f"the current model has no block {block_id!r}", 404)
+        details["model_version"] = version
+        return json_ready(details)
+
+    def _state(self) -> dict:
+        outcome = self._outcome
+        assessment = outcome.assessment
+        values = self._current_values()
+        section = assessment.section if assessment is not None else {}
+        verdict = None
+        if assessment is not None:
+            verdict = {
+                "stands": bool(assessment.stands),
+                "measure": finite_or_none(assessment.measure),
+                "measure_name": outcome.structure.measure_name,
+                "status": assessment.status,
+                "max_tension": section.get("max_tension"),
+            }
+        return {
+            "version": self.version,
+            "model_version": self.model_version,
+            "grammar": {
+                "name": Path(self.grammar.name).name,
+                "path": str(self.path) if self.path else None,
+                "structure": outcome.structure.name,
+                "blocks": len(outcome.model.blocks),
+                "dialect": getattr(self.grammar.ast, "dialect", "grammar"),
+            },
+            # what the load let through and the derivation warned about (a .cga file's)
+            "warnings": [str(w) for w in (outcome.model.metadata or {}).get("warnings", [])],
+            "attrs": [
+                spec.to_json()
+                for spec in attr_specs(self.grammar, values, user=self.attrs, free=self.free_attrs)
+            ],
+            "sections": inspector_sections(attr_hints(self.grammar)),
+            "verdict": verdict,
+            "cables": section if outcome.structure.name == "cable" else None,
+            "timings": dict(self._timings),
+            "stability": dict(self._stability),
+            "optimization": self._optimization,
+            "reload_pending": self._reload_pending,
+            "history": {"undo": len(self._undo), "redo": len(self._redo)},
+            "settings": {
+                "free": self.free_attrs,
+                "free_from_file": self._free is None,
+                "margin": self.margin,
+                "seed": self.seed,
+                "lot": self.lot,
+                "file_lot": list(self.grammar.lot),
+            },
+            "error": self._error,
+        }
