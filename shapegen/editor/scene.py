@@ -2,8 +2,9 @@
 
 The meshes come from ``GET /api/model.glb`` (:func:`shapegen.export.gltf.encode_glb`, one node
 per block named by its id); this module gives, per block in the same order, its colour by label
-(:func:`label_colours`: each label of the model its own, none like the tension red) and by the
-tension it needs (:mod:`shapegen.export.colors`), and the forces of the seed paper's Figure 1:
+as the exports colour it (:mod:`shapegen.export.colors`: the rule's colour if it gave one, else
+its label's, each label of the model its own, none like the tension red) and by the tension it
+needs, and the forces of the seed paper's Figure 1:
 the resultant of every joint between two blocks and the reaction of every support (the ground,
 or a fixed block) on the structure. Arrows are scaled as the glTF's: the largest force is
 :data:`~shapegen.export.gltf.ARROW_LENGTH_BLOCKS` times the model's typical block
@@ -12,9 +13,7 @@ or a fixed block) on the structure. Arrows are scaled as the glTF's: the largest
 
 from __future__ import annotations
 
-__all__ = ["LABEL_COLOURS", "label_colours", "scene_data"]
-
-import zlib
+__all__ = ["scene_data"]
 
 import numpy as np
 
@@ -23,7 +22,8 @@ from shapegen.export.colors import (
     SUPPORT,
     TENSION_MAX,
     TENSION_ZERO,
-    block_label_color,
+    display_color,
+    model_label_colors,
     tension_colors,
     tension_levels,
 )
@@ -34,61 +34,16 @@ from shapegen.statics.interface import GROUND
 from shapegen.structures import Assessment
 from shapegen.tolerances import FORCE_NOISE_REL
 
-# The page's label colours: muted hues, each at least 20 (CIE76 Delta E) from the others and
-# 25 from the tension ramp's reds, the supports' blue and the non-structural timber, so that a
-# label never reads as "needs tension" or "support" (tests/editor/test_editor_scene.py).
-LABEL_COLOURS = np.array(
-    [
-        [222, 178, 60, 255],  # ochre
-        [96, 160, 80, 255],  # green
-        [110, 170, 215, 255],  # sky blue
-        [235, 137, 52, 255],  # orange
-        [50, 150, 150, 255],  # teal
-        [160, 105, 190, 255],  # purple
-        [195, 215, 95, 255],  # lime
-        [40, 110, 70, 255],  # dark green
-        [185, 160, 225, 255],  # lavender
-        [140, 140, 50, 255],  # olive
-        [150, 215, 175, 255],  # mint
-        [120, 210, 225, 255],  # cyan
-    ],
-    dtype=np.uint8,
-)
-
-
-def label_colours(labels) -> dict[str, list[int]]:
-    """``label -> RGBA`` for the labels of one model, each its own colour while there are no
-    more labels than :data:`LABEL_COLOURS`.
-
-    A label takes the colour its text hashes to (CRC-32, so the same in every model and every
-    run) unless a label before it (in sorted order) took it; then the next free one.
-    """
-    taken: dict[int, str] = {}
-    colours = {}
-    size = len(LABEL_COLOURS)
-    for label in sorted(set(labels)):
-        slot = zlib.crc32(label.encode("utf-8")) % size
-        if len(taken) < size:
-            while slot in taken:
-                slot = (slot + 1) % size
-        taken[slot] = label
-        colours[label] = LABEL_COLOURS[slot].tolist()
-    return colours
-
 
 def scene_data(model: Model, assessment: Assessment | None) -> dict:
     """The page's scene description of ``model`` judged by ``assessment`` (plain JSON)."""
     blocks = model.blocks
     fixed = np.array([b.fixed for b in blocks], dtype=bool)
     structural = np.array([b.structural for b in blocks], dtype=bool)
-    labels = sorted({b.tags[0] for b in blocks if b.tags and b.structural and not b.fixed})
-    by_label = label_colours(labels)
-    label_colors = [
-        by_label[b.tags[0]]
-        if b.tags and b.structural and not b.fixed
-        else block_label_color(b.tags, fixed=b.fixed, structural=b.structural).tolist()
-        for b in blocks
-    ]
+    by_label = model_label_colors(blocks)
+    labels = sorted(by_label)
+    # as an export colours them, with the model's label colours (each label its own)
+    label_colors = [display_color(b, by_label).tolist() for b in blocks]
     analysis = (
         assessment.detail if assessment is not None and assessment.structure == "blocks" else None
     )
@@ -113,7 +68,7 @@ def scene_data(model: Model, assessment: Assessment | None) -> dict:
         "bounds": [lows.min(axis=0).tolist(), highs.max(axis=0).tolist()],
         "ground": None if model.ground is None else float(model.ground),
         "legend": {
-            "labels": [[label, by_label[label]] for label in labels],
+            "labels": [[label, by_label[label].tolist()] for label in labels],
             "support": SUPPORT.tolist(),
             "non_structural": NON_STRUCTURAL.tolist(),
             "tension_zero": TENSION_ZERO.tolist(),

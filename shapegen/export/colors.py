@@ -1,6 +1,10 @@
 """Colours of exported blocks: a stable palette for labels and a ramp for tension.
 
-Colours are RGBA with components in 0..255 (``uint8``), the form trimesh materials take.
+Colours are RGBA with components in 0..255 (``uint8``), the form trimesh materials take. The
+exports and the design page (``shapegen edit``) take their label colours from the one
+:data:`LABEL_PALETTE`: a label has the colour its name hashes to (:func:`label_color`), and in
+a model whose labels would share one, :func:`label_colors` gives each its own (as the page
+does; :func:`display_color` takes that assignment as ``colors``).
 """
 
 from __future__ import annotations
@@ -16,6 +20,8 @@ __all__ = [
     "TENSION_MAX",
     "TENSION_STEPS",
     "label_color",
+    "label_colors",
+    "model_label_colors",
     "appearance_color",
     "block_label_color",
     "display_color",
@@ -24,25 +30,30 @@ __all__ = [
 ]
 
 import zlib
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
 from shapegen.tolerances import FORCE_NOISE_REL
 
-# Ten well-separated hues (muted, so that stone-like models stay readable).
+# Twelve muted hues (stone-like models stay readable), each at least 20 (CIE76 Delta E) from
+# the others and 25 from the tension ramp's reds, the supports' blue and the non-structural
+# timber, so that a label never reads as "needs tension" or "support"
+# (tests/editor/test_editor_scene.py). The old palette's red lay 9 Delta E from the ramp.
 LABEL_PALETTE = np.array(
     [
-        [78, 121, 167, 255],
-        [242, 142, 43, 255],
-        [89, 161, 79, 255],
-        [237, 201, 72, 255],
-        [176, 122, 161, 255],
-        [118, 183, 178, 255],
-        [255, 157, 167, 255],
-        [156, 117, 95, 255],
-        [186, 176, 172, 255],
-        [225, 87, 89, 255],
+        [222, 178, 60, 255],  # ochre
+        [96, 160, 80, 255],  # green
+        [110, 170, 215, 255],  # sky blue
+        [235, 137, 52, 255],  # orange
+        [50, 150, 150, 255],  # teal
+        [160, 105, 190, 255],  # purple
+        [195, 215, 95, 255],  # lime
+        [40, 110, 70, 255],  # dark green
+        [185, 160, 225, 255],  # lavender
+        [140, 140, 50, 255],  # olive
+        [150, 215, 175, 255],  # mint
+        [120, 210, 225, 255],  # cyan
     ],
     dtype=np.uint8,
 )
@@ -65,14 +76,51 @@ def label_color(label: str) -> np.ndarray:
     return LABEL_PALETTE[zlib.crc32(label.encode("utf-8")) % len(LABEL_PALETTE)].copy()
 
 
-def block_label_color(tags: Sequence[str], *, fixed: bool, structural: bool) -> np.ndarray:
+def label_colors(labels: Iterable[str]) -> dict[str, np.ndarray]:
+    """``label -> RGBA`` for the labels of one model, each its own colour while there are no
+    more labels than :data:`LABEL_PALETTE` has colours.
+
+    A label takes the colour its text hashes to (:func:`label_color`, the same in every model
+    and every run) unless a label before it (in sorted order) took it; then the next free one.
+    """
+    taken: set[int] = set()
+    colors = {}
+    size = len(LABEL_PALETTE)
+    for label in sorted(set(labels)):
+        slot = zlib.crc32(label.encode("utf-8")) % size
+        if len(taken) < size:
+            while slot in taken:
+                slot = (slot + 1) % size
+        taken.add(slot)
+        colors[label] = LABEL_PALETTE[slot].copy()
+    return colors
+
+
+def model_label_colors(blocks: Iterable) -> dict[str, np.ndarray]:
+    """:func:`label_colors` of the labels that colour blocks (the first label of each
+    structural block that is not a support): the design page's colours of a model."""
+    return label_colors(
+        b.tags[0] for b in blocks if b.tags and b.structural and not b.fixed
+    )  # fmt: skip
+
+
+def block_label_color(
+    tags: Sequence[str],
+    *,
+    fixed: bool,
+    structural: bool,
+    colors: Mapping[str, np.ndarray] | None = None,
+) -> np.ndarray:
     """A block's colour in label mode: supports and non-structural blocks first, then its first
-    label, then the unlabelled stone colour."""
+    label (from ``colors``, a model's :func:`model_label_colors`, when given), then the
+    unlabelled stone colour."""
     if fixed:
         return SUPPORT.copy()
     if not structural:
         return NON_STRUCTURAL.copy()
     if tags:
+        if colors is not None and tags[0] in colors:
+            return np.array(colors[tags[0]], dtype=np.uint8)
         return label_color(tags[0])
     return UNLABELLED.copy()
 
@@ -86,15 +134,20 @@ def appearance_color(appearance) -> np.ndarray | None:
     return np.round(255 * np.clip([*rgb, appearance.opacity], 0.0, 1.0)).astype(np.uint8)
 
 
-def display_color(item) -> np.ndarray:
+def display_color(item, colors: Mapping[str, np.ndarray] | None = None) -> np.ndarray:
     """The colour of a block or a surface when no analysis colours it: the rule's colour,
     else (a block) :func:`block_label_color`, or (a surface) its first label's colour or
-    :data:`SURFACE`."""
+    :data:`SURFACE`; ``colors`` is the model's :func:`model_label_colors`, which the design
+    page shows (without it a label has the colour its name hashes to)."""
     color = appearance_color(getattr(item, "appearance", None))
     if color is not None:
         return color
     if hasattr(item, "fixed"):
-        return block_label_color(item.tags, fixed=item.fixed, structural=item.structural)
+        return block_label_color(
+            item.tags, fixed=item.fixed, structural=item.structural, colors=colors
+        )
+    if item.tags and colors is not None and item.tags[0] in colors:
+        return np.array(colors[item.tags[0]], dtype=np.uint8)
     return label_color(item.tags[0]) if item.tags else SURFACE.copy()
 
 

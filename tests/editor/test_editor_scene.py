@@ -1,4 +1,5 @@
-"""The page's label colours: each label of a model its own, none like the tension red."""
+"""The label colours, one palette for the page and the exports: each label of a model its own,
+none like the tension red."""
 
 import itertools
 import zlib
@@ -7,8 +8,18 @@ import numpy as np
 import pytest
 
 from shapegen.editor import EditorSession
-from shapegen.editor.scene import LABEL_COLOURS, label_colours
-from shapegen.export.colors import NON_STRUCTURAL, SUPPORT, TENSION_MAX, TENSION_ZERO
+from shapegen.export.colors import (
+    LABEL_PALETTE,
+    NON_STRUCTURAL,
+    SUPPORT,
+    TENSION_MAX,
+    TENSION_ZERO,
+    display_color,
+    label_color,
+    label_colors,
+    model_label_colors,
+)
+from shapegen.model import Block
 
 
 def lab(rgb) -> np.ndarray:
@@ -35,23 +46,24 @@ TENSION_REDS = [TENSION_ZERO + t * (TENSION_MAX.astype(float) - TENSION_ZERO)
 
 
 def test_the_label_colours_are_distinct_and_unlike_tension_and_supports():
-    for a, b in itertools.combinations(LABEL_COLOURS, 2):
+    for a, b in itertools.combinations(LABEL_PALETTE, 2):
         assert delta_e(a, b) >= 20, (a, b)
-    for colour in LABEL_COLOURS:
+    for colour in LABEL_PALETTE:
         assert min(delta_e(colour, red) for red in TENSION_REDS) >= 25, colour
         assert delta_e(colour, SUPPORT) >= 25 and delta_e(colour, NON_STRUCTURAL) >= 25, colour
 
 
 def test_each_label_gets_its_own_colour():
-    labels = [f"label {k}" for k in range(len(LABEL_COLOURS))]
-    colours = label_colours(labels)
+    labels = [f"label {k}" for k in range(len(LABEL_PALETTE))]
+    colours = label_colors(labels)
     assert len({tuple(c) for c in colours.values()}) == len(labels)
     # on its own a label always has the colour its text hashes to, in every model and run
-    slot = zlib.crc32(b"wall") % len(LABEL_COLOURS)
-    assert label_colours(["wall"])["wall"] == LABEL_COLOURS[slot].tolist()
+    slot = zlib.crc32(b"wall") % len(LABEL_PALETTE)
+    assert label_colors(["wall"])["wall"].tolist() == LABEL_PALETTE[slot].tolist()
+    assert label_color("wall").tolist() == LABEL_PALETTE[slot].tolist()  # the exports' choice
     # more labels than colours: the colours repeat, but every label still has one
-    many = label_colours([f"part {k}" for k in range(3 * len(LABEL_COLOURS))])
-    assert len(many) == 3 * len(LABEL_COLOURS)
+    many = label_colors([f"part {k}" for k in range(3 * len(LABEL_PALETTE))])
+    assert len(many) == 3 * len(LABEL_PALETTE)
 
 
 @pytest.mark.slow  # cluny: about 1 000 blocks, 3-5 s
@@ -68,3 +80,25 @@ def test_clunys_labels_each_have_their_own_colour():
     for block in scene["blocks"]:
         if block["label"] in legend and block["color"] != SUPPORT.tolist():
             assert tuple(block["color"]) == legend[block["label"]]
+
+
+def cube(label: str, **options) -> Block:
+    corners = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    return Block.from_hull(corners, tags=(label,), **options)
+
+
+def test_the_page_shows_the_colours_the_exports_give():
+    # 'aisle vault' and 'wall' hash to one colour: given the model's assignment, an export
+    # colours them as the page does, each its own; a support stays blue
+    blocks = [cube("aisle vault"), cube("wall"), cube("pier", fixed=True)]
+    assert label_color("aisle vault").tolist() == label_color("wall").tolist()
+    colours = model_label_colors(blocks)
+    assert set(colours) == {"aisle vault", "wall"}  # a support's label colours nothing
+    exported = [display_color(b, colours).tolist() for b in blocks]
+    assert exported[0] != exported[1] and exported[2] == SUPPORT.tolist()
+    assert exported[0] == colours["aisle vault"].tolist()
+    # a label alone in its colour: the same with or without the model's assignment
+    (alone,) = [cube("buttress")]
+    assert (
+        display_color(alone).tolist() == display_color(alone, model_label_colors([alone])).tolist()
+    )
