@@ -566,7 +566,7 @@ def test_labels_hide_and_a_section_plane_cuts_the_model(browser, tmp_path):
         page.check("#section-flip")
         page.mouse.click(x, y)
         page.wait_for_function("window.shapegenEditor.selected === 'b1'")
-        page_steps.screenshot(page, "stack_section", tmp_path)
+        page.screenshot(path=str(tmp_path / "stack_section.png"))
         page.uncheck("#section-on")
         assert page_steps.model_coverage(page) > 0.9 * full
         assert not page.problems, page.problems

@@ -781,7 +781,8 @@ async function pump() {
 async function refresh() {
   try {
     const state = await getJSON('/api/state');
-    if (!app.state || state.version !== app.state.version) applyState(state);
+    // a poll sent before a change may be answered after it: an older state is not shown
+    if (!app.state || state.version > app.state.version) applyState(state);
   } catch (err) {
     note(`the server does not answer: ${err.message}`);
   }
@@ -844,6 +845,7 @@ for (const id of ['show-joints', 'show-ground']) {
 
 // ------------------------------------------------------------------ the state on the page
 function applyState(state) {
+  if (app.state && state.version < app.state.version) return; // answered late: already newer
   app.state = state;
   $('file').textContent = `${state.grammar.name} · ${state.grammar.blocks} blocks`;
   const v = state.verdict;
