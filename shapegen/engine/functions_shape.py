@@ -162,16 +162,7 @@ def shape_reader(obj: str, field: str, grammar) -> Reader | None:
             return shape_geometry_value(state, field, *args)
 
         if field in TEXTURE_BOUNDS or field in ("du", "dv"):
-            plain = geometry
-
-            def geometry(state, *args):  # noqa: F811 -- the same read, said to be a stand-in
-                if field in TEXTURE_BOUNDS or (len(args) < 2 or str(args[1]) != "unitSpace"):
-                    state.run.warn(
-                        f"geometry.{field}: shapegen keeps no texture coordinates; uv is taken "
-                        "as 0..1 over the scope (u along x, v along y)"
-                    )
-                return plain(state, *args)
-
+            return _said_to_stand_in(field, geometry)
         return geometry
     if obj == "material":
         return _material_reader(field)
@@ -295,3 +286,18 @@ def convert_value(state, *values):
     if coordinate is not None:
         return result["xyz".index(coordinate)]
     return Array(tuple(result), 3, 1)
+
+
+def _said_to_stand_in(field: str, read: Reader) -> Reader:
+    """``read`` with a warning: a texture-coordinate query (``geometry.uMin``..., ``du``/``dv``
+    outside unitSpace) answers from the scope, as shapegen keeps no texture coordinates."""
+
+    def texture_query(state, *args):
+        if field in TEXTURE_BOUNDS or len(args) < 2 or str(args[1]) != "unitSpace":
+            state.run.warn(
+                f"geometry.{field}: shapegen keeps no texture coordinates; uv is taken as 0..1 "
+                "over the scope (u along x, v along y)"
+            )
+        return read(state, *args)
+
+    return texture_query
