@@ -474,7 +474,7 @@ def test_frame_all_views_and_the_orthographic_camera(browser, tmp_path):
         page_steps.screenshot(page, "editor_orthographic", tmp_path)
         page.uncheck("#orthographic")
         assert page.evaluate("window.shapegenEditor.cameraView().kind") == "perspective"
-        assert in_view(page, 0.4)
+        assert in_view(page, 0.4), page.evaluate("[window.shapegenEditor.modelExtent(), window.shapegenEditor.cameraView()]")
         assert not page.problems, page.problems
 
 

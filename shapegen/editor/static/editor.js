@@ -268,6 +268,8 @@ function useCamera(wanted) {
   camera = wanted;
   controls.object = camera;
   controls.update();
+  // a framed view stays framed: the perspective's near corners spread past the orthographic's box
+  if (cameraAuto) fit(currentDirection());
   requestRender();
 }
 
