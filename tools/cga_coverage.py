@@ -122,7 +122,7 @@ def operation_status(name: str) -> tuple[str, str]:
 
     dedicated = set(OPERATIONS) | {"NIL", "push", "pop"}
     notes = {**cga_ops.DEDICATED_NOTES, **cga_ops.partial_notes()}
-    if name in dedicated or name in cga_ops.registered():
+    if name in dedicated or cga_ops.compiler_for(name) is not None:
         return (PARTIAL, notes[name]) if name in notes else (SUPPORTED, "")
     low = CGA_OPERATIONS.get(name, (0, 0))[0]
     return NOT_SUPPORTED, "refused when the file loads: " + _operation_refusal(name, low)

@@ -192,13 +192,10 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
                                    " takes a number, boolean or string")  # fmt: skip
             attrs[name] = value
             record["from_properties"].append(name)
-    ring = np.asarray(task.ring, dtype=float)
-    size, _, _, footprint = lot_frame(ring)
+    size, footprint = lot_extent(task.ring)
     record["footprint"] = footprint
     record["lot"] = [float(size[0]), float(size[1])]
-    # The lot as Grammar.build takes a polygon: (x, z) in the city's frame (east +x, north -z),
-    # counter-clockwise seen from above; the model is derived where it stands in the city.
-    lot = [(float(east), -float(north)) for east, north in ring]
+    lot = [(x, z) for x, z in city_lot(task.ring).tolist()]
 
     deadline = None if settings.timeout is None else started + settings.timeout
 
@@ -255,24 +252,15 @@ def _number(value):
     return value if math.isfinite(value) else None
 
 
-def lot_frame(ring: np.ndarray) -> tuple[tuple[float, float], np.ndarray, np.ndarray, str]:
-    """The lot a rule derives on and where it goes in the city.
+def lot_extent(ring: np.ndarray) -> tuple[tuple[float, float], str]:
+    """The size of a lot's scope and whether the lot fills it.
 
-    ``ring`` is ``(k, 2)`` east/north corners, counter-clockwise seen from above. The lot's frame
-    has x along the first edge and y up (CityEngine's scope of a lot) and z = x cross y; its
-    scope is the lot's bounding rectangle in that frame, ``(width, depth)`` m, which is the lot
-    itself when the lot is a rectangle (``footprint`` ``"rectangle"``; else ``"polygon"``).
-    A lot is derived as its polygon (:meth:`~shapegen.Grammar.build` takes one); the rotation
-    and offset place a model derived on the rectangle ``(width, depth)`` instead.
-
-    Returns
-    -------
-    lot, rotation, offset, footprint
-        ``(width, depth)``; the ``(3, 3)`` rotation (columns: the lot's x, y, z in the city)
-        and the ``(3,)`` offset (m) that take the derived model into the city's frame.
+    ``ring`` is ``(k, 2)`` east/north corners, counter-clockwise seen from above. The lot's scope
+    has x along the first edge and y up (CityEngine's scope of a lot); it is the lot's bounding
+    rectangle in that frame, ``(width, depth)`` m, which is the lot itself when the lot is a
+    rectangle (``footprint`` ``"rectangle"``; else ``"polygon"``).
     """
-    # shapegen's city frame: east +x, north -z.
-    points = np.column_stack([ring[:, 0], -ring[:, 1]])
+    points = city_lot(ring)
     edge = points[1] - points[0]
     u = edge / np.hypot(*edge)
     w = np.array([-u[1], u[0]])  # (x, z) of u cross +y
@@ -280,33 +268,19 @@ def lot_frame(ring: np.ndarray) -> tuple[tuple[float, float], np.ndarray, np.nda
     across = (points - points[0]) @ w
     width = float(along.max() - along.min())
     depth = float(across.max() - across.min())
-    corner = points[0] + along.min() * u + across.min() * w
-    rotation = np.array([[u[0], 0.0, w[0]], [0.0, 1.0, 0.0], [u[1], 0.0, w[1]]])
-    offset = np.array([corner[0], 0.0, corner[1]])
     x, z = points[:, 0], points[:, 1]
     area = 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(z, np.roll(x, -1))))
     # A polygon fills its bounding rectangle only when it is that rectangle.
     rectangle = width * depth - area <= _RECTANGLE_M * (width + depth)
-    return (width, depth), rotation, offset, "rectangle" if rectangle else "polygon"
+    return (width, depth), "rectangle" if rectangle else "polygon"
 
 
-def place_model(model, rotation: np.ndarray, offset: np.ndarray):
-    """The model turned by ``rotation`` and moved by ``offset`` (m) into the city's frame."""
-    from shapegen.model.model import Model, PointLoad
-
-    blocks = [block.transformed(rotation, offset) for block in model.blocks]
-    loads = [
-        PointLoad(load.block, rotation @ load.force, rotation @ load.point + offset)
-        for load in model.loads
-    ]
-    return Model(
-        blocks,
-        loads,
-        gravity=model.gravity.copy(),
-        ground=model.ground,
-        friction=model.friction,
-        metadata=dict(model.metadata),
-    )
+def city_lot(ring: np.ndarray) -> np.ndarray:
+    """The lot as :meth:`~shapegen.Grammar.build` takes a polygon: ``(k, 2)`` ``(x, z)`` corners
+    (m) in shapegen's city frame (east +x, north -z, y up), so that the model is derived where it
+    stands in the city."""
+    ring = np.asarray(ring, dtype=float)
+    return np.column_stack([ring[:, 0], -ring[:, 1]])
 
 
 def _peak_rss_mib() -> float | None:

@@ -32,12 +32,10 @@ __all__ = [
     "FACE",
     "MASS",
     "FACE_ORDER",
-    "FACE_SELECTORS",
     "lot_scope",
     "extrude",
     "split_scope",
     "face_scopes",
-    "select_faces",
     "translate",
     "rotate",
     "resize",
@@ -77,29 +75,6 @@ FACE_ORDER = ("bottom", "top", "front", "right", "back", "left")
 """The order of a box's faces in ``comp(f)``: the index a numeric selector refers to. It is
 CityEngine's for an extruded lot (checked with PyPRT on a 12 x 8 m lot): 0 bottom, 1 top, then
 the sides from the lot's first edge, which runs along +x on the lot's +z side."""
-
-_FACE_NAME_OF_NORMAL = {
-    (2, 1): "front",
-    (0, 1): "right",
-    (2, -1): "back",
-    (0, -1): "left",
-    (1, 1): "top",
-    (1, -1): "bottom",
-}
-
-FACE_SELECTORS = {
-    "front": frozenset({"front"}),
-    "back": frozenset({"back"}),
-    "left": frozenset({"left"}),
-    "right": frozenset({"right"}),
-    "top": frozenset({"top"}),
-    "bottom": frozenset({"bottom"}),
-    "side": frozenset({"front", "back", "left", "right"}),
-    "vertical": frozenset({"front", "back", "left", "right"}),
-    "horizontal": frozenset({"top", "bottom"}),
-    "all": frozenset(FACE_ORDER),
-}
-"""The ``comp(f)`` selectors and the box faces each one matches."""
 
 
 class Shape:
@@ -219,38 +194,6 @@ def face_scopes(scope: Scope) -> list[tuple[str, Scope]]:
         origin = scope.to_world(np.asarray(corner, float) * size)
         rotation = scope.rotation @ frame
         out.append((name, Scope(origin, rotation, np.array([size[dims[0]], size[dims[1]], 0.0]))))
-    return out
-
-
-def flat_face(scope: Scope, normal_axis: int) -> tuple[str, Scope]:
-    """The one face of a flat scope (normal along its scope ``normal_axis``) as a comp face."""
-    name = _FACE_NAME_OF_NORMAL[(normal_axis, 1)]
-    for face_name, face_scope in face_scopes(scope):
-        if face_name == name:
-            return name, face_scope
-    raise AssertionError(name)
-
-
-def select_faces(
-    faces: Sequence[tuple[str, Scope]], selectors: Sequence[str | int]
-) -> list[list[tuple[int, Scope]]]:
-    """Distribute faces over ``selectors`` exclusively, left to right (CGA's ``comp``).
-
-    A selector is a name from :data:`FACE_SELECTORS` or a face index. Returns, per selector, the
-    ``(face index, scope)`` pairs it receives; a face goes to the first selector that matches it.
-    """
-    taken = [False] * len(faces)
-    out: list[list[tuple[int, Scope]]] = []
-    for selector in selectors:
-        chosen = []
-        for k, (name, scope) in enumerate(faces):
-            if taken[k]:
-                continue
-            match = selector == k if isinstance(selector, int) else name in FACE_SELECTORS[selector]
-            if match:
-                taken[k] = True
-                chosen.append((k, scope))
-        out.append(chosen)
     return out
 
 

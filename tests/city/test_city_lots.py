@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from shapegen import parse_grammar
 from shapegen.city import city_from_polygons, lot_seed, read_lots
-from shapegen.city.work import lot_frame, place_model
+from shapegen.city.work import city_lot, lot_extent
 from shapegen.errors import InputFormatError
 from shapegen.export.osm import WGS84_A, WGS84_F
-from shapegen.model import Block, Model
 
 DISTRICT = Path(__file__).resolve().parents[2] / "docs" / "data" / "district.geojson"
 
@@ -178,24 +178,23 @@ def test_seeds_come_from_the_lot_id_and_the_run_seed():
 
 
 @pytest.mark.parametrize("angle", [0.0, 30.0, 135.0, 250.0])
-def test_a_rectangular_lot_frame_puts_the_lot_on_its_polygon_without_mirroring(angle):
+def test_a_rectangular_lot_is_derived_on_its_polygon_without_mirroring(angle):
     width, depth = 12.0, 8.0
     c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
     along, left = np.array([c, s]), np.array([-s, c])  # east/north; left of the first edge
     corner = np.array([100.0, -50.0])
     ring = np.array([corner, corner + width * along, corner + width * along + depth * left,
                      corner + depth * left])  # fmt: skip
-    lot, rotation, offset, footprint = lot_frame(ring)
+    lot, footprint = lot_extent(ring)
     assert footprint == "rectangle" and lot == pytest.approx((width, depth))
-    assert np.linalg.det(rotation) == pytest.approx(1.0)
-    box = Block.box([0, 0, 0], [lot[0], 1, lot[1]], id="b")
-    placed = place_model(Model([box]), rotation, offset).blocks[0]
-    footprint_xz = {tuple(np.round(v[[0, 2]], 6)) for v in placed.vertices}
+    model = parse_grammar("Lot --> extrude(1) X.", "lot.cga").build(lot=city_lot(ring).tolist())
+    (block,) = model.blocks
+    footprint_xz = {tuple(np.round(v[[0, 2]], 6)) for v in block.vertices}
     expected = {tuple(np.round([e, -n], 6)) for e, n in ring}  # east +x, north -z
     assert footprint_xz == expected
 
 
 def test_a_lot_that_is_not_a_rectangle_has_its_bounding_rectangle_as_scope():
     ring = np.array([(0, 0), (14, 0), (12, 10), (1, 9)], dtype=float)
-    lot, _, _, footprint = lot_frame(ring)
+    lot, footprint = lot_extent(ring)
     assert footprint == "polygon" and lot == pytest.approx((14.0, 10.0))

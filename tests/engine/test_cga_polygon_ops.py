@@ -11,10 +11,10 @@ import pytest
 
 import shapegen
 from shapegen.engine.cga_ops import compiler_for
-from shapegen.engine.cga_ops.polygons import component_tags
 from shapegen.engine.derivation import Derivation, root_state
 from shapegen.engine.shape import FACE, MASS, Shape, lot_scope
 from shapegen.errors import GrammarError
+from shapegen.geometry.queries import border_faces
 from shapegen.grammar import ast
 
 
@@ -76,10 +76,10 @@ def test_offset_inside_shrinks_the_lot_and_fits_the_scope(program):
     np.testing.assert_allclose(shape.scope.origin, [1, 0, 1], atol=1e-12)
 
 
-def test_offset_keeps_inside_and_border_faces_with_their_tags(program):
+def test_offset_keeps_inside_and_border_faces_told_apart_by_adjacency(program):
     state, _ = run(program, _operation("offset", -1))
     mesh = state.shape.mesh()
-    assert component_tags(mesh) == ("inside",) + ("border",) * 4
+    assert border_faces(mesh) == [False] + [True] * 4  # what comp(f) { inside | border } reads
     assert mesh.area() == pytest.approx(96)
     assert mesh.face_area(0) == pytest.approx(60)
     normals = mesh.face_normals()
@@ -207,7 +207,7 @@ def test_hip_roof_on_the_lot_as_pyprt_builds_it(program):
     mesh = shape.mesh()
     assert mesh.is_closed and mesh.is_convex()
     assert mesh.volume() == pytest.approx(4 * 8 * (3 * 12 - 8) / 6)
-    assert component_tags(mesh) == ("roof.bottom",) + ("roof.top",) * 4
+    assert np.sign(mesh.face_normals()[:, 1]).tolist() == [-1] + [1] * 4  # bottom, then slopes
 
 
 def test_gable_roof_on_the_lot(program):
@@ -217,7 +217,7 @@ def test_gable_roof_on_the_lot(program):
     ridge = world[np.isclose(world[:, 1], 4)]
     assert sorted(map(tuple, np.round(ridge, 9))) == [(0, 4, 4), (12, 4, 4)]
     assert state.shape.mesh().volume() == pytest.approx(12 * 8**2 / 4)
-    assert component_tags(state.shape.mesh()).count("roof.side") == 2
+    assert np.isclose(state.shape.mesh().face_normals()[:, 1], 0).sum() == 2  # the gables
     # with index 0 the lot's first edge (12 m, along x) is a gable: the ridge runs along z
     state, _ = run(program, _operation("roofGable", 45, 0, 0, False, 0))
     world = _world(state.shape)
@@ -246,7 +246,7 @@ def test_shed_pyramid_by_height_and_taper(program):
     assert state.shape.scope.sy == pytest.approx(2)
     state, _ = run(program, _operation("taper", 5))
     assert state.shape.mesh().volume() == pytest.approx(96 * 5 / 3)
-    assert component_tags(state.shape.mesh())[0] == "taper.bottom"
+    assert state.shape.mesh().face_normals()[0] @ [0, 1, 0] == pytest.approx(-1)  # its bottom
 
 
 def test_roof_on_an_offset_face_and_on_a_comp_face(program):

@@ -3,17 +3,18 @@
 import numpy as np
 import pytest
 
+from shapegen import parse_grammar
+from shapegen.engine.cga_ops.topology import face_components
 from shapegen.engine.shape import (
     FACE_ORDER,
     center,
     extrude,
     face_scopes,
-    flat_face,
     lot_scope,
+    lot_shape,
     resize,
     rotate,
     rotation_matrix,
-    select_faces,
     split_scope,
     translate,
 )
@@ -91,20 +92,29 @@ def test_comp_faces_of_a_rotated_box_turn_with_it():
         assert np.allclose(face.rotation, turn @ reference.rotation), name
 
 
-def test_flat_face_of_the_lot_is_its_top():
-    name, face = flat_face(lot_scope(4, 2), 1)
-    assert name == "top"
-    assert np.allclose(face.rotation[:, 2], [0, 1, 0])
-    assert np.allclose(face.size, [4, 2, 0])
+def test_comp_f_of_the_lot_is_its_top():
+    (face,) = face_components(lot_shape((4, 2))[0], None)
+    assert np.allclose(face.shape.scope.rotation[:, 2], [0, 1, 0])
+    assert np.allclose(face.shape.scope.size, [4, 2, 0])
 
 
-def test_selectors_are_exclusive_left_to_right():
-    faces = face_scopes(BOX)
-    groups = select_faces(faces, ["front", "side", "all"])
-    names = [[FACE_ORDER[k] for k, _ in group] for group in groups]
-    assert names == [["front"], ["right", "back", "left"], ["bottom", "top"]]
-    groups = select_faces(faces, ["all", "top"])
-    assert [len(g) for g in groups] == [6, 0]
+@pytest.mark.parametrize(
+    "branches, expected",
+    [
+        ("front : A | side : B | all : C", {"a": 0.0, "b": [0.0, 1.0, 2.0], "c": [0.0, 1.0]}),
+        ("all : A | top : B", {"a": [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]}),
+    ],
+)
+def test_comp_selectors_are_exclusive_left_to_right(branches, expected):
+    # comp.index numbers the faces each branch receives: one front, the three other sides, and
+    # bottom and top for `all`; nothing is left for a selector after `all`.
+    grammar = parse_grammar(
+        f"Lot --> extrude(5) comp(f) {{ {branches} }}\n"
+        + "".join(f'{r} --> report("{r.lower()}", comp.index) X.\n' for r in "ABC"),
+        "c.cga",
+    )
+    reports = grammar.build(lot=(4, 6)).metadata["reports"]
+    assert reports == expected
 
 
 def test_translate_moves_along_scope_axes():

@@ -17,7 +17,7 @@ coverage table of docs/cga-compatibility.md is made from them).
 
 from __future__ import annotations
 
-__all__ = ["DEDICATED_NOTES", "compiles", "compiler_for", "partial_notes", "registered", "warn_at"]
+__all__ = ["DEDICATED_NOTES", "compiles", "compiler_for", "partial_notes", "warn_at"]
 
 from collections.abc import Callable
 
@@ -69,11 +69,6 @@ def partial_notes() -> dict[str, str]:
 def compiler_for(name: str) -> Compiler | None:
     """The compiler of operation ``name``, or None when shapegen does not implement it."""
     return _COMPILERS.get(name)
-
-
-def registered() -> frozenset[str]:
-    """The names of every operation with a compiler."""
-    return frozenset(_COMPILERS)
 
 
 # The modules register their compilers when imported (at the end: they import `compiles`).

@@ -12,9 +12,7 @@ each edge's outward normal in the face's plane: ``front`` +z, ``back`` -z, ``rig
 
 ``offset(d)`` without a selector keeps both the inside and the border faces in one shape, with
 the vertices they share welded, so ``comp(f) { inside : ... | border : ... }`` tells them apart
-by adjacency (border faces have an edge no other face has). Each face's CityEngine component
-tag (``inside``, ``border``, ``roof.top``...) is also recorded in ``mesh.component_tags``; no
-operation reads it yet, and a mesh made from another (scaled, cut) does not keep it.
+by adjacency (border faces have an edge no other face has).
 """
 
 from __future__ import annotations
@@ -25,7 +23,6 @@ __all__ = [
     "edge_normals",
     "edge_quadrants",
     "flat_shape",
-    "component_tags",
 ]
 
 from dataclasses import dataclass
@@ -64,16 +61,6 @@ class FaceFrame:
         p = np.asarray(points2d, float)
         h = self.h0 + np.broadcast_to(np.asarray(height, float), (len(p),))
         return np.outer(p[:, 0], self.a) + np.outer(p[:, 1], self.b) + np.outer(h, self.n)
-
-
-def component_tags(mesh: Mesh) -> tuple[str, ...] | None:
-    """The component tag of each face of ``mesh`` set by an operation here, or None."""
-    return mesh.__dict__.get("component_tags")
-
-
-def _tagged(mesh: Mesh, tags) -> Mesh:
-    mesh.__dict__["component_tags"] = tuple(tags)
-    return mesh
 
 
 def face_frames(shape: Shape) -> list[tuple[FaceFrame, np.ndarray]]:
@@ -135,7 +122,7 @@ def _welded(points: np.ndarray, counts: list[int]):
     return points[np.sort(first)], faces
 
 
-def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None, kind: str = FACE) -> Shape:
+def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shape:
     """A flat shape made of ``faces`` (``(k, 3)`` in ``parent``'s scope coordinates): the
     parent's orientation, the scope fitted to the faces."""
     points = np.concatenate(faces)
@@ -144,10 +131,7 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], tags=None, kind: str = FA
     size[size < 1e-12 * max(1.0, float(np.abs(points).max()))] = 0.0
     scope = Scope(parent.scope.to_world(low), parent.scope.rotation, size)
     vertices, indexed = _welded(points - low, [len(f) for f in faces])
-    mesh = Mesh(vertices, indexed)
-    if tags is not None:
-        _tagged(mesh, tags)
-    return Shape(scope, kind, parent.normal_axis, None, mesh)
+    return Shape(scope, kind, parent.normal_axis, None, Mesh(vertices, indexed))
 
 
 def _flat_input(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndarray]]:
@@ -231,7 +215,7 @@ def compile_offset(program, node: ast.Operation, params):
 
     def offset_op(state, args, out):
         d = distance(args, state)
-        faces, tags = [], []
+        faces = []
         shape = state.shape
         if shape.kind not in (FACE, MASS):
             raise program.error(node, "offset() cannot offset an inserted primitive's faces")
@@ -242,17 +226,15 @@ def compile_offset(program, node: ast.Operation, params):
                 raise program.error(node, f"offset({d:g}): {exc}") from None
             if keep in ("all", "inside"):
                 faces += [frame.lift(p) for p in result.inside]
-                tags += ["inside"] * len(result.inside)
             if keep in ("all", "border"):
                 faces += [frame.lift(p) for p in result.border if len(p) >= 3]
-                tags += ["border"] * sum(len(p) >= 3 for p in result.border)
         if not faces:  # CityEngine: "offset(): no face selected, ignoring operation"
             state.run.warn(
                 f"offset({d:g}, {keep}) left no face; the operation is ignored, as CityEngine "
                 f"does (rules: {format_chain(state.rule_path)})"
             )
             return True
-        state.shape = flat_shape(shape, faces, tags, shape.kind)
+        state.shape = flat_shape(shape, faces, shape.kind)
         return True
 
     return offset_op

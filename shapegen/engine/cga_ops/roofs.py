@@ -5,8 +5,7 @@ geometry in the face's plane) and makes the shape a 3D one holding the roof mesh
 follows CityEngine: x as close to the old x as the first face's plane allows, y along that
 face's normal, z = x × y, sized to fit the roof; ``s('1, h, '1)`` after a roof then scales its
 height. A rectangle's roof is a closed convex solid (it becomes a block); other roofs are
-surfaces. The faces carry CityEngine's component tags (``roof.bottom``, ``roof.top``,
-``roof.side``...) in ``mesh.component_tags``.
+surfaces.
 """
 
 from __future__ import annotations
@@ -22,7 +21,6 @@ from shapegen.engine.cga_ops.polygons import (
     _flat_input,
     _number,
     _selector_name,
-    _tagged,
     edge_quadrants,
 )
 from shapegen.engine.functions_arrays import type_name
@@ -41,12 +39,11 @@ def roof_shape(
     scope's y along the face normal (the roofs), or the parent's axes (``keep_axes``: the
     envelope, whose scope PyPRT only resizes; candler's ventilation moves along the envelope's
     scope z to its top)."""
-    points, faces, tags = [], [], []
+    points, faces = [], []
     start = 0
     for frame, mesh in built:
         points.append(frame.lift(mesh.vertices[:, :2], mesh.vertices[:, 2]))
         faces += [tuple(start + i for i in face) for face in mesh.faces]
-        tags += mesh.tags
         start += len(mesh.vertices)
     local = np.concatenate(points)
     normal = parent.scope.rotation @ built[0][0].n
@@ -56,7 +53,7 @@ def roof_shape(
         else rotation_keeping_x(parent.scope.rotation[:, 0], normal)
     )
     scope, fitted = fitted_scope(parent.scope.to_world(local), frame)
-    return Shape(scope, MASS, 1, None, _tagged(Mesh(fitted, faces), tags))
+    return Shape(scope, MASS, 1, None, Mesh(fitted, faces))
 
 
 def _value_type(node) -> tuple[str, list]:
