@@ -12,6 +12,7 @@ import argparse
 import errno
 import signal
 import sys
+from pathlib import Path
 
 from shapegen.cli.options import CommandLineError, add_derivation_options
 
@@ -81,8 +82,10 @@ def run(args: argparse.Namespace) -> int:
         raise
     try:
         # --set values are checked as the page's are: a known attr, of its kind, in its @Range
+        # a package is opened as such (its exported command names it), not as its start rule
+        opened = args.grammar if Path(args.grammar).suffix.lower() == ".rpk" else grammar.path
         server.session = session = EditorSession(
-            str(grammar.path), attrs=dict(args.assignments), seed=args.seed, lot=args.lot
+            str(opened), attrs=dict(args.assignments), seed=args.seed, lot=args.lot
         )
     except BaseException:
         server.server_close()

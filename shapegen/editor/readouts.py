@@ -36,7 +36,8 @@ class ReadoutsMixin:
             every = {k: plain_value(values[k]) for k in self.grammar.attrs if k in values}
             user = {k: every[k] for k in every if k in self.attrs}
             settable = {k: v for k, v in every.items() if not isinstance(v, list)}
-            path, seed, lot = self.path, self.seed, self.lot
+            # a package is built from the .rpk itself, as it was opened
+            path, seed, lot = self.package or self.path, self.seed, self.lot
             return json_ready({
                 "grammar": str(path) if path else None,
                 "seed": seed,
@@ -79,6 +80,7 @@ class ReadoutsMixin:
             "grammar": {
                 "name": Path(self.grammar.name).name,
                 "path": str(self.path) if self.path else None,
+                "package": str(self.package) if self.package else None,
                 "structure": outcome.structure.name,
                 "blocks": len(outcome.model.blocks),
                 "dialect": getattr(self.grammar.ast, "dialect", "grammar"),

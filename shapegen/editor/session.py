@@ -27,6 +27,7 @@ from shapegen.editor.inputs import UNCHANGED, Inputs, SettingsMixin, valid_attrs
 from shapegen.editor.readouts import ReadoutsMixin
 from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
+from shapegen.engine.rule_packages import PACKAGE_SUFFIX
 from shapegen.errors import GrammarError, ShapegenError
 from shapegen.json_values import finite_or_none, json_ready
 from shapegen.search.defaults import DEFAULT_MARGIN
@@ -63,7 +64,8 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         scan: bool = True,
     ):
         self.grammar = pipeline.load(source)
-        self.path: Path | None = self.grammar.path
+        self.path: Path | None = self.grammar.path  # the rule file read (a package's unpacked)
+        self.package: Path | None = _package(source)  # the .rpk opened, if one was
         self.seed = seed
         self.lot = lot
         self._text = _read(self.path)
@@ -438,6 +440,15 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
                 return
             self._stability[name] = result
             self.version += 1
+
+
+def _package(source: str) -> Path | None:
+    """The rule package (``.rpk``) ``source`` names, if it names one: the file the designer
+    opened, which the exported command line names, rather than its unpacked start rule."""
+    path = Path(source)
+    if path.suffix.lower() == PACKAGE_SUFFIX and path.is_file():
+        return path.resolve()
+    return None
 
 
 def _read(path: Path | None) -> str | None:

@@ -3,12 +3,14 @@ package, open as a .grammar file does; their warnings are in the state, and the 
 a free attr is scanned from the file (whose folder resolves the imports)."""
 
 import json
+import shlex
 import time
 
 import pytest
 from editor_http import request, serving
 from editor_stack import CGA_WARNING, cga_package, cga_project
 
+from shapegen.cli import main
 from shapegen.editor import EditorSession
 
 
@@ -40,11 +42,25 @@ def test_a_cga_file_opens_with_its_imports_and_warnings(tmp_path):
 
 
 def test_a_rule_package_opens_as_its_start_rule(tmp_path):
-    with serving(cga_package(tmp_path)) as server:
+    package = cga_package(tmp_path)
+    with serving(package) as server:
         state = json.loads(request(server, "GET", "/api/state")[2])
         assert state["grammar"]["name"] == "building.cga"
+        assert state["grammar"]["package"] == str(package.resolve())
         assert any(CGA_WARNING in w for w in state["warnings"])
         assert state["grammar"]["blocks"] == 6
+        request(server, "POST", "/api/attrs", {"lib.height": 9})
+        exported = json.loads(request(server, "GET", "/api/attrs.json")[2])
+    # the line names the package the designer opened, not its start rule unpacked in a cache,
+    # and builds the same design as it stands
+    assert exported["grammar"] == str(package.resolve())
+    for key in ("command", "command_every_attr"):
+        words = shlex.split(exported[key])
+        assert words[:3] == ["shapegen", "build", str(package.resolve())], exported[key]
+        report = tmp_path / f"{key}.json"
+        assert main([*words[1:], "--report", str(report), "-q"]) == 0
+        built = json.loads(report.read_text(encoding="utf-8"))
+        assert built["blocks"] == 9 and built["attrs"]["lib.height"] == 9
 
 
 def test_the_stable_range_of_a_cga_files_free_attr_is_scanned(tmp_path):

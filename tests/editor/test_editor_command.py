@@ -1,6 +1,8 @@
 """``shapegen edit`` as a user runs it: the address printed, a clean stop, clear refusals."""
 
 import json
+import os
+import shlex
 import signal
 import socket
 import struct
@@ -9,13 +11,14 @@ import sys
 import urllib.request
 
 import pytest
+from editor_stack import cga_package
 
 COMMAND = [sys.executable, "-m", "shapegen", "edit"]
 
 
-def start(*args):
+def start(*args, env=None):
     process = subprocess.Popen(
-        [*COMMAND, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [*COMMAND, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
     )
     line = process.stdout.readline()
     return process, line
@@ -35,6 +38,25 @@ def test_edit_serves_prints_its_address_and_stops_on_ctrl_c(stack_file):
         _, err = process.communicate(timeout=30)
     assert process.returncode == 0
     assert err.strip().endswith("shapegen edit: stopped") and "Traceback" not in err
+
+
+def test_edit_opens_a_rule_package_as_the_package(tmp_path):
+    package = cga_package(tmp_path)
+    env = {**os.environ, "SHAPEGEN_CACHE": str(tmp_path / "cache")}
+    process, line = start(
+        str(package), "--port", "0", "--no-open", "--set", "lib.height=9", env=env
+    )
+    try:
+        url = line.split()[2]
+        with urllib.request.urlopen(url + "api/attrs.json", timeout=60) as response:
+            exported = json.load(response)
+    finally:
+        process.send_signal(signal.SIGINT)
+        process.communicate(timeout=30)
+    # the exported line builds the package the user opened, not its start rule in the cache
+    assert shlex.split(exported["command"]) == [
+        "shapegen", "build", str(package.resolve()), "--set", "lib.height=9"
+    ]  # fmt: skip
 
 
 @pytest.mark.parametrize(

@@ -849,7 +849,8 @@ for (const id of ['show-joints', 'show-ground']) {
 function applyState(state) {
   if (app.state && state.version < app.state.version) return; // answered late: already newer
   app.state = state;
-  $('file').textContent = `${state.grammar.name} · ${state.grammar.blocks} blocks`;
+  const opened = state.grammar.package ? `${state.grammar.package.split(/[\\/]/).pop()} › ` : '';
+  $('file').textContent = `${opened}${state.grammar.name} · ${state.grammar.blocks} blocks`;
   const v = state.verdict;
   const verdict = $('verdict');
   if (v) {
