@@ -167,7 +167,7 @@ class ShapeOperations:
 
         def extrude_op(state, args, out):
             shape = state.shape
-            if shape.kind != FACE:
+            if shape.kind != FACE and not (cityengine and shape.kind == MASS):
                 raise error(
                     node,
                     "extrude() needs a flat shape (the lot or a comp(f) face); "

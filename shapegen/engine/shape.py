@@ -273,7 +273,9 @@ def _box_fills(mesh: Mesh, size: np.ndarray) -> bool:
 def extrude_shape(
     shape: Shape, height: float, cityengine_scope: bool, kind: str = "face.normal"
 ) -> Shape:
-    """The mass of ``shape`` (a face) extruded by ``height`` (m) along its normal.
+    """The mass of ``shape`` (a face) extruded by ``height`` (m) along its normal; a 3D shape
+    (a ``.cga`` rule's) has every face extruded along its own normal, as op_extrude does
+    ("each face polygon ... is taken and extruded"), the scope's y along the first face's.
 
     Its scope follows CityEngine's op_extrude (x kept as far as possible, y along the
     extrusion, z normal to both, fitted to the geometry) when ``cityengine_scope`` or the face
@@ -284,10 +286,14 @@ def extrude_shape(
     if not math.isfinite(height):
         raise ValueError(f"extrude height must be a finite number, got {height}")
     scope = shape.scope
+    solid = shape.kind != FACE  # op_extrude: every face of a 3D shape along its own normal
+    cityengine_scope = cityengine_scope or solid
     world_up = kind.startswith("world.up")
-    if world_up and shape.normal_axis == 1 and np.allclose(scope.rotation[:, 1], [0, 1, 0]):
+    lying = not solid and shape.normal_axis == 1  # a face flat along its scope's y
+    if world_up and lying and np.allclose(scope.rotation[:, 1], [0, 1, 0]):
         world_up = kind == "world.up.flatTop" and shape.geometry is not None
-    if not world_up and shape.geometry is None and (shape.normal_axis == 1 or not cityengine_scope):
+    fast = not solid and shape.geometry is None and (lying or not cityengine_scope)
+    if not world_up and fast:
         return Shape(extrude(scope, shape.normal_axis, height), MASS)
     from shapegen.geometry.extrude import extrude_faces
     from shapegen.geometry.frames import fitted_scope, rotation_keeping_x

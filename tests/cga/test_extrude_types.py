@@ -16,6 +16,8 @@ COVERS = {
     "test_extrusion_types_on_the_lot": ("op:extrude",),
     "test_deprecated_world_axes": ("op:extrude",),
     "test_vertex_normals_keep_a_ring_of_faces_joined": ("op:extrude",),
+    "test_a_3d_shape_has_every_face_extruded_along_its_own_normal": ("op:extrude",),
+    "test_negative_primitive_dimensions_mirror_it_in_place": ("op:primitive",),
 }
 
 
@@ -83,3 +85,34 @@ def _signed_volume(vertices, faces) -> float:
         for k in range(1, len(p) - 1):
             total += float(np.dot(p[0], np.cross(p[k], p[k + 1]))) / 6
     return total
+
+
+def test_a_3d_shape_has_every_face_extruded_along_its_own_normal():
+    # op_extrude: "each face polygon ... is taken and extruded along the face normal": a
+    # 12 x 3 x 8 mass extruded by 1 m is six prisms, one on each side (internal faces kept)
+    model = _model("Lot --> extrude(3) extrude(1) X.")
+    sides = 2 * (12 * 8 + 12 * 3 + 8 * 3)
+    assert math.isclose(sum(b.volume for b in model.blocks), sides * 1.0)
+    assert np.allclose(_bounds(model), [(-1, -1, -1), (13, 4, 9)])
+    assert not model.metadata["warnings"]
+
+
+def test_a_3d_shape_is_not_extruded_in_a_grammar_file():
+    with pytest.raises(Exception, match="already 3D"):
+        parse_grammar("@StartRule\nLot --> extrude(3) extrude(1) X.", "r.grammar").build(
+            lot=(12.0, 8.0)
+        )
+
+
+@pytest.mark.parametrize("dimensions", ["-2, 3, 4", "2, -3, -4", "-2, -3, -4"])
+def test_negative_primitive_dimensions_mirror_it_in_place(dimensions):
+    # as s() with negative sizes: the cube of the sizes' magnitudes, where the positive one is
+    model = _model(f"Lot --> primitiveCube({dimensions}) X.")
+    plain = _model("Lot --> primitiveCube(2, 3, 4) X.")
+    assert np.allclose(_bounds(model), _bounds(plain))
+    assert math.isclose(sum(b.volume for b in model.blocks), 24.0)
+    assert any("mirrors the primitive" in w for w in model.metadata["warnings"])
+    with pytest.raises(Exception, match="dimensions must be >= 0"):
+        parse_grammar(f"@StartRule\nLot --> primitiveCube({dimensions}) X.", "r.grammar").build(
+            lot=(12.0, 8.0)
+        )

@@ -308,6 +308,7 @@ def compile_primitive(program, node: ast.Operation, params):
     numbers = [program._number(node, a.value, params, f"a {node.name}() argument")
                for a in node.arguments]  # fmt: skip
     error = program.error
+    cga = program.cga_dialect
 
     def primitive(state, args, out):
         return place(state, args) and apply_trim(state)
@@ -333,12 +334,22 @@ def compile_primitive(program, node: ast.Operation, params):
             if count != int(count) or count < least or count > 4096:
                 raise error(node, f"{node.name}(): {what} is a whole number {least}..4096, got "
                                   f"{format_value(count)}")  # fmt: skip
+        signs = np.ones(3)
         if dimensions is not None and any(d < 0 for d in dimensions):
-            raise error(node, f"{node.name}(): dimensions must be >= 0 m")
+            if not cga:
+                raise error(node, f"{node.name}(): dimensions must be >= 0 m")
+            # as s() with negative sizes (op_s: "negative sizes result in mirroring")
+            warn_at(state, node, f"{node.name}(): a negative dimension mirrors the primitive "
+                                 "within its size, as s() does")  # fmt: skip
+            signs = np.where(np.asarray(dimensions) < 0, -1.0, 1.0)
+            dimensions = tuple(abs(d) for d in dimensions)
         if kind == "cube" and dimensions is None:
             state.shape = _box_shape(state.shape.scope)
             return True
         template = primitive_mesh(kind, int(sides), int(divisions))
+        if (signs < 0).any():  # mirrored inside its unit box, faces kept outward
+            mirrored = template.scaled(signs)
+            template = Mesh(mirrored.vertices + (signs < 0), mirrored.faces)
         scope = state.shape.scope
         if kind in ("quad", "disk"):
             if dimensions is not None:

@@ -53,7 +53,7 @@ def compile_extrude(program, node: ast.Operation, params):
 
     def extrude_op(state, args, out):
         shape = state.shape
-        if shape.kind != FACE:
+        if shape.kind != FACE and not (cityengine and shape.kind == MASS):
             raise error(node, "extrude() needs a flat shape; this shape is already 3D")
         height = distance(args, state)
         try:
