@@ -5,8 +5,8 @@ project-absolute ``/Project/assets/x.obj`` works too. Used by ``i()``, ``assetIn
 table readers.
 
 Asset files are read into a :class:`~shapegen.geometry.mesh.Mesh` in their own coordinates (y
-up): OBJ by shapegen's reader (polygons kept whole), glTF, PLY and STL with trimesh; a file is
-read once and kept while it is unchanged."""
+up): OBJ by shapegen's reader (polygons kept whole), glTF, COLLADA, PLY and STL with trimesh;
+a file is read once and kept while it is unchanged."""
 
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ __all__ = ["find_asset", "load_asset"]
 
 import functools
 import os
+import re
 from collections import OrderedDict
 from pathlib import Path
 
@@ -126,13 +127,33 @@ def _read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
 
 
 def _read_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:
-    """The triangles of a glTF, PLY or STL file (trimesh), the scene flattened."""
+    """The triangles of a glTF, COLLADA, PLY or STL file (trimesh; COLLADA through pycollada),
+    the scene flattened; a COLLADA file's ``up_axis`` turned to y up."""
     import trimesh
 
     loaded = trimesh.load(str(path), force="mesh", process=False)
     if not isinstance(loaded, trimesh.Trimesh):
         raise GeometryError(f"asset {path} holds no mesh")
-    return np.asarray(loaded.vertices, dtype=float), np.asarray(loaded.faces).tolist()
+    vertices = np.asarray(loaded.vertices, dtype=float)
+    if path.suffix.lower() == ".dae":
+        vertices = vertices @ _collada_up(path).T
+    return vertices, np.asarray(loaded.faces).tolist()
+
+
+#: COLLADA's up axes (its ``<asset><up_axis>``) turned to y up: Z_UP by -90 degrees about x
+#: (as op_i's zUp), X_UP by 90 degrees about z.
+_UP_AXES = {
+    "Y_UP": np.eye(3),
+    "Z_UP": np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]]),
+    "X_UP": np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
+}
+
+
+def _collada_up(path: Path) -> np.ndarray:
+    with open(path, encoding="utf-8", errors="replace") as handle:
+        head = handle.read(1 << 16)  # the <asset> element comes first
+    found = re.search(r"<up_axis>\s*([XYZ]_UP)\s*</up_axis>", head)
+    return _UP_AXES[found.group(1) if found else "Y_UP"]
 
 
 def _welded(vertices: np.ndarray, faces: list[list[int]]) -> Mesh:

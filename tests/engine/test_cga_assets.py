@@ -71,15 +71,33 @@ def test_missing_asset_is_a_warning_naming_file_and_rule(project):
     assert "'assets/nothere.obj' not found" in warning and "Lot -> Gone" in warning
 
 
-@pytest.mark.parametrize(
-    "call, message",
-    [
-        ('i("assets/tree.fbx")', r"\.fbx assets are not read by shapegen; it reads \.obj"),
-    ],
-)
-def test_asset_names_shapegen_cannot_read_are_load_errors(project, call, message):
-    with pytest.raises(GrammarError, match=message):
-        _build(project, f"Lot --> extrude(1) {call}")
+def test_a_format_shapegen_cannot_read_is_an_asset_not_found_in_cga_and_an_error_in_grammar(
+    project,
+):
+    (project / "assets" / "tree.fbx").write_bytes(b"Kaydara FBX Binary  \x00")
+    text = 'Lot --> extrude(1) i("assets/tree.fbx")'
+    model = _build(project, text)
+    # CityEngine reads FBX; shapegen says so and inserts the box of an asset not found
+    assert [b.volume for b in model.blocks] == pytest.approx([12 * 1 * 8])
+    (warning,) = model.metadata["warnings"]
+    assert ".fbx assets are not read by shapegen" in warning and "a box fills" in warning
+    path = project / "rules" / "house.grammar"
+    path.write_text("@StartRule\n" + text)
+    with pytest.raises(GrammarError, match=r"\.fbx assets are not read by shapegen; it reads"):
+        shapegen.load_grammar(path)
+
+
+@pytest.mark.parametrize(("up", "size"), [("Y_UP", (1, 2, 3)), ("Z_UP", (1, 3, 2)),
+                                          ("X_UP", (2, 1, 3))])  # fmt: skip
+def test_collada_assets_are_read_with_their_up_axis(project, up, size):
+    box = trimesh.creation.box(extents=(1, 2, 3)).export(file_type="dae")
+    text = box.decode() if isinstance(box, bytes) else box
+    text = text.replace("<up_axis>Y_UP</up_axis>", f"<up_axis>{up}</up_axis>")
+    (project / "assets" / "box.dae").write_text(text)
+    model = _build(project, 'Lot --> i("assets/box.dae", yUp, keepSizeAndPosition) B.')
+    (block,) = model.blocks
+    extent = block.vertices.max(axis=0) - block.vertices.min(axis=0)
+    assert np.allclose(extent, size) and not model.metadata["warnings"]
 
 
 def test_a_built_in_asset_shapegen_lacks_is_an_asset_not_found(project):

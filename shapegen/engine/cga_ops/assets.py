@@ -15,10 +15,12 @@ Semantics of CityEngine's reference (``op_i``, ``op_primitive``):
 
 An asset file is found next to the rule file, then in each folder above it that holds a
 ``rules`` or ``assets`` folder (the project of an extracted rule package), as ``<project>/PATH``
-and ``<project>/assets/PATH``. OBJ, glTF, PLY and STL files are read with trimesh. A file that
+and ``<project>/assets/PATH``. OBJ, glTF, COLLADA, PLY and STL files are read. A file that
 is not found is replaced by a box filling the scope, as CityEngine's runtime does (its model of
 the candler package without the asset files has the bounding box of these boxes, trimmed), and
-is a warning of the derivation naming the file and the chain of rules. The inserted geometry is
+is a warning of the derivation naming the file and the chain of rules; so is, in a ``.cga``
+rule, a file of a format CityEngine reads and shapegen does not (FBX, USD, DWG, IFC; COLLADA is
+read through pycollada, its up axis honoured). The inserted geometry is
 cut to the shape's trim planes (:mod:`shapegen.engine.trim`); it becomes a block when it is a
 closed convex solid, else a surface (see the interpreter).
 """
@@ -43,9 +45,9 @@ from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
 
-ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
-"""Asset files shapegen reads (trimesh); CityEngine also reads .dae, .fbx, .usd, .dwg, .ifc."""
-OTHER_CITYENGINE_SUFFIXES = (".dae", ".fbx", ".usd", ".usda", ".usdc", ".usdz", ".dwg", ".ifc")
+ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".dae", ".ply", ".stl")
+"""Asset files shapegen reads (trimesh); CityEngine also reads .fbx, .usd, .dwg, .ifc."""
+OTHER_CITYENGINE_SUFFIXES = (".fbx", ".usd", ".usda", ".usdc", ".usdz", ".dwg", ".ifc")
 BUILTIN_ASSETS = ("builtin:cube", "builtin:cube:notex")
 DEFAULT_SIDES = 16
 
@@ -180,8 +182,8 @@ def asset_insert(program, node: ast.Insert, params):
     if node.parameters:
         raise program.error(node, "i() of an asset file takes no keyword parameters")
     cga = program.cga_dialect
-    if isinstance(node.primitive, ast.String):
-        problem = _name_problem(node.primitive.value, cga)
+    if isinstance(node.primitive, ast.String) and not cga:
+        problem = _name_problem(node.primitive.value)
         if problem:
             raise program.error(node, problem)
     name_of = program.expressions.compile(node.primitive, params)
@@ -192,9 +194,15 @@ def asset_insert(program, node: ast.Insert, params):
     def insert_asset(state, args, out):
         name = name_of(args, state)
         problem = _name_problem(name, cga) if type(name) is str else "i() needs a file name"
+        scope = state.shape.scope
+        if problem and cga and type(name) is str:
+            # a format CityEngine reads and shapegen does not: as an asset it cannot load
+            warn_at(state, node, f"{problem}; a box fills the scope, as for an asset that is "
+                                 "not found")  # fmt: skip
+            state.shape = _box_shape(scope)
+            return apply_trim(state)
         if problem:
             raise error(node, problem)
-        scope = state.shape.scope
         if name in BUILTIN_ASSETS:
             state.shape = _box_shape(scope)
             return apply_trim(state)
@@ -265,6 +273,9 @@ def _kept_size(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
 
 
 def _name_problem(name: str, cga: bool = False) -> str | None:
+    """What keeps shapegen from reading asset ``name``: a format it lacks (an error in a
+    ``.grammar`` rule, a warning and a box in a ``.cga`` one), a built-in asset it lacks in a
+    ``.grammar`` rule."""
     if name.startswith("builtin:") and name not in BUILTIN_ASSETS and not cga:
         return f"i({name!r}): shapegen has the built-in assets {', '.join(BUILTIN_ASSETS)}"
     suffix = os.path.splitext(name)[1].lower()
