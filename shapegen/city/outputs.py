@@ -211,12 +211,16 @@ def city_scene(city, buildings):
 
 
 def _block_colors(model, *, stands: bool) -> np.ndarray:
-    from shapegen.export.colors import block_label_color
+    from shapegen.export.colors import block_label_color, model_label_colors
 
     if not stands:
         return np.repeat(_FAILED[None], len(model.blocks), axis=0)
+    by_label = model_label_colors(model.blocks)  # each label its own, as the design page has
     return np.array(
-        [block_label_color(b.tags, fixed=b.fixed, structural=b.structural) for b in model.blocks],
+        [
+            block_label_color(b.tags, fixed=b.fixed, structural=b.structural, colors=by_label)
+            for b in model.blocks
+        ],
         dtype=np.uint8,
     ).reshape(-1, 4)
 

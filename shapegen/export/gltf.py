@@ -34,7 +34,13 @@ from trimesh.visual import TextureVisuals
 from trimesh.visual.material import PBRMaterial
 
 from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION
-from shapegen.export.colors import RESULTANT, display_color, tension_colors, tension_levels
+from shapegen.export.colors import (
+    RESULTANT,
+    display_color,
+    model_label_colors,
+    tension_colors,
+    tension_levels,
+)
 from shapegen.export.meshes import block_mesh
 from shapegen.export.surfaces import SURFACE_ROLE, surface_mesh, surfaces_of
 from shapegen.json_values import json_ready
@@ -70,8 +76,10 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
         if len(tension) != n:
             raise ValueError(f"the analysis has {len(tension)} block tensions for {n} blocks")
         colors = tension_colors(tension_levels(analysis), fixed, structural)
-    else:
-        colors = np.array([display_color(b) for b in model.blocks], dtype=np.uint8).reshape(-1, 4)
+    else:  # each label its own colour, as the design page shows the model
+        by_label = model_label_colors(model.blocks)
+        colors = np.array([display_color(b, by_label) for b in model.blocks], dtype=np.uint8)
+        colors = colors.reshape(-1, 4)
     for k, block in enumerate(model.blocks):
         mesh = block_mesh(block)
         mesh.visual = TextureVisuals(material=_material(colors[k]))
@@ -89,7 +97,7 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
         if tension is not None:
             extras["tension"] = float(tension[k]) if np.isfinite(tension[k]) else 0.0
         scene.add_geometry(mesh, node_name=block.id, geom_name=block.id, metadata=extras)
-    _add_surfaces(scene, model)
+    _add_surfaces(scene, model, model_label_colors(model.blocks))
     if analysis is not None:
         arrows, newtons_per_metre, count = resultant_arrows(model, analysis)
         if arrows is not None:
@@ -107,8 +115,9 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
     return scene
 
 
-def _add_surfaces(scene: trimesh.Scene, model: Model) -> None:
-    """One node per surface with triangles; named by its id (made unique among the nodes)."""
+def _add_surfaces(scene: trimesh.Scene, model: Model, by_label: dict) -> None:
+    """One node per surface with triangles; named by its id (made unique among the nodes); a
+    labelled surface in its label's colour among the blocks' (``by_label``)."""
     used = {block.id for block in model.blocks}
     for surface in surfaces_of(model):
         mesh = surface_mesh(surface)
@@ -118,7 +127,9 @@ def _add_surfaces(scene: trimesh.Scene, model: Model) -> None:
         while name in used:
             name = "surface:" + name
         used.add(name)
-        mesh.visual = TextureVisuals(material=_material(display_color(surface), double_sided=True))
+        mesh.visual = TextureVisuals(
+            material=_material(display_color(surface, by_label), double_sided=True)
+        )
         extras = {
             "role": SURFACE_ROLE,
             "structural": False,

@@ -30,6 +30,7 @@ from shapegen.export.colors import (
     appearance_color,
     display_color,
     label_color,
+    model_label_colors,
     tension_colors,
     tension_levels,
 )
@@ -119,6 +120,7 @@ def model_figure(
     else:
         colors, entries, peak = _label_colors(model), _label_entries(model), None
     surfaces = list(getattr(model, "surfaces", None) or [])
+    by_label = model_label_colors(model.blocks)  # a labelled surface as the blocks of its label
     entries = entries + _surface_entries(surfaces)
     if legend is None:
         legend = analysis is not None or len(entries) > 1
@@ -132,7 +134,7 @@ def model_figure(
         elevation=elevation,
         azimuth=azimuth,
         bounds=bounds,
-        surface_colors=np.array([display_color(s) for s in surfaces]).reshape(-1, 4),
+        surface_colors=np.array([display_color(s, by_label) for s in surfaces]).reshape(-1, 4),
     )
     figure = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI, facecolor="white")
     figure.figimage(rendering.rgb, xo=0, yo=0, origin="upper")
@@ -166,7 +168,10 @@ def _tension_colors(model: Model, analysis) -> tuple[np.ndarray, list, float]:
 
 
 def _label_colors(model: Model) -> np.ndarray:
-    return np.array([display_color(b) for b in model.blocks], dtype=np.uint8).reshape(-1, 4)
+    """Each block's colour in label mode, each label its own colour, as the design page has."""
+    by_label = model_label_colors(model.blocks)
+    colors = [display_color(b, by_label) for b in model.blocks]
+    return np.array(colors, dtype=np.uint8).reshape(-1, 4)
 
 
 def _surface_entries(surfaces: list) -> list[tuple[str, np.ndarray | None]]:
@@ -184,7 +189,10 @@ def _label_entries(model: Model) -> list[tuple[str, np.ndarray]]:
         for b, own in zip(model.blocks, painted, strict=True)
         if b.tags and b.structural and not b.fixed and not own
     ).most_common()
-    entries = [(label, label_color(label)) for label, _ in labels[:_MAX_LABELS]]
+    by_label = model_label_colors(model.blocks)
+    entries = [
+        (label, by_label.get(label, label_color(label))) for label, _ in labels[:_MAX_LABELS]
+    ]
     if len(labels) > _MAX_LABELS:
         entries.append((f"+{len(labels) - _MAX_LABELS} more labels", None))
     if any(

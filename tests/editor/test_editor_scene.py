@@ -2,11 +2,16 @@
 none like the tension red."""
 
 import itertools
+import json
+import struct
 import zlib
 
 import numpy as np
 import pytest
 
+from shapegen import pipeline
+from shapegen.city.outputs import _block_colors as _city_colors
+from shapegen.cli import main
 from shapegen.editor import EditorSession
 from shapegen.export.colors import (
     LABEL_PALETTE,
@@ -19,6 +24,8 @@ from shapegen.export.colors import (
     label_colors,
     model_label_colors,
 )
+from shapegen.export.picture import _label_colors as _picture_colors
+from shapegen.export.picture import _label_entries
 from shapegen.model import Block
 
 
@@ -102,3 +109,51 @@ def test_the_page_shows_the_colours_the_exports_give():
     assert (
         display_color(alone).tolist() == display_color(alone, model_label_colors([alone])).tolist()
     )
+
+
+# three labels whose names hash to one colour (tests above: 'aisle vault' and 'wall')
+SHARED_HUE = """\
+@StartRule @Lot(1, 1)
+Lot --> extrude(3) split(y) { 1 : Wall | 1 : Vault | 1 : Capital }
+Wall --> label("wall") i("box")
+Vault --> label("aisle vault") i("box")
+Capital --> label("capital") i("box")
+"""
+
+
+def glb_node_colors(content: bytes) -> dict[str, list[int]]:
+    """Node name -> RGBA 0..255 of its mesh's material, from a binary glTF."""
+    (length,) = struct.unpack_from("<I", content, 12)
+    tree = json.loads(content[20 : 20 + length])
+    colours = {}
+    for node in tree["nodes"]:
+        if "mesh" in node:
+            primitive = tree["meshes"][node["mesh"]]["primitives"][0]
+            factor = tree["materials"][primitive["material"]]["pbrMetallicRoughness"]
+            colours[node["name"]] = [round(255 * c) for c in factor["baseColorFactor"]]
+    return colours
+
+
+def test_labels_sharing_a_hue_have_the_pages_colours_in_every_export(tmp_path):
+    assert len({tuple(label_color(n)) for n in ("wall", "aisle vault", "capital")}) == 1
+    rule = tmp_path / "shared.grammar"
+    rule.write_text(SHARED_HUE, encoding="utf-8")
+    session = EditorSession(str(rule), scan=False)
+    try:
+        scene = session.scene()
+    finally:
+        session.close()
+    page = {block["id"]: block["color"] for block in scene["blocks"]}
+    assert len({tuple(c) for c in page.values()}) == 3  # each label its own on the page
+    # shapegen build -o x.glb: the label colours of the page
+    glb = tmp_path / "shared.glb"
+    assert main(["build", str(rule), "-o", str(glb), "-q"]) == 0
+    assert glb_node_colors(glb.read_bytes()) == page
+    # the picture (its blocks and its legend) and a city's scene
+    model = pipeline.design(pipeline.load(str(rule))).model
+    ids = [b.id for b in model.blocks]
+    assert dict(zip(ids, _picture_colors(model).tolist(), strict=True)) == page
+    legend = dict((label, list(colour)) for label, colour in _label_entries(model))
+    assert legend == {b.tags[0]: page[b.id] for b in model.blocks}
+    city = _city_colors(model, stands=True).tolist()
+    assert dict(zip(ids, city, strict=True)) == page
