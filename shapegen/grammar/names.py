@@ -365,6 +365,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("extend", "default", "pos", "orient", "dir"),
         *("edge", "normal"),  # innerRectangle(edge), envelope(normal, ...)
         *("surface", "volume"),  # scatter(surface, 10, uniform)
+        *("scope.y", "alignPosition", "keepPosition"),  # insertAlongUV's height direction
     }
 )
 FUNCTION_KEYWORDS["convert"] = OPERATION_KEYWORDS

@@ -87,4 +87,5 @@ from shapegen.engine.cga_ops import (  # noqa: E402, F401
     tags,
     topology,
     transforms,
+    uv_insert,
 )
