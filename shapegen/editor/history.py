@@ -1,15 +1,18 @@
 """Undo, redo and reset of the designer's changes.
 
 The history is a list of :class:`~shapegen.editor.inputs.Inputs` before each change (a drag of a
-slider, sent with one gesture, is one change; a search's result, a reset, a new seed or lot are
-changes too) and one of those undone. :class:`HistoryMixin` is mixed into
-:class:`~shapegen.editor.session.EditorSession`, which provides ``grammar``, ``attrs``,
-``_undo``, ``_redo``, ``_last_inputs`` and the change machinery (``_take_work``, ``_apply``).
+slider, sent with one gesture, is one change; a search's result, a reset, a new seed or lot, a
+free or fixed attr and the search's margin are changes too) and one of those undone.
+:class:`HistoryMixin` is mixed into :class:`~shapegen.editor.session.EditorSession`, which
+provides ``grammar``, ``attrs``, ``_undo``, ``_redo``, ``_last_inputs`` and the change
+machinery (``_take_work``, ``_apply``).
 """
 
 from __future__ import annotations
 
 __all__ = ["HistoryMixin"]
+
+from dataclasses import replace
 
 from shapegen.editor.attrs import RequestError
 from shapegen.editor.inputs import valid_attrs
@@ -45,7 +48,8 @@ class HistoryMixin:
             raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
         try:
             gone = set(self.attrs) if names is None else set(names)
-            return self._apply({k: v for k, v in self.attrs.items() if k not in gone})
+            kept = {k: v for k, v in self.attrs.items() if k not in gone}
+            return self._apply(replace(self._inputs(), attrs=kept))
         finally:
             self._work.release()
 
@@ -56,8 +60,8 @@ class HistoryMixin:
             if not source:
                 raise RequestError(f"nothing to {what}", 409)
             entry = source[-1]
-            attrs = valid_attrs(self.grammar, entry.attrs)
-            self._apply(attrs, seed=entry.seed, lot=entry.lot, record=False)
+            # a value of the history may predate a reload of the file
+            self._apply(replace(entry, attrs=valid_attrs(self.grammar, entry.attrs)), record=False)
             with self._state_lock:
                 target.append(self._last_inputs)
                 source.pop()

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 from shapegen.editor.attrs import RequestError
 from shapegen.errors import ShapegenError
+from shapegen.search.defaults import DEFAULT_MARGIN
 
 UNCHANGED = object()  # an argument not given (None is a value: the file's @Lot)
 MAX_SEED = 2**63 - 1
@@ -36,11 +37,18 @@ MAX_SEED = 2**63 - 1
 @dataclass(frozen=True)
 class Inputs:
     """What the designer chose of a design: their attr values, the seed, the lot (None: the
-    file's ``@Lot``); one step of the undo history."""
+    file's ``@Lot``), the attrs the search varies (None: the file's ``@Free`` ones) and its
+    margin; one step of the undo history."""
 
     attrs: dict
     seed: int
     lot: object
+    free: list[str] | None = None
+    margin: float = DEFAULT_MARGIN
+
+    def builds_as(self, other: Inputs) -> bool:
+        """Whether ``other`` builds the same design (the search's settings aside)."""
+        return (self.attrs, self.seed, self.lot) == (other.attrs, other.seed, other.lot)
 
 
 class SettingsMixin:
@@ -67,8 +75,9 @@ class SettingsMixin:
     def settings(self, payload: object) -> dict:
         """The search's settings and the derivation's: ``{"free": [names] | null, "margin":
         0.1, "seed": 3, "lot": [width, depth] | [[x, z], ...] | null}``, any of them. ``free``
-        null (and ``lot`` null) give back the file's ``@Free`` attrs (its ``@Lot``). A new seed
-        or lot rebuilds the design (an undoable change); free attrs and margin do not."""
+        null (and ``lot`` null) give back the file's ``@Free`` attrs (its ``@Lot``). Each change is
+        a step of the undo history, as an attr's is; a new seed or lot rebuilds the design,
+        new free attrs restart the stable-range scans."""
         if not isinstance(payload, dict) or not payload:
             raise RequestError(
                 'send a JSON object with any of "free", "margin", "seed", "lot", such as'
@@ -89,15 +98,7 @@ class SettingsMixin:
         if not self._take_work():
             raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
         try:
-            if (seed, lot) != (self.seed, self.lot):
-                self._apply(dict(self.attrs), seed=seed, lot=lot)
-            with self._state_lock:
-                rescan = free != self._free
-                self._free, self.margin = free, margin
-                if rescan:
-                    self._changed(model=False)
-                self.version += 1
-                return self.state()
+            return self._apply(Inputs(dict(self.attrs), seed, lot, free, margin))
         finally:
             self._work.release()
 

@@ -18,6 +18,7 @@ __all__ = ["EditorSession", "OBJECTIVES"]
 import threading
 import time
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 
 from shapegen import pipeline
@@ -89,9 +90,9 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         self._undo: list[Inputs] = []
         self._redo: list[Inputs] = []
         self._gesture: str | None = None  # the drag the last change belonged to
-        self._last_inputs = Inputs({}, seed, lot)  # the inputs before the last change
         self._free: list[str] | None = None  # the attrs the search varies; None: the @Free ones
         self.margin = DEFAULT_MARGIN
+        self._last_inputs = self._inputs()  # the inputs before the last change
         self._scan_generation = 0  # the scans' results of an older generation are dropped
         initial = checked_values(self.grammar, {}, dict(attrs)) if attrs else {}
         self._outcome = self._design(initial)
@@ -121,42 +122,39 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
                 self.grammar, self._current_values(), payload, free=self.free_attrs
             )
             same_gesture = gesture is not None and gesture == self._gesture and self._undo
-            return self._apply({**self.attrs, **values}, record=not same_gesture, gesture=gesture)
+            inputs = replace(self._inputs(), attrs={**self.attrs, **values})
+            return self._apply(inputs, record=not same_gesture, gesture=gesture)
         finally:
             self._work.release()
 
-    def _apply(
-        self,
-        attrs: dict,
-        *,
-        seed: int | None = None,
-        lot=UNCHANGED,
-        record: bool = True,
-        gesture: str | None = None,
-    ) -> dict:
-        """Build and judge the design with the designer's values ``attrs`` (and ``seed``,
-        ``lot`` when given) and take it; with ``record``, the inputs before are the next undo
-        step (and the redo steps are dropped). Holds ``_work``."""
-        seed = self.seed if seed is None else seed
-        lot = self.lot if lot is UNCHANGED else lot
-        self._idle.clear()
-        try:
-            outcome = self._design(attrs, seed=seed, lot=lot)
-        finally:
-            self._idle.set()
+    def _apply(self, inputs: Inputs, *, record: bool = True, gesture: str | None = None) -> dict:
+        """Take the designer's ``inputs``: build and judge the design when they build another
+        one, restart the scans when the free attrs change; with ``record``, the inputs before
+        are the next undo step (and the redo steps are dropped). Holds ``_work``."""
+        before = self._inputs()
+        build = not inputs.builds_as(before)
+        if build:
+            self._idle.clear()
+            try:
+                outcome = self._design(inputs.attrs, seed=inputs.seed, lot=inputs.lot)
+            finally:
+                self._idle.set()
         with self._state_lock:
-            before = self._inputs()
             self._last_inputs = before
-            if record and Inputs(dict(attrs), seed, lot) != before:
+            if record and inputs != before:
                 self._undo.append(before)
                 self._redo.clear()
             self._gesture = gesture
-            self.attrs = dict(attrs)
-            self.seed, self.lot = seed, lot
-            self._optimization = None  # the last search's message no longer applies
-            self._outcome = outcome
-            self._timings = self._last_timings
-            self._changed(model=True)
+            self.attrs = dict(inputs.attrs)
+            self.seed, self.lot = inputs.seed, inputs.lot
+            self._free, self.margin = inputs.free, inputs.margin
+            if build:
+                self._optimization = None  # the last search's message no longer applies
+                self._outcome = outcome
+                self._timings = self._last_timings
+            if build or inputs.free != before.free:
+                self._changed(model=build)
+            self.version += 1
             return self.state()
 
     def optimize(self, payload: object = None) -> dict:
@@ -385,7 +383,7 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         return valid_attrs(grammar, self.attrs)
 
     def _inputs(self) -> Inputs:
-        return Inputs(dict(self.attrs), self.seed, self.lot)
+        return Inputs(dict(self.attrs), self.seed, self.lot, self._free, self.margin)
 
     def _current_values(self) -> dict:
         metadata = self._outcome.model.metadata or {}

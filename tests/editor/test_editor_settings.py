@@ -59,6 +59,38 @@ def test_seed_and_lot_rebuild_the_design_and_can_be_undone(stack_file):
         assert state["settings"]["lot"] is None and block_volume(server) == pytest.approx(1.0)
 
 
+def test_every_change_of_the_settings_is_a_step_of_the_history(stack_file):
+    with serving(stack_file) as server:
+        start = json.loads(request(server, "GET", "/api/state")[2])
+        _, state = post(server, "/api/attrs", {"offset": 0.3})
+        _, state = post(server, "/api/settings", {"free": []})
+        # fixing an attr neither rebuilds the design nor leaves it out of the history
+        assert state["model_version"] == start["model_version"] + 1
+        _, state = post(server, "/api/settings", {"margin": 0.4})
+        _, state = post(server, "/api/settings", {"seed": 5})
+        assert state["history"] == {"undo": 4, "redo": 0}
+        steps = [(5, 0.4, []), (0, 0.4, []), (0, 0.1, []), (0, 0.1, ["offset"])]
+        for seed, margin, free in steps[1:]:
+            _, state = post(server, "/api/undo")
+            settings = state["settings"]
+            assert (settings["seed"], settings["margin"], settings["free"]) == (seed, margin, free)
+        assert state["settings"]["free_from_file"] and state["history"]["redo"] == 3
+        offset = {a["name"]: a for a in state["attrs"]}["offset"]
+        assert offset["value"] == 0.3 and offset["free"]  # the attr's change is the next undo
+        _, state = post(server, "/api/undo")
+        assert {a["name"]: a["value"] for a in state["attrs"]}["offset"] == 0.2
+        for seed, margin, free in [(0, 0.1, ["offset"]), *reversed(steps)]:
+            settings = state["settings"]
+            assert (settings["seed"], settings["margin"], settings["free"]) == (seed, margin, free)
+            if seed == 5:
+                break
+            _, state = post(server, "/api/redo")
+        assert state["history"] == {"undo": 4, "redo": 0}
+        # the same settings again change nothing and are no step
+        _, state = post(server, "/api/settings", {"margin": 0.4, "seed": 5})
+        assert state["history"] == {"undo": 4, "redo": 0}
+
+
 @pytest.mark.parametrize(
     ("body", "status", "message"),
     [
