@@ -69,7 +69,7 @@ class ExpressionCompiler(BuiltinCalls):
         self.overloads = {(f.name, len(f.params)): f for f in grammar.functions}
         self.function_nodes = {f.name: f for f in reversed(grammar.functions)}
         self.files = file_functions(grammar.filename)
-        self.readers = reading_functions(grammar.filename)
+        self.readers = reading_functions(grammar.filename, self.files["fileRandom"])
 
     # ------------------------------------------------------------------ errors
     def error(self, node: object, message: str) -> GrammarError:

@@ -33,6 +33,8 @@ import math
 import re
 from pathlib import Path
 
+from shapegen.engine.asset_choice import PARTIAL_FUNCTIONS as CHOOSER_NOTES
+from shapegen.engine.asset_choice import asset_choosers
 from shapegen.engine.asset_files import find_asset, load_asset
 from shapegen.engine.derivation import format_chain
 from shapegen.engine.functions_arrays import Array
@@ -42,6 +44,7 @@ from shapegen.limits import current_limits, limit_hint
 #: File functions that differ from the reference, in a few words.
 PARTIAL_FUNCTIONS: dict[str, str] = {
     "assetMetadata": "OBJ, PLY and STL carry none (the default); glTF assets are refused",
+    **CHOOSER_NOTES,
 }
 
 _CONTROL = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f\x7f]")
@@ -200,14 +203,16 @@ def _asset_metadata(rule_file: str | None):
     return metadata
 
 
-def reading_functions(rule_file: str | None) -> dict:
+def reading_functions(rule_file: str | None, matching=None) -> dict:
     """The builtins that need the shape being derived, for a rule written in ``rule_file``:
-    ``name -> f(state, *values)``: the file-reading ones and
-    :data:`~shapegen.engine.functions_shape.STATE_FUNCTIONS`."""
+    ``name -> f(state, *values)``: the file-reading ones, the asset choosers
+    (:mod:`~shapegen.engine.asset_choice`; ``matching(query)`` lists the project's files a
+    search query names) and :data:`~shapegen.engine.functions_shape.STATE_FUNCTIONS`."""
     from shapegen.engine.functions_shape import STATE_FUNCTIONS
 
     return {
         **STATE_FUNCTIONS,
+        **asset_choosers(rule_file, matching or (lambda query: [])),
         "readStringTable": _table(rule_file, False),
         "readFloatTable": _table(rule_file, True),
         "readTextFile": _text_file(rule_file),

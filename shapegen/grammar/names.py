@@ -151,6 +151,11 @@ FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
     "contextCompare": _TARGETS | {f"world.{r}" for r in _RANKS} | {"area.largest", "area.smallest"},
     "assetInfo": frozenset({"sx", "sy", "sz", "tx", "ty", "tz"}),
     "imageInfo": frozenset({"sx", "sy"}),
+    # the axes of the asset choosers' sorting functions (func_assetsSortSize...)
+    **dict.fromkeys(
+        ("assetsSortSize", "assetsSortRatio", "imagesSortRatio"),
+        frozenset({"x", "y", "z", "xy", "xz", "yz", "yx", "zx", "zy", "xyz"}),
+    ),
     "getGeoCoord": frozenset({"X", "Y", "lat", "lon"}),
 }
 
