@@ -18,6 +18,11 @@
 - ``@Color``: a colour picker for a string attr ``"#rrggbb"``.
 - ``@File`` / ``@File("ext", ...)`` / ``@Directory``: a choice among the files (or folders)
   next to the rule file and in its project's ``assets`` folder, named as the rules name them.
+- ``@Angle``, ``@Percent``, ``@Distance`` on a number: its unit in the Inspector (degrees,
+  percent, metres: shapegen's models are in metres). ``@Angle`` without a ``@Range`` has an
+  unrestricted slider over [0, 360], ``@Percent`` one over [0, 1] shown as 0 to 100 %, whose
+  value is typed in percent (CityEngine's Inspector does the same); the value in the rules and
+  the API stays the real one (0.1 for 10 %).
 - a boolean attr: a check box.
 
 Annotation arguments are constants, folded with
@@ -28,6 +33,7 @@ ignored, as CityEngine's Inspector ignores what it cannot read.
 from __future__ import annotations
 
 __all__ = [
+    "UNIT_RANGES",
     "AttrHints",
     "asset_choices",
     "attr_hints",
@@ -53,6 +59,10 @@ MAX_ASSET_CHOICES = 500
 _MAX_ASSET_DEPTH = 6  # folders below the project's assets folder
 _MAX_RULE_FOLDER_DEPTH = 2  # folders below the rule's own (it may lie in a large folder)
 _MAX_VISITED = 20_000  # entries looked at per folder searched
+#: The unit annotations CityEngine's Inspector honours, by the unit they give a number.
+UNITS = {"Angle": "angle", "Percent": "percent", "Distance": "distance"}
+#: The slider's range of a unit without a ``@Range`` (unrestricted: any value may be typed).
+UNIT_RANGES = {"angle": (0.0, 360.0), "percent": (0.0, 1.0)}
 
 
 @dataclass(frozen=True)
@@ -63,7 +73,9 @@ class AttrHints:
     (``@File``, ``@MaterialFile``), ``directory`` (``@Directory``) or ``array`` (shown, not
     edited). ``step`` is the ``@Range`` stepsize (None without one); ``choices`` the values
     of an ``@Enum`` or a ``@Range`` of strings (None without), ``values_attr`` the attr an
-    ``@Enum(valuesAttr=...)`` reads them from; ``group`` the section's names, outermost first.
+    ``@Enum(valuesAttr=...)`` reads them from; ``group`` the section's names, outermost first;
+    ``unit`` that of ``@Angle``, ``@Percent`` or ``@Distance`` (``angle``, ``percent``,
+    ``distance``; None without).
     """
 
     kind: str
@@ -78,6 +90,7 @@ class AttrHints:
     description: str = ""
     display_name: str = ""
     hidden: bool = False
+    unit: str | None = None
 
 
 def attr_hints(grammar) -> dict[str, AttrHints]:
@@ -116,6 +129,7 @@ def _attr_hints(grammar) -> dict[str, AttrHints]:
             description=fold.text(node.annotation("Description")),
             display_name=fold.text(node.annotation("DisplayName")),
             hidden=node.has_annotation("Hidden"),
+            unit=_unit(defaults[name], node),
         )
     return hints
 
@@ -134,6 +148,12 @@ def _kind(default: object, node: ast.Attribute) -> str:
     if node.has_annotation("Directory"):
         return "directory"
     return "string"
+
+
+def _unit(default: object, node: ast.Attribute) -> str | None:
+    if isinstance(default, bool) or not isinstance(default, int | float):
+        return None  # CityEngine's units are for numbers (of an array too: shown, not edited)
+    return next((unit for name, unit in UNITS.items() if node.has_annotation(name)), None)
 
 
 class _Folder:

@@ -22,7 +22,13 @@ import weakref
 from collections.abc import Collection, Mapping
 from dataclasses import asdict, dataclass
 
-from shapegen.editor.annotations import AttrHints, asset_choices, attr_hints, on_grid
+from shapegen.editor.annotations import (
+    UNIT_RANGES,
+    AttrHints,
+    asset_choices,
+    attr_hints,
+    on_grid,
+)
 from shapegen.editor.counts import count_attrs, is_whole
 from shapegen.errors import ShapegenError
 
@@ -42,12 +48,16 @@ class RequestError(ShapegenError):
 class AttrSpec:
     """One row of the Inspector.
 
-    ``minimum``, ``maximum`` are the ``@Range`` bounds (None without one); ``step`` is the
+    ``minimum``, ``maximum`` are the slider's bounds: the ``@Range``'s, or without one the
+    default range of an ``@Angle`` or ``@Percent`` (unrestricted), else None; ``ranged``
+    says they are a ``@Range``'s, which the search may vary within (``free``). ``step`` is the
     slider's step: the ``@Range`` stepsize, 1 for a ``whole`` number (a count), else about
     1/500 of the range rounded down to a power of ten; ``grid`` is the stepsize a value must
     keep to (from ``minimum``). ``restricted`` False lets a value lie outside the range (or
     the ``choices``); ``user`` says the value is the designer's (set on
-    the page, by ``--set`` or by a search) rather than the rule's ``default``.
+    the page, by ``--set`` or by a search) rather than the rule's ``default``. ``unit`` is
+    ``angle`` (degrees), ``percent`` (the value 0.1 shown as 10 %) or ``distance`` (metres)
+    for an ``@Angle``, ``@Percent`` or ``@Distance`` number, else None.
     """
 
     name: str
@@ -68,6 +78,8 @@ class AttrSpec:
     hidden: bool = False
     display_name: str = ""
     grid: float | None = None  # a restricted @Range's stepsize: values lie on minimum + k grid
+    ranged: bool = False
+    unit: str | None = None
 
     def to_json(self) -> dict:
         return asdict(self)
@@ -130,11 +142,16 @@ def attr_specs(
         hint = hints[name]
         whole = name in counts
         low = high = step = None
-        if spec is not None and hint.kind == "number":
-            low, high = float(spec["min"]), float(spec["max"])
-            step = hint.step or (1.0 if whole else _step(low, high))
         is_free = nodes[name].free if free is None else name in free
         restricted = hint.restricted or is_free
+        ranged = spec is not None and hint.kind == "number"
+        if ranged:
+            low, high = float(spec["min"]), float(spec["max"])
+        elif hint.kind == "number" and hint.unit in UNIT_RANGES and not (hint.choices or hint.values_attr):
+            low, high = UNIT_RANGES[hint.unit]  # CityEngine's slider, no bound on the value
+            restricted = False
+        if low is not None:
+            step = hint.step or (1.0 if whole else _step(low, high))
         rows.append(
             AttrSpec(
                 name,
@@ -154,7 +171,9 @@ def attr_specs(
                 order=hint.order,
                 hidden=hint.hidden,
                 display_name=hint.display_name,
-                grid=hint.step if hint.step and low is not None and restricted else None,
+                grid=hint.step if hint.step and ranged and restricted else None,
+                ranged=ranged,
+                unit=hint.unit,
             )
         )
     return rows

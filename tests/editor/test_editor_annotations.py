@@ -119,3 +119,61 @@ def test_the_page_sets_annotated_attrs_through_the_api(annotated):
         assert status == 200 and rows(json.loads(content))["loose"]["value"] == 60
         status, _, content = request(server, "POST", "/api/attrs", {"angle": 10})
         assert status == 422 and "steps by 15" in json.loads(content)["error"]
+
+
+# CityEngine's unit annotations, in a .cga file as CityEngine writes them
+UNITS_CGA = """\
+version "2023.0"
+
+@Angle
+attr pitch = 30
+
+@Angle @Range(min=0, max=60)
+attr tilt = 10
+
+@Percent
+attr share = 0.25
+
+@Distance
+attr setback = 1.5
+
+@Percent @Enum(0.1, 0.2)
+attr step = 0.1
+
+@StartRule
+Lot --> extrude(1 + setback) s(1, '1, 1) Box
+Box --> label("box") i("builtin:cube")
+"""
+
+
+def test_unit_annotations_give_the_unit_and_cityengines_default_slider(tmp_path):
+    rule = tmp_path / "units.cga"
+    rule.write_text(UNITS_CGA, encoding="utf-8")
+    with serving(rule) as server:
+        state = json.loads(request(server, "GET", "/api/state")[2])
+        attrs = rows(state)
+        assert {n: a["unit"] for n, a in attrs.items()} == {
+            "pitch": "angle", "tilt": "angle", "share": "percent", "setback": "distance",
+            "step": "percent",
+        }  # fmt: skip
+        # without a @Range: CityEngine's slider, [0, 360] degrees or [0, 1] (0 to 100 %),
+        # no bound on a value, and no range for the search
+        pitch, share = attrs["pitch"], attrs["share"]
+        assert (pitch["minimum"], pitch["maximum"], pitch["restricted"]) == (0, 360, False)
+        assert (share["minimum"], share["maximum"], share["restricted"]) == (0, 1, False)
+        assert not pitch["ranged"] and not share["ranged"]
+        assert (attrs["setback"]["minimum"], attrs["setback"]["ranged"]) == (None, False)
+        # a @Range is the slider's, restricted, and the search's
+        tilt = attrs["tilt"]
+        assert (tilt["minimum"], tilt["maximum"], tilt["restricted"], tilt["ranged"]) == (
+            0, 60, True, True
+        )  # fmt: skip
+        assert attrs["step"]["choices"] == [0.1, 0.2] and attrs["step"]["minimum"] is None
+        status, _, content = request(server, "POST", "/api/attrs", {"pitch": 400, "share": 1.5})
+        assert status == 200, content
+        assert {a["name"]: a["value"] for a in json.loads(content)["attrs"]}["pitch"] == 400
+        status, _, content = request(server, "POST", "/api/attrs", {"tilt": 61})
+        assert status == 400 and b"outside its @Range [0, 60]" in content
+        status, _, content = request(server, "POST", "/api/settings", {"free": ["pitch"]})
+        assert status == 400 and b"cannot be free" in content
+        assert request(server, "POST", "/api/settings", {"free": ["tilt"]})[0] == 200

@@ -474,7 +474,9 @@ def test_frame_all_views_and_the_orthographic_camera(browser, tmp_path):
         page_steps.screenshot(page, "editor_orthographic", tmp_path)
         page.uncheck("#orthographic")
         assert page.evaluate("window.shapegenEditor.cameraView().kind") == "perspective"
-        assert in_view(page, 0.4), page.evaluate("[window.shapegenEditor.modelExtent(), window.shapegenEditor.cameraView()]")
+        assert in_view(page, 0.4), page.evaluate(
+            "[window.shapegenEditor.modelExtent(), window.shapegenEditor.cameraView()]"
+        )
         assert not page.problems, page.problems
 
 
@@ -630,7 +632,7 @@ def test_a_cga_rule_opens_with_its_warnings_shown(browser, tmp_path):
 
     with page_steps.Editor(cga_package(tmp_path)) as editor:  # a .rpk: its start rule
         page = page_steps.open_page(browser, editor.url)
-        assert page.inner_text("#file").startswith("building.cga")
+        assert page.inner_text("#file").startswith("building.rpk › building.cga")
         assert page.is_visible("#warnings")
         assert page.inner_text("#warnings-count") == "⚠ 1 warning from the rule file"
         page.click("#warnings-count")
@@ -645,5 +647,49 @@ def test_a_cga_rule_opens_with_its_warnings_shown(browser, tmp_path):
         page.wait_for_function("window.shapegenEditor.state.grammar.blocks === 9")
         page_steps.settle(page)
         page_steps.screenshot(page, "editor_cga", tmp_path)
+        assert page.evaluate("window.shapegenEditor.errors") == []
+        assert not page.problems, page.problems
+
+
+# whether attr n has the value v in the page's state
+ATTR_IS = "([n, v]) => window.shapegenEditor.state.attrs.find((a) => a.name === n).value === v"
+
+
+def test_angles_percents_and_distances_show_their_units(browser, tmp_path):
+    from test_editor_annotations import UNITS_CGA
+
+    rule = tmp_path / "units.cga"
+    rule.write_text(UNITS_CGA, encoding="utf-8")
+
+    def value_of(name):
+        return page.evaluate(
+            "n => window.shapegenEditor.state.attrs.find((a) => a.name === n).value", name
+        )
+
+    with page_steps.Editor(rule) as editor:
+        page = page_steps.open_page(browser, editor.url)
+        units = {
+            name: page.inner_text(f'.attr[data-attr="{name}"] .unit')
+            for name in ("pitch", "tilt", "share", "setback")
+        }
+        assert units == {"pitch": "°", "tilt": "°", "share": "%", "setback": "m"}
+        # @Angle without a @Range: CityEngine's slider over 0-360 degrees
+        pitch = page.locator('input[type=range][name="pitch"]')
+        assert (pitch.get_attribute("min"), pitch.get_attribute("max")) == ("0", "360")
+        # @Percent: shown and typed in percent, the value a fraction
+        share = page.locator('.attr[data-attr="share"] input.value')
+        assert float(share.input_value()) == 25
+        share.fill("40")
+        share.press("Enter")
+        page.wait_for_function(ATTR_IS, arg=["share", 0.4])
+        assert float(share.input_value()) == 40
+        # unrestricted: a typed angle past the slider's end is taken as typed
+        field = page.locator('.attr[data-attr="pitch"] input.value')
+        field.fill("400")
+        field.press("Enter")
+        page.wait_for_function(ATTR_IS, arg=["pitch", 400])
+        assert value_of("setback") == 1.5
+        assert page.locator('.attr[data-attr="pitch"] button.free').count() == 0  # no @Range
+        assert page.locator('.attr[data-attr="tilt"] button.free').count() == 1
         assert page.evaluate("window.shapegenEditor.errors") == []
         assert not page.problems, page.problems

@@ -561,7 +561,9 @@ function showBlock(b) {
   panel.hidden = !b;
   if (!b) return;
   const rows = (b.joints || []).map((j) => `<tr><td>${escape(j.other)}${j.support ? ' (support)' : ''}</td><td>${newtons(j.compression)}</td><td>${newtons(j.shear)}</td><td class="${j.tension > 0 ? 'needs' : ''}">${newtons(j.tension)}</td></tr>`).join('');
-  const attrs = b.attrs.map((a) => `<a href="#" data-attr="${escape(a.name)}" title="show it in the Inspector">${escape(a.name)}</a> = ${escape(typeof a.value === 'number' ? number(a.value) : JSON.stringify(a.value))}`).join(', ');
+  const specs = new Map((app.state?.attrs || []).map((spec) => [spec.name, spec]));
+  const value = (a) => (typeof a.value === 'number' ? (specs.has(a.name) ? shown(specs.get(a.name), a.value) : number(a.value)) : JSON.stringify(a.value));
+  const attrs = b.attrs.map((a) => `<a href="#" data-attr="${escape(a.name)}" title="show it in the Inspector">${escape(a.name)}</a> = ${escape(value(a))}`).join(', ');
   const tension = b.tension === null ? '' : (b.tension > 0 ? `its worst joint needs <strong>${newtons(b.tension)}</strong> of tension` : 'needs no tension');
   panel.innerHTML = `<div class="title"><strong>Block ${escape(b.id)}</strong><button class="close" title="deselect (Esc)">×</button></div>
     <div>labels: ${b.labels.length ? b.labels.map(escape).join(', ') : '–'}${b.fixed ? ' · support (fixed)' : ''}${b.structural ? '' : ' · not structural'}</div>
@@ -934,7 +936,7 @@ let gestures = 0;
 function inspector(state) {
   const layout = JSON.stringify([
     state.sections,
-    state.attrs.map((a) => [a.name, a.kind, a.minimum, a.maximum, a.step, a.choices, a.restricted, a.free, a.description, a.display_name]),
+    state.attrs.map((a) => [a.name, a.kind, a.minimum, a.maximum, a.step, a.choices, a.restricted, a.free, a.description, a.display_name, a.unit, a.ranged]),
   ]);
   if ($('attrs').dataset.layout !== layout) {
     $('attrs').dataset.layout = layout;
@@ -971,7 +973,22 @@ function sectionFor(sections, group) {
 }
 
 function shown(attr, value) {
-  return attr.kind === 'number' ? number(value) : String(value);
+  return attr.kind === 'number' ? `${number(value * scaleOf(attr))}${UNITS[attr.unit] || ''}` : String(value);
+}
+
+// @Angle, @Percent and @Distance: the unit shown after a number; a percent is shown and typed
+// as 10 for the value 0.1, as CityEngine's Inspector does.
+const UNITS = { angle: '°', percent: '%', distance: ' m' };
+function scaleOf(attr) {
+  return attr.unit === 'percent' ? 100 : 1;
+}
+
+function unitMark(attr) {
+  const mark = document.createElement('span');
+  mark.className = 'unit';
+  mark.textContent = (UNITS[attr.unit] || '').trim();
+  mark.hidden = !attr.unit;
+  return mark;
 }
 
 function makeRow(attr, parent) {
@@ -980,7 +997,7 @@ function makeRow(attr, parent) {
   row.dataset.attr = attr.name;
   row.dataset.kind = attr.kind;
   row.title = attr.description || '';
-  const searchable = attr.kind === 'number' && attr.minimum !== null;
+  const searchable = attr.ranged; // a @Range's bounds: the search may vary it
   const mark = attr.free
     ? '<button class="free" title="free: the search varies it; click to fix it">free</button>'
     : (searchable ? '<button class="free off" title="fixed: the search leaves it; click to free it">fixed</button>' : '');
@@ -994,6 +1011,7 @@ function makeRow(attr, parent) {
   });
   if (attr.display_name) row.querySelector('.name').title = attr.name;
   let input;
+  const scale = scaleOf(attr);
   if (attr.kind === 'number' && attr.minimum !== null && !attr.choices) {
     const track = document.createElement('div');
     track.className = 'track';
@@ -1003,29 +1021,30 @@ function makeRow(attr, parent) {
     input.addEventListener('pointerdown', () => { app.dragging = attr.name; app.gesture = `drag-${++gestures}`; });
     input.addEventListener('pointerup', () => { app.dragging = null; });
     input.addEventListener('input', () => {
-      row.querySelector('.value').value = Number(input.value);
+      row.querySelector('.value').value = Number((Number(input.value) * scale).toPrecision(6));
       change(attr.name, Number(input.value), app.dragging === attr.name ? app.gesture : null);
     });
     track.appendChild(input);
     // the exact value, typed: to the range and the stepsize when restricted, whole for a count
     const field = document.createElement('input');
-    Object.assign(field, { type: 'number', className: 'value', step: attr.step, name: `${attr.name}-value` });
-    field.title = attr.restricted ? `type a value from ${number(attr.minimum)} to ${number(attr.maximum)}` : 'type any value (restricted=false)';
+    Object.assign(field, { type: 'number', className: 'value', step: attr.step * scale, name: `${attr.name}-value` });
+    field.title = attr.restricted ? `type a value from ${shown(attr, attr.minimum)} to ${shown(attr, attr.maximum)}` : 'type any value (restricted=false)';
     field.addEventListener('change', () => {
-      const typed = Number(field.value);
+      const typed = Number(field.value) / scale;
       if (field.value.trim() === '' || !Number.isFinite(typed)) {
         note(`${attr.name} takes a number`);
-        field.value = input.value;
+        field.value = Number((Number(input.value) * scale).toPrecision(6));
         return;
       }
       const value = typedValue(attr, typed);
       // said once the change is answered (an answer clears the messages)
-      app.noteAfterChange = value !== typed ? `${attr.name}: ${number(typed)} is taken as ${number(value)}` : '';
-      field.value = value;
+      app.noteAfterChange = value !== typed ? `${attr.name}: ${shown(attr, typed)} is taken as ${shown(attr, value)}` : '';
+      field.value = Number((value * scale).toPrecision(12));
       input.value = value;
       change(attr.name, value);
     });
     row.querySelector('.value').replaceWith(field);
+    field.after(unitMark(attr));
     row.appendChild(track);
     const status = document.createElement('div');
     status.className = 'status';
@@ -1053,12 +1072,12 @@ function makeRow(attr, parent) {
     if (attr.choices) { // an unrestricted @Enum: its values are offered, others typed
       const list = document.createElement('datalist');
       list.id = `choices-${attr.name}`;
-      for (const c of attr.choices) list.appendChild(new Option(shown(attr, c), String(c)));
+      for (const c of attr.choices) list.appendChild(new Option(shown(attr, c), String(attr.kind === 'number' ? c * scale : c)));
       row.appendChild(list);
       input.setAttribute('list', list.id);
     }
     input.addEventListener('change', () => {
-      const value = attr.kind === 'number' ? Number(input.value) : input.value;
+      const value = attr.kind === 'number' ? Number(input.value) / scale : input.value;
       if (attr.kind === 'number' && (input.value.trim() === '' || !Number.isFinite(value))) {
         note(`${attr.name} takes a number`);
         return;
@@ -1070,6 +1089,7 @@ function makeRow(attr, parent) {
       change(attr.name, value);
     });
     row.appendChild(input);
+    if (attr.kind === 'number') row.appendChild(unitMark(attr));
   }
   input.name = attr.name;
   row.input = input;
@@ -1108,11 +1128,12 @@ function updateRow(row, attr, stability) {
       if (!attr.choices.map(String).includes(String(attr.value)) || input.dataset.current !== String(attr.value)) fillChoices(input, attr, attr.value);
       input.value = String(attr.value);
     } else if (attr.kind === 'array') input.value = JSON.stringify(attr.value);
+    else if (input.type === 'number') input.value = Number((attr.value * scaleOf(attr)).toPrecision(12));
     else input.value = attr.value;
     const shownValue = row.querySelector('.value');
     if (shownValue.tagName !== 'INPUT') shownValue.textContent = '';
     // a search's value shown to 6 digits (one typed stays as typed: it has no more)
-    else if (document.activeElement !== shownValue) shownValue.value = Number(Number(attr.value).toPrecision(6));
+    else if (document.activeElement !== shownValue) shownValue.value = Number((attr.value * scaleOf(attr)).toPrecision(6));
   }
   // the designer's value is marked, with the rule's default it hides, and can be reset
   const mark = row.querySelector('.user');
@@ -1135,9 +1156,9 @@ function updateRow(row, attr, stability) {
       shade.style.width = `max(3px, ${(100 * (hi - lo)) / span}%)`;
       lane.appendChild(shade);
     }
-    const text = stability.intervals.map(([lo, hi]) => `${number(lo)}–${number(hi)}`).join(', ');
+    const text = stability.intervals.map(([lo, hi]) => `${shown(attr, lo)}–${shown(attr, hi)}`).join(', ');
     status.textContent = stability.intervals.length
-      ? `stands for ${text} (±${number(stability.resolution)})`
+      ? `stands for ${text} (±${shown(attr, stability.resolution)})`
       : 'stands nowhere in its range, the others held';
   } else {
     for (const [x, stands] of stability.samples || []) {
