@@ -8,6 +8,8 @@ __all__ = [
     "GrammarError",
     "InputFormatError",
     "Model",
+    "OptionError",
+    "PluginError",
     "PointLoad",
     "Scope",
     "ShapegenError",
@@ -19,7 +21,15 @@ __all__ = [
 ]
 
 
-_ERRORS = ("GeometryError", "GrammarError", "InputFormatError", "ShapegenError", "StaticsError")
+_ERRORS = (
+    "GeometryError",
+    "GrammarError",
+    "InputFormatError",
+    "OptionError",
+    "PluginError",
+    "ShapegenError",
+    "StaticsError",
+)
 
 
 def __getattr__(name: str):

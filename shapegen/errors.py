@@ -15,6 +15,7 @@ __all__ = [
     "StaticsError",
     "InputFormatError",
     "OptionError",
+    "PluginError",
     "SourceLocation",
 ]
 
@@ -110,4 +111,11 @@ class InputFormatError(ShapegenError):
 
 
 class OptionError(ShapegenError):
-    """An option that means nothing for what it was given to (it is refused, never dropped)."""
+    """A choice that means nothing for what it was given to: a value outside an option's range
+    or list, an option that does not apply (refused, never dropped), an unknown structure or
+    primitive name, a ``@Structure`` argument of the wrong kind."""
+
+
+class PluginError(ShapegenError):
+    """An extension that cannot be used as installed: a plug-in package that fails to load, or
+    a primitive or structure registered under a name another one holds."""

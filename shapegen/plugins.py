@@ -8,7 +8,7 @@ __all__ = ["find_registered", "load_plugins"]
 import difflib
 from collections.abc import Mapping
 
-from shapegen.errors import GeometryError
+from shapegen.errors import OptionError, PluginError
 
 
 def load_plugins(group: str, what: str) -> None:
@@ -22,7 +22,7 @@ def load_plugins(group: str, what: str) -> None:
         try:
             entry.load()
         except Exception as exc:
-            raise GeometryError(
+            raise PluginError(
                 f"cannot load {what} from {entry.value!r} (entry point {entry.name!r}): {exc}"
             ) from None
 
@@ -33,7 +33,7 @@ def find_registered(registry: Mapping[str, object], name: str, what: str):
     if name not in registry:
         close = difflib.get_close_matches(str(name), list(registry), n=1)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise GeometryError(
+        raise OptionError(
             f"unknown {what} {name!r}{hint}; available: {', '.join(sorted(registry))}"
         )
     return registry[name]

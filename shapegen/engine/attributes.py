@@ -20,7 +20,7 @@ from shapegen.engine.derivation import TOO_DEEP, Derivation, root_state
 from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
 from shapegen.engine.functions_arrays import Array, array_from
 from shapegen.engine.shape import FACE, Shape, lot_scope
-from shapegen.errors import GeometryError, GrammarError
+from shapegen.errors import GrammarError, OptionError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.model.scope import Scope
@@ -171,7 +171,7 @@ def checked_structure(start: ast.Rule, error: Callable) -> str:
         raise error(annotation, "@Structure names a structure: a string")
     try:
         structure = structure_class(name)
-    except GeometryError as exc:
+    except OptionError as exc:
         raise error(annotation, str(exc)) from None
     given = {keyword.name for keyword in annotation.keywords}
     for keyword in annotation.keywords:

@@ -29,13 +29,14 @@ from shapegen.engine.shape import (
     split_piece,
     translate,
 )
+from shapegen.engine.shape_writes import WRITABLE, write_shape_attribute
 from shapegen.engine.split import (
     PieceLimitError,
     SplitPart,
     SplitRepeat,
     resolve_split,
 )
-from shapegen.errors import GeometryError, GrammarError
+from shapegen.errors import GeometryError, GrammarError, OptionError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES
 
@@ -368,6 +369,8 @@ class ShapeOperations:
                 return compile_material_set(self, node, params)
         if attribute in self.const_nodes:
             raise self.error(node, f"set() changes attrs; {attribute!r} is a const")
+        if self.cga_dialect and attribute in WRITABLE and attribute not in self.attr_nodes:
+            return self._set_shape_attribute(node, params)
         if (
             attribute not in self.attr_nodes
             and attribute not in RESERVED_ATTRIBUTES
@@ -384,6 +387,18 @@ class ShapeOperations:
             return True
 
         return set_op
+
+    def _set_shape_attribute(self, node: ast.Set, params) -> Operation:
+        """set(scope.tx, v), set(pivot.ox, v)...: the scope or the pivot moved
+        (:mod:`~shapegen.engine.shape_writes`)."""
+        attribute = node.attribute
+        value = self._number(node, node.value, params, f"set({attribute}, ...)'s value")
+
+        def set_shape(state, args, out):
+            write_shape_attribute(state, attribute, value(args, state))
+            return True
+
+        return set_shape
 
     def _op_Insert(self, node: ast.Insert, params) -> Operation:
         from shapegen.engine.cga_ops.assets import asset_insert, is_asset_name
@@ -418,7 +433,7 @@ class ShapeOperations:
                 return True
             try:
                 resolved = _resolve_primitive(name, values)
-            except GeometryError as exc:
+            except (GeometryError, OptionError) as exc:
                 raise error(node, str(exc)) from None
             state.shape = Shape(scope, INSERT, insert=(name, resolved, node))
             return True
@@ -468,7 +483,7 @@ def _check_primitive_call(node: ast.Insert, error: Callable) -> None:
         return
     try:
         primitive = get(name)
-    except GeometryError as exc:
+    except OptionError as exc:
         raise error(node, str(exc)) from None
     for keyword in node.parameters:
         if keyword.name not in primitive.parameters:

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.errors import GeometryError
+from shapegen.errors import GeometryError, PluginError
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
@@ -196,7 +196,7 @@ def primitive(
     def register(function: Callable) -> Callable:
         taken = REGISTRY.get(name)
         if taken is not None and not replace and _origin(taken.function) != _origin(function):
-            raise ValueError(
+            raise PluginError(
                 f"primitive {name!r} is already registered by {_origin(taken.function)}; choose"
                 f" another name for {_origin(function)}, or pass replace=True to supersede it"
             )
@@ -204,7 +204,7 @@ def primitive(
         parameters = {}
         for param in list(signature.parameters.values())[1:]:
             if param.default is inspect.Parameter.empty:
-                raise TypeError(f"primitive {name!r}: parameter {param.name!r} needs a default")
+                raise PluginError(f"primitive {name!r}: parameter {param.name!r} needs a default")
             kind = param.annotation
             if isinstance(kind, str):  # postponed annotations
                 kind = eval(kind, function.__globals__, {"Choice": Choice})  # noqa: S307

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.interface import Interface
@@ -265,7 +265,7 @@ def analyze(
     if options is None:
         options = StaticsOptions.from_mapping(settings)
     elif settings:
-        raise StaticsError(
+        raise OptionError(
             f"give either a StaticsOptions or its fields, not both ({', '.join(settings)})"
         )
     friction, pyramid, kern = options.friction, options.pyramid, options.kern

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.sparse as sp
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError, StaticsError
 from shapegen.statics.interface import GROUND, Interface
 from shapegen.statics.loading import Loading, block_loading, load_vector, tilted, wrench
 from shapegen.statics.options import PYRAMIDS
@@ -65,7 +65,7 @@ def friction_cone(pyramid: str, mu: float) -> np.ndarray:
         ``(K + 1, 3)`` dimensionless (``(1, 3)`` for the cone).
     """
     if pyramid not in PYRAMIDS:
-        raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
+        raise OptionError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
     if pyramid == "cone":
         return np.array([[-1.0, 0.0, 0.0]])
     sides = {"4": 4, "4r": 4, "8": 8}[pyramid]
@@ -311,14 +311,14 @@ def assemble(
         ornaments' weight is added to the body that carries it); None: each block its own body.
     """
     if pyramid not in PYRAMIDS:
-        raise StaticsError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
+        raise OptionError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
     if not (np.isfinite(kern) and 0 < kern <= 1):
-        raise StaticsError(f"kern must be a number in (0, 1]; got {kern!r}")
+        raise OptionError(f"kern must be a number in (0, 1]; got {kern!r}")
     if objective not in OBJECTIVES:
-        raise StaticsError(f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}")
+        raise OptionError(f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}")
     mu = float(model.friction if friction is None else friction)
     if not (np.isfinite(mu) and mu >= 0):
-        raise StaticsError(f"friction must be a finite number >= 0; got {friction!r}")
+        raise OptionError(f"friction must be a finite number >= 0; got {friction!r}")
 
     blocks = model.blocks
     nb = len(blocks)

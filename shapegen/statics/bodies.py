@@ -32,7 +32,7 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError, StaticsError
 from shapegen.model.model import Model
 from shapegen.model.packed import pack_blocks
 from shapegen.statics.interface import GROUND, Interface
@@ -131,7 +131,7 @@ def _names(value: object, what: str) -> tuple[str, ...]:
     elif isinstance(value, Sequence) and all(isinstance(v, str) for v in value):
         items = list(value)
     else:
-        raise StaticsError(f"{what} takes labels or rule names separated by commas; got {value!r}")
+        raise OptionError(f"{what} takes labels or rule names separated by commas; got {value!r}")
     return tuple(dict.fromkeys(item.strip() for item in items if item.strip()))
 
 
@@ -203,7 +203,7 @@ def find_bodies(
     from shapegen.statics.checks import overlapping_pairs, stranded_blocks
 
     if unsupported not in ("error", "ride"):
-        raise StaticsError(f"unsupported must be 'error' or 'ride'; got {unsupported!r}")
+        raise OptionError(f"unsupported must be 'error' or 'ride'; got {unsupported!r}")
     tol = model.tolerances() if tol is None else tol
     # overlaps among every structural block: glue between statics blocks, hosts for ornaments
     pack = pack_blocks(model.blocks, np.flatnonzero([b.structural for b in model.blocks]))

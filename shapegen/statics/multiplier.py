@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError, StaticsError
 from shapegen.statics.assembly import REGULARIZATION, StaticsProblem, load_vector
 from shapegen.statics.tilt import lateral_map, load_direction_problem, normalized_azimuth
 
@@ -169,7 +169,7 @@ def load_multiplier(
             f" proportional to them): {reason}"
         )
     if solver not in ("clarabel", "cvxpy"):
-        raise StaticsError(f"the load multiplier is solved by clarabel or cvxpy; got {solver!r}")
+        raise OptionError(f"the load multiplier is solved by clarabel or cvxpy; got {solver!r}")
     start = time.perf_counter()
     azimuth = normalized_azimuth(azimuth)
     dead = load_vector(model, problem)
@@ -286,7 +286,7 @@ def worst_direction(
     from scipy.optimize import minimize_scalar
 
     if directions < 1:
-        raise StaticsError(f"the sweep needs at least one direction; got {directions}")
+        raise OptionError(f"the sweep needs at least one direction; got {directions}")
     step = 360.0 / directions
     computed: dict[float, DirectionCapacity] = {}
 

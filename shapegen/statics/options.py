@@ -5,7 +5,7 @@
 >>> StaticsOptions.from_mapping({"frcition": 0.5})  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-shapegen.errors.StaticsError: unknown statics option 'frcition' (did you mean 'friction'?); ...
+shapegen.errors.OptionError: unknown statics option 'frcition' (did you mean 'friction'?); ...
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
 from shapegen.statics.solvers import BACKENDS
 from shapegen.statics.tilt import normalized_azimuth
 
@@ -69,7 +69,7 @@ class StaticsOptions:
 
     Raises
     ------
-    StaticsError
+    OptionError
         On construction, naming the option and its valid values.
     """
 
@@ -86,37 +86,35 @@ class StaticsOptions:
         for name in ("structural", "ignore"):
             object.__setattr__(self, name, _labels(getattr(self, name), name))
         if self.pyramid not in PYRAMIDS:
-            raise StaticsError(
-                f"pyramid must be one of {', '.join(PYRAMIDS)}; got {self.pyramid!r}"
-            )
+            raise OptionError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {self.pyramid!r}")
         if self.solver not in SOLVERS:
-            raise StaticsError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
+            raise OptionError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
         if not self.backends():
             able = [s for s in SOLVERS if s == "auto" or BACKENDS[s].second_order_cones]
-            raise StaticsError(
+            raise OptionError(
                 f"solver {self.solver!r} takes only the friction pyramids "
                 f"({', '.join(p for p in PYRAMIDS if p != 'cone')}); pyramid 'cone' needs solver "
                 f"{', '.join(able[:-1])} or {able[-1]}"
             )
         kern = _number(self.kern)
         if kern is None or not 0 < kern <= 1:
-            raise StaticsError(f"kern must be a number in (0, 1]; got {self.kern!r}")
+            raise OptionError(f"kern must be a number in (0, 1]; got {self.kern!r}")
         object.__setattr__(self, "kern", kern)
         if self.friction is not None:
             friction = _number(self.friction)
             if friction is None or friction < 0:
-                raise StaticsError(f"friction must be a finite number >= 0; got {self.friction!r}")
+                raise OptionError(f"friction must be a finite number >= 0; got {self.friction!r}")
             object.__setattr__(self, "friction", friction)
         tilt = _number(self.tilt)
         if tilt is None or not 0 <= tilt < 90:
-            raise StaticsError(
+            raise OptionError(
                 f"tilt must be a number of degrees, at least 0 and below 90; got {self.tilt!r}"
             )
         object.__setattr__(self, "tilt", tilt)
         if self.azimuth is not None:
             azimuth = _number(self.azimuth)
             if azimuth is None:
-                raise StaticsError(
+                raise OptionError(
                     f"azimuth must be a finite number of degrees; got {self.azimuth!r}"
                 )
             object.__setattr__(self, "azimuth", normalized_azimuth(azimuth))
@@ -129,7 +127,7 @@ class StaticsOptions:
             if name not in names:
                 close = difflib.get_close_matches(str(name), names, n=1)
                 hint = f" (did you mean {close[0]!r}?)" if close else ""
-                raise StaticsError(
+                raise OptionError(
                     f"unknown statics option {name!r}{hint}; options: {', '.join(names)}"
                 )
         return cls(**settings)
@@ -187,7 +185,7 @@ def _labels(value: object, name: str) -> tuple[str, ...]:
     elif isinstance(value, list | tuple) and all(isinstance(v, str) for v in value):
         items = list(value)
     else:
-        raise StaticsError(f"{name} takes labels or rule names separated by commas; got {value!r}")
+        raise OptionError(f"{name} takes labels or rule names separated by commas; got {value!r}")
     return tuple(dict.fromkeys(item.strip() for item in items if item.strip()))
 
 

@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from shapegen.errors import GeometryError, OptionError
+from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.model import Model
 
@@ -167,7 +167,10 @@ class Structure(ABC):
         if options is not None and (
             self.options_type is None or not isinstance(options, self.options_type)
         ):
-            raise TypeError(f"structure {self.name!r} takes no {type(options).__name__}")
+            raise OptionError(
+                f"{type(options).__name__} does not apply to the structure {self.name!r}"
+                f" ({self.description})"
+            )
         self.options = (
             options if options is not None or self.options_type is None else (self.options_type())
         )
@@ -204,13 +207,13 @@ class Structure(ABC):
         """The arguments with defaults filled in; a missing or unknown one is an error."""
         unknown = sorted(set(arguments) - set(self.arguments))
         if unknown:
-            raise GeometryError(
+            raise OptionError(
                 f"@Structure({self.name!r}) has no argument {unknown[0]!r}; its arguments: "
                 + (", ".join(self.arguments) or "none")
             )
         missing = [n for n, a in self.arguments.items() if a.required and n not in arguments]
         if missing:
-            raise GeometryError(
+            raise OptionError(
                 f"@Structure({self.name!r}) needs the argument(s) {', '.join(missing)}"
             )
         return {

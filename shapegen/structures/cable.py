@@ -21,7 +21,7 @@ __all__ = ["CableModel"]
 
 import math
 
-from shapegen.errors import GeometryError
+from shapegen.errors import GeometryError, OptionError
 from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
 from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
 from shapegen.structures.registry import register_structure
@@ -57,14 +57,14 @@ class CableModel(Structure):
         limit = values.pop("max_cable_diameter")
         min_span = values.pop("min_span")
         if isinstance(limit, bool) or not isinstance(limit, int | float) or not limit > 0:
-            raise GeometryError(f"max_cable_diameter must be a positive length, got {limit!r}")
+            raise OptionError(f"max_cable_diameter must be a positive length, got {limit!r}")
         numbers = {}
         for name, value in values.items():
             if isinstance(value, bool) or not isinstance(value, int | float):
-                raise GeometryError(f"@Structure('cable') argument {name!r} must be a number")
+                raise OptionError(f"@Structure('cable') argument {name!r} must be a number")
             numbers[name] = value
         if isinstance(min_span, bool) or not isinstance(min_span, int | float):
-            raise GeometryError("@Structure('cable') argument 'min_span' must be a number")
+            raise OptionError("@Structure('cable') argument 'min_span' must be a number")
         if numbers["main_span"] < min_span * (1.0 - ROUNDOFF_REL):
             raise GeometryError(
                 f"main_span {numbers['main_span']:g} m is shorter than min_span {min_span:g} m"

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 __all__ = ["DEFAULT_STRUCTURE", "REGISTRY", "register_structure"]
 
-from shapegen.errors import GeometryError
+from shapegen.errors import PluginError
 from shapegen.structures.base import Structure
 
 DEFAULT_STRUCTURE = "blocks"
@@ -30,13 +30,13 @@ def register_structure(cls: type[Structure] | None = None, *, replace: bool = Fa
 
     def register(structure: type[Structure]) -> type[Structure]:
         if not (isinstance(structure, type) and issubclass(structure, Structure)):
-            raise TypeError("register_structure decorates a subclass of Structure")
+            raise PluginError("register_structure decorates a subclass of Structure")
         name = getattr(structure, "name", None)
         if not isinstance(name, str) or not name:
-            raise TypeError(f"{structure.__qualname__} needs a class attribute 'name'")
+            raise PluginError(f"{structure.__qualname__} needs a class attribute 'name'")
         taken = REGISTRY.get(name)
         if taken is not None and taken is not structure and not replace:
-            raise GeometryError(
+            raise PluginError(
                 f"structure {name!r} is already registered by "
                 f"{taken.__module__}.{taken.__qualname__}; choose another name or pass "
                 "replace=True"

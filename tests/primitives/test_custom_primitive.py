@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.errors import GeometryError
+from shapegen.errors import GeometryError, PluginError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
 from shapegen.primitives import Choice, available, insert, library, primitive, registry
@@ -94,7 +94,7 @@ def test_a_broken_plugin_entry_point_is_reported(fresh_registry, tmp_path, monke
     (dist / "entry_points.txt").write_text("[shapegen.primitives]\nbroken = no_such_module_xyz\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.setattr(library, "_discovered", False)
-    with pytest.raises(GeometryError, match="cannot load primitives from 'no_such_module_xyz'"):
+    with pytest.raises(PluginError, match="cannot load primitives from 'no_such_module_xyz'"):
         available()
 
 
@@ -124,7 +124,7 @@ def test_a_taken_name_is_refused_unless_replacing(fresh_registry):
     def my_arch(scope: Scope) -> list[Block]:
         return [Block.box([0, 0, 0], scope.size)]
 
-    with pytest.raises(ValueError, match="primitive 'arch' is already registered by shapegen"):
+    with pytest.raises(PluginError, match="primitive 'arch' is already registered by shapegen"):
         primitive("arch")(my_arch)
     assert fresh_registry["arch"].function is not my_arch  # the built-in is untouched
     primitive("arch", replace=True)(my_arch)

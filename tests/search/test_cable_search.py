@@ -19,7 +19,7 @@ import pytest
 import shapegen
 from shapegen.cli import main
 from shapegen.engine.grammar_api import Grammar
-from shapegen.errors import GeometryError, GrammarError
+from shapegen.errors import GeometryError, GrammarError, OptionError
 from shapegen.search import optimize
 from shapegen.statics.cables import bridge_cables
 from shapegen.structures import Assessment, Design
@@ -236,7 +236,7 @@ def test_a_bridge_optimize_builds_the_model_exactly_once(grammar, monkeypatch, t
     [
         ({"length": 1000.0}, GrammarError, "attr 'main_span' has an empty @Range"),
         ({"sag": 700.0}, GeometryError, "starting design cannot be judged: .*half the main span"),
-        ({"max_cable_diameter": 0.0}, GeometryError, "max_cable_diameter must be a positive"),
+        ({"max_cable_diameter": 0.0}, OptionError, "max_cable_diameter must be a positive"),
         (
             {"length": 2000.0, "min_span": 1200.0, "main_span": 1200.0, "towers": 3},
             GeometryError,

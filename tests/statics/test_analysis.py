@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from statics_cases import horizontal_interface, polygon_interface
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
 from shapegen.model.block import Block
 from shapegen.model.model import Model, PointLoad
 from shapegen.statics import GROUND, SolveStatus, analyze
@@ -185,9 +185,9 @@ def test_report_is_json_ready_with_the_required_keys():
         ({"friction": float("nan")}, "friction must be a finite number"),
     ],
 )
-def test_bad_options_raise_statics_error(options, message):
+def test_bad_options_raise_option_error(options, message):
     model, interfaces = overhang(0.2)
-    with pytest.raises(StaticsError, match=message):
+    with pytest.raises(OptionError, match=message):
         run(model, interfaces, **options)
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from statics_cases import horizontal_interface, polygon_interface
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
 from shapegen.model.block import Block
 from shapegen.model.model import Model, PointLoad
 from shapegen.statics.assembly import assemble, friction_cone, polygon_centroids
@@ -179,5 +179,5 @@ def test_inequality_matrix_matches_the_cone():
 )
 def test_bad_options_raise(options, message):
     model = Model([Block.box((0, 0, 0), (1, 1, 1))])
-    with pytest.raises(StaticsError, match=message.replace("(", r"\(").replace("]", r"\]")):
+    with pytest.raises(OptionError, match=message.replace("(", r"\(").replace("]", r"\]")):
         assemble(model, [], **options)

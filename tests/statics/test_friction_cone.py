@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from statics_cases import horizontal_interface
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError, StaticsError
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.statics import GROUND, StaticsOptions, analyze, certify
@@ -110,7 +110,7 @@ def test_the_turned_pyramid_limit_follows_from_its_frame():
 
 # ------------------------------------------------------------------ options and back-ends
 def test_the_reduced_back_end_refuses_the_cone_in_one_line():
-    with pytest.raises(StaticsError) as caught:
+    with pytest.raises(OptionError) as caught:
         StaticsOptions(pyramid="cone", solver="reduced")
     message = str(caught.value)
     assert "\n" not in message

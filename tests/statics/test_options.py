@@ -4,7 +4,7 @@ import dataclasses
 
 import pytest
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
 from shapegen.model import Block, Model
 from shapegen.statics import StaticsOptions, analyze
 
@@ -27,7 +27,7 @@ def _stack() -> Model:
     ],
 )
 def test_bad_options_are_one_clear_error(settings, message):
-    with pytest.raises(StaticsError) as caught:
+    with pytest.raises(OptionError) as caught:
         analyze(_stack(), **settings)
     assert message in str(caught.value)
 
@@ -40,7 +40,7 @@ def test_options_are_frozen_and_the_keyword_form_is_the_same_analysis():
     by_keywords = analyze(_stack(), friction=0.4, kern=0.5)
     assert by_object.feasible == by_keywords.feasible
     assert by_object.infeasibility == pytest.approx(by_keywords.infeasibility, abs=1e-12)
-    with pytest.raises(StaticsError, match="not both"):
+    with pytest.raises(OptionError, match="not both"):
         analyze(_stack(), options, kern=0.5)
 
 

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
 from shapegen.model.block import Block
 from shapegen.model.model import Model, PointLoad
 from shapegen.statics import StaticsOptions, analyze
@@ -64,7 +64,7 @@ def test_azimuths_are_normalised(value, expected):
     ],
 )
 def test_bad_tilts_are_refused(settings, message):
-    with pytest.raises(StaticsError, match=message):
+    with pytest.raises(OptionError, match=message):
         StaticsOptions(**settings)
 
 

@@ -86,9 +86,11 @@ def test_the_cable_structure_is_registered_and_judges_without_a_model():
     assert structure.measure_change(assess(), Design(GOLDEN_GATE, build=never_built)) is None
 
 
-def test_block_statics_options_do_not_apply_to_cables():
+@pytest.mark.parametrize("make", [lambda o: make_structure("cable", o), CableModel])
+def test_block_statics_options_do_not_apply_to_cables(make):
+    # by name or by class, the same refusal
     with pytest.raises(OptionError, match="does not apply to the structure 'cable'"):
-        make_structure("cable", StaticsOptions(friction=0.5))
+        make(StaticsOptions(friction=0.5))
 
 
 def test_golden_gate_stands_with_the_paper_diameter():
@@ -199,16 +201,16 @@ def test_defaults_of_the_optional_arguments():
 @pytest.mark.parametrize(
     ("change", "error", "words"),
     [
-        ({"main_span": None}, GeometryError, r"needs the argument\(s\) main_span"),
-        ({"lanes": None, "sag": None}, GeometryError, r"needs the argument\(s\) sag, lanes"),
-        ({"max_cable_diameter": None}, GeometryError, r"needs the argument\(s\) max_cable_"),
-        ({"span": 1280.0}, GeometryError, "has no argument 'span'; its arguments: main_span"),
-        ({"max_cable_diameter": 0.0}, GeometryError, "max_cable_diameter must be a positive"),
-        ({"max_cable_diameter": -1}, GeometryError, "max_cable_diameter must be a positive"),
-        ({"max_cable_diameter": True}, GeometryError, "max_cable_diameter must be a positive"),
-        ({"max_cable_diameter": "1 m"}, GeometryError, "max_cable_diameter must be a positive"),
-        ({"lanes": "six"}, GeometryError, "argument 'lanes' must be a number"),
-        ({"sag": False}, GeometryError, "argument 'sag' must be a number"),
+        ({"main_span": None}, OptionError, r"needs the argument\(s\) main_span"),
+        ({"lanes": None, "sag": None}, OptionError, r"needs the argument\(s\) sag, lanes"),
+        ({"max_cable_diameter": None}, OptionError, r"needs the argument\(s\) max_cable_"),
+        ({"span": 1280.0}, OptionError, "has no argument 'span'; its arguments: main_span"),
+        ({"max_cable_diameter": 0.0}, OptionError, "max_cable_diameter must be a positive"),
+        ({"max_cable_diameter": -1}, OptionError, "max_cable_diameter must be a positive"),
+        ({"max_cable_diameter": True}, OptionError, "max_cable_diameter must be a positive"),
+        ({"max_cable_diameter": "1 m"}, OptionError, "max_cable_diameter must be a positive"),
+        ({"lanes": "six"}, OptionError, "argument 'lanes' must be a number"),
+        ({"sag": False}, OptionError, "argument 'sag' must be a number"),
         ({"main_span": 0.0}, GeometryError, "main_span"),
         ({"sag": 640.0}, GeometryError, "less than half the main span"),
         ({"sag": float("nan")}, GeometryError, "sag"),

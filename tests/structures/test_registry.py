@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 
 from shapegen import parse_grammar
-from shapegen.errors import GeometryError, GrammarError
+from shapegen.errors import GrammarError, OptionError, PluginError
 from shapegen.search import optimize
 from shapegen.structures import (
     Assessment,
@@ -121,10 +121,10 @@ def test_a_taken_name_is_refused_unless_replaced(registry):
     class OtherCable(CableModel):
         pass
 
-    with pytest.raises(GeometryError, match="'cable' is already registered by .*CableModel"):
+    with pytest.raises(PluginError, match="'cable' is already registered by .*CableModel"):
         register_structure(OtherCable)
     assert structure_class("cable") is CableModel
-    with pytest.raises(GeometryError, match="pass replace=True"):
+    with pytest.raises(PluginError, match="pass replace=True"):
         register_structure(OtherCable)
     assert register_structure(replace=True)(OtherCable) is OtherCable
     assert structure_class("cable") is OtherCable
@@ -136,7 +136,7 @@ def test_a_taken_name_is_refused_unless_replaced(registry):
     [(int, "decorates a subclass of Structure"), (Structure, "needs a class attribute 'name'")],
 )
 def test_only_named_structures_register(registry, bad, words):
-    with pytest.raises(TypeError, match=words):
+    with pytest.raises(PluginError, match=words):
         register_structure(bad)
 
 
@@ -144,7 +144,7 @@ SUGGESTION = r"unknown structure 'cabel' \(did you mean 'cable'\?\)"
 
 
 def test_unknown_structure_name_is_an_error_with_a_suggestion():
-    with pytest.raises(GeometryError, match=SUGGESTION):
+    with pytest.raises(OptionError, match=SUGGESTION):
         structure_class("cabel")
 
 

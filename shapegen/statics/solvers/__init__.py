@@ -12,7 +12,7 @@ __all__ = ["SolveStatus", "Solution", "Backend", "BACKENDS", "get_backend"]
 import importlib
 from collections.abc import Iterator, Mapping
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus
 
 _CLASSES = {
@@ -41,7 +41,7 @@ BACKENDS: Mapping[str, type[Backend]] = _Backends()
 
 
 def get_backend(name: str) -> Backend:
-    """A new back-end instance by name; unknown names raise :class:`StaticsError`."""
+    """A new back-end instance by name; an unknown name is an OptionError."""
     if name not in BACKENDS:
-        raise StaticsError(f"solver must be one of auto, {', '.join(BACKENDS)}; got {name!r}")
+        raise OptionError(f"solver must be one of auto, {', '.join(BACKENDS)}; got {name!r}")
     return BACKENDS[name]()
