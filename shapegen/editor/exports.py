@@ -65,7 +65,9 @@ def command_line(
 def _rule_argument(path: Path | None) -> str:
     if path is None:
         return "FILE.grammar"
-    if find_bundled_rule(path.name) == path.resolve():
+    bundled = find_bundled_rule(path.name)
+    # resolved both: in a source checkout the bundled rules' folder is a link to rules/
+    if bundled is not None and bundled.resolve() == path.resolve():
         return path.name
     try:
         return str(path.resolve().relative_to(Path.cwd().resolve()))

@@ -11,6 +11,7 @@ from editor_http import request, serving
 
 from shapegen.cli import build_parser
 from shapegen.editor.exports import command_line, set_argument
+from shapegen.engine.rules_path import find_bundled_rule
 
 
 @pytest.mark.parametrize(
@@ -43,6 +44,12 @@ def test_the_command_line_gives_seed_and_lot_when_not_the_defaults():
     line = command_line(Path("x.grammar"), {}, lot=polygon)
     args = build_parser().parse_args(shlex.split(line)[1:])
     assert [tuple(p) for p in args.lot] == polygon
+
+
+def test_a_bundled_rule_is_named_by_its_name_from_any_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # not where the rules are: a path would be absolute
+    for path in (find_bundled_rule("cluny.grammar"), find_bundled_rule("cluny.grammar").resolve()):
+        assert command_line(path, {"bays": 6}) == "shapegen build cluny.grammar --set bays=6"
 
 
 def test_the_exports_of_the_current_design(stack_file):
