@@ -91,7 +91,10 @@ def run(args: argparse.Namespace) -> int:
         server.server_close()
         raise
     watcher = FileWatcher(grammar.path, lambda: session.reload())
-    print(f"shapegen edit: {server.url}  ({grammar.path}; Ctrl-C stops)", flush=True)
+    shown = (
+        grammar.path if session.package is None else f"{args.grammar}, start rule {grammar.path}"
+    )
+    print(f"shapegen edit: {server.url}  ({shown}; Ctrl-C stops)", flush=True)
     if not args.no_open:
         import webbrowser
 

@@ -47,6 +47,7 @@ def test_edit_opens_a_rule_package_as_the_package(tmp_path):
         str(package), "--port", "0", "--no-open", "--set", "lib.height=9", env=env
     )
     try:
+        assert f"({package}, start rule " in line, line  # what was opened, then what is read
         url = line.split()[2]
         with urllib.request.urlopen(url + "api/attrs.json", timeout=60) as response:
             exported = json.load(response)
