@@ -12,9 +12,9 @@ import shapely
 
 from shapegen.cli import main
 from shapegen.errors import InputFormatError
-from shapegen.export.lots import checked_polygon, read_lot
+from shapegen.readers.lots import checked_polygon, read_lot
 
-# WGS84 (the ellipsoid shapegen.export.osm projects on)
+# WGS84 (the ellipsoid shapegen.readers.projection projects on)
 A = 6378137.0
 E2 = 6.69437999014e-3
 
@@ -146,7 +146,7 @@ def test_geojson_in_metres_with_a_crs_member(tmp_path):
 @pytest.mark.parametrize(
     "document, message",
     [
-        ({"type": "Topology"}, r"not GeoJSON \(type 'Topology'\)"),
+        ({"type": "Topology"}, r"not GeoJSON \(type 'Topology'; expected a FeatureCollection"),
         ({"type": "FeatureCollection", "features": []}, r"no Polygon or MultiPolygon feature"),
         ({"type": "Polygon", "coordinates": [[[0, 0], [0.0001, 0], [0, 0.0001]],
                                              [[0, 0], [1e-5, 0], [0, 1e-5]]]}, r"1 hole\(s\)"),
@@ -155,7 +155,7 @@ def test_geojson_in_metres_with_a_crs_member(tmp_path):
         ({"type": "Polygon", "coordinates": [[[0, 0], [12, 0], [12, 8], [0, 8]]]},
          r"read as longitude/latitude, the lot spans 12 degrees"),
         ({"type": "Polygon", "coordinates": [[[0, 0], ["a", 0], [0, 1e-4]]]},
-         r"a corner is not two finite numbers"),
+         r"a corner that is not two finite numbers"),
         ({"type": "Polygon", "coordinates": [[[0, 0], [1e-4, 1e-4], [1e-4, 0], [0, 1e-4]]]},
          r"the polygon crosses itself"),
     ],

@@ -16,6 +16,7 @@ LAYERS = [
     ["errors", "tolerances", "json_values", "plugins", "limits"],
     ["model"],
     ["geometry"],  # polygon meshes and their CGA operations (cut, extrude, offset, roofs)
+    ["readers"],  # input files (lots, GeoJSON, OSM): export writes, city and cli read
     ["grammar", "statics", "export"],
     ["primitives"],  # the cable primitive sizes its section with statics.cables
     ["structures"],

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from shapegen.export.osm import east_north
+from shapegen.readers.projection import east_north
 
 lat0, lon0 = 46.4340, 4.6590
 R = 6378137.0  # only for the first guess of each inversion

@@ -8,7 +8,7 @@ Coordinates. A GeoJSON file holds longitude/latitude (RFC 7946) or projected met
 detected (a ``crs`` member naming WGS84, or every coordinate within +-180 / +-90 degrees, means
 longitude/latitude) or given (``crs="lonlat"`` or ``crs="metres"``). Longitude/latitude is
 projected onto the WGS84 tangent plane at the centre of the lots' bounding box
-(:func:`shapegen.export.osm.east_north`: over a few kilometres distances agree with geodesic
+(:func:`shapegen.readers.projection.east_north`: over a few kilometres distances agree with geodesic
 ones to 1e-7); projected metres are moved so that the same centre is the origin. The origin is
 recorded in the outputs so that results can be put back on a map. In shapegen's frame east is
 +x, up +y and north -z.
@@ -23,15 +23,14 @@ from __future__ import annotations
 __all__ = ["CRS_CHOICES", "City", "Lot", "city_from_polygons", "read_lots"]
 
 import json
-import math
-import xml.etree.ElementTree as ElementTree
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from shapegen.errors import InputFormatError
-from shapegen.export.osm import east_north
+from shapegen.readers import geojson
+from shapegen.readers.osm import read_buildings
 
 CRS_CHOICES = ("lonlat", "metres")
 # Corners closer than this are one corner, m.
@@ -136,7 +135,7 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     if path.suffix.lower() == ".osm" or head.startswith(b"<"):
         if crs == "metres":
             raise InputFormatError(f"{path}: OSM nodes are longitude/latitude; --crs metres")
-        features, skipped = _osm_buildings(path)
+        features, skipped = read_buildings(path)
         return _city(features, "lonlat", skipped, str(path))
     try:
         document = json.loads(data.decode("utf-8"))
@@ -145,8 +144,9 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
         raise InputFormatError(
             f"{path}{where}: not a GeoJSON file (invalid JSON) nor OSM XML"
         ) from None
-    features, declared = _geojson_features(document, path)
-    polygons = [f for f in features if _kind(f) in ("Polygon", "MultiPolygon")]
+    features = geojson.features(document, str(path))
+    declared = geojson.declared_crs(document.get("crs"))
+    polygons = [f for f in features if geojson.is_polygon(f)]
     skipped = len(features) - len(polygons)
     if declared is not None and declared != "lonlat" and crs != "metres":
         raise InputFormatError(
@@ -189,67 +189,19 @@ def city_from_polygons(
     return _city(features, crs, 0, "")
 
 
-def _kind(feature: dict) -> str | None:
-    geometry = feature.get("geometry")
-    return geometry.get("type") if isinstance(geometry, dict) else None
-
-
-def _geojson_features(document, path: Path) -> tuple[list[dict], str | None]:
-    if not isinstance(document, dict) or document.get("type") not in (
-        "FeatureCollection",
-        "Feature",
-    ):
-        kind = document.get("type") if isinstance(document, dict) else type(document).__name__
-        raise InputFormatError(f"{path}: not a GeoJSON FeatureCollection (its type is {kind!r})")
-    features = document.get("features") if document["type"] == "FeatureCollection" else [document]
-    if not isinstance(features, list) or not all(isinstance(f, dict) for f in features):
-        raise InputFormatError(f"{path}: 'features' must be a list of Feature objects")
-    return features, _declared_crs(document.get("crs"))
-
-
-def _declared_crs(member) -> str | None:
-    """``lonlat`` for a crs member naming WGS84, the name of any other, None without one."""
-    if member is None:
-        return None
-    properties = member.get("properties") if isinstance(member, dict) else None
-    name = str((properties or {}).get("name", "")) or str(member)
-    if "CRS84" in name.upper() or name.endswith((":4326", "::4326")):
-        return "lonlat"
-    return name
-
-
 def _detected_crs(features: list[dict]) -> str:
+    """``lonlat`` when every corner of every lot lies within +-180 / +-90 degrees."""
     for feature in features:
-        for ring in _rings(feature["geometry"]):
-            for point in ring:
-                if not (-180 <= point[0] <= 180 and -90 <= point[1] <= 90):
-                    return "metres"
+        if not geojson.within_lonlat(geojson.positions(feature["geometry"])):
+            return "metres"
     return "lonlat"
-
-
-def _rings(geometry: dict):
-    coordinates = geometry.get("coordinates")
-    polygons = coordinates if geometry.get("type") == "MultiPolygon" else [coordinates]
-    for polygon in polygons if isinstance(polygons, list) else []:
-        for ring in polygon if isinstance(polygon, list) else []:
-            if isinstance(ring, list):
-                yield [p for p in ring if _is_point(p)]
-
-
-def _is_point(p) -> bool:
-    return (
-        isinstance(p, list | tuple)
-        and len(p) >= 2
-        and all(isinstance(v, int | float) and not isinstance(v, bool) for v in p[:2])
-        and all(math.isfinite(v) for v in p[:2])
-    )
 
 
 def _city(features: list[dict], crs: str, skipped: int, source: str) -> City:
     if not features:
         where = f"{source}: " if source else ""
         raise InputFormatError(f"{where}no polygons to use as lots")
-    points = np.array([p[:2] for f in features for ring in _rings(f["geometry"]) for p in ring])
+    points = np.concatenate([geojson.positions(f["geometry"]) for f in features])
     if len(points) == 0:
         raise InputFormatError(f"{source or 'lots'}: no polygon has a valid corner")
     lo, hi = points.min(axis=0), points.max(axis=0)
@@ -262,10 +214,7 @@ def _city(features: list[dict], crs: str, skipped: int, source: str) -> City:
     for number, feature in enumerate(features, start=1):
         properties = feature.get("properties")
         properties = dict(properties) if isinstance(properties, dict) else {}
-        raw_id = feature.get("id")
-        if raw_id is None:
-            raw_id = properties.get("id")
-        lot_id = str(raw_id) if raw_id is not None else f"#{number}"
+        lot_id = geojson.feature_id(feature) or f"#{number}"
         if lot_id in seen:
             raise InputFormatError(f"{source or 'lots'}: two lots have the id {lot_id!r}")
         seen.add(lot_id)
@@ -276,34 +225,12 @@ def _city(features: list[dict], crs: str, skipped: int, source: str) -> City:
 
 def _ring(geometry: dict, crs: str, origin: tuple[float, float]) -> tuple[np.ndarray, str | None]:
     """The outer ring in local metres, counter-clockwise and cleaned, and what is wrong with it."""
-    empty = np.zeros((0, 2))
-    coordinates = geometry.get("coordinates")
-    if geometry.get("type") == "MultiPolygon":
-        if not isinstance(coordinates, list) or len(coordinates) != 1:
-            parts = len(coordinates) if isinstance(coordinates, list) else 0
-            return empty, f"a MultiPolygon of {parts} parts (a lot is one polygon)"
-        coordinates = coordinates[0]
-    if not isinstance(coordinates, list) or not coordinates or not isinstance(coordinates[0], list):
-        return empty, "a polygon without coordinates"
-    if len(coordinates) > 1:
-        return empty, f"a polygon with {len(coordinates) - 1} hole(s) (courtyards are not built)"
-    raw = coordinates[0]
-    if not all(_is_point(p) for p in raw):
-        return empty, "a corner that is not two finite numbers"
-    points = np.array([p[:2] for p in raw], dtype=float)
-    if crs == "lonlat":
-        if np.any(np.abs(points[:, 0]) > 180) or np.any(np.abs(points[:, 1]) > 90):
-            return empty, "a corner outside longitude -180..180 / latitude -90..90"
-        ring = east_north(points[:, 1], points[:, 0], origin[1], origin[0])
-    else:
-        ring = points - np.array(origin)
-    keep = [0]
-    for k in range(1, len(ring)):
-        if np.hypot(*(ring[k] - ring[keep[-1]])) > _MERGE_M:
-            keep.append(k)
-    ring = ring[keep]
-    if len(ring) > 1 and np.hypot(*(ring[-1] - ring[0])) <= _MERGE_M:
-        ring = ring[:-1]
+    points, problem = geojson.outer_ring(geometry)
+    if problem is not None:
+        return np.zeros((0, 2)), problem
+    if crs == "lonlat" and not geojson.within_lonlat(points):
+        return np.zeros((0, 2)), "a corner outside longitude -180..180 / latitude -90..90"
+    ring = geojson.distinct_corners(geojson.local_metres(points, crs == "lonlat", origin), _MERGE_M)
     if len(ring) < 3:
         return ring, f"a polygon of {len(ring)} distinct corner(s); a lot needs 3"
     span = float(np.max(np.ptp(ring, axis=0)))
@@ -321,57 +248,3 @@ def _ring(geometry: dict, crs: str, origin: tuple[float, float]) -> tuple[np.nda
         ring = ring[::-1]
         ring = np.roll(ring, 1, axis=0)  # keep the first corner first
     return ring, None
-
-
-# ------------------------------------------------------------------------------ OSM buildings
-def _osm_buildings(path: Path) -> tuple[list[dict], int]:
-    """Closed ways tagged ``building`` as GeoJSON-like features (lon/lat); relations skipped."""
-    ways: list[tuple[int, list[int], dict]] = []
-    nodes: dict[int, tuple[float, float]] = {}
-    skipped = 0
-    try:
-        root_seen = False
-        for _, element in ElementTree.iterparse(path, events=("end",)):
-            if element.tag == "node":
-                try:
-                    nodes[int(element.get("id"))] = (
-                        float(element.get("lon")),
-                        float(element.get("lat")),
-                    )
-                except (TypeError, ValueError):
-                    raise InputFormatError(
-                        f"{path}: a node with id {element.get('id')!r} has no valid lat/lon"
-                    ) from None
-                element.clear()
-            elif element.tag == "way":
-                tags = {t.get("k"): t.get("v") for t in element.iter("tag") if t.get("k")}
-                if "building" in tags:
-                    refs = [int(nd.get("ref")) for nd in element.iter("nd")]
-                    ways.append((int(element.get("id")), refs, tags))
-                element.clear()
-            elif element.tag == "relation":
-                tags = {t.get("k"): t.get("v") for t in element.iter("tag")}
-                skipped += "building" in tags
-                element.clear()
-            elif element.tag == "osm":
-                root_seen = True
-    except ElementTree.ParseError as exc:
-        line, column = exc.position
-        raise InputFormatError(f"{path}:{line}:{column + 1}: invalid XML") from None
-    except ValueError:
-        raise InputFormatError(f"{path}: a way or node reference that is not an integer") from None
-    if not root_seen:
-        raise InputFormatError(f"{path}: not an OSM XML file (no <osm> root)")
-    features = []
-    for way_id, refs, tags in ways:
-        feature = {"type": "Feature", "id": f"way/{way_id}", "properties": tags}
-        if len(refs) < 4 or refs[0] != refs[-1]:
-            skipped += 1  # an open way is not a footprint
-            continue
-        missing = [ref for ref in refs if ref not in nodes]
-        if missing:
-            raise InputFormatError(f"{path}: way {way_id} refers to node {missing[0]}, not in it")
-        ring = [list(nodes[ref]) for ref in refs]
-        feature["geometry"] = {"type": "Polygon", "coordinates": [ring]}
-        features.append(feature)
-    return features, skipped

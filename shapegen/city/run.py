@@ -136,7 +136,9 @@ def run_city(
         raise OptionError(f"workers must be a whole number >= 1, got {workers!r}")
     if getattr(grammar, "path", None) is None:
         raise OptionError("a city's rule must be read from a file (load_grammar)")
-    text = Path(grammar.path).read_text(encoding="utf-8")
+    from shapegen.grammar.source_files import read_rule_file
+
+    text, _ = read_rule_file(Path(grammar.path))  # as load_grammar reads it: cp1252 files too
     settings = CitySettings(
         grammar_text=text,
         grammar_name=str(grammar.path),

@@ -151,6 +151,6 @@ def _osm_way(args: argparse.Namespace, grammar, attrs: dict):
         )
     if "length" in attrs:
         raise CommandLineError("--set length conflicts with --osm: the way gives the length")
-    from shapegen.export.osm import read_way
+    from shapegen.readers.osm import read_way
 
     return read_way(args.osm, args.way)

@@ -112,9 +112,9 @@ def _whole(minimum: int):
 
 def _lot(text: str):
     """``--lot``: WIDTH,DEPTH, a polygon ``"x,z x,z ..."``, a GeoJSON or OBJ file
-    (:func:`shapegen.export.lots.read_lot`)."""
+    (:func:`shapegen.readers.lots.read_lot`)."""
     from shapegen.errors import InputFormatError
-    from shapegen.export.lots import read_lot
+    from shapegen.readers.lots import read_lot
 
     try:
         return read_lot(text)

@@ -453,10 +453,9 @@ def _read(path: Path | None) -> str | None:
     """The grammar's text for the scanning process (None: no file, no scan)."""
     if path is None:
         return None
-    try:
-        return path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise GrammarError(f"cannot read {str(path)!r}: {exc}") from None
+    from shapegen.grammar.source_files import read_rule_file
+
+    return read_rule_file(path)[0]  # as the grammar was read: a cp1252 file too
 
 
 def _analysis(outcome):

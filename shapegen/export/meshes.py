@@ -33,17 +33,13 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
 from shapegen.errors import GeometryError, InputFormatError
-from shapegen.export.blocks_json import (
-    FORMAT_NAME,
-    FORMAT_VERSION,
-    model_from_dict,
-    read_model_bytes,
-)
+from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION, model_from_dict
 from shapegen.export.colors import appearance_color
 from shapegen.export.surfaces import SURFACE_ROLE, face_triangles, surfaces_of
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
 from shapegen.model.model import Model
+from shapegen.readers.files import read_model_bytes
 from shapegen.tolerances import FLAT_REL
 
 SURFACE_GROUP = "surface:"

@@ -17,7 +17,7 @@ given first.
 
 GeoJSON coordinates are longitude/latitude (RFC 7946) when every one lies within +-180 /
 +-90 degrees and no ``crs`` member names another system; they are projected onto the WGS84
-tangent plane at the centre of the lot's bounding box (:func:`shapegen.export.osm.east_north`;
+tangent plane at the centre of the lot's bounding box (:mod:`shapegen.readers.geojson`;
 over a lot, distances agree with geodesic ones far below a millimetre), east along +x and north
 along -z. Coordinates that are not longitude/latitude are taken as metres (east, north) and
 moved so that the same centre is the origin.
@@ -36,6 +36,9 @@ from pathlib import Path
 import numpy as np
 
 from shapegen.errors import InputFormatError
+from shapegen.readers import geojson
+from shapegen.readers.files import parse_json_document, read_model_bytes
+from shapegen.readers.geojson import distinct_corners
 
 Lot = tuple[float, float] | list[tuple[float, float]]
 """``(width, depth)`` in metres, or a polygon's corners ``[(x, z), ...]`` in metres."""
@@ -98,13 +101,7 @@ def checked_polygon(points, source: str) -> list[tuple[float, float]]:
     ring = np.asarray(points, dtype=float).reshape(-1, 2) if len(points) else np.zeros((0, 2))
     if not np.all(np.isfinite(ring)):
         raise InputFormatError(f"{source}: corner coordinates must be finite numbers")
-    keep = [0] if len(ring) else []
-    for k in range(1, len(ring)):
-        if np.hypot(*(ring[k] - ring[keep[-1]])) > MERGE_M:
-            keep.append(k)
-    ring = ring[keep]
-    if len(ring) > 1 and np.hypot(*(ring[-1] - ring[0])) <= MERGE_M:
-        ring = ring[:-1]
+    ring = distinct_corners(ring, MERGE_M)
     if len(ring) < 3:
         raise InputFormatError(
             f"{source}: a lot needs at least 3 distinct corners, got {len(ring)}"
@@ -138,8 +135,6 @@ def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> list[tu
     """The lot of a GeoJSON file: its first Polygon or MultiPolygon feature (a FeatureCollection,
     a Feature or a bare geometry), or the feature whose ``id`` or ``id`` property is
     ``feature_id``; in local metres (see the module's documentation)."""
-    from shapegen.export.blocks_json import parse_json_document, read_model_bytes
-
     path = Path(path)
     where = f"--lot {path}" + (f"#{feature_id}" if feature_id else "")
     if not path.is_file():
@@ -148,124 +143,38 @@ def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> list[tu
         document = parse_json_document(read_model_bytes(path), str(path))
     except InputFormatError as exc:
         raise InputFormatError(f"--lot {exc}") from None
-    features = _features(document, where)
+    found = geojson.features(document, where)
     if feature_id is not None:
-        chosen = [f for f in features if _feature_id(f) == feature_id]
+        chosen = [f for f in found if geojson.feature_id(f) == feature_id]
         if not chosen:
-            known = [i for i in (_feature_id(f) for f in features) if i is not None][:8]
+            known = [i for i in map(geojson.feature_id, found) if i is not None][:8]
             listed = ", ".join(known) if known else "none has an id"
             raise InputFormatError(f"{where}: no feature with id {feature_id!r} ({listed})")
     else:
-        chosen = [f for f in features if _polygon_rings(f.get("geometry")) is not None]
+        chosen = [f for f in found if geojson.is_polygon(f)]
         if not chosen:
             raise InputFormatError(f"{where}: no Polygon or MultiPolygon feature")
-    feature = chosen[0]
-    rings = _polygon_rings(feature.get("geometry"), where)
-    if rings is None:
-        kind = (feature.get("geometry") or {}).get("type")
-        raise InputFormatError(f"{where}: the feature is a {kind}, not a Polygon")
-    if len(rings) > 1:
-        raise InputFormatError(
-            f"{where}: the polygon has {len(rings) - 1} hole(s); a lot is one ring"
-        )
-    corners = rings[0]
-    if not all(_is_point(p) for p in corners):
-        raise InputFormatError(f"{where}: a corner is not two finite numbers")
-    points = np.array([p[:2] for p in corners], dtype=float)
-    if len(points) == 0:
-        raise InputFormatError(f"{where}: the polygon has no corners")
+    points, problem = geojson.outer_ring(chosen[0].get("geometry"))
+    if problem is not None:
+        raise InputFormatError(f"{where}: {problem}")
     centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
-    if _is_lonlat(document, points):
+    declared = geojson.declared_crs(document.get("crs"))
+    lonlat = declared in (None, "lonlat") and geojson.within_lonlat(points)
+    if lonlat:
         span = float(np.ptp(points, axis=0).max())
         if span > MAX_LONLAT_SPAN_DEG:
             raise InputFormatError(
                 f"{where}: read as longitude/latitude, the lot spans {span:g} degrees; if its "
                 'coordinates are metres, say so with a "crs" member naming the projection'
             )
-        from shapegen.export.osm import east_north
-
-        local = east_north(points[:, 1], points[:, 0], centre[1], centre[0])
-    else:
-        local = points - centre
+    local = geojson.local_metres(points, lonlat, centre)
     # east -> +x, north -> -z (y up)
     return checked_polygon(np.column_stack([local[:, 0], -local[:, 1]]), where)
-
-
-def _features(document: object, where: str) -> list[dict]:
-    if not isinstance(document, dict):
-        raise InputFormatError(f"{where}: not a GeoJSON object")
-    kind = document.get("type")
-    if kind == "FeatureCollection":
-        features = document.get("features")
-        if not isinstance(features, list):
-            raise InputFormatError(f'{where}: "features" must be a list')
-        return [f for f in features if isinstance(f, dict)]
-    if kind == "Feature":
-        return [document]
-    if kind in ("Polygon", "MultiPolygon"):
-        return [{"type": "Feature", "geometry": document}]
-    raise InputFormatError(f"{where}: not GeoJSON (type {kind!r})")
-
-
-def _feature_id(feature: dict) -> str | None:
-    value = feature.get("id")
-    if value is None and isinstance(feature.get("properties"), dict):
-        value = feature["properties"].get("id")
-    if value is None:
-        return None
-    if isinstance(value, float) and value.is_integer():
-        value = int(value)
-    return str(value)
-
-
-def _polygon_rings(geometry: object, where: str | None = None) -> list | None:
-    """The rings of a Polygon (or a MultiPolygon of one part); None for another geometry."""
-    if not isinstance(geometry, dict) or geometry.get("type") not in ("Polygon", "MultiPolygon"):
-        return None
-    coordinates = geometry.get("coordinates")
-    if geometry["type"] == "MultiPolygon":
-        if not isinstance(coordinates, list) or len(coordinates) != 1:
-            if where is None:
-                return []
-            parts = len(coordinates) if isinstance(coordinates, list) else 0
-            raise InputFormatError(
-                f"{where}: a MultiPolygon of {parts} parts; a lot is one polygon"
-            )
-        coordinates = coordinates[0]
-    if not isinstance(coordinates, list) or not coordinates:
-        if where is None:
-            return []
-        raise InputFormatError(f"{where}: the polygon has no coordinates")
-    if not all(isinstance(ring, list) for ring in coordinates):
-        if where is None:
-            return []
-        raise InputFormatError(f"{where}: a polygon's rings must be lists of corners")
-    return coordinates
-
-
-def _is_point(p) -> bool:
-    return (
-        isinstance(p, list)
-        and len(p) >= 2
-        and all(type(v) in (int, float) for v in p[:2])
-        and all(math.isfinite(v) for v in p[:2])
-    )
-
-
-def _is_lonlat(document: dict, points: np.ndarray) -> bool:
-    member = document.get("crs")
-    if isinstance(member, dict):
-        name = str((member.get("properties") or {}).get("name", ""))
-        if name and not ("CRS84" in name.upper() or name.endswith((":4326", "::4326"))):
-            return False
-    return bool(np.all(np.abs(points[:, 0]) <= 180) and np.all(np.abs(points[:, 1]) <= 90))
 
 
 # ------------------------------------------------------------------------------ OBJ
 def lot_from_obj(path: str | Path) -> list[tuple[float, float]]:
     """The first face of an OBJ file as a lot: its corners' ``(x, z)`` (m, y up)."""
-    from shapegen.export.blocks_json import read_model_bytes
-
     path = Path(path)
     where = f"--lot {path}"
     if not path.is_file():

@@ -13,7 +13,7 @@ from shapegen import parse_grammar
 from shapegen.city import city_from_polygons, lot_seed, read_lots
 from shapegen.city.work import city_lot, lot_extent
 from shapegen.errors import InputFormatError
-from shapegen.export.osm import WGS84_A, WGS84_F
+from shapegen.readers.projection import WGS84_A, WGS84_F
 
 DISTRICT = Path(__file__).resolve().parents[2] / "docs" / "data" / "district.geojson"
 
@@ -107,7 +107,7 @@ def test_a_crs_member_is_honoured(tmp_path, crs_member, given, expected):
     ("content", "message"),
     [
         ("not json", "not a GeoJSON file"),
-        ({"type": "Polygon", "coordinates": []}, "not a GeoJSON FeatureCollection"),
+        ({"type": "Topology"}, "not GeoJSON"),
         ({"type": "FeatureCollection", "features": []}, "no polygons"),
         (_collection([(0, 0), (1, 0), (1, 1)], crs="EPSG:25832"), "give --crs metres"),
     ],

@@ -18,7 +18,9 @@ from shapegen import Block, Model
 from shapegen.cli import main
 from shapegen.errors import InputFormatError
 from shapegen.export.model_io import read_model
-from shapegen.export.osm import OsmNode, OsmWay, east_north, place_on_way, read_way
+from shapegen.export.osm import place_on_way
+from shapegen.readers.osm import OsmNode, OsmWay, read_way
+from shapegen.readers.projection import east_north
 
 REPO = Path(__file__).resolve().parents[2]
 STRAIT = REPO / "docs" / "examples" / "strait.osm"

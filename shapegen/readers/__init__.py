@@ -1,0 +1,17 @@
+"""Readers: every input file format shapegen takes is read here, each in one place.
+
+==========================  ==========================================================
+what                        reader
+==========================  ==========================================================
+bytes and JSON of a file    :mod:`~shapegen.readers.files` (size limits, one-line errors)
+a lot (``--lot``)           :func:`~shapegen.readers.lots.read_lot`: ``W,D``, corners,
+                            a GeoJSON feature, an OBJ face
+GeoJSON features            :mod:`~shapegen.readers.geojson` (lots and cities)
+OpenStreetMap XML           :mod:`~shapegen.readers.osm`: one way, or every building
+WGS84 to local metres       :func:`~shapegen.readers.projection.east_north`
+==========================  ==========================================================
+
+Rule files are read by :func:`shapegen.grammar.source_files.read_rule_file`, where the grammar
+is. :mod:`shapegen.export` writes. Every mistake in an input is one
+:class:`~shapegen.errors.InputFormatError` line naming the file.
+"""

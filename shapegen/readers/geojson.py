@@ -1,0 +1,167 @@
+"""GeoJSON (RFC 7946) as shapegen reads it: features, their ids, their outer rings, the
+coordinate system, and corners in local metres. Lots (:mod:`shapegen.readers.lots`) and cities
+(:mod:`shapegen.city.lots`) both read through here, so both accept the same input.
+
+Coordinates are longitude/latitude unless a ``crs`` member names another system (then metres,
+east and north); WGS84 positions are projected onto the tangent plane at an origin
+(:func:`~shapegen.readers.projection.east_north`), metres are moved so that the origin is 0.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "declared_crs",
+    "distinct_corners",
+    "feature_id",
+    "features",
+    "is_point",
+    "is_polygon",
+    "local_metres",
+    "outer_ring",
+    "positions",
+    "within_lonlat",
+]
+
+import math
+
+import numpy as np
+
+from shapegen.errors import InputFormatError
+from shapegen.readers.projection import east_north
+
+POLYGONS = ("Polygon", "MultiPolygon")
+
+
+def features(document: object, where: str) -> list[dict]:
+    """The features of a FeatureCollection, a Feature, or a bare Polygon or MultiPolygon (as
+    one feature without properties). ``where`` names the input in errors."""
+    kind = document.get("type") if isinstance(document, dict) else type(document).__name__
+    if kind == "FeatureCollection":
+        found = document.get("features")
+        if not isinstance(found, list) or not all(isinstance(f, dict) for f in found):
+            raise InputFormatError(f"{where}: 'features' must be a list of Feature objects")
+        return found
+    if kind == "Feature":
+        return [document]
+    if kind in POLYGONS:
+        return [{"type": "Feature", "geometry": document}]
+    raise InputFormatError(
+        f"{where}: not GeoJSON (type {kind!r}; expected a FeatureCollection, a Feature or a"
+        " Polygon)"
+    )
+
+
+def feature_id(feature: dict) -> str | None:
+    """The feature's ``id``, else its ``id`` property, as text (``7.0`` reads ``7``); None
+    without one."""
+    value = feature.get("id")
+    if value is None and isinstance(feature.get("properties"), dict):
+        value = feature["properties"].get("id")
+    if value is None:
+        return None
+    if isinstance(value, float) and value.is_integer():
+        value = int(value)
+    return str(value)
+
+
+def is_polygon(feature: dict) -> bool:
+    """Whether the feature's geometry is a Polygon or a MultiPolygon."""
+    geometry = feature.get("geometry")
+    return isinstance(geometry, dict) and geometry.get("type") in POLYGONS
+
+
+def declared_crs(member: object) -> str | None:
+    """``"lonlat"`` for a ``crs`` member naming WGS84 (CRS84, EPSG:4326), the name of any other
+    system, None without one."""
+    if member is None:
+        return None
+    properties = member.get("properties") if isinstance(member, dict) else None
+    name = str((properties or {}).get("name", "")) or str(member)
+    if "CRS84" in name.upper() or name.endswith((":4326", "::4326")):
+        return "lonlat"
+    return name
+
+
+def within_lonlat(points: np.ndarray) -> bool:
+    """Whether every ``(lon, lat)`` lies within +-180 / +-90 degrees."""
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    return bool(np.all(np.abs(points[:, 0]) <= 180) and np.all(np.abs(points[:, 1]) <= 90))
+
+
+def outer_ring(geometry: object) -> tuple[np.ndarray | None, str | None]:
+    """The ``(k, 2)`` corners of a Polygon (or a MultiPolygon of one part) and None, or None
+    and why it is not one lot (a phrase: ``"a polygon with 1 hole(s)..."``)."""
+    if not isinstance(geometry, dict) or geometry.get("type") not in POLYGONS:
+        kind = geometry.get("type") if isinstance(geometry, dict) else None
+        return None, f"a {kind}, not a Polygon"
+    coordinates = geometry.get("coordinates")
+    if geometry["type"] == "MultiPolygon":
+        if not isinstance(coordinates, list) or len(coordinates) != 1:
+            parts = len(coordinates) if isinstance(coordinates, list) else 0
+            return None, f"a MultiPolygon of {parts} parts; a lot is one polygon"
+        coordinates = coordinates[0]
+    if not isinstance(coordinates, list) or not coordinates:
+        return None, "a polygon without coordinates"
+    if not all(isinstance(ring, list) for ring in coordinates):
+        return None, "a polygon whose rings are not lists of corners"
+    if len(coordinates) > 1:
+        holes = len(coordinates) - 1
+        return None, f"a polygon with {holes} hole(s); a lot is one ring (courtyards are not built)"
+    corners = coordinates[0]
+    if not corners:
+        return None, "a polygon without corners"
+    if not all(is_point(p) for p in corners):
+        return None, "a corner that is not two finite numbers"
+    return np.array([p[:2] for p in corners], dtype=float), None
+
+
+def positions(geometry: object) -> np.ndarray:
+    """``(k, 2)`` every valid position of every ring of a Polygon or MultiPolygon, holes and
+    parts included (what a frame's origin and the coordinate system are judged from)."""
+    if not isinstance(geometry, dict) or geometry.get("type") not in POLYGONS:
+        return np.zeros((0, 2))
+    coordinates = geometry.get("coordinates")
+    polygons = coordinates if geometry["type"] == "MultiPolygon" else [coordinates]
+    found = [
+        p[:2]
+        for polygon in (polygons if isinstance(polygons, list) else [])
+        for ring in (polygon if isinstance(polygon, list) else [])
+        for p in (ring if isinstance(ring, list) else [])
+        if is_point(p)
+    ]
+    return np.array(found, dtype=float).reshape(-1, 2)
+
+
+def is_point(p: object) -> bool:
+    """Whether ``p`` is a GeoJSON position: at least two finite numbers (booleans are not)."""
+    return (
+        isinstance(p, list | tuple)
+        and len(p) >= 2
+        and all(isinstance(v, int | float) and not isinstance(v, bool) for v in p[:2])
+        and all(math.isfinite(v) for v in p[:2])
+    )
+
+
+def local_metres(points: np.ndarray, lonlat: bool, origin) -> np.ndarray:
+    """``(k, 2)`` east and north (m) about ``origin`` of ``points``: ``(lon, lat)`` degrees
+    projected at the origin ``(lon, lat)`` when ``lonlat``, else metres less the origin."""
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    if lonlat:
+        return east_north(points[:, 1], points[:, 0], origin[1], origin[0])
+    return points - np.asarray(origin, dtype=float)
+
+
+def distinct_corners(ring: np.ndarray, merge_m: float) -> np.ndarray:
+    """The corners of a ring with each run of corners closer than ``merge_m`` (m) kept once, a
+    closing corner that repeats the first dropped."""
+    ring = np.asarray(ring, dtype=float).reshape(-1, 2)
+    if len(ring) == 0:
+        return ring
+    keep = [0]
+    for k in range(1, len(ring)):
+        if np.hypot(*(ring[k] - ring[keep[-1]])) > merge_m:
+            keep.append(k)
+    ring = ring[keep]
+    if len(ring) > 1 and np.hypot(*(ring[-1] - ring[0])) <= merge_m:
+        ring = ring[:-1]
+    return ring
