@@ -26,6 +26,8 @@ __all__ = [
     "SIMULATION_DECAY_RATIO",
     "COORDINATE_ROUNDOFF_REL",
     "TILT_RESOLUTION_DEG",
+    "ZERO_LENGTH",
+    "SIZE_FLOOR_M",
 ]
 
 from dataclasses import dataclass, replace
@@ -173,3 +175,11 @@ COORDINATE_ROUNDOFF_REL = 1e-14
 #: stands half this below the figure and does not stand half this above it
 #: (:mod:`shapegen.statics.capacity`).
 TILT_RESOLUTION_DEG = 0.05
+
+#: Geometry: a vector shorter than ``ZERO_LENGTH`` (metres for an edge, dimensionless for a
+#: normal) has no direction; no frame is built on it.
+ZERO_LENGTH = 1e-15
+
+#: Geometry: a relative tolerance is scaled by a size of at least ``SIZE_FLOOR_M`` metres, so a
+#: mesh shrunk to a point still gets a positive slack.
+SIZE_FLOOR_M = 1e-12

@@ -24,18 +24,19 @@ import numpy as np
 
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.model.scope import Scope
+from shapegen.tolerances import ROUNDOFF_REL, SIZE_FLOOR_M, ZERO_LENGTH
 
 
 def _unit(vector: np.ndarray) -> np.ndarray | None:
     length = float(np.linalg.norm(vector))
-    return None if length <= 1e-15 else vector / length
+    return None if length <= ZERO_LENGTH else vector / length
 
 
 def _unit3(x: float, y: float, z: float) -> tuple[float, float, float] | None:
     """A 3-vector of Python floats divided by its length, or None when it is shorter than
-    1e-15 (frames are built one polygon at a time: numpy's per-call cost would dominate)."""
+    ZERO_LENGTH (frames are built one polygon at a time: numpy's per-call cost would dominate)."""
     length = math.sqrt(x * x + y * y + z * z)
-    return None if length <= 1e-15 else (x / length, y / length, z / length)
+    return None if length <= ZERO_LENGTH else (x / length, y / length, z / length)
 
 
 def _cross3(a, b) -> tuple[float, float, float]:
@@ -87,7 +88,7 @@ def fitted_scope(world_points: np.ndarray, rotation: np.ndarray) -> tuple[Scope,
     local = points @ rotation
     low = local.min(axis=0)
     size = local.max(axis=0) - low
-    size[np.abs(size) < 1e-12 * max(1.0, float(np.abs(local).max()))] = 0.0
+    size[np.abs(size) < ROUNDOFF_REL * max(1.0, float(np.abs(local).max()))] = 0.0
     return Scope(rotation @ low, rotation, size), local - low
 
 
@@ -110,7 +111,7 @@ def lot_polygon(points: Sequence[Sequence[float]]) -> tuple[Scope, Mesh]:
     world = np.column_stack([flat[:, 0], np.zeros(len(flat)), flat[:, 1]])
     normal = polygon_normal(world)
     span = float(np.ptp(flat, axis=0).max())
-    if float(np.linalg.norm(normal)) <= 1e-12 * max(span, 1e-12) ** 2:
+    if float(np.linalg.norm(normal)) <= ROUNDOFF_REL * max(span, SIZE_FLOOR_M) ** 2:
         raise ValueError("the polygon lot has no area")
     if normal[1] < 0:
         raise ValueError(
@@ -144,6 +145,6 @@ def quadrant(normal: np.ndarray) -> str:
     component (CityEngine classifies face normals into the scope's quadrants)."""
     n = np.asarray(normal, float)
     axis = int(np.argmax(np.abs(n)))
-    if abs(n[1]) >= max(abs(n[0]), abs(n[2])) - 1e-12 and n[1] != 0:
+    if abs(n[1]) >= max(abs(n[0]), abs(n[2])) - ROUNDOFF_REL and n[1] != 0:
         axis = 1
     return _QUADRANTS[(axis, 1 if n[axis] >= 0 else -1)]

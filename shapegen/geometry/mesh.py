@@ -30,6 +30,7 @@ from functools import cached_property
 import numpy as np
 
 from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_layout, face_normals
+from shapegen.tolerances import SIZE_FLOOR_M, ZERO_LENGTH
 
 # The unit box's corners (scope coordinates) and faces in CityEngine's comp(f) order for an
 # extruded rectangle lot: 0 bottom, 1 top, then the sides from the lot's first edge (which runs
@@ -316,7 +317,7 @@ class Mesh:
         """All vertices lie in one plane within ``tolerance`` (m, plus a round-off margin)."""
         if self.n_vertices <= 3:
             return True
-        slack = tolerance + _REL * max(self.size(), 1e-12)
+        slack = tolerance + _REL * max(self.size(), SIZE_FLOOR_M)
         centred = self.vertices - self.vertices.mean(axis=0)
         normal = np.linalg.svd(centred, full_matrices=False)[2][-1]
         return float(np.abs(centred @ normal).max()) <= slack
@@ -324,7 +325,7 @@ class Mesh:
     def is_convex(self, tolerance: float = 0.0) -> bool:
         """For a closed mesh: no vertex lies in front of any face's plane (by more than
         ``tolerance`` m). For an open mesh: each face is a convex polygon."""
-        slack = tolerance + _REL * max(self.size(), 1e-12)
+        slack = tolerance + _REL * max(self.size(), SIZE_FLOOR_M)
         if self.is_closed:
             return bool(self.heights_above_faces(slack).max(initial=0.0) <= slack)
         return all(self._face_is_convex(k, slack) for k in range(self.n_faces))
@@ -356,7 +357,7 @@ class Mesh:
         turns = np.cross(
             np.roll(p, -1, axis=0) - p, np.roll(p, -2, axis=0) - np.roll(p, -1, axis=0)
         )
-        return bool((turns @ normal).min() >= -slack * max(self.size(), 1e-12))
+        return bool((turns @ normal).min() >= -slack * max(self.size(), SIZE_FLOOR_M))
 
     def is_rectangular(self, tolerance_degrees: float = 0.0) -> bool:
         """Every face is a quadrilateral whose corners are right angles within
@@ -423,8 +424,8 @@ class Mesh:
     def cleaned(self, tolerance: float = 0.0) -> Mesh:
         """Vertices closer than ``tolerance`` (m, plus round-off) merged, repeated corners and
         faces with fewer than three corners dropped, unused vertices removed."""
-        slack = tolerance + _REL * max(self.size(), 1e-12)
-        keys = np.round(self.vertices / max(slack, 1e-15)).astype(np.int64)
+        slack = tolerance + _REL * max(self.size(), SIZE_FLOOR_M)
+        keys = np.round(self.vertices / max(slack, ZERO_LENGTH)).astype(np.int64)
         if not self.faces:
             return Mesh(np.empty((0, 3)), ())
         corners, start = self._corners

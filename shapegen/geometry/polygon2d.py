@@ -41,7 +41,7 @@ from shapely.geometry import Polygon as ShapelyPolygon
 
 from shapegen.errors import GeometryError
 from shapegen.geometry.skeleton import straight_skeleton
-from shapegen.tolerances import DEFAULT
+from shapegen.tolerances import DEFAULT, ROUNDOFF_REL
 
 
 @dataclass(frozen=True)
@@ -268,7 +268,7 @@ def _largest_axis_rectangle(polygon: np.ndarray, samples: int) -> tuple[float, n
 def _convex(p: np.ndarray) -> bool:
     d = np.roll(p, -1, axis=0) - p
     cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
-    return bool(np.all(cross >= -1e-12 * float(np.abs(cross).max())))
+    return bool(np.all(cross >= -ROUNDOFF_REL * float(np.abs(cross).max())))
 
 
 def _convex_optimum(polygon: np.ndarray, corners: np.ndarray) -> tuple[float, np.ndarray]:
@@ -371,7 +371,7 @@ def inner_rectangle(polygon, alignment: str = "scope", samples: int = 48):
         turned = p @ axes.T
         lo, hi = turned.min(axis=0), turned.max(axis=0)
         box_area = float(np.prod(hi - lo))
-        if _convex(turned) and abs(signed_area(turned)) >= box_area * (1 - 1e-12):
+        if _convex(turned) and abs(signed_area(turned)) >= box_area * (1 - ROUNDOFF_REL):
             # the polygon fills its bounding box: it is the rectangle (a rectangular lot)
             area = box_area
             corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])

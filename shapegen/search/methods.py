@@ -16,7 +16,7 @@ along the boundary.
 
 from __future__ import annotations
 
-__all__ = ["Search", "FIRST_STEP", "POWELL_XTOL", "POWELL_FTOL"]
+__all__ = ["Search", "FIRST_STEP", "POWELL_XTOL", "POWELL_FTOL", "SLSQP_FTOL", "UNJUDGED_WALL"]
 
 import math
 import time
@@ -35,6 +35,26 @@ POWELL_XTOL = 1e-4
 
 POWELL_FTOL = 1e-6
 """Powell's tolerance on the relative change of ``sqrt(measure)``."""
+
+SLSQP_FTOL = 1e-12
+"""SLSQP's tolerance on the change of the scaled ``sqrt(measure)``: tight, because the descent
+is meant to stop at the first design that stands, not at a small measure."""
+
+UNJUDGED_WALL = 10.0
+"""A design that cannot be judged reads ``UNJUDGED_WALL`` times the worst scaled
+``sqrt(measure)`` seen, times ``1 + its distance`` (in the unit box) from the last judged design;
+its slope is that of ``UNJUDGED_WALL * worst * |u - last|^2``, pointing back."""
+
+POLISH_ITERATIONS = 10
+"""Iterations of the closest-design polish (SLSQP; COBYLA, which takes no gradient, gets ten
+times as many function calls), at most ``max_iter``."""
+
+POLISH_FTOL = 1e-8
+"""SLSQP's tolerance on the squared distance (unit box) in the closest-design polish."""
+
+POLISH_RHOBEG = 0.05
+"""COBYLA's first step in the closest-design polish, as a fraction of the parameter ranges:
+the polish starts on the boundary and only slides along it."""
 
 
 class _Stop(Exception):
@@ -124,7 +144,7 @@ class Search:
                 # region of such designs still slopes back out of it (a flat wall would read as a
                 # minimum to Powell's method).
                 away = float(np.linalg.norm(np.asarray(u, float) - state["last_good"]))
-                return 10.0 * state["worst"] * (1.0 + away)
+                return UNJUDGED_WALL * state["worst"] * (1.0 + away)
             scaled = math.sqrt(max(evaluation.infeasibility, 0.0)) / scale
             state["worst"] = max(state["worst"], scaled)
             state["last_good"] = np.array(u, float)
@@ -135,7 +155,7 @@ class Search:
         def slope(u):
             evaluation = self.evaluator.evaluate(self.theta(u))
             if not evaluation.ok:
-                return 20.0 * state["worst"] * (np.asarray(u) - state["last_good"])
+                return 2.0 * UNJUDGED_WALL * state["worst"] * (np.asarray(u) - state["last_good"])
             return self._root_slope(evaluation) * self.span / scale
 
         bounds = [(0.0, 1.0)] * len(theta0)
@@ -157,7 +177,7 @@ class Search:
                     method="SLSQP",
                     bounds=bounds,
                     callback=self._record,
-                    options={"maxiter": self.max_iter, "ftol": 1e-12},
+                    options={"maxiter": self.max_iter, "ftol": SLSQP_FTOL},
                 )
         except _Stop:
             self._record(self.u(state["best"].theta))
@@ -231,7 +251,10 @@ class Search:
                 bounds=bounds,
                 constraints=[{"type": "ineq", "fun": standing}],
                 callback=self._record,
-                options={"maxiter": 10 * min(self.max_iter, 10), "rhobeg": 0.05},
+                options={
+                    "maxiter": 10 * min(self.max_iter, POLISH_ITERATIONS),
+                    "rhobeg": POLISH_RHOBEG,
+                },
             )
         else:
 
@@ -247,7 +270,7 @@ class Search:
                 bounds=bounds,
                 constraints=[{"type": "ineq", "fun": standing, "jac": standing_slope}],
                 callback=self._record,
-                options={"maxiter": min(self.max_iter, 10), "ftol": 1e-8},
+                options={"maxiter": min(self.max_iter, POLISH_ITERATIONS), "ftol": POLISH_FTOL},
             )
         standing(result.x)
         best = min(standing_points, key=lambda e: distance(self.u(e.theta)))
