@@ -85,7 +85,11 @@ def run(args: argparse.Namespace) -> int:
         # a package is opened as such (its exported command names it), not as its start rule
         opened = args.grammar if Path(args.grammar).suffix.lower() == ".rpk" else grammar.path
         server.session = session = EditorSession(
-            str(opened), attrs=dict(args.assignments), seed=args.seed, lot=args.lot
+            str(opened),
+            attrs=dict(args.assignments),
+            seed=args.seed,
+            lot=args.lot,
+            rules_path=args.rules_path or (),
         )
     except BaseException:
         server.server_close()

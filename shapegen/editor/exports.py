@@ -48,11 +48,15 @@ def command_line(
     *,
     seed: int = 0,
     lot: Sequence | None = None,
+    rules_path: Sequence[str] = (),
 ) -> str:
     """The ``shapegen build`` line that builds the design: the rule file (a bundled rule by its
-    name, a file under the working folder relative to it), ``--seed`` and ``--lot`` when not
-    the defaults, and one ``--set`` per value in ``values`` (the designer's, in their order)."""
+    name, a file under the working folder relative to it), ``--rules-path`` for each folder
+    of ``rules_path`` (where the imports were found), ``--seed`` and ``--lot`` when not the
+    defaults, and one ``--set`` per value in ``values`` (the designer's, in their order)."""
     words = ["shapegen", "build", _rule_argument(path)]
+    for folder in rules_path:
+        words += ["--rules-path", _path_argument(Path(folder))]
     if seed:
         words += ["--seed", str(seed)]
     if lot is not None:
@@ -69,6 +73,11 @@ def _rule_argument(path: Path | None) -> str:
     # resolved both: in a source checkout the bundled rules' folder is a link to rules/
     if bundled is not None and bundled.resolve() == path.resolve():
         return path.name
+    return _path_argument(path)
+
+
+def _path_argument(path: Path) -> str:
+    """``path`` relative to the working folder when under it, else absolute."""
     try:
         return str(path.resolve().relative_to(Path.cwd().resolve()))
     except ValueError:  # not under the working folder

@@ -38,14 +38,17 @@ class ReadoutsMixin:
             settable = {k: v for k, v in every.items() if not isinstance(v, list)}
             # a package is built from the .rpk itself, as it was opened
             path, seed, lot = self.package or self.path, self.seed, self.lot
+            folders = self.rules_path
             return json_ready({
                 "grammar": str(path) if path else None,
                 "seed": seed,
                 "lot": lot,
                 "attrs": every,
                 "set": user,
-                "command": command_line(path, user, seed=seed, lot=lot),
-                "command_every_attr": command_line(path, settable, seed=seed, lot=lot),
+                "command": command_line(path, user, seed=seed, lot=lot, rules_path=folders),
+                "command_every_attr": command_line(
+                    path, settable, seed=seed, lot=lot, rules_path=folders
+                ),
             })  # fmt: skip
 
     def block(self, block_id: str) -> dict:

@@ -17,7 +17,7 @@ __all__ = ["EditorSession", "OBJECTIVES"]
 
 import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -51,6 +51,9 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         Initial attr overrides (checked like a request's).
     seed, lot
         Derivation settings, as ``shapegen build``'s.
+    rules_path
+        The ``--rules-path`` folders the design is opened with, for the exported command line
+        (``shapegen edit`` puts them in ``SHAPEGEN_RULES_PATH``, where every load finds them).
     scan
         Scan the stable intervals of the free attrs in the background.
     """
@@ -62,11 +65,13 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         attrs: Mapping[str, object] | None = None,
         seed: int = 0,
         lot: tuple[float, float] | None = None,
+        rules_path: Sequence[str] = (),
         scan: bool = True,
     ):
         self.grammar = pipeline.load(source)
         self.path: Path | None = self.grammar.path  # the rule file read (a package's unpacked)
         self.package: Path | None = _package(source)  # the .rpk opened, if one was
+        self.rules_path = tuple(str(folder) for folder in rules_path)
         self.seed = seed
         self.lot = lot
         self._text = _read(self.path)

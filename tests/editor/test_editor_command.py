@@ -60,6 +60,34 @@ def test_edit_opens_a_rule_package_as_the_package(tmp_path):
     ]  # fmt: skip
 
 
+def test_the_exported_line_finds_the_imports_where_the_page_found_them(tmp_path):
+    from editor_stack import CGA_BUILDING, CGA_LIB
+
+    rule = tmp_path / "project" / "rules" / "building.cga"
+    rule.parent.mkdir(parents=True)
+    rule.write_text(CGA_BUILDING, encoding="utf-8")
+    shared = tmp_path / "shared"  # lib.cga is found only through --rules-path
+    shared.mkdir()
+    (shared / "lib.cga").write_text(CGA_LIB, encoding="utf-8")
+    process, line = start(str(rule), "--rules-path", str(shared), "--port", "0", "--no-open")
+    try:
+        url = line.split()[2]
+        with urllib.request.urlopen(url + "api/attrs.json", timeout=60) as response:
+            exported = json.load(response)
+    finally:
+        process.send_signal(signal.SIGINT)
+        process.communicate(timeout=30)
+    words = shlex.split(exported["command_every_attr"])
+    assert words[3:5] == ["--rules-path", str(shared)]
+    report = tmp_path / "report.json"
+    done = subprocess.run(
+        [sys.executable, "-m", "shapegen", *words[1:], "--report", str(report), "-q"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert json.loads(report.read_text(encoding="utf-8"))["blocks"] == 6
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
