@@ -3,19 +3,26 @@ and the lookup by name both registries share."""
 
 from __future__ import annotations
 
-__all__ = ["find_registered", "load_plugins"]
+__all__ = ["LOADED_GROUPS", "find_registered", "load_plugins"]
 
 import difflib
 from collections.abc import Mapping
 
 from shapegen.errors import OptionError, PluginError
 
+#: The entry-point groups whose plug-ins have been looked for (each is looked for once).
+LOADED_GROUPS: set[str] = set()
+
 
 def load_plugins(group: str, what: str) -> None:
-    """Import every module named in the entry-point ``group`` (each registers its ``what``).
+    """Import every module named in the entry-point ``group`` (each registers its ``what``),
+    the first time the group is asked for.
 
     A broken plug-in is one clear error naming it, not a failure of the built-in ones.
     """
+    if group in LOADED_GROUPS:
+        return
+    LOADED_GROUPS.add(group)
     from importlib.metadata import entry_points  # 0.03 s: only when plug-ins are looked for
 
     for entry in entry_points(group=group):

@@ -69,12 +69,7 @@ def atomic_write(path: str | os.PathLike, mode: str = "w") -> Iterator:
     if not directory.is_dir():
         raise InputFormatError(f"{target}: folder {directory} does not exist")
     with _signals_held():  # a signal between creating and registering would orphan the file
-        try:
-            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
-        except OSError as exc:
-            raise InputFormatError(
-                f"{target}: cannot write in folder {directory}: {exc.strerror or exc}"
-            ) from None
+        fd, tmp = _temporary_file(target, directory)
         entry = (os.getpid(), tmp)
         _TEMPORARIES.add(entry)
     try:
@@ -170,12 +165,7 @@ def check_writable(path: str | os.PathLike) -> Path:
     if target.exists() and not os.access(target, os.W_OK):
         raise InputFormatError(f"{target}: the file is not writable")
     with _signals_held():  # the probe is created and removed with the stop signals held
-        try:
-            fd, probe = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
-        except OSError as exc:
-            raise InputFormatError(
-                f"{target}: cannot write in folder {directory}: {exc.strerror or exc}"
-            ) from None
+        fd, probe = _temporary_file(target, directory)
         os.close(fd)
         os.unlink(probe)
     return target
@@ -211,3 +201,14 @@ def _same_existing_file(first: Path, second: Path) -> bool:
         return first.exists() and second.exists() and os.path.samefile(first, second)
     except OSError:
         return False
+
+
+def _temporary_file(target: Path, directory: Path) -> tuple[int, str]:
+    """A new hidden temporary file beside ``target`` in ``directory`` (its descriptor and
+    path); a folder that cannot be written in is an InputFormatError naming the target."""
+    try:
+        return tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+    except OSError as exc:
+        raise InputFormatError(
+            f"{target}: cannot write in folder {directory}: {exc.strerror or exc}"
+        ) from None

@@ -82,10 +82,7 @@ def read_model(path: str | Path) -> Model:
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in READ_SUFFIXES:
-        raise InputFormatError(
-            f"{path}: unknown model format {suffix or '(no extension)'!r};"
-            f" supported: {', '.join(READ_SUFFIXES)}"
-        )
+        raise _unknown_format(path, "model", READ_SUFFIXES)
     if suffix == ".json":
         try:
             return read_blocks_json(path)
@@ -101,10 +98,7 @@ def check_output_path(path: str | Path) -> Path:
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in _ENCODERS:
-        raise InputFormatError(
-            f"{path}: unknown output format {suffix or '(no extension)'!r};"
-            f" supported: {', '.join(WRITE_SUFFIXES)}"
-        )
+        raise _unknown_format(path, "output", WRITE_SUFFIXES)
     return check_writable(path)
 
 
@@ -128,3 +122,12 @@ def write_bytes_atomic(path: str | Path, content: bytes) -> None:
     """Replace ``path`` with ``content`` (temporary file + rename)."""
     with atomic_write(path, "wb") as handle:
         handle.write(content)
+
+
+def _unknown_format(path: Path, kind: str, supported) -> InputFormatError:
+    """The error for a file whose extension is none of ``supported``."""
+    suffix = path.suffix.lower()
+    return InputFormatError(
+        f"{path}: unknown {kind} format {suffix or '(no extension)'!r};"
+        f" supported: {', '.join(supported)}"
+    )

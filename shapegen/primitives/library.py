@@ -21,26 +21,16 @@ from shapegen.primitives import (  # noqa: F401  (each module registers its prim
 )
 from shapegen.primitives.registry import Primitive
 
-_discovered = False
-
-
-def _discover() -> None:
-    global _discovered
-    if _discovered:
-        return
-    _discovered = True
-    load_plugins("shapegen.primitives", "primitives")
-
 
 def get(name: str) -> Primitive:
     """The primitive registered as ``name``; the error suggests close names."""
-    _discover()
+    load_plugins("shapegen.primitives", "primitives")
     return find_registered(registry.REGISTRY, name, "primitive")
 
 
 def available() -> list[str]:
     """Names of all registered primitives, sorted."""
-    _discover()
+    load_plugins("shapegen.primitives", "primitives")
     return sorted(registry.REGISTRY)
 
 

@@ -231,6 +231,8 @@ def _solve_clarabel(problem, dead, lateral) -> tuple[str, float]:
 def _solve_cvxpy(problem, dead, lateral) -> tuple[str, float]:
     import cvxpy as cp
 
+    from shapegen.statics.solvers.cvxpy_reference import friction_constraints
+
     m = problem.n_vertices
     a = problem.equality
     compression = cp.Variable(m, nonneg=True)
@@ -244,14 +246,7 @@ def _solve_cvxpy(problem, dead, lateral) -> tuple[str, float]:
         + multiplier * lateral
         == 0
     )
-    if problem.second_order:
-        friction = [
-            cp.SOC(problem.friction * compression, cp.vstack([friction1, friction2]), axis=0)
-        ]
-    else:
-        friction = [
-            g[1] * friction1 + g[2] * friction2 <= -g[0] * compression for g in problem.cone[:-1]
-        ]
+    friction = friction_constraints(problem, compression, friction1, friction2)
     squares = cp.sum_squares(compression) + cp.sum_squares(friction1) + cp.sum_squares(friction2)
     regularization = REGULARIZATION / 2 * squares
     program = cp.Problem(cp.Maximize(multiplier - regularization), [equilibrium, *friction])

@@ -11,28 +11,18 @@ from shapegen.structures import blocks, cable, registry  # noqa: F401  (register
 from shapegen.structures.base import Structure
 from shapegen.structures.registry import DEFAULT_STRUCTURE
 
-_discovered = False
-
-
-def _discover() -> None:
-    global _discovered
-    if _discovered:
-        return
-    _discovered = True
-    load_plugins("shapegen.structures", "structures")
-
 
 def structure_class(name: str | None) -> type[Structure]:
     """The structure registered as ``name`` (None: the default); the error suggests names."""
     name = DEFAULT_STRUCTURE if name is None else name
     if name not in registry.REGISTRY:  # the installed plug-ins, looked for when first needed
-        _discover()
+        load_plugins("shapegen.structures", "structures")
     return find_registered(registry.REGISTRY, name, "structure")
 
 
 def available_structures() -> list[str]:
     """Names of every registered structure, sorted."""
-    _discover()
+    load_plugins("shapegen.structures", "structures")
     return sorted(registry.REGISTRY)
 
 

@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 import shapegen
+from shapegen import plugins
 from shapegen.errors import GeometryError, PluginError
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
-from shapegen.primitives import Choice, available, insert, library, primitive, registry
+from shapegen.primitives import Choice, available, insert, primitive, registry
 
 PLUGIN_DIR = Path(__file__).parent / "plugin_pkg"
 SCOPE = Scope.axis_aligned((0.0, 0.0, 0.0), (3.0, 0.6, 0.5))
@@ -34,7 +35,7 @@ def plugin_on_path(fresh_registry, monkeypatch):
     """The plug-in package directory (module + dist-info with its entry point) on sys.path, as
     an installation would leave it, and a registry that has not yet looked for plug-ins."""
     monkeypatch.syspath_prepend(str(PLUGIN_DIR))
-    monkeypatch.setattr(library, "_discovered", False)
+    monkeypatch.setattr(plugins, "LOADED_GROUPS", set())
     return fresh_registry
 
 
@@ -93,7 +94,7 @@ def test_a_broken_plugin_entry_point_is_reported(fresh_registry, tmp_path, monke
     (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: broken-plugin\nVersion: 1.0\n")
     (dist / "entry_points.txt").write_text("[shapegen.primitives]\nbroken = no_such_module_xyz\n")
     monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setattr(library, "_discovered", False)
+    monkeypatch.setattr(plugins, "LOADED_GROUPS", set())
     with pytest.raises(PluginError, match="cannot load primitives from 'no_such_module_xyz'"):
         available()
 

@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from statics_cases import running_bond_wall
 
-from shapegen.model.block import Block
-from shapegen.model.model import Model
 from shapegen.statics import find_interfaces
 from shapegen.statics.assembly import assemble
 from shapegen.statics.solvers import pardiso
@@ -19,25 +16,8 @@ from shapegen.statics.solvers.reduced import ReducedBackend
 needs_mkl = pytest.mark.skipif(not pardiso.available(), reason="MKL PARDISO is not installed")
 
 
-def running_bond_wall(courses, per_course=6, brick=(0.24, 0.07, 0.115)):
-    """Courses of whole bricks alternating with courses offset by half a brick."""
-    length, height, depth = brick
-    blocks = []
-    for course in range(courses):
-        edges = np.arange(per_course + 1) * length
-        if course % 2:
-            edges = np.concatenate([[0.0], edges[:-1] + 0.5 * length, [edges[-1]]])
-        for x0, x1 in zip(edges[:-1], edges[1:], strict=True):
-            y0 = course * height
-            blocks.append(Block.box((x0, y0, 0.0), (x1, y0 + height, depth)))
-    return Model(blocks=blocks, ground=0.0)
-
-
 def small_wall_problem(courses=6, tilt_degrees=0.0, friction=0.7):
-    model = running_bond_wall(courses)
-    tilt = math.radians(tilt_degrees)
-    model.gravity = 9.81 * np.array([math.sin(tilt), -math.cos(tilt), 0.0])
-    model.friction = friction
+    model = running_bond_wall(courses, tilt_degrees=tilt_degrees, friction=friction)
     return model, assemble(model, find_interfaces(model))
 
 

@@ -2,41 +2,17 @@
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
 import pytest
+from statics_cases import running_bond_wall
 
 import shapegen.statics.analysis as analysis
-from shapegen.model.block import Block
-from shapegen.model.model import Model
 from shapegen.statics import analyze, certify, find_interfaces
 from shapegen.statics.assembly import assemble
 from shapegen.statics.solvers.reduced import ReducedBackend
 
 
-def brick_wall(courses=8, per_course=6, tilt_degrees=0.0, friction=0.7):
-    """A running-bond wall (half-brick offsets on odd courses), gravity tilted along +x."""
-    length, height, depth = 0.24, 0.07, 0.115
-    blocks = []
-    for course in range(courses):
-        edges = np.arange(per_course + 1) * length
-        if course % 2:
-            edges = np.concatenate([[0.0], edges[:-1] + 0.5 * length, [edges[-1]]])
-        for x0, x1 in zip(edges[:-1], edges[1:], strict=True):
-            y0 = course * height
-            blocks.append(Block.box((x0, y0, 0.0), (x1, y0 + height, depth)))
-    tilt = math.radians(tilt_degrees)
-    return Model(
-        blocks=blocks,
-        ground=0.0,
-        gravity=9.81 * np.array([math.sin(tilt), -math.cos(tilt), 0.0]),
-        friction=friction,
-    )
-
-
 def test_phase_one_stops_at_the_first_certified_solution():
-    model = brick_wall()
+    model = running_bond_wall(friction=0.7)
     problem = assemble(model, find_interfaces(model))
     phase_one = problem.with_objective("tension_sum")
     full = ReducedBackend().solve(phase_one)
@@ -47,7 +23,7 @@ def test_phase_one_stops_at_the_first_certified_solution():
 
 
 def test_a_sliding_wall_is_screened_and_the_qp_gives_the_same_y():
-    model = brick_wall(tilt_degrees=12.0, friction=0.2)
+    model = running_bond_wall(tilt_degrees=12.0, friction=0.2)
     problem = assemble(model, find_interfaces(model))
     screened = ReducedBackend(stop_above=1e-3, screen_above=0.1).solve(
         problem.with_objective("tension_sum")
@@ -72,7 +48,7 @@ def test_a_sliding_wall_is_screened_and_the_qp_gives_the_same_y():
 
 def test_a_screened_phase_one_is_redone_when_the_qp_finds_little_tension(monkeypatch):
     """Screening guesses; a standing wall screened by force must still be judged to stand."""
-    model = brick_wall()
+    model = running_bond_wall(friction=0.7)
     monkeypatch.setattr(analysis, "PHASE_ONE_SCREEN", -1e9)  # screen at the first chance
     calls = []
     original = ReducedBackend.solve

@@ -7,8 +7,9 @@ from pathlib import Path
 import pytest
 
 import shapegen
+from shapegen import plugins
 from shapegen.search import optimize
-from shapegen.structures import lookup, registry, structure_class
+from shapegen.structures import registry, structure_class
 
 PLUGIN_DIR = Path(__file__).parent / "plugin_pkg"
 
@@ -26,7 +27,7 @@ def installed(monkeypatch):
     structure_class("blocks")  # the built-ins first
     monkeypatch.setattr(registry, "REGISTRY", dict(registry.REGISTRY))
     monkeypatch.syspath_prepend(str(PLUGIN_DIR))
-    monkeypatch.setattr(lookup, "_discovered", False)
+    monkeypatch.setattr(plugins, "LOADED_GROUPS", set())
     yield
     sys.modules.pop("height_cap_plugin", None)
 

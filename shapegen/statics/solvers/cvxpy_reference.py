@@ -58,17 +58,7 @@ class CvxpyBackend(Backend):
             + problem.load
             == 0
         )
-        if problem.second_order:
-            # the Coulomb cone itself: ||(u, t)|| <= mu c at each vertex (columns of the stack)
-            friction = [
-                cp.SOC(problem.friction * compression, cp.vstack([friction1, friction2]), axis=0)
-            ]
-        else:
-            # each pyramid side: a u + b t <= mu cos(pi/K) c (the last cone row is c >= 0, above)
-            friction = [
-                g[1] * friction1 + g[2] * friction2 <= -g[0] * compression
-                for g in problem.cone[:-1]
-            ]
+        friction = friction_constraints(problem, compression, friction1, friction2)
         weight = problem.quadratic[m : 2 * m]
         regularization = problem.quadratic[0] / 2
         objective = (
@@ -117,3 +107,14 @@ class CvxpyBackend(Backend):
             seconds,
             {"native_status": cvx_problem.status},
         )
+
+
+def friction_constraints(problem, compression, friction1, friction2) -> list:
+    """The friction model of ``problem`` on cvxpy variables: the Coulomb cone itself,
+    ``||(u, t)|| <= mu c`` at each vertex, or each side of the pyramid,
+    ``a u + b t <= mu cos(pi/K) c`` (its last row, ``c >= 0``, is the variable's sign)."""
+    import cvxpy as cp
+
+    if problem.second_order:
+        return [cp.SOC(problem.friction * compression, cp.vstack([friction1, friction2]), axis=0)]
+    return [g[1] * friction1 + g[2] * friction2 <= -g[0] * compression for g in problem.cone[:-1]]
