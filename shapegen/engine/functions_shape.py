@@ -44,7 +44,11 @@ PARTIAL_ATTRIBUTES: dict[str, str] = {
     "initialShape.name": 'always "Lot" (shapegen derives one unnamed lot)',
     "material.color.a": "deprecated alias of material.opacity (cga_changelog 2011.1), warned",
     "initialShape.symbol": "deprecated alias of initialShape.startRule, warned",
-    **{f"scope.{k}": _READ_ONLY for k in ("tx", "ty", "tz", "rx", "ry", "rz", "sx", "sy", "sz")},
+    **{
+        f"scope.{k}": "set() of it in .cga rules only (shapegen's .grammar reads it in world "
+        "coordinates)"
+        for k in ("tx", "ty", "tz", "rx", "ry", "rz", "sx", "sy", "sz")
+    },
     "seedian": _READ_ONLY,
     "uid": "deprecated (cga_changelog 2015.0): a number unique per shape, not CityEngine's",
 }

@@ -31,6 +31,7 @@ __all__ = ["asset_insert", "is_asset_name", "primitive_mesh"]
 
 import math
 import os
+from collections.abc import Callable
 
 import numpy as np
 
@@ -43,6 +44,7 @@ from shapegen.engine.trim import apply_trim
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
+from shapegen.grammar.names import OPERATION_KEYWORDS
 from shapegen.model.scope import Scope
 
 ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".dae", ".ply", ".stl")
@@ -189,7 +191,7 @@ def asset_insert(program, node: ast.Insert, params):
     name_of = program.expressions.compile(node.primitive, params)
     rule_file = getattr(getattr(node, "location", None), "file", None) or program.grammar.filename
     error = program.error
-    up_axis, mode = _insert_options(program, node)
+    options_of = _insert_options(program, node, params)
 
     def insert_asset(state, args, out):
         name = name_of(args, state)
@@ -222,6 +224,7 @@ def asset_insert(program, node: ast.Insert, params):
             mesh = load_asset(path)
         except (GeometryError, OSError, ValueError) as exc:
             raise error(node, f"i({name!r}): {exc}") from None
+        up_axis, mode = options_of(args, state)
         if up_axis == "zUp":  # op_i: "rotated by -90 degrees around the x-axis"
             mesh = Mesh(mesh.vertices @ _Z_UP.T, mesh.faces)
         if mode == "keepSizeAndPosition":  # as s(0, 0, 0)
@@ -244,22 +247,34 @@ _INSERT_OPTIONS = (
 )
 
 
-def _insert_options(program, node) -> tuple[str, str]:
-    """``i(asset, upAxis, insertMode, cleanupMode)``'s words (op_i), checked when compiled; the
-    cleanup mode only concerns CityEngine's mesh repair, so both are accepted."""
+def _insert_options(program, node, params) -> Callable:
+    """``i(asset, upAxis, insertMode, cleanupMode)``'s words (op_i): ``f(args, state) -> (up
+    axis, insert mode)``. A word written as such is checked when compiled; a string expression
+    (``i(f, upMode, ...)`` with ``upMode = "zUp"``, as rules of 2014 write it) when derived.
+    The cleanup mode only concerns CityEngine's mesh repair, so both are accepted."""
     options = getattr(node, "options", ())
     if len(options) > len(_INSERT_OPTIONS):
         raise program.error(node, "i() takes a file, an up axis, an insert mode and a cleanup mode")
-    words = []
-    for option, allowed in zip(options, _INSERT_OPTIONS, strict=False):
-        word = option.name if isinstance(option, ast.Name) else None
-        if word not in allowed:
-            raise program.error(
-                node, f"i()'s argument {len(words) + 2} is one of {', '.join(allowed)}"
-            )
-        words.append(word)
-    words += [allowed[0] for allowed in _INSERT_OPTIONS[len(words) :]]
-    return words[0], words[1]
+    error = program.error
+    words: list = []
+    for position, (option, allowed) in enumerate(zip(options, _INSERT_OPTIONS, strict=False)):
+        message = f"i()'s argument {position + 2} is one of {', '.join(allowed)}"
+        if isinstance(option, ast.Name) and option.name in allowed:
+            words.append(lambda args, state, word=option.name: word)
+        elif isinstance(option, ast.Name) and option.name in OPERATION_KEYWORDS:
+            raise program.error(node, message)
+        else:
+            compiled = program.expressions.compile(option, params)
+
+            def word_of(args, state, compiled=compiled, allowed=allowed, message=message):
+                word = compiled(args, state)
+                if word not in allowed:
+                    raise error(node, f"{message}; got {format_value(word)}")
+                return word
+
+            words.append(word_of)
+    words += [lambda args, state, w=allowed[0]: w for allowed in _INSERT_OPTIONS[len(words) :]]
+    return lambda args, state: (words[0](args, state), words[1](args, state))
 
 
 def _kept_size(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:

@@ -418,17 +418,36 @@ def compile_cleanup_geometry(program, node, params):
     tolerance_of = _value(program, node, arguments[1], params, float, "the tolerance")
 
     def cleanup(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = _geometry_shape(program, node, state, components=True)
         tolerance = min(
             max(tolerance_of(args, state), 0.0), 1.0
         )  # metres, as the reference's 1 m at 1
-        if shape.geometry is not None:
+        if shape.geometry is not None and shape.kind in (FACE, MASS):  # edges: nothing to merge
             state.shape = Shape.with_geometry(
                 shape.scope, shape.geometry.cleaned(tolerance), shape.kind, shape.normal_axis
             )
         return True
 
     return cleanup
+
+
+_NOT_REDUCED = "the geometry is kept whole: shapegen does not simplify meshes"
+
+
+@compiles("reduceGeometry", partial=_NOT_REDUCED)
+def compile_reduce_geometry(program, node, params):
+    """reduceGeometry(tolerance): the edge collapses are not made; a warning says so."""
+    (argument,) = _arguments(program, node, (1,))
+    tolerance_of = _value(program, node, argument, params, float, "the tolerance")
+
+    def reduce_geometry(state, args, out):
+        _geometry_shape(program, node, state, components=True)
+        if not 0.0 <= (tolerance := tolerance_of(args, state)) <= 1.0:
+            raise program.error(node, f"reduceGeometry(): the tolerance is 0..1, got {tolerance:g}")
+        warn_at(state, node, f"reduceGeometry({tolerance:g}): {_NOT_REDUCED}")
+        return True
+
+    return reduce_geometry
 
 
 @compiles("resetGeometry")
