@@ -13,7 +13,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "shapegen"
 
 # Bottom to top. A module may import its own layer and the layers below it.
 LAYERS = [
-    ["errors", "tolerances", "json_values", "plugins", "limits"],
+    ["errors", "tolerances", "json_values", "plugins", "limits", "lazy_names"],
     ["model"],
     ["geometry"],  # polygon meshes and their CGA operations (cut, extrude, offset, roofs)
     ["readers"],  # input files (lots, GeoJSON, OSM): export writes, city and cli read

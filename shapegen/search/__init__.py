@@ -10,6 +10,7 @@ A search asks for a design that stands with a reserve: ``margin`` defaults to
 The names below load on first use, so reading :data:`DEFAULT_MARGIN` costs nothing.
 """
 
+from shapegen.lazy_names import lazy_names
 from shapegen.search.defaults import DEFAULT_MARGIN
 
 __all__ = [
@@ -46,12 +47,4 @@ _HOMES = {
 }
 
 
-def __getattr__(name: str):
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module 'shapegen.search' has no attribute {name!r}")
-    from importlib import import_module
-
-    value = getattr(import_module(f"shapegen.search.{home}"), name)
-    globals()[name] = value
-    return value
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)

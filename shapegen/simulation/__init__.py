@@ -10,7 +10,7 @@ moving at the end): :mod:`shapegen.simulation.verdict`. pybullet is imported onl
 simulation runs; without it a :class:`ShapegenError` says how to install it.
 """
 
-import importlib
+from shapegen.lazy_names import lazy_names
 
 _HOMES = {
     "PrincipalInertia": "shapegen.simulation.inertia",
@@ -45,16 +45,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    # The names load with their modules on first use: importing the package for one light
-    # module (its options, say) does not load them all, nor scipy behind them.
-    module = _HOMES.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)

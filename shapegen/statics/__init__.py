@@ -1,7 +1,7 @@
 """Statics: contact interfaces, the tension-penalty QP (Whiting et al. 2009) and its verdict, and
 the lateral capacity (the largest tilt at which an assembly stands)."""
 
-import importlib
+from shapegen.lazy_names import lazy_names
 
 _HOMES = {
     "Analysis": "shapegen.statics.analysis",
@@ -42,16 +42,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    # The names load with their modules on first use: importing the package for one light
-    # module (its options, say) does not load them all, nor scipy behind them.
-    module = _HOMES.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)
