@@ -29,12 +29,17 @@ from shapegen.engine.shape import (
     split_piece,
     translate,
 )
-from shapegen.engine.shape_writes import WRITABLE, write_shape_attribute
+from shapegen.engine.shape_writes import WRITABLE, compile_shape_write
 from shapegen.engine.split import (
     PieceLimitError,
     SplitPart,
     SplitRepeat,
     resolve_split,
+)
+from shapegen.engine.template_primitives import (
+    check_primitive_call,
+    is_template,
+    resolve_primitive,
 )
 from shapegen.errors import GeometryError, GrammarError, OptionError
 from shapegen.grammar import ast
@@ -370,7 +375,7 @@ class ShapeOperations:
         if attribute in self.const_nodes:
             raise self.error(node, f"set() changes attrs; {attribute!r} is a const")
         if self.cga_dialect and attribute in WRITABLE and attribute not in self.attr_nodes:
-            return self._set_shape_attribute(node, params)
+            return compile_shape_write(self, node, params)
         if (
             attribute not in self.attr_nodes
             and attribute not in RESERVED_ATTRIBUTES
@@ -388,27 +393,19 @@ class ShapeOperations:
 
         return set_op
 
-    def _set_shape_attribute(self, node: ast.Set, params) -> Operation:
-        """set(scope.tx, v), set(pivot.ox, v)...: the scope or the pivot moved
-        (:mod:`~shapegen.engine.shape_writes`)."""
-        attribute = node.attribute
-        value = self._number(node, node.value, params, f"set({attribute}, ...)'s value")
-
-        def set_shape(state, args, out):
-            write_shape_attribute(state, attribute, value(args, state))
-            return True
-
-        return set_shape
-
     def _op_Insert(self, node: ast.Insert, params) -> Operation:
         from shapegen.engine.cga_ops.assets import asset_insert, is_asset_name
 
         literal = isinstance(node.primitive, ast.String)
         if literal and is_asset_name(node.primitive.value):  # a file or builtin: asset
             return asset_insert(self, node, params)
+        cga = self.cga_dialect
+        if literal and cga and not node.parameters and not is_template(node.primitive.value):
+            # CityEngine knows no template primitives: a name shapegen lacks is an asset
+            return asset_insert(self, node, params)
         assets = None if literal or node.parameters else asset_insert(self, node, params)
         if literal:
-            _check_primitive_call(node, self.error)
+            check_primitive_call(node, self.error)
         if node.options and (literal or node.parameters):
             raise self.error(node, "i() of a template primitive takes key=value parameters only")
         name_of = self.expressions.compile(node.primitive, params)
@@ -419,7 +416,7 @@ class ShapeOperations:
             name = name_of(args, state)
             if type(name) is not str:
                 raise error(node, f"i() needs a primitive name (a string), got a {type_name(name)}")
-            if assets is not None and is_asset_name(name):
+            if assets is not None and (is_asset_name(name) or (cga and not is_template(name))):
                 return assets(state, args, out)
             if node.options:
                 raise error(
@@ -432,7 +429,7 @@ class ShapeOperations:
                 state.shape = Shape(scope, MASS)
                 return True
             try:
-                resolved = _resolve_primitive(name, values)
+                resolved = resolve_primitive(name, values)
             except (GeometryError, OptionError) as exc:
                 raise error(node, str(exc)) from None
             state.shape = Shape(scope, INSERT, insert=(name, resolved, node))
@@ -471,33 +468,3 @@ class ShapeOperations:
 
 def _selector(name: str) -> str | int:
     return int(name) if name.isdigit() else name
-
-
-def _check_primitive_call(node: ast.Insert, error: Callable) -> None:
-    """At load time: ``i("name", key=...)`` with a literal name must name a registered
-    primitive and only its parameters (values are checked when the shape is derived)."""
-    from shapegen.primitives import get
-
-    name = node.primitive.value
-    if name == "box" and not node.parameters:
-        return
-    try:
-        primitive = get(name)
-    except OptionError as exc:
-        raise error(node, str(exc)) from None
-    for keyword in node.parameters:
-        if keyword.name not in primitive.parameters:
-            known = ", ".join(sorted(primitive.parameters)) or "none"
-            close = difflib.get_close_matches(keyword.name, list(primitive.parameters), n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
-            raise error(
-                keyword if getattr(keyword, "location", None) else node,
-                f"primitive {name!r} has no parameter {keyword.name!r}{hint}; "
-                f"its parameters: {known}",
-            )
-
-
-def _resolve_primitive(name: str, values: dict) -> dict:
-    from shapegen.primitives import get
-
-    return get(name).resolve(values)

@@ -15,7 +15,7 @@ written"; ``scope.elevation`` cannot be set) and the pivot (attr_pivot).
 
 from __future__ import annotations
 
-__all__ = ["WRITABLE", "write_shape_attribute"]
+__all__ = ["WRITABLE", "compile_shape_write", "write_shape_attribute"]
 
 import numpy as np
 
@@ -71,3 +71,16 @@ def write_shape_attribute(state, attribute: str, value: float) -> None:
         angles[k] = value
         pivot_axes = object_axes @ euler_matrix(angles)
     state.pivot = (np.asarray(pivot_origin, float), np.asarray(pivot_axes, float))
+
+
+def compile_shape_write(program, node, params):
+    """The operation of ``set(scope.tx, v)``, ``set(pivot.ox, v)``... (``node.attribute`` one of
+    :data:`WRITABLE`)."""
+    attribute = node.attribute
+    value = program._number(node, node.value, params, f"set({attribute}, ...)'s value")
+
+    def set_shape(state, args, out):
+        write_shape_attribute(state, attribute, value(args, state))
+        return True
+
+    return set_shape

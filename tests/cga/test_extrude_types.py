@@ -18,6 +18,8 @@ COVERS = {
     "test_vertex_normals_keep_a_ring_of_faces_joined": ("op:extrude",),
     "test_a_3d_shape_has_every_face_extruded_along_its_own_normal": ("op:extrude",),
     "test_negative_primitive_dimensions_mirror_it_in_place": ("op:primitive",),
+    "test_a_roof_on_a_3d_shape_is_built_on_each_face": ("op:roofPyramid",),
+    "test_a_name_that_is_no_template_primitive_is_an_asset_in_cga": ("op:i",),
 }
 
 
@@ -116,3 +118,22 @@ def test_negative_primitive_dimensions_mirror_it_in_place(dimensions):
         parse_grammar(f"@StartRule\nLot --> primitiveCube({dimensions}) X.", "r.grammar").build(
             lot=(12.0, 8.0)
         )
+
+
+def test_a_roof_on_a_3d_shape_is_built_on_each_face():
+    # op_roofPyramid: "a pyramid roof perpendicular to each face of the current shape's
+    # geometry": six pyramids 1 m high on the faces of a 12 x 3 x 8 mass
+    model = _model("Lot --> extrude(3) roofPyramid(byHeight, 1) X.")
+    sides = 2 * (12 * 8 + 12 * 3 + 8 * 3)
+    assert math.isclose(sum(b.volume for b in model.blocks), sides / 3)
+    assert np.allclose(_bounds(model), [(-1, -1, -1), (13, 4, 9)])
+
+
+def test_a_name_that_is_no_template_primitive_is_an_asset_in_cga():
+    # CityEngine has no template primitives: i("builtin.cube") (a typo of builtin:cube) is an
+    # asset not found, a box and a warning; a .grammar rule refuses the unknown primitive
+    model = _model('Lot --> extrude(3) i("builtin.cube") X.')
+    assert math.isclose(model.blocks[0].volume, 288.0)
+    assert any("'builtin.cube' not found" in w for w in model.metadata["warnings"])
+    with pytest.raises(Exception, match="unknown primitive 'builtin.cube'"):
+        parse_grammar('@StartRule\nLot --> extrude(3) i("builtin.cube") X.', "r.grammar")

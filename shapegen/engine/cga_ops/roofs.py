@@ -22,6 +22,7 @@ from shapegen.engine.cga_ops.polygons import (
     _number,
     _selector_name,
     edge_quadrants,
+    face_frames,
 )
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import MASS, Shape
@@ -117,6 +118,7 @@ def compile_roof(program, node: ast.Operation, params):
         "roofPyramid": roofs.roof_pyramid,
         "roofRidge": roofs.roof_ridge,
     }[node.name]
+    cga = program.cga_dialect
 
     def roof_op(state, args, out):
         options = {k: f(args, state) for k, f in extras.items()}
@@ -124,7 +126,11 @@ def compile_roof(program, node: ast.Operation, params):
             options["index"] = int(options["index"])
         amount = value(args, state)
         built = []
-        for frame, polygon in _flat_input(state, node, program, f"{node.name}()"):
+        if cga and state.shape.kind == MASS:  # op_roof*: a roof on each face of the geometry
+            faces = face_frames(state.shape)
+        else:
+            faces = _flat_input(state, node, program, f"{node.name}()")
+        for frame, polygon in faces:
             try:
                 if kind == "angle":
                     mesh = build(polygon, amount, **options)
