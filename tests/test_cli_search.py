@@ -1,27 +1,19 @@
 """`shapegen build --optimize` and `shapegen landscape` as a user runs them."""
 
 import json
+from pathlib import Path
 
 import pytest
 
 from shapegen.cli import main
 
-STACK = """
-@Free @Range(0.0, 0.6)
-attr base = 0.1
-@Range(0.0, 0.6)
-attr shift = 0.0
-@StartRule @Lot(1, 1)
-Lot --> extrude(2) split(y) { 1 : Bottom | 1 : Top }
-Bottom --> s(base + 0.5, '1, '1) Stone
-Top --> t(0.3 - shift, 0, 0) Stone
-"""
+STACK = Path(__file__).parent / "data" / "rules" / "stack.grammar"
 
 
 @pytest.fixture
 def stack(tmp_path):
     path = tmp_path / "stack.grammar"
-    path.write_text(STACK)
+    path.write_text(STACK.read_text())
     return path
 
 

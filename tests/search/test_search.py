@@ -12,6 +12,7 @@ governing cable diameter is at most (1 - margin) max_cable_diameter.
 
 import inspect
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -32,17 +33,7 @@ from shapegen.statics import StaticsOptions, analyze
 from shapegen.structures import Design, make_structure
 from shapegen.structures.cable import CableModel
 
-STACK = """
-attr overhang = 0.3
-@Free @Range(0.0, 0.6)
-attr base = 0.1
-@Range(0.0, 0.6)
-attr shift = 0.0
-@StartRule @Lot(1, 1)
-Lot --> extrude(2) split(y) { 1 : Bottom | 1 : Top }
-Bottom --> s(base + 0.5, '1, '1) Stone
-Top --> t(overhang - shift, 0, 0) Stone
-"""
+STACK = (Path(__file__).parents[1] / "data" / "rules" / "stack.grammar").read_text()
 
 REPORT_KEYS = {
     "structure",

@@ -47,3 +47,15 @@ def running_bond_wall(
     settings = {"friction": friction} if friction is not None else {}
     gravity = 9.81 * np.array([math.sin(tilt), -math.cos(tilt), 0.0])
     return Model(blocks=blocks, ground=0.0, gravity=gravity, **settings)
+
+
+def assert_solved_within(backend: str, problem, violations, limits) -> None:
+    """``backend`` solves ``problem`` to OPTIMAL and each optimality-condition violation
+    ``violations(problem, solution)`` returns (primal, dual, complementarity) is below its
+    limit."""
+    from shapegen.statics.solvers import SolveStatus, get_backend
+
+    solution = get_backend(backend).solve(problem)
+    assert solution.status is SolveStatus.OPTIMAL
+    found = violations(problem, solution)
+    assert all(v < limit for v, limit in zip(found, limits, strict=True)), (found, limits)

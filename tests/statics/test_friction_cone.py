@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 import pytest
-from statics_cases import horizontal_interface
+from statics_cases import assert_solved_within, horizontal_interface
 
 from shapegen.errors import OptionError, StaticsError
 from shapegen.model.block import Block
@@ -192,12 +192,7 @@ CONE_CASES = {
 def test_cone_optimality_conditions(backend, case):
     model, interfaces = CONE_CASES[case]()
     problem = assemble(model, interfaces, pyramid="cone")
-    solution = get_backend(backend).solve(problem)
-    assert solution.status is SolveStatus.OPTIMAL
-    primal, dual, complementarity = cone_kkt_violation(problem, solution)
-    assert primal < 1e-7
-    assert dual < 1e-5
-    assert complementarity < 1e-6
+    assert_solved_within(backend, problem, cone_kkt_violation, (1e-7, 1e-5, 1e-6))
 
 
 @pytest.mark.parametrize("backend", CONE_BACKENDS)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 from scipy.optimize import nnls
-from statics_cases import horizontal_interface
+from statics_cases import assert_solved_within, horizontal_interface
 
 from shapegen.model.block import Block
 from shapegen.model.model import Model, PointLoad
@@ -96,12 +96,7 @@ def kkt_violation(problem, solution):
 def test_optimality_conditions(backend, case):
     model, interfaces = CASES[case]()
     problem = assemble(model, interfaces)
-    solution = get_backend(backend).solve(problem)
-    assert solution.status is SolveStatus.OPTIMAL
-    primal, stationarity, complementarity = kkt_violation(problem, solution)
-    assert primal < 1e-7
-    assert stationarity < 1e-5
-    assert complementarity < 1e-7
+    assert_solved_within(backend, problem, kkt_violation, (1e-7, 1e-5, 1e-7))
 
 
 def tension_sum_squared(problem, solution):
