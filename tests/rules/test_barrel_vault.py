@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from rule_checks import tagged
 
-import shapegen
 from shapegen.search import DesignSession
 from shapegen.statics import analyze, find_interfaces
 
@@ -23,17 +23,8 @@ GRAMMAR = RULES / "barrel_vault.grammar"
 
 
 @pytest.fixture(scope="module")
-def grammar():
-    return shapegen.load_grammar(GRAMMAR)
-
-
-@pytest.fixture(scope="module")
 def model(grammar):
     return grammar.build()
-
-
-def tagged(model, tag):
-    return [b for b in model.blocks if tag in b.tags]
 
 
 def test_140_blocks(model):

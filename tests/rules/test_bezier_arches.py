@@ -16,18 +16,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import shapegen
 from shapegen.cli import main
 from shapegen.statics import analyze
 
 RULES = Path(__file__).resolve().parents[2] / "rules"
 GRAMMAR = RULES / "bezier_arches.grammar"
 STOREYS = (1, 2, 3)
-
-
-@pytest.fixture(scope="module")
-def grammar():
-    return shapegen.load_grammar(GRAMMAR)
 
 
 def test_three_arches_piers_in_courses_and_a_cap(grammar):

@@ -13,11 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import shapegen
 from shapegen.search import optimize
 from shapegen.statics import analyze, check_model, find_interfaces
 
 CLUNY = Path(__file__).resolve().parents[2] / "rules" / "cluny.grammar"
+GRAMMAR = CLUNY
 FOUR = ["wall_thickness", "buttress_thickness", "window_width", "column_size"]
 TEN_EXTRA = [
     "aisle_wall_thickness",
@@ -27,11 +27,6 @@ TEN_EXTRA = [
     "flyer_angle",
     "buttress_depth",
 ]
-
-
-@pytest.fixture(scope="module")
-def grammar():
-    return shapegen.load_grammar(CLUNY)
 
 
 @pytest.fixture(scope="module")

@@ -17,8 +17,8 @@ import struct
 
 import numpy as np
 import pytest
+from rule_checks import tagged
 
-import shapegen
 from shapegen.cli import main
 from shapegen.errors import ShapegenError
 from shapegen.export.gltf import encode_glb
@@ -32,17 +32,8 @@ SPACING = 15.24  # the grammar's default suspender_spacing, m
 
 
 @pytest.fixture(scope="module")
-def grammar():
-    return shapegen.load_grammar(GRAMMAR)
-
-
-@pytest.fixture(scope="module")
 def golden_gate(grammar):
     return grammar.build()
-
-
-def tagged(model, tag):
-    return [b for b in model.blocks if tag in b.tags]
 
 
 def tower_positions(model) -> np.ndarray:

@@ -18,19 +18,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import shapegen
 from shapegen.search import optimize
 from shapegen.statics import analyze
 
 RULES = Path(__file__).resolve().parents[2] / "rules"
+GRAMMAR = RULES / "tower.grammar"
 LEVELS = 16
 HALF_WIDTH = 0.75  # m, half the lot's 1.5 m
 LEVEL_HEIGHT = 0.5  # m, the file's level_height
-
-
-@pytest.fixture(scope="module")
-def grammar():
-    return shapegen.load_grammar(RULES / "tower.grammar")
 
 
 def lean(d_x: float, d_z: float = 0.0) -> dict[str, float]:
