@@ -19,7 +19,6 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 IMAGES = Path(__file__).resolve().parent / "images"
@@ -121,12 +120,15 @@ def wait_for_verdict(page, text: str, timeout_ms: float = 120_000) -> None:
 
 def wait_for_stable_range(page, name: str, timeout_ms: float = 300_000) -> str:
     """The status line under a free slider once its stable interval is shaded."""
+    # the state says the scan is done, and the row shows it (the page draws the shading and
+    # the status line from the same state): no sleep, which a loaded machine outlasts
     page.wait_for_function(
-        "n => (window.shapegenEditor.state?.stability?.[n]?.status === 'done')",
+        """n => window.shapegenEditor.state?.stability?.[n]?.status === 'done'
+          && document.querySelector(`.attr[data-attr="${n}"] .status`)?.textContent
+               .startsWith('stands')""",
         arg=name,
         timeout=timeout_ms,
     )
-    time.sleep(0.3)  # the shading is drawn on the next state
     return page.inner_text(f'.attr[data-attr="{name}"] .status')
 
 

@@ -437,8 +437,10 @@ def test_frame_all_views_and_the_orthographic_camera(browser, tmp_path):
     with page_steps.Editor(source) as editor:
         page = page_steps.open_page(browser, editor.url)
         assert in_view(page)
-        # taller columns: the model no longer fits, and is framed again
-        page_steps.drag_slider(page, "column_height", 6)
+        # taller columns: the model no longer fits, and is framed again (once the page has the
+        # new state, whose model is the one drawn: the old one fits already)
+        taken = page_steps.drag_slider(page, "column_height", 6)
+        wait_for_value(page, "column_height", taken)
         page.wait_for_function("window.shapegenEditor.renderedModelVersion"
                                " === window.shapegenEditor.state.model_version")  # fmt: skip
         assert in_view(page)
@@ -618,12 +620,25 @@ def test_the_searchs_settings_free_attrs_margin_seed_and_lot(browser, tmp_path):
         page.wait_for_function("window.shapegenEditor.state.settings.lot?.length === 4")
         assert abs(page.evaluate(volume) - 4.0) < 1e-9
         page_steps.settle(page)
-        assert "--lot '0,0 0,2 2,2 2,0'" in page.inner_text("#command")
+        # the command line is fetched once the model is drawn
+        page.wait_for_function(
+            "() => document.getElementById('command').textContent.includes(\"--lot '0,0 0,2\")"
+        )
         assert in_view(page)  # a larger model: framed again
         page_steps.screenshot(page, "editor_settings", tmp_path)
         page.click("#lot-file")
         page.wait_for_function("window.shapegenEditor.state.settings.lot === null")
         assert page.input_value("#lot-width") == "1"
+        # every change of the settings is undone as an attr's is: the lot, then the margin
+        page.keyboard.press("Control+z")
+        page.wait_for_function("window.shapegenEditor.state.settings.lot?.length === 4")
+        page.fill("#margin", "0.3")
+        page.press("#margin", "Enter")
+        page.wait_for_function("window.shapegenEditor.state.settings.margin === 0.3")
+        page.locator("#margin").blur()  # Ctrl+Z in a text field undoes its typing
+        page.keyboard.press("Control+z")
+        page.wait_for_function("window.shapegenEditor.state.settings.margin === 0.5")
+        assert page.input_value("#margin") == "0.5"
         assert not page.problems, page.problems
 
 
