@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from polygon_cases import star_polygon
 
 from shapegen.geometry.convex import convex_faces, convex_pieces
 from shapegen.geometry.cut import (
@@ -104,10 +105,7 @@ def _random_lots(count, seed=1):
     rng = np.random.default_rng(seed)
     lots = []
     while len(lots) < count:
-        n = int(rng.integers(3, 12))
-        angles = np.sort(rng.uniform(0, 2 * np.pi, n))
-        radii = rng.uniform(1, 5, n)
-        points = np.column_stack([radii * np.cos(angles), -radii * np.sin(angles)])
+        points = star_polygon(rng, 1, 5) * [1.0, -1.0]  # counter-clockwise in x, z
         if shapely.LinearRing(points).is_simple and shapely.Polygon(points).area > 0.5:
             lots.append(points.tolist())
     return lots

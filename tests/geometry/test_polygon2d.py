@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from polygon_cases import star_polygon
 
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d as P
@@ -162,10 +163,7 @@ def _random_polygons(count, seed):
     rng = np.random.default_rng(seed)
     out = []
     while len(out) < count:
-        n = int(rng.integers(3, 12))
-        angle = np.sort(rng.uniform(0, 2 * np.pi, n))
-        radius = rng.uniform(3, 10, n)
-        points = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+        points = star_polygon(rng, 3, 10)
         if len(out) % 3 == 0:
             points = np.round(points)
         points = P.counter_clockwise(points)
