@@ -77,7 +77,7 @@ class Occlusion:
     queries test against ``occluders``.
     """
 
-    __slots__ = ("occluders", "labelled", "asked", "_parents")
+    __slots__ = ("occluders", "labelled", "asked", "_parents", "_boxes")
 
     def __init__(self, occluders: list[Occluder] | None = None, labelled: list | None = None):
         self.occluders = occluders
@@ -86,6 +86,17 @@ class Occlusion:
         self.labelled: list[tuple] = [] if labelled is None else labelled
         self.asked = False
         self._parents: dict[tuple, tuple] = {}
+        self._boxes: tuple[np.ndarray, np.ndarray] | None = None
+
+    def boxes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The occluders' bounding boxes as two ``(n, 3)`` arrays (lowest, highest corners)."""
+        if self._boxes is None:
+            occluders = self.occluders or []
+            self._boxes = (
+                np.array([o.low for o in occluders]).reshape(-1, 3),
+                np.array([o.high for o in occluders]).reshape(-1, 3),
+            )
+        return self._boxes
 
     def label(self, state, text: str) -> None:
         """Record a ``label(text)`` of the first pass."""
@@ -141,15 +152,17 @@ def _query(state, target: str, label, test) -> bool:
         return False  # one initial shape per derivation: no other shape trees
     query = _Query(state.shape.world_mesh())
     path = state.path
-    for occluder in occlusion.occluders:
+    lows, highs = occlusion.boxes()
+    near = ~(
+        np.any(query.low > highs + TOLERANCE, axis=1)
+        | np.any(lows > query.high + TOLERANCE, axis=1)
+    )  # the occluders whose boxes meet the query's, all at once
+    for index in np.flatnonzero(near):
+        occluder = occlusion.occluders[index]
         other = occluder.path
         if other[: len(path)] == path or path[: len(other)] == other:
             continue  # an ancestor or a descendant
         if label and label not in occluder.labels:
-            continue
-        if np.any(query.low > occluder.high + TOLERANCE) or np.any(
-            occluder.low > query.high + TOLERANCE
-        ):
             continue
         if test(query, occluder):
             return True
