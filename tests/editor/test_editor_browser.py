@@ -706,5 +706,7 @@ def test_angles_percents_and_distances_show_their_units(browser, tmp_path):
         assert value_of("setback") == 1.5
         assert page.locator('.attr[data-attr="pitch"] button.free').count() == 0  # no @Range
         assert page.locator('.attr[data-attr="tilt"] button.free').count() == 1
+        page_steps.settle(page)
+        page_steps.screenshot(page, "editor_units", tmp_path)
         assert page.evaluate("window.shapegenEditor.errors") == []
         assert not page.problems, page.problems

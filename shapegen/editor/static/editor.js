@@ -1088,8 +1088,12 @@ function makeRow(attr, parent) {
       }
       change(attr.name, value);
     });
-    row.appendChild(input);
-    if (attr.kind === 'number') row.appendChild(unitMark(attr));
+    if (attr.kind === 'number' && attr.unit) { // the field and its unit on one line
+      const line = document.createElement('div');
+      line.className = 'with-unit';
+      line.append(input, unitMark(attr));
+      row.appendChild(line);
+    } else row.appendChild(input);
   }
   input.name = attr.name;
   row.input = input;
