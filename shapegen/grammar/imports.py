@@ -37,6 +37,7 @@ from pathlib import Path
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.import_paths import import_candidates, project_folder
+from shapegen.grammar.names import OPERATION_KEYWORDS
 from shapegen.grammar.parser import parse_with_problems
 from shapegen.grammar.source_files import read_rule_file
 
@@ -310,6 +311,8 @@ class _Renamer:
         self.values = frozenset(d.name for d in grammar.definitions if not isinstance(d, ast.Rule))
         self.functions = frozenset(d.name for d in grammar.functions)
         self.attrs = frozenset(d.name for d in grammar.attrs)
+        #: renamed values that are also selector words: a branch key keeps the word
+        self.selectors = {rename(v): v for v in self.values if v in OPERATION_KEYWORDS}
 
     def definition(self, definition: ast.Definition) -> ast.Definition:
         params = frozenset(p.name for p in getattr(definition, "params", ())) | frozenset(
@@ -338,6 +341,10 @@ class _Renamer:
             return {"name": self.rename(tree.name)}
         if isinstance(tree, ast.Set) and tree.attribute in self.attrs:
             return {"attribute": self.rename(tree.attribute)}
+        key = getattr(tree, "key", None) if isinstance(tree, ast.OperationBranch) else None
+        if isinstance(key, ast.Name) and key.name in self.selectors:
+            # shapeL(...) { shape : A } beside an ``attr shape``: the selector, as in the file
+            return {"key": dataclasses.replace(key, name=self.selectors[key.name])}
         return None
 
 

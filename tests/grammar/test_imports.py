@@ -67,6 +67,17 @@ def test_prefixed_rules_attrs_consts_and_functions(tmp_path):
     assert "imp.Bump" not in names and "imp.Tall" not in names
 
 
+def test_a_selector_named_like_an_imported_attr_stays_a_selector(tmp_path):
+    # shapeL's `shape` beside an `attr shape` of the imported file: the selector, as it is
+    # when the file derives on its own (not the renamed attr `lu.shape`)
+    lib = 'attr shape = "auto"\n@StartRule\nLot --> shapeL(3, 3) { shape : L. | remainder : R. }\n'
+    _files(tmp_path, {"lib.cga": lib, "main.cga": 'import lu : "lib.cga"\nStart --> lu.Lot\n'})
+    alone = load_grammar(tmp_path / "lib.cga").build(lot=LOT)
+    imported = load_grammar(tmp_path / "main.cga").build(lot=LOT)
+    assert imported.metadata["leaves"] == alone.metadata["leaves"] == 2
+    assert load_grammar(tmp_path / "main.cga").attrs["lu.shape"] == "auto"
+
+
 def test_set_of_a_prefixed_attr_reaches_the_imported_rules(tmp_path):
     main = 'import imp : "imp.cga"\nLot --> set(imp.height, 4) imp.Lot\n'
     assert _height(tmp_path, main) == 4.0
