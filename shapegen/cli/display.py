@@ -12,6 +12,7 @@ __all__ = [
     "print_analysis",
     "print_build",
     "print_simulation",
+    "stand_ins_line",
 ]
 
 
@@ -103,6 +104,8 @@ def analysis_table(title: str, analysis: dict):
     """The verdict of any structure, and its own figures."""
     from rich.text import Text
 
+    from shapegen.structures import structure_class
+
     table = _grid()
     table.add_row("model", Text(title))
     stands = bool(analysis.get("stands"))
@@ -110,19 +113,18 @@ def analysis_table(title: str, analysis: dict):
         "stands", Text("yes" if stands else "no", style="green" if stands else "bold red")
     )
     table.add_row("judged by", Text(str(analysis.get("structure"))))
-    if analysis.get("structure") == "cable":
-        table.add_row(
-            "cable diameter",
-            f"{fmt(analysis.get('cable_diameter'))} m (allowed"
-            f" {fmt(analysis.get('allowed_diameter'))} m, governing: {analysis.get('governing')})",
-        )
-        table.add_row("max tension", f"{fmt(analysis.get('max_tension'))} N per cable")
-        table.add_row("measure", f"{fmt(analysis.get('measure'))} ((d/d_max - 1)^2)")
+    structure = structure_class(analysis.get("structure"))
+    if not structure.judges_blocks:  # a bridge's cables, a plug-in: the structure's own figures
+        for label, text in structure.summary(analysis):
+            table.add_row(label, text)
         return table
     table.add_row("blocks", str(analysis.get("blocks")))
     bodies = analysis.get("bodies")
     if bodies:
         table.add_row("bodies", bodies_line(bodies))
+    stand_ins = analysis.get("stand_ins")
+    if stand_ins:
+        table.add_row(Text("stand-ins", style="yellow"), Text(stand_ins_line(stand_ins), "yellow"))
     table.add_row("interfaces", str(analysis.get("interfaces")))
     table.add_row(
         "infeasibility",
@@ -159,6 +161,17 @@ def bodies_line(bodies: dict) -> str:
             f" {bodies['riding_on_supports']} on the ground or supports)"
         )
     return text
+
+
+def stand_ins_line(stand_ins: dict) -> str:
+    """What the statics judged in place of leaves the model keeps as drawn (a warning: the
+    verdict is that of solids the rule did not model)."""
+    count = stand_ins["leaves"]
+    reasons = ", ".join(f"{n} {reason}" for reason, n in stand_ins.get("by_reason", {}).items())
+    return (
+        f"{count} {'leaf' if count == 1 else 'leaves'} judged as solids the rule did not model"
+        f" ({reasons}; {stand_ins['blocks']} blocks); the model itself is as derived"
+    )
 
 
 def capacity_line(capacity: dict) -> str:
@@ -230,7 +243,9 @@ def print_build(title: str, report: dict) -> None:
     for name, value in report.get("reports", {}).items():
         table.add_row(Text(f"report {name}"), Text(str(value)))
     console.print(table)
-    left_out = left_out_line(report.get("left_out"))
+    # what the statics still leave out, once the leaves they can judge stand in
+    stand_ins = (report.get("analysis") or {}).get("stand_ins")
+    left_out = left_out_line(stand_ins["left_out"] if stand_ins else report.get("left_out"))
     if left_out:  # one line, never wrapped
         console.print(Text(f"left out: {left_out}"), soft_wrap=True)
     for warning in report.get("warnings", []):

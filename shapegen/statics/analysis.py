@@ -41,6 +41,7 @@ from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveStatus, get_backend
+from shapegen.statics.standins import design_blocks, statics_model
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import ROUNDOFF_REL
 
@@ -99,6 +100,11 @@ class Analysis:
     bodies
         The :class:`~shapegen.statics.bodies.Bodies` judged (the blocks' own when each block is
         its own body and nothing rides as load).
+    stand_ins
+        The :class:`~shapegen.statics.standins.StandIns` judged in place of leaves the model
+        keeps as drawn (None when there are none). ``model`` is then the
+        :class:`~shapegen.statics.standins.StaticsModel` judged, and ``n_blocks`` and
+        ``block_tension`` are those of the model's own blocks, which come first in it.
     """
 
     status: SolveStatus
@@ -121,6 +127,7 @@ class Analysis:
     model: object = field(default=None, repr=False)
     worst_direction: bool = False
     bodies: object = field(default=None, repr=False)
+    stand_ins: object = field(default=None, repr=False)
 
     @property
     def tilt(self) -> dict | None:
@@ -160,6 +167,7 @@ class Analysis:
                 if self.bodies is not None and not self.bodies.trivial
                 else {}
             ),
+            **({"stand_ins": self.stand_ins.to_report()} if self.stand_ins is not None else {}),
         }
 
 
@@ -270,6 +278,7 @@ def analyze(
         )
     friction, pyramid, kern = options.friction, options.pyramid, options.kern
     order = options.backends()
+    model = statics_model(model)  # leaves the model keeps as drawn, judged as stand-ins
     timings = {"interfaces": 0.0, "assembly": 0.0, "solve": 0.0, "certify": 0.0}
     size = float(model.size)  # one pass over the blocks for the tolerances and the length
     tol = DEFAULT_TOLERANCES.for_size(size)
@@ -376,7 +385,10 @@ def analyze(
 def contacts_and_bodies(model, options: StaticsOptions, tol, *, interfaces=None, bodies=None,
                         check: bool = True):  # fmt: skip
     """The contacts of ``model`` and its bodies under the structure ``options`` select (each
-    found when not given), checked with ``check_model`` when ``check``."""
+    found when not given), checked with ``check_model`` when ``check``. Both are those of
+    :func:`~shapegen.statics.standins.statics_model` ``(model)``, the model with its
+    stand-ins."""
+    model = statics_model(model)
     if interfaces is None:
         from shapegen.statics.contacts import find_interfaces
 
@@ -462,6 +474,8 @@ def _build_analysis(
         np.maximum.at(block_tension, second[on_block], safe[on_block])
         structural_free = problem.free_index >= 0
         block_tension[~structural_free] = 0.0
+    # the figures per block are the model's own blocks' (its stand-ins, if any, follow them)
+    block_tension = block_tension[: design_blocks(model)]
     multipliers = None
     if solution.multipliers is not None:
         # d(y/W^2)/d(w/W) = lam  ->  dy/dw = W lam (force rows), W lam / L (torque rows)
@@ -491,8 +505,9 @@ def _build_analysis(
         timings=timings,
         solver=used,
         problem=problem,
-        n_blocks=nb,
+        n_blocks=design_blocks(model),
         model=model,
         worst_direction=bool(worst),
         bodies=problem.cache.get("bodies"),
+        stand_ins=getattr(model, "stand_ins", None),
     )

@@ -34,6 +34,7 @@ from shapegen.statics.multiplier import (
     worst_direction,
 )
 from shapegen.statics.options import StaticsOptions
+from shapegen.statics.standins import statics_model
 from shapegen.statics.tilt import normalized_azimuth
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import TILT_RESOLUTION_DEG
@@ -125,6 +126,7 @@ def lateral_capacity(
     """
     started = time.perf_counter()
     options = dataclasses.replace(options or StaticsOptions(), tilt=0.0, azimuth=None)
+    model = statics_model(model)  # leaves kept as drawn stand in, as in analyze
     size = float(model.size)
     interfaces, bodies = contacts_and_bodies(
         model, options, DEFAULT_TOLERANCES.for_size(size), interfaces=interfaces,

@@ -23,6 +23,7 @@ from shapegen.statics.analysis import Analysis
 from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.contacts import find_interfaces
 from shapegen.statics.options import StaticsOptions
+from shapegen.statics.standins import statics_model
 
 
 def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> float | None:
@@ -50,6 +51,7 @@ def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> floa
     if problem is None or base.multipliers is None:
         return None
     weight, length = problem.weight, problem.length
+    moved = statics_model(moved)  # with its stand-ins, as the base was judged
     x = (base.forces / weight).T.ravel()
     lam = base.multipliers.reshape(-1, 6).copy() / weight
     lam[:, 3:] *= length

@@ -33,6 +33,7 @@ class BlockStatics(Structure):
     options_type = StaticsOptions
     has_gradient = True
     has_capacity = True
+    judges_blocks = True
     arguments = {
         "structural": StructureArgument(
             "labels or rule names of the blocks that are structure, separated by commas (the"
@@ -65,10 +66,11 @@ class BlockStatics(Structure):
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         from shapegen.statics.analysis import analyze  # scipy loads when a design is judged
+        from shapegen.statics.standins import statics_model
 
         margin = self.checked_margin(margin)
         stood = self._stood if self._stood is not None and self._stood[0] >= margin else None
-        model = design.model
+        model = statics_model(design.model)  # the same object analyze judges
         options = self._options(margin, design)
         if options.tilted and options.azimuth is None:
             analysis = self._towards_the_worst(model, options)
@@ -90,6 +92,7 @@ class BlockStatics(Structure):
             section=analysis.to_report(),
             detail=analysis,
             margin=float(margin),
+            block_analysis=analysis,
         )
 
     def measure_change(self, base: Assessment, moved: Design) -> float | None:

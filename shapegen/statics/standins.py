@@ -1,0 +1,277 @@
+"""Stand-ins: the solids the statics judge in place of leaves the model keeps as drawn.
+
+A real CityEngine rule models what is seen. A column shaft is a fluted tube without its end
+discs, an echinus a flared bowl open at both ends, a moulding a closed solid that does not cut
+into convex pieces: none is a convex block, so the derivation leaves them out of the blocks, as
+surfaces with the reason (the derived model stays exactly the one CityEngine's runtime makes).
+What they carry would then rest on nothing. For the statics alone, each such leaf gets a
+*stand-in*, a block (or the parts of one body) appended after the model's own blocks in a
+:class:`StaticsModel`:
+
+- a shell left open only where loops of edges can be capped (the shaft) is closed by one face
+  per loop (:func:`~shapegen.geometry.solids.capped`): ``"open shell, capped"`` when the closed
+  solid is convex or cuts into convex parts of one body, ``"open shell, capped, on its convex
+  hull"`` when it does not;
+- a closed solid that does not cut into convex pieces stands on its convex hull:
+  ``"not convex, on its convex hull"``;
+- a closed mesh whose faces look inwards is turned out: ``"faces turned inwards, turned out"``
+  (``", on its convex hull"`` added when it does not cut into convex parts).
+
+A hull carries the leaf's own weight (its density scaled by the leaf's volume over the hull's);
+its centroid is the hull's. Contacts act over the convex hull of the touching region anyway,
+so a hull is exact where the leaf touches its neighbours on its flat ends. What cannot stand in
+(a mesh that runs an edge twice, a face) stays out, counted by reason. The stand-ins are
+reported (``analysis.stand_ins``) and never change the model that is written or shown: an
+analysis of a :class:`StaticsModel` gives its per-block figures for the model's own blocks.
+
+>>> from shapegen.geometry.mesh import Mesh
+>>> from shapegen.model import Block, Model
+>>> from shapegen.model.appearance import Surface
+>>> tube = Mesh.box((1.0, 2.0, 1.0))
+>>> tube = Mesh(tube.vertices + [0.0, 1.0, 0.0], tube.faces[2:])  # no bottom nor top
+>>> lintel = Block.box((-0.5, 3.0, 0.0), (1.5, 3.5, 1.0))
+>>> model = Model([lintel], surfaces=[Surface(tube.vertices, tube.faces, reason="not closed")])
+>>> judged = statics_model(model)
+>>> len(judged.blocks), judged.stand_ins.by_reason
+(2, {'open shell, capped': 1})
+"""
+
+from __future__ import annotations
+
+__all__ = ["StandIns", "StaticsModel", "design_blocks", "statics_model"]
+
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from shapegen.errors import GeometryError
+from shapegen.geometry.cut import convex_decomposition
+from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.solids import capped, hull_corners
+from shapegen.model.block import DEFAULT_DENSITY, Block
+from shapegen.model.model import Model
+from shapegen.tolerances import MIN_LEAF_SIZE
+
+CAPPED = "open shell, capped"
+CAPPED_HULL = "open shell, capped, on its convex hull"
+HULL = "not convex, on its convex hull"
+TURNED = "faces turned inwards, turned out"
+TURNED_HULL = "faces turned inwards, turned out, on its convex hull"
+
+# the surfaces' reasons (the interpreter's, kept in the JSON format) a stand-in is tried for
+_OPEN, _NOT_CONVEX, _INWARDS = "not closed", "not convex", "faces turned inwards"
+_CANDIDATES = (_OPEN, _NOT_CONVEX, _INWARDS)
+
+
+@dataclass(frozen=True)
+class StandIns:
+    """What the statics judge in place of the model's surfaces.
+
+    Attributes
+    ----------
+    design_blocks
+        Number of the model's own blocks; the stand-ins follow them in the statics model.
+    blocks
+        Number of stand-in blocks (a stand-in cut into convex parts has several).
+    by_reason
+        Leaves stood in for, by what was done: ``"open shell, capped"``, ``"open shell,
+        capped, on its convex hull"``, ``"not convex, on its convex hull"``, ``"faces turned
+        inwards, turned out"``; in decreasing count.
+    left_out
+        Leaves the statics still leave out, by the surface's reason (a mesh whose boundary is
+        not loops of edges stays ``"not closed"``).
+    """
+
+    design_blocks: int
+    blocks: int
+    by_reason: dict = field(default_factory=dict)
+    left_out: dict = field(default_factory=dict)
+
+    @property
+    def leaves(self) -> int:
+        """Number of leaves stood in for."""
+        return int(sum(self.by_reason.values()))
+
+    def to_report(self) -> dict:
+        """Plain JSON values (see docs/formats.md, ``analysis.stand_ins``)."""
+        return {
+            "leaves": self.leaves,
+            "blocks": int(self.blocks),
+            "by_reason": dict(self.by_reason),
+            "left_out": {"leaves": int(sum(self.left_out.values())), "by_reason": self.left_out},
+        }
+
+
+@dataclass
+class StaticsModel(Model):
+    """A model with stand-in blocks appended after its own, for the statics alone
+    (:func:`statics_model`); ``stand_ins`` says what they are."""
+
+    stand_ins: StandIns | None = None
+
+
+def design_blocks(model) -> int:
+    """Number of blocks of the model as derived: all of them, but for a :class:`StaticsModel`,
+    whose stand-ins follow its own blocks."""
+    stand_ins = getattr(model, "stand_ins", None)
+    return len(model.blocks) if stand_ins is None else stand_ins.design_blocks
+
+
+def statics_model(model: Model) -> Model:
+    """The model the statics judge: ``model`` itself when no surface can stand in, else a
+    :class:`StaticsModel` with the model's blocks followed by the stand-ins (see the module
+    docstring) and the surfaces still left out. The same model gives the same object (the
+    last few are kept), so an analysis, its contacts and its capacity agree on the blocks;
+    a statics model is its own."""
+    if isinstance(model, StaticsModel):
+        return model
+    surfaces = list(getattr(model, "surfaces", None) or [])
+    if not any(s.reason in _CANDIDATES for s in surfaces):
+        return model
+    kept = _MODELS.get(id(model))
+    if kept is not None and kept[0] is model:
+        return kept[1]
+    judged = _with_stand_ins(model, surfaces)
+    if len(_MODELS) >= _MODELS_LIMIT:
+        del _MODELS[next(iter(_MODELS))]  # the oldest entry
+    _MODELS[id(model)] = (model, judged)
+    return judged
+
+
+def _with_stand_ins(model: Model, surfaces: list) -> StaticsModel:
+    properties = _Properties(model.blocks)
+    taken = {b.id for b in model.blocks}
+    blocks: list[Block] = []
+    by_reason: Counter = Counter()
+    left_out: Counter = Counter()
+    remaining = []
+    for number, surface in enumerate(surfaces):
+        made = None
+        if surface.reason in _CANDIDATES:
+            made = _stand_in(surface)
+        if made is None:
+            left_out[surface.reason or "not a block"] += 1
+            remaining.append(surface)
+            continue
+        what, pieces, density_scale = made
+        density, structural, fixed = properties.of(surface.rule_path)
+        name = surface.id or f"s{number}"
+        while name in taken or any(f"{name}.{k}" in taken for k in range(len(pieces))):
+            name += "'"
+        for k, (vertices, faces) in enumerate(pieces):
+            block_id = name if len(pieces) == 1 else f"{name}.{k}"
+            taken.add(block_id)
+            blocks.append(
+                Block(
+                    vertices,
+                    faces,
+                    density=density * density_scale,
+                    id=block_id,
+                    tags=surface.tags,
+                    structural=structural,
+                    fixed=fixed,
+                    rule_path=surface.rule_path,
+                    extras={"stand_in": what, "surface": name},
+                    body=name if len(pieces) > 1 else "",
+                )
+            )
+        by_reason[what] += 1
+    stand_ins = StandIns(
+        design_blocks=len(model.blocks),
+        blocks=len(blocks),
+        by_reason=dict(by_reason.most_common()),
+        left_out=dict(left_out.most_common()),
+    )
+    return StaticsModel(
+        blocks=[*model.blocks, *blocks],
+        loads=model.loads,
+        gravity=model.gravity,
+        ground=model.ground,
+        friction=model.friction,
+        metadata=model.metadata,
+        surfaces=remaining,
+        stand_ins=stand_ins,
+    )
+
+
+class _Properties:
+    """A stand-in's density, ``structural`` and ``fixed``: those of the model's blocks made by
+    the same chain of rules, else the density most of its blocks have (2 400 kg/m^3 when it has
+    none), structural and free."""
+
+    def __init__(self, blocks: list[Block]):
+        self.by_chain: dict[tuple, tuple[float, bool, bool]] = {}
+        for block in blocks:
+            if block.rule_path:
+                self.by_chain.setdefault(
+                    block.rule_path, (block.density, block.structural, block.fixed)
+                )
+        densities = Counter(b.density for b in blocks)
+        density = densities.most_common(1)[0][0] if densities else DEFAULT_DENSITY
+        self.default = (density, True, False)
+
+    def of(self, rule_path: tuple) -> tuple[float, bool, bool]:
+        return self.by_chain.get(tuple(rule_path), self.default) if rule_path else self.default
+
+
+def _stand_in(surface) -> tuple[str, list, float] | None:
+    """``(what was done, [(vertices, faces), ...] of the convex parts in world coordinates,
+    density scale)`` for one surface, or None when it cannot stand in. Worked out once per
+    shape up to a translation (a temple's columns are one asset placed many times)."""
+    vertices = np.asarray(surface.vertices, dtype=float)
+    if len(vertices) < 4:
+        return None
+    anchor = vertices.min(axis=0)
+    local = vertices - anchor
+    key = (surface.reason, np.round(local / _KEY_QUANTUM).astype(np.int64).tobytes(),
+           tuple(surface.faces))  # fmt: skip
+    found = _SHAPES.get(key, _MISSING)
+    if found is _MISSING:
+        found = _local_stand_in(Mesh(local, surface.faces), surface.reason)
+        if len(_SHAPES) >= _SHAPES_LIMIT:
+            del _SHAPES[next(iter(_SHAPES))]  # the oldest entry
+        _SHAPES[key] = found
+    if found is None:
+        return None
+    what, pieces, scale = found
+    return what, [(piece_vertices + anchor, faces) for piece_vertices, faces in pieces], scale
+
+
+def _local_stand_in(mesh: Mesh, reason: str) -> tuple[str, list, float] | None:
+    if reason == _OPEN:
+        mesh = capped(mesh)
+        if mesh is None:
+            return None
+        what, whole = CAPPED, CAPPED_HULL
+    elif reason == _INWARDS:
+        mesh, what, whole = mesh.reversed(), TURNED, TURNED_HULL
+    else:  # the derivation found no convex pieces: the hull at once
+        what = whole = HULL
+    if not mesh.is_closed:
+        return None
+    volume = mesh.signed_volume()
+    if volume <= MIN_LEAF_SIZE**3:
+        return None
+    if reason != _NOT_CONVEX and mesh.n_faces <= _MAX_CUT_FACES:
+        pieces = convex_decomposition(mesh, _MAX_PIECES)
+        if pieces is not None:
+            cleaned = [piece.cleaned() for piece in pieces]
+            return what, [(p.vertices, p.faces) for p in cleaned], 1.0
+    try:
+        hull = Block.from_hull(hull_corners(mesh.vertices))
+    except GeometryError:
+        return None
+    return whole, [(hull.vertices, hull.faces)], volume / hull.volume
+
+
+_KEY_QUANTUM = 1e-9  # m: shapes equal to this after a translation share their stand-in
+_MAX_PIECES = 64  # convex parts of one stand-in, as the derivation's own decompositions
+# a solid of more faces is not cut (a fluted shaft, a curved capital: the cuts would fail after
+# many pieces, or give slivers) but stands on its hull
+_MAX_CUT_FACES = 200
+_SHAPES: dict = {}
+_SHAPES_LIMIT = 512
+_MODELS: dict = {}
+_MODELS_LIMIT = 4
+_MISSING = object()
