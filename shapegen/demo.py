@@ -51,6 +51,7 @@ def _run(rule: str, out: Path) -> int:
     from shapegen.export.atomic import check_writable
     from shapegen.export.model_io import write_model
     from shapegen.export.picture import render_model
+    from shapegen.search.options import SearchOptions
 
     console = Console(highlight=False)
     if out.exists() and not out.is_dir():
@@ -79,11 +80,10 @@ def _run(rule: str, out: Path) -> int:
             f"{record.evaluations} evaluations  {record.seconds:6.1f} s"
         )
 
-    end = pipeline.design(grammar, search=pipeline.SearchSettings(), progress=progress)
+    end = pipeline.design(grammar, search=SearchOptions(), progress=progress)
     result, after_model = end.optimization, end.model
-    before_analysis, after = before.detail, end.assessment.detail
-    if start.structure.name != "blocks":
-        before_analysis = after = None  # pictures colour blocks by tension only
+    # pictures colour blocks by tension only: a bridge's pictures show no tension
+    before_analysis, after = before.block_analysis, end.assessment.block_analysis
 
     write_model(after_model, glb, after)
     _before_after(before_model, before_analysis, after_model, after, picture, render_model)

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 __all__ = [
     "Outcome",
-    "SearchSettings",
     "design",
     "encode_outputs",
     "load",
@@ -26,32 +25,15 @@ __all__ = [
 import json
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from shapegen.errors import OptionError
 from shapegen.json_values import json_ready
 from shapegen.model import Model
-from shapegen.search.defaults import DEFAULT_MARGIN
+from shapegen.search.options import SearchOptions
 from shapegen.statics.options import StaticsOptions
 from shapegen.structures import Assessment, Design, Structure, make_structure
-
-
-@dataclass(frozen=True)
-class SearchSettings:
-    """How to search the free attrs (see :func:`shapegen.search.optimize`).
-
-    ``margin`` defaults to :data:`~shapegen.search.DEFAULT_MARGIN` (0.1): a design that stands
-    with a reserve; 0 asks for the feasibility boundary.
-    """
-
-    free: Sequence[str] | None = None
-    fix: Mapping[str, object] = field(default_factory=dict)
-    objective: str = "energy"
-    gradient: str | None = None
-    max_iter: int = 50
-    multistart: int = 0
-    margin: float = DEFAULT_MARGIN
 
 
 @dataclass
@@ -80,7 +62,7 @@ def design(
     seed: int = 0,
     lot: tuple[float, float] | None = None,
     statics: StaticsOptions | None = None,
-    search: SearchSettings | None = None,
+    search: SearchOptions | None = None,
     assess: bool = False,
     place: Callable[[Model], Model] | None = None,
     progress: Callable | None = None,
@@ -98,7 +80,8 @@ def design(
         Block-statics options; refused (:class:`~shapegen.errors.OptionError`) when the grammar's
         structure is not block statics.
     search
-        Search the free attrs first; the final design is built once, with every attr override.
+        Search the free attrs first (:class:`~shapegen.search.options.SearchOptions`); the
+        final design is built once, with every attr override.
     assess
         Judge the final model with the grammar's structure.
     place
@@ -126,19 +109,7 @@ def design(
         from shapegen.search import optimize
 
         optimization = optimize(
-            grammar,
-            structure=structure,
-            free=search.free,
-            fix=search.fix,
-            attrs=attrs,
-            seed=seed,
-            lot=lot,
-            objective=search.objective,
-            gradient=search.gradient,
-            max_iter=search.max_iter,
-            multistart=search.multistart,
-            margin=search.margin,
-            progress=progress,
+            grammar, search, structure=structure, attrs=attrs, seed=seed, lot=lot, progress=progress
         )
         attrs = dict(optimization.attrs)
         model = optimization.model
@@ -212,7 +183,7 @@ def encode_outputs(
 
     outputs = []
     if model_path:
-        analysis = assessment.detail if assessment and assessment.structure == "blocks" else None
+        analysis = assessment.block_analysis if assessment else None
         outputs.append((Path(model_path), encode_model(model, model_path, analysis)))
     if report_path:
         outputs.append((Path(report_path), report_bytes(report)))

@@ -125,3 +125,23 @@ def test_lower_layers_know_nothing_of_the_engine_or_the_search():
         if _layer(module) <= LEVEL["primitives"]:
             bad = [i for i in imports if i.startswith(("shapegen.engine", "shapegen.search"))]
             assert not bad, f"{module} imports {bad}"
+
+
+def test_only_structures_compare_a_structure_name():
+    # What a structure can do is asked of the structure (Assessment.block_analysis,
+    # Structure.judges_blocks, measure_name...), so a new structure needs no front-end change.
+    from shapegen.structures import available_structures
+
+    names = set(available_structures())
+    found = []
+    for path in PACKAGE.rglob("*.py"):
+        if "structures" in path.relative_to(PACKAGE).parts:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Compare) and any(
+                isinstance(c, ast.Constant) and c.value in names
+                for side in (node.left, *node.comparators)
+                for c in ast.walk(side)
+            ):
+                found.append(f"{path.relative_to(PACKAGE)}:{node.lineno} {ast.unparse(node)}")
+    assert not found, "structure names compared outside structures/:\n" + "\n".join(found)

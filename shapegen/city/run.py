@@ -106,7 +106,7 @@ def run_city(
     seed
         The run's seed; each lot's is drawn from it and the lot's id.
     search, statics
-        :class:`~shapegen.pipeline.SearchSettings` (optimize each lot) and
+        :class:`~shapegen.search.options.SearchOptions` (optimize each lot) and
         :class:`~shapegen.statics.StaticsOptions`, as for ``shapegen build``.
     timeout
         Seconds one lot may take; a lot past it is a row with status ``timeout``.

@@ -14,6 +14,7 @@ from shapegen.cli.options import (
     CommandLineError,
     add_statics_options,
     block_statics_flags,
+    judges_blocks,
     statics_options,
 )
 from shapegen.cli.outputs import check_outputs, write_all
@@ -71,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     recorded = (model.metadata.get("structure") or {}).get("name")
     options = statics_options(args)
     given = block_statics_flags(args)
-    if given and recorded not in (None, "blocks"):
+    if given and not judges_blocks(recorded):
         verb = "applies" if len(given) == 1 else "apply"
         raise CommandLineError(
             f"{', '.join(given)} {verb} to block statics; {name} is judged by the"

@@ -74,6 +74,7 @@ def add_command(commands) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from shapegen.pipeline import design, encode_outputs
+    from shapegen.structures import structure_class
 
     check_outputs(
         {"-o": args.output, "--report": args.report, "--picture": args.picture}, models=("-o",)
@@ -100,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
         def place(model):
             return osm.place_on_way(model, way)
 
-    measure = "y/W^2" if grammar.structure == "blocks" else "measure"
+    measure = structure_class(grammar.structure).measure_name
     with SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:
         outcome = design(
             grammar,
@@ -132,7 +133,7 @@ def _picture(grammar_path: str, outcome) -> bytes:
     from shapegen.export.picture import encode_picture
 
     assessment = outcome.assessment
-    analysis = assessment.detail if assessment and assessment.structure == "blocks" else None
+    analysis = assessment.block_analysis if assessment else None
     title = Path(grammar_path).name
     if assessment is not None:
         title += ": stands" if assessment.stands else ": does not stand"

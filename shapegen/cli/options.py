@@ -25,6 +25,7 @@ __all__ = [
 import argparse
 import difflib
 import math
+from dataclasses import MISSING
 
 from shapegen.errors import ShapegenError
 
@@ -36,15 +37,6 @@ STATICS_FLAGS = {
 }
 LATERAL_FLAGS = {"tilt": "--tilt", "capacity": "--capacity"}
 SELECTION_FLAGS = {"structural": "--structural", "ignore": "--ignore"}
-SEARCH_FLAGS = {
-    "free": "--free",
-    "fixed": "--fix",
-    "objective": "--objective",
-    "gradient": "--gradient",
-    "max_iter": "--max-iter",
-    "margin": "--margin",
-    "multistart": "--multistart",
-}
 
 
 class CommandLineError(ShapegenError):
@@ -87,13 +79,6 @@ def _kern(text: str) -> float:
     value = finite(text)
     if not 0 < value <= 1:
         raise argparse.ArgumentTypeError(f"must be in (0, 1], got {text}")
-    return value
-
-
-def _margin(text: str) -> float:
-    value = finite(text)
-    if not 0 <= value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 0 and below 1, got {text}")
     return value
 
 
@@ -253,69 +238,31 @@ def add_rules_path_option(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def add_search_options(parser: argparse.ArgumentParser, margin: float | None = None) -> None:
-    """The --optimize options; ``margin`` is the default --margin (None: the search's own,
-    :data:`~shapegen.search.DEFAULT_MARGIN`)."""
-    from shapegen.search.defaults import DEFAULT_MARGIN
+def add_search_options(parser: argparse.ArgumentParser) -> None:
+    """``--optimize`` and a flag for each :class:`~shapegen.search.options.SearchOptions`
+    field (``max_iter`` is ``--max-iter``), with its help, choices and default from there."""
+    from shapegen.search.options import search_fields
 
-    margin = DEFAULT_MARGIN if margin is None else margin
-    parser.set_defaults(default_margin=margin)
     parser.add_argument(
         "--optimize",
         action="store_true",
         help="tune the free parameters (@Free attrs, or --free) until the design stands",
     )
-    parser.add_argument(
-        "--free",
-        type=_names,
-        metavar="A,B",
-        help="with --optimize: the attrs to tune (each needs a @Range) instead of the @Free ones",
-    )
-    parser.add_argument(
-        "--fix",
-        dest="fixed",
-        metavar="NAME=VALUE",
-        action="append",
-        type=_assignment,
-        help="with --optimize: hold a @Free attr at a value; repeatable",
-    )
-    parser.add_argument(
-        "--objective",
-        choices=["energy", "closest"],
-        help="with --optimize: 'energy' brings the structure's measure to zero and stops at the"
-        " first design that stands (the papers); 'closest' finds the standing design nearest"
-        " to the given values (default energy)",
-    )
-    parser.add_argument(
-        "--gradient",
-        choices=["adjoint", "forward", "none"],
-        help="with --optimize: 'adjoint' (the structure's own gradient: one QP per gradient for"
-        " block statics), 'forward' finite differences (n + 1 evaluations) or 'none'"
-        " (derivative-free, Powell's method); default: adjoint where the structure has one"
-        " (block statics), else none (the cable model)",
-    )
-    parser.add_argument(
-        "--max-iter",
-        type=_whole(1),
-        metavar="N",
-        help="with --optimize: iterations per start (default 50)",
-    )
-    parser.add_argument(
-        "--margin",
-        type=_margin,
-        metavar="M",
-        help="with --optimize: safety margin, 0 to 1: search for a design that still stands"
-        " with every joint shrunk to 1 - M of its size (block statics) or with the cable"
-        f" diameter limit lowered to 1 - M of itself (cables); default {margin:g}, a reserve"
-        " for what the statics does not model (a design on the boundary falls in the"
-        " simulator); 0 stops on the feasibility boundary, as the papers do",
-    )
-    parser.add_argument(
-        "--multistart",
-        type=_whole(0),
-        metavar="N",
-        help="with --optimize: extra random starts within the bounds, seeded by --seed (default 0)",
-    )
+    for option in search_fields():
+        meta = option.metadata
+        kind = meta["kind"]
+        flag = "--" + option.name.replace("_", "-")
+        default = "" if option.default in (None, MISSING) else f" (default {option.default})"
+        settings = {
+            "names": {"type": _names, "metavar": "A,B"},
+            "assignments": {"type": _assignment, "action": "append", "metavar": "NAME=VALUE"},
+            "choice": {"choices": meta.get("choices")},
+            "count": {"type": _whole(meta.get("minimum", 0)), "metavar": "N"},
+            "fraction": {"type": finite, "metavar": "M"},
+        }[kind]
+        parser.add_argument(
+            flag, dest=option.name, help=f"with --optimize: {meta['help']}{default}", **settings
+        )
 
 
 # ------------------------------------------------------------------------------ what they mean
@@ -353,11 +300,18 @@ def block_statics_flags(args) -> list[str]:
     return _given(args, {**STATICS_FLAGS, **SELECTION_FLAGS, **LATERAL_FLAGS})
 
 
+def judges_blocks(structure: str | None) -> bool:
+    """True when the structure named ``structure`` (None: the default) judges rigid blocks."""
+    from shapegen.structures import structure_class
+
+    return structure_class(structure).judges_blocks
+
+
 def check_statics_apply(args, grammar, source: str) -> None:
     """Refuse block-statics options (--tilt and --capacity among them) for a grammar judged by
     another structure."""
     given = block_statics_flags(args)
-    if given and grammar.structure != "blocks":
+    if given and not judges_blocks(grammar.structure):
         verb = "applies" if len(given) == 1 else "apply"
         raise CommandLineError(
             f"{', '.join(given)} {verb} to block statics; {source} is judged by the"
@@ -366,26 +320,21 @@ def check_statics_apply(args, grammar, source: str) -> None:
 
 
 def search_settings(args):
-    """The search settings of ``--optimize``, None without it; search options given without
-    ``--optimize`` are refused."""
-    if not args.optimize:
-        given = _given(args, SEARCH_FLAGS)
-        if given:
-            verb = "applies" if len(given) == 1 else "apply"
-            raise CommandLineError(f"{', '.join(given)} only {verb} with --optimize")
-        return None
-    from shapegen.pipeline import SearchSettings
+    """The :class:`~shapegen.search.options.SearchOptions` of ``--optimize``, None without
+    it; search options given without ``--optimize`` are refused."""
+    from shapegen.search.options import SearchOptions, search_fields
 
-    margin = args.margin if args.margin is not None else args.default_margin
-    return SearchSettings(
-        free=args.free,
-        fix=dict(args.fixed or []),
-        objective=args.objective or "energy",
-        gradient=args.gradient,
-        max_iter=args.max_iter or 50,
-        multistart=args.multistart or 0,
-        margin=margin,
-    )
+    given = {f.name: getattr(args, f.name) for f in search_fields()}
+    given = {name: value for name, value in given.items() if value is not None}
+    if not args.optimize:
+        if given:
+            flags = [f"--{name.replace('_', '-')}" for name in given]
+            verb = "applies" if len(flags) == 1 else "apply"
+            raise CommandLineError(f"{', '.join(flags)} only {verb} with --optimize")
+        return None
+    if "fix" in given:
+        given["fix"] = dict(given["fix"])
+    return SearchOptions(**given)
 
 
 def load_grammar(name: str):

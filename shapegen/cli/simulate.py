@@ -15,6 +15,7 @@ from shapegen.cli.options import (
     add_statics_options,
     check_statics_apply,
     checked_attrs,
+    judges_blocks,
     load_grammar,
     nonnegative,
     positive,
@@ -100,10 +101,8 @@ def add_command(commands) -> None:
     simulate.add_argument("--report", metavar="R.json", help="write a JSON report")
     add_derivation_options(simulate, prefix="for a .grammar: ")
     add_statics_options(simulate, prefix="with --optimize (and --friction for the run): ")
-    # A design to simulate is searched with a safety margin by default.
-    from shapegen.simulation.settings import SIMULATION_MARGIN
-
-    add_search_options(simulate, margin=SIMULATION_MARGIN)
+    # A design to simulate is searched with a safety margin by default (SIMULATION_MARGIN).
+    add_search_options(simulate)
     simulate.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     simulate.set_defaults(handler=run)
 
@@ -168,7 +167,7 @@ def _simulation_model(args: argparse.Namespace):
         not Path(name).exists() and find_bundled_rule(name) is not None
     )
     if not is_grammar:
-        if args.assignments or args.optimize or args.lot or args.free or args.fixed:
+        if args.assignments or args.optimize or args.lot or args.free or args.fix:
             raise CommandLineError(
                 "--set, --lot, --optimize, --free and --fix apply only to a rule file MODEL"
             )
@@ -178,6 +177,7 @@ def _simulation_model(args: argparse.Namespace):
         _refuse_other_structures((model.metadata.get("structure") or {}).get("name"), name)
         return model, {}
     from shapegen.pipeline import design
+    from shapegen.structures import structure_class
 
     search = search_settings(args)
     grammar = load_grammar(name)
@@ -188,7 +188,7 @@ def _simulation_model(args: argparse.Namespace):
     attrs = checked_attrs(grammar, args.assignments)
     if search is not None:
         checked_attrs(grammar, list(search.fix.items()), "--fix", given=attrs)
-    measure = "y/W^2" if grammar.structure == "blocks" else "measure"
+    measure = structure_class(grammar.structure).measure_name
     with SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:
         outcome = design(
             grammar,
@@ -207,7 +207,7 @@ def _simulation_model(args: argparse.Namespace):
 def _refuse_other_structures(structure: str | None, source: str) -> None:
     """The simulator drops rigid blocks under gravity: a design judged otherwise (a bridge held by
     its cables) would fall and be called collapsed, which says nothing about it."""
-    if structure not in (None, "blocks"):
+    if not judges_blocks(structure):
         raise CommandLineError(
             f"{source} is judged by the {structure!r} structure, which the rigid-body simulator"
             " cannot represent (it simulates compression-only blocks); use `shapegen build"

@@ -83,9 +83,7 @@ def block_details(outcome, block_id: str, values: dict, user=()) -> dict | None:
     block = model.blocks[index]
     low, high = block.vertices.min(axis=0), block.vertices.max(axis=0)
     assessment = outcome.assessment
-    analysis = (
-        assessment.detail if assessment is not None and assessment.structure == "blocks" else None
-    )
+    analysis = assessment.block_analysis if assessment is not None else None
     tension = None
     joints = None
     if analysis is not None:

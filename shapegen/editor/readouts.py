@@ -17,6 +17,7 @@ from shapegen.editor.attrs import RequestError, attr_specs, plain_value
 from shapegen.editor.blocks import block_details
 from shapegen.editor.exports import command_line
 from shapegen.json_values import finite_or_none, json_ready
+from shapegen.statics.cables import CableSizing
 
 
 class ReadoutsMixin:
@@ -68,6 +69,8 @@ class ReadoutsMixin:
         assessment = outcome.assessment
         values = self._current_values()
         section = assessment.section if assessment is not None else {}
+        # the page's cable panel shows a bridge's sizing
+        cable_sizing = isinstance(getattr(assessment, "detail", None), CableSizing)
         verdict = None
         if assessment is not None:
             verdict = {
@@ -96,7 +99,7 @@ class ReadoutsMixin:
             ],
             "sections": inspector_sections(attr_hints(self.grammar)),
             "verdict": verdict,
-            "cables": section if outcome.structure.name == "cable" else None,
+            "cables": section if cable_sizing else None,
             "timings": dict(self._timings),
             "stability": dict(self._stability),
             "optimization": self._optimization,

@@ -44,9 +44,7 @@ def scene_data(model: Model, assessment: Assessment | None) -> dict:
     labels = sorted(by_label)
     # as an export colours them, with the model's label colours (each label its own)
     label_colors = [display_color(b, by_label).tolist() for b in blocks]
-    analysis = (
-        assessment.detail if assessment is not None and assessment.structure == "blocks" else None
-    )
+    analysis = assessment.block_analysis if assessment is not None else None
     tension = None
     tension_rgba = None
     if analysis is not None:

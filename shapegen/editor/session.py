@@ -13,7 +13,7 @@ state. After every change the stable interval of each free attr is scanned in th
 
 from __future__ import annotations
 
-__all__ = ["EditorSession", "OBJECTIVES"]
+__all__ = ["EditorSession"]
 
 import threading
 import time
@@ -29,11 +29,10 @@ from shapegen.editor.readouts import ReadoutsMixin
 from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
 from shapegen.engine.rule_packages import PACKAGE_SUFFIX
-from shapegen.errors import GrammarError, ShapegenError
+from shapegen.errors import GrammarError, OptionError, ShapegenError
 from shapegen.json_values import finite_or_none, json_ready
 from shapegen.search.defaults import DEFAULT_MARGIN
-
-OBJECTIVES = ("energy", "closest")
+from shapegen.search.options import SearchOptions
 
 
 class Cancelled(Exception):
@@ -171,11 +170,10 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         unknown = sorted(set(payload) - {"objective"})
         if unknown:
             raise RequestError(f"optimize takes only 'objective'; got {unknown[0]!r}")
-        objective = payload.get("objective", "energy")
-        if objective not in OBJECTIVES:
-            raise RequestError(
-                f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}"
-            )
+        try:
+            options = SearchOptions(free=self.free_attrs, margin=self.margin, **payload)
+        except OptionError as exc:
+            raise RequestError(str(exc)) from None
         if not self.free_attrs:
             raise RequestError(
                 'no attr is free to search: mark one free (POST /api/settings {"free": [...]})',
@@ -186,7 +184,7 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         try:
             with self._state_lock:
                 self._searching = True
-            answer = self._search(objective)
+            answer = self._search(options)
         finally:
             with self._state_lock:
                 self._searching = False
@@ -195,7 +193,8 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         # the file changed during the search: the page shows it now, with the values found
         return self.reload() if reload_now else answer
 
-    def _search(self, objective: str) -> dict:
+    def _search(self, options: SearchOptions) -> dict:
+        objective = options.objective
         self._cancel.clear()
         with self._state_lock:
             self._optimization = {"running": True, "objective": objective, "iteration": 0}
@@ -204,9 +203,7 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         try:
             outcome = self._design(
                 dict(self.attrs),
-                search=pipeline.SearchSettings(
-                    objective=objective, free=list(self.free_attrs), margin=self.margin
-                ),
+                search=options,
             )
         except Cancelled:
             with self._state_lock:
@@ -249,7 +246,8 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         return {"cancelled": bool(running)}
 
     def reload(self) -> dict:
-        """Re-read the grammar file; on an error keep the last good design.
+        """Re-read the grammar file (a package: the ``.rpk``); on an error keep the last good
+        design.
 
         During a search it answers at once: the file is re-read when the search ends (the
         state's ``reload_pending`` is true until then), so a save in the middle of a long
@@ -266,8 +264,10 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
 
     def _reload(self) -> dict:
         try:
-            grammar = pipeline.load(str(self.path))
-            text = _read(self.path)
+            # a package is unpacked again: a new one (CityEngine exported it anew) has a
+            # folder of its own in the cache
+            grammar = pipeline.load(str(self.package or self.path))
+            text = _read(grammar.path)
             kept = self._kept_attrs(grammar)
             self._idle.clear()
             try:
@@ -281,6 +281,7 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
                 return self.state()
         with self._state_lock:
             self.grammar = grammar
+            self.path = grammar.path
             self._text = text
             self.attrs = kept
             self._outcome = outcome
@@ -464,10 +465,7 @@ def _read(path: Path | None) -> str | None:
 
 
 def _analysis(outcome):
-    assessment = outcome.assessment
-    if assessment is not None and assessment.structure == "blocks":
-        return assessment.detail
-    return None
+    return outcome.assessment.block_analysis if outcome.assessment is not None else None
 
 
 def _error_json(exc: ShapegenError) -> dict:

@@ -9,42 +9,34 @@ refused with one line.
 
 from __future__ import annotations
 
-__all__ = ["optimize", "OBJECTIVES", "GRADIENTS"]
+__all__ = ["optimize"]
 
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 from shapegen.errors import GeometryError, OptionError
-from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.evaluator import Evaluator
 from shapegen.search.methods import Search
+from shapegen.search.options import SearchOptions
 from shapegen.search.parameters import FreeParameter, select_parameters
 from shapegen.search.result import IterationRecord, OptimizationResult
 from shapegen.structures import Structure, make_structure
 
-OBJECTIVES = ("energy", "closest")
-GRADIENTS = ("adjoint", "forward", "none")
-
 
 def optimize(
     grammar,
+    options: SearchOptions | None = None,
     *,
     structure: Structure | None = None,
-    free: Sequence[str] | None = None,
-    fix: Mapping[str, object] | None = None,
     attrs: Mapping[str, object] | None = None,
     seed: int = 0,
     lot: tuple[float, float] | None = None,
-    objective: str = "energy",
-    gradient: str | None = None,
-    max_iter: int = 50,
-    multistart: int = 0,
     start: Mapping[str, float] | None = None,
     progress: Callable[[IterationRecord], None] | None = None,
-    margin: float = DEFAULT_MARGIN,
     build: bool = True,
+    **choices: object,
 ) -> OptimizationResult:
     """Search the free parameters of ``grammar`` for a design that stands.
 
@@ -52,37 +44,27 @@ def optimize(
     ----------
     grammar
         A loaded :class:`~shapegen.engine.grammar_api.Grammar`.
+    options
+        How to search (:class:`~shapegen.search.options.SearchOptions`: free and fixed attrs,
+        objective, gradient, iterations, margin, multistart); ``choices`` are its fields given
+        as keywords (``optimize(grammar, max_iter=20)``), over ``options`` when both are given.
+        The designs are judged with the structure's margin (block statics: every joint shrunk
+        about its centroid to ``1 - margin`` of its size; cables: the diameter limit lowered to
+        ``1 - margin`` of itself), so the design found stands with that reserve; the returned
+        assessment is without margin, and the result records the margin used. Multistart's
+        extra starts are tried when a start ends without a design that stands (energy), or all
+        compared (closest). ``gradient`` None takes the structure's best: adjoint when it has
+        one, else none (Powell's method).
     structure
         What judges the designs; by default the grammar's own (``@Structure``, else block
         statics with default options), from :func:`~shapegen.structures.make_structure`.
-    free, fix, attrs
-        Which attrs to search (default: the ``@Free`` ones), attrs pinned to values, and other
-        attr overrides. Every design, the final one included, is built with ``attrs`` and
-        ``fix``; the result's ``attrs`` holds them all.
-    objective
-        ``"energy"`` (the papers: bring the measure to zero, stop at the first design that
-        stands) or ``"closest"`` (the standing design nearest to the starting values, distances
-        scaled by the ranges).
-    gradient
-        ``"adjoint"`` (the structure's own gradient: one QP per gradient for block statics),
-        ``"forward"`` (finite differences, n + 1 evaluations), ``"none"`` (derivative-free:
-        Powell's method), or None for the structure's best: adjoint when it has one, else none.
-    max_iter
-        Iterations per start.
-    multistart
-        Extra random starts within the bounds (seeded by ``seed``) tried when a start ends
-        without a design that stands (energy), or all compared (closest).
+    attrs
+        Other attr overrides. Every design, the final one included, is built with ``attrs``
+        and the options' ``fix``; the result's ``attrs`` holds them all.
     start
         Starting values overriding the attrs' (a warm start).
     progress
         Called after each iteration with an :class:`IterationRecord`.
-    margin
-        Reserve in [0, 1): the search judges designs with the structure's margin (block statics:
-        every joint shrunk about its centroid to ``1 - margin`` of its size; cables: the
-        diameter limit lowered to ``1 - margin`` of itself), so the design found stands with
-        that reserve. Default :data:`~shapegen.search.DEFAULT_MARGIN` (0.1): a design that
-        stands with a reserve; 0 stops on the feasibility boundary, as the papers do. The
-        returned assessment is without margin; the result records the margin used.
     build
         When the structure judged without a model (the cable model), build the final design
         once at the end (False: ``model`` stays None).
@@ -96,11 +78,15 @@ def optimize(
         For free or fixed attrs the grammar does not have, and a starting design that cannot be
         judged.
     """
+    options = options or SearchOptions()
+    if choices:
+        options = options.replace(**choices)
     if structure is None:
         structure = make_structure(grammar.structure)
-    gradient = _checked_options(structure, objective, gradient, max_iter, multistart, margin)
+    gradient = _gradient(structure, options.gradient)
+    objective, margin, fix = options.objective, options.margin, options.fix
     started = time.perf_counter()
-    parameters, build_attrs = select_parameters(grammar, free, fix, attrs)
+    parameters, build_attrs = select_parameters(grammar, options.free, fix, attrs)
     if start:
         parameters = [
             FreeParameter(p.name, min(max(float(start.get(p.name, p.initial)), p.lower), p.upper),
@@ -108,16 +94,16 @@ def optimize(
             for p in parameters
         ]  # fmt: skip
     evaluator = Evaluator(
-        grammar, structure, parameters, build_attrs, seed=seed, lot=lot, margin=float(margin)
+        grammar, structure, parameters, build_attrs, seed=seed, lot=lot, margin=margin
     )
-    search = Search(evaluator, gradient, int(max_iter), progress, started)
+    search = Search(evaluator, gradient, options.max_iter, progress, started)
     theta0 = np.array([p.initial for p in parameters])
     first = evaluator.evaluate(theta0)
     if first.error and first.assessment is None:
         raise GeometryError(f"the starting design cannot be judged: {first.error}")
     starts = [theta0]
     rng = np.random.default_rng(seed)
-    starts += [rng.uniform(evaluator.lower, evaluator.upper) for _ in range(int(multistart))]
+    starts += [rng.uniform(evaluator.lower, evaluator.upper) for _ in range(options.multistart)]
 
     if first.feasible:
         best, converged, message = first, True, "the starting design already stands"
@@ -160,23 +146,14 @@ def optimize(
     )
 
 
-def _checked_options(structure, objective, gradient, max_iter, multistart, margin) -> str:
-    """The gradient method to use; an invalid or meaningless option is an OptionError."""
-    if objective not in OBJECTIVES:
-        raise OptionError(f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}")
+def _gradient(structure: Structure, gradient: str | None) -> str:
+    """The gradient method to use: None takes the structure's best; 'adjoint' for a structure
+    without a gradient is an OptionError."""
     if gradient is None:
-        gradient = "adjoint" if structure.has_gradient else "none"
-    if gradient not in GRADIENTS:
-        raise OptionError(f"gradient must be one of {', '.join(GRADIENTS)}; got {gradient!r}")
+        return "adjoint" if structure.has_gradient else "none"
     if gradient == "adjoint" and not structure.has_gradient:
         raise OptionError(
             f"gradient 'adjoint': the {structure.name} structure gives no gradient; use "
             "'forward' (finite differences) or 'none' (derivative-free)"
         )
-    if isinstance(max_iter, bool) or int(max_iter) < 1:
-        raise OptionError(f"max_iter must be at least 1; got {max_iter}")
-    if isinstance(multistart, bool) or int(multistart) < 0:
-        raise OptionError(f"multistart must be 0 or more; got {multistart}")
-    if isinstance(margin, bool) or not (isinstance(margin, int | float) and 0.0 <= margin < 1.0):
-        raise OptionError(f"margin must be a number in [0, 1); got {margin!r}")
     return gradient

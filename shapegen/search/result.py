@@ -93,7 +93,7 @@ class OptimizationResult:
     def analysis(self):
         """The block :class:`~shapegen.statics.analysis.Analysis` of the final design (None for
         another structure)."""
-        return self.assessment.detail if self.assessment and self.structure == "blocks" else None
+        return self.assessment.block_analysis if self.assessment else None
 
     def to_report(self) -> dict:
         """The ``optimization`` object of a report (plain JSON types)."""

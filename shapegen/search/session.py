@@ -9,11 +9,11 @@ from __future__ import annotations
 
 __all__ = ["DesignSession"]
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 from shapegen.engine.grammar_api import Grammar, load_grammar
-from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.optimizer import optimize
+from shapegen.search.options import SearchOptions
 from shapegen.search.result import IterationRecord, OptimizationResult
 from shapegen.structures import Structure, make_structure
 
@@ -23,25 +23,24 @@ class DesignSession:
 
     ``set(...)`` changes attrs the designer controls; ``optimize()`` re-runs the search of the
     free parameters starting from the previous solution, so small edits need few iterations.
-    Any structure works: the grammar's own by default, or the ``structure`` given.
+    Any structure works: the grammar's own by default, or the ``structure`` given. The search
+    runs with ``options`` (:class:`~shapegen.search.options.SearchOptions`), or with its fields
+    given as keywords (``DesignSession(grammar, free=["span"], margin=0)``).
     """
 
     def __init__(
         self,
         grammar: Grammar | str,
+        options: SearchOptions | None = None,
         *,
-        free: Sequence[str] | None = None,
         seed: int = 0,
         structure: Structure | None = None,
-        gradient: str | None = None,
-        margin: float = DEFAULT_MARGIN,
+        **choices: object,
     ):
         self.grammar = grammar if isinstance(grammar, Grammar) else load_grammar(grammar)
-        self.free = list(free) if free else None
+        self.options = (options or SearchOptions()).replace(**choices)
         self.seed = seed
         self.structure = structure or make_structure(self.grammar.structure)
-        self.gradient = gradient
-        self.margin = margin
         self.attrs: dict[str, object] = {}
         self.solution: dict[str, float] | None = None
         self.last: OptimizationResult | None = None
@@ -52,21 +51,20 @@ class DesignSession:
 
     def optimize(
         self,
-        max_iter: int = 50,
+        max_iter: int | None = None,
         progress: Callable[[IterationRecord], None] | None = None,
     ) -> OptimizationResult:
-        """Re-optimize the free parameters, warm-started from the last solution."""
+        """Re-optimize the free parameters, warm-started from the last solution (``max_iter``:
+        this time's iterations, None: the options')."""
+        options = self.options if max_iter is None else self.options.replace(max_iter=max_iter)
         result = optimize(
             self.grammar,
-            free=self.free,
+            options,
             attrs=self.attrs,
             seed=self.seed,
-            gradient=self.gradient,
-            max_iter=max_iter,
             start=self.solution,
             structure=self.structure,
             progress=progress,
-            margin=self.margin,
         )
         self.solution = result.values
         self.last = result

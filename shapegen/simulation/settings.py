@@ -10,12 +10,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.errors import ShapegenError
+from shapegen.search.defaults import DEFAULT_MARGIN
 
 # The geometric safety margin with which a design is optimized before it is simulated (``shapegen
 # simulate --optimize``): the first design the search finds stands exactly on the statics
 # boundary, and the simulator's contact compliance tips such a design over (docs/simulation.md,
-# "Bundled rules after --optimize").
-SIMULATION_MARGIN = 0.1
+# "Bundled rules after --optimize"). It is the search's own default, chosen for this reason.
+SIMULATION_MARGIN = DEFAULT_MARGIN
 
 
 @dataclass(frozen=True)

@@ -103,6 +103,10 @@ class Assessment:
         :class:`~shapegen.statics.cables.CableSizing`), for pictures and exports.
     margin
         The reserve the verdict was judged with (0: none).
+    block_analysis
+        The rigid-block :class:`~shapegen.statics.analysis.Analysis` behind the verdict (joint
+        forces, block tensions) that pictures, exports and the page's block readouts show; None
+        when the structure judges no blocks (a bridge's cables).
     """
 
     structure: str
@@ -112,6 +116,7 @@ class Assessment:
     section: dict = field(default_factory=dict)
     detail: object = field(default=None, repr=False)
     margin: float = 0.0
+    block_analysis: object = field(default=None, repr=False)
 
     @property
     def ok(self) -> bool:
@@ -152,6 +157,10 @@ class Structure(ABC):
         True when :meth:`measure_change` gives first-order changes of the measure.
     has_capacity
         True when :meth:`lateral_capacity` gives the largest tilt at which a design stands.
+    judges_blocks
+        True when it judges the model's blocks by rigid-block statics: it takes the statics
+        options (friction, tilt, selection...), its assessments carry ``block_analysis`` and its
+        report section is block statics'. Front ends ask this, never the name.
     """
 
     name: ClassVar[str]
@@ -162,6 +171,7 @@ class Structure(ABC):
     needs_model: ClassVar[bool] = True
     has_gradient: ClassVar[bool] = False
     has_capacity: ClassVar[bool] = False
+    judges_blocks: ClassVar[bool] = False
 
     def __init__(self, options: object | None = None):
         if options is not None and (
@@ -188,6 +198,12 @@ class Structure(ABC):
         if not 0.0 <= margin < 1.0:
             raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}")
         return float(margin)
+
+    @classmethod
+    def summary(cls, section: Mapping[str, object]) -> list[tuple[str, str]]:
+        """The figures a front end prints under the verdict of a report's ``analysis`` object
+        (``section``), as ``(label, text)`` lines: by default the measure and what it is."""
+        return [("measure", f"{figure_text(section.get('measure'))} ({cls.measure_name})")]
 
     def measure_change(self, base: Assessment, moved: Design) -> float | None:
         """First-order change of the measure from ``base``'s design to ``moved`` (a design a
@@ -219,3 +235,10 @@ class Structure(ABC):
         return {
             name: arguments.get(name, argument.default) for name, argument in self.arguments.items()
         }
+
+
+def figure_text(value: object) -> str:
+    """A report's number in 4 significant digits ('-' for none), as the command prints it."""
+    if value is None:
+        return "-"
+    return f"{value:.4g}" if isinstance(value, int | float) else str(value)

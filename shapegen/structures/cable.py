@@ -23,7 +23,13 @@ import math
 
 from shapegen.errors import GeometryError, OptionError
 from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
-from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
+from shapegen.structures.base import (
+    Assessment,
+    Design,
+    Structure,
+    StructureArgument,
+    figure_text,
+)
 from shapegen.structures.registry import register_structure
 from shapegen.tolerances import ROUNDOFF_REL
 
@@ -50,6 +56,19 @@ class CableModel(Structure):
             "shortest acceptable main span (the shores' distance), m", 0.0
         ),
     }
+
+    @classmethod
+    def summary(cls, section):
+        return [
+            (
+                "cable diameter",
+                f"{figure_text(section.get('cable_diameter'))} m (allowed"
+                f" {figure_text(section.get('allowed_diameter'))} m, governing:"
+                f" {section.get('governing')})",
+            ),
+            ("max tension", f"{figure_text(section.get('max_tension'))} N per cable"),
+            *super().summary(section),
+        ]
 
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         margin = self.checked_margin(margin)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from shapegen.city.work import CitySettings, LotTask, run_lot
-from shapegen.pipeline import SearchSettings
+from shapegen.search.options import SearchOptions
 
 HOUSE = Path(__file__).resolve().parents[2] / "docs" / "data" / "house.grammar"
 RECTANGLE = ((0.0, 0.0), (12.0, 0.0), (12.0, 8.0), (0.0, 8.0))
@@ -16,7 +16,7 @@ def _settings(**changes) -> CitySettings:
 
 
 def test_a_warning_goes_to_the_lots_row():
-    settings = _settings(search=SearchSettings(max_iter=3))
+    settings = _settings(search=SearchOptions(max_iter=3))
     record = run_lot(settings, LotTask("w", RECTANGLE, {"jetty": 0.9}))
     assert any("outside its @Range" in w for w in record["warnings"]), record
 
