@@ -38,9 +38,10 @@ import numpy as np
 from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.statics.assembly import StaticsProblem, assemble, tilted
+from shapegen.statics.bodies import contacts_and_bodies
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import StaticsOptions
-from shapegen.statics.solvers import Solution, SolveStatus, get_backend
+from shapegen.statics.solvers import Solution, SolveRequest, SolveStatus, get_backend
 from shapegen.statics.standins import design_blocks, statics_model
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import ROUNDOFF_REL
@@ -161,6 +162,8 @@ class Analysis:
             "friction": number(self.problem.friction) if self.problem is not None else None,
             "pyramid": self.problem.pyramid if self.problem is not None else None,
             "timings": {k: float(v) for k, v in self.timings.items()},
+            # 0: nothing to judge (a rule of faces models no solid; every block a support)
+            "free_bodies": self.problem.n_free if self.problem is not None else 0,
             **({"tilt": self.tilt} if self.tilt is not None else {}),
             **(
                 {"bodies": self.bodies.to_report()}
@@ -212,19 +215,16 @@ def _solve(
     if phase_one:
         accepted.add(SolveStatus.OPTIMAL_INACCURATE)
     fallback = None
+    request = SolveRequest(
+        # phase one only has to tell "zero" from "clearly positive" (1e4 times the
+        # certificate's resolution)
+        stop_above=PHASE_ONE_STOP if phase_one else None,
+        accept=accept,
+        screen_above=PHASE_ONE_SCREEN if screen else None,
+        warm_start=warm_start,
+    )
     for name in names:
-        backend = get_backend(name)
-        if phase_one and hasattr(backend, "stop_above"):
-            # phase one only has to tell "zero" from "clearly positive" (1e4 times the
-            # certificate's resolution)
-            backend.stop_above = PHASE_ONE_STOP
-        if accept is not None and hasattr(backend, "accept"):
-            backend.accept = accept
-        if screen and hasattr(backend, "screen_above"):
-            backend.screen_above = PHASE_ONE_SCREEN
-        if warm_start is not None and hasattr(backend, "warm_start"):
-            backend.warm_start = warm_start
-        solution = backend.solve(problem)
+        solution = get_backend(name).take(request).solve(problem)
         if solution.status in accepted:
             return solution, name
         if fallback is None or (solution.status.solved and not fallback[0].status.solved):
@@ -380,31 +380,6 @@ def analyze(
         else:
             y_norm = float("nan")
     return _build_analysis(model, problem, solution, used, feasible, y_norm, timings, worst)
-
-
-def contacts_and_bodies(model, options: StaticsOptions, tol, *, interfaces=None, bodies=None,
-                        check: bool = True):  # fmt: skip
-    """The contacts of ``model`` and its bodies under the structure ``options`` select (each
-    found when not given), checked with ``check_model`` when ``check``. Both are those of
-    :func:`~shapegen.statics.standins.statics_model` ``(model)``, the model with its
-    stand-ins."""
-    model = statics_model(model)
-    if interfaces is None:
-        from shapegen.statics.contacts import find_interfaces
-
-        interfaces = find_interfaces(model, tol)
-    if bodies is None:
-        from shapegen.statics.bodies import find_bodies, from_cityengine
-
-        bodies = find_bodies(
-            model, interfaces, tol, structural=options.structural, ignore=options.ignore,
-            unsupported="ride" if from_cityengine(model) else "error",
-        )  # fmt: skip
-    if check:
-        from shapegen.statics.checks import check_model
-
-        check_model(model, interfaces, tol, bodies)
-    return interfaces, bodies
 
 
 def _known_solution(stood: Analysis, problem: StaticsProblem, tol) -> Solution | None:

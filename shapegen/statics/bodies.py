@@ -22,7 +22,7 @@ it. An ornament over nothing but the ground or a support loads them, not the str
 
 from __future__ import annotations
 
-__all__ = ["Bodies", "find_bodies", "from_cityengine", "matching_blocks"]
+__all__ = ["Bodies", "contacts_and_bodies", "find_bodies", "from_cityengine", "matching_blocks"]
 
 import difflib
 from collections.abc import Sequence
@@ -36,6 +36,7 @@ from shapegen.errors import OptionError, StaticsError
 from shapegen.model.model import Model
 from shapegen.model.packed import pack_blocks
 from shapegen.statics.interface import GROUND, Interface
+from shapegen.statics.standins import statics_model
 from shapegen.tolerances import Tolerances
 
 NO_HOST = -1
@@ -397,6 +398,30 @@ def _below(model, body, lone) -> np.ndarray:
             top = np.minimum(upper[candidates, 1], low[1])
             out[k] = body[parts[candidates[np.argmax(top)]]]
     return out
+
+
+def contacts_and_bodies(model, options, tol, *, interfaces=None, bodies=None,
+                        check: bool = True):  # fmt: skip
+    """The contacts of ``model`` and its bodies under the structure ``options`` select (each
+    found when not given), checked with ``check_model`` when ``check``; ``options`` is a
+    :class:`~shapegen.statics.options.StaticsOptions`. Both are those of
+    :func:`~shapegen.statics.standins.statics_model` ``(model)``, the model with its
+    stand-ins."""
+    model = statics_model(model)
+    if interfaces is None:
+        from shapegen.statics.contacts import find_interfaces
+
+        interfaces = find_interfaces(model, tol)
+    if bodies is None:
+        bodies = find_bodies(
+            model, interfaces, tol, structural=options.structural, ignore=options.ignore,
+            unsupported="ride" if from_cityengine(model) else "error",
+        )  # fmt: skip
+    if check:
+        from shapegen.statics.checks import check_model
+
+        check_model(model, interfaces, tol, bodies)
+    return interfaces, bodies
 
 
 def from_cityengine(model) -> bool:

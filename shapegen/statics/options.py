@@ -19,7 +19,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from shapegen.errors import OptionError
-from shapegen.statics.solvers import BACKENDS
+from shapegen.statics.solvers import BACKENDS, cone_refusal
 from shapegen.statics.tilt import normalized_azimuth
 
 AUTO_ORDER = ("reduced", "clarabel")
@@ -90,12 +90,7 @@ class StaticsOptions:
         if self.solver not in SOLVERS:
             raise OptionError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
         if not self.backends():
-            able = [s for s in SOLVERS if s == "auto" or BACKENDS[s].second_order_cones]
-            raise OptionError(
-                f"solver {self.solver!r} takes only the friction pyramids "
-                f"({', '.join(p for p in PYRAMIDS if p != 'cone')}); pyramid 'cone' needs solver "
-                f"{', '.join(able[:-1])} or {able[-1]}"
-            )
+            raise OptionError(cone_refusal(self.solver))
         kern = _number(self.kern)
         if kern is None or not 0 < kern <= 1:
             raise OptionError(f"kern must be a number in (0, 1]; got {self.kern!r}")

@@ -7,13 +7,21 @@ readable reference formulation).
 
 from __future__ import annotations
 
-__all__ = ["SolveStatus", "Solution", "Backend", "BACKENDS", "get_backend"]
+__all__ = [
+    "BACKENDS",
+    "Backend",
+    "Solution",
+    "SolveRequest",
+    "SolveStatus",
+    "cone_refusal",
+    "get_backend",
+]
 
 import importlib
 from collections.abc import Iterator, Mapping
 
 from shapegen.errors import OptionError
-from shapegen.statics.solvers.base import Backend, Solution, SolveStatus
+from shapegen.statics.solvers.base import Backend, Solution, SolveRequest, SolveStatus
 
 _CLASSES = {
     "reduced": ("shapegen.statics.solvers.reduced", "ReducedBackend"),
@@ -45,3 +53,13 @@ def get_backend(name: str) -> Backend:
     if name not in BACKENDS:
         raise OptionError(f"solver must be one of auto, {', '.join(BACKENDS)}; got {name!r}")
     return BACKENDS[name]()
+
+
+def cone_refusal(solver: str) -> str:
+    """Why ``solver`` cannot take pyramid 'cone', naming the solvers that can (one wording, for
+    the options' check and the back-end's own)."""
+    able = ["auto", *(name for name in BACKENDS if BACKENDS[name].second_order_cones)]
+    return (
+        f"solver {solver!r} takes only the friction pyramids (4, 4r, 8); pyramid 'cone' needs"
+        f" solver {', '.join(able[:-1])} or {able[-1]}"
+    )

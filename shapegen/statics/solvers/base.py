@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-__all__ = ["SolveStatus", "Solution", "Backend", "trivial_solution"]
+__all__ = ["SolveStatus", "Solution", "SolveRequest", "Backend", "trivial_solution"]
 
 import enum
 import importlib.util
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -60,33 +62,64 @@ class Solution:
     info: dict = field(default_factory=dict)
 
 
+@dataclass(frozen=True)
+class SolveRequest:
+    """What a caller asks of a solve beyond its answer: shortcuts a back-end takes only when it
+    declares them in :attr:`Backend.honours` (the others solve to the end, cold; the answer
+    means the same). See :class:`~shapegen.statics.solvers.reduced.ReducedBackend`.
+
+    Attributes
+    ----------
+    stop_above
+        Stop once the optimal value is certainly above this scaled value (phase one).
+    accept
+        A test of the primal ``x`` (the feasibility certificate) that ends the solve once true.
+    screen_above
+        Stop once an estimate of the dual bound exceeds this scaled value (not a proof).
+    warm_start
+        Forces ``x`` of a problem with the same constraints to start from.
+    """
+
+    stop_above: float | None = None
+    accept: Callable[[np.ndarray], bool] | None = None
+    screen_above: float | None = None
+    warm_start: np.ndarray | None = None
+
+
 class Backend:
-    """A solver back-end: a name, a lazy import, a status map and one :meth:`solve`."""
+    """A solver back-end: a name, a lazy import, a status map, what it declares it can do
+    (:attr:`second_order_cones`, :attr:`honours`) and one :meth:`solve`."""
 
     name: str = ""
     library: str | None = None  # the module the back-end imports lazily, if any
     second_order_cones: bool = False  # solves the exact Coulomb cone (pyramid "cone")
+    honours: ClassVar[frozenset[str]] = frozenset()
+    """The :class:`SolveRequest` fields this back-end acts on (attributes of the same names)."""
+
+    def take(self, request: SolveRequest) -> Backend:
+        """This back-end, set to act on what ``request`` asks and it declares it honours."""
+        for name in self.honours:
+            value = getattr(request, name)
+            if value is not None:
+                setattr(self, name, value)
+        return self
 
     def refuse_unsupported(self, problem) -> None:
         """Raise :class:`StaticsError` for a problem this back-end cannot solve exactly: the
         exact friction cone on a back-end of linear inequalities only (solving it without the
         cone would drop friction's limit, a silent wrong answer)."""
         if problem.second_order and not self.second_order_cones:
-            raise StaticsError(
-                f"solver {self.name!r} takes only the friction pyramids (4, 4r, 8); "
-                "pyramid 'cone' needs solver auto, clarabel or cvxpy"
-            )
+            from shapegen.statics.solvers import cone_refusal
+
+            raise StaticsError(cone_refusal(self.name))
 
     def available(self) -> bool:
         """True when the back-end's library can be imported."""
         return self.library is None or importlib.util.find_spec(self.library) is not None
 
     def solve(self, problem) -> Solution:  # pragma: no cover
-        """Solve a :class:`~shapegen.statics.assembly.StaticsProblem` from scratch.
-
-        There is no warm start: the back-ends are interior-point methods, which gain little from
-        a previous solution's point.
-        """
+        """Solve a :class:`~shapegen.statics.assembly.StaticsProblem`, with what
+        :meth:`take` set (from scratch unless the back-end honours ``warm_start``)."""
         raise NotImplementedError
 
 

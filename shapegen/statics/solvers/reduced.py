@@ -68,6 +68,7 @@ class ReducedBackend(Backend):
     """
 
     name = "reduced"
+    honours = frozenset({"stop_above", "accept", "screen_above", "warm_start"})
 
     def __init__(
         self,

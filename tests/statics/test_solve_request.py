@@ -1,0 +1,37 @@
+"""The back-end contract: each back-end declares what it honours of a solve request, and the
+exact cone is refused in one wording."""
+
+from dataclasses import fields
+
+import numpy as np
+import pytest
+
+from shapegen.errors import OptionError
+from shapegen.statics.options import StaticsOptions
+from shapegen.statics.solvers import BACKENDS, SolveRequest, cone_refusal
+
+REQUEST = SolveRequest(stop_above=1.0, accept=bool, screen_above=2.0, warm_start=np.zeros(4))
+
+
+@pytest.mark.parametrize("name", list(BACKENDS))
+def test_a_backend_takes_only_what_it_declares(name):
+    backend = BACKENDS[name]()
+    assert backend.honours <= {f.name for f in fields(SolveRequest)}
+    assert backend.take(REQUEST) is backend
+    for field in fields(SolveRequest):
+        taken = getattr(backend, field.name, None)
+        if field.name in backend.honours:
+            assert taken is getattr(REQUEST, field.name)
+        else:
+            assert taken is None
+
+
+def test_the_reduced_backend_honours_every_shortcut():
+    assert BACKENDS["reduced"].honours == {f.name for f in fields(SolveRequest)}
+
+
+def test_the_cone_refusal_has_one_wording():
+    with pytest.raises(OptionError) as refused:
+        StaticsOptions(pyramid="cone", solver="reduced")
+    assert str(refused.value) == cone_refusal("reduced")
+    assert cone_refusal("reduced").endswith("needs solver auto, clarabel or cvxpy")
