@@ -109,9 +109,11 @@ def analysis_table(title: str, analysis: dict):
     table = _grid()
     table.add_row("model", Text(title))
     stands = bool(analysis.get("stands"))
-    table.add_row(
-        "stands", Text("yes" if stands else "no", style="green" if stands else "bold red")
-    )
+    if analysis.get("free_bodies") == 0:  # an empty structure stands, which says nothing
+        table.add_row("stands", Text(NOTHING_TO_JUDGE, style="yellow"))
+    else:
+        verdict = Text("yes" if stands else "no", style="green" if stands else "bold red")
+        table.add_row("stands", verdict)
     table.add_row("judged by", Text(str(analysis.get("structure"))))
     structure = structure_class(analysis.get("structure"))
     if not structure.judges_blocks:  # a bridge's cables, a plug-in: the structure's own figures
@@ -143,8 +145,10 @@ def analysis_table(title: str, analysis: dict):
         )
     capacity = analysis.get("capacity")
     if capacity:
-        table.add_row("lateral capacity", Text(capacity_line(capacity)))
-        table.add_row("by direction", Text(directions_line(capacity)))
+        judged = analysis.get("free_bodies") != 0
+        table.add_row("lateral capacity", Text(capacity_line(capacity, judged)))
+        if judged:
+            table.add_row("by direction", Text(directions_line(capacity)))
     table.add_row("seconds", f"{fmt(analysis.get('seconds'))}")
     return table
 
@@ -174,8 +178,18 @@ def stand_ins_line(stand_ins: dict) -> str:
     )
 
 
-def capacity_line(capacity: dict) -> str:
-    """``15.84 deg (load multiplier 0.2838) towards azimuth 0 deg, the worst of 17 directions``."""
+NOTHING_TO_JUDGE = (
+    "nothing to judge: no solid block outside the supports (a rule of faces or open surfaces"
+    " models no solids)"
+)
+"""The verdict's line for a model without a free block (its leaves left out are listed)."""
+
+
+def capacity_line(capacity: dict, judged: bool = True) -> str:
+    """``15.84 deg (load multiplier 0.2838) towards azimuth 0 deg, the worst of 17 directions``;
+    ``none: nothing to judge`` when not ``judged`` (no free block)."""
+    if not judged:
+        return "none: nothing to judge"
     if not capacity.get("stands_upright"):
         return "none: the design does not stand upright"
     tilt = capacity.get("tilt_deg")
