@@ -113,7 +113,9 @@ def block_loading(model, bodies):
     first_part = np.full(bodies.count, nb)
     np.minimum.at(first_part, body[inside], np.flatnonzero(inside))
     free_blocks = first_part[free_bodies]
-    support = np.append(inside & bodies.fixed[np.maximum(body, 0)], True)
+    on_support = np.zeros(nb, dtype=bool)  # a part of a support (none when no body is left)
+    on_support[inside] = bodies.fixed[body[inside]]
+    support = np.append(on_support, True)
     usable = np.append(inside, True)
     # a body's centroid: the mass centroid of its parts, the common volume of two overlapping
     # parts counted once (a body of one block keeps its own centroid)

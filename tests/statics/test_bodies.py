@@ -156,3 +156,12 @@ def test_blocks_each_their_own_body_are_judged_as_blocks():
     analysis = analyze(model)
     assert isinstance(analysis.bodies, Bodies) and analysis.bodies.trivial
     assert analysis.problem.bodies is None and "bodies" not in analysis.to_report()
+
+
+def test_a_cityengine_model_whose_only_block_floats_has_nothing_to_judge():
+    # envelope2002: one block touching no support, the rest faces; it rides, no body is left
+    floating = Model([Block.box((0, 1, 0), (1, 2, 1))], metadata={"grammar": "envelope.cga"})
+    analysis = analyze(floating)
+    assert analysis.feasible and analysis.bodies.count == 0
+    assert analysis.to_report()["free_bodies"] == 0
+    assert lateral_capacity(floating, azimuths=[0]).worst.status == "unbounded"
