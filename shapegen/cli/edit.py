@@ -94,7 +94,8 @@ def run(args: argparse.Namespace) -> int:
     except BaseException:
         server.server_close()
         raise
-    watcher = FileWatcher(grammar.path, lambda: session.reload())
+    # a package is watched, not its start rule in the cache: CityEngine exports it anew
+    watcher = FileWatcher(session.package or grammar.path, lambda: session.reload())
     shown = (
         grammar.path if session.package is None else f"{args.grammar}, start rule {grammar.path}"
     )

@@ -131,13 +131,14 @@ def cga_project(folder):
     return path
 
 
-def cga_package(folder):
-    """The project of :func:`cga_project` as a CityEngine rule package (a 7z archive)."""
+def cga_package(folder, building=CGA_BUILDING):
+    """The project of :func:`cga_project` as a CityEngine rule package (a 7z archive), with
+    ``building`` as its start rule."""
     import py7zr
 
     path = folder / "building.rpk"
     with py7zr.SevenZipFile(path, "w") as archive:
-        archive.writestr(CGA_BUILDING.encode(), "rules/building.cga")
+        archive.writestr(building.encode(), "rules/building.cga")
         archive.writestr(CGA_LIB.encode(), "rules/lib.cga")
         archive.writestr(b"compiled", "bin/building.cgb")
         archive.writestr(b"compiled import", "bin/building$lib.cgb")

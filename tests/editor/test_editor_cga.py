@@ -8,7 +8,7 @@ import time
 
 import pytest
 from editor_http import request, serving
-from editor_stack import CGA_WARNING, cga_package, cga_project
+from editor_stack import CGA_BUILDING, CGA_WARNING, cga_package, cga_project
 
 from shapegen.cli import main
 from shapegen.editor import EditorSession
@@ -61,6 +61,20 @@ def test_a_rule_package_opens_as_its_start_rule(tmp_path):
         assert main([*words[1:], "--report", str(report), "-q"]) == 0
         built = json.loads(report.read_text(encoding="utf-8"))
         assert built["blocks"] == 9 and built["attrs"]["lib.height"] == 9
+
+
+def test_a_rule_package_exported_anew_is_read_anew(tmp_path):
+    package = cga_package(tmp_path)
+    with serving(package) as server:
+        before = json.loads(request(server, "GET", "/api/state")[2])["grammar"]
+        # CityEngine exports the package again: one more floor
+        cga_package(
+            tmp_path, CGA_BUILDING.replace("extrude(lib.height)", "extrude(lib.height + 1)")
+        )
+        status, _, content = request(server, "POST", "/api/reload", {})
+        after = json.loads(content)["grammar"]
+    assert status == 200 and (before["blocks"], after["blocks"]) == (6, 7)
+    assert after["package"] == before["package"] and after["path"] != before["path"]
 
 
 def test_the_stable_range_of_a_cga_files_free_attr_is_scanned(tmp_path):

@@ -8,10 +8,11 @@ import socket
 import struct
 import subprocess
 import sys
+import time
 import urllib.request
 
 import pytest
-from editor_stack import cga_package
+from editor_stack import CGA_BUILDING, cga_package
 
 COMMAND = [sys.executable, "-m", "shapegen", "edit"]
 
@@ -51,6 +52,17 @@ def test_edit_opens_a_rule_package_as_the_package(tmp_path):
         url = line.split()[2]
         with urllib.request.urlopen(url + "api/attrs.json", timeout=60) as response:
             exported = json.load(response)
+        # the package is watched: exported anew (one more floor), the page has it
+        cga_package(
+            tmp_path, CGA_BUILDING.replace("extrude(lib.height)", "extrude(lib.height + 1)")
+        )
+        deadline = time.monotonic() + 120  # a bound on the wait, not a measure of it
+        blocks = None
+        while blocks != 10 and time.monotonic() < deadline:
+            time.sleep(0.1)
+            with urllib.request.urlopen(url + "api/state", timeout=60) as response:
+                blocks = json.load(response)["grammar"]["blocks"]
+        assert blocks == 10
     finally:
         process.send_signal(signal.SIGINT)
         process.communicate(timeout=30)
