@@ -147,7 +147,11 @@ def attr_specs(
         ranged = spec is not None and hint.kind == "number"
         if ranged:
             low, high = float(spec["min"]), float(spec["max"])
-        elif hint.kind == "number" and hint.unit in UNIT_RANGES and not (hint.choices or hint.values_attr):
+        elif (
+            hint.kind == "number"
+            and hint.unit in UNIT_RANGES
+            and not (hint.choices or hint.values_attr)
+        ):
             low, high = UNIT_RANGES[hint.unit]  # CityEngine's slider, no bound on the value
             restricted = False
         if low is not None:
