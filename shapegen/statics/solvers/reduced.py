@@ -30,6 +30,29 @@ from shapegen.statics.solvers.reduced_kkt import max_steps as _max_steps
 from shapegen.statics.solvers.reduced_kkt import objective_value as _objective
 from shapegen.statics.solvers.reduced_kkt import to_rows as _to_rows
 
+# Stopping rules, as multiples of ``tolerance`` (dimensionless). The primal residual stays tight
+# because the certificate reads the forces themselves; the gap (1e-9 at the default tolerance)
+# bounds the phase-one tensions 100 times below the certificate's 1e-7 and resolves y far below
+# the screening threshold; the dual residual, relative to the size of the gradient terms, has a
+# noise floor near 1e-8 (refined solves with barrier weights spanning twenty orders of magnitude).
+_DUAL_FLOOR = 1e5  # an optimal point's dual residual, in tolerances of the dual scale
+_GAP_TOLERANCES = 100  # an optimal point's complementarity gap, in tolerances
+_GAP_REL = 1e-8  # ... plus this share of the objective
+_FAIR = 1e3  # a point kept as the inaccurate answer: primal and gap within this many tolerances
+_FAIR_DUAL = 1e7  # ... and its dual residual within this many tolerances of the dual scale
+_FAIR_GAP_REL = 1e-6  # ... and its gap within this share of the objective
+_STALLED_GAP = 1e-3  # a gap this many tolerances small: nothing left for the arithmetic to gain
+_SCREEN_PRIMAL_REL = 1e-4  # screening needs the equations to hold to this share of the load
+_MIN_STEP = 1e-10  # a shorter step than this (a fraction of the Newton step) is a breakdown
+_STEP_BACK = 0.99  # each step stops this share of the way to the boundary of the cone
+# Separate primal and dual step lengths only when the Hessian is below this (the phase-one
+# problem's regularisation; the QP's tension weights are of order one).
+_NEGLIGIBLE_HESSIAN = 1e-6
+_WARM_SLACK_FLOOR = 1e-2  # a warm start's slacks are at least this share of the load scale
+_FARKAS_SIZE = 1e6  # the duals' size from which an infeasibility certificate is looked for
+_FARKAS_REL = 1e-7  # its stationarity and its strict separation, relative to that size
+_SCALE_FLOOR = 1e-12  # the load scale of a start that carries no load
+
 
 class ReducedBackend(Backend):
     """Mehrotra predictor-corrector on the block-level normal equations.
@@ -108,7 +131,7 @@ class ReducedBackend(Backend):
         accepted, screened = False, False
         # separate primal and dual step lengths (the usual choice for linear programs) are only
         # consistent when the Hessian is negligible: the phase-one problem
-        separate_steps = bool(problem.quadratic.max() <= 1e-6)
+        separate_steps = bool(problem.quadratic.max() <= _NEGLIGIBLE_HESSIAN)
         for iterations in range(1, self.max_iter + 1):
             res = kkt.residuals(point)
             gap = _complementarity(point)
@@ -125,39 +148,35 @@ class ReducedBackend(Backend):
                     f"{iterations:3d} primal {primal:.2e} dual {dual:.2e} gap {gap:.2e} "
                     f"objective {objective:.6e}"
                 )
-            # Stopping: the primal residual stays tight because the certificate reads the forces
-            # themselves; the gap (1e-9) bounds the phase-one tensions 100 times below the
-            # certificate's 1e-7 and resolves y far below the screening threshold; the dual
-            # residual, relative to the size of the gradient terms, has a noise floor near 1e-8
-            # (refined solves with barrier weights spanning twenty orders of magnitude).
+            # Stopping: see the constants at the top of the module.
             dual_scale = 1.0 + float(np.abs(kkt.q_s).max()) + float(np.abs(point.dual_s).max())
             if (
                 primal <= tol * load_scale
-                and dual <= 1e5 * tol * dual_scale
-                and gap <= 100 * tol + 1e-8 * objective
+                and dual <= _DUAL_FLOOR * tol * dual_scale
+                and gap <= _GAP_TOLERANCES * tol + _GAP_REL * objective
             ):
                 status = SolveStatus.OPTIMAL
                 break
             acceptable = (
-                primal <= 1e3 * tol
-                and dual <= 1e7 * tol * dual_scale
-                and gap <= 1e3 * tol + 1e-6 * objective
+                primal <= _FAIR * tol
+                and dual <= _FAIR_DUAL * tol * dual_scale
+                and gap <= _FAIR * tol + _FAIR_GAP_REL * objective
             )
             if acceptable:
                 best = point
-            if gap <= 1e-3 * tol and iterations > 1:
+            if gap <= _STALLED_GAP * tol and iterations > 1:
                 break  # converged as far as the arithmetic allows: nothing left to gain
             if (
                 self.accept is not None
                 and objective <= self.accept_below
-                and primal <= 1e3 * tol
+                and primal <= _FAIR * tol
                 and self.accept(kkt.join(point.x_cut, point.x_s))
             ):
                 status, accepted = SolveStatus.OPTIMAL, True
                 break
             if (
                 self.screen_above is not None
-                and primal <= 1e-4 * load_scale
+                and primal <= _SCREEN_PRIMAL_REL * load_scale
                 and objective - gap > self.screen_above
             ):
                 # the optimum is most likely far above the threshold (objective - gap estimates
@@ -166,8 +185,8 @@ class ReducedBackend(Backend):
                 break
             if (
                 self.stop_above is not None
-                and primal <= 1e3 * tol
-                and dual <= 1e5 * tol * dual_scale
+                and primal <= _FAIR * tol
+                and dual <= _DUAL_FLOOR * tol * dual_scale
                 and objective - 2 * gap > self.stop_above
             ):
                 # the optimum is certainly above the threshold: the caller only needed to know
@@ -201,10 +220,10 @@ class ReducedBackend(Backend):
             rc_cut = point.slack_cut * point.dual_cut + affine.slack_cut * affine.dual_cut
             rc_s = point.slack_s * point.dual_s + affine.slack_s * affine.dual_s
             step = kkt.direction(point, hessian, res, rc_cut - sigma * mu, rc_s - sigma * mu)
-            alpha, alpha_dual = (min(1.0, 0.99 * a) for a in _max_steps(point, step))
+            alpha, alpha_dual = (min(1.0, _STEP_BACK * a) for a in _max_steps(point, step))
             if not separate_steps:
                 alpha = alpha_dual = min(alpha, alpha_dual)
-            if not np.isfinite(alpha + alpha_dual) or min(alpha, alpha_dual) < 1e-10:
+            if not np.isfinite(alpha + alpha_dual) or min(alpha, alpha_dual) < _MIN_STEP:
                 status = SolveStatus.NUMERICAL_ERROR
                 break
             point = point.moved(step, alpha, alpha_dual)
@@ -244,7 +263,7 @@ class ReducedBackend(Backend):
         first iterations only took short steps.
         """
         m, k = kkt.m, len(kkt.cone)
-        primal = max(float(np.abs(kkt.w).max()), 1e-12)
+        primal = max(float(np.abs(kkt.w).max()), _SCALE_FLOOR)
         dual = max(float(np.abs(kkt.q_s).max()), primal)
         return _Point(
             np.zeros((m, 3)),
@@ -267,7 +286,7 @@ class ReducedBackend(Backend):
         the cold start spends its first iterations finding forces that balance the load.
         """
         x_cut, x_s = kkt.split(np.asarray(x, dtype=float))
-        floor = 1e-2 * float(cold.slack_s[0])
+        floor = _WARM_SLACK_FLOOR * float(cold.slack_s[0])
         return _Point(
             x_cut.copy(),
             x_s.copy(),
@@ -287,13 +306,13 @@ class ReducedBackend(Backend):
         size = max(
             float(np.abs(point.y).max()), float(point.dual_cut.max()), float(point.dual_s.max())
         )
-        if size < 1e6:
+        if size < _FARKAS_SIZE:
             return False
         aty_cut, aty_s = kkt.split(kkt.at @ point.y)
         stationarity = max(
             float(np.abs(aty_cut + _from_rows(point.dual_cut, kkt.cone)).max()),
             float(np.abs(aty_s - point.dual_s).max()),
         )
-        return stationarity <= 1e-7 * size and float(
+        return stationarity <= _FARKAS_REL * size and float(
             np.einsum("i,i->", kkt.w, point.y)
-        ) > 1e-7 * size * float(np.abs(kkt.w).max())
+        ) > _FARKAS_REL * size * float(np.abs(kkt.w).max())
