@@ -125,6 +125,8 @@ def _joints(model, analysis, index: int) -> list[dict]:
         value = float(value)
         return 0.0 if abs(value) <= noise else finite_or_none(value)
 
+    # the joints number the blocks judged: the model's, then any stand-ins (statics.standins)
+    judged = analysis.model if getattr(analysis, "model", None) is not None else model
     rows = []
     for j in np.flatnonzero((first == index) | (second == index)):
         interface = interfaces[j]
@@ -138,8 +140,8 @@ def _joints(model, analysis, index: int) -> list[dict]:
         ground = other == GROUND
         rows.append(
             {
-                "other": "ground" if ground else model.blocks[other].id,
-                "support": ground or bool(model.blocks[other].fixed),
+                "other": "ground" if ground else judged.blocks[other].id,
+                "support": ground or bool(judged.blocks[other].fixed),
                 "area": float(interface.area),
                 "compression": newtons(compression),
                 "shear": newtons(shear),

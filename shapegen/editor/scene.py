@@ -84,7 +84,9 @@ def _forces(model: Model, analysis) -> dict | None:
         return None
     forces = np.asarray(analysis.resultant_forces, float).reshape(-1, 3)
     points = np.asarray(analysis.resultant_points, float).reshape(-1, 3)
-    fixed = np.array([b.fixed for b in model.blocks], dtype=bool)
+    # the joints number the blocks judged: the model's, then any stand-ins (statics.standins)
+    judged = analysis.model if getattr(analysis, "model", None) is not None else model
+    fixed = np.array([b.fixed for b in judged.blocks], dtype=bool)
     first = np.array([i.first for i in analysis.interfaces])
     second = np.array([i.second for i in analysis.interfaces])
     second_support = np.where(second == GROUND, True, fixed[np.maximum(second, 0)])

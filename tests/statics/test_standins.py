@@ -167,3 +167,22 @@ def test_a_thinned_hull_keeps_its_flat_ends_and_lies_inside_the_hull():
 def test_the_examples_in_the_docstrings_hold(module):
     failures, tried = doctest.testmod(module)
     assert tried and not failures
+
+
+def test_the_editor_reads_joints_with_stand_ins_as_neighbours():
+    from types import SimpleNamespace
+
+    from shapegen.editor.blocks import block_details
+    from shapegen.editor.scene import scene_data
+    from shapegen.pipeline import load
+    from shapegen.structures import Design, make_structure
+
+    model = post_and_lintel()
+    assessment = make_structure("blocks").assess(Design.of_model(model))
+    scene = scene_data(model, assessment)
+    assert [b["id"] for b in scene["blocks"]] == ["lintel"]
+    assert len(scene["forces"]["joints"]) == 2  # the lintel on each column
+    grammar = load("arch_columns.grammar")  # any grammar: the lintel names no rule
+    outcome = SimpleNamespace(model=model, assessment=assessment, grammar=grammar)
+    details = block_details(outcome, "lintel", {})
+    assert sorted(j["other"] for j in details["joints"]) == ["s0", "s1"]
