@@ -273,7 +273,7 @@ def test_roof_on_an_offset_face_and_on_a_comp_face(program):
         (_operation("roofShed", 10, 1, 2), "up to: index"),
         (_operation("roofPyramid", 10, 1), "angle .* only"),
         (_operation("roofHip", 30, 1, 2), "even must be true or false"),
-        (_operation("taper", ast.String("high")), "taper height must be a number"),
+        (_operation("taper", ast.String("high")), r"taper\(\): the height must be a finite number"),
     ],
 )
 def test_bad_roof_calls_are_one_clear_error(program, operation, message):

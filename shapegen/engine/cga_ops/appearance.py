@@ -37,7 +37,7 @@ import math
 from dataclasses import replace
 
 from shapegen.engine.cga_ops import compiles, warn_at
-from shapegen.engine.finite import finite_parameter
+from shapegen.engine.cga_ops.arguments import plain_arguments, typed
 from shapegen.engine.functions_arrays import format_value, type_name
 from shapegen.engine.functions_shape import material_alias
 from shapegen.grammar import ast
@@ -120,46 +120,8 @@ def compile_material_set(program, node: ast.Set, params: dict[str, int]):
     return set_material
 
 
-def _plain_arguments(program, node: ast.Operation, counts: tuple[int, ...]) -> list:
-    """The argument nodes of ``node`` after checking their number and that none is a keyword,
-    relative (``'x``) or floating (``~x``)."""
-    for argument in node.arguments:
-        if argument.kind != "plain":
-            raise program.error(
-                argument if getattr(argument, "location", None) else node,
-                f"{node.name}() takes plain arguments, not a {argument.kind} one",
-            )
-    if node.branches:
-        raise program.error(node, f"{node.name}() takes no {{ ... }} block")
-    n = len(node.arguments)
-    if n not in counts:
-        expected = " or ".join(str(c) for c in counts)
-        raise program.error(node, f"{node.name}() takes {expected} arguments, got {n}")
-    return [argument.value for argument in node.arguments]
-
-
-def _typed(program, node, expression, params, kind: type, what: str):
-    """A compiled argument whose value must be of ``kind`` (a finite number for float)."""
-    compiled = program.expressions.compile(expression, params)
-    error = program.error
-
-    def value(args, state):
-        result = compiled(args, state)
-        if type(result) is not kind:
-            raise error(
-                node,
-                f"{node.name}(): {what} must be a {'finite ' if kind is float else ''}"
-                f"{_TYPE_NAMES[kind]}, got {format_value(result)!r}",
-            )
-        if kind is float:  # .cga: nan and inf are 0 with a warning, as CityEngine's runtime
-            return finite_parameter(program, node, state, result, f"{node.name}(): {what}")
-        return result
-
-    return value
-
-
 def _uv_set(program, node, expression, params, what: str = "the uv-set"):
-    number = _typed(program, node, expression, params, float, what)
+    number = typed(program, node, expression, params, float, what)
     error = program.error
 
     def uv_set(args, state):
@@ -196,10 +158,10 @@ def _selector(program, node, expression, choices: tuple[str, ...], what: str) ->
 
 @compiles("color")
 def compile_color(program, node: ast.Operation, params):
-    arguments = _plain_arguments(program, node, (1, 3, 4))
+    arguments = plain_arguments(program, node, (1, 3, 4))
     error = program.error
     if len(arguments) == 1:
-        text = _typed(program, node, arguments[0], params, str, 'the colour ("#rrggbb")')
+        text = typed(program, node, arguments[0], params, str, 'the colour ("#rrggbb")')
         if isinstance(arguments[0], ast.String):
             try:
                 parse_hex_color(arguments[0].value)
@@ -218,7 +180,7 @@ def compile_color(program, node: ast.Operation, params):
         return color_hex
     names = ("red", "green", "blue", "opacity")
     components = [
-        _typed(program, node, expression, params, float, names[k])
+        typed(program, node, expression, params, float, names[k])
         for k, expression in enumerate(arguments)
     ]
 
@@ -233,8 +195,8 @@ def compile_color(program, node: ast.Operation, params):
 
 @compiles("texture")
 def compile_texture(program, node: ast.Operation, params):
-    (path,) = _plain_arguments(program, node, (1,))
-    path_of = _typed(program, node, path, params, str, "the texture file")
+    (path,) = plain_arguments(program, node, (1,))
+    path_of = typed(program, node, path, params, str, "the texture file")
 
     def texture(state, args, out):
         # texture() sets the colour map and resets the opacity map (op_texture); shapegen does
@@ -248,7 +210,7 @@ def compile_texture(program, node: ast.Operation, params):
 
 @compiles("setMaterial")
 def compile_set_material(program, node: ast.Operation, params):
-    (pairs,) = _plain_arguments(program, node, (1,))
+    (pairs,) = plain_arguments(program, node, (1,))
     pairs_of = program.expressions.compile(pairs, params)
     error = program.error
 
@@ -280,7 +242,7 @@ def compile_set_material(program, node: ast.Operation, params):
 
 @compiles("resetMaterial")
 def compile_reset_material(program, node: ast.Operation, params):
-    arguments = _plain_arguments(program, node, (0, 1))
+    arguments = plain_arguments(program, node, (0, 1))
     target = "shape"
     if arguments:
         target = _selector(program, node, arguments[0], ("shape", "geometry", "all"), "the target")
@@ -342,16 +304,16 @@ def compile_setup_projection(program, node: ast.Operation, params):
     for k, argument in enumerate(rest[:2]):
         if argument.kind == "keyword":
             raise program.error(node, "setupProjection() takes no keyword arguments")
-        number = _typed(program, node, argument.value, params, float, ("width", "height")[k])
+        number = typed(program, node, argument.value, params, float, ("width", "height")[k])
         sizes.append((number, argument.kind, scope_axes[k]))
     if count == 5:  # (..., uwFactor): no offsets
         rest = [*rest[:2], _NO_OFFSET, _NO_OFFSET, rest[2]]
     for k, argument in enumerate(rest[2:4]):  # offsets: '0.5 is half the scope, as a size
         if argument.kind in ("keyword", "floating"):
             raise program.error(node, "setupProjection(): an offset is a number or relative ('x)")
-        number = _typed(program, node, argument.value, params, float, "an offset")
+        number = typed(program, node, argument.value, params, float, "an offset")
         sizes.append((number, argument.kind, scope_axes[k]))
-    others = [_typed(program, node, a.value, params, float, "uwFactor") for a in rest[4:]]
+    others = [typed(program, node, a.value, params, float, "uwFactor") for a in rest[4:]]
     error = program.error
 
     def size(args, state, number, kind, axis):
@@ -381,7 +343,7 @@ def compile_setup_projection(program, node: ast.Operation, params):
 
 @compiles("projectUV", "deleteUV", partial=_RECORDED)
 def compile_uv_set_only(program, node: ast.Operation, params):
-    (uv_set,) = _plain_arguments(program, node, (1,))
+    (uv_set,) = plain_arguments(program, node, (1,))
     uv_set_of = _uv_set(program, node, uv_set, params)
     if node.name == "projectUV":
         return _recorder("projectUV", [uv_set_of])
@@ -414,7 +376,7 @@ def compile_tile_uv(program, node: ast.Operation, params):
     for k, argument in enumerate(sizes):
         if argument.kind == "keyword":
             raise program.error(node, "tileUV() takes no keyword arguments")
-        number = _typed(program, node, argument.value, params, float, ("width", "height")[k])
+        number = typed(program, node, argument.value, params, float, ("width", "height")[k])
         prefix = {"plain": "", "relative": "'", "floating": "~"}[argument.kind]
         compiled.append(
             number if not prefix else (lambda a, s, n=number, p=prefix: f"{p}{n(a, s):g}")
@@ -432,9 +394,9 @@ def compile_tile_uv(program, node: ast.Operation, params):
 )
 def compile_uv_transform(program, node: ast.Operation, params):
     counts = (2,) if node.name == "rotateUV" else (3,)
-    first, *rest = _plain_arguments(program, node, counts)
+    first, *rest = plain_arguments(program, node, counts)
     uv_set = _uv_set(program, node, first, params)
-    numbers = [_typed(program, node, r, params, float, "a factor or offset") for r in rest]
+    numbers = [typed(program, node, r, params, float, "a factor or offset") for r in rest]
     if node.name != "offsetUV":
         return _recorder(node.name, [uv_set, *numbers])
     record = _recorder("translateUV", [uv_set, *numbers])
@@ -449,7 +411,7 @@ def compile_uv_transform(program, node: ast.Operation, params):
 
 @compiles("normalizeUV", partial=_RECORDED)
 def compile_normalize_uv(program, node: ast.Operation, params):
-    first, mode, kind = _plain_arguments(program, node, (3,))
+    first, mode, kind = plain_arguments(program, node, (3,))
     uv_set = _uv_set(program, node, first, params)
     mode = _selector(program, node, mode, ("uv", "uvUniform", "u", "v"), "the mode")
     kind = _selector(
@@ -460,7 +422,7 @@ def compile_normalize_uv(program, node: ast.Operation, params):
 
 @compiles("copyUV", partial=_RECORDED)
 def compile_copy_uv(program, node: ast.Operation, params):
-    source, target = _plain_arguments(program, node, (2,))
+    source, target = plain_arguments(program, node, (2,))
     source_of = _uv_set(program, node, source, params, "the source uv-set")
     target_of = _uv_set(program, node, target, params, "the destination uv-set")
     return _recorder("copyUV", [source_of, target_of])
@@ -471,7 +433,7 @@ _NORMAL_MODES = ("hard", "conform", "soft", "auto")
 
 @compiles("setNormals")
 def compile_set_normals(program, node: ast.Operation, params):
-    (mode,) = _plain_arguments(program, node, (1,))
+    (mode,) = plain_arguments(program, node, (1,))
     mode = _selector(program, node, mode, _NORMAL_MODES, "the normals mode")
 
     def set_normals(state, args, out):
@@ -483,8 +445,8 @@ def compile_set_normals(program, node: ast.Operation, params):
 
 @compiles("softenNormals")
 def compile_soften_normals(program, node: ast.Operation, params):
-    (angle,) = _plain_arguments(program, node, (1,))
-    angle_of = _typed(program, node, angle, params, float, "the angle (degrees)")
+    (angle,) = plain_arguments(program, node, (1,))
+    angle_of = typed(program, node, angle, params, float, "the angle (degrees)")
 
     def soften_normals(state, args, out):
         # op_softenNormals: 0 degrees is setNormals(hard), 180 is setNormals(soft).

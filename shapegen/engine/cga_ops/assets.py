@@ -37,6 +37,7 @@ import numpy as np
 
 from shapegen.engine.asset_files import find_asset, load_asset
 from shapegen.engine.cga_ops import compiles, warn_at
+from shapegen.engine.cga_ops.arguments import plain_arguments
 from shapegen.engine.derivation import format_chain
 from shapegen.engine.functions_arrays import format_value
 from shapegen.engine.shape import FACE, MASS, Shape
@@ -324,13 +325,7 @@ _PRIMITIVES = {
 @compiles(*_PRIMITIVES)
 def compile_primitive(program, node: ast.Operation, params):
     kind, counts = _PRIMITIVES[node.name]
-    if node.branches or any(a.kind != "plain" for a in node.arguments):
-        raise program.error(node, f"{node.name}() takes plain numbers only")
-    if len(node.arguments) not in counts:
-        expected = " or ".join(str(c) for c in counts)
-        raise program.error(
-            node, f"{node.name}() takes {expected} arguments, got {len(node.arguments)}"
-        )
+    plain_arguments(program, node, counts)
     numbers = [program._number(node, a.value, params, f"a {node.name}() argument")
                for a in node.arguments]  # fmt: skip
     error = program.error

@@ -22,7 +22,7 @@ __all__ = ["compile_extrude", "vertex_normal_extrusion"]
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
-from shapegen.engine.cga_ops.scope_ops import argument_word
+from shapegen.engine.cga_ops.arguments import argument_word
 from shapegen.engine.shape import FACE, MASS, Shape, extrude_shape
 from shapegen.geometry.extrude import extrude_faces
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x

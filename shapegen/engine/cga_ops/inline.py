@@ -25,7 +25,7 @@ __all__ = ["derived_leaves", "joined_mesh"]
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
-from shapegen.engine.cga_ops.scope_ops import argument_word
+from shapegen.engine.cga_ops.arguments import argument_word
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.geometry.frames import fitted_scope
 from shapegen.geometry.mesh import Mesh, polygon_normal

@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops.arguments import number, plain_arguments, selector_name
 from shapegen.engine.derivation import format_chain
-from shapegen.engine.finite import finite_parameter
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
@@ -134,43 +134,12 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shap
     return Shape(scope, kind, parent.normal_axis, None, Mesh(vertices, indexed))
 
 
-def _flat_input(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndarray]]:
+def flat_faces(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndarray]]:
+    """The faces of ``state``'s shape (see :func:`face_frames`), which must be flat."""
     shape = state.shape
     if shape.kind != FACE:
         raise program.error(node, f"{what} needs a flat shape (the lot or a comp(f) face)")
     return face_frames(shape)
-
-
-def _arguments(program, node, params, low: int, high: int):
-    positional = [a for a in node.arguments if a.kind == "plain"]
-    if len(positional) != len(node.arguments):
-        raise program.error(node, f"{node.name}() takes plain arguments only")
-    if not low <= len(positional) <= high:
-        count = f"{low}" if low == high else f"{low} to {high}"
-        raise program.error(node, f"{node.name}() takes {count} arguments, got {len(positional)}")
-    return [a.value for a in positional]
-
-
-def _number(program, node, expression, params, what: str):
-    compiled = program.expressions.compile(expression, params)
-
-    def number(args, state):
-        value = compiled(args, state)
-        if type(value) is bool or not isinstance(value, (int, float)):
-            raise program.error(node, f"{what} must be a number, got a {type_name(value)}")
-        return finite_parameter(program, node, state, float(value), what)
-
-    return number
-
-
-def _selector_name(expression) -> str | None:
-    from shapegen.grammar import expressions as ex
-
-    if isinstance(expression, ex.Name):
-        return expression.name
-    if isinstance(expression, ex.ShapeAttribute):
-        return f"{expression.obj}.{expression.field}"
-    return None
 
 
 def _branches(program, node, params, allowed: set[str], edges: bool):
@@ -179,7 +148,7 @@ def _branches(program, node, params, allowed: set[str], edges: bool):
 
     out = []
     for branch in node.branches:
-        name = _selector_name(branch.key)
+        name = selector_name(branch.key)
         if name is None and isinstance(branch.key, ex.Number) and edges:
             selector: str | int = int(branch.key.value)
         elif name in allowed or (edges and name in _EDGE_SELECTORS):
@@ -203,13 +172,13 @@ def _branches(program, node, params, allowed: set[str], edges: bool):
 @compiles("offset")
 def compile_offset(program, node: ast.Operation, params):
     """``offset(distance[, all|inside|border])``."""
-    values = _arguments(program, node, params, 1, 2)
+    values = plain_arguments(program, node, range(1, 3), block=True)
     if node.branches:
         raise program.error(node, "offset() takes no { ... } block; use comp(f) after it")
-    distance = _number(program, node, values[0], params, "offset distance")
+    distance = number(program, node, values[0], params, "the distance")
     keep = "all"
     if len(values) == 2:
-        keep = _selector_name(values[1]) or ""
+        keep = selector_name(values[1]) or ""
         if keep not in ("all", "inside", "border"):
             raise program.error(node, "offset()'s second argument is all, inside or border")
 
@@ -258,7 +227,7 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
         strips: dict[object, list[list[np.ndarray]]] = {}  # selector -> groups of faces
         remainder: list[list[np.ndarray]] = []
         shape_pieces: list[np.ndarray] = []
-        for frame, polygon in _flat_input(state, node, program, f"{node.name}()"):
+        for frame, polygon in flat_faces(state, node, program, f"{node.name}()"):
             n = len(polygon)
             scope_normals = edge_normals(frame, polygon)
             quadrants = [quadrant(v) for v in scope_normals]
@@ -326,7 +295,7 @@ def _emit_all(state, args, branches, pieces_of, out) -> None:
                 out.append((child, None, ()))
 
 
-def _elements(value):
+def array_elements(value):
     """The elements of a CGA array (or a Python sequence), or None for a single value."""
     from shapegen.engine.functions_arrays import Array
 
@@ -336,8 +305,8 @@ def _elements(value):
 
 
 def _distance_list(program, node, value, n: int) -> np.ndarray:
-    if _elements(value) is not None:
-        value = _elements(value)
+    if array_elements(value) is not None:
+        value = array_elements(value)
         d = np.zeros(n)
         for k, item in enumerate(value[:n]):
             if type(item) is bool or not isinstance(item, (int, float)):
@@ -353,7 +322,7 @@ def _distance_list(program, node, value, n: int) -> np.ndarray:
 def compile_setback(program, node: ast.Operation, params):
     """``setback(distance | distances) { selector : ... | remainder : ... }``; setbackPerEdge
     evaluates its distance once per edge (with ``comp.index`` the edge's index)."""
-    values = _arguments(program, node, params, 1, 1)
+    values = plain_arguments(program, node, range(1, 2), block=True)
     branches = _branches(program, node, params, {"remainder"}, edges=True)
     distance = program.expressions.compile(values[0], params)
     per_edge = node.name == "setbackPerEdge"
@@ -381,9 +350,9 @@ def compile_setback(program, node: ast.Operation, params):
 @compiles("setbackToArea")
 def compile_setback_to_area(program, node: ast.Operation, params):
     """``setbackToArea(area[, minDistances[, maxDistances]]) { selector : ... }``."""
-    values = _arguments(program, node, params, 1, 3)
+    values = plain_arguments(program, node, range(1, 4), block=True)
     branches = _branches(program, node, params, {"remainder"}, edges=True)
-    area = _number(program, node, values[0], params, "setbackToArea area")
+    area = number(program, node, values[0], params, "the area")
     bounds = [program.expressions.compile(v, params) for v in values[1:]]
 
     def distances_of(args, state, frame, polygon, quadrants, selected):
@@ -408,8 +377,8 @@ def compile_shape_luo(program, node: ast.Operation, params):
     left) { shape : ... | remainder : ... }``: a setback of those sides, the strips as one
     polygon."""
     sides = _LUO[node.name]
-    values = _arguments(program, node, params, len(sides), len(sides))
-    widths = [_number(program, node, v, params, f"{node.name} width") for v in values]
+    values = plain_arguments(program, node, (len(sides),), block=True)
+    widths = [number(program, node, v, params, "a width") for v in values]
     branches = _branches(program, node, params, {"shape", "remainder"}, edges=False)
 
     def distances_of(args, state, frame, polygon, quadrants, selected):
@@ -424,15 +393,17 @@ def compile_shape_luo(program, node: ast.Operation, params):
 @compiles("innerRectangle", "innerRect")
 def compile_inner_rectangle(program, node: ast.Operation, params):
     """``innerRectangle(scope|edge) { shape : ... | remainder : ... }``."""
-    values = _arguments(program, node, params, 0 if node.name == "innerRect" else 1, 1)
-    alignment = _selector_name(values[0]) if values else "scope"
+    values = plain_arguments(
+        program, node, range(0 if node.name == "innerRect" else 1, 2), block=True
+    )
+    alignment = selector_name(values[0]) if values else "scope"
     if alignment not in ("scope", "edge"):
         raise program.error(node, f"{node.name}()'s alignment is scope or edge")
     branches = _branches(program, node, params, {"shape", "remainder"}, edges=False)
 
     def inner_op(state, args, out):
         pieces: dict[str, list[np.ndarray]] = {"shape": [], "remainder": []}
-        for frame, polygon in _flat_input(state, node, program, f"{node.name}()"):
+        for frame, polygon in flat_faces(state, node, program, f"{node.name}()"):
             rectangle, rest = polygon2d.inner_rectangle(polygon, alignment)
             if rectangle is not None:
                 pieces["shape"].append([frame.lift(rectangle)])
@@ -452,7 +423,7 @@ def compile_inner_rectangle(program, node: ast.Operation, params):
 def compile_footprint(program, node: ast.Operation, params):
     """``footprint()``: the shape's geometry projected on its scope's plane y = 0, as a flat
     shape facing +y (the union of the projected faces)."""
-    _arguments(program, node, params, 0, 0)
+    plain_arguments(program, node, range(0, 1), block=True)
 
     def footprint_op(state, args, out):
         mesh = state.shape.mesh()

@@ -20,7 +20,8 @@ import math
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
-from shapegen.engine.cga_ops.scope_ops import _arguments, _geometry_shape, _value, refit
+from shapegen.engine.cga_ops.arguments import plain_arguments, typed
+from shapegen.engine.cga_ops.scope_ops import refit, shape_with_faces
 from shapegen.engine.shape import Shape
 from shapegen.geometry.mesh import Mesh
 
@@ -79,11 +80,11 @@ def rectified(mesh: Mesh, angle: float) -> Mesh:
     "not published), with a warning",
 )
 def compile_rectify(program, node, params):
-    (angle,) = _arguments(program, node, (1,))
-    angle_of = _value(program, node, angle, params, float, "the angle")
+    (angle,) = plain_arguments(program, node, (1,))
+    angle_of = typed(program, node, angle, params, float, "the angle")
 
     def rectify(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = shape_with_faces(program, node, state)
         angle = angle_of(args, state)
         if not 0 <= angle <= 45:
             warn_at(state, node, f"rectify(): the angle is in [0, 45] degrees; {angle:g} is "

@@ -15,14 +15,12 @@ __all__ = ["roof_shape"]
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
+from shapegen.engine.cga_ops.arguments import number, plain_arguments, selector_name
 from shapegen.engine.cga_ops.polygons import (
-    _arguments,
-    _elements,
-    _flat_input,
-    _number,
-    _selector_name,
+    array_elements,
     edge_quadrants,
     face_frames,
+    flat_faces,
 )
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import MASS, Shape
@@ -60,7 +58,7 @@ def roof_shape(
 def _value_type(node) -> tuple[str, list]:
     """``("angle" | "height", remaining argument expressions)``."""
     values = [a.value for a in node.arguments]
-    first = _selector_name(values[0]) if values else None
+    first = selector_name(values[0]) if values else None
     if first in ("byAngle", "byHeight"):
         return ("angle" if first == "byAngle" else "height"), values[1:]
     return "angle", values
@@ -91,8 +89,7 @@ _SIGNATURES = {
 @compiles("roofHip", "roofGable", "roofShed", "roofPyramid", "roofRidge")
 def compile_roof(program, node: ast.Operation, params):
     """``roofX(angle, ...)`` or ``roofX(byAngle|byHeight, value, ...)``."""
-    if any(a.kind != "plain" for a in node.arguments):
-        raise program.error(node, f"{node.name}() takes plain arguments only")
+    plain_arguments(program, node, range(len(node.arguments) + 1))  # plain, no block
     kind, values = _value_type(node)
     optional = _SIGNATURES[node.name]
     if node.name == "roofGable" and len(values) < len(node.arguments):
@@ -104,13 +101,13 @@ def compile_roof(program, node: ast.Operation, params):
             + (f", then up to: {', '.join(optional)}" if optional else " only")
             + f"; got {len(node.arguments)} arguments",
         )
-    value = _number(program, node, values[0], params, f"{node.name} {kind}")
+    value = number(program, node, values[0], params, f"the {kind}")
     extras = {}
     for name, expression in zip(optional, values[1:], strict=False):
         if name == "even":
             extras[name] = _flag(program, node, expression, params, f"{node.name} even")
         else:
-            extras[name] = _number(program, node, expression, params, f"{node.name} {name}")
+            extras[name] = number(program, node, expression, params, f"the {name}")
     build = {
         "roofHip": roofs.roof_hip,
         "roofGable": roofs.roof_gable,
@@ -129,7 +126,7 @@ def compile_roof(program, node: ast.Operation, params):
         if cga and state.shape.kind == MASS:  # op_roof*: a roof on each face of the geometry
             faces = face_frames(state.shape)
         else:
-            faces = _flat_input(state, node, program, f"{node.name}()")
+            faces = flat_faces(state, node, program, f"{node.name}()")
         for frame, polygon in faces:
             try:
                 if kind == "angle":
@@ -150,11 +147,11 @@ def compile_roof(program, node: ast.Operation, params):
 @compiles("taper")
 def compile_taper(program, node: ast.Operation, params):
     """``taper(height)``: a pyramid over the first face, apex above its centroid."""
-    (height_expression,) = _arguments(program, node, params, 1, 1)
-    height = _number(program, node, height_expression, params, "taper height")
+    (height_expression,) = plain_arguments(program, node, range(1, 2), block=True)
+    height = number(program, node, height_expression, params, "the height")
 
     def taper_op(state, args, out):
-        faces = _flat_input(state, node, program, "taper()")
+        faces = flat_faces(state, node, program, "taper()")
         if not faces:
             return False
         frame, polygon = faces[0]  # CityEngine tapers the first polygon only
@@ -184,27 +181,25 @@ _ENVELOPE_SIDES = {
 def compile_envelope(program, node: ast.Operation, params):
     """``envelope(normal|world.up, maxHeight, frontBaseHeight, frontAngle[, back...[, side...
     | right..., left...]])`` or ``envelope(direction, maxHeight, baseHeights, angles)``."""
-    if any(a.kind != "plain" for a in node.arguments):
-        raise program.error(node, "envelope() takes plain arguments only")
-    values = [a.value for a in node.arguments]
+    values = plain_arguments(program, node, range(len(node.arguments) + 1))
     # cga_changelog: the deprecated signatures without a direction (3, 5, 7 or 9 arguments)
-    deprecated = len(values) % 2 == 1 and _selector_name(values[0]) not in ("normal", "world.up")
+    deprecated = len(values) % 2 == 1 and selector_name(values[0]) not in ("normal", "world.up")
     if deprecated:
         values = [ast.Name("normal"), *values]
     if len(values) - 2 not in _ENVELOPE_SIDES:
         raise program.error(
             node, f"envelope() takes 4, 6, 8 or 10 arguments, got {len(values)}"
         )  # fmt: skip
-    direction = _selector_name(values[0])
+    direction = selector_name(values[0])
     if direction not in ("normal", "world.up"):
         raise program.error(node, "envelope()'s direction is normal or world.up")
-    max_height = _number(program, node, values[1], params, "envelope maximum height")
+    max_height = number(program, node, values[1], params, "the maximum height")
     pairs = [program.expressions.compile(v, params) for v in values[2:]]
     sides = _ENVELOPE_SIDES[len(values) - 2]
 
     def per_edge(value, n: int, default: float, what: str) -> np.ndarray:
-        if _elements(value) is not None:
-            value = _elements(value)
+        if array_elements(value) is not None:
+            value = array_elements(value)
             out = np.full(n, default)
             for k, item in enumerate(value[:n]):
                 if type(item) is bool or not isinstance(item, (int, float)):
@@ -224,7 +219,7 @@ def compile_envelope(program, node: ast.Operation, params):
         top = max_height(args, state)
         evaluated = [f(args, state) for f in pairs]
         built = []
-        for frame, polygon in _flat_input(state, node, program, "envelope()"):
+        for frame, polygon in flat_faces(state, node, program, "envelope()"):
             if direction == "world.up":
                 up = state.shape.scope.rotation @ frame.n
                 if up[1] < 1 - 1e-9:
@@ -234,7 +229,7 @@ def compile_envelope(program, node: ast.Operation, params):
                     )  # fmt: skip
             n = len(polygon)
             quadrants = edge_quadrants(frame, polygon)
-            if len(pairs) == 2 and _elements(evaluated[0]) is not None:
+            if len(pairs) == 2 and array_elements(evaluated[0]) is not None:
                 base = per_edge(evaluated[0], n, 0.0, "base heights")
                 angle = per_edge(evaluated[1], n, 90.0, "angles")
             else:

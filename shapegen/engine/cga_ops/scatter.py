@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
-from shapegen.engine.cga_ops.polygons import _number, _selector_name
+from shapegen.engine.cga_ops.arguments import number, selector_name
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.geometry.frames import rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
@@ -52,22 +52,22 @@ def compile_scatter(program, node: ast.Operation, params):
         raise program.error(
             node, "scatter() takes (surface|volume|scope, n, uniform|gaussian[, mean[, stddev]])"
         )  # fmt: skip
-    domain = _selector_name(args[0].value)
+    domain = selector_name(args[0].value)
     if domain not in _DOMAINS:
         raise program.error(node, "scatter()'s domain is surface, volume or scope")
-    count = _number(program, node, args[1].value, params, "scatter()'s number of points")
-    distribution = _selector_name(args[2].value)
+    count = number(program, node, args[1].value, params, "the number of points")
+    distribution = selector_name(args[2].value)
     if distribution not in ("uniform", "gaussian"):
         raise program.error(node, "scatter()'s distribution is uniform or gaussian")
     if len(args) > 3 and distribution != "gaussian":
         raise program.error(node, "scatter()'s mean and deviation belong to a gaussian")
-    mean = _selector_name(args[3].value) if len(args) > 3 else "center"
+    mean = selector_name(args[3].value) if len(args) > 3 else "center"
     if mean not in _MEANS:
         raise program.error(node, f"scatter()'s mean is one of {', '.join(_MEANS)}")
     stddev = None
     relative = True
     if len(args) > 4:
-        stddev = _number(program, node, args[4].value, params, "scatter()'s deviation")
+        stddev = number(program, node, args[4].value, params, "the deviation")
         relative = args[4].kind == "relative"
     if len(node.branches) != 1 or node.branches[0].key is not None:
         raise program.error(node, "scatter() takes one { operations } block")

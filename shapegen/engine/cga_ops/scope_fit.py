@@ -14,12 +14,11 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops.arguments import choice, plain_arguments
 from shapegen.engine.cga_ops.scope_ops import (
-    _arguments,
-    _choice,
-    _geometry_shape,
     refit,
     set_scope_pivot,
+    shape_with_faces,
 )
 
 _AXIS_PAIRS = ("xy", "yx", "xz", "zx", "yz", "zy")
@@ -54,12 +53,12 @@ def minimum_rectangle_direction(points: np.ndarray) -> np.ndarray:
 
 @compiles("alignScopeToGeometryBBox")
 def compile_align_scope_to_geometry_bbox(program, node, params):
-    (pair,) = _arguments(program, node, (1,))
-    first, second = ("xyz".index(c) for c in _choice(program, node, pair, _AXIS_PAIRS, "the axes"))
+    (pair,) = plain_arguments(program, node, (1,))
+    first, second = ("xyz".index(c) for c in choice(program, node, pair, _AXIS_PAIRS, "the axes"))
     fixed = 3 - first - second
 
     def align(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = shape_with_faces(program, node, state)
         old = shape.scope.rotation
         world = shape.scope.to_world(shape.mesh().vertices)
         low, high = sorted((first, second))  # the plane's coordinates, in scope order

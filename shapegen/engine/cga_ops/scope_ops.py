@@ -35,9 +35,8 @@ __all__ = ["argument_word", "refit", "set_scope_pivot"]
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
+from shapegen.engine.cga_ops.arguments import argument_word, choice, plain_arguments, typed
 from shapegen.engine.cga_ops.topology import EDGE, VERTEX
-from shapegen.engine.finite import finite_parameter
-from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.trim import apply_trim
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
@@ -65,63 +64,7 @@ def set_scope_pivot(state) -> None:
     state.pivot = (np.asarray(scope.origin, float), np.asarray(scope.rotation, float))
 
 
-# ---------------------------------------------------------------------------- arguments
-def _arguments(program, node: ast.Operation, counts: tuple[int, ...]) -> list:
-    for argument in node.arguments:
-        if argument.kind != "plain":
-            raise program.error(node, f"{node.name}() takes plain arguments, not {argument.kind}")
-    if node.branches:
-        raise program.error(node, f"{node.name}() takes no {{ ... }} block")
-    if len(node.arguments) not in counts:
-        expected = " or ".join(str(c) for c in counts)
-        raise program.error(
-            node, f"{node.name}() takes {expected} arguments, got {len(node.arguments)}"
-        )
-    return [a.value for a in node.arguments]
-
-
-def argument_word(expression) -> str | None:
-    """A selector argument as written (``world.up``, ``yUp``, a string), or None."""
-    if isinstance(expression, ast.Name):
-        return expression.name
-    if isinstance(expression, ast.ShapeAttribute):
-        return f"{expression.obj}.{expression.field}"
-    if isinstance(expression, ast.String):
-        return expression.value
-    return None
-
-
-def _choice(program, node, expression, choices: tuple[str, ...], what: str) -> str:
-    word = argument_word(expression)
-    if word not in choices:
-        raise program.error(
-            node, f"{node.name}(): {what} is one of {', '.join(choices)}; got {word or 'a value'}"
-        )
-    return word
-
-
-_KIND_NAMES = {float: "finite number", bool: "boolean", str: "string"}
-
-
-def _value(program, node, expression, params, kind: type, what: str):
-    compiled = program.expressions.compile(expression, params)
-    error = program.error
-
-    def value(args, state):
-        result = compiled(args, state)
-        if type(result) is not kind:
-            raise error(
-                node,
-                f"{node.name}(): {what} must be a {_KIND_NAMES[kind]}, got a {type_name(result)}",
-            )
-        if kind is float:  # .cga: nan and inf are 0 with a warning, as CityEngine's runtime
-            return finite_parameter(program, node, state, result, f"{node.name}(): {what}")
-        return result
-
-    return value
-
-
-def _geometry_shape(program, node, state, components: bool = False) -> Shape:
+def shape_with_faces(program, node, state, components: bool = False) -> Shape:
     """The shape ``node`` works on: one with faces, or (``components``) also the edge and vertex
     shapes of ``comp(e|v)`` and ``scatter``, whose scope the operation turns all the same."""
     kind = state.shape.kind
@@ -140,13 +83,13 @@ _OBJECT_AXES = ("object.x", "object.y", "object.z", "object.xyz")
 
 @compiles("alignScopeToAxes")
 def compile_align_scope_to_axes(program, node, params):
-    arguments = _arguments(program, node, (0, 1))
+    arguments = plain_arguments(program, node, (0, 1))
     which = "world.xyz"
     if arguments:
-        which = _choice(program, node, arguments[0], _WORLD_AXES + _OBJECT_AXES, "the axes")
+        which = choice(program, node, arguments[0], _WORLD_AXES + _OBJECT_AXES, "the axes")
 
     def align(state, args, out):
-        shape = _geometry_shape(program, node, state, components=True)
+        shape = shape_with_faces(program, node, state, components=True)
         frame = np.eye(3)
         if which.startswith("object."):
             frame = getattr(state.run, "object_rotation", None)
@@ -189,8 +132,8 @@ _EDGE_CHOICES = ("world.lowest", "longest")
     partial="edge and vertex shapes (comp(e|v), scatter) are refused when derived",
 )
 def compile_align_scope_to_geometry(program, node, params):
-    arguments = _arguments(program, node, (2, 3))
-    up = _choice(program, node, arguments[0], ("yUp", "zUp"), "the up axis")
+    arguments = plain_arguments(program, node, (2, 3))
+    up = choice(program, node, arguments[0], ("yUp", "zUp"), "the up axis")
     deprecated = None
     if len(arguments) == 2:  # cga_changelog 2011: (upAxis, faceIndex) and (upAxis, auto)
         auto = argument_word(arguments[1]) == "auto"
@@ -205,17 +148,17 @@ def compile_align_scope_to_geometry(program, node, params):
     if edge_word is not None and edge_word not in (*_EDGE_CHOICES, "auto"):
         edge_word = None
     face_index = (
-        None if face_word else _value(program, node, arguments[1], params, float, "the face index")
+        None if face_word else typed(program, node, arguments[1], params, float, "the face index")
     )
     edge_index = (
-        None if edge_word else _value(program, node, arguments[2], params, float, "the edge index")
+        None if edge_word else typed(program, node, arguments[2], params, float, "the edge index")
     )
     if face_word == "any" and edge_word is None:
         raise program.error(node, "alignScopeToGeometry(): 'any' face needs an edge selector")
     error = program.error
 
     def align(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = shape_with_faces(program, node, state)
         mesh = shape.mesh()
         scope = shape.scope
         world = scope.to_world(mesh.vertices)
@@ -300,11 +243,12 @@ def _wrapped(state, node, what: str, count: int, things: str) -> None:
 @compiles("rotateScope")
 def compile_rotate_scope(program, node, params):
     angles = [
-        _value(program, node, a, params, float, "an angle") for a in _arguments(program, node, (3,))
+        typed(program, node, a, params, float, "an angle")
+        for a in plain_arguments(program, node, (3,))
     ]
 
     def rotate_scope(state, args, out):
-        shape = _geometry_shape(program, node, state, components=True)
+        shape = shape_with_faces(program, node, state, components=True)
         turn = rotation_matrix([angle(args, state) for angle in angles])
         state.shape = refit(shape, shape.scope.rotation @ turn)
         return True
@@ -314,7 +258,8 @@ def compile_rotate_scope(program, node, params):
 
 def _flips(program, node, params):
     return [
-        _value(program, node, a, params, bool, "a flip") for a in _arguments(program, node, (3,))
+        typed(program, node, a, params, bool, "a flip")
+        for a in plain_arguments(program, node, (3,))
     ]
 
 
@@ -323,7 +268,7 @@ def compile_mirror(program, node, params):
     flips = _flips(program, node, params)
 
     def mirror(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = shape_with_faces(program, node, state)
         chosen = np.array([flip(args, state) for flip in flips])
         if not chosen.any():
             return True
@@ -343,7 +288,7 @@ def compile_mirror_scope(program, node, params):
     flips = _flips(program, node, params)
 
     def mirror_scope(state, args, out):
-        shape = _geometry_shape(program, node, state, components=True)
+        shape = shape_with_faces(program, node, state, components=True)
         chosen = np.array([flip(args, state) for flip in flips])
         if not chosen.any():
             return True
@@ -376,13 +321,13 @@ def pivot_frame(rotation: np.ndarray, axis_map: str, corner: int) -> np.ndarray:
 
 @compiles("setPivot")
 def compile_set_pivot(program, node, params):
-    arguments = _arguments(program, node, (2,))
-    axis_map = _choice(program, node, arguments[0], tuple(_AXIS_MAPS), "the axis map")
-    corner_of = _value(program, node, arguments[1], params, float, "the corner index")
+    arguments = plain_arguments(program, node, (2,))
+    axis_map = choice(program, node, arguments[0], tuple(_AXIS_MAPS), "the axis map")
+    corner_of = typed(program, node, arguments[1], params, float, "the corner index")
     error = program.error
 
     def set_pivot(state, args, out):
-        shape = _geometry_shape(program, node, state, components=True)
+        shape = shape_with_faces(program, node, state, components=True)
         corner = corner_of(args, state)
         if corner != int(corner) or not 0 <= corner <= 7:
             raise error(
@@ -399,10 +344,10 @@ def compile_set_pivot(program, node, params):
 
 @compiles("reverseNormals")
 def compile_reverse_normals(program, node, params):
-    _arguments(program, node, (0,))
+    plain_arguments(program, node, (0,))
 
     def reverse_normals(state, args, out):
-        shape = _geometry_shape(program, node, state)
+        shape = shape_with_faces(program, node, state)
         state.shape = Shape.with_geometry(
             shape.scope, shape.mesh().reversed(), shape.kind, shape.normal_axis
         )
@@ -413,12 +358,12 @@ def compile_reverse_normals(program, node, params):
 
 @compiles("cleanupGeometry")
 def compile_cleanup_geometry(program, node, params):
-    arguments = _arguments(program, node, (2,))
-    _choice(program, node, arguments[0], ("vertices", "edges", "faces", "all"), "the components")
-    tolerance_of = _value(program, node, arguments[1], params, float, "the tolerance")
+    arguments = plain_arguments(program, node, (2,))
+    choice(program, node, arguments[0], ("vertices", "edges", "faces", "all"), "the components")
+    tolerance_of = typed(program, node, arguments[1], params, float, "the tolerance")
 
     def cleanup(state, args, out):
-        shape = _geometry_shape(program, node, state, components=True)
+        shape = shape_with_faces(program, node, state, components=True)
         tolerance = min(
             max(tolerance_of(args, state), 0.0), 1.0
         )  # metres, as the reference's 1 m at 1
@@ -437,11 +382,11 @@ _NOT_REDUCED = "the geometry is kept whole: shapegen does not simplify meshes"
 @compiles("reduceGeometry", partial=_NOT_REDUCED)
 def compile_reduce_geometry(program, node, params):
     """reduceGeometry(tolerance): the edge collapses are not made; a warning says so."""
-    (argument,) = _arguments(program, node, (1,))
-    tolerance_of = _value(program, node, argument, params, float, "the tolerance")
+    (argument,) = plain_arguments(program, node, (1,))
+    tolerance_of = typed(program, node, argument, params, float, "the tolerance")
 
     def reduce_geometry(state, args, out):
-        _geometry_shape(program, node, state, components=True)
+        shape_with_faces(program, node, state, components=True)
         if not 0.0 <= (tolerance := tolerance_of(args, state)) <= 1.0:
             raise program.error(node, f"reduceGeometry(): the tolerance is 0..1, got {tolerance:g}")
         warn_at(state, node, f"reduceGeometry({tolerance:g}): {_NOT_REDUCED}")
@@ -452,7 +397,7 @@ def compile_reduce_geometry(program, node, params):
 
 @compiles("resetGeometry")
 def compile_reset_geometry(program, node, params):
-    _arguments(program, node, (0,))
+    plain_arguments(program, node, (0,))
 
     def reset(state, args, out):
         start = getattr(state.run, "start_shape", None)
@@ -467,7 +412,7 @@ def compile_reset_geometry(program, node, params):
 
 @compiles("trim")
 def compile_trim(program, node, params):
-    _arguments(program, node, (0,))
+    plain_arguments(program, node, (0,))
     return lambda state, args, out: apply_trim(state)
 
 
@@ -475,21 +420,19 @@ def compile_trim(program, node, params):
 def compile_delete_holes(program, node, params):
     """``deleteHoles()``: shapegen's faces have no holes (a face with holes is read as its
     outer boundary), so the geometry is already what deleting them gives."""
-    _arguments(program, node, (0,))
+    plain_arguments(program, node, (0,))
     return lambda state, args, out: True
 
 
 @compiles("convexify")
 def compile_convexify(program, node, params):
-    arguments = _arguments(program, node, (0, 1))
-    limit_of = (
-        _value(program, node, arguments[0], params, float, "maxLength") if arguments else None
-    )
+    arguments = plain_arguments(program, node, (0, 1))
+    limit_of = typed(program, node, arguments[0], params, float, "maxLength") if arguments else None
 
     def convexify(state, args, out):
         from shapegen.geometry.convex import convex_faces
 
-        shape = _geometry_shape(program, node, state)
+        shape = shape_with_faces(program, node, state)
         limit = None if limit_of is None else limit_of(args, state)
         mesh = shape.mesh()
         state.shape = Shape.with_geometry(

@@ -15,7 +15,7 @@ __all__ = ["compile_split_area"]
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
-from shapegen.engine.cga_ops.polygons import _number, _selector_name
+from shapegen.engine.cga_ops.arguments import number, plain_arguments, selector_name
 from shapegen.engine.shape import FACE, axis_index, split_piece
 from shapegen.engine.split import PieceLimitError, SplitPart, SplitRepeat, resolve_split
 from shapegen.geometry.cut import clip_half
@@ -47,9 +47,7 @@ def _position(mesh, axis: int, low: float, high: float, area: float, total: floa
 @compiles("splitArea")
 def compile_split_area(program, node: ast.Operation, params):
     """``splitArea(x|y|z[, adjust]) { area : ... | 'fraction : ... | ~weight : ... }[*]``."""
-    if any(a.kind != "plain" for a in node.arguments) or not 1 <= len(node.arguments) <= 2:
-        raise program.error(node, "splitArea() takes an axis (x, y or z) and optionally adjust")
-    names = [_selector_name(a.value) for a in node.arguments]
+    names = [selector_name(v) for v in plain_arguments(program, node, (1, 2), block=True)]
     if names[0] not in ("x", "y", "z"):
         raise program.error(node, "splitArea()'s axis is x, y or z")
     if len(names) == 2 and names[1] != "adjust":
@@ -63,7 +61,7 @@ def compile_split_area(program, node: ast.Operation, params):
     for branch in node.branches:
         if branch.merge:
             raise program.error(branch, "splitArea() parts take ':', not '='")
-        size = _number(program, branch, branch.key, params, "a splitArea size")
+        size = number(program, node, branch.key, params, "a size", at=branch)
         parts.append((size, branch.mode, program._body(branch.body, params), branch))
     repeat = node.repeat
 

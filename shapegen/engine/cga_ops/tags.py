@@ -14,7 +14,7 @@ from __future__ import annotations
 __all__ = ["compile_tags"]
 
 from shapegen.engine.cga_ops import compiles, warn_at
-from shapegen.engine.cga_ops.scope_ops import argument_word
+from shapegen.engine.cga_ops.arguments import argument_word, plain_arguments
 from shapegen.grammar import ast
 
 _COMPONENTS = {
@@ -36,13 +36,7 @@ _IGNORED = (
 )
 def compile_tags(program, node: ast.Operation, params):
     low, high = _COUNTS[node.name]
-    if node.branches or any(a.kind != "plain" for a in node.arguments):
-        raise program.error(node, f"{node.name}() takes plain arguments and no {{ ... }} block")
-    arguments = [a.value for a in node.arguments]
-    if not low <= len(arguments) <= high:
-        raise program.error(
-            node, f"{node.name}() takes {low} to {high} arguments, got {len(arguments)}"
-        )
+    arguments = plain_arguments(program, node, range(low, high + 1))
     values = []
     if arguments:  # the name or query: a string expression
         values.append(program.expressions.compile(arguments[0], params))

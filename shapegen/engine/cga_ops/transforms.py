@@ -19,7 +19,7 @@ __all__ = ["compile_rotate", "compile_translate"]
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles
-from shapegen.engine.cga_ops.scope_ops import argument_word
+from shapegen.engine.cga_ops.arguments import argument_word, plain_arguments
 from shapegen.engine.finite import finite_parameter
 from shapegen.engine.functions_arrays import type_name
 from shapegen.engine.functions_frames import FRAMES, euler_angles, euler_matrix, frame_of
@@ -44,8 +44,7 @@ def _compiled_numbers(program, node, params):
 
 
 def _words(program, node):
-    if node.branches or any(a.kind != "plain" for a in node.arguments):
-        raise program.error(node, f"{node.name}() takes plain arguments and no {{ ... }} block")
+    plain_arguments(program, node, range(len(node.arguments) + 1))  # plain, no block
     if len(node.arguments) != 5:
         raise program.error(
             node, f"{node.name}() takes (mode, coordSystem, x, y, z), got {len(node.arguments)}"

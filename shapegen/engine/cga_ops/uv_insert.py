@@ -19,7 +19,7 @@ import numpy as np
 
 from shapegen.engine.asset_files import find_asset, load_asset
 from shapegen.engine.cga_ops import compiles, warn_at
-from shapegen.engine.cga_ops.scope_ops import argument_word
+from shapegen.engine.cga_ops.arguments import argument_word
 from shapegen.engine.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
