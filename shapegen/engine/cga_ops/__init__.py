@@ -29,9 +29,11 @@ _PARTIAL: dict[str, str] = {}
 #: What the operations with a node of their own (compiled by shapegen.engine.operations) do not
 #: honour of the reference, in a few words.
 DEDICATED_NOTES: dict[str, str] = {
-    "i": "reads OBJ, glTF, PLY and STL assets; .dae, .fbx, .usd, .dwg and .ifc are refused",
+    "i": "reads OBJ, glTF, COLLADA, PLY and STL assets; an .fbx, .usd, .dwg or .ifc asset is a "
+    "box with a warning in .cga rules (refused in .grammar ones)",
     "r": "turns about the scope's own axes: rotate(rel, pivot, ...) while they are the pivot's",
-    "set": "scope.* and seedian cannot be set (refused when the file loads)",
+    "set": "seedian and scope.elevation cannot be set (refused when the file loads); scope.* "
+    "and pivot.* are set in .cga rules",
     "split": "split(u|v, ...) runs along the scope's x or y, with a warning (no texture "
     "coordinates)",
 }
