@@ -91,5 +91,7 @@ def test_the_parthenon_stands_on_its_stand_ins_with_a_lateral_capacity():
         >= stand_ins["by_reason"]["open shell, capped, on its convex hull"]
     )
     assert stand_ins["leaves"] > 0 and analysis["stands"]
+    # measured when the stand-ins came in: 9.80 deg towards 90 deg (along the lot's depth),
+    # the worst of 16 directions; the derivation may move it a little, not a degree
     capacity = analysis["capacity"]
-    assert 0 < capacity["tilt_deg"] < 45
+    assert capacity["tilt_deg"] == pytest.approx(9.80, abs=0.25)
