@@ -1,4 +1,4 @@
-"""``shapegen build FILE.grammar``: derive a model, optionally optimize and judge it, write it."""
+"""``shapegen build RULES``: derive a model, optionally optimize and judge it, write it."""
 
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ def add_command(commands) -> None:
     )
     build.add_argument(
         "grammar",
-        metavar="FILE.grammar",
+        metavar="RULES",
         help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     add_derivation_options(build)

@@ -1,4 +1,4 @@
-"""``shapegen edit FILE.grammar [--port N] [--no-open]``: the design page in the browser.
+"""``shapegen edit RULES [--port N] [--no-open]``: the design page in the browser.
 
 Serves the page and its JSON API on 127.0.0.1 (docs/editor.md), opens it in the user's browser,
 re-reads the grammar file when it changes on disk, and stops on Ctrl-C.
@@ -46,7 +46,7 @@ def add_command(commands) -> None:
     )
     edit.add_argument(
         "grammar",
-        metavar="FILE.grammar",
+        metavar="RULES",
         help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     edit.add_argument(

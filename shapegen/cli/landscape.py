@@ -1,4 +1,4 @@
-"""``shapegen landscape FILE.grammar P1 P2 -o OUT.png``: the structure's measure over two attrs."""
+"""``shapegen landscape RULES P1 P2 -o OUT.png``: the structure's measure over two attrs."""
 
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ def add_command(commands) -> None:
     )
     landscape.add_argument(
         "grammar",
-        metavar="FILE.grammar",
+        metavar="RULES",
         help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     landscape.add_argument("first", metavar="P1", help="attr on the horizontal axis")
