@@ -278,6 +278,15 @@ def test_a_non_finite_operation_parameter_becomes_zero_with_a_warning():
         parse_grammar(text, "r.grammar").build(lot=LOT)
 
 
+def test_a_non_finite_material_value_becomes_zero_with_a_warning():
+    # the same default for the float material attributes (a smoke rule fades by 1 / 0)
+    text = "attr w = 0\n@StartRule\nLot --> extrude(3) set(material.opacity, 1 / w) A."
+    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    assert model.blocks[0].appearance.opacity == 0.0
+    (warning,) = model.metadata["warnings"]
+    assert "material.opacity is inf: replaced by 0" in warning
+
+
 def test_a_negative_size_mirrors_the_geometry_within_the_scope():
     # op_s: "Negative sizes result in mirroring along the corresponding axes"; a shed roof
     # rising along z, mirrored in z, rises the other way over the same footprint

@@ -38,6 +38,7 @@ from dataclasses import replace
 
 from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.cga_ops.arguments import plain_arguments, typed
+from shapegen.engine.finite import finite_parameter
 from shapegen.engine.functions_arrays import format_value, type_name
 from shapegen.engine.functions_shape import material_alias
 from shapegen.grammar import ast
@@ -111,7 +112,10 @@ def compile_material_set(program, node: ast.Set, params: dict[str, int]):
             warn_at(state, node, f"material.{written} is deprecated (cga_changelog 2011.1); "
                                  f"it sets material.{name}")  # fmt: skip
         try:
-            value = _checked_value(name, value_of(args, state))
+            value = value_of(args, state)
+            if type(value) is float and MATERIAL_ATTRIBUTES[name][0] is float:
+                value = finite_parameter(program, node, state, value, f"material.{name}")
+            value = _checked_value(name, value)
             state.appearance = with_material(state.appearance, name, value)
         except ValueError as exc:
             raise error(node, f"set(material.{name}, ...): {exc}") from None
