@@ -314,16 +314,27 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | No
     """:func:`convex_decomposition` of ``mesh`` (scope coordinates), the pieces moved by
     ``rotation`` and ``origin`` into world coordinates.
 
-    The pieces in scope coordinates are kept (a bounded cache keyed by the mesh's vertices and
-    faces): a rule inserts the same asset in many places (a temple's columns) and a rebuild
-    (a search, the design page) derives the same leaves again, so each distinct mesh is cut
-    once. A decomposition depends only on the mesh, so the world pieces are those of a
-    decomposition in world coordinates up to round-off. A convex mesh is its own one piece;
-    the pieces are :meth:`~Mesh.cleaned`."""
-    key = (mesh.vertices.tobytes(), mesh.faces)
+    The pieces are kept (a bounded cache) for the mesh brought to unit size: its lowest corner
+    at the origin and its largest extent 1 (keyed by its coordinates to 1e-12). A rule inserts
+    the same asset in many places and at many sizes (a temple's columns, which a change of
+    their diameter scales as a whole), and a rebuild (a search, the design page) derives the
+    same leaves again, so each distinct shape is cut once. The decomposition does not depend
+    on the mesh's position or size: its cuts are the planes of its faces and its tolerances
+    are relative to its size, so the pieces of the unit mesh, scaled back, are those of the
+    mesh up to round-off. A convex mesh is its own one piece; the pieces are
+    :meth:`~Mesh.cleaned`."""
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    if len(vertices) == 0:
+        return None
+    low = vertices.min(axis=0)
+    scale = float(np.ptp(vertices, axis=0).max())
+    if not scale > 0:
+        return None
+    unit = (vertices - low) / scale
+    key = (np.round(unit, 12).tobytes(), mesh.faces)  # equal sizes up to round-off: one key
     pieces = _DECOMPOSED.get(key, _MISSING)
     if pieces is _MISSING:
-        pieces = convex_decomposition(mesh)
+        pieces = convex_decomposition(Mesh(unit, mesh.faces))
         if pieces is not None:
             pieces = [piece.cleaned() for piece in pieces]
         if len(_DECOMPOSED) >= _DECOMPOSED_LIMIT:
@@ -331,7 +342,10 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | No
         _DECOMPOSED[key] = pieces
     if pieces is None:
         return None
-    return [piece.transformed(rotation, origin) for piece in pieces]
+    return [
+        Mesh(piece.vertices * scale + low, piece.faces).transformed(rotation, origin)
+        for piece in pieces
+    ]
 
 
 _DECOMPOSED: dict = {}

@@ -153,6 +153,29 @@ def test_placed_decomposition_is_the_world_decomposition():
         assert np.allclose(low, world.bounds()[0])
 
 
+def test_an_asset_at_another_size_is_cut_once(monkeypatch):
+    # a column scaled as a whole (a new diameter on the design page) has the pieces of the
+    # first one, scaled: the decomposition is worked out once
+    calls = []
+    real = convex_decomposition
+
+    def counted(mesh, *args, **kwargs):
+        calls.append(mesh)
+        return real(mesh, *args, **kwargs)
+
+    monkeypatch.setattr("shapegen.geometry.cut.convex_decomposition", counted)
+    monkeypatch.setattr("shapegen.geometry.cut._DECOMPOSED", {})
+    shape = _prism(U_LOT, height=2.0)
+    for factor, shift in ((1.0, (0, 0, 0)), (2.5, (7, 1, -3)), (0.4, (-2, 0, 5))):
+        scaled = Mesh(shape.vertices * factor + shift, shape.faces)
+        pieces = placed_convex_decomposition(scaled, np.eye(3), np.zeros(3))
+        assert len(pieces) == 3 and all(p.is_closed and p.is_convex() for p in pieces)
+        assert sum(p.volume() for p in pieces) == pytest.approx(18 * 2.0 * factor**3)
+        low = np.min([p.bounds()[0] for p in pieces], axis=0)
+        assert np.allclose(low, scaled.bounds()[0])
+    assert len(calls) == 1
+
+
 def test_placed_decomposition_of_a_mirrored_scope_faces_out():
     mirror = np.diag([-1.0, 1.0, 1.0])
     pieces = placed_convex_decomposition(_prism(L_LOT), mirror, np.zeros(3))
