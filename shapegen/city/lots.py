@@ -4,14 +4,17 @@ A :class:`Lot` is one footprint: its id, its outer ring in metres (east, north) 
 origin, counter-clockwise seen from above, and the properties of the feature it came from (which
 override the rule's attrs of the same names, as CityEngine maps object attributes).
 
-Coordinates. A GeoJSON file holds longitude/latitude (RFC 7946) or projected metres; which is
-detected (a ``crs`` member naming WGS84, or every coordinate within +-180 / +-90 degrees, means
-longitude/latitude) or given (``crs="lonlat"`` or ``crs="metres"``). Longitude/latitude is
-projected onto the WGS84 tangent plane at the centre of the lots' bounding box
-(:func:`shapegen.readers.projection.east_north`: over a few kilometres distances agree with geodesic
-ones to 1e-7); projected metres are moved so that the same centre is the origin. The origin is
-recorded in the outputs so that results can be put back on a map. In shapegen's frame east is
-+x, up +y and north -z.
+Coordinates. A GeoJSON file holds longitude/latitude (RFC 7946), coordinates in any system that
+pyproj knows (named by its ``crs`` member, by a ``.prj`` beside it, or by ``crs="EPSG:2154"``),
+or local metres (``crs="metres"``: east and north on the ground, no place on the earth). Without
+any of these, every coordinate within +-180 / +-90 degrees means longitude/latitude, else metres.
+A projected system is transformed to longitude/latitude (:mod:`shapegen.readers.crs`);
+longitude/latitude is projected onto the WGS84 tangent plane at the centre of the lots' bounding
+box (:func:`shapegen.readers.projection.east_north`: over a few kilometres distances agree with
+geodesic ones to 1e-7), so a lot's metres are ground metres whatever the input's projection;
+local metres are moved so that the same centre is the origin. The origin is recorded in the
+outputs so that results can be put back on a map. In shapegen's frame east is +x, up +y and
+north -z.
 
 A feature that cannot be a lot (fewer than three distinct corners, a self-crossing ring, no
 area, a hole) is kept as a lot with a ``problem``: the run records it as a failed row instead
@@ -30,6 +33,7 @@ import numpy as np
 
 from shapegen.errors import InputFormatError
 from shapegen.readers import geojson
+from shapegen.readers.crs import LONLAT, METRES, InputCrs, parse_crs, resolve_crs
 from shapegen.readers.osm import read_buildings
 
 CRS_CHOICES = ("lonlat", "metres")
@@ -83,13 +87,19 @@ class City:
     lots
         In input order.
     crs
-        ``"lonlat"`` or ``"metres"``: the input's coordinates.
+        The input's coordinates: ``"lonlat"``, ``"metres"`` or a projected system's code
+        (``"EPSG:2154"``, else its name).
     origin
-        The local frame's origin in input coordinates: ``(lon, lat)`` degrees or ``(x, y)`` m.
+        The local frame's origin in input coordinates: ``(lon, lat)`` degrees, ``(x, y)``
+        m of the projected system, or ``(x, y)`` local metres.
     skipped
         Features that are not polygons (points, lines), counted, not read.
     source
         The file read, or ``""``.
+    origin_lonlat
+        The origin as WGS84 ``(lon, lat)`` degrees (the tangent point), None for local metres.
+    input_crs
+        The input's system in full (:class:`~shapegen.readers.crs.InputCrs`: its WKT).
     """
 
     lots: list[Lot]
@@ -97,20 +107,29 @@ class City:
     origin: tuple[float, float]
     skipped: int = 0
     source: str = ""
+    origin_lonlat: tuple[float, float] | None = None
+    input_crs: InputCrs | None = None
 
     def frame(self) -> dict:
         """How the local frame relates to the input's coordinates (for the outputs)."""
-        projection = (
-            "WGS84 local tangent plane at the origin"
-            if self.crs == "lonlat"
-            else "input metres less the origin"
-        )
-        return {
+        if self.crs == LONLAT:
+            projection = "WGS84 local tangent plane at the origin"
+        elif self.crs == METRES:
+            projection = "input metres less the origin"
+        else:
+            projection = (
+                f"{self.crs} to WGS84 longitude/latitude (pyproj), then the WGS84 local"
+                " tangent plane at the origin"
+            )
+        frame = {
             "crs": self.crs,
             "origin": list(self.origin),
             "projection": projection,
             "axes": "east +x, up +y, north -z (m)",
         }
+        if self.origin_lonlat is not None:
+            frame["origin_lonlat"] = list(self.origin_lonlat)
+        return frame
 
 
 # ------------------------------------------------------------------------------ reading
@@ -118,25 +137,27 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     """Read the lots of a GeoJSON FeatureCollection (``.geojson``/``.json``) or of the buildings
     of an OSM XML file (``.osm``: closed ways tagged ``building``).
 
+    ``crs`` is ``"lonlat"``, ``"metres"`` or any system pyproj reads (``"EPSG:2154"``); without
+    it the file's ``crs`` member or the ``.prj`` beside it says, else the coordinates' range.
+
     Raises
     ------
     InputFormatError
         One line naming the file: unreadable, not GeoJSON (or OSM XML), no polygon, two lots
-        with one id, an unknown or unconfirmed coordinate system.
+        with one id, an unknown system, longitude/latitude on another datum than WGS84, an
+        unreadable ``.prj``, a ``crs`` that contradicts the file's.
     """
     path = Path(path)
-    if crs is not None and crs not in CRS_CHOICES:
-        raise InputFormatError(f"--crs {crs}: expected one of {', '.join(CRS_CHOICES)}")
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
     head = data[:512].lstrip()
     if path.suffix.lower() == ".osm" or head.startswith(b"<"):
-        if crs == "metres":
-            raise InputFormatError(f"{path}: OSM nodes are longitude/latitude; --crs metres")
+        if crs is not None and parse_crs(crs, f"--crs {crs}").name != LONLAT:
+            raise InputFormatError(f"{path}: OSM nodes are longitude/latitude; --crs {crs}")
         features, skipped = read_buildings(path)
-        return _city(features, "lonlat", skipped, str(path))
+        return _city(features, InputCrs(LONLAT), skipped, str(path))
     try:
         document = json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
@@ -145,19 +166,13 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
             f"{path}{where}: not a GeoJSON file (invalid JSON) nor OSM XML"
         ) from None
     features = geojson.features(document, str(path))
-    declared = geojson.declared_crs(document.get("crs"))
+    member = document.get("crs") if isinstance(document, dict) else None
+    chosen = resolve_crs(member, path, crs)
     polygons = [f for f in features if geojson.is_polygon(f)]
     skipped = len(features) - len(polygons)
-    if declared is not None and declared != "lonlat" and crs != "metres":
-        raise InputFormatError(
-            f"{path}: its crs is {declared!r}; give --crs metres if its units are metres"
-            " (other units are not read)"
-        )
-    if declared == "lonlat" and crs == "metres":
-        raise InputFormatError(f"{path}: its crs member says WGS84 longitude/latitude, not metres")
-    if crs is None:
-        crs = declared or _detected_crs(polygons)
-    return _city(polygons, crs, skipped, str(path))
+    if chosen is None:
+        chosen = InputCrs(_detected_crs(polygons))
+    return _city(polygons, chosen, skipped, str(path))
 
 
 def city_from_polygons(
@@ -168,10 +183,10 @@ def city_from_polygons(
     crs: str = "metres",
 ) -> City:
     """A city from Python data: ``polygons`` are sequences of ``(x, y)`` corners (metres, or
-    ``(lon, lat)`` with ``crs="lonlat"``), any orientation; ``ids`` default to ``#1``, ``#2``...;
-    ``properties`` a dict per lot."""
-    if crs not in CRS_CHOICES:
-        raise InputFormatError(f"crs {crs!r}: expected one of {', '.join(CRS_CHOICES)}")
+    ``(lon, lat)`` with ``crs="lonlat"``, or coordinates of any system pyproj reads with
+    ``crs="EPSG:NNNN"``), any orientation; ``ids`` default to ``#1``, ``#2``...; ``properties``
+    a dict per lot."""
+    chosen = parse_crs(crs, f"crs {crs!r}")
     polygons = list(polygons)
     ids = list(ids) if ids is not None else [None] * len(polygons)
     props = list(properties) if properties is not None else [{}] * len(polygons)
@@ -186,29 +201,43 @@ def city_from_polygons(
         }
         for poly, lot_id, prop in zip(polygons, ids, props, strict=True)
     ]
-    return _city(features, crs, 0, "")
+    return _city(features, chosen, 0, "")
 
 
 def _detected_crs(features: list[dict]) -> str:
     """``lonlat`` when every corner of every lot lies within +-180 / +-90 degrees."""
     for feature in features:
         if not geojson.within_lonlat(geojson.positions(feature["geometry"])):
-            return "metres"
-    return "lonlat"
+            return METRES
+    return LONLAT
 
 
-def _city(features: list[dict], crs: str, skipped: int, source: str) -> City:
+def _city(features: list[dict], crs: InputCrs, skipped: int, source: str) -> City:
     if not features:
         where = f"{source}: " if source else ""
         raise InputFormatError(f"{where}no polygons to use as lots")
     points = np.concatenate([geojson.positions(f["geometry"]) for f in features])
     if len(points) == 0:
         raise InputFormatError(f"{source or 'lots'}: no polygon has a valid corner")
-    lo, hi = points.min(axis=0), points.max(axis=0)
-    centre = 0.5 * (lo + hi)
-    if crs == "metres":
-        centre = np.round(centre)  # whole metres, so the origin reads cleanly
-    origin = (float(centre[0]), float(centre[1]))
+    origin_lonlat = None
+    if crs.projected:
+        lonlat = crs.to_lonlat(points)
+        lonlat = lonlat[np.all(np.isfinite(lonlat), axis=1)]
+        if len(lonlat) == 0:
+            raise InputFormatError(
+                f"{source or 'lots'}: no corner lies where {crs.name} reaches longitude/latitude"
+            )
+        centre = 0.5 * (lonlat.min(axis=0) + lonlat.max(axis=0))
+        origin_lonlat = (float(centre[0]), float(centre[1]))
+        back = crs.from_lonlat(centre[None])[0]
+        origin = (float(back[0]), float(back[1]))
+    else:
+        centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
+        if crs.name == METRES:
+            centre = np.round(centre)  # whole metres, so the origin reads cleanly
+        origin = (float(centre[0]), float(centre[1]))
+        if crs.name == LONLAT:
+            origin_lonlat = origin
     lots: list[Lot] = []
     seen: set[str] = set()
     for number, feature in enumerate(features, start=1):
@@ -218,24 +247,31 @@ def _city(features: list[dict], crs: str, skipped: int, source: str) -> City:
         if lot_id in seen:
             raise InputFormatError(f"{source or 'lots'}: two lots have the id {lot_id!r}")
         seen.add(lot_id)
-        ring, problem = _ring(feature["geometry"], crs, origin)
+        ring, problem = _ring(feature["geometry"], crs, origin_lonlat or origin)
         lots.append(Lot(lot_id, ring, properties, feature["geometry"], problem))
-    return City(lots, crs, origin, skipped, source)
+    return City(lots, crs.name, origin, skipped, source, origin_lonlat, crs)
 
 
-def _ring(geometry: dict, crs: str, origin: tuple[float, float]) -> tuple[np.ndarray, str | None]:
-    """The outer ring in local metres, counter-clockwise and cleaned, and what is wrong with it."""
+def _ring(
+    geometry: dict, crs: InputCrs, origin: tuple[float, float]
+) -> tuple[np.ndarray, str | None]:
+    """The outer ring in local metres, counter-clockwise and cleaned, and what is wrong with it.
+    ``origin`` is ``(lon, lat)`` for a system on the earth, else local metres."""
     points, problem = geojson.outer_ring(geometry)
     if problem is not None:
         return np.zeros((0, 2)), problem
-    if crs == "lonlat" and not geojson.within_lonlat(points):
+    if crs.projected:
+        points = crs.to_lonlat(points)
+        if not np.all(np.isfinite(points)):
+            return np.zeros((0, 2)), f"a corner where {crs.name} reaches no longitude/latitude"
+    if crs.located and not geojson.within_lonlat(points):
         return np.zeros((0, 2)), "a corner outside longitude -180..180 / latitude -90..90"
-    ring = geojson.distinct_corners(geojson.local_metres(points, crs == "lonlat", origin), _MERGE_M)
+    ring = geojson.distinct_corners(geojson.local_metres(points, crs.located, origin), _MERGE_M)
     if len(ring) < 3:
         return ring, f"a polygon of {len(ring)} distinct corner(s); a lot needs 3"
     span = float(np.max(np.ptp(ring, axis=0)))
     if span > _MAX_LOT_M:
-        hint = "; are its coordinates metres? (--crs metres)" if crs == "lonlat" else ""
+        hint = "; are its coordinates metres? (--crs metres)" if crs.name == LONLAT else ""
         return ring, f"a lot {span / 1000:.4g} km across (at most {_MAX_LOT_M / 1000:g} km){hint}"
     from shapely.geometry import Polygon
 

@@ -60,9 +60,10 @@ def add_command(commands) -> None:
     )
     city.add_argument(
         "--crs",
-        choices=["lonlat", "metres"],
-        help="the coordinates of LOTS: WGS84 longitude/latitude or projected metres (default:"
-        " detected from the file's crs member or its coordinates' range)",
+        metavar="CRS",
+        help="the coordinates of LOTS: a system pyproj knows (EPSG:2154, EPSG:3857...), lonlat"
+        " (WGS84) or metres (local, no place on the earth); default: the file's crs member,"
+        " the .prj beside it, else detected from the coordinates' range",
     )
     add_derivation_options(city, prefix="for every lot: ")
     for action in city._actions:  # the lots are LOTS' polygons: --lot is refused, so not offered

@@ -8,6 +8,8 @@ a lot (``--lot``)           :func:`~shapegen.readers.lots.read_lot`: ``W,D``, co
                             a GeoJSON feature, an OBJ face
 GeoJSON features            :mod:`~shapegen.readers.geojson` (lots and cities)
 OpenStreetMap XML           :mod:`~shapegen.readers.osm`: one way, or every building
+coordinate systems          :mod:`~shapegen.readers.crs`: a ``crs`` member, a ``.prj``,
+                            ``--crs``; any pyproj system to WGS84 longitude/latitude
 WGS84 to local metres       :func:`~shapegen.readers.projection.east_north`
 ==========================  ==========================================================
 

@@ -2,15 +2,15 @@
 coordinate system, and corners in local metres. Lots (:mod:`shapegen.readers.lots`) and cities
 (:mod:`shapegen.city.lots`) both read through here, so both accept the same input.
 
-Coordinates are longitude/latitude unless a ``crs`` member names another system (then metres,
-east and north); WGS84 positions are projected onto the tangent plane at an origin
-(:func:`~shapegen.readers.projection.east_north`), metres are moved so that the origin is 0.
+Coordinates are longitude/latitude unless a ``crs`` member (or a ``.prj``) names another system
+(:mod:`shapegen.readers.crs` takes those to longitude/latitude); WGS84 positions are projected
+onto the tangent plane at an origin (:func:`~shapegen.readers.projection.east_north`), local
+metres are moved so that the origin is 0.
 """
 
 from __future__ import annotations
 
 __all__ = [
-    "declared_crs",
     "distinct_corners",
     "feature_id",
     "features",
@@ -68,18 +68,6 @@ def is_polygon(feature: dict) -> bool:
     """Whether the feature's geometry is a Polygon or a MultiPolygon."""
     geometry = feature.get("geometry")
     return isinstance(geometry, dict) and geometry.get("type") in POLYGONS
-
-
-def declared_crs(member: object) -> str | None:
-    """``"lonlat"`` for a ``crs`` member naming WGS84 (CRS84, EPSG:4326), the name of any other
-    system, None without one."""
-    if member is None:
-        return None
-    properties = member.get("properties") if isinstance(member, dict) else None
-    name = str((properties or {}).get("name", "")) or str(member)
-    if "CRS84" in name.upper() or name.endswith((":4326", "::4326")):
-        return "lonlat"
-    return name
 
 
 def within_lonlat(points: np.ndarray) -> bool:

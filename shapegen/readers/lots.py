@@ -15,12 +15,13 @@ other way round is reversed, keeping its first corner first (as ``shapegen city`
 the first edge (the lot's front, along which the scope's x axis runs) starts at the corner
 given first.
 
-GeoJSON coordinates are longitude/latitude (RFC 7946) when every one lies within +-180 /
-+-90 degrees and no ``crs`` member names another system; they are projected onto the WGS84
-tangent plane at the centre of the lot's bounding box (:mod:`shapegen.readers.geojson`;
-over a lot, distances agree with geodesic ones far below a millimetre), east along +x and north
-along -z. Coordinates that are not longitude/latitude are taken as metres (east, north) and
-moved so that the same centre is the origin.
+GeoJSON coordinates are in the system that a ``crs`` member or a ``.prj`` beside the file
+names (any that pyproj knows, :mod:`shapegen.readers.crs`: transformed to longitude/latitude),
+else longitude/latitude (RFC 7946) when every one lies within +-180 / +-90 degrees; they are
+projected onto the WGS84 tangent plane at the centre of the lot's bounding box
+(:mod:`shapegen.readers.geojson`; over a lot, distances agree with geodesic ones far below a
+millimetre), east along +x and north along -z. Other coordinates are taken as local metres
+(east, north) and moved so that the same centre is the origin.
 
 Every mistake is one :class:`~shapegen.errors.InputFormatError` line naming the input.
 """
@@ -37,6 +38,7 @@ import numpy as np
 
 from shapegen.errors import InputFormatError
 from shapegen.readers import geojson
+from shapegen.readers.crs import file_crs
 from shapegen.readers.files import parse_json_document, read_model_bytes
 from shapegen.readers.geojson import distinct_corners
 
@@ -157,9 +159,14 @@ def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> list[tu
     points, problem = geojson.outer_ring(chosen[0].get("geometry"))
     if problem is not None:
         raise InputFormatError(f"{where}: {problem}")
+    member = document.get("crs") if isinstance(document, dict) else None
+    declared = file_crs(member, path, where)
+    if declared is not None and declared.projected:
+        points = declared.to_lonlat(points)
+        if not np.all(np.isfinite(points)):
+            raise InputFormatError(f"{where}: a corner where {declared.name} has no lon/lat")
     centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
-    declared = geojson.declared_crs(document.get("crs"))
-    lonlat = declared in (None, "lonlat") and geojson.within_lonlat(points)
+    lonlat = (declared is None or declared.located) and geojson.within_lonlat(points)
     if lonlat:
         span = float(np.ptp(points, axis=0).max())
         if span > MAX_LONLAT_SPAN_DEG:

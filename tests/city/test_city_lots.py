@@ -94,11 +94,14 @@ def test_clockwise_rings_are_turned_counter_clockwise_keeping_the_first_corner(t
     [
         ("urn:ogc:def:crs:OGC:1.3:CRS84", None, "lonlat"),
         ("EPSG:4326", None, "lonlat"),
-        ("EPSG:25832", "metres", "metres"),
+        ("EPSG:25832", None, "EPSG:25832"),
+        ("urn:ogc:def:crs:EPSG::25832", "EPSG:25832", "EPSG:25832"),
     ],
 )
 def test_a_crs_member_is_honoured(tmp_path, crs_member, given, expected):
     ring = [(4.0, 46.0), (4.0001, 46.0), (4.0001, 46.0001)]
+    if expected != "lonlat":  # UTM 32N metres near Munich
+        ring = [(690_000.0, 5_335_000.0), (690_010.0, 5_335_000.0), (690_010.0, 5_335_010.0)]
     city = read_lots(_write(tmp_path, _collection(ring, crs=crs_member)), crs=given)
     assert city.crs == expected
 
@@ -109,7 +112,7 @@ def test_a_crs_member_is_honoured(tmp_path, crs_member, given, expected):
         ("not json", "not a GeoJSON file"),
         ({"type": "Topology"}, "not GeoJSON"),
         ({"type": "FeatureCollection", "features": []}, "no polygons"),
-        (_collection([(0, 0), (1, 0), (1, 1)], crs="EPSG:25832"), "give --crs metres"),
+        (_collection([(0, 0), (1, 0), (1, 1)], crs="EPSG:99999"), "not a coordinate system"),
     ],
 )
 def test_bad_files_get_one_line(tmp_path, content, message):
