@@ -8,6 +8,7 @@ An output folder holds::
     lots/KEY.blocks.json  its building, placed in the city (shapegen-blocks), for built lots
     results.csv           one row per lot, in input order, assembled from the records
     results.geojson       the same rows as the properties of the lots' polygons
+    results.parquet       the same rows as GeoParquet (with pyarrow: shapegen.city.parquet)
     city.glb              one node per building, named by the lot id, in the local metric frame
 
 ``KEY`` is the lot id made safe for a file name plus a short hash of the id, so two ids never
@@ -47,6 +48,8 @@ COLUMNS = [
     "blocks",
     "left_out",
     "seconds",
+    "iterations",
+    "peak_rss_mib",
     "seed",
     "footprint",
     "lot_width",
@@ -122,6 +125,10 @@ def encode_geojson(city, rows: list[dict]) -> bytes:
         geometry = lot.geometry if isinstance(lot.geometry, dict) else None
         features.append({"type": "Feature", "id": lot.id, "geometry": geometry, "properties": row})
     document = {"type": "FeatureCollection", "shapegen": city.frame(), "features": features}
+    urn = city.input_crs.urn() if getattr(city, "input_crs", None) is not None else None
+    if urn is not None:  # the input's coordinates are kept: say their system (old-style member)
+        document = {"type": "FeatureCollection", "crs": {"type": "name", "properties": {
+            "name": urn}}, **document}  # fmt: skip
     return (json.dumps(json_ready(document), allow_nan=False) + "\n").encode("utf-8")
 
 
@@ -136,6 +143,13 @@ def write_tables(folder: Path, city, records: list[dict], *, scene: bool = True)
         (written["csv"], encode_csv(columns, rows)),
         (written["geojson"], encode_geojson(_Subset(city, lots), rows)),
     ]
+    from shapegen.city.parquet import encode_parquet, have_pyarrow
+
+    if have_pyarrow():
+        written["parquet"] = folder / "results.parquet"
+        outputs.append(
+            (written["parquet"], encode_parquet(_Subset(city, lots), columns, rows, done))
+        )
     if scene:
         import trimesh
 
@@ -153,6 +167,7 @@ def write_tables(folder: Path, city, records: list[dict], *, scene: bool = True)
 class _Subset:
     def __init__(self, city, lots):
         self.lots, self.frame = lots, city.frame
+        self.input_crs = getattr(city, "input_crs", None)
 
 
 def _blocks_path(folder: Path, record: dict) -> Path:

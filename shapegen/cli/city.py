@@ -169,7 +169,12 @@ def _summary(outcome, args) -> None:
         print(f"attrs set by the lots' properties: {', '.join(mapped)}")
     for record in [r for r in records if r["status"] != "ok"][:5]:
         print(f"  {record['id']}: {record['status']}: {record['error']}")
-    print(f"results: {outcome.files['csv']}, {outcome.files['geojson']}")
+    tables = [outcome.files[k] for k in ("csv", "geojson", "parquet") if k in outcome.files]
+    print(f"results: {', '.join(map(str, tables))}")
+    if "parquet" not in outcome.files:
+        from shapegen.city.parquet import PARQUET_MISSING
+
+        sys.stderr.write(f"shapegen: warning: {PARQUET_MISSING}\n")
     if "glb" in outcome.files:
         print(f"city: {outcome.files['glb']}")
 
