@@ -90,6 +90,19 @@ def add_command(commands) -> None:
         " its workers need shapegen installed",
     )
     city.add_argument("--picture", metavar="OUT.png", help="also draw the built city")
+    city.add_argument(
+        "--tiles",
+        action="store_true",
+        help="also write the city as OGC 3D Tiles 1.1 (OUTDIR/tiles/tileset.json and its .glb"
+        " tiles, placed on the WGS84 ellipsoid); view them with python -m shapegen.city.viewer",
+    )
+    city.add_argument(
+        "--tiles-height",
+        type=float,
+        default=0.0,
+        metavar="M",
+        help="with --tiles: the ground's height above the WGS84 ellipsoid at the city (m)",
+    )
     city.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     city.set_defaults(handler=run)
 
@@ -110,6 +123,15 @@ def run(args: argparse.Namespace) -> int:
     check_statics_apply(args, grammar, args.grammar)
     attrs = checked_attrs(grammar, args.assignments)
     city = read_lots(args.lots, crs=args.crs)
+    if args.tiles and city.origin_lonlat is None:
+        raise CommandLineError(
+            f"--tiles: {args.lots} is in local metres, with no place on the earth; name its"
+            " coordinate system with --crs EPSG:NNNN"
+        )
+    if args.tiles and "://" in str(args.output) and not str(args.output).startswith("file://"):
+        raise CommandLineError(f"--tiles: tiles are written into a local folder, not {args.output}")
+    if args.tiles_height != 0.0 and not args.tiles:
+        raise CommandLineError("--tiles-height applies to --tiles")
     if city.skipped and not args.quiet:
         sys.stderr.write(
             f"shapegen: warning: {args.lots}: {city.skipped} feature(s) that are not polygon"
@@ -138,8 +160,21 @@ def run(args: argparse.Namespace) -> int:
         title = f"{Path(args.grammar).name} on {Path(args.lots).name}"
         picture = encode_city_picture(Path(args.output), outcome.records, title=title)
         write_outputs([(Path(args.picture), picture)])
+    tileset = None
+    if args.tiles and outcome.built == 0:
+        sys.stderr.write("shapegen: warning: --tiles: no lot was built, no tiles written\n")
+    elif args.tiles:
+        from shapegen.city.tiles import write_tiles
+
+        folder = str(args.output).removeprefix("file://")
+        tileset = write_tiles(folder, outcome.city, height=args.tiles_height)
     if not args.quiet:
         _summary(outcome, args)
+        if tileset is not None:
+            print(
+                f"3D Tiles: {tileset.path} ({tileset.buildings} buildings in {tileset.tiles}"
+                f" tiles); view: python -m shapegen.city.viewer {args.output}"
+            )
     return 0
 
 
