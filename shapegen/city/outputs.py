@@ -1,24 +1,20 @@
-"""A city run's files: the per-lot records, the results table (CSV and GeoJSON), the city glTF
-and its picture.
+"""A city run's files: the results table (CSV, GeoJSON and GeoParquet), the city glTF and its
+picture, assembled at the end from the batches' records and buildings.
 
-An output folder holds::
+An output folder (or URL: :mod:`shapegen.city.store`) holds::
 
     run.json              the run's settings (rule, attrs, seed, search, statics) and frame
-    lots/KEY.json         one record per finished lot (written atomically, as each finishes)
-    lots/KEY.blocks.json  its building, placed in the city (shapegen-blocks), for built lots
+    lots/B-KEY.json       the records of one batch of lots, written by the worker that ran it
+    lots/B-KEY.npz        their buildings, placed in the city (:mod:`shapegen.city.batches`)
     results.csv           one row per lot, in input order, assembled from the records
     results.geojson       the same rows as the properties of the lots' polygons
     results.parquet       the same rows as GeoParquet (with pyarrow: shapegen.city.parquet)
     city.glb              one node per building, named by the lot id, in the local metric frame
-
-``KEY`` is the lot id made safe for a file name plus a short hash of the id, so two ids never
-share a file.
 """
 
 from __future__ import annotations
 
 __all__ = [
-    "city_scene",
     "encode_city_picture",
     "lot_key",
     "read_record",
@@ -132,13 +128,19 @@ def encode_geojson(city, rows: list[dict]) -> bytes:
     return (json.dumps(json_ready(document), allow_nan=False) + "\n").encode("utf-8")
 
 
-def write_tables(folder: Path, city, records: list[dict], *, scene: bool = True) -> dict:
+def write_tables(folder, city, records: list[dict], *, scene: bool = True) -> dict:
     """Write ``results.csv``, ``results.geojson`` and (with ``scene``) ``city.glb`` from the
-    records (one per lot of ``city``, in its order; None for a lot not done); the paths."""
+    records (one per lot of ``city``, in its order; None for a lot not done) into ``folder`` (a
+    path or a :class:`~shapegen.city.store.CityStore`); their paths (URLs for a URL store)."""
+    from shapegen.city.batches import read_batch_buildings
+    from shapegen.city.scene import encode_city_glb
+    from shapegen.city.store import open_store
+
+    store = folder if hasattr(folder, "write") else open_store(folder)
     done = [record for record in records if record is not None]
     columns, rows = table_rows(done)
     lots = [lot for lot, record in zip(city.lots, records, strict=True) if record is not None]
-    written = {"csv": folder / "results.csv", "geojson": folder / "results.geojson"}
+    written = {"csv": "results.csv", "geojson": "results.geojson"}
     outputs = [
         (written["csv"], encode_csv(columns, rows)),
         (written["geojson"], encode_geojson(_Subset(city, lots), rows)),
@@ -146,83 +148,23 @@ def write_tables(folder: Path, city, records: list[dict], *, scene: bool = True)
     from shapegen.city.parquet import encode_parquet, have_pyarrow
 
     if have_pyarrow():
-        written["parquet"] = folder / "results.parquet"
+        written["parquet"] = "results.parquet"
         outputs.append(
             (written["parquet"], encode_parquet(_Subset(city, lots), columns, rows, done))
         )
     if scene:
-        import trimesh
-
-        written["glb"] = folder / "city.glb"
-        buildings = [(record, _blocks_path(folder, record)) for record in done]
-        outputs.append(
-            (written["glb"], trimesh.exchange.gltf.export_glb(city_scene(city, buildings)))
-        )
-    for path, content in outputs:
-        with atomic_write(path, "wb") as handle:
-            handle.write(content)
-    return written
+        written["glb"] = "city.glb"
+        arrays_of = lambda key: read_batch_buildings(store, key)  # noqa: E731
+        outputs.append((written["glb"], encode_city_glb(city.frame(), done, arrays_of)))
+    for name, content in outputs:
+        store.write(name, content)
+    return {role: store.path_of(name) for role, name in written.items()}
 
 
 class _Subset:
     def __init__(self, city, lots):
         self.lots, self.frame = lots, city.frame
         self.input_crs = getattr(city, "input_crs", None)
-
-
-def _blocks_path(folder: Path, record: dict) -> Path:
-    return folder / "lots" / f"{lot_key(record['id'])}.blocks.json"
-
-
-def _building(path: Path):
-    """The placed blocks of a lot (a Model of them), or None when it has none.
-
-    The file was written by this run from a checked model, so its blocks are taken as they are
-    (``model_from_dict`` would check every face's orientation again: 0.15 s per house).
-    """
-    from shapegen.model.block import Block
-    from shapegen.model.model import Model
-
-    try:
-        document = json.loads(path.read_text(encoding="utf-8"))
-        blocks = [
-            Block(
-                np.asarray(entry["vertices"], dtype=float),
-                tuple(tuple(face) for face in entry["faces"]),
-                id=str(entry["id"]),
-                tags=tuple(entry.get("tags", ())),
-                structural=bool(entry.get("structural", True)),
-                fixed=bool(entry.get("fixed", False)),
-            )
-            for entry in document["blocks"]
-        ]
-    except (OSError, ValueError, KeyError, TypeError):
-        return None
-    return Model(blocks)
-
-
-def city_scene(city, buildings):
-    """A trimesh scene of the city: one node per building (named by the lot id), its blocks in
-    their label colours, red when the building does not stand; the frame in the scene's extras.
-    ``buildings`` pairs each record with its blocks file."""
-    import trimesh
-
-    from shapegen.export.meshes import model_mesh
-
-    scene = trimesh.Scene(metadata={"shapegen_city": city.frame()})
-    for record, path in buildings:
-        if record.get("status") != "ok":
-            continue
-        model = _building(path)
-        if model is None or not model.blocks:
-            continue
-        mesh = model_mesh(model)
-        mesh.visual.face_colors = _face_colors(model, stands=bool(record.get("stands")))
-        extras = {key: record.get(key) for key in ("id", "stands", "measure", "blocks", "seed")}
-        scene.add_geometry(
-            mesh, node_name=record["id"], geom_name=record["id"], metadata=json_ready(extras)
-        )
-    return scene
 
 
 def _block_colors(model, *, stands: bool) -> np.ndarray:
@@ -240,30 +182,26 @@ def _block_colors(model, *, stands: bool) -> np.ndarray:
     ).reshape(-1, 4)
 
 
-def _face_colors(model, *, stands: bool) -> np.ndarray:
-    from shapegen.export.meshes import block_triangles
-
-    colors = _block_colors(model, stands=stands)
-    counts = [len(block_triangles(block)) for block in model.blocks]
-    return np.repeat(colors, counts, axis=0)
-
-
-def encode_city_picture(folder: Path, records: list[dict], *, title: str = "", size_px=(1200, 800)):
-    """PNG bytes of the built lots: label colours where a building stands, red where not."""
+def encode_city_picture(folder, records: list[dict], *, title: str = "", size_px=(1200, 800)):
+    """PNG bytes of the built lots: label colours where a building stands, red where not.
+    ``folder`` is the run's output (a path or a :class:`~shapegen.city.store.CityStore`)."""
     from matplotlib.figure import Figure
 
+    from shapegen.city.batches import read_building
+    from shapegen.city.store import open_store
     from shapegen.export.render import render_blocks
     from shapegen.model.model import Model
 
-    blocks, colors = [], []
+    store = folder if hasattr(folder, "write") else open_store(folder)
+    blocks, colors, cache = [], [], {}
     for record in records:
         if record is None or record.get("status") != "ok":
             continue
-        model = _building(_blocks_path(folder, record))
-        if model is None:
+        building = read_building(store, record, cache)
+        if building is None:
             continue
-        blocks.extend(model.blocks)
-        colors.append(_block_colors(model, stands=bool(record.get("stands"))))
+        blocks.extend(building[0].blocks)
+        colors.append(building[1])
     if not blocks:
         raise ValueError("no building to draw")
     city = Model(_renamed(blocks))

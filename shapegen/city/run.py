@@ -1,10 +1,14 @@
-"""Run one rule over every lot of a city: dispatch, record each lot as it finishes, resume.
+"""Run one rule over every lot of a city: schedule batches, let the workers write, merge, resume.
 
 Each lot goes through the project's one pipeline (:func:`shapegen.pipeline.design`: derive,
-judge, and with a search optimize) on a worker; its record is written atomically the moment it
-comes back, so an interrupted run keeps every lot that finished, and a rerun into the same
-folder skips them (a lot whose corners or properties changed is run again). A folder holding a
-run of another rule or other settings is refused rather than mixed.
+judge, and with a search optimize) on a worker. The parent process only schedules: it hands the
+lots out in batches (:class:`~shapegen.city.executors.Batcher`), and the worker that runs a
+batch writes the batch's records and buildings itself, atomically, into the output folder or URL
+(:mod:`shapegen.city.batches`, :mod:`shapegen.city.store`). At the end the parent reads the
+records back and writes the tables and the city's glTF from them. An interrupted run keeps every
+batch written, and a rerun into the same output skips their lots (a lot whose corners or
+properties changed is run again). An output holding a run of another rule or other settings is
+refused rather than mixed.
 """
 
 from __future__ import annotations
@@ -18,30 +22,36 @@ from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, field, is_dataclass
 from pathlib import Path
 
-from shapegen.city.executors import DaskCluster, LocalProcesses
+from shapegen.city.batches import read_records
+from shapegen.city.executors import Batcher, DaskCluster, InProcess, LocalProcesses
 from shapegen.city.lots import City
-from shapegen.city.outputs import lot_key, read_record, write_json, write_tables
-from shapegen.city.work import CitySettings, LotTask, lot_seed, new_record
+from shapegen.city.outputs import write_tables
+from shapegen.city.store import CityStore, open_store
+from shapegen.city.work import CitySettings, LotTask
 from shapegen.errors import InputFormatError, OptionError
-from shapegen.export.atomic import atomic_write
 from shapegen.json_values import json_ready
 
 RUN_FORMAT = "shapegen-city"
-RUN_VERSION = 1
+RUN_VERSION = 2  # 2: batch files (lots/B-KEY.json and .npz)
 
 
 @dataclass(frozen=True)
 class CityProgress:
-    """Where a run is, after each lot: ``done`` of ``total`` (``resumed`` of them from an
-    earlier run), ``failed`` (errors and timeouts), seconds since the start, and the lot's
-    record (None for the first call, before any lot)."""
+    """Where a run is, after each batch: ``done`` of ``total`` lots (``resumed`` of them from an
+    earlier run), ``failed`` (errors and timeouts), seconds since the start, and the batch's
+    records (empty for the first call, before any batch)."""
 
     done: int
     total: int
     failed: int
     resumed: int
     seconds: float
-    record: dict | None = None
+    records: tuple = ()
+
+    @property
+    def record(self) -> dict | None:
+        """The last record of the batch (None before any)."""
+        return self.records[-1] if self.records else None
 
     @property
     def rate(self) -> float:
@@ -53,7 +63,7 @@ class CityProgress:
 @dataclass
 class CityRun:
     """What :func:`run_city` did: every lot's record (input order; None for a lot not done when
-    it was interrupted), the counts and the files written."""
+    it was interrupted), the counts, the files written and where (``store``)."""
 
     city: City
     records: list[dict | None]
@@ -61,6 +71,7 @@ class CityRun:
     seconds: float
     files: dict = field(default_factory=dict)
     executor: str = ""
+    store: CityStore | None = None
 
     @property
     def failed(self) -> int:
@@ -81,6 +92,7 @@ def run_city(
     outdir: str | Path,
     *,
     attrs: Mapping[str, object] | None = None,
+    analyze: bool = True,
     seed: int = 0,
     search=None,
     statics=None,
@@ -88,6 +100,7 @@ def run_city(
     limits=None,
     workers: int | None = None,
     scheduler=None,
+    batch_size: int | None = None,
     scene: bool = True,
     progress: Callable[[CityProgress], None] | None = None,
 ) -> CityRun:
@@ -100,9 +113,14 @@ def run_city(
     grammar
         A loaded :class:`~shapegen.Grammar` read from a file (its text goes to the workers).
     outdir
-        The output folder (created); see :mod:`shapegen.city.outputs`.
+        The output folder (created), or a URL that fsspec understands (``s3://bucket/city``,
+        ``memory://city``); see :mod:`shapegen.city.outputs`. A Dask cluster's workers must
+        all reach it.
     attrs
         Attrs for every lot; a lot's properties of the same names override them.
+    analyze
+        Judge every building (``stands``, ``measure``); False derives only (with ``search``
+        the lots are judged anyway).
     seed
         The run's seed; each lot's is drawn from it and the lot's id.
     search, statics
@@ -113,20 +131,25 @@ def run_city(
     limits
         :class:`~shapegen.limits.WorkLimits` for each lot (default: the current ones).
     workers
-        Local worker processes (default: one per core); refused with ``scheduler``.
+        Local worker processes (default: one per core); refused with ``scheduler``. A run
+        into ``memory://`` derives in this process.
     scheduler
         A Dask scheduler address (``tcp://host:8786``) or a ``distributed.Client``.
+    batch_size
+        Lots per task (default: about half a second of a worker's time each, see
+        :class:`~shapegen.city.executors.Batcher`).
     scene
         Write ``city.glb`` besides the tables.
     progress
-        Called before the first lot and after each one with a :class:`CityProgress`.
+        Called before the first batch and after each one with a :class:`CityProgress`.
 
     Raises
     ------
     InputFormatError
         The folder cannot be written or holds a run with other settings.
     OptionError
-        A bad timeout or worker count, or ``workers`` with ``scheduler``.
+        A bad timeout, worker count or batch size, ``workers`` with ``scheduler``, or
+        ``memory://`` with ``scheduler``.
     """
     if timeout is not None and not (isinstance(timeout, int | float) and timeout > 0):
         raise OptionError(f"timeout must be a positive number of seconds, got {timeout!r}")
@@ -134,6 +157,8 @@ def run_city(
         raise OptionError("--workers applies to local processes; a Dask cluster has its own")
     if workers is not None and (not isinstance(workers, int) or workers < 1):
         raise OptionError(f"workers must be a whole number >= 1, got {workers!r}")
+    if batch_size is not None and (not isinstance(batch_size, int) or batch_size < 1):
+        raise OptionError(f"batch size must be a whole number >= 1, got {batch_size!r}")
     if getattr(grammar, "path", None) is None:
         raise OptionError("a city's rule must be read from a file (load_grammar)")
     from shapegen.grammar.source_files import read_rule_file
@@ -148,85 +173,107 @@ def run_city(
         statics=statics,
         timeout=None if timeout is None else float(timeout),
         limits=limits,
+        analyze=bool(analyze),
     )
-    folder = prepare_folder(Path(outdir), _identity(settings), city)
-    executor = DaskCluster(scheduler) if scheduler is not None else LocalProcesses(workers)
+    store = outdir if isinstance(outdir, CityStore) else open_store(outdir)
+    if scheduler is not None and not store.shared_between_processes:
+        raise OptionError(
+            f"{store.location}: a Dask cluster's workers cannot write into this process's"
+            " memory; give a folder or an object store URL"
+        )
+    prepare_folder(store, _identity(settings), city)
+    if scheduler is not None:
+        executor = DaskCluster(scheduler)
+    elif not store.shared_between_processes:
+        executor = InProcess()
+    else:
+        executor = LocalProcesses(workers)
     started = time.perf_counter()
     records: list[dict | None] = [None] * len(city.lots)
     where = {lot.id: k for k, lot in enumerate(city.lots)}
+    earlier = read_records(store)
     tasks = []
     resumed = 0
     for k, lot in enumerate(city.lots):
         fingerprint = _fingerprint(lot)
-        old = read_record(folder / "lots" / f"{lot_key(lot.id)}.json")
-        if old is not None and old.get("input") == fingerprint:
-            records[k] = old
+        old = [r for r in earlier.get(lot.id, ()) if r.get("input") == fingerprint]
+        if old:
+            records[k] = old[-1]
             resumed += 1
-        elif lot.problem is not None:
-            record = new_record(lot.id, lot_seed(lot.id, settings.seed))
-            record.update(error=lot.problem, seconds=0.0, input=fingerprint)
-            _save(folder, record)
-            records[k] = record
         else:
             ring = tuple((float(e), float(n)) for e, n in lot.ring)
-            tasks.append(LotTask(lot.id, ring, dict(lot.properties)))
-    run = CityRun(city, records, resumed, 0.0, executor=executor.describe())
+            tasks.append(LotTask(lot.id, ring, dict(lot.properties), fingerprint, lot.problem))
+    run = CityRun(city, records, resumed, 0.0, executor=executor.describe(), store=store)
     total = len(city.lots)
+    counts = {"done": resumed, "failed": sum(1 for r in records if r and r["status"] != "ok")}
 
-    def report(record):
+    def report(batch):
         if progress is not None:
-            done = sum(1 for r in records if r is not None)
+            seconds = time.perf_counter() - started
             progress(
                 CityProgress(
-                    done, total, run.failed, resumed, time.perf_counter() - started, record
+                    counts["done"], total, counts["failed"], resumed, seconds, tuple(batch)
                 )
             )
 
-    report(None)
+    report(())
+    workers_count = getattr(executor, "workers", 1)
+    batcher = Batcher(tasks, workers_count, batch_size)
     try:
-        for record in executor.run(settings, tasks):
-            k = where[record["id"]]
-            record["input"] = _fingerprint(city.lots[k])
-            _save(folder, record)
-            records[k] = {key: value for key, value in record.items() if key != "model"}
-            report(records[k])
+        for batch in executor.run(settings, store, batcher):
+            for record in batch:
+                records[where[record["id"]]] = record
+            counts["done"] += len(batch)
+            counts["failed"] += sum(1 for r in batch if r["status"] != "ok")
+            report(batch)
     finally:
         run.seconds = time.perf_counter() - started
-        run.files = write_tables(folder, city, records, scene=scene)
+        _merge(store, city, records)
+        run.files = write_tables(store, city, records, scene=scene)
     return run
 
 
-def prepare_folder(folder: Path, identity: dict, city: City) -> Path:
-    """Create the output folder (and ``lots/``), check it is writable and that an earlier run
-    in it had the same settings; record them in ``run.json``."""
-    from shapegen.export.atomic import check_writable
+def _merge(store: CityStore, city: City, records: list) -> None:
+    """Take every lot's record from the files the workers wrote (the authority: what a rerun
+    reads), in place; a lot with none keeps what came back to the parent (or None)."""
+    written = read_records(store)
+    for k, lot in enumerate(city.lots):
+        if records[k] is None:
+            continue
+        fingerprint = records[k].get("input")
+        found = [r for r in written.get(lot.id, ()) if r.get("input") == fingerprint]
+        if found:
+            records[k] = found[-1]
 
-    if folder.exists() and not folder.is_dir():
-        raise InputFormatError(f"{folder}: exists and is not a folder")
-    try:
-        (folder / "lots").mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputFormatError(f"{folder}: cannot create it ({exc.strerror or exc})") from None
-    check_writable(folder / "lots" / ".shapegen")
-    manifest = folder / "run.json"
-    if manifest.exists():
+
+def prepare_folder(store: CityStore, identity: dict, city: City) -> CityStore:
+    """Create the output (and ``lots/``), check it is writable and that an earlier run in it had
+    the same settings; record them in ``run.json``."""
+    store.prepare("lots")
+    data = store.read("run.json")
+    if data is not None:
         try:
-            earlier = json.loads(manifest.read_text(encoding="utf-8"))
-        except (OSError, ValueError):
+            earlier = json.loads(data)
+        except ValueError:
             earlier = None
+        manifest = store.name("run.json")
         if not isinstance(earlier, dict) or earlier.get("format") != RUN_FORMAT:
             raise InputFormatError(f"{manifest}: not a shapegen city run; choose another folder")
         changed = [k for k in identity if json_ready(identity[k]) != earlier.get("run", {}).get(k)]
         if changed:
             raise InputFormatError(
-                f"{folder} holds a run with another {', '.join(changed)}; rerun with the same"
-                " settings to resume it, or choose another folder"
+                f"{store.location} holds a run with another {', '.join(changed)}; rerun with the"
+                " same settings to resume it, or choose another folder"
             )
-    write_json(
-        manifest,
-        {"format": RUN_FORMAT, "version": RUN_VERSION, "run": identity, "frame": city.frame()},
-    )
-    return folder
+    document = {
+        "format": RUN_FORMAT,
+        "version": RUN_VERSION,
+        "run": identity,
+        "frame": city.frame(),
+    }
+    text = json.dumps(json_ready(document), indent=1, allow_nan=False) + "\n"
+    store.write("run.json", text.encode("utf-8"))
+    return store
 
 
 def _identity(settings: CitySettings) -> dict:
@@ -244,6 +291,7 @@ def _identity(settings: CitySettings) -> dict:
             "search": plain(settings.search),
             "statics": plain(settings.statics),
             "limits": plain(settings.limits),
+            "analyze": settings.analyze,
         }
     )
 
@@ -256,14 +304,3 @@ def _fingerprint(lot) -> str:
         default=str,
     )
     return hashlib.blake2b(text.encode(), digest_size=8).hexdigest()
-
-
-def _save(folder: Path, record: dict) -> None:
-    """The lot's building (if any) and then its record, each atomically: a record on disk means
-    the lot is done."""
-    key = lot_key(record["id"])
-    model = record.get("model")
-    if model is not None:
-        with atomic_write(folder / "lots" / f"{key}.blocks.json", "wb") as handle:
-            handle.write(model)
-    write_json(folder / "lots" / f"{key}.json", {k: v for k, v in record.items() if k != "model"})

@@ -20,7 +20,6 @@ from __future__ import annotations
 __all__ = ["CitySettings", "LotTask", "lot_seed", "new_record", "run_lot", "timeout_message"]
 
 import hashlib
-import json
 import math
 import os
 import time
@@ -52,6 +51,9 @@ class CitySettings:
         Block-statics options, or None for the defaults.
     timeout
         Seconds one lot may take, or None.
+    analyze
+        Judge each building (``stands``, ``measure``); False derives only (a search judges
+        anyway).
     limits
         Work limits (:class:`~shapegen.limits.WorkLimits`) of each lot, or None for the
         defaults.
@@ -65,16 +67,21 @@ class CitySettings:
     statics: object | None = None
     timeout: float | None = None
     limits: object | None = None
+    analyze: bool = True
 
 
 @dataclass(frozen=True)
 class LotTask:
     """One lot to build: its id, its corners (east, north about the city's origin, m,
-    counter-clockwise seen from above) and its properties."""
+    counter-clockwise seen from above), its properties, the fingerprint of these (``input``,
+    kept in its record so a rerun knows whether the lot changed) and, for a lot that cannot be
+    built, why (``problem``: its record is that error)."""
 
     id: str
     ring: tuple[tuple[float, float], ...]
     properties: dict = field(default_factory=dict)
+    input: str = ""
+    problem: str | None = None
 
 
 class LotTimeout(Exception):
@@ -110,12 +117,16 @@ def run_lot(settings: CitySettings, task: LotTask) -> dict:
     but not judged: not convex blocks), ``warnings`` (the derivation's), ``attrs`` (the values of
     the rule's ranged attrs as built, optimized ones included), ``from_properties`` (attrs the
     lot's properties set), ``seed``, ``footprint``, ``lot`` (width, depth, m), ``seconds``,
-    ``error``, ``peak_rss_mib`` (the worker's peak so far) and, for a built lot, ``model``: the
-    placed blocks as shapegen-blocks JSON (UTF-8 bytes).
+    ``error``, ``peak_rss_mib`` (the worker's peak so far), ``input`` (the task's) and, for a
+    built lot, ``model``: the placed blocks (a :class:`~shapegen.Model`).
     """
     started = time.perf_counter()
     seed = lot_seed(task.id, settings.seed)
     record = new_record(task.id, seed)
+    record["input"] = task.input
+    if task.problem is not None:
+        record.update(error=task.problem, seconds=0.0)
+        return record
     try:
         # A warning (an attr outside its @Range...) belongs to its lot's row, not to a terminal
         # that many workers share.
@@ -169,6 +180,7 @@ def new_record(lot_id: str, seed: int) -> dict:
         "error": None,
         "seconds": None,
         "peak_rss_mib": None,
+        "input": None,
     }
 
 
@@ -178,8 +190,6 @@ def timeout_message(timeout: float) -> str:
 
 
 def _run(settings: CitySettings, task: LotTask, seed: int, started: float, record: dict) -> None:
-    from shapegen.export.blocks_json import model_to_dict
-    from shapegen.json_values import json_ready
     from shapegen.limits import current_limits, work_limits
     from shapegen.pipeline import design
 
@@ -215,14 +225,15 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
             lot=lot,
             statics=settings.statics,
             search=settings.search,
-            assess=True,
+            assess=settings.analyze,
             progress=check_time,
         )
     check_time()
     assessment = outcome.assessment
-    record["structure"] = outcome.structure.name
-    record["stands"] = bool(assessment.stands)
-    record["measure"] = _number(assessment.measure)
+    if assessment is not None:
+        record["structure"] = outcome.structure.name
+        record["stands"] = bool(assessment.stands)
+        record["measure"] = _number(assessment.measure)
     record["blocks"] = len(outcome.model.blocks)
     # Leaves drawn but not judged (not convex blocks) and the derivation's warnings: said, so a
     # building judged on part of itself is never taken for the whole.
@@ -234,9 +245,7 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
     record["attrs"] = {name: _number(built.get(name)) for name in names if name in built}
     if outcome.optimization is not None:
         record["iterations"] = outcome.optimization.iterations
-    # Encoded here, in parallel, rather than by the one parent that writes every lot's files.
-    document = json_ready(model_to_dict(outcome.model))
-    record["model"] = json.dumps(document, allow_nan=False).encode("utf-8")
+    record["model"] = outcome.model
 
 
 def _input_error(message: str):

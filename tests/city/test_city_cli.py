@@ -70,8 +70,9 @@ def test_a_small_city_runs_from_the_command_line(tmp_path, capsys):
     assert main([*argv, "--set", "storeys=3", "--picture", str(tmp_path / "city.png")]) == 0
     printed = capsys.readouterr().out
     assert "1 lots: 1 stand" in printed and "attrs set by the lots' properties: jetty" in printed
-    record = json.loads(next((out / "lots").glob("a-*[0-9a-f].json")).read_text())
-    assert record["status"] == "ok" and record["blocks"] > 0
+    (batch,) = (out / "lots").glob("B-*[0-9a-f].json")
+    (record,) = json.loads(batch.read_text())["records"]
+    assert record["status"] == "ok" and record["blocks"] > 0 and record["id"] == "a"
     assert (tmp_path / "city.png").read_bytes()[:4] == b"\x89PNG"
     for name in ("results.csv", "results.geojson", "city.glb", "run.json"):
         assert (out / name).is_file()

@@ -1,0 +1,216 @@
+"""Batches of lots: what a worker runs as one task, and the two files it writes for them.
+
+A worker runs the lots of a batch one after the other (:func:`run_batch`), then writes, into the
+run's store, the batch's buildings and then its records::
+
+    lots/B-KEY.npz    the built lots' blocks, placed in the city, as packed arrays
+    lots/B-KEY.json   the records of every lot of the batch (built, failed or timed out)
+
+The record file is written last, so a record file that is there means its whole batch is done,
+buildings included: an interrupted run keeps every batch written, and a rerun skips those lots.
+``KEY`` is a hash of the batch's lots (ids and inputs). A built lot's record names its building
+as ``KEY:N`` (``building``: the batch and the building's place in its ``.npz``); a lot's
+``input`` is the fingerprint of its corners and properties, so a lot that changed is not taken
+from an old batch.
+
+Buildings are packed arrays rather than one JSON document per lot: one file per batch, read back
+with numpy without parsing (the city's glTF of 10 000 buildings is assembled from them in a
+fraction of a second). ``vertices`` (float64, m), ``vertex_offsets`` per block, ``faces`` (vertex
+indices within the block, all faces end to end), ``face_sizes``, ``face_offsets`` per block (into
+``face_sizes``), ``block_offsets`` per building, ``rgba`` per block (the scene's colours: label
+colours, red where the building does not stand) and ``flags`` per block (1 fixed, 2 structural).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "BATCH_FORMAT",
+    "batch_key",
+    "building_blocks",
+    "read_batch_buildings",
+    "read_building",
+    "read_records",
+    "run_batch",
+    "write_batch",
+]
+
+import hashlib
+import io
+import json
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from shapegen.json_values import json_ready
+
+BATCH_FORMAT = "shapegen-city-batch"
+
+
+def batch_key(tasks: Sequence) -> str:
+    """The file stem of a batch of ``tasks`` (``LotTask``): a hash of their ids and inputs."""
+    digest = hashlib.blake2b(digest_size=10)
+    for task in tasks:
+        digest.update(f"{task.id}\x00{task.input}\x01".encode())
+    return f"B-{digest.hexdigest()}"
+
+
+def run_batch(settings, store, tasks: Sequence, started: Callable[[int], None] | None = None):
+    """Run ``tasks`` (a batch of ``LotTask``) one after the other, write the batch's files into
+    ``store`` (:class:`~shapegen.city.store.CityStore`) and return its records (without their
+    buildings). ``started(k)`` is called as lot ``k`` starts, and with ``len(tasks)`` once they
+    are all done (while the files are written). A lot's failure is its row; only a store that
+    cannot be written raises."""
+    from shapegen.city.work import run_lot
+
+    records, models = [], []
+    for k, task in enumerate(tasks):
+        if started is not None:
+            started(k)
+        record = run_lot(settings, task)
+        models.append(record.pop("model", None))
+        records.append(record)
+    if started is not None:
+        started(len(tasks))
+    write_batch(store, batch_key(tasks), records, models)
+    return records
+
+
+def write_batch(store, key: str, records: list[dict], models: Sequence | None = None) -> None:
+    """Write a batch's buildings (``models``, a Model or None per record) and then its records."""
+    built = [(k, model) for k, model in enumerate(models or ()) if model is not None]
+    if built:
+        for index, (k, _) in enumerate(built):
+            records[k]["building"] = f"{key}:{index}"
+        stands = [records[k].get("stands") is not False for k, _ in built]
+        store.write(f"lots/{key}.npz", _pack([model for _, model in built], stands))
+    document = {"format": BATCH_FORMAT, "version": 1, "records": records}
+    text = json.dumps(json_ready(document), allow_nan=False, separators=(",", ":"))
+    store.write(f"lots/{key}.json", text.encode("utf-8"))
+
+
+def read_records(store) -> dict[str, list[dict]]:
+    """Every record of the store's batch files: lot id -> its records (a lot may be in the
+    batches of several runs). A file that is not a batch's records is passed over (its lots run
+    again)."""
+    found: dict[str, list[dict]] = {}
+    for name in store.list("lots", ".json"):
+        data = store.read(name)
+        try:
+            document = json.loads(data)
+            if document.get("format") != BATCH_FORMAT:
+                continue
+            records = document["records"]
+        except (TypeError, ValueError, KeyError, AttributeError):
+            continue
+        for record in records:
+            if isinstance(record, dict) and "id" in record and "status" in record:
+                found.setdefault(record["id"], []).append(record)
+    return found
+
+
+def parse_building(record: dict) -> tuple[str, int] | None:
+    """The batch key and place of a record's building (None: it has none)."""
+    key, _, index = str(record.get("building") or "").rpartition(":")
+    return (key, int(index)) if key and index.isdigit() else None
+
+
+def read_building(store, record: dict, cache: dict | None = None):
+    """A lot's building: a Model of its placed blocks and their colours in the scene (``(b, 4)``
+    RGBA bytes), or None when it has none or its batch's file is missing; ``cache`` (a dict)
+    keeps the last batch read, for many lots in order."""
+    from shapegen.model.model import Model
+
+    where = parse_building(record)
+    if where is None:
+        return None
+    key, index = where
+    cache = {} if cache is None else cache
+    if key not in cache:
+        cache.clear()
+        cache[key] = read_batch_buildings(store, key)
+    arrays = cache[key]
+    if arrays is None or index >= len(arrays["block_offsets"]) - 1:
+        return None
+    first, last = arrays["block_offsets"][index : index + 2]
+    return Model(building_blocks(arrays, index)), arrays["rgba"][first:last]
+
+
+def read_batch_buildings(store, key: str) -> dict[str, np.ndarray] | None:
+    """The packed arrays of batch ``key``'s buildings, or None when it has none (or they cannot
+    be read)."""
+    data = store.read(f"lots/{key}.npz")
+    if data is None:
+        return None
+    try:
+        with np.load(io.BytesIO(data), allow_pickle=False) as archive:
+            return {name: archive[name] for name in archive.files}
+    except (OSError, ValueError, KeyError):
+        return None
+
+
+def building_blocks(arrays: dict[str, np.ndarray], index: int):
+    """The blocks of building ``index`` of a batch's arrays, as a list of Block (ids b0, b1...)."""
+    from shapegen.model.block import Block
+
+    first, last = arrays["block_offsets"][index : index + 2]
+    blocks = []
+    for b in range(first, last):
+        v0, v1 = arrays["vertex_offsets"][b : b + 2]
+        f0, f1 = arrays["face_offsets"][b : b + 2]
+        sizes = arrays["face_sizes"][f0:f1]
+        start = int(arrays["face_starts"][f0]) if f1 > f0 else 0
+        flat = arrays["faces"][start : start + int(sizes.sum())].tolist()
+        faces, at = [], 0
+        for size in sizes.tolist():
+            faces.append(tuple(flat[at : at + size]))
+            at += size
+        flags = int(arrays["flags"][b])
+        blocks.append(
+            Block(
+                arrays["vertices"][v0:v1].copy(),
+                tuple(faces),
+                id=f"b{b - first}",
+                fixed=bool(flags & 1),
+                structural=bool(flags & 2),
+            )
+        )
+    return blocks
+
+
+def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
+    from shapegen.city.outputs import _block_colors
+
+    vertices, faces, face_sizes, rgba, flags = [], [], [], [], []
+    block_counts, vertex_counts, face_counts = [], [], []
+    for model, standing in zip(models, stands, strict=True):
+        block_counts.append(len(model.blocks))
+        if model.blocks:
+            rgba.append(_block_colors(model, stands=standing))
+        for block in model.blocks:
+            vertices.append(np.asarray(block.vertices, dtype=float))
+            vertex_counts.append(len(block.vertices))
+            face_counts.append(len(block.faces))
+            for face in block.faces:
+                faces.extend(face)
+                face_sizes.append(len(face))
+            flags.append(int(block.fixed) | 2 * int(block.structural))
+    arrays = {
+        "vertices": np.concatenate(vertices) if vertices else np.zeros((0, 3)),
+        "vertex_offsets": _offsets(vertex_counts),
+        "faces": np.asarray(faces, dtype=np.int32),
+        "face_sizes": np.asarray(face_sizes, dtype=np.int32),
+        "face_starts": _offsets(face_sizes)[:-1],
+        "face_offsets": _offsets(face_counts),
+        "block_offsets": _offsets(block_counts),
+        "rgba": np.concatenate(rgba).astype(np.uint8) if rgba else np.zeros((0, 4), np.uint8),
+        "flags": np.asarray(flags, dtype=np.uint8),
+    }
+    buffer = io.BytesIO()
+    np.savez(buffer, **arrays)
+    return buffer.getvalue()
+
+
+def _offsets(counts: Sequence[int]) -> np.ndarray:
+    out = np.zeros(len(counts) + 1, dtype=np.int64)
+    np.cumsum(np.asarray(counts, dtype=np.int64), out=out[1:])
+    return out
