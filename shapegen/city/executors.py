@@ -307,8 +307,8 @@ class LocalProcesses:
 
 
 class DaskCluster:
-    """Run batches on an existing Dask cluster: a scheduler ``address`` or a
-    ``distributed.Client``.
+    """Run batches on a Dask cluster: a scheduler ``address``, a ``distributed.Client``, or
+    ``local:N`` (a new ``LocalCluster`` of N one-thread processes, closed at the end).
 
     Every worker needs shapegen (the same version) installed, and must reach the output: a
     folder they all see (a shared file system) or an object store URL.
@@ -333,6 +333,8 @@ class DaskCluster:
             ) from None
         if isinstance(self.scheduler, Client):
             return contextlib.nullcontext(self.scheduler)
+        if str(self.scheduler).startswith("local:"):
+            return _local_cluster(str(self.scheduler))
         try:
             return Client(self.scheduler, timeout="10s")
         except (OSError, TimeoutError) as exc:
@@ -378,6 +380,26 @@ class DaskCluster:
                     yield records
             finally:
                 client.cancel(list(futures))
+
+
+@contextlib.contextmanager
+def _local_cluster(spec: str):
+    """A Dask ``LocalCluster`` of N one-thread worker processes (``local:N``), and its client."""
+    from distributed import Client, LocalCluster
+
+    from shapegen.errors import OptionError
+
+    count = spec.partition(":")[2]
+    if not count.isdigit() or int(count) < 1:
+        raise OptionError(f"--scheduler {spec}: local:N needs a whole number N >= 1")
+    with LocalCluster(
+        n_workers=int(count),
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        env=_ONE_THREAD,
+    ) as cluster, Client(cluster) as client:  # fmt: skip
+        yield client
 
 
 def _written(store, run, batcher: Batcher) -> list[dict]:

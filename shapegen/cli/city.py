@@ -56,7 +56,12 @@ def add_command(commands) -> None:
         help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
     )
     city.add_argument(
-        "-o", "--output", metavar="OUTDIR", required=True, help="the output folder (created)"
+        "-o",
+        "--output",
+        metavar="OUTDIR",
+        required=True,
+        help="the output folder (created), or a URL fsspec understands (s3://bucket/city,"
+        " memory://city)",
     )
     city.add_argument(
         "--crs",
@@ -86,8 +91,20 @@ def add_command(commands) -> None:
     city.add_argument(
         "--scheduler",
         metavar="ADDRESS",
-        help="run on an existing Dask cluster (tcp://host:8786) instead of local processes;"
-        " its workers need shapegen installed",
+        help="run on an existing Dask cluster (tcp://host:8786) instead of local processes,"
+        " or on a new Dask cluster of N processes of this machine (local:N); its workers need"
+        " shapegen installed and must reach OUTDIR",
+    )
+    city.add_argument(
+        "--batch-size",
+        type=_workers,
+        metavar="N",
+        help="lots per task (default: about half a second of a worker's time per task)",
+    )
+    city.add_argument(
+        "--no-analyze",
+        action="store_true",
+        help="derive the buildings without judging them (stands and measure left empty)",
     )
     city.add_argument("--picture", metavar="OUT.png", help="also draw the built city")
     city.add_argument(
@@ -114,7 +131,10 @@ def run(args: argparse.Namespace) -> int:
         raise CommandLineError("--lot: a city's lots are the polygons of LOTS")
     if args.workers is not None and args.scheduler is not None:
         raise CommandLineError("--workers applies to local processes; a Dask cluster has its own")
-    check_outputs({"--picture": args.picture}, folders={"-o": args.output})
+    local = None if "://" in args.output and not args.output.startswith("file://") else args.output
+    check_outputs(
+        {"--picture": args.picture}, folders={"-o": local and local.removeprefix("file://")}
+    )
     if args.picture and Path(args.picture).suffix.lower() != ".png":
         raise CommandLineError(f"--picture {args.picture}: a picture is written as .png")
     search = search_settings(args)
@@ -149,6 +169,8 @@ def run(args: argparse.Namespace) -> int:
             timeout=args.timeout,
             workers=args.workers,
             scheduler=args.scheduler,
+            batch_size=args.batch_size,
+            analyze=not args.no_analyze,
             progress=progress,
         )
     if args.picture and outcome.built == 0:
@@ -158,7 +180,7 @@ def run(args: argparse.Namespace) -> int:
         from shapegen.pipeline import write_outputs
 
         title = f"{Path(args.grammar).name} on {Path(args.lots).name}"
-        picture = encode_city_picture(Path(args.output), outcome.records, title=title)
+        picture = encode_city_picture(outcome.store, outcome.records, title=title)
         write_outputs([(Path(args.picture), picture)])
     tileset = None
     if args.tiles and outcome.built == 0:
@@ -182,14 +204,21 @@ def _summary(outcome, args) -> None:
     records = [r for r in outcome.records if r is not None]
     ok = [r for r in records if r["status"] == "ok"]
     stands = sum(1 for r in ok if r["stands"])
+    unjudged = sum(1 for r in ok if r["stands"] is None)
     errors = sum(1 for r in records if r["status"] == "error")
     timeouts = sum(1 for r in records if r["status"] == "timeout")
     ran = len(records) - outcome.resumed
     rate = ran / outcome.seconds if outcome.seconds > 0 else 0.0
     mapped = sorted({name for r in records for name in r.get("from_properties") or []})
     print(
-        f"{len(records)} lots: {stands} stand, {len(ok) - stands} do not stand,"
-        f" {errors} failed, {timeouts} timed out"
+        f"{len(records)} lots: "
+        + (
+            f"{stands} stand, {len(ok) - stands - unjudged} do not stand, "
+            if unjudged < len(ok)
+            else ""
+        )  # fmt: skip
+        + (f"{unjudged} built (not judged), " if unjudged else "")
+        + f"{errors} failed, {timeouts} timed out"
         + (f" ({outcome.resumed} done by an earlier run)" if outcome.resumed else "")
     )
     if ran:
