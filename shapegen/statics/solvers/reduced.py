@@ -11,16 +11,24 @@ for ``(c, u, t)`` and a scalar for ``s`` per vertex, inverted in batch with nump
 (:mod:`~shapegen.statics.solvers.normal_equations`). Each Newton solve is refined against the
 exact operators, because near the solution the barrier weights spread over twenty orders of
 magnitude and the assembled ``M`` alone loses digits.
+
+The exact friction cone (``pyramid="cone"``) adds one second-order cone ``(mu c, u, t)`` in Q per
+vertex, linearised in the Nesterov-Todd scaling (:mod:`~shapegen.statics.solvers.second_order`):
+its 3x3 block joins the vertex's block of ``H``, so the same normal equations, with the same
+pattern, are factored; Mehrotra's corrector takes the Jordan product of the affine step's
+scaled parts, as the linear rows take the product of theirs.
 """
 
 from __future__ import annotations
 
 __all__ = ["ReducedBackend"]
 
+import dataclasses
 import time
 
 import numpy as np
 
+from shapegen.statics.solvers import second_order as _soc
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
 from shapegen.statics.solvers.reduced_kkt import KktSystem as _Kkt
 from shapegen.statics.solvers.reduced_kkt import Point as _Point
@@ -52,6 +60,11 @@ _WARM_SLACK_FLOOR = 1e-2  # a warm start's slacks are at least this share of the
 _FARKAS_SIZE = 1e6  # the duals' size from which an infeasibility certificate is looked for
 _FARKAS_REL = 1e-7  # its stationarity and its strict separation, relative to that size
 _SCALE_FLOOR = 1e-12  # the load scale of a start that carries no load
+# the friction cone with mu = 0 as linear rows on (c, u, t): u = t = 0 and c >= 0 (the rows of
+# assembly.friction_cone("4", 0.0))
+_CLOSED_CONE = np.array(
+    [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [-1.0, 0.0, 0.0]]
+)
 
 
 class ReducedBackend(Backend):
@@ -91,6 +104,7 @@ class ReducedBackend(Backend):
     """
 
     name = "reduced"
+    second_order_cones = True
     honours = frozenset({"stop_above", "accept", "screen_above", "warm_start"})
 
     def __init__(
@@ -115,16 +129,21 @@ class ReducedBackend(Backend):
         self.warm_start = None
 
     def solve(self, problem) -> Solution:
-        self.refuse_unsupported(problem)  # linear inequalities only: no exact friction cone
         start = time.perf_counter()
         trivial = trivial_solution(problem)
         if trivial is not None:
             return trivial
+        if problem.second_order and problem.friction == 0:
+            # without friction the cone closes to its axis (u = t = 0, no interior): every
+            # pyramid with mu = 0 is that same set, as linear rows
+            problem = dataclasses.replace(problem, pyramid="4", cone=_CLOSED_CONE)
         kkt = _Kkt(problem, self.factorization)
         point = self._initial_point(kkt)
         if self.warm_start is not None:
             point = self._warm_point(kkt, point, self.warm_start)
-        n_ineq = point.slack_cut.size + point.slack_s.size
+        cones = kkt.second_order
+        # a second-order cone has degree 1, as one linear row
+        n_ineq = point.slack_cut.size + point.slack_s.size + (kkt.m if cones else 0)
         tol = self.tolerance
         load_scale = 1.0 + float(np.abs(kkt.w).max())
         status, best, iterations, info_early = SolveStatus.MAX_ITERATIONS, None, 0, False
@@ -139,8 +158,9 @@ class ReducedBackend(Backend):
             objective = _objective(problem, x)
             primal = max(
                 float(np.abs(res.primal).max()),
-                float(np.abs(res.ineq_cut).max()),
+                float(np.abs(res.ineq_cut).max(initial=0.0)),
                 float(np.abs(res.ineq_s).max()),
+                float(np.abs(res.ineq_q).max()) if cones else 0.0,
             )
             dual = max(float(np.abs(res.dual_cut).max()), float(np.abs(res.dual_s).max()))
             if self.verbose:
@@ -196,10 +216,14 @@ class ReducedBackend(Backend):
                 status = SolveStatus.INFEASIBLE
                 break
             try:
-                hessian = kkt.factor(point.dual_cut / point.slack_cut, point.dual_s / point.slack_s)
-            except (np.linalg.LinAlgError, RuntimeError, ValueError):
+                scaling = _soc.scaling(point.slack_q, point.dual_q) if cones else None
+                hessian = kkt.factor(
+                    point.dual_cut / point.slack_cut, point.dual_s / point.slack_s, scaling
+                )
+            except (np.linalg.LinAlgError, RuntimeError, ValueError, FloatingPointError):
                 status = SolveStatus.NUMERICAL_ERROR
                 break
+            rc_q = _soc.jordan_product(scaling.lam, scaling.lam) if cones else None
             mu = gap / n_ineq
             # predictor (affine scaling), then corrector with Mehrotra's centring
             # the predictor only sets the centring and the second-order term: one solve, no
@@ -210,6 +234,7 @@ class ReducedBackend(Backend):
                 res,
                 point.slack_cut * point.dual_cut,
                 point.slack_s * point.dual_s,
+                rc_q,
                 passes=1,
             )
             alpha, alpha_dual = _max_steps(point, affine)
@@ -219,7 +244,12 @@ class ReducedBackend(Backend):
             sigma = min(1.0, (mu_affine / mu) ** 3) if mu > 0 else 0.0
             rc_cut = point.slack_cut * point.dual_cut + affine.slack_cut * affine.dual_cut
             rc_s = point.slack_s * point.dual_s + affine.slack_s * affine.dual_s
-            step = kkt.direction(point, hessian, res, rc_cut - sigma * mu, rc_s - sigma * mu)
+            if cones:
+                rc_q = rc_q + _soc.jordan_product(
+                    scaling.apply(-1, affine.slack_q), scaling.apply(1, affine.dual_q)
+                )
+                rc_q[:, 0] -= sigma * mu
+            step = kkt.direction(point, hessian, res, rc_cut - sigma * mu, rc_s - sigma * mu, rc_q)
             alpha, alpha_dual = (min(1.0, _STEP_BACK * a) for a in _max_steps(point, step))
             if not separate_steps:
                 alpha = alpha_dual = min(alpha, alpha_dual)
@@ -265,6 +295,8 @@ class ReducedBackend(Backend):
         m, k = kkt.m, len(kkt.cone)
         primal = max(float(np.abs(kkt.w).max()), _SCALE_FLOOR)
         dual = max(float(np.abs(kkt.q_s).max()), primal)
+        axis = np.zeros((m, 3))
+        axis[:, 0] = 1.0  # the cone's identity e: its centre ray
         return _Point(
             np.zeros((m, 3)),
             np.zeros(m),
@@ -273,6 +305,8 @@ class ReducedBackend(Backend):
             np.full(m, primal),
             np.full((m, k), dual),
             np.full(m, dual),
+            primal * axis if kkt.second_order else None,
+            dual * axis if kkt.second_order else None,
         )
 
     @staticmethod
@@ -295,6 +329,8 @@ class ReducedBackend(Backend):
             np.maximum(x_s, floor),
             cold.dual_cut,
             cold.dual_s,
+            _soc.interior(kkt.cone_diagonal * x_cut, floor) if kkt.second_order else None,
+            cold.dual_q,
         )
 
     @staticmethod
@@ -304,11 +340,17 @@ class ReducedBackend(Backend):
         admissible ``x``). Interior point duals grow along such a ray when the primal is
         infeasible; the test runs once they are large."""
         size = max(
-            float(np.abs(point.y).max()), float(point.dual_cut.max()), float(point.dual_s.max())
+            float(np.abs(point.y).max()),
+            float(point.dual_cut.max(initial=0.0)),
+            float(point.dual_s.max()),
         )
+        if kkt.second_order:
+            size = max(size, float(point.dual_q[:, 0].max()))
         if size < _FARKAS_SIZE:
             return False
         aty_cut, aty_s = kkt.split(kkt.at @ point.y)
+        if kkt.second_order:  # G_q^T z_q
+            aty_cut = aty_cut - kkt.cone_diagonal * point.dual_q
         stationarity = max(
             float(np.abs(aty_cut + _from_rows(point.dual_cut, kkt.cone)).max()),
             float(np.abs(aty_s - point.dual_s).max()),

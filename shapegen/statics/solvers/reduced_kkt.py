@@ -3,6 +3,11 @@
 Points, residuals and the per-vertex Hessian blocks of :mod:`~shapegen.statics.solvers.reduced`,
 and :class:`KktSystem`: the problem's operators, the batched 3x3 inverses, the factored
 block-level normal equations and the refined Newton solves.
+
+With the exact friction cone each vertex also has a second-order cone ``G_q x_v + s_q = 0``,
+``s_q`` in Q, with ``G_q = -diag(mu, 1, 1)`` on ``(c, u, t)``; its Nesterov-Todd block
+``G_q^T W^-2 G_q`` (:mod:`~shapegen.statics.solvers.second_order`) adds to the vertex's 3x3
+Hessian block, so the elimination and the normal equations are those of the pyramids.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from shapegen.statics.solvers import second_order as soc
 from shapegen.statics.solvers.normal_equations import NormalEquations
 
 _CUT = [0, 2, 3]  # positions of c, u, t among the variable groups x = [c, s, u, t]
@@ -89,10 +95,13 @@ class Point:
     slack_s: np.ndarray  # (m,)
     dual_cut: np.ndarray  # (m, k)
     dual_s: np.ndarray  # (m,)
+    slack_q: np.ndarray | None = None  # (m, 3) the friction cone's slack (mu c, u, t), in Q
+    dual_q: np.ndarray | None = None  # (m, 3) its dual, in Q
 
     def moved(self, step: Point, alpha: float, alpha_dual: float | None = None) -> Point:
         """The point after a step (primal part x, s by ``alpha``; y, z by ``alpha_dual``)."""
         beta = alpha if alpha_dual is None else alpha_dual
+        cones = self.slack_q is not None
         return Point(
             self.x_cut + alpha * step.x_cut,
             self.x_s + alpha * step.x_s,
@@ -101,6 +110,8 @@ class Point:
             self.slack_s + alpha * step.slack_s,
             self.dual_cut + beta * step.dual_cut,
             self.dual_s + beta * step.dual_s,
+            self.slack_q + alpha * step.slack_q if cones else None,
+            self.dual_q + beta * step.dual_q if cones else None,
         )
 
 
@@ -111,6 +122,7 @@ class Residuals:
     primal: np.ndarray
     ineq_cut: np.ndarray
     ineq_s: np.ndarray
+    ineq_q: np.ndarray | None = None  # (m, 3) G_q x + s_q
 
 
 @dataclass
@@ -119,6 +131,8 @@ class Hessian:
     diagonal_s: np.ndarray  # (m,)
     weight_cut: np.ndarray  # (m, k) Z / S
     weight_s: np.ndarray  # (m,)
+    scaling: soc.Scaling | None = None  # the friction cones' Nesterov-Todd scaling
+    middle: np.ndarray | None = None  # (m, 3, 3) N^-1 of :meth:`KktSystem._cone_inverse`
 
 
 class KktSystem:
@@ -130,13 +144,17 @@ class KktSystem:
         self.a = problem.equality
         self.at = self.a.T.tocsr()
         self.w = problem.load
-        self.cone = problem.cone
+        self.second_order = bool(problem.second_order)
+        # with the exact cone (and mu > 0) c >= 0 follows from ||(u, t)|| <= mu c: no linear row
+        self.cone = problem.cone[:0] if self.second_order else problem.cone
         quadratic = problem.quadratic.reshape(4, m)
         linear = problem.linear.reshape(4, m)
         self.p_cut, self.p_s = quadratic[_CUT].T.copy(), quadratic[1]
         self.q_cut, self.q_s = linear[_CUT].T.copy(), linear[1]
         self.normal = NormalEquations(problem, factorization)
         self.factor_seconds = 0.0
+        # G_q = -diag(mu, 1, 1): the cone's slack is (mu c, u, t)
+        self.cone_diagonal = np.array([problem.friction, 1.0, 1.0])
 
     def split(self, flat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         groups = flat.reshape(4, self.m)
@@ -145,27 +163,76 @@ class KktSystem:
     def join(self, cut: np.ndarray, s: np.ndarray) -> np.ndarray:
         return np.concatenate([cut[:, 0], s, cut[:, 1], cut[:, 2]])
 
-    def factor(self, weight_cut: np.ndarray, weight_s: np.ndarray) -> Hessian:
-        """Per-vertex inverse Hessians and the factored normal equations."""
+    def factor(
+        self, weight_cut: np.ndarray, weight_s: np.ndarray, scaling: soc.Scaling | None = None
+    ) -> Hessian:
+        """Per-vertex inverse Hessians and the factored normal equations (``scaling``: the
+        friction cones' Nesterov-Todd scaling, with the exact cone)."""
         cone = self.cone
         h = np.einsum("ki,vk,kj->vij", cone, weight_cut, cone)
         h[:, [0, 1, 2], [0, 1, 2]] += self.p_cut
-        # symmetric diagonal equilibration before the batched inverse (unit diagonal); the tiny
-        # shift keeps rank-deficient limits invertible and the refinement removes its effect
-        d = 1.0 / np.sqrt(np.einsum("vii->vi", h))
-        scale = d[:, :, None] * d[:, None, :]
-        inverse = symmetric_inverse(h * scale + 1e-14 * np.eye(3)) * scale
+        middle = None
+        if scaling is not None:
+            inverse, middle = self._cone_inverse(np.einsum("vii->vi", h), scaling)
+        else:
+            # symmetric diagonal equilibration before the batched inverse (unit diagonal); the
+            # tiny shift keeps rank-deficient limits invertible and the refinement removes it
+            d = 1.0 / np.sqrt(np.einsum("vii->vi", h))
+            scale = d[:, :, None] * d[:, None, :]
+            inverse = symmetric_inverse(h * scale + 1e-14 * np.eye(3)) * scale
         diagonal_s = self.p_s + weight_s
         local = inverse.copy()
         local[:, 0, 0] += 1.0 / diagonal_s  # the s column of A is minus the c column
         start = time.perf_counter()
         self.normal.assemble(local, 1e-13)
         self.factor_seconds += time.perf_counter() - start
-        return Hessian(inverse, diagonal_s, weight_cut, weight_s)
+        return Hessian(inverse, diagonal_s, weight_cut, weight_s, scaling, middle)
+
+    def _cone_inverse(
+        self, diagonal: np.ndarray, scaling: soc.Scaling
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``H^-1 = (B + D W^-2 D)^-1`` per vertex for the diagonal ``B`` (``diagonal``
+        ``(m, 3)``, the objective's) and ``D = diag(mu, 1, 1)``: with ``W^-2 = V L V^T`` in its
+        eigenvectors, ``H^-1 = D^-1 V N^-1 V^T D^-1`` with ``N = L + V^T (B / D^2) V``.
+
+        Near the optimum ``L`` spans twenty orders of magnitude: ``N`` is nearly diagonal in
+        that basis and its equilibrated inverse keeps every direction's digits, where inverting
+        the assembled ``B + D W^-2 D`` would lose the large eigenvalues of the inverse (the
+        directions the cone leaves free) to cancellation. Returns the assembled ``H^-1`` (for
+        the normal equations) and ``N^-1`` (for the products, :meth:`_times_inverse`).
+        """
+        d = self.cone_diagonal
+        basis = scaling.basis
+        n = np.einsum("vki,vk,vkj->vij", basis, diagonal / (d * d), basis)
+        n[:, [0, 1, 2], [0, 1, 2]] += scaling.power_values(-2)
+        e = 1.0 / np.sqrt(np.einsum("vii->vi", n))
+        scale = e[:, :, None] * e[:, None, :]
+        middle = symmetric_inverse(n * scale) * scale
+        inverse = np.einsum("vik,vkl,vjl->vij", basis, middle, basis)
+        return inverse / np.outer(d, d), middle
+
+    def _times_inverse(self, hessian: Hessian, e: np.ndarray) -> np.ndarray:
+        """``H^-1 e`` per vertex (in the cone's eigenvectors with the exact cone)."""
+        if hessian.middle is None:
+            return np.einsum("vij,vj->vi", hessian.inverse_cut, e)
+        d, basis = self.cone_diagonal, hessian.scaling.basis
+        local = np.einsum("vji,vj->vi", basis, e / d)
+        local = np.einsum("vij,vj->vi", hessian.middle, local)
+        return np.einsum("vij,vj->vi", basis, local) / d
+
+    def _times_hessian(self, hessian: Hessian, dx: np.ndarray) -> np.ndarray:
+        """``H dx`` per vertex: the objective, the linear rows' barrier and the cone's."""
+        product = self.p_cut * dx + from_rows(
+            to_rows(dx, self.cone) * hessian.weight_cut, self.cone
+        )
+        if hessian.scaling is not None:
+            d = self.cone_diagonal
+            product += d * hessian.scaling.apply(-2, d * dx)
+        return product
 
     def newton(self, hessian: Hessian, rhs_cut, rhs_s, r_p, passes: int = 4):
         """Solve ``H dx + A^T dy = rhs``, ``A dx = -r_p`` with refinement on the exact system."""
-        cone, a = self.cone, self.a
+        a = self.a
         e_cut, e_s, e_p = rhs_cut, rhs_s, -r_p
         dx_cut, dx_s, dy = np.zeros_like(rhs_cut), np.zeros_like(rhs_s), np.zeros(a.shape[0])
         scale = max(
@@ -176,20 +243,17 @@ class KktSystem:
         )
         aty_cut, aty_s = np.zeros_like(rhs_cut), np.zeros_like(rhs_s)  # A^T dy, accumulated
         for done in range(1, passes + 1):
-            hx_cut = np.einsum("vij,vj->vi", hessian.inverse_cut, e_cut)
+            hx_cut = self._times_inverse(hessian, e_cut)
             hx_s = e_s / hessian.diagonal_s
             delta_y = self.normal.solve(a @ self.join(hx_cut, hx_s) - e_p)
             delta_cut, delta_s = self.split(self.at @ delta_y)
-            dx_cut = dx_cut + hx_cut - np.einsum("vij,vj->vi", hessian.inverse_cut, delta_cut)
+            dx_cut = dx_cut + hx_cut - self._times_inverse(hessian, delta_cut)
             dx_s = dx_s + hx_s - delta_s / hessian.diagonal_s
             dy = dy + delta_y
             if done == passes:
                 break  # no refinement left: the residual would not be used
             aty_cut, aty_s = aty_cut + delta_cut, aty_s + delta_s
-            h_dx_cut = self.p_cut * dx_cut + from_rows(
-                to_rows(dx_cut, cone) * hessian.weight_cut, cone
-            )
-            e_cut = rhs_cut - h_dx_cut - aty_cut
+            e_cut = rhs_cut - self._times_hessian(hessian, dx_cut) - aty_cut
             e_s = rhs_s - hessian.diagonal_s * dx_s - aty_s
             e_p = -r_p - a @ self.join(dx_cut, dx_s)
             error = max(
@@ -202,37 +266,59 @@ class KktSystem:
     def residuals(self, point: Point) -> Residuals:
         aty_cut, aty_s = self.split(self.at @ point.y)
         cone = self.cone
+        dual_cut = self.p_cut * point.x_cut + self.q_cut + aty_cut + from_rows(point.dual_cut, cone)
+        ineq_q = None
+        if self.second_order:
+            dual_cut -= self.cone_diagonal * point.dual_q  # G_q^T z_q
+            ineq_q = point.slack_q - self.cone_diagonal * point.x_cut
         return Residuals(
-            dual_cut=self.p_cut * point.x_cut
-            + self.q_cut
-            + aty_cut
-            + from_rows(point.dual_cut, cone),
+            dual_cut=dual_cut,
             dual_s=self.p_s * point.x_s + self.q_s + aty_s - point.dual_s,
             primal=self.a @ self.join(point.x_cut, point.x_s) + self.w,
             ineq_cut=to_rows(point.x_cut, cone) + point.slack_cut,
             ineq_s=-point.x_s + point.slack_s,
+            ineq_q=ineq_q,
         )
 
     def direction(
-        self, point: Point, hessian: Hessian, res: Residuals, rc_cut, rc_s, passes: int = 4
+        self,
+        point: Point,
+        hessian: Hessian,
+        res: Residuals,
+        rc_cut,
+        rc_s,
+        rc_q=None,
+        passes: int = 4,
     ):
         """Newton direction for complementarity residuals ``rc = S Z - target`` (``passes``:
-        the most solves spent refining it)."""
+        the most solves spent refining it). For the friction cones ``rc_q`` is the scaled
+        residual ``lambda o lambda - target``: the step solves
+        ``lambda o (W^-1 ds_q + W dz_q) = -rc_q``."""
         cone = self.cone
         v_cut = (-rc_cut + point.dual_cut * res.ineq_cut) / point.slack_cut
         v_s = (-rc_s + point.dual_s * res.ineq_s) / point.slack_s
         rhs_cut = -res.dual_cut - from_rows(v_cut, cone)
         rhs_s = -res.dual_s + v_s
+        scaling = hessian.scaling
+        if scaling is not None:
+            w_inverse_u = scaling.apply(-1, soc.jordan_divide(scaling.lam, rc_q))
+            v_q = scaling.apply(-2, res.ineq_q) - w_inverse_u
+            rhs_cut += self.cone_diagonal * v_q  # -G_q^T v_q
         dx_cut, dx_s, dy = self.newton(hessian, rhs_cut, rhs_s, res.primal, passes)
         ds_cut = -res.ineq_cut - to_rows(dx_cut, cone)
         ds_s = -res.ineq_s + dx_s
         dz_cut = (-rc_cut - point.dual_cut * ds_cut) / point.slack_cut
         dz_s = (-rc_s - point.dual_s * ds_s) / point.slack_s
-        return Point(dx_cut, dx_s, dy, ds_cut, ds_s, dz_cut, dz_s)
+        ds_q = dz_q = None
+        if scaling is not None:
+            ds_q = -res.ineq_q + self.cone_diagonal * dx_cut
+            dz_q = -w_inverse_u - scaling.apply(-2, ds_q)
+        return Point(dx_cut, dx_s, dy, ds_cut, ds_s, dz_cut, dz_s, ds_q, dz_q)
 
 
 def max_steps(point: Point, step: Point) -> tuple[float, float]:
-    """Largest primal (slack) and dual steps that keep slacks and duals non-negative."""
+    """Largest primal (slack) and dual steps that keep slacks and duals non-negative (and the
+    friction cones' slacks and duals in their cones)."""
     primal = min(
         step_to_boundary(point.slack_cut.ravel(), step.slack_cut.ravel()),
         step_to_boundary(point.slack_s, step.slack_s),
@@ -241,11 +327,17 @@ def max_steps(point: Point, step: Point) -> tuple[float, float]:
         step_to_boundary(point.dual_cut.ravel(), step.dual_cut.ravel()),
         step_to_boundary(point.dual_s, step.dual_s),
     )
+    if point.slack_q is not None:
+        primal = min(primal, soc.step_to_boundary(point.slack_q, step.slack_q))
+        dual = min(dual, soc.step_to_boundary(point.dual_q, step.dual_q))
     return primal, dual
 
 
 def complementarity(point: Point) -> float:
-    return float(
+    gap = float(
         np.einsum("vk,vk->", point.slack_cut, point.dual_cut)
         + np.einsum("v,v->", point.slack_s, point.dual_s)
     )
+    if point.slack_q is not None:
+        gap += float(np.einsum("vi,vi->", point.slack_q, point.dual_q))
+    return gap
