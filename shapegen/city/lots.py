@@ -134,8 +134,9 @@ class City:
 
 # ------------------------------------------------------------------------------ reading
 def read_lots(path: str | Path, crs: str | None = None) -> City:
-    """Read the lots of a GeoJSON FeatureCollection (``.geojson``/``.json``) or of the buildings
-    of an OSM XML file (``.osm``: closed ways tagged ``building``).
+    """Read the lots of a GeoJSON FeatureCollection (``.geojson``/``.json``, or gzipped:
+    ``.geojson.gz``) or of the buildings of an OSM XML file (``.osm``: closed ways tagged
+    ``building``).
 
     ``crs`` is ``"lonlat"``, ``"metres"`` or any system pyproj reads (``"EPSG:2154"``); without
     it the file's ``crs`` member or the ``.prj`` beside it says, else the coordinates' range.
@@ -152,6 +153,16 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
         data = path.read_bytes()
     except OSError as exc:
         raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if data[:2] == b"\x1f\x8b":  # gzip (.geojson.gz)
+        import gzip
+        import zlib
+
+        try:
+            data = gzip.decompress(data)
+        except (OSError, EOFError, zlib.error) as exc:
+            raise InputFormatError(f"{path}: not a whole gzip file ({exc})") from None
+        if data[:512].lstrip().startswith(b"<"):
+            raise InputFormatError(f"{path}: gzipped OSM XML is not read; gunzip it first")
     head = data[:512].lstrip()
     if path.suffix.lower() == ".osm" or head.startswith(b"<"):
         if crs is not None and parse_crs(crs, f"--crs {crs}").name != LONLAT:
