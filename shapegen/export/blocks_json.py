@@ -12,17 +12,20 @@ __all__ = [
 ]
 
 import json
-import math
 from pathlib import Path
-
-import numpy as np
 
 from shapegen.errors import GeometryError, InputFormatError
 from shapegen.export.atomic import atomic_write
-from shapegen.export.surfaces import appearance_from_entry, surface_from_entry, surfaces_of
+from shapegen.export.block_entries import read_block_entries
+from shapegen.export.json_fields import number as _number
+from shapegen.export.json_fields import points as _points
+from shapegen.export.json_fields import require as _require
+from shapegen.export.json_fields import strings as _strings
+from shapegen.export.json_fields import vector as _vector
+from shapegen.export.surfaces import surface_from_entry, surfaces_of
 from shapegen.json_values import json_ready
 from shapegen.limits import current_limits, limit_hint
-from shapegen.model.block import DEFAULT_DENSITY, Block
+from shapegen.model.block import Block
 from shapegen.model.model import GRAVITY, Model, PointLoad
 from shapegen.readers.files import parse_json_document, read_model_bytes
 
@@ -134,7 +137,7 @@ def model_from_dict(document: object) -> Model:
         raise InputFormatError(
             f"the model has {len(raw_blocks)} blocks, more than {limit} " + limit_hint("max_blocks")
         )
-    blocks = [_block(entry, k) for k, entry in enumerate(raw_blocks)]
+    blocks = read_block_entries(raw_blocks)
     raw_loads = document.get("loads", [])
     if not isinstance(raw_loads, list):
         raise InputFormatError('"loads" must be a list')
@@ -173,60 +176,6 @@ def model_from_dict(document: object) -> Model:
     return model
 
 
-def _block(entry: object, k: int) -> Block:
-    where = f"blocks[{k}]"
-    if not isinstance(entry, dict):
-        raise InputFormatError(f"{where} must be an object")
-    block_id = entry.get("id", f"b{k}")
-    if not isinstance(block_id, str) or not block_id:
-        raise InputFormatError(f'{where}: "id" must be a non-empty string')
-    where = f"block {block_id!r}"
-    vertices = _points(_require(entry, "vertices", where), f'{where}: "vertices"')
-    kwargs = dict(
-        id=block_id,
-        density=_number(entry.get("density", DEFAULT_DENSITY), f'{where}: "density"'),
-        fixed=_boolean(entry.get("fixed", False), f'{where}: "fixed"'),
-        structural=_boolean(entry.get("structural", True), f'{where}: "structural"'),
-        tags=_strings(entry.get("tags", []), f'{where}: "tags"'),
-        rule_path=_strings(entry.get("rule_path", []), f'{where}: "rule_path"'),
-        appearance=appearance_from_entry(entry.get("appearance"), where, _number),
-        body=entry.get("body", ""),
-    )
-    if not isinstance(kwargs["body"], str):
-        raise InputFormatError(f'{where}: "body" must be a string')
-    if kwargs["density"] < 0:
-        raise InputFormatError(f'{where}: "density" must be >= 0')
-    faces = entry.get("faces")
-    if faces is None:
-        return Block.from_hull(vertices, **kwargs)
-    if not isinstance(faces, list) or not all(
-        isinstance(f, list) and all(isinstance(i, int) and not isinstance(i, bool) for i in f)
-        for f in faces
-    ):
-        raise InputFormatError(f'{where}: "faces" must be a list of lists of vertex indices')
-    n = len(vertices)
-    for face in faces:
-        if len(face) < 3 or min(face) < 0 or max(face) >= n:
-            raise InputFormatError(
-                f"{where}: face {face} must list at least 3 indices in 0..{n - 1}"
-            )
-    return Block(vertices, _outward(vertices, faces), **kwargs)
-
-
-def _outward(vertices: np.ndarray, faces: list[list[int]]) -> tuple[tuple[int, ...], ...]:
-    """Orient each face of a convex block so its normal points away from the block's interior."""
-    # About the vertex mean: far from the origin (x = 1e10) the cross products of raw
-    # coordinates would cancel to noise and turn faces the wrong way.
-    local = vertices - vertices.mean(axis=0)
-    oriented = []
-    for face in faces:
-        p = local[face]
-        normal = np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
-        outward = np.dot(normal, p.mean(axis=0)) >= 0
-        oriented.append(tuple(face) if outward else tuple(reversed(face)))
-    return tuple(oriented)
-
-
 def _load(entry: object, k: int) -> PointLoad:
     where = f"loads[{k}]"
     if not isinstance(entry, dict):
@@ -237,56 +186,3 @@ def _load(entry: object, k: int) -> PointLoad:
     force = _vector(_require(entry, "force", where), f'{where}: "force"')
     point = _vector(_require(entry, "point", where), f'{where}: "point"')
     return PointLoad(block, force, point)
-
-
-def _require(entry: dict, key: str, where: str):
-    if key not in entry:
-        raise InputFormatError(f'{where}: missing required key "{key}"')
-    return entry[key]
-
-
-def _number(value: object, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputFormatError(f"{where} must be a finite number, got {_shown(value)}")
-    try:
-        number = float(value)
-    except OverflowError:  # an int beyond float range, from a caller's own dict
-        number = math.inf
-    if not math.isfinite(number):
-        raise InputFormatError(f"{where} must be a finite number, got {_shown(value)}")
-    return number
-
-
-def _shown(value: object) -> str:
-    """A value for a message, cut short (a file may hold a 5 000-digit number)."""
-    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**20:
-        return f"an integer of {round(value.bit_length() * 0.30103)} digits"
-    try:
-        text = repr(value)
-    except ValueError:  # holds an int too long to print
-        return f"a {type(value).__name__} holding a number too long to print"
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _boolean(value: object, where: str) -> bool:
-    if not isinstance(value, bool):
-        raise InputFormatError(f"{where} must be true or false, got {value!r}")
-    return value
-
-
-def _strings(value: object, where: str) -> tuple[str, ...]:
-    if not isinstance(value, list) or not all(isinstance(s, str) for s in value):
-        raise InputFormatError(f"{where} must be a list of strings")
-    return tuple(value)
-
-
-def _vector(value: object, where: str) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != 3:
-        raise InputFormatError(f"{where} must be a list of 3 numbers")
-    return np.array([_number(v, where) for v in value])
-
-
-def _points(value: object, where: str) -> np.ndarray:
-    if not isinstance(value, list) or not value:
-        raise InputFormatError(f"{where} must be a non-empty list of [x, y, z] points")
-    return np.array([_vector(p, where) for p in value])
