@@ -93,3 +93,14 @@ def test_lonlat_says_crs84_and_local_metres_say_unknown(tmp_path, crs, expected)
     else:
         assert pyproj.CRS.from_json_dict(column["crs"]).equals(pyproj.CRS(expected))
     assert "crs" not in json.loads((tmp_path / "results.geojson").read_text())
+
+
+def test_without_pyarrow_the_rest_is_written_and_one_line_says_so(tmp_path, monkeypatch):
+    import shapegen.city.parquet as parquet
+
+    monkeypatch.setattr(parquet, "have_pyarrow", lambda: False)
+    city = city_from_polygons([[(0, 0), (10, 0), (10, 10)]], crs="metres")
+    written = write_tables(tmp_path, city, _records(city), scene=False)
+    assert "parquet" not in written and not (tmp_path / "results.parquet").exists()
+    assert (tmp_path / "results.csv").is_file()
+    assert "\n" not in parquet.PARQUET_MISSING and "pyarrow" in parquet.PARQUET_MISSING
