@@ -103,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
         server = make_server(args.outdir, args.port)
     except (InputFormatError, OSError) as exc:
         sys.stderr.write(f"shapegen: error: {exc}\n")
-        return 1
+        return 2  # as shapegen's commands say a user's mistake
     print(f"the city's tiles: {server.url} (Ctrl-C stops)", flush=True)
     try:
         server.serve_forever()
