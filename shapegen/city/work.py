@@ -25,6 +25,7 @@ import os
 import time
 import warnings
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -98,14 +99,26 @@ _GRAMMARS: dict[str, object] = {}  # the rules a worker has compiled, by hash of
 
 
 def _grammar(settings: CitySettings):
-    from shapegen.engine.grammar_api import parse_grammar
+    """The run's rule, compiled once per worker. Where the rule file is on this machine with the
+    same text, it is loaded from there, so its imports resolve as in the parent (a package's
+    ESRI.lib, the rule's own project, SHAPEGEN_RULES_PATH); elsewhere its text is parsed."""
+    from shapegen.engine.grammar_api import load_grammar, parse_grammar
+    from shapegen.grammar.source_files import read_rule_file
 
     key = hashlib.sha256(
         (settings.grammar_name + "\x00" + settings.grammar_text).encode()
     ).hexdigest()
     if key not in _GRAMMARS:
         _GRAMMARS.clear()  # one run's rule at a time
-        _GRAMMARS[key] = parse_grammar(settings.grammar_text, settings.grammar_name)
+        path = Path(settings.grammar_name)
+        try:
+            here = path.is_file() and read_rule_file(path)[0] == settings.grammar_text
+        except (OSError, ValueError):
+            here = False
+        if here:
+            _GRAMMARS[key] = load_grammar(path)
+        else:
+            _GRAMMARS[key] = parse_grammar(settings.grammar_text, settings.grammar_name)
     return _GRAMMARS[key]
 
 
