@@ -135,7 +135,9 @@ def step_to_boundary(x: np.ndarray, dx: np.ndarray) -> float:
     """Largest alpha in (0, 1] with ``x + alpha dx`` in Q for every row (``x`` interior).
 
     ``det(x + alpha dx) = a alpha^2 + 2 b alpha + c`` with ``c = det x > 0``; the path leaves Q
-    at its smallest positive root (``x0 + alpha dx0`` cannot reach 0 before it).
+    at its smallest positive root (``x0 + alpha dx0`` cannot reach 0 before it). A path through
+    the apex touches a double root that rounding may hide (a negative discriminant), so the
+    step also stops where ``x0 + alpha dx0`` would reach 0.
     """
     if not len(x):
         return 1.0
@@ -152,7 +154,9 @@ def step_to_boundary(x: np.ndarray, dx: np.ndarray) -> float:
         second = np.where(q != 0, c / q, np.inf)
     first = np.where(real & (first > 0), first, np.inf)
     second = np.where(real & (second > 0), second, np.inf)
-    return float(min(1.0, np.min(np.minimum(first, second))))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        axis = np.where(dx[:, 0] < 0, -x[:, 0] / dx[:, 0], np.inf)
+    return float(min(1.0, np.min(np.minimum(np.minimum(first, second), axis))))
 
 
 def interior(x: np.ndarray, floor: float) -> np.ndarray:
