@@ -18,6 +18,7 @@ from shapegen.cli.options import (
     statics_options,
 )
 from shapegen.cli.outputs import check_outputs, write_all
+from shapegen.limits import DEFAULT_LIMITS, current_limits, work_limits
 
 EXIT_OK = 0
 
@@ -49,6 +50,13 @@ def add_command(commands) -> None:
         " model format: .json .obj .ply .stl)",
     )
     analyze.add_argument("--report", metavar="R.json", help="write a JSON report")
+    analyze.add_argument(
+        "--max-blocks",
+        type=_block_count,
+        metavar="N",
+        help=f"read a model of up to N blocks (default {DEFAULT_LIMITS.max_blocks}); the largest"
+        " file read grows in proportion",
+    )
     analyze.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     analyze.set_defaults(handler=run)
 
@@ -67,7 +75,8 @@ def run(args: argparse.Namespace) -> int:
             f"{name} is a rule file, not a model: use `shapegen build {name} --analyze`"
         )
     check_outputs({"-o": args.output, "--report": args.report}, models=("-o",))
-    model = read_model(name)
+    with _reading_limits(args.max_blocks):
+        model = read_model(name)
     design = Design.of_model(model)
     recorded = (model.metadata.get("structure") or {}).get("name")
     options = statics_options(args)
@@ -89,3 +98,28 @@ def run(args: argparse.Namespace) -> int:
     if not args.quiet:
         print_analysis(name, report)
     return EXIT_OK
+
+
+def _block_count(text: str) -> int:
+    """--max-blocks: a whole number >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a whole number >= 1, got {text!r}")
+    return value
+
+
+def _reading_limits(max_blocks: int | None):
+    """The work limits for reading the model: ``max_blocks`` blocks, and files as much larger
+    than the default size limit as the model is larger than the default block limit."""
+    limits = current_limits()
+    if max_blocks is None:
+        return work_limits(limits)
+    factor = max(1.0, max_blocks / limits.max_blocks)
+    return work_limits(
+        limits,
+        max_blocks=max_blocks,
+        max_file_bytes=max(limits.max_file_bytes, int(limits.max_file_bytes * factor)),
+    )
