@@ -121,15 +121,19 @@ def test_a_lot_past_its_timeout_is_a_row(tmp_path):
 
 @pytest.mark.slow
 def test_the_district_is_the_same_on_local_processes_on_a_cluster_and_on_a_rerun(tmp_path):
+    # Each run in batches of its own sizes, every batch's files written by the worker that ran
+    # it (local processes, Dask workers): the merged records and the city are the same.
     distributed = pytest.importorskip("distributed")
+    import trimesh
+
     grammar = shapegen.load_grammar(HOUSE)
     city = read_lots(DOCS / "district.geojson")
     local = run_city(city, grammar, tmp_path / "local")
-    fresh = run_city(city, grammar, tmp_path / "fresh", workers=1)
+    fresh = run_city(city, grammar, tmp_path / "fresh", workers=1, batch_size=1)
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster, distributed.Client(cluster) as client:  # fmt: skip
-        remote = run_city(city, grammar, tmp_path / "cluster", scheduler=client)
+        remote = run_city(city, grammar, tmp_path / "cluster", scheduler=client, batch_size=4)
     assert remote.executor.startswith("the Dask cluster")
     expected = [_same(r) for r in local.records]
     assert [_same(r) for r in remote.records] == expected
@@ -137,6 +141,16 @@ def test_the_district_is_the_same_on_local_processes_on_a_cluster_and_on_a_rerun
     statuses = [r["status"] for r in local.records]
     assert statuses.count("error") == 3 and statuses.count("ok") == 27
     assert 0 < sum(1 for r in local.records if r["stands"] is False) < 27
+    assert len(list((tmp_path / "fresh" / "lots").glob("B-*.json"))) == len(city.lots)
+    assert len(list((tmp_path / "cluster" / "lots").glob("B-*.json"))) == 8  # 30 lots by 4
+    scenes = [
+        trimesh.load(tmp_path / name / "city.glb", force="scene") for name in ("local", "cluster")
+    ]
+    assert sorted(scenes[0].geometry) == sorted(scenes[1].geometry)
+    for lot_id, mesh in scenes[0].geometry.items():
+        assert np.array_equal(mesh.vertices, scenes[1].geometry[lot_id].vertices)
+    again = run_city(city, grammar, tmp_path / "cluster", workers=2)
+    assert again.resumed == len(city.lots)
 
 
 @pytest.mark.slow
