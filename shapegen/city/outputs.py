@@ -100,10 +100,10 @@ def table_rows(records: list[dict]) -> tuple[list[str], list[dict]]:
 
 def encode_csv(columns: list[str], rows: list[dict]) -> bytes:
     buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
-    writer.writeheader()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(columns)
     for row in rows:
-        writer.writerow({k: "" if v is None else _csv_value(v) for k, v in row.items()})
+        writer.writerow(["" if (v := row.get(k)) is None else _csv_value(v) for k in columns])
     return buffer.getvalue().encode("utf-8")
 
 
@@ -119,13 +119,20 @@ def encode_geojson(city, rows: list[dict]) -> bytes:
     features = []
     for lot, row in zip(city.lots, rows, strict=True):
         geometry = lot.geometry if isinstance(lot.geometry, dict) else None
-        features.append({"type": "Feature", "id": lot.id, "geometry": geometry, "properties": row})
+        properties = json_ready(row)
+        features.append(
+            {"type": "Feature", "id": lot.id, "geometry": geometry, "properties": properties}
+        )
     document = {"type": "FeatureCollection", "shapegen": city.frame(), "features": features}
     urn = city.input_crs.urn() if getattr(city, "input_crs", None) is not None else None
     if urn is not None:  # the input's coordinates are kept: say their system (old-style member)
         document = {"type": "FeatureCollection", "crs": {"type": "name", "properties": {
             "name": urn}}, **document}  # fmt: skip
-    return (json.dumps(json_ready(document), allow_nan=False) + "\n").encode("utf-8")
+    try:  # the input's geometries are plain JSON already: not walked through value by value
+        text = json.dumps(document, allow_nan=False)
+    except (TypeError, ValueError):
+        text = json.dumps(json_ready(document), allow_nan=False)
+    return (text + "\n").encode("utf-8")
 
 
 def write_tables(folder, city, records: list[dict], *, scene: bool = True) -> dict:

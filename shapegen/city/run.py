@@ -22,6 +22,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, field, is_dataclass
 from pathlib import Path
 
+import numpy as np
+
 from shapegen.city.batches import read_records
 from shapegen.city.executors import Batcher, DaskCluster, InProcess, LocalProcesses
 from shapegen.city.lots import City
@@ -201,7 +203,7 @@ def run_city(
             records[k] = old[-1]
             resumed += 1
         else:
-            ring = tuple((float(e), float(n)) for e, n in lot.ring)
+            ring = np.asarray(lot.ring, dtype=float).tolist()
             tasks.append(LotTask(lot.id, ring, dict(lot.properties), fingerprint, lot.problem))
     run = CityRun(city, records, resumed, 0.0, executor=executor.describe(), store=store)
     total = len(city.lots)
@@ -297,10 +299,9 @@ def _identity(settings: CitySettings) -> dict:
 
 
 def _fingerprint(lot) -> str:
-    """A hash of what a lot is built from: its corners and properties."""
-    text = json.dumps(
-        {"ring": [[round(float(v), 6) for v in p] for p in lot.ring], "properties": lot.properties},
-        sort_keys=True,
-        default=str,
+    """A hash of what a lot is built from: its corners (to the micrometre) and properties."""
+    digest = hashlib.blake2b(
+        np.round(np.asarray(lot.ring, dtype=float), 6).tobytes(), digest_size=8
     )
-    return hashlib.blake2b(text.encode(), digest_size=8).hexdigest()
+    digest.update(json.dumps(lot.properties, sort_keys=True, default=str).encode())
+    return digest.hexdigest()

@@ -61,12 +61,14 @@ def main() -> None:
     requests = sys.stdin.buffer
     board = mmap.mmap(int(sys.argv[1]), PROGRESS.size)
     from shapegen.city.batches import run_batch
+    from shapegen.city.work import warm_up
 
     def started(index: int) -> None:
         PROGRESS.pack_into(board, 0, index, time.monotonic())
 
     try:
         settings, store = read_message(requests)
+        warm_up(settings)
         while True:
             batch = read_message(requests)
             if batch is None:
