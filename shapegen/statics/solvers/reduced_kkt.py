@@ -202,23 +202,33 @@ class KktSystem:
         the normal equations) and ``N^-1`` (for the products, :meth:`_times_inverse`).
         """
         d = self.cone_diagonal
-        basis = scaling.basis
-        n = np.einsum("vki,vk,vkj->vij", basis, diagonal / (d * d), basis)
-        n[:, [0, 1, 2], [0, 1, 2]] += scaling.power_values(-2)
-        e = 1.0 / np.sqrt(np.einsum("vii->vi", n))
+        c = diagonal / (d * d)  # B / D^2, diagonal
+        n = scaling.direction
+        # V^T diag(c) V written out for V's columns (1, n)/sqrt 2, (1, -n)/sqrt 2, (0, n_perp)
+        along = c[:, 1] * n[:, 0] ** 2 + c[:, 2] * n[:, 1] ** 2
+        across = c[:, 1] * n[:, 1] ** 2 + c[:, 2] * n[:, 0] ** 2
+        mixed = np.sqrt(0.5) * n[:, 0] * n[:, 1] * (c[:, 2] - c[:, 1])
+        middle = np.empty((len(c), 3, 3))
+        middle[:, 0, 0] = middle[:, 1, 1] = 0.5 * (c[:, 0] + along)
+        middle[:, 0, 1] = middle[:, 1, 0] = 0.5 * (c[:, 0] - along)
+        middle[:, 0, 2] = middle[:, 2, 0] = mixed
+        middle[:, 1, 2] = middle[:, 2, 1] = -mixed
+        middle[:, 2, 2] = across
+        middle[:, [0, 1, 2], [0, 1, 2]] += scaling.power_values(-2)
+        e = 1.0 / np.sqrt(np.einsum("vii->vi", middle))
         scale = e[:, :, None] * e[:, None, :]
-        middle = symmetric_inverse(n * scale) * scale
-        inverse = np.einsum("vik,vkl,vjl->vij", basis, middle, basis)
+        middle = symmetric_inverse(middle * scale) * scale
+        basis = scaling.basis()
+        inverse = np.einsum("vik,vjk->vij", np.einsum("vik,vkl->vil", basis, middle), basis)
         return inverse / np.outer(d, d), middle
 
     def _times_inverse(self, hessian: Hessian, e: np.ndarray) -> np.ndarray:
         """``H^-1 e`` per vertex (in the cone's eigenvectors with the exact cone)."""
         if hessian.middle is None:
             return np.einsum("vij,vj->vi", hessian.inverse_cut, e)
-        d, basis = self.cone_diagonal, hessian.scaling.basis
-        local = np.einsum("vji,vj->vi", basis, e / d)
-        local = np.einsum("vij,vj->vi", hessian.middle, local)
-        return np.einsum("vij,vj->vi", basis, local) / d
+        d, scaling = self.cone_diagonal, hessian.scaling
+        local = np.einsum("vij,vj->vi", hessian.middle, scaling.to_basis(e / d))
+        return scaling.from_basis(local) / d
 
     def _times_hessian(self, hessian: Hessian, dx: np.ndarray) -> np.ndarray:
         """``H dx`` per vertex: the objective, the linear rows' barrier and the cone's."""
