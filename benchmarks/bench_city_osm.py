@@ -4,7 +4,9 @@ Run: ``.venv/bin/python benchmarks/bench_city_osm.py [--lots N] [--packages extr
 [--runs local1,local2,dask2] [--analyze]``.
 
 The lots are the 10 000 building footprints of Neubrandenburg in
-``tests/data/osm/neubrandenburg.geojson.gz`` (OpenStreetMap, ODbL; the first N with ``--lots``).
+``tests/data/osm/neubrandenburg.geojson.gz`` (OpenStreetMap, ODbL; the first N with ``--lots``),
+or with ``--rectangles`` N rectangles of 12 x 8 m (the footprints are mostly not convex, and a
+rule's leaf on one is cut into convex blocks: the rectangles show the cost without that).
 The packages are two CityEngine rule packages of the shared corpus: ``extrusion`` (one extrusion
 of the footprint, ``examples_data_extrusion_rule``) and ``building`` (a building from its
 footprint, ``data_Building_From_FootprintSMALL``). Each run is a fresh process that does what
@@ -97,10 +99,12 @@ print(json.dumps({"call": call, "process": usage.ru_utime + usage.ru_stime,
 """
 
 
-def shapegen_run(package: Path, count: int, executor: dict, analyze: bool, folder: Path):
+def shapegen_run(
+    package: Path, lots: Path, count: int, executor: dict, analyze: bool, folder: Path
+):
     job = {
         "package": str(package),
-        "lots": str(LOTS),
+        "lots": str(lots),
         "count": count,
         "out": str(folder),
         "executor": executor,
@@ -114,13 +118,13 @@ def shapegen_run(package: Path, count: int, executor: dict, analyze: bool, folde
     return json.loads(result.stdout.strip().splitlines()[-1])
 
 
-def prt_run(package: Path, count: int):
+def prt_run(package: Path, lots: Path, count: int):
     python = PRT_VENV / "bin" / "python"
     if not python.exists():
         return "no PyPRT venv (run benchmarks/bench_cga.py once to make it)"
     from shapegen.city import read_lots
 
-    city = read_lots(LOTS)
+    city = read_lots(lots)
     rings = [lot.ring.tolist() for lot in city.lots[:count] if lot.problem is None]
     result = subprocess.run(
         [str(python), "-W", "ignore", "-c", _PRT_DRIVER],
@@ -139,19 +143,30 @@ def main() -> None:
     parser.add_argument("--packages", default="extrusion,building")
     parser.add_argument("--runs", default="local1,local2,dask2")
     parser.add_argument("--analyze", action="store_true", help="judge every building too")
+    parser.add_argument(
+        "--rectangles",
+        action="store_true",
+        help="12 x 8 m rectangles on a 20 m grid (local metres) instead of the district",
+    )
     args = parser.parse_args()
-    with gzip.open(LOTS) as handle:
-        available = len(json.load(handle)["features"])
-    count = min(args.lots, available)
+    scratch = tempfile.TemporaryDirectory()
+    if args.rectangles:
+        count = args.lots
+        lots = Path(scratch.name) / "rectangles.geojson"
+        lots.write_text(json.dumps(_rectangles(count)))
+    else:
+        lots = LOTS
+        with gzip.open(LOTS) as handle:
+            count = min(args.lots, len(json.load(handle)["features"]))
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     print(
-        f"{count} lots of {LOTS.name}; {os.cpu_count()} cores; {when};"
+        f"{count} lots of {lots.name}; {os.cpu_count()} cores; {when};"
         f" load {os.getloadavg()[0]:.1f}; buildings"
         + (" judged" if args.analyze else " derived, not judged")
     )
     for name in args.packages.split(","):
         package = PACKAGES[name]
-        prt = prt_run(package, count)
+        prt = prt_run(package, lots, count)
         if isinstance(prt, dict):
             prt_ms = 1000 * prt["call"] / count
             print(
@@ -163,7 +178,9 @@ def main() -> None:
             print(f"{name}: {prt}")
         for run_name in args.runs.split(","):
             with tempfile.TemporaryDirectory() as folder:
-                figures = shapegen_run(package, count, RUNS[run_name], args.analyze, Path(folder))
+                figures = shapegen_run(
+                    package, lots, count, RUNS[run_name], args.analyze, Path(folder)
+                )
             if isinstance(figures, str):
                 print(f"  {run_name}: {figures}")
                 continue
@@ -184,6 +201,18 @@ def main() -> None:
             )
             if figures["errors"]:
                 print(f"    errors: {figures['errors']}")
+
+
+def _rectangles(count: int) -> dict:
+    """``count`` 12 x 8 m lots, 20 m apart on a square grid, as GeoJSON in local metres."""
+    side = max(1, round(count**0.5))
+    features = []
+    for k in range(count):
+        x, y = 20.0 * (k % side), 20.0 * (k // side)
+        ring = [[x, y], [x + 12, y], [x + 12, y + 8], [x, y + 8], [x, y]]
+        geometry = {"type": "Polygon", "coordinates": [ring]}
+        features.append({"type": "Feature", "properties": {}, "geometry": geometry})
+    return {"type": "FeatureCollection", "features": features}
 
 
 if __name__ == "__main__":

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 __all__ = ["CityProgress", "CityRun", "run_city"]
 
+import contextlib
+import gc
 import hashlib
 import json
 import time
@@ -221,18 +223,37 @@ def run_city(
     report(())
     workers_count = getattr(executor, "workers", 1)
     batcher = Batcher(tasks, workers_count, batch_size)
+    # The parent holds every lot's task and record: the cyclic collector's full passes over them
+    # cost more than the scheduling (it makes no cycles to collect); lots derived in this
+    # process do make them, so there it keeps running.
+    paused = not isinstance(executor, InProcess)
     try:
-        for batch in executor.run(settings, store, batcher):
-            for record in batch:
-                records[where[record["id"]]] = record
-            counts["done"] += len(batch)
-            counts["failed"] += sum(1 for r in batch if r["status"] != "ok")
-            report(batch)
+        with _collector_paused(paused):
+            for batch in executor.run(settings, store, batcher):
+                for record in batch:
+                    records[where[record["id"]]] = record
+                counts["done"] += len(batch)
+                counts["failed"] += sum(1 for r in batch if r["status"] != "ok")
+                report(batch)
     finally:
         run.seconds = time.perf_counter() - started
-        _merge(store, city, records)
-        run.files = write_tables(store, city, records, scene=scene)
+        with _collector_paused(True):
+            _merge(store, city, records)
+            run.files = write_tables(store, city, records, scene=scene)
     return run
+
+
+@contextlib.contextmanager
+def _collector_paused(pause: bool):
+    """Python's cyclic garbage collector off within (when ``pause``), as it was after."""
+    was = gc.isenabled()
+    if pause:
+        gc.disable()
+    try:
+        yield
+    finally:
+        if was:
+            gc.enable()
 
 
 def _merge(store: CityStore, city: City, records: list) -> None:
