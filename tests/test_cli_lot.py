@@ -134,13 +134,24 @@ def test_geojson_feature_by_id_and_the_first_polygon(tmp_path):
         read_lot(f"{path}#b")
 
 
-def test_geojson_in_metres_with_a_crs_member(tmp_path):
-    ring = [[500000, 5140000], [500012, 5140000], [500012, 5140008], [500000, 5140008]]
+def test_geojson_in_a_projected_crs_is_read_in_ground_metres(tmp_path):
+    # Lambert-93 near Cluny, where its scale factor is 0.99905 and its grid north 1.2 degrees
+    # off true north: 12 x 8 grid metres are 12.011 x 8.008 on the ground, and the lot is the
+    # one its lon/lat corners give
+    pyproj = pytest.importorskip("pyproj")
+    ring = [[827000, 6594000], [827012, 6594000], [827012, 6594008], [827000, 6594008]]
     crs = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::2154"}}
     geometry = {"type": "Polygon", "coordinates": [ring]}
     path = _write(tmp_path / "m.geojson", {"type": "Feature", "crs": crs, "geometry": geometry})
-    lot = read_lot(str(path))
-    assert lot == [(-6.0, 4.0), (6.0, 4.0), (6.0, -4.0), (-6.0, -4.0)]
+    lot = np.array(read_lot(str(path)))
+    to_lonlat = pyproj.Transformer.from_crs("EPSG:2154", "OGC:CRS84", always_xy=True)
+    lonlat = [list(to_lonlat.transform(x, y)) for x, y in ring]
+    plain = _write(tmp_path / "ll.geojson", {"type": "Polygon", "coordinates": [lonlat]})
+    assert np.abs(lot - np.array(read_lot(str(plain)))).max() < 1e-6
+    width, depth = np.hypot(*(lot[1] - lot[0])), np.hypot(*(lot[2] - lot[1]))
+    scale = pyproj.Proj("EPSG:2154").get_factors(*lonlat[0]).meridional_scale
+    assert width == pytest.approx(12 / scale, abs=1e-3) and width != pytest.approx(12, abs=1e-3)
+    assert depth == pytest.approx(8 / scale, abs=1e-3)
 
 
 @pytest.mark.parametrize(
