@@ -103,10 +103,7 @@ def read_block_entries(raw_blocks: list) -> list[Block]:
     doubtful = np.zeros(count, dtype=bool)
     fields: list = [None] * count
     for k, entry in enumerate(raw_blocks):
-        try:
-            fields[k] = _plain_fields(entry, k)
-        except InputFormatError:
-            fields[k] = None
+        fields[k] = _plain_fields(entry, k)
         if fields[k] is None:
             doubtful[k] = True
     vertices = _vertex_arrays(raw_blocks, fields, doubtful)
@@ -134,18 +131,68 @@ def read_block_entries(raw_blocks: list) -> list[Block]:
 
 def _plain_fields(entry: object, k: int):
     """``(raw vertices, Block keywords, raw faces or None)`` of an entry whose fields are
-    sound, the vertices only checked for their shape (a list of lists of three); None, or an
-    :class:`InputFormatError`, for any doubt (the entry is then read by :func:`entry_block`)."""
-    where, value, keywords, faces = _entry_fields(entry, k)
-    if type(value) is not list or not value:
+    plainly sound, the vertices only checked for their shape (a non-empty list of lists of
+    three); None at any doubt, and the entry is then read by :func:`entry_block`. The same tests
+    as :func:`_entry_fields` and :func:`_check_faces`, written inline: this runs once a block."""
+    if type(entry) is not dict:
+        return None
+    get = entry.get
+    block_id = entry["id"] if "id" in entry else f"b{k}"
+    value = get("vertices")
+    if type(block_id) is not str or not block_id or type(value) is not list or not value:
         return None
     for point in value:
         if type(point) is not list or len(point) != 3:
             return None
-    kwargs = keywords()
+    density = get("density", DEFAULT_DENSITY)
+    if type(density) is int:
+        try:
+            density = float(density)
+        except OverflowError:
+            return None
+    if type(density) is not float or not (0.0 <= density <= _LARGEST):
+        return None
+    fixed, structural, body = get("fixed", False), get("structural", True), get("body", "")
+    if type(fixed) is not bool or type(structural) is not bool or type(body) is not str:
+        return None
+    tags, rule_path = get("tags", _NONE), get("rule_path", _NONE)
+    if type(tags) is not list or type(rule_path) is not list:
+        return None
+    for text in chain(tags, rule_path):
+        if type(text) is not str:
+            return None
+    appearance = get("appearance")
+    if appearance is not None:
+        try:
+            appearance = appearance_from_entry(appearance, f"block {block_id!r}", number)
+        except InputFormatError:
+            return None
+    faces = get("faces")
     if faces is not None:
-        _check_faces(faces, len(value), where)
+        if type(faces) is not list:
+            return None
+        n = len(value)
+        for face in faces:
+            if type(face) is not list or len(face) < 3:
+                return None
+            for i in face:
+                if type(i) is not int or not 0 <= i < n:
+                    return None
+    kwargs = {
+        "id": block_id,
+        "density": density,
+        "fixed": fixed,
+        "structural": structural,
+        "tags": tuple(tags),
+        "rule_path": tuple(rule_path),
+        "appearance": appearance,
+        "body": body,
+    }
     return value, kwargs, faces
+
+
+_NONE: list = []
+_LARGEST = float(np.finfo(float).max)
 
 
 def _vertex_arrays(raw_blocks: list, fields: list, doubtful: np.ndarray) -> list:

@@ -11,7 +11,9 @@ __all__ = [
     "write_blocks_json",
 ]
 
+import gc
 import json
+from contextlib import contextmanager
 from pathlib import Path
 
 from shapegen.errors import GeometryError, InputFormatError
@@ -102,11 +104,26 @@ def _depth_over(document: object, limit: int) -> bool:
 def read_blocks_json(path: str | Path) -> Model:
     """Read a shapegen-blocks JSON file; errors name the file and the offending entry."""
     path = Path(path)
-    document = parse_json_document(read_model_bytes(path), str(path))
+    with _collector_paused():
+        document = parse_json_document(read_model_bytes(path), str(path))
+        try:
+            return model_from_dict(document)
+        except (InputFormatError, GeometryError) as exc:
+            raise type(exc)(f"{path}: {exc}") from None
+
+
+@contextmanager
+def _collector_paused():
+    """Python's cycle collector off while a file is read: the millions of lists a large model
+    parses into hold no cycles, yet each one counts towards the next full collection, which walks
+    all of them again (a 100 000-block file parsed 3x slower with it on)."""
+    enabled = gc.isenabled()
+    gc.disable()
     try:
-        return model_from_dict(document)
-    except (InputFormatError, GeometryError) as exc:
-        raise type(exc)(f"{path}: {exc}") from None
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 def model_from_dict(document: object) -> Model:

@@ -12,13 +12,12 @@ __all__ = [
 ]
 
 from dataclasses import dataclass
-from itertools import chain
 
 import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.model.block import Block
-from shapegen.model.polygons import face_normals
+from shapegen.model.polygons import CheckedFaces, checked_faces, face_layout, face_normals
 
 
 @dataclass(frozen=True)
@@ -103,22 +102,37 @@ class GatheredBlocks:
 
 def gather_blocks(chosen: list[Block]) -> GatheredBlocks:
     """Concatenate the vertices and faces of ``chosen``; nothing is checked."""
-    vertex_count = np.array([len(b.vertices) for b in chosen], dtype=np.int64)
-    face_count = np.array([len(b.faces) for b in chosen], dtype=np.int64)
+    vertex_count = np.fromiter((len(b.vertices) for b in chosen), dtype=np.int64, count=len(chosen))
     vertices = (
         np.concatenate([b.vertices for b in chosen]) if chosen else np.empty((0, 3), dtype=float)
     )
-    faces = list(chain.from_iterable(b.faces for b in chosen))
-    corner_count = np.fromiter((len(f) for f in faces), dtype=np.int64, count=len(faces))
-    corner_start = np.concatenate([[0], np.cumsum(corner_count)])
+    # Blocks of one shape share their faces object (a wall's bricks, a file's hulls): its flat
+    # layout is worked out once and repeated, instead of walking every face of every block.
+    layouts: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    corner_parts, size_parts = [], []
+    for block in chosen:
+        faces = block.faces
+        layout = layouts.get(id(faces))
+        if layout is None:
+            corners, start = face_layout(
+                faces if type(faces) is CheckedFaces else checked_faces(faces)
+            )
+            layout = layouts[id(faces)] = (corners, np.diff(start))
+        corner_parts.append(layout[0])
+        size_parts.append(layout[1])
+    face_count = np.fromiter(map(len, size_parts), dtype=np.int64, count=len(chosen))
+    corner_count = (
+        np.concatenate(size_parts).astype(np.int64) if chosen else np.zeros(0, dtype=np.int64)
+    )
+    corner_start = np.concatenate([[0], np.cumsum(corner_count)]).astype(np.int64)
     return GatheredBlocks(
         vertices=vertices,
         vertex_count=vertex_count,
         vertex_start=np.concatenate([[0], np.cumsum(vertex_count)]),
         face_count=face_count,
         face_start=np.concatenate([[0], np.cumsum(face_count)]),
-        corners=np.fromiter(
-            chain.from_iterable(faces), dtype=np.int64, count=int(corner_start[-1])
+        corners=(
+            np.concatenate(corner_parts).astype(np.int64) if chosen else np.zeros(0, np.int64)
         ),
         corner_count=corner_count,
         corner_start=corner_start,
