@@ -124,6 +124,8 @@ def write_tiles(
         if not glb.is_file():
             raise InputFormatError(f"{glb}: no city to tile (the run wrote no city.glb)")
         scene = trimesh.load(glb, file_type="glb", force="scene")
+        if not any(True for _ in _buildings(scene)):
+            raise InputFormatError(f"{glb}: holds no building to tile")
     document, contents, depth = tileset_from_scene(
         scene, city.origin_lonlat, lots_per_tile=lots_per_tile, height=height
     )
@@ -158,7 +160,7 @@ def tileset_from_scene(scene, origin_lonlat, *, lots_per_tile=LOTS_PER_TILE, hei
     city scene (y-up local metres) whose origin is ``origin_lonlat`` ``(lon, lat)`` degrees."""
     buildings = list(_buildings(scene))
     if not buildings:
-        raise InputFormatError("no building to tile: no lot was built")
+        raise InputFormatError("no building to tile: the city's scene holds none")
     # east and north of each building's centre (glTF z is south)
     bounds = np.array([mesh.bounds for _, mesh in buildings])  # (n, 2, 3)
     centres = 0.5 * (bounds[:, 0] + bounds[:, 1])
