@@ -23,6 +23,7 @@ view.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xeef1f4);
 scene.add(new THREE.HemisphereLight(0xffffff, 0x8899aa, 1.6));
+scene.add(new THREE.AmbientLight(0xffffff, 0.8)); // no face in full shadow
 const sun = new THREE.DirectionalLight(0xffffff, 1.6);
 sun.position.set(-0.5, 1.0, 0.3);
 scene.add(sun);
