@@ -6,7 +6,8 @@ runs in three vectorised stages:
 
 1. candidate face pairs from a KD-tree over the faces' centres, normals and plane offsets
    (:func:`facing_face_pairs`); block bounding boxes (:func:`candidate_pairs`, used by the
-   overlap checks) would pair each voussoir of a fine arch with hundreds of others;
+   overlap checks, :mod:`shapegen.statics.broad_phase`) would pair each voussoir of a fine
+   arch with hundreds of others;
 2. the exact tests: normals opposite within ``normal_cos``, each face's centre on the other's
    plane within ``planar``;
 3. the surviving face pairs are clipped against each other all at once (Sutherland-Hodgman on
@@ -30,73 +31,15 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from shapegen.model.model import Model
 from shapegen.model.packed import PackedBlocks, pack_blocks
+from shapegen.statics.broad_phase import candidate_pairs
 from shapegen.statics.interface import GROUND, Interface, tangent_frame
 from shapegen.tolerances import Tolerances
 
 _RADIUS_CLASSES = 12  # faces smaller than 2**-12 of the largest share the last class
 _HEMISPHERE = np.array([0.5773, 0.5771, 0.5780])  # generic: no common face is normal to it
-_PAIRS_PER_CHUNK = 2_000_000  # bounds the memory of one sweep step (~50 MB of index arrays)
 
 
-# ------------------------------------------------------------------------------------ broad phase
-def candidate_pairs(lower: np.ndarray, upper: np.ndarray, padding: float = 0.0) -> np.ndarray:
-    """Pairs of boxes that overlap or touch (sort-and-sweep along the most selective axis).
-
-    Parameters
-    ----------
-    lower, upper
-        ``(n, 3)`` box corners, metres.
-    padding
-        Boxes closer than ``padding`` metres count as touching.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(m, 2)`` integer pairs ``(i, j)`` with ``i < j``, sorted lexicographically.
-    """
-    lower = np.asarray(lower, dtype=float).reshape(-1, 3)
-    upper = np.asarray(upper, dtype=float).reshape(-1, 3)
-    n = len(lower)
-    if n < 2:
-        return np.empty((0, 2), dtype=np.int64)
-    # Sweep along the axis whose projections overlap least: a wall in the xy plane sweeps
-    # along x or y, never along its thickness (which would pair every block with every other).
-    best = None
-    for axis in range(3):
-        order = np.argsort(lower[:, axis], kind="stable")
-        sorted_lower = lower[order, axis]
-        end = np.searchsorted(sorted_lower, upper[order, axis] + padding, side="right")
-        count = np.maximum(end - np.arange(n) - 1, 0)
-        total = int(count.sum())
-        if best is None or total < best[0]:
-            best = (total, order, count)
-    _, order, count = best
-
-    found = []
-    cumulative = np.cumsum(count)
-    start = 0
-    while start < n:
-        # Positions [start, stop) produce at most _PAIRS_PER_CHUNK sweep pairs (at least one row).
-        base = cumulative[start - 1] if start else 0
-        stop = int(np.searchsorted(cumulative, base + _PAIRS_PER_CHUNK, side="right"))
-        stop = min(max(stop, start + 1), n)
-        rows = np.arange(start, stop)
-        reps = count[start:stop]
-        position_a = np.repeat(rows, reps)
-        run_start = np.cumsum(reps) - reps
-        position_b = position_a + 1 + np.arange(int(reps.sum())) - np.repeat(run_start, reps)
-        a = order[position_a]
-        b = order[position_b]
-        overlap = np.all(
-            (lower[a] <= upper[b] + padding) & (lower[b] <= upper[a] + padding), axis=1
-        )
-        found.append(np.stack([a[overlap], b[overlap]], axis=1))
-        start = stop
-    pairs = np.concatenate(found)
-    pairs.sort(axis=1)
-    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
-
-
+# ------------------------------------------------------------------------------------ face pairs
 def facing_face_pairs(pack: PackedBlocks, tol: Tolerances) -> tuple[np.ndarray, np.ndarray]:
     """Pairs of faces that may touch: near-opposite normals, near-equal planes, close centres.
 
