@@ -141,3 +141,38 @@ def test_no_city_glb_is_one_line(tmp_path):
     city = read_lots(DATA / "district.geojson")
     with pytest.raises(InputFormatError, match="no city to tile"):
         write_tiles(tmp_path, city)
+
+
+def test_buildings_of_a_wide_city_stand_on_their_own_ground(tmp_path):
+    """Lots 7-8 km from the city's origin: the origin's tangent plane is some 4 m above the
+    ellipsoid there and leans 0.07 degrees; each building is set on its own ground, upright."""
+    centres = [(4.60, 46.40), (4.70, 46.40), (4.60, 46.47), (4.70, 46.47), (4.65, 46.435)]
+    step = 0.0001  # about 8 by 11 m
+    polygons = [
+        [(lon, lat), (lon + step, lat), (lon + step, lat + step), (lon, lat + step)]
+        for lon, lat in centres
+    ]
+    city = city_from_polygons(polygons, ids=list("abcde"), crs="lonlat")
+    tileset = write_tiles(tmp_path, city, scene=district_scene(city), lots_per_tile=1)
+    document = json.loads(tileset.path.read_text())
+    transform = np.array(document["root"]["transform"]).reshape(4, 4).T
+    to_lonlat = pyproj.Transformer.from_crs("EPSG:4978", "EPSG:4979", always_xy=True)
+    geod = pyproj.Geod(ellps="WGS84")
+    for tile, _ in _tiles(document["root"]):
+        if "content" not in tile:
+            continue
+        scene = trimesh.load(tileset.path.parent / tile["content"]["uri"], force="scene")
+        for node in scene.graph.nodes_geometry:
+            enu = _enu(scene.geometry[scene.graph[node][1]].vertices)
+            ecef = np.column_stack([enu, np.ones(len(enu))]) @ transform.T
+            lon, lat, h = (np.asarray(v) for v in to_lonlat.transform(*ecef[:, :3].T))
+            ground = h < 1.0
+            assert np.all(np.abs(h[ground]) < 1e-3), (node, h[ground])  # on the ellipsoid
+            roof = h[~ground]
+            assert np.allclose(roof, roof[0], atol=1e-3) and roof[0] > 5.0  # level, upright
+            corners = np.array(polygons["abcde".index(node)])
+            for point in np.column_stack([lon[ground], lat[ground]]):
+                _, _, gaps = geod.inv(
+                    corners[:, 0], corners[:, 1], np.full(4, point[0]), np.full(4, point[1])
+                )
+                assert np.min(gaps) < 0.01, (node, np.min(gaps))  # cm, the lot's own corner
