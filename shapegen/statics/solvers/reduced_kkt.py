@@ -76,6 +76,40 @@ def symmetric_inverse(h: np.ndarray) -> np.ndarray:
     return out
 
 
+def _symmetric_times(matrix: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``matrix[v] @ x[v]`` for symmetric ``(m, 3, 3)`` matrices, written out (a batched
+    ``einsum`` of 3x3 blocks costs more than its nine products)."""
+    out = np.empty_like(x)
+    for i in range(3):
+        out[:, i] = (
+            matrix[:, i, 0] * x[:, 0] + matrix[:, i, 1] * x[:, 1] + matrix[:, i, 2] * x[:, 2]
+        )
+    return out
+
+
+def _from_basis_matrix(middle: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """``V M V^T`` per vertex for the cone's eigenvectors ``V`` (columns ``(1, n) / sqrt 2``,
+    ``(1, -n) / sqrt 2``, ``(0, p)`` with ``p`` = ``n`` turned by 90 degrees) and symmetric
+    ``M``, written out from those columns."""
+    maa, mbb, mcc = middle[:, 0, 0], middle[:, 1, 1], middle[:, 2, 2]
+    mab, mac, mbc = middle[:, 0, 1], middle[:, 0, 2], middle[:, 1, 2]
+    p = np.stack([-n[:, 1], n[:, 0]], axis=1)
+    out = np.empty_like(middle)
+    out[:, 0, 0] = 0.5 * (maa + mbb) + mab
+    top = 0.5 * (maa - mbb)[:, None] * n + np.sqrt(0.5) * (mac + mbc)[:, None] * p
+    out[:, 0, 1:] = out[:, 1:, 0] = top
+    radial = 0.5 * (maa + mbb) - mab
+    mixed = np.sqrt(0.5) * (mac - mbc)
+    for i in (0, 1):
+        for j in (0, 1):
+            out[:, 1 + i, 1 + j] = (
+                radial * n[:, i] * n[:, j]
+                + mixed * (n[:, i] * p[:, j] + p[:, i] * n[:, j])
+                + mcc * p[:, i] * p[:, j]
+            )
+    return out
+
+
 def step_to_boundary(value: np.ndarray, step: np.ndarray) -> float:
     """Largest alpha in (0, 1] with ``value + alpha step >= 0`` (``value > 0``)."""
     negative = step < 0
@@ -218,16 +252,14 @@ class KktSystem:
         e = 1.0 / np.sqrt(np.einsum("vii->vi", middle))
         scale = e[:, :, None] * e[:, None, :]
         middle = symmetric_inverse(middle * scale) * scale
-        basis = scaling.basis()
-        inverse = np.einsum("vik,vjk->vij", np.einsum("vik,vkl->vil", basis, middle), basis)
-        return inverse / np.outer(d, d), middle
+        return _from_basis_matrix(middle, n) / np.outer(d, d), middle
 
     def _times_inverse(self, hessian: Hessian, e: np.ndarray) -> np.ndarray:
         """``H^-1 e`` per vertex (in the cone's eigenvectors with the exact cone)."""
         if hessian.middle is None:
             return np.einsum("vij,vj->vi", hessian.inverse_cut, e)
         d, scaling = self.cone_diagonal, hessian.scaling
-        local = np.einsum("vij,vj->vi", hessian.middle, scaling.to_basis(e / d))
+        local = _symmetric_times(hessian.middle, scaling.to_basis(e / d))
         return scaling.from_basis(local) / d
 
     def _times_hessian(self, hessian: Hessian, dx: np.ndarray) -> np.ndarray:
