@@ -5,7 +5,7 @@ An output folder (or URL: :mod:`shapegen.city.store`) holds::
 
     run.json              the run's settings (rule, attrs, seed, search, statics) and frame
     lots/B-KEY.json       the records of one batch of lots, written by the worker that ran it
-    lots/B-KEY.npz        their buildings, placed in the city (:mod:`shapegen.city.batches`)
+    lots/B-KEY.blocks     their buildings, placed in the city (:mod:`shapegen.city.batches`)
     results.csv           one row per lot, in input order, assembled from the records
     results.geojson       the same rows as the properties of the lots' polygons
     results.parquet       the same rows as GeoParquet (with pyarrow: shapegen.city.parquet)

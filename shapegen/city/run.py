@@ -36,7 +36,7 @@ from shapegen.errors import InputFormatError, OptionError
 from shapegen.json_values import json_ready
 
 RUN_FORMAT = "shapegen-city"
-RUN_VERSION = 2  # 2: batch files (lots/B-KEY.json and .npz)
+RUN_VERSION = 2  # 2: batch files (lots/B-KEY.json and .blocks)
 
 
 @dataclass(frozen=True)

@@ -21,8 +21,6 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from shapegen.json_values import json_ready
-
 _ARRAY_BUFFER = 34962
 _ELEMENT_ARRAY_BUFFER = 34963
 _FLOAT, _UNSIGNED_BYTE, _UNSIGNED_INT = 5126, 5121, 5125
@@ -51,14 +49,15 @@ def encode_city_glb(
         batch = cache[key]
         if batch is None or index >= len(batch[3]) - 1:
             continue
-        positions, colors, triangles = _building(batch, index)
+        positions, colors, triangles, bounds = _building(batch, index)
         if not len(triangles):
             continue
         lot_id = str(record["id"])
-        primitive = meshes.add(positions, colors, triangles)
+        primitive = meshes.add(positions, colors, triangles, bounds)
         gltf_meshes.append({"name": lot_id, "primitives": [primitive]})
+        # The records were read from JSON: their values are plain already.
         extras = {key: record.get(key) for key in ("id", "stands", "measure", "blocks", "seed")}
-        nodes.append({"name": lot_id, "mesh": len(gltf_meshes) - 1, "extras": json_ready(extras)})
+        nodes.append({"name": lot_id, "mesh": len(gltf_meshes) - 1, "extras": extras})
     document = {
         "asset": {"version": "2.0", "generator": "shapegen city"},
         "scene": 0,
@@ -79,7 +78,7 @@ class _Buffers:
         self.accessors: list[dict] = []
         self.sizes = [0, 0, 0]  # bytes so far in each view
 
-    def add(self, positions: np.ndarray, colors: np.ndarray, triangles: np.ndarray) -> dict:
+    def add(self, positions, colors, triangles, bounds: tuple[list, list]) -> dict:
         count = len(positions)
         first = len(self.accessors)
         self.accessors += [
@@ -89,8 +88,8 @@ class _Buffers:
                 "componentType": _FLOAT,
                 "count": count,
                 "type": "VEC3",
-                "min": positions.min(axis=0).tolist(),
-                "max": positions.max(axis=0).tolist(),
+                "min": bounds[0],
+                "max": bounds[1],
             },
             {
                 "bufferView": 1,
@@ -167,20 +166,23 @@ def _triangulated(arrays: dict) -> tuple:
     building_faces = face_offsets[block_offsets]
     triangle_offsets = first[building_faces]
     vertex_starts = vertex_offsets[block_offsets]
-    return (
-        arrays["vertices"].astype(np.float32),
-        colors,
-        triangles,
-        vertex_starts,
-        triangle_offsets,
-    )
+    vertices = arrays["vertices"].astype(np.float32)
+    # Each building's bounds (the accessors' min and max), all at once; none for one without
+    # vertices, which is passed over.
+    filled = np.flatnonzero(np.diff(vertex_starts) > 0)
+    low = np.zeros((len(vertex_starts) - 1, 3), dtype=np.float32)
+    high = np.zeros_like(low)
+    if len(filled):
+        low[filled] = np.minimum.reduceat(vertices, vertex_starts[filled], axis=0)
+        high[filled] = np.maximum.reduceat(vertices, vertex_starts[filled], axis=0)
+    return vertices, colors, triangles, vertex_starts, triangle_offsets, low.tolist(), high.tolist()
 
 
 def _building(batch: tuple, index: int):
-    vertices, colors, triangles, vertex_starts, triangle_offsets = batch
+    vertices, colors, triangles, vertex_starts, triangle_offsets, low, high = batch
     v0, v1 = vertex_starts[index], vertex_starts[index + 1]
     t0, t1 = triangle_offsets[index], triangle_offsets[index + 1]
-    return vertices[v0:v1], colors[v0:v1], triangles[t0:t1]
+    return vertices[v0:v1], colors[v0:v1], triangles[t0:t1], (low[index], high[index])
 
 
 def _glb(document: dict, binary: bytes) -> bytes:

@@ -49,7 +49,7 @@ def test_lots_run_in_batches_of_the_size_given_each_batch_two_files(grammar, tmp
     assert [r["status"] for r in run.records] == ["ok"] * 5
     store = open_store(tmp_path)
     records = _batch_files(store)
-    assert len(records) == 3 and len(store.list("lots", ".npz")) == 3  # 2 + 2 + 1 lots
+    assert len(records) == 3 and len(store.list("lots", ".blocks")) == 3  # 2 + 2 + 1 lots
     sizes = sorted(len(json.loads(store.read(name))["records"]) for name in records)
     assert sizes == [1, 2, 2]
     assert all(r["stands"] is None and r["structure"] is None for r in run.records)
