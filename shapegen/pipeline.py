@@ -15,6 +15,7 @@ from __future__ import annotations
 
 __all__ = [
     "Outcome",
+    "completed",
     "design",
     "encode_outputs",
     "load",
@@ -67,6 +68,8 @@ def design(
     place: Callable[[Model], Model] | None = None,
     progress: Callable | None = None,
     capacity: Sequence[float] | None = None,
+    previous: Outcome | None = None,
+    measure_follows: bool = False,
 ) -> Outcome:
     """Optimize (with ``search``), build and assess (with ``assess`` or ``search``) a design.
 
@@ -95,6 +98,13 @@ def design(
         an empty sequence, over a sweep of directions and the worst. Refused
         (:class:`~shapegen.errors.OptionError`) for a structure that has none (cables). The
         report's ``analysis`` gets a ``capacity``.
+    previous
+        The outcome of the design before this one, a small change away (the design page's
+        last): the final model is judged with :meth:`Structure.reassess`, which may carry
+        over what did not change; the answer is the same.
+    measure_follows
+        With ``previous``: the assessment may be a pending one, its verdict alone (proven),
+        when the measure would take longer; :func:`completed` gives the rest.
     """
     started = time.perf_counter()
     structure = make_structure(grammar.structure, statics)
@@ -121,6 +131,10 @@ def design(
     if assess or optimization is not None or capacity is not None:
         if optimization is not None and place is None and optimization.assessment is not None:
             assessment = optimization.assessment
+        elif previous is not None and previous.structure.name == structure.name:
+            assessment = structure.reassess(
+                Design.of_model(model), previous.assessment, measure_follows=measure_follows
+            )
         else:
             assessment = structure.assess(Design.of_model(model))
     report = build_report(model)
@@ -133,6 +147,20 @@ def design(
         report["analysis"]["capacity"] = found.to_report()
     report["seconds"] = time.perf_counter() - started
     return Outcome(grammar, model, structure, assessment, optimization, report)
+
+
+def completed(outcome: Outcome) -> Outcome:
+    """``outcome`` with its pending assessment (``design(measure_follows=True)``) completed:
+    the measure and the forces; an outcome without one as it is."""
+    assessment = outcome.assessment
+    if assessment is None or not assessment.pending:
+        return outcome
+    started = time.perf_counter()
+    assessment = outcome.structure.complete(assessment)
+    report = {**outcome.report, "analysis": assessment.to_report()}
+    report["seconds"] = outcome.report.get("seconds", 0.0) + time.perf_counter() - started
+    return Outcome(outcome.grammar, outcome.model, outcome.structure, assessment,
+                   outcome.optimization, report)  # fmt: skip
 
 
 def build_report(model: Model) -> dict:

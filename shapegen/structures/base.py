@@ -107,6 +107,9 @@ class Assessment:
         The rigid-block :class:`~shapegen.statics.analysis.Analysis` behind the verdict (joint
         forces, block tensions) that pictures, exports and the page's block readouts show; None
         when the structure judges no blocks (a bridge's cables).
+    pending
+        True when only the verdict is known (proven) and the measure (nan) and the detail
+        follow: :meth:`Structure.complete` gives them (``reassess(measure_follows=True)``).
     """
 
     structure: str
@@ -117,6 +120,7 @@ class Assessment:
     detail: object = field(default=None, repr=False)
     margin: float = 0.0
     block_analysis: object = field(default=None, repr=False)
+    pending: bool = False
 
     @property
     def ok(self) -> bool:
@@ -189,6 +193,20 @@ class Structure(ABC):
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         """Judge ``design``; with ``margin`` in [0, 1), judge it with that reserve (a design that
         stands with a margin stands without one)."""
+
+    def reassess(
+        self, design: Design, previous: Assessment | None, *, measure_follows: bool = False
+    ) -> Assessment:
+        """Judge ``design`` (without a margin) where ``previous`` judged the design before it,
+        a small change away (the design page's last): the same answer as :meth:`assess`, which
+        a structure may reach faster from the last one. With ``measure_follows`` it may answer
+        with the verdict alone (a :attr:`Assessment.pending` one) when the rest would take
+        longer; :meth:`complete` gives the rest. By default it is :meth:`assess`."""
+        return self.assess(design)
+
+    def complete(self, assessment: Assessment) -> Assessment:
+        """The full assessment of a pending one (see :meth:`reassess`); any other as it is."""
+        return assessment
 
     @staticmethod
     def checked_margin(margin: object) -> float:

@@ -95,6 +95,29 @@ class BlockStatics(Structure):
             block_analysis=analysis,
         )
 
+    def reassess(
+        self, design: Design, previous: Assessment | None, *, measure_follows: bool = False
+    ) -> Assessment:
+        # the contacts of unchanged blocks, and the last forces or multipliers as the proof of
+        # the verdict, are carried over (statics/incremental.py); the verdict is the full one's
+        from shapegen.statics.incremental import reanalyze
+
+        options = self._options(0.0, design)
+        if options.tilted and options.azimuth is None:
+            return self.assess(design)
+        last = previous.block_analysis if previous is not None else None
+        if last is None or last.problem is None or last.problem.cache.get("options") != options:
+            last = None
+        analysis = reanalyze(design.model, options, last, measure_follows=measure_follows)
+        return _incremental_assessment(analysis)
+
+    def complete(self, assessment: Assessment) -> Assessment:
+        from shapegen.statics.incremental import complete
+
+        if not assessment.pending:
+            return assessment
+        return _incremental_assessment(complete(assessment.block_analysis))
+
     def measure_change(self, base: Assessment, moved: Design) -> float | None:
         from shapegen.statics.sensitivity import infeasibility_change
 
@@ -145,3 +168,19 @@ class BlockStatics(Structure):
 def _infeasibility(analysis) -> float:
     value = analysis.infeasibility_normalized
     return math.inf if math.isnan(value) else value
+
+
+def _incremental_assessment(analysis) -> Assessment:
+    """The assessment (without a margin) of an analysis of ``reanalyze``, pending or not."""
+    from shapegen.statics.incremental import pending
+
+    return Assessment(
+        structure=BlockStatics.name,
+        stands=bool(analysis.feasible),
+        measure=float(analysis.infeasibility_normalized),
+        status=analysis.status.value,
+        section=analysis.to_report(),
+        detail=analysis,
+        block_analysis=analysis,
+        pending=pending(analysis),
+    )
