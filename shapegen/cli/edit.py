@@ -90,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
             seed=args.seed,
             lot=args.lot,
             rules_path=args.rules_path or (),
+            measure_follows=True,  # the page shows a proven verdict at once, its measure after
         )
     except BaseException:
         server.server_close()

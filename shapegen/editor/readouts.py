@@ -1,9 +1,10 @@
 """What the page reads of a session: its state, the report, the attrs as JSON with the command
-line, and one block's account.
+line, one block's account, the model and its scene.
 
 :class:`ReadoutsMixin` is mixed into :class:`~shapegen.editor.session.EditorSession`, which
 provides the design (``_outcome``, ``grammar``, ``attrs``, ``seed``, ``lot``, ``path``), its
-versions, the search's and the scans' state, and ``_state_lock``.
+versions, the search's and the scans' state, ``_state_lock``, and ``_follower`` (the measure
+that follows a pending verdict: what needs the forces waits for it).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from shapegen.editor.annotations import attr_hints, inspector_sections
 from shapegen.editor.attrs import RequestError, attr_specs, plain_value
 from shapegen.editor.blocks import block_details
 from shapegen.editor.exports import command_line
+from shapegen.editor.scene import scene_data
 from shapegen.json_values import finite_or_none, json_ready
 from shapegen.statics.cables import CableSizing
 
@@ -25,8 +27,46 @@ class ReadoutsMixin:
 
     def report(self) -> dict:
         """The current design's report, as ``shapegen build --analyze --report`` writes it."""
+        self._settled()
         with self._state_lock:
             return json_ready(self._outcome.report)
+
+    def glb(self) -> bytes:
+        """The current model as binary glTF (blocks coloured by tension, resultant arrows)."""
+        from shapegen.export.gltf import encode_glb
+
+        self._settled()
+        with self._state_lock:
+            version, outcome = self.model_version, self._outcome
+            if self._glb is not None and self._glb[0] == version:
+                return self._glb[1]
+        analysis = outcome.assessment.block_analysis if outcome.assessment is not None else None
+        content = encode_glb(outcome.model, analysis)
+        with self._state_lock:
+            self._glb = (version, content)
+        return content
+
+    def scene(self) -> dict:
+        """Colours, forces and legend of the current model (see :mod:`shapegen.editor.scene`)."""
+        self._settled()
+        with self._state_lock:
+            version, outcome = self.model_version, self._outcome
+            if self._scene is not None and self._scene[0] == version:
+                return self._scene[1]
+        data = json_ready(scene_data(outcome.model, outcome.assessment))
+        data["model_version"] = version
+        with self._state_lock:
+            self._scene = (version, data)
+        return data
+
+    def _settled(self) -> None:
+        """Wait until the design on screen is complete: a pending verdict's measure and forces
+        followed (:mod:`shapegen.editor.completion`)."""
+        with self._state_lock:
+            outcome = self._outcome
+        if self._follower is not None and outcome.assessment is not None:
+            if outcome.assessment.pending:
+                self._follower.wait(outcome)
 
     def attrs_export(self) -> dict:
         """The current design's attrs: every value (``attrs``), the designer's (``set``), and
@@ -55,6 +95,7 @@ class ReadoutsMixin:
     def block(self, block_id: str) -> dict:
         """One block of the current model: labels, rule path, the attrs its rules read, its
         joints' forces and the tension it needs (see :mod:`shapegen.editor.blocks`)."""
+        self._settled()
         with self._state_lock:
             outcome, version = self._outcome, self.model_version
             values, user = self._current_values(), set(self.attrs)
@@ -78,7 +119,9 @@ class ReadoutsMixin:
                 "measure": finite_or_none(assessment.measure),
                 "measure_name": outcome.structure.measure_name,
                 "status": assessment.status,
-                "max_tension": section.get("max_tension"),
+                # a proven verdict whose measure follows: measure and max_tension are null
+                "max_tension": None if assessment.pending else section.get("max_tension"),
+                "pending": bool(assessment.pending),
             }
         return {
             "version": self.version,

@@ -23,10 +23,10 @@ from pathlib import Path
 
 from shapegen import pipeline
 from shapegen.editor.attrs import RequestError, checked_values
+from shapegen.editor.completion import MeasureFollower
 from shapegen.editor.history import HistoryMixin
 from shapegen.editor.inputs import UNCHANGED, Inputs, SettingsMixin, valid_attrs
 from shapegen.editor.readouts import ReadoutsMixin
-from shapegen.editor.scene import scene_data
 from shapegen.editor.stability import ScanJob, StabilityScanner
 from shapegen.engine.rule_packages import PACKAGE_SUFFIX
 from shapegen.errors import GrammarError, OptionError, ShapegenError
@@ -55,6 +55,12 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         (``shapegen edit`` puts them in ``SHAPEGEN_RULES_PATH``, where every load finds them).
     scan
         Scan the stable intervals of the free attrs in the background.
+    measure_follows
+        Answer a change that is proven not to stand with its verdict alone, its measure and
+        forces following (:mod:`shapegen.editor.completion`); else every answer is complete.
+    carry_over
+        Judge each change from the last design (:mod:`shapegen.statics.incremental`); False
+        judges every design from scratch (the same answers, slower: for comparisons).
     """
 
     def __init__(
@@ -66,6 +72,8 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         lot: tuple[float, float] | None = None,
         rules_path: Sequence[str] = (),
         scan: bool = True,
+        measure_follows: bool = False,
+        carry_over: bool = True,
     ):
         self.grammar = pipeline.load(source)
         self.path: Path | None = self.grammar.path  # the rule file read (a package's unpacked)
@@ -99,6 +107,9 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         self._last_inputs = self._inputs()  # the inputs before the last change
         self._scan_generation = 0  # the scans' results of an older generation are dropped
         initial = checked_values(self.grammar, {}, dict(attrs)) if attrs else {}
+        self._follower = MeasureFollower(self._publish_completed) if measure_follows else None
+        self._carry_over = carry_over
+        self._outcome = None  # nothing to carry over into the first design
         self._outcome = self._design(initial)
         self.attrs = initial
         self._timings = self._last_timings
@@ -156,6 +167,8 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
                 self._optimization = None  # the last search's message no longer applies
                 self._outcome = outcome
                 self._timings = self._last_timings
+                if outcome.assessment is not None and outcome.assessment.pending:
+                    self._follower.request(outcome)
             if build or inputs.free != before.free:
                 self._changed(model=build)
             self.version += 1
@@ -304,37 +317,13 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
                     return False
         return True
 
-    def glb(self) -> bytes:
-        """The current model as binary glTF (blocks coloured by tension, resultant arrows)."""
-        from shapegen.export.gltf import encode_glb
-
-        with self._state_lock:
-            version, outcome = self.model_version, self._outcome
-            if self._glb is not None and self._glb[0] == version:
-                return self._glb[1]
-        analysis = _analysis(outcome)
-        content = encode_glb(outcome.model, analysis)
-        with self._state_lock:
-            self._glb = (version, content)
-        return content
-
-    def scene(self) -> dict:
-        """Colours, forces and legend of the current model (see :mod:`shapegen.editor.scene`)."""
-        with self._state_lock:
-            version, outcome = self.model_version, self._outcome
-            if self._scene is not None and self._scene[0] == version:
-                return self._scene[1]
-        data = json_ready(scene_data(outcome.model, outcome.assessment))
-        data["model_version"] = version
-        with self._state_lock:
-            self._scene = (version, data)
-        return data
-
     def close(self) -> None:
-        """Stop the background scan."""
+        """Stop the background scan (and the measures that follow)."""
         self._cancel.set()
         if self._scanner is not None:
             self._scanner.stop()
+        if self._follower is not None:
+            self._follower.stop()
 
     # ------------------------------------------------------------------ internals
     def _design(self, attrs: dict, *, grammar=None, search=None, seed=None, lot=UNCHANGED):
@@ -351,6 +340,11 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
                 search=search,
                 assess=True,
                 progress=self._progress if search is not None else None,
+                # a change of the design on screen: what did not change is carried over
+                previous=self._outcome
+                if self._carry_over and grammar is self.grammar and search is None
+                else None,
+                measure_follows=self._follower is not None,
             )
         except RecursionError:
             raise RequestError("the derivation recursed too deeply", 422) from None
@@ -438,6 +432,14 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
             path=str(self.path) if self.path is not None else None,
         )
 
+    def _publish_completed(self, pending, completed) -> None:
+        """The measure of the design on screen has followed its verdict: a new model version."""
+        with self._state_lock:
+            if completed is None or self._outcome is not pending:
+                return
+            self._outcome = completed
+        self._changed(model=True)
+
     def _publish_scan(self, generation: int, name: str, result: dict) -> None:
         with self._state_lock:
             if generation != self._scan_generation:
@@ -462,10 +464,6 @@ def _read(path: Path | None) -> str | None:
     from shapegen.grammar.source_files import read_rule_file
 
     return read_rule_file(path)[0]  # as the grammar was read: a cp1252 file too
-
-
-def _analysis(outcome):
-    return outcome.assessment.block_analysis if outcome.assessment is not None else None
 
 
 def _error_json(exc: ShapegenError) -> dict:

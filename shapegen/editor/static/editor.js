@@ -858,7 +858,8 @@ function applyState(state) {
   if (v) {
     verdict.textContent = v.stands ? 'stands' : (state.grammar.structure === 'cable' ? 'cables too thick' : 'needs tension');
     verdict.className = `verdict ${v.stands ? 'stands' : 'fails'}`;
-    $('measure').textContent = `${v.measure_name} = ${number(v.measure)}`;
+    // a proven verdict whose measure follows (the next poll brings it)
+    $('measure').textContent = v.pending ? `${v.measure_name} follows…` : `${v.measure_name} = ${number(v.measure)}`;
     $('tension').textContent = v.max_tension === null || v.max_tension === undefined ? '' : `largest tension ${newtons(v.max_tension)}`;
   }
   const t = state.timings;
