@@ -16,8 +16,9 @@ Dask ``LocalCluster`` (``dask2``, ``--scheduler local:2``), without judging the 
 ``--analyze`` (PyPRT only generates). It prints per run: wall seconds and lots per second, CPU
 milliseconds per lot of all processes (parent and workers: user + system), of the parent alone
 (and of its part before the run: imports, the package and the lots read), and of the workers;
-and how many workers one parent can keep busy: the workers' CPU per lot over the parent's while
-it runs the lots (scheduling, merging, the tables and city.glb), and over all of the parent's.
+how many workers one parent can keep busy: the workers' CPU per lot over the parent's while it
+runs the lots (scheduling, merging, the tables and city.glb), and over all of the parent's; and
+the peak memory of the parent and of the largest worker process.
 
 PyPRT (CityEngine's runtime; the venv ``~/.cache/shapegen/prt-venv`` that
 benchmarks/bench_cga.py makes) generates the same footprints with the same package in one
@@ -71,6 +72,8 @@ print(json.dumps({
     "parent": cpu(resource.RUSAGE_SELF), "before": before,
     "workers": cpu(resource.RUSAGE_CHILDREN), "wall": time.perf_counter() - wall,
     "run_wall": run.seconds, "built": run.built, "failed": run.failed,
+    "parent_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    "worker_mib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024,
     "errors": sorted({(r["error"] or "")[:70] for r in run.records if r["status"] != "ok"})[:3],
 }))
 """
@@ -197,7 +200,8 @@ def main() -> None:
                 f" ({1000 * figures['before'] / count:.3f} before the run: imports, package,"
                 f" lots), workers {1000 * workers / count:.2f} ms; one parent keeps"
                 f" {busy_running:.0f} workers busy ({busy:.0f} counting its start and the lots'"
-                f" reading)"
+                f" reading); peak memory: parent {figures['parent_mib']:.0f} MiB, largest worker"
+                f" {figures['worker_mib']:.0f} MiB"
             )
             if figures["errors"]:
                 print(f"    errors: {figures['errors']}")
