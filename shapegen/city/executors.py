@@ -202,7 +202,8 @@ class LocalProcesses:
 
         if not batcher:
             return
-        workers = [_Worker(settings, store) for _ in range(self.workers)]
+        count = min(self.workers, len(batcher.pending))  # no more workers than lots
+        workers = [_Worker(settings, store) for _ in range(count)]
         deaths = 0  # of workers before their first lot, since the last answer
         try:
             for worker in workers:
