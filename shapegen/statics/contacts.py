@@ -148,18 +148,27 @@ def find_interfaces(model: Model, tol: Tolerances | None = None) -> list[Interfa
 
     order = np.lexsort((face_key, second, first))
     starts = np.concatenate([[0], np.cumsum(counts)])
-    frames: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
-    interfaces = []
-    for k in order:
-        n = normal[k]
-        key = n.tobytes()
-        if key not in frames:
-            frames[key] = tangent_frame(n)
-        t1, t2 = frames[key]
-        interfaces.append(
-            Interface(int(first[k]), int(second[k]), n, t1, t2, points[starts[k] : starts[k + 1]])
+    # One tangent frame per distinct normal (bit for bit), shared by its interfaces.
+    keys = np.ascontiguousarray(normal).view(np.dtype((np.void, 3 * normal.itemsize))).ravel()
+    _, representative, which = np.unique(keys, return_index=True, return_inverse=True)
+    frames = [tangent_frame(normal[i]) for i in representative.tolist()]
+    first, second, which = first[order], second[order], which.ravel()[order]
+    interfaces = [
+        Interface(a, b, normal[k], *frames[w], points[start:end])
+        for k, a, b, w, start, end in zip(
+            order.tolist(),
+            first.tolist(),
+            second.tolist(),
+            which.tolist(),
+            starts[order].tolist(),
+            starts[order + 1].tolist(),
+            strict=True,
         )
-    return _merge_split_contacts(interfaces, tol)
+    ]
+    run_start = np.flatnonzero(
+        np.concatenate([[True], (first[1:] != first[:-1]) | (second[1:] != second[:-1])])
+    )
+    return _merge_split_contacts(interfaces, tol, run_start)
 
 
 def _block_contacts(pack: PackedBlocks, fixed: np.ndarray, tol: Tolerances) -> tuple:
@@ -231,24 +240,23 @@ def _ground_contacts(pack: PackedBlocks, fixed: np.ndarray, ground: float, tol: 
     )
 
 
-def _merge_split_contacts(interfaces: list[Interface], tol: Tolerances) -> list[Interface]:
+def _merge_split_contacts(
+    interfaces: list[Interface], tol: Tolerances, run_start: np.ndarray
+) -> list[Interface]:
     """Join the pieces of one contact that a block with split coplanar faces produces.
 
     Two convex blocks touch in one convex polygon; when a block's face is given as several
     coplanar polygons (a triangulated mesh) the pieces arrive separately and their union is the
-    convex hull of their vertices.
+    convex hull of their vertices. ``run_start`` gives where each run of interfaces between the
+    same two blocks starts.
     """
+    if len(run_start) >= len(interfaces):  # one piece each (or none): nothing to join
+        return interfaces
+    bounds = [*run_start.tolist(), len(interfaces)]
     out: list[Interface] = []
-    k = 0
-    while k < len(interfaces):
-        run = k + 1
-        first, second = interfaces[k].first, interfaces[k].second
-        while run < len(interfaces) and (
-            interfaces[run].first == first and interfaces[run].second == second
-        ):
-            run += 1
-        pieces = interfaces[k:run]
-        k = run
+    for start, stop in zip(bounds[:-1], bounds[1:], strict=True):
+        pieces = interfaces[start:stop]
+        first, second = pieces[0].first, pieces[0].second
         normal = pieces[0].normal
         if len(pieces) == 1 or any(p.normal @ normal < tol.normal_cos for p in pieces):
             out.extend(pieces)
