@@ -21,6 +21,9 @@ from shapegen.cli.outputs import check_outputs, write_all
 from shapegen.limits import DEFAULT_LIMITS, current_limits, work_limits
 
 EXIT_OK = 0
+BYTES_PER_BLOCK = 4096
+"""File size allowed per block with --max-blocks: a brick as shapegen writes it (8 vertices,
+6 faces, indented) takes about 900 bytes."""
 
 
 def add_command(commands) -> None:
@@ -54,8 +57,8 @@ def add_command(commands) -> None:
         "--max-blocks",
         type=_block_count,
         metavar="N",
-        help=f"read a model of up to N blocks (default {DEFAULT_LIMITS.max_blocks}); the largest"
-        " file read grows in proportion",
+        help=f"read a model of up to N blocks (default {DEFAULT_LIMITS.max_blocks}) and a file"
+        f" of up to {BYTES_PER_BLOCK} bytes a block",
     )
     analyze.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     analyze.set_defaults(handler=run)
@@ -112,14 +115,13 @@ def _block_count(text: str) -> int:
 
 
 def _reading_limits(max_blocks: int | None):
-    """The work limits for reading the model: ``max_blocks`` blocks, and files as much larger
-    than the default size limit as the model is larger than the default block limit."""
+    """The work limits for reading the model: ``max_blocks`` blocks, and a file of up to
+    :data:`BYTES_PER_BLOCK` bytes a block (never less than the default size limit)."""
     limits = current_limits()
     if max_blocks is None:
         return work_limits(limits)
-    factor = max(1.0, max_blocks / limits.max_blocks)
     return work_limits(
         limits,
         max_blocks=max_blocks,
-        max_file_bytes=max(limits.max_file_bytes, int(limits.max_file_bytes * factor)),
+        max_file_bytes=max(limits.max_file_bytes, BYTES_PER_BLOCK * max_blocks),
     )
