@@ -106,7 +106,37 @@ class Model:
         raise GeometryError(f"no block named {block_id!r}")
 
     def validate(self) -> None:
-        """Raise a :class:`GeometryError` naming the first bad block, duplicate id or load."""
+        """Raise a :class:`GeometryError` naming the first bad block, duplicate id or load.
+
+        A model validated before and unchanged since (the same blocks with the same ids,
+        vertices, faces and densities, the same loads, gravity, ground and friction) is not
+        checked again: a model read from a file is validated when read and again before it is
+        judged.
+        """
+        state = self._validation_state()
+        if _same_state(self.__dict__.get("_validated"), state):
+            return
+        self._checks()
+        self.__dict__["_validated"] = state
+
+    def __getstate__(self) -> dict:
+        # The record of the last validation is a copy of every vertex: not worth pickling.
+        state = dict(self.__dict__)
+        state.pop("_validated", None)
+        return state
+
+    def _validation_state(self) -> tuple:
+        """What :meth:`validate` looks at, to tell whether it changed: the blocks, faces and
+        loads by identity and value, all vertices as one array (an in-place edit shows)."""
+        blocks = [(b, b.id, b.faces, b.density) for b in self.blocks]
+        vertices = (
+            np.concatenate([b.vertices for b in self.blocks]) if self.blocks else np.empty((0, 3))
+        )
+        loads = [(ld.block, ld.force.tobytes(), ld.point.tobytes()) for ld in self.loads]
+        scalars = (self.gravity.tobytes(), self.ground, self.friction)
+        return scalars, blocks, loads, vertices
+
+    def _checks(self) -> None:
         tol = self.tolerances()
         if not np.all(np.isfinite(self.gravity)):
             raise GeometryError("gravity must be finite numbers")
@@ -131,3 +161,10 @@ class Model:
                 raise GeometryError(f"a load names block {load.block!r}, which does not exist")
             if not (np.all(np.isfinite(load.force)) and np.all(np.isfinite(load.point))):
                 raise GeometryError(f"the load on block {load.block!r} must be finite numbers")
+
+
+def _same_state(before: tuple | None, now: tuple) -> bool:
+    """True when two :meth:`Model._validation_state` values are the same (NaN never is)."""
+    if before is None:
+        return False
+    return before[:3] == now[:3] and np.array_equal(before[3], now[3])
