@@ -164,9 +164,10 @@ def add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> No
     )
     parser.add_argument(
         "--pyramid",
-        choices=["4", "4r", "8", "cone"],
-        help=prefix + "friction pyramid: 4 sides, 4 rotated 45 degrees, 8 sides, or the exact"
-        " Coulomb cone, whose verdict does not turn with the model (default 4)",
+        choices=["cone", "4", "4r", "8"],
+        help=prefix + "friction model: the exact Coulomb cone, whose verdict does not turn with"
+        " the model (default), or a pyramid inside it as the papers use: 4 sides, 4 rotated 45"
+        " degrees, 8 sides",
     )
     parser.add_argument(
         "--kern",

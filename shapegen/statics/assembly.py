@@ -38,7 +38,7 @@ import scipy.sparse as sp
 from shapegen.errors import OptionError, StaticsError
 from shapegen.statics.interface import GROUND, Interface
 from shapegen.statics.loading import Loading, block_loading, load_vector, tilted, wrench
-from shapegen.statics.options import PYRAMIDS
+from shapegen.statics.options import DEFAULT_PYRAMID, PYRAMIDS
 
 OBJECTIVES = ("tension_squared", "tension_sum")
 
@@ -276,7 +276,7 @@ def assemble(
     interfaces: list[Interface],
     *,
     friction: float | None = None,
-    pyramid: str = "4",
+    pyramid: str = DEFAULT_PYRAMID,
     kern: float = 1.0,
     objective: str = "tension_squared",
     length: float | None = None,
@@ -297,7 +297,8 @@ def assemble(
     friction
         Coulomb coefficient mu (dimensionless); ``model.friction`` when None.
     pyramid
-        ``"4"``, ``"4r"``, ``"8"`` or ``"cone"`` (see :func:`friction_cone`).
+        ``"cone"`` (the default, :data:`~shapegen.statics.options.DEFAULT_PYRAMID`), ``"4"``,
+        ``"4r"`` or ``"8"`` (see :func:`friction_cone`).
     kern
         Every interface polygon is scaled about its centroid by this factor in (0, 1].
     objective

@@ -1,7 +1,7 @@
 """The settings of a block analysis, as one frozen object checked once.
 
 >>> StaticsOptions(friction=0.5, kern=1 / 3).pyramid
-'4'
+'cone'
 >>> StaticsOptions.from_mapping({"frcition": 0.5})  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
@@ -10,7 +10,7 @@ shapegen.errors.OptionError: unknown statics option 'frcition' (did you mean 'fr
 
 from __future__ import annotations
 
-__all__ = ["StaticsOptions", "SOLVERS", "AUTO_ORDER", "PYRAMIDS"]
+__all__ = ["StaticsOptions", "SOLVERS", "AUTO_ORDER", "PYRAMIDS", "DEFAULT_PYRAMID"]
 
 import dataclasses
 import difflib
@@ -24,11 +24,15 @@ from shapegen.statics.tilt import normalized_azimuth
 
 AUTO_ORDER = ("reduced", "clarabel")
 """``solver="auto"``: the fastest back-end first, the next if it fails (for the exact cone, only
-those that take cones: Clarabel)."""
+those that declare they take cones; every bundled one does)."""
 
 PYRAMIDS = ("4", "4r", "8", "cone")
 """Friction models: pyramids inscribed in the Coulomb cone (4, 4 turned by 45 degrees, 8 sides),
 or the exact cone (a second-order cone: the verdict does not turn with the model)."""
+DEFAULT_PYRAMID = "cone"
+"""The exact Coulomb cone: Coulomb's law itself, whose verdict does not depend on how the model
+is turned; the pyramids (the papers' linearisation, inside the cone and so on the safe side)
+stay options."""
 SOLVERS = ("auto", *BACKENDS)
 """Valid values of :attr:`StaticsOptions.solver`."""
 
@@ -42,16 +46,18 @@ class StaticsOptions:
     friction
         Coulomb coefficient mu of every joint (dimensionless, >= 0); None uses the model's own.
     pyramid
-        Friction model: ``"4"`` (|ft1|, |ft2| <= mu/sqrt(2) fn), ``"4r"`` (the same square
-        turned 45 degrees, |ft1| + |ft2| <= mu fn), ``"8"`` (octagon inscribed in the cone) or
-        ``"cone"`` (the exact Coulomb cone ||ft|| <= mu fn, a second-order cone: the verdict does
-        not depend on how the model is turned; solved by Clarabel or cvxpy, not ``reduced``).
+        Friction model: ``"cone"`` (the default: the exact Coulomb cone ||ft|| <= mu fn, a
+        second-order cone per joint vertex, so the verdict does not depend on how the model is
+        turned), or a pyramid inscribed in it as the papers linearise it: ``"4"`` (|ft1|,
+        |ft2| <= mu/sqrt(2) fn, Whiting et al. 2009), ``"4r"`` (the same square turned 45
+        degrees, |ft1| + |ft2| <= mu fn) or ``"8"`` (the octagon). A pyramid holds less
+        friction than the cone in most directions: a verdict with it is on the safe side.
     kern
         Every joint polygon is scaled about its centroid by this factor in (0, 1]: a geometric
         factor of safety (1/3: forces through the middle third of a rectangular joint).
     solver
-        QP back-end: ``"auto"`` (the reduced interior point method, Clarabel if it fails; Clarabel
-        alone for the cone), ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``.
+        QP back-end: ``"auto"`` (the reduced interior point method, Clarabel if it fails),
+        ``"reduced"``, ``"clarabel"`` or ``"cvxpy"``; each takes the cone and the pyramids.
     tilt
         Degrees in [0, 90): every load turned by this angle, the tilting-table test
         (:mod:`shapegen.statics.tilt`); 0 judges the model as it is loaded.
@@ -74,7 +80,7 @@ class StaticsOptions:
     """
 
     friction: float | None = None
-    pyramid: str = "4"
+    pyramid: str = DEFAULT_PYRAMID
     kern: float = 1.0
     solver: str = "auto"
     tilt: float = 0.0

@@ -53,7 +53,7 @@ def test_the_four_sided_pyramid_slides_at_its_own_friction_angle(friction):
     # its side faces the slope along x: friction mu / sqrt(2); towards 45 degrees a corner of
     # the square faces the slope, and the pyramid reaches the cone there: friction mu
     model = block(1.0, 0.2, friction=friction)
-    capacity = lateral_capacity(model, azimuths=[0.0, 45.0])
+    capacity = lateral_capacity(model, StaticsOptions(pyramid="4"), azimuths=[0.0, 45.0])
     along_side, along_corner = capacity.directions
     assert along_side.tilt == pytest.approx(degrees_of(friction / math.sqrt(2)), abs=HALF)
     assert along_corner.tilt == pytest.approx(degrees_of(friction), abs=HALF)

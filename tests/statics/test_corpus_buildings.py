@@ -2,9 +2,11 @@
 verdict and a lateral capacity, or, for a rule that models no solids, nothing to judge.
 
 The figures are closed forms where the building is one block or a few: a mass of the lot's
-10 x 10 m extruded 16.85 m slides before it tips, at atan(mu cos 45 deg) across a side of the
-default four-sided friction pyramid; candler's walls are faces, so what stands on the ground
-is its two door frames, 0.15 m deep and 4.3 m tall, which tip at atan(0.15 / 4.3).
+10 x 10 m extruded 16.85 m tips at atan(10 / 16.85) = 30.68 deg with the exact friction cone
+(the default: it would slide at atan(mu) = 34.99 deg), and slides before it tips with the
+four-sided pyramid, at atan(mu cos 45 deg) = 26.33 deg across one of its sides; candler's
+walls are faces, so what stands on the ground is its two door frames, 0.15 m deep and 4.3 m
+tall, which tip at atan(0.15 / 4.3).
 """
 
 from __future__ import annotations
@@ -16,15 +18,17 @@ import numpy as np
 import pytest
 
 from shapegen.pipeline import design, load
+from shapegen.statics import StaticsOptions
 
 CORPUS = Path(__file__).resolve().parents[1] / "data" / "cga-corpus"
 FRICTION = 0.7  # the model's default
 RESOLUTION = 0.05  # degrees: the capacity's
 
 
-def judged(package: str, rule: str, lot=(10.0, 10.0)):
+def judged(package: str, rule: str, lot=(10.0, 10.0), pyramid: str | None = None):
     grammar = load(str(CORPUS / package / "rules" / rule))
-    return design(grammar, lot=lot, assess=True, capacity=[])
+    statics = StaticsOptions(pyramid=pyramid) if pyramid else None
+    return design(grammar, lot=lot, assess=True, capacity=[], statics=statics)
 
 
 @pytest.mark.parametrize(
@@ -34,16 +38,19 @@ def judged(package: str, rule: str, lot=(10.0, 10.0)):
         ("examples_data_extrusion_rule__1c38c522", "extrusion_rule.cga"),
     ],
 )
-def test_an_extruded_mass_stands_and_slides_at_the_pyramids_angle(package, rule):
-    outcome = judged(package, rule)
+@pytest.mark.parametrize("pyramid", ["cone", "4"])
+def test_an_extruded_mass_tips_or_slides_at_its_closed_form(package, rule, pyramid):
+    outcome = judged(package, rule, pyramid=pyramid)
     analysis = outcome.report["analysis"]
     assert outcome.report["blocks"] == 1 and analysis["stands"]
     (block,) = outcome.model.blocks
     width, height = np.ptp(block.vertices[:, 0]), np.ptp(block.vertices[:, 1])
-    sliding = math.degrees(math.atan(FRICTION * math.cos(math.pi / 4)))
-    assert sliding < math.degrees(math.atan(width / height))  # it slides before it tips
-    capacity = analysis["capacity"]
-    assert capacity["tilt_deg"] == pytest.approx(sliding, abs=RESOLUTION)
+    tipping = math.degrees(math.atan(width / height))
+    # the cone holds mu c in every direction; the pyramid's side mu cos(45 deg) c across a side
+    capacity = {"cone": FRICTION, "4": FRICTION * math.cos(math.pi / 4)}[pyramid]
+    sliding = math.degrees(math.atan(capacity))
+    assert (sliding < tipping) == (pyramid == "4")  # the pyramid slides first, the cone tips
+    assert analysis["capacity"]["tilt_deg"] == pytest.approx(min(sliding, tipping), abs=RESOLUTION)
 
 
 def test_a_rule_of_faces_has_nothing_to_judge():

@@ -48,7 +48,7 @@ def test_a_margin_shrinks_the_kern():
     assert StaticsOptions(kern=0.5).shrunk(0.2).kern == pytest.approx(0.4)
     assert StaticsOptions().to_report() == {
         "friction": None,
-        "pyramid": "4",
+        "pyramid": "cone",
         "kern": 1.0,
         "solver": "auto",
         "tilt": 0.0,
