@@ -48,11 +48,13 @@ from shapegen.export.model_io import read_model
 from shapegen.structures import Design, make_structure
 import shapegen.statics.contacts, shapegen.statics.solvers.reduced  # noqa
 from shapegen.limits import work_limits
+from shapegen.statics.options import StaticsOptions
 imported = time.process_time()
 with work_limits(max_blocks=10**7, max_file_bytes=2**34):
     model = read_model(sys.argv[1])
 read = time.process_time()
-structure = make_structure(None, None)
+options = StaticsOptions(pyramid=sys.argv[2]) if len(sys.argv) > 2 else None
+structure = make_structure(None, options)
 assessment = structure.assess(Design.of_model(model))
 done = time.process_time()
 print(json.dumps({"imports": imported - start, "reading": read - imported,
@@ -138,6 +140,7 @@ def main() -> None:
     )
     parser.add_argument("--repeat", type=int, default=1, help="runs of each command (best kept)")
     parser.add_argument("--no-phases", action="store_true", help="skip the phase split")
+    parser.add_argument("--pyramid", help="friction model given to analyze (default: its own)")
     parser.add_argument("--peer-python", help="a Python with compas_cra, to measure it here")
     parser.add_argument("--keep", help="write the wall files to this folder and keep them")
     args = parser.parse_args()
@@ -151,7 +154,8 @@ def main() -> None:
     print(
         f"# {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, load"
         f" {os.getloadavg()[0]:.1f}; compas_cra on the ~{PEER_BLOCKS}-block wall: {peer:.1f} s"
-        f" CPU ({'measured now' if args.peer_python and peer != PEER_CPU_S else 'the goal figure'})"
+        f" CPU ({'measured now' if args.peer_python and peer != PEER_CPU_S else 'goal figure'});"
+        f" friction model: {args.pyramid or 'the default'}"
     )
     print(
         f"{'blocks':>7s} {'format':9s} | {'CPU s':>7s} {'wall s':>7s} {'peak MiB':>8s}"
@@ -165,7 +169,8 @@ def main() -> None:
             command = [python, "-m", "shapegen", "analyze", str(path), "-q"]
             report = folder / f"report-{size}-{name}.json"
             command += ["--max-blocks", str(max(blocks, 50_000)), "--report", str(report)]
-            runs = [run_child(command) for _ in range(args.repeat)]
+            friction = ["--pyramid", args.pyramid] if args.pyramid else []
+            runs = [run_child(command + friction) for _ in range(args.repeat)]
             best = min(runs, key=lambda r: r["cpu"])
             if best["status"] != 0:
                 print(f"{blocks:7d} {name:9s} | failed: {best['stderr'].strip()[-300:]}")
@@ -173,7 +178,7 @@ def main() -> None:
             stands = json.loads(report.read_text())["feasible"]
             phases = {}
             if not args.no_phases:
-                split = run_child([python, "-c", _PHASES, str(path)])
+                split = run_child([python, "-c", _PHASES, str(path), *friction[1:]])
                 lines = [x for x in split["stdout"].splitlines() if x.startswith("{")]
                 phases = json.loads(lines[-1]) if lines else {}
             ratio = peer / best["cpu"] if blocks <= 2 * PEER_BLOCKS else None
