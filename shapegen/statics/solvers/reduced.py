@@ -216,7 +216,9 @@ class ReducedBackend(Backend):
                 status = SolveStatus.INFEASIBLE
                 break
             try:
-                scaling = _soc.scaling(point.slack_q, point.dual_q) if cones else None
+                # a cone's point on its boundary (det 0) is a breakdown, not a warning
+                with np.errstate(divide="raise", invalid="raise"):
+                    scaling = _soc.scaling(point.slack_q, point.dual_q) if cones else None
                 hessian = kkt.factor(
                     point.dual_cut / point.slack_cut, point.dual_s / point.slack_s, scaling
                 )
