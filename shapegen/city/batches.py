@@ -30,6 +30,7 @@ from __future__ import annotations
 __all__ = [
     "BATCH_FORMAT",
     "batch_key",
+    "block_colors",
     "building_blocks",
     "read_batch_buildings",
     "read_building",
@@ -48,6 +49,7 @@ from shapegen.json_values import json_ready
 
 BATCH_FORMAT = "shapegen-city-batch"
 _MAGIC = b"SGBLOCKS"
+_FAILED = np.array([220, 30, 30, 255], dtype=np.uint8)  # a building that does not stand
 
 
 def batch_key(tasks: Sequence) -> str:
@@ -188,15 +190,30 @@ def building_blocks(arrays: dict[str, np.ndarray], index: int):
     return blocks
 
 
-def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
-    from shapegen.city.outputs import _block_colors
+def block_colors(model, *, stands: bool) -> np.ndarray:
+    """``(b, 4)`` RGBA bytes of a building's blocks in the city's scene and picture: each in its
+    label's colour (the design page's), all red when the building does not stand."""
+    from shapegen.export.colors import block_label_color, model_label_colors
 
+    if not stands:
+        return np.repeat(_FAILED[None], len(model.blocks), axis=0)
+    by_label = model_label_colors(model.blocks)  # each label its own, as the design page has
+    return np.array(
+        [
+            block_label_color(b.tags, fixed=b.fixed, structural=b.structural, colors=by_label)
+            for b in model.blocks
+        ],
+        dtype=np.uint8,
+    ).reshape(-1, 4)
+
+
+def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
     vertices, faces, face_sizes, rgba, flags = [], [], [], [], []
     block_counts, vertex_counts, face_counts = [], [], []
     for model, standing in zip(models, stands, strict=True):
         block_counts.append(len(model.blocks))
         if model.blocks:
-            rgba.append(_block_colors(model, stands=standing))
+            rgba.append(block_colors(model, stands=standing))
         for block in model.blocks:
             vertices.append(np.asarray(block.vertices, dtype=float))
             vertex_counts.append(len(block.vertices))

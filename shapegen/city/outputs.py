@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from shapegen.city.batches import block_colors as _block_colors  # noqa: F401 - the scene's
 from shapegen.export.atomic import atomic_write
 from shapegen.json_values import json_ready
 
@@ -54,7 +55,6 @@ COLUMNS = [
     "warnings",
     "error",
 ]
-_FAILED = np.array([220, 30, 30, 255], dtype=np.uint8)  # a building that does not stand
 
 
 def lot_key(lot_id: str) -> str:
@@ -172,21 +172,6 @@ class _Subset:
     def __init__(self, city, lots):
         self.lots, self.frame = lots, city.frame
         self.input_crs = getattr(city, "input_crs", None)
-
-
-def _block_colors(model, *, stands: bool) -> np.ndarray:
-    from shapegen.export.colors import block_label_color, model_label_colors
-
-    if not stands:
-        return np.repeat(_FAILED[None], len(model.blocks), axis=0)
-    by_label = model_label_colors(model.blocks)  # each label its own, as the design page has
-    return np.array(
-        [
-            block_label_color(b.tags, fixed=b.fixed, structural=b.structural, colors=by_label)
-            for b in model.blocks
-        ],
-        dtype=np.uint8,
-    ).reshape(-1, 4)
 
 
 def encode_city_picture(folder, records: list[dict], *, title: str = "", size_px=(1200, 800)):
