@@ -98,7 +98,9 @@ def test_the_parthenon_stands_on_its_stand_ins_with_a_lateral_capacity():
         >= stand_ins["by_reason"]["open shell, capped, on its convex hull"]
     )
     assert stand_ins["leaves"] > 0 and analysis["stands"]
-    # measured when the stand-ins came in: 9.80 deg towards 90 deg (along the lot's depth),
-    # the worst of 16 directions; the derivation may move it a little, not a degree
+    # measured when the stand-ins came in: 9.80 deg with the 4-sided pyramid, the default then;
+    # with the exact cone, the default now, 10.08 deg (a joint that slid at the pyramid's
+    # mu / sqrt 2 holds more: a capacity limited by sliding can only rise). The worst of 16
+    # directions; the derivation may move it a little, not a degree
     capacity = analysis["capacity"]
-    assert capacity["tilt_deg"] == pytest.approx(9.80, abs=0.25)
+    assert capacity["tilt_deg"] == pytest.approx(10.08, abs=0.25)
