@@ -43,10 +43,10 @@ from shapegen.statics.interface import Interface
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveRequest, SolveStatus, get_backend
 from shapegen.statics.standins import design_blocks, statics_model
+from shapegen.statics.tension import PHASE_ONE_STOP, proves_tension
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import ROUNDOFF_REL
 
-PHASE_ONE_STOP = 1e-3  # scaled sum of tensions (of W) above which phase one may stop early
 # estimated sum of tensions (of W) above which phase one may stop on its estimate; the QP then
 # confirms "does not stand" (y / W^2 above screen_rel), else phase one is run in full
 PHASE_ONE_SCREEN = 0.1
@@ -240,6 +240,7 @@ def analyze(
     check: bool = True,
     stood: Analysis | None = None,
     bodies=None,
+    expect_tension: bool = False,
     **settings: object,
 ) -> Analysis:
     """Check whether ``model`` stands under self-weight and its point loads.
@@ -263,6 +264,9 @@ def analyze(
     bodies
         The model's :class:`~shapegen.statics.bodies.Bodies` for these ``interfaces`` (found
         with :func:`~shapegen.statics.bodies.find_bodies` when None).
+    expect_tension
+        Solve the QP first (a search whose last design needed tension): phase one is only run
+        when the QP does not prove the tension (:func:`~shapegen.statics.tension.proves_tension`).
     settings
         Instead of ``options``, its fields by name: ``analyze(model, friction=0.5)``.
 
@@ -329,7 +333,13 @@ def analyze(
             screen=screen,
         )
 
-    phase_one, used = solve_phase_one(screen=True)
+    qp, qp_used = _solve(problem, order) if expect_tension else (None, None)  # the QP first
+    if qp is not None and proves_tension(qp):  # then the only solve
+        timings["solve"] = time.perf_counter() - start
+        y_norm = float(np.sum(qp.x[problem.n_vertices : 2 * problem.n_vertices] ** 2))
+        return _build_analysis(model, problem, qp, qp_used, False, y_norm, timings, worst)
+    qp = qp if qp is not None and qp.status.solved else None  # else judged from scratch below
+    phase_one, used = solve_phase_one(screen=qp is None)
     timings["solve"] = time.perf_counter() - start
     start = time.perf_counter()
     feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
@@ -356,13 +366,14 @@ def analyze(
         solution.multipliers = np.zeros_like(phase_one.multipliers)
     else:
         start = time.perf_counter()
-        # the QP starts from phase one's forces (same constraints) where the back-end can
-        solution, used = _solve(problem, order, warm_start=phase_one.x)
+        if qp is None:  # the QP starts from phase one's forces (same constraints) where it can
+            qp, qp_used = _solve(problem, order, warm_start=phase_one.x)
+        solution, used = qp, qp_used
         timings["solve"] += time.perf_counter() - start
         if solution.status.solved:
             m = problem.n_vertices
             y_norm = float(np.sum(solution.x[m : 2 * m] ** 2))
-            if phase_one.info.get("screened") and y_norm <= tol.screen_rel:
+            if phase_one.info.get("screened") and not proves_tension(solution, tol.screen_rel):
                 # phase one stopped on an estimate and the QP's tension is small: decide exactly
                 start = time.perf_counter()
                 phase_one, _ = solve_phase_one(screen=False)

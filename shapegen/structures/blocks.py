@@ -22,6 +22,10 @@ from shapegen.structures.base import Assessment, Design, Structure, StructureArg
 from shapegen.structures.registry import register_structure
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 
+# y / W^2 of the last design judged above which the next is judged QP first: five times what the
+# QP can prove (QP_PROOF_FACTOR * PHASE_ONE_STOP ** 2 = 2e-6), as a step rarely divides y by five
+EXPECT_TENSION_ABOVE = 1e-5
+
 
 @register_structure
 class BlockStatics(Structure):
@@ -49,6 +53,7 @@ class BlockStatics(Structure):
 
     options: StaticsOptions
     _stood: tuple[float, object] | None = None  # the last design that stood with a margin
+    _last: tuple[float, float] | None = None  # margin and measure of the last design judged
 
     def __init__(self, options: StaticsOptions | None = None):
         super().__init__(options)
@@ -75,11 +80,17 @@ class BlockStatics(Structure):
         if options.tilted and options.azimuth is None:
             analysis = self._towards_the_worst(model, options)
         else:
+            # A search moves in small steps: after a design that needed clear tension the next
+            # most likely needs some too, and the QP alone may prove it (expect_tension).
+            last = self._last
             analysis = analyze(
                 model,
                 options,
                 stood=stood[1] if stood is not None and stood[1].model is model else None,
-            )
+                expect_tension=last is not None and last[0] == margin
+                and last[1] >= EXPECT_TENSION_ABOVE,
+            )  # fmt: skip
+            self._last = (margin, float(analysis.infeasibility_normalized))
         if analysis.feasible and margin > 0:
             # A search judges with a reserve and reports without one: the forces that stand
             # with the reserve certify the design without another solve.
