@@ -16,7 +16,15 @@ along the boundary.
 
 from __future__ import annotations
 
-__all__ = ["Search", "FIRST_STEP", "POWELL_XTOL", "POWELL_FTOL", "SLSQP_FTOL", "UNJUDGED_WALL"]
+__all__ = [
+    "Search",
+    "FIRST_STEP",
+    "MAX_FIRST_STEP",
+    "POWELL_XTOL",
+    "POWELL_FTOL",
+    "SLSQP_FTOL",
+    "UNJUDGED_WALL",
+]
 
 import math
 import time
@@ -28,7 +36,10 @@ from shapegen.search.evaluator import Evaluation, Evaluator
 from shapegen.search.result import IterationRecord
 
 FIRST_STEP = 0.1
-"""Length of the SQP's first step, as a fraction of the parameter ranges."""
+"""Shortest first step of the SQP, as a fraction of the parameter ranges (its largest move)."""
+
+MAX_FIRST_STEP = 0.5
+"""Longest first step of the SQP, as a fraction of the parameter ranges (its largest move)."""
 
 POWELL_XTOL = 1e-4
 """Powell's tolerance on the parameters, as a fraction of their ranges."""
@@ -191,13 +202,22 @@ class Search:
 
     def _scale(self, first: Evaluation) -> float:
         """Divides sqrt(measure) so that SLSQP's first step (the plain gradient: SLSQP starts
-        with the identity Hessian) moves FIRST_STEP of the ranges, not straight into a corner."""
+        with the identity Hessian) goes to where the linearised sqrt(measure) vanishes, moving
+        no parameter less than FIRST_STEP nor more than MAX_FIRST_STEP of its range (not
+        straight into a corner). sqrt(measure) bends upwards towards the standing region, so
+        this step still falls short; a fixed FIRST_STEP took one or two more iterations, each
+        an analysis and a gradient."""
         if not (first.ok and first.infeasibility > 0):
             return 1.0
-        scale = math.sqrt(first.infeasibility)
+        root = math.sqrt(first.infeasibility)
+        scale = root
         if self.gradient_method != "none":
             slope0 = self._root_slope(first) * self.span
-            scale = max(float(np.abs(slope0).max()) / FIRST_STEP, scale)
+            largest = float(np.abs(slope0).max())
+            if largest > 0:
+                to_zero = root * largest / float(slope0 @ slope0)  # largest move of that step
+                step = min(max(to_zero, FIRST_STEP), MAX_FIRST_STEP)
+                scale = max(largest / step, scale)
         return scale
 
     def _root_slope(self, evaluation: Evaluation) -> np.ndarray:
