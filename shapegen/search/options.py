@@ -53,7 +53,9 @@ class SearchOptions:
         Iterations per start.
     margin
         Reserve in [0, 1) the designs are judged with (default
-        :data:`~shapegen.search.DEFAULT_MARGIN`); 0 stops on the boundary, as the papers do.
+        :data:`~shapegen.search.DEFAULT_MARGIN`; for block statics every joint shrunk and the
+        friction lowered to ``1 - margin``, :func:`~shapegen.statics.reserve.with_reserve`); 0
+        stops on the boundary, as the papers do.
     multistart
         Extra random starts within the bounds, seeded by the derivation's seed.
     """
@@ -84,10 +86,11 @@ class SearchOptions:
     margin: float = _option(
         DEFAULT_MARGIN,
         "safety margin, 0 to 1: search for a design that still stands with every joint shrunk"
-        " to 1 - M of its size (block statics) or with the cable diameter limit lowered to"
-        " 1 - M of itself (cables), a reserve for what the statics does not model (a design on"
-        " the boundary falls in the simulator); 0 stops on the feasibility boundary, as the"
-        " papers do",
+        " to 1 - M of its size and the friction coefficient lowered to 1 - M of itself (block"
+        " statics: a reserve against hinging and against sliding) or with the cable diameter"
+        " limit lowered to 1 - M of itself (cables), a reserve for what the statics does not"
+        " model (a design on the boundary falls in the simulator); 0 stops on the feasibility"
+        " boundary, as the papers do",
         "fraction",
     )
     multistart: int = _option(

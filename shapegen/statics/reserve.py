@@ -1,22 +1,52 @@
-"""Forces that stand with a reserve, moved to the full joints: a certificate without a solve.
+"""The reserve a design is judged with, and the forces that stood with it moved to the full joints.
 
-A margin shrinks every joint polygon about its area centroid (the kern). A shrunk vertex
+A reserve (a margin ``M`` in [0, 1)) is kept against both ways a joint fails
+(:func:`with_reserve`): every joint polygon is shrunk about its area centroid to ``1 - M`` of its
+size (the kern: against hinging, the resultant stays inside a smaller polygon), and the friction
+coefficient is lowered to ``1 - M`` of itself (against sliding: the joint shrinking leaves the
+friction a joint can hold unchanged, so a design that stands with a reserve could still stand
+on the edge of sliding). A design that stands with a reserve stands without one.
+
+Forces that stand with a reserve certify the design without it, without a solve
+(:func:`widened_forces`). A shrunk vertex
 ``p' = c + r (p - c)`` (``r`` the ratio of the two kerns, at most 1) is a convex combination of
 the wider polygon's vertices, ``p' = r p + (1 - r) c`` with the centroid itself a convex
 combination of the vertices (fan triangles: each triangle's area over three to each of its
 corners). A force at ``p'`` spread over the vertices with those weights keeps its resultant and
 its moment, and since every vertex of a joint shares the joint's frame, compression stays
-compression and friction stays inside the pyramid (or the cone). So a design that stands with a
-margin stands without it, and the forces that showed it are moved, not solved for again.
+compression and friction stays inside the pyramid (or the cone), which only widens with the
+full friction coefficient. So the forces that showed the design standing with the reserve
+are moved, not solved for again.
 """
 
 from __future__ import annotations
 
-__all__ = ["widened_forces"]
+__all__ = ["widened_forces", "with_reserve"]
+
+import dataclasses
 
 import numpy as np
 
+from shapegen.errors import OptionError
 from shapegen.statics.assembly import StaticsProblem
+from shapegen.statics.options import StaticsOptions
+
+
+def with_reserve(options: StaticsOptions, margin: float, friction: float) -> StaticsOptions:
+    """``options`` judging with a reserve ``margin`` in [0, 1): every joint shrunk to ``1 -
+    margin`` of the kern and the friction coefficient (``options.friction``, else the model's
+    ``friction``) lowered to ``1 - margin`` of itself.
+
+    >>> reserved = with_reserve(StaticsOptions(), 0.1, friction=0.7)
+    >>> round(reserved.kern, 3), round(reserved.friction, 3)
+    (0.9, 0.63)
+    """
+    if not 0 <= margin < 1:
+        raise OptionError(f"margin must be a number in [0, 1); got {margin!r}")
+    if margin == 0:
+        return options
+    mu = options.friction if options.friction is not None else friction
+    return dataclasses.replace(options.shrunk(margin), friction=(1.0 - margin) * float(mu))
 
 
 def widened_forces(
@@ -25,14 +55,15 @@ def widened_forces(
     """The variables ``x`` of ``narrow`` (scaled ``[c, s, u, t]``) moved to ``wide``'s vertices.
 
     Both problems must come from the same model and interfaces with ``narrow.kern <=
-    wide.kern`` (same vertices in the same order); otherwise None.
+    wide.kern`` and ``narrow.friction <= wide.friction`` (same vertices in the same order, the
+    same pyramid or cone); otherwise None.
     """
     m = wide.n_vertices
     if (
         narrow.n_vertices != m
         or narrow.kern > wide.kern
         or narrow.pyramid != wide.pyramid
-        or narrow.friction != wide.friction
+        or narrow.friction > wide.friction
         or not np.array_equal(narrow.vertex_interface, wide.vertex_interface)
         or narrow.weight != wide.weight
     ):

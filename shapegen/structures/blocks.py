@@ -60,10 +60,11 @@ class BlockStatics(Structure):
         # azimuths (degrees) in which designs judged so far fell at the tilt of the options
         self._directions: list[float] = []
 
-    def _options(self, margin: float, design: Design | None = None) -> StaticsOptions:
-        options = self.options.shrunk(margin) if margin > 0 else self.options
-        if design is None:
-            return options
+    def _options(self, margin: float, design: Design) -> StaticsOptions:
+        from shapegen.statics.reserve import with_reserve
+
+        # the reserve: joints shrunk and friction lowered (statics/reserve.py)
+        options = with_reserve(self.options, margin, design.model.friction)
         # the structure the rule selects (@Structure's structural, ignore), unless the
         # command line selects one
         arguments = self.checked_arguments(design.arguments)
