@@ -223,7 +223,7 @@ def test_the_inspector_honours_the_cga_annotations(browser, tmp_path):
         assert not page.problems, page.problems
 
 
-def test_the_barrel_vault_stands_at_60_degrees_and_needs_tension_at_85(browser, tmp_path):
+def test_the_barrel_vault_stands_at_60_degrees_and_needs_tension_at_90(browser, tmp_path):
     # the pictures at the top of docs/editor.md
     good = (RULES / "barrel_vault.grammar").read_text(encoding="utf-8")
     grammar = tmp_path / "barrel_vault.grammar"
@@ -237,7 +237,7 @@ def test_the_barrel_vault_stands_at_60_degrees_and_needs_tension_at_85(browser, 
         page.check("#show-ground")
         page_steps.settle(page)
         page_steps.screenshot(page, "editor_barrel_vault", tmp_path)
-        page_steps.drag_slider(page, "angle", 85)
+        page_steps.drag_slider(page, "angle", 90)  # the exact cone: stands up to about 87
         page_steps.wait_for_verdict(page, "needs tension")
         page.check("#colour-tension")
         page.check("#show-joints")
