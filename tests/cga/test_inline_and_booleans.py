@@ -50,7 +50,7 @@ def test_the_shape_after_inline_is_what_was_derived():
 def test_one_inlined_shape_is_taken_as_it_is():
     reports = _reports(
         "attr h = 1\n"
-        "Lot --> extrude(3) inline Half report(\"sx\", scope.sx) report(\"h\", h) X.\n"
+        'Lot --> extrude(3) inline Half report("sx", scope.sx) report("h", h) X.\n'
         "Half --> s('0.5, '1, '1) set(h, 2) Done."
     )
     assert reports == {"sx": 6.0, "h": 2.0}
