@@ -39,6 +39,7 @@ from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.bodies import contacts_and_bodies
+from shapegen.statics.compression_only import compression_only
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveRequest, SolveStatus, get_backend
@@ -182,21 +183,8 @@ def certify(problem: StaticsProblem, x: np.ndarray) -> float:
     forces divided by ``W`` and torques by ``W L`` (dimensionless); the assembly is certified to
     stand when it is at most ``tolerances.feasible_rel``.
     """
-    m = problem.n_vertices
-    c, _, u, t = x.reshape(4, m)
-    c = np.maximum(c, 0.0)
-    if problem.second_order:
-        capacity = problem.friction * c
-        demand = np.hypot(u, t)
-    else:
-        sides = problem.cone[:-1]
-        capacity = -sides[0, 0] * c  # mu cos(pi/K) c, the same for every side
-        demand = np.max(np.outer(u, sides[:, 1]) + np.outer(t, sides[:, 2]), axis=1) if m else c
-    with np.errstate(divide="ignore", invalid="ignore"):
-        shrink = np.where(demand > capacity, capacity / np.where(demand > 0, demand, 1.0), 1.0)
-    shrink = np.clip(shrink, 0.0, 1.0)
-    compression_only = np.concatenate([c, np.zeros(m), u * shrink, t * shrink])
-    residual = problem.residual(compression_only)
+    forces, _, _ = compression_only(problem, x)
+    residual = problem.residual(forces)
     return float(np.abs(residual).max()) if residual.size else 0.0
 
 

@@ -20,6 +20,7 @@ __all__ = ["carried_certificate", "carried_tension_proof"]
 
 import numpy as np
 
+from shapegen.statics.compression_only import compression_only
 from shapegen.statics.interface import Interface
 from shapegen.tolerances import Tolerances
 
@@ -112,28 +113,6 @@ def _frames(interfaces: list[Interface]) -> np.ndarray:
     return np.array([(f.normal, f.tangent1, f.tangent2) for f in interfaces], dtype=float)
 
 
-def _into_cone(problem, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``x`` with tensions dropped, compressions clipped and friction shrunk radially into the
-    pyramid or the cone (as :func:`~shapegen.statics.analysis.certify` does); and each vertex's
-    compression and friction reserve (the correction's slacks)."""
-    m = problem.n_vertices
-    c, _, u, t = x.reshape(4, m)
-    c = np.maximum(c, 0.0)
-    if problem.second_order:
-        capacity = problem.friction * c
-        demand = np.hypot(u, t)
-    else:
-        sides = problem.cone[:-1]
-        capacity = -sides[0, 0] * c
-        demand = np.max(np.outer(u, sides[:, 1]) + np.outer(t, sides[:, 2]), axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        shrink = np.where(demand > capacity, capacity / np.where(demand > 0, demand, 1.0), 1.0)
-    shrink = np.clip(shrink, 0.0, 1.0)
-    u, t = u * shrink, t * shrink
-    reserve = np.maximum(capacity - demand * shrink, 0.0)
-    return np.concatenate([c, np.zeros(m), u, t]), c, reserve
-
-
 def carried_certificate(problem, previous, correspondence: np.ndarray, tol: Tolerances):
     """Compression-only forces that hold ``problem`` in equilibrium, found from ``previous``'s
     (an :class:`~shapegen.statics.analysis.Analysis` that stands), or None.
@@ -155,7 +134,7 @@ def carried_certificate(problem, previous, correspondence: np.ndarray, tol: Tole
     equations = None
     try:
         for _ in range(CORRECTION_STEPS + 1):
-            x, c, reserve = _into_cone(problem, x)
+            x, c, reserve = compression_only(problem, x)
             if certify(problem, x) <= tol.feasible_rel:
                 return x
             if equations is None:
