@@ -39,8 +39,9 @@ def add_command(commands) -> None:
         help="build and judge one rule on every lot of a city (GeoJSON or OSM buildings)",
         description=(
             "Derive RULE on every polygon of LOTS, judge (and with --optimize tune) each"
-            " building, and write a results table (CSV and GeoJSON) and the city as glTF to"
-            " OUTDIR. A lot's properties set the rule's attrs of the same names. Lots run on"
+            " building, and write a results table (CSV, GeoJSON and GeoParquet) and the city"
+            " as glTF to OUTDIR. A lot's properties set the rule's attrs of the same names."
+            " Lots run on"
             " this machine's cores, or on a Dask cluster with --scheduler, in batches whose"
             " workers write their lots' results into OUTDIR (a folder or a URL); a rerun into"
             " the same OUTDIR skips the lots done."
