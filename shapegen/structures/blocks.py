@@ -96,16 +96,7 @@ class BlockStatics(Structure):
             # A search judges with a reserve and reports without one: the forces that stand
             # with the reserve certify the design without another solve.
             self._stood = (margin, analysis)
-        return Assessment(
-            structure=self.name,
-            stands=bool(analysis.feasible),
-            measure=float(analysis.infeasibility_normalized),
-            status=analysis.status.value,
-            section=analysis.to_report(),
-            detail=analysis,
-            margin=float(margin),
-            block_analysis=analysis,
-        )
+        return _block_assessment(analysis, margin=float(margin))
 
     def reassess(
         self, design: Design, previous: Assessment | None, *, measure_follows: bool = False
@@ -186,6 +177,11 @@ def _incremental_assessment(analysis) -> Assessment:
     """The assessment (without a margin) of an analysis of ``reanalyze``, pending or not."""
     from shapegen.statics.incremental import pending
 
+    return _block_assessment(analysis, pending=pending(analysis))
+
+
+def _block_assessment(analysis, **extra) -> Assessment:
+    """The assessment of a block analysis: its verdict, measure, status and report."""
     return Assessment(
         structure=BlockStatics.name,
         stands=bool(analysis.feasible),
@@ -194,5 +190,5 @@ def _incremental_assessment(analysis) -> Assessment:
         section=analysis.to_report(),
         detail=analysis,
         block_analysis=analysis,
-        pending=pending(analysis),
+        **extra,
     )
