@@ -44,6 +44,7 @@ from shapegen.search import Evaluator, FreeParameter
 SCAN_POINTS = 13  # samples over the range, ends included
 REFINE_STEPS = 5  # bisections of each verdict change: resolution = range / 12 / 32
 PAUSE_S = 0.3  # the design must stay unchanged this long before a scan starts
+STOP_WAIT_S = 2.0  # how long the editor waits for the scanning process to end, asked then killed
 
 
 class Stale(Exception):
@@ -174,18 +175,25 @@ class StabilityScanner:
         self._send({"job": dataclasses.asdict(job)})
 
     def stop(self) -> None:
-        self.idle.set()
+        """End the scanning process: asked first, then killed. It keeps nothing worth saving,
+        so a process slow to go (a loaded machine, a long evaluation at low priority) is not
+        waited for long, and one the system has not reaped yet is left to it: the editor's
+        own exit never fails on it."""
+        self.idle.stop_signalling()
         self._send({"stop": True})
         try:
             self._process.stdin.close()
         except OSError:
             pass
-        try:
-            self._process.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            self._process.kill()
-            self._process.wait(timeout=5)
-        self._reader.join(timeout=5)
+        for ask in (None, self._process.kill):
+            if ask is not None:
+                ask()
+            try:
+                self._process.wait(timeout=STOP_WAIT_S)
+                break
+            except subprocess.TimeoutExpired:
+                continue
+        self._reader.join(timeout=STOP_WAIT_S)
 
     def _send(self, message: dict) -> None:
         line = json.dumps(message, allow_nan=False) + "\n"
@@ -217,6 +225,7 @@ class _RemoteFlag:
         self._send = send
         self._pid = pid
         self._set = True
+        self._stopping = False
 
     def _signal(self, name: str) -> None:
         number = getattr(signal, name, None)
@@ -234,7 +243,13 @@ class _RemoteFlag:
     def clear(self) -> None:
         self._set = False
         self._send({"idle": False})
-        self._signal("SIGSTOP")
+        if not self._stopping:
+            self._signal("SIGSTOP")
+
+    def stop_signalling(self) -> None:
+        """Let the process run to its end: it is continued, and no later change stops it."""
+        self._stopping = True
+        self.set()
 
     def is_set(self) -> bool:
         return self._set

@@ -113,3 +113,24 @@ def test_samples_are_sorted_and_cover_the_range():
     result = stable_intervals(window((0.25, 0.75)), 0.0, 1.0)
     xs = np.array([x for x, _ in result["samples"]])
     assert np.all(np.diff(xs) > 0) and xs[0] == 0.0 and xs[-1] == 1.0
+
+
+def test_stopping_ends_a_held_process_and_one_that_does_not_answer(monkeypatch):
+    import shapegen.editor.stability as stability
+
+    # held: a change under way has stopped the process (SIGSTOP); stop() continues and ends it
+    scanner = StabilityScanner(lambda g, n, r: None, pause=0.0)
+    scanner.idle.clear()
+    scanner.stop()
+    assert scanner._process.poll() is not None
+    scanner.idle.clear()  # a change computed after the stop signals nothing (the pid is gone)
+
+    # deaf: it never hears the stop (its input stays open), so it is killed after the wait
+    monkeypatch.setattr(stability, "STOP_WAIT_S", 0.5)
+    scanner = StabilityScanner(lambda g, n, r: None, pause=0.0)
+    monkeypatch.setattr(scanner, "_send", lambda message: None)
+    monkeypatch.setattr(scanner._process.stdin, "close", lambda: None)
+    started = time.monotonic()
+    scanner.stop()
+    assert scanner._process.poll() == -9  # SIGKILL
+    assert time.monotonic() - started < 5
