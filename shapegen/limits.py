@@ -24,7 +24,14 @@ shapegen.errors.GrammarError: ...
 
 from __future__ import annotations
 
-__all__ = ["DEFAULT_LIMITS", "WorkLimits", "current_limits", "limit_hint", "work_limits"]
+__all__ = [
+    "DEFAULT_LIMITS",
+    "WorkLimits",
+    "current_limits",
+    "limit_hint",
+    "raised_with",
+    "work_limits",
+]
 
 import contextvars
 import math
@@ -140,8 +147,26 @@ def work_limits(limits: WorkLimits | None = None, /, **changes) -> Iterator[Work
         _CURRENT.reset(token)
 
 
+_RAISED_WITH: contextvars.ContextVar[tuple[tuple[str, str], ...]] = contextvars.ContextVar(
+    "shapegen_limits_raised_with", default=()
+)
+
+
+@contextmanager
+def raised_with(**options: str) -> Iterator[None]:
+    """Within this block, a message about limit ``name`` tells how to raise it with
+    ``options[name]`` (a command's option, e.g. ``max_blocks="--max-blocks N"``) instead of
+    :func:`work_limits`, which a command-line user cannot call."""
+    token = _RAISED_WITH.set(tuple({**dict(_RAISED_WITH.get()), **options}.items()))
+    try:
+        yield
+    finally:
+        _RAISED_WITH.reset(token)
+
+
 def limit_hint(name: str, limits: WorkLimits | None = None) -> str:
     """``(limit max_blocks = 50000; raise it with shapegen.limits.work_limits(max_blocks=...))``:
-    the end of every message about a limit reached."""
+    the end of every message about a limit reached (or the option :func:`raised_with` names)."""
     value = getattr(limits or current_limits(), name)
-    return f"(limit {name} = {value}; raise it with shapegen.limits.work_limits({name}=...))"
+    how = dict(_RAISED_WITH.get()).get(name) or f"shapegen.limits.work_limits({name}=...)"
+    return f"(limit {name} = {value}; raise it with {how})"

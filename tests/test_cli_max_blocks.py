@@ -33,6 +33,25 @@ def test_a_model_over_the_given_limit_is_refused_in_one_line(tmp_path, capsys):
     assert main(["analyze", str(model), "--max-blocks", "2"]) == 2
     error = capsys.readouterr().err.strip()
     assert "3 blocks, more than 2" in error and "\n" not in error
+    # the way to raise it is the command's own option, not a library call
+    assert "raise it with --max-blocks N" in error and "work_limits" not in error
+
+
+def test_any_file_of_as_many_blocks_as_allowed_is_read_at_the_default(tmp_path, capsys):
+    from shapegen.cli.analyze import BYTES_PER_BLOCK
+    from shapegen.limits import work_limits
+
+    model = _tower(tmp_path / "tower.json", 3)
+    size = model.stat().st_size
+    # a file-size limit under this small file: the block limit allows BYTES_PER_BLOCK a block
+    with work_limits(max_blocks=5, max_file_bytes=size // 2):
+        assert main(["analyze", str(model), "-q"]) == 0
+        # padded past 5 x BYTES_PER_BLOCK, it is refused with the option that raises it
+        model.write_text(model.read_text() + " " * (5 * BYTES_PER_BLOCK))
+        assert main(["analyze", str(model)]) == 2
+    error = capsys.readouterr().err.strip()
+    assert f"bytes, more than {5 * BYTES_PER_BLOCK}" in error, error
+    assert "--max-blocks N" in error and "\n" not in error
 
 
 @pytest.mark.parametrize("value", ["0", "-5", "many", "2.5"])

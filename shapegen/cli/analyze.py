@@ -6,6 +6,7 @@ from __future__ import annotations
 __all__ = ["add_command", "run"]
 
 import argparse
+from contextlib import contextmanager
 from pathlib import Path
 
 from shapegen.cli.display import print_analysis
@@ -18,7 +19,7 @@ from shapegen.cli.options import (
     statics_options,
 )
 from shapegen.cli.outputs import check_outputs, write_all
-from shapegen.limits import DEFAULT_LIMITS, current_limits, work_limits
+from shapegen.limits import DEFAULT_LIMITS, current_limits, raised_with, work_limits
 
 EXIT_OK = 0
 BYTES_PER_BLOCK = 4096
@@ -114,14 +115,19 @@ def _block_count(text: str) -> int:
     return value
 
 
+@contextmanager
 def _reading_limits(max_blocks: int | None):
-    """The work limits for reading the model: ``max_blocks`` blocks, and a file of up to
-    :data:`BYTES_PER_BLOCK` bytes a block (never less than the default size limit)."""
+    """The work limits for reading the model: ``max_blocks`` blocks (default: the limit in
+    force), and a file of up to :data:`BYTES_PER_BLOCK` bytes a block (never less than the size
+    limit in force), so that any file of as many blocks as allowed can be read; a message about
+    either limit names ``--max-blocks``."""
     limits = current_limits()
-    if max_blocks is None:
-        return work_limits(limits)
-    return work_limits(
-        limits,
-        max_blocks=max_blocks,
-        max_file_bytes=max(limits.max_file_bytes, BYTES_PER_BLOCK * max_blocks),
-    )
+    blocks = limits.max_blocks if max_blocks is None else max_blocks
+    file_bytes = max(limits.max_file_bytes, BYTES_PER_BLOCK * blocks)
+    option = "--max-blocks N"
+    per_block = f"{option} ({BYTES_PER_BLOCK} bytes a block)"
+    with (
+        work_limits(limits, max_blocks=blocks, max_file_bytes=file_bytes),
+        raised_with(max_blocks=option, max_file_bytes=per_block),
+    ):
+        yield
