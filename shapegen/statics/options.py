@@ -19,7 +19,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from shapegen.errors import OptionError
-from shapegen.statics.solvers import BACKENDS, cone_refusal
+from shapegen.statics.solvers import BACKENDS, cone_refusal, takes_cones
 from shapegen.statics.tilt import normalized_azimuth
 
 AUTO_ORDER = ("reduced", "clarabel")
@@ -139,7 +139,7 @@ class StaticsOptions:
         friction model."""
         names = AUTO_ORDER if self.solver == "auto" else (self.solver,)
         if self.pyramid == "cone":
-            names = tuple(name for name in names if BACKENDS[name].second_order_cones)
+            names = tuple(name for name in names if takes_cones(name))
         return names
 
     def shrunk(self, margin: float) -> StaticsOptions:

@@ -1,6 +1,8 @@
 """The back-end contract: each back-end declares what it honours of a solve request, and the
 exact cone is refused in one wording."""
 
+import subprocess
+import sys
 from dataclasses import fields
 
 import numpy as np
@@ -31,9 +33,32 @@ def test_the_reduced_backend_honours_every_shortcut():
 
 
 def test_the_cone_refusal_has_one_wording(monkeypatch):
+    import shapegen.statics.solvers as solvers
+
     # every bundled back-end takes cones: a back-end of linear rows only is one that says not
-    monkeypatch.setattr(BACKENDS["reduced"], "second_order_cones", False)
+    module, cls, _ = solvers._CLASSES["reduced"]
+    monkeypatch.setitem(solvers._CLASSES, "reduced", (module, cls, False))
     with pytest.raises(OptionError) as refused:
         StaticsOptions(pyramid="cone", solver="reduced")
     assert str(refused.value) == cone_refusal("reduced")
     assert cone_refusal("reduced").endswith("needs solver auto, clarabel or cvxpy")
+
+
+@pytest.mark.parametrize("name", list(BACKENDS))
+def test_the_registry_says_what_each_backend_takes(name):
+    from shapegen.statics.solvers import takes_cones
+
+    assert takes_cones(name) == BACKENDS[name].second_order_cones
+
+
+def test_checking_options_loads_no_solver():
+    # the default options (the exact cone) are checked without importing a back-end, whose
+    # scipy.sparse.linalg costs a plain build 0.2-0.4 s of start-up
+    code = (
+        "import sys; from shapegen.statics.options import StaticsOptions; StaticsOptions();"
+        " StaticsOptions(pyramid='cone', solver='reduced');"
+        " print(sorted(m for m in sys.modules if m.startswith('shapegen.statics.solvers.')"
+        " and m != 'shapegen.statics.solvers.base'))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]", done.stdout

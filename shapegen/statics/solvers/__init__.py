@@ -15,6 +15,7 @@ __all__ = [
     "SolveStatus",
     "cone_refusal",
     "get_backend",
+    "takes_cones",
 ]
 
 import importlib
@@ -23,10 +24,10 @@ from collections.abc import Iterator, Mapping
 from shapegen.errors import OptionError
 from shapegen.statics.solvers.base import Backend, Solution, SolveRequest, SolveStatus
 
-_CLASSES = {
-    "reduced": ("shapegen.statics.solvers.reduced", "ReducedBackend"),
-    "clarabel": ("shapegen.statics.solvers.clarabel_direct", "ClarabelBackend"),
-    "cvxpy": ("shapegen.statics.solvers.cvxpy_reference", "CvxpyBackend"),
+_CLASSES = {  # name: (module, class, whether it takes second-order cones)
+    "reduced": ("shapegen.statics.solvers.reduced", "ReducedBackend", True),
+    "clarabel": ("shapegen.statics.solvers.clarabel_direct", "ClarabelBackend", True),
+    "cvxpy": ("shapegen.statics.solvers.cvxpy_reference", "CvxpyBackend", True),
 }
 
 
@@ -35,7 +36,7 @@ class _Backends(Mapping):
     when its class is first asked for, so naming and checking options loads no solver."""
 
     def __getitem__(self, name: str) -> type[Backend]:
-        module, cls = _CLASSES[name]
+        module, cls, _ = _CLASSES[name]
         return getattr(importlib.import_module(module), cls)
 
     def __iter__(self) -> Iterator[str]:
@@ -55,10 +56,17 @@ def get_backend(name: str) -> Backend:
     return BACKENDS[name]()
 
 
+def takes_cones(name: str) -> bool:
+    """Whether back-end ``name`` solves the exact Coulomb cone, known without importing it (the
+    class's :attr:`~Backend.second_order_cones` says the same; a test holds them equal), so
+    checking options loads no solver."""
+    return _CLASSES[name][2]
+
+
 def cone_refusal(solver: str) -> str:
     """Why ``solver`` cannot take pyramid 'cone', naming the solvers that can (one wording, for
     the options' check and the back-end's own)."""
-    able = ["auto", *(name for name in BACKENDS if BACKENDS[name].second_order_cones)]
+    able = ["auto", *(name for name in BACKENDS if takes_cones(name))]
     return (
         f"solver {solver!r} takes only the friction pyramids (4, 4r, 8); pyramid 'cone' needs"
         f" solver {', '.join(able[:-1])} or {able[-1]}"
