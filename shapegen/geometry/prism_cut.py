@@ -1,0 +1,538 @@
+"""Convex pieces of a right prism (an extruded footprint), worked out on its footprint.
+
+:func:`~shapegen.geometry.cut.convex_decomposition` cuts a non-convex closed mesh by the plane of
+the face with the most corners in front of it until every piece is convex. On a right prism (two
+congruent parallel caps, one planar side face per cap edge, the caps normal to the extrusion) a
+cap never has a corner in front of it, and a piece always lies behind the planes it was cut by,
+so every cut is the plane of an original side face: the decomposition is that of the footprint by
+the lines of its edges, extruded. :func:`prism_decomposition` does that on the footprint, as the
+general cut does it (the same choice of edge with the same relative tolerances, ties to the
+earliest side face; the same clip of a ring and the same joining of the parts of a ring the line
+cuts into several; the halves in the same order), so the pieces are the general path's, up to
+round-off, in far less time. Any mesh it is not sure of (not an extrusion's face layout, caps not
+congruent or not normal to the extrusion, a footprint that crosses or touches itself, a piece or
+face so thin the general cut might drop it, two parts of a half meeting in a point) is left to
+the general path: it returns None.
+"""
+
+from __future__ import annotations
+
+__all__ = ["prism_decomposition"]
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from shapegen.geometry.mesh import Mesh
+
+_REL = 1e-9  # as in cut.py: points closer than this times the piece's size lie on a plane
+_SPLIT_HEIGHT = 1e3  # as in cut.py: an edge's line splits a piece with corners this far beyond
+_THIN = 10.0  # a face with area within this many times cut.py's drop limit is left to it
+_FAR = 1e-2  # a piece smaller than this times the prism is left to the general path
+
+
+class _Doubt(Exception):
+    """The footprint's cut reached a case the general path may settle otherwise."""
+
+
+@lru_cache(maxsize=128)
+def _layouts(n: int) -> tuple[tuple, tuple]:
+    """The faces of :func:`~shapegen.geometry.extrude.prism` on ``n`` corners, and reversed."""
+    bottom = (1, 0) + tuple(range(n - 1, 1, -1))
+    faces = (bottom, tuple(range(n, 2 * n))) + tuple(
+        (k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n)
+    )
+    return faces, tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
+
+
+def prism_decomposition(mesh: Mesh, max_pieces: int = 64) -> list[Mesh] | None:
+    """The convex pieces :func:`~shapegen.geometry.cut.convex_decomposition` gives for ``mesh``
+    when it is a clean right prism in an extrusion's face layout, else None (not a prism, or a
+    case to leave to the general path, or more than ``max_pieces`` pieces)."""
+    prism = _footprint(mesh)
+    if prism is None:
+        return None
+    try:
+        return prism.decomposed(mesh, max_pieces)
+    except _Doubt:
+        return None
+
+
+def _footprint(mesh: Mesh) -> _Footprint | None:
+    """The footprint of ``mesh`` if it is a right prism as :func:`extrude.prism` lays one
+    out (or turned inside out by ``reversed``), else None."""
+    n = len(mesh.faces) - 2
+    if n < 3 or len(mesh.vertices) != 2 * n:
+        return None
+    forward, backward = _layouts(n)
+    if mesh.faces == forward:
+        sense = 1.0
+    elif mesh.faces == backward:
+        sense = -1.0
+    else:
+        return None
+    v = mesh.vertices
+    offset = v[n:] - v[:n]
+    d = offset[0]
+    axis = int(np.argmax(np.abs(d)))
+    size = mesh.size()
+    eps = _REL * max(size, 1e-12)
+    if float(np.abs(offset - d).max()) > eps:
+        return None  # the caps are not translates
+    height = float(np.linalg.norm(d))
+    if not height > _THIN * _SPLIT_HEIGHT * eps:
+        return None
+    if abs(d[axis]) == height:  # along an axis: the footprint's coordinates are the mesh's own
+        e = np.zeros(3)
+        e[axis] = 1.0 if d[axis] * sense > 0 else -1.0
+        iu, iw = (
+            ((axis + 1) % 3, (axis + 2) % 3) if e[axis] > 0 else ((axis + 2) % 3, (axis + 1) % 3)
+        )
+        u, w = np.zeros(3), np.zeros(3)
+        u[iu] = w[iw] = 1.0
+        x, y = v[:n, iu], v[:n, iw]
+    else:
+        e = d * (sense / height)  # the corners 0..n-1 run counter-clockwise about e
+        a = np.zeros(3)
+        a[int(np.argmin(np.abs(e)))] = 1.0
+        u = a - (a @ e) * e
+        u /= np.linalg.norm(u)
+        w = np.cross(e, u)
+        x, y = v[:n] @ u, v[:n] @ w
+    levels = v @ e
+    low, high = float(levels[0]), float(levels[n])
+    if float(np.abs(levels[:n] - low).max()) > eps or float(np.abs(levels[n:] - high).max()) > eps:
+        return None  # a cap is not normal to the extrusion
+    return _Footprint(x.tolist(), y.tolist(), u, w, e, min(low, high), max(low, high), size)
+
+
+def _turns_left(ring: list[int], xs: list[float], ys: list[float]) -> bool:
+    """The ring turns left or goes straight on at every corner (never back)."""
+    ax, ay = xs[ring[-2]], ys[ring[-2]]
+    bx, by = xs[ring[-1]], ys[ring[-1]]
+    for i in ring:
+        cx, cy = xs[i], ys[i]
+        turn = (bx - ax) * (cy - by) - (by - ay) * (cx - bx)
+        if turn < 0 or (turn == 0 and (bx - ax) * (cx - bx) + (by - ay) * (cy - by) <= 0):
+            return False
+        ax, ay, bx, by = bx, by, cx, cy
+    return True
+
+
+def _simple(xs: list[float], ys: list[float], tol: float) -> bool:
+    """No two edges of the ring meet but neighbours at their shared corner, none within
+    ``tol`` (m) of doing so, and no edge shorter than that."""
+    n = len(xs)
+    if n > 16:
+        return _simple_many(xs, ys, tol)
+    edges = []
+    for k in range(n):
+        ax, ay, bx, by = xs[k - 1], ys[k - 1], xs[k], ys[k]  # edge k - 1
+        length = math.hypot(bx - ax, by - ay)
+        if length <= tol:
+            return False
+        edges.append((ax, ay, bx, by, length))
+    for k in range(n):
+        ax, ay, bx, by, ab = edges[k]
+        for m in range(k + 2, n - 1 if k == 0 else n):
+            cx, cy, dx, dy, cd = edges[m]
+            if (
+                max(cx, dx) < min(ax, bx) - tol
+                or min(cx, dx) > max(ax, bx) + tol
+                or max(cy, dy) < min(ay, by) - tol
+                or min(cy, dy) > max(ay, by) + tol
+            ):
+                continue
+            if _segments_meet(ax, ay, bx, by, ab, cx, cy, dx, dy, cd, tol):
+                return False
+    return True
+
+
+def _segments_meet(ax, ay, bx, by, ab, cx, cy, dx, dy, cd, tol) -> bool:
+    """Segments a-b and c-d (lengths ``ab``, ``cd``) cross or come within ``tol`` of it."""
+
+    def side(px, py, qx, qy, length, rx, ry):
+        h = ((qx - px) * (ry - py) - (qy - py) * (rx - px)) / length
+        return 0 if abs(h) <= tol else (1 if h > 0 else -1)
+
+    s1, s2 = side(ax, ay, bx, by, ab, cx, cy), side(ax, ay, bx, by, ab, dx, dy)
+    s3, s4 = side(cx, cy, dx, dy, cd, ax, ay), side(cx, cy, dx, dy, cd, bx, by)
+    if s1 * s2 > 0 or s3 * s4 > 0:
+        return False
+    if s1 == s2 == 0:  # c-d on a-b's line: they meet where their spans along it overlap
+        tx, ty = (bx - ax) / ab, (by - ay) / ab
+        c, d = (cx - ax) * tx + (cy - ay) * ty, (dx - ax) * tx + (dy - ay) * ty
+        return max(c, d) >= -tol and min(c, d) <= ab + tol
+    return True
+
+
+def _simple_many(xs: list[float], ys: list[float], tol: float) -> bool:
+    """:func:`_simple` for a ring of many corners, all pairs of edges at once."""
+    n = len(xs)
+    ax, ay = np.array(xs), np.array(ys)
+    tx, ty = np.roll(ax, -1) - ax, np.roll(ay, -1) - ay
+    length = np.hypot(tx, ty)
+    if float(length.min()) <= tol:
+        return False
+    # side[i, k]: corner k's distance left of edge i's line, and its place along the edge
+    side = tx[:, None] * (ay[None, :] - ay[:, None]) - ty[:, None] * (ax[None, :] - ax[:, None])
+    side /= length[:, None]
+    along = tx[:, None] * (ax[None, :] - ax[:, None]) + ty[:, None] * (ay[None, :] - ay[:, None])
+    along /= length[:, None]
+    sign = (side > tol).astype(np.int8) - (side < -tol)
+    following = np.roll(sign, -1, axis=1)
+    straddles = sign * following <= 0  # edge k's corners not both on one side of edge i
+    meet = straddles & straddles.T
+    # an edge on the other's line meets it only where their spans along the line overlap
+    on_line = (sign == 0) & (following == 0)
+    span_low = np.minimum(along, np.roll(along, -1, axis=1))
+    span_high = np.maximum(along, np.roll(along, -1, axis=1))
+    overlap = (span_high >= -tol) & (span_low <= length[:, None] + tol)
+    meet &= ~on_line | overlap
+    i, k = np.indices((n, n))
+    apart = (np.abs(i - k) >= 2) & (np.abs(i - k) != n - 1)
+    return not bool((meet & apart).any())
+
+
+class _Footprint:
+    """A prism's footprint: corners ``xs, ys`` in the frame ``u, w`` (m), counter-clockwise
+    about the extrusion ``e``; the caps at levels ``low < high`` along ``e``; ``size`` the
+    prism's bounding-box diagonal (m)."""
+
+    def __init__(self, xs, ys, u, w, e, low, high, size):
+        self.xs, self.ys = xs, ys
+        self.u, self.w, self.e = u, w, e
+        self.frame = (u.tolist(), w.tolist(), e.tolist())
+        self.aligned = bool(np.count_nonzero(u) == np.count_nonzero(w) == 1)
+        self.low, self.high = low, high
+        self.size = size
+        self.cuts = 0
+
+    # ------------------------------------------------------------ the cut-by-cut decomposition
+    def decomposed(self, mesh: Mesh, max_pieces: int) -> list[Mesh] | None:
+        n = len(self.xs)
+        first = (list(range(n)), list(range(n)))  # a ring: its corners and its edges' tags
+        area = self._ring_area(first[0])
+        if not area > 0:
+            raise _Doubt  # turned inside out
+        done: list[tuple] = []
+        todo = [[first]]
+        while todo:
+            piece = todo.pop()
+            size = self._size(piece)
+            if size < _FAR * self.size:
+                raise _Doubt
+            line = self._splitting_line(piece, _REL * max(size, 1e-12))
+            if line is None:
+                if len(piece) != 1:
+                    raise _Doubt  # a convex piece is one ring
+                done.append(piece[0])
+                if len(done) > max_pieces:
+                    raise _Doubt
+                continue
+            if self.cuts == 0 and not _simple(self.xs, self.ys, _SPLIT_HEIGHT * _REL * self.size):
+                raise _Doubt
+            todo.extend(self._halves(piece, size, *line))
+            if len(done) + len(todo) > max_pieces:
+                raise _Doubt
+        if len(done) == 1:
+            return [mesh]
+        total = sum(self._ring_area(ring) for ring, _ in done)
+        if abs(total - area) > _THIN * _REL * area:
+            raise _Doubt
+        return [self._mesh(ring, tags) for ring, tags in done]
+
+    def _size(self, piece) -> float:
+        """The diagonal of the piece's bounding box in the mesh's coordinates (m)."""
+        ids = piece[0][0] if len(piece) == 1 else {i for ring, _ in piece for i in ring}
+        xs, ys = self.xs, self.ys
+        px = [xs[i] for i in ids]
+        py = [ys[i] for i in ids]
+        if self.aligned:
+            return math.hypot(max(px) - min(px), max(py) - min(py), self.high - self.low)
+        total = 0.0
+        for a, b, c in zip(*self.frame, strict=True):
+            total += self._extent(px, py, a, b, c) ** 2
+        return math.sqrt(total)
+
+    def _extent(self, px, py, a, b, c) -> float:
+        """The range of the coordinate ``a x + b y + c z`` over the corners ``px, py`` on both
+        caps (m)."""
+        values = [a * x + b * y for x, y in zip(px, py, strict=True)]
+        return max(values) - min(values) + abs(c) * (self.high - self.low)
+
+    def _splitting_line(self, piece, slack):
+        """The line of the side face with the most corners in front of it (cut.py's
+        ``_splitting_plane``), as ``(nx, ny, offset)``, or None when the piece is convex (or so
+        but for round-off); a piece that is neither is left to the general path."""
+        xs, ys = self.xs, self.ys
+        if len(piece) == 1 and self.cuts and _turns_left(piece[0][0], xs, ys):
+            return None  # a piece of a simple ring never turning right is convex
+        edges = sorted(  # the general path keeps the side faces in their first order
+            (tag, ring[m], ring[(m + 1) % len(ring)])
+            for ring, tags in piece
+            for m, tag in enumerate(tags)
+            if tag >= 0  # a cut's face has every corner behind or on it
+        )
+        if not edges:
+            return None  # bounded by cuts alone: behind all of them, so convex
+        ids = piece[0][0] if len(piece) == 1 else sorted({i for r, _ in piece for i in r})
+        points = [(xs[i], ys[i]) for i in ids]
+        lines = []
+        for _, i, j in edges:
+            tx, ty = xs[j] - xs[i], ys[j] - ys[i]
+            length = math.hypot(tx, ty)
+            if length > 0:  # a face without a normal cannot split (as in cut.py)
+                nx, ny = ty / length, -tx / length
+                lines.append((nx, ny, 0.5 * (xs[i] + xs[j]) * nx + 0.5 * (ys[i] + ys[j]) * ny))
+        limit = slack * _SPLIT_HEIGHT
+        if len(points) * len(lines) <= 256:
+            counts = []
+            for nx, ny, c in lines:
+                ahead = behind = 0
+                for x, y in points:
+                    h = x * nx + y * ny - c
+                    if h > limit:
+                        ahead += 1
+                    elif h < -limit:
+                        behind += 1
+                counts.append((ahead, behind))
+        else:
+            normal = np.array(lines)
+            xy = np.array(points)
+            heights = np.outer(normal[:, 0], xy[:, 0]) + np.outer(normal[:, 1], xy[:, 1])
+            heights -= normal[:, 2:]
+            counts = zip(
+                (heights > limit).sum(axis=1).tolist(),
+                (heights < -limit).sum(axis=1).tolist(),
+                strict=True,
+            )
+        best, most, beyond = None, 0, False
+        for line, (ahead, behind) in zip(lines, counts, strict=True):
+            beyond = beyond or ahead > 0
+            if ahead > most and behind > 0:
+                best, most = line, ahead
+        if best is None and beyond:
+            raise _Doubt  # the general path gives up here
+        return best
+
+    def _halves(self, piece, size, nx, ny, offset):
+        """The piece behind the line ``nx x + ny y = offset`` and the piece in front of it (as
+        cut.py's ``clip_half`` cuts the prism's top cap), each a list of rings; ``size`` the
+        piece's (m)."""
+        self.cuts += 1
+        tag = -self.cuts
+        xs, ys = self.xs, self.ys
+        ids = piece[0][0] if len(piece) == 1 else {i for ring, _ in piece for i in ring}
+        depth = {i: xs[i] * nx + ys[i] * ny - offset for i in ids}
+        # cut.py's round-off is that of the piece turned to the cut: unless a corner lies in
+        # the band where the turn decides, the piece's own size gives the same clip
+        eps = _REL * max(size, 1e-12)
+        if any(eps / 2 < abs(h) <= eps * 2 for h in depth.values()):
+            eps = _REL * max(self._turned_size(piece, nx, ny), 1e-12)
+        crossing: dict = {}
+        halves = []
+        # cut.py drops a face of area below _REL span^2, span the piece's largest extent in
+        # the turned frame, which is at most its diameter, at most ``size``
+        floor = _THIN * _REL * size * size
+        for sign in (-1.0, 1.0):
+            half = []
+            along = (sign * ny, -sign * nx)  # the kept part's boundary runs this way on the line
+            for ring, tags in piece:
+                d = [depth[i] * sign for i in ring]
+                if min(d) > eps:
+                    half.append((ring, tags))
+                elif max(d) > eps:
+                    half.extend(self._clipped(ring, tags, d, eps, crossing, along, tag))
+            if not half:
+                raise _Doubt
+            if len(half) > 1:
+                corners = [i for ring, _ in half for i in ring]
+                if len(set(corners)) != len(corners):
+                    raise _Doubt  # parts meeting in a corner: the general cap may not close
+            for ring, _ in half:
+                self._check_thin(ring, floor)
+            halves.append(half)
+        return halves
+
+    def _turned_size(self, piece, nx, ny) -> float:
+        """The piece's bounding-box diagonal in the frame cut.py turns it to for a cut of
+        normal ``(nx, ny)`` (its ``_frame_of``), m."""
+        normal = [nx * a + ny * b for a, b in zip(self.frame[0], self.frame[1], strict=True)]
+        guess = (1.0, 0.0, 0.0) if abs(normal[0]) < 0.9 else (0.0, 1.0, 0.0)
+        along = sum(g * c for g, c in zip(guess, normal, strict=True))
+        x = [g - c * along for g, c in zip(guess, normal, strict=True)]
+        scale = math.sqrt(sum(c * c for c in x))
+        x = [c / scale for c in x]
+        z = [
+            x[1] * normal[2] - x[2] * normal[1],
+            x[2] * normal[0] - x[0] * normal[2],
+            x[0] * normal[1] - x[1] * normal[0],
+        ]
+        ids = {i for ring, _ in piece for i in ring}
+        px = [self.xs[i] for i in ids]
+        py = [self.ys[i] for i in ids]
+        u, w, e = self.frame
+        total = 0.0
+        for axis in (x, normal, z):
+            a = sum(p * q for p, q in zip(axis, u, strict=True))
+            b = sum(p * q for p, q in zip(axis, w, strict=True))
+            c = sum(p * q for p, q in zip(axis, e, strict=True))
+            total += self._extent(px, py, a, b, c) ** 2
+        return math.sqrt(total)
+
+    def _check_thin(self, ring, floor):
+        """Leave to the general path a ring whose cap or a side face has an area within
+        ``floor`` (m^2) of nothing."""
+        if self._ring_area(ring) <= floor:
+            raise _Doubt
+        height = self.high - self.low
+        xs, ys = self.xs, self.ys
+        previous = ring[-1]
+        for i in ring:
+            if math.hypot(xs[i] - xs[previous], ys[i] - ys[previous]) * height <= floor:
+                raise _Doubt
+            previous = i
+
+    def _ring_area(self, ring) -> float:
+        xs, ys = self.xs, self.ys
+        total = 0.0
+        previous = ring[-1]
+        for i in ring:
+            total += xs[previous] * ys[i] - ys[previous] * xs[i]
+            previous = i
+        return 0.5 * total
+
+    def _clipped(self, ring, tags, d, eps, crossing, along, tag):
+        """The rings left of ``ring`` on the side where ``d`` (its corners' depths) is
+        positive: cut.py's ``_clipped_faces`` and ``_split_at_bridges`` on the ring."""
+        kept: list[int] = []
+        kept_tags: list[int] = []  # the tag of the edge that arrives at each kept corner
+        flags: list[bool] = []  # the corner lies on the line
+        count = len(ring)
+        for m in range(count):
+            p, q = ring[m], ring[(m + 1) % count]
+            dp, dq = d[m], d[(m + 1) % count]
+            if dp >= -eps:
+                kept.append(p)
+                kept_tags.append(tags[m - 1])
+                flags.append(abs(dp) <= eps)
+            if (dp > eps and dq < -eps) or (dp < -eps and dq > eps):
+                key = (p, q) if p < q else (q, p)
+                if key not in crossing:
+                    low, high = (dp, dq) if p < q else (dq, dp)
+                    crossing[key] = self._crossing(key[0], key[1], low / (low - high))
+                kept.append(crossing[key])
+                kept_tags.append(tags[m])
+                flags.append(True)
+        if len(kept) < 3:
+            return []
+        edge_tags = kept_tags[1:] + kept_tags[:1]  # edge m runs from kept[m] to kept[m + 1]
+        return self._split(kept, edge_tags, flags, along, tag)
+
+    def _crossing(self, i, j, t) -> int:
+        """A new corner a fraction ``t`` of the way from corner ``i`` to ``j``: its number."""
+        xs, ys = self.xs, self.ys
+        xs.append(xs[i] + t * (xs[j] - xs[i]))
+        ys.append(ys[i] + t * (ys[j] - ys[i]))
+        return len(xs) - 1
+
+    def _split(self, ring, tags, flags, along, tag):
+        """cut.py's ``_split_at_bridges``: the ring cut at its edges on the line, the chains in
+        between joined again along it in the direction ``along``; a joining edge is tagged
+        ``tag`` (the cut's face)."""
+        n = len(ring)
+        if all(flags):  # a ring lying on the line: nothing of it is left
+            return []
+        on_edges = [flags[k] and flags[(k + 1) % n] for k in range(n)]
+        if not any(on_edges):
+            return [(ring, tags)]
+        start = (on_edges.index(True) + 1) % n  # a chain begins after an edge on the line
+        chains: list[tuple[list[int], list[int]]] = []
+        current: list[int] = []
+        current_tags: list[int] = []
+        for step in range(n):
+            k = (start + step) % n
+            current.append(ring[k])
+            current_tags.append(tags[k])
+            if on_edges[k]:
+                current_tags[-1] = tag
+                chains.append((current, current_tags))
+                current, current_tags = [], []
+        if current:
+            raise _Doubt  # not reached: the last corner's edge is on the line
+        chains = [c for c in chains if len(c[0]) >= 2]
+        if not chains:
+            return []
+        ax, ay = along
+        position = {}
+        for c, _ in chains:
+            for i in (c[0], c[-1]):
+                position[i] = self.xs[i] * ax + self.ys[i] * ay
+        starts = sorted(range(len(chains)), key=lambda c: position[chains[c][0][0]])
+        link: dict[int, int] = {}
+        free = list(starts)
+        for c in sorted(range(len(chains)), key=lambda c: position[chains[c][0][-1]]):
+            end = position[chains[c][0][-1]]
+            choice = next((s for s in free if position[chains[s][0][0]] >= end - 1e-12), None)
+            if choice is None:
+                choice = free[0]
+            free.remove(choice)
+            link[c] = choice
+        rings = []
+        seen: set[int] = set()
+        for first in range(len(chains)):
+            if first in seen:
+                continue
+            corners: list[int] = []
+            corner_tags: list[int] = []
+            c = first
+            while c not in seen:
+                seen.add(c)
+                corners.extend(chains[c][0])
+                corner_tags.extend(chains[c][1])
+                c = link[c]
+            if len(set(corners)) != len(corners):
+                raise _Doubt  # a ring through a corner twice
+            if len(corners) >= 3:
+                rings.append((corners, corner_tags))
+        return rings
+
+    # ------------------------------------------------------------ the pieces as meshes
+    def _mesh(self, ring, tags) -> Mesh:
+        """The prism on a convex ring, as the general path makes it: the caps, a side face per
+        original edge and one per run of edges along a cut."""
+        m = len(ring)
+        start = next(k for k in range(m) if tags[k] >= 0 or tags[k] != tags[k - 1])
+        ring = ring[start:] + ring[:start]
+        tags = tags[start:] + tags[:start]
+        (u0, u1, u2), (w0, w1, w2), (e0, e1, e2) = self.frame
+        xs, ys = self.xs, self.ys
+        # Mesh.cleaned would merge corners this close; the pieces are made clean instead
+        near = 4.0 * _REL * self._size([(ring, tags)])
+        for k, i in enumerate(ring):
+            for j in ring[k + 1 :]:
+                if abs(xs[i] - xs[j]) <= near and abs(ys[i] - ys[j]) <= near:
+                    raise _Doubt
+        vertices = [
+            (
+                xs[i] * u0 + ys[i] * w0 + level * e0,
+                xs[i] * u1 + ys[i] * w1 + level * e1,
+                xs[i] * u2 + ys[i] * w2 + level * e2,
+            )
+            for level in (self.low, self.high)
+            for i in ring
+        ]
+        faces = [(1, 0) + tuple(range(m - 1, 1, -1)), tuple(range(m, 2 * m))]
+        k = 0
+        while k < m:
+            end = k + 1
+            if tags[k] < 0:
+                while end < m and tags[end] == tags[k]:
+                    end += 1
+            bottom = tuple(range(k, end + 1)) if end < m else tuple(range(k, m)) + (0,)
+            top = tuple(m + i for i in reversed(bottom))
+            faces.append(bottom + top)
+            k = end
+        return Mesh._checked(vertices, tuple(faces))
