@@ -6,19 +6,22 @@ Its sparsity pattern never changes between iterations (nor between solves of pro
 same interfaces), so the pattern, the scatter map from per-interface contributions and the
 fill-reducing ordering are computed once and kept in ``problem.cache``. Each iteration only
 recomputes the values and factors them. A parameter search rebuilds the problem for every
-design, but its block graph rarely changes: the symbolic part (ordering, pattern, scatter map and
-PARDISO's analysis) of the last few block graphs is kept by the graph's contents and reused.
+design, but its block graph rarely changes: the symbolic part (ordering, pattern, scatter map
+and the Cholesky factorisation's analysis) of the last few block graphs is kept by the graph's
+contents and reused.
 
 Ordering: approximate minimum degree on the *block* graph (one node per free block, expanded to
 its six rows), computed once with QDLDL's AMD (``qdldl`` is a dependency of shapegen, so this
 ordering is always the one used).
 
-Factorisation: MKL PARDISO's supernodal Cholesky of the upper triangle
-(:mod:`~shapegen.statics.solvers.pardiso`), analysed once per pattern and kept with it, so that
-phase one, the QP and every iteration only refactor numerically; 3-5 times faster than SuperLU
-at 10 000 blocks and 2-4 times at 1 000 (docs/performance.md). Without MKL (or should PARDISO
-fail on one matrix), SuperLU factors the symmetrically pre-permuted matrix with the natural
-column order and no pivoting, an LDL^T-like factorisation of the SPD matrix.
+Factorisation: CHOLMOD's supernodal Cholesky through ``cvxopt``
+(:mod:`~shapegen.statics.solvers.cholmod`), of the lower triangle in this order, analysed once
+per pattern and kept with it, so that phase one, the QP and every iteration only refactor
+numerically; 3-5 times faster than SuperLU at 10 000 blocks (docs/architecture.md). MKL
+PARDISO (:mod:`~shapegen.statics.solvers.pardiso`, the optional ``shapegen[pardiso]``) can be
+asked for by name. Without cvxopt (or should the Cholesky factorisation stop on a matrix that is
+not numerically positive definite), SuperLU factors the symmetrically pre-permuted matrix with
+the natural column order and no pivoting, an LDL^T-like factorisation of the SPD matrix.
 """
 
 from __future__ import annotations
@@ -36,34 +39,63 @@ import qdldl
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from shapegen.statics.solvers import pardiso
+from shapegen.errors import OptionError
+from shapegen.statics.solvers import cholmod, pardiso
 
-FACTORIZATIONS = ("auto", "pardiso", "superlu")
+FACTORIZATIONS = ("auto", "cholmod", "pardiso", "superlu")
+# the Cholesky factorisations kept with a pattern, and the error each raises for a matrix it
+# refuses (then SuperLU factors that matrix)
+_CHOLESKY = {"cholmod": cholmod, "pardiso": pardiso}
+_REFUSED = (cholmod.CholmodError, pardiso.PardisoError)
+
+
+def check_factorization(factorization: str) -> None:
+    """Refuse, in one line, a factorisation that is unknown or whose library is not installed
+    (``"auto"`` and ``"superlu"`` are always there)."""
+    if factorization not in FACTORIZATIONS:
+        raise OptionError(
+            f"factorization must be one of {', '.join(FACTORIZATIONS)}; got {factorization!r}"
+        )
+    if factorization == "pardiso" and not pardiso.available():
+        raise OptionError(
+            "factorization 'pardiso' needs Intel MKL, which is not installed"
+            " (pip install 'shapegen[pardiso]'), or use 'auto' (CHOLMOD)"
+        )
+    if factorization == "cholmod" and not cholmod.available():
+        raise OptionError(
+            "factorization 'cholmod' needs cvxopt, which is not installed"
+            " (pip install cvxopt), or use 'auto' or 'superlu'"
+        )
 
 
 class _Analysis:
-    """PARDISO's symbolic analysis of one block graph, lent to one solve at a time."""
+    """The Cholesky factorisations' symbolic analyses of one block graph (one per library),
+    each lent to one solve at a time."""
 
     def __init__(self):
-        self.factor: pardiso.SymmetricFactor | None = None
-        self.lock = threading.Lock()
+        self.factors: dict[str, object] = {}
+        self.locks = {name: threading.Lock() for name in _CHOLESKY}
 
-    def borrow(self, indptr: np.ndarray, indices: np.ndarray) -> pardiso.SymmetricFactor:
-        """The shared factor object, or a private one while another solve holds it."""
-        if not self.lock.acquire(blocking=False):
-            return pardiso.SymmetricFactor(indptr, indices)
-        if self.factor is None:
+    def borrow(self, method: str, indptr: np.ndarray, indices: np.ndarray):
+        """The shared factor object of ``method``, or a private one while another solve holds
+        it."""
+        make = _CHOLESKY[method].SymmetricFactor
+        lock = self.locks[method]
+        if not lock.acquire(blocking=False):
+            return make(indptr, indices)
+        factor = self.factors.get(method)
+        if factor is None:
             try:
-                self.factor = pardiso.SymmetricFactor(indptr, indices)
+                factor = self.factors[method] = make(indptr, indices)
             except BaseException:
-                self.lock.release()
+                lock.release()
                 raise
-        return self.factor
+        return factor
 
-    def give_back(self, factor: pardiso.SymmetricFactor) -> None:
+    def give_back(self, method: str, factor) -> None:
         factor.release_factor()
-        if factor is self.factor:
-            self.lock.release()
+        if factor is self.factors.get(method):
+            self.locks[method].release()
         else:
             factor.close()
 
@@ -88,7 +120,7 @@ class NormalPattern:
     interface_starts: np.ndarray
     vertex_frames: np.ndarray  # (m, 6, 3) K_v = [R; skew(q_v) R], q_v lever from the first vertex
     interface_shifts: np.ndarray  # (ni, 12, 6) sign_s [I 0; skew(d_s) I] for both sides s
-    analysis: _Analysis | None = None  # PARDISO's analysis, shared by every user of the graph
+    analysis: _Analysis | None = None  # the Cholesky analyses, shared by every user of the graph
 
     def full_matrix(self, data: np.ndarray) -> sp.csc_matrix:
         """The whole symmetric (permuted) ``M`` from its upper-triangle ``data``."""
@@ -240,33 +272,32 @@ class NormalEquations:
         The :class:`~shapegen.statics.assembly.StaticsProblem`; its ``vertex_jacobian`` holds the
         per-vertex ``12 x 3`` blocks of ``A``.
     factorization
-        ``"auto"`` (PARDISO when MKL loads, else SuperLU), ``"pardiso"`` or ``"superlu"``.
+        ``"auto"`` (CHOLMOD when cvxopt imports, else SuperLU), ``"cholmod"``, ``"pardiso"``
+        (needs MKL) or ``"superlu"``; a name that cannot be honoured raises
+        :class:`~shapegen.errors.OptionError` (see :func:`check_factorization`).
     """
 
     def __init__(self, problem, factorization: str = "auto"):
-        if factorization not in FACTORIZATIONS:
-            raise ValueError(
-                f"factorization must be one of {', '.join(FACTORIZATIONS)}; got {factorization!r}"
-            )
+        check_factorization(factorization)
         self.problem = problem
         pattern = problem.cache.get("normal_pattern")
         if pattern is None:
             pattern = build_pattern(problem)
             problem.cache["normal_pattern"] = pattern
         self.pattern = pattern
-        use_pardiso = factorization == "pardiso" or (
-            factorization == "auto" and pardiso.available()
-        )
-        self._pardiso = None
-        if use_pardiso and pattern.size:
-            self._pardiso = pattern.analysis.borrow(pattern.indptr, pattern.indices)
+        method = factorization
+        if method == "auto":
+            method = "cholmod" if cholmod.available() else "superlu"
+        self._cholesky = None
+        if method in _CHOLESKY and pattern.size:
+            self._cholesky = pattern.analysis.borrow(method, pattern.indptr, pattern.indices)
         self._lu = None
         self.values = None
-        self.fallbacks = 0  # factorisations PARDISO refused and SuperLU did
+        self.fallbacks = 0  # factorisations the Cholesky factorisation refused and SuperLU did
         self.assembly_cpu = 0.0  # CPU seconds assembling M's values
         self.factor_cpu = 0.0  # CPU seconds in the numeric factorisations
         self.factorizations = 0
-        self.method = "pardiso" if use_pardiso else "superlu"
+        self.method = method
 
     def assemble(self, local_inverse: np.ndarray, regularization: float) -> None:
         """Compute and factor ``M`` for ``D_v = local_inverse[v]`` ``(m, 3, 3)``, with
@@ -289,11 +320,11 @@ class NormalEquations:
         factoring = time.process_time()
         self.assembly_cpu += factoring - started
         try:
-            if self._pardiso is not None:
+            if self._cholesky is not None:
                 try:
-                    self._pardiso.factor(values)
+                    self._cholesky.factor(values)
                     return
-                except pardiso.PardisoError:
+                except _REFUSED:
                     self.fallbacks += 1
             self._lu = spla.splu(
                 pattern.full_matrix(values),
@@ -313,12 +344,12 @@ class NormalEquations:
         if self._lu is not None:
             solution[permutation] = self._lu.solve(permuted)
         else:
-            solution[permutation] = self._pardiso.solve(permuted)
+            solution[permutation] = self._cholesky.solve(permuted)
         return solution
 
     def release(self) -> None:
         """Free the numeric factor (the symbolic analysis stays with the pattern)."""
         self._lu = None
-        if self._pardiso is not None:
-            self.pattern.analysis.give_back(self._pardiso)
-            self._pardiso = None
+        if self._cholesky is not None:
+            self.pattern.analysis.give_back(self.method, self._cholesky)
+            self._cholesky = None

@@ -1,15 +1,16 @@
 """Sparse symmetric factorisation with Intel MKL PARDISO (supernodal Cholesky), through ctypes.
 
-The reduced interior point method factors the block-level normal equations ``M`` a dozen times
-per solve with the same sparsity pattern. PARDISO's supernodal factorisation runs dense BLAS-3
-kernels on the supernodes, which is 3-5 times faster than SuperLU on the 10 000-block wall's
-``M`` (60 000 rows, 10.7 M nonzeros in the factor), and it separates the symbolic analysis (done
-once per pattern) from the numeric factorisation (done per iteration).
+An alternative to the default CHOLMOD (:mod:`~shapegen.statics.solvers.cholmod`), asked for by
+name (``factorization="pardiso"`` of the reduced back-end), with the same interface: a symbolic
+analysis once per pattern, a numeric factorisation per iteration, solves. On the wall matrices
+of ``benchmarks/bench_factorization.py`` it factors about as fast as CHOLMOD (figures in
+docs/architecture.md), but the ``mkl`` wheel installs 691 MB and has no macOS or ARM build, so
+it is the optional ``shapegen[pardiso]`` rather than a dependency.
 
 The library comes from the ``mkl`` wheel (``libmkl_rt``); when it cannot be loaded,
-:func:`available` is False and the caller uses SuperLU instead. MKL runs in its sequential
-layer: one thread, so that CPU seconds stay the measure of the work and several processes can
-share a machine without spinning threads.
+:func:`available` is False and asking for PARDISO is refused in one line. MKL runs in its
+sequential layer: one thread, so that CPU seconds stay the measure of the work and several
+processes can share a machine without spinning threads.
 """
 
 from __future__ import annotations

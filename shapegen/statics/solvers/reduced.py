@@ -30,6 +30,7 @@ import numpy as np
 
 from shapegen.statics.solvers import second_order as _soc
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
+from shapegen.statics.solvers.normal_equations import check_factorization
 from shapegen.statics.solvers.reduced_kkt import KktSystem as _Kkt
 from shapegen.statics.solvers.reduced_kkt import Point as _Point
 from shapegen.statics.solvers.reduced_kkt import complementarity as _complementarity
@@ -84,8 +85,10 @@ class ReducedBackend(Backend):
         is certainly above this scaled value: the phase-one problem only has to tell zero from
         clearly positive.
     factorization
-        How the normal equations are factored: ``"auto"`` (MKL PARDISO when it loads, else
-        SuperLU), ``"pardiso"`` or ``"superlu"``.
+        How the normal equations are factored: ``"auto"`` (CHOLMOD through cvxopt when it
+        imports, else SuperLU), ``"cholmod"``, ``"pardiso"`` (Intel MKL, the optional
+        ``shapegen[pardiso]``) or ``"superlu"``. A name that is unknown or whose library is not
+        installed raises :class:`~shapegen.errors.OptionError` here, in one line.
     accept
         A test of the primal solution ``x`` (e.g. the feasibility certificate) that, once it
         holds, ends the solve: the question the caller asks is answered (``info["accepted"]``).
@@ -122,6 +125,7 @@ class ReducedBackend(Backend):
         self.max_iter = max_iter
         self.verbose = verbose
         self.stop_above = stop_above
+        check_factorization(factorization)
         self.factorization = factorization
         self.accept = accept
         self.accept_below = accept_below

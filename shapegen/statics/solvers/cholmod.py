@@ -1,0 +1,194 @@
+"""Sparse symmetric factorisation with CHOLMOD (supernodal Cholesky), through ``cvxopt``.
+
+The reduced interior point method factors the block-level normal equations ``M`` a dozen times
+per solve with the same sparsity pattern. CHOLMOD's supernodal Cholesky runs dense BLAS-3
+kernels on the supernodes (3-5 times faster than SuperLU on the 10 000-block wall's ``M``) and
+separates the symbolic analysis, done once per pattern and kept, from the numeric factorisation,
+done per iteration.
+
+``cvxopt`` ships CHOLMOD with its BLAS in a wheel for every platform shapegen runs on; it is
+imported on the first factorisation, never by a plain import of shapegen. Settings, the same at
+every call (``cvxopt.cholmod.options`` is shared with any other user of cvxopt in the process, so
+it is set around each of our calls and given back as it was):
+
+- ``supernodal = 2``: ``L L^T``; a matrix that is not numerically positive definite stops the
+  factorisation (:class:`CholmodError`, and the caller factors it with SuperLU instead);
+- ``nmethods = 1`` with the identity permutation: the rows are taken in the given order (the
+  caller's block AMD), no second ordering is computed and compared;
+- ``postorder = True``: CHOLMOD may postorder the elimination tree, which changes no fill;
+- ``print = 0``: nothing is printed.
+
+The BLAS bundled with cvxopt (OpenBLAS) is asked for one thread, so that CPU seconds stay the
+measure of the work and several processes can share a machine without spinning threads.
+
+cvxopt holds the interpreter lock during a call: two threads factor one after the other, never
+at once (its CHOLMOD settings are one shared object, so that is also what keeps them apart).
+"""
+
+from __future__ import annotations
+
+__all__ = ["CholmodError", "SymmetricFactor", "available"]
+
+import ctypes
+import functools
+import glob
+import os
+
+import numpy as np
+
+_OPTIONS = {"supernodal": 2, "nmethods": 1, "postorder": True, "print": 0}
+# Above this many stored entries (upper triangle) a released factor is freed whole and the next
+# factorisation analyses the pattern again: cvxopt cannot free the numeric part alone, and the
+# factor of a 100 000-block wall (~1 GB) should not outlive its solve in the pattern cache. At
+# 10 000 blocks (1.6 M entries) the analysis is a third of one numeric factorisation, once per
+# solve of a dozen factorisations; below the limit (a few thousand blocks, a factor of tens of
+# MB) a search's designs on the same block graph reuse the analysis.
+_KEEP_ENTRIES = 1_000_000
+
+
+class CholmodError(RuntimeError):
+    """CHOLMOD refused a matrix (not positive definite) or failed (its words in the message)."""
+
+
+def _single_thread_blas(package_dir: str) -> None:
+    """Ask the OpenBLAS that cvxopt's wheel bundles for one thread (best effort)."""
+    parent = os.path.dirname(package_dir)
+    patterns = (
+        os.path.join(parent, "cvxopt.libs", "libopenblas*"),  # manylinux (auditwheel)
+        os.path.join(package_dir, ".dylibs", "libopenblas*"),  # macOS (delocate)
+        os.path.join(package_dir, ".libs", "libopenblas*"),
+        os.path.join(parent, "cvxopt.libs", "*openblas*.dll"),  # Windows (delvewheel)
+    )
+    for pattern in patterns:
+        for path in sorted(glob.glob(pattern)):
+            try:
+                # already loaded by cvxopt: the same library, not a second copy
+                ctypes.CDLL(path).openblas_set_num_threads(1)
+                return
+            except (OSError, AttributeError):
+                continue
+
+
+@functools.cache
+def _cvxopt():
+    """``(cvxopt, cvxopt.cholmod)``, or None when cvxopt is not installed."""
+    try:
+        import cvxopt
+        from cvxopt import cholmod
+    except ImportError:
+        return None
+    _single_thread_blas(os.path.dirname(cvxopt.__file__))
+    return cvxopt, cholmod
+
+
+def available() -> bool:
+    """True when cvxopt (and so CHOLMOD) can be imported."""
+    return _cvxopt() is not None
+
+
+class _Settings:
+    """Our CHOLMOD options in ``cvxopt.cholmod.options`` for the duration of one call."""
+
+    def __init__(self, cholmod):
+        self._options = cholmod.options
+
+    def __enter__(self):
+        self._saved = dict(self._options)
+        self._options.clear()
+        self._options.update(_OPTIONS)
+
+    def __exit__(self, *exc):
+        self._options.clear()
+        self._options.update(self._saved)
+
+
+class SymmetricFactor:
+    """One symmetric matrix pattern, analysed once, factored for any values on that pattern.
+
+    Parameters
+    ----------
+    indptr, indices
+        CSR pattern of the *upper* triangle (diagonal included) of an ``n x n`` symmetric
+        matrix, zero-based, column indices sorted within each row. The rows are taken in the
+        given order (the caller has already applied a fill-reducing ordering).
+
+    The CSR arrays of the upper triangle are, read by columns, the CSC arrays of the lower
+    triangle, which is what CHOLMOD is given (``uplo="L"``): the values need no reordering.
+    """
+
+    def __init__(self, indptr: np.ndarray, indices: np.ndarray):
+        loaded = _cvxopt()
+        if loaded is None:
+            raise CholmodError("CHOLMOD is not available (the cvxopt package is not installed)")
+        cvxopt, self._cholmod = loaded
+        self._settings = _Settings(self._cholmod)
+        self.n = len(indptr) - 1
+        indptr = np.asarray(indptr, dtype=np.int64)
+        rows = np.asarray(indices, dtype=np.int64)
+        self.entries = len(rows)
+        columns = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(indptr))
+        if np.any(rows < columns):
+            raise ValueError("the pattern must be the upper triangle in CSR order")
+        self._matrix = cvxopt.spmatrix(
+            cvxopt.matrix(np.zeros(self.entries)),
+            cvxopt.matrix(rows),
+            cvxopt.matrix(columns),
+            (self.n, self.n),
+        )
+        stored = np.asarray(self._matrix.CCS[1], dtype=np.int64).ravel()
+        if len(stored) != self.entries or np.any(stored != rows):
+            raise ValueError("the pattern has repeated or unsorted entries")
+        self._identity = cvxopt.matrix(np.arange(self.n, dtype=np.int64), tc="i")
+        self._dense = cvxopt.matrix
+        self._symbolic = None
+        self._factored = False
+        self._analyse()
+
+    def _analyse(self) -> None:
+        with self._settings:
+            self._symbolic = self._cholmod.symbolic(self._matrix, p=self._identity, uplo="L")
+        self._factored = False
+
+    def factor(self, data: np.ndarray) -> None:
+        """Numeric factorisation for the values ``data`` (aligned with ``indices``)."""
+        if self._symbolic is None:
+            self._analyse()
+        self._factored = False
+        self._matrix.V = self._dense(np.asarray(data, dtype=float))
+        try:
+            with self._settings:
+                self._cholmod.numeric(self._matrix, self._symbolic)
+        except ArithmeticError as exc:
+            column = exc.args[0] if exc.args else "?"
+            raise CholmodError(
+                f"CHOLMOD: the matrix is not positive definite (column {column})"
+            ) from None
+        except ValueError as exc:
+            raise CholmodError(f"CHOLMOD factorisation failed: {exc}") from None
+        self._factored = True
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``M^-1 rhs`` for the last factored values; ``rhs`` of shape ``(n,)`` or ``(n, k)``."""
+        if not self._factored:
+            raise CholmodError("no numeric factor: call factor() first")
+        rhs = np.asarray(rhs, dtype=float)
+        columns = rhs.reshape(self.n, -1)
+        if columns.shape[1] == 0:
+            return np.empty_like(rhs)
+        # cvxopt's dense matrices are column-major: one column per right-hand side
+        work = self._dense(np.asfortranarray(columns))
+        with self._settings:
+            self._cholmod.solve(self._symbolic, work)
+        return np.array(work).reshape(rhs.shape)
+
+    def release_factor(self) -> None:
+        """Done with the numeric factor. The analysis is kept for the next :meth:`factor` when
+        the pattern is small; a large one's factor is freed with it (see ``_KEEP_ENTRIES``)."""
+        self._factored = False
+        if self.entries > _KEEP_ENTRIES:
+            self._symbolic = None
+
+    def close(self) -> None:
+        """Free everything CHOLMOD holds for this pattern."""
+        self._factored = False
+        self._symbolic = None
