@@ -353,14 +353,22 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | No
     key = (np.round(unit, 12).tobytes(), mesh.faces)  # equal sizes up to round-off: one key
     pieces = _DECOMPOSED.get(key, _MISSING)
     if pieces is _MISSING:
-        pieces = convex_decomposition(Mesh(unit, mesh.faces), cleaned=True)
+        pieces = convex_decomposition(Mesh._checked(unit, mesh.faces), cleaned=True)
         if len(_DECOMPOSED) >= _DECOMPOSED_LIMIT:
             del _DECOMPOSED[next(iter(_DECOMPOSED))]  # the oldest entry
         _DECOMPOSED[key] = pieces
     if pieces is None:
         return None
+    rotation = np.asarray(rotation, float)
+    if np.linalg.det(rotation) < 0:  # a mirror: transformed turns the faces around
+        return [
+            Mesh(piece.vertices * scale + low, piece.faces).transformed(rotation, origin)
+            for piece in pieces
+        ]
+    # as transformed moves them, without checking the pieces' faces again
+    turn, shift = rotation.T, np.asarray(origin, float)
     return [
-        Mesh(piece.vertices * scale + low, piece.faces).transformed(rotation, origin)
+        Mesh._checked((piece.vertices * scale + low) @ turn + shift, piece.faces)
         for piece in pieces
     ]
 

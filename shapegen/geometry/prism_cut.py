@@ -25,6 +25,7 @@ from functools import lru_cache
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh
+from shapegen.model.polygons import CheckedFaces
 
 _REL = 1e-9  # as in cut.py: points closer than this times the piece's size lie on a plane
 _SPLIT_HEIGHT = 1e3  # as in cut.py: an edge's line splits a piece with corners this far beyond
@@ -37,13 +38,14 @@ class _Doubt(Exception):
 
 
 @lru_cache(maxsize=128)
-def _layouts(n: int) -> tuple[tuple, tuple]:
+def _layouts(n: int) -> tuple[CheckedFaces, CheckedFaces]:
     """The faces of :func:`~shapegen.geometry.extrude.prism` on ``n`` corners, and reversed."""
     bottom = (1, 0) + tuple(range(n - 1, 1, -1))
     faces = (bottom, tuple(range(n, 2 * n))) + tuple(
         (k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n)
     )
-    return faces, tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
+    backward = tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
+    return CheckedFaces(faces), CheckedFaces(backward)
 
 
 def prism_decomposition(mesh: Mesh, max_pieces: int = 64) -> list[Mesh] | None:
@@ -118,6 +120,18 @@ def _turns_left(ring: list[int], xs: list[float], ys: list[float]) -> bool:
             return False
         ax, ay, bx, by = bx, by, cx, cy
     return True
+
+
+def _winds_once(xs: list[float], ys: list[float]) -> bool:
+    """The ring's edges turn once around (not twice or more, as a star drawn in one stroke)."""
+    turning = 0.0
+    ax, ay = xs[-2], ys[-2]
+    bx, by = xs[-1], ys[-1]
+    for cx, cy in zip(xs, ys, strict=True):
+        ux, uy, vx, vy = bx - ax, by - ay, cx - bx, cy - by
+        turning += math.atan2(ux * vy - uy * vx, ux * vx + uy * vy)
+        ax, ay, bx, by = bx, by, cx, cy
+    return turning < 3 * math.pi
 
 
 def _simple(xs: list[float], ys: list[float], tol: float) -> bool:
@@ -205,6 +219,9 @@ class _Footprint:
         self.u, self.w, self.e = u, w, e
         self.frame = (u.tolist(), w.tolist(), e.tolist())
         self.aligned = bool(np.count_nonzero(u) == np.count_nonzero(w) == 1)
+        # along the axes: the mesh's coordinates are x, y and the level, in this order
+        self.order = np.argmax(np.abs([u, w, e]), axis=0) if self.aligned else None
+        self.e_sign = float(e.sum())  # the extrusion's sign along its axis (when aligned)
         self.low, self.high = low, high
         self.size = size
         self.cuts = 0
@@ -216,18 +233,20 @@ class _Footprint:
         area = self._ring_area(first[0])
         if not area > 0:
             raise _Doubt  # turned inside out
+        if _turns_left(first[0], self.xs, self.ys) and _winds_once(self.xs, self.ys):
+            return [mesh]  # convex: its own one piece
         done: list[tuple] = []
         todo = [[first]]
         while todo:
             piece = todo.pop()
-            size = self._size(piece)
+            size = self._size(piece) if self.cuts else self.size
             if size < _FAR * self.size:
                 raise _Doubt
             line = self._splitting_line(piece, _REL * max(size, 1e-12))
             if line is None:
                 if len(piece) != 1:
                     raise _Doubt  # a convex piece is one ring
-                done.append(piece[0])
+                done.append((piece[0], size))
                 if len(done) > max_pieces:
                     raise _Doubt
                 continue
@@ -238,10 +257,10 @@ class _Footprint:
                 raise _Doubt
         if len(done) == 1:
             return [mesh]
-        total = sum(self._ring_area(ring) for ring, _ in done)
+        total = sum(self._ring_area(ring) for (ring, _), _ in done)
         if abs(total - area) > _THIN * _REL * area:
             raise _Doubt
-        return [self._mesh(ring, tags) for ring, tags in done]
+        return [self._mesh(ring, tags, size) for (ring, tags), size in done]
 
     def _size(self, piece) -> float:
         """The diagonal of the piece's bounding box in the mesh's coordinates (m)."""
@@ -446,9 +465,15 @@ class _Footprint:
         if all(flags):  # a ring lying on the line: nothing of it is left
             return []
         on_edges = [flags[k] and flags[(k + 1) % n] for k in range(n)]
-        if not any(on_edges):
+        count = on_edges.count(True)
+        if count == 0:
             return [(ring, tags)]
         start = (on_edges.index(True) + 1) % n  # a chain begins after an edge on the line
+        if count == 1:  # one chain, joined to itself: the ring from there, the edge the cut's
+            ring = ring[start:] + ring[:start]
+            tags = tags[start:] + tags[:start]
+            tags[-1] = tag
+            return [(ring, tags)]
         chains: list[tuple[list[int], list[int]]] = []
         current: list[int] = []
         current_tags: list[int] = []
@@ -500,30 +525,34 @@ class _Footprint:
         return rings
 
     # ------------------------------------------------------------ the pieces as meshes
-    def _mesh(self, ring, tags) -> Mesh:
-        """The prism on a convex ring, as the general path makes it: the caps, a side face per
-        original edge and one per run of edges along a cut."""
+    def _mesh(self, ring, tags, size) -> Mesh:
+        """The prism on a convex ring of size ``size`` (m), as the general path makes it: the
+        caps, a side face per original edge and one per run of edges along a cut."""
         m = len(ring)
-        start = next(k for k in range(m) if tags[k] >= 0 or tags[k] != tags[k - 1])
-        ring = ring[start:] + ring[:start]
-        tags = tags[start:] + tags[:start]
-        (u0, u1, u2), (w0, w1, w2), (e0, e1, e2) = self.frame
-        xs, ys = self.xs, self.ys
+        runs = any(tags[k] < 0 and tags[k] == tags[k - 1] for k in range(m))
+        if runs:  # start where a face starts
+            start = next(k for k in range(m) if tags[k] >= 0 or tags[k] != tags[k - 1])
+            ring = ring[start:] + ring[:start]
+            tags = tags[start:] + tags[:start]
+        px = [self.xs[i] for i in ring]
+        py = [self.ys[i] for i in ring]
         # Mesh.cleaned would merge corners this close; the pieces are made clean instead
-        near = 4.0 * _REL * self._size([(ring, tags)])
-        for k, i in enumerate(ring):
-            for j in ring[k + 1 :]:
-                if abs(xs[i] - xs[j]) <= near and abs(ys[i] - ys[j]) <= near:
+        near = 4.0 * _REL * size
+        for k in range(m):
+            x, y = px[k], py[k]
+            for j in range(k + 1, m):
+                if abs(x - px[j]) <= near and abs(y - py[j]) <= near:
                     raise _Doubt
-        vertices = [
-            (
-                xs[i] * u0 + ys[i] * w0 + level * e0,
-                xs[i] * u1 + ys[i] * w1 + level * e1,
-                xs[i] * u2 + ys[i] * w2 + level * e2,
-            )
-            for level in (self.low, self.high)
-            for i in ring
-        ]
+        if self.order is not None:
+            low, high = self.low * self.e_sign, self.high * self.e_sign
+            columns = np.array([px + px, py + py, [low] * m + [high] * m])
+            vertices = columns[self.order].T
+        else:
+            xy = np.array([px, py]).T
+            base = xy[:, :1] * self.u + xy[:, 1:] * self.w
+            vertices = np.concatenate([base + self.low * self.e, base + self.high * self.e])
+        if not runs:
+            return Mesh._checked(vertices, _layouts(m)[0])
         faces = [(1, 0) + tuple(range(m - 1, 1, -1)), tuple(range(m, 2 * m))]
         k = 0
         while k < m:
@@ -532,7 +561,6 @@ class _Footprint:
                 while end < m and tags[end] == tags[k]:
                     end += 1
             bottom = tuple(range(k, end + 1)) if end < m else tuple(range(k, m)) + (0,)
-            top = tuple(m + i for i in reversed(bottom))
-            faces.append(bottom + top)
+            faces.append(bottom + tuple(m + i for i in reversed(bottom)))
             k = end
         return Mesh._checked(vertices, tuple(faces))
