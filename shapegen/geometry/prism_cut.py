@@ -77,36 +77,41 @@ def _footprint(mesh: Mesh) -> _Footprint | None:
     v = mesh.vertices
     offset = v[n:] - v[:n]
     d = offset[0]
-    axis = int(np.argmax(np.abs(d)))
-    size = mesh.size()
+    size = math.dist(v.max(axis=0).tolist(), v.min(axis=0).tolist())
     eps = _REL * max(size, 1e-12)
     if float(np.abs(offset - d).max()) > eps:
         return None  # the caps are not translates
-    height = float(np.linalg.norm(d))
+    height = math.hypot(*d.tolist())
     if not height > _THIN * _SPLIT_HEIGHT * eps:
         return None
-    if abs(d[axis]) == height:  # along an axis: the footprint's coordinates are the mesh's own
-        e = np.zeros(3)
-        e[axis] = 1.0 if d[axis] * sense > 0 else -1.0
-        iu, iw = (
-            ((axis + 1) % 3, (axis + 2) % 3) if e[axis] > 0 else ((axis + 2) % 3, (axis + 1) % 3)
-        )
-        u, w = np.zeros(3), np.zeros(3)
-        u[iu] = w[iw] = 1.0
-        x, y = v[:n, iu], v[:n, iw]
+    along = [k for k, c in enumerate(d.tolist()) if c != 0]
+    if len(along) == 1:  # along an axis: the footprint's coordinates are the mesh's own
+        axis = along[0]
+        sign = 1.0 if d[axis] * sense > 0 else -1.0  # the corners 0..n-1 turn counter-
+        iu, iw = (axis + 1) % 3, (axis + 2) % 3  # clockwise about e = sign * the axis
+        if sign < 0:
+            iu, iw = iw, iu
+        u, w, e = [0.0] * 3, [0.0] * 3, [0.0] * 3
+        u[iu], w[iw], e[axis] = 1.0, 1.0, sign
+        order = [0, 0, 0]
+        order[iu], order[iw], order[axis] = 0, 1, 2
+        levels = [c * sign for c in v[:, axis].tolist()]
+        xs, ys = v[:n, iu].tolist(), v[:n, iw].tolist()
     else:
-        e = d * (sense / height)  # the corners 0..n-1 run counter-clockwise about e
+        e = d * (sense / height)
         a = np.zeros(3)
         a[int(np.argmin(np.abs(e)))] = 1.0
         u = a - (a @ e) * e
         u /= np.linalg.norm(u)
         w = np.cross(e, u)
-        x, y = v[:n] @ u, v[:n] @ w
-    levels = v @ e
-    low, high = float(levels[0]), float(levels[n])
-    if float(np.abs(levels[:n] - low).max()) > eps or float(np.abs(levels[n:] - high).max()) > eps:
+        order = None
+        levels = (v @ e).tolist()
+        xs, ys = (v[:n] @ u).tolist(), (v[:n] @ w).tolist()
+        u, w, e = u.tolist(), w.tolist(), e.tolist()
+    low, high = levels[0], levels[n]
+    if max(abs(c - low) for c in levels[:n]) > eps or max(abs(c - high) for c in levels[n:]) > eps:
         return None  # a cap is not normal to the extrusion
-    return _Footprint(x.tolist(), y.tolist(), u, w, e, min(low, high), max(low, high), size)
+    return _Footprint(xs, ys, (u, w, e), order, min(low, high), max(low, high), size)
 
 
 def _turns_left(ring: list[int], xs: list[float], ys: list[float]) -> bool:
@@ -214,14 +219,13 @@ class _Footprint:
     about the extrusion ``e``; the caps at levels ``low < high`` along ``e``; ``size`` the
     prism's bounding-box diagonal (m)."""
 
-    def __init__(self, xs, ys, u, w, e, low, high, size):
+    def __init__(self, xs, ys, frame, order, low, high, size):
         self.xs, self.ys = xs, ys
-        self.u, self.w, self.e = u, w, e
-        self.frame = (u.tolist(), w.tolist(), e.tolist())
-        self.aligned = bool(np.count_nonzero(u) == np.count_nonzero(w) == 1)
-        # along the axes: the mesh's coordinates are x, y and the level, in this order
-        self.order = np.argmax(np.abs([u, w, e]), axis=0) if self.aligned else None
-        self.e_sign = float(e.sum())  # the extrusion's sign along its axis (when aligned)
+        self.frame = frame  # u, w, e: each a unit vector in the mesh's coordinates
+        # along the axes: the mesh's coordinate k is x, y or the level (order[k] = 0, 1, 2),
+        # the level counted along the extrusion's axis with sign ``e_sign``
+        self.order = order
+        self.e_sign = sum(frame[2])
         self.low, self.high = low, high
         self.size = size
         self.cuts = 0
@@ -268,7 +272,7 @@ class _Footprint:
         xs, ys = self.xs, self.ys
         px = [xs[i] for i in ids]
         py = [ys[i] for i in ids]
-        if self.aligned:
+        if self.order is not None:
             return math.hypot(max(px) - min(px), max(py) - min(py), self.high - self.low)
         total = 0.0
         for a, b, c in zip(*self.frame, strict=True):
@@ -548,9 +552,10 @@ class _Footprint:
             columns = np.array([px + px, py + py, [low] * m + [high] * m])
             vertices = columns[self.order].T
         else:
+            u, w, e = (np.array(c) for c in self.frame)
             xy = np.array([px, py]).T
-            base = xy[:, :1] * self.u + xy[:, 1:] * self.w
-            vertices = np.concatenate([base + self.low * self.e, base + self.high * self.e])
+            base = xy[:, :1] * u + xy[:, 1:] * w
+            vertices = np.concatenate([base + self.low * e, base + self.high * e])
         if not runs:
             return Mesh._checked(vertices, _layouts(m)[0])
         faces = [(1, 0) + tuple(range(m - 1, 1, -1)), tuple(range(m, 2 * m))]
