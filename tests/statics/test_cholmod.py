@@ -232,3 +232,14 @@ def test_a_plain_import_and_a_solver_import_load_no_cvxopt():
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"
+
+
+def test_the_blas_hint_is_given_for_the_import_only_and_never_over_a_users_choice(monkeypatch):
+    code = (
+        "import os; from shapegen.statics.solvers import cholmod; cholmod.available();"
+        " print('OPENBLAS_CORETYPE' in os.environ)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False"
+    monkeypatch.setenv("OPENBLAS_CORETYPE", "Prescott")
+    assert cholmod._kernels_hint() is None
