@@ -1,27 +1,30 @@
 """CPU seconds to factor the reduced solver's block normal equations with each sparse
-symmetric factorisation available: MKL PARDISO (shapegen's binding, the ``mkl`` wheel), CHOLMOD
-through ``cvxopt``, ``cholespy``, and SuperLU (scipy, the fallback).
+symmetric factorisation available: CHOLMOD through ``cvxopt`` and MKL PARDISO (shapegen's
+bindings, :mod:`shapegen.statics.solvers.cholmod` and ``.pardiso``, the latter with the optional
+``mkl``), ``cholespy``, and SuperLU (scipy, the fallback).
 
-Run: ``.venv/bin/python benchmarks/bench_factorization.py [SIDE ...]`` with one thread
-(``OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1``). The matrix is wall-like:
-``SIDE x SIDE`` bodies of 6 rows, each coupled to its grid neighbours by contacts of 8 force
-columns, ``M = A A^T + 1e-3 I``, in the AMD block order the solver computes
-(``normal_equations._block_ordering``). An option that is not installed is said so and skipped.
-The figures and the choice made from them are in docs/architecture.md (issue #29, point 10).
+Run: ``.venv/bin/python benchmarks/bench_factorization.py [--repeat N] [SIDE ...]`` with one
+thread (``OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1``). The matrix is
+wall-like: ``SIDE x SIDE`` bodies of 6 rows, each coupled to its grid neighbours by contacts of
+8 force columns, ``M = A A^T + 1e-3 I``, in the AMD block order the solver computes
+(``normal_equations._block_ordering``). The analysis is done once; the numeric factorisation
+and the solve ``N`` times (min and median printed), as the solver repeats them per iteration.
+An option that is not installed is said so and skipped. The figures and the choice made from
+them are in docs/architecture.md (point 10).
 """
 
 from __future__ import annotations
 
 __all__ = ["main"]
 
-import sys
+import argparse
 import time
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from shapegen.statics.solvers import pardiso
+from shapegen.statics.solvers import cholmod, pardiso
 from shapegen.statics.solvers.normal_equations import _block_ordering
 
 FORCE_COLUMNS = 8  # force components per contact
@@ -55,73 +58,90 @@ def wall_matrix(side: int, seed: int = 0) -> sp.csc_matrix:
     return m[permutation][:, permutation].tocsc()
 
 
+REPEAT = 5  # numeric factorisations and solves of each option, after its analysis
+
+
 def _cpu(work):
     start = time.process_time()
     out = work()
     return time.process_time() - start, out
 
 
-def _superlu(m, rhs):
+def _repeated(work, repeat):
+    """CPU seconds of ``repeat`` calls of ``work`` and its last result."""
+    seconds = []
+    for _ in range(repeat):
+        cpu, out = _cpu(work)
+        seconds.append(cpu)
+    return seconds, out
+
+
+def _superlu(m, rhs, repeat):
     symmetric = {"SymmetricMode": True}
-    seconds, factor = _cpu(
-        lambda: splu(m, permc_spec="NATURAL", diag_pivot_thresh=0.0, options=symmetric)
+    factor_seconds, factor = _repeated(
+        lambda: splu(m, permc_spec="NATURAL", diag_pivot_thresh=0.0, options=symmetric), repeat
     )
-    return 0.0, seconds, factor.solve(rhs)
+    solve_seconds, x = _repeated(lambda: factor.solve(rhs), repeat)
+    return 0.0, factor_seconds, solve_seconds, x
 
 
-def _pardiso(m, rhs):
-    if not pardiso.available():
-        raise ImportError("mkl is not installed")
+def _ours(module, m, rhs, repeat):
+    if not module.available():
+        raise ImportError(f"{module.__name__.rsplit('.', 1)[-1]}'s library is not installed")
     upper = sp.triu(m).tocsr()
     upper.sort_indices()
-    analyse, factor = _cpu(lambda: pardiso.SymmetricFactor(upper.indptr, upper.indices))
-    numeric, _ = _cpu(lambda: factor.factor(upper.data))
-    return analyse, numeric, factor.solve(rhs)
+    analyse, factor = _cpu(lambda: module.SymmetricFactor(upper.indptr, upper.indices))
+    factor_seconds, _ = _repeated(lambda: factor.factor(upper.data), repeat)
+    solve_seconds, x = _repeated(lambda: factor.solve(rhs), repeat)
+    return analyse, factor_seconds, solve_seconds, x
 
 
-def _cholmod(m, rhs):
-    from cvxopt import cholmod, matrix, spmatrix
-
-    lower = sp.tril(m).tocoo()
-    a = spmatrix(matrix(lower.data), matrix(lower.row), matrix(lower.col), m.shape)
-    analyse, symbolic = _cpu(lambda: cholmod.symbolic(a))
-    numeric, _ = _cpu(lambda: cholmod.numeric(a, symbolic))
-    x = matrix(rhs)
-    cholmod.solve(symbolic, x)
-    return analyse, numeric, np.array(x).ravel()
-
-
-def _cholespy(m, rhs):
+def _cholespy(m, rhs, repeat):
     from cholespy import CholeskySolverD, MatrixType
 
     coo = m.tocoo()
     rows, cols = coo.row.astype(np.int32), coo.col.astype(np.int32)
-    seconds, solver = _cpu(
-        lambda: CholeskySolverD(m.shape[0], rows, cols, coo.data, MatrixType.COO)
+    factor_seconds, solver = _repeated(
+        lambda: CholeskySolverD(m.shape[0], rows, cols, coo.data, MatrixType.COO), repeat
     )
     x = np.zeros_like(rhs)
-    solver.solve(rhs.copy(), x)
-    return 0.0, seconds, x
+    solve_seconds, _ = _repeated(lambda: solver.solve(rhs.copy(), x), repeat)
+    return 0.0, factor_seconds, solve_seconds, x
 
 
-OPTIONS = {"pardiso": _pardiso, "cholmod": _cholmod, "cholespy": _cholespy, "superlu": _superlu}
+OPTIONS = {
+    "cholmod": lambda m, rhs, repeat: _ours(cholmod, m, rhs, repeat),
+    "pardiso": lambda m, rhs, repeat: _ours(pardiso, m, rhs, repeat),
+    "cholespy": _cholespy,
+    "superlu": _superlu,
+}
 
 
-def main(argv: list[str]) -> None:
-    for side in [int(a) for a in argv] or [60, 100]:
+def _spread(seconds: list[float]) -> str:
+    return f"{min(seconds):6.3f} / {float(np.median(seconds)):6.3f} s"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("sides", type=int, nargs="*", default=[60, 100])
+    parser.add_argument("--repeat", type=int, default=REPEAT)
+    args = parser.parse_args()
+    if cholmod.available():
+        print(f"# cvxopt's OpenBLAS runs its {cholmod.blas_kernels()} kernels")
+    for side in args.sides:
         m = wall_matrix(side)
         rhs = np.ones(m.shape[0])
-        print(f"{m.shape[0]} rows, {m.nnz} nonzeros")
+        print(f"{m.shape[0]} rows, {m.nnz} nonzeros (min / median of {args.repeat})")
         for name, run in OPTIONS.items():
             try:
-                analyse, numeric, x = run(m, rhs)
+                analyse, factor, solve, x = run(m, rhs, args.repeat)
             except ImportError as exc:
                 print(f"  {name:9s} not installed ({exc})")
                 continue
             residual = float(np.linalg.norm(m @ x - rhs))
-            print(f"  {name:9s} analyse {analyse:6.2f} s  factor {numeric:6.2f} s  "
-                  f"residual {residual:.1e}")  # fmt: skip
+            print(f"  {name:9s} analyse {analyse:6.3f} s  factor {_spread(factor)}  "
+                  f"solve {_spread(solve)}  residual {residual:.1e}")  # fmt: skip
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    main()
