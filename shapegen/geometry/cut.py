@@ -284,12 +284,11 @@ def convex_decomposition(
     A right prism (an extruded footprint) is cut on its footprint by
     :func:`~shapegen.geometry.prism_cut.prism_decomposition`, which gives these pieces at a
     fraction of the cost; anything else, and any prism it is not sure of, is cut here.
-    ``cleaned``: the pieces :meth:`~Mesh.cleaned` (a prism's cut pieces are made so)."""
+    ``cleaned``: the pieces :meth:`~Mesh.cleaned` (a prism's pieces are made so)."""
     pieces = prism_decomposition(mesh, max_pieces)
-    if pieces is not None and (not cleaned or pieces[0] is not mesh):
+    if pieces is not None:
         return pieces
-    if pieces is None:
-        pieces = _general_decomposition(mesh, max_pieces)
+    pieces = _general_decomposition(mesh, max_pieces)
     if pieces is not None and cleaned:
         pieces = [piece.cleaned() for piece in pieces]
     return pieces

@@ -30,7 +30,8 @@ from shapegen.model.polygons import CheckedFaces
 _REL = 1e-9  # as in cut.py: points closer than this times the piece's size lie on a plane
 _SPLIT_HEIGHT = 1e3  # as in cut.py: an edge's line splits a piece with corners this far beyond
 _THIN = 10.0  # a face with area within this many times cut.py's drop limit is left to it
-_FAR = 1e-2  # a piece smaller than this times the prism is left to the general path
+_FAR = 4e-3  # a piece smaller than this times the prism is left to the general path
+_NEAR = 4.0  # corners this many _REL of the size apart or closer are left to the general path
 
 
 class _Doubt(Exception):
@@ -124,6 +125,21 @@ def _turns_left(ring: list[int], xs: list[float], ys: list[float]) -> bool:
         if turn < 0 or (turn == 0 and (bx - ax) * (cx - bx) + (by - ay) * (cy - by) <= 0):
             return False
         ax, ay, bx, by = bx, by, cx, cy
+    return True
+
+
+def _apart(xs: list[float], ys: list[float], near: float) -> bool:
+    """No two corners within ``near`` (m) of each other along both axes: ones that
+    :meth:`Mesh.cleaned` could merge (it merges corners within its round-off, a quarter of
+    ``near`` at most, on a grid) are left to the general path."""
+    order = sorted(range(len(xs)), key=xs.__getitem__)
+    for k, i in enumerate(order):
+        x, y = xs[i], ys[i]
+        for j in order[k + 1 :]:
+            if xs[j] - x > near:
+                break
+            if abs(ys[j] - y) <= near:
+                return False
     return True
 
 
@@ -238,7 +254,7 @@ class _Footprint:
         if not area > 0:
             raise _Doubt  # turned inside out
         if _turns_left(first[0], self.xs, self.ys) and _winds_once(self.xs, self.ys):
-            return [mesh]  # convex: its own one piece
+            return self._whole(mesh)
         done: list[tuple] = []
         todo = [[first]]
         while todo:
@@ -260,11 +276,18 @@ class _Footprint:
             if len(done) + len(todo) > max_pieces:
                 raise _Doubt
         if len(done) == 1:
-            return [mesh]
+            return self._whole(mesh)
         total = sum(self._ring_area(ring) for (ring, _), _ in done)
         if abs(total - area) > _THIN * _REL * area:
             raise _Doubt
         return [self._mesh(ring, tags, size) for (ring, tags), size in done]
+
+    def _whole(self, mesh: Mesh) -> list[Mesh]:
+        """A convex prism: its own one piece, when it is clean (else left to the general path,
+        which cleans it)."""
+        if not _apart(self.xs, self.ys, _NEAR * _REL * self.size):
+            raise _Doubt
+        return [mesh]
 
     def _size(self, piece) -> float:
         """The diagonal of the piece's bounding box in the mesh's coordinates (m)."""
@@ -540,13 +563,8 @@ class _Footprint:
             tags = tags[start:] + tags[:start]
         px = [self.xs[i] for i in ring]
         py = [self.ys[i] for i in ring]
-        # Mesh.cleaned would merge corners this close; the pieces are made clean instead
-        near = 4.0 * _REL * size
-        for k in range(m):
-            x, y = px[k], py[k]
-            for j in range(k + 1, m):
-                if abs(x - px[j]) <= near and abs(y - py[j]) <= near:
-                    raise _Doubt
+        if not _apart(px, py, _NEAR * _REL * size):
+            raise _Doubt
         if self.order is not None:
             low, high = self.low * self.e_sign, self.high * self.e_sign
             columns = np.array([px + px, py + py, [low] * m + [high] * m])
