@@ -359,7 +359,9 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | No
     if pieces is None:
         return None
     rotation = np.asarray(rotation, float)
-    if np.linalg.det(rotation) < 0:  # a mirror: transformed turns the faces around
+    (a, b, c), (d, e, f), (g, h, i) = rotation.tolist()
+    if a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) < 0:
+        # a mirror: transformed turns the faces around
         return [
             Mesh(piece.vertices * scale + low, piece.faces).transformed(rotation, origin)
             for piece in pieces

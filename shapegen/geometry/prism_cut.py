@@ -25,6 +25,7 @@ from functools import lru_cache
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.rings import corners_apart, is_simple, turns_left, winds_once
 from shapegen.model.polygons import CheckedFaces
 
 _REL = 1e-9  # as in cut.py: points closer than this times the piece's size lie on a plane
@@ -115,121 +116,6 @@ def _footprint(mesh: Mesh) -> _Footprint | None:
     return _Footprint(xs, ys, (u, w, e), order, min(low, high), max(low, high), size)
 
 
-def _turns_left(ring: list[int], xs: list[float], ys: list[float]) -> bool:
-    """The ring turns left or goes straight on at every corner (never back)."""
-    ax, ay = xs[ring[-2]], ys[ring[-2]]
-    bx, by = xs[ring[-1]], ys[ring[-1]]
-    for i in ring:
-        cx, cy = xs[i], ys[i]
-        turn = (bx - ax) * (cy - by) - (by - ay) * (cx - bx)
-        if turn < 0 or (turn == 0 and (bx - ax) * (cx - bx) + (by - ay) * (cy - by) <= 0):
-            return False
-        ax, ay, bx, by = bx, by, cx, cy
-    return True
-
-
-def _apart(xs: list[float], ys: list[float], near: float) -> bool:
-    """No two corners within ``near`` (m) of each other along both axes: ones that
-    :meth:`Mesh.cleaned` could merge (it merges corners within its round-off, a quarter of
-    ``near`` at most, on a grid) are left to the general path."""
-    order = sorted(range(len(xs)), key=xs.__getitem__)
-    for k, i in enumerate(order):
-        x, y = xs[i], ys[i]
-        for j in order[k + 1 :]:
-            if xs[j] - x > near:
-                break
-            if abs(ys[j] - y) <= near:
-                return False
-    return True
-
-
-def _winds_once(xs: list[float], ys: list[float]) -> bool:
-    """The ring's edges turn once around (not twice or more, as a star drawn in one stroke)."""
-    turning = 0.0
-    ax, ay = xs[-2], ys[-2]
-    bx, by = xs[-1], ys[-1]
-    for cx, cy in zip(xs, ys, strict=True):
-        ux, uy, vx, vy = bx - ax, by - ay, cx - bx, cy - by
-        turning += math.atan2(ux * vy - uy * vx, ux * vx + uy * vy)
-        ax, ay, bx, by = bx, by, cx, cy
-    return turning < 3 * math.pi
-
-
-def _simple(xs: list[float], ys: list[float], tol: float) -> bool:
-    """No two edges of the ring meet but neighbours at their shared corner, none within
-    ``tol`` (m) of doing so, and no edge shorter than that."""
-    n = len(xs)
-    if n > 16:
-        return _simple_many(xs, ys, tol)
-    edges = []
-    for k in range(n):
-        ax, ay, bx, by = xs[k - 1], ys[k - 1], xs[k], ys[k]  # edge k - 1
-        length = math.hypot(bx - ax, by - ay)
-        if length <= tol:
-            return False
-        edges.append((ax, ay, bx, by, length))
-    for k in range(n):
-        ax, ay, bx, by, ab = edges[k]
-        for m in range(k + 2, n - 1 if k == 0 else n):
-            cx, cy, dx, dy, cd = edges[m]
-            if (
-                max(cx, dx) < min(ax, bx) - tol
-                or min(cx, dx) > max(ax, bx) + tol
-                or max(cy, dy) < min(ay, by) - tol
-                or min(cy, dy) > max(ay, by) + tol
-            ):
-                continue
-            if _segments_meet(ax, ay, bx, by, ab, cx, cy, dx, dy, cd, tol):
-                return False
-    return True
-
-
-def _segments_meet(ax, ay, bx, by, ab, cx, cy, dx, dy, cd, tol) -> bool:
-    """Segments a-b and c-d (lengths ``ab``, ``cd``) cross or come within ``tol`` of it."""
-
-    def side(px, py, qx, qy, length, rx, ry):
-        h = ((qx - px) * (ry - py) - (qy - py) * (rx - px)) / length
-        return 0 if abs(h) <= tol else (1 if h > 0 else -1)
-
-    s1, s2 = side(ax, ay, bx, by, ab, cx, cy), side(ax, ay, bx, by, ab, dx, dy)
-    s3, s4 = side(cx, cy, dx, dy, cd, ax, ay), side(cx, cy, dx, dy, cd, bx, by)
-    if s1 * s2 > 0 or s3 * s4 > 0:
-        return False
-    if s1 == s2 == 0:  # c-d on a-b's line: they meet where their spans along it overlap
-        tx, ty = (bx - ax) / ab, (by - ay) / ab
-        c, d = (cx - ax) * tx + (cy - ay) * ty, (dx - ax) * tx + (dy - ay) * ty
-        return max(c, d) >= -tol and min(c, d) <= ab + tol
-    return True
-
-
-def _simple_many(xs: list[float], ys: list[float], tol: float) -> bool:
-    """:func:`_simple` for a ring of many corners, all pairs of edges at once."""
-    n = len(xs)
-    ax, ay = np.array(xs), np.array(ys)
-    tx, ty = np.roll(ax, -1) - ax, np.roll(ay, -1) - ay
-    length = np.hypot(tx, ty)
-    if float(length.min()) <= tol:
-        return False
-    # side[i, k]: corner k's distance left of edge i's line, and its place along the edge
-    side = tx[:, None] * (ay[None, :] - ay[:, None]) - ty[:, None] * (ax[None, :] - ax[:, None])
-    side /= length[:, None]
-    along = tx[:, None] * (ax[None, :] - ax[:, None]) + ty[:, None] * (ay[None, :] - ay[:, None])
-    along /= length[:, None]
-    sign = (side > tol).astype(np.int8) - (side < -tol)
-    following = np.roll(sign, -1, axis=1)
-    straddles = sign * following <= 0  # edge k's corners not both on one side of edge i
-    meet = straddles & straddles.T
-    # an edge on the other's line meets it only where their spans along the line overlap
-    on_line = (sign == 0) & (following == 0)
-    span_low = np.minimum(along, np.roll(along, -1, axis=1))
-    span_high = np.maximum(along, np.roll(along, -1, axis=1))
-    overlap = (span_high >= -tol) & (span_low <= length[:, None] + tol)
-    meet &= ~on_line | overlap
-    i, k = np.indices((n, n))
-    apart = (np.abs(i - k) >= 2) & (np.abs(i - k) != n - 1)
-    return not bool((meet & apart).any())
-
-
 class _Footprint:
     """A prism's footprint: corners ``xs, ys`` in the frame ``u, w`` (m), counter-clockwise
     about the extrusion ``e``; the caps at levels ``low < high`` along ``e``; ``size`` the
@@ -253,7 +139,7 @@ class _Footprint:
         area = self._ring_area(first[0])
         if not area > 0:
             raise _Doubt  # turned inside out
-        if _turns_left(first[0], self.xs, self.ys) and _winds_once(self.xs, self.ys):
+        if turns_left(first[0], self.xs, self.ys) and winds_once(self.xs, self.ys):
             return self._whole(mesh)
         done: list[tuple] = []
         todo = [[first]]
@@ -270,7 +156,7 @@ class _Footprint:
                 if len(done) > max_pieces:
                     raise _Doubt
                 continue
-            if self.cuts == 0 and not _simple(self.xs, self.ys, _SPLIT_HEIGHT * _REL * self.size):
+            if self.cuts == 0 and not is_simple(self.xs, self.ys, _SPLIT_HEIGHT * _REL * self.size):
                 raise _Doubt
             todo.extend(self._halves(piece, size, *line))
             if len(done) + len(todo) > max_pieces:
@@ -285,7 +171,7 @@ class _Footprint:
     def _whole(self, mesh: Mesh) -> list[Mesh]:
         """A convex prism: its own one piece, when it is clean (else left to the general path,
         which cleans it)."""
-        if not _apart(self.xs, self.ys, _NEAR * _REL * self.size):
+        if not corners_apart(self.xs, self.ys, _NEAR * _REL * self.size):
             raise _Doubt
         return [mesh]
 
@@ -313,7 +199,7 @@ class _Footprint:
         ``_splitting_plane``), as ``(nx, ny, offset)``, or None when the piece is convex (or so
         but for round-off); a piece that is neither is left to the general path."""
         xs, ys = self.xs, self.ys
-        if len(piece) == 1 and self.cuts and _turns_left(piece[0][0], xs, ys):
+        if len(piece) == 1 and self.cuts and turns_left(piece[0][0], xs, ys):
             return None  # a piece of a simple ring never turning right is convex
         edges = sorted(  # the general path keeps the side faces in their first order
             (tag, ring[m], ring[(m + 1) % len(ring)])
@@ -563,7 +449,7 @@ class _Footprint:
             tags = tags[start:] + tags[:start]
         px = [self.xs[i] for i in ring]
         py = [self.ys[i] for i in ring]
-        if not _apart(px, py, _NEAR * _REL * size):
+        if not corners_apart(px, py, _NEAR * _REL * size):
             raise _Doubt
         if self.order is not None:
             low, high = self.low * self.e_sign, self.high * self.e_sign
