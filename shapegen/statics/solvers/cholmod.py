@@ -44,11 +44,11 @@ import numpy as np
 _OPTIONS = {"supernodal": 2, "nmethods": 1, "postorder": True, "print": 0}
 # Above this many stored entries (upper triangle) a released factor is freed whole and the next
 # factorisation analyses the pattern again: cvxopt cannot free the numeric part alone, and the
-# factor of a 100 000-block wall (~1 GB) should not outlive its solve in the pattern cache. At
-# 10 000 blocks (1.6 M entries) the analysis is a third of one numeric factorisation, once per
-# solve of a dozen factorisations; below the limit (a few thousand blocks, a factor of tens of
-# MB) a search's designs on the same block graph reuse the analysis.
-_KEEP_ENTRIES = 1_000_000
+# factor of a 100 000-block wall (2-3 GB) should not outlive its solve in the pattern cache (four
+# block graphs). The 10 000-block wall's M has 1.3 M entries and a factor of ~90 MB, kept; its
+# analysis (0.05 s) is a fifth of one numeric factorisation, so a larger model analyses its
+# pattern once per solve of a dozen factorisations at little cost.
+_KEEP_ENTRIES = 2_000_000
 
 
 class CholmodError(RuntimeError):
