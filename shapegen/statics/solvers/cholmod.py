@@ -2,7 +2,7 @@
 
 The reduced interior point method factors the block-level normal equations ``M`` a dozen times
 per solve with the same sparsity pattern. CHOLMOD's supernodal Cholesky runs dense BLAS-3
-kernels on the supernodes (3-5 times faster than SuperLU on the 10 000-block wall's ``M``) and
+kernels on the supernodes (4-5 times faster than SuperLU on the walls' ``M``) and
 separates the symbolic analysis, done once per pattern and kept, from the numeric factorisation,
 done per iteration.
 

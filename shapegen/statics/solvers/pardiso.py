@@ -2,10 +2,11 @@
 
 An alternative to the default CHOLMOD (:mod:`~shapegen.statics.solvers.cholmod`), asked for by
 name (``factorization="pardiso"`` of the reduced back-end), with the same interface: a symbolic
-analysis once per pattern, a numeric factorisation per iteration, solves. On the wall matrices
-of ``benchmarks/bench_factorization.py`` it factors about as fast as CHOLMOD (figures in
-docs/architecture.md), but the ``mkl`` wheel installs 691 MB and has no macOS or ARM build, so
-it is the optional ``shapegen[pardiso]`` rather than a dependency.
+analysis once per pattern, a numeric factorisation per iteration, solves. Its numeric
+factorisation of the walls' normal equations takes half to 0.6 times CHOLMOD's (an analysis of
+the 10 000-block wall about 8 % less; docs/architecture.md), but the ``mkl`` wheel installs
+691 MB and has no macOS or ARM build, so it is the optional ``shapegen[pardiso]`` rather than a
+dependency.
 
 The library comes from the ``mkl`` wheel (``libmkl_rt``); when it cannot be loaded,
 :func:`available` is False and asking for PARDISO is refused in one line. MKL runs in its
