@@ -189,9 +189,12 @@ class SymmetricFactor:
         self._analyse()
 
     def _analyse(self) -> None:
-        with self._settings:
-            self._symbolic = self._cholmod.symbolic(self._matrix, p=self._identity, uplo="L")
         self._factored = False
+        try:
+            with self._settings:
+                self._symbolic = self._cholmod.symbolic(self._matrix, p=self._identity, uplo="L")
+        except ValueError as exc:
+            raise CholmodError(f"CHOLMOD analysis failed: {exc}") from None
 
     def factor(self, data: np.ndarray) -> None:
         """Numeric factorisation for the values ``data`` (aligned with ``indices``)."""
