@@ -40,6 +40,10 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from benchmarks.processes import user_environment  # noqa: E402
+
 LOTS = ROOT / "tests" / "data" / "osm" / "neubrandenburg.geojson.gz"
 CORPUS = ROOT.parent / "shared" / "cga-corpus" / "packages"
 PACKAGES = {
@@ -114,7 +118,10 @@ def shapegen_run(
         "analyze": analyze,
     }
     result = subprocess.run(
-        [sys.executable, "-c", _RUNNER, json.dumps(job)], capture_output=True, text=True
+        [sys.executable, "-c", _RUNNER, json.dumps(job)],
+        capture_output=True,
+        text=True,
+        env=user_environment(),
     )
     if result.returncode != 0:
         return f"failed: {result.stderr.strip().splitlines()[-1:]}"
