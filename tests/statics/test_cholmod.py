@@ -26,6 +26,15 @@ from shapegen.statics.solvers.reduced import ReducedBackend
 
 pytestmark = pytest.mark.skipif(not cholmod.available(), reason="cvxopt is not installed")
 
+MKL_INSTALLED = pardiso.available()
+
+
+@pytest.fixture(autouse=True)
+def default_install(monkeypatch):
+    """These tests run as the default install does (cvxopt, no MKL), whatever this one has."""
+    monkeypatch.setattr(pardiso, "available", lambda: False)
+
+
 QUICK_RULES = ["arch_columns", "bezier_arches", "wall_windows", "tower", "barrel_vault", "mosque"]
 
 
@@ -196,8 +205,14 @@ def test_the_bundled_rules_get_superlus_verdicts_and_values(monkeypatch, rule):
     )
 
 
-def test_auto_is_cholmod_and_superlu_without_cvxopt(monkeypatch):
+def test_auto_is_pardiso_where_mkl_is_installed_else_cholmod_else_superlu(monkeypatch):
     _, problem = small_wall_problem(3)
+    if MKL_INSTALLED:  # shapegen[pardiso]: the faster one
+        monkeypatch.setattr(pardiso, "available", lambda: True)
+        normal = NormalEquations(problem)
+        assert normal.method == "pardiso"
+        normal.release()
+        monkeypatch.setattr(pardiso, "available", lambda: False)  # the default install
     normal = NormalEquations(problem)
     assert normal.method == "cholmod"
     normal.release()

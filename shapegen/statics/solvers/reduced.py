@@ -85,10 +85,11 @@ class ReducedBackend(Backend):
         is certainly above this scaled value: the phase-one problem only has to tell zero from
         clearly positive.
     factorization
-        How the normal equations are factored: ``"auto"`` (CHOLMOD through cvxopt when it
-        imports, else SuperLU), ``"cholmod"``, ``"pardiso"`` (Intel MKL, the optional
-        ``shapegen[pardiso]``) or ``"superlu"``. A name that is unknown or whose library is not
-        installed raises :class:`~shapegen.errors.OptionError` here, in one line.
+        How the normal equations are factored: ``"auto"`` (PARDISO when Intel MKL is installed,
+        the optional ``shapegen[pardiso]``; else CHOLMOD through cvxopt when it imports; else
+        SuperLU), ``"cholmod"``, ``"pardiso"`` or ``"superlu"``. A name that is unknown or
+        whose library is not installed raises :class:`~shapegen.errors.OptionError` here, in
+        one line.
     accept
         A test of the primal solution ``x`` (e.g. the feasibility certificate) that, once it
         holds, ends the solve: the question the caller asks is answered (``info["accepted"]``).
