@@ -118,6 +118,7 @@ class ReadoutsMixin:
                 "stands": bool(assessment.stands),
                 "measure": finite_or_none(assessment.measure),
                 "measure_name": outcome.structure.measure_name,
+                "fails_as": outcome.structure.fails_as,
                 "status": assessment.status,
                 # a proven verdict whose measure follows: measure and max_tension are null
                 "max_tension": None if assessment.pending else section.get("max_tension"),
@@ -131,6 +132,7 @@ class ReadoutsMixin:
                 "path": str(self.path) if self.path else None,
                 "package": str(self.package) if self.package else None,
                 "structure": outcome.structure.name,
+                "judges_blocks": outcome.structure.judges_blocks,
                 "blocks": len(outcome.model.blocks),
                 "dialect": getattr(self.grammar.ast, "dialect", "grammar"),
             },

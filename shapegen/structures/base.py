@@ -151,6 +151,9 @@ class Structure(ABC):
         One line for help texts.
     measure_name
         What the measure is, for reports and plots (``"y/W²"``).
+    fails_as
+        What a design that does not stand is said to do, in a word or three (``"needs
+        tension"``), for the design page's verdict.
     arguments
         The ``@Structure`` keyword arguments it reads.
     options_type
@@ -170,6 +173,7 @@ class Structure(ABC):
     name: ClassVar[str]
     description: ClassVar[str] = ""
     measure_name: ClassVar[str] = "measure"
+    fails_as: ClassVar[str] = "does not stand"
     arguments: ClassVar[Mapping[str, StructureArgument]] = {}
     options_type: ClassVar[type | None] = None
     needs_model: ClassVar[bool] = True

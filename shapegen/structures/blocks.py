@@ -34,6 +34,7 @@ class BlockStatics(Structure):
     name = "blocks"
     description = "rigid-block statics: compression-only frictional joints (Whiting et al. 2009)"
     measure_name = "y/W²"
+    fails_as = "needs tension"
     options_type = StaticsOptions
     has_gradient = True
     has_capacity = True

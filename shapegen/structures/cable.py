@@ -41,6 +41,7 @@ class CableModel(Structure):
     name = "cable"
     description = "suspension-bridge main cables sized by their peak tension (Patow 2012)"
     measure_name = "(d/d_max - 1)²"
+    fails_as = "cables too thick"
     needs_model = False
     arguments = {
         "main_span": StructureArgument("each main span, tower to tower, m"),

@@ -23,6 +23,9 @@ def test_a_change_rebuilds_and_judges_the_design(session):
     state = session.state()
     assert verdict(state) and state["grammar"]["blocks"] == 2
     assert state["verdict"]["measure_name"] == "y/W²"
+    # what the page says of a design that fails, and whether it colours tension, come from
+    # the structure, not from its name
+    assert state["verdict"]["fails_as"] == "needs tension" and state["grammar"]["judges_blocks"]
     before = state["model_version"]
     state = session.set_attrs({"offset": 0.7})
     assert not verdict(state)
@@ -152,6 +155,8 @@ def test_a_bridge_shows_its_cable_sizing():
         assert cables["cable_diameter"] > 0 and cables["allowed_diameter"] > 0
         fits = cables["cable_diameter"] <= cables["allowed_diameter"]
         assert state["verdict"]["stands"] == fits
+        assert state["verdict"]["fails_as"] == "cables too thick"
+        assert not state["grammar"]["judges_blocks"]
         assert session.scene()["forces"] is None
     finally:
         session.close()

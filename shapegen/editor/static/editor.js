@@ -856,7 +856,7 @@ function applyState(state) {
   const v = state.verdict;
   const verdict = $('verdict');
   if (v) {
-    verdict.textContent = v.stands ? 'stands' : (state.grammar.structure === 'cable' ? 'cables too thick' : 'needs tension');
+    verdict.textContent = v.stands ? 'stands' : v.fails_as;
     verdict.className = `verdict ${v.stands ? 'stands' : 'fails'}`;
     // a proven verdict whose measure follows (the next poll brings it)
     $('measure').textContent = v.pending ? `${v.measure_name} follows…` : `${v.measure_name} = ${number(v.measure)}`;
@@ -866,7 +866,7 @@ function applyState(state) {
   const page = app.lastLatencyMs === null ? '' : ` · on screen after ${(app.lastLatencyMs / 1000).toFixed(2)} s`;
   $('timing').textContent = `update ${t.update_s.toFixed(2)} s${page}`;
   const tensionRadio = $('colour-tension');
-  tensionRadio.disabled = state.grammar.structure !== 'blocks';
+  tensionRadio.disabled = !state.grammar.judges_blocks;
   const why = 'this design is judged by its cables, not by block statics';
   tensionRadio.parentElement.title = tensionRadio.disabled ? why : '';
   for (const id of ['show-joints', 'show-ground']) {
