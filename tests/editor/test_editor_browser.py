@@ -418,6 +418,8 @@ def test_the_first_view_frames_the_bridge_and_a_tall_tower(browser):
         # the bridge runs across the view, beside the panel at its top left
         assert in_view(page) and x0 >= left - 1e-6 and x1 - x0 > 0.8 * (right - left), (x0, x1)
         assert page_steps.model_coverage(page) > 0.02  # it showed at 1 %
+        # judged by its cables: no tension colours (the structure says so, not its name)
+        assert page.locator("#colour-tension").is_disabled()
     with page_steps.Editor("tower.grammar") as editor:
         page = browser.new_page(viewport={"width": 760, "height": 520})  # a small window
         page.problems = []
