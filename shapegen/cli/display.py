@@ -104,13 +104,16 @@ def analysis_table(title: str, analysis: dict):
     """The verdict of any structure, and its own figures."""
     from rich.text import Text
 
-    from shapegen.structures import structure_class
+    from shapegen.structures import UNJUDGED_STATUSES, structure_class
 
     table = _grid()
     table.add_row("model", Text(title))
     stands = bool(analysis.get("stands"))
+    status = analysis.get("status")
     if analysis.get("free_bodies") == 0:  # an empty structure stands, which says nothing
         table.add_row("stands", Text(NOTHING_TO_JUDGE, style="yellow"))
+    elif status in UNJUDGED_STATUSES:  # no verdict: taken not to stand, and said so
+        table.add_row("stands", Text(unjudged_line(analysis), style="bold yellow"))
     else:
         verdict = Text("yes" if stands else "no", style="green" if stands else "bold red")
         table.add_row("stands", verdict)
@@ -151,6 +154,13 @@ def analysis_table(title: str, analysis: dict):
             table.add_row("by direction", Text(directions_line(capacity)))
     table.add_row("seconds", f"{fmt(analysis.get('seconds'))}")
     return table
+
+
+def unjudged_line(analysis: dict) -> str:
+    """``unknown: the solver ended with numerical_error (solver reduced); taken not to stand``."""
+    solver = analysis.get("solver")
+    by = f" (solver {solver})" if solver else ""
+    return f"unknown: the solver ended with {analysis.get('status')}{by}; taken not to stand"
 
 
 def bodies_line(bodies: dict) -> str:

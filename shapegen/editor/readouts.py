@@ -119,6 +119,7 @@ class ReadoutsMixin:
                 "measure": finite_or_none(assessment.measure),
                 "measure_name": outcome.structure.measure_name,
                 "fails_as": outcome.structure.fails_as,
+                "judged": assessment.judged,  # False: the solver ended without an answer
                 "status": assessment.status,
                 # a proven verdict whose measure follows: measure and max_tension are null
                 "max_tension": None if assessment.pending else section.get("max_tension"),

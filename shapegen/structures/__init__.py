@@ -5,7 +5,13 @@
 ['blocks', 'cable']
 """
 
-from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
+from shapegen.structures.base import (
+    UNJUDGED_STATUSES,
+    Assessment,
+    Design,
+    Structure,
+    StructureArgument,
+)
 from shapegen.structures.lookup import available_structures, make_structure, structure_class
 from shapegen.structures.registry import DEFAULT_STRUCTURE, register_structure
 
@@ -15,6 +21,7 @@ __all__ = [
     "Design",
     "Structure",
     "StructureArgument",
+    "UNJUDGED_STATUSES",
     "available_structures",
     "make_structure",
     "register_structure",

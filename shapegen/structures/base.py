@@ -9,7 +9,7 @@ section. A structure that knows how its measure moves with the geometry also giv
 
 from __future__ import annotations
 
-__all__ = ["Assessment", "Design", "Structure", "StructureArgument"]
+__all__ = ["UNJUDGED_STATUSES", "Assessment", "Design", "Structure", "StructureArgument"]
 
 import math
 from abc import ABC, abstractmethod
@@ -81,6 +81,11 @@ class Design:
         return self._model
 
 
+UNJUDGED_STATUSES = frozenset({"numerical_error", "max_iterations"})
+"""Solver outcomes that give no verdict: the design is taken not to stand (searches keep away
+from it), and reports and printouts say the solver ended so, never a plain "no"."""
+
+
 @dataclass
 class Assessment:
     """A structure's judgement of one design.
@@ -126,6 +131,12 @@ class Assessment:
     def ok(self) -> bool:
         """True when the measure is a finite number (the design could be judged)."""
         return math.isfinite(self.measure)
+
+    @property
+    def judged(self) -> bool:
+        """False when the solver ended without an answer (:data:`UNJUDGED_STATUSES`): the
+        verdict ``stands=False`` is then the safe side, not a finding, and is shown as such."""
+        return self.status not in UNJUDGED_STATUSES
 
     def to_report(self) -> dict:
         """The ``analysis`` object of a report: the verdict first, then the structure's section."""

@@ -26,6 +26,7 @@ def test_a_change_rebuilds_and_judges_the_design(session):
     # what the page says of a design that fails, and whether it colours tension, come from
     # the structure, not from its name
     assert state["verdict"]["fails_as"] == "needs tension" and state["grammar"]["judges_blocks"]
+    assert state["verdict"]["judged"] and state["verdict"]["status"] == "optimal"
     before = state["model_version"]
     state = session.set_attrs({"offset": 0.7})
     assert not verdict(state)

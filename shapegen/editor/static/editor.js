@@ -856,7 +856,7 @@ function applyState(state) {
   const v = state.verdict;
   const verdict = $('verdict');
   if (v) {
-    verdict.textContent = v.stands ? 'stands' : v.fails_as;
+    verdict.textContent = !v.judged ? `unknown: the solver ended with ${v.status}` : (v.stands ? 'stands' : v.fails_as);
     verdict.className = `verdict ${v.stands ? 'stands' : 'fails'}`;
     // a proven verdict whose measure follows (the next poll brings it)
     $('measure').textContent = v.pending ? `${v.measure_name} follows…` : `${v.measure_name} = ${number(v.measure)}`;
