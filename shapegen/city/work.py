@@ -268,11 +268,18 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
         record["structure"] = outcome.structure.name
         record["stands"] = bool(assessment.stands)
         record["measure"] = _number(assessment.measure)
+        if not assessment.judged:  # no verdict: an empty cell and why, not a plain "no"
+            record["stands"] = None
+            record["solver_status"] = assessment.status
     record["blocks"] = len(outcome.model.blocks)
     # Leaves drawn but not judged (not convex blocks) and the derivation's warnings: said, so a
     # building judged on part of itself is never taken for the whole.
     record["left_out"] = int((outcome.report.get("left_out") or {}).get("leaves", 0))
     record["warnings"] = list(outcome.report.get("warnings") or [])
+    if "solver_status" in record:
+        record["warnings"].append(
+            f"the solver ended with {record.pop('solver_status')}: no verdict (taken not to stand)"
+        )
     built = outcome.model.metadata.get("attrs", {})
     ranged = outcome.report.get("free_parameters") or {}
     names = list(settings.search.free or ranged) if settings.search is not None else list(ranged)

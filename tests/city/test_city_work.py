@@ -33,3 +33,23 @@ def test_a_built_lot_carries_its_building_and_what_set_its_attrs():
     assert record["status"] == "ok" and record["from_properties"] == ["jetty"]
     assert record["attrs"] == {"jetty": 0.2} and record["left_out"] == 0
     assert record["model"].blocks and record["blocks"] == len(record["model"].blocks)
+
+
+def test_a_solver_without_an_answer_leaves_the_verdict_empty_and_says_why(monkeypatch):
+    import dataclasses
+
+    import shapegen.pipeline as pipeline
+
+    real = pipeline.design
+
+    def ended_without_an_answer(*args, **kwargs):
+        outcome = real(*args, **kwargs)
+        assessment = dataclasses.replace(
+            outcome.assessment, stands=False, measure=float("nan"), status="numerical_error"
+        )
+        return dataclasses.replace(outcome, assessment=assessment)
+
+    monkeypatch.setattr(pipeline, "design", ended_without_an_answer)
+    record = run_lot(_settings(attrs={"storeys": 1}), LotTask("n", RECTANGLE, {"jetty": 0.2}))
+    assert record["status"] == "ok" and record["stands"] is None, record
+    assert any("the solver ended with numerical_error" in w for w in record["warnings"])
