@@ -9,11 +9,11 @@ import sys
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
 from statics_cases import running_bond_wall
 from test_reduced_factorization import (
     explicit_normal_matrix,
     random_local_inverses,
+    random_spd_matrix,
     small_wall_problem,
 )
 
@@ -118,12 +118,8 @@ def test_a_large_pattern_frees_its_factor_and_analyses_again(monkeypatch):
 
 
 def test_a_matrix_that_is_not_positive_definite_is_refused_and_the_factor_recovers():
-    rng = np.random.default_rng(2)
-    n = 40
-    root = sp.random(n, n, density=0.1, random_state=rng) + sp.eye(n)
-    matrix = (root @ root.T + sp.eye(n)).tocsr()
-    upper = sp.triu(matrix).tocsr()
-    upper.sort_indices()
+    rng, n = np.random.default_rng(2), 40
+    matrix, upper = random_spd_matrix(n, rng)
     factor = cholmod.SymmetricFactor(upper.indptr, upper.indices)
     indefinite = upper.data.copy()
     indefinite[upper.indptr[n // 2]] = -1.0  # a negative diagonal entry

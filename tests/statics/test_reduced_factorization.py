@@ -34,6 +34,16 @@ def random_local_inverses(m, seed=0):
     return root @ np.transpose(root, (0, 2, 1)) + 0.1 * np.eye(3)
 
 
+def random_spd_matrix(n, rng):
+    """A random sparse symmetric positive definite ``n x n`` matrix (CSR) and its upper
+    triangle (CSR, indices sorted), the form the Cholesky bindings take."""
+    root = sp.random(n, n, density=0.1, random_state=rng) + sp.eye(n)
+    matrix = (root @ root.T + sp.eye(n)).tocsr()
+    upper = sp.triu(matrix).tocsr()
+    upper.sort_indices()
+    return matrix, upper
+
+
 def explicit_normal_matrix(problem, local):
     """``A D A^T`` with ``A`` the (c, u, t) columns of the equality matrix, built directly."""
     m = problem.n_vertices
@@ -66,12 +76,8 @@ def test_normal_equations_solve_the_explicit_system(factorization):
 
 @needs_mkl
 def test_pardiso_refactors_after_a_release_and_closes_once():
-    rng = np.random.default_rng(2)
-    n = 50
-    root = sp.random(n, n, density=0.1, random_state=rng) + sp.eye(n)
-    matrix = (root @ root.T + sp.eye(n)).tocsr()
-    upper = sp.triu(matrix).tocsr()
-    upper.sort_indices()
+    rng, n = np.random.default_rng(2), 50
+    matrix, upper = random_spd_matrix(n, rng)
     factor = pardiso.SymmetricFactor(upper.indptr, upper.indices)
     rhs = rng.standard_normal(n)
     for scale in (1.0, 3.0):
