@@ -34,6 +34,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from benchmarks.bench_peer_cra import peer_measure  # noqa: E402
 from benchmarks.processes import user_environment  # noqa: E402
 from benchmarks.walls import running_bond_wall  # noqa: E402
 
@@ -114,19 +115,8 @@ def peer_cpu(python: str, blocks: int) -> float | None:
     boxes = [
         (b.vertices.min(axis=0).tolist(), b.vertices.max(axis=0).tolist()) for b in model.blocks
     ]
-    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as handle:
-        json.dump({"boxes": boxes, "tilt": 0.0, "friction": 0.7}, handle)
-    try:
-        done = subprocess.run(
-            [python, str(ROOT / "benchmarks" / "bench_peer_cra.py"), "--peer", handle.name],
-            capture_output=True,
-            text=True,
-            check=False,
-        )
-    finally:
-        os.unlink(handle.name)
-    lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
-    return json.loads(lines[-1])["cpu"] if lines else None
+    peer, _ = peer_measure(python, {"boxes": boxes, "tilt": 0.0, "friction": 0.7})
+    return None if peer is None else peer["cpu"]
 
 
 def _shown(phases: dict, key: str) -> str:

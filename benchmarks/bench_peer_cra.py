@@ -128,6 +128,21 @@ def shapegen_run(n_blocks: int, case: str) -> tuple[dict, dict]:
     return ours, {"boxes": boxes, "tilt": tilt, "friction": friction}
 
 
+def peer_measure(python: str, wall: dict) -> tuple[dict | None, str]:
+    """compas_cra's figures on ``wall`` (``{"boxes", "tilt", "friction"}``), measured by this
+    script's peer side in ``python``: its JSON record, or None and what it printed on stderr."""
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as handle:
+        json.dump(wall, handle)
+    try:
+        done = subprocess.run(
+            [python, __file__, "--peer", handle.name], capture_output=True, text=True, check=False
+        )
+    finally:
+        os.unlink(handle.name)
+    lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
+    return (json.loads(lines[-1]) if lines else None), done.stderr.strip()
+
+
 def peer_python(requested: str | None) -> str | None:
     """A Python that imports compas_cra, or None."""
     candidates = (
@@ -168,22 +183,10 @@ def main() -> None:
     for case in args.cases:
         for size in args.sizes:
             ours, wall = shapegen_run(size, case)
-            with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as handle:
-                json.dump(wall, handle)
-            try:
-                done = subprocess.run(
-                    [python, __file__, "--peer", handle.name],
-                    capture_output=True,
-                    text=True,
-                    check=False,
-                )
-            finally:
-                os.unlink(handle.name)
-            lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
-            if not lines:
-                print(f"{case:7s} {ours['blocks']:6d} | peer failed: {done.stderr.strip()[-300:]}")
+            peer, errors = peer_measure(python, wall)
+            if peer is None:
+                print(f"{case:7s} {ours['blocks']:6d} | peer failed: {errors[-300:]}")
                 continue
-            peer = json.loads(lines[-1])
 
             def verdict(stands: bool) -> str:
                 return "stands" if stands else "fails"
