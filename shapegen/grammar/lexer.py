@@ -18,7 +18,7 @@ from lark import Token
 
 from shapegen.limits import current_limits
 
-__all__ = ["DefinitionNames", "DefinitionTooLong", "lark_parser"]
+__all__ = ["BlocksTooDeep", "DefinitionNames", "DefinitionTooLong", "lark_parser"]
 
 _GRAMMAR_FILE = "cga.lark"
 
@@ -41,6 +41,10 @@ _INLINE = "inline"
 _NOT_AFTER_INLINE = frozenset(
     {"LPAR", "EQUAL", "ARROW", "COLON", "RBRACE", "VBAR", "RSQB", "DOT", "COMMA", "RPAR"}
 )
+# Blocks ``{ ... }`` open at once: the parse tree's builder recurses per block and gives up
+# (RecursionError) near 150, so a file nested deeper is refused where it passes this depth,
+# before the rest of it is read.
+MAX_BLOCK_NESTING = 1000
 # Tokens that begin a new definition at bracket depth 0 (for max_definition_tokens).
 _DEFINITION_STARTS = frozenset({"DEF_NAME", "_START", "_IMPORT", "_STYLE", "_EXTENSION", "AT"})
 
@@ -55,6 +59,67 @@ class DefinitionTooLong(Exception):
         self.limit = limit
 
 
+_OPENERS = frozenset({"LPAR", "LSQB", "LBRACE"})
+_CLOSERS = frozenset({"RPAR", "RSQB", "RBRACE"})
+
+
+class _Lookahead:
+    """The tokens read ahead of the post-lexer, with where each bracket read so far closes
+    (any closer closes the latest open bracket, as a count of nesting would)."""
+
+    def __init__(self, stream: Iterator[Token]):
+        self._source = iter(stream)
+        self._pending: deque[Token] = deque()
+        self._taken = 0  # tokens handed on: the absolute index of _pending[0]
+        self._open: list[int] = []  # absolute indices of the brackets not closed yet
+        self._closes: dict[int, int] = {}  # absolute index of a bracket -> of its closer
+        self._exhausted = False
+
+    def _read(self) -> bool:
+        try:
+            token = next(self._source)
+        except StopIteration:
+            self._exhausted = True
+            return False
+        position = self._taken + len(self._pending)
+        self._pending.append(token)
+        if token.type in _OPENERS:
+            self._open.append(position)
+        elif token.type in _CLOSERS and self._open:
+            self._closes[self._open.pop()] = position
+        return True
+
+    def peek(self, index: int) -> Token | None:
+        """The token ``index`` places ahead (0: the next one), or None past the end."""
+        while len(self._pending) <= index and not self._exhausted:
+            self._read()
+        return self._pending[index] if index < len(self._pending) else None
+
+    def popleft(self) -> Token:
+        self._closes.pop(self._taken, None)
+        self._taken += 1
+        return self._pending.popleft()
+
+    def closing(self, index: int, within: int) -> int | None:
+        """Where (places ahead) the bracket ``index`` places ahead closes; None when it does
+        not close before ``within`` places ahead or the end."""
+        position = self._taken + index
+        while position not in self._closes:
+            if len(self._pending) > within or not self._read():
+                return None
+        found = self._closes[position] - self._taken
+        return found if found < within else None
+
+
+class BlocksTooDeep(Exception):
+    """Raised by the post-lexer at the ``{`` that opens more than ``MAX_BLOCK_NESTING`` blocks
+    at once."""
+
+    def __init__(self, token: Token):
+        super().__init__(token)
+        self.token = token
+
+
 class DefinitionNames:
     """Post-lexer: a NAME that starts a definition becomes DEF_NAME.
 
@@ -66,32 +131,22 @@ class DefinitionNames:
     always_accept: tuple[str, ...] = ()
 
     def process(self, stream: Iterator[Token]) -> Iterator[Token]:
-        pending: deque[Token] = deque()
-        source = iter(stream)
-        exhausted = False
-
-        def peek(index: int) -> Token | None:
-            nonlocal exhausted
-            while len(pending) <= index and not exhausted:
-                try:
-                    pending.append(next(source))
-                except StopIteration:
-                    exhausted = True
-            return pending[index] if index < len(pending) else None
-
+        ahead = _Lookahead(stream)
+        peek = ahead.peek
         depth = 0
         previous: Token | None = None
         limit = current_limits().max_definition_tokens
         started: Token | None = None  # the first token of the definition being read
         count = 0
+        blocks = 0  # braces open
         while peek(0) is not None:
-            token = pending.popleft()
+            token = ahead.popleft()
             count += 1
             if token.type == "NAME" and (following := peek(0)) is not None:
                 if token.value in _BOOLEAN_OPERATIONS and following.type == "LBRACE":
                     # union { A | B }: alternatives, not a split's block
                     yield Token.new_borrow_pos("BOOL_OP", token.value, token)
-                    brace = pending.popleft()
+                    brace = ahead.popleft()
                     depth += 1
                     previous = Token.new_borrow_pos("ALT_LBRACE", brace.value, brace)
                     yield previous
@@ -100,7 +155,13 @@ class DefinitionNames:
                     token = Token.new_borrow_pos("_INLINE", token.value, token)
             if count > limit and started is not None:
                 raise DefinitionTooLong(started, limit)
-            if token.type == "LBRACE" and self._bare_block(peek):
+            if token.type == "LBRACE":
+                blocks += 1
+                if blocks > MAX_BLOCK_NESTING:
+                    raise BlocksTooDeep(token)
+            elif token.type == "RBRACE":
+                blocks = max(blocks - 1, 0)
+            if token.type == "LBRACE" and self._bare_block(ahead):
                 token = Token.new_borrow_pos("BARE_LBRACE", token.value, token)
                 depth += 1
             elif token.type in ("LPAR", "LSQB", "LBRACE"):
@@ -139,25 +200,24 @@ class DefinitionNames:
             yield token
 
     @staticmethod
-    def _bare_block(peek) -> bool:
-        """True for a ``{`` whose block holds operations without ``key :`` (scatter's)."""
-        first = peek(0)
+    def _bare_block(ahead: _Lookahead) -> bool:
+        """True for a ``{`` (just taken) whose block holds operations without ``key :``
+        (scatter's). Only the block's own level is read: a nested group is stepped over to
+        where it closes, so that blocks nested in blocks are read once each, not once per
+        enclosing block."""
+        first = ahead.peek(0)
         if first is None or first.type == "LBRACE":  # a group of split parts: {{ ... }*}
             return False
-        nesting = 0
         index = 0
-        while (token := peek(index)) is not None and index < _BARE_BLOCK_LOOKAHEAD:
-            if token.type in ("LPAR", "LSQB", "LBRACE"):
-                nesting += 1
-            elif token.type in ("RPAR", "RSQB"):
-                nesting -= 1
+        while index < _BARE_BLOCK_LOOKAHEAD and (token := ahead.peek(index)) is not None:
+            if token.type in _OPENERS:
+                closing = ahead.closing(index, _BARE_BLOCK_LOOKAHEAD)
+                if closing is None:
+                    return False
+                index = closing
             elif token.type == "RBRACE":
-                if nesting == 0:
-                    return index > 0
-                nesting -= 1
-            elif nesting == 0 and token.type in ("COLON", "EQUAL", "VBAR", "PROBABILITY"):
-                return False
-            elif nesting < 0:
+                return index > 0
+            elif token.type in ("RPAR", "RSQB", "COLON", "EQUAL", "VBAR", "PROBABILITY"):
                 return False
             index += 1
         return False

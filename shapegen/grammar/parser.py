@@ -17,7 +17,7 @@ from lark.exceptions import UnexpectedInput
 
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
-from shapegen.grammar.lexer import DefinitionTooLong, lark_parser
+from shapegen.grammar.lexer import BlocksTooDeep, DefinitionTooLong, lark_parser
 from shapegen.grammar.syntax_errors import (
     blank_before,
     error_offset,
@@ -79,6 +79,9 @@ def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Gram
                 "max_definition_tokens"
             )
             raise GrammarError(message, location, source=original) from None
+        except BlocksTooDeep as deep:
+            location = SourceLocation(filename, deep.token.line or 1, deep.token.column or 1)
+            raise GrammarError(_TOO_DEEP, location, source=original) from None
     if syntax:
         raise GrammarError(syntax[0][1], syntax[0][0], source=original, problems=syntax)
     builder = AstBuilder(filename)
