@@ -26,6 +26,7 @@ from __future__ import annotations
 
 __all__ = [
     "DEFAULT_LIMITS",
+    "LOT_EXTENT_LIMIT_M",
     "WorkLimits",
     "current_limits",
     "limit_hint",
@@ -111,6 +112,11 @@ class WorkLimits:
 
 DEFAULT_LIMITS = WorkLimits()
 """The limits in force unless :func:`work_limits` says otherwise."""
+
+#: A lot's corners (and a rectangle lot's width and depth) lie within this many metres of the
+#: origin: far beyond any site on Earth (its circumference is 4e7 m), and far enough below
+#: float64's range that a lot's area, a building's volumes and their sums stay finite.
+LOT_EXTENT_LIMIT_M = 1e9
 
 _CURRENT: contextvars.ContextVar[WorkLimits] = contextvars.ContextVar(
     "shapegen_work_limits", default=DEFAULT_LIMITS

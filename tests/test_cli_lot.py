@@ -257,3 +257,16 @@ def test_an_l_shaped_lot_is_a_surface_and_says_so(tmp_path, capsys):
     assert json.loads(report.read_text())["left_out"] == {
         "leaves": 1, "by_reason": {"a face (no volume)": 1}
     }  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("0,0 1e308,0 1e308,1e308 0,1e308", "must lie within 1e+09 m of the origin"),
+        ("1e308,1e308", "width and depth must be at most 1e+09 m"),
+    ],
+)
+def test_a_lot_beyond_float_range_is_refused_in_one_line(text, message, capsys):
+    assert main(["build", "wall_windows.grammar", "--lot", text]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert message in err[-1] and "Traceback" not in "\n".join(err)

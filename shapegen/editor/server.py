@@ -12,16 +12,22 @@ answer; so every request other than GET and HEAD is refused (403) when its ``Ori
 server's own (``"null"`` included: files and sandboxed frames) or its ``Sec-Fetch-Site`` is not
 ``same-origin``, and (415) unless its ``Content-Type`` is ``application/json``, which no page can
 send to another origin without the browser first asking (a CORS preflight this server refuses).
+
+Connections are bounded: one that sends nothing for :data:`IDLE_SECONDS` is closed, and at most
+:data:`MAX_CONNECTIONS` are served at once; one more is answered 503 at once and closed, without
+a thread of its own. So a flood of idle connections costs no more than that many threads, the
+page answers as soon as they close, and a browser's own handful of connections is far below it.
 """
 
 from __future__ import annotations
 
-__all__ = ["API", "MAX_BODY", "EditorServer", "make_server"]
+__all__ = ["API", "IDLE_SECONDS", "MAX_BODY", "MAX_CONNECTIONS", "EditorServer", "make_server"]
 
 import json
 import math
 import mimetypes
 import sys
+import threading
 import traceback
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -34,6 +40,8 @@ from shapegen.errors import ShapegenError
 from shapegen.json_values import json_ready
 
 MAX_BODY = 64 * 1024  # bytes: far more than any attr update needs
+IDLE_SECONDS = 20.0  # a connection silent this long (s) is closed: a browser opens a new one
+MAX_CONNECTIONS = 64  # connections served at once; a browser keeps about 6 to one server
 HOST = "127.0.0.1"
 HOST_NAMES = (HOST, "localhost")  # the names the page may be served under
 JSON_TYPE = "application/json"
@@ -72,7 +80,34 @@ class EditorServer(ThreadingHTTPServer):
     def __init__(self, port: int, session: EditorSession | None, *, quiet: bool = True):
         self.session = session
         self.quiet = quiet
+        self._connections = 0  # served now, each on its own thread
+        self._connections_lock = threading.Lock()
         super().__init__((HOST, port), _Handler)
+
+    def process_request(self, request, client_address) -> None:
+        with self._connections_lock:
+            full = self._connections >= MAX_CONNECTIONS
+            if not full:
+                self._connections += 1
+        if full:
+            _refuse_busy(request)
+            self.shutdown_request(request)
+            return
+        try:
+            super().process_request(request, client_address)  # starts the connection's thread
+        except BaseException:
+            self._connection_ended()
+            raise
+
+    def process_request_thread(self, request, client_address) -> None:
+        try:
+            super().process_request_thread(request, client_address)
+        finally:
+            self._connection_ended()
+
+    def _connection_ended(self) -> None:
+        with self._connections_lock:
+            self._connections -= 1
 
     @property
     def url(self) -> str:
@@ -88,6 +123,22 @@ class EditorServer(ThreadingHTTPServer):
         if isinstance(sys.exc_info()[1], ConnectionError | TimeoutError):
             return
         super().handle_error(request, client_address)
+
+
+def _refuse_busy(connection) -> None:
+    """Answer 503 on a connection over :data:`MAX_CONNECTIONS`, without reading its request:
+    a few hundred bytes that a new socket's send buffer takes at once, never waited for."""
+    error = f"the server is serving {MAX_CONNECTIONS} connections; try again shortly"
+    content = json.dumps({"error": error}).encode("utf-8")
+    head = (
+        "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\n"
+        f"Content-Length: {len(content)}\r\nRetry-After: 1\r\nConnection: close\r\n\r\n"
+    ).encode("ascii")
+    try:
+        connection.setblocking(False)
+        connection.send(head + content)
+    except OSError:  # gone already, or a full buffer: the client sees the connection close
+        pass
 
 
 def make_server(
@@ -162,6 +213,7 @@ class _Handler(BaseHTTPRequestHandler):
     server: EditorServer
     server_version = "shapegen-edit"
     protocol_version = "HTTP/1.1"
+    timeout = IDLE_SECONDS  # on every read and write of the connection's socket
 
     # ------------------------------------------------------------------ dispatch
     def do_GET(self) -> None:  # noqa: N802 (the standard library's name)

@@ -409,7 +409,10 @@ def _checked_lot(lot: object) -> tuple[Shape, dict]:
     for side, value in (("width", width), ("depth", depth)):
         if not math.isfinite(value) or value <= 0:
             raise GrammarError(f"lot {side} must be a finite number > 0 in metres, got {value!r}")
-    return lot_shape((width, depth))
+    try:
+        return lot_shape((width, depth))
+    except ValueError as exc:  # beyond LOT_EXTENT_LIMIT_M
+        raise GrammarError(f"lot: {exc}") from None
 
 
 def _insert(name: str, scope: Scope, params: dict) -> list[Block]:

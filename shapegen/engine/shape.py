@@ -53,6 +53,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh
+from shapegen.limits import LOT_EXTENT_LIMIT_M
 from shapegen.model.scope import Scope
 
 FACE = "face"
@@ -162,6 +163,11 @@ def lot_scope(width: float, depth: float) -> Scope:
     """The start shape's scope: ``width`` (m) along +x, ``depth`` (m) along +z, y up, flat."""
     if not (math.isfinite(width) and math.isfinite(depth)) or width <= 0 or depth <= 0:
         raise ValueError(f"the lot must have a positive width and depth, got {width} x {depth} m")
+    if max(width, depth) > LOT_EXTENT_LIMIT_M:
+        raise ValueError(
+            f"the lot's width and depth must be at most {LOT_EXTENT_LIMIT_M:g} m, got "
+            f"{width:.3g} x {depth:.3g} m"
+        )
     return Scope(np.zeros(3), np.eye(3), np.array([float(width), 0.0, float(depth)]))
 
 

@@ -23,6 +23,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.limits import LOT_EXTENT_LIMIT_M
 from shapegen.model.scope import Scope
 from shapegen.tolerances import ROUNDOFF_REL, SIZE_FLOOR_M, ZERO_LENGTH
 
@@ -108,6 +109,11 @@ def lot_polygon(points: Sequence[Sequence[float]]) -> tuple[Scope, Mesh]:
         raise ValueError(f"a polygon lot needs at least 3 (x, z) points, got {len(flat)}")
     if not np.all(np.isfinite(flat)):
         raise ValueError("a polygon lot's points must be finite numbers")
+    if float(np.abs(flat).max()) > LOT_EXTENT_LIMIT_M:
+        raise ValueError(
+            f"a polygon lot's points must lie within {LOT_EXTENT_LIMIT_M:g} m of the origin, "
+            f"got a coordinate of {float(np.abs(flat).max()):.3g} m"
+        )
     world = np.column_stack([flat[:, 0], np.zeros(len(flat)), flat[:, 1]])
     normal = polygon_normal(world)
     span = float(np.ptp(flat, axis=0).max())

@@ -14,6 +14,7 @@ from collections.abc import Iterable
 from shapegen.grammar import ast
 from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
 from shapegen.grammar.names import ANNOTATIONS, ANY_KEYWORD
+from shapegen.limits import LOT_EXTENT_LIMIT_M
 
 __all__ = ["AnnotationChecks"]
 
@@ -218,5 +219,9 @@ class AnnotationChecks:
             return
         if name == "Lot" and not (is_number(value) and value > 0):
             self.report(argument.location, "@Lot sizes must be positive numbers (metres)")
+        elif name == "Lot" and not value <= LOT_EXTENT_LIMIT_M:
+            self.report(
+                argument.location, f"@Lot sizes must be at most {LOT_EXTENT_LIMIT_M:g} m"
+            )  # fmt: skip
         if name == "Structure" and not isinstance(value, str):
             self.report(argument.location, "@Structure names a structure: a string")

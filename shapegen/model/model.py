@@ -78,6 +78,8 @@ class Model:
             return 1.0
         # One array of all vertices: a min and max a block would cost more than the arithmetic.
         vertices = np.concatenate([b.vertices for b in self.blocks])
+        if not len(vertices):  # blocks without corners (cut to nothing): refused by validation
+            return 1.0
         lo, hi = vertices.min(axis=0), vertices.max(axis=0)
         return float(np.linalg.norm(hi - lo)) or 1.0
 

@@ -186,3 +186,47 @@ def test_a_bad_content_length_is_a_400(server, length):
     status, _, content = request(server, "POST", "/api/attrs", b'{"offset": 0.7}', headers)
     assert status == 400 and "bad Content-Length" in json.loads(content)["error"]
     assert unchanged(before, state(server))
+
+
+def _idle_connections(server, count: int) -> list:
+    import socket
+
+    return [
+        socket.create_connection(("127.0.0.1", server.server_address[1]), timeout=30)
+        for _ in range(count)
+    ]
+
+
+def test_an_idle_connection_is_closed(stack_file, monkeypatch):
+    from shapegen.editor import server as editor_server
+
+    monkeypatch.setattr(editor_server._Handler, "timeout", 0.3)
+    with serving(stack_file) as server:
+        (idle,) = _idle_connections(server, 1)
+        idle.sendall(b"GET /api/state HTTP/1.1\r\n")  # half a request, then nothing
+        assert idle.recv(1024) == b""  # the server hung up, without a word, well before 30 s
+        idle.close()
+        assert request(server, "GET", "/api/state")[0] == 200
+
+
+def test_connections_over_the_cap_are_a_503_and_the_page_answers_when_they_close(
+    stack_file, monkeypatch, capfd
+):
+    from shapegen.editor import server as editor_server
+
+    monkeypatch.setattr(editor_server, "MAX_CONNECTIONS", 4)
+    with serving(stack_file) as server:
+        held = _idle_connections(server, 4)
+        held[0].sendall(b"GET /api/state HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+        assert held[0].recv(16).startswith(b"HTTP/1.1 200")  # served: one of the 4
+        status, _, content = request(server, "GET", "/api/state")
+        assert status == 503 and "serving 4 connections" in json.loads(content)["error"]
+        for connection in held:
+            connection.close()
+        answered = 0
+        for _ in range(200):  # the threads notice the closed connections at once
+            answered = request(server, "GET", "/api/state")[0]
+            if answered == 200:
+                break
+        assert answered == 200
+    assert "Traceback" not in capfd.readouterr().err

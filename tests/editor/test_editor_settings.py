@@ -110,9 +110,14 @@ def test_every_change_of_the_settings_is_a_step_of_the_history(stack_file):
         ({"lot": [1]}, 400, '"lot" is [width, depth] in metres, a polygon'),
         ({"lot": [[0, 0], [1, 0]]}, 400, '"lot" is [width, depth]'),
         ({"lot": [[0, 0], [2, 0], [2, 2], [0, 2]]}, 422, "clockwise"),  # the build refuses it
+        # numbers whose squares overflow, and a lot too small for its corners to stay apart
+        ({"lot": [[0, 0], [1e308, 0], [1e308, 1e308], [0, 1e308]]}, 422, "within 1e+09 m"),
+        ({"lot": [[0, 0], [0, 1e10], [1e10, 1e10], [1e10, 0]]}, 422, "within 1e+09 m"),
+        ({"lot": [1e308, 1e308]}, 422, "width and depth must be at most 1e+09 m"),
+        ({"lot": [[1, 0], [1, 2e-9], [1 + 2e-9, 2e-9], [1 + 2e-9, 0]]}, 422, "zero or negative"),
     ],
 )
-def test_bad_settings_are_refused_and_change_nothing(stack_file, body, status, message):
+def test_bad_settings_are_refused_and_change_nothing(stack_file, capfd, body, status, message):
     with serving(stack_file) as server:
         before = json.loads(request(server, "GET", "/api/state")[2])
         got, answer = post(server, "/api/settings", body)
@@ -120,6 +125,7 @@ def test_bad_settings_are_refused_and_change_nothing(stack_file, body, status, m
         after = json.loads(request(server, "GET", "/api/state")[2])
         assert after["settings"] == before["settings"]
         assert after["model_version"] == before["model_version"]
+    assert "Traceback" not in capfd.readouterr().err
 
 
 def test_settings_are_closed_to_other_sites(stack_file):

@@ -178,6 +178,7 @@ SEMANTIC_ERRORS = [
     ("the start rule 'A' cannot take parameters", "@StartRule\nA(h) --> B", 2, 1),
     ("@Lot belongs on the start rule", "@StartRule\nA --> B\n@Lot(1, 2)\nC --> D", 3, 2),
     ("@Lot sizes must be positive numbers (metres)", "@StartRule @Lot(0, 2)\nA --> B", 1, 17),
+    ("@Lot sizes must be at most 1e+09 m", "@StartRule @Lot(1e300, 2)\nA --> B", 1, 17),
     (
         "@Structure belongs on the start rule",
         '@StartRule\nA --> B\n@Structure("cable")\nB --> i("box")',
