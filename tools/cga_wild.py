@@ -70,6 +70,7 @@ ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data" / "cga-wild"
 MANIFEST = DATA / "manifest.json"
 OUTCOMES = DATA / "outcomes.json"
+HOLDOUT = DATA / "holdout.json"
 DEFAULT_CORPUS = Path("/work/cga-wild")
 LOT = (12.0, 8.0)
 TIMEOUT = 60.0
@@ -318,10 +319,45 @@ def load_manifest(path: Path) -> list[dict]:
     return data["files"] if isinstance(data, dict) else data
 
 
-def runnable(entries: list[dict], only: str | None) -> list[dict]:
+PARTS = ("seen", "holdout", "new")
+
+
+def load_holdout(path: Path) -> dict[str, str]:
+    """``{repository: part}`` for the repositories kept out of sight (``holdout``: drawn from
+    the corpus; ``new``: collected after the draw); every other repository is ``seen``."""
+    if not path.is_file():
+        return {}
+    data = json.loads(path.read_text(encoding="utf-8"))
+    parts = {name: "holdout" for name in data.get("repositories", ())}
+    parts.update({name: "new" for name in data.get("new_repositories", ())})
+    return parts
+
+
+def mark_parts(entries: list[dict], holdout: dict[str, str]) -> list[dict]:
+    """Each entry with its ``part`` and, for the parts kept out of sight, ``unseen``: whether
+    its content is in no file of a seen repository (a file copied from a seen repository is
+    not a file the parser's authors have not seen)."""
+    seen_content = {
+        e["sha1"] for e in entries if holdout.get(e["repository"], "seen") == "seen" and "sha1" in e
+    }
+    marked = []
+    for entry in entries:
+        part = holdout.get(entry["repository"], "seen")
+        extra = {"part": part}
+        if part != "seen":
+            extra["unseen"] = entry.get("sha1") not in seen_content
+        marked.append({**entry, **extra})
+    return marked
+
+
+def runnable(entries: list[dict], only: str | None, part: str = "all") -> list[dict]:
     chosen = [e for e in entries if not e.get("duplicate_of")]
     if only:
         chosen = [e for e in chosen if only in e["local"] or only in e["repository"]]
+    if part == "hidden":
+        chosen = [e for e in chosen if e.get("part", "seen") != "seen"]
+    elif part != "all":
+        chosen = [e for e in chosen if e.get("part", "seen") == part]
     return chosen
 
 
@@ -336,7 +372,10 @@ def run_corpus(entries: list[dict], corpus: Path, jobs: int, timeout: float) -> 
             "path": entry["path"],
             "kind": entry.get("kind", "rule"),
             "revision": entry.get("revision", "head"),
+            "part": entry.get("part", "seen"),
         }
+        if "unseen" in entry:
+            record["unseen"] = entry["unseen"]
         if not path.is_file():
             record.update(outcome="missing", message=f"not in the corpus folder: {path}")
             return record
@@ -394,30 +433,61 @@ def repository_rows(results: list[dict]) -> list[tuple]:
     return rows
 
 
-def rate_lines(results: list[dict]) -> list[str]:
-    def line(label: str, chosen: list[dict]) -> str:
-        derives = sum(r["outcome"] == "derives" for r in chosen)
-        return f"{label}: {derives} / {len(chosen)} derive ({_rate(derives, len(chosen))})"
+def _counted(results: list[dict]) -> list[dict]:
+    """The measure's files: rule files, without libraries and files whose imports their own
+    project lacks."""
+    rules = [r for r in results if r.get("kind") != "library"]
+    return [r for r in rules if not lacks_imports(r) and not is_library(r)]
 
+
+def _line(label: str, chosen: list[dict]) -> str:
+    derives = sum(r["outcome"] == "derives" for r in chosen)
+    return f"{label}: {derives} / {len(chosen)} derive ({_rate(derives, len(chosen))})"
+
+
+def rate_lines(results: list[dict]) -> list[str]:
     rules = [r for r in results if r.get("kind") != "library"]
     plain = [r for r in rules if r.get("kind") != "generated"]
     heads = [r for r in plain if r.get("revision", "head") == "head"]
-    counted = [r for r in rules if not lacks_imports(r) and not is_library(r)]
+    counted = _counted(results)
     counted_plain = [r for r in counted if r.get("kind") != "generated"]
     outcomes = Counter(r["outcome"] for r in results)
     return [
-        line("all distinct files", results),
-        line("rule files (library files left out)", rules),
-        line("rule files outside generated families", plain),
-        line("the same, at the repositories' HEAD only (earlier revisions left out)", heads),
-        line(
+        _line("all distinct files", results),
+        _line("rule files (library files left out)", rules),
+        _line("rule files outside generated families", plain),
+        _line("the same, at the repositories' HEAD only (earlier revisions left out)", heads),
+        _line(
             "the measure: rule files, without libraries and files whose imports their own "
             "project lacks",
             counted,
         ),
-        line("the measure outside generated families", counted_plain),
+        _line("the measure outside generated families", counted_plain),
         "outcomes: " + ", ".join(f"{k} {outcomes[k]}" for k in (*OUTCOME_ORDER, "missing")),
     ]
+
+
+def part_lines(results: list[dict]) -> list[str]:
+    """The measure for each part apart (``seen``, ``holdout``, ``new``), and for the files of
+    the hidden parts whose content no seen repository holds: totals only, no failure."""
+    lines = []
+    for part in PARTS:
+        chosen = [r for r in results if r.get("part", "seen") == part]
+        if not chosen:
+            continue
+        counted = _counted(chosen)
+        lines.append(_line(f"{part}: the measure", counted))
+        plain = [r for r in counted if r.get("kind") != "generated"]
+        lines.append(_line(f"{part}: the measure outside generated families", plain))
+    hidden = [r for r in results if r.get("part", "seen") != "seen" and r.get("unseen")]
+    if hidden:
+        counted = _counted(hidden)
+        lines.append(
+            _line("unseen files (holdout and new, content in no seen repository)", counted)
+        )
+        plain = [r for r in counted if r.get("kind") != "generated"]
+        lines.append(_line("unseen files outside generated families", plain))
+    return lines
 
 
 def lacks_imports(record: dict) -> bool:
@@ -474,8 +544,11 @@ def failure_ranking(results: list[dict], corpus: Path) -> list[dict]:
     return ranking
 
 
-def print_summary(results: list[dict], corpus: Path, top: int) -> None:
-    rows = repository_rows(results)
+def print_summary(results: list[dict], corpus: Path, top: int, reveal: bool = True) -> None:
+    """The summary; without ``reveal`` the hidden parts (holdout, new) show their totals
+    only: no repository row, no failure."""
+    shown = results if reveal else [r for r in results if r.get("part", "seen") == "seen"]
+    rows = repository_rows(shown)
     width = max([len("repository")] + [len(row[0]) for row in rows])
     header = f"{'repository':<{width}}  files  derive  error  crash  other  rate"
     print(header)
@@ -486,11 +559,14 @@ def print_summary(results: list[dict], corpus: Path, top: int) -> None:
             f"  {rate}"
         )
     print()
-    print(f"{len(rows)} repositories, {len(results)} distinct files")
-    for line in rate_lines(results):
+    print(f"{len(rows)} repositories, {len(shown)} distinct files")
+    for line in rate_lines(shown):
         print(line)
     print()
-    ranking = failure_ranking(results, corpus)
+    for line in part_lines(results):
+        print(line)
+    print()
+    ranking = failure_ranking(shown, corpus)
     print(f"failure kinds ({len(ranking)}), the first {min(top, len(ranking))}:")
     for k, item in enumerate(ranking[:top], 1):
         print(
@@ -509,7 +585,8 @@ def markdown(results: list[dict], corpus: Path, top: int) -> str:
     ]
     for repo, files, derives, errors, crashes, other, rate in repository_rows(results):
         lines.append(f"| {repo} | {files} | {derives} | {errors} | {crashes} | {other} | {rate} |")
-    lines += ["", *(f"- {line}" for line in rate_lines(results)), ""]
+    lines += ["", *(f"- {line}" for line in rate_lines(results))]
+    lines += [*(f"- {line}" for line in part_lines(results)), ""]
     lines += ["| # | files | with it | kind | example | message |", "|---:|---:|---:|---|---|---|"]
     for k, item in enumerate(failure_ranking(results, corpus)[:top], 1):
         cells = [item["kind"], item["example"], item["message"]]
@@ -568,6 +645,10 @@ def reported(path: Path, entries: list[dict], corpus: Path) -> list[dict]:
             continue
         record = {**record, "kind": entry.get("kind", "rule")}
         record["revision"] = entry.get("revision", "head")
+        record["part"] = entry.get("part", "seen")
+        record.pop("unseen", None)
+        if "unseen" in entry:
+            record["unseen"] = entry["unseen"]
         if record.get("message") and record["outcome"] != "derives":
             record["failure_kind"] = failure_kind(record["message"], (str(corpus), str(ROOT)))
         results.append(record)
@@ -589,6 +670,18 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="derive nothing: print the summary of the outcomes file (kinds from the manifest)",
     )
+    parser.add_argument("--holdout", default=str(HOLDOUT), help="the holdout JSON")
+    parser.add_argument(
+        "--part",
+        choices=("all", "seen", "holdout", "new", "hidden"),
+        default="all",
+        help="run or report this part only (hidden: holdout and new)",
+    )
+    parser.add_argument(
+        "--reveal",
+        action="store_true",
+        help="show the hidden parts' repositories and failures too (else their totals only)",
+    )
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:
@@ -597,21 +690,26 @@ def main(argv: list[str] | None = None) -> int:
     corpus = corpus_folder(args.corpus)
     if not corpus.is_dir():
         parser.error(f"no corpus folder {corpus} (see tests/data/cga-wild/README.md)")
-    entries = runnable(load_manifest(Path(args.manifest)), args.only)
+    holdout = load_holdout(Path(args.holdout))
+    entries = runnable(
+        mark_parts(load_manifest(Path(args.manifest)), holdout), args.only, args.part
+    )
     if args.report:
         results = reported(Path(args.outcomes), entries, corpus)
-        print_summary(results, corpus, args.top)
+        print_summary(results, corpus, args.top, args.reveal)
         if args.markdown:
-            Path(args.markdown).write_text(markdown(results, corpus, args.top), encoding="utf-8")
+            shown = results if args.reveal else [r for r in results if r["part"] == "seen"]
+            Path(args.markdown).write_text(markdown(shown, corpus, args.top), encoding="utf-8")
         return 0
     if not entries:
         parser.error("no manifest entry to run")
     print(f"deriving {len(entries)} files from {corpus} ...", file=sys.stderr)
     results = run_corpus(entries, corpus, args.jobs, args.timeout)
-    write_outcomes(results, Path(args.outcomes), merge=bool(args.only))
-    print_summary(results, corpus, args.top)
+    write_outcomes(results, Path(args.outcomes), merge=bool(args.only) or args.part != "all")
+    print_summary(results, corpus, args.top, args.reveal)
     if args.markdown:
-        Path(args.markdown).write_text(markdown(results, corpus, args.top), encoding="utf-8")
+        shown = results if args.reveal else [r for r in results if r["part"] == "seen"]
+        Path(args.markdown).write_text(markdown(shown, corpus, args.top), encoding="utf-8")
     return 0
 
 
