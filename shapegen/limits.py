@@ -1,4 +1,4 @@
-"""Work limits: how much one grammar load, one build or one file read may do before it stops.
+r"""Work limits: how much one grammar load, one build or one file read may do before it stops.
 
 Every path that could otherwise run until memory or patience runs out (a user function calling
 itself twice per level, a string doubled forty times, ``i("arch", segments = 1e16)``, a model

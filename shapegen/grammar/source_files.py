@@ -5,7 +5,7 @@ else Windows-1252, the encoding of rule files written on Windows before CityEngi
 >>> import tempfile, pathlib
 >>> folder = pathlib.Path(tempfile.mkdtemp())
 >>> (folder / "old.cga").write_bytes(b"// H\\xf6he in m\\nLot --> extrude(3)\\n")
-36
+32
 >>> text, warning = read_rule_file(folder / "old.cga")
 >>> text.splitlines()[0], warning
 ('// Höhe in m', 'not UTF-8: read as Windows-1252 (cp1252)')
