@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import pytest
@@ -292,3 +293,58 @@ def test_remove_temporaries_removes_only_this_process_writes(tmp_path):
         assert not mine.exists() and parents.exists()  # a forked child spares its parent's file
     finally:
         atomic._TEMPORARIES.clear()
+
+
+# ------------------------------------------------------------------------------ killed writes
+def test_a_write_killed_outright_is_cleaned_by_the_next_run(tmp_path):
+    model = tmp_path / "wall.glb"
+    model.write_bytes(b"the old model")
+    child = subprocess.Popen(
+        [sys.executable, "-c", SLOW_WRITER, "build", "wall_windows.grammar", "-q", "-o",
+         str(model)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+    )  # fmt: skip
+    try:
+        assert child.stdout.readline() == "writing\n"
+        child.send_signal(signal.SIGKILL)  # no handler runs: the temporary file stays
+        child.communicate(timeout=60)
+    finally:
+        child.kill()
+    (left,) = tmp_path.glob(".*.tmp")
+    assert left.name.startswith(f".wall.glb.{atomic._HOST}-{child.pid}.")
+    assert model.read_bytes() == b"the old model"
+    # another output in the same folder is the next write there: it sweeps the folder
+    done = subprocess.run(
+        [sys.executable, "-m", "shapegen", "build", "wall_windows.grammar", "-q", "-o",
+         str(tmp_path / "other.json")],
+        capture_output=True, text=True, cwd=tmp_path,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["other.json", "wall.glb"]
+
+
+def test_only_abandoned_temporary_files_are_removed(tmp_path, monkeypatch):
+    host = atomic._HOST
+    alive = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    names = {
+        "running": f".a.json.{host}-{alive.pid}.abc123_x.tmp",  # a write under way
+        "mine": f".a.json.{host}-{os.getpid()}.abc123_x.tmp",
+        "dead": f".a.json.{host}-{dead.pid}.abc123_x.tmp",
+        "elsewhere": f".a.json.0a0b0c-{dead.pid}.abc123_x.tmp",  # another machine's writer
+        "old elsewhere": f".b.json.0a0b0c-{dead.pid}.abc123_x.tmp",
+        "not ours": f".a.json.{dead.pid}.tmp",
+    }
+    try:
+        for name in names.values():
+            (tmp_path / name).write_text("")
+        old = time.time() - atomic.ABANDONED_SECONDS - 60
+        os.utime(tmp_path / names["old elsewhere"], (old, old))
+        removed = atomic.remove_abandoned(tmp_path)
+    finally:
+        alive.kill()
+        alive.wait()
+    assert sorted(removed) == sorted(str(tmp_path / names[k]) for k in ("dead", "old elsewhere"))
+    kept = {p.name for p in tmp_path.iterdir()}
+    assert kept == {names[k] for k in ("running", "mine", "elsewhere", "not ours")}

@@ -1,27 +1,39 @@
 """Atomic file output: write to a temporary file beside the target, then rename.
 
-A failed or interrupted run never leaves a half-written output nor a ``.NAME.xxxx.tmp`` file:
-each temporary file is removed when its write fails (any exception, Ctrl-C included), and every
+A failed or interrupted run never leaves a half-written output nor a temporary file: each
+temporary file is removed when its write fails (any exception, Ctrl-C included), and every
 temporary file still open is removed by :func:`remove_temporaries`, which the handlers that
 :func:`stop_on_signals` installs call on SIGINT, SIGTERM and SIGHUP before stopping the run.
+
+A process killed outright (SIGKILL, a power cut) runs no cleanup, so its temporary file stays.
+Each one is named for its writer: ``.NAME.HOST-PID.xxxxxxxx.tmp`` (``HOST`` a short hash of the
+machine's name), and the first write of a later process into that folder removes those whose
+writer is gone (a process of this machine that no longer runs) or that have not changed for
+:data:`ABANDONED_SECONDS` (a writer on another machine, or a process number used again).
 """
 
 from __future__ import annotations
 
 __all__ = [
+    "ABANDONED_SECONDS",
     "Interrupted",
     "atomic_write",
     "check_distinct",
     "check_writable",
+    "remove_abandoned",
     "remove_temporaries",
     "stop_on_signals",
 ]
 
 import contextlib
+import hashlib
 import os
+import re
 import signal
+import socket
 import tempfile
 import threading
+import time
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 
@@ -39,6 +51,16 @@ def _umask() -> int:
 
 
 _CREATE_MODE = 0o666 & ~_umask()  # what open() would give a new file
+
+#: A temporary file unchanged for this long (s) is abandoned whoever wrote it: no write of
+#: shapegen's stalls for a day, and a process number may be used again after a restart.
+ABANDONED_SECONDS = 24 * 3600.0
+
+# .NAME.HOST-PID.xxxxxxxx.tmp: the writer's machine (a hash of its name) and process number
+_TEMPORARY_NAME = re.compile(r"\.(?P<name>.+)\.(?P<host>[0-9a-f]{6})-(?P<pid>[0-9]+)\.[^.]+\.tmp")
+_HOST = hashlib.blake2b(socket.gethostname().encode(), digest_size=3).hexdigest()
+_SWEPT: set[tuple[int, str]] = set()  # the folders this process has swept (with its pid)
+_SWEPT_LOCK = threading.Lock()
 
 
 class Interrupted(KeyboardInterrupt):
@@ -68,6 +90,7 @@ def atomic_write(path: str | os.PathLike, mode: str = "w") -> Iterator:
     directory = _folder(target)
     if not directory.is_dir():
         raise InputFormatError(f"{target}: folder {directory} does not exist")
+    _sweep_once(directory)
     with _signals_held():  # a signal between creating and registering would orphan the file
         fd, tmp = _temporary_file(target, directory)
         entry = (os.getpid(), tmp)
@@ -204,11 +227,62 @@ def _same_existing_file(first: Path, second: Path) -> bool:
 
 
 def _temporary_file(target: Path, directory: Path) -> tuple[int, str]:
-    """A new hidden temporary file beside ``target`` in ``directory`` (its descriptor and
-    path); a folder that cannot be written in is an InputFormatError naming the target."""
+    """A new hidden temporary file beside ``target`` in ``directory``, named for this process
+    (its descriptor and path); a folder that cannot be written in is an InputFormatError naming
+    the target."""
+    prefix = f".{target.name}.{_HOST}-{os.getpid()}."
     try:
-        return tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=directory)
+        return tempfile.mkstemp(prefix=prefix, suffix=".tmp", dir=directory)
     except OSError as exc:
         raise InputFormatError(
             f"{target}: cannot write in folder {directory}: {exc.strerror or exc}"
         ) from None
+
+
+def _sweep_once(directory: Path) -> None:
+    """:func:`remove_abandoned` in ``directory``, on this process's first write there."""
+    key = (os.getpid(), os.path.abspath(directory))
+    with _SWEPT_LOCK:
+        if key in _SWEPT:
+            return
+        _SWEPT.add(key)
+    remove_abandoned(directory)
+
+
+def remove_abandoned(directory: str | os.PathLike) -> list[str]:
+    """Remove the temporary files in ``directory`` that a killed write left (see the module's
+    docstring); returns their names. Another process's write under way is left alone."""
+    removed = []
+    now = time.time()
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return removed
+    for entry in entries:
+        found = _TEMPORARY_NAME.fullmatch(entry.name)
+        if found is None:
+            continue
+        try:
+            changed = entry.stat(follow_symlinks=False).st_mtime
+        except OSError:
+            continue
+        pid = int(found["pid"])
+        gone = found["host"] == _HOST and pid != os.getpid() and not _running(pid)
+        if gone or now - changed > ABANDONED_SECONDS:
+            with contextlib.suppress(OSError):
+                os.unlink(entry.path)
+                removed.append(entry.path)
+    return removed
+
+
+def _running(pid: int) -> bool:
+    """Whether process ``pid`` of this machine runs (where that cannot be asked: yes)."""
+    if os.name != "posix":
+        return True  # os.kill(pid, 0) would end it on Windows
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, OSError):
+        return True  # another user's
+    return True
