@@ -297,3 +297,14 @@ def test_rule_text_end_to_end():
     assert b.appearance.color == (1.0, 0.5, 1.0)
     assert b.volume == pytest.approx(8 * math.sin(math.pi / 8) * 1 * 2 * 2)
     assert c.appearance.uv == (("setupProjection", (0, "scope.xy", 1.0, 1.0)), ("projectUV", (0,)))
+
+
+def test_set_material_reads_a_string_array_written_in_the_file():
+    """op_setMaterial's first example as text: the argument is a CGA string array."""
+    grammar = shapegen.parse_grammar(
+        'Lot --> setMaterial(["color.r", "1.0", "color.g", "0.0", "color.b", "0.0"]) X',
+        "set_material.cga",
+    )
+    model = grammar.build(lot=(4.0, 2.0))
+    colours = {tuple(surface.appearance.color) for surface in model.surfaces}
+    assert colours == {(1.0, 0.0, 0.0)}

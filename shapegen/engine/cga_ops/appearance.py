@@ -39,7 +39,7 @@ from dataclasses import replace
 from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.cga_ops.arguments import plain_arguments, typed
 from shapegen.engine.finite import finite_parameter
-from shapegen.engine.functions_arrays import format_value, type_name
+from shapegen.engine.functions_arrays import Array, format_value, type_name
 from shapegen.engine.functions_shape import material_alias
 from shapegen.grammar import ast
 from shapegen.model.appearance import (
@@ -220,6 +220,8 @@ def compile_set_material(program, node: ast.Operation, params):
 
     def set_material(state, args, out):
         values = pairs_of(args, state)
+        if isinstance(values, Array):  # what a string array literal or readMaterial() gives
+            values = values.values
         if not isinstance(values, list | tuple) or len(values) % 2:
             raise error(
                 node,

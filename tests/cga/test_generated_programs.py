@@ -1,0 +1,93 @@
+"""Generated well-formed CGA programs (tests/cga/cga_programs.py): the parser takes every one,
+the printer writes each back to the same tree, and none ends in a traceback when loaded and
+derived on a 12 x 8 m lot (a ShapegenError of the runtime is counted and printed, not failed:
+CityEngine's runtime warns where shapegen may still stop).
+
+The quick lane runs a few hundred seeds; the slow lane runs 10 000 through
+tools/cga_generated.py, which prints the seed and the counts. The parser's known gaps are in
+``cga_programs.KNOWN_REFUSALS`` (each one described in /work/notes/generator-refusals.md); the
+strict xfail below shows when one is fixed.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+from shapegen.grammar import parse
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import cga_programs  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+QUICK_SEEDS = range(0, 120)  # parsed and printed back (~40 ms a program)
+DERIVED = 10  # of which the first ones are derived too (~0.3 s a program)
+CHUNK = 60
+
+
+def _chunks():
+    seeds = list(QUICK_SEEDS)
+    return [seeds[i : i + CHUNK] for i in range(0, len(seeds), CHUNK)]
+
+
+@pytest.mark.parametrize("seeds", _chunks(), ids=lambda s: f"seeds{s[0]}-{s[-1]}")
+def test_generated_programs_parse_round_trip_and_derive_without_traceback(seeds, tmp_path):
+    outcomes = [
+        cga_programs.check(cga_programs.generate(s), tmp_path / str(s), derive=s < DERIVED)
+        for s in seeds
+    ]
+    counts = Counter(outcome.stage for outcome in outcomes)
+    print(f"seeds {seeds[0]}-{seeds[-1]}: {dict(counts)}")
+    for outcome in outcomes:
+        if outcome.stage == "error":
+            print(f"  runtime error, seed {outcome.seed}: {outcome.message}")
+    wrong = [o for o in outcomes if o.stage in ("refused", "round trip", "crash")]
+    assert not wrong, "\n".join(
+        f"seed {o.seed}: {o.stage}: {o.message} {o.where}" for o in wrong[:10]
+    )
+    derived = [o for o in outcomes if o.seed < DERIVED]
+    assert sum(o.stage == "derives" for o in derived) >= len(derived) // 2  # most derive
+
+
+def test_the_generator_is_deterministic_and_covers_the_language():
+    assert cga_programs.generate(7).files == cga_programs.generate(7).files
+    assert cga_programs.generate(7).files != cga_programs.generate(8).files
+    forms = set().union(*(cga_programs.generate(seed).forms for seed in range(300)))
+    wanted = {
+        "attr", "const", "function", "function case", "stochastic value", "with", "rule",
+        "rule parameters", "conditional rule", "stochastic rule", "case body", "import",
+        "split", "nested split group", "comp", "comp_e", "extrude", "roof", "offset", "setback",
+        "shape", "inner", "scatter", "envelope", "taper", "splitArea", "bool", "inline",
+        "insert", "primitive", "push", "t", "r", "s", "center", "color", "set", "report",
+        "print", "label", "tag", "align", "texture", "array", "array index",
+        "string concatenation", "case expression", "relative coordinate",
+    }  # fmt: skip
+    assert wanted <= forms, wanted - forms
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="/work/notes/generator-refusals.md 1: inline(strategy) { operations } is refused",
+)
+def test_inline_with_a_strategy_takes_a_block_of_operations():
+    """op_inline.html: ``inline(geometryMergeStrategy) { operations }``."""
+    parse("Lot --> inline(unify) { extrude(3) A }", "inline.cga")
+
+
+@pytest.mark.slow
+def test_ten_thousand_generated_programs():
+    """tools/cga_generated.py over 10 000 seeds: prints the counts; no refusal, round-trip
+    difference or traceback."""
+    spec = importlib.util.spec_from_file_location(
+        "cga_generated", ROOT / "tools" / "cga_generated.py"
+    )
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    outcomes = tool.run(range(0, 10_000), jobs=2)
+    tool.print_summary(outcomes, seed=0)
+    wrong = [o for o in outcomes if o.stage in ("refused", "round trip", "crash", "timeout")]
+    assert not wrong, "\n".join(f"seed {o.seed}: {o.stage}: {o.message}" for o in wrong[:20])
