@@ -74,7 +74,14 @@ class WorkLimits:
     max_blocks
         Blocks of one model, derived or read from a file.
     max_file_bytes
-        Size of a model file (JSON or mesh) read, bytes.
+        Size of a model file (JSON or mesh) or a lots file read, bytes (a gzipped file's once
+        inflated); a rule package may unpack to 16 times as much.
+    max_json_depth
+        Arrays and objects nested in one JSON document read.
+    max_archive_members
+        Files and folders of one archive (a rule package).
+    max_archive_depth
+        Folders one archive member lies in.
     max_seconds
         Seconds of one derivation (wall clock), or None for no time limit.
     """
@@ -90,6 +97,9 @@ class WorkLimits:
     max_primitive_blocks: int = 20_000
     max_blocks: int = 50_000
     max_file_bytes: int = 32 * 2**20
+    max_json_depth: int = 256
+    max_archive_members: int = 20_000
+    max_archive_depth: int = 64
     max_seconds: float | None = 60.0
 
     def __post_init__(self) -> None:

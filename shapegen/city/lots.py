@@ -25,7 +25,6 @@ from __future__ import annotations
 
 __all__ = ["CRS_CHOICES", "City", "Lot", "city_from_polygons", "read_lots"]
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -34,6 +33,7 @@ import numpy as np
 from shapegen.errors import InputFormatError
 from shapegen.readers import geojson
 from shapegen.readers.crs import LONLAT, METRES, InputCrs, parse_crs, resolve_crs
+from shapegen.readers.files import GZIP_MAGIC, parse_json_document, read_input_bytes
 from shapegen.readers.osm import read_buildings
 
 CRS_CHOICES = ("lonlat", "metres")
@@ -60,7 +60,8 @@ class Lot:
     properties
         The feature's properties (OSM tags), for attrs of the same names.
     geometry
-        The GeoJSON geometry as read (input coordinates), for the results table.
+        The GeoJSON geometry as read (input coordinates), for the results table; None when it
+        holds a number that is not finite (NaN, inf: the lot has a ``problem``).
     problem
         Why it cannot be built (the row's error), or None.
     """
@@ -144,38 +145,23 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     Raises
     ------
     InputFormatError
-        One line naming the file: unreadable, not GeoJSON (or OSM XML), no polygon, two lots
+        One line naming the file: unreadable, over ``max_file_bytes`` (a gzipped file once
+        inflated: read in a stream that stops there), nested deeper than ``max_json_depth``,
+        not GeoJSON (or OSM XML), no polygon, two lots
         with one id, an unknown system, longitude/latitude on another datum than WGS84, an
         unreadable ``.prj``, a ``crs`` that contradicts the file's.
     """
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    if data[:2] == b"\x1f\x8b":  # gzip (.geojson.gz)
-        import gzip
-        import zlib
-
-        try:
-            data = gzip.decompress(data)
-        except (OSError, EOFError, zlib.error) as exc:
-            raise InputFormatError(f"{path}: not a whole gzip file ({exc})") from None
-        if data[:512].lstrip().startswith(b"<"):
-            raise InputFormatError(f"{path}: gzipped OSM XML is not read; gunzip it first")
+    data = read_input_bytes(path, "lots file", gunzip=True)
     head = data[:512].lstrip()
+    if head.startswith(b"<") and _gzipped(path):
+        raise InputFormatError(f"{path}: gzipped OSM XML is not read; gunzip it first")
     if path.suffix.lower() == ".osm" or head.startswith(b"<"):
         if crs is not None and parse_crs(crs, f"--crs {crs}").name != LONLAT:
             raise InputFormatError(f"{path}: OSM nodes are longitude/latitude; --crs {crs}")
         features, skipped = read_buildings(path)
         return _city(features, InputCrs(LONLAT), skipped, str(path))
-    try:
-        document = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        where = f":{exc.lineno}:{exc.colno}" if isinstance(exc, json.JSONDecodeError) else ""
-        raise InputFormatError(
-            f"{path}{where}: not a GeoJSON file (invalid JSON) nor OSM XML"
-        ) from None
+    document = parse_json_document(data, str(path), "not a GeoJSON file nor OSM XML")
     features = geojson.features(document, str(path))
     member = document.get("crs") if isinstance(document, dict) else None
     chosen = resolve_crs(member, path, crs)
@@ -184,6 +170,14 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     if chosen is None:
         chosen = InputCrs(_detected_crs(polygons))
     return _city(polygons, chosen, skipped, str(path))
+
+
+def _gzipped(path: Path) -> bool:
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(2) == GZIP_MAGIC
+    except OSError as exc:
+        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
 def city_from_polygons(
@@ -258,8 +252,11 @@ def _city(features: list[dict], crs: InputCrs, skipped: int, source: str) -> Cit
         if lot_id in seen:
             raise InputFormatError(f"{source or 'lots'}: two lots have the id {lot_id!r}")
         seen.add(lot_id)
-        ring, problem = _ring(feature["geometry"], crs, origin_lonlat or origin)
-        lots.append(Lot(lot_id, ring, properties, feature["geometry"], problem))
+        geometry = feature["geometry"]
+        ring, problem = _ring(geometry, crs, origin_lonlat or origin)
+        if not geojson.is_finite(geometry):  # kept as a row with its error, without a shape
+            geometry = None
+        lots.append(Lot(lot_id, ring, properties, geometry, problem))
     return City(lots, crs.name, origin, skipped, source, origin_lonlat, crs)
 
 

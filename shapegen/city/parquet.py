@@ -89,16 +89,21 @@ def _column(name: str, values: list):
 
 
 def _shape(geometry):
-    """The lot's geometry as a shapely Polygon/MultiPolygon, or None when it has none."""
+    """The lot's geometry as a shapely Polygon/MultiPolygon, or None when it has none or none
+    that WKB can hold (a non-finite corner: its row says why the lot was not built)."""
+    import numpy as np
+    import shapely
     import shapely.geometry
 
     if not isinstance(geometry, dict):
         return None
     try:
         shape = shapely.geometry.shape(geometry)
-    except (ValueError, TypeError, AttributeError, IndexError):
+    except (ValueError, TypeError, AttributeError, IndexError, shapely.errors.ShapelyError):
         return None
-    return None if shape.is_empty else shape
+    if shape.is_empty or not np.all(np.isfinite(shapely.get_coordinates(shape))):
+        return None
+    return shape
 
 
 def _geo_metadata(city, shapes) -> dict:

@@ -6,9 +6,10 @@ a cache folder (``$SHAPEGEN_CACHE``, else ``$XDG_CACHE_HOME/shapegen``, else
 ``~/.cache/shapegen``; one folder per package content) and load its start rule: the ``.cga``
 whose compiled rule has no ``$`` in its name (``bin/candler.cgb`` -> ``rules/candler.cga``;
 ``envelope2002$facade.cgb`` is an import compiled for it). Imports and assets then resolve in
-the unpacked package as in CityEngine. A package whose members would land outside its folder,
-that unpacks to more than ``max_file_bytes`` x 16, or that is not a 7z archive is refused with
-one line.
+the unpacked package as in CityEngine. A package is unpacked as untrusted input
+(:func:`shapegen.readers.archives.unpack_7z`): one whose members would land outside its folder,
+that is too large, too deep or has too many members once unpacked, or that is not a whole 7z
+archive is refused with one line naming it.
 """
 
 from __future__ import annotations
@@ -19,13 +20,12 @@ import hashlib
 import os
 import shutil
 import tempfile
-from pathlib import Path, PurePosixPath
+from pathlib import Path
 
 from shapegen.errors import GrammarError
-from shapegen.limits import current_limits, limit_hint
+from shapegen.readers.archives import unpack_7z
 
 PACKAGE_SUFFIX = ".rpk"
-_UNPACKED_FACTOR = 16  # an unpacked package may hold this many max_file_bytes
 
 
 def _cache_root() -> Path:
@@ -44,37 +44,9 @@ def _digest(path: Path) -> str:
     return hasher.hexdigest()[:20]
 
 
-def _safe_members(archive, package: Path) -> None:
-    total = 0
-    limit = _UNPACKED_FACTOR * current_limits().max_file_bytes
-    for entry in archive.list():
-        name = PurePosixPath(entry.filename.replace("\\", "/"))
-        if name.is_absolute() or ".." in name.parts:
-            raise GrammarError(
-                f"{package}: the member {entry.filename!r} would be unpacked outside the "
-                "package's folder"
-            )
-        total += int(entry.uncompressed or 0)
-        if total > limit:
-            raise GrammarError(f"{package}: it unpacks to more than {limit} bytes "
-                               + limit_hint("max_file_bytes"))  # fmt: skip
-
-
-def _archive_errors() -> tuple[type[BaseException], ...]:
-    from py7zr import exceptions
-
-    names = (
-        *("Bad7zFile", "ArchiveError", "CrcError", "DecompressionError", "InternalError"),
-        *("UnsupportedCompressionMethodError", "PasswordRequired", "DecompressionBombError"),
-    )
-    return (EOFError, *(getattr(exceptions, n) for n in names if hasattr(exceptions, n)))
-
-
 def _unpacked(package: Path) -> Path:
-    """The folder the package is unpacked in (unpacked on first use)."""
-    import py7zr
-
-    _ARCHIVE_ERRORS = _archive_errors()  # noqa: N806
+    """The folder the package is unpacked in (unpacked on first use, into a staging folder
+    renamed into place once whole: a refused or interrupted package leaves nothing)."""
     try:
         folder = _cache_root() / "packages" / f"{package.stem}-{_digest(package)}"
     except OSError as exc:
@@ -90,15 +62,8 @@ def _unpacked(package: Path) -> Path:
             "SHAPEGEN_CACHE to a writable folder)"
         ) from None
     try:
-        with py7zr.SevenZipFile(package, mode="r") as archive:
-            _safe_members(archive, package)
-            archive.extractall(path=staging)
+        unpack_7z(package, staging)
         os.replace(staging, folder)
-    except _ARCHIVE_ERRORS as exc:
-        raise GrammarError(
-            f"{package}: not a readable CityEngine rule package (a 7z archive): "
-            f"{exc or type(exc).__name__}"
-        ) from None
     except OSError as exc:
         if folder.is_dir():  # another process unpacked it first
             return folder

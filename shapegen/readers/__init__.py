@@ -3,7 +3,10 @@
 ==========================  ==========================================================
 what                        reader
 ==========================  ==========================================================
-bytes and JSON of a file    :mod:`~shapegen.readers.files` (size limits, one-line errors)
+bytes and JSON of a file    :mod:`~shapegen.readers.files` (size limits, gzip inflated in
+                            a bounded stream, JSON depth bound, one-line errors)
+7z archives (``.rpk``)      :func:`~shapegen.readers.archives.unpack_7z`: members, depth,
+                            size bounded; damaged streams one line
 a lot (``--lot``)           :func:`~shapegen.readers.lots.read_lot`: ``W,D``, corners,
                             a GeoJSON feature, an OBJ face
 GeoJSON features            :mod:`~shapegen.readers.geojson` (lots and cities)

@@ -14,6 +14,7 @@ __all__ = [
     "distinct_corners",
     "feature_id",
     "features",
+    "is_finite",
     "is_point",
     "is_polygon",
     "local_metres",
@@ -22,6 +23,7 @@ __all__ = [
     "within_lonlat",
 ]
 
+import json
 import math
 
 import numpy as np
@@ -68,6 +70,16 @@ def is_polygon(feature: dict) -> bool:
     """Whether the feature's geometry is a Polygon or a MultiPolygon."""
     geometry = feature.get("geometry")
     return isinstance(geometry, dict) and geometry.get("type") in POLYGONS
+
+
+def is_finite(geometry: object) -> bool:
+    """Whether every number of a geometry is finite (JSON can hold it: NaN and inf read from
+    ``NaN``/``Infinity`` cannot be written back as GeoJSON nor as WKB)."""
+    try:
+        json.dumps(geometry, allow_nan=False)
+    except (ValueError, TypeError, RecursionError):
+        return False
+    return True
 
 
 def within_lonlat(points: np.ndarray) -> bool:

@@ -7,15 +7,12 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from pathlib import Path
-from types import SimpleNamespace
 
 import py7zr
 import pytest
 
 import shapegen
-from shapegen.engine.rule_packages import _safe_members
-from shapegen.errors import GrammarError
+from shapegen.errors import GrammarError, ShapegenError
 
 BOX = "".join(f"v {x} {y} {z}\n" for x in (0, 1) for y in (0, 2) for z in (0, 1)) + (
     "f 1 2 4 3\nf 5 7 8 6\nf 1 5 6 2\nf 3 4 8 7\nf 1 3 7 5\nf 2 6 8 4\n"
@@ -30,7 +27,7 @@ MAIN = (
 def _package(path, members: dict[str, str]):
     with py7zr.SevenZipFile(path, "w") as archive:
         for name, text in members.items():
-            archive.writestr(text.encode(), name)
+            archive._writestr(text.encode(), name)  # unchecked: names a hostile package may hold
     return path
 
 
@@ -82,20 +79,20 @@ def test_a_package_without_one_start_rule_is_refused_naming_its_rules(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "name, size, message",
-    [("../evil.cga", 10, "outside the package"), ("/etc/evil", 10, "outside the package"),
-     ("rules/big.cga", 2**40, "unpacks to more than")],
+    "name, message",
+    [("../evil.cga", "outside the package"), ("/etc/evil", "outside the package"),
+     ("..\\evil.cga", "outside the package")],
 )  # fmt: skip
-def test_members_outside_the_folder_or_too_large_are_refused(name, size, message):
-    entry = SimpleNamespace(filename=name, uncompressed=size)
-    archive = SimpleNamespace(list=lambda: [entry])
-    with pytest.raises(GrammarError, match=message):
-        _safe_members(archive, Path("p.rpk"))
+def test_members_outside_the_folder_are_refused(tmp_path, name, message):
+    package = _package(tmp_path / "p.rpk", {"rules/a.cga": "Lot --> X.", name: "x"})
+    with pytest.raises(ShapegenError, match=message):
+        shapegen.load_grammar(package)
+    assert not list((tmp_path / "cache" / "packages").iterdir())  # nothing half-unpacked
 
 
 def test_a_file_that_is_not_a_package_is_one_line(tmp_path):
     fake = tmp_path / "fake.rpk"
     fake.write_text("Lot --> X.")
-    with pytest.raises(GrammarError, match="not a readable CityEngine rule package") as caught:
+    with pytest.raises(ShapegenError, match="not a readable CityEngine rule package") as caught:
         shapegen.load_grammar(fake)
     assert "\n" not in str(caught.value)
