@@ -32,11 +32,14 @@ __all__ = ["KNOWN_REFUSALS", "LOT", "GeneratedProgram", "Outcome", "check", "gen
 LOT = (12.0, 8.0)  # metres, the lot every program is derived on
 MAX_SHAPES = 20_000
 
-#: Refusals of well-formed forms the parser does not take yet: message fragment -> the entry of
+#: Refusals of well-formed forms the parser does not take yet: (message fragment, the form of
+#: :attr:`GeneratedProgram.forms` that brings it) -> the entry of
 #: /work/notes/generator-refusals.md that describes it. Remove an entry when the parser takes
-#: the form (tests/cga/test_generated_programs.py's strict xfail shows when).
-KNOWN_REFUSALS: dict[str, str] = {
-    "inline() needs 'key : operations' in its block": "1. inline(strategy) { operations }",
+#: the form (tests/cga/test_generated_programs.py's strict xfails show when).
+KNOWN_REFUSALS: dict[tuple[str, str], str] = {
+    ("inline() needs 'key : operations' in its block", "inline"): "1. inline(strategy) {...}",
+    ("unexpected number", "perimeter"): "2. splitAndSetbackPerimeter's length : depth : ops",
+    ("unexpected 'case'; expected an expression", "comp function case"): "3. case in comp()",
 }
 
 FLOAT, STRING, BOOL, FLOATS = "float", "string", "bool", "float[]"
@@ -77,7 +80,7 @@ SHAPE_FLOATS = (
     *("split.index", "split.total", "comp.index", "comp.total", "seedian"),
     *("geometry.area", "geometry.area()", "geometry.nVertices", "geometry.height"),
 )
-WORDS = ("brick", "glass", "roof", "a;b;c;", "", "façade", 'say \\"hi\\"', "#ff8800")
+WORDS = ("brick", "glass", "roof", "a;b;c;", "", "façade", 'say \\"hi\\"', "#ff8800", "a\\nb")
 COLOURS = ("#ff0000", "#ffffff", "#336699", "#a0a0a0")
 COMP_FACE_SELECTORS = (
     "front",
@@ -134,6 +137,7 @@ class _Writer:
         self.values: dict[str, str] = {}  # attr and const names -> type
         self.attrs: dict[str, str] = {}
         self.functions: list[_Callable] = []
+        self.comp_functions: list[str] = []  # parameterless functions giving one value an edge
         self.rules: list[_Callable] = []
         self.library = library  # an imported file's writer, read under its prefix
         self.prefix = prefix
@@ -150,6 +154,9 @@ class _Writer:
 
     # expressions ----------------------------------------------------------------------------
     def number(self, low: float = -5, high: float = 20) -> str:
+        if self.chance(0.05):
+            self.forms.add("number forms")
+            return self.rng.choice([".5", "1e1", "2.5E-1", "0.0"])
         value = self.rng.choice(
             [
                 self.rng.randint(int(low), int(high)),
@@ -337,9 +344,19 @@ class _Writer:
 
     def function(self) -> str:
         rng = self.rng
+        if self.chance(0.15):
+            return self.comp_function()
         result = rng.choice([FLOAT, FLOAT, STRING, BOOL])
         params = tuple(rng.choice([FLOAT, STRING, BOOL]) for _ in range(rng.randint(0, 3)))
         name = self.fresh("f")
+        if self.chance(0.1):
+            # a builtin's name with another number of parameters: an overload of its own
+            builtins = [n for n, (p, _) in BUILTINS.items() if len(p) != len(params)]
+            name = rng.choice(builtins)
+            if any(f.name == name and len(f.params) == len(params) for f in self.functions):
+                name = self.fresh("f")
+            else:
+                self.forms.add("builtin name overloaded")
         env = {f"p{i}": t for i, t in enumerate(params)}
         head = name + (f"({', '.join(env)})" if params else "")
         if self.chance(0.2):
@@ -356,6 +373,35 @@ class _Writer:
         self.forms.add("function")
         return f"{head} = {body}"
 
+    def comp_function(self) -> str:
+        """func_comp: ``name = comp(fe) { selector : value | ... }``, a float array with one value
+        per edge, which setback() takes as its distances."""
+        self.forms.add("comp function")
+        name = self.fresh("edges")
+        branches = []
+        for _ in range(self.rng.randint(1, 3)):
+            selector = self.rng.choice(
+                [
+                    "front",
+                    "back",
+                    "left",
+                    "right",
+                    "side",
+                    "all",
+                    "street.front",
+                    "street.side",
+                    "object.front",
+                ]
+            )
+            if self.chance(0.3):
+                self.forms.add("comp function case")
+                value = f"case scope.sx > {self.rng.randint(2, 9)} : 2 else : 1"
+            else:
+                value = self.rng.choice(["1", "2", "0.5", "comp.index % 2 + 1"])
+            branches.append(f"{selector} {self.rng.choice([':', ':', '='])} {value}")
+        self.comp_functions.append(name)
+        return f"{name} = comp(fe) {{ {' | '.join(branches)} }}"
+
     # rules ----------------------------------------------------------------------------------
     def rule_call(self, geometry: str, env, after: int) -> str:
         """A successor: a rule made after rule ``after`` (a new one now and then), or NIL."""
@@ -364,6 +410,12 @@ class _Writer:
             library_rules = [r for r in self.library.rules if r.geometry == geometry]
             if library_rules:
                 self.forms.add("import")
+                floats = [n for n, t in self.library.attrs.items() if t == FLOAT]
+                if floats and self.chance(0.3):
+                    self.forms.add("dynamic import")
+                    rule = self.rng.choice(library_rules)
+                    call = self.call_text(rule, env, "")
+                    return f"lib({self.rng.choice(floats)} = {self.size(env)}).{call}"
                 return self.call_text(self.rng.choice(library_rules), env, "lib.")
         if not candidates or (len(self.rules) < 6 and self.chance(0.35)):
             if len(self.rules) >= 8:
@@ -409,7 +461,22 @@ class _Writer:
                 items.append(item)
         if not items or not items[-1].endswith("}"):
             items.append(self.rule_call(geometry, env, index))
-        return " ".join(items)
+        text = items[0]
+        for item in items[1:]:
+            text += self.separator() + item
+        return text
+
+    def separator(self) -> str:
+        """Between two items: a space, a new line, or a comment (cgaindex: // and /* */)."""
+        roll = self.rng.random()
+        if roll < 0.8:
+            return " "
+        self.forms.add("layout")
+        if roll < 0.9:
+            return "\n\t"
+        if roll < 0.95:
+            return " /* then */ "
+        return " // then\n\t\t"
 
     def decoration(self, env, geometry: str = FACE) -> str:
         """An operation that keeps the geometry (appearance, attributes, reports, transforms)."""
@@ -426,6 +493,18 @@ class _Writer:
             return f"color({', '.join(channels)})"
         if form == "set" and not self.attrs:
             form = "label"
+        if form == "set" and self.chance(0.25):
+            self.forms.add("set shape attribute")
+            return rng.choice(
+                [
+                    "set(material.opacity, 0.5)",
+                    "set(material.color.r, 0.3)",
+                    'set(material.colormap, "wall.jpg")',
+                    "set(trim.vertical, false)",
+                    "set(trim.horizontal, true)",
+                    'set(material.name, "stone")',
+                ]
+            )
         if form == "set":
             name = rng.choice(list(self.attrs))
             return f"set({name}, {self.expression(self.attrs[name], env, 1)})"
@@ -477,8 +556,10 @@ class _Writer:
         return rng.choice(
             [
                 "reverseNormals()",
+                "reverseNormals",
                 "resetMaterial()",
                 "deleteHoles()",
+                "deleteHoles",
                 "cleanupGeometry(all, 0.01)",
                 "convexify()",
                 "reduceGeometry(0.05)",
@@ -517,6 +598,8 @@ class _Writer:
                     "envelope",
                     "taper",
                     "splitArea",
+                    "perimeter",
+                    "degenerate",
                     "case",
                     "push",
                     "bool",
@@ -598,16 +681,44 @@ class _Writer:
         if form == "setback":
             selector = rng.choice(SETBACK_SELECTORS)
             op = rng.choice([":", "="])
-            distance = rng.choice(["1", "2", "[1, 2, 1, 2]", self.size(env)])
+            distances = ["1", "2", "[1, 2, 1, 2]", self.size(env), *self.comp_functions]
+            distance = rng.choice(distances)
             name = (
                 rng.choice(["setback", "setback", "setbackPerEdge"])
-                if "[" not in distance
+                if "[" not in distance and distance not in self.comp_functions
                 else "setback"
             )
             return (
                 f"{name}({distance}) {{ {selector} {op} {sub(FACE)} | remainder : {sub(FACE)} }}",
                 FACE,
             )
+        if form == "perimeter":
+            parts = " | ".join(
+                f"~{self.rng.choice([2, 3, 4])} : {self.rng.choice([1, 1.5, 2])} : {sub(FACE)}"
+                for _ in range(rng.randint(1, 3))
+            )
+            star = "*" if self.chance(0.6) else ""
+            return (
+                f"splitAndSetbackPerimeter({rng.choice([0, 1])}) {{ {parts} }}{star} "
+                f"{{ remainder : {sub(FACE)} }}",
+                FACE,
+            )
+        if form == "degenerate":
+            self.forms.add("degenerate")  # runtime values CityEngine warns about and goes on
+            return rng.choice(
+                [
+                    "extrude(0)",
+                    "s(0, 0, 0) extrude(3)",
+                    "roofHip(30, -20)",
+                    "offset(-20)",
+                    "envelope(normal, 0, 3, 45)",
+                    "setback(20) { all : NIL | remainder : X }",
+                    "extrude(-2)",
+                    "roofGable(89.9)",
+                    "taper(0)",
+                    "innerRectangle(edge) { shape : NIL | remainder : NIL }",
+                ]
+            ), MASS
         if form == "shape":
             text = rng.choice(["shapeL(3, 2)", "shapeU(2, 2, 2)", "shapeO(2, 2, 2, 2)"])
             return f"{text} {{ shape : {sub(FACE)} | remainder : {sub(FACE)} }}", FACE
@@ -706,6 +817,10 @@ def _file(writer: _Writer, start: str, imports: str = "") -> str:
     while index < len(writer.rules):
         rules.append(writer.rule(index))
         index += 1
+    if writer.attrs and rng.random() < 0.1:
+        writer.forms.add("style")
+        name, kind = rng.choice(list(writer.attrs.items()))
+        rules.append(f"style Winter\n\nattr {name} = {writer.expression(kind, {}, 1)}")
     return "\n\n".join([*parts, *rules]) + "\n"
 
 
@@ -770,7 +885,10 @@ def check(
                 first = parse(text, name)
             except GrammarError as error:
                 message = str(error).splitlines()[0]
-                known = any(fragment in message for fragment in KNOWN_REFUSALS)
+                known = any(
+                    fragment in message and form in program.forms
+                    for fragment, form in KNOWN_REFUSALS
+                )
                 return Outcome(program.seed, "known refusal" if known else "refused", message)
             try:
                 second = parse(print_grammar(first), name)

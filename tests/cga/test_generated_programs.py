@@ -25,8 +25,8 @@ import cga_programs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 QUICK_SEEDS = range(0, 120)  # parsed and printed back (~40 ms a program)
-DERIVED = 10  # of which the first ones are derived too (~0.3 s a program)
-CHUNK = 60
+DERIVE_EVERY = 12  # of which one in 12 is derived too (~0.3 s a program)
+CHUNK = 30
 
 
 def _chunks():
@@ -37,7 +37,9 @@ def _chunks():
 @pytest.mark.parametrize("seeds", _chunks(), ids=lambda s: f"seeds{s[0]}-{s[-1]}")
 def test_generated_programs_parse_round_trip_and_derive_without_traceback(seeds, tmp_path):
     outcomes = [
-        cga_programs.check(cga_programs.generate(s), tmp_path / str(s), derive=s < DERIVED)
+        cga_programs.check(
+            cga_programs.generate(s), tmp_path / str(s), derive=s % DERIVE_EVERY == 0
+        )
         for s in seeds
     ]
     counts = Counter(outcome.stage for outcome in outcomes)
@@ -49,7 +51,7 @@ def test_generated_programs_parse_round_trip_and_derive_without_traceback(seeds,
     assert not wrong, "\n".join(
         f"seed {o.seed}: {o.stage}: {o.message} {o.where}" for o in wrong[:10]
     )
-    derived = [o for o in outcomes if o.seed < DERIVED]
+    derived = [o for o in outcomes if o.seed % DERIVE_EVERY == 0 and o.stage != "known refusal"]
     assert sum(o.stage == "derives" for o in derived) >= len(derived) // 2  # most derive
 
 
@@ -64,7 +66,9 @@ def test_the_generator_is_deterministic_and_covers_the_language():
         "shape", "inner", "scatter", "envelope", "taper", "splitArea", "bool", "inline",
         "insert", "primitive", "push", "t", "r", "s", "center", "color", "set", "report",
         "print", "label", "tag", "align", "texture", "array", "array index",
-        "string concatenation", "case expression", "relative coordinate",
+        "string concatenation", "case expression", "relative coordinate", "layout",
+        "comp function", "comp function case", "perimeter", "degenerate", "style",
+        "builtin name overloaded", "dynamic import", "set shape attribute", "number forms",
     }  # fmt: skip
     assert wanted <= forms, wanted - forms
 
@@ -76,6 +80,31 @@ def test_the_generator_is_deterministic_and_covers_the_language():
 def test_inline_with_a_strategy_takes_a_block_of_operations():
     """op_inline.html: ``inline(geometryMergeStrategy) { operations }``."""
     parse("Lot --> inline(unify) { extrude(3) A }", "inline.cga")
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="/work/notes/generator-refusals.md 2: splitAndSetbackPerimeter's three-part entries",
+)
+def test_split_and_setback_perimeter_takes_length_depth_operations():
+    """op_splitAndSetbackPerimeter.html's first example."""
+    parse(
+        "Lot --> splitAndSetbackPerimeter(6) { 40 : 5 : Yellow | 20 : 10 : Blue }"
+        " { remainder : Grey }",
+        "perimeter.cga",
+    )
+
+
+@pytest.mark.xfail(
+    strict=True, reason="/work/notes/generator-refusals.md 3: a case value in a comp function"
+)
+def test_a_comp_function_branch_takes_a_case_value():
+    """func_comp.html: the value of a branch is any expression."""
+    parse(
+        "edges = comp(fe) { front : case scope.sx > 2 : 2 else : 1 | all : 0 }\n"
+        "Lot --> setback(edges) { front : A | remainder : B }",
+        "comp_case.cga",
+    )
 
 
 @pytest.mark.slow
