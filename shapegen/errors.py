@@ -11,6 +11,7 @@ from __future__ import annotations
 __all__ = [
     "ShapegenError",
     "GrammarError",
+    "OperationError",
     "GeometryError",
     "StaticsError",
     "InputFormatError",
@@ -96,6 +97,13 @@ class GrammarError(ShapegenError):
                 text += f"\n    {source_line}\n    {caret}"
             parts.append(text)
         return "\n".join(parts)
+
+
+class OperationError(GrammarError):
+    """An operation met a bad argument or degenerate geometry while deriving (``extrude()`` of
+    a face with no area, a roof's overhang larger than its face). In a ``.cga`` file it is a CGA
+    error of CityEngine's runtime: a warning at its place, the operation is skipped and the
+    derivation carries on; in a ``.grammar`` file it stops the derivation."""
 
 
 class GeometryError(ShapegenError):

@@ -167,7 +167,9 @@ def build_report(model: Model) -> dict:
     """The build part of a report, from what the model records of its derivation.
 
     ``left_out`` counts the leaves drawn but left out of the statics (the model's surfaces) by
-    reason; ``warnings`` are the derivation's (an asset file not found...), one line each.
+    reason; ``warnings`` are the derivation's (an asset file not found...), one line each;
+    ``cga_errors`` counts the operations a ``.cga`` derivation skipped past, as CityEngine's
+    runtime does (each is among the warnings, once per place and message).
     """
     from shapegen.export.surfaces import left_out_summary
 
@@ -182,6 +184,7 @@ def build_report(model: Model) -> dict:
         "blocks": len(model.blocks),
         "left_out": left_out_summary(model),
         "warnings": [str(w) for w in metadata.get("warnings", [])],
+        "cga_errors": int(metadata.get("cga_errors", 0)),
         "volume": model.volume,
         "attrs": dict(metadata.get("attrs", {})),
         "free_parameters": {

@@ -136,7 +136,8 @@ def classify(text: str, operations: set[str]) -> dict:
         f"attr example_{k} =\n" + "\n".join("    " + line for line in e.splitlines()) + "\n"
         for k, e in enumerate(expressions, 1)
     )
-    return {**example, "kind": "expression fragment", "wrapping": "attr example_N = ... (one each), Example --> NIL",
+    wrapping = "attr example_N = ... (one each), Example --> NIL"
+    return {**example, "kind": "expression fragment", "wrapping": wrapping,
             "program": program + "\nExample --> NIL\n", "derive": True}  # fmt: skip
 
 

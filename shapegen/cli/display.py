@@ -274,10 +274,21 @@ def print_build(title: str, report: dict) -> None:
         console.print(Text(f"left out: {left_out}"), soft_wrap=True)
     for warning in report.get("warnings", []):
         console.print(Text(f"warning: {warning}", style="yellow"), soft_wrap=True)
+    if report.get("cga_errors"):
+        console.print(Text(cga_errors_line(report["cga_errors"]), style="yellow"), soft_wrap=True)
     if "optimization" in report:
         console.print(optimization_table(report["optimization"]))
     if "analysis" in report:
         console.print(analysis_table(title, report["analysis"]))
+
+
+def cga_errors_line(count: int) -> str:
+    """``CGA errors: 3 operations skipped ...``: the count of a .cga derivation's CGA errors."""
+    what = "operation" if count == 1 else "operations"
+    return (
+        f"CGA errors: {count} {what} skipped, the derivation carried on as CityEngine's "
+        "does (see the warnings)"
+    )
 
 
 def left_out_line(left_out: dict | None) -> str:

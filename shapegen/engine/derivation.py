@@ -119,6 +119,7 @@ class Derivation:
         self.string_chars = 0
         self.reports: dict[str, list] = {}
         self.warnings: list[str] = []  # what the model's metadata lists under "warnings"
+        self.cga_errors = 0  # operations skipped past, as CityEngine's runtime does (.cga)
         # The start shape's axes: the frame of CGA's object.* selectors.
         self.object_rotation = None
         self.start_shape: Shape | None = None  # what resetGeometry() goes back to

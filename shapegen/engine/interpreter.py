@@ -199,6 +199,7 @@ class Program(AttributeValues, ShapeOperations):
             "free_parameters": self.free_parameters(values, start_scope),
             "reports": {k: v[0] if len(v) == 1 else v for k, v in run.reports.items()},
             "warnings": list(run.warnings),  # assets not found, operations ignored
+            "cga_errors": run.cga_errors,  # operations skipped (engine/cga_errors.py)
             "leaves": run.leaf_count,  # leaf shapes that gave a block or a surface
             "structure": {
                 "name": self.structure,

@@ -15,6 +15,7 @@ __all__ = ["INSERT", "ShapeOperations"]
 import difflib
 from collections.abc import Callable
 
+from shapegen.engine.cga_errors import carrying_on
 from shapegen.engine.derivation import Operation, format_chain
 from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
 from shapegen.engine.finite import finite_parameter
@@ -41,7 +42,7 @@ from shapegen.engine.template_primitives import (
     is_template,
     resolve_primitive,
 )
-from shapegen.errors import GeometryError, GrammarError, OptionError
+from shapegen.errors import GeometryError, GrammarError, OperationError, OptionError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES
 
@@ -110,7 +111,17 @@ class ShapeOperations:
         method = getattr(self, "_op_" + type(node).__name__, None)
         if method is None:
             raise self.error(node, f"unsupported operation {type(node).__name__}")
-        return method(node, params)
+        operation = method(node, params)
+        if self.cga_dialect and not isinstance(node, _CANNOT_FAIL):
+            return carrying_on(operation, node, self)  # CityEngine records a CGA error
+        return operation
+
+    def operation_error(self, node, message: str) -> OperationError:
+        """The error of an operation's bad argument or degenerate geometry met while deriving:
+        a CGA error that the shape carries on past in a ``.cga`` file (engine/cga_errors.py),
+        an error in a ``.grammar`` file."""
+        error = self.error(node, message)
+        return OperationError(message, error.location, error.source)
 
     def _number(self, node, expression, params, what: str):
         """A compiled expression that must give a finite number."""
@@ -168,11 +179,16 @@ class ShapeOperations:
 
     def _op_Extrude(self, node: ast.Extrude, params) -> Operation:
         height = self._number(node, node.height, params, "extrude height")
-        error = self.error
+        error, operation_error = self.error, self.operation_error
         cityengine = self.cga_dialect
 
         def extrude_op(state, args, out):
             shape = state.shape
+            if cityengine and shape.kind == "edge":  # an edge of comp(e|fe): a face
+                from shapegen.engine.cga_ops.extrusion import edge_extrusion
+
+                state.shape = edge_extrusion(shape, height(args, state))
+                return True
             if shape.kind != FACE and not (cityengine and shape.kind == MASS):
                 raise error(
                     node,
@@ -182,7 +198,7 @@ class ShapeOperations:
             try:
                 state.shape = extrude_shape(shape, height(args, state), cityengine)
             except ValueError as exc:
-                raise error(node, str(exc)) from None
+                raise operation_error(node, str(exc)) from None
             return True
 
         return extrude_op
@@ -221,7 +237,7 @@ class ShapeOperations:
         axis = axis_index(node.axis)
         items = self._split_items(node.group, params)
         repeat = node.group.repeat
-        error = self.error
+        error, operation_error = self.error, self.operation_error
         best_counts = self.cga_dialect  # CityEngine's repeat counts in .cga files
         where = node.location
 
@@ -265,7 +281,7 @@ class ShapeOperations:
                     f"shapegen.limits.work_limits(max_shapes=...))",
                 ) from None
             except ValueError as exc:
-                raise error(node, str(exc)) from None
+                raise operation_error(node, str(exc)) from None
             made = []
             for piece in pieces:
                 cut = split_piece(shape, axis, piece.start * scale, piece.size * scale)
@@ -317,13 +333,13 @@ class ShapeOperations:
 
     def _op_Scale(self, node: ast.Scale, params) -> Operation:
         values = self._coordinates(node, (node.x, node.y, node.z), params, "an s() size")
-        error = self.error
+        operation_error = self.operation_error
 
         def scale_op(state, args, out):
             try:
                 state.shape = state.shape.resized(values(args, state))
             except ValueError as exc:
-                raise error(node, str(exc)) from None
+                raise operation_error(node, str(exc)) from None
             return True
 
         return scale_op
@@ -464,6 +480,10 @@ class ShapeOperations:
             return True
 
         return report_op
+
+
+# Items that call no operation of their own: nothing to carry on past.
+_CANNOT_FAIL = (ast.Successor, ast.Nil, ast.Push)
 
 
 def _selector(name: str) -> str | int:

@@ -4,7 +4,8 @@ The examples are ``tests/data/cga_reference_examples.json`` (made from the refer
 ``tools/cga_reference_examples.py``): each is a complete program, or a rule or expression
 fragment wrapped in the least context that makes it one. Every program is parsed in the quick
 lane; in the slow lane it is loaded (the load-time checks) and, where it has a rule, derived on
-a 12 x 8 m lot (an asset the reference does not ship is a missing asset, as in CityEngine: a warning).
+a 12 x 8 m lot (an asset the reference does not ship is a missing asset, as in CityEngine: a
+warning).
 
 The examples that cannot pass are listed in ``cga_reference_examples_expected.json`` with the
 stage where they stop and why; each of them must still stop there, so the list stays true (an

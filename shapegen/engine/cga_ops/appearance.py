@@ -104,7 +104,7 @@ def compile_material_set(program, node: ast.Set, params: dict[str, int]):
     (an unknown name is an error with a did-you-mean) and the value's type when it runs."""
     name = _material_name(program, node, node.attribute)
     value_of = program.expressions.compile(node.value, params)
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
     written = node.attribute.removeprefix("material.")
 
     def set_material(state, args, out):
@@ -126,7 +126,7 @@ def compile_material_set(program, node: ast.Set, params: dict[str, int]):
 
 def _uv_set(program, node, expression, params, what: str = "the uv-set"):
     number = typed(program, node, expression, params, float, what)
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
 
     def uv_set(args, state):
         value = number(args, state)
@@ -176,7 +176,7 @@ def compile_color(program, node: ast.Operation, params):
             try:
                 rgb, opacity = parse_hex_color(text(args, state))
             except ValueError as exc:
-                raise error(node, f"color(): {exc}") from None
+                raise program.operation_error(node, f"color(): {exc}") from None
             look = replace(state.appearance or DEFAULT_APPEARANCE, color=rgb)
             state.appearance = look if opacity is None else replace(look, opacity=opacity)
             return True
@@ -216,7 +216,7 @@ def compile_texture(program, node: ast.Operation, params):
 def compile_set_material(program, node: ast.Operation, params):
     (pairs,) = plain_arguments(program, node, (1,))
     pairs_of = program.expressions.compile(pairs, params)
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
 
     def set_material(state, args, out):
         values = pairs_of(args, state)
@@ -320,7 +320,7 @@ def compile_setup_projection(program, node: ast.Operation, params):
         number = typed(program, node, argument.value, params, float, "an offset")
         sizes.append((number, argument.kind, scope_axes[k]))
     others = [typed(program, node, a.value, params, float, "uwFactor") for a in rest[4:]]
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
 
     def size(args, state, number, kind, axis):
         value = number(args, state)

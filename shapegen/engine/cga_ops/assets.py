@@ -224,7 +224,7 @@ def asset_insert(program, node: ast.Insert, params):
         try:
             mesh = load_asset(path)
         except (GeometryError, OSError, ValueError) as exc:
-            raise error(node, f"i({name!r}): {exc}") from None
+            raise program.operation_error(node, f"i({name!r}): {exc}") from None
         up_axis, mode = options_of(args, state)
         if up_axis == "zUp":  # op_i: "rotated by -90 degrees around the x-axis"
             mesh = Mesh(mesh.vertices @ _Z_UP.T, mesh.faces)
@@ -256,7 +256,7 @@ def _insert_options(program, node, params) -> Callable:
     options = getattr(node, "options", ())
     if len(options) > len(_INSERT_OPTIONS):
         raise program.error(node, "i() takes a file, an up axis, an insert mode and a cleanup mode")
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
     words: list = []
     for position, (option, allowed) in enumerate(zip(options, _INSERT_OPTIONS, strict=False)):
         message = f"i()'s argument {position + 2} is one of {', '.join(allowed)}"
@@ -353,8 +353,10 @@ def compile_primitive(program, node: ast.Operation, params):
             dimensions = tuple(values)
         for what, count, least in (("sides", sides, 3), ("divisions", divisions, 2)):
             if count != int(count) or count < least or count > 4096:
-                raise error(node, f"{node.name}(): {what} is a whole number {least}..4096, got "
-                                  f"{format_value(count)}")  # fmt: skip
+                raise program.operation_error(
+                    node, f"{node.name}(): {what} is a whole number {least}..4096, got "
+                    f"{format_value(count)}"
+                )  # fmt: skip
         signs = np.ones(3)
         if dimensions is not None and any(d < 0 for d in dimensions):
             if not cga:

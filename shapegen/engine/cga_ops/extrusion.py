@@ -7,6 +7,8 @@
 - ``vertex.normal``: every vertex along its vertex normal (the mean of the normals of the faces
   that use it), so faces that share an edge stay joined: one bottom and one top per face, sides
   only along the boundary; the scope's y along the first vertex's normal;
+- an edge of ``comp(e|fe)`` (``.cga``): along the edge's normal (op_extrude: the mean of the
+  adjacent faces' normals for ``comp(e)``, in the face's plane for ``comp(fe)``), a face;
 - ``world.x``, ``world.y``, ``world.z`` and ``x``, ``y``, ``z``: the forms deprecated in 2016
   (cga_changelog: "use type world.up instead of axis world.y"), along that world axis, with a
   warning.
@@ -17,12 +19,13 @@ geometry.
 
 from __future__ import annotations
 
-__all__ = ["compile_extrude", "vertex_normal_extrusion"]
+__all__ = ["compile_extrude", "edge_extrusion", "vertex_normal_extrusion"]
 
 import numpy as np
 
 from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.cga_ops.arguments import argument_word
+from shapegen.engine.cga_ops.topology import EDGE
 from shapegen.engine.shape import FACE, MASS, Shape, extrude_shape
 from shapegen.geometry.extrude import extrude_faces
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
@@ -34,7 +37,7 @@ _WORLD_AXES = {"x": 0, "y": 1, "z": 2}
 _DEPRECATED = tuple(f"{prefix}{axis}" for prefix in ("world.", "") for axis in "xyz")
 
 
-@compiles("extrude", partial="the edges of comp(e) cannot be extruded (refused when derived)")
+@compiles("extrude", partial="an edge of comp(e|fe) is extruded along its normal only")
 def compile_extrude(program, node: ast.Operation, params):
     """``extrude(type, distance)`` with one of :data:`_EXTRUSION_TYPES` or a deprecated axis."""
     arguments = [a.value for a in node.arguments]
@@ -53,6 +56,9 @@ def compile_extrude(program, node: ast.Operation, params):
 
     def extrude_op(state, args, out):
         shape = state.shape
+        if cityengine and shape.kind == EDGE and kind in ("face.normal", "world.up"):
+            state.shape = edge_extrusion(shape, distance(args, state))
+            return True
         if shape.kind != FACE and not (cityengine and shape.kind == MASS):
             raise error(node, "extrude() needs a flat shape; this shape is already 3D")
         height = distance(args, state)
@@ -70,10 +76,25 @@ def compile_extrude(program, node: ast.Operation, params):
             else:
                 state.shape = extrude_shape(shape, height, cityengine, kind)
         except ValueError as exc:
-            raise error(node, str(exc)) from None
+            raise program.operation_error(node, str(exc)) from None
         return True
 
     return extrude_op
+
+
+def edge_extrusion(shape: Shape, height: float) -> Shape:
+    """An edge shape of ``comp(e|fe)`` extruded by ``height`` (m) along its normal (the scope's
+    z, op_extrude's "default extrusion direction" of an edge): a quad face whose scope has x
+    along the edge and y along the extrusion."""
+    scope = shape.scope
+    start, end = scope.to_world(shape.mesh().vertices[:2])
+    x, normal = scope.rotation[:, 0], scope.rotation[:, 2]
+    rotation = np.column_stack([x, normal, np.cross(x, normal)])
+    rise = height * normal
+    corners = np.array([start, end, end + rise, start + rise])
+    new_scope, local = fitted_scope(corners, rotation)
+    quad = Mesh(local, [(0, 1, 2, 3) if height >= 0 else (3, 2, 1, 0)])
+    return Shape.with_geometry(new_scope, quad, FACE, 2)
 
 
 def _solid(shape: Shape, prism: Mesh, y_axis: np.ndarray) -> Shape:

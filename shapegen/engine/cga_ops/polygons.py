@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.engine.cga_ops import compiles
+from shapegen.engine.cga_ops import compiles, warn_at
 from shapegen.engine.cga_ops.arguments import number, plain_arguments, selector_name
 from shapegen.engine.derivation import format_chain
 from shapegen.engine.functions_arrays import type_name
@@ -192,7 +192,7 @@ def compile_offset(program, node: ast.Operation, params):
             try:
                 result = polygon2d.offset(polygon, d)
             except GeometryError as exc:
-                raise program.error(node, f"offset({d:g}): {exc}") from None
+                raise program.operation_error(node, f"offset({d:g}): {exc}") from None
             if keep in ("all", "inside"):
                 faces += [frame.lift(p) for p in result.inside]
             if keep in ("all", "border"):
@@ -247,7 +247,7 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
             try:
                 result = polygon2d.setback(polygon, distances)
             except GeometryError as exc:
-                raise program.error(node, f"{node.name}(): {exc}") from None
+                raise program.operation_error(node, f"{node.name}(): {exc}") from None
             for k, piece in result.strips:
                 if shape_selector:
                     shape_pieces.append(piece)
@@ -341,7 +341,14 @@ def compile_setback(program, node: ast.Operation, params):
         else:
             d = _distance_list(program, node, distance(args, state), n)
         if np.any(d < 0):
-            raise program.error(node, f"{node.name}() distances must be >= 0, got {d.min():g}")
+            if not program.cga_dialect:
+                raise program.error(
+                    node, f"{node.name}() distances must be >= 0, got {d.min():g}"
+                )  # fmt: skip
+            # CityEngine's runtime takes a negative distance as 0, and records nothing (PyPRT)
+            warn_at(state, node, f"{node.name}(): a negative distance is taken as 0, as "
+                    "CityEngine does")  # fmt: skip
+            d = np.maximum(d, 0.0)
         return np.where(selected, d, 0.0)
 
     return _setback_operation(program, node, branches, distances_of, shape_selector=False)
@@ -361,7 +368,7 @@ def compile_setback_to_area(program, node: ast.Operation, params):
         try:
             _, d = polygon2d.setback_to_area(polygon, area(args, state), selected, *limits)
         except GeometryError as exc:
-            raise program.error(node, str(exc)) from None
+            raise program.operation_error(node, str(exc)) from None
         return d
 
     return _setback_operation(program, node, branches, distances_of, shape_selector=False)
@@ -384,7 +391,13 @@ def compile_shape_luo(program, node: ast.Operation, params):
     def distances_of(args, state, frame, polygon, quadrants, selected):
         by_side = {side: w(args, state) for side, w in zip(sides, widths, strict=True)}
         if any(v < 0 for v in by_side.values()):
-            raise program.error(node, f"{node.name}() widths must be >= 0")
+            if not program.cga_dialect:
+                raise program.error(node, f"{node.name}() widths must be >= 0")
+            # CityEngine's runtime takes a negative width as 0, and records nothing (PyPRT)
+            warn_at(
+                state, node, f"{node.name}(): a negative width is taken as 0, as CityEngine does"
+            )
+            by_side = {side: max(v, 0.0) for side, v in by_side.items()}
         return np.array([by_side.get(q, 0.0) for q in quadrants])
 
     return _setback_operation(program, node, branches, distances_of, shape_selector=True)

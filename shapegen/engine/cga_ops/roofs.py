@@ -134,7 +134,7 @@ def compile_roof(program, node: ast.Operation, params):
                 else:
                     mesh = build(polygon, height=amount, **options)
             except GeometryError as exc:
-                raise program.error(node, f"{node.name}(): {exc}") from None
+                raise program.operation_error(node, f"{node.name}(): {exc}") from None
             built.append((frame, mesh))
         if not built:
             return False
@@ -158,7 +158,7 @@ def compile_taper(program, node: ast.Operation, params):
         try:
             mesh = roofs.taper(polygon, height(args, state))
         except GeometryError as exc:
-            raise program.error(node, f"taper(): {exc}") from None
+            raise program.operation_error(node, f"taper(): {exc}") from None
         state.shape = roof_shape(state.shape, [(frame, mesh)])
         return True
 
@@ -242,7 +242,7 @@ def compile_envelope(program, node: ast.Operation, params):
             try:
                 built.append((frame, roofs.envelope(polygon, top, base, angle)))
             except GeometryError as exc:
-                raise program.error(node, f"envelope(): {exc}") from None
+                raise program.operation_error(node, f"envelope(): {exc}") from None
         if not built:
             return False
         state.shape = roof_shape(state.shape, built, keep_axes=True)

@@ -94,7 +94,9 @@ def compile_scatter(program, node: ast.Operation, params):
         if distribution == "gaussian":
             deviation = _DEFAULT_STDDEV if stddev is None else stddev(args_, state)
             if deviation < 0:
-                raise error(node, f"scatter()'s deviation must be >= 0, got {deviation:g}")
+                raise program.operation_error(
+                    node, f"scatter()'s deviation must be >= 0, got {deviation:g}"
+                )
             sigma = deviation * size if relative else np.full(3, deviation)
         centre = np.asarray(_MEANS[mean]) * size
         sampler = _Sampler(shape, domain, state.random, centre, sigma)

@@ -155,7 +155,7 @@ def compile_align_scope_to_geometry(program, node, params):
     )
     if face_word == "any" and edge_word is None:
         raise program.error(node, "alignScopeToGeometry(): 'any' face needs an edge selector")
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
 
     def align(state, args, out):
         shape = shape_with_faces(program, node, state)
@@ -324,7 +324,7 @@ def compile_set_pivot(program, node, params):
     arguments = plain_arguments(program, node, (2,))
     axis_map = choice(program, node, arguments[0], tuple(_AXIS_MAPS), "the axis map")
     corner_of = typed(program, node, arguments[1], params, float, "the corner index")
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
 
     def set_pivot(state, args, out):
         shape = shape_with_faces(program, node, state, components=True)
@@ -388,7 +388,9 @@ def compile_reduce_geometry(program, node, params):
     def reduce_geometry(state, args, out):
         shape_with_faces(program, node, state, components=True)
         if not 0.0 <= (tolerance := tolerance_of(args, state)) <= 1.0:
-            raise program.error(node, f"reduceGeometry(): the tolerance is 0..1, got {tolerance:g}")
+            raise program.operation_error(
+                node, f"reduceGeometry(): the tolerance is 0..1, got {tolerance:g}"
+            )
         warn_at(state, node, f"reduceGeometry({tolerance:g}): {_NOT_REDUCED}")
         return True
 

@@ -85,7 +85,7 @@ def compile_split_area(program, node: ast.Operation, params):
                 node, f"splitArea() creates more than {run.max_shapes} shapes (max_shapes)"
             ) from None  # fmt: skip
         except ValueError as exc:
-            raise program.error(node, str(exc)) from None
+            raise program.operation_error(node, str(exc)) from None
         low, high = (float(v) for v in np.array(mesh.bounds())[:, axis])
         made = []
         for piece in pieces:

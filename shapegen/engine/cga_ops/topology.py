@@ -147,7 +147,7 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
         if f is None:
             z = face_normals[faces].sum(axis=0)
         else:
-            z = np.cross(face_normals[f], end - start)  # out of the face, in its plane
+            z = np.cross(end - start, face_normals[f])  # out of the face, in its plane (op_comp)
         x = end - start
         length = float(np.linalg.norm(x))
         if length == 0:

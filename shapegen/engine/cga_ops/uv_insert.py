@@ -60,7 +60,7 @@ def compile_insert_along_uv(program, node, params):
     name_of = program.expressions.compile(arguments[1], params)
     height_of = program._number(node, arguments[2], params, "insertAlongUV()'s height")
     rule_file = getattr(getattr(node, "location", None), "file", None) or program.grammar.filename
-    error = program.error
+    error = program.operation_error  # a CGA error in .cga (engine/cga_errors.py)
 
     def insert_along_uv(state, args, out):
         layer, name, height = uv_set(args, state), name_of(args, state), height_of(args, state)
@@ -70,7 +70,9 @@ def compile_insert_along_uv(program, node, params):
             raise error(node, "insertAlongUV() needs a file name")
         shape = state.shape
         if shape.kind != FACE:
-            raise error(node, "insertAlongUV() needs a flat shape with faces (texture space)")
+            raise program.error(
+                node, "insertAlongUV() needs a flat shape with faces (texture space)"
+            )
         warn_at(state, node, f"insertAlongUV(): {_APPROXIMATION}")
         mesh = _asset(state, node, name, rule_file)
         state.shape = _laid(mesh, shape, float(height), keep_position)
