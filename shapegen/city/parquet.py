@@ -99,7 +99,14 @@ def _shape(geometry):
         return None
     try:
         shape = shapely.geometry.shape(geometry)
-    except (ValueError, TypeError, AttributeError, IndexError, shapely.errors.ShapelyError):
+    except (
+        ValueError,
+        TypeError,
+        AttributeError,
+        IndexError,
+        KeyError,
+        shapely.errors.ShapelyError,
+    ):
         return None
     if shape.is_empty or not np.all(np.isfinite(shapely.get_coordinates(shape))):
         return None

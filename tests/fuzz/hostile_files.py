@@ -16,6 +16,7 @@ import json
 import math
 import os
 import random
+import stat
 import struct
 import tempfile
 import zlib
@@ -35,21 +36,21 @@ def package_bytes(members: dict, *, copy: bool = False, encoded_header: bool = T
     the data uncompressed (so that a changed byte is a checksum failure, not an LZMA one)."""
     buffer = io.BytesIO()
     filters = [{"id": py7zr.FILTER_COPY}] if copy else None
-    with (
-        tempfile.TemporaryDirectory() as scratch,
-        py7zr.SevenZipFile(buffer, "w", filters=filters) as archive,
-    ):
+    with py7zr.SevenZipFile(buffer, "w", filters=filters) as archive:
         archive.set_encoded_header_mode(encoded_header)
-        links_first = sorted(members.items(), key=lambda item: not isinstance(item[1], tuple))
-        for name, content in links_first:  # (py7zr looks a link up among members from files)
-            if isinstance(content, tuple) and content[0] == "symlink":
-                link = Path(scratch) / f"link{len(os.listdir(scratch))}"
-                link.symlink_to(content[1])
-                archive.write(link, name)
-            else:
-                data = content.encode() if isinstance(content, str) else content
-                archive._writestr(data, name)  # unchecked names
+        for name, content in members.items():
+            link = isinstance(content, tuple) and content[0] == "symlink"
+            data = content[1] if link else content
+            archive._writestr(data.encode() if isinstance(data, str) else data, name)  # unchecked
+            if link:  # the link's target as its data, its mode a link's (as 7-Zip stores one)
+                mode = stat.S_IFLNK | 0o777
+                archive.header.files_info.files[-1]["attributes"] = (
+                    (mode << 16) | _UNIX_EXTENSION | 0x20
+                )
     return buffer.getvalue()
+
+
+_UNIX_EXTENSION = 0x8000  # FILE_ATTRIBUTE_UNIX_EXTENSION: the high 16 bits hold st_mode
 
 
 RULE = "Lot --> extrude(3) comp(f) { top : Roof | all : NIL }\nRoof --> NIL\n"

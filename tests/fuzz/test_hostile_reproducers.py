@@ -177,7 +177,30 @@ def test_a_hostile_lot_file_is_one_line_and_writes_nothing(
     assert not out.exists()
 
 
-def test_a_lot_with_a_nan_or_inf_corner_is_a_row_and_the_others_are_written(tmp_path):
+NAN_RING = [[math.nan, 0], [30, 0], [30, 10], [20, 10], [math.nan, 0]]  # GEOS: not closed
+BAD_LOTS = [
+    ("nan closing corner", {"type": "Polygon", "coordinates": [NAN_RING]},
+     "a corner that is not two finite numbers"),
+    ("inf corner", {"type": "Polygon", "coordinates": [
+        [[40, math.inf], [50, 0], [50, 10], [40, 10], [40, math.inf]]]},
+     "a corner that is not two finite numbers"),
+    ("nan middle corner", {"type": "Polygon", "coordinates": [
+        [[60, 0], [70, math.nan], [70, 10], [60, 10], [60, 0]]]},
+     "a corner that is not two finite numbers"),
+    ("no coordinates", {"type": "Polygon"}, "a polygon without coordinates"),  # fuzz lots 77 94
+    ("coordinates as text", {"type": "Polygon", "coordinates": "x"},
+     "a polygon without coordinates"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("geometry", "error"),
+    [case[1:] for case in BAD_LOTS],
+    ids=[case[0] for case in BAD_LOTS],
+)
+def test_a_lot_that_cannot_be_a_shape_is_a_row_and_the_others_are_written(
+    tmp_path, geometry, error
+):
     pytest.importorskip("pyarrow")
     import pyarrow.parquet as pq
 
@@ -185,17 +208,14 @@ def test_a_lot_with_a_nan_or_inf_corner_is_a_row_and_the_others_are_written(tmp_
     from shapegen.city.outputs import write_tables
     from shapegen.city.work import new_record
 
-    rings = [
-        square(0),
-        [[math.nan, 0], [30, 0], [30, 10], [20, 10], [math.nan, 0]],  # no closed ring for GEOS
-        [[40, math.inf], [50, 0], [50, 10], [40, 10], [40, math.inf]],
-        [[60, 0], [70, math.nan], [70, 10], [60, 10], [60, 0]],
-    ]
+    document = feature_collection([square(0)])
+    document["features"].append(
+        {"type": "Feature", "id": "bad", "properties": {}, "geometry": geometry}
+    )
     lots = tmp_path / "lots.geojson"
-    lots.write_bytes(geojson_bytes(feature_collection(rings)))
+    lots.write_bytes(geojson_bytes(document))
     city = read_lots(lots, crs="metres")
-    assert [lot.problem is None for lot in city.lots] == [True, False, False, False]
-    assert [lot.geometry is None for lot in city.lots] == [False, True, True, True]
+    assert [lot.problem for lot in city.lots] == [None, error]
     records = []
     for k, lot in enumerate(city.lots):
         record = new_record(lot.id, k)
@@ -204,10 +224,11 @@ def test_a_lot_with_a_nan_or_inf_corner_is_a_row_and_the_others_are_written(tmp_
     (tmp_path / "out").mkdir()
     written = write_tables(tmp_path / "out", city, records, scene=False)
     rows = pq.read_table(written["parquet"]).to_pylist()
-    assert [row["id"] for row in rows] == ["lot0", "lot1", "lot2", "lot3"]
+    assert [row["id"] for row in rows] == ["lot0", "bad"]
     assert rows[0]["geometry"] is not None and rows[0]["error"] is None
-    for row in rows[1:]:
-        assert row["geometry"] is None
-        assert row["error"] == "a corner that is not two finite numbers"
-    document = json.loads((tmp_path / "out" / "results.geojson").read_text())
-    assert [f["geometry"] is None for f in document["features"]] == [False, True, True, True]
+    assert rows[1]["geometry"] is None and rows[1]["error"] == error
+    features = json.loads((tmp_path / "out" / "results.geojson").read_text())["features"]
+    assert features[0]["geometry"] == document["features"][0]["geometry"]
+    assert features[1]["properties"]["error"] == error
+    if "finite" in error:  # NaN is not JSON: no shape rather than nulls for numbers
+        assert city.lots[1].geometry is None and features[1]["geometry"] is None
