@@ -100,9 +100,7 @@ def _primary(expression) -> str:
         return _colon(expression)
     if kind is ast.Index:
         target, level = _expression(expression.target)
-        if level < _PRIMARY_LEVEL or isinstance(
-            expression.target, ast.CaseExpression | ast.StochasticExpression
-        ):
+        if level < _PRIMARY_LEVEL:
             target = f"({target})"
         indices = ", ".join(_array_item(index) for index in expression.indices)
         return f"{target}[{indices}]"

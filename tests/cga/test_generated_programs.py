@@ -24,9 +24,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import cga_programs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
-QUICK_SEEDS = range(0, 120)  # parsed and printed back (~40 ms a program)
-DERIVE_EVERY = 12  # of which one in 12 is derived too (~0.3 s a program)
-CHUNK = 30
+QUICK_SEEDS = range(0, 60)  # parsed and printed back (~40 ms a program)
+DERIVE_EVERY = 6  # of which one in 6 is derived too (~0.3 s a program)
+CHUNK = 20
 
 
 def _chunks():

@@ -11,6 +11,7 @@ the wild corpus (``$SHAPEGEN_CGA_WILD`` or /work/cga-wild, slow, skipped when ab
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 from pathlib import Path
 
@@ -92,6 +93,13 @@ FORMS = [
     'import lib : "lib.cga" (height, width = 3, Roof --> X)\nimport "other.cga" ()\nLot --> X',
     'import p (styleA) : "x.cga"\nLot --> p(height = 2).Building(1)',
     "Lot --> X\nstyle Red\nLot --> Y",
+    # nested choices and operators that sit close together
+    "f = case 1 > 2 : case 2 > 1 : 1 else : 2 else : 30% : 4 else : 5\nLot --> X",
+    "f(x) with (a := case x > 1 : 2 else : 3 b := 50% : 1 else : 2) = a + b\nLot --> X",
+    "Lot --> A(case 1 > 2 : 1 else : 2, 3) B",
+    "Lot --> 50% : 50% : A else : B else : [ case 1 > 2 : A else : B ] C",
+    "f = -(-1) + -(2 * 3) + !(!true) + (-2)[0] + 2 .- -1 + (1 + 2)[0]\nLot --> X",
+    'f = "a" + (case true : "b" else : "c")[0]\nLot --> X',
 ]
 
 
@@ -192,4 +200,29 @@ def test_the_wild_corpus_round_trips():
         if second != first:
             failures.append(f"{path}: {_first_difference(first, second)[:300]}")
     print(f"wild corpus: {len(paths)} distinct files, {refused} refused by the parser")
+    assert not failures, "\n".join(failures[:20])
+
+
+@pytest.mark.slow
+def test_the_reference_examples_round_trip():
+    """Every code example of CityEngine's CGA reference that parses (tests/data/
+    cga_reference_examples.json, made by tools/cga_reference_examples.py) prints back to the
+    same tree."""
+    examples = json.loads((ROOT / "tests/data/cga_reference_examples.json").read_text())
+    failures, parsed = [], 0
+    for example in examples["examples"]:
+        name = f"{example['page']}#{example['index']}.cga"
+        try:
+            first = parse(example["program"], name)
+        except GrammarError:
+            continue  # the reference examples' own test follows the refusals
+        parsed += 1
+        try:
+            second = parse(print_grammar(first), name)
+        except GrammarError as error:
+            failures.append(f"{name}: printed text refused: {str(error).splitlines()[0]}")
+            continue
+        if second != first:
+            failures.append(f"{name}: {_first_difference(first, second)[:300]}")
+    assert parsed >= 400
     assert not failures, "\n".join(failures[:20])
