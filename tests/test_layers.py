@@ -24,7 +24,7 @@ LAYERS = [
     ["search"],
     ["simulation"],
     ["pipeline"],
-    ["cli", "editor", "city", "demo", "__main__", "__init__"],
+    ["cli", "editor", "city", "prt", "demo", "__main__", "__init__"],  # prt: PyPRT's API
 ]
 LEVEL = {name: level for level, names in enumerate(LAYERS) for name in names}
 MAX_LINES = 500

@@ -1,0 +1,103 @@
+"""The file encoders of the PyPRT API: the generated models written to a folder.
+
+``com.esri.prt.codecs.OBJEncoder`` writes ``<baseName>_0.obj`` (every initial shape's leaves,
+one group per leaf), ``com.esri.prt.codecs.GLTFEncoder`` ``<baseName>_0.glb`` (shapegen's glTF
+writer); both write beside it ``CGAReport.txt`` (a line per report: the initial shape's index,
+the key, the value), ``CGAPrint.txt`` (what ``print`` wrote) and ``CGAError.txt`` (the CGA
+errors and warnings). Every file is written atomically. Other encoders (I3S, FBX, ...) are
+refused with one line.
+"""
+
+from __future__ import annotations
+
+__all__ = ["file_encoder", "ENCODERS"]
+
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+from shapegen.errors import OptionError
+from shapegen.export.atomic import atomic_write
+from shapegen.prt.generated_models import GeneratedModel
+
+OBJ_ENCODER = "com.esri.prt.codecs.OBJEncoder"
+GLTF_ENCODER = "com.esri.prt.codecs.GLTFEncoder"
+FILE_OPTIONS = ("outputPath", "baseName")
+
+
+def file_encoder(name: str, options: Mapping[str, object]) -> Callable[[list], None]:
+    """The writer of encoder ``name`` with ``options``, checked before anything is generated."""
+    if name not in ENCODERS:
+        raise OptionError(
+            f"encoder {name!r} is not supported by shapegen; it has com.esri.pyprt.PyEncoder,"
+            f" {', '.join(ENCODERS)}"
+        )
+    unknown = sorted(set(options) - set(FILE_OPTIONS))
+    if unknown:
+        raise OptionError(f"{name} takes {', '.join(FILE_OPTIONS)}; not {', '.join(unknown)}")
+    folder = Path(str(options.get("outputPath", "")))
+    if not options.get("outputPath") or not folder.is_dir():
+        raise OptionError(f"{name}: outputPath {str(folder)!r} is not an existing folder")
+    base = str(options.get("baseName", "base_name"))
+    if not base or "/" in base or "\\" in base:
+        raise OptionError(f"{name}: baseName {base!r} is not a file name")
+    write_geometry = ENCODERS[name]
+
+    def write(models: list[GeneratedModel]) -> None:
+        write_geometry(models, folder, base)
+        _write_text(folder / "CGAReport.txt", _report_lines(models))
+        _write_text(folder / "CGAPrint.txt", "".join(m.get_cga_prints() for m in models))
+        _write_text(
+            folder / "CGAError.txt", "".join(f"{e}\n" for m in models for e in m.get_cga_errors())
+        )
+
+    return write
+
+
+def _write_obj(models: list[GeneratedModel], folder: Path, base: str) -> None:
+    lines = [f"# {len(models)} initial shapes"]
+    offset = 1
+    for k, model in enumerate(models):
+        vertices = model.get_vertices()
+        lines.append(f"g shape_{k}")
+        lines.extend(
+            f"v {vertices[i]:.6f} {vertices[i + 1]:.6f} {vertices[i + 2]:.6f}"
+            for i in range(0, len(vertices), 3)
+        )
+        indices = iter(model.get_indices())
+        for count in model.get_faces():
+            lines.append("f " + " ".join(str(next(indices) + offset) for _ in range(count)))
+        offset += len(vertices) // 3
+    _write_text(folder / f"{base}_0.obj", "\n".join(lines) + "\n")
+
+
+def _write_gltf(models: list[GeneratedModel], folder: Path, base: str) -> None:
+    """One glTF of every model: each block renamed after its shape (``s0_b3``) so that ids
+    stay unique."""
+    from dataclasses import replace
+
+    from shapegen.export.gltf import encode_glb
+    from shapegen.model.model import Model
+
+    blocks, surfaces = [], []
+    for k, model in enumerate(models):
+        blocks += [replace(b, id=f"s{k}_{b.id}") for b in model.model.blocks]
+        surfaces += model.model.surfaces
+    with atomic_write(folder / f"{base}_0.glb", "wb") as handle:
+        handle.write(encode_glb(Model(blocks, ground=None, surfaces=surfaces)))
+
+
+def _report_lines(models: list[GeneratedModel]) -> str:
+    lines = []
+    for k, model in enumerate(models):
+        for key, value in model.model.metadata.get("reports", {}).items():
+            for item in value if isinstance(value, list) else [value]:
+                lines.append(f"{k}\t{key!r}\t{item!r}\n")
+    return "".join(lines)
+
+
+def _write_text(path: Path, text: str) -> None:
+    with atomic_write(path, "w") as handle:
+        handle.write(text)
+
+
+ENCODERS = {OBJ_ENCODER: _write_obj, GLTF_ENCODER: _write_gltf}

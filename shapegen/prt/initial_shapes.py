@@ -1,0 +1,259 @@
+"""PyPRT's ``InitialShape``: the geometry a rule starts on, from coordinates or from a file.
+
+PyPRT's constructors, with its argument order and types:
+
+- ``InitialShape(vertex_coordinates)``: one face, ``[x0, y0, z0, x1, y1, z1, ...]`` in metres,
+  y up;
+- ``InitialShape(vertex_coordinates, indices, face_counts)``: faces by vertex indices;
+- ``InitialShape(vertex_coordinates, indices, face_counts, holes)``: ``holes`` lists
+  ``[face, hole face, ...]`` groups;
+- ``InitialShape(initial_shape_path, max_dir_recursion_depth=0)``: a geometry file.
+
+shapegen starts a derivation on one horizontal polygon (its lot). A shape of one face, given
+by coordinates or read from an OBJ or glTF file, becomes that polygon at the face's height; what
+shapegen cannot start on (several faces, holes, a sloped face, FBX and other formats without a
+maintained reader) is refused with one line when the model is generated, as PyPRT reports an
+initial shape it cannot use.
+
+>>> shape = InitialShape([0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0])
+>>> shape.get_vertex_count(), shape.get_index_count(), shape.get_face_counts_count()
+(12, 4, 1)
+>>> footprint(shape).points
+((0.0, 0.0), (0.0, 10.0), (10.0, 10.0), (10.0, 0.0))
+"""
+
+from __future__ import annotations
+
+__all__ = ["Footprint", "InitialShape", "footprint"]
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from shapegen.errors import InputFormatError
+
+LEVEL_TOLERANCE_M = 1e-6
+"""How far (metres) the corners of a starting face may lie from one height."""
+
+READABLE_SUFFIXES = (".obj", ".gltf", ".glb")
+"""Geometry files an initial shape is read from (OBJ by shapegen, glTF by trimesh)."""
+
+
+class InitialShape:
+    """The geometry on which a rule is applied (PyPRT's ``pyprt.InitialShape``)."""
+
+    def __init__(self, *args, **kwargs):
+        names = ("vertex_coordinates", "indices", "face_counts", "holes")
+        if args and isinstance(args[0], str | Path) or "initial_shape_path" in kwargs:
+            path = args[0] if args else kwargs.pop("initial_shape_path")
+            depth = args[1] if len(args) > 1 else kwargs.pop("max_dir_recursion_depth", 0)
+            if len(args) > 2 or kwargs:
+                raise TypeError("InitialShape(initial_shape_path, max_dir_recursion_depth=0)")
+            self._path = str(path)
+            self._depth = int(depth)
+            self._coordinates: list[float] = []
+            self._indices: list[int] = []
+            self._face_counts: list[int] = []
+            self._holes: list[list[int]] = []
+            return
+        values = dict(zip(names, args, strict=False))
+        for name in names:
+            if name in kwargs:
+                values[name] = kwargs.pop(name)
+        if kwargs or len(args) > len(names) or "vertex_coordinates" not in values:
+            raise TypeError(
+                "InitialShape(vertex_coordinates, indices=None, face_counts=None, holes=None)"
+                " or InitialShape(initial_shape_path, max_dir_recursion_depth=0)"
+            )
+        self._path = ""
+        self._depth = 0
+        self._coordinates = [float(v) for v in values["vertex_coordinates"]]
+        count = len(self._coordinates) // 3
+        indices = values.get("indices")
+        face_counts = values.get("face_counts")
+        self._indices = list(range(count)) if indices is None else [int(i) for i in indices]
+        self._face_counts = [count] if face_counts is None else [int(n) for n in face_counts]
+        self._holes = [[int(i) for i in hole] for hole in values.get("holes") or []]
+
+    def get_vertex_count(self) -> int:
+        """The number of vertex coordinates (three per vertex); 0 for a shape read from a file."""
+        return len(self._coordinates)
+
+    def get_index_count(self) -> int:
+        """The length of the vertex index list; 0 for a shape read from a file."""
+        return len(self._indices)
+
+    def get_face_counts_count(self) -> int:
+        """The number of faces; 0 for a shape read from a file."""
+        return len(self._face_counts)
+
+    def get_path(self) -> str:
+        """The file the shape is read from, or ``""``."""
+        return self._path
+
+    def __repr__(self) -> str:
+        if self._path:
+            return f"InitialShape({self._path!r})"
+        return (
+            f"InitialShape({len(self._face_counts)} faces, {len(self._coordinates) // 3} vertices)"
+        )
+
+
+@dataclass(frozen=True)
+class Footprint:
+    """A starting face as shapegen derives on it: ``(x, z)`` corners (metres) counter-clockwise
+    seen from above, the height y (m), and whether the face as given faces down.
+
+    A face given clockwise seen from above faces down, and CityEngine derives on it with the
+    scope's y along that normal. shapegen derives on the face turned half a turn about its
+    first edge (the same corners, counter-clockwise, facing up) and turns the model back
+    (:meth:`place`): the scope is the same, so is the model.
+    """
+
+    points: tuple[tuple[float, float], ...]
+    height: float
+    faces_down: bool = False
+
+    def place(self, points: np.ndarray) -> np.ndarray:
+        """``(n, 3)`` points of the model derived on :attr:`points` where CityEngine has them."""
+        placed = np.array(points, dtype=float)
+        if self.faces_down:
+            (x0, z0), (x1, z1) = self.points[0], self.points[1]
+            axis = np.array([x1 - x0, 0.0, z1 - z0])
+            axis /= np.linalg.norm(axis)
+            relative = placed - np.array([x0, 0.0, z0])
+            placed = 2.0 * np.outer(relative @ axis, axis) - relative + np.array([x0, 0.0, z0])
+        placed[:, 1] += self.height
+        return placed
+
+
+def footprint(shape: InitialShape) -> Footprint:
+    """The one horizontal face of ``shape``, or an :class:`InputFormatError` saying why not."""
+    if shape.get_path():
+        coordinates, indices, face_counts = _read_file(Path(shape.get_path()))
+        holes: list[list[int]] = []
+    else:
+        coordinates, indices, face_counts = shape._coordinates, shape._indices, shape._face_counts
+        holes = shape._holes
+    where = shape.get_path() or "initial shape"
+    if len(coordinates) % 3:
+        raise InputFormatError(
+            f"{where}: {len(coordinates)} vertex coordinates, not x, y, z triples"
+        )
+    if not all(math.isfinite(v) for v in coordinates):
+        raise InputFormatError(f"{where}: a vertex coordinate is not a finite number")
+    count = len(coordinates) // 3
+    if sum(face_counts) != len(indices) or any(n < 3 for n in face_counts):
+        raise InputFormatError(
+            f"{where}: face counts {face_counts} do not add up to the {len(indices)} indices"
+        )
+    if any(not 0 <= i < count for i in indices):
+        raise InputFormatError(f"{where}: a vertex index is outside the {count} vertices")
+    if holes:
+        raise InputFormatError(f"{where}: initial shapes with holes are not supported by shapegen")
+    if len(face_counts) != 1:
+        raise InputFormatError(
+            f"{where}: {len(face_counts)} faces; shapegen starts a rule on one face"
+        )
+    corners = [coordinates[3 * i : 3 * i + 3] for i in indices]
+    heights = [y for _, y, _ in corners]
+    if max(heights) - min(heights) > LEVEL_TOLERANCE_M:
+        raise InputFormatError(
+            f"{where}: the face is not horizontal (its corners lie between y = {min(heights):g}"
+            f" and {max(heights):g} m); shapegen starts a rule on a level face"
+        )
+    ring = [(x, z) for x, _, z in corners]
+    faces_down = _signed_area(ring) > 0.0
+    if faces_down:  # the half turn about the first edge keeps its corners, reverses the ring
+        ring = _half_turn(ring)
+    return Footprint(tuple(ring), heights[0], faces_down)
+
+
+def _signed_area(ring: list[tuple[float, float]]) -> float:
+    """Twice the signed area in (x, z): negative for a ring counter-clockwise seen from above
+    (+y), as z points towards the viewer when x points right."""
+    return sum(
+        x0 * z1 - x1 * z0 for (x0, z0), (x1, z1) in zip(ring, ring[1:] + ring[:1], strict=True)
+    )
+
+
+def _half_turn(ring: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """The ring turned half a turn about its first edge: each corner mirrored across the edge's
+    line (the turn's effect in the ground plane)."""
+    (x0, z0), (x1, z1) = ring[0], ring[1]
+    ex, ez = x1 - x0, z1 - z0
+    norm = math.hypot(ex, ez)
+    ex, ez = ex / norm, ez / norm
+    out = []
+    for x, z in ring:
+        along = (x - x0) * ex + (z - z0) * ez
+        out.append((2 * (x0 + along * ex) - x, 2 * (z0 + along * ez) - z))
+    return out
+
+
+def _read_file(path: Path) -> tuple[list[float], list[int], list[int]]:
+    suffix = path.suffix.lower()
+    if suffix not in READABLE_SUFFIXES:
+        raise InputFormatError(
+            f"{path}: initial shapes are read from {', '.join(READABLE_SUFFIXES)} files;"
+            f" {suffix or 'a file without a suffix'} is not supported by shapegen"
+        )
+    if not path.is_file():
+        raise InputFormatError(f"{path}: no such file")
+    if suffix == ".obj":
+        return _read_obj(path)
+    return _read_gltf(path)
+
+
+def _read_obj(path: Path) -> tuple[list[float], list[int], list[int]]:
+    """Vertices and polygon faces of an OBJ file, faces kept whole (a library reader would
+    triangulate them, and a lot is one polygon)."""
+    coordinates: list[float] = []
+    indices: list[int] = []
+    face_counts: list[int] = []
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise InputFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    for number, line in enumerate(text.splitlines(), 1):
+        fields = line.split()
+        if not fields:
+            continue
+        try:
+            if fields[0] == "v":
+                coordinates.extend(float(v) for v in fields[1:4])
+            elif fields[0] == "f":
+                face = [int(item.split("/")[0]) for item in fields[1:]]
+                count = len(coordinates) // 3
+                indices.extend(i - 1 if i > 0 else count + i for i in face)
+                face_counts.append(len(face))
+        except ValueError:
+            raise InputFormatError(
+                f"{path}:{number}: not an OBJ vertex or face: {line[:60]!r}"
+            ) from None
+    return coordinates, indices, face_counts
+
+
+def _read_gltf(path: Path) -> tuple[list[float], list[int], list[int]]:
+    """The outline of a glTF file's faces (trimesh reads it as triangles; coplanar triangles
+    are merged back into their polygon)."""
+    import shapely
+    import trimesh
+
+    try:
+        mesh = trimesh.load(path, force="mesh", process=False)
+    except Exception as exc:  # trimesh raises many kinds for a broken file
+        raise InputFormatError(f"{path}: not a readable glTF file ({exc})") from None
+    vertices = mesh.vertices
+    triangles = [shapely.Polygon(vertices[face][:, [0, 2]]) for face in mesh.faces]
+    outline = shapely.unary_union(triangles)
+    if not isinstance(outline, shapely.Polygon):
+        raise InputFormatError(f"{path}: its faces do not form one polygon")
+    ring = list(outline.exterior.coords)[:-1]
+    if outline.exterior.is_ccw:  # (x, z) counter-clockwise is clockwise seen from above (+y)
+        ring.reverse()
+    height = float(vertices[:, 1].mean())
+    coordinates = [value for x, z in ring for value in (x, height, z)]
+    return coordinates, list(range(len(ring))), [len(ring)]
