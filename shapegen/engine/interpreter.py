@@ -28,8 +28,11 @@ __all__ = [
     "format_chain",
 ]
 
+import contextlib
+import io
 import math
 import numbers
+import sys
 from collections.abc import Mapping
 
 import numpy as np
@@ -175,21 +178,31 @@ class Program(AttributeValues, ShapeOperations):
         root.rule_path = (self.start.name,)
         leaves: list[ShapeState] = []
         stack: list[tuple] = [(root, self.rules[(self.start.name, 0)], ())]
+        # What print() writes in a pass that turns out to be the first of two is not shown:
+        # CityEngine prints once, in the pass that makes the model.
+        printed = io.StringIO()
+        capture = contextlib.redirect_stdout(printed) if _first_pass is None else None
         try:
-            while stack:
-                state, rule, args = stack.pop()
-                if rule is None:
-                    leaves.append(state)
-                    continue
-                out: list[tuple] = []
-                if rule.body(state, args, out) and state.is_leaf():
-                    out.append((state, None, ()))
-                stack.extend(reversed(out))
+            with capture or contextlib.nullcontext():
+                while stack:
+                    state, rule, args = stack.pop()
+                    if rule is None:
+                        leaves.append(state)
+                        continue
+                    out: list[tuple] = []
+                    if rule.body(state, args, out) and state.is_leaf():
+                        out.append((state, None, ()))
+                    stack.extend(reversed(out))
         except RecursionError:
+            sys.stdout.write(printed.getvalue())
             raise GrammarError(TOO_DEEP) from None
+        except BaseException:  # what was printed before the error is shown, as it was
+            sys.stdout.write(printed.getvalue())
+            raise
         if run.occlusion.asked and _first_pass is None:  # CityEngine's second pass
             first_pass = run.occlusion.second_pass(leaves)
             return self.derive(attrs, seed, lot, max_depth, max_shapes, first_pass)
+        sys.stdout.write(printed.getvalue())
         blocks, surfaces = self._blocks(leaves, run)
         metadata = {
             "grammar": self.grammar.filename,

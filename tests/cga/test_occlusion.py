@@ -94,3 +94,16 @@ Test --> case overlaps(intra) : report("red", 1) Red.
     )
     assert reports.get("red") == [1.0, 1.0]
     assert "green" not in reports
+
+
+def test_a_rule_derived_in_two_passes_prints_once(tmp_path, capsys):
+    # CityEngine prints in the pass that makes the model; the first pass only answers queries
+    rule = tmp_path / "twice.cga"
+    rule.write_text(
+        'Lot --> print("start") split(x) { 6 : E | ~1 : E }\n'
+        "E --> extrude(10) Test\n"
+        'Test --> case overlaps(intra) : print("inside") Red.\n'
+        "         else : Green.\n"
+    )
+    load_grammar(rule).build(lot=(12.0, 8.0))
+    assert capsys.readouterr().out.splitlines() == ["start"]
