@@ -22,6 +22,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from shapegen.export.surfaces import face_triangles
 from shapegen.model.model import Model
 
 
@@ -138,17 +139,12 @@ def _packed_geometry(model: Model, triangulate: bool):
     base = 0
     for leaf in [*model.blocks, *model.surfaces]:
         points = np.asarray(leaf.vertices, dtype=float)
-        for face in leaf.faces:
-            polygons = _fan(face) if triangulate and len(face) > 3 else [face]
-            for polygon in polygons:
-                indices.extend(base + int(i) for i in polygon)
-                faces.append(len(polygon))
+        polygons = face_triangles(points, leaf.faces).tolist() if triangulate else leaf.faces
+        for polygon in polygons:
+            indices.extend(base + int(i) for i in polygon)
+            faces.append(len(polygon))
         vertices.append(points)
         base += len(points)
     if not vertices:
         return [], [], []
     return np.concatenate(vertices).ravel().tolist(), indices, faces
-
-
-def _fan(face: tuple[int, ...]) -> list[tuple[int, int, int]]:
-    return [(face[0], face[k], face[k + 1]) for k in range(1, len(face) - 1)]

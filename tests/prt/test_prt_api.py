@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import shapegen.prt as pyprt
@@ -69,9 +70,24 @@ def test_emit_options_leave_out_geometry_or_reports():
     assert no_geometry.get_report()["Min Height.0_n"] == 1.0
 
 
-def test_triangulate_gives_triangles():
+def test_triangulate_gives_triangles_inside_their_faces():
     (model,) = generate([SQUARE], [FIXED], {"triangulate": True})
     assert model.get_faces() == [3] * 12
+    notched = [0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0, 5, 0, 5]  # not convex at (5, 5)
+    (whole,) = generate([notched], [FIXED])
+    (model,) = generate([notched], [FIXED], {"triangulate": True})
+    assert set(model.get_faces()) == {3}
+    # the triangles cover the faces' area exactly: none leaves its polygon, none overlaps
+    assert _area(model) == pytest.approx(_area(whole), rel=1e-12)
+
+
+def _area(model) -> float:
+    xyz = np.array(model.get_vertices()).reshape(-1, 3)
+    indices, total = iter(model.get_indices()), 0.0
+    for count in model.get_faces():
+        corners = xyz[[next(indices) for _ in range(count)]]
+        total += 0.5 * np.linalg.norm(np.cross(corners, np.roll(corners, -1, axis=0)).sum(axis=0))
+    return total
 
 
 def test_reports_are_aggregated_per_key():
