@@ -56,13 +56,20 @@ def _one(seed: int) -> cga_programs.Outcome:
         signal.alarm(0)
 
 
-def run(seeds, jobs: int = 2) -> list[cga_programs.Outcome]:
-    """The outcome of every seed, in seed order."""
+def run(seeds, jobs: int = 2, progress: int = 0) -> list[cga_programs.Outcome]:
+    """The outcome of every seed, in seed order; with ``progress``, a line on stderr every
+    ``progress`` programs (the counts so far)."""
     seeds = list(seeds)
-    if jobs <= 1:
-        return [_one(seed) for seed in seeds]
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        return list(pool.map(_one, seeds, chunksize=20))
+    outcomes: list[cga_programs.Outcome] = []
+    with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
+        for outcome in pool.map(_one, seeds, chunksize=10):
+            outcomes.append(outcome)
+            if progress and outcome.stage in ("error", *FAILURES):
+                print(f"seed {outcome.seed}: {outcome.stage}: {outcome.message}", file=sys.stderr)
+            if progress and len(outcomes) % progress == 0:
+                counts = Counter(o.stage for o in outcomes)
+                print(f"{len(outcomes)} programs: {dict(counts)}", file=sys.stderr, flush=True)
+    return outcomes
 
 
 def print_summary(outcomes: list[cga_programs.Outcome], seed: int, seconds: float = 0.0) -> None:
@@ -93,6 +100,7 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
     parser.add_argument("--count", type=int, default=10_000, help="programs (default 10 000)")
     parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument("--progress", type=int, default=500, help="counts every N programs")
     parser.add_argument("--show", type=int, help="print the files of this seed's program and stop")
     options = parser.parse_args(argv)
     if options.show is not None:
@@ -100,7 +108,8 @@ def main(argv=None) -> int:
             print(f"// ---- {name}\n{text}")
         return 0
     started = time.perf_counter()
-    outcomes = run(range(options.seed, options.seed + options.count), options.jobs)
+    seeds = range(options.seed, options.seed + options.count)
+    outcomes = run(seeds, options.jobs, progress=options.progress)
     print_summary(outcomes, options.seed, time.perf_counter() - started)
     return 1 if any(outcome.stage in FAILURES for outcome in outcomes) else 0
 

@@ -109,6 +109,11 @@ ANNOTATIONS_FLOAT = (
 )
 
 
+#: Forms drawn less often than the others, with the share of their draws kept: each would
+#: otherwise be in a third of the programs, and a program the parser refuses is not derived.
+RARE = {"perimeter": 0.3, "inline": 0.3, "degenerate": 0.5, "splitArea": 0.5}
+
+
 @dataclass
 class GeneratedProgram:
     """A generated program: ``files`` maps file names to texts, ``main`` names the one to load."""
@@ -308,6 +313,9 @@ class _Writer:
             value = str(rng.randint(low, low + 4))
         else:
             name = self.fresh("a")
+            if "start" not in self.values and not self.prefix and self.chance(0.1):
+                self.forms.add("keyword as name")
+                name = "start"
             value = self.expression(kind, {}, 1)
             if kind == FLOAT and self.chance(0.4):
                 annotations.append(rng.choice(ANNOTATIONS_FLOAT))
@@ -393,7 +401,7 @@ class _Writer:
                     "object.front",
                 ]
             )
-            if self.chance(0.3):
+            if self.chance(0.15):
                 self.forms.add("comp function case")
                 value = f"case scope.sx > {self.rng.randint(2, 9)} : 2 else : 1"
             else:
@@ -623,6 +631,8 @@ class _Writer:
                     "none",
                 ]
             )
+        if form in RARE and not self.chance(RARE[form]):
+            form = "push"
         self.forms.add(form)
         if form == "extrude":
             height = self.size(env)
@@ -785,6 +795,10 @@ class _Writer:
     def rule(self, index: int) -> str:
         rule = self.rules[index]
         env = {f"q{i}": t for i, t in enumerate(rule.params)}
+        if env and self.chance(0.15):  # start.html's keyword is a name elsewhere
+            self.forms.add("keyword as name")
+            first = next(iter(env))
+            env = {("start" if n == first else n): t for n, t in env.items()}
         head = rule.name + (f"({', '.join(env)})" if rule.params else "")
         if self.chance(0.15):
             self.forms.add("with")

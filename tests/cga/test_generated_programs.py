@@ -69,6 +69,7 @@ def test_the_generator_is_deterministic_and_covers_the_language():
         "string concatenation", "case expression", "relative coordinate", "layout",
         "comp function", "comp function case", "perimeter", "degenerate", "style",
         "builtin name overloaded", "dynamic import", "set shape attribute", "number forms",
+        "keyword as name",
     }  # fmt: skip
     assert wanted <= forms, wanted - forms
 
