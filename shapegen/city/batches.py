@@ -3,7 +3,7 @@
 A worker runs the lots of a batch one after the other (:func:`run_batch`), then writes, into the
 run's store, the batch's buildings and then its records::
 
-    lots/B-KEY.blocks the built lots' blocks, placed in the city, as packed arrays
+    lots/B-KEY.blocks the built lots' blocks and solids, placed in the city, as packed arrays
     lots/B-KEY.json   the records of every lot of the batch (built, failed or timed out)
 
 The record file is written last, so a record file that is there means its whole batch is done,
@@ -19,7 +19,9 @@ second). The arrays: ``vertices`` (float64, m), ``vertex_offsets`` per block, ``
 indices within the block, all faces end to end), ``face_sizes``, ``face_starts`` (into
 ``faces``), ``face_offsets`` per block (into ``face_sizes``), ``block_offsets`` per building,
 ``rgba`` per block (the scene's colours: label colours, red where the building does not stand)
-and ``flags`` per block (1 fixed, 2 structural). The file is ``SGBLOCKS`` (8 bytes), the length
+and ``flags`` per block (1 fixed, 2 structural). A closed solid leaf that is not convex (an
+extruded L-shaped footprint), kept as derived, is packed after the building's blocks as one
+more entry, its faces cut into triangles. The file is ``SGBLOCKS`` (8 bytes), the length
 of a JSON header (8 bytes, little-endian), the header (``{name: [numpy dtype, shape,
 offset]}``, offsets from the end of the header) and the arrays' bytes, each at a multiple of 8:
 numpy takes each array where it lies, where an ``.npz`` costs milliseconds a batch to open.
@@ -193,35 +195,60 @@ def building_blocks(arrays: dict[str, np.ndarray], index: int):
 def block_colors(model, *, stands: bool) -> np.ndarray:
     """``(b, 4)`` RGBA bytes of a building's blocks in the city's scene and picture: each in its
     label's colour (the design page's), all red when the building does not stand."""
-    from shapegen.export.colors import block_label_color, model_label_colors
+    return _colors(_drawn(model), stands)
+
+
+def _colors(drawn: list[tuple], stands: bool) -> np.ndarray:
+    from shapegen.export.colors import block_label_color, label_colors
 
     if not stands:
-        return np.repeat(_FAILED[None], len(model.blocks), axis=0)
-    by_label = model_label_colors(model.blocks)  # each label its own, as the design page has
+        return np.repeat(_FAILED[None], len(drawn), axis=0)
+    # each label its own colour, as the design page has (export.colors.model_label_colors)
+    by_label = label_colors(
+        tags[0] for _, _, tags, fixed, structural in drawn if tags and structural and not fixed
+    )
     return np.array(
         [
-            block_label_color(b.tags, fixed=b.fixed, structural=b.structural, colors=by_label)
-            for b in model.blocks
+            block_label_color(tags, fixed=fixed, structural=structural, colors=by_label)
+            for _, _, tags, fixed, structural in drawn
         ],
         dtype=np.uint8,
     ).reshape(-1, 4)
+
+
+def _drawn(model) -> list[tuple]:
+    """``(vertices, faces, tags, fixed, structural)`` of what a building shows in the city:
+    its blocks, then its closed solids kept as derived (leaves that are not convex, cut into
+    convex parts only when judged), their faces cut into triangles as the scene fans every
+    face."""
+    drawn = [(b.vertices, b.faces, b.tags, b.fixed, b.structural) for b in model.blocks]
+    solids = [s for s in getattr(model, "surfaces", None) or () if s.solid is not None]
+    if solids:
+        from shapegen.export.surfaces import face_triangles
+
+        for surface in solids:
+            triangles = tuple(map(tuple, face_triangles(surface.vertices, surface.faces).tolist()))
+            drawn.append((surface.vertices, triangles, surface.tags, surface.solid.fixed,
+                          surface.solid.structural))  # fmt: skip
+    return drawn
 
 
 def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
     vertices, faces, face_sizes, rgba, flags = [], [], [], [], []
     block_counts, vertex_counts, face_counts = [], [], []
     for model, standing in zip(models, stands, strict=True):
-        block_counts.append(len(model.blocks))
-        if model.blocks:
-            rgba.append(block_colors(model, stands=standing))
-        for block in model.blocks:
-            vertices.append(np.asarray(block.vertices, dtype=float))
-            vertex_counts.append(len(block.vertices))
-            face_counts.append(len(block.faces))
-            for face in block.faces:
+        drawn = _drawn(model)
+        block_counts.append(len(drawn))
+        if drawn:
+            rgba.append(_colors(drawn, standing))
+        for block_vertices, block_faces, _, fixed, structural in drawn:
+            vertices.append(np.asarray(block_vertices, dtype=float))
+            vertex_counts.append(len(block_vertices))
+            face_counts.append(len(block_faces))
+            for face in block_faces:
                 faces.extend(face)
                 face_sizes.append(len(face))
-            flags.append(int(block.fixed) | 2 * int(block.structural))
+            flags.append(int(fixed) | 2 * int(structural))
     arrays = {
         "vertices": np.concatenate(vertices) if vertices else np.zeros((0, 3)),
         "vertex_offsets": _offsets(vertex_counts),

@@ -5,9 +5,9 @@
 
 The derivation is depth first, in the order successors appear in the rules, and uses an explicit
 stack rather than recursion, so deep grammars need no Python recursion. Each 3D leaf shape (not
-``NIL``, positive volume) becomes one block (a box filling its scope, a closed convex mesh), the
-convex pieces of a closed non-convex mesh, or the blocks of its inserted primitive, numbered
-``b0``, ``b1``... in derivation order; any other leaf (a face, an open mesh) is a
+``NIL``, positive volume) becomes one block (a box filling its scope, a closed convex mesh) or
+the blocks of its inserted primitive, numbered ``b0``, ``b1``... in derivation order; any other
+leaf (a face, an open mesh, a closed solid that is not convex, kept as derived) is a
 :class:`~shapegen.model.appearance.Surface` of the model, with the reason it is not a block.
 Randomness (``rand``, stochastic rules) comes from a generator seeded by the seed and the shape's
 position in the shape tree, so a shape's draws do not depend on how many shapes were derived
@@ -53,12 +53,12 @@ from shapegen.engine.occlusion import Occlusion
 from shapegen.engine.operations import INSERT, ShapeOperations
 from shapegen.engine.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
-from shapegen.geometry.cut import placed_convex_decomposition
+from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.limits import limit_hint
-from shapegen.model.appearance import DEFAULT_APPEARANCE, Surface
+from shapegen.model.appearance import DEFAULT_APPEARANCE, SolidLeaf, Surface
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.model.scope import Scope
@@ -321,11 +321,14 @@ class Program(AttributeValues, ShapeOperations):
             surfaces.append(_surface(state, world, "a face (no volume)", len(surfaces)))
 
     def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> list[Block]:
-        """The blocks of a leaf with geometry: one for a closed convex mesh, the convex pieces of
-        a closed non-convex one (cut by the planes of its faces), parts of one body. Otherwise
-        none, and the leaf is added to ``surfaces`` with the reason. The model keeps the leaf's
-        own geometry: an open shell is not capped and a solid is not replaced by its hull here,
-        so the model is the one CityEngine's runtime derives (its volume and bounding box)."""
+        """The blocks of a leaf with geometry: one for a closed convex mesh. Otherwise none,
+        and the leaf is added to ``surfaces`` with the reason: a closed solid that is not
+        convex stays as derived (``"not convex"``, with its :class:`SolidLeaf`), and the
+        statics cut it into convex parts of one body when they judge
+        (:mod:`shapegen.statics.standins`), so a model nobody judges never pays for the cut.
+        The model keeps the leaf's own geometry: an open shell is not capped and a solid is not
+        replaced by its hull here, so the model is the one CityEngine's runtime derives (its
+        volume and bounding box)."""
         mesh = state.shape.world_mesh()
         if state.shape.kind == FACE or not mesh.is_closed:
             if mesh.area() > _MIN_SIZE**2:
@@ -340,11 +343,13 @@ class Program(AttributeValues, ShapeOperations):
             return []
         # judged and cut in scope coordinates, where the same asset gives the same mesh
         scope = state.shape.scope
-        pieces = placed_convex_decomposition(state.shape.mesh(), scope.rotation, scope.origin)
-        if pieces is None:
-            surfaces.append(_surface(state, mesh, "not convex", len(surfaces)))
-            return []
+        local = state.shape.mesh()
+        pieces = placed_convex_decomposition(local, scope.rotation, scope.origin, cut=False)
         density, structural, fixed = self._properties(state)
+        if pieces is None or pieces is NEEDS_CUT:
+            solid = SolidLeaf(density, structural, fixed, local, scope.rotation, scope.origin)
+            surfaces.append(_surface(state, mesh, "not convex", len(surfaces), solid))
+            return []
         blocks = []
         for piece in pieces:
             clean = piece.cleaned()
@@ -388,7 +393,9 @@ class Program(AttributeValues, ShapeOperations):
         return density, structural, fixed
 
 
-def _surface(state: ShapeState, mesh, reason: str, number: int) -> Surface:
+def _surface(
+    state: ShapeState, mesh, reason: str, number: int, solid: SolidLeaf | None = None
+) -> Surface:
     return Surface(
         mesh.vertices,
         mesh.faces,
@@ -397,6 +404,7 @@ def _surface(state: ShapeState, mesh, reason: str, number: int) -> Surface:
         rule_path=state.rule_path,
         reason=reason,
         id=f"s{number}",
+        solid=solid,
     )
 
 

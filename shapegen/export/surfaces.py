@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from shapegen.errors import InputFormatError
-from shapegen.model.appearance import Appearance, Surface
+from shapegen.model.appearance import Appearance, SolidLeaf, Surface
 from shapegen.model.model import Model
 
 if TYPE_CHECKING:
@@ -164,6 +164,16 @@ def surface_from_entry(entry: object, k: int, points, number, strings) -> Surfac
     reason = entry.get("reason", "")
     if not isinstance(reason, str):
         raise InputFormatError(f'{where}: "reason" must be a string')
+    solid = None
+    if "density" in entry:  # a solid kept as derived: what its convex parts are made of
+        density = number(entry["density"], f'{where}: "density"')
+        flags = [entry.get(name, default) for name, default in (("structural", True),
+                                                                 ("fixed", False))]  # fmt: skip
+        if density < 0 or not all(isinstance(flag, bool) for flag in flags):
+            raise InputFormatError(
+                f'{where}: "density" must be a number >= 0 and "structural", "fixed" true or false'
+            )
+        solid = SolidLeaf(density, *flags)
     return Surface(
         vertices,
         faces,
@@ -172,6 +182,7 @@ def surface_from_entry(entry: object, k: int, points, number, strings) -> Surfac
         rule_path=strings(entry.get("rule_path", []), f'{where}: "rule_path"'),
         reason=reason,
         id=surface_id,
+        solid=solid,
     )
 
 

@@ -15,6 +15,7 @@ __all__ = [
     "clip_half",
     "clip_plane",
     "clip_slab",
+    "NEEDS_CUT",
     "convex_decomposition",
     "placed_convex_decomposition",
 ]
@@ -328,9 +329,14 @@ def _general_decomposition(mesh: Mesh, max_pieces: int) -> list[Mesh] | None:
     return done
 
 
-def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | None:
+def placed_convex_decomposition(mesh: Mesh, rotation, origin, *, cut: bool = True):
     """:func:`convex_decomposition` of ``mesh`` (scope coordinates), the pieces moved by
     ``rotation`` and ``origin`` into world coordinates.
+
+    ``cut=False`` asks only for a mesh that needs no cut: a mesh with a corner clearly in front
+    of one of its faces' planes (beyond the round-off a cut takes as convex) gives
+    :data:`NEEDS_CUT`, uncut, and costs no more than that test. A derivation keeps such leaves
+    as derived, and the statics cut them when they judge (the answer is kept all the same).
 
     The pieces are kept (a bounded cache) for the mesh brought to unit size: its lowest corner
     at the origin and its largest extent 1 (keyed by its coordinates to 1e-12). A rule inserts
@@ -351,13 +357,17 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | No
     unit = (vertices - low) / scale
     key = (np.round(unit, 12).tobytes(), mesh.faces)  # equal sizes up to round-off: one key
     pieces = _DECOMPOSED.get(key, _MISSING)
-    if pieces is _MISSING:
-        pieces = convex_decomposition(Mesh._checked(unit, mesh.faces), cleaned=True)
+    if pieces is _MISSING or (pieces is NEEDS_CUT and cut):
+        unit_mesh = Mesh._checked(unit, mesh.faces)
+        if pieces is _MISSING and not cut and _clearly_not_convex(unit_mesh):
+            pieces = NEEDS_CUT
+        else:
+            pieces = convex_decomposition(unit_mesh, cleaned=True)
         if len(_DECOMPOSED) >= _DECOMPOSED_LIMIT:
             del _DECOMPOSED[next(iter(_DECOMPOSED))]  # the oldest entry
         _DECOMPOSED[key] = pieces
-    if pieces is None:
-        return None
+    if pieces is None or pieces is NEEDS_CUT:
+        return pieces
     rotation = np.asarray(rotation, float)
     (a, b, c), (d, e, f), (g, h, i) = rotation.tolist()
     if a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) < 0:
@@ -373,6 +383,23 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin) -> list[Mesh] | No
         for piece in pieces
     ]
 
+
+def _clearly_not_convex(mesh: Mesh) -> bool:
+    """True when :func:`convex_decomposition` would cut ``mesh`` (or find it cannot): a corner
+    lies in front of a face's plane by more than the height a cut plane needs."""
+    if not mesh.is_closed:
+        return False
+    slack = _SPLIT_HEIGHT * _REL * max(mesh.size(), 1e-12)
+    return bool(mesh.heights_above_faces(slack).max(initial=0.0) > slack)
+
+
+class _NeedsCut:
+    def __repr__(self) -> str:
+        return "NEEDS_CUT"
+
+
+NEEDS_CUT = _NeedsCut()
+""":func:`placed_convex_decomposition`'s answer, asked not to cut, for a mesh that needs a cut."""
 
 _DECOMPOSED: dict = {}
 _DECOMPOSED_LIMIT = 512  # distinct meshes kept by placed_convex_decomposition

@@ -5,8 +5,12 @@ operations leave on a shape; it is carried to the blocks and surfaces of the mod
 there to the export (glTF materials), and never changes the statics.
 
 :class:`Surface` is a leaf of a derivation that is not a block: a face (a roof plane, a
-``comp(f)`` face left as a leaf), an open or non-convex mesh (an asset). Surfaces are kept for
-display and export; the statics only use blocks, and ``reason`` says why a surface is not one.
+``comp(f)`` face left as a leaf), an open mesh (an asset), or a closed solid that is not
+convex (an L-shaped footprint extruded), kept as derived. Surfaces are kept for display and
+export, and ``reason`` says why a surface is not a block. The statics judge blocks, and stand
+in for some surfaces when they judge (``shapegen.statics.standins``): a solid's
+:class:`SolidLeaf` says what it is made of and where it was derived, so its convex parts are
+cut then, and only then.
 """
 
 from __future__ import annotations
@@ -15,6 +19,7 @@ __all__ = [
     "Appearance",
     "DEFAULT_APPEARANCE",
     "MATERIAL_ATTRIBUTES",
+    "SolidLeaf",
     "Surface",
     "material_value",
     "parse_hex_color",
@@ -215,6 +220,31 @@ def with_material(appearance: Appearance | None, name: str, value: object) -> Ap
     return replace(look, material=material + ((name, value),))
 
 
+@dataclass(frozen=True, eq=False)
+class SolidLeaf:
+    """What the statics need of a closed solid leaf the derivation kept as derived.
+
+    Attributes
+    ----------
+    density
+        kg/m^3, the leaf's ``density`` attr.
+    structural, fixed
+        The leaf's ``structural`` and ``fixed`` attrs.
+    local, rotation, origin
+        The leaf's mesh in its scope's coordinates and the scope's ``(3, 3)`` rotation and
+        origin (m), where it is cut into convex parts (the same shape placed anywhere and at
+        any size is cut once); None for a solid read from a file, which is cut where it is.
+        Not written to files.
+    """
+
+    density: float
+    structural: bool = True
+    fixed: bool = False
+    local: object = None
+    rotation: np.ndarray | None = None
+    origin: np.ndarray | None = None
+
+
 @dataclass
 class Surface:
     """A leaf drawn but not judged: a polygon mesh with its look and its origin.
@@ -232,8 +262,11 @@ class Surface:
     rule_path
         The chain of rules that produced it.
     reason
-        Why the statics leave it out, in words: ``"a face (no volume)"``,
-        ``"not convex"``, ``"not closed"``...
+        Why it is not a block, in words: ``"a face (no volume)"``, ``"not convex"``,
+        ``"not closed"``...
+    solid
+        For a closed solid leaf kept as derived (``"not convex"``), its density, flags and
+        scope (:class:`SolidLeaf`); None otherwise.
     """
 
     vertices: np.ndarray
@@ -244,6 +277,7 @@ class Surface:
     reason: str = ""
     id: str = ""
     extras: dict = field(default_factory=dict)
+    solid: SolidLeaf | None = None
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=float).reshape(-1, 3)
@@ -262,6 +296,10 @@ class Surface:
         }
         if self.rule_path:
             out["rule_path"] = list(self.rule_path)
+        if self.solid is not None:
+            out["density"] = self.solid.density
+            out["structural"] = self.solid.structural
+            out["fixed"] = self.solid.fixed
         look = (self.appearance or DEFAULT_APPEARANCE).to_dict()
         if look:
             out["appearance"] = look

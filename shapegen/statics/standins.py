@@ -1,5 +1,13 @@
 """Stand-ins: the solids the statics judge in place of leaves the model keeps as drawn.
 
+A solid leaf that is not convex (an extruded L-shaped footprint, a column's moulding) is
+kept as derived, a surface with its :class:`~shapegen.model.appearance.SolidLeaf`; here, when
+the statics judge, it is cut into convex parts of one body by the planes of its faces
+(:func:`~shapegen.geometry.cut.placed_convex_decomposition`, in its scope, so one shape is cut
+once however often and at whatever size it is placed): ``"not convex, cut into convex
+parts"``, with the leaf's own density, ``structural`` and ``fixed``. One that does not cut
+stands on its hull, as below.
+
 A real CityEngine rule models what is seen. A column shaft is a fluted tube without its end
 discs, an echinus a flared bowl open at both ends, a moulding a closed solid that does not cut
 into convex pieces: none is a convex block, so the derivation leaves them out of the blocks, as
@@ -46,13 +54,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shapegen.errors import GeometryError
-from shapegen.geometry.cut import convex_decomposition
+from shapegen.geometry.cut import convex_decomposition, placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.solids import capped, hull_corners
 from shapegen.model.block import DEFAULT_DENSITY, Block
 from shapegen.model.model import Model
 from shapegen.tolerances import MIN_LEAF_SIZE
 
+CUT = "not convex, cut into convex parts"
 CAPPED = "open shell, capped"
 CAPPED_HULL = "open shell, capped, on its convex hull"
 HULL = "not convex, on its convex hull"
@@ -75,7 +84,8 @@ class StandIns:
     blocks
         Number of stand-in blocks (a stand-in cut into convex parts has several).
     by_reason
-        Leaves stood in for, by what was done: ``"open shell, capped"``, ``"open shell,
+        Leaves stood in for, by what was done: ``"not convex, cut into convex parts"``,
+        ``"open shell, capped"``, ``"open shell,
         capped, on its convex hull"``, ``"not convex, on its convex hull"``, ``"faces turned
         inwards, turned out"``; in decreasing count.
     left_out
@@ -155,7 +165,11 @@ def _with_stand_ins(model: Model, surfaces: list) -> StaticsModel:
             remaining.append(surface)
             continue
         what, pieces, density_scale = made
-        density, structural, fixed = properties.of(surface.rule_path)
+        solid = surface.solid
+        if solid is not None:  # the leaf's own
+            density, structural, fixed = solid.density, solid.structural, solid.fixed
+        else:
+            density, structural, fixed = properties.of(surface.rule_path)
         name = surface.id or f"s{number}"
         while name in taken or any(f"{name}.{k}" in taken for k in range(len(pieces))):
             name += "'"
@@ -222,6 +236,10 @@ def _stand_in(surface) -> tuple[str, list, float] | None:
     vertices = np.asarray(surface.vertices, dtype=float)
     if len(vertices) < 4:
         return None
+    if surface.reason == _NOT_CONVEX:
+        pieces = _solid_parts(surface)
+        if pieces is not None:
+            return CUT, pieces, 1.0
     anchor = vertices.min(axis=0)
     local = vertices - anchor
     key = (surface.reason, np.round(local / _KEY_QUANTUM).astype(np.int64).tobytes(),
@@ -236,6 +254,28 @@ def _stand_in(surface) -> tuple[str, list, float] | None:
         return None
     what, pieces, scale = found
     return what, [(piece_vertices + anchor, faces) for piece_vertices, faces in pieces], scale
+
+
+def _solid_parts(surface) -> list | None:
+    """The convex parts of a closed solid leaf kept as derived (one with a
+    :class:`~shapegen.model.appearance.SolidLeaf`), in world coordinates: cut in its scope
+    where the derivation recorded it, else where it is; None when it does not cut (it then
+    stands on its hull)."""
+    solid = surface.solid
+    if solid is None:  # a file's surface that was not cut when derived: it did not cut
+        return None
+    if solid.local is not None:
+        local, rotation, origin = solid.local, solid.rotation, solid.origin
+    else:
+        local = Mesh(surface.vertices, surface.faces)
+        if not local.is_closed or local.signed_volume() <= MIN_LEAF_SIZE**3:
+            return None
+        rotation, origin = np.eye(3), np.zeros(3)
+    pieces = placed_convex_decomposition(local, rotation, origin)
+    if pieces is None:
+        return None
+    cleaned = [piece.cleaned() for piece in pieces]
+    return [(piece.vertices, piece.faces) for piece in cleaned]
 
 
 def _local_stand_in(mesh: Mesh, reason: str) -> tuple[str, list, float] | None:

