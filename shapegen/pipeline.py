@@ -166,12 +166,14 @@ def completed(outcome: Outcome) -> Outcome:
 def build_report(model: Model) -> dict:
     """The build part of a report, from what the model records of its derivation.
 
-    ``left_out`` counts the leaves drawn but left out of the statics (the model's surfaces) by
-    reason; ``warnings`` are the derivation's (an asset file not found...), one line each;
-    ``cga_errors`` counts the operations a ``.cga`` derivation skipped past, as CityEngine's
-    runtime does (each is among the warnings, once per place and message).
+    ``solids`` counts the closed leaves that are not convex, kept as derived (the statics cut
+    them into convex parts when they judge); ``left_out`` counts the leaves drawn but left out
+    of the statics (the model's other surfaces) by reason; ``warnings`` are the derivation's
+    (an asset file not found...), one line each; ``cga_errors`` counts the operations a
+    ``.cga`` derivation skipped past, as CityEngine's runtime does (each is among the warnings,
+    once per place and message).
     """
-    from shapegen.export.surfaces import left_out_summary
+    from shapegen.export.surfaces import left_out_summary, solids
 
     metadata = model.metadata or {}
     lot = metadata.get("lot")
@@ -182,6 +184,7 @@ def build_report(model: Model) -> dict:
         "lot": list(lot) if lot is not None else None,
         "structure": structure.get("name"),
         "blocks": len(model.blocks),
+        "solids": solids(model),
         "left_out": left_out_summary(model),
         "warnings": [str(w) for w in metadata.get("warnings", [])],
         "cga_errors": int(metadata.get("cga_errors", 0)),

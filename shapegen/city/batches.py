@@ -205,43 +205,136 @@ def _colors(drawn: list[tuple], stands: bool) -> np.ndarray:
         return np.repeat(_FAILED[None], len(drawn), axis=0)
     # each label its own colour, as the design page has (export.colors.model_label_colors)
     by_label = label_colors(
-        tags[0] for _, _, tags, fixed, structural in drawn if tags and structural and not fixed
+        tags[0] for _, _, tags, fixed, structural, _ in drawn if tags and structural and not fixed
     )
     return np.array(
         [
             block_label_color(tags, fixed=fixed, structural=structural, colors=by_label)
-            for _, _, tags, fixed, structural in drawn
+            for _, _, tags, fixed, structural, _ in drawn
         ],
         dtype=np.uint8,
     ).reshape(-1, 4)
 
 
 def _drawn(model) -> list[tuple]:
-    """``(vertices, faces, tags, fixed, structural)`` of what a building shows in the city:
-    its blocks, then its closed solids kept as derived (leaves that are not convex, cut into
-    convex parts only when judged), their faces cut into triangles as the scene fans every
-    face."""
-    drawn = [(b.vertices, b.faces, b.tags, b.fixed, b.structural) for b in model.blocks]
-    solids = [s for s in getattr(model, "surfaces", None) or () if s.solid is not None]
-    if solids:
-        from shapegen.export.surfaces import face_triangles
-
-        for surface in solids:
-            triangles = tuple(map(tuple, face_triangles(surface.vertices, surface.faces).tolist()))
-            drawn.append((surface.vertices, triangles, surface.tags, surface.solid.fixed,
-                          surface.solid.structural))  # fmt: skip
+    """``(vertices, faces, tags, fixed, structural, solid)`` of what a building shows in the
+    city: its blocks, then its closed solids kept as derived (leaves that are not convex, cut
+    into convex parts only when judged; ``solid`` True), whose faces may not be convex."""
+    drawn = [(b.vertices, b.faces, b.tags, b.fixed, b.structural, False) for b in model.blocks]
+    for surface in getattr(model, "surfaces", None) or ():
+        if surface.solid is not None:
+            drawn.append((surface.vertices, surface.faces, surface.tags, surface.solid.fixed,
+                          surface.solid.structural, True))  # fmt: skip
     return drawn
+
+
+def _fan_ready(solids: list[tuple]) -> list[tuple]:
+    """The faces of each ``(vertices, faces)`` in ``solids`` with every polygon that a fan from
+    its first corner would not cover (a non-convex one: an L-shaped footprint's caps) cut into
+    triangles, the others as they are; all solids of a batch at once: the convex polygons are
+    told from the others in one pass (every corner turns the same way about the face's
+    normal), and the others are triangulated in one call (constrained Delaunay)."""
+    from shapegen.model.polygons import cross, face_layout, face_normals
+
+    layouts = [face_layout(faces) for _, faces in solids]
+    vertex_base = _offsets([len(vertices) for vertices, _ in solids])
+    face_base = _offsets([len(start) - 1 for _, start in layouts])
+    corner_base = _offsets([len(corners) for corners, _ in layouts])
+    vertices = np.concatenate([v for v, _ in solids])
+    corners = np.concatenate([c + vertex_base[k] for k, (c, _) in enumerate(layouts)])
+    start = np.concatenate([[0]] + [s[1:] + corner_base[k] for k, (_, s) in enumerate(layouts)])
+    normals, _ = face_normals(vertices, corners, start)
+    p = vertices[corners]
+    successor = np.arange(1, len(corners) + 1)
+    successor[start[1:] - 1] = start[:-1]
+    edges = p[successor] - p
+    sizes = np.diff(start)
+    turns = np.einsum("ij,ij->i", cross(edges, edges[successor]), np.repeat(normals, sizes, axis=0))
+    scale = np.maximum.reduceat(np.einsum("ij,ij->i", edges, edges), start[:-1])
+    bent = np.flatnonzero(np.minimum.reduceat(turns, start[:-1]) < -_FLAT_TURN * scale)
+    out = [faces for _, faces in solids]
+    if not len(bent):
+        return out
+    triangles = _triangulated(vertices, corners, start, normals, bent)
+    owner = np.searchsorted(face_base, bent, side="right") - 1
+    for solid in np.unique(owner).tolist():
+        base = int(vertex_base[solid])
+        local = dict.fromkeys((bent[owner == solid] - face_base[solid]).tolist())
+        faces = []
+        for k, face in enumerate(out[solid]):
+            if k in local:
+                number = int(face_base[solid]) + k
+                faces.extend(tuple(i - base for i in t) for t in triangles.get(number, ()))
+            else:
+                faces.append(face)
+        out[solid] = tuple(faces)
+    return out
+
+
+def _triangulated(vertices, corners, start, normals, bent) -> dict[int, list]:
+    """Triangles (vertex numbers, turned as their face) of the faces numbered ``bent``, by a
+    constrained Delaunay triangulation of each face in the plane of its two axes across its
+    normal's largest component; a face that is not a simple polygon is fanned."""
+    import shapely
+
+    from shapegen.model.polygons import cross
+
+    pieces = [corners[start[k] : start[k + 1]] for k in bent.tolist()]
+    index = np.concatenate(pieces)
+    face_of = np.repeat(np.arange(len(bent)), [len(c) for c in pieces])
+    axis = np.abs(normals[bent]).argmax(axis=1)[face_of]
+    points = vertices[index]
+    rows = np.arange(len(index))
+    u, v = points[rows, (axis + 1) % 3], points[rows, (axis + 2) % 3]
+    polygons = shapely.polygons(shapely.linearrings(np.column_stack([u, v]), indices=face_of))
+    keys = zip(face_of.tolist(), u.tolist(), v.tolist(), strict=True)
+    at = dict(zip(keys, index.tolist(), strict=True))
+    out: dict[int, list] = {}
+    valid = shapely.is_valid(polygons)
+    for w in np.flatnonzero(~valid).tolist():
+        face = pieces[w].tolist()
+        out[int(bent[w])] = [(face[0], face[k], face[k + 1]) for k in range(1, len(face) - 1)]
+    chosen = np.flatnonzero(valid)
+    parts, which = shapely.get_parts(
+        shapely.constrained_delaunay_triangles(polygons[chosen]), return_index=True
+    )
+    corners2d = shapely.get_coordinates(shapely.get_exterior_ring(parts)).reshape(-1, 4, 2)
+    found, owners = [], []
+    for (a, b, c), w in zip(corners2d[:, :3].tolist(), chosen[which].tolist(), strict=True):
+        try:
+            found.append([at[(w, x, y)] for x, y in (a, b, c)])
+        except KeyError:  # a point GEOS added: cannot be named by a vertex number
+            continue
+        owners.append(w)
+    if not found:
+        return out
+    triangles = np.array(found)
+    i, j, k = (vertices[triangles[:, n]] for n in range(3))
+    turned = np.einsum("ij,ij->i", cross(j - i, k - i), normals[bent[owners]]) < 0
+    triangles[turned] = triangles[turned][:, ::-1]
+    for triangle, w in zip(triangles.tolist(), owners, strict=True):
+        out.setdefault(int(bent[w]), []).append(tuple(triangle))
+    return out
+
+
+_FLAT_TURN = 1e-12  # a corner turning back by less than this times the squared edge is straight
 
 
 def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
     vertices, faces, face_sizes, rgba, flags = [], [], [], [], []
     block_counts, vertex_counts, face_counts = [], [], []
-    for model, standing in zip(models, stands, strict=True):
-        drawn = _drawn(model)
+    buildings = [_drawn(model) for model in models]
+    solids = [(k, n) for k, drawn in enumerate(buildings) for n, entry in enumerate(drawn)
+              if entry[5]]  # fmt: skip
+    if solids:
+        ready = _fan_ready([buildings[k][n][:2] for k, n in solids])
+        for (k, n), polygons in zip(solids, ready, strict=True):
+            buildings[k][n] = (buildings[k][n][0], polygons, *buildings[k][n][2:])
+    for drawn, standing in zip(buildings, stands, strict=True):
         block_counts.append(len(drawn))
         if drawn:
             rgba.append(_colors(drawn, standing))
-        for block_vertices, block_faces, _, fixed, structural in drawn:
+        for block_vertices, block_faces, _, fixed, structural, _ in drawn:
             vertices.append(np.asarray(block_vertices, dtype=float))
             vertex_counts.append(len(block_vertices))
             face_counts.append(len(block_faces))

@@ -43,6 +43,7 @@ COLUMNS = [
     "measure",
     "structure",
     "blocks",
+    "solids",
     "left_out",
     "seconds",
     "iterations",

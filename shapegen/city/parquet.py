@@ -21,7 +21,7 @@ PARQUET_MISSING = (
 )
 _LISTS = ("warnings", "from_properties")
 _NUMBERS = {"measure": "float64", "seconds": "float64", "peak_rss_mib": "float64",
-            "lot_width": "float64", "lot_depth": "float64", "blocks": "int64",
+            "lot_width": "float64", "lot_depth": "float64", "blocks": "int64", "solids": "int64",
             "left_out": "int64", "seed": "int64", "iterations": "int64"}  # fmt: skip
 
 

@@ -185,7 +185,7 @@ def run_lot(settings: CitySettings, task: LotTask) -> dict:
     seconds = time.perf_counter() - started
     if settings.timeout is not None and seconds > settings.timeout:
         # Past its time, whatever it got to: a timed-out lot reads the same wherever it stopped.
-        record.update(status="timeout", stands=None, measure=None, blocks=None)
+        record.update(status="timeout", stands=None, measure=None, blocks=None, solids=None)
         record.pop("model", None)
     if record["status"] == "timeout":
         record["error"] = timeout_message(settings.timeout)
@@ -203,6 +203,7 @@ def new_record(lot_id: str, seed: int) -> dict:
         "measure": None,
         "structure": None,
         "blocks": None,
+        "solids": None,
         "left_out": None,
         "warnings": [],
         "attrs": {},
@@ -272,6 +273,7 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
             record["stands"] = None
             record["solver_status"] = assessment.status
     record["blocks"] = len(outcome.model.blocks)
+    record["solids"] = int(outcome.report.get("solids", 0))  # not convex, kept as derived
     # Leaves drawn but not judged (not convex blocks) and the derivation's warnings: said, so a
     # building judged on part of itself is never taken for the whole.
     record["left_out"] = int((outcome.report.get("left_out") or {}).get("leaves", 0))

@@ -13,6 +13,7 @@ __all__ = [
     "appearance_from_entry",
     "face_triangles",
     "left_out_summary",
+    "solids",
     "surface_from_entry",
     "surface_mesh",
     "surfaces_of",
@@ -47,10 +48,18 @@ def left_out_summary(model: Model) -> dict:
     """How many leaves of the derivation the statics leave out, and why.
 
     Returns ``{"leaves": n, "by_reason": {reason: count, ...}}``, the reasons in decreasing
-    count (``"a face (no volume)"``, ``"not convex"``...): the model's surfaces.
+    count (``"a face (no volume)"``, ``"not convex"``...): the model's surfaces but its solids
+    kept as derived, which the statics cut into convex parts when they judge (:func:`solids`).
     """
-    reasons = Counter(s.reason or "not a block" for s in surfaces_of(model))
+    reasons = Counter(s.reason or "not a block" for s in surfaces_of(model) if s.solid is None)
     return {"leaves": sum(reasons.values()), "by_reason": dict(reasons.most_common())}
+
+
+def solids(model: Model) -> int:
+    """How many closed solid leaves that are not convex the model keeps as derived (surfaces
+    with a :class:`~shapegen.model.appearance.SolidLeaf`): the statics cut each into convex
+    parts of one body when they judge."""
+    return sum(1 for s in getattr(model, "surfaces", None) or () if s.solid is not None)
 
 
 def face_triangles(vertices: np.ndarray, faces) -> np.ndarray:

@@ -177,3 +177,23 @@ def test_the_editor_reads_joints_with_stand_ins_as_neighbours():
     outcome = SimpleNamespace(model=model, assessment=assessment, grammar=grammar)
     details = block_details(outcome, "lintel", {})
     assert sorted(j["other"] for j in details["joints"]) == ["s0", "s1"]
+
+
+def test_a_solid_kept_as_derived_is_cut_when_judged_from_the_model_or_its_file():
+    # an L-shaped mass stays one solid in the model and in its file; the statics cut it into
+    # two convex parts of one body with the rule's density, before and after a round trip
+    import shapegen
+    from shapegen.export.blocks_json import model_from_dict, model_to_dict
+    from shapegen.statics.standins import CUT
+
+    grammar = shapegen.parse_grammar("attr density = 1500\n@StartRule\nLot --> extrude(3) Mass\n")
+    model = grammar.build(lot=[(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)])
+    assert not model.blocks and [s.reason for s in model.surfaces] == ["not convex"]
+    again = model_from_dict(model_to_dict(model))
+    assert again.surfaces[0].solid.density == 1500.0
+    for judged in (statics_model(model), statics_model(again)):
+        assert judged.stand_ins.by_reason == {CUT: 1} and judged.stand_ins.left_out == {}
+        assert sorted(b.volume for b in judged.blocks) == pytest.approx([12.0, 24.0])
+        assert sum(b.mass for b in judged.blocks) == pytest.approx(36.0 * 1500.0)
+        assert len({b.body for b in judged.blocks}) == 1
+    assert analyze(model).feasible
