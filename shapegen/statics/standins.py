@@ -264,9 +264,9 @@ def _solid_parts(surface) -> list | None:
     solid = surface.solid
     if solid is None:  # a file's surface that was not cut when derived: it did not cut
         return None
-    if solid.local is not None:
+    if solid.local is not None and _still_placed(surface.vertices, solid):
         local, rotation, origin = solid.local, solid.rotation, solid.origin
-    else:
+    else:  # read from a file, or moved since it was derived: cut where it is
         local = Mesh(surface.vertices, surface.faces)
         if not local.is_closed or local.signed_volume() <= MIN_LEAF_SIZE**3:
             return None
@@ -276,6 +276,18 @@ def _solid_parts(surface) -> list | None:
         return None
     cleaned = [piece.cleaned() for piece in pieces]
     return [(piece.vertices, piece.faces) for piece in cleaned]
+
+
+def _still_placed(vertices: np.ndarray, solid) -> bool:
+    """Whether the leaf's vertices are still its scope's mesh placed by its scope (a model
+    moved after its derivation, as a PyPRT initial shape's, has moved its vertices only)."""
+    local = np.asarray(solid.local.vertices)
+    if local.shape != vertices.shape:
+        return False
+    placed = local @ np.asarray(solid.rotation).T + solid.origin
+    return bool(
+        np.allclose(placed, vertices, rtol=0.0, atol=_PLACED_M * (1.0 + np.abs(vertices).max()))
+    )
 
 
 def _local_stand_in(mesh: Mesh, reason: str) -> tuple[str, list, float] | None:
@@ -305,6 +317,7 @@ def _local_stand_in(mesh: Mesh, reason: str) -> tuple[str, list, float] | None:
     return whole, [(hull.vertices, hull.faces)], volume / hull.volume
 
 
+_PLACED_M = 1e-9  # relative: a solid's vertices this close to its placed scope mesh are it
 _KEY_QUANTUM = 1e-9  # m: shapes equal to this after a translation share their stand-in
 _MAX_PIECES = 64  # convex parts of one stand-in, as the derivation's own decompositions
 # a solid of more faces is not cut (a fluted shaft, a curved capital: the cuts would fail after

@@ -4,6 +4,7 @@ pieces) judged as solids by the statics alone, counted by reason, the model left
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -197,3 +198,10 @@ def test_a_solid_kept_as_derived_is_cut_when_judged_from_the_model_or_its_file()
         assert sum(b.mass for b in judged.blocks) == pytest.approx(36.0 * 1500.0)
         assert len({b.body for b in judged.blocks}) == 1
     assert analyze(model).feasible
+    # a model moved after its derivation (as a PyPRT initial shape's): cut where it now is
+    solid = model.surfaces[0]
+    moved = Model([], surfaces=[replace(solid, vertices=solid.vertices + 100.0)])
+    pieces = statics_model(moved).blocks
+    assert sorted(b.volume for b in pieces) == pytest.approx([12.0, 24.0])
+    low = np.concatenate([b.vertices for b in pieces]).min(axis=0)
+    assert low == pytest.approx([100.0, 100.0, 96.0])
