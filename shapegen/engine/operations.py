@@ -301,6 +301,13 @@ class ShapeOperations:
     def _op_Comp(self, node: ast.Comp, params) -> Operation:
         from shapegen.engine.cga_ops.topology import comp_operation
 
+        for branch in node.branches:
+            if branch.connected:
+                raise self.error(
+                    branch,
+                    "comp's '=:' operator (a shape per connected set of components) "
+                    "is not supported by shapegen",
+                )
         branches = [
             (branch.selector, branch.merge, self._body(branch.body, params), branch)
             for branch in node.branches

@@ -95,6 +95,12 @@ class ExpressionBuilders:
         return ast.ComponentValue(children[0], children[1], merge=True, location=self._at(meta))
 
     @v_args(meta=True)
+    def comp_value_connected(self, meta, children):
+        return ast.ComponentValue(
+            children[0], children[1], merge=True, connected=True, location=self._at(meta)
+        )
+
+    @v_args(meta=True)
     def array(self, meta, children):
         return ast.Array(tuple(children), location=self._at(meta))
 

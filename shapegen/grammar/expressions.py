@@ -141,12 +141,15 @@ class Index:
 
 @node
 class ComponentValue:
-    """``selector : value`` (``selector = value`` with ``merge``) in a :class:`ComponentValues`."""
+    """``selector : value`` (``selector = value`` with ``merge``) in a :class:`ComponentValues`;
+    ``connected`` for ``selector =: value`` (CGA 2025.0: one value per connected set of the
+    selected components; ``merge`` is set too, as it is the nearest older form)."""
 
     selector: Expression
     value: Expression
     merge: bool = False
     location: SourceLocation = location_field()
+    connected: bool = False
 
 
 @node

@@ -46,7 +46,18 @@ _NOT_AFTER_INLINE = frozenset(
 # before the rest of it is read.
 MAX_BLOCK_NESTING = 1000
 # Tokens that begin a new definition at bracket depth 0 (for max_definition_tokens).
-_DEFINITION_STARTS = frozenset({"DEF_NAME", "_START", "_IMPORT", "_STYLE", "_EXTENSION", "AT"})
+_DEFINITION_STARTS = frozenset(
+    {"DEF_NAME", "_START", "_IMPORT", "_STYLE", "_EXTENSION", "AT", "_ATTR", "_CONST", "_VERSION"}
+)
+# attr.html, const.html: keywords at bracket depth 0 before a name (or a misplaced ``=``) on their
+# line, so that a parameter called ``attr`` stays a name in ``f(attr) = attr``; version.html:
+# ``version`` only before the version string (``attr version = 2`` is fine).
+_DEFINITION_KEYWORDS = {"attr": "_ATTR", "const": "_CONST"}
+_VERSION = "version"
+# Tokens that end a splitAndSetbackPerimeter entry's depth or show that a colon is not its first
+# one (a case or stochastic body, a definition).
+_NOT_IN_DEPTH = frozenset({"CASE", "ELSE", "PROBABILITY", "ARROW", "EQUAL", "SEMICOLON"})
+_DEPTH_LOOKAHEAD = 2000
 
 
 class DefinitionTooLong(Exception):
@@ -134,7 +145,10 @@ class DefinitionNames:
         ahead = _Lookahead(stream)
         peek = ahead.peek
         depth = 0
+        brackets: list[str] = []  # the open brackets' types, innermost last
         previous: Token | None = None
+        annotation_end: Token | None = None  # the last token of the latest annotation
+        annotation_open = False  # an annotation's name is read, its arguments may follow
         limit = current_limits().max_definition_tokens
         started: Token | None = None  # the first token of the definition being read
         count = 0
@@ -148,6 +162,7 @@ class DefinitionNames:
                     yield Token.new_borrow_pos("BOOL_OP", token.value, token)
                     brace = ahead.popleft()
                     depth += 1
+                    brackets.append("ALT_LBRACE")
                     previous = Token.new_borrow_pos("ALT_LBRACE", brace.value, brace)
                     yield previous
                     continue
@@ -164,20 +179,49 @@ class DefinitionNames:
             if token.type == "LBRACE" and self._bare_block(ahead):
                 token = Token.new_borrow_pos("BARE_LBRACE", token.value, token)
                 depth += 1
+                brackets.append(token.type)
             elif token.type in ("LPAR", "LSQB", "LBRACE"):
                 depth += 1
+                brackets.append(token.type)
             elif token.type in ("RPAR", "RSQB", "RBRACE"):
                 depth = max(depth - 1, 0)
+                if brackets:
+                    brackets.pop()
+                if depth == 0 and annotation_open and token.type == "RPAR":
+                    annotation_end, annotation_open = token, False
+            elif token.type == "COLON" and brackets and brackets[-1] == "LBRACE":
+                if self._first_of_three(peek):
+                    token = Token.new_borrow_pos("SETBACK_COLON", token.value, token)
             elif (
                 token.type == "NAME"
                 and token.value == _START
                 and depth == 0
-                and (previous is None or previous.end_line < token.line)
-                and (following := peek(0)) is not None
-                and following.type == "NAME"
-                and self._starts_definition(lambda k: peek(k + 1))
+                and (
+                    previous is None
+                    or previous.end_line < token.line
+                    or previous is annotation_end
+                    or previous.type == "_EXTENSION"
+                )
+                and self._start_mark(peek)
             ):
                 token = Token.new_borrow_pos("_START", token.value, token)
+            elif (
+                token.type == "NAME"
+                and depth == 0
+                and token.value in _DEFINITION_KEYWORDS
+                and (following := peek(0)) is not None
+                and following.type in ("NAME", "EQUAL")
+                and following.line == token.end_line
+            ):
+                token = Token.new_borrow_pos(_DEFINITION_KEYWORDS[token.value], token.value, token)
+            elif (
+                token.type == "NAME"
+                and token.value == _VERSION
+                and depth == 0
+                and (following := peek(0)) is not None
+                and following.type == "STRING"
+            ):
+                token = Token.new_borrow_pos("_VERSION", token.value, token)
             elif (
                 token.type == "NAME"
                 and token.value == _WITH
@@ -196,6 +240,11 @@ class DefinitionNames:
                     token = Token.new_borrow_pos("_" + token.value.upper(), token.value, token)
             if depth == 0 and token.type in _DEFINITION_STARTS:
                 started, count = token, 0
+            if depth == 0 and previous is not None and previous.type == "AT":
+                # the annotation's name: it ends here unless its arguments follow
+                following = peek(0)
+                annotation_open = following is not None and following.type == "LPAR"
+                annotation_end = None if annotation_open else token
             previous = token
             yield token
 
@@ -219,6 +268,41 @@ class DefinitionNames:
                 return index > 0
             elif token.type in ("RPAR", "RSQB", "COLON", "EQUAL", "VBAR", "PROBABILITY"):
                 return False
+            index += 1
+        return False
+
+    @staticmethod
+    def _start_mark(peek) -> bool:
+        """``start`` is followed by a rule's name (after ``extension``, if written second)."""
+        offset = 0
+        following = peek(0)
+        if following is not None and following.type == "NAME" and following.value == "extension":
+            offset = 1
+            following = peek(1)
+        if following is None or following.type != "NAME":
+            return False
+        return DefinitionNames._starts_definition(lambda k: peek(k + offset + 1))
+
+    @staticmethod
+    def _first_of_three(peek) -> bool:
+        """True for the first ``:`` of a ``length : depth : operations`` entry
+        (op_splitAndSetbackPerimeter): another ``:`` follows in the same entry, with no case,
+        else or percentage before it (their colons are a body's)."""
+        nesting = 0
+        index = 0
+        while (token := peek(index)) is not None and index < _DEPTH_LOOKAHEAD:
+            kind = token.type
+            if kind in ("LPAR", "LSQB", "LBRACE"):
+                nesting += 1
+            elif kind in ("RPAR", "RSQB", "RBRACE"):
+                if nesting == 0:
+                    return False
+                nesting -= 1
+            elif nesting == 0:
+                if kind == "COLON":
+                    return index > 0
+                if kind == "VBAR" or kind in _NOT_IN_DEPTH:
+                    return False
             index += 1
         return False
 

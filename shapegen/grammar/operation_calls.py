@@ -47,6 +47,8 @@ class BlockEntry:
     body: ast.Body
     merge: bool
     location: SourceLocation
+    connected: bool = False  # ``=:``
+    depth: ast.Expression | None = None  # splitAndSetbackPerimeter's ``length : depth : ops``
 
 
 @dataclasses.dataclass(frozen=True)
@@ -148,9 +150,21 @@ class OperationBuilders:
                     entry.location,
                     f"a comp selector must be a face index or one of: {valid}...",
                 )
+            if entry.depth is not None and name != "splitAndSetbackPerimeter":
+                self._problem(
+                    entry.location, f"{name}() takes 'key : operations' entries, not three parts"
+                )
+            if entry.connected and name not in ("comp", "modify"):
+                self._problem(entry.location, f"'=:' is only for comp and modify, not {name}()")
             branches.append(
                 ast.OperationBranch(
-                    entry.key, entry.mode, entry.body, merge=entry.merge, location=entry.location
+                    entry.key,
+                    entry.mode,
+                    entry.body,
+                    merge=entry.merge,
+                    location=entry.location,
+                    connected=entry.connected,
+                    depth=entry.depth,
                 )
             )
         return ast.Operation(
@@ -198,6 +212,12 @@ class OperationBuilders:
                 continue
             if entry.merge:
                 self._problem(entry.location, "'=' is only for comp branches; use ':' in a split")
+            if entry.depth is not None:
+                self._problem(
+                    entry.location,
+                    "a split part is 'size : operations' (three parts are "
+                    "splitAndSetbackPerimeter's)",
+                )
             parts.append(ast.SplitPart(entry.key, entry.mode, entry.body, location=entry.location))
         return ast.SplitGroup(tuple(parts), block.repeat, location=block.location)
 
@@ -228,7 +248,13 @@ class OperationBuilders:
                 self._problem(entry.location, message)
                 selector = COMP_SELECTORS[-1]
             branches.append(
-                ast.CompBranch(selector, entry.body, merge=entry.merge, location=entry.location)
+                ast.CompBranch(
+                    selector,
+                    entry.body,
+                    merge=entry.merge,
+                    location=entry.location,
+                    connected=entry.connected,
+                )
             )
         return ast.Comp(kind, tuple(branches), location=location)
 

@@ -133,12 +133,15 @@ class Split:
 
 @node
 class CompBranch:
-    """``selector : body`` (or ``selector = body`` with ``merge=True``) in ``comp(f)``."""
+    """``selector : body`` (or ``selector = body`` with ``merge=True``) in ``comp(f)``;
+    ``connected`` for ``selector =: body`` (CGA 2025.0: a shape per connected set of the selected
+    faces; ``merge`` is set too)."""
 
     selector: str
     body: Body
     merge: bool = False
     location: SourceLocation = location_field()
+    connected: bool = False
 
 
 @node
@@ -252,13 +255,18 @@ class OperationBranch:
     remainder : B }``, ``comp(e) { all : E }``). ``key`` is the expression before the colon,
     usually a :class:`~shapegen.grammar.expressions.Name` selector; ``mode`` its prefix. ``key``
     is None for scatter's block of operations without keys (``scatter(surface, 10, uniform)
-    { Tree }``)."""
+    { Tree }``). splitAndSetbackPerimeter's second block (``{ remainder : ops }``) follows the
+    first block's branches, keyed ``remainder``."""
 
     key: Expression | None
     mode: SizeMode
     body: Body
     merge: bool = False
     location: SourceLocation = location_field()
+    #: ``=:`` (comp, modify: connected components, CGA 2025.0; ``merge`` is set too)
+    connected: bool = False
+    #: splitAndSetbackPerimeter's ``length : depth : operations``: the depth expression
+    depth: Expression | None = None
 
 
 @node

@@ -37,6 +37,10 @@ _TERMINAL_WORDS = {
     "_STYLE": "'style'",
     "_EXTENSION": "'extension'",
     "_START": "'start'",
+    "_ATTR": "'attr'",
+    "_CONST": "'const'",
+    "_VERSION": "'version'",
+    "SETBACK_COLON": "':'",
     "_WITH": "'with'",
     "_INLINE": "'inline'",
     "BOOL_OP": "'union', 'subtract' or 'intersect'",
@@ -68,9 +72,9 @@ def _describe_expected(expected: set[str]) -> str:
     expected = set(expected)
     words = []
     if "DEF_NAME" in expected:
-        if {"ATTR", "CONST"} & expected:
+        if {"_ATTR", "_CONST"} & expected:
             words.append("a definition (attr, const, function or rule)")
-            expected -= {"ATTR", "CONST", "_EXTENSION", "_IMPORT", "_STYLE", "_START"}
+            expected -= {"_ATTR", "_CONST", "_EXTENSION", "_IMPORT", "_STYLE", "_START"}
         else:
             words.append("a name")
         expected.discard("DEF_NAME")
@@ -194,7 +198,7 @@ def resume_offset(text: str, error_at: int, previous: int) -> int | None:
             except UnexpectedInput:
                 first = None
             if first is not None and first.column == 1 and first.line == 1:
-                if first.type in ("DEF_NAME", "ATTR", "CONST", "AT"):
+                if first.type in ("DEF_NAME", "_ATTR", "_CONST", "AT"):
                     return start
         line_start = text.find("\n", candidate)
         if line_start == -1:

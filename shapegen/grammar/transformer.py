@@ -45,6 +45,10 @@ class _Style:
     name: str
 
 
+class _FileAnnotations:
+    """Annotations after the last definition (``@RuleFileDescription("...")``)."""
+
+
 class _WithClause:
     """A definition's ``with ( ... )``: its local variables."""
 
@@ -62,6 +66,8 @@ class _Repeat:
 
 
 _REPEAT = _Repeat()
+#: Annotations of the whole rule file, which may stand after its last definition.
+FILE_ANNOTATIONS = frozenset({"RuleFileDescription"})
 _EXTENSION_MARK = object()  # ``extension`` before a rule
 _START_MARK = object()  # ``start`` before a rule
 
@@ -105,6 +111,8 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
                 styles.append(child.name)
             elif isinstance(child, ast.Import):
                 imports.append(child)
+            elif isinstance(child, _FileAnnotations):
+                continue  # only CityEngine's editors read them
             elif not styles:  # only the default style is derived
                 definitions.append(child)
         definitions += _generic_start_rules(definitions, self.start_keyword_rules)
@@ -116,6 +124,14 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
             styles=tuple(styles),
             location=SourceLocation(self.filename, 1, 1),
         )
+
+    def file_annotations(self, meta, children):
+        for annotation in children:
+            if annotation.name not in FILE_ANNOTATIONS:
+                self._problem(
+                    annotation.location, f"@{annotation.name} stands before no definition"
+                )
+        return _FileAnnotations()
 
     def style_def(self, meta, children):
         name = next(c for c in children if isinstance(c, Token))
@@ -144,15 +160,30 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
 
     def attr_def(self, meta, children):
         name, *local_variables, value = children
+        if any(type(c) is tuple for c in local_variables):  # attr f(x) = ..., before CGA 2016
+            return self._parameterised("attr", meta, children)
         return ast.Attribute(
             str(name), value, local_variables=_locals(local_variables), location=self._at(name)
         )
 
     def const_def(self, meta, children):
         name, *local_variables, value = children
+        if any(type(c) is tuple for c in local_variables):  # a const function, const f(x) = ...
+            return self._parameterised("const", meta, children)
         return ast.Constant(
             str(name), value, local_variables=_locals(local_variables), location=self._at(name)
         )
+
+    def _parameterised(self, keyword: str, meta, children):
+        """``const f(x) = ...`` (with.html's const functions) and ``attr f(x) = ...`` (CGA before
+        2016): a function in a .cga file; the .grammar language keeps them apart."""
+        if not self.filename.lower().endswith(".cga"):
+            self._problem(
+                self._at(children[0]),
+                f"{keyword} '{children[0]}' takes no parameters (write a function: "
+                f"{children[0]}(...) = ...)",
+            )
+        return self.function_def(meta, children)
 
     def function_def(self, meta, children):
         name, *rest = children
@@ -173,10 +204,10 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         return ast.LocalVariable(str(name), value, location=self._at(name))
 
     def rule_def(self, meta, children):
-        extension = children[0] is _EXTENSION_MARK
-        children = children[1:] if extension else children
-        start = children[0] is _START_MARK
-        name, *rest = children[1:] if start else children
+        marks = [c for c in children if c is _EXTENSION_MARK or c is _START_MARK]
+        extension = _EXTENSION_MARK in marks
+        start = _START_MARK in marks
+        name, *rest = children[len(marks) :]
         rest = [child for child in rest if not (isinstance(child, Token) and child.type == "ARROW")]
         params = next((r for r in rest[:-1] if type(r) is tuple), ())
         local_variables = _locals(rest[:-1])
@@ -338,6 +369,14 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         (mode, key), body = children
         return BlockEntry(mode, key, body, True, self._at(meta))
 
+    def block_connected(self, meta, children):
+        (mode, key), body = children
+        return BlockEntry(mode, key, body, True, self._at(meta), connected=True)
+
+    def block_setback(self, meta, children):
+        (mode, key), _colon, depth, body = children
+        return BlockEntry(mode, key, body, False, self._at(meta), depth=depth)
+
     def block_group(self, meta, children):
         block = children[0]
         return dataclasses.replace(block, repeat=len(children) > 1)
@@ -360,6 +399,11 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         block = blocks[0] if blocks else None
         if block is not None and any(c is _REPEAT for c in children[1:]):
             block = dataclasses.replace(block, repeat=True)
+        if len(blocks) > 1:  # splitAndSetbackPerimeter(...) { pattern }* { remainder : ops }
+            if name == "splitAndSetbackPerimeter":
+                block = dataclasses.replace(block, entries=block.entries + blocks[1].entries)
+            else:
+                self._problem(blocks[1].location, f"{name}() takes one {{ ... }} block")
 
         positional = [a for a in arguments if a.kind != "keyword"]
         if name in CGA_OPERATIONS:
@@ -376,7 +420,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
             bare = block is not None and any(
                 isinstance(e, BlockEntry) and e.key is None for e in block.entries
             )
-            if bare and name != "scatter":
+            if bare and name not in ("scatter", "inline"):  # inline(unify) { operations }
                 self._problem(block.location, f"{name}() needs 'key : operations' in its block")
                 return ast.Nil(location=location)
             if self._dedicated(name, arguments, block):

@@ -40,6 +40,13 @@ def compile_component_values(compiler, node: ast.ComponentValues, params):
     kind = selector_word(node.arguments[0])
     if kind not in COMPONENT_KINDS:
         raise compiler.error(node, f"comp({kind}) splits into f, e, v, fe or fv")
+    for branch in node.branches:
+        if branch.connected:
+            raise compiler.error(
+                branch,
+                "comp's '=:' operator (a shape per connected set of components) "
+                "is not supported by shapegen",
+            )
     branches = [
         (
             component_selector(program, branch.selector, params, kind),

@@ -466,6 +466,13 @@ def compile_comp(program, node: ast.Operation, params):
         if mode not in ("zUp", "noAlign"):
             raise program.error(node, f"comp's alignment is zUp or noAlign, got {mode!r}")
         align = mode == "zUp"
+    for branch in node.branches:
+        if branch.connected:
+            raise program.error(
+                branch,
+                "comp's '=:' operator (a shape per connected set of components) "
+                "is not supported by shapegen",
+            )
     branches = [
         (branch.key, branch.merge, program._body(branch.body, params), branch)
         for branch in node.branches
