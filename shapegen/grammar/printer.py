@@ -106,7 +106,7 @@ def _primary(expression) -> str:
         return f"{target}[{indices}]"
     if kind is ast.ComponentValues:
         branches = " | ".join(
-            f"{print_expression(b.selector)} {'=' if b.merge else ':'} {print_expression(b.value)}"
+            f"{print_expression(b.selector)} {_operator(b)} {print_expression(b.value)}"
             for b in expression.branches
         )
         return f"comp({_values(expression.arguments)}) {{ {branches} }}"
@@ -204,7 +204,7 @@ def _item(item) -> str:
         return f"{head} {_split_group(item.group)}"
     if kind is ast.Comp:
         branches = " | ".join(
-            f"{b.selector} {'=' if b.merge else ':'} {print_body(b.body)}" for b in item.branches
+            f"{b.selector} {_operator(b)} {print_body(b.body)}" for b in item.branches
         )
         return f"comp({item.kind}) {{ {branches} }}"
     if kind in (ast.Translate, ast.Scale):
@@ -266,19 +266,44 @@ def _operation(operation: ast.Operation) -> str:
         (branch,) = operation.branches
         if not operation.arguments:
             return f"inline {{ {print_body(branch.body)} }}"
-        # inline(strategy) Rule: the operation takes the one item after it (op_inline)
-        return f"inline({_arguments(operation.arguments)}) {print_body(branch.body)}"
+        # inline(strategy) Rule: the operation takes the one item after it (op_inline), or a
+        # block of operations
+        body = print_body(branch.body)
+        one = isinstance(branch.body, ast.Sequence) and len(branch.body.items) == 1
+        return f"inline({_arguments(operation.arguments)}) " + (body if one else f"{{ {body} }}")
     text = f"{name}({_arguments(operation.arguments)})"
     if keyless:
         return text + f" {{ {' | '.join(print_body(b.body) for b in operation.branches)} }}"
     if operation.branches or operation.repeat:
-        branches = " | ".join(
-            f"{_MODE_PREFIX[b.mode]}{print_expression(b.key)} {'=' if b.merge else ':'} "
-            f"{print_body(b.body)}"
-            for b in operation.branches
-        )
-        text += f" {{ {branches} }}" + ("*" if operation.repeat else "")
+        # splitAndSetbackPerimeter's remainder stands in a block of its own after the pattern
+        pattern = [b for b in operation.branches if not _perimeter_remainder(name, b)]
+        rest = [b for b in operation.branches if _perimeter_remainder(name, b)]
+        text += f" {{ {' | '.join(map(_branch, pattern))} }}" + ("*" if operation.repeat else "")
+        if rest:
+            text += f" {{ {' | '.join(map(_branch, rest))} }}"
     return text
+
+
+def _operator(branch) -> str:
+    """``:``, ``=`` (merged) or ``=:`` (connected sets) of a comp-like branch."""
+    return "=:" if branch.connected else "=" if branch.merge else ":"
+
+
+def _perimeter_remainder(name: str, branch: ast.OperationBranch) -> bool:
+    return (
+        name == "splitAndSetbackPerimeter"
+        and branch.depth is None
+        and isinstance(branch.key, ast.Name)
+        and branch.key.name == "remainder"
+    )
+
+
+def _branch(branch: ast.OperationBranch) -> str:
+    operator = _operator(branch)
+    key = _MODE_PREFIX[branch.mode] + print_expression(branch.key)
+    if branch.depth is not None:
+        key += f" : {print_expression(branch.depth)}"  # a choice in parentheses
+    return f"{key} {operator} {print_body(branch.body)}"
 
 
 def _arguments(arguments) -> str:

@@ -36,11 +36,7 @@ MAX_SHAPES = 20_000
 #: :attr:`GeneratedProgram.forms` that brings it) -> the entry of
 #: /work/notes/generator-refusals.md that describes it. Remove an entry when the parser takes
 #: the form (tests/cga/test_generated_programs.py's strict xfails show when).
-KNOWN_REFUSALS: dict[tuple[str, str], str] = {
-    ("inline() needs 'key : operations' in its block", "inline"): "1. inline(strategy) {...}",
-    ("unexpected number", "perimeter"): "2. splitAndSetbackPerimeter's length : depth : ops",
-    ("unexpected 'case'; expected an expression", "comp function case"): "3. case in comp()",
-}
+KNOWN_REFUSALS: dict[tuple[str, str], str] = {}
 
 FLOAT, STRING, BOOL, FLOATS = "float", "string", "bool", "float[]"
 # the geometry a rule is written for: a lot's face, a volume, or edges, vertices and points

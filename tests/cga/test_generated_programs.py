@@ -6,7 +6,7 @@ CityEngine's runtime warns where shapegen may still stop).
 The quick lane runs a few hundred seeds; the slow lane runs 10 000 through
 tools/cga_generated.py, which prints the seed and the counts. The parser's known gaps are in
 ``cga_programs.KNOWN_REFUSALS`` (each one described in /work/notes/generator-refusals.md); the
-strict xfail below shows when one is fixed.
+tests below keep the forms that were refused once.
 """
 
 from __future__ import annotations
@@ -74,19 +74,11 @@ def test_the_generator_is_deterministic_and_covers_the_language():
     assert wanted <= forms, wanted - forms
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="/work/notes/generator-refusals.md 1: inline(strategy) { operations } is refused",
-)
 def test_inline_with_a_strategy_takes_a_block_of_operations():
     """op_inline.html: ``inline(geometryMergeStrategy) { operations }``."""
     parse("Lot --> inline(unify) { extrude(3) A }", "inline.cga")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="/work/notes/generator-refusals.md 2: splitAndSetbackPerimeter's three-part entries",
-)
 def test_split_and_setback_perimeter_takes_length_depth_operations():
     """op_splitAndSetbackPerimeter.html's first example."""
     parse(
@@ -96,9 +88,6 @@ def test_split_and_setback_perimeter_takes_length_depth_operations():
     )
 
 
-@pytest.mark.xfail(
-    strict=True, reason="/work/notes/generator-refusals.md 3: a case value in a comp function"
-)
 def test_a_comp_function_branch_takes_a_case_value():
     """func_comp.html: the value of a branch is any expression."""
     parse(

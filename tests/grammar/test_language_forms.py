@@ -8,6 +8,7 @@ import pytest
 
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast, parse
+from shapegen.grammar.printer import print_grammar
 
 
 def _definition(grammar: ast.Grammar, name: str):
@@ -173,3 +174,19 @@ def test_inline_with_a_strategy_takes_a_block_of_operations():
     assert inline.name == "inline" and inline.arguments[0].value.name == "unify"
     assert inline.branches[0].key is None
     assert [type(i).__name__ for i in inline.branches[0].body.items] == ["Extrude", "Successor"]
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "Lot --> splitAndSetbackPerimeter(0) { ~2 : (case 1 > 2 : 1 else : 0) : A | 4 : 1 : B }*"
+        " { remainder : C }",
+        "Lot --> comp(f) { side =: A | top = B | 0 : C }",
+        "f = comp(f) { side =: 1 | top = 2 }",
+        "Lot --> inline(unify) { extrude(3) A }",
+        "Lot --> inline(recompose) A",
+    ],
+)
+def test_new_forms_print_back_to_the_same_tree(text):
+    tree = parse(text, "x.cga")
+    assert parse(print_grammar(tree), "x.cga").definitions == tree.definitions
