@@ -50,11 +50,19 @@ the summary of that file again without deriving anything::
     .venv/bin/python tools/cga_wild.py --corpus /data/cga-wild --markdown /tmp/wild.md
 
 The corpus folder is ``--corpus DIR``, else ``$SHAPEGEN_CGA_WILD``, else ``/work/cga-wild``.
+
+The holdout. ``tests/data/cga-wild/holdout.json`` names the repositories kept out of sight
+(``holdout``: drawn from the corpus; ``new``: collected after the draw); the others are
+``seen``. The summary gives the measure for each part apart, and for the ``unseen`` files: those
+of the hidden parts whose content no seen repository holds and the project's own tests and rules
+do not hold either. The hidden parts show their totals only (no repository row, no failure)
+unless ``--reveal`` is given; ``--part seen|holdout|new|hidden`` runs or reports one part.
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import re
@@ -333,13 +341,27 @@ def load_holdout(path: Path) -> dict[str, str]:
     return parts
 
 
-def mark_parts(entries: list[dict], holdout: dict[str, str]) -> list[dict]:
+def project_contents(root: Path = ROOT) -> set[str]:
+    """SHA-1s of the rule files the project itself holds (its tests' data, its rules): a
+    file of the hidden parts with one of these contents has been seen all the same."""
+    contents = set()
+    for folder in (root / "tests", root / "rules"):
+        for path in folder.rglob("*.cga") if folder.is_dir() else ():
+            contents.add(hashlib.sha1(path.read_bytes()).hexdigest())
+    return contents
+
+
+def mark_parts(
+    entries: list[dict], holdout: dict[str, str], known: frozenset[str] | set[str] = frozenset()
+) -> list[dict]:
     """Each entry with its ``part`` and, for the parts kept out of sight, ``unseen``: whether
-    its content is in no file of a seen repository (a file copied from a seen repository is
-    not a file the parser's authors have not seen)."""
+    its content is in no file of a seen repository and not among ``known`` contents (the
+    project's own copies, :func:`project_contents`): a file copied from a seen one is not a
+    file the parser's authors have not seen."""
     seen_content = {
         e["sha1"] for e in entries if holdout.get(e["repository"], "seen") == "seen" and "sha1" in e
     }
+    seen_content |= set(known)
     marked = []
     for entry in entries:
         part = holdout.get(entry["repository"], "seen")
@@ -691,9 +713,8 @@ def main(argv: list[str] | None = None) -> int:
     if not corpus.is_dir():
         parser.error(f"no corpus folder {corpus} (see tests/data/cga-wild/README.md)")
     holdout = load_holdout(Path(args.holdout))
-    entries = runnable(
-        mark_parts(load_manifest(Path(args.manifest)), holdout), args.only, args.part
-    )
+    marked = mark_parts(load_manifest(Path(args.manifest)), holdout, project_contents())
+    entries = runnable(marked, args.only, args.part)
     if args.report:
         results = reported(Path(args.outcomes), entries, corpus)
         print_summary(results, corpus, args.top, args.reveal)

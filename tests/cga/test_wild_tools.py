@@ -130,16 +130,17 @@ def test_the_hidden_parts_are_reported_apart_and_copies_of_seen_files_are_not_un
         _record("b/held", "derives", "1"),  # the same content as a seen file
         _record("b/held", "error", "3"),
         _record("c/new", "derives", "4", kind="generated"),
+        _record("c/new", "derives", "5"),  # a content the project's own tests hold
     ]
     for entry in entries[1:4:2]:
         entry["message"] = "x.cga:1:1: unexpected 'case'; expected an expression"
-    marked = wild.mark_parts(entries, {"b/held": "holdout", "c/new": "new"})
-    assert [r["part"] for r in marked] == ["seen", "seen", "holdout", "holdout", "new"]
-    assert [r.get("unseen") for r in marked] == [None, None, False, True, True]
+    marked = wild.mark_parts(entries, {"b/held": "holdout", "c/new": "new"}, {"5"})
+    assert [r["part"] for r in marked] == ["seen", "seen", "holdout", "holdout", "new", "new"]
+    assert [r.get("unseen") for r in marked] == [None, None, False, True, True, False]
     lines = wild.part_lines(marked)
     assert "seen: the measure: 1 / 2 derive (50.0 %)" in lines
     assert "holdout: the measure: 1 / 2 derive (50.0 %)" in lines
-    assert "new: the measure outside generated families: 0 / 0 derive (-)" in lines
+    assert "new: the measure outside generated families: 1 / 1 derive (100.0 %)" in lines
     assert (
         "unseen files (holdout and new, content in no seen repository): 1 / 2 derive (50.0 %)"
         in lines
