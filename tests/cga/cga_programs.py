@@ -27,6 +27,8 @@ import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from shapegen.grammar.names import BUILTIN_FUNCTIONS
+
 __all__ = ["KNOWN_REFUSALS", "LOT", "GeneratedProgram", "Outcome", "check", "generate"]
 
 LOT = (12.0, 8.0)  # metres, the lot every program is derived on
@@ -105,9 +107,45 @@ ANNOTATIONS_FLOAT = (
 )
 
 
+#: Operations as the Syntax sections of their reference pages list them (op_*.html), which keep
+#: the kind of geometry they are given.
+VARIANTS = (
+    "alignScopeToGeometry(zUp, 0, world.lowest)",
+    "alignScopeToGeometryBBox(xz)",
+    "rotate(rel, scope, 0, 45, 0)",
+    "translate(abs, world, 1, 0, 1)",
+    "setupProjection(0, scope.xz, 1, 1, 0, 0, 1)",
+    "setupProjection(0, world.xy, '1, '1)",
+    "normalizeUV(0, uv, separatePerFace)",
+    'deleteTags("a")',
+    'deleteTags("a", faces)',
+    "cleanupGeometry(vertices, 0.1)",
+    'tag("x", edges)',
+    "copyUV(0, 1)",
+    "rotateUV(0, 45)",
+    "scaleUV(0, 2, 2)",
+    "translateUV(0, 1, 1)",
+    "resetMaterial(all)",
+    "convexify(2)",
+    "setNormals(soft)",
+    "setPivot(yzx, 3)",
+    "rectify(5)",
+    "mirrorScope(true, false, false)",
+    "modify(f) { top : s('1, '1, '1) }",
+    "trim",
+    "r(scopeOrigin, 0, 45, 0)",
+    'set(initialShape.name, "x")',
+    'insertAlongUV(0, "x.obj", 1)',
+)
+
 #: Forms drawn less often than the others, with the share of their draws kept: each would
 #: otherwise be in a third of the programs, and a program the parser refuses is not derived.
 RARE = {"perimeter": 0.3, "inline": 0.3, "degenerate": 0.5, "splitArea": 0.5}
+
+
+def low_high(name: str) -> tuple[int, int]:
+    """The numbers of arguments CityEngine's builtin ``name`` takes (all its forms)."""
+    return BUILTIN_FUNCTIONS.get(name, (len(BUILTINS[name][0]),) * 2)
 
 
 @dataclass
@@ -355,7 +393,7 @@ class _Writer:
         name = self.fresh("f")
         if self.chance(0.1):
             # a builtin's name with another number of parameters: an overload of its own
-            builtins = [n for n, (p, _) in BUILTINS.items() if len(p) != len(params)]
+            builtins = [n for n in BUILTINS if not low_high(n)[0] <= len(params) <= low_high(n)[1]]
             name = rng.choice(builtins)
             if any(f.name == name and len(f.params) == len(params) for f in self.functions):
                 name = self.fresh("f")
@@ -487,7 +525,7 @@ class _Writer:
         rng = self.rng
         forms = ["color", "set", "report", "print", "t", "r", "s", "label", "center", "push"]
         if geometry != OTHER:  # these need faces (op_alignScopeToGeometry, op_tag...)
-            forms += ["align", "misc", "texture", "tag"]
+            forms += ["align", "misc", "texture", "tag", "variant"]
         form = rng.choice(forms)
         self.forms.add(form)
         if form == "color":
@@ -557,6 +595,8 @@ class _Writer:
             )
         if form == "push":
             return f"[ {self.decoration(env, geometry)} ]"
+        if form == "variant":
+            return rng.choice(VARIANTS)
         return rng.choice(
             [
                 "reverseNormals()",
@@ -746,12 +786,27 @@ class _Writer:
         if form == "taper":
             return f"taper({self.size(env)})", MASS
         if form == "comp":
+            # op_comp: selectors by name, index, isTagged(), or any logical expression
             branches = []
             for _ in range(rng.randint(1, 3)):
                 selector = rng.choice([*COMP_FACE_SELECTORS, "0", "1"])
+                if self.chance(0.15):
+                    self.forms.add("comp selector expression")
+                    selector = rng.choice(
+                        [
+                            "front || back",
+                            "comp.index > 2 && side",
+                            "!(top)",
+                            'isTagged("extrude.side")',
+                            f"({self.expression(BOOL, env, 1)})",
+                        ]
+                    )
                 op = ":" if self.chance(0.8) else "="
+                if self.chance(0.04):
+                    self.forms.add("comp connected operator")
+                    op = "=:"
                 branches.append(f"{selector} {op} {sub(FACE)}")
-            kind = rng.choice(["f", "f", "f", "f(world)"]) if False else "f"
+            kind = rng.choice(["f", "f", "f", "f, noAlign", "f, zUp"])
             return f"comp({kind}) {{ {' | '.join(branches)} }}", FACE
         if form == "footprint":
             return rng.choice(["footprint()", "trim()"]), OTHER

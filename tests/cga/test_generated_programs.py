@@ -18,6 +18,7 @@ from pathlib import Path
 
 import pytest
 
+from shapegen import load_grammar, parse_grammar
 from shapegen.grammar import parse
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -69,7 +70,7 @@ def test_the_generator_is_deterministic_and_covers_the_language():
         "string concatenation", "case expression", "relative coordinate", "layout",
         "comp function", "comp function case", "perimeter", "degenerate", "style",
         "builtin name overloaded", "dynamic import", "set shape attribute", "number forms",
-        "keyword as name",
+        "keyword as name", "comp selector expression", "comp connected operator", "variant",
     }  # fmt: skip
     assert wanted <= forms, wanted - forms
 
@@ -95,6 +96,39 @@ def test_a_comp_function_branch_takes_a_case_value():
         "Lot --> setback(edges) { front : A | remainder : B }",
         "comp_case.cga",
     )
+
+
+def test_comp_takes_the_connected_components_operator():
+    """op_comp.html: ``=:`` makes one shape of each connected set of selected components."""
+    parse("Lot --> extrude(3) comp(f) { side =: A | top : B }", "connected.cga")
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="/work/notes/generator-refusals.md 5: a dynamic import loses the attrs' with-locals",
+)
+def test_a_dynamic_import_keeps_the_local_variables_of_the_imported_attrs(tmp_path):
+    """import.html's dynamic import re-initialises the imported attrs, with.html's locals too."""
+    (tmp_path / "lib.cga").write_text("attr a = 1\nattr b with (w := 2) = w\nS --> extrude(b) X\n")
+    (tmp_path / "main.cga").write_text('import lib : "lib.cga"\nLot --> lib(a = 3).S\n')
+    model = load_grammar(tmp_path / "main.cga").build(lot=(12.0, 8.0))
+    assert model.metadata["leaves"] == 1
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="/work/notes/generator-refusals.md 6: comp selectors that are logical expressions",
+)
+@pytest.mark.parametrize(
+    "text",
+    [
+        "Lot --> extrude(3) comp(f) { comp.index > 2 && side : A | top : B }",
+        "Lot --> extrude(3) R(true)\nR(q) --> comp(f) { q : A }",
+    ],
+)
+def test_a_comp_selector_may_be_any_logical_expression(text):
+    """op_comp.html: a selector may be a logical expression using the selectors' names."""
+    parse_grammar(text, "selector.cga").build(lot=(12.0, 8.0))
 
 
 @pytest.mark.slow
