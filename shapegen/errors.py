@@ -121,7 +121,14 @@ class InputFormatError(ShapegenError):
 class OptionError(ShapegenError):
     """A choice that means nothing for what it was given to: a value outside an option's range
     or list, an option that does not apply (refused, never dropped), an unknown structure or
-    primitive name, a ``@Structure`` argument of the wrong kind."""
+    primitive name, a ``@Structure`` argument of the wrong kind.
+
+    ``option`` names the option refused, where one is (a field of an options type), so that a
+    front end can say it in its own words (``--kern`` on the command line)."""
+
+    def __init__(self, message: str, option: str | None = None):
+        super().__init__(message)
+        self.option = option
 
 
 class PluginError(ShapegenError):

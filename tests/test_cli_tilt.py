@@ -116,7 +116,7 @@ def test_optimize_finds_a_design_that_stands_tilted(pier, tmp_path, capsys, tilt
 
 
 BAD = [
-    (["--tilt", "nan"], "--tilt: expected a finite number"),
+    (["--tilt", "nan"], "--tilt: tilt must be a number of degrees"),
     (["--tilt", "90"], "below 90"),
     (["--tilt", "120@0"], "below 90"),
     (["--tilt", "-5"], "at least 0"),

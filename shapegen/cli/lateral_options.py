@@ -13,8 +13,8 @@ from shapegen.cli.options import CommandLineError
 
 
 def _tilt(text: str) -> tuple[float, float | None]:
-    """``--tilt DEG[@AZIMUTH]``: degrees in [0, 90), and the azimuth in degrees (None: the
-    worst direction)."""
+    """``--tilt DEG[@AZIMUTH]``: the two numbers as written (None: no azimuth, the worst
+    direction); :class:`~shapegen.statics.options.StaticsOptions` checks their ranges."""
     tilt_text, sep, azimuth_text = text.partition("@")
     try:
         tilt = float(tilt_text)
@@ -22,30 +22,14 @@ def _tilt(text: str) -> tuple[float, float | None]:
         raise argparse.ArgumentTypeError(
             f"expected DEG or DEG@AZIMUTH (degrees), got {text!r}"
         ) from None
-    if not math.isfinite(tilt):
-        raise argparse.ArgumentTypeError(f"expected a finite number of degrees, got {text!r}")
-    if tilt >= 90:
-        raise argparse.ArgumentTypeError(f"the tilt must be below 90 degrees, got {tilt:g}")
-    if tilt < 0:
-        raise argparse.ArgumentTypeError(
-            f"the tilt must be at least 0, got {tilt:g}; to tilt the other way add 180 to the"
-            f" azimuth ({-tilt:g}@180)"
-        )
     if not sep:
         return tilt, None
-    return tilt, _azimuth(azimuth_text, text)
-
-
-def _azimuth(text: str, whole: str) -> float:
     try:
-        azimuth = float(text)
+        return tilt, float(azimuth_text)
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f"the azimuth {text.strip()!r} in {whole!r} is not a number of degrees"
+            f"the azimuth {azimuth_text.strip()!r} in {text!r} is not a number of degrees"
         ) from None
-    if not math.isfinite(azimuth):
-        raise argparse.ArgumentTypeError(f"the azimuth in {whole!r} must be a finite number")
-    return azimuth
 
 
 def _azimuths(text: str) -> tuple[float, ...]:
@@ -67,15 +51,10 @@ def _azimuths(text: str) -> tuple[float, ...]:
 
 def add_lateral_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
     """--tilt and --capacity: the tilting-table test of block statics."""
-    parser.add_argument(
-        "--tilt",
-        type=_tilt,
-        metavar="DEG[@AZIMUTH]",
-        help=prefix + "judge the design with gravity tilted by DEG degrees (below 90) towards"
-        " AZIMUTH, degrees in the ground plane from +x towards +z (default: the worst"
-        " direction found), as on a tilting table; with --optimize, find a design that stands"
-        " so tilted",
-    )
+    from shapegen.statics.options import statics_field
+
+    tilt = statics_field("tilt").metadata
+    parser.add_argument("--tilt", type=_tilt, metavar=tilt["metavar"], help=prefix + tilt["help"])
     parser.add_argument(
         "--capacity",
         type=_azimuths,

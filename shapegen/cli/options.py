@@ -29,12 +29,9 @@ from dataclasses import MISSING
 
 from shapegen.errors import ShapegenError
 
-STATICS_FLAGS = {
-    "friction": "--friction",
-    "pyramid": "--pyramid",
-    "kern": "--kern",
-    "solver": "--solver",
-}
+# The flags of StaticsOptions' fields (add_statics_options); --tilt and --capacity are the
+# lateral ones (lateral_options.py).
+STATICS_FLAGS = {name: "--" + name for name in ("friction", "pyramid", "kern", "solver")}
 LATERAL_FLAGS = {"tilt": "--tilt", "capacity": "--capacity"}
 SELECTION_FLAGS = {"structural": "--structural", "ignore": "--ignore"}
 
@@ -75,11 +72,16 @@ def positive(text: str) -> float:
     return value
 
 
-def _kern(text: str) -> float:
-    value = finite(text)
-    if not 0 < value <= 1:
-        raise argparse.ArgumentTypeError(f"must be in (0, 1], got {text}")
-    return value
+def _number(text: str) -> float:
+    """A number as written (its range is the option's to check)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+
+
+def _flag(name: str) -> str:
+    return "--" + name.replace("_", "-")
 
 
 def _whole(minimum: int):
@@ -155,48 +157,21 @@ def _names(text: str) -> list[str]:
 
 # ------------------------------------------------------------------------------ option groups
 def add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
-    """--friction, --pyramid, --kern, --solver: how block statics judge a model."""
-    parser.add_argument(
-        "--friction",
-        type=nonnegative,
-        metavar="MU",
-        help=prefix + "friction coefficient of every joint (default: the model's, 0.7)",
-    )
-    parser.add_argument(
-        "--pyramid",
-        choices=["cone", "4", "4r", "8"],
-        help=prefix + "friction model: the exact Coulomb cone, whose verdict does not turn with"
-        " the model (default), or a pyramid inside it as the papers use: 4 sides, 4 rotated 45"
-        " degrees, 8 sides",
-    )
-    parser.add_argument(
-        "--kern",
-        type=_kern,
-        metavar="K",
-        help=prefix + "scale every joint about its centroid by K, a geometric factor of safety"
-        " (1 = none, 1/3 = middle third; default 1)",
-    )
-    parser.add_argument(
-        "--solver",
-        choices=["auto", "reduced", "clarabel", "cvxpy"],
-        help=prefix + "QP back-end (default auto)",
-    )
-    parser.add_argument(
-        "--structural",
-        type=_labels,
-        metavar="LABEL,...",
-        help=prefix + "only the blocks with one of these labels or rule names are structure; the"
-        " other blocks ride as load on the body they rest on (default: every block, or the"
-        ' rule\'s @Structure("blocks", structural=...))',
-    )
-    parser.add_argument(
-        "--ignore",
-        type=_labels,
-        metavar="LABEL,...",
-        help=prefix + "blocks with one of these labels or rule names are ornaments: their weight"
-        " rides on the body they rest on, unjudged (default: none, or the rule's"
-        ' @Structure("blocks", ignore=...))',
-    )
+    """A flag for each :class:`~shapegen.statics.options.StaticsOptions` field but the tilt
+    (``--friction``, ``--pyramid``, ``--kern``, ``--solver``, ``--structural``, ``--ignore``),
+    with its help, choices and metavar from there; the values are checked by the options type
+    when :func:`statics_options` makes it, and its refusal names the flag."""
+    from shapegen.statics.options import statics_fields
+
+    for option in statics_fields():
+        meta = option.metadata
+        settings = {
+            "number": {"type": _number, "metavar": meta.get("metavar")},
+            "choice": {"choices": meta.get("choices")},
+            "labels": {"type": _labels, "metavar": meta.get("metavar")},
+        }.get(meta["kind"])
+        if settings is not None:  # the tilt and its azimuth are --tilt (lateral_options.py)
+            parser.add_argument(_flag(option.name), help=prefix + meta["help"], **settings)
 
 
 def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
@@ -273,7 +248,7 @@ def _given(args, flags: dict[str, str]) -> list[str]:
 
 def statics_options(args, *, applies: bool = True, why: str = ""):
     """The block-statics options given, --tilt among them (None when none was), or an error
-    when they cannot apply.
+    when they cannot apply or a value means nothing (naming its flag).
 
     ``applies`` False refuses them with ``why`` (for example "they apply with --analyze or
     --optimize").
@@ -283,6 +258,7 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
         return None
     if not applies:
         raise CommandLineError(f"{', '.join(given)}: {why}")
+    from shapegen.errors import OptionError
     from shapegen.statics.options import StaticsOptions
 
     values = {
@@ -293,7 +269,11 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
     tilt = getattr(args, "tilt", None)
     if tilt is not None:
         values["tilt"], values["azimuth"] = tilt
-    return StaticsOptions(**values)
+    try:
+        return StaticsOptions(**values)
+    except OptionError as exc:
+        flag = "--tilt" if exc.option in ("tilt", "azimuth") else _flag(exc.option or "")
+        raise CommandLineError(f"{flag}: {exc}") from None
 
 
 def block_statics_flags(args) -> list[str]:

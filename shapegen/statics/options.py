@@ -10,7 +10,15 @@ shapegen.errors.OptionError: unknown statics option 'frcition' (did you mean 'fr
 
 from __future__ import annotations
 
-__all__ = ["StaticsOptions", "SOLVERS", "AUTO_ORDER", "PYRAMIDS", "DEFAULT_PYRAMID"]
+__all__ = [
+    "StaticsOptions",
+    "SOLVERS",
+    "AUTO_ORDER",
+    "PYRAMIDS",
+    "DEFAULT_PYRAMID",
+    "statics_field",
+    "statics_fields",
+]
 
 import dataclasses
 import difflib
@@ -20,21 +28,27 @@ from dataclasses import dataclass
 
 from shapegen.errors import OptionError
 from shapegen.statics.solvers import BACKENDS, cone_refusal, takes_cones
-from shapegen.statics.tilt import normalized_azimuth
 
 AUTO_ORDER = ("reduced", "clarabel")
 """``solver="auto"``: the fastest back-end first, the next if it fails (for the exact cone, only
 those that declare they take cones; every bundled one does)."""
 
-PYRAMIDS = ("4", "4r", "8", "cone")
-"""Friction models: pyramids inscribed in the Coulomb cone (4, 4 turned by 45 degrees, 8 sides),
-or the exact cone (a second-order cone: the verdict does not turn with the model)."""
+PYRAMIDS = ("cone", "4", "4r", "8")
+"""Friction models: the exact cone (a second-order cone: the verdict does not turn with the
+model), or pyramids inscribed in the Coulomb cone (4, 4 turned by 45 degrees, 8 sides)."""
 DEFAULT_PYRAMID = "cone"
 """The exact Coulomb cone: Coulomb's law itself, whose verdict does not depend on how the model
 is turned; the pyramids (the papers' linearisation, inside the cone and so on the safe side)
 stay options."""
 SOLVERS = ("auto", *BACKENDS)
 """Valid values of :attr:`StaticsOptions.solver`."""
+
+
+def _option(default, kind: str, help: str, **more):
+    """A field with what a front end needs to offer it: its kind (``number``, ``choice`` with
+    ``choices``, ``labels``, ``tilt``; ``azimuth`` is given with the tilt), its one-line help
+    and a ``metavar``. The field checks its value itself, in ``__post_init__``."""
+    return dataclasses.field(default=default, metadata={"kind": kind, "help": help, **more})
 
 
 @dataclass(frozen=True)
@@ -79,45 +93,90 @@ class StaticsOptions:
         On construction, naming the option and its valid values.
     """
 
-    friction: float | None = None
-    pyramid: str = DEFAULT_PYRAMID
-    kern: float = 1.0
-    solver: str = "auto"
-    tilt: float = 0.0
-    azimuth: float | None = None
-    structural: tuple[str, ...] = ()
-    ignore: tuple[str, ...] = ()
+    friction: float | None = _option(
+        None, "number", "friction coefficient of every joint (default: the model's, 0.7)",
+        metavar="MU",
+    )  # fmt: skip
+    pyramid: str = _option(
+        DEFAULT_PYRAMID, "choice",
+        "friction model: the exact Coulomb cone, whose verdict does not turn with the model"
+        " (default), or a pyramid inside it as the papers use: 4 sides, 4 rotated 45 degrees,"
+        " 8 sides",
+        choices=PYRAMIDS,
+    )  # fmt: skip
+    kern: float = _option(
+        1.0, "number",
+        "scale every joint about its centroid by K, a geometric factor of safety (1 = none,"
+        " 1/3 = middle third; default 1)",
+        metavar="K",
+    )  # fmt: skip
+    solver: str = _option("auto", "choice", "QP back-end (default auto)", choices=SOLVERS)
+    tilt: float = _option(
+        0.0, "tilt",
+        "judge the design with gravity tilted by DEG degrees (below 90) towards AZIMUTH,"
+        " degrees in the ground plane from +x towards +z (default: the worst direction"
+        " found), as on a tilting table; with --optimize, find a design that stands so tilted",
+        metavar="DEG[@AZIMUTH]",
+    )  # fmt: skip
+    azimuth: float | None = _option(None, "azimuth", "given with the tilt: DEG@AZIMUTH")
+    structural: tuple[str, ...] = _option(
+        (), "labels",
+        "only the blocks with one of these labels or rule names are structure; the other"
+        " blocks ride as load on the body they rest on (default: every block, or the rule's"
+        ' @Structure("blocks", structural=...))',
+        metavar="LABEL,...",
+    )  # fmt: skip
+    ignore: tuple[str, ...] = _option(
+        (), "labels",
+        "blocks with one of these labels or rule names are ornaments: their weight rides on"
+        " the body they rest on, unjudged (default: none, or the rule's"
+        ' @Structure("blocks", ignore=...))',
+        metavar="LABEL,...",
+    )  # fmt: skip
 
     def __post_init__(self) -> None:
         for name in ("structural", "ignore"):
             object.__setattr__(self, name, _labels(getattr(self, name), name))
-        if self.pyramid not in PYRAMIDS:
-            raise OptionError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {self.pyramid!r}")
-        if self.solver not in SOLVERS:
-            raise OptionError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
+        for name in ("pyramid", "solver"):
+            choices = statics_field(name).metadata["choices"]
+            if getattr(self, name) not in choices:
+                raise OptionError(
+                    f"{name} must be one of {', '.join(choices)}; got {getattr(self, name)!r}",
+                    name,
+                )
         if not self.backends():
-            raise OptionError(cone_refusal(self.solver))
+            raise OptionError(cone_refusal(self.solver), "solver")
         kern = _number(self.kern)
         if kern is None or not 0 < kern <= 1:
-            raise OptionError(f"kern must be a number in (0, 1]; got {self.kern!r}")
+            raise OptionError(f"kern must be a number in (0, 1]; got {self.kern!r}", "kern")
         object.__setattr__(self, "kern", kern)
         if self.friction is not None:
             friction = _number(self.friction)
             if friction is None or friction < 0:
-                raise OptionError(f"friction must be a finite number >= 0; got {self.friction!r}")
+                raise OptionError(
+                    f"friction must be a finite number >= 0; got {self.friction!r}", "friction"
+                )
             object.__setattr__(self, "friction", friction)
         tilt = _number(self.tilt)
         if tilt is None or not 0 <= tilt < 90:
+            hint = ""
+            if tilt is not None and tilt < 0:
+                hint = f"; to tilt the other way add 180 to the azimuth ({-tilt:g}@180)"
             raise OptionError(
-                f"tilt must be a number of degrees, at least 0 and below 90; got {self.tilt!r}"
+                f"tilt must be a number of degrees, at least 0 and below 90; got"
+                f" {self.tilt!r}{hint}",
+                "tilt",
             )
         object.__setattr__(self, "tilt", tilt)
         if self.azimuth is not None:
             azimuth = _number(self.azimuth)
             if azimuth is None:
                 raise OptionError(
-                    f"azimuth must be a finite number of degrees; got {self.azimuth!r}"
+                    f"azimuth must be a finite number of degrees; got {self.azimuth!r}",
+                    "azimuth",
                 )
+            from shapegen.statics.tilt import normalized_azimuth
+
             object.__setattr__(self, "azimuth", normalized_azimuth(azimuth))
 
     @classmethod
@@ -177,6 +236,17 @@ class StaticsOptions:
         return report
 
 
+def statics_fields() -> tuple[dataclasses.Field, ...]:
+    """The options, in order, each with ``metadata`` ``kind``, ``help`` and its ``choices`` or
+    ``metavar`` (how the command line makes its flags)."""
+    return dataclasses.fields(StaticsOptions)
+
+
+def statics_field(name: str) -> dataclasses.Field:
+    """The field of option ``name``."""
+    return next(f for f in statics_fields() if f.name == name)
+
+
 def _labels(value: object, name: str) -> tuple[str, ...]:
     """Labels or rule names from ``"A,B"`` or a sequence of strings, in order, once each."""
     if value is None:
@@ -186,7 +256,9 @@ def _labels(value: object, name: str) -> tuple[str, ...]:
     elif isinstance(value, list | tuple) and all(isinstance(v, str) for v in value):
         items = list(value)
     else:
-        raise OptionError(f"{name} takes labels or rule names separated by commas; got {value!r}")
+        raise OptionError(
+            f"{name} takes labels or rule names separated by commas; got {value!r}", name
+        )
     return tuple(dict.fromkeys(item.strip() for item in items if item.strip()))
 
 

@@ -178,7 +178,7 @@ def test_report_is_json_ready_with_the_required_keys():
 @pytest.mark.parametrize(
     "options, message",
     [
-        ({"pyramid": "3"}, "pyramid must be one of 4, 4r, 8"),
+        ({"pyramid": "3"}, "pyramid must be one of cone, 4, 4r, 8"),
         ({"solver": "gurobi"}, "solver must be one of auto, reduced, clarabel, cvxpy"),
         ({"kern": 2.0}, "kern must be a number in"),
         ({"kern": "a"}, "kern must be a number in"),

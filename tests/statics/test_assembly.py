@@ -170,7 +170,7 @@ def test_inequality_matrix_matches_the_cone():
 @pytest.mark.parametrize(
     "options, message",
     [
-        ({"pyramid": "6"}, "pyramid must be one of 4, 4r, 8"),
+        ({"pyramid": "6"}, "pyramid must be one of cone, 4, 4r, 8"),
         ({"kern": 0.0}, "kern must be a number in (0, 1]"),
         ({"kern": 1.5}, "kern must be a number in (0, 1]"),
         ({"friction": -0.1}, "friction must be a finite number >= 0"),

@@ -17,7 +17,7 @@ def _stack() -> Model:
     ("settings", "message"),
     [
         ({"frcition": 0.5}, "unknown statics option 'frcition' (did you mean 'friction'?)"),
-        ({"pyramid": "6"}, "pyramid must be one of 4, 4r, 8"),
+        ({"pyramid": "6"}, "pyramid must be one of cone, 4, 4r, 8"),
         ({"kern": 0.0}, "kern must be a number in (0, 1]"),
         ({"kern": "a third"}, "kern must be a number in (0, 1]"),
         ({"solver": "mosek"}, "solver must be one of auto"),

@@ -20,9 +20,18 @@ __all__ = [
 
 import importlib
 from collections.abc import Iterator, Mapping
+from typing import TYPE_CHECKING
 
 from shapegen.errors import OptionError
-from shapegen.statics.solvers.base import Backend, Solution, SolveRequest, SolveStatus
+from shapegen.lazy_names import lazy_names
+
+if TYPE_CHECKING:
+    from shapegen.statics.solvers.base import Backend
+
+# The back-ends' common types load with numpy on first use: checking options (and the command
+# line's --help, which offers them) loads neither.
+_HOMES = {name: "base" for name in ("Backend", "Solution", "SolveRequest", "SolveStatus")}
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)
 
 _CLASSES = {  # name: (module, class, whether it takes second-order cones)
     "reduced": ("shapegen.statics.solvers.reduced", "ReducedBackend", True),

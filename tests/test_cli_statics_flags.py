@@ -1,0 +1,60 @@
+"""The statics flags are made from StaticsOptions: each field is offered with its own help and
+choices, and a value the options type refuses is one line naming the flag."""
+
+from __future__ import annotations
+
+import argparse
+
+import pytest
+
+from shapegen.cli.lateral_options import add_lateral_options
+from shapegen.cli.options import (
+    CommandLineError,
+    Parser,
+    add_statics_options,
+    statics_options,
+)
+from shapegen.statics.options import StaticsOptions, statics_fields
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = Parser(prog="test")
+    add_statics_options(parser)
+    add_lateral_options(parser)
+    return parser
+
+
+def test_every_field_is_a_flag_with_the_fields_help():
+    actions = {a.dest: a for a in _parser()._actions}
+    for field in statics_fields():
+        dest = "tilt" if field.name == "azimuth" else field.name  # DEG@AZIMUTH
+        assert dest in actions, field.name
+        if field.name != "azimuth":
+            assert actions[dest].help == field.metadata["help"]
+            assert tuple(actions[dest].choices or ()) == tuple(field.metadata.get("choices", ()))
+
+
+def test_the_flags_make_the_options_type():
+    args = _parser().parse_args(["--kern", "0.5", "--pyramid", "4", "--tilt", "10@450"])
+    assert statics_options(args) == StaticsOptions(kern=0.5, pyramid="4", tilt=10, azimuth=90)
+    assert statics_options(_parser().parse_args([])) is None
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--kern", "1.5"], "--kern: kern must be a number in (0, 1]"),
+        (["--friction", "-0.1"], "--friction: friction must be a finite number >= 0"),
+        (["--tilt=-10@0"], "--tilt: tilt must be a number of degrees"),
+        (["--tilt", "10@inf"], "--tilt: azimuth must be a finite number"),
+        (["--solver", "cvxpy", "--pyramid", "cone"], None),  # every back-end takes the cone
+    ],
+)
+def test_a_refused_value_names_its_flag(argv, message):
+    args = _parser().parse_args(argv)
+    if message is None:
+        assert statics_options(args).solver == "cvxpy"
+        return
+    with pytest.raises(CommandLineError) as raised:
+        statics_options(args)
+    assert str(raised.value).startswith(message)
