@@ -10,6 +10,7 @@ kind of message, how many programs had it with one seed to reproduce it::
 
     .venv/bin/python tools/cga_generated.py                      # 10 000 programs from seed 0
     .venv/bin/python tools/cga_generated.py --seed 123 --count 500 --jobs 2
+    .venv/bin/python tools/cga_generated.py --parse-only         # the parser and printer only
     .venv/bin/python tools/cga_generated.py --show 4711          # print one program's files
 
 Exit status 1 when a program was refused (outside the known gaps), printed back differently,
@@ -33,7 +34,7 @@ import cga_programs  # noqa: E402
 
 TIME_LIMIT = 60  # seconds for one program
 FAILURES = ("refused", "round trip", "crash", "timeout")
-ORDER = ("derives", "error", "known refusal", *FAILURES)
+ORDER = ("derives", "parses", "error", "known refusal", *FAILURES)
 
 
 class _OutOfTime(Exception):
@@ -44,25 +45,31 @@ def _alarm(signum, frame):
     raise _OutOfTime
 
 
-def _one(seed: int) -> cga_programs.Outcome:
+def _one(seed: int, derive: bool = True) -> cga_programs.Outcome:
     signal.signal(signal.SIGALRM, _alarm)
     signal.alarm(TIME_LIMIT)
     try:
         with tempfile.TemporaryDirectory() as folder:
-            return cga_programs.check(cga_programs.generate(seed), Path(folder))
+            program = cga_programs.generate(seed)
+            return cga_programs.check(program, Path(folder), derive=derive)
     except _OutOfTime:
         return cga_programs.Outcome(seed, "timeout", f"no outcome within {TIME_LIMIT} s")
     finally:
         signal.alarm(0)
 
 
-def run(seeds, jobs: int = 2, progress: int = 0) -> list[cga_programs.Outcome]:
+def _parsed(seed: int) -> cga_programs.Outcome:
+    return _one(seed, derive=False)
+
+
+def run(seeds, jobs: int = 2, progress: int = 0, derive: bool = True) -> list[cga_programs.Outcome]:
     """The outcome of every seed, in seed order; with ``progress``, a line on stderr every
-    ``progress`` programs (the counts so far)."""
+    ``progress`` programs (the counts so far); without ``derive``, parsed and printed back
+    only (outcome ``parses``)."""
     seeds = list(seeds)
     outcomes: list[cga_programs.Outcome] = []
     with ProcessPoolExecutor(max_workers=max(jobs, 1)) as pool:
-        for outcome in pool.map(_one, seeds, chunksize=10):
+        for outcome in pool.map(_one if derive else _parsed, seeds, chunksize=10):
             outcomes.append(outcome)
             if progress and outcome.stage in ("error", *FAILURES):
                 print(f"seed {outcome.seed}: {outcome.stage}: {outcome.message}", file=sys.stderr)
@@ -100,6 +107,9 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
     parser.add_argument("--count", type=int, default=10_000, help="programs (default 10 000)")
     parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument(
+        "--parse-only", action="store_true", help="parse and print back, do not derive"
+    )
     parser.add_argument("--progress", type=int, default=500, help="counts every N programs")
     parser.add_argument("--show", type=int, help="print the files of this seed's program and stop")
     options = parser.parse_args(argv)
@@ -109,7 +119,7 @@ def main(argv=None) -> int:
         return 0
     started = time.perf_counter()
     seeds = range(options.seed, options.seed + options.count)
-    outcomes = run(seeds, options.jobs, progress=options.progress)
+    outcomes = run(seeds, options.jobs, progress=options.progress, derive=not options.parse_only)
     print_summary(outcomes, options.seed, time.perf_counter() - started)
     return 1 if any(outcome.stage in FAILURES for outcome in outcomes) else 0
 

@@ -117,6 +117,20 @@ def test_a_dynamic_import_keeps_the_local_variables_of_the_imported_attrs(tmp_pa
 
 @pytest.mark.xfail(
     strict=True,
+    reason="/work/notes/generator-refusals.md 7: an imported overload of a builtin takes its calls",
+)
+def test_an_imported_file_may_overload_a_builtin_by_arity(tmp_path):
+    """The imported file derives on its own (the builtin max(1, 2) and the user's max(1))."""
+    (tmp_path / "lib.cga").write_text("max(a) = a * 2\nS --> extrude(max(1, 2) + max(1)) X\n")
+    (tmp_path / "main.cga").write_text('import lib : "lib.cga"\nLot --> lib.S\n')
+    alone = load_grammar(tmp_path / "lib.cga").build(lot=(12.0, 8.0))
+    imported = load_grammar(tmp_path / "main.cga").build(lot=(12.0, 8.0))
+    assert alone.blocks[0].vertices[:, 1].max() == pytest.approx(4.0)
+    assert imported.blocks[0].vertices[:, 1].max() == pytest.approx(4.0)
+
+
+@pytest.mark.xfail(
+    strict=True,
     reason="/work/notes/generator-refusals.md 6: comp selectors that are logical expressions",
 )
 @pytest.mark.parametrize(
