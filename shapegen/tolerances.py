@@ -51,7 +51,10 @@ class Tolerances:
         Vertices closer than ``merge_rel * L`` are the same point (dimensionless).
     convex_rel
         A block is convex when no vertex lies outside any face plane by more than
-        ``convex_rel * L`` (dimensionless).
+        ``convex_rel * L`` (dimensionless). The convex cut of a non-convex leaf
+        (:mod:`shapegen.geometry.cut`, :mod:`shapegen.geometry.prism_cut`) splits a piece
+        until none of its corners lies farther than ``convex_rel`` times the piece's size
+        outside a face plane, so the pieces it makes pass this check.
     volume_rel
         A block with volume below ``volume_rel * L**3`` is degenerate (dimensionless).
     penetration_rel

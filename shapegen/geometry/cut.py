@@ -26,9 +26,15 @@ import numpy as np
 
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 from shapegen.geometry.prism_cut import prism_decomposition
+from shapegen.tolerances import DEFAULT
 
 _REL = 1e-9  # points closer than this times the mesh size to the plane lie on it
-_SPLIT_HEIGHT = 1e3  # a face plane splits a piece with corners this many _REL beyond it
+# A face plane splits a piece with corners this many _REL beyond it; a piece with none is
+# convex. That is the blocks' convexity tolerance (convex_rel, relative to the piece here and
+# to the whole model, never smaller, in the block check): one tolerance for the cut and the
+# check, so that no block fails the check on a piece the cut made (at 1e-6, ten times the
+# check's, nearly straight corners of a footprint made pieces 2e-5 m out of convex).
+_SPLIT_HEIGHT = DEFAULT.convex_rel / _REL
 
 
 def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | None:

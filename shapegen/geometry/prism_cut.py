@@ -27,9 +27,12 @@ import numpy as np
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.rings import corners_apart, is_simple, turns_left, winds_once
 from shapegen.model.polygons import CheckedFaces
+from shapegen.tolerances import DEFAULT
 
 _REL = 1e-9  # as in cut.py: points closer than this times the piece's size lie on a plane
-_SPLIT_HEIGHT = 1e3  # as in cut.py: an edge's line splits a piece with corners this far beyond
+# as in cut.py: an edge's line splits a piece with corners this many _REL beyond it; a piece
+# with none is convex within the blocks' convexity tolerance, the check's
+_SPLIT_HEIGHT = DEFAULT.convex_rel / _REL
 _THIN = 10.0  # a face with area within this many times cut.py's drop limit is left to it
 _FAR = 4e-3  # a piece smaller than this times the prism is left to the general path
 _NEAR = 4.0  # corners this many _REL of the size apart or closer are left to the general path

@@ -20,6 +20,7 @@ from shapegen.geometry.extrude import prism
 from shapegen.geometry.frames import lot_polygon, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.prism_cut import prism_decomposition
+from shapegen.tolerances import DEFAULT
 
 OSM = Path(__file__).parents[1] / "data" / "osm" / "neubrandenburg.geojson.gz"
 
@@ -97,7 +98,8 @@ def _same_pieces(fast: list[Mesh], general: list[Mesh], size: float) -> str:
 def _check_pieces(mesh: Mesh, pieces: list[Mesh], samples: int = 400) -> None:
     """Convex closed clean pieces that fill ``mesh`` and do not overlap."""
     size = mesh.size()
-    assert all(p.is_closed and p.is_convex(1e-6 * size) for p in pieces)  # as cut.py allows
+    # convex within the blocks' check's tolerance
+    assert all(p.is_closed and p.is_convex(DEFAULT.convex_rel * size) for p in pieces)
     assert all(p.cleaned() is p for p in pieces)  # made clean: placed pieces are not cleaned again
     assert sum(p.volume() for p in pieces) == pytest.approx(mesh.volume(), rel=1e-9)
     # a point well inside two pieces would be in their overlap
