@@ -5,7 +5,8 @@ face plane than the blocks' convexity tolerance (``Tolerances.convex_rel``); the
 (``Block.validate``, ``validate_blocks``) allows that tolerance of the whole model. When the cut
 allowed ten times more, a footprint with corners nearly in line (surveyed points on a straight
 wall) made pieces 3e-6 to 3e-5 m out of convex, and the lot failed to be judged on its own cut.
-Footprints are extruded and judged as a city lot is (``pipeline.design``).
+Footprints are extruded and judged as a city lot is (``pipeline.design``): the leaf is kept
+as derived and the statics cut it (``statics_model``) and check the pieces (``validate``).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from polygon_cases import footprint
 
 from shapegen.engine.grammar_api import parse_grammar
 from shapegen.pipeline import design
+from shapegen.statics.standins import CUT, HULL, statics_model
 
 # Lots that failed "block 'b0': not convex (a vertex lies 7.9e-06 m outside a face plane)"
 # and the like: (x, z) corners, m, counter-clockwise seen from above
@@ -123,10 +125,11 @@ def _failures(lots, *, judge: bool, hulls: list | None = None) -> list[str]:
                 outcome = design(grammar, lot=lot, assess=True)
                 if outcome.assessment is None or not outcome.assessment.judged:
                     failures.append(f"lot {k}: no verdict: {lot!r}")
-                if (outcome.report.get("left_out") or {}).get("leaves") and hulls is not None:
+                stood_in = outcome.report["analysis"].get("stand_ins") or {}
+                if HULL in stood_in.get("by_reason", {}) and hulls is not None:
                     hulls.append(k)
-            else:
-                grammar.build(lot=lot).validate()  # what the statics check first
+            else:  # the statics' cut and the first thing they check
+                statics_model(grammar.build(lot=lot)).validate()
         except Exception as exc:  # noqa: BLE001 - every failure is listed
             failures.append(f"lot {k}: {type(exc).__name__}: {exc}: {lot!r}")
     return failures
@@ -135,8 +138,9 @@ def _failures(lots, *, judge: bool, hulls: list | None = None) -> list[str]:
 @pytest.mark.parametrize("index", range(len(FAILED)))
 def test_a_lot_with_corners_nearly_in_line_is_judged_on_its_own_cut(index):
     outcome = design(_grammar(), lot=FAILED[index], assess=True)
-    assert len(outcome.model.blocks) > 1  # cut into pieces
-    assert not (outcome.report.get("left_out") or {}).get("leaves")
+    stood_in = outcome.report["analysis"]["stand_ins"]
+    assert stood_in["by_reason"] == {CUT: 1} and stood_in["blocks"] > 1  # cut into pieces
+    assert not outcome.report["left_out"]["leaves"]
     assert outcome.assessment is not None and outcome.assessment.judged
 
 
