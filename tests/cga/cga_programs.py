@@ -134,7 +134,6 @@ VARIANTS = (
     "modify(f) { top : s('1, '1, '1) }",
     "trim",
     "r(scopeOrigin, 0, 45, 0)",
-    'set(initialShape.name, "x")',
     'insertAlongUV(0, "x.obj", 1)',
 )
 
@@ -846,7 +845,8 @@ class _Writer:
     def rule(self, index: int) -> str:
         rule = self.rules[index]
         env = {f"q{i}": t for i, t in enumerate(rule.params)}
-        if env and self.chance(0.15):  # start.html's keyword is a name elsewhere
+        if env and "start" not in self.values and self.chance(0.15):  # not hiding the attr
+            # start.html's keyword is a name elsewhere
             self.forms.add("keyword as name")
             first = next(iter(env))
             env = {("start" if n == first else n): t for n, t in env.items()}
