@@ -3,11 +3,12 @@ the printer writes each back to the same tree, and none ends in a traceback when
 derived on a 12 x 8 m lot (a ShapegenError of the runtime is counted and printed, not failed:
 CityEngine's runtime warns where shapegen may still stop).
 
-The quick lane runs a few hundred seeds; the slow lane runs 10 000 through
-tools/cga_generated.py, which prints the seed and the counts. The parser's known gaps are in
-``cga_programs.KNOWN_REFUSALS`` (each one described in /work/notes/generator-refusals.md); the
-tests below keep the forms that were refused once.
-"""
+The quick lane parses and prints back 40 programs and derives 5 of them (a few seconds: a
+program of ~1 kB parses in ~20 ms, derives in ~0.3 s); the slow lane runs 10 000 through
+tools/cga_generated.py, which prints the seed and the counts. The parser's known gaps would be
+in ``cga_programs.KNOWN_REFUSALS`` (none left); the forms it refused once are kept as tests
+below, and the strict xfails mark what the load or the derivation still refuses (each described
+in /work/notes/generator-refusals.md), so that a fix shows."""
 
 from __future__ import annotations
 
@@ -25,8 +26,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import cga_programs  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
-QUICK_SEEDS = range(0, 60)  # parsed and printed back (~40 ms a program)
-DERIVE_EVERY = 6  # of which one in 6 is derived too (~0.3 s a program)
+QUICK_SEEDS = range(0, 40)  # parsed and printed back (~40 ms a program)
+DERIVE_EVERY = 8  # of which one in 8 is derived too (~0.3 s a program)
 CHUNK = 20
 
 
