@@ -98,7 +98,7 @@ class SearchOptions:
     )
 
     def __post_init__(self) -> None:
-        from shapegen.structures.base import Structure  # the one margin check
+        from shapegen.statics.options import checked_margin  # the one margin check
 
         if self.free is not None:
             if isinstance(self.free, str) or not all(isinstance(n, str) for n in self.free):
@@ -121,7 +121,7 @@ class SearchOptions:
             if kind == "count" and value < minimum:
                 raise OptionError(f"{option.name} must be at least {minimum}; got {value!r}")
             if kind == "fraction":
-                object.__setattr__(self, option.name, Structure.checked_margin(value))
+                object.__setattr__(self, option.name, checked_margin(value))
 
     def replace(self, **changes) -> SearchOptions:
         """These options with ``changes``, checked again."""

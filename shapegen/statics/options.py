@@ -16,6 +16,7 @@ __all__ = [
     "AUTO_ORDER",
     "PYRAMIDS",
     "DEFAULT_PYRAMID",
+    "checked_margin",
     "statics_field",
     "statics_fields",
 ]
@@ -234,6 +235,21 @@ class StaticsOptions:
             else:
                 del report[name]
         return report
+
+
+def checked_margin(margin: object) -> float:
+    """A reserve ``margin`` as a number in [0, 1), or an :class:`~shapegen.errors.OptionError`:
+    the one check of a margin, wherever one is given (search options, a structure's
+    assessment, the statics reserve, the design page).
+
+    >>> checked_margin(0.1)
+    0.1
+    """
+    if isinstance(margin, bool) or not isinstance(margin, int | float):
+        raise OptionError(f"margin must be a number in [0, 1); got {margin!r}", "margin")
+    if not 0.0 <= margin < 1.0:
+        raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}", "margin")
+    return float(margin)
 
 
 def statics_fields() -> tuple[dataclasses.Field, ...]:

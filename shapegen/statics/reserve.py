@@ -27,9 +27,8 @@ import dataclasses
 
 import numpy as np
 
-from shapegen.errors import OptionError
 from shapegen.statics.assembly import StaticsProblem
-from shapegen.statics.options import StaticsOptions
+from shapegen.statics.options import StaticsOptions, checked_margin
 
 
 def with_reserve(options: StaticsOptions, margin: float, friction: float) -> StaticsOptions:
@@ -41,8 +40,7 @@ def with_reserve(options: StaticsOptions, margin: float, friction: float) -> Sta
     >>> round(reserved.kern, 3), round(reserved.friction, 3)
     (0.9, 0.63)
     """
-    if not 0 <= margin < 1:
-        raise OptionError(f"margin must be a number in [0, 1); got {margin!r}")
+    margin = checked_margin(margin)
     if margin == 0:
         return options
     mu = options.friction if options.friction is not None else friction

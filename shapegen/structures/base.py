@@ -225,12 +225,11 @@ class Structure(ABC):
 
     @staticmethod
     def checked_margin(margin: object) -> float:
-        """``margin`` as a number in [0, 1), or an :class:`~shapegen.errors.OptionError`."""
-        if isinstance(margin, bool) or not isinstance(margin, int | float):
-            raise OptionError(f"margin must be a number in [0, 1); got {margin!r}")
-        if not 0.0 <= margin < 1.0:
-            raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}")
-        return float(margin)
+        """``margin`` as a number in [0, 1), or an :class:`~shapegen.errors.OptionError`
+        (:func:`shapegen.statics.options.checked_margin`, for a plug-in's own use)."""
+        from shapegen.statics.options import checked_margin
+
+        return checked_margin(margin)
 
     @classmethod
     def summary(cls, section: Mapping[str, object]) -> list[tuple[str, str]]:
