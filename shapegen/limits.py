@@ -73,6 +73,20 @@ class WorkLimits:
         rings, meridians, courses, sides...); checked before any array is allocated.
     max_blocks
         Blocks of one model, derived or read from a file.
+    max_mesh_faces
+        Faces of one shape's mesh: a CityEngine primitive's resolution (sides x divisions,
+        checked before its mesh is made), an asset, the result of an operation.
+    max_face_vertex_pairs
+        Faces times vertices of a mesh that a check compares with each other (is it convex,
+        where to cut it into convex pieces): what bounds the one piece of work that grows as
+        the square of a mesh's size.
+    max_skeleton_corners
+        Corners of a polygon whose straight skeleton is swept (CGA's roofs, ``offset``,
+        ``setback``, ``shapeL``...): the sweep's work grows as their square.
+    max_coordinate
+        Largest coordinate or size of a shape, metres. Past it an operation's result counts
+        as overflowed, as inf or NaN do (its volume, weight and moments would lose every
+        digit, and a float32 writer could not hold it).
     max_file_bytes
         Size of a model file (JSON or mesh) or a lots file read, bytes (a gzipped file's once
         inflated); a rule package may unpack to 16 times as much.
@@ -96,6 +110,10 @@ class WorkLimits:
     max_string_chars: int = 10_000_000
     max_primitive_blocks: int = 20_000
     max_blocks: int = 50_000
+    max_mesh_faces: int = 50_000
+    max_face_vertex_pairs: int = 50_000_000
+    max_skeleton_corners: int = 1_000
+    max_coordinate: int = 1_000_000_000
     max_file_bytes: int = 32 * 2**20
     max_json_depth: int = 256
     max_archive_members: int = 20_000

@@ -22,6 +22,7 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
+from shapegen.engine.finite import checked_child
 from shapegen.engine.shape import Shape
 from shapegen.errors import GrammarError
 from shapegen.limits import DEFAULT_LIMITS, WorkLimits, current_limits, limit_hint
@@ -194,6 +195,8 @@ class Derivation:
             )
         if self.deadline is not None and self.shape_count % 64 == 0:
             self.check_clock(node)
+        if shape is not parent.shape:  # made by a split, a comp...: within the numbers' bounds
+            checked_child(self.program, node, parent, shape)
         if self.occlusion is not None and shape.kind != parent.shape.kind:
             self.occlusion.parent(parent)  # a comp of a mass: an occluder (engine/occlusion.py)
         state = ShapeState.__new__(ShapeState)

@@ -22,6 +22,8 @@ import re
 from collections.abc import Mapping
 from pathlib import Path
 
+import numpy as np
+
 from shapegen.engine.interpreter import Program
 from shapegen.engine.rule_packages import (
     PACKAGE_SUFFIX,
@@ -154,9 +156,12 @@ class Grammar:
             values), ``reports`` (``report()`` values: one value per key, or a list when a key
             was reported several times), ``free_parameters``, ``seed``, ``lot`` and ``grammar``.
         """
-        return self.program.derive(
-            attrs, seed=seed, lot=lot, max_depth=max_depth, max_shapes=max_shapes
-        )
+        # an overflow on the way is no news: the boundary for numbers (engine/finite.py)
+        # judges every shape an operation makes
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return self.program.derive(
+                attrs, seed=seed, lot=lot, max_depth=max_depth, max_shapes=max_shapes
+            )
 
     def __repr__(self) -> str:
         return f"Grammar({self.name!r}, {len(self.ast.rules)} rules)"

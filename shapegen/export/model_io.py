@@ -35,6 +35,7 @@ from pathlib import Path
 from shapegen.errors import InputFormatError
 from shapegen.export.atomic import atomic_write, check_writable
 from shapegen.export.blocks_json import model_to_dict, read_blocks_json
+from shapegen.export.finite import check_writable_numbers
 from shapegen.model.model import Model
 
 MESH_READ_SUFFIXES = (".obj", ".gltf", ".glb", ".ply", ".stl")
@@ -67,6 +68,7 @@ _ENCODERS: dict[str, Callable[..., bytes]] = {
     ".stl": _encoder("shapegen.export.meshes", "encode_stl", False),
 }
 WRITE_SUFFIXES = tuple(_ENCODERS)
+_FLOAT32_SUFFIXES = (".glb", ".gltf", ".ply", ".stl")  # formats whose coordinates are float32
 
 
 def read_model(path: str | Path) -> Model:
@@ -109,7 +111,9 @@ def encode_model(model: Model, path: str | Path, analysis=None) -> bytes:
     ignore it.
     """
     path = check_output_path(path)
-    return _ENCODERS[path.suffix.lower()](model, analysis=analysis)
+    suffix = path.suffix.lower()
+    check_writable_numbers(model, str(path), float32=suffix in _FLOAT32_SUFFIXES)
+    return _ENCODERS[suffix](model, analysis=analysis)
 
 
 def write_model(model: Model, path: str | Path, analysis=None) -> None:

@@ -34,6 +34,7 @@ from shapegen.export.colors import (
     tension_colors,
     tension_levels,
 )
+from shapegen.export.finite import check_writable_numbers
 from shapegen.export.render import render_blocks
 from shapegen.model.model import Model
 
@@ -75,6 +76,7 @@ def render_model(
 
 def encode_picture(model: Model, analysis=None, **options) -> bytes:
     """PNG bytes of :func:`model_figure`."""
+    check_writable_numbers(model, "the picture")
     figure = model_figure(model, analysis, **options)
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=_DPI)

@@ -29,6 +29,7 @@ from functools import cached_property
 
 import numpy as np
 
+from shapegen.geometry.face_heights import height_bands
 from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_layout, face_normals
 from shapegen.tolerances import SIZE_FLOOR_M, ZERO_LENGTH
 
@@ -55,7 +56,6 @@ edge (the bottom edge of a side, left to right seen from outside)."""
 _REL = 1e-9  # relative tolerance of the shape queries (times the mesh's size)
 _FEW_CORNERS = 8  # polygons with no more corners are summed in Python floats
 _FEW_FACES = 16  # meshes with no more faces are checked face by face
-_BAND_NUMBERS = 1 << 21  # numbers held at once by heights_above_faces (16 MiB)
 
 
 def polygon_normal(points: np.ndarray) -> np.ndarray:
@@ -327,27 +327,33 @@ class Mesh:
         ``tolerance`` m). For an open mesh: each face is a convex polygon."""
         slack = tolerance + _REL * max(self.size(), SIZE_FLOOR_M)
         if self.is_closed:
-            return bool(self.heights_above_faces(slack).max(initial=0.0) <= slack)
+            return all(band.max(initial=0.0) <= slack for band in self._height_bands())
         return all(self._face_is_convex(k, slack) for k in range(self.n_faces))
 
     def heights_above_faces(self, slack: float = np.inf) -> np.ndarray:
         """``(F, V)``: how far each vertex lies in front of each face's plane (m), measured from
-        the face's centre. Worked out in bands of faces so that a large mesh never holds
-        ``F x V x 3`` numbers at once; with a finite ``slack`` (m) it stops at the first band
-        with a vertex more than ``slack`` in front, leaving the later rows at 0."""
-        normals, centres = self._normals
+        the face's centre. With a finite ``slack`` (m) it stops at the first band of faces
+        with a vertex more than ``slack`` in front, leaving the later rows at 0.
+
+        Raises
+        ------
+        GeometryError
+            More than ``max_face_vertex_pairs`` faces times vertices (a work limit).
+        """
+        bands = self._height_bands()
         out = np.zeros((self.n_faces, self.n_vertices))
-        band = max(1, _BAND_NUMBERS // max(3 * self.n_vertices, 1))
-        for low in range(0, self.n_faces, band):
-            high = min(low + band, self.n_faces)
-            out[low:high] = np.einsum(
-                "fvk,fk->fv",
-                self.vertices[None, :, :] - centres[low:high, None],
-                normals[low:high],
-            )
-            if out[low:high].max(initial=0.0) > slack:
+        low = 0
+        for band in bands:
+            out[low : low + len(band)] = band
+            low += len(band)
+            if band.max(initial=0.0) > slack:
                 break
         return out
+
+    def _height_bands(self):
+        """:meth:`heights_above_faces` a band of faces at a time
+        (:func:`~shapegen.geometry.face_heights.height_bands`)."""
+        return height_bands(*self._normals, self.vertices)
 
     def _face_is_convex(self, index: int, slack: float) -> bool:
         p = self.face_points(index)

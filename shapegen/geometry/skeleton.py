@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.errors import GeometryError
+from shapegen.limits import current_limits, limit_hint
 from shapegen.tolerances import DEFAULT
 
 _PARALLEL = 1e-12  # |sin| between two edge directions below which they are parallel
@@ -381,6 +382,13 @@ def straight_skeleton(polygon, weights=None, until: float | None = None) -> Skel
     n = len(polygon)
     if n < 3:
         raise GeometryError(f"a polygon needs at least 3 vertices, got {n}")
+    limits = current_limits()
+    if n > limits.max_skeleton_corners:
+        raise GeometryError(
+            f"a polygon of {n} corners is too large for a straight skeleton (a roof, an offset, "
+            f"a setback): more than {limits.max_skeleton_corners} "
+            + limit_hint("max_skeleton_corners", limits)
+        )
     weights = np.ones(n) if weights is None else np.asarray(weights, dtype=float).reshape(n)
     if np.any(weights < 0) or not np.all(np.isfinite(weights)):
         raise GeometryError("straight skeleton weights must be finite and >= 0")

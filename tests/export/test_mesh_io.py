@@ -209,8 +209,8 @@ def test_failed_write_leaves_the_previous_file(tmp_path):
     path = tmp_path / "model.json"
     path.write_text("previous")
     model = stack_model()
-    model.blocks[0].density = float("nan")  # JSON output refuses non-finite numbers
-    with pytest.raises(ValueError):
+    model.blocks[0].density = float("nan")  # every output refuses non-finite numbers
+    with pytest.raises(GeometryError, match="not written: block 'base' has density nan"):
         write_model(model, path)
     assert path.read_text() == "previous"
     assert [p.name for p in tmp_path.iterdir()] == ["model.json"]

@@ -46,6 +46,7 @@ from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.grammar.names import OPERATION_KEYWORDS
+from shapegen.limits import limit_hint
 from shapegen.model.scope import Scope
 
 ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".dae", ".ply", ".stl")
@@ -357,6 +358,12 @@ def compile_primitive(program, node: ast.Operation, params):
                     node, f"{node.name}(): {what} is a whole number {least}..4096, got "
                     f"{format_value(count)}"
                 )  # fmt: skip
+        faces = {"sphere": sides * divisions, "cylinder": sides + 2, "cone": sides + 1}
+        limits = state.run.limits
+        if faces.get(kind, 1) > limits.max_mesh_faces:
+            raise error(node, f"{node.name}(): its mesh would have {faces[kind]:.0f} faces, more "
+                              f"than {limits.max_mesh_faces} "
+                              + limit_hint("max_mesh_faces", limits))  # fmt: skip
         signs = np.ones(3)
         if dimensions is not None and any(d < 0 for d in dimensions):
             if not cga:

@@ -89,6 +89,7 @@ def compile_split_area(program, node: ast.Operation, params):
         low, high = (float(v) for v in np.array(mesh.bounds())[:, axis])
         made = []
         for piece in pieces:
+            run.check_clock(node)  # 120 bisections a piece, before any child is counted
             start = _position(mesh, axis, low, high, piece.start, total)
             end = _position(mesh, axis, low, high, piece.start + piece.size, total)
             cut = split_piece(shape, axis, start, end - start)

@@ -1,0 +1,209 @@
+"""Fuzzing the boundary for numbers: random ``.cga`` rules whose operations take extreme numbers
+(1e308, -1e308, NaN as 0/0, 1e-320, inf as 1e308 * 10, huge counts), each built through the
+command line (``build -o x.json --report --analyze``, then ``-o x.glb``) in a forked child capped
+at 20 s of CPU and 4 GiB, a derivation under the work limit ``max_seconds = 8``.
+
+Every input must end in exit status 0 with outputs whose numbers are all finite, or in exit
+status 2 with no output file at all; never in a traceback, past the caps or hung. Every input
+comes from its number and the campaign's seed, which is printed:
+``python tests/fuzz/test_fuzz_numbers.py 2000 SEED`` runs a campaign,
+``python tests/fuzz/test_fuzz_numbers.py replay SEED NUMBER`` prints and runs one input.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import os
+import random
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pytest
+from fuzz_sandbox import run_limited
+
+CPU_SECONDS = 20
+DERIVATION_SECONDS = 8
+MEMORY_BYTES = 4 * 2**30
+
+NUMBERS = [
+    "1e308", "-1e308", "(0/0)", "1e-320", "-1e-320", "(1e308 * 10)", "(-1e308 * 10)", "1e18",
+    "1e9", "-1e9", "1e6", "0", "-0", "1", "10", "0.5", "89.9999999999", "90", "-90", "1e300",
+    "5e-324", "4096", "2", "3",
+]  # fmt: skip
+COUNTS = ["3", "4", "16", "64", "300", "4096", "1e9", "0", "-1", "2.5", "1e308", "(0/0)"]
+
+OPERATIONS = [
+    "extrude({n})", "t({n}, {n}, {n})", "t('{n}, 0, 0)", "s({n}, {n}, {n})",
+    "s('{n}, '{n}, '{n})", "r({n}, {n}, {n})", "center(xyz)", "translate(rel, world, {n}, 0, {n})",
+    "rotate(rel, scope, {n}, 0, 0)", "rotateScope(0, {n}, 0)", "mirror(true, false, false)",
+    "alignScopeToAxes(y)", "alignScopeToGeometryBBox()", "split(x) {{ {n} : A | ~{n} : B }}",
+    "split(y) {{ ~{n} : A }}*", "split(z) {{ '{n} : B }}*", "comp(f) {{ side : A | top : B }}",
+    "comp(f) {{ all : B }}", "roofHip({n})", "roofGable({n})", "roofPyramid({n})",
+    "roofShed({n})", "setback({n}) {{ front : A | remainder : B }}", "offset({n})",
+    "offset({n}, inside)", "taper({n})", "innerRectangle(scope) {{ shape : A | remainder : B }}",
+    "primitiveCylinder({c})", "primitiveCylinder({c}, {n}, {n})", "primitiveSphere({c}, {c})",
+    "primitiveSphere({c}, {c}, {n})", "primitiveDisk({c})", "primitiveCone({c}, {n}, {n})",
+    "primitiveCube({n}, {n}, {n})", "primitiveQuad({n}, {n})", 'i("builtin:cube")',
+    "set(scope.sx, {n})", "set(scope.ty, {n})", "trim()", "convexify()", "reverseNormals()",
+    "splitArea(x) {{ {n} : A | ~{n} : B }}*", "shapeL({n}, {n}) {{ shape : A | remainder : B }}",
+    "extrude(world.y, {n})", "cleanupGeometry(all, {n})",
+]  # fmt: skip
+
+
+def fuzz_rule(seed: int, number: int) -> str:
+    """The ``.cga`` text of input ``number`` of the campaign ``seed``."""
+    draw = random.Random(f"{seed}/{number}")
+
+    def operation() -> str:
+        template = draw.choice(OPERATIONS)
+        return template.format_map(_Draws(draw))
+
+    rules = []
+    for name, successors in (("Lot", "A B"), ("A", "B"), ("B", "")):
+        ops = " ".join(operation() for _ in range(draw.randint(1, 4)))
+        tail = draw.choice(successors.split()) if successors and draw.random() < 0.7 else ""
+        rules.append(f"{name} --> {ops} {tail}".rstrip())
+    return "\n".join(rules) + "\n"
+
+
+class _Draws(dict):
+    """``{n}``: an extreme number, ``{c}``: a count, each drawn anew where it appears."""
+
+    def __init__(self, draw: random.Random):
+        super().__init__()
+        self.draw = draw
+
+    def __missing__(self, key: str) -> str:
+        return self.draw.choice(NUMBERS if key == "n" else COUNTS)
+
+
+def _numbers(value):
+    if isinstance(value, dict):
+        for item in value.values():
+            yield from _numbers(item)
+    elif isinstance(value, list):
+        for item in value:
+            yield from _numbers(item)
+    elif isinstance(value, float):
+        yield value
+
+
+def build_through_the_command_line(text: str) -> None:
+    """What a child does with one input: the two builds, then the checks of their outputs."""
+    from shapegen.cli import main
+    from shapegen.limits import work_limits
+
+    # a derivation stops itself past max_seconds (one line, exit status 2): below the CPU cap
+    with tempfile.TemporaryDirectory() as folder, work_limits(max_seconds=DERIVATION_SECONDS):
+        place = Path(folder)
+        rule = place / "fuzz.cga"
+        rule.write_text(text)
+        runs = [
+            ["-o", str(place / "x.json"), "--report", str(place / "r.json"), "--analyze"],
+            ["-o", str(place / "x.glb")],
+        ]
+        for extra in runs:
+            for old in place.iterdir():
+                if old != rule:
+                    old.unlink()
+            errors = io.StringIO()
+            with contextlib.redirect_stderr(errors), contextlib.redirect_stdout(io.StringIO()):
+                status = main(["build", str(rule), *extra])
+            printed = errors.getvalue()
+            assert "Traceback" not in printed, printed
+            left = sorted(p.name for p in place.iterdir() if p != rule)
+            if status == 2:
+                assert left == [], f"exit status 2 but {left} written: {printed}"
+                assert printed.startswith("shapegen: error:"), printed
+                continue
+            assert status == 0, f"exit status {status}: {printed}"
+            stray = [line for line in printed.splitlines() if "warning" in line]
+            assert not stray, f"warnings on stderr: {stray}"
+            for name in ("x.json", "r.json"):
+                if name in left:
+                    document = json.loads((place / name).read_text())
+                    assert all(math.isfinite(x) for x in _numbers(document)), name
+
+
+def campaign(seed: int, count: int, *, progress: bool = False) -> dict:
+    """Run ``count`` inputs of campaign ``seed``; the figures and the failures."""
+    from fuzz_inputs import warm_up
+
+    warm_up()
+    failures, refused = [], 0
+    slowest, peak = (0.0, -1), (0, -1)
+    began = time.monotonic()
+    for number in range(count):
+        text = fuzz_rule(seed, number)
+        outcome = run_limited(
+            build_through_the_command_line,
+            text,
+            cpu_seconds=CPU_SECONDS,
+            memory_bytes=MEMORY_BYTES,
+        )
+        if outcome.kind != "clean":
+            failures.append(f"seed {seed} input {number}: {outcome.kind}: {outcome.detail}")
+            if progress:
+                print(failures[-1], file=sys.stderr, flush=True)
+        refused += bool(outcome.detail)
+        slowest = max(slowest, (outcome.cpu_seconds, number))
+        peak = max(peak, (outcome.peak_bytes, number))
+        if progress and (number + 1) % 200 == 0:
+            print(f"{number + 1} inputs, {len(failures)} failures", file=sys.stderr, flush=True)
+    return {
+        "seed": seed,
+        "inputs": count,
+        "failures": failures,
+        "slowest_cpu_s": slowest,
+        "peak_mib": (peak[0] / 2**20, peak[1]),
+        "wall_s": time.monotonic() - began,
+    }
+
+
+@pytest.mark.slow
+def test_extreme_numbers_through_the_command_line():
+    seed = int(os.environ.get("SHAPEGEN_FUZZ_SEED", random.randrange(10**6)))
+    print(f"numbers fuzz seed {seed}")
+    figures = campaign(seed, 2000)
+    print(figures)
+    shown = "\n".join(figures["failures"][:10])
+    assert not figures["failures"], f"{len(figures['failures'])} inputs failed:\n{shown}"
+    assert figures["peak_mib"][0] <= MEMORY_BYTES / 2**20
+
+
+def test_the_generator_makes_extreme_rules():
+    # the inputs are what the fuzz claims: extreme numbers in CityEngine operations
+    texts = [fuzz_rule(7, n) for n in range(200)]
+    assert texts == [fuzz_rule(7, n) for n in range(200)]  # replayable from the numbers
+    joined = "".join(texts)
+    for number in ("1e308", "(0/0)", "1e-320", "(1e308 * 10)"):
+        assert number in joined
+    assert all(text.startswith("Lot --> ") for text in texts)
+
+
+def _main(argv: list[str]) -> None:
+    if argv and argv[0] == "replay":
+        text = fuzz_rule(int(argv[1]), int(argv[2]))
+        print(text)
+        build_through_the_command_line(text)
+        return
+    count = int(argv[0]) if argv else 2000
+    seed = int(argv[1]) if len(argv) > 1 else random.randrange(10**6)
+    print(f"numbers fuzz seed {seed}")
+    figures = campaign(seed, count, progress=True)
+    for key, value in figures.items():
+        if key == "failures":
+            print(f"failures: {len(value)}")
+            for line in value:
+                print("   ", line.replace("\n", "\n    "))
+        else:
+            print(f"{key}: {value}")
+
+
+if __name__ == "__main__":
+    _main(sys.argv[1:])

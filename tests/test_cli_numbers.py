@@ -1,0 +1,126 @@
+"""The boundary for numbers, through the command line: a rule whose operations overflow (inf,
+NaN, a size past ``max_coordinate``) or whose meshes ask for unbounded work ends in one line.
+
+In a ``.cga`` file, where CityEngine's runtime carries on, it is a warning in the printout and
+the report (a CGA error: the operation is skipped) and a model with finite coordinates; in a
+``.grammar`` file, and for a mesh past a work limit in either, exit status 2 and no output file
+at all.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import trimesh
+
+from shapegen.cli import main
+from shapegen.limits import DEFAULT_LIMITS
+
+# (rule body after "Lot -->", words of the warning)
+CGA_WARNINGS = [
+    ("extrude(1e308) extrude(-1e308)", "extrude(): the shape it makes reaches 1e+308 m"),
+    ("primitiveDisk(64) extrude(1e18)", "extrude(): the shape it makes reaches 1e+18 m"),
+    ("extrude(10) s(1e308, 1, 1)", "s(): the shape it makes reaches 1e+308 m"),
+    ("extrude(10) s('1e308, 1, 1)", "s(): the sizes it makes are [inf, 1.0, 1.0]"),
+    ("extrude(10) s('1e300, 1, 1) s('1e300, 1, 1)", "s(): the shape it makes reaches"),
+    ("extrude(10) t(1e308, 0, 0) t(1e308, 0, 0)", "t(): the shape it makes reaches 1e+308 m"),
+    ("extrude(10) t('1e308, 0, 0)", "t(): the shape it makes has a coordinate that is infinite"),
+    ("roofHip(89.9999999999)", "roofHip(): the shape it makes reaches"),
+    ("roofGable(89.99999999999)", "roofGable(): the shape it makes reaches"),
+    ("roofPyramid(89.9999999999)", "roofPyramid(): the shape it makes reaches"),
+    ("offset(1e308)", "offset(): the shape it makes reaches 1e+308 m"),
+    ("primitiveCylinder(16, 1e308, 1e308)", "primitiveCylinder(): the shape it makes has"),
+    ("primitiveSphere(16, 16, 1e308)", "primitiveSphere(): the shape it makes has"),
+    ("primitiveCube(1e308, 1e308, 1e308)", "primitiveCube(): the shape it makes reaches"),
+    ("extrude(10) comp(f) { side : extrude(1e308) A }", "extrude(): the shape it makes"),
+    ('i("builtin:cube") s(1e308, 1e308, 1e308)', "s(): the shape it makes reaches 1e+308 m"),
+    ("extrude(10) center(xyz) s(1e200, 1e200, 1e200)", "s(): the shape it makes reaches"),
+    ("extrude(0/0)", "extrude height is nan: replaced by 0"),
+    # reproducers of tests/fuzz/test_fuzz_numbers.py
+    ("taper(1e308)", "taper(): a number it works out overflows"),
+    # work bounded by the size of what the rule makes: a CGA error, as CityEngine's runtime
+    ("primitiveDisk(4096) roofHip(30)", "(limit max_skeleton_corners = 1000;"),
+    ("primitiveDisk(2000) offset(-1)", "(limit max_skeleton_corners = 1000;"),
+]
+
+# (file name, rule text, words of the error)
+ERRORS = [
+    ("a.grammar", "Lot --> extrude(1e308) extrude(-1e308)", "limit max_coordinate"),
+    ("a.grammar", "Lot --> extrude(10) t('1e308, 0, 0)", "has a coordinate that is infinite"),
+    ("a.grammar", "Lot --> extrude(10) s('1e308, 1, 1)", "s(): the sizes it makes are [inf"),
+    ("a.cga", "Lot --> primitiveSphere(4096, 4096)", "limit max_mesh_faces"),
+    ("a.cga", "Lot --> extrude(5) primitiveSphere(100, 100)", "limit max_face_vertex_pairs"),
+    ("a.cga", "Lot --> primitiveCylinder(1e9)", "sides is a whole number 3..4096"),
+    ("a.cga", "Lot --> extrude(10) split(x) { ~1e-320 : A }*", "(max_shapes)"),
+    ("a.cga", "Lot --> extrude(10) split(x) { 1e-320 : A }*", "(max_shapes)"),
+]
+
+
+def _numbers(value):
+    if isinstance(value, dict):
+        for item in value.values():
+            yield from _numbers(item)
+    elif isinstance(value, list):
+        for item in value:
+            yield from _numbers(item)
+    elif isinstance(value, float | int) and not isinstance(value, bool):
+        yield float(value)
+
+
+@pytest.mark.parametrize(("body", "warning"), CGA_WARNINGS)
+def test_a_cga_overflow_is_a_warning_and_a_finite_model(tmp_path, capsys, body, warning):
+    rule = tmp_path / "lot.cga"
+    rule.write_text(f"Lot --> {body}\n")
+    model, scene, report = tmp_path / "x.json", tmp_path / "x.glb", tmp_path / "r.json"
+    argv = ["build", str(rule), "-o", str(model), "--report", str(report), "--analyze"]
+    assert main(argv) == 0
+    assert main(["build", str(rule), "-o", str(scene), "-q"]) == 0
+    printed = capsys.readouterr()
+    assert warning in printed.out
+    assert "Traceback" not in printed.err
+    assert not [line for line in printed.err.splitlines() if "warning" in line]  # numpy's
+    assert any(warning in w for w in json.loads(report.read_text())["warnings"])
+    coordinates = [
+        x for block in json.loads(model.read_text())["blocks"] for x in _numbers(block["vertices"])
+    ]
+    bound = DEFAULT_LIMITS.max_coordinate
+    assert all(math.isfinite(x) and abs(x) <= bound for x in coordinates)
+    glb = trimesh.load(scene, force="scene")
+    for geometry in glb.geometry.values():
+        assert np.isfinite(geometry.vertices).all()
+
+
+@pytest.mark.parametrize(("name", "text", "error"), ERRORS)
+def test_an_overflow_or_unbounded_mesh_is_one_error_line(tmp_path, capsys, name, text, error):
+    rule = tmp_path / name
+    rule.write_text(text + "\n")
+    outputs = [tmp_path / "x.json", tmp_path / "r.json", tmp_path / "p.png"]
+    argv = ["build", str(rule), "-o", str(outputs[0]), "--report", str(outputs[1])]
+    assert main([*argv, "--picture", str(outputs[2]), "--analyze"]) == 2
+    printed = capsys.readouterr()
+    first = printed.err.splitlines()[0]
+    assert first.startswith("shapegen: error:") and error in first
+    assert "Traceback" not in printed.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]  # nothing written, no temp file
+
+
+def test_the_grammar_error_names_the_operation_and_its_place(tmp_path, capsys):
+    rule = tmp_path / "a.grammar"
+    rule.write_text("Lot --> extrude(1e308) extrude(-1e308)\n")
+    assert main(["build", str(rule)]) == 2
+    first = capsys.readouterr().err.splitlines()[0]
+    assert f"{rule}:1:9: extrude(): the shape it makes reaches 1e+308 m, beyond 1e+09 m" in first
+
+
+def test_a_raised_coordinate_limit_lets_a_large_model_through(tmp_path):
+    import shapegen
+    from shapegen.limits import work_limits
+
+    grammar = shapegen.parse_grammar("@StartRule @Lot(10, 10)\nLot --> extrude(2e9) A")
+    with pytest.raises(shapegen.GrammarError, match="max_coordinate"):
+        grammar.build()
+    with work_limits(max_coordinate=10**10):
+        assert grammar.build().blocks[0].vertices[:, 1].max() == pytest.approx(2e9)
