@@ -24,7 +24,7 @@ CGA_WARNINGS = [
     ("extrude(1e308) extrude(-1e308)", "extrude(): the shape it makes reaches 1e+308 m"),
     ("primitiveDisk(64) extrude(1e18)", "extrude(): the shape it makes reaches 1e+18 m"),
     ("extrude(10) s(1e308, 1, 1)", "s(): the shape it makes reaches 1e+308 m"),
-    ("extrude(10) s('1e308, 1, 1)", "s(): the sizes it makes are [inf, 1.0, 1.0]"),
+    ("extrude(10) s('1e308, 1, 1)", "scope sizes must be finite numbers >= 0, got [inf, 1.0"),
     ("extrude(10) s('1e300, 1, 1) s('1e300, 1, 1)", "s(): the shape it makes reaches"),
     ("extrude(10) t(1e308, 0, 0) t(1e308, 0, 0)", "t(): the shape it makes reaches 1e+308 m"),
     ("extrude(10) t('1e308, 0, 0)", "t(): the shape it makes has a coordinate that is infinite"),
@@ -51,7 +51,7 @@ CGA_WARNINGS = [
 ERRORS = [
     ("a.grammar", "Lot --> extrude(1e308) extrude(-1e308)", "limit max_coordinate"),
     ("a.grammar", "Lot --> extrude(10) t('1e308, 0, 0)", "has a coordinate that is infinite"),
-    ("a.grammar", "Lot --> extrude(10) s('1e308, 1, 1)", "s(): the sizes it makes are [inf"),
+    ("a.grammar", "Lot --> extrude(10) s('1e308, 1, 1)", "scope sizes must be finite numbers"),
     ("a.cga", "Lot --> primitiveSphere(4096, 4096)", "limit max_mesh_faces"),
     ("a.cga", "Lot --> extrude(5) primitiveSphere(100, 100)", "limit max_face_vertex_pairs"),
     ("a.cga", "Lot --> extrude(10) split(x) { ~1e-320 : A }*", "(max_shapes)"),

@@ -24,6 +24,7 @@ import numpy as np
 
 from shapegen.engine.shape import Shape
 from shapegen.errors import OperationError
+from shapegen.grammar import ast
 from shapegen.limits import limit_hint
 
 
@@ -70,6 +71,8 @@ def shape_problem(shape: Shape, bound: float, before: Shape | None = None) -> st
     return f"reaches {abs(worst):.3g} m, beyond {bound:g} m " + limit_hint("max_coordinate")
 
 
+_KEEPS_SHAPE = (ast.Successor, ast.Nil, ast.Push, ast.Label, ast.Print, ast.Report)
+
 _NAMES = {
     "Extrude": "extrude",
     "Translate": "t",
@@ -94,7 +97,10 @@ def checked_operation(program, node, operation):
     look at the shape it leaves. A mesh of more than ``max_mesh_faces`` faces is an error; a
     shape that is not finite or too large (``max_coordinate``), or arithmetic that overflows
     on the way (``OverflowError``), is :func:`overflowed`. An operation that fails leaves the
-    shape as it was and none of the successors it had made."""
+    shape as it was and none of the successors it had made. The items that never change the
+    shape (a successor, ``NIL``, ``[ ]``, ``label``, ``print``, ``report``) are left as they are."""
+    if isinstance(node, _KEEPS_SHAPE):
+        return operation
     name = operation_name(node)
 
     def checked(state, args, out):

@@ -13,13 +13,12 @@ from __future__ import annotations
 __all__ = ["INSERT", "ShapeOperations"]
 
 import difflib
-import math
 from collections.abc import Callable
 
 from shapegen.engine.cga_errors import carrying_on
 from shapegen.engine.derivation import Operation, format_chain
 from shapegen.engine.expressions import ExpressionCompiler, format_value, type_name
-from shapegen.engine.finite import checked_operation, finite_parameter, overflowed
+from shapegen.engine.finite import checked_operation, finite_parameter
 from shapegen.engine.shape import (
     FACE,
     MASS,
@@ -49,10 +48,6 @@ from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTE
 
 INSERT = "insert"
 """The kind of a shape that holds an inserted primitive (``i(...)``), beside FACE and MASS."""
-
-
-# Items that never change the current shape (a successor passes it on unchanged).
-_KEEPS_SHAPE = (ast.Successor, ast.Nil, ast.Push, ast.Label, ast.Print, ast.Report)
 
 
 class ShapeOperations:
@@ -116,10 +111,7 @@ class ShapeOperations:
         method = getattr(self, "_op_" + type(node).__name__, None)
         if method is None:
             raise self.error(node, f"unsupported operation {type(node).__name__}")
-        operation = method(node, params)
-        if not isinstance(node, _KEEPS_SHAPE):
-            # every operation that may change the shape passes the boundary for numbers
-            operation = checked_operation(self, node, operation)
+        operation = checked_operation(self, node, method(node, params))  # engine/finite.py
         if self.cga_dialect and not isinstance(node, _CANNOT_FAIL):
             return carrying_on(operation, node, self)  # CityEngine records a CGA error
         return operation
@@ -351,11 +343,8 @@ class ShapeOperations:
         operation_error = self.operation_error
 
         def scale_op(state, args, out):
-            sizes = values(args, state)
-            if not all(map(math.isfinite, sizes)):  # s('1e308, 1, 1) of a 10 m scope
-                raise overflowed(self, node, f"the sizes it makes are {sizes}")
             try:
-                state.shape = state.shape.resized(sizes)
+                state.shape = state.shape.resized(values(args, state))
             except ValueError as exc:
                 raise operation_error(node, str(exc)) from None
             return True
