@@ -124,3 +124,36 @@ def test_a_raised_coordinate_limit_lets_a_large_model_through(tmp_path):
         grammar.build()
     with work_limits(max_coordinate=10**10):
         assert grammar.build().blocks[0].vertices[:, 1].max() == pytest.approx(2e9)
+
+
+# Reproducers of tests/fuzz/test_fuzz_numbers.py (seed 1): work that grew with what the rule
+# made, not with the shapes it counted, under lowered limits so that they stay quick.
+GROWING = [
+    (
+        # extrude() of a mass extrudes each of its faces: the faces double at every level
+        "Lot --> split(x) { (1e308 * 10) : A | ~1e-320 : B } rotateScope(0, 1e300, 0)\n"
+        "A --> s('(1e308 * 10), '1, '-1e-320)\n"
+        "B --> extrude((1e308 * 10)) split(z) { '1e18 : B }* rotateScope(0, 5e-324, 0)\n",
+        {"max_mesh_faces": 3000},
+        "(limit max_mesh_faces = 3000;",
+    ),
+    (
+        # 120 bisections a piece, all before the first child is counted
+        "Lot --> offset(89.9999999999, inside) splitArea(x) { 1 : A | ~-90 : B }*\n",
+        {"max_seconds": 0.3},
+        "the derivation ran for more than 0.3 s",
+    ),
+]
+
+
+@pytest.mark.parametrize(("text", "limits", "error"), GROWING)
+def test_work_that_grows_with_the_model_stops_at_its_limit(tmp_path, capsys, text, limits, error):
+    from shapegen.limits import work_limits
+
+    rule = tmp_path / "fuzz.cga"
+    rule.write_text(text)
+    with work_limits(**limits):
+        assert main(["build", str(rule), "-o", str(tmp_path / "x.json")]) == 2
+    first = capsys.readouterr().err.splitlines()[0]
+    assert first.startswith("shapegen: error:") and error in first
+    assert [p.name for p in tmp_path.iterdir()] == ["fuzz.cga"]
