@@ -89,7 +89,7 @@ def print_summary(outcomes: list[cga_programs.Outcome], seed: int, seconds: floa
         print(f"  {stage:14} {counts.get(stage, 0)}")
     kinds: dict[tuple[str, str], list[cga_programs.Outcome]] = defaultdict(list)
     for outcome in outcomes:
-        if outcome.stage != "derives":
+        if outcome.stage not in ("derives", "parses"):
             kinds[(outcome.stage, outcome.kind)].append(outcome)
     for (stage, kind), found in sorted(
         kinds.items(), key=lambda item: (ORDER.index(item[0][0]), -len(item[1]))

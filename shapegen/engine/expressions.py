@@ -286,10 +286,11 @@ class ExpressionCompiler(BuiltinCalls):
         op = node.op
         error = self.error
         if op in ELEMENTWISE_OPERATORS:
+            ieee = self.grammar.dialect == "cga"
 
             def each(args, state):
                 try:
-                    return elementwise(op, left(args, state), right(args, state))
+                    return elementwise(op, left(args, state), right(args, state), ieee)
                 except ValueError as exc:
                     raise error(node, str(exc)) from None
 

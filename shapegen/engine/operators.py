@@ -99,13 +99,15 @@ def _plus(a: object, b: object) -> object:
     )
 
 
-def _numbers(op: str, function: Callable[[float, float], float]) -> Callable:
+def _numbers(op: str, function: Callable[[float, float], float], ieee: bool = False) -> Callable:
     def apply(a: object, b: object) -> float:
         if type(a) is not float or type(b) is not float:
             raise ValueError(f"'.{op}' needs numbers, got a {type_name(a)} and a {type_name(b)}")
         try:
             return function(a, b)
         except ZeroDivisionError:
+            if ieee:
+                return ieee_arithmetic(op, a, b)
             raise ValueError("division by zero") from None
 
     return apply
@@ -144,12 +146,19 @@ _ELEMENTWISE: dict[str, Callable[[object, object], object]] = {
 }
 
 
+# .cga: a division by zero gives inf or nan element by element, as the scalar operators do
+_ELEMENTWISE_IEEE = {
+    **_ELEMENTWISE,
+    **{"." + op: _numbers(op, function, ieee=True) for op, function in ARITHMETIC.items()},
+}
+
 ELEMENTWISE_OPERATORS = frozenset(_ELEMENTWISE)
 
 
-def elementwise(op: str, a: object, b: object) -> Array:
-    """``a op b`` element by element (``op`` with its dot: ``".+"``)."""
-    function = _ELEMENTWISE[op]
+def elementwise(op: str, a: object, b: object, ieee: bool = False) -> Array:
+    """``a op b`` element by element (``op`` with its dot: ``".+"``); with ``ieee`` (``.cga``),
+    a division or remainder by zero gives what :func:`ieee_arithmetic` gives, not an error."""
+    function = (_ELEMENTWISE_IEEE if ieee else _ELEMENTWISE)[op]
     if isinstance(a, Array) and isinstance(b, Array):
         if (a.rows, a.columns) != (b.rows, b.columns):
             raise ValueError(

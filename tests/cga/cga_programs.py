@@ -260,7 +260,7 @@ class _Writer:
             return f"({self.choice_value(FLOAT, env, depth)})"
         if form == "index":
             self.forms.add("array index")
-            return f"{self.array_literal()}[0]"
+            return f"({self.expression(FLOATS, env, depth + 1)})[0]"
         if form == "paren":
             return f"({self.expression(FLOAT, env, depth + 1)})"
         return self.call(FLOAT, env, depth) or self.literal(FLOAT)
@@ -270,7 +270,11 @@ class _Writer:
         return text if text.replace(".", "").replace("_", "").isalnum() else f"({text})"
 
     def string_expression(self, env, depth) -> str:
-        form = self.rng.choice(["concat", "call", "number", "case"])
+        form = self.rng.choice(["concat", "call", "number", "case", "array"])
+        if form == "array":  # arrayTypes.html: a string joined to an array is a string
+            self.forms.add("array string")
+            return f'"values: " + ({self.expression(FLOATS, env, depth + 1)})'
+
         if form == "concat":
             self.forms.add("string concatenation")
             other = self.expression(self.rng.choice([STRING, FLOAT]), env, depth + 1)
@@ -282,7 +286,12 @@ class _Writer:
         return self.call(STRING, env, depth) or self.literal(STRING)
 
     def bool_expression(self, env, depth) -> str:
-        form = self.rng.choice(["compare", "compare", "logic", "not", "call", "equal"])
+        form = self.rng.choice(["compare", "compare", "logic", "not", "call", "equal", "arrays"])
+        if form == "arrays":  # arrayTypes.html: arrays compare as wholes
+            self.forms.add("array comparison")
+            op = self.rng.choice(["==", "!=", ">", ">="])
+            left, right = (self.expression(FLOATS, env, depth + 1) for _ in range(2))
+            return f"({left}) {op} ({right})"
         if form == "compare":
             op = self.rng.choice(["<", "<=", ">", ">=", "==", "!="])
             return f"{self.expression(FLOAT, env, depth + 1)} {op} {self.operand(env, depth)}"
@@ -300,7 +309,22 @@ class _Writer:
         return self.call(BOOL, env, depth) or self.literal(BOOL)
 
     def array_expression(self, env, depth) -> str:
-        items = [self.expression(FLOAT, env, depth + 1) for _ in range(self.rng.randint(1, 3))]
+        """A float[] (arrayTypes.html): items, a range, a column, element-wise operators."""
+        rng = self.rng
+        form = rng.choice(["items", "items", "range", "column", "elementwise", "unary"])
+        if form == "range":
+            self.forms.add("array range")
+            return rng.choice(["[1:5]", "[1:2:5]", f"[1:{rng.randint(1, 4)}]"])
+        if form == "column":
+            return f"[{'; '.join(self.number(0, 9) for _ in range(rng.randint(1, 3)))}]"
+        if form == "elementwise":
+            self.forms.add("array element-wise")
+            op = rng.choice([".+", ".-", ".*", "./", ".%"])
+            other = self.operand(env, depth) if self.chance(0.5) else self.array_literal()
+            return f"{self.array_literal()} {op} {other}"
+        if form == "unary":
+            return f"{rng.choice(['.-', '.+'])}{self.array_literal()}"
+        items = [self.expression(FLOAT, env, depth + 1) for _ in range(rng.randint(1, 3))]
         return f"[{', '.join(items)}]"
 
     def choice_value(self, kind: str, env, depth) -> str:

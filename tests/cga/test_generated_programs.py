@@ -72,6 +72,7 @@ def test_the_generator_is_deterministic_and_covers_the_language():
         "comp function", "comp function case", "perimeter", "degenerate", "style",
         "builtin name overloaded", "dynamic import", "set shape attribute", "number forms",
         "keyword as name", "comp selector expression", "comp connected operator", "variant",
+        "array range", "array element-wise", "array string", "array comparison",
     }  # fmt: skip
     assert wanted <= forms, wanted - forms
 

@@ -264,6 +264,16 @@ def test_division_by_zero_follows_ieee_in_cga_and_is_an_error_in_grammar():
         parse_grammar(text, "r.grammar").build(lot=LOT)
 
 
+def test_element_wise_division_by_zero_follows_ieee_in_cga_and_is_an_error_in_grammar():
+    # arrayTypes.html's ./ and .% are the scalar operators element by element
+    text = "attr q = [3, 0] ./ 0\nattr m = [5, 1] .% [0, 2]\n@StartRule\nLot --> X."
+    attrs = parse_grammar(text, "r.cga").build(lot=LOT).metadata["attrs"]
+    q, m = attrs["q"].values, attrs["m"].values
+    assert q[0] == float("inf") and np.isnan(q[1]) and np.isnan(m[0]) and m[1] == 1.0
+    with pytest.raises(GrammarError, match="division by zero"):
+        parse_grammar(text, "r.grammar").build(lot=LOT)
+
+
 def test_a_non_finite_operation_parameter_becomes_zero_with_a_warning():
     # cga_changelog 2013.1: the runtime's default for inf/nan float parameters is "replace
     # with zero"
