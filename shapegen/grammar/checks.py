@@ -340,6 +340,16 @@ class _Checker(AnnotationChecks):
 
     def _collect_keyword_names(self) -> None:
         """Mark the names that may be CityEngine keywords where they are written."""
+        # a parameter or local variable may stand as a comp selector (op_comp: a bool
+        # selector), R(q) --> comp(f) { q : A }
+        self.local_names = {
+            name
+            for definition in self.grammar.definitions
+            for name in (
+                *(p.name for p in getattr(definition, "params", ())),
+                *(v.name for v in definition.local_variables),
+            )
+        }
         for node in ast.walk(self.grammar):
             if isinstance(node, ast.Operation):
                 for argument in node.arguments:
@@ -379,6 +389,7 @@ class _Checker(AnnotationChecks):
                 isinstance(key, ast.Name)
                 and key.name not in COMP_SELECTORS
                 and key.name not in self.values
+                and key.name not in self.local_names
             ):
                 self.report(
                     key.location,

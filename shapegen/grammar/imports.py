@@ -379,13 +379,31 @@ def _reinitialised(
     for attr in attrs:
         visit(attr.name)
     items = [
-        ast.Set(name, overrides.get(name, by_name[name].value), location=call.location)
+        ast.Set(
+            name, overrides.get(name, _value_with_locals(by_name[name])), location=call.location
+        )
         for name in order
     ]
     items.append(
         ast.Successor(prefix + call.rule, call.args, called=bool(call.args), location=call.location)
     )
     return ast.Push(ast.Sequence(tuple(items), location=call.location), location=call.location)
+
+
+def _value_with_locals(attr: ast.Attribute):
+    """``attr``'s value with the local variables of its ``with (...)`` written in, each in
+    place of its name (with.html: a local may read those before it), so that the value stands
+    alone in a ``set``. A local that draws at random draws once per place it is read."""
+    bound: dict = {}
+
+    def change(tree, params):
+        if isinstance(tree, ast.Name) and tree.name in bound:
+            return bound[tree.name]
+        return None
+
+    for variable in attr.local_variables:
+        bound[variable.name] = _rebuilt(variable.value, change)
+    return _rebuilt(attr.value, change) if bound else attr.value
 
 
 def _key(definition: ast.Definition) -> tuple[str, int]:

@@ -353,6 +353,16 @@ def test_dynamic_imports_reinitialise_the_imported_attrs(tmp_path):
         _height(tmp_path, 'import imp : "imp.cga"\nInit --> other(h = 2).Lot', imported)
 
 
+def test_a_dynamic_import_reevaluates_an_attr_with_local_variables(tmp_path):
+    """with.html: an attr's local variables (each reading those before it) are evaluated again
+    when a dynamic import re-initialises the attr."""
+    imported = 'attr a = 1\nattr b with (w := 2 + a  v := w * 2) = v\nS --> report("b", b) X.'
+    main = 'import lib : "lib.cga"\nInit --> split(x) { ~1 : lib(a = 3).S | ~1 : lib.S }'
+    _files(tmp_path, {"lib.cga": imported, "main.cga": main})
+    reports = load_grammar(tmp_path / "main.cga").build(lot=LOT).metadata["reports"]
+    assert reports == {"b": [10.0, 6.0]}
+
+
 def test_attr_only_library_with_consts_functions_and_a_style(tmp_path):
     library = (
         "attr height = 4\nconst width = height / 2\narea(d) = width * d\n"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from shapegen.errors import GrammarError
-from shapegen.grammar import ast, parse
+from shapegen.grammar import ast, load, parse
 from shapegen.grammar.printer import print_grammar
 
 
@@ -190,3 +190,10 @@ def test_inline_with_a_strategy_takes_a_block_of_operations():
 def test_new_forms_print_back_to_the_same_tree(text):
     tree = parse(text, "x.cga")
     assert parse(print_grammar(tree), "x.cga").definitions == tree.definitions
+
+
+def test_a_parameter_may_stand_as_a_comp_selector():
+    """op_comp.html: a selector may be a bool (a logical expression)."""
+    load("R(q) --> comp(f) { q : A }\nLot --> extrude(3) R(true)", "x.cga")
+    with pytest.raises(GrammarError, match="unknown comp selector 'qq'"):
+        load("R(q) --> comp(f) { qq : A }\nLot --> extrude(3) R(true)", "x.cga")
