@@ -18,23 +18,17 @@ What is checked (each message names the place, and suggests a near name where on
 
 from __future__ import annotations
 
-import difflib
-from collections.abc import Iterable
-
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.checks_annotations import AnnotationChecks
+from shapegen.grammar.checks_keywords import KeywordNameChecks
+from shapegen.grammar.checks_keywords import suggestion as _suggestion
 from shapegen.grammar.constant_folding import constant_value
 from shapegen.grammar.names import (
     BUILTIN_FUNCTIONS,
     CGA_OPERATIONS,
-    COMP_KINDS,
-    COMP_SELECTORS,
-    FUNCTION_KEYWORDS,
     GEOMETRY_FUNCTIONS,
-    GEOMETRY_KEYWORDS,
     LIBRARY_FUNCTIONS,
-    OPERATION_KEYWORDS,
     OPERATIONS,
     RESERVED_ATTRIBUTES,
     SHAPE_ATTRIBUTES,
@@ -55,11 +49,6 @@ _KIND_NAMES = {
 _ATTR_ONLY_ANNOTATIONS = ("Range", "Free")
 
 
-def _suggestion(name: str, candidates: Iterable[str]) -> str:
-    matches = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
-    return f"; did you mean '{matches[0]}'?" if matches else ""
-
-
 def _plural(count: int, word: str) -> str:
     return f"{count} {word}" if count == 1 else f"{count} {word}s"
 
@@ -70,7 +59,7 @@ def _arity(low: int, high: int) -> str:
     return f"{low} to {high} arguments"
 
 
-class _Checker(AnnotationChecks):
+class _Checker(KeywordNameChecks, AnnotationChecks):
     """Walks a Grammar once and collects problems."""
 
     def __init__(self, grammar: ast.Grammar):
@@ -122,7 +111,9 @@ class _Checker(AnnotationChecks):
         for definition in self.grammar.definitions:
             name = definition.name
             if isinstance(definition, ast.Rule):
-                if name in OPERATIONS or name in CGA_OPERATIONS or name == "NIL":
+                if (
+                    name in OPERATIONS or name in CGA_OPERATIONS or name == "NIL"
+                ) and not self._operation_overload(definition):
                     self.report(
                         definition.location,
                         f"'{name}' is an operation; a rule cannot use its name",
@@ -231,10 +222,21 @@ class _Checker(AnnotationChecks):
                 f"the stochastic percentages add up to {_show(total)}% (at most 100%)",
             )
 
+    def _operation_overload(self, rule: ast.Rule) -> bool:
+        """A .cga rule with an operation's name and a number of parameters none of the
+        operation's signatures has: CityEngine calls it where a call has that many arguments
+        (changelog 2019.1: operations are told from rules of the same name by signature)."""
+        if not self.cga or rule.name not in CGA_OPERATIONS or rule.name == "NIL":
+            return False
+        low, high = CGA_OPERATIONS[rule.name]
+        return not low <= len(rule.params) <= high
+
     def _successor(self, successor: ast.Successor) -> None:
         if successor.leaf:
             return  # ``Name.`` is a leaf named Name, whatever rules or operations are called so
-        if successor.name in OPERATIONS or successor.name in CGA_OPERATIONS:
+        if successor.called and (successor.name, len(successor.args)) in self.rules:
+            pass  # a rule with an operation's name and another arity (_operation_overload)
+        elif successor.name in OPERATIONS or successor.name in CGA_OPERATIONS:
             self.report(
                 successor.location,
                 f"'{successor.name}' is an operation: write {successor.name}(...)",
@@ -337,72 +339,6 @@ class _Checker(AnnotationChecks):
             node.location,
             f"undefined function '{name}'" + _suggestion(name, [*BUILTIN_FUNCTIONS, *functions]),
         )
-
-    def _collect_keyword_names(self) -> None:
-        """Mark the names that may be CityEngine keywords where they are written."""
-        # a parameter or local variable may stand as a comp selector (op_comp: a bool
-        # selector), R(q) --> comp(f) { q : A }
-        self.local_names = {
-            name
-            for definition in self.grammar.definitions
-            for name in (
-                *(p.name for p in getattr(definition, "params", ())),
-                *(v.name for v in definition.local_variables),
-            )
-        }
-        for node in ast.walk(self.grammar):
-            if isinstance(node, ast.Operation):
-                for argument in node.arguments:
-                    self._mark(argument.value, OPERATION_KEYWORDS)
-                for branch in node.branches:
-                    self._mark(branch.key, OPERATION_KEYWORDS)
-                if node.name == "comp":
-                    self._comp_words(node)
-            elif isinstance(node, ast.Insert):
-                for option in node.options:  # i(asset, yUp, keepSizeAlignPosition)
-                    self._mark(option, OPERATION_KEYWORDS)
-            elif isinstance(node, ast.ComponentValues):
-                for argument in node.arguments:
-                    self._mark(argument, OPERATION_KEYWORDS)
-                for branch in node.branches:
-                    self._mark(branch.selector, OPERATION_KEYWORDS)
-            elif isinstance(node, ast.Call) and node.name in FUNCTION_KEYWORDS:
-                for argument in node.args:
-                    self._mark(argument, FUNCTION_KEYWORDS[node.name])
-            elif isinstance(node, ast.ShapeAttribute) and node.obj == "geometry":
-                for argument in node.args:
-                    self._mark(argument, GEOMETRY_KEYWORDS)
-
-    def _comp_words(self, node: ast.Operation) -> None:
-        """comp's kind and selectors: an unknown one is named as such (not as an undefined
-        name), with the valid ones."""
-        kind = node.arguments[0].value if node.arguments else None
-        if isinstance(kind, ast.Name) and kind.name not in COMP_KINDS:
-            self.report(
-                kind.location,
-                f"unknown component type '{kind.name}' in comp(); valid: {', '.join(COMP_KINDS)}",
-            )
-            self.keyword_names[id(kind)] = frozenset({kind.name})
-        for branch in node.branches:
-            key = branch.key
-            if (
-                isinstance(key, ast.Name)
-                and key.name not in COMP_SELECTORS
-                and key.name not in self.values
-                and key.name not in self.local_names
-            ):
-                self.report(
-                    key.location,
-                    f"unknown comp selector '{key.name}'; valid: {', '.join(COMP_SELECTORS[:6])}"
-                    + "..."
-                    + _suggestion(key.name, COMP_SELECTORS),
-                )
-                self.keyword_names[id(key)] = frozenset({key.name})
-
-    def _mark(self, expression, words: frozenset[str]) -> None:
-        for node in ast.walk(expression):
-            if isinstance(node, ast.Name | ast.ShapeAttribute):
-                self.keyword_names[id(node)] = words
 
     def _shape_attribute(self, node: ast.ShapeAttribute) -> None:
         written = f"{node.obj}.{node.field}" if node.field else node.obj

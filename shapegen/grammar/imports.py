@@ -36,10 +36,12 @@ from pathlib import Path
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.dynamic_imports import reinitialised
 from shapegen.grammar.import_paths import import_candidates, project_folder
 from shapegen.grammar.names import OPERATION_KEYWORDS
 from shapegen.grammar.parser import parse_with_problems
 from shapegen.grammar.source_files import read_rule_file
+from shapegen.grammar.tree import rebuilt as _rebuilt
 
 Problem = tuple[SourceLocation | None, str]
 
@@ -123,7 +125,7 @@ class _Merger:
                     (tree.location, f"dynamic import of '{tree.prefix}', which is not imported")
                 )
                 return ast.Nil(location=tree.location)
-            return _reinitialised(
+            return reinitialised(
                 tree, [a for a in attrs if a.name.startswith(tree.prefix + ".")], self.problems
             )
 
@@ -276,33 +278,6 @@ class _Merger:
         return definitions
 
 
-def _rebuilt(tree, change, params: frozenset[str] = frozenset()):
-    """``tree`` rebuilt bottom-up with ``change(node, params)`` applied to every node (a dict of
-    fields to replace, or None); unchanged subtrees are kept as they are."""
-    if isinstance(tree, tuple):
-        items = tuple(_rebuilt(item, change, params) for item in tree)
-        return tree if all(a is b for a, b in zip(items, tree, strict=True)) else items
-    if not dataclasses.is_dataclass(tree) or isinstance(tree, type):
-        return tree
-    changes = {}
-    for field in dataclasses.fields(tree):
-        if field.name == "location":
-            continue
-        value = getattr(tree, field.name)
-        if isinstance(value, tuple) or dataclasses.is_dataclass(value):
-            new = _rebuilt(value, change, params)
-            if new is not value:
-                changes[field.name] = new
-    if changes:
-        tree = dataclasses.replace(tree, **changes)
-    replaced = change(tree, params)
-    if replaced is None:
-        return tree
-    if isinstance(replaced, dict):
-        return dataclasses.replace(tree, **replaced)
-    return replaced
-
-
 class _Renamer:
     """Renames the definitions of one imported file and every reference to them."""
 
@@ -346,64 +321,6 @@ class _Renamer:
             # shapeL(...) { shape : A } beside an ``attr shape``: the selector, as in the file
             return {"key": dataclasses.replace(key, name=self.selectors[key.name])}
         return None
-
-
-def _reinitialised(
-    call: ast.DynamicImport, attrs: list[ast.Attribute], problems: list[Problem]
-) -> ast.Push:
-    """The push that re-initialises an import's attrs for one dynamic invocation."""
-    prefix = call.prefix + "."
-    overrides = {}
-    by_name = {a.name: a for a in attrs}
-    for keyword in call.overrides:
-        if prefix + keyword.name not in by_name:
-            problems.append(
-                (
-                    keyword.location if keyword.location.line else call.location,
-                    f"'{keyword.name}' is not an attr of the import '{call.prefix}'",
-                )
-            )
-        overrides[prefix + keyword.name] = keyword.value
-    order: list[str] = []
-    state: dict[str, int] = {}
-
-    def visit(name: str) -> None:  # dependencies first; cycles are the checks' to report
-        if state.get(name):
-            return
-        state[name] = 1
-        for node in ast.walk(by_name[name].value):
-            if isinstance(node, ast.Name) and node.name in by_name:
-                visit(node.name)
-        order.append(name)
-
-    for attr in attrs:
-        visit(attr.name)
-    items = [
-        ast.Set(
-            name, overrides.get(name, _value_with_locals(by_name[name])), location=call.location
-        )
-        for name in order
-    ]
-    items.append(
-        ast.Successor(prefix + call.rule, call.args, called=bool(call.args), location=call.location)
-    )
-    return ast.Push(ast.Sequence(tuple(items), location=call.location), location=call.location)
-
-
-def _value_with_locals(attr: ast.Attribute):
-    """``attr``'s value with the local variables of its ``with (...)`` written in, each in
-    place of its name (with.html: a local may read those before it), so that the value stands
-    alone in a ``set``. A local that draws at random draws once per place it is read."""
-    bound: dict = {}
-
-    def change(tree, params):
-        if isinstance(tree, ast.Name) and tree.name in bound:
-            return bound[tree.name]
-        return None
-
-    for variable in attr.local_variables:
-        bound[variable.name] = _rebuilt(variable.value, change)
-    return _rebuilt(attr.value, change) if bound else attr.value
 
 
 def _key(definition: ast.Definition) -> tuple[str, int]:

@@ -87,6 +87,8 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         self.filename = filename
         self.problems: list[Problem] = []
         self.start_keyword_rules: set[SourceLocation] = set()  # rules written `start Name`
+        # operation calls whose arity fits no signature: (location, message, name, count)
+        self.operation_named_calls: list[tuple[SourceLocation, str, str, int]] = []
 
     # Locations -------------------------------------------------------------------------------
 
@@ -116,6 +118,10 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
             elif not styles:  # only the default style is derived
                 definitions.append(child)
         definitions += _generic_start_rules(definitions, self.start_keyword_rules)
+        rules = {(d.name, len(d.params)) for d in definitions if isinstance(d, ast.Rule)}
+        for location, message, name, count in self.operation_named_calls:
+            if (name, count) not in rules or not self.filename.lower().endswith(".cga"):
+                self._problem(location, message)
         return ast.Grammar(
             definitions=tuple(definitions),
             version=version,
@@ -409,7 +415,14 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         if name in CGA_OPERATIONS:
             low, high = CGA_OPERATIONS[name]
             if not low <= len(positional) <= high:
-                self._problem(location, _count_message(name, low, high, len(positional)))
+                message = _count_message(name, low, high, len(positional))
+                if block is None and all(a.kind == "plain" for a in arguments):
+                    # a rule of the operation's name and this arity is called (a .cga file may
+                    # define one: 'start' decides once every rule is known)
+                    self.operation_named_calls.append((location, message, name, len(arguments)))
+                    args = tuple(a.value for a in arguments)
+                    return ast.Successor(name, args, called=True, location=location)
+                self._problem(location, message)
                 return ast.Nil(location=location)
             if name in ("split", "comp") and block is None:
                 self._problem(location, f"{name}() needs a {{ ... }} block of branches after it")

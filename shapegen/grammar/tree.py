@@ -1,4 +1,5 @@
-"""The machinery every AST node shares: the frozen-dataclass decorator and the tree walk.
+"""The machinery every AST node shares: the frozen-dataclass decorator, the tree walk and the
+rebuild of a tree with some nodes changed.
 
 :func:`node` registers which fields of a node class may hold other nodes, so that
 :func:`children` and :func:`walk` descend into any tree without spelling out its shape.
@@ -6,12 +7,13 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator
 from dataclasses import dataclass, field, fields
 
 from shapegen.errors import SourceLocation
 
-__all__ = ["NOWHERE", "children", "location_field", "node", "walk"]
+__all__ = ["NOWHERE", "children", "location_field", "node", "rebuilt", "walk"]
 
 #: Placeholder location for nodes built by hand (tests, programmatic grammars).
 NOWHERE = SourceLocation("<unknown>", 0, 0)
@@ -55,3 +57,30 @@ def walk(tree: object) -> Iterator[object]:
         current = stack.pop()
         yield current
         stack.extend(reversed(tuple(children(current))))
+
+
+def rebuilt(tree, change, params: frozenset[str] = frozenset()):
+    """``tree`` rebuilt bottom-up with ``change(node, params)`` applied to every node (a dict of
+    fields to replace, or None); unchanged subtrees are kept as they are."""
+    if isinstance(tree, tuple):
+        items = tuple(rebuilt(item, change, params) for item in tree)
+        return tree if all(a is b for a, b in zip(items, tree, strict=True)) else items
+    if not dataclasses.is_dataclass(tree) or isinstance(tree, type):
+        return tree
+    changes = {}
+    for member in dataclasses.fields(tree):
+        if member.name == "location":
+            continue
+        value = getattr(tree, member.name)
+        if isinstance(value, tuple) or dataclasses.is_dataclass(value):
+            new = rebuilt(value, change, params)
+            if new is not value:
+                changes[member.name] = new
+    if changes:
+        tree = dataclasses.replace(tree, **changes)
+    replaced = change(tree, params)
+    if replaced is None:
+        return tree
+    if isinstance(replaced, dict):
+        return dataclasses.replace(tree, **replaced)
+    return replaced

@@ -197,3 +197,20 @@ def test_a_parameter_may_stand_as_a_comp_selector():
     load("R(q) --> comp(f) { q : A }\nLot --> extrude(3) R(true)", "x.cga")
     with pytest.raises(GrammarError, match="unknown comp selector 'qq'"):
         load("R(q) --> comp(f) { qq : A }\nLot --> extrude(3) R(true)", "x.cga")
+
+
+def test_a_rule_may_take_an_operations_name_with_another_arity_in_cga():
+    """Changelog 2019.1: a call to an operation with another signature goes to a rule of that
+    signature; with the operation's own arity the name stays the operation's."""
+    text = "Lot --> extrude(4, 2, 1)\nextrude(a, b, c) --> extrude(a + b + c) Mass."
+    grammar = load(text, "x.cga")
+    call = _definition(grammar, "Lot").body.items[0]
+    assert isinstance(call, ast.Successor) and call.called and len(call.args) == 3
+    rule = next(r for r in grammar.rules if r.name == "extrude")
+    assert isinstance(rule.body.items[0], ast.Extrude)
+    with pytest.raises(GrammarError, match=r"extrude\(\) takes 1 to 2 arguments, got 3"):
+        load("Lot --> extrude(4, 2, 1)", "x.cga")
+    with pytest.raises(GrammarError, match="'extrude' is an operation; a rule cannot use its"):
+        load("Lot --> extrude(4)\nextrude(a) --> X", "x.cga")
+    with pytest.raises(GrammarError, match=r"extrude\(\) takes 1 to 2 arguments, got 3"):
+        load(text, "x.grammar")

@@ -1,0 +1,99 @@
+"""Load-time checks of the names CityEngine reads as keywords where they are written: an
+operation's selector and mode words (``alignScopeToAxes(y)``, ``comp(f) { world.up : A }``), a
+builtin's (``inside(inter)``), comp's kinds and selectors.
+
+:class:`KeywordNameChecks` is mixed into the checker of :mod:`shapegen.grammar.checks`, which
+provides ``report``, ``values`` and ``keyword_names``.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+from shapegen.grammar import ast
+from shapegen.grammar.names import (
+    COMP_KINDS,
+    COMP_SELECTORS,
+    FUNCTION_KEYWORDS,
+    GEOMETRY_KEYWORDS,
+    OPERATION_KEYWORDS,
+)
+
+__all__ = ["KeywordNameChecks", "suggestion"]
+
+
+def suggestion(name: str, candidates: Iterable[str]) -> str:
+    """``; did you mean 'x'?`` for the closest of ``candidates``, or nothing."""
+    matches = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
+    return f"; did you mean '{matches[0]}'?" if matches else ""
+
+
+class KeywordNameChecks:
+    """Marks the names that are keywords where they stand; reports unknown comp words."""
+
+    def _collect_keyword_names(self) -> None:
+        """Mark the names that may be CityEngine keywords where they are written."""
+        # a parameter or local variable may stand as a comp selector (op_comp: a bool
+        # selector), R(q) --> comp(f) { q : A }
+        self.local_names = {
+            name
+            for definition in self.grammar.definitions
+            for name in (
+                *(p.name for p in getattr(definition, "params", ())),
+                *(v.name for v in definition.local_variables),
+            )
+        }
+        for node in ast.walk(self.grammar):
+            if isinstance(node, ast.Operation):
+                for argument in node.arguments:
+                    self._mark(argument.value, OPERATION_KEYWORDS)
+                for branch in node.branches:
+                    self._mark(branch.key, OPERATION_KEYWORDS)
+                if node.name == "comp":
+                    self._comp_words(node)
+            elif isinstance(node, ast.Insert):
+                for option in node.options:  # i(asset, yUp, keepSizeAlignPosition)
+                    self._mark(option, OPERATION_KEYWORDS)
+            elif isinstance(node, ast.ComponentValues):
+                for argument in node.arguments:
+                    self._mark(argument, OPERATION_KEYWORDS)
+                for branch in node.branches:
+                    self._mark(branch.selector, OPERATION_KEYWORDS)
+            elif isinstance(node, ast.Call) and node.name in FUNCTION_KEYWORDS:
+                for argument in node.args:
+                    self._mark(argument, FUNCTION_KEYWORDS[node.name])
+            elif isinstance(node, ast.ShapeAttribute) and node.obj == "geometry":
+                for argument in node.args:
+                    self._mark(argument, GEOMETRY_KEYWORDS)
+
+    def _comp_words(self, node: ast.Operation) -> None:
+        """comp's kind and selectors: an unknown one is named as such (not as an undefined
+        name), with the valid ones."""
+        kind = node.arguments[0].value if node.arguments else None
+        if isinstance(kind, ast.Name) and kind.name not in COMP_KINDS:
+            self.report(
+                kind.location,
+                f"unknown component type '{kind.name}' in comp(); valid: {', '.join(COMP_KINDS)}",
+            )
+            self.keyword_names[id(kind)] = frozenset({kind.name})
+        for branch in node.branches:
+            key = branch.key
+            if (
+                isinstance(key, ast.Name)
+                and key.name not in COMP_SELECTORS
+                and key.name not in self.values
+                and key.name not in self.local_names
+            ):
+                self.report(
+                    key.location,
+                    f"unknown comp selector '{key.name}'; valid: {', '.join(COMP_SELECTORS[:6])}"
+                    + "..."
+                    + suggestion(key.name, COMP_SELECTORS),
+                )
+                self.keyword_names[id(key)] = frozenset({key.name})
+
+    def _mark(self, expression, words: frozenset[str]) -> None:
+        for node in ast.walk(expression):
+            if isinstance(node, ast.Name | ast.ShapeAttribute):
+                self.keyword_names[id(node)] = words
