@@ -38,7 +38,7 @@ from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.dynamic_imports import reinitialised
 from shapegen.grammar.import_paths import import_candidates, project_folder
-from shapegen.grammar.names import OPERATION_KEYWORDS
+from shapegen.grammar.names import BUILTIN_FUNCTIONS, OPERATION_KEYWORDS
 from shapegen.grammar.parser import parse_with_problems
 from shapegen.grammar.source_files import read_rule_file
 from shapegen.grammar.tree import rebuilt as _rebuilt
@@ -285,6 +285,12 @@ class _Renamer:
         self.rename = rename
         self.values = frozenset(d.name for d in grammar.definitions if not isinstance(d, ast.Rule))
         self.functions = frozenset(d.name for d in grammar.functions)
+        #: arities of the functions that share a builtin's name: a call of another arity is the
+        #: builtin's (CGA resolves a call by its signature)
+        self.overloads: dict[str, set[int]] = {}
+        for function in grammar.functions:
+            if function.name in BUILTIN_FUNCTIONS:
+                self.overloads.setdefault(function.name, set()).add(len(function.params))
         self.attrs = frozenset(d.name for d in grammar.attrs)
         #: renamed values that are also selector words: a branch key keeps the word
         self.selectors = {rename(v): v for v in self.values if v in OPERATION_KEYWORDS}
@@ -311,6 +317,9 @@ class _Renamer:
         if isinstance(tree, ast.Name) and tree.name in self.values and tree.name not in params:
             return {"name": self.rename(tree.name)}
         if isinstance(tree, ast.Call) and tree.name in self.functions:
+            arities = self.overloads.get(tree.name)
+            if arities is not None and len(tree.args) not in arities:
+                return None  # the builtin of that name: max(1, 2) beside a file's max(a)
             return {"name": self.rename(tree.name)}
         if isinstance(tree, ast.Successor):
             return {"name": self.rename(tree.name)}

@@ -105,10 +105,6 @@ def test_comp_takes_the_connected_components_operator():
     parse("Lot --> extrude(3) comp(f) { side =: A | top : B }", "connected.cga")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="/work/notes/generator-refusals.md 5: a dynamic import loses the attrs' with-locals",
-)
 def test_a_dynamic_import_keeps_the_local_variables_of_the_imported_attrs(tmp_path):
     """import.html's dynamic import re-initialises the imported attrs, with.html's locals too."""
     (tmp_path / "lib.cga").write_text("attr a = 1\nattr b with (w := 2) = w\nS --> extrude(b) X\n")
@@ -117,10 +113,6 @@ def test_a_dynamic_import_keeps_the_local_variables_of_the_imported_attrs(tmp_pa
     assert model.metadata["leaves"] == 1
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="/work/notes/generator-refusals.md 7: an imported overload of a builtin takes its calls",
-)
 def test_an_imported_file_may_overload_a_builtin_by_arity(tmp_path):
     """The imported file derives on its own (the builtin max(1, 2) and the user's max(1))."""
     (tmp_path / "lib.cga").write_text("max(a) = a * 2\nS --> extrude(max(1, 2) + max(1)) X\n")
@@ -131,14 +123,17 @@ def test_an_imported_file_may_overload_a_builtin_by_arity(tmp_path):
     assert imported.blocks[0].vertices[:, 1].max() == pytest.approx(4.0)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="/work/notes/generator-refusals.md 6: comp selectors that are logical expressions",
-)
 @pytest.mark.parametrize(
     "text",
     [
-        "Lot --> extrude(3) comp(f) { comp.index > 2 && side : A | top : B }",
+        pytest.param(
+            "Lot --> extrude(3) comp(f) { comp.index > 2 && side : A | top : B }",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="/work/notes/generator-refusals.md 6: comp selectors that are logical "
+                "expressions",
+            ),
+        ),
         "Lot --> extrude(3) R(true)\nR(q) --> comp(f) { q : A }",
     ],
 )
