@@ -127,3 +127,33 @@ def test_an_edge_is_extruded_along_its_normal_into_a_face(tmp_path):
 def _bounds(model):
     points = np.vstack([s.vertices for s in model.surfaces])
     return points.min(axis=0).tolist(), points.max(axis=0).tolist()
+
+
+@pytest.mark.parametrize(
+    "operation", ["roofHip(30)", "offset(-1)", "taper(2)", "scatter(surface, 3, uniform) { A. }",
+                  "alignScopeToGeometry(yUp, 0)", "setback(1) { front : A. }"],
+)  # fmt: skip
+def test_an_operation_on_faces_of_an_edge_is_a_cga_error(tmp_path, operation):
+    text = f"Lot --> comp(e) {{ 0 : X }}\nX --> {operation} E."
+    model = load_grammar(_write(tmp_path, text)).build(lot=LOT)
+    assert model.metadata["cga_errors"] == 1
+    assert "the operation is skipped" in model.metadata["warnings"][0]
+
+
+def test_face_operations_on_a_mass_work_on_each_face(tmp_path):
+    # op_envelope: "above each face of the current shape's geometry"; op_setback: "also applies
+    # to shapes with more than one face"; op_splitArea "does not apply to 3D geometry"
+    text = "Lot --> extrude(4) envelope(normal, 10, 2, 45, 2, 45) X."
+    model = load_grammar(_write(tmp_path, text)).build(lot=LOT)
+    assert model.metadata["cga_errors"] == 0
+    (solid,) = [Mesh(s.vertices, s.faces) for s in model.surfaces] or [
+        Mesh(b.vertices, b.faces) for b in model.blocks
+    ]
+    assert solid.is_closed and solid.signed_volume() > 12 * 8 * 4  # six envelopes over a box
+    text = "Lot --> extrude(4) setback(1) { all : NIL | remainder : R. }"
+    model = load_grammar(_write(tmp_path, text)).build(lot=LOT)
+    assert len(model.surfaces) == 6  # one remainder per face
+    assert _area(model) < 2 * (12 * 8 + 12 * 4 + 8 * 4)
+    text = "Lot --> extrude(4) splitArea(x) { 10 : A. }*"
+    model = load_grammar(_write(tmp_path, text)).build(lot=LOT)
+    assert model.metadata["cga_errors"] == 1 and model.volume == pytest.approx(384.0)

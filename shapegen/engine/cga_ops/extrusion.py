@@ -56,9 +56,14 @@ def compile_extrude(program, node: ast.Operation, params):
 
     def extrude_op(state, args, out):
         shape = state.shape
-        if cityengine and shape.kind == EDGE and kind in ("face.normal", "world.up"):
+        if cityengine and shape.kind == EDGE and kind == "face.normal":
             state.shape = edge_extrusion(shape, distance(args, state))
             return True
+        if cityengine and shape.kind in (EDGE, "vertex"):  # vertex.normal, or a vertex
+            raise error(
+                node, f"extrude({kind}, ...) of an edge or a vertex of comp() is not supported; "
+                "extrude(distance) extrudes an edge along its normal"
+            )  # fmt: skip
         if shape.kind != FACE and not (cityengine and shape.kind == MASS):
             raise error(node, "extrude() needs a flat shape; this shape is already 3D")
         height = distance(args, state)

@@ -137,6 +137,15 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shap
 def flat_faces(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndarray]]:
     """The faces of ``state``'s shape (see :func:`face_frames`), which must be flat."""
     shape = state.shape
+    if shape.kind in ("edge", "vertex"):  # CityEngine: a CGA error, the shape carries on
+        raise program.operation_error(
+            node, f"{what}: the shape has no faces (an edge or a vertex of comp())"
+        )
+    if shape.kind == MASS and program.cga_dialect:
+        # each face of the geometry, in its own plane: op_envelope builds "above each face of
+        # the current shape's geometry", op_setback and op_innerRectangle apply "to shapes
+        # with more than one face", op_taper takes the first
+        return face_frames(shape)
     if shape.kind != FACE:
         raise program.error(node, f"{what} needs a flat shape (the lot or a comp(f) face)")
     return face_frames(shape)
@@ -186,6 +195,10 @@ def compile_offset(program, node: ast.Operation, params):
         d = distance(args, state)
         faces = []
         shape = state.shape
+        if shape.kind in ("edge", "vertex"):
+            raise program.operation_error(
+                node, "offset(): the shape has no faces (an edge or a vertex of comp())"
+            )
         if shape.kind not in (FACE, MASS):
             raise program.error(node, "offset() cannot offset an inserted primitive's faces")
         for frame, polygon in face_frames(shape):  # every face in its own plane, 3D ones too

@@ -87,6 +87,10 @@ def compile_scatter(program, node: ast.Operation, params):
             )  # fmt: skip
             n = whole
         shape = state.shape
+        if shape.kind in ("edge", "vertex"):
+            raise program.operation_error(
+                node, "scatter(): the shape has no faces (an edge or a vertex of comp())"
+            )
         if shape.kind not in (FACE, MASS):
             raise error(node, "scatter() needs a shape with faces (not an inserted primitive)")
         size = shape.scope.size

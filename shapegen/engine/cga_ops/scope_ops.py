@@ -72,6 +72,10 @@ def shape_with_faces(program, node, state, components: bool = False) -> Shape:
         what = (
             "edges or vertices (comp(e|v))" if kind in (EDGE, VERTEX) else "an inserted primitive"
         )
+        if kind in (EDGE, VERTEX):  # CityEngine: a CGA error, the shape carries on
+            raise program.operation_error(
+                node, f"{node.name}() needs a shape with faces, not {what}"
+            )
         raise program.error(node, f"{node.name}() needs a shape with faces, not {what}")
     return state.shape
 

@@ -68,7 +68,9 @@ def compile_split_area(program, node: ast.Operation, params):
     def split_area_op(state, args, out):
         shape = state.shape
         if shape.kind != FACE:
-            raise program.error(node, "splitArea() needs a flat shape (the lot or a comp(f) face)")
+            # op_splitArea "does not apply to 3D geometry": in .cga a CGA error of the runtime
+            fail = program.operation_error if shape.kind != "insert" else program.error
+            raise fail(node, "splitArea() needs a flat shape (the lot or a comp(f) face)")
         mesh = shape.mesh()
         total = mesh.area()
         pattern = [SplitPart(size(args, state), mode, (body, branch))
