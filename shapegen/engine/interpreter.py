@@ -320,6 +320,17 @@ class Program(AttributeValues, ShapeOperations):
             world = face.transformed(state.shape.scope.rotation, state.shape.scope.origin)
             surfaces.append(_surface(state, world, "a face (no volume)", len(surfaces)))
 
+    @staticmethod
+    def _flat_solid(state: ShapeState, mesh: Mesh, surfaces: list) -> None:
+        """A closed mesh with no volume (a face extruded by 0) as the faces it has that face
+        along the scope's y, the side it was extruded towards; the rest are the same faces
+        turned, or edges."""
+        areas, normals = mesh.face_areas(), mesh.face_normals()
+        up = state.shape.scope.rotation[:, 1]
+        keep = [k for k in range(mesh.n_faces) if areas[k] > _MIN_SIZE**2 and normals[k] @ up > 0]
+        if keep:
+            surfaces.append(_surface(state, mesh.subset(keep), "a face (no volume)", len(surfaces)))
+
     def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> list[Block]:
         """The blocks of a leaf with geometry: one for a closed convex mesh. Otherwise none,
         and the leaf is added to ``surfaces`` with the reason: a closed solid that is not
@@ -337,6 +348,8 @@ class Program(AttributeValues, ShapeOperations):
             return []
         volume = mesh.signed_volume()
         if abs(volume) <= _MIN_SIZE**3:
+            if self.cga_dialect:  # extrude(0) of any face: CityEngine draws the face
+                self._flat_solid(state, mesh, surfaces)
             return []
         if volume < 0:
             surfaces.append(_surface(state, mesh, "faces turned inwards", len(surfaces)))

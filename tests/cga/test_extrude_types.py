@@ -138,3 +138,19 @@ def test_a_name_that_is_no_template_primitive_is_an_asset_in_cga():
     assert any("'builtin.cube' not found" in w for w in model.metadata["warnings"])
     with pytest.raises(Exception, match="unknown primitive 'builtin.cube'"):
         parse_grammar('@StartRule\nLot --> extrude(3) i("builtin.cube") X.', "r.grammar")
+
+
+def test_extrude_zero_of_a_face_that_is_not_convex_is_that_face():
+    # PyPRT draws extrude(0) of an L-shaped lot as the lot's face: 6 corners, one face
+    lot = [(0, 0), (0, 12), (6, 12), (6, 5), (14, 5), (14, 0)]
+    model = _model("Lot --> extrude(0)", lot=lot)
+    (face,) = model.surfaces
+    assert not model.blocks and face.reason == "a face (no volume)"
+    assert len(face.vertices) == 6 and len(face.faces) == 1
+    assert np.allclose(face.vertices[:, 1], 0.0)
+    corners = face.vertices[list(face.faces[0])][:, [0, 2]]
+    doubled = np.sum(
+        corners[:, 0] * np.roll(corners[:, 1], -1) - np.roll(corners[:, 0], -1) * corners[:, 1]
+    )
+    assert abs(doubled) / 2 == pytest.approx(6 * 12 + 8 * 5)
+    assert doubled < 0  # counter-clockwise seen from above: it faces up, as the lot
