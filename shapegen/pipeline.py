@@ -173,7 +173,7 @@ def build_report(model: Model) -> dict:
     ``.cga`` derivation skipped past, as CityEngine's runtime does (each is among the warnings,
     once per place and message).
     """
-    from shapegen.export.surfaces import left_out_summary, solids
+    from shapegen.export.surfaces import left_out_summary, solids, solids_volume
 
     metadata = model.metadata or {}
     lot = metadata.get("lot")
@@ -188,7 +188,7 @@ def build_report(model: Model) -> dict:
         "left_out": left_out_summary(model),
         "warnings": [str(w) for w in metadata.get("warnings", [])],
         "cga_errors": int(metadata.get("cga_errors", 0)),
-        "volume": model.volume,
+        "volume": model.volume + solids_volume(model),  # the solids kept as derived too
         "attrs": dict(metadata.get("attrs", {})),
         "free_parameters": {
             name: {key: spec.get(key) for key in ("value", "min", "max")}

@@ -246,7 +246,7 @@ def test_a_geojson_lot_builds_on_its_footprint(tmp_path):
 
 
 def test_an_l_shaped_lot_is_a_surface_and_says_so(tmp_path, capsys):
-    # the L's prism is cut into two convex blocks; the lot itself, never extruded, is a surface
+    # the lot itself, never extruded, is a surface left out of the statics
     grammar = tmp_path / "mass.grammar"
     grammar.write_text("@StartRule\nLot --> [ extrude(3) Mass. ] Ground.\n")
     report = tmp_path / "report.json"
@@ -254,9 +254,11 @@ def test_an_l_shaped_lot_is_a_surface_and_says_so(tmp_path, capsys):
                  "--report", str(report)]) == 0  # fmt: skip
     out = capsys.readouterr().out
     assert "left out: 1 leaf not judged by the statics: 1 a face (no volume)" in out
-    assert json.loads(report.read_text())["left_out"] == {
-        "leaves": 1, "by_reason": {"a face (no volume)": 1}
-    }  # fmt: skip
+    built = json.loads(report.read_text())
+    assert built["left_out"] == {"leaves": 1, "by_reason": {"a face (no volume)": 1}}
+    # the L's prism is one solid kept as derived (cut into convex parts only when judged)
+    assert built["blocks"] == 0 and built["solids"] == 1
+    assert built["volume"] == pytest.approx((100 - 36) * 3.0)
 
 
 @pytest.mark.parametrize(

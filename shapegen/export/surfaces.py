@@ -14,6 +14,7 @@ __all__ = [
     "face_triangles",
     "left_out_summary",
     "solids",
+    "solids_volume",
     "surface_from_entry",
     "surface_mesh",
     "surfaces_of",
@@ -60,6 +61,20 @@ def solids(model: Model) -> int:
     with a :class:`~shapegen.model.appearance.SolidLeaf`): the statics cut each into convex
     parts of one body when they judge."""
     return sum(1 for s in getattr(model, "surfaces", None) or () if s.solid is not None)
+
+
+def solids_volume(model: Model) -> float:
+    """Total volume of the solids the model keeps as derived (:func:`solids`), m^3: each closed
+    mesh's by the divergence theorem."""
+    from shapegen.geometry.mesh import Mesh
+
+    return float(
+        sum(
+            Mesh(s.vertices, s.faces).signed_volume()
+            for s in getattr(model, "surfaces", None) or ()
+            if s.solid is not None
+        )
+    )
 
 
 def face_triangles(vertices: np.ndarray, faces) -> np.ndarray:
