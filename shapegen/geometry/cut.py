@@ -362,18 +362,24 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin, *, cut: bool = Tru
         return None
     unit = (vertices - low) / scale
     key = (np.round(unit, 12).tobytes(), mesh.faces)  # equal sizes up to round-off: one key
-    pieces = _DECOMPOSED.get(key, _MISSING)
+    # (whether it needs a cut, its pieces or NEEDS_CUT while nobody asked for them): the
+    # answer to cut=False is the same whether or not the pieces were made before
+    needs_cut, pieces = _DECOMPOSED.get(key, (None, _MISSING))
     if pieces is _MISSING or (pieces is NEEDS_CUT and cut):
         unit_mesh = Mesh._checked(unit, mesh.faces)
-        if pieces is _MISSING and not cut and _clearly_not_convex(unit_mesh):
+        if needs_cut is None:
+            needs_cut = _clearly_not_convex(unit_mesh)
+        if needs_cut and not cut:
             pieces = NEEDS_CUT
         else:
             pieces = convex_decomposition(unit_mesh, cleaned=True)
         if len(_DECOMPOSED) >= _DECOMPOSED_LIMIT:
             del _DECOMPOSED[next(iter(_DECOMPOSED))]  # the oldest entry
-        _DECOMPOSED[key] = pieces
-    if pieces is None or pieces is NEEDS_CUT:
-        return pieces
+        _DECOMPOSED[key] = (needs_cut, pieces)
+    if needs_cut and not cut:
+        return NEEDS_CUT
+    if pieces is None:
+        return None
     rotation = np.asarray(rotation, float)
     (a, b, c), (d, e, f), (g, h, i) = rotation.tolist()
     if a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) < 0:

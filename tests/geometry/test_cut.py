@@ -176,6 +176,20 @@ def test_an_asset_at_another_size_is_cut_once(monkeypatch):
     assert len(calls) == 1
 
 
+def test_asked_not_to_cut_the_answer_is_the_same_before_and_after_a_cut(monkeypatch):
+    # a derivation asks only whether a leaf needs a cut: a non-convex prism does, whether or
+    # not the statics cut the same shape before; a box never does, and is its own piece
+    from shapegen.geometry.cut import NEEDS_CUT
+
+    monkeypatch.setattr("shapegen.geometry.cut._DECOMPOSED", {})
+    shape, box = _prism(U_LOT, height=2.0), Mesh.box((1.0, 2.0, 3.0))
+    for _ in range(2):  # first with nothing kept, then after the pieces were made
+        assert placed_convex_decomposition(shape, np.eye(3), np.zeros(3), cut=False) is NEEDS_CUT
+        assert len(placed_convex_decomposition(shape, np.eye(3), np.zeros(3))) == 3
+        (whole,) = placed_convex_decomposition(box, np.eye(3), np.zeros(3), cut=False)
+        assert whole.volume() == pytest.approx(6.0)
+
+
 def test_placed_decomposition_of_a_mirrored_scope_faces_out():
     mirror = np.diag([-1.0, 1.0, 1.0])
     pieces = placed_convex_decomposition(_prism(L_LOT), mirror, np.zeros(3))
