@@ -143,8 +143,9 @@ DEFAULT_LIMITS = WorkLimits()
 
 #: A lot's corners (and a rectangle lot's width and depth) lie within this many metres of the
 #: origin: far beyond any site on Earth (its circumference is 4e7 m), and far enough below
-#: float64's range that a lot's area, a building's volumes and their sums stay finite.
-LOT_EXTENT_LIMIT_M = 1e9
+#: float64's range that a lot's area, a building's volumes and their sums stay finite. It is
+#: the bound of every shape the rules make (``max_coordinate``), so that a lot is one.
+LOT_EXTENT_LIMIT_M = float(DEFAULT_LIMITS.max_coordinate)
 
 _CURRENT: contextvars.ContextVar[WorkLimits] = contextvars.ContextVar(
     "shapegen_work_limits", default=DEFAULT_LIMITS

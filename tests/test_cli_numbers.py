@@ -45,6 +45,13 @@ CGA_WARNINGS = [
     ("primitiveDisk(4096) roofHip(30)", "(limit max_skeleton_corners = 1000;"),
     ("primitiveDisk(2000) offset(-1)", "(limit max_skeleton_corners = 1000;"),
     ("primitiveCylinder(1e9)", "sides is a whole number 3..4096"),
+    # seed 2 of the fuzz: a cleanup that leaves no geometry, then a turn of the scope
+    (
+        "offset(1e-320) roofPyramid(-1e-320) primitiveSphere(0, 3) B\n"
+        "B --> primitiveCylinder(300, (-1e308 * 10), 2) cleanupGeometry(all, -1e308) "
+        "t(4096, -1e9, 4096) rotateScope(0, -90, 0)",
+        "the shape has no geometry left to fit a scope to",
+    ),
 ]
 
 # (file name, rule text, words of the error)
@@ -157,3 +164,14 @@ def test_work_that_grows_with_the_model_stops_at_its_limit(tmp_path, capsys, tex
     first = capsys.readouterr().err.splitlines()[0]
     assert first.startswith("shapegen: error:") and error in first
     assert [p.name for p in tmp_path.iterdir()] == ["fuzz.cga"]
+
+
+def test_a_face_welded_into_one_point_is_a_geometry_error():
+    # seed 2 of the fuzz: innerRectangle of a face 1e-320 m wide made a mesh face of 1 corner
+    from shapegen.engine.cga_ops.polygons import flat_shape
+    from shapegen.engine.shape import FACE, Shape, lot_scope
+    from shapegen.errors import GeometryError
+
+    parent = Shape(lot_scope(1.0, 1.0), FACE, 1)
+    with pytest.raises(GeometryError, match="a face it makes has no extent"):
+        flat_shape(parent, [np.full((3, 3), 0.5)])

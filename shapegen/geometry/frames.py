@@ -22,6 +22,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.limits import LOT_EXTENT_LIMIT_M
 from shapegen.model.scope import Scope
@@ -86,6 +87,8 @@ def fitted_scope(world_points: np.ndarray, rotation: np.ndarray) -> tuple[Scope,
     """The scope with axes ``rotation`` that is the bounding box of ``world_points``, and the
     points in that scope's coordinates (m)."""
     points = np.asarray(world_points, float).reshape(-1, 3)
+    if len(points) == 0:  # what a cleanup left of a degenerate mesh
+        raise GeometryError("the shape has no geometry left to fit a scope to")
     local = points @ rotation
     low = local.min(axis=0)
     size = local.max(axis=0) - low

@@ -131,6 +131,8 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shap
     size[size < 1e-12 * max(1.0, float(np.abs(points).max()))] = 0.0
     scope = Scope(parent.scope.to_world(low), parent.scope.rotation, size)
     vertices, indexed = _welded(points - low, [len(f) for f in faces])
+    if any(len(face) < 2 for face in indexed):  # welded into a point (a 1e-320 m face)
+        raise GeometryError("a face it makes has no extent (its corners are one point)")
     return Shape(scope, kind, parent.normal_axis, None, Mesh(vertices, indexed))
 
 
