@@ -234,7 +234,7 @@ CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "innerRect": (0, 0),
     "innerRectangle": (0, 1),
     "insertAlongUV": (3, 5),
-    "intersect": (0, 0),
+    "intersect": (0, 1),  # (swap): the deprecated form before a rule, 2024.1
     "label": (1, 1),
     "mirror": (3, 3),
     "mirrorScope": (3, 3),
@@ -284,7 +284,7 @@ CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "split": (1, 3),  # split(axis, adjustMode) and the UV split(u|v, space, uvSet)
     "splitAndSetbackPerimeter": (1, 3),
     "splitArea": (1, 2),
-    "subtract": (0, 0),
+    "subtract": (0, 1),
     "t": (3, 3),
     "tag": (1, 2),
     "taper": (1, 1),
@@ -293,7 +293,7 @@ CGA_OPERATIONS: dict[str, tuple[int, int]] = {
     "translate": (5, 5),
     "translateUV": (3, 3),
     "trim": (0, 0),
-    "union": (0, 0),
+    "union": (0, 1),
 }
 
 #: Operations that take a ``{ ... }`` block of branches (``selector : body | ...``).

@@ -280,6 +280,13 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         items = []
         for item in children:
             previous = items[-1] if items else None
+            if (  # subtract Rule, subtract(swap) Rule: CGA 2024.1's form, deprecated in 2025.0
+                isinstance(previous, ast.Operation)
+                and previous.name in _BOOLEAN_OPERATIONS
+                and not previous.branches
+            ):
+                items[-1] = _two_operands(previous, item)
+                continue
             if (  # inline(strategy) Rule: the operation takes the item after it (op_inline)
                 isinstance(previous, ast.Operation)
                 and previous.name == "inline"
@@ -462,6 +469,26 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
                 )
             args.append(argument.value)
         return ast.Successor(name, tuple(args), called=True, location=location)
+
+
+_BOOLEAN_OPERATIONS = frozenset({"union", "subtract", "intersect"})
+
+
+def _two_operands(operation: ast.Operation, item) -> ast.Operation:
+    """``subtract Rule`` as CGA 2025.0 rewrites it: ``subtract { OperandA. | Rule }`` (the
+    current shape first), and ``subtract(swap) Rule`` as ``subtract { Rule | OperandB. }``."""
+    where = item.location
+    swap = any(
+        isinstance(a.value, ast.Name) and a.value.name == "swap" for a in operation.arguments
+    )
+    current = ast.Successor("OperandB" if swap else "OperandA", leaf=True, location=where)
+    operands = [ast.Sequence((current,), location=where), ast.Sequence((item,), location=where)]
+    if swap:
+        operands.reverse()
+    branches = tuple(
+        ast.OperationBranch(None, "absolute", body, location=where) for body in operands
+    )
+    return ast.Operation(operation.name, (), branches, location=operation.location)
 
 
 def _percent(token: Token) -> float:

@@ -214,3 +214,19 @@ def test_a_rule_may_take_an_operations_name_with_another_arity_in_cga():
         load("Lot --> extrude(4)\nextrude(a) --> X", "x.cga")
     with pytest.raises(GrammarError, match=r"extrude\(\) takes 1 to 2 arguments, got 3"):
         load(text, "x.grammar")
+
+
+@pytest.mark.parametrize(
+    "old, new",
+    [
+        ("Lot --> subtract Hole", "Lot --> subtract { OperandA. | Hole }"),
+        ("Lot --> subtract(swap) Hole", "Lot --> subtract { Hole | OperandB. }"),
+        ("Lot --> union Hole(2) X", "Lot --> union { OperandA. | Hole(2) } X"),
+    ],
+)
+def test_the_deprecated_boolean_form_reads_as_its_two_operand_rewrite(old, new):
+    """Changelog 2025.0: ``subtract Rule`` => ``subtract { OperandA. | Rule }``, ``subtract(swap)
+    Rule`` => ``subtract { Rule | OperandB. }``."""
+    tree = parse(old, "x.cga")
+    assert tree.definitions == parse(new, "x.cga").definitions
+    assert parse(print_grammar(tree), "x.cga").definitions == tree.definitions
