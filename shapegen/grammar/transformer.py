@@ -29,6 +29,7 @@ from shapegen.grammar.operation_calls import (
     OperationBuilders,
     prefix_in_words,
 )
+from shapegen.grammar.rewrites import BOOLEAN_OPERATIONS, generic_start_rules, two_operands
 
 __all__ = ["AstBuilder", "Problem"]
 
@@ -117,7 +118,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
                 continue  # only CityEngine's editors read them
             elif not styles:  # only the default style is derived
                 definitions.append(child)
-        definitions += _generic_start_rules(definitions, self.start_keyword_rules)
+        definitions += generic_start_rules(definitions, self.start_keyword_rules)
         rules = {(d.name, len(d.params)) for d in definitions if isinstance(d, ast.Rule)}
         for location, message, name, count in self.operation_named_calls:
             if (name, count) not in rules or not self.filename.lower().endswith(".cga"):
@@ -282,10 +283,10 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
             previous = items[-1] if items else None
             if (  # subtract Rule, subtract(swap) Rule: CGA 2024.1's form, deprecated in 2025.0
                 isinstance(previous, ast.Operation)
-                and previous.name in _BOOLEAN_OPERATIONS
+                and previous.name in BOOLEAN_OPERATIONS
                 and not previous.branches
             ):
-                items[-1] = _two_operands(previous, item)
+                items[-1] = two_operands(previous, item)
                 continue
             if (  # inline(strategy) Rule: the operation takes the item after it (op_inline)
                 isinstance(previous, ast.Operation)
@@ -471,26 +472,6 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         return ast.Successor(name, tuple(args), called=True, location=location)
 
 
-_BOOLEAN_OPERATIONS = frozenset({"union", "subtract", "intersect"})
-
-
-def _two_operands(operation: ast.Operation, item) -> ast.Operation:
-    """``subtract Rule`` as CGA 2025.0 rewrites it: ``subtract { OperandA. | Rule }`` (the
-    current shape first), and ``subtract(swap) Rule`` as ``subtract { Rule | OperandB. }``."""
-    where = item.location
-    swap = any(
-        isinstance(a.value, ast.Name) and a.value.name == "swap" for a in operation.arguments
-    )
-    current = ast.Successor("OperandB" if swap else "OperandA", leaf=True, location=where)
-    operands = [ast.Sequence((current,), location=where), ast.Sequence((item,), location=where)]
-    if swap:
-        operands.reverse()
-    branches = tuple(
-        ast.OperationBranch(None, "absolute", body, location=where) for body in operands
-    )
-    return ast.Operation(operation.name, (), branches, location=operation.location)
-
-
 def _percent(token: Token) -> float:
     return float(str(token).rstrip().rstrip("%").rstrip())
 
@@ -503,22 +484,3 @@ def _count_message(name: str, low: int, high: int, got: int) -> str:
     else:
         wanted = f"{low} to {high} arguments"
     return f"{name}() takes {wanted}, got {got}"
-
-
-def _generic_start_rules(definitions: list, marked: set) -> list[ast.Rule]:
-    """``start(p...) --> Init(p...)`` for each rule ``Init`` written ``start Init`` (its location
-    in ``marked``): start.html, ``start(20)`` is the same as ``Init(20)`` and an importing file's
-    ``lib.start(10)`` as ``lib.Init(10)``; unless the file has a rule ``start`` of that arity."""
-    rules = [d for d in definitions if isinstance(d, ast.Rule)]
-    taken = {(rule.name, len(rule.params)) for rule in rules}
-    generic = []
-    for rule in rules:
-        key = ("start", len(rule.params))
-        if rule.location in marked and key not in taken:
-            taken.add(key)
-            where = rule.location
-            args = tuple(ast.Name(p.name, location=where) for p in rule.params)
-            call = ast.Successor(rule.name, args, called=bool(args), location=where)
-            body = ast.Sequence((call,), location=where)
-            generic.append(ast.Rule("start", rule.params, body, location=where))
-    return generic
