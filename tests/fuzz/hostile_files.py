@@ -195,6 +195,9 @@ def _assert_only_in(root: Path, allowed: list[Path]) -> None:
                 continue  # a folder on the way to an allowed place
             raise AssertionError(f"written outside the package's folder: {path}")
     packages = root / "cache" / "packages"
+    for path in packages.iterdir() if packages.is_dir() else ():
+        if not (path.is_dir() and path.name.startswith("p-")):  # the package's own folder
+            raise AssertionError(f"written outside the package's folder: {path}")
     for path in packages.rglob("*") if packages.is_dir() else ():
         if path.is_symlink():
             raise AssertionError(f"a link was unpacked: {path}")
