@@ -267,9 +267,14 @@ def _operation(operation: ast.Operation) -> str:
         if not operation.arguments:
             return f"inline {{ {print_body(branch.body)} }}"
         # inline(strategy) Rule: the operation takes the one item after it (op_inline), or a
-        # block of operations
+        # block of operations; an inline taking an inline is written with its block, or the
+        # outer one would take the inner one alone
         body = print_body(branch.body)
-        one = isinstance(branch.body, ast.Sequence) and len(branch.body.items) == 1
+        one = (
+            isinstance(branch.body, ast.Sequence)
+            and len(branch.body.items) == 1
+            and isinstance(branch.body.items[0], ast.Successor)
+        )
         return f"inline({_arguments(operation.arguments)}) " + (body if one else f"{{ {body} }}")
     text = f"{name}({_arguments(operation.arguments)})"
     if keyless:

@@ -88,6 +88,7 @@ FORMS = [
     "Lot --> roofHip(30, 0.5) roofGable(byHeight, 2) extrude(world.y, 3) innerRect",
     "Lot --> scatter(surface, 10, uniform) { Tree } union { A | B } inline { A B }",
     "Lot --> inline(unify) A inline B",
+    "Lot --> inline(unify) { inline(unify) { A(1) } } inline(recompose) { split(x) { 1 : A } }",
     "Lot --> 30% : A 20% : case scope.sx > 3 : B else : C else : D",
     "Lot --> case scope.sx > 3 : 50% : A else : B case true : C else : D",
     'import lib : "lib.cga" (height, width = 3, Roof --> X)\nimport "other.cga" ()\nLot --> X',
