@@ -390,7 +390,9 @@ def inner_rectangle(polygon, alignment: str = "scope", samples: int = 48):
     # The remainder, cut along the rectangle's sides extended (left, right, below, above), so
     # that no piece has the rectangle as a hole.
     axes, (x0, y0), (x1, y1) = best[2], best[3][0], best[3][2]
-    turned = ShapelyPolygon(p @ axes.T)
+    # a face that crosses itself (a bow tie) is cut as the valid pieces it covers; GEOS refuses
+    # to intersect it as it is
+    turned = shapely.make_valid(ShapelyPolygon(p @ axes.T))
     far = 2 * float(np.abs(p).max()) + 1
     regions = [
         shapely.box(-far, -far, x0, far),

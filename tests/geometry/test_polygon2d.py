@@ -123,6 +123,20 @@ def test_setback_to_area_of_a_rectangle():
     assert P.signed_area(result.remainder[0]) == pytest.approx(24.0)
 
 
+def test_inner_rectangle_of_a_face_that_crosses_itself():
+    """A bow tie (a face of a generated program, its last edge crossing its first at (2, -5.77))
+    gives a rectangle inside it and the remainder; GEOS refused to cut it as it is."""
+    bow_tie = [(0.0, -5.7735026918962573), (12.0, -5.7735026918962573), (12.0, 0.0),
+               (0.0, -6.928203230275509)]  # fmt: skip
+    rectangle, rest = P.inner_rectangle(bow_tie, "scope")
+    assert rectangle is not None and rest
+    width, height = np.ptp(rectangle, axis=0)
+    # the right triangle (2, -5.77) (12, -5.77) (12, 0) of the bow tie: its largest
+    # axis-aligned rectangle has half of each leg, a quarter of the legs' product
+    assert width * height == pytest.approx(10 * 5.7735026918962573 / 4, rel=0.01)
+    assert rectangle[:, 0].min() >= 2.0 and rectangle[:, 1].min() >= -5.7735026918962573 - 1e-9
+
+
 def test_inner_rectangle_of_an_l_and_a_triangle():
     rectangle, rest = P.inner_rectangle(L_SHAPE)
     assert P.signed_area(rectangle) == pytest.approx(60)  # the 6 m arm: 6 x 10
