@@ -12,6 +12,7 @@ from functools import cached_property
 import numpy as np
 
 from shapegen.errors import GeometryError
+from shapegen.limits import current_limits, limit_hint
 from shapegen.model.appearance import Appearance
 from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_normals
 from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, COPLANAR_REL, DEFAULT, Tolerances
@@ -202,6 +203,12 @@ class Block:
                 )
         if self.volume <= tol.volume:
             raise GeometryError(f"block {name!r}: zero or negative volume ({self.volume:.3g} m^3)")
+        limits = current_limits()
+        if len(self.faces) * n > limits.max_face_vertex_pairs:
+            raise GeometryError(
+                f"block {name!r}: {len(self.faces)} faces and {n} vertices are too many to "
+                f"check for convexity " + limit_hint("max_face_vertex_pairs", limits)
+            )
         distances = self.vertices @ self.face_normals.T - self.face_offsets
         worst = float(distances.max())
         if worst > tol.convex + COORDINATE_ROUNDOFF_REL * float(np.abs(self.vertices).max()):

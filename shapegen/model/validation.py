@@ -32,6 +32,7 @@ from shapegen.model.polygons import cross
 from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, DEFAULT, Tolerances
 
 _EPS = float(np.finfo(float).eps)
+_PAIRS_AT_ONCE = 1_000_000  # faces x vertices of one block checked with the others
 
 
 def validate_blocks(blocks: Sequence[Block], tol: Tolerances = DEFAULT) -> None:
@@ -56,7 +57,11 @@ def first_invalid_block(
         return None
     gathered = gather_blocks(list(blocks))
     density = np.fromiter((b.density for b in blocks), dtype=float, count=len(blocks))
-    doubtful = malformed_blocks(gathered) | ~(np.isfinite(density) & (density >= 0))
+    # a block of many faces and vertices is checked alone: its pairs would crowd the arrays
+    large = np.fromiter(
+        (len(b.faces) * len(b.vertices) > _PAIRS_AT_ONCE for b in blocks), bool, len(blocks)
+    )
+    doubtful = malformed_blocks(gathered) | ~(np.isfinite(density) & (density >= 0)) | large
     sound = np.flatnonzero(~doubtful)
     if len(sound) == len(blocks):
         pack = packed_from(sound, gathered)
