@@ -175,3 +175,20 @@ def test_a_face_welded_into_one_point_is_a_geometry_error():
     parent = Shape(lot_scope(1.0, 1.0), FACE, 1)
     with pytest.raises(GeometryError, match="a face it makes has no extent"):
         flat_shape(parent, [np.full((3, 3), 0.5)])
+
+
+def test_a_block_too_large_to_check_names_the_limit():
+    # seed 2 of the fuzz: a 4096-sided prism's face-vertex pairs filled 4.8 GB of packed arrays
+    from shapegen.engine.cga_ops.assets import primitive_mesh
+    from shapegen.errors import GeometryError
+    from shapegen.limits import work_limits
+    from shapegen.model.block import Block
+    from shapegen.model.validation import validate_blocks
+
+    prism = primitive_mesh("cylinder", 1200)  # 1202 faces x 2400 vertices: checked alone
+    block = Block(prism.vertices * 10, prism.faces, id="b0")
+    validate_blocks([block])  # sound
+    with work_limits(max_face_vertex_pairs=2_000_000), pytest.raises(GeometryError) as caught:
+        validate_blocks([block])
+    assert "block 'b0': 1202 faces and 2400 vertices" in str(caught.value)
+    assert "(limit max_face_vertex_pairs = 2000000;" in str(caught.value)
