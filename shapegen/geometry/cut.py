@@ -313,21 +313,18 @@ def _general_decomposition(mesh: Mesh, max_pieces: int) -> list[Mesh] | None:
             if len(done) > max_pieces:
                 return None
             continue
-        plane = _splitting_plane(piece, heights, slack)
-        if plane is None and heights.max() <= _SPLIT_HEIGHT * slack:
+        planes = _splitting_planes(piece, heights, slack)
+        if not planes and heights.max() <= _SPLIT_HEIGHT * slack:
             # convex but for round-off (an asset's nearly coplanar faces): no face plane
             # can split it, and a block takes it as convex
             done.append(piece)
             if len(done) > max_pieces:
                 return None
             continue
-        if plane is None:
-            return None
-        normal, offset = plane
-        frame = _frame_of(normal)
-        turned = _turned(piece, frame)
-        halves = [_turned_back(clip_half(turned, 1, offset, side), frame) for side in (False, True)]
-        if any(h is None or not h.is_closed for h in halves):
+        # the first plane whose halves close: a cut that leaves a sliver whose faces are too
+        # small to keep (a notch between corners nearly in line) gives way to the next plane
+        halves = next(filter(None, (_halves(piece, plane) for plane in planes)), None)
+        if halves is None:
             return None
         todo.extend(halves)
         if len(done) + len(todo) > max_pieces:
@@ -418,14 +415,24 @@ _DECOMPOSED_LIMIT = 512  # distinct meshes kept by placed_convex_decomposition
 _MISSING = object()
 
 
-def _splitting_plane(mesh: Mesh, heights: np.ndarray, slack: float):
-    """The plane of the face with the most corners in front of it (a reflex face's plane);
+def _splitting_planes(mesh: Mesh, heights: np.ndarray, slack: float) -> list:
+    """The planes of the faces with corners both in front of and behind them (a reflex face's
+    plane), as ``(normal, offset)``: most corners in front first, ties in face order;
     ``heights`` are :meth:`Mesh.heights_above_faces`, ``slack`` the mesh's round-off (m)."""
     normals, centres = mesh._normals
     ahead = (heights > slack * _SPLIT_HEIGHT).sum(axis=1)
     behind = (heights < -slack * _SPLIT_HEIGHT).sum(axis=1)
-    usable = (ahead > 0) & (behind > 0) & normals.any(axis=1)
-    if not usable.any():
+    usable = np.flatnonzero((ahead > 0) & (behind > 0) & normals.any(axis=1))
+    order = usable[np.argsort(-ahead[usable], kind="stable")]
+    return [(normals[k], float(centres[k] @ normals[k])) for k in order.tolist()]
+
+
+def _halves(piece: Mesh, plane) -> list[Mesh] | None:
+    """The two closed halves of ``piece`` on either side of ``plane``, or None."""
+    normal, offset = plane
+    frame = _frame_of(normal)
+    turned = _turned(piece, frame)
+    halves = [_turned_back(clip_half(turned, 1, offset, side), frame) for side in (False, True)]
+    if any(h is None or not h.is_closed for h in halves):
         return None
-    k = int(np.argmax(np.where(usable, ahead, -1)))
-    return normals[k], float(centres[k] @ normals[k])
+    return halves

@@ -198,9 +198,9 @@ class _Footprint:
         return max(values) - min(values) + abs(c) * (self.high - self.low)
 
     def _splitting_line(self, piece, slack):
-        """The line of the side face with the most corners in front of it (cut.py's
-        ``_splitting_plane``), as ``(nx, ny, offset)``, or None when the piece is convex (or so
-        but for round-off); a piece that is neither is left to the general path."""
+        """The line of the side face with the most corners in front of it (the first of cut.py's
+        ``_splitting_planes``), as ``(nx, ny, offset)``, or None when the piece is convex (or
+        so but for round-off); a piece that is neither is left to the general path."""
         xs, ys = self.xs, self.ys
         if len(piece) == 1 and self.cuts and turns_left(piece[0][0], xs, ys):
             return None  # a piece of a simple ring never turning right is convex

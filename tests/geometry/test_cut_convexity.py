@@ -95,6 +95,24 @@ FAILED = [
 ]
 
 
+# a notch between corners nearly in line: the first plane's cut leaves a sliver 0.2 mm wide
+# whose caps are too small to keep, so the next plane cuts it
+NOTCH = [
+    (-16.867533040515863, 8.090198533301454),
+    (-6.791610743630146, 7.772436829654082),
+    (3.2843971561546907, 7.454603107557159),
+    (5.561063606740212, -0.04498929871029027),
+    (7.838063632692809, -7.54464040572862),
+    (10.114787776430342, -15.044149857036494),
+    (5.284883859739809, -11.64277540691688),
+    (0.45514644624231987, -8.241390465322487),
+    (-1.5551947480869763, -7.859423663710177),
+    (-3.5653634090159207, -7.477477099613715),
+    (-5.575706627454254, -7.095552188596726),
+    (-11.221649987825634, 0.4976177323657306),
+]
+
+
 def _grammar():
     return parse_grammar("Lot --> extrude(10)\n", "lot.cga")
 
@@ -142,6 +160,12 @@ def test_a_lot_with_corners_nearly_in_line_is_judged_on_its_own_cut(index):
     assert stood_in["by_reason"] == {CUT: 1} and stood_in["blocks"] > 1  # cut into pieces
     assert not outcome.report["left_out"]["leaves"]
     assert outcome.assessment is not None and outcome.assessment.judged
+
+
+def test_a_cut_that_leaves_a_sliver_gives_way_to_the_next_plane():
+    outcome = design(_grammar(), lot=NOTCH, assess=True)
+    assert outcome.report["analysis"]["stand_ins"]["by_reason"] == {CUT: 1}  # not its hull
+    statics_model(_grammar().build(lot=NOTCH)).validate()
 
 
 def test_the_pieces_of_random_footprints_pass_the_blocks_check():
