@@ -320,8 +320,9 @@ class _Writer:
         if form == "elementwise":
             self.forms.add("array element-wise")
             op = rng.choice([".+", ".-", ".*", "./", ".%"])
-            other = self.operand(env, depth) if self.chance(0.5) else self.array_literal()
-            return f"{self.array_literal()} {op} {other}"
+            array = self.array_literal()  # two arrays of equal dimensions, or an array and a value
+            other = self.operand(env, depth) if self.chance(0.5) else array
+            return f"{array} {op} {other}"
         if form == "unary":
             return f"{rng.choice(['.-', '.+'])}{self.array_literal()}"
         items = [self.expression(FLOAT, env, depth + 1) for _ in range(rng.randint(1, 3))]
