@@ -35,8 +35,8 @@ LOT = (12.0, 8.0)  # metres, the lot every program is derived on
 MAX_SHAPES = 20_000
 
 #: Refusals of well-formed forms the parser does not take yet: (message fragment, the form of
-#: :attr:`GeneratedProgram.forms` that brings it) -> the entry of
-#: /work/notes/generator-refusals.md that describes it. Remove an entry when the parser takes
+#: :attr:`GeneratedProgram.forms` that brings it) -> a description of the gap and the reference
+#: page that allows the form. Remove an entry when the parser takes
 #: the form (tests/cga/test_generated_programs.py's strict xfails show when).
 KNOWN_REFUSALS: dict[tuple[str, str], str] = {}
 

@@ -7,8 +7,8 @@ The quick lane parses and prints back 40 programs and derives 5 of them (a few s
 program of ~1 kB parses in ~20 ms, derives in ~0.3 s); the slow lane runs 10 000 through
 tools/cga_generated.py, which prints the seed and the counts. The parser's known gaps would be
 in ``cga_programs.KNOWN_REFUSALS`` (none left); the forms it refused once are kept as tests
-below, and the strict xfails mark what the load or the derivation still refuses (each described
-in /work/notes/generator-refusals.md), so that a fix shows."""
+below, and the strict xfails mark what the load or the derivation still refuses, so that a fix
+shows."""
 
 from __future__ import annotations
 
@@ -130,8 +130,8 @@ def test_an_imported_file_may_overload_a_builtin_by_arity(tmp_path):
             "Lot --> extrude(3) comp(f) { comp.index > 2 && side : A | top : B }",
             marks=pytest.mark.xfail(
                 strict=True,
-                reason="/work/notes/generator-refusals.md 6: comp selectors that are logical "
-                "expressions",
+                reason="comp selectors that are logical expressions naming selectors are not"
+                " read yet",
             ),
         ),
         "Lot --> extrude(3) R(true)\nR(q) --> comp(f) { q : A }",
@@ -143,15 +143,17 @@ def test_a_comp_selector_may_be_any_logical_expression(text):
 
 
 @pytest.mark.slow
-def test_ten_thousand_generated_programs():
-    """tools/cga_generated.py over 10 000 seeds: prints the counts; no refusal, round-trip
-    difference or traceback."""
+def test_two_thousand_generated_programs():
+    """tools/cga_generated.py over 2 000 seeds (about 5 minutes on two cores; the 10 000 of the
+    figure in docs/cga-compatibility.md are the tool's own run): prints the counts; no refusal,
+    round-trip difference or traceback."""
     spec = importlib.util.spec_from_file_location(
         "cga_generated", ROOT / "tools" / "cga_generated.py"
     )
     tool = importlib.util.module_from_spec(spec)
+    sys.modules["cga_generated"] = tool  # its worker processes find its functions by name
     spec.loader.exec_module(tool)
-    outcomes = tool.run(range(0, 10_000), jobs=2)
+    outcomes = tool.run(range(0, 2_000), jobs=2)
     tool.print_summary(outcomes, seed=0)
     wrong = [o for o in outcomes if o.stage in ("refused", "round trip", "crash", "timeout")]
     assert not wrong, "\n".join(f"seed {o.seed}: {o.stage}: {o.message}" for o in wrong[:20])
