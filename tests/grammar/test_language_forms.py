@@ -230,3 +230,8 @@ def test_the_deprecated_boolean_form_reads_as_its_two_operand_rewrite(old, new):
     tree = parse(old, "x.cga")
     assert tree.definitions == parse(new, "x.cga").definitions
     assert parse(print_grammar(tree), "x.cga").definitions == tree.definitions
+
+
+def test_nested_inline_blocks_print_back_to_the_same_tree():
+    tree = parse("R --> inline(unify) { inline(unify) { NIL } } X", "x.cga")
+    assert parse(print_grammar(tree), "x.cga").definitions == tree.definitions
