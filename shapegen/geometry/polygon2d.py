@@ -140,6 +140,8 @@ def offset(polygon, distance: float) -> Offset:
         border = tuple(skeleton.face_points(k) for k in range(len(p)))
         return Offset(tuple(skeleton.front_points()), border)
     grown = edges_moved_out(p, np.full(len(p), d))
+    if not np.isfinite(grown).all():  # a corner's mitre past a float's range
+        raise GeometryError(f"offset({d:g}) moves the polygon's corners past any finite number")
     border = tuple(
         np.array([p[k], p[(k + 1) % len(p)], grown[(k + 1) % len(p)], grown[k]])
         for k in range(len(p))
