@@ -32,6 +32,7 @@ from shapegen.grammar.names import (
     OPERATIONS,
     RESERVED_ATTRIBUTES,
     SHAPE_ATTRIBUTES,
+    UNSUPPORTED_FUNCTIONS,
 )
 from shapegen.tolerances import PERCENT_SLACK
 
@@ -333,6 +334,9 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
             low, high = BUILTIN_FUNCTIONS[name]
             if not low <= count <= high:
                 self.report(node.location, f"{name}() takes {_arity(low, high)}, got {count}")
+            return
+        if name in UNSUPPORTED_FUNCTIONS:
+            self.report(node.location, f"{name}() {UNSUPPORTED_FUNCTIONS[name]}")
             return
         functions = [n for n, d in self.values.items() if isinstance(d, ast.Function)]
         self.report(

@@ -10,6 +10,7 @@ __all__ = [
     "ANNOTATIONS",
     "BLOCK_OPERATIONS",
     "BUILTIN_FUNCTIONS",
+    "UNSUPPORTED_FUNCTIONS",
     "CENTER_MODES",
     "CGA_OPERATIONS",
     "COMP_KINDS",
@@ -33,6 +34,13 @@ _MANY = 1_000_000
 #: Builtin functions: name -> (minimum, maximum) number of arguments. Angles in degrees, as CGA.
 #: CityEngine's builtins (func_*.html) and its utility library (celib: strings, string lists,
 #: files, colours); the interpreter reports at load time any it does not evaluate.
+UNSUPPORTED_FUNCTIONS: dict[str, str] = {
+    # CGA functions of the reference that shapegen does not evaluate: said as such, not as a
+    # name nobody defined
+    "isTagged": "(component tags, op_comp's selectors and tagging operations) is not supported"
+    " by shapegen",
+}
+
 BUILTIN_FUNCTIONS: dict[str, tuple[int, int]] = {
     # maths
     **{name: (1, 1) for name in ("sin", "cos", "tan", "asin", "acos", "atan", "sqrt", "abs")},
