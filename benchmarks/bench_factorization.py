@@ -85,12 +85,12 @@ def _superlu(m, rhs, repeat):
     return 0.0, factor_seconds, solve_seconds, x
 
 
-def _ours(module, m, rhs, repeat):
+def _ours(module, factor_class, m, rhs, repeat):
     if not module.available():
         raise ImportError(f"{module.__name__.rsplit('.', 1)[-1]}'s library is not installed")
     upper = sp.triu(m).tocsr()
     upper.sort_indices()
-    analyse, factor = _cpu(lambda: module.SymmetricFactor(upper.indptr, upper.indices))
+    analyse, factor = _cpu(lambda: factor_class(upper.indptr, upper.indices))
     factor_seconds, _ = _repeated(lambda: factor.factor(upper.data), repeat)
     solve_seconds, x = _repeated(lambda: factor.solve(rhs), repeat)
     return analyse, factor_seconds, solve_seconds, x
@@ -110,8 +110,8 @@ def _cholespy(m, rhs, repeat):
 
 
 OPTIONS = {
-    "cholmod": lambda m, rhs, repeat: _ours(cholmod, m, rhs, repeat),
-    "pardiso": lambda m, rhs, repeat: _ours(pardiso, m, rhs, repeat),
+    "cholmod": lambda m, rhs, repeat: _ours(cholmod, cholmod.CholmodFactor, m, rhs, repeat),
+    "pardiso": lambda m, rhs, repeat: _ours(pardiso, pardiso.PardisoFactor, m, rhs, repeat),
     "cholespy": _cholespy,
     "superlu": _superlu,
 }

@@ -33,7 +33,7 @@ _THREE = _PACKAGE / "editor" / "static" / "vendor" / "three"
 _TYPES = {".js": "text/javascript", ".json": "application/json", ".glb": "model/gltf-binary"}
 
 
-class _Handler(BaseHTTPRequestHandler):
+class _TileHandler(BaseHTTPRequestHandler):
     def __init__(self, *args, tiles: Path, **kwargs):
         self.tiles = tiles
         super().__init__(*args, **kwargs)
@@ -85,7 +85,7 @@ def make_server(outdir: str | Path, port: int = 8765, host: str = "127.0.0.1"):
         raise InputFormatError(
             f"{outdir}: no {TILES_FOLDER}/tileset.json (write it with shapegen city ... --tiles)"
         )
-    server = ThreadingHTTPServer((host, port), partial(_Handler, tiles=tiles))
+    server = ThreadingHTTPServer((host, port), partial(_TileHandler, tiles=tiles))
     server.daemon_threads = True
     server.url = f"http://{host}:{server.server_address[1]}/"
     return server

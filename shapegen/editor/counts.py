@@ -75,7 +75,7 @@ def _count_attrs(grammar) -> frozenset[str]:
 class _Counts:
     """Follows counts back from the places the rules count with to the names they come from."""
 
-    def __init__(self, tree: ast.Grammar):
+    def __init__(self, tree: ast.RuleFile):
         self.globals: dict[str, ast.Expression] = {}
         self.callables: dict[tuple[str, int], ast.Rule | ast.Function] = {}
         for definition in tree.definitions:

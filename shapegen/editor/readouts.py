@@ -135,7 +135,7 @@ class ReadoutsMixin:
                 "structure": outcome.structure.name,
                 "judges_blocks": outcome.structure.judges_blocks,
                 "blocks": len(outcome.model.blocks),
-                "dialect": getattr(self.grammar.ast, "dialect", "grammar"),
+                "dialect": self.grammar.dialect,
             },
             # what the load let through and the derivation warned about (a .cga file's)
             "warnings": [str(w) for w in (outcome.model.metadata or {}).get("warnings", [])],

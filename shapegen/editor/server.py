@@ -82,7 +82,7 @@ class EditorServer(ThreadingHTTPServer):
         self.quiet = quiet
         self._connections = 0  # served now, each on its own thread
         self._connections_lock = threading.Lock()
-        super().__init__((HOST, port), _Handler)
+        super().__init__((HOST, port), _ApiHandler)
 
     def process_request(self, request, client_address) -> None:
         with self._connections_lock:
@@ -209,7 +209,7 @@ def _static_root():
     return resources.files("shapegen.editor").joinpath("static")
 
 
-class _Handler(BaseHTTPRequestHandler):
+class _ApiHandler(BaseHTTPRequestHandler):
     server: EditorServer
     server_version = "shapegen-edit"
     protocol_version = "HTTP/1.1"

@@ -61,7 +61,7 @@ class ExpressionCompiler(BuiltinCalls):
         Names of attributes and constants, read from ``state.attrs`` at run time.
     """
 
-    def __init__(self, grammar: ast.Grammar, global_names: set[str]):
+    def __init__(self, grammar: ast.RuleFile, global_names: set[str]):
         self.grammar = grammar
         self.global_names = global_names
         # User functions by (name, number of parameters): CGA overloads a name by its arity.

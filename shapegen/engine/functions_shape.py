@@ -172,7 +172,7 @@ def shape_reader(obj: str, field: str, grammar) -> Reader | None:
         return _material_reader(field)
     if obj == "scope" and field in _SCOPE_PLACEMENT:
         k = _SCOPE_PLACEMENT.index(field)
-        cga = getattr(grammar, "dialect", "cga") == "cga"
+        cga = grammar.dialect == "cga"
         return _no_arguments(_pivot_scope(k) if cga else _world_scope(k))
     if key in ("initialShape.startRule", "initialShape.symbol"):
         start = grammar.start_rule

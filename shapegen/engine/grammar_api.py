@@ -49,7 +49,7 @@ class Grammar:
         The file it was read from, or None for a text.
     """
 
-    def __init__(self, tree: ast.Grammar, path: Path | None = None):
+    def __init__(self, tree: ast.RuleFile, path: Path | None = None):
         self.ast = tree
         self.path = path
         self.program = Program(tree)
@@ -59,6 +59,12 @@ class Grammar:
     def name(self) -> str:
         """The file name, or ``<string>``."""
         return self.ast.filename
+
+    @property
+    def dialect(self) -> str:
+        """``"cga"`` (lenient where CityEngine is) or ``"grammar"`` (strict): the rule
+        file's, decided once when it was read (:func:`shapegen.grammar.definitions.dialect_of`)."""
+        return self.ast.dialect
 
     @property
     def attrs(self) -> dict[str, object]:
@@ -282,7 +288,7 @@ def _is_bare_name(text: str) -> bool:
 
 def _parse(
     text: str, filename: str, origin: Path | None = None, warnings: tuple[str, ...] = ()
-) -> ast.Grammar:
+) -> ast.RuleFile:
     """Parse and check ``text`` with the grammar package's loader; imports are resolved from
     ``origin``'s folder (the working directory without one)."""
     from shapegen import grammar as language

@@ -93,7 +93,7 @@ class Program(AttributeValues, ShapeOperations):
         The parsed file (:func:`shapegen.grammar.parse`).
     """
 
-    def __init__(self, grammar: ast.Grammar):
+    def __init__(self, grammar: ast.RuleFile):
         self.grammar = grammar
         # CityEngine rule files (.cga) get CityEngine's semantics: its scope after extruding a
         # comp face (y along the extrusion; .grammar files keep shapegen's, the face's z grows),
@@ -206,6 +206,7 @@ class Program(AttributeValues, ShapeOperations):
         blocks, surfaces = self._blocks(leaves, run)
         metadata = {
             "grammar": self.grammar.filename,
+            "dialect": self.grammar.dialect,  # what the statics ask (statics.bodies)
             "seed": int(seed),
             **lot_metadata,
             "attrs": {name: values[name] for name in self.attr_nodes},

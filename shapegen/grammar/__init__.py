@@ -2,10 +2,10 @@
 
 Public entry points:
 
-- :func:`parse` ``(text, filename="<string>") -> ast.Grammar``: syntax only;
-- :func:`check` ``(grammar) -> ast.Grammar``: load-time semantic checks (undefined names, argument
+- :func:`parse` ``(text, filename="<string>") -> ast.RuleFile``: syntax only;
+- :func:`check` ``(grammar) -> ast.RuleFile``: load-time semantic checks (undefined names, argument
   counts, annotations...), raising one :class:`GrammarError` that lists every problem;
-- :func:`load` ``(text, filename="<string>", origin=None) -> ast.Grammar``: both, with the
+- :func:`load` ``(text, filename="<string>", origin=None) -> ast.RuleFile``: both, with the
   problems of the two stages reported together, and the files it imports merged in
   (:mod:`shapegen.grammar.imports`; paths relative to ``origin``'s folder, or to the working
   directory without one).
@@ -32,7 +32,7 @@ class FilesGrammarError(GrammarError):
     """A :class:`GrammarError` whose problems may lie in several files (an importing file and
     the files it imports): each problem's caret is drawn under its own file's line."""
 
-    def __init__(self, grammar: ast.Grammar, problems: list[tuple[SourceLocation | None, str]]):
+    def __init__(self, grammar: ast.RuleFile, problems: list[tuple[SourceLocation | None, str]]):
         self.grammar = grammar
         location, message = problems[0]
         file = location.file if location is not None else None
@@ -51,7 +51,7 @@ def load(
     filename: str = "<string>",
     origin: str | Path | None = None,
     warnings: tuple[str, ...] = (),
-) -> ast.Grammar:
+) -> ast.RuleFile:
     """Parse and check .grammar ``text``, with the files it imports merged in.
 
     Parameters
@@ -68,7 +68,7 @@ def load(
 
     Returns
     -------
-    ast.Grammar
+    ast.RuleFile
         The checked syntax tree.
 
     Raises

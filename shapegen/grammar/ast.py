@@ -1,6 +1,6 @@
 """Abstract syntax tree of the .grammar language: frozen dataclasses, one per construct.
 
-The parser (:mod:`shapegen.grammar.parser`) turns a .grammar text into a :class:`Grammar`; the
+The parser (:mod:`shapegen.grammar.parser`) turns a .grammar text into a :class:`RuleFile`; the
 interpreter walks these nodes and never sees a parse tree. Every node carries the place it came
 from in ``location`` (a :class:`~shapegen.errors.SourceLocation`, keyword-only, excluded from
 equality so that two trees with the same structure compare equal wherever they were written).
@@ -12,7 +12,7 @@ node machinery of :mod:`~shapegen.grammar.tree`; this module gathers them under 
 
 File and definitions
 --------------------
-:class:`Grammar`
+:class:`RuleFile`
     The whole file: ``version`` (the text of ``version "..."`` or None), ``definitions`` (every
     :class:`Attribute`, :class:`Constant`, :class:`Function` and :class:`Rule` in source order),
     ``filename`` and ``source`` (the text, for error carets). Properties ``attrs``, ``consts``,
@@ -115,11 +115,11 @@ from shapegen.grammar.definitions import (
     Constant,
     Definition,
     Function,
-    Grammar,
     Import,
     LocalVariable,
     Parameter,
     Rule,
+    RuleFile,
 )
 from shapegen.grammar.expressions import (
     Array,
@@ -205,7 +205,7 @@ __all__ = [
     "Expression",
     "Extrude",
     "Function",
-    "Grammar",
+    "RuleFile",
     "Insert",
     "Item",
     "Keyword",

@@ -61,9 +61,9 @@ def _arity(low: int, high: int) -> str:
 
 
 class _Checker(KeywordNameChecks, AnnotationChecks):
-    """Walks a Grammar once and collects problems."""
+    """Walks a RuleFile once and collects problems."""
 
-    def __init__(self, grammar: ast.Grammar):
+    def __init__(self, grammar: ast.RuleFile):
         self.grammar = grammar
         self.problems: list[Problem] = []
         self.values: dict[str, ast.Attribute | ast.Constant | ast.Function] = {}
@@ -404,7 +404,7 @@ def _order(problem: Problem) -> tuple[int, int]:
     return (location.line, location.column) if location is not None else (0, 0)
 
 
-def examine(grammar: ast.Grammar) -> tuple[list[Problem], list[Problem]]:
+def examine(grammar: ast.RuleFile) -> tuple[list[Problem], list[Problem]]:
     """The load-time problems and warnings of ``grammar``, each as ``(location, message)``
     pairs in file order. Warnings come only from ``.cga`` files: what CityEngine's compiler
     warns about and derives anyway (see :meth:`_Checker.warn`)."""
@@ -420,12 +420,12 @@ def examine(grammar: ast.Grammar) -> tuple[list[Problem], list[Problem]]:
     )
 
 
-def find_problems(grammar: ast.Grammar) -> list[Problem]:
+def find_problems(grammar: ast.RuleFile) -> list[Problem]:
     """Every load-time problem of ``grammar`` as ``(location, message)`` pairs, in file order."""
     return examine(grammar)[0]
 
 
-def check(grammar: ast.Grammar) -> ast.Grammar:
+def check(grammar: ast.RuleFile) -> ast.RuleFile:
     """Check ``grammar``; return it unchanged, or raise one GrammarError listing every problem.
 
     Raises

@@ -13,6 +13,7 @@ from collections.abc import Iterable
 
 from shapegen.grammar import ast
 from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
+from shapegen.grammar.definitions import dialect_of
 from shapegen.grammar.names import ANNOTATIONS, ANY_KEYWORD
 from shapegen.limits import LOT_EXTENT_LIMIT_M
 
@@ -75,7 +76,9 @@ class AnnotationChecks:
         seen: set[str] = set()
         for annotation in definition.annotations:
             name = annotation.name
-            if name not in ANNOTATIONS and (self.cga or annotation.location.file.endswith(".cga")):
+            if name not in ANNOTATIONS and (
+                self.cga or dialect_of(annotation.location.file or "") == "cga"
+            ):
                 continue  # CityEngine takes any annotation (it only warns)
             if name not in ANNOTATIONS:
                 self.report(

@@ -19,10 +19,11 @@ __all__ = [
     "Constant",
     "Definition",
     "Function",
-    "Grammar",
     "Import",
     "Parameter",
     "Rule",
+    "RuleFile",
+    "dialect_of",
 ]
 
 
@@ -174,8 +175,21 @@ class Import:
     location: SourceLocation = location_field()
 
 
+def dialect_of(filename: str) -> str:
+    """The dialect of a rule file by its name, the one place it is decided: ``"cga"`` for a
+    CityEngine rule file (``.cga``, any case: lenient where CityEngine is), ``"grammar"`` for
+    shapegen's own ``.grammar`` files and texts (strict). The parser asks it before the
+    :class:`RuleFile` exists; everything after asks ``RuleFile.dialect`` (the public
+    ``Grammar.dialect``, a model's ``metadata["dialect"]``).
+
+    >>> dialect_of("building.CGA"), dialect_of("vault.grammar"), dialect_of("<string>")
+    ('cga', 'grammar', 'grammar')
+    """
+    return "cga" if filename.lower().endswith(".cga") else "grammar"
+
+
 @node
-class Grammar:
+class RuleFile:
     """A whole .grammar file.
 
     Attributes
@@ -216,9 +230,8 @@ class Grammar:
 
     @property
     def dialect(self) -> str:
-        """``"cga"`` for a CityEngine rule file (``.cga``, any case: lenient where CityEngine
-        is), ``"grammar"`` for shapegen's own ``.grammar`` files and texts (strict)."""
-        return "cga" if self.filename.lower().endswith(".cga") else "grammar"
+        """``"cga"`` or ``"grammar"``: :func:`dialect_of` the file's name."""
+        return dialect_of(self.filename)
 
     def source_of(self, file: str | None) -> str:
         """The text of ``file`` (this file's or an imported one's), for an error's caret."""

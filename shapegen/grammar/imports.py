@@ -1,4 +1,4 @@
-"""CityEngine's ``import``: the rule files a file imports, merged into one :class:`ast.Grammar`.
+"""CityEngine's ``import``: the rule files a file imports, merged into one :class:`ast.RuleFile`.
 
 Semantics (CityEngine's import.html, extension.html and the changelog's notes on imports):
 
@@ -55,7 +55,7 @@ _OWN_VALUE = "$default"
 class _Merged:
     """A file with its imports merged: the grammar and the names of its own attrs."""
 
-    grammar: ast.Grammar
+    grammar: ast.RuleFile
     own_attrs: frozenset[str]
 
 
@@ -69,7 +69,7 @@ class _Merger:
         self.failed: set[str] = set()  # prefixes whose file could not be merged
         self.warnings: list[str] = []  # an imported file read in another encoding than UTF-8
 
-    def merge(self, grammar: ast.Grammar, folder: Path, stack: tuple[Path, ...]) -> _Merged:
+    def merge(self, grammar: ast.RuleFile, folder: Path, stack: tuple[Path, ...]) -> _Merged:
         own = list(grammar.definitions)
         own_attrs = frozenset(d.name for d in own if isinstance(d, ast.Attribute))
         importer_attrs = {d.name: d for d in own if isinstance(d, ast.Attribute)}
@@ -281,7 +281,7 @@ class _Merger:
 class _Renamer:
     """Renames the definitions of one imported file and every reference to them."""
 
-    def __init__(self, grammar: ast.Grammar, rename):
+    def __init__(self, grammar: ast.RuleFile, rename):
         self.rename = rename
         self.values = frozenset(d.name for d in grammar.definitions if not isinstance(d, ast.Rule))
         self.functions = frozenset(d.name for d in grammar.functions)
@@ -360,8 +360,8 @@ def _redirected(definition: ast.Definition, mapping: dict[str, str] | None) -> a
 
 
 def resolve_imports(
-    grammar: ast.Grammar, origin: str | Path | None = None
-) -> tuple[ast.Grammar, list[Problem], set[str]]:
+    grammar: ast.RuleFile, origin: str | Path | None = None
+) -> tuple[ast.RuleFile, list[Problem], set[str]]:
     """Merge the files ``grammar`` imports (and theirs) into it.
 
     Parameters
@@ -374,7 +374,7 @@ def resolve_imports(
 
     Returns
     -------
-    (ast.Grammar, list, set)
+    (ast.RuleFile, list, set)
         The merged grammar (``sources`` holds the imported files' texts), the problems found
         (missing files, cycles, unknown protected or overridden names, and the problems the
         imported files' parse let through) and the prefixes whose file could not be merged
@@ -398,7 +398,7 @@ def resolve_imports(
     return merged_grammar, merger.problems, merger.failed
 
 
-def used_definitions(grammar: ast.Grammar) -> ast.Grammar:
+def used_definitions(grammar: ast.RuleFile) -> ast.RuleFile:
     """``grammar`` without the imported rules, functions and consts that nothing uses.
 
     The importing file's own definitions and every attr (the Inspector's, which a caller may

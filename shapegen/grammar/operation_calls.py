@@ -25,7 +25,7 @@ from shapegen.grammar.names import (
 _UV_DIRECTIONS = {"u": "x", "v": "y"}
 _UV_SPACES = ("unitSpace", "uvSpace")
 
-__all__ = ["Argument", "Block", "BlockEntry", "OperationBuilders", "prefix_in_words"]
+__all__ = ["Argument", "EntryGroup", "BlockEntry", "OperationBuilders", "prefix_in_words"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -52,10 +52,10 @@ class BlockEntry:
 
 
 @dataclasses.dataclass(frozen=True)
-class Block:
+class EntryGroup:
     """``{ entry | ... }``; ``repeat`` for a trailing ``*``."""
 
-    entries: tuple[BlockEntry | Block, ...]
+    entries: tuple[BlockEntry | EntryGroup, ...]
     repeat: bool
     location: SourceLocation
 
@@ -100,7 +100,7 @@ class OperationBuilders:
             argument.value, relative=argument.kind == "relative", location=argument.location
         )
 
-    def _dedicated(self, name: str, arguments: list[Argument], block: Block | None) -> bool:
+    def _dedicated(self, name: str, arguments: list[Argument], block: EntryGroup | None) -> bool:
         """True when the call fits the operation's node of its own (``extrude(h)``, ``comp(f)``
         with named or numbered selectors...); other forms become a generic Operation."""
         if name not in OPERATIONS:
@@ -135,13 +135,13 @@ class OperationBuilders:
         low, high = OPERATIONS[name]
         return low <= len(positional) <= high
 
-    def _generic(self, name: str, arguments: list[Argument], block: Block | None, location):
+    def _generic(self, name: str, arguments: list[Argument], block: EntryGroup | None, location):
         """A generic :class:`~shapegen.grammar.ast.Operation` node for the call."""
         branches = []
         if name == "comp" and block is not None and block.repeat:
             self._problem(block.location, "a comp block cannot be repeated with '*'")
         for entry in block.entries if block is not None else ():
-            if isinstance(entry, Block):
+            if isinstance(entry, EntryGroup):
                 self._problem(entry.location, f"{name} branches cannot be grouped with {{ }}")
                 continue
             if name == "comp" and entry.mode != "absolute":
@@ -204,10 +204,10 @@ class OperationBuilders:
             direction, self._split_group(block), adjust=True, texture=space, location=location
         )
 
-    def _split_group(self, block: Block) -> ast.SplitGroup:
+    def _split_group(self, block: EntryGroup) -> ast.SplitGroup:
         parts = []
         for entry in block.entries:
-            if isinstance(entry, Block):
+            if isinstance(entry, EntryGroup):
                 parts.append(self._split_group(entry))
                 continue
             if entry.merge:
@@ -227,7 +227,7 @@ class OperationBuilders:
             self._problem(block.location, "a comp block cannot be repeated with '*'")
         branches = []
         for entry in block.entries:
-            if isinstance(entry, Block):
+            if isinstance(entry, EntryGroup):
                 self._problem(entry.location, "comp branches cannot be grouped with { }")
                 continue
             key = entry.key

@@ -38,7 +38,9 @@ _TOO_DEEP = (
 )
 
 
-def parse_with_problems(text: str, filename: str = "<string>") -> tuple[ast.Grammar, list[Problem]]:
+def parse_with_problems(
+    text: str, filename: str = "<string>"
+) -> tuple[ast.RuleFile, list[Problem]]:
     """Parse ``text``; return the AST and the problems found while building it.
 
     Syntax errors raise :class:`GrammarError` (all of them, up to a limit); problems that only
@@ -153,8 +155,8 @@ def source_too_long(size: int, unit: str) -> str:
     )
 
 
-def parse(text: str, filename: str = "<string>") -> ast.Grammar:
-    """Parse .grammar ``text`` into an :class:`~shapegen.grammar.ast.Grammar`.
+def parse(text: str, filename: str = "<string>") -> ast.RuleFile:
+    """Parse .grammar ``text`` into an :class:`~shapegen.grammar.ast.RuleFile`.
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """AST -> CGA text: the inverse of :func:`shapegen.grammar.parse`, up to source locations.
 
-:func:`print_grammar` writes a :class:`~shapegen.grammar.ast.Grammar` back as rule-file text
+:func:`print_grammar` writes a :class:`~shapegen.grammar.ast.RuleFile` back as rule-file text
 that parses to an equal tree (nodes compare without their ``location``): one definition a line,
 its annotations on the lines before it, operators with the fewest parentheses that keep their
 grouping. Comments and the original layout are not kept. :func:`print_expression` and
@@ -381,7 +381,7 @@ def _import(item: ast.Import) -> str:
     return "\n".join(lines)
 
 
-def print_grammar(grammar: ast.Grammar) -> str:
+def print_grammar(grammar: ast.RuleFile) -> str:
     """The whole file as CGA text: version, imports, definitions, then the style names."""
     parts = []
     if grammar.version is not None:

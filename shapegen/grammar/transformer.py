@@ -15,6 +15,7 @@ from lark import Token, Transformer, v_args
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.definitions import dialect_of
 from shapegen.grammar.expression_builders import ExpressionBuilders, unescape
 from shapegen.grammar.import_syntax import ImportBuilders
 from shapegen.grammar.names import (
@@ -24,8 +25,8 @@ from shapegen.grammar.names import (
 )
 from shapegen.grammar.operation_calls import (
     Argument,
-    Block,
     BlockEntry,
+    EntryGroup,
     OperationBuilders,
     prefix_in_words,
 )
@@ -121,9 +122,9 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         definitions += generic_start_rules(definitions, self.start_keyword_rules)
         rules = {(d.name, len(d.params)) for d in definitions if isinstance(d, ast.Rule)}
         for location, message, name, count in self.operation_named_calls:
-            if (name, count) not in rules or not self.filename.lower().endswith(".cga"):
+            if (name, count) not in rules or dialect_of(self.filename) != "cga":
                 self._problem(location, message)
-        return ast.Grammar(
+        return ast.RuleFile(
             definitions=tuple(definitions),
             version=version,
             filename=self.filename,
@@ -184,7 +185,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
     def _parameterised(self, keyword: str, meta, children):
         """``const f(x) = ...`` (with.html's const functions) and ``attr f(x) = ...`` (CGA before
         2016): a function in a .cga file; the .grammar language keeps them apart."""
-        if not self.filename.lower().endswith(".cga"):
+        if dialect_of(self.filename) != "cga":
             self._problem(
                 self._at(children[0]),
                 f"{keyword} '{children[0]}' takes no parameters (write a function: "
@@ -367,11 +368,11 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         return _REPEAT
 
     def block(self, meta, children):
-        return Block(tuple(children), False, self._at(meta))
+        return EntryGroup(tuple(children), False, self._at(meta))
 
     def bare_block(self, meta, children):
         body = children[-1]
-        return Block(
+        return EntryGroup(
             (BlockEntry("absolute", None, body, False, self._at(meta)),), False, self._at(meta)
         )
 
@@ -409,7 +410,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         name = str(name_token)
         location = self._at(name_token)
         arguments = [c for c in children[1:] if isinstance(c, Argument)]
-        blocks = [c for c in children[1:] if isinstance(c, Block)]
+        blocks = [c for c in children[1:] if isinstance(c, EntryGroup)]
         block = blocks[0] if blocks else None
         if block is not None and any(c is _REPEAT for c in children[1:]):
             block = dataclasses.replace(block, repeat=True)

@@ -106,7 +106,10 @@ class Choice:
 
 
 @dataclass(frozen=True)
-class Parameter:
+class PrimitiveParameter:
+    """One keyword parameter of a primitive: its name, its kind (float, int, bool, str or a
+    :class:`Choice`) and its default."""
+
     name: str
     kind: object  # float, int, bool, str or a Choice
     default: object
@@ -118,7 +121,7 @@ class Primitive:
 
     name: str
     function: Callable[..., list[Block]]
-    parameters: dict[str, Parameter]
+    parameters: dict[str, PrimitiveParameter]
     doc: str
     scope_relative: bool = False
     templates: TemplateCache = field(default_factory=TemplateCache, compare=False, repr=False)
@@ -210,7 +213,7 @@ def primitive(
                 kind = eval(kind, function.__globals__, {"Choice": Choice})  # noqa: S307
             if kind is inspect.Parameter.empty:
                 kind = type(param.default)
-            parameters[param.name] = Parameter(param.name, kind, param.default)
+            parameters[param.name] = PrimitiveParameter(param.name, kind, param.default)
         doc = inspect.getdoc(function) or ""
         REGISTRY[name] = Primitive(name, function, parameters, doc, scope_relative)
         return function
@@ -223,7 +226,7 @@ def _origin(function: Callable) -> str:
     return f"{getattr(function, '__module__', '?')}.{getattr(function, '__qualname__', '?')}"
 
 
-def _convert(owner: str, parameter: Parameter, value: object) -> object:
+def _convert(owner: str, parameter: PrimitiveParameter, value: object) -> object:
     def problem(text: str) -> GeometryError:
         return _parameter_error(owner, parameter.name, text)
 

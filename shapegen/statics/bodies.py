@@ -425,9 +425,9 @@ def contacts_and_bodies(model, options, tol, *, interfaces=None, bodies=None,
 
 
 def from_cityengine(model) -> bool:
-    """True for a model derived from a CityEngine rule (``.cga``, or a rule package): its
-    ornaments are often fixed to surfaces the statics leave out (a triglyph's open mesh), so
-    a body that touches no support rides as load on the body below rather than being an
-    error, as it is in a ``.grammar`` design."""
-    grammar = str((model.metadata or {}).get("grammar") or "")
-    return grammar.lower().endswith(".cga")
+    """True for a model derived from a CityEngine rule (``.cga``, or a rule package): the
+    derivation records its grammar's dialect in ``metadata["dialect"]``. Its ornaments are
+    often fixed to surfaces the statics leave out (a triglyph's open mesh), so a body that
+    touches no support rides as load on the body below rather than being an error, as it is
+    in a ``.grammar`` design."""
+    return (model.metadata or {}).get("dialect") == "cga"

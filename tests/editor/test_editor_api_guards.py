@@ -200,7 +200,7 @@ def _idle_connections(server, count: int) -> list:
 def test_an_idle_connection_is_closed(stack_file, monkeypatch):
     from shapegen.editor import server as editor_server
 
-    monkeypatch.setattr(editor_server._Handler, "timeout", 0.3)
+    monkeypatch.setattr(editor_server._ApiHandler, "timeout", 0.3)
     with serving(stack_file) as server:
         (idle,) = _idle_connections(server, 1)
         idle.sendall(b"GET /api/state HTTP/1.1\r\n")  # half a request, then nothing

@@ -121,7 +121,7 @@ def _load_or_grammar_error(text: str) -> None:
         assert error.problems
         assert str(error)
         return
-    assert isinstance(grammar, ast.Grammar)
+    assert isinstance(grammar, ast.RuleFile)
 
 
 @st.composite

@@ -11,7 +11,7 @@ from shapegen.grammar import ast, load, parse
 from shapegen.grammar.printer import print_grammar
 
 
-def _definition(grammar: ast.Grammar, name: str):
+def _definition(grammar: ast.RuleFile, name: str):
     return next(d for d in grammar.definitions if d.name == name)
 
 

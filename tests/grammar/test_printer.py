@@ -27,7 +27,7 @@ WILD_CORPUS = Path(os.environ.get("SHAPEGEN_CGA_WILD", "/work/cga-wild"))
 QUICK_SIZE = 3000  # characters: files up to this size round-trip in the quick lane
 
 
-def round_trip(text: str, filename: str = "<string>.cga") -> tuple[ast.Grammar, ast.Grammar]:
+def round_trip(text: str, filename: str = "<string>.cga") -> tuple[ast.RuleFile, ast.RuleFile]:
     """The tree of ``text`` and the tree of its printed form."""
     first = parse(text, filename)
     printed = print_grammar(first)
@@ -43,7 +43,7 @@ def assert_round_trip(text: str, filename: str = "<string>.cga") -> None:
     assert second == first, _first_difference(first, second)
 
 
-def _first_difference(first: ast.Grammar, second: ast.Grammar) -> str:
+def _first_difference(first: ast.RuleFile, second: ast.RuleFile) -> str:
     for a, b in zip(first.definitions, second.definitions, strict=False):
         if a != b:
             return f"\nread:    {a}\nprinted: {b}\nas text: {print_grammar(second)[:2000]}"

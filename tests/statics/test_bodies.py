@@ -160,8 +160,25 @@ def test_blocks_each_their_own_body_are_judged_as_blocks():
 
 def test_a_cityengine_model_whose_only_block_floats_has_nothing_to_judge():
     # envelope2002: one block touching no support, the rest faces; it rides, no body is left
-    floating = Model([Block.box((0, 1, 0), (1, 2, 1))], metadata={"grammar": "envelope.cga"})
+    floating = Model([Block.box((0, 1, 0), (1, 2, 1))], metadata={"dialect": "cga"})
     analysis = analyze(floating)
     assert analysis.feasible and analysis.bodies.count == 0
     assert analysis.to_report()["free_bodies"] == 0
     assert lateral_capacity(floating, azimuths=[0]).worst.status == "unbounded"
+
+
+@pytest.mark.parametrize(
+    ("name", "dialect"), [("floating.CGA", "cga"), ("floating.grammar", "grammar")]
+)
+def test_the_statics_read_the_dialect_the_derivation_records(name, dialect):
+    # one block lifted off its lot: it rides in a CityEngine model, is an error in a .grammar one
+    from shapegen import parse_grammar
+
+    grammar = parse_grammar("@StartRule @Lot(1, 1)\nLot --> t(0, 1, 0) extrude(1) Stone", name)
+    model = grammar.build()
+    assert grammar.dialect == dialect and model.metadata["dialect"] == dialect
+    if dialect == "cga":
+        assert analyze(model).bodies.count == 0
+    else:
+        with pytest.raises(StaticsError, match="touches no support"):
+            analyze(model)

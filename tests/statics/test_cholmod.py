@@ -53,7 +53,7 @@ def test_the_factor_solves_like_a_dense_solve_on_the_normal_equations_pattern(se
     _, problem = small_wall_problem(5 + seed)
     pattern = build_pattern(problem)
     values, dense = random_values_on(pattern, seed)
-    factor = cholmod.SymmetricFactor(pattern.indptr, pattern.indices)
+    factor = cholmod.CholmodFactor(pattern.indptr, pattern.indices)
     factor.factor(values)
     rng = np.random.default_rng(10 + seed)
     one = rng.standard_normal(pattern.size)
@@ -83,7 +83,7 @@ def test_the_assembled_normal_equations_are_solved_by_cholmod():
 def test_one_analysis_serves_several_numeric_factorisations():
     _, problem = small_wall_problem(6)
     pattern = build_pattern(problem)
-    factor = cholmod.SymmetricFactor(pattern.indptr, pattern.indices)
+    factor = cholmod.CholmodFactor(pattern.indptr, pattern.indices)
     analysis = factor._symbolic
     for seed in (3, 4):
         values, dense = random_values_on(pattern, seed)
@@ -105,7 +105,7 @@ def test_a_large_pattern_frees_its_factor_and_analyses_again(monkeypatch):
     monkeypatch.setattr(cholmod, "_KEEP_ENTRIES", 0)
     _, problem = small_wall_problem(4)
     pattern = build_pattern(problem)
-    factor = cholmod.SymmetricFactor(pattern.indptr, pattern.indices)
+    factor = cholmod.CholmodFactor(pattern.indptr, pattern.indices)
     values, dense = random_values_on(pattern, 7)
     factor.factor(values)
     factor.release_factor()
@@ -120,7 +120,7 @@ def test_a_large_pattern_frees_its_factor_and_analyses_again(monkeypatch):
 def test_a_matrix_that_is_not_positive_definite_is_refused_and_the_factor_recovers():
     rng, n = np.random.default_rng(2), 40
     matrix, upper = random_spd_matrix(n, rng)
-    factor = cholmod.SymmetricFactor(upper.indptr, upper.indices)
+    factor = cholmod.CholmodFactor(upper.indptr, upper.indices)
     indefinite = upper.data.copy()
     indefinite[upper.indptr[n // 2]] = -1.0  # a negative diagonal entry
     with pytest.raises(cholmod.CholmodError, match="not positive definite"):
@@ -156,7 +156,7 @@ def test_refused_factorisations_give_superlus_verdict(monkeypatch, tilt, frictio
     def refuse(self, data):
         raise cholmod.CholmodError("CHOLMOD: the matrix is not positive definite (column 0)")
 
-    monkeypatch.setattr(cholmod.SymmetricFactor, "factor", refuse)
+    monkeypatch.setattr(cholmod.CholmodFactor, "factor", refuse)
     count = counting_factorisations(monkeypatch)
     refused = analyze(model, interfaces=interfaces, solver="reduced")
     assert count[0] > 0  # every factorisation was asked of CHOLMOD, and refused
@@ -173,13 +173,13 @@ def test_refused_factorisations_give_superlus_verdict(monkeypatch, tilt, frictio
 def counting_factorisations(monkeypatch) -> list[int]:
     """Count CHOLMOD's numeric factorisations from here on (the count in a one-item list)."""
     count = [0]
-    factor = cholmod.SymmetricFactor.factor
+    factor = cholmod.CholmodFactor.factor
 
     def counted(self, data):
         count[0] += 1
         return factor(self, data)
 
-    monkeypatch.setattr(cholmod.SymmetricFactor, "factor", counted)
+    monkeypatch.setattr(cholmod.CholmodFactor, "factor", counted)
     return count
 
 

@@ -78,7 +78,7 @@ def test_normal_equations_solve_the_explicit_system(factorization):
 def test_pardiso_refactors_after_a_release_and_closes_once():
     rng, n = np.random.default_rng(2), 50
     matrix, upper = random_spd_matrix(n, rng)
-    factor = pardiso.SymmetricFactor(upper.indptr, upper.indices)
+    factor = pardiso.PardisoFactor(upper.indptr, upper.indices)
     rhs = rng.standard_normal(n)
     for scale in (1.0, 3.0):
         factor.factor(scale * upper.data)

@@ -30,7 +30,7 @@ at once (its CHOLMOD settings are one shared object, so that is also what keeps 
 
 from __future__ import annotations
 
-__all__ = ["CholmodError", "SymmetricFactor", "available", "blas_kernels"]
+__all__ = ["CholmodError", "CholmodFactor", "available", "blas_kernels"]
 
 import ctypes
 import functools
@@ -40,6 +40,8 @@ import platform
 import sys
 
 import numpy as np
+
+from shapegen.statics.solvers.symmetric_factor import SymmetricFactor
 
 _OPTIONS = {"supernodal": 2, "nmethods": 1, "postorder": True, "print": 0}
 # Above this many stored entries (upper triangle) a released factor is freed whole and the next
@@ -146,15 +148,8 @@ class _Settings:
         self._options.update(self._saved)
 
 
-class SymmetricFactor:
-    """One symmetric matrix pattern, analysed once, factored for any values on that pattern.
-
-    Parameters
-    ----------
-    indptr, indices
-        CSR pattern of the *upper* triangle (diagonal included) of an ``n x n`` symmetric
-        matrix, zero-based, column indices sorted within each row. The rows are taken in the
-        given order (the caller has already applied a fill-reducing ordering).
+class CholmodFactor(SymmetricFactor):
+    """A :class:`~shapegen.statics.solvers.symmetric_factor.SymmetricFactor` by CHOLMOD.
 
     The CSR arrays of the upper triangle are, read by columns, the CSC arrays of the lower
     triangle, which is what CHOLMOD is given (``uplo="L"``): the values need no reordering.

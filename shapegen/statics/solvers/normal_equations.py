@@ -42,11 +42,16 @@ import scipy.sparse.linalg as spla
 
 from shapegen.errors import OptionError
 from shapegen.statics.solvers import cholmod, pardiso
+from shapegen.statics.solvers.symmetric_factor import SymmetricFactor
 
 FACTORIZATIONS = ("auto", "cholmod", "pardiso", "superlu")
 # the Cholesky factorisations kept with a pattern, and the error each raises for a matrix it
 # refuses (then SuperLU factors that matrix)
-_CHOLESKY = {"cholmod": cholmod, "pardiso": pardiso}
+_LIBRARIES = {"cholmod": cholmod, "pardiso": pardiso}
+_CHOLESKY: dict[str, type[SymmetricFactor]] = {
+    "cholmod": cholmod.CholmodFactor,
+    "pardiso": pardiso.PardisoFactor,
+}
 _REFUSED = (cholmod.CholmodError, pardiso.PardisoError)
 # "auto" takes the first installed: MKL PARDISO factors 1.7-2x faster than CHOLMOD here, but
 # its 691 MB come only with the optional shapegen[pardiso]; cvxopt's CHOLMOD comes with shapegen
@@ -83,7 +88,7 @@ class _Analysis:
     def borrow(self, method: str, indptr: np.ndarray, indices: np.ndarray):
         """The shared factor object of ``method``, or a private one while another solve holds
         it."""
-        make = _CHOLESKY[method].SymmetricFactor
+        make = _CHOLESKY[method]
         lock = self.locks[method]
         if not lock.acquire(blocking=False):
             return make(indptr, indices)
@@ -292,7 +297,7 @@ class NormalEquations:
         self.pattern = pattern
         method = factorization
         if method == "auto":  # the fastest installed: PARDISO only when asked for at install
-            method = next((name for name in _AUTO_ORDER if _CHOLESKY[name].available()), "superlu")
+            method = next((name for name in _AUTO_ORDER if _LIBRARIES[name].available()), "superlu")
         self._cholesky = None
         if method in _CHOLESKY and pattern.size:
             self._cholesky = pattern.analysis.borrow(method, pattern.indptr, pattern.indices)

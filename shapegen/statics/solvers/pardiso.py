@@ -16,7 +16,7 @@ processes can share a machine without spinning threads.
 
 from __future__ import annotations
 
-__all__ = ["PardisoError", "SymmetricFactor", "available"]
+__all__ = ["PardisoError", "PardisoFactor", "available"]
 
 import ctypes
 import ctypes.util
@@ -26,6 +26,8 @@ import os
 import sys
 
 import numpy as np
+
+from shapegen.statics.solvers.symmetric_factor import SymmetricFactor
 
 # real symmetric positive definite (Cholesky): its solves took 0.6 times the time of the
 # indefinite type's (-2) at 1 000 and 10 000 blocks, for the same factorisation time; a matrix
@@ -106,16 +108,8 @@ def available() -> bool:
     return _library() is not None
 
 
-class SymmetricFactor:
-    """One symmetric matrix pattern, analysed once, factored for any values on that pattern.
-
-    Parameters
-    ----------
-    indptr, indices
-        CSR pattern of the *upper* triangle (diagonal included) of an ``n x n`` symmetric
-        matrix, zero-based, column indices sorted within each row. The rows are taken in the
-        given order (the caller has already applied a fill-reducing ordering).
-    """
+class PardisoFactor(SymmetricFactor):
+    """A :class:`~shapegen.statics.solvers.symmetric_factor.SymmetricFactor` by PARDISO."""
 
     def __init__(self, indptr: np.ndarray, indices: np.ndarray):
         lib = _library()
