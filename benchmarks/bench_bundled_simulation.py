@@ -24,7 +24,7 @@ import argparse
 import time
 
 from shapegen.engine.grammar_api import load_grammar
-from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
 from shapegen.search import optimize
 from shapegen.simulation import SIMULATION_MARGIN, simulate
 

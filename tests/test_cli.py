@@ -340,7 +340,7 @@ def test_build_missing_grammar(tmp_path, capsys):
 
 
 def test_rules_lists_bundled_files(capsys):
-    from shapegen.engine.rules_path import bundled_rules
+    from shapegen.engine.project.rules_path import bundled_rules
 
     assert main(["rules"]) == 0
     out = capsys.readouterr().out
@@ -350,7 +350,7 @@ def test_rules_lists_bundled_files(capsys):
 
 def test_rules_lists_each_file_with_its_whole_first_sentence():
     from shapegen.cli.rules import description
-    from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+    from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
 
     for name in bundled_rules():
         text = description(find_bundled_rule(name))

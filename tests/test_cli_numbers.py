@@ -170,8 +170,8 @@ def test_work_that_grows_with_the_model_stops_at_its_limit(tmp_path, capsys, tex
 
 def test_a_face_welded_into_one_point_is_a_geometry_error():
     # seed 2 of the fuzz: innerRectangle of a face 1e-320 m wide made a mesh face of 1 corner
-    from shapegen.engine.cga_ops.polygons import flat_shape
-    from shapegen.engine.shape import FACE, Shape, lot_scope
+    from shapegen.engine.operations.cga.polygons import flat_shape
+    from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
     from shapegen.errors import GeometryError
 
     parent = Shape(lot_scope(1.0, 1.0), FACE, 1)
@@ -181,7 +181,7 @@ def test_a_face_welded_into_one_point_is_a_geometry_error():
 
 def test_a_block_too_large_to_check_names_the_limit():
     # seed 2 of the fuzz: a 4096-sided prism's face-vertex pairs filled 4.8 GB of packed arrays
-    from shapegen.engine.cga_ops.assets import primitive_mesh
+    from shapegen.engine.operations.cga.assets import primitive_mesh
     from shapegen.errors import GeometryError
     from shapegen.limits import work_limits
     from shapegen.model.block import Block

@@ -7,12 +7,12 @@ reference, and the deprecated names real rule files still use. Each entry's stat
 shapegen itself, never from this file:
 
 - an operation is *supported* when the interpreter compiles it (a node of its own in
-  :mod:`shapegen.engine.operations`, or a compiler registered in
-  :mod:`shapegen.engine.cga_ops`), *partial* when its compiler was registered with what it does
-  not honour (``@compiles(name, partial=...)``, or ``DEDICATED_NOTES`` for the interpreter's own
-  nodes), and *not supported* otherwise; the text a rule file gets when it loads is shown;
-- a function, a shape attribute or an annotation is probed: a rule file using it is loaded (an
-  expression in an ``attr``, compiled when the file loads) and is supported when it loads,
+  :mod:`shapegen.engine.operations.compiler`, or a compiler registered in
+  :mod:`shapegen.engine.operations.cga`), *partial* when its compiler was registered with what
+  it does not honour (``@compiles(name, partial=...)``, or ``DEDICATED_NOTES`` for the
+  interpreter's own nodes), and *not supported* otherwise; the text a rule file gets when it loads
+is shown; - a function, a shape attribute or an annotation is probed: a rule file using it is loaded
+  (an expression in an ``attr``, compiled when the file loads) and is supported when it loads,
   partial when the code keeps a note of what differs (``PARTIAL_FUNCTIONS``,
   ``PARTIAL_ATTRIBUTES``, ``PARTIAL_GEOMETRY``), not supported when loading refuses it;
 - a keyword is probed with a small rule file whose result is known.
@@ -117,7 +117,7 @@ def _operation_refusal(name: str, low: int) -> str:
 
 
 def operation_status(name: str) -> tuple[str, str]:
-    from shapegen.engine import cga_ops
+    from shapegen.engine.operations import cga as cga_ops
     from shapegen.grammar.names import CGA_OPERATIONS, OPERATIONS
 
     dedicated = set(OPERATIONS) | {"NIL", "push", "pop"}
@@ -165,7 +165,10 @@ def _call(name: str) -> str:
 
 
 def _function_notes() -> dict[str, str]:
-    from shapegen.engine import functions, functions_calls, functions_files, functions_shape
+    from shapegen.engine.expressions import calls as functions_calls
+    from shapegen.engine.expressions import file_reading as functions_files
+    from shapegen.engine.expressions import pure_functions as functions
+    from shapegen.engine.expressions import shape_attributes as functions_shape
     from shapegen.geometry import queries
 
     return {
@@ -189,7 +192,7 @@ def function_status(name: str) -> tuple[str, str]:
 
 
 def attribute_status(name: str) -> tuple[str, str]:
-    from shapegen.engine.functions_shape import PARTIAL_ATTRIBUTES
+    from shapegen.engine.expressions.shape_attributes import PARTIAL_ATTRIBUTES
     from shapegen.model.appearance import MATERIAL_ATTRIBUTES
 
     if "{map}" in name:  # one row for the field of every texture map

@@ -97,7 +97,7 @@ def _apply_rules_path(folders: list[str] | None) -> None:
         return
     import os
 
-    from shapegen.engine.rule_packages import RULES_PATH_VARIABLE, import_search_folders
+    from shapegen.engine.project.rule_packages import RULES_PATH_VARIABLE, import_search_folders
 
     import_search_folders(folders)  # a missing folder is one line now, not at the first import
     current = os.environ.get(RULES_PATH_VARIABLE, "")

@@ -66,7 +66,7 @@ def add_command(commands) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from shapegen.engine.rules_path import find_bundled_rule
+    from shapegen.engine.project.rules_path import find_bundled_rule
     from shapegen.export.model_io import read_model
     from shapegen.pipeline import encode_outputs
     from shapegen.structures import Design, make_structure

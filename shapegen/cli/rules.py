@@ -24,7 +24,7 @@ def run(args: argparse.Namespace) -> int:
     from rich.table import Table
     from rich.text import Text
 
-    from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+    from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
 
     table = Table(box=None, show_header=True, header_style="bold", pad_edge=False)
     table.add_column("rule file", no_wrap=True)

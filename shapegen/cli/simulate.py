@@ -160,7 +160,7 @@ def _check_simulate_outputs(args: argparse.Namespace) -> None:
 
 def _simulation_model(args: argparse.Namespace):
     """The model to simulate and the build part of the report (empty for a block model)."""
-    from shapegen.engine.rules_path import find_bundled_rule
+    from shapegen.engine.project.rules_path import find_bundled_rule
 
     name = str(args.model)
     is_grammar = name.endswith((".grammar", ".cga", ".rpk")) or (

@@ -276,7 +276,7 @@ def asset_choices(
     """The files (or, with ``directories``, the folders) a ``@File`` (``@Directory``) attr of
     ``rule_file`` may name, as the rules name them: relative to the rule's folder for those
     next to it, to the project's ``assets`` folder for those there (the asset search looks in
-    both: :mod:`shapegen.engine.asset_files`). ``extensions`` (without dots, any case) keep
+    both: :mod:`shapegen.engine.project.asset_files`). ``extensions`` (without dots, any case) keep
     only files of those types. Sorted; at most :data:`MAX_ASSET_CHOICES`.
     """
     if rule_file is None:

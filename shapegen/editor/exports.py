@@ -14,7 +14,7 @@ import shlex
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from shapegen.engine.rules_path import find_bundled_rule
+from shapegen.engine.project.rules_path import find_bundled_rule
 
 
 def set_argument(name: str, value: object) -> str:

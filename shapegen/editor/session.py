@@ -28,7 +28,7 @@ from shapegen.editor.history import HistoryMixin
 from shapegen.editor.inputs import UNCHANGED, Inputs, SettingsMixin, valid_attrs
 from shapegen.editor.readouts import ReadoutsMixin
 from shapegen.editor.stability import ScanJob, StabilityScanner
-from shapegen.engine.rule_packages import PACKAGE_SUFFIX
+from shapegen.engine.project.rule_packages import PACKAGE_SUFFIX
 from shapegen.errors import GrammarError, OptionError, ShapegenError
 from shapegen.json_values import finite_or_none, json_ready
 from shapegen.search.defaults import DEFAULT_MARGIN

@@ -24,14 +24,14 @@ from pathlib import Path
 
 import numpy as np
 
-from shapegen.engine.interpreter import Program
-from shapegen.engine.rule_packages import (
+from shapegen.engine.program.interpreter import Program
+from shapegen.engine.project.rule_packages import (
     PACKAGE_SUFFIX,
     import_search_folders,
     start_rule_of_package,
 )
-from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
-from shapegen.engine.shape import lot_scope
+from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
+from shapegen.engine.shapes.shape import lot_scope
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast, import_paths
 from shapegen.grammar.source_files import read_rule_file
@@ -84,7 +84,7 @@ class Grammar:
         if not attrs:
             values = self._default_values()
         else:
-            from shapegen.engine.interpreter import DEFAULT_LOT
+            from shapegen.engine.program.interpreter import DEFAULT_LOT
 
             values = self.program.initial_values(attrs, 0, lot_scope(*DEFAULT_LOT))
         return self.program.free_parameters(values, lot_scope(*self.lot), only_free=False)
@@ -108,12 +108,12 @@ class Grammar:
     ) -> dict[str, object]:
         """The ``@Structure(...)`` keyword arguments for these attrs, without deriving a model:
         what a structure that judges from its arguments alone reads of the design."""
-        from shapegen.engine.interpreter import DEFAULT_LOT
+        from shapegen.engine.program.interpreter import DEFAULT_LOT
 
         values = self.program.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
         if lot is None:
             lot = self.program.lot_size(values)
-        from shapegen.engine.interpreter import _checked_lot
+        from shapegen.engine.program.interpreter import _checked_lot
 
         scope = _checked_lot(lot)[0].scope
         values = self.program.initial_values(attrs, seed, scope)
@@ -121,7 +121,7 @@ class Grammar:
 
     def _default_values(self) -> dict:
         if self._defaults is None:
-            from shapegen.engine.interpreter import DEFAULT_LOT
+            from shapegen.engine.program.interpreter import DEFAULT_LOT
 
             self._defaults = self.program.initial_values(None, 0, lot_scope(*DEFAULT_LOT))
         return self._defaults
@@ -162,7 +162,7 @@ class Grammar:
             values), ``reports`` (``report()`` values: one value per key, or a list when a key
             was reported several times), ``free_parameters``, ``seed``, ``lot`` and ``grammar``.
         """
-        # an overflow on the way is no news: the boundary for numbers (engine/finite.py)
+        # an overflow on the way is no news: the boundary for numbers (engine/derivation/finite.py)
         # judges every shape an operation makes
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             return self.program.derive(

@@ -190,7 +190,7 @@ def _set_start_rule(grammar, start: object) -> None:
 
 def _plain(value: object) -> object:
     """A CGA array as PyPRT gives it: a list, or a list of rows for more than one row."""
-    from shapegen.engine.functions_arrays import Array
+    from shapegen.engine.expressions.arrays import Array
 
     if isinstance(value, Array):
         items = list(value.values)

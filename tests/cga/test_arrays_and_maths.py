@@ -12,7 +12,7 @@ import math
 import pytest
 
 from shapegen import parse_grammar
-from shapegen.engine.functions_arrays import Array
+from shapegen.engine.expressions.arrays import Array
 from shapegen.errors import GrammarError
 
 ARRAYS = """

@@ -9,7 +9,7 @@ import math
 import pytest
 
 from shapegen import load_grammar, parse_grammar
-from shapegen.engine.functions_arrays import Array, format_value
+from shapegen.engine.expressions.arrays import Array, format_value
 
 # (entry, expression, value): a number compares within 1e-9, an array by its printed text
 CASES = [

@@ -12,7 +12,7 @@ from __future__ import annotations
 import pytest
 
 import shapegen
-from shapegen.engine.split import ABSOLUTE, FLOATING, SplitPart, SplitRepeat, resolve_split
+from shapegen.engine.shapes.split import ABSOLUTE, FLOATING, SplitPart, SplitRepeat, resolve_split
 from shapegen.statics.standins import statics_model
 
 TILE = 1.93  # candler's sub-tile: TileWidth 3.55 - 2 x 0.7, on a 12 m facade of three tiles

@@ -11,7 +11,7 @@ from editor_http import request, serving
 
 from shapegen.cli import build_parser
 from shapegen.editor.exports import command_line, set_argument
-from shapegen.engine.rules_path import find_bundled_rule
+from shapegen.engine.project.rules_path import find_bundled_rule
 
 
 @pytest.mark.parametrize(

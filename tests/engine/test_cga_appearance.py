@@ -10,10 +10,10 @@ from __future__ import annotations
 import pytest
 
 import shapegen
-from shapegen.engine.cga_ops import compiler_for
-from shapegen.engine.cga_ops.appearance import compile_material_set
-from shapegen.engine.derivation import Derivation, root_state
-from shapegen.engine.shape import FACE, Shape, lot_scope
+from shapegen.engine.derivation.state import Derivation, root_state
+from shapegen.engine.operations.cga import compiler_for
+from shapegen.engine.operations.cga.appearance import compile_material_set
+from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.model.appearance import DEFAULT_APPEARANCE, material_value, parse_hex_color

@@ -11,10 +11,10 @@ import pytest
 import trimesh
 
 import shapegen
-from shapegen.engine.cga_ops import compiler_for
-from shapegen.engine.cga_ops.assets import fitted, is_asset_name, primitive_mesh
-from shapegen.engine.derivation import Derivation, root_state
-from shapegen.engine.shape import MASS, Shape
+from shapegen.engine.derivation.state import Derivation, root_state
+from shapegen.engine.operations.cga import compiler_for
+from shapegen.engine.operations.cga.assets import fitted, is_asset_name, primitive_mesh
+from shapegen.engine.shapes.shape import MASS, Shape
 from shapegen.errors import GrammarError
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.engine.cga_ops import compiler_for
-from shapegen.engine.derivation import Derivation, root_state
-from shapegen.engine.shape import FACE, MASS, Shape, lot_scope
+from shapegen.engine.derivation.state import Derivation, root_state
+from shapegen.engine.operations.cga import compiler_for
+from shapegen.engine.shapes.shape import FACE, MASS, Shape, lot_scope
 from shapegen.errors import GrammarError
 from shapegen.geometry.queries import border_faces
 from shapegen.grammar import ast
@@ -256,7 +256,7 @@ def test_roof_on_an_offset_face_and_on_a_comp_face(program):
     assert world[:, 1].max() == pytest.approx(3)
     assert world[:, 0].min() == pytest.approx(1)
     # a vertical face (a comp face: flat along its z): the roof grows along the face normal
-    from shapegen.engine.shape import face_scopes
+    from shapegen.engine.shapes.shape import face_scopes
 
     front = dict(face_scopes(lot_scope(12, 8).__class__.axis_aligned(size=(12, 6, 8))))["front"]
     state = _state(program)

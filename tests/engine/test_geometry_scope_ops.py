@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.engine.cga_ops import compiler_for
-from shapegen.engine.cga_ops.scope_ops import pivot_frame
-from shapegen.engine.derivation import Derivation, root_state
-from shapegen.engine.shape import extrude_shape, lot_shape
+from shapegen.engine.derivation.state import Derivation, root_state
+from shapegen.engine.operations.cga import compiler_for
+from shapegen.engine.operations.cga.scope_ops import pivot_frame
+from shapegen.engine.shapes.shape import extrude_shape, lot_shape
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import shapegen
-from shapegen.engine.shape import (
+from shapegen.engine.shapes.shape import (
     FACE,
     MASS,
     Shape,
@@ -178,7 +178,7 @@ def test_cityengine_extrude_of_a_comp_face_turns_the_scope(tmp_path):
         assert sum(b.volume for b in model.blocks) == pytest.approx(4 * 3 * 0.5)
     assert extents["cga"].tolist() == [4, 3, 0.2]
     assert extents["grammar"].tolist() == [4, 0.2, 0.5]
-    face = Shape(shapegen.engine.shape.lot_scope(4, 3), FACE, 1)
+    face = Shape(shapegen.engine.shapes.shape.lot_scope(4, 3), FACE, 1)
     box = extrude_shape(face, 3, True)
     assert box.kind == MASS and box.geometry is None
 
@@ -220,7 +220,7 @@ def test_extrude_world_up_of_a_wall_and_flat_top_of_a_slope():
     # moved up 1 m gives a prism of zero volume, its scope y is world y
     start, _ = lot_shape((4, 2))
     box = extrude_shape(start, 3, True)
-    from shapegen.engine.cga_ops.topology import face_components
+    from shapegen.engine.operations.cga.topology import face_components
 
     front = face_components(box, None)[2].shape
     up = extrude_shape(front, 1.0, True, "world.up")

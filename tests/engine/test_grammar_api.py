@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 
 import shapegen
-from shapegen.engine.rules_path import find_bundled_rule
+from shapegen.engine.project.rules_path import find_bundled_rule
 from shapegen.errors import GrammarError
 from shapegen.primitives import available
 

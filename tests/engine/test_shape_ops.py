@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from shapegen import parse_grammar
-from shapegen.engine.cga_ops.topology import face_components
-from shapegen.engine.shape import (
+from shapegen.engine.operations.cga.topology import face_components
+from shapegen.engine.shapes.shape import (
     FACE_ORDER,
     center,
     extrude,

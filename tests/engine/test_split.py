@@ -2,7 +2,7 @@
 
 import pytest
 
-from shapegen.engine.split import (
+from shapegen.engine.shapes.split import (
     FLOATING,
     RELATIVE,
     PieceLimitError,

@@ -12,7 +12,7 @@ import re
 import pytest
 
 from shapegen import load_grammar
-from shapegen.engine.rules_path import find_bundled_rule
+from shapegen.engine.project.rules_path import find_bundled_rule
 from shapegen.search import optimize
 from shapegen.statics import StaticsOptions, analyze, find_interfaces
 from shapegen.statics.checks import check_model

@@ -18,7 +18,7 @@ marked as an expected failure with what was measured; all must stand.
 import pytest
 
 from shapegen.engine.grammar_api import load_grammar
-from shapegen.engine.rules_path import bundled_rules, find_bundled_rule
+from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
 from shapegen.search import optimize
 from shapegen.simulation import SIMULATION_MARGIN, simulate
 

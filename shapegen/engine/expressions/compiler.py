@@ -1,0 +1,480 @@
+"""Compiling grammar expressions into Python closures.
+
+Each expression node becomes a closure ``value(args, state)``: ``args`` holds the values of the
+enclosing rule's or function's parameters (a tuple, positions resolved at compile time) and
+``state`` is the shape being derived (its attributes, scope, split and comp indices, random
+generator). Compiling once and calling closures keeps per-shape work small: the optimizer
+rebuilds whole models many times.
+
+Values are ``float`` (every number), ``bool`` or ``str``. A type mismatch, a division by zero or
+a math domain error raises :class:`~shapegen.errors.GrammarError` at the offending node, and so
+does work past a :class:`~shapegen.limits.WorkLimits` bound: user-function calls (how many, how
+deeply nested) and string sizes are counted on the derivation (``state.run``).
+"""
+
+from __future__ import annotations
+
+__all__ = ["ExpressionCompiler", "format_value", "type_name"]
+
+from collections.abc import Callable
+
+from shapegen.engine.expressions.arrays import (
+    Array,
+    colon_range,
+    concatenated,
+    format_value,
+    type_name,
+)
+from shapegen.engine.expressions.arrays import index_array as _index_array
+from shapegen.engine.expressions.calls import CONTEXT_QUERIES, OCCLUSION, BuiltinCalls
+from shapegen.engine.expressions.file_reading import reading_functions
+from shapegen.engine.expressions.file_search import file_functions
+from shapegen.engine.expressions.local_variables import local_scope, with_locals
+from shapegen.engine.expressions.operators import (
+    ARITHMETIC,
+    ELEMENTWISE_OPERATORS,
+    ORDER,
+    elementwise,
+    elementwise_unary,
+    ieee_arithmetic,
+    ordered,
+)
+from shapegen.engine.expressions.pure_functions import PURE_FUNCTIONS
+from shapegen.engine.expressions.shape_attributes import convert_value, shape_reader
+from shapegen.errors import GrammarError
+from shapegen.grammar import ast
+from shapegen.grammar.names import BUILTIN_FUNCTIONS, FUNCTION_KEYWORDS, GEOMETRY_KEYWORDS
+from shapegen.limits import limit_hint
+
+Value = float | bool | str
+Compiled = Callable[[tuple, object], Value]
+
+
+class ExpressionCompiler(BuiltinCalls):
+    """Compiles expressions of one grammar.
+
+    Parameters
+    ----------
+    grammar
+        The parsed file (for the source text in error messages and the function table).
+    global_names
+        Names of attributes and constants, read from ``state.attrs`` at run time.
+    """
+
+    def __init__(self, grammar: ast.RuleFile, global_names: set[str]):
+        self.grammar = grammar
+        self.global_names = global_names
+        # User functions by (name, number of parameters): CGA overloads a name by its arity.
+        self.functions: dict[tuple[str, int], Compiled | None] = {}
+        self.overloads = {(f.name, len(f.params)): f for f in grammar.functions}
+        self.function_nodes = {f.name: f for f in reversed(grammar.functions)}
+        self.files = file_functions(grammar.filename)
+        self.readers = reading_functions(grammar.filename, self.files["fileRandom"])
+
+    # ------------------------------------------------------------------ errors
+    def error(self, node: object, message: str) -> GrammarError:
+        location = getattr(node, "location", None)
+        if location is not None and location.line == 0:
+            location = None
+        file = location.file if location is not None else None
+        return GrammarError(message, location, self.grammar.source_of(file))
+
+    # ------------------------------------------------------------------ functions
+    def compile_functions(self) -> None:
+        """Compile every user function (they may call each other, recursively)."""
+        for key in self.overloads:
+            self.functions[key] = None
+        for key, function in self.overloads.items():
+            params = {p.name: k for k, p in enumerate(function.params)}
+            scope, extend = local_scope(self, function, params)
+            body = self.compile(function.body, scope)
+            self.functions[key] = body if extend is None else with_locals(body, extend)
+
+    # ------------------------------------------------------------------ expressions
+    def compile(self, node: ast.Expression, params: dict[str, int]) -> Compiled:
+        """A closure ``value(args, state)`` for ``node``; ``params`` maps names to arg positions."""
+        method = getattr(self, "_" + type(node).__name__, None)
+        if method is None:
+            raise self.error(node, f"unsupported expression {type(node).__name__}")
+        return method(node, params)
+
+    def _Number(self, node: ast.Number, params) -> Compiled:
+        value = float(node.value)
+        return lambda args, state: value
+
+    def _String(self, node: ast.String, params) -> Compiled:
+        value = node.value
+        return lambda args, state: value
+
+    def _Boolean(self, node: ast.Boolean, params) -> Compiled:
+        value = bool(node.value)
+        return lambda args, state: value
+
+    def _Name(self, node: ast.Name, params) -> Compiled:
+        name = node.name
+        if name in params:
+            index = params[name]
+            return lambda args, state: args[index]
+        if name in self.global_names:
+            return lambda args, state: state.attrs[name]
+        if name in self.function_nodes:
+            return self._call_user(node, name, ())
+        if self.grammar.dialect == "cga" and BUILTIN_FUNCTIONS.get(name, (1,))[0] == 0:
+            # CityEngine calls a builtin that takes no argument without its () (rand, uid)
+            return self.compile(ast.Call(name, (), location=node.location), params)
+        raise self.error(node, f"unknown name {name!r}")
+
+    def _ShapeAttribute(self, node: ast.ShapeAttribute, params) -> Compiled:
+        key = f"{node.obj}.{node.field}" if node.field else node.obj
+        arguments = tuple(
+            self._geometry_selector(arg, params) if node.obj == "geometry" else None
+            for arg in node.args
+        )
+        arguments = tuple(
+            given or self.compile(arg, params)
+            for given, arg in zip(arguments, node.args, strict=True)
+        )
+        try:
+            reader = shape_reader(node.obj, node.field, self.grammar)
+        except ValueError as exc:
+            raise self.error(node, str(exc)) from None
+        if reader is None:
+            raise self.error(node, f"the shape attribute {key!r} is not supported by shapegen")
+        error = self.error
+
+        def read(args, state):
+            values = [a(args, state) for a in arguments]
+            try:
+                return reader(state, *values)
+            except (ValueError, KeyError) as exc:
+                message = exc.args[0] if exc.args else str(exc)
+                raise error(node, f"{key}: {message}") from None
+
+        return read
+
+    def _geometry_selector(self, node, params) -> Compiled | None:
+        return self._keyword(node, params, GEOMETRY_KEYWORDS)
+
+    def _keyword(self, node, params, words: frozenset[str]) -> Compiled | None:
+        """A selector among ``words`` (``maxSlope`` of geometry.angle, ``tx`` of assetInfo,
+        ``world.up``) read as its name, unless a parameter, attr, const or function has that
+        name."""
+        if not isinstance(node, ast.Name) or node.name not in words:
+            return None
+        name = node.name
+        if name in params or name in self.global_names or name in self.function_nodes:
+            return None
+        return lambda args, state: name
+
+    def _Array(self, node: ast.Array, params) -> Compiled:
+        rows = [[self._item(item, params) for item in row] for row in node.rows]
+        error = self.error
+
+        def array(args, state):
+            values = []
+            for row in rows:
+                items = []
+                for item, colon in row:
+                    value = item(args, state)
+                    if colon:  # a range is a row of numbers
+                        items.append(Array(tuple(value), 1 if value else 0, len(value), float))
+                    else:
+                        items.append(value)
+                values.append(items)
+            try:
+                return concatenated(values)
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
+
+        return array
+
+    def _item(self, item, params) -> tuple[Compiled, bool]:
+        """An array item: a value, or a :class:`~shapegen.grammar.ast.Colon` range (a list)."""
+        if not isinstance(item, ast.Colon):
+            return self.compile(item, params), False
+        if item.start is None:
+            raise self.error(item, "a lone ':' is only an index (a[:, 0])")
+        start, stop = self.compile(item.start, params), self.compile(item.stop, params)
+        step = self.compile(item.step, params) if item.step is not None else None
+        error = self.error
+
+        def values(args, state):
+            numbers = [start(args, state), step(args, state) if step else 1.0, stop(args, state)]
+            if any(type(v) is not float for v in numbers):
+                raise error(item, "a range a:b or a:step:b needs numbers")
+            try:
+                return colon_range(*numbers)
+            except ValueError as exc:
+                raise error(item, str(exc)) from None
+
+        return values, True
+
+    def _Colon(self, node: ast.Colon, params) -> Compiled:
+        raise self.error(node, "a range a:b is written inside brackets: [1:5] or a[0:2]")
+
+    def _Index(self, node: ast.Index, params) -> Compiled:
+        target = self.compile(node.target, params)
+        indices = []
+        for index in node.indices:
+            if isinstance(index, ast.Colon) and index.start is None:
+                indices.append((None, False))
+            else:
+                indices.append(self._item(index, params))
+        error = self.error
+
+        def index(args, state):
+            array = target(args, state)
+            values = []
+            for k, (item, colon) in enumerate(indices):
+                if item is None:  # ':' takes every row or column
+                    length = array.rows if k == 0 else array.columns
+                    values.append(Array(tuple(map(float, range(length))), 1, length))
+                elif colon:
+                    numbers = item(args, state)
+                    values.append(Array(tuple(numbers), 1, len(numbers)))
+                else:
+                    values.append(item(args, state))
+            try:
+                return _index_array(array, values)
+            except ValueError as exc:
+                raise error(node, str(exc)) from None
+
+        return index
+
+    def _ComponentValues(self, node: ast.ComponentValues, params) -> Compiled:
+        # the comp function takes the shape apart as the comp operation does (cga_ops imports
+        # this module, so it is looked up when a rule file uses it, as operations.py does)
+        from shapegen.engine.operations.cga.comp_values import compile_component_values
+
+        return compile_component_values(self, node, params)
+
+    def _Unary(self, node: ast.Unary, params) -> Compiled:
+        operand = self.compile(node.operand, params)
+        error = self.error
+        if node.op.startswith("."):  # .! .- .+ on an array
+
+            def each(args, state):
+                try:
+                    return elementwise_unary(node.op, operand(args, state))
+                except ValueError as exc:
+                    raise error(node, str(exc)) from None
+
+            return each
+        if node.op == "!":
+
+            def negate(args, state):
+                value = operand(args, state)
+                if type(value) is not bool:
+                    raise error(node, f"'!' needs a boolean, got a {type_name(value)}")
+                return not value
+
+            return negate
+
+        sign = -1.0 if node.op == "-" else 1.0
+
+        def minus(args, state):
+            value = operand(args, state)
+            if type(value) is not float:
+                raise error(node, f"'{node.op}' needs a number, got a {type_name(value)}")
+            return sign * value
+
+        return minus
+
+    def _Binary(self, node: ast.Binary, params) -> Compiled:
+        left = self.compile(node.left, params)
+        right = self.compile(node.right, params)
+        op = node.op
+        error = self.error
+        if op in ELEMENTWISE_OPERATORS:
+            ieee = self.grammar.dialect == "cga"
+
+            def each(args, state):
+                try:
+                    return elementwise(op, left(args, state), right(args, state), ieee)
+                except ValueError as exc:
+                    raise error(node, str(exc)) from None
+
+            return each
+        if op in ("&&", "||"):
+            want = op == "||"
+
+            def logical(args, state):
+                a = left(args, state)
+                if type(a) is not bool:
+                    raise error(node, f"'{op}' needs booleans, got a {type_name(a)}")
+                if a is want:
+                    return a
+                b = right(args, state)
+                if type(b) is not bool:
+                    raise error(node, f"'{op}' needs booleans, got a {type_name(b)}")
+                return b
+
+            return logical
+        if op == "+":
+
+            def add(args, state):
+                a = left(args, state)
+                b = right(args, state)
+                if type(a) is float and type(b) is float:
+                    return a + b
+                if type(a) is str or type(b) is str:
+                    text = format_value(a) + format_value(b)
+                    state.run.count_string(node, len(text))
+                    return text
+                raise error(node, f"cannot add a {type_name(a)} and a {type_name(b)}")
+
+            return add
+        if op in ARITHMETIC:
+            function = ARITHMETIC[op]
+            ieee = self.grammar.dialect == "cga"
+
+            def arithmetic(args, state):
+                a = left(args, state)
+                b = right(args, state)
+                if type(a) is not float or type(b) is not float:
+                    raise error(
+                        node, f"'{op}' needs numbers, got a {type_name(a)} and a {type_name(b)}"
+                    )
+                try:
+                    return function(a, b)
+                except (ZeroDivisionError, ValueError, OverflowError):
+                    if ieee:  # .cga: CityEngine's doubles give inf or nan, and it goes on
+                        return ieee_arithmetic(op, a, b)
+                    if b == 0.0:
+                        raise error(node, "division by zero") from None
+                    raise error(  # fmod of an infinity
+                        node, f"{format_value(a)} {op} {format_value(b)} is not defined"
+                    ) from None
+
+            return arithmetic
+        if op in ("==", "!="):
+            equal = op == "=="
+
+            def compare_equal(args, state):
+                a = left(args, state)
+                b = right(args, state)
+                return (type(a) is type(b) and a == b) is equal
+
+            return compare_equal
+        if op in ORDER:
+
+            def compare(args, state):
+                try:
+                    return ordered(op, left(args, state), right(args, state))
+                except ValueError as exc:
+                    raise error(node, str(exc)) from None
+
+            return compare
+        raise self.error(node, f"unknown operator {op!r}")
+
+    def _Call(self, node: ast.Call, params) -> Compiled:
+        name = node.name
+        if name in OCCLUSION:
+            return self._call_occlusion(node, params)
+        if name in CONTEXT_QUERIES:
+            return self._call_context(node, params)
+        words = FUNCTION_KEYWORDS.get(name, frozenset())
+        arguments = tuple(
+            self._keyword(arg, params, words) or self.compile(arg, params) for arg in node.args
+        )
+        if (name, len(arguments)) in self.overloads or (
+            name in self.function_nodes and name not in BUILTIN_FUNCTIONS
+        ):  # a user function may overload a builtin with another number of parameters
+            return self._call_user(node, name, arguments)
+        if name == "rand":
+            return self._call_rand(node, arguments)
+        if name in ("p", "listRandom", "fileRandom"):
+            return self._call_random_choice(node, name, arguments)
+        if name == "print":
+            return self._call_print(node, arguments)
+        if name == "convert":
+            return self._call_pure(node, convert_value, arguments, with_state=True)
+        if name in self.readers:
+            return self._call_pure(node, self.readers[name], arguments, with_state=True)
+        function = self.files.get(name) or PURE_FUNCTIONS.get(name)
+        if function is not None:
+            return self._call_pure(node, function, arguments)
+        raise self.error(node, f"the CGA function {name}() is not supported by shapegen")
+
+    def _call_user(self, node, name: str, arguments: tuple) -> Compiled:
+        functions = self.functions
+        key = (name, len(arguments))
+        if key not in self.overloads:
+            expected = " or ".join(str(n) for f, n in sorted(self.overloads) if f == name)
+            raise self.error(
+                node, f"function {name!r} takes {expected} arguments, got {len(arguments)}"
+            )
+
+        error = self.error
+
+        def call(args, state):
+            body = functions[key]
+            values = tuple(a(args, state) for a in arguments)
+            run = state.run
+            run.enter_call(node, name)
+            try:
+                return body(values, state)
+            except RecursionError:
+                raise error(
+                    node,
+                    f"function {name!r} calls itself too deeply for Python's stack (endless "
+                    f"recursion?) {limit_hint('max_call_depth', run.limits)}",
+                ) from None
+            finally:
+                run.call_depth -= 1
+
+        return call
+
+    def _call_rand(self, node, arguments: tuple) -> Compiled:
+        error = self.error
+        if len(arguments) > 2:
+            raise error(node, f"rand() takes at most 2 arguments, got {len(arguments)}")
+
+        def call(args, state):
+            values = [a(args, state) for a in arguments]
+            for value in values:
+                if type(value) is not float:
+                    raise error(node, f"rand() needs numbers, got a {type_name(value)}")
+            low, high = (
+                (0.0, 1.0)
+                if not values
+                else ((0.0, values[0]) if len(values) == 1 else (values[0], values[1]))
+            )
+            return low + (high - low) * state.random()
+
+        return call
+
+    def _CaseExpression(self, node: ast.CaseExpression, params) -> Compiled:
+        branches = [
+            (self.compile(b.condition, params), self.compile(b.value, params), b)
+            for b in node.branches
+        ]
+        otherwise = self.compile(node.otherwise, params)
+        error = self.error
+
+        def case(args, state):
+            for condition, value, branch in branches:
+                test = condition(args, state)
+                if type(test) is not bool:
+                    raise error(
+                        branch, f"a case condition must be a boolean, got a {type_name(test)}"
+                    )
+                if test:
+                    return value(args, state)
+            return otherwise(args, state)
+
+        return case
+
+    def _StochasticExpression(self, node: ast.StochasticExpression, params) -> Compiled:
+        branches = [(float(b.percent), self.compile(b.value, params)) for b in node.branches]
+        otherwise = self.compile(node.otherwise, params)
+
+        def stochastic(args, state):
+            draw = 100.0 * state.random()
+            for percent, value in branches:
+                if draw < percent:
+                    return value(args, state)
+                draw -= percent
+            return otherwise(args, state)
+
+        return stochastic

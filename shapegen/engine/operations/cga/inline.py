@@ -1,0 +1,326 @@
+"""Rule inlining and Boolean 3D (op_inline, op_boolOp): ``inline[(append|unify|recompose)]
+Rule | subdivision | { operations }`` and ``union | subtract | intersect { A | B }``.
+
+The inlined operations are derived at once on a copy of the current shape, down to their
+leaves; the leaves' geometries then replace the current shape's:
+
+- one leaf: its shape is taken as it is (scope, geometry, attributes and look);
+- several: their geometries are joined in one shape with the current shape's attributes and
+  axes, the scope fitted to them: ``append`` (the default) puts the faces side by side as they
+  are, ``recompose`` welds the vertices they share (shape recomposition), ``unify`` is their
+  Boolean union.
+
+A Boolean operation unifies each operand's leaves, then takes A's union, difference or
+intersection with B; A gives the attributes and the scope's axes. Closed solids are combined by
+manifold3d, faces lying in one plane by shapely; the pieces of one plane of the result become
+polygons again (a piece with a hole stays triangles, as shapegen's faces have no holes). Other
+operands (an open mesh against a solid, faces in different planes) are refused with one line
+when derived. Leaves deleted by ``NIL`` and edge or vertex shapes add no geometry.
+"""
+
+from __future__ import annotations
+
+__all__ = ["derived_leaves", "joined_mesh"]
+
+import numpy as np
+
+from shapegen.engine.operations.cga import compiles
+from shapegen.engine.operations.cga.arguments import argument_word
+from shapegen.engine.shapes.shape import FACE, MASS, Shape
+from shapegen.geometry.frames import fitted_scope
+from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.grammar import ast
+
+_STRATEGIES = ("append", "unify", "recompose")
+_BOOLEAN = ("union", "subtract", "intersect")
+
+
+def derived_leaves(state, body, args, branch) -> list:
+    """The leaf shape states of ``body`` derived on a copy of ``state``'s shape, as the
+    interpreter derives a rule (depth first, in the order the successors are written)."""
+    run = state.run
+    made = state.children[0]
+    child = run.child(state, state.shape, branch)
+    # the inlined subtree is no successor of the shape ("collapsed and removed from the Model
+    # Hierarchy"), which stays a leaf unless it has others; its draws are its own
+    state.children[0] = made
+    where = getattr(branch, "location", None)
+    child.path = state.path + (
+        "inline",
+        made,
+        getattr(where, "line", 0),
+        getattr(where, "column", 0),
+    )
+    out: list = []
+    if body(child, args, out) and child.is_leaf():
+        out.append((child, None, ()))
+    leaves, stack = [], list(reversed(out))
+    while stack:
+        shape_state, rule, values = stack.pop()
+        if rule is None:
+            leaves.append(shape_state)
+            continue
+        more: list = []
+        if rule.body(shape_state, values, more) and shape_state.is_leaf():
+            more.append((shape_state, None, ()))
+        stack.extend(reversed(more))
+    return leaves
+
+
+def _world_meshes(program, node, leaves) -> list[Mesh]:
+    meshes = []
+    for leaf in leaves:
+        if leaf.shape.kind not in (FACE, MASS):
+            if leaf.shape.insert is not None:
+                raise program.error(
+                    node, f"{node.name}: shapegen's template primitives cannot be joined"
+                )
+            continue  # edges and vertices add no faces
+        mesh = leaf.shape.world_mesh()
+        if mesh.n_faces:
+            meshes.append(mesh)
+    return meshes
+
+
+def joined_mesh(meshes: list[Mesh]) -> Mesh:
+    """The faces of ``meshes`` side by side in one mesh (``append``)."""
+    offsets = np.cumsum([0] + [m.n_vertices for m in meshes])
+    faces = [tuple(int(i + offsets[k]) for i in f) for k, m in enumerate(meshes) for f in m.faces]
+    return Mesh(np.vstack([m.vertices for m in meshes]), faces)
+
+
+def _is_flat(mesh: Mesh) -> tuple[np.ndarray, float] | None:
+    """The plane ``(unit normal, offset)`` all faces of ``mesh`` lie in, or None."""
+    normal = polygon_normal(mesh.vertices[list(mesh.faces[0])]) if mesh.n_faces else None
+    if normal is None or not np.linalg.norm(normal):
+        return None
+    normal = normal / np.linalg.norm(normal)
+    heights = mesh.vertices @ normal
+    slack = 1e-9 * max(1.0, mesh.size())
+    if np.ptp(heights) > slack or any(
+        float(polygon_normal(mesh.face_points(k)) @ normal) < 0 for k in range(mesh.n_faces)
+    ):
+        return None
+    return normal, float(heights.mean())
+
+
+def _plane_frame(normal: np.ndarray) -> np.ndarray:
+    helper = np.eye(3)[int(np.argmin(np.abs(normal)))]
+    u = np.cross(helper, normal)
+    u /= np.linalg.norm(u)
+    return np.column_stack([u, np.cross(normal, u), normal])
+
+
+def _flat_boolean(kind: str, a: Mesh, b: Mesh, plane) -> Mesh | None:
+    """A 2D Boolean of two meshes in one plane (shapely), as polygons of that plane."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    normal, offset = plane
+    frame = _plane_frame(normal)
+
+    def region(mesh):
+        flat = mesh.vertices @ frame[:, :2]
+        polygons = [Polygon(flat[list(f)]).buffer(0) for f in mesh.faces]
+        return shapely.unary_union(polygons)
+
+    first, second = region(a), region(b)
+    result = {"union": first.union, "subtract": first.difference, "intersect": first.intersection}[
+        kind
+    ](second)
+    faces, points = [], []
+    for polygon in getattr(result, "geoms", [result]):
+        if polygon.is_empty or polygon.geom_type != "Polygon":
+            continue
+        pieces = [polygon] if not polygon.interiors else _triangles(polygon)
+        for piece in pieces:
+            ring = np.asarray(piece.exterior.coords)[:-1]
+            if shapely.Polygon(ring).exterior.is_ccw is False:
+                ring = ring[::-1]
+            start = len(points)
+            points.extend(ring @ frame[:, :2].T + normal * offset)
+            faces.append(tuple(range(start, start + len(ring))))
+    return Mesh(np.array(points), faces) if faces else None
+
+
+def _triangles(polygon):
+    import shapely
+
+    return [t for t in shapely.delaunay_triangles(polygon).geoms if t.within(polygon.buffer(1e-9))]
+
+
+def _solid_boolean(kind: str, meshes: list[Mesh]) -> Mesh | None:
+    """A Boolean of closed solids (manifold3d): the union of all, or the first minus / and the
+    union of the rest; coplanar triangles joined back into polygons."""
+    from manifold3d import Manifold
+    from manifold3d import Mesh as Triangles
+
+    center = np.vstack([m.vertices for m in meshes]).mean(axis=0)
+
+    def solid(mesh: Mesh):
+        triangles = [(f[0], f[k], f[k + 1]) for f in mesh.faces for k in range(1, len(f) - 1)]
+        return Manifold(
+            Triangles(
+                vert_properties=np.asarray(mesh.vertices - center, np.float32),
+                tri_verts=np.asarray(triangles, np.uint32),
+            )
+        )
+
+    solids = [solid(m) for m in meshes]
+    result = solids[0]
+    if kind == "union":
+        for other in solids[1:]:
+            result = result + other
+    else:
+        rest = solids[1]
+        for other in solids[2:]:
+            rest = rest + other
+        result = result - rest if kind == "subtract" else result ^ rest
+    out = result.to_mesh()
+    points = np.asarray(out.vert_properties, float)[:, :3] + center
+    triangles = np.asarray(out.tri_verts, dtype=np.int64)
+    if len(triangles) == 0:
+        return None
+    return _polygons(points, triangles)
+
+
+def _polygons(points: np.ndarray, triangles: np.ndarray) -> Mesh:
+    """Triangles of one plane joined into polygons (holes keep their triangles)."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    normals = np.cross(points[triangles[:, 1]] - points[triangles[:, 0]],
+                       points[triangles[:, 2]] - points[triangles[:, 0]])  # fmt: skip
+    lengths = np.linalg.norm(normals, axis=1)
+    keep = lengths > 1e-12
+    triangles, normals = triangles[keep], normals[keep] / lengths[keep, None]
+    scale = max(1.0, float(np.abs(points).max()))
+    keys = np.round(
+        np.column_stack([normals, np.einsum("ij,ij->i", normals, points[triangles[:, 0]]) / scale]),
+        6,
+    )
+    faces: list[tuple[int, ...]] = []
+    vertices = [points]
+    count = len(points)
+    for key in np.unique(keys, axis=0):
+        group = triangles[np.all(keys == key, axis=1)]
+        normal = key[:3] / np.linalg.norm(key[:3])
+        frame = _plane_frame(normal)
+        flat = points @ frame[:, :2]
+        merged = shapely.unary_union([Polygon(flat[t]) for t in group])
+        polygons = list(getattr(merged, "geoms", [merged]))
+        if any(p.geom_type != "Polygon" or p.interiors for p in polygons):
+            faces.extend(tuple(int(i) for i in t) for t in group)
+            continue
+        offset = float(np.mean(points[group[:, 0]] @ normal))
+        for polygon in polygons:
+            ring = np.asarray(shapely.Polygon(polygon.exterior).simplify(0).exterior.coords)[:-1]
+            if not shapely.Polygon(ring).exterior.is_ccw:
+                ring = ring[::-1]
+            vertices.append(ring @ frame[:, :2].T + normal * offset)
+            faces.append(tuple(range(count, count + len(ring))))
+            count += len(ring)
+    return Mesh(np.vstack(vertices), faces).cleaned()
+
+
+def _combined(program, node, strategy: str, meshes: list[Mesh]) -> Mesh:
+    if strategy == "append":
+        return joined_mesh(meshes)
+    if strategy == "recompose":
+        return joined_mesh(meshes).cleaned()
+    return _boolean(program, node, "union", meshes)
+
+
+def _boolean(program, node, kind: str, meshes: list[Mesh]) -> Mesh:
+    if len(meshes) == 1 and kind == "union":
+        return meshes[0]
+    if all(m.is_closed for m in meshes):
+        result = _solid_boolean(kind, meshes)
+    else:
+        planes = [_is_flat(m) for m in meshes]
+        first = planes[0]
+        same = first is not None and all(
+            p is not None and np.allclose(p[0], first[0], atol=1e-9)
+            and abs(p[1] - first[1]) <= 1e-9 * max(1.0, abs(first[1]))
+            for p in planes
+        )  # fmt: skip
+        if not same:
+            raise program.error(
+                node,
+                f"{node.name}: shapegen combines closed solids, or faces in one plane; these "
+                "operands are neither (an open mesh against a solid, faces in several planes)",
+            )
+        result = meshes[0]
+        for other in meshes[1:]:  # a union of several, or A and B
+            combined = _flat_boolean(kind, result, other, first) if result.n_faces else None
+            result = combined if combined is not None else Mesh(np.empty((0, 3)), ())
+    return result if result is not None else Mesh(np.empty((0, 3)), ())
+
+
+def _shape_of(mesh: Mesh, rotation: np.ndarray) -> Shape:
+    if mesh.n_faces == 0:
+        return Shape.with_geometry(fitted_scope(np.zeros((1, 3)), rotation)[0], mesh, MASS)
+    scope, local = fitted_scope(mesh.vertices, rotation)
+    flat = [k for k in range(3) if scope.size[k] <= 0]
+    kind = FACE if _is_flat(mesh) is not None else MASS
+    return Shape.with_geometry(scope, Mesh(local, mesh.faces), kind, flat[0] if flat else 2)
+
+
+@compiles(
+    "inline",
+    *_BOOLEAN,
+    partial="unify and the Boolean operations combine closed solids or faces in one plane only; "
+    "no auto-tags (bool.A, bool.B, bool.cut)",
+)
+def compile_inline(program, node: ast.Operation, params):
+    if node.name == "inline":
+        if len(node.arguments) > 1 or len(node.branches) != 1:
+            raise program.error(node, "inline takes a rule, a subdivision or { operations }")
+        strategy = "append"
+        if node.arguments:
+            strategy = argument_word(node.arguments[0].value)
+            if strategy not in _STRATEGIES:
+                raise program.error(
+                    node, f"inline's merge strategy is one of {', '.join(_STRATEGIES)}"
+                )
+    elif node.arguments or len(node.branches) != 2:
+        raise program.error(node, f"{node.name} takes {{ operations A | operations B }}")
+    bodies = [(program._body(b.body, params), b) for b in node.branches]
+
+    def inline(state, args, out):
+        ((body, branch),) = bodies
+        leaves = derived_leaves(state, body, args, branch)
+        if len(leaves) == 1:  # "In case it results in a single shape, it is taken as is"
+            (leaf,) = leaves
+            state.shape, state.attrs, state.appearance = leaf.shape, leaf.attrs, leaf.appearance
+            return True
+        meshes = _world_meshes(program, node, leaves)
+        if not meshes:
+            state.deleted = True  # nothing was made: the shape is gone, as after NIL
+            return True
+        mesh = _combined(program, node, strategy, meshes)
+        state.shape = _shape_of(mesh, state.shape.scope.rotation)
+        return True
+
+    def boolean(state, args, out):
+        operands = []
+        for body, branch in bodies:
+            leaves = derived_leaves(state, body, args, branch)
+            meshes = _world_meshes(program, node, leaves)
+            operands.append((leaves, _boolean(program, node, "union", meshes) if meshes else None))
+        (a_leaves, a), (_, b) = operands
+        if a is None:
+            state.deleted = True
+            return True
+        result = a if b is None and node.name != "intersect" else (
+            _boolean(program, node, node.name, [a, b]) if b is not None else None
+        )  # fmt: skip
+        if result is None or result.n_faces == 0:
+            state.deleted = True
+            return True
+        first = a_leaves[0]  # "The first operand A determines the resulting shape and attributes"
+        state.attrs, state.appearance = first.attrs, first.appearance
+        state.shape = _shape_of(result, first.shape.scope.rotation)
+        return True
+
+    return inline if node.name == "inline" else boolean

@@ -1,0 +1,488 @@
+"""CityEngine's component split: ``comp(f)``, ``comp(e)``, ``comp(v)``, ``comp(fe)``, ``comp(fv)``.
+
+The components of a shape's geometry (a box filling its scope when it has none) become new
+shapes, with scopes as op_comp sets them:
+
+- a face: x along its first edge, z along its normal, the scope its bounding box (sz = 0);
+  indices in the geometry's face order (for an extruded lot: 0 bottom, 1 top, then the sides
+  from the lot's first edge, as PyPRT gives);
+- an edge (``e``): x along the edge, z along the mean of its faces' normals, size (length, 0, 0);
+  edges are numbered around the faces in order, a shared edge counted once;
+- a face edge (``fe``): every face's edges, x in the face's direction, z out of the face in its
+  plane;
+- a vertex (``v``): the origin at the vertex, z along the mean of its faces' normals, size 0;
+- a face vertex (``fv``): every face's corners, x along the face's edge leaving the corner, y the
+  face normal, z out of the face in its plane, size 0.
+
+Selectors are exclusive from left to right. ``sel : A`` makes one shape per component,
+``sel = A`` one shape of all of them. A selector is a name (``front``, ``world.up``,
+``object.side``, ``vertical``, ``border``... see :data:`shapegen.geometry.queries.
+FACE_SELECTORS`), an index, ``||``/``&&``/``!`` of those, or any boolean expression evaluated on
+the component's shape (``geometry.area() > 1``).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "COMPONENT_KINDS",
+    "EDGE",
+    "compile_comp",
+    "comp_operation",
+    "component_selector",
+    "components_of",
+    "face_components",
+    "merged_shape",
+    "selector_text",
+    "selector_word",
+]
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from shapegen.engine.expressions.arrays import format_value, type_name
+from shapegen.engine.operations.cga import compiles
+from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
+from shapegen.engine.shapes.trim import comp_trim_planes
+from shapegen.geometry.frames import face_rotation, fitted_scope, rotation_keeping_x
+from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.queries import FACE_SELECTORS, border_faces, face_matches
+from shapegen.geometry.roof_edges import ROOF_EDGE_CLASSES, roof_edge_classes
+from shapegen.grammar import ast
+from shapegen.model.scope import Scope
+
+EDGE = "edge"
+VERTEX = "vertex"
+COMPONENT_KINDS = ("f", "e", "v", "fe", "fv")
+_ROOF_EDGES = ROOF_EDGE_CLASSES
+
+
+@dataclass
+class Component:
+    """One component: its index, its normals (scope, world and object frames), whether it is on
+    the border, and the shape it becomes."""
+
+    index: int
+    normal: np.ndarray
+    world: np.ndarray
+    object: np.ndarray
+    border: bool
+    shape: Shape
+    mesh_faces: tuple[int, ...] = ()
+    roof: str = ""  # comp(e): eave, hip, valley, ridge or "" (shapegen.geometry.roof_edges)
+    first: np.ndarray | None = None  # the pivot's origin (op_comp): the first vertex, world
+
+
+def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Component]:
+    """The faces of ``shape`` as components, in its geometry's order."""
+    scope = shape.scope
+    rotation = scope.rotation
+    if shape.geometry is None and shape.kind == MASS:
+        mesh = Mesh.box(scope.size)
+        scopes = [s for _, s in face_scopes(scope)]
+        shapes = [Shape(s, FACE, 2) for s in scopes]
+        firsts = [s.origin for s in scopes]  # each face's first edge starts at its origin
+    else:
+        mesh = shape.mesh()
+        shapes, firsts = [], []
+        for k in range(mesh.n_faces):
+            world = scope.to_world(mesh.face_points(k))
+            face_scope, local = fitted_scope(
+                world, face_rotation(world, rotation @ mesh.face_normal(k))
+            )
+            shapes.append(_face_shape(face_scope, local))
+            firsts.append(world[0])
+    normals = mesh.face_normals()
+    worlds = normals @ rotation.T
+    objects = worlds if object_rotation is None else worlds @ object_rotation
+    borders = (
+        border_faces(mesh) if shape.kind != MASS or shape.geometry is not None else [False] * 6
+    )
+    return [
+        Component(
+            k, normals[k], worlds[k], objects[k], borders[k], shapes[k], (k,), first=firsts[k]
+        )
+        for k in range(mesh.n_faces)
+    ]
+
+
+def _face_shape(scope: Scope, local: np.ndarray) -> Shape:
+    """A face shape; no geometry when the face is the rectangle filling its scope from its
+    origin along x (the fast path)."""
+    sx, sy = scope.sx, scope.sy
+    if len(local) == 4 and np.allclose(
+        local, [[0, 0, 0], [sx, 0, 0], [sx, sy, 0], [0, sy, 0]], atol=1e-9 * max(sx, sy, 1e-9)
+    ):
+        return Shape(scope, FACE, 2)
+    return Shape.with_geometry(scope, Mesh.polygon(local), FACE, 2)
+
+
+def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Component]:
+    scope = shape.scope
+    mesh = shape.mesh()
+    world_vertices = scope.to_world(mesh.vertices)
+    face_normals = mesh.face_normals() @ scope.rotation.T
+    edge_faces: dict[tuple[int, int], list[int]] = {}
+    for f, face in enumerate(mesh.faces):
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            edge_faces.setdefault((min(a, b), max(a, b)), []).append(f)
+    out = []
+    if per_face:
+        pairs = [
+            (a, b, f)
+            for f, face in enumerate(mesh.faces)
+            for a, b in zip(face, face[1:] + face[:1], strict=True)
+            if a != b
+        ]
+        roofs = [("", False)] * len(pairs)
+    else:
+        pairs = [(a, b, None) for a, b in _ordered_edges(mesh)]
+        roofs = roof_edge_classes(world_vertices, mesh.faces, [(a, b) for a, b, _ in pairs])
+    for k, ((a, b, f), (roof, turn)) in enumerate(zip(pairs, roofs, strict=True)):
+        if turn:  # hips, valleys and ridges run upwards; eaves as their roof face runs
+            a, b = b, a
+        start, end = world_vertices[a], world_vertices[b]
+        faces = edge_faces[(min(a, b), max(a, b))]
+        if f is None:
+            z = face_normals[faces].sum(axis=0)
+        else:
+            z = np.cross(end - start, face_normals[f])  # out of the face, in its plane (op_comp)
+        x = end - start
+        length = float(np.linalg.norm(x))
+        if length == 0:
+            continue
+        rotation = _frame(x / length, z)
+        edge_scope = Scope(start, rotation, np.array([length, 0.0, 0.0]))
+        geometry = Mesh([(0, 0, 0), (length, 0, 0)], [(0, 1)])
+        normal_world = rotation[:, 2]
+        out.append(
+            Component(
+                k,
+                scope.rotation.T @ normal_world,
+                normal_world,
+                normal_world if object_rotation is None else object_rotation.T @ normal_world,
+                len(faces) == 1,
+                Shape.with_geometry(edge_scope, geometry, EDGE, 2),
+                tuple(faces),
+                roof,
+                start,
+            )
+        )
+    return out
+
+
+def _ordered_edges(mesh: Mesh) -> list[tuple[int, int]]:
+    """Edges in CityEngine's order: around the first face, then the next, shared ones once; each
+    in the direction of the face that met it first."""
+    seen = set()
+    out = []
+    for face in mesh.faces:
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            key = (min(a, b), max(a, b))
+            if a != b and key not in seen:
+                seen.add(key)
+                out.append((a, b))
+    return out
+
+
+def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
+    scope = shape.scope
+    mesh = shape.mesh()
+    world_vertices = scope.to_world(mesh.vertices)
+    face_normals = mesh.face_normals() @ scope.rotation.T
+    touching: dict[int, list[int]] = {}
+    for f, face in enumerate(mesh.faces):
+        for i in face:
+            touching.setdefault(i, []).append(f)
+    borders = border_faces(mesh)
+    out = []
+    for k in range(mesh.n_vertices):
+        faces = touching.get(k, [])
+        z = face_normals[faces].sum(axis=0) if faces else scope.rotation[:, 1]
+        rotation = _frame(scope.rotation[:, 0], z)
+        normal_world = rotation[:, 2]
+        vertex_scope = Scope(world_vertices[k], rotation, np.zeros(3))
+        out.append(
+            Component(
+                k,
+                scope.rotation.T @ normal_world,
+                normal_world,
+                normal_world if object_rotation is None else object_rotation.T @ normal_world,
+                any(borders[f] for f in faces),
+                Shape.with_geometry(vertex_scope, Mesh([(0, 0, 0)], ()), VERTEX, 2),
+                tuple(faces),
+                first=world_vertices[k],
+            )
+        )
+    return out
+
+
+def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
+    """comp(fv): every corner of every face; x along the face's edge leaving it, y the face
+    normal, z = x cross y (out of the face, in its plane), size 0."""
+    scope = shape.scope
+    mesh = shape.mesh()
+    world_vertices = scope.to_world(mesh.vertices)
+    normals = mesh.face_normals() @ scope.rotation.T
+    borders = border_faces(mesh)
+    out = []
+    for f, face in enumerate(mesh.faces):
+        for j, i in enumerate(face):
+            tangent = world_vertices[face[(j + 1) % len(face)]] - world_vertices[i]
+            rotation = rotation_keeping_x(tangent, normals[f]) if tangent.any() else None
+            if rotation is None or not normals[f].any():
+                continue
+            out.append(
+                Component(
+                    len(out),
+                    scope.rotation.T @ rotation[:, 2],
+                    rotation[:, 2],
+                    rotation[:, 2]
+                    if object_rotation is None
+                    else object_rotation.T @ rotation[:, 2],
+                    borders[f],
+                    Shape.with_geometry(
+                        Scope(world_vertices[i], rotation, np.zeros(3)),
+                        Mesh([(0, 0, 0)], ()),
+                        VERTEX,
+                        2,
+                    ),
+                    (f,),
+                    first=world_vertices[i],
+                )
+            )
+    return out
+
+
+def _frame(x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """Columns x, y, z with x along ``x`` and z as close to ``z`` as possible."""
+    length = float(np.linalg.norm(z))
+    if length == 0:
+        z = np.array([0.0, 1.0, 0.0])
+    frame = rotation_keeping_x(np.asarray(x, float), np.asarray(z, float))  # x, y := z
+    # rotation_keeping_x puts the second argument on y; turn it so it is on z instead
+    return np.column_stack([frame[:, 0], -frame[:, 2], frame[:, 1]])
+
+
+def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
+    """All ``chosen`` faces as one shape, in the frame of the first."""
+    mesh = shape.mesh()
+    faces = [f for c in chosen for f in c.mesh_faces]
+    subset = mesh.subset(faces)
+    world = shape.scope.to_world(subset.vertices)
+    first = shape.scope.to_world(mesh.face_points(faces[0]))
+    rotation = face_rotation(first, shape.scope.rotation @ mesh.face_normal(faces[0]))
+    scope, local = fitted_scope(world, rotation)
+    return Shape.with_geometry(scope, Mesh(local, subset.faces), FACE, 2)
+
+
+# ---------------------------------------------------------------------------- selectors
+Selector = Callable[[Component, object, tuple], bool]
+
+
+def component_selector(program, key, params, kind: str, where=None) -> Selector:
+    """A predicate on components from a branch key (an AST expression, or a name string of the
+    branch ``where``)."""
+    if isinstance(key, str):
+        if key.isdigit():
+            index = int(key)
+            return lambda c, state, args: c.index == index
+        return _named(program, where, key, kind)
+    if isinstance(key, ast.Number):
+        index = int(key.value)
+        return lambda c, state, args: c.index == index
+    if isinstance(key, ast.Name) and (key.name in FACE_SELECTORS or key.name in _ROOF_EDGES):
+        return _named(program, key, key.name, kind)
+    if isinstance(key, ast.ShapeAttribute) and f"{key.obj}.{key.field}" in FACE_SELECTORS:
+        return _named(program, key, f"{key.obj}.{key.field}", kind)
+    if isinstance(key, ast.Binary) and key.op in ("||", "&&") and _is_selector(key):
+        left = component_selector(program, key.left, params, kind)
+        right = component_selector(program, key.right, params, kind)
+        if key.op == "||":
+            return lambda c, state, args: left(c, state, args) or right(c, state, args)
+        return lambda c, state, args: left(c, state, args) and right(c, state, args)
+    if isinstance(key, ast.Unary) and key.op == "!" and _is_selector(key.operand):
+        inner = component_selector(program, key.operand, params, kind)
+        return lambda c, state, args: not inner(c, state, args)
+    # any other expression: a condition evaluated on the component's own shape
+    compiled = program.expressions.compile(key, params)
+    error = program.error
+
+    def condition(c, state, args):
+        saved = state.shape
+        state.shape = c.shape
+        try:
+            value = compiled(args, state)
+        finally:
+            state.shape = saved
+        if type(value) is float and value == int(value):  # op_comp: an index may be computed
+            return c.index == int(value)
+        if type(value) is not bool:
+            raise error(
+                key,
+                f"a comp selector must be a boolean or a component index, got "
+                f"{format_value(value) if type(value) is float else 'a ' + type_name(value)}",
+            )
+        return value
+
+    return condition
+
+
+def selector_text(key) -> str:
+    """``comp.sel``: the selector as written (a name, an index), "" for an expression."""
+    if isinstance(key, str):
+        return key
+    if isinstance(key, ast.Number):
+        return str(int(key.value))
+    if isinstance(key, ast.Name):
+        return key.name
+    if isinstance(key, ast.ShapeAttribute):
+        return f"{key.obj}.{key.field}"
+    return ""
+
+
+def _is_selector(key) -> bool:
+    if isinstance(key, ast.Number):
+        return True
+    if isinstance(key, ast.Name):
+        return key.name in FACE_SELECTORS or key.name in _ROOF_EDGES
+    if isinstance(key, ast.ShapeAttribute):
+        return f"{key.obj}.{key.field}" in FACE_SELECTORS
+    if isinstance(key, ast.Binary) and key.op in ("||", "&&"):
+        return _is_selector(key.left) and _is_selector(key.right)
+    if isinstance(key, ast.Unary) and key.op == "!":
+        return _is_selector(key.operand)
+    return False
+
+
+def _named(program, node, name: str, kind: str) -> Selector:
+    if name in _ROOF_EDGES:
+        if kind != "e":  # op_comp: "These selectors can only be applied on edge component splits"
+            raise program.error(
+                node, f"the roof-edge selector {name!r} needs comp(e), not comp({kind})"
+            )
+        return lambda c, state, args: c.roof == name
+    if name not in FACE_SELECTORS:
+        raise program.error(node, f"unknown comp selector {name!r}")
+    return lambda c, state, args: face_matches(name, c.normal, c.world, c.object, c.border)
+
+
+# ---------------------------------------------------------------------------- the operation
+def comp_operation(program, node, kind: str, branches, params, align: bool = True):
+    """The closure of ``comp(kind) { ... }``; ``branches`` are ``(key, merge, body, node)``."""
+    if kind not in COMPONENT_KINDS:
+        raise program.error(
+            node,
+            f"comp({kind}) is not supported by shapegen; it splits into f, e, v, fe or fv",
+        )
+    compiled = [
+        (
+            component_selector(program, key, params, kind, branch),
+            merge,
+            body,
+            branch,
+            selector_text(key),
+        )
+        for key, merge, body, branch in branches
+    ]
+    error = program.error
+    trims = program.cga_dialect
+
+    def comp_op(state, args, out):
+        shape = state.shape
+        if shape.kind not in (FACE, MASS, EDGE):
+            raise error(node, f"comp({kind}) cannot take apart an inserted primitive")
+        components = components_of(shape, kind, getattr(state.run, "object_rotation", None))
+        taken = [False] * len(components)
+        run = state.run
+        planes = None
+        if trims and kind == "f":
+            planes = comp_trim_planes(shape, [c.shape for c in components])
+        for select, merge, body, branch, text in compiled:
+            chosen = []
+            for k, component in enumerate(components):
+                if not taken[k] and select(component, state, args):
+                    taken[k] = True
+                    chosen.append(component)
+            if not chosen:
+                continue
+            if merge and kind == "f":
+                shapes = [merged_shape(shape, chosen)]
+            else:
+                shapes = [c.shape for c in chosen]
+            # op_comp: the pivot at the (first) component's first vertex, along its scope
+            firsts = [chosen[0].first] if merge and kind == "f" else [c.first for c in chosen]
+            if not align:
+                shapes = [_unaligned(s, shape.scope) for s in shapes]
+            total = len(shapes)
+            for index, piece in enumerate(shapes):
+                child = run.child(state, piece, branch)
+                child.comp_index = index
+                child.comp_total = total
+                child.comp_sel = text
+                if align and firsts[index] is not None:  # noAlign keeps the pivot
+                    child.pivot = (np.asarray(firsts[index], float), piece.scope.rotation)
+                if planes is not None:  # op_comp: only the ':' operator makes trim planes
+                    child.trim_planes = () if merge else planes[chosen[index].index]
+                if body(child, args, out) and child.is_leaf():
+                    out.append((child, None, ()))
+        return True
+
+    return comp_op
+
+
+def components_of(shape: Shape, kind: str, object_rotation) -> list[Component]:
+    """The components of ``shape`` of one ``kind`` (f, e, fe, fv or v), in CityEngine's order."""
+    if kind == "f":
+        return face_components(shape, object_rotation)
+    if kind in ("e", "fe"):
+        return _edge_components(shape, object_rotation, kind == "fe")
+    if kind == "fv":
+        return _face_vertex_components(shape, object_rotation)
+    return _vertex_components(shape, object_rotation)
+
+
+def _unaligned(piece: Shape, parent: Scope) -> Shape:
+    """``noAlign``: the component in the parent's scope axes, the scope fitted to it."""
+    world = piece.scope.to_world(piece.mesh().vertices)
+    scope, local = fitted_scope(world, parent.rotation)
+    faces = piece.mesh().faces
+    return Shape.with_geometry(scope, Mesh(local, faces), piece.kind, piece.normal_axis)
+
+
+@compiles(
+    "comp",
+    partial="refused: the components g, m and h, the =: operator and isTagged() selectors",
+)
+def compile_comp(program, node: ast.Operation, params):
+    """``comp(f|e|v|fe [, zUp|noAlign]) { selector : body | ... }`` as a generic operation."""
+    if not node.arguments:
+        raise program.error(node, "comp() needs the kind of component: comp(f), comp(e)...")
+    kind = selector_word(node.arguments[0].value)
+    align = True
+    if len(node.arguments) > 1:
+        mode = selector_word(node.arguments[1].value)
+        if mode not in ("zUp", "noAlign"):
+            raise program.error(node, f"comp's alignment is zUp or noAlign, got {mode!r}")
+        align = mode == "zUp"
+    for branch in node.branches:
+        if branch.connected:
+            raise program.error(
+                branch,
+                "comp's '=:' operator (a shape per connected set of components) "
+                "is not supported by shapegen",
+            )
+    branches = [
+        (branch.key, branch.merge, program._body(branch.body, params), branch)
+        for branch in node.branches
+    ]
+    return comp_operation(program, node, kind, branches, params, align)
+
+
+def selector_word(expression) -> str:
+    if isinstance(expression, ast.Name):
+        return expression.name
+    if isinstance(expression, ast.String):
+        return expression.value
+    return type(expression).__name__

@@ -1,0 +1,102 @@
+"""``translate(mode, coordSystem, x, y, z)`` and ``rotate(mode, coordSystem, x, y, z)``
+(op_translate, op_rotate): the scope moved or turned in one of the frames of
+:mod:`shapegen.engine.shapes.frames` (``scope``, ``pivot``, ``object``, ``world``); the
+geometry moves with the scope, as after ``t`` and ``r``.
+
+- ``translate(abs, ...)`` puts the scope's origin at ``(x, y, z)`` of the frame,
+  ``translate(rel, ...)`` adds the vector ``(x, y, z)`` along the frame's axes
+  (``translate(rel, scope, ...)`` is ``t``);
+- ``rotate(abs, ...)`` sets the scope's orientation in the frame to the Euler angles ``(x, y,
+  z)`` (degrees, cga_eulerAngles), ``rotate(rel, ...)`` adds them to the scope's angles in that
+  frame ("relative means the angles are added"); the scope turns about its origin.
+"""
+
+from __future__ import annotations
+
+__all__ = ["compile_rotate", "compile_translate"]
+
+
+import numpy as np
+
+from shapegen.engine.derivation.finite import finite_parameter
+from shapegen.engine.expressions.arrays import type_name
+from shapegen.engine.operations.cga import compiles
+from shapegen.engine.operations.cga.arguments import argument_word, plain_arguments
+from shapegen.engine.shapes.frames import FRAMES, euler_angles, euler_matrix, frame_of
+from shapegen.grammar import ast
+from shapegen.model.scope import Scope
+
+_MODES = ("abs", "rel")
+
+
+def _vector(program, node, compiled, args, state) -> np.ndarray:
+    values = [c(args, state) for c in compiled]
+    for value in values:
+        if type(value) is not float:
+            raise program.error(node, f"{node.name}() needs numbers, got a {type_name(value)}")
+    # .cga: nan and inf are 0 with a warning, as CityEngine's runtime does
+    return np.array([finite_parameter(program, node, state, v, f"{node.name}()") for v in values])
+
+
+def _compiled_numbers(program, node, params):
+    values = [a.value for a in node.arguments[2:]]
+    return [program.expressions.compile(v, params) for v in values]
+
+
+def _words(program, node):
+    plain_arguments(program, node, range(len(node.arguments) + 1))  # plain, no block
+    if len(node.arguments) != 5:
+        raise program.error(
+            node, f"{node.name}() takes (mode, coordSystem, x, y, z), got {len(node.arguments)}"
+        )
+    words = []
+    for argument, choices, what in zip(
+        node.arguments, (_MODES, FRAMES), ("mode", "coordSystem"), strict=False
+    ):
+        word = argument_word(argument.value)
+        if word not in choices:
+            raise program.error(
+                node,
+                f"{node.name}()'s {what} is one of {', '.join(choices)}; got {word or 'a value'}",
+            )
+        words.append(word)
+    return words
+
+
+@compiles("translate")
+def compile_translate(program, node: ast.Operation, params):
+    mode, system = _words(program, node)
+    numbers = _compiled_numbers(program, node, params)
+
+    def translate(state, args, out):
+        vector = _vector(program, node, numbers, args, state)
+        shape = state.shape
+        scope = shape.scope
+        origin, axes = frame_of(state, system)
+        if mode == "rel" or system == "scope":  # the scope's own origin is 0 in its frame
+            moved = scope.origin + axes @ vector
+        else:
+            moved = origin + axes @ vector
+        state.shape = shape.with_scope(Scope(moved, scope.rotation, scope.size))
+        return True
+
+    return translate
+
+
+@compiles("rotate")
+def compile_rotate(program, node: ast.Operation, params):
+    mode, system = _words(program, node)
+    numbers = _compiled_numbers(program, node, params)
+
+    def rotate(state, args, out):
+        angles = _vector(program, node, numbers, args, state)
+        shape = state.shape
+        scope = shape.scope
+        _, axes = frame_of(state, system)
+        if mode == "rel":
+            angles = angles + np.array(euler_angles(axes.T @ scope.rotation))
+        turned = axes @ euler_matrix(angles)
+        state.shape = shape.with_scope(Scope(scope.origin, turned, scope.size))
+        return True
+
+    return rotate

@@ -1,0 +1,470 @@
+"""The interpreter: derives a block :class:`~shapegen.model.model.Model` from a grammar's AST.
+
+:class:`Program` compiles a parsed grammar once (expressions and rule bodies become closures);
+:meth:`Program.derive` runs the derivation for given attribute values, seed and lot.
+
+The derivation is depth first, in the order successors appear in the rules, and uses an explicit
+stack rather than recursion, so deep grammars need no Python recursion. Each 3D leaf shape (not
+``NIL``, positive volume) becomes one block (a box filling its scope, a closed convex mesh) or
+the blocks of its inserted primitive, numbered ``b0``, ``b1``... in derivation order; any other
+leaf (a face, an open mesh, a closed solid that is not convex, kept as derived) is a
+:class:`~shapegen.model.appearance.Surface` of the model, with the reason it is not a block.
+Randomness (``rand``, stochastic rules) comes from a generator seeded by the seed and the shape's
+position in the shape tree, so a shape's draws do not depend on how many shapes were derived
+before it.
+
+The work is shared with :mod:`~shapegen.engine.derivation.state` (the state of a derivation),
+:mod:`~shapegen.engine.operations.compiler` (compiling rule bodies and operations) and
+:mod:`~shapegen.engine.program.attributes` (attr and const values, ``@Range``, ``@Lot``,
+``@Structure``).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "DEFAULT_LOT",
+    "DEFAULT_MAX_DEPTH",
+    "DEFAULT_MAX_SHAPES",
+    "Program",
+    "format_chain",
+]
+
+import contextlib
+import io
+import math
+import numbers
+import sys
+from collections.abc import Mapping
+
+import numpy as np
+
+from shapegen.engine.derivation.occlusion import Occlusion
+from shapegen.engine.derivation.state import (
+    DEFAULT_MAX_DEPTH,
+    DEFAULT_MAX_SHAPES,
+    TOO_DEEP,
+    Derivation,
+    ShapeState,
+    format_chain,
+    root_state,
+)
+from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value
+from shapegen.engine.expressions.local_variables import local_scope, with_locals
+from shapegen.engine.operations.compiler import INSERT, ShapeOperations
+from shapegen.engine.program.attributes import (
+    DEFAULT_LOT,
+    AttributeValues,
+    checked_structure,
+    shown,
+)
+from shapegen.engine.shapes.shape import FACE, MASS, Shape, lot_scope, lot_shape
+from shapegen.errors import GeometryError, GrammarError
+from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
+from shapegen.geometry.mesh import Mesh
+from shapegen.grammar import ast
+from shapegen.grammar.names import RESERVED_ATTRIBUTES
+from shapegen.limits import limit_hint
+from shapegen.model.appearance import DEFAULT_APPEARANCE, SolidLeaf, Surface
+from shapegen.model.block import Block
+from shapegen.model.model import Model
+from shapegen.model.scope import Scope
+from shapegen.tolerances import MIN_LEAF_SIZE
+
+_MIN_SIZE = MIN_LEAF_SIZE  # m; see shapegen.tolerances
+
+# Vertices of the unit box in scope coordinates and its outward faces (see Block.box).
+_UNIT_BOX = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
+    dtype=float,
+)
+_BOX_FACES = ((0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (3, 2, 6, 7), (0, 3, 7, 4), (1, 5, 6, 2))
+
+
+class _Rule:
+    __slots__ = ("name", "arity", "body", "node")
+
+    def __init__(self, node: ast.Rule):
+        self.name = node.name
+        self.arity = len(node.params)
+        self.body = None
+        self.node = node
+
+
+class Program(AttributeValues, ShapeOperations):
+    """A compiled grammar, ready to derive models.
+
+    Parameters
+    ----------
+    grammar
+        The parsed file (:func:`shapegen.grammar.parse`).
+    """
+
+    def __init__(self, grammar: ast.RuleFile):
+        self.grammar = grammar
+        # CityEngine rule files (.cga) get CityEngine's semantics: its scope after extruding a
+        # comp face (y along the extrusion; .grammar files keep shapegen's, the face's z grows),
+        # its repeat counts, and its leniency: where its runtime warns and carries on, so does
+        # the derivation (the model's metadata lists the warnings); .grammar files stay strict.
+        self.cga_dialect = grammar.dialect == "cga"
+        self.attr_nodes = {a.name: a for a in grammar.attrs}
+        self.const_nodes = {c.name: c for c in grammar.consts}
+        global_names = set(self.attr_nodes) | set(self.const_nodes) | set(RESERVED_ATTRIBUTES)
+        self.expressions = ExpressionCompiler(grammar, global_names)
+        self.expressions.compile_functions()
+        self.definitions = {
+            name: self._value(node)
+            for name, node in {**self.attr_nodes, **self.const_nodes}.items()
+        }
+        # Rules by (name, arity): CGA overloads a rule name by its number of parameters.
+        self.rules = {(rule.name, len(rule.params)): _Rule(rule) for rule in grammar.rules}
+        self.arities: dict[str, list[int]] = {}
+        for name, arity in self.rules:
+            self.arities.setdefault(name, []).append(arity)
+        for rule in self.rules.values():
+            params = {p.name: k for k, p in enumerate(rule.node.params)}
+            scope, extend = local_scope(self.expressions, rule.node, params)
+            rule.body = self._body(rule.node.body, scope)
+            if extend is not None:  # with ( ... ): the values follow the rule's arguments
+                rule.body = _rule_with_locals(rule.body, extend)
+        self.start = grammar.start_rule
+        if self.start is None:
+            raise GrammarError(
+                f"{grammar.filename}: the grammar has no rules"
+                + (
+                    " (a library of attrs and functions, for rule files that import it)"
+                    if self.cga_dialect and grammar.definitions
+                    else ""
+                )
+            )
+        if self.start.params:
+            raise self.error(
+                self.start, f"the start rule {self.start.name!r} cannot take parameters"
+            )
+        self.structure = checked_structure(self.start, self.error)
+
+    def _value(self, node):
+        """An attr's or const's compiled value, its ``with`` variables evaluated first."""
+        scope, extend = local_scope(self.expressions, node, {})
+        value = self.expressions.compile(node.value, scope)
+        return value if extend is None else with_locals(value, extend)
+
+    def error(self, node, message: str) -> GrammarError:
+        return self.expressions.error(node, message)
+
+    # ------------------------------------------------------------------ derivation
+    def derive(
+        self,
+        attrs: Mapping[str, object] | None = None,
+        seed: int = 0,
+        lot=None,
+        max_depth: int | None = None,
+        max_shapes: int | None = None,
+        _first_pass: Occlusion | None = None,
+    ) -> Model:
+        """Derive the block model; see :meth:`shapegen.engine.grammar_api.Grammar.build`.
+
+        ``max_depth`` and ``max_shapes`` default to the current
+        :class:`~shapegen.limits.WorkLimits`, which bound the rest of the work too.
+        """
+        if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
+            raise GrammarError(f"seed must be a whole number, got {shown(seed)}")
+        if lot is None:
+            defaults = self.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
+            lot = self.lot_size(defaults)
+        start, lot_metadata = _checked_lot(lot)
+        start_scope = start.scope
+        run = Derivation(self, seed, max_depth, max_shapes)
+        run.warnings.extend(self.grammar.warnings)  # what the load let through (.cga only)
+        # the object frame (initialShape.origin) is known before attrs read it
+        run.object_rotation = start_scope.rotation
+        run.start_shape = start
+        values = self.initial_values(attrs, seed, start_scope, run)
+        run.occlusion = Occlusion() if _first_pass is None else _first_pass
+        root = root_state(run, start, values, ())
+        root.rule_path = (self.start.name,)
+        leaves: list[ShapeState] = []
+        stack: list[tuple] = [(root, self.rules[(self.start.name, 0)], ())]
+        # What print() writes in a pass that turns out to be the first of two is not shown:
+        # CityEngine prints once, in the pass that makes the model.
+        printed = io.StringIO()
+        capture = contextlib.redirect_stdout(printed) if _first_pass is None else None
+        try:
+            with capture or contextlib.nullcontext():
+                while stack:
+                    state, rule, args = stack.pop()
+                    if rule is None:
+                        leaves.append(state)
+                        continue
+                    out: list[tuple] = []
+                    if rule.body(state, args, out) and state.is_leaf():
+                        out.append((state, None, ()))
+                    stack.extend(reversed(out))
+        except RecursionError:
+            sys.stdout.write(printed.getvalue())
+            raise GrammarError(TOO_DEEP) from None
+        except BaseException:  # what was printed before the error is shown, as it was
+            sys.stdout.write(printed.getvalue())
+            raise
+        if run.occlusion.asked and _first_pass is None:  # CityEngine's second pass
+            first_pass = run.occlusion.second_pass(leaves)
+            return self.derive(attrs, seed, lot, max_depth, max_shapes, first_pass)
+        sys.stdout.write(printed.getvalue())
+        blocks, surfaces = self._blocks(leaves, run)
+        metadata = {
+            "grammar": self.grammar.filename,
+            "dialect": self.grammar.dialect,  # what the statics ask (statics.bodies)
+            "seed": int(seed),
+            **lot_metadata,
+            "attrs": {name: values[name] for name in self.attr_nodes},
+            "free_parameters": self.free_parameters(values, start_scope),
+            "reports": {k: v[0] if len(v) == 1 else v for k, v in run.reports.items()},
+            "warnings": list(run.warnings),  # assets not found, operations ignored
+            "cga_errors": run.cga_errors,  # operations skipped (engine/derivation/cga_errors.py)
+            "leaves": run.leaf_count,  # leaf shapes that gave a block or a surface
+            "structure": {
+                "name": self.structure,
+                "arguments": self.structure_arguments(values, start_scope),
+            },
+        }
+        return Model(blocks, metadata=metadata, surfaces=surfaces)
+
+    def _blocks(
+        self, leaves: list[ShapeState], run: Derivation
+    ) -> tuple[list[Block], list[Surface]]:
+        """The blocks and surfaces of the leaves, in derivation order: a box filling its scope
+        or a closed convex mesh with volume is a block, an inserted primitive gives its blocks,
+        any other geometry (a face, an open or non-convex mesh) a surface."""
+        boxes = [
+            s
+            for s in leaves
+            if s.shape.kind == MASS
+            and s.shape.geometry is None
+            and s.shape.scope.size.min() > _MIN_SIZE
+        ]
+        limit = run.limits.max_blocks
+        if len(boxes) > limit:
+            raise self._too_many_blocks(len(boxes), run, boxes[limit].rule_path)
+        corners = {}
+        if boxes:
+            origins = np.array([s.shape.scope.origin for s in boxes])
+            rotations = np.array([s.shape.scope.rotation for s in boxes])
+            sizes = np.array([s.shape.scope.size for s in boxes])
+            local = _UNIT_BOX[None, :, :] * sizes[:, None, :]
+            world = origins[:, None, :] + np.einsum("nij,nkj->nki", rotations, local)
+            corners = {id(s): world[k] for k, s in enumerate(boxes)}
+        blocks: list[Block] = []
+        surfaces: list[Surface] = []
+        seen = produced = 0  # leaves that gave geometry: CityEngine's generated meshes
+        for state in leaves:
+            count = len(blocks) + len(surfaces)
+            produced += count > seen  # the previous leaf gave something
+            seen = count
+            kind = state.shape.kind
+            if state.shape.geometry is not None and kind in (MASS, FACE):
+                made = self._geometry_leaf(state, len(blocks), surfaces)
+                if len(blocks) + len(made) > limit:
+                    raise self._too_many_blocks(len(blocks) + len(made), run, state.rule_path)
+                blocks.extend(made)
+                continue
+            if kind == FACE:
+                face = state.shape.world_mesh()
+                if face.area() > _MIN_SIZE**2:
+                    surfaces.append(_surface(state, face, "a face (no volume)", len(surfaces)))
+                continue
+            if kind == MASS:
+                vertices = corners.get(id(state))
+                if vertices is None:
+                    if self.cga_dialect:  # extrude(0): CityEngine draws the face
+                        self._flat_box(state, surfaces)
+                    continue
+                density, structural, fixed = self._properties(state)
+                blocks.append(
+                    Block(
+                        vertices,
+                        _BOX_FACES,
+                        density=density,
+                        id=f"b{len(blocks)}",
+                        tags=state.labels,
+                        structural=structural,
+                        fixed=fixed,
+                        rule_path=state.rule_path,
+                        appearance=state.appearance,
+                    )
+                )
+            elif kind == INSERT:
+                name, params, node = state.shape.insert
+                scope = state.shape.scope
+                run.check_clock(node)
+                try:
+                    pieces = _insert(name, scope, params)
+                except GeometryError as exc:
+                    raise self.error(node, f"i({name!r}): {exc}") from None
+                if len(blocks) + len(pieces) > limit:
+                    raise self._too_many_blocks(len(blocks) + len(pieces), run, state.rule_path)
+                density, structural, fixed = self._properties(state)
+                for piece in pieces:
+                    piece.density = density
+                    piece.structural = structural
+                    piece.fixed = fixed
+                    piece.id = f"b{len(blocks)}"
+                    piece.tags = state.labels + tuple(
+                        t for t in piece.tags if t not in state.labels
+                    )
+                    piece.rule_path = state.rule_path
+                    if state.appearance is not None:
+                        piece.appearance = state.appearance
+                    blocks.append(piece)
+        run.leaf_count = produced + (len(blocks) + len(surfaces) > seen)
+        return blocks, surfaces
+
+    @staticmethod
+    def _flat_box(state: ShapeState, surfaces: list) -> None:
+        """A box leaf flat along one scope axis (``extrude(0)``) as the face it is."""
+        size = state.shape.scope.size
+        flat = [k for k in range(3) if size[k] <= _MIN_SIZE]
+        if len(flat) == 1:
+            face = Mesh.rectangle(size, flat[0])
+            world = face.transformed(state.shape.scope.rotation, state.shape.scope.origin)
+            surfaces.append(_surface(state, world, "a face (no volume)", len(surfaces)))
+
+    @staticmethod
+    def _flat_solid(state: ShapeState, mesh: Mesh, surfaces: list) -> None:
+        """A closed mesh with no volume (a face extruded by 0) as the faces it has that face
+        along the scope's y, the side it was extruded towards; the rest are the same faces
+        turned, or edges."""
+        areas, normals = mesh.face_areas(), mesh.face_normals()
+        up = state.shape.scope.rotation[:, 1]
+        keep = [k for k in range(mesh.n_faces) if areas[k] > _MIN_SIZE**2 and normals[k] @ up > 0]
+        if keep:
+            surfaces.append(_surface(state, mesh.subset(keep), "a face (no volume)", len(surfaces)))
+
+    def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> list[Block]:
+        """The blocks of a leaf with geometry: one for a closed convex mesh. Otherwise none,
+        and the leaf is added to ``surfaces`` with the reason: a closed solid that is not
+        convex stays as derived (``"not convex"``, with its :class:`SolidLeaf`), and the
+        statics cut it into convex parts of one body when they judge
+        (:mod:`shapegen.statics.standins`), so a model nobody judges never pays for the cut.
+        The model keeps the leaf's own geometry: an open shell is not capped and a solid is not
+        replaced by its hull here, so the model is the one CityEngine's runtime derives (its
+        volume and bounding box)."""
+        mesh = state.shape.world_mesh()
+        if state.shape.kind == FACE or not mesh.is_closed:
+            if mesh.area() > _MIN_SIZE**2:
+                reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
+                surfaces.append(_surface(state, mesh, reason, len(surfaces)))
+            return []
+        volume = mesh.signed_volume()
+        if abs(volume) <= _MIN_SIZE**3:
+            if self.cga_dialect:  # extrude(0) of any face: CityEngine draws the face
+                self._flat_solid(state, mesh, surfaces)
+            return []
+        if volume < 0:
+            surfaces.append(_surface(state, mesh, "faces turned inwards", len(surfaces)))
+            return []
+        # judged and cut in scope coordinates, where the same asset gives the same mesh
+        scope = state.shape.scope
+        local = state.shape.mesh()
+        pieces = placed_convex_decomposition(local, scope.rotation, scope.origin, cut=False)
+        density, structural, fixed = self._properties(state)
+        if pieces is None or pieces is NEEDS_CUT:
+            solid = SolidLeaf(density, structural, fixed, local, scope.rotation, scope.origin)
+            surfaces.append(_surface(state, mesh, "not convex", len(surfaces), solid))
+            return []
+        blocks = []
+        for piece in pieces:
+            clean = piece.cleaned()
+            blocks.append(
+                Block(
+                    clean.vertices,
+                    clean.faces,
+                    density=density,
+                    id=f"b{number + len(blocks)}",
+                    tags=state.labels,
+                    structural=structural,
+                    fixed=fixed,
+                    rule_path=state.rule_path,
+                    appearance=state.appearance,
+                    body=f"b{number}" if len(pieces) > 1 else "",
+                )
+            )
+        return blocks
+
+    def _too_many_blocks(self, count: int, run: Derivation, chain: tuple) -> GrammarError:
+        return GrammarError(
+            f"the model has at least {count} blocks, more than {run.limits.max_blocks} "
+            f"(rules: {format_chain(chain)}) {limit_hint('max_blocks', run.limits)}"
+        )
+
+    def _properties(self, state: ShapeState) -> tuple[float, bool, bool]:
+        attrs = state.attrs
+        density, structural, fixed = attrs["density"], attrs["structural"], attrs["fixed"]
+        if type(density) is not float or not math.isfinite(density) or density < 0:
+            raise GrammarError(
+                f"attr 'density' must be a number >= 0 (kg/m^3), got "
+                f"{format_value(density)!r} (rules: {format_chain(state.rule_path)})"
+            )
+        for name, value in (("structural", structural), ("fixed", fixed)):
+            if type(value) is not bool:
+                raise GrammarError(
+                    f"attr {name!r} must be true or false, got "
+                    f"{format_value(value)!r} (rules: "
+                    f"{format_chain(state.rule_path)})"
+                )
+        return density, structural, fixed
+
+
+def _surface(
+    state: ShapeState, mesh, reason: str, number: int, solid: SolidLeaf | None = None
+) -> Surface:
+    return Surface(
+        mesh.vertices,
+        mesh.faces,
+        appearance=state.appearance or DEFAULT_APPEARANCE,
+        tags=state.labels,
+        rule_path=state.rule_path,
+        reason=reason,
+        id=f"s{number}",
+        solid=solid,
+    )
+
+
+def _checked_lot(lot: object) -> tuple[Shape, dict]:
+    """The start shape of a lot given to :meth:`Program.derive` and its metadata: ``(width,
+    depth)``, two finite numbers > 0 in metres, or a polygon of ``(x, z)`` points in metres,
+    counter-clockwise seen from above."""
+    try:
+        items = list(lot)
+    except TypeError:
+        items = None
+    if items is not None and len(items) >= 3:
+        try:
+            return lot_shape(items)
+        except ValueError as exc:
+            raise GrammarError(f"lot: {exc}") from None
+    try:
+        width, depth = (float(v) for v in lot)
+    except (TypeError, ValueError, OverflowError):
+        raise GrammarError(
+            f"lot must be (width, depth): two finite numbers > 0 in metres, or a polygon of "
+            f"(x, z) points, got {shown(lot)}"
+        ) from None
+    for side, value in (("width", width), ("depth", depth)):
+        if not math.isfinite(value) or value <= 0:
+            raise GrammarError(f"lot {side} must be a finite number > 0 in metres, got {value!r}")
+    try:
+        return lot_shape((width, depth))
+    except ValueError as exc:  # beyond LOT_EXTENT_LIMIT_M
+        raise GrammarError(f"lot: {exc}") from None
+
+
+def _insert(name: str, scope: Scope, params: dict) -> list[Block]:
+    from shapegen.primitives import insert
+
+    return insert(name, scope, **params)
+
+
+def _rule_with_locals(body, extend):
+    def with_locals(state, args, out):
+        return body(state, extend(args, state), out)
+
+    return with_locals

@@ -1,0 +1,411 @@
+"""Shapes and the scope operations of CGA: extrude, split, comp, t, r, s, center.
+
+A :class:`Shape` is a :class:`~shapegen.model.scope.Scope` plus what fills it: a flat face (the
+lot, a ``comp(f)`` face), a mass (after ``extrude``) or an inserted primitive. Its ``geometry`` is
+a :class:`~shapegen.geometry.mesh.Mesh` in scope coordinates, or None when the shape fills its
+scope (a box, a rectangle: the fast path every bundled rule stays on). The functions here are
+pure: they take shapes or scopes and return new ones; the interpreter decides what to do with
+them. A wrong use raises ``ValueError`` with a message for the user; the interpreter adds the place
+in the grammar file.
+
+Conventions (CGA's):
+
+- a ``(width, depth)`` lot is a rectangle in the x-z plane with a corner at the origin and its
+  first edge along +x; its scope axes are the world axes (y up) and its size is
+  ``(width, 0, depth)``; a polygon lot's scope has x along its first edge (:func:`lot_shape`);
+- ``extrude(h)`` grows a face along its normal (+y for the lot, the scope's +z for a comp face);
+  a polygon face becomes a prism, faces numbered as CityEngine does (:func:`extrude_shape`);
+- ``comp(f)`` gives each face a scope whose x axis runs along the face's first edge (for a box's
+  sides, the bottom edge left to right seen from outside), whose z axis is the outward normal and
+  whose z size is 0; a box's faces come in CityEngine's order (:data:`FACE_ORDER`);
+- ``split`` slices the scope, and cuts the geometry of a shape that has one
+  (:func:`split_piece`);
+- ``t``, ``s`` and ``r`` act in the scope's own axes; ``r`` turns about the scope's origin, first
+  about its x axis, then y, then z (degrees); the geometry moves with the scope, and ``s``
+  scales it to the new size.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "Shape",
+    "FACE",
+    "MASS",
+    "FACE_ORDER",
+    "lot_scope",
+    "extrude",
+    "split_scope",
+    "face_scopes",
+    "translate",
+    "rotate",
+    "resize",
+    "center",
+    "rotation_matrix",
+    "extrude_shape",
+    "split_piece",
+    "lot_shape",
+    "shape_geometry_value",
+]
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from shapegen.geometry.mesh import Mesh
+from shapegen.limits import LOT_EXTENT_LIMIT_M
+from shapegen.model.scope import Scope
+
+FACE = "face"
+MASS = "mass"
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+# Face frames of the unit box in scope coordinates: corner (times the scope size), x, y, z axes
+# (z = outward normal) and which scope sizes become the face's (sx, sy).
+_FACE_FRAMES = {
+    "front": ((0, 0, 1), (1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 1)),
+    "right": ((1, 0, 1), (0, 0, -1), (0, 1, 0), (1, 0, 0), (2, 1)),
+    "back": ((1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, 0, -1), (0, 1)),
+    "left": ((0, 0, 0), (0, 0, 1), (0, 1, 0), (-1, 0, 0), (2, 1)),
+    "top": ((0, 1, 1), (1, 0, 0), (0, 0, -1), (0, 1, 0), (0, 2)),
+    # PyPRT starts an extruded lot's bottom on the lot's second vertex: x runs along -x.
+    "bottom": ((1, 0, 1), (-1, 0, 0), (0, 0, -1), (0, -1, 0), (0, 2)),
+}
+FACE_ORDER = ("bottom", "top", "front", "right", "back", "left")
+"""The order of a box's faces in ``comp(f)``: the index a numeric selector refers to. It is
+CityEngine's for an extruded lot (checked with PyPRT on a 12 x 8 m lot): 0 bottom, 1 top, then
+the sides from the lot's first edge, which runs along +x on the lot's +z side."""
+
+
+class Shape:
+    """A shape of the derivation: a scope and what fills it.
+
+    Attributes
+    ----------
+    scope
+        The oriented box (m).
+    kind
+        :data:`FACE` (flat, no volume: the lot, comp faces), :data:`MASS` (a box filling the
+        scope) or ``"insert"`` (a primitive fitted to the scope when the shape becomes a leaf).
+    normal_axis
+        For a face: the scope axis (0, 1, 2) along which it is flat and extrudes.
+    insert
+        For an inserted primitive: ``(name, params)``.
+    geometry
+        The shape's polygon mesh in scope coordinates (m), or None when the shape fills its
+        scope (a box for :data:`MASS`, a rectangle for :data:`FACE`: the fast path). A scope
+        operation (t, r) moves the geometry with the scope; s() scales it to the new size.
+    """
+
+    __slots__ = ("scope", "kind", "normal_axis", "insert", "geometry")
+
+    def __init__(
+        self,
+        scope: Scope,
+        kind: str = MASS,
+        normal_axis: int = 2,
+        insert=None,
+        geometry: Mesh | None = None,
+    ):
+        self.scope = scope
+        self.kind = kind
+        self.normal_axis = normal_axis
+        self.insert = insert
+        self.geometry = geometry
+
+    @classmethod
+    def with_geometry(cls, scope: Scope, mesh: Mesh, kind: str = MASS, normal_axis: int = 2):
+        """A shape made of ``mesh`` (scope coordinates, m) in ``scope``."""
+        return cls(scope, kind, normal_axis, None, mesh)
+
+    def with_scope(self, scope: Scope) -> Shape:
+        """The same shape in another scope (its geometry keeps its scope coordinates)."""
+        return Shape(scope, self.kind, self.normal_axis, self.insert, self.geometry)
+
+    def copy(self) -> Shape:
+        return Shape(self.scope, self.kind, self.normal_axis, self.insert, self.geometry)
+
+    def mesh(self) -> Mesh:
+        """The geometry in scope coordinates, made from the scope when the shape fills it."""
+        if self.geometry is not None:
+            return self.geometry
+        if self.kind == FACE:
+            return Mesh.rectangle(self.scope.size, self.normal_axis)
+        return Mesh.box(self.scope.size)
+
+    def world_mesh(self) -> Mesh:
+        """The geometry in world coordinates (m)."""
+        return self.mesh().transformed(self.scope.rotation, self.scope.origin)
+
+    def resized(self, size) -> Shape:
+        """The shape with scope size ``size`` (m), its geometry scaled along each scope axis to
+        fill the new size as it filled the old one (CityEngine's ``s()``). A negative size
+        mirrors the geometry along that axis within the scope of the size's magnitude (op_s:
+        "negative sizes result in mirroring"; the faces stay outward, as ``mirror`` keeps
+        them, so the block stays a solid)."""
+        signed = np.asarray(size, float)
+        scope = resize(self.scope, np.abs(signed))
+        geometry = self.geometry
+        if geometry is not None:
+            old = self.scope.size
+            factors = np.divide(scope.size, old, out=np.ones(3), where=old > 0)
+            flips = signed < 0
+            geometry = geometry.scaled(np.where(flips, -factors, factors))
+            if flips.any():
+                geometry = Mesh(
+                    geometry.vertices + np.where(flips, scope.size, 0.0), geometry.faces
+                )
+        return Shape(scope, self.kind, self.normal_axis, self.insert, geometry)
+
+
+def lot_scope(width: float, depth: float) -> Scope:
+    """The start shape's scope: ``width`` (m) along +x, ``depth`` (m) along +z, y up, flat."""
+    if not (math.isfinite(width) and math.isfinite(depth)) or width <= 0 or depth <= 0:
+        raise ValueError(f"the lot must have a positive width and depth, got {width} x {depth} m")
+    if max(width, depth) > LOT_EXTENT_LIMIT_M:
+        raise ValueError(
+            f"the lot's width and depth must be at most {LOT_EXTENT_LIMIT_M:g} m, got "
+            f"{width:.3g} x {depth:.3g} m"
+        )
+    return Scope(np.zeros(3), np.eye(3), np.array([float(width), 0.0, float(depth)]))
+
+
+def extrude(scope: Scope, axis: int, height: float) -> Scope:
+    """Grow a flat scope by ``height`` (m) along its scope ``axis`` (negative grows backwards)."""
+    if not math.isfinite(height):
+        raise ValueError(f"extrude height must be a finite number, got {height}")
+    size = scope.size.copy()
+    size[axis] = abs(height)
+    origin = scope.origin
+    if height < 0:
+        origin = origin + scope.rotation[:, axis] * height
+    return Scope(origin, scope.rotation, size)
+
+
+def split_scope(scope: Scope, axis: int, start: float, size: float) -> Scope:
+    """The slice ``[start, start + size]`` (m) of ``scope`` along its scope ``axis``."""
+    new_size = scope.size.copy()
+    new_size[axis] = size
+    return Scope(scope.origin + scope.rotation[:, axis] * start, scope.rotation, new_size)
+
+
+def face_scopes(scope: Scope) -> list[tuple[str, Scope]]:
+    """The six faces of the box ``scope`` in :data:`FACE_ORDER`, each with its CGA face scope."""
+    out = []
+    size = scope.size
+    for name in FACE_ORDER:
+        corner, x, y, z, dims = _FACE_FRAMES[name]
+        frame = np.array([x, y, z], dtype=float).T  # columns = face axes in scope coordinates
+        origin = scope.to_world(np.asarray(corner, float) * size)
+        rotation = scope.rotation @ frame
+        out.append((name, Scope(origin, rotation, np.array([size[dims[0]], size[dims[1]], 0.0]))))
+    return out
+
+
+def translate(scope: Scope, offset: Sequence[float]) -> Scope:
+    """Move the scope by ``offset`` (m) along its own axes."""
+    return Scope(
+        scope.origin + scope.rotation @ np.asarray(offset, float), scope.rotation, scope.size
+    )
+
+
+def rotation_matrix(angles: Sequence[float]) -> np.ndarray:
+    """Rotation by ``angles`` (degrees) about x, then y, then z (axes fixed during the turn)."""
+    ax, ay, az = (math.radians(float(a)) for a in angles)
+    cx, sx, cy, sy, cz, sz = (
+        math.cos(ax),
+        math.sin(ax),
+        math.cos(ay),
+        math.sin(ay),
+        math.cos(az),
+        math.sin(az),
+    )
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+def rotate(scope: Scope, angles: Sequence[float], about_center: bool = False) -> Scope:
+    """Turn the scope by ``angles`` (degrees) about its own axes through its origin (or centre)."""
+    turn = scope.rotation @ rotation_matrix(angles)
+    origin = scope.origin
+    if about_center:
+        center_world = scope.to_world(scope.size / 2)
+        origin = center_world - turn @ (scope.size / 2)
+    return Scope(origin, turn, scope.size)
+
+
+def resize(scope: Scope, size: Sequence[float]) -> Scope:
+    """The scope with a new ``size`` (m), its origin and axes kept."""
+    size = np.asarray(size, float)
+    if not np.all(np.isfinite(size)) or np.any(size < 0):
+        raise ValueError(f"scope sizes must be finite numbers >= 0, got {size.tolist()}")
+    return Scope(scope.origin, scope.rotation, size)
+
+
+def center(scope: Scope, reference: Scope, axes: str) -> Scope:
+    """Move ``scope`` so that its centre lines up with ``reference``'s along ``axes`` ("xz"...),
+    measured along ``reference``'s axes."""
+    here = scope.to_world(scope.size / 2)
+    there = reference.to_world(reference.size / 2)
+    delta = there - here
+    shift = np.zeros(3)
+    for name in axes:
+        direction = reference.rotation[:, _AXES[name]]
+        shift += direction * float(direction @ delta)
+    return Scope(scope.origin + shift, scope.rotation, scope.size)
+
+
+def axis_index(name: str) -> int:
+    """0, 1, 2 for "x", "y", "z"."""
+    return _AXES[name]
+
+
+def _box_fills(mesh: Mesh, size: np.ndarray) -> bool:
+    """Whether ``mesh`` (scope coordinates) is the box filling a scope of ``size``, its faces in
+    :data:`~shapegen.geometry.mesh.BOX_FACES` order (so the fast path gives the same comp)."""
+    if mesh.n_vertices != 8 or mesh.n_faces != 6:
+        return False
+    box = Mesh.box(size)
+    slack = 1e-9 * max(float(size.max()), 1e-9)
+    for k in range(6):
+        if not np.allclose(mesh.face_points(k), box.face_points(k), atol=slack):
+            return False
+    return True
+
+
+def extrude_shape(
+    shape: Shape, height: float, cityengine_scope: bool, kind: str = "face.normal"
+) -> Shape:
+    """The mass of ``shape`` (a face) extruded by ``height`` (m) along its normal; a 3D shape
+    (a ``.cga`` rule's) has every face extruded along its own normal, as op_extrude does
+    ("each face polygon ... is taken and extruded"), the scope's y along the first face's.
+
+    Its scope follows CityEngine's op_extrude (x kept as far as possible, y along the
+    extrusion, z normal to both, fitted to the geometry) when ``cityengine_scope`` or the face
+    is flat along its y axis (the lot); otherwise (a comp face in a ``.grammar`` rule) the face's
+    own scope grows along its z axis, as shapegen always did. A face filling its scope stays on
+    the fast path (a box, no geometry). ``kind`` is op_extrude's extrusion type: ``face.normal``
+    (the default), ``world.up`` (along world y; the scope's y too) or ``world.up.flatTop``."""
+    if not math.isfinite(height):
+        raise ValueError(f"extrude height must be a finite number, got {height}")
+    scope = shape.scope
+    solid = shape.kind != FACE  # op_extrude: every face of a 3D shape along its own normal
+    cityengine_scope = cityengine_scope or solid
+    world_up = kind.startswith("world.up")
+    lying = not solid and shape.normal_axis == 1  # a face flat along its scope's y
+    if world_up and lying and np.allclose(scope.rotation[:, 1], [0, 1, 0]):
+        world_up = kind == "world.up.flatTop" and shape.geometry is not None
+    fast = not solid and shape.geometry is None and (lying or not cityengine_scope)
+    if not world_up and fast:
+        return Shape(extrude(scope, shape.normal_axis, height), MASS)
+    from shapegen.geometry.extrude import extrude_faces
+    from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
+
+    face = shape.mesh()
+    if face.n_faces == 0:
+        raise ValueError("extrude() of a shape without faces")
+    up = scope.rotation.T @ np.array([0.0, 1.0, 0.0])  # world y in scope coordinates
+    if world_up:
+        prism = extrude_faces(face, height, up, flat_top=kind == "world.up.flatTop")
+    else:
+        prism = extrude_faces(face, height)
+    if prism.n_faces == 0:
+        raise ValueError("extrude() of a face with no area")
+    world = scope.to_world(prism.vertices)
+    if world_up:
+        rotation = rotation_keeping_x(scope.rotation[:, 0], np.array([0.0, 1.0, 0.0]))
+    elif shape.normal_axis == 1 or cityengine_scope:
+        normal = scope.rotation @ face.face_normal(0)
+        rotation = rotation_keeping_x(scope.rotation[:, 0], normal)
+    else:
+        rotation = scope.rotation
+    new_scope, local = fitted_scope(world, rotation)
+    mesh = Mesh(local, prism.faces)
+    if _box_fills(mesh, new_scope.size):
+        return Shape(new_scope, MASS)
+    return Shape.with_geometry(new_scope, mesh, MASS)
+
+
+def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | None:
+    """The piece ``[start, start + size]`` (m) along scope ``axis`` of ``shape``: the scope slice
+    for a shape filling its scope, else its geometry cut by the two planes with the scope fitted
+    to what is left (op_split's default ``adjust``); None when nothing is left."""
+    if shape.geometry is None:
+        return Shape(split_scope(shape.scope, axis, start, size), shape.kind, shape.normal_axis)
+    from shapegen.geometry.cut import clip_slab
+
+    piece = clip_slab(shape.geometry, axis, start, start + size)
+    if piece is None:
+        return None
+    low, high = piece.bounds()
+    scope = shape.scope
+    new_scope = Scope(scope.origin + scope.rotation @ low, scope.rotation, high - low)
+    local = piece.vertices - low
+    if shape.kind == MASS and _is_scope_box(local, new_scope.size, piece.n_faces):
+        return Shape(new_scope, MASS)  # a box filling its scope: back on the fast path
+    return Shape.with_geometry(new_scope, Mesh(local, piece.faces), shape.kind, shape.normal_axis)
+
+
+def _is_scope_box(local: np.ndarray, size: np.ndarray, n_faces: int) -> bool:
+    """Whether the points are the 8 corners of the box ``[0, size]`` (a six-faced closed mesh
+    with these corners is that box)."""
+    if len(local) != 8 or n_faces != 6 or size.min() <= 0:
+        return False
+    slack = 1e-9 * float(size.max())
+    at_low = np.abs(local) <= slack
+    at_high = np.abs(local - size) <= slack
+    if not np.all(at_low | at_high):
+        return False
+    corners = {tuple(row) for row in at_high.tolist()}
+    return len(corners) == 8
+
+
+def lot_shape(lot) -> tuple[Shape, dict]:
+    """The start shape of a derivation and what the model's metadata records of its lot.
+
+    ``lot`` is ``(width, depth)`` in metres (a rectangle filling its scope: the fast path) or a
+    polygon: a sequence of at least three ``(x, z)`` points in metres, counter-clockwise seen
+    from above. Raises ``ValueError`` with a message for the user."""
+    points = list(lot)
+    if len(points) == 2 and not any(isinstance(p, Sequence | np.ndarray) for p in points):
+        width, depth = (float(v) for v in points)
+        return Shape(lot_scope(width, depth), FACE, 1), {"lot": [width, depth]}
+    from shapegen.geometry.frames import lot_polygon
+
+    scope, mesh = lot_polygon(points)
+    shape = Shape.with_geometry(scope, mesh, FACE, 1)
+    if _rectangle_fills(mesh, scope.size):
+        shape = Shape(scope, FACE, 1)
+    world = scope.to_world(mesh.vertices)
+    return shape, {
+        "lot": [float(scope.size[0]), float(scope.size[2])],
+        "lot_polygon": [[float(p[0]), float(p[2])] for p in world],
+    }
+
+
+def _rectangle_fills(mesh: Mesh, size: np.ndarray) -> bool:
+    rectangle = Mesh.rectangle(size, 1)
+    slack = 1e-9 * max(float(size.max()), 1e-9)
+    return mesh.n_vertices == 4 and np.allclose(mesh.vertices, rectangle.vertices, atol=slack)
+
+
+def shape_geometry_value(state, name: str, *args):
+    """``geometry.<name>(*args)`` of the shape of ``state`` (a
+    :class:`~shapegen.engine.derivation.state.ShapeState`); the names are those of
+    :func:`shapegen.geometry.queries.geometry_value` (area, volume, height, nVertices, nFaces,
+    nEdges, nHoles, isClosedSurface, isConcave, isPlanar, isRectangular, isOriented, angle,
+    boundaryLength, du, dv). Raises ``ValueError`` with a message for the user."""
+    from shapegen.geometry.queries import geometry_value
+
+    shape = state.shape
+    return geometry_value(
+        shape.mesh(),
+        shape.scope.rotation,
+        name,
+        *args,
+        size=shape.scope.size,
+        object_rotation=getattr(state.run, "object_rotation", None),
+    )
