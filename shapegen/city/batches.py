@@ -63,34 +63,50 @@ def batch_key(tasks: Sequence) -> str:
 
 
 def run_batch(settings, store, tasks: Sequence, started: Callable[[int], None] | None = None):
-    """Run ``tasks`` (a batch of ``LotTask``) one after the other, write the batch's files into
-    ``store`` (:class:`~shapegen.city.store.CityStore`) and return its records (without their
-    buildings). ``started(k)`` is called as lot ``k`` starts, and with ``len(tasks)`` once they
-    are all done (while the files are written). A lot's failure is its row; only a store that
-    cannot be written raises."""
+    """Run ``tasks`` (a batch of ``LotTask``), write the batch's files into ``store``
+    (:class:`~shapegen.city.store.CityStore`) and return its records (without their
+    buildings). The lots that the batch derivation implements are derived together
+    (:mod:`shapegen.city.batch_derive`, ``derived`` ``"batch"`` in their records); the others
+    one after the other (``"shape"``). ``started(k)`` is called as lot ``k`` starts, and with
+    ``len(tasks)`` once they are all done (while the files are written). A lot's failure is its
+    row; only a store that cannot be written raises."""
+    from shapegen.city.batch_derive import derive_batch
     from shapegen.city.work import run_lot
 
+    if started is not None and tasks:
+        started(0)
+    batched = derive_batch(settings, tasks)
     records, models = [], []
     for k, task in enumerate(tasks):
-        if started is not None:
-            started(k)
-        record = run_lot(settings, task)
+        record = None if batched is None else batched.records[k]
+        if record is None:
+            if started is not None:
+                started(k)
+            record = run_lot(settings, task)
+            record["derived"] = "shape"
+            if batched is not None:
+                record["batch_fallback"] = batched.why.get(k)
         models.append(record.pop("model", None))
         records.append(record)
     if started is not None:
         started(len(tasks))
-    write_batch(store, batch_key(tasks), records, models)
+    write_batch(store, batch_key(tasks), records, models, batched)
     return records
 
 
-def write_batch(store, key: str, records: list[dict], models: Sequence | None = None) -> None:
-    """Write a batch's buildings (``models``, a Model or None per record) and then its records."""
+def write_batch(
+    store, key: str, records: list[dict], models: Sequence | None = None, batched=None
+) -> None:
+    """Write a batch's buildings (``models``, a Model or None per record, and the lots that
+    ``batched`` (:class:`~shapegen.city.batch_derive.BatchLots`) derived, as its arrays) and
+    then its records."""
     built = [(k, model) for k, model in enumerate(models or ()) if model is not None]
-    if built:
-        for index, (k, _) in enumerate(built):
+    lots = [] if batched is None or batched.leaves is None else batched.lots.tolist()
+    if built or lots:
+        for index, k in enumerate([k for k, _ in built] + lots):
             records[k]["building"] = f"{key}:{index}"
         stands = [records[k].get("stands") is not False for k, _ in built]
-        store.write(f"lots/{key}.blocks", _pack([model for _, model in built], stands))
+        store.write(f"lots/{key}.blocks", _pack([model for _, model in built], stands, batched))
     document = {"format": BATCH_FORMAT, "version": 1, "records": records}
     text = json.dumps(json_ready(document), allow_nan=False, separators=(",", ":"))
     store.write(f"lots/{key}.json", text.encode("utf-8"))
@@ -320,7 +336,57 @@ def _triangulated(vertices, corners, start, normals, bent) -> dict[int, list]:
 _FLAT_TURN = 1e-12  # a corner turning back by less than this times the squared edge is straight
 
 
-def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
+def _pack(models: Sequence, stands: Sequence[bool], batched=None) -> bytes:
+    """The batch file of ``models`` (and of the lots ``batched`` derived, after them)."""
+    arrays = _model_arrays(models, stands)
+    if batched is not None and batched.leaves is not None and len(batched.lots):
+        arrays = _joined(arrays, _batch_arrays(batched))
+    header, chunks, offset = {}, [], 0
+    for name, array in arrays.items():
+        array = np.ascontiguousarray(array)
+        header[name] = [array.dtype.str, list(array.shape), offset]
+        padding = -array.nbytes % 8
+        chunks += [array.tobytes(), b"\x00" * padding]
+        offset += array.nbytes + padding
+    text = json.dumps(header, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 8)
+    return b"".join([_MAGIC, len(text).to_bytes(8, "little"), text, *chunks])
+
+
+def _batch_arrays(batched) -> dict[str, np.ndarray]:
+    """The file's arrays of the leaves a batch derivation packed: one entry per building."""
+    leaves = batched.leaves
+    count = len(batched.lots)
+    return {
+        "vertices": leaves["vertices"],
+        "vertex_offsets": _offsets(leaves["vertex_counts"]),
+        "faces": leaves["faces"].astype(np.int32),
+        "face_sizes": leaves["face_sizes"].astype(np.int32),
+        "face_starts": _offsets(leaves["face_sizes"])[:-1],
+        "face_offsets": _offsets(leaves["face_counts"]),
+        "block_offsets": np.arange(count + 1, dtype=np.int64),
+        "rgba": batched.rgba,
+        "flags": batched.flags,
+    }
+
+
+def _joined(first: dict, second: dict) -> dict[str, np.ndarray]:
+    """Two sets of a batch file's arrays, the second's buildings after the first's."""
+    out = {}
+    for name in ("vertices", "faces", "face_sizes", "rgba", "flags"):
+        out[name] = np.concatenate([first[name], second[name]])
+    for name, base in (
+        ("vertex_offsets", len(first["vertices"])),
+        ("face_offsets", len(first["face_sizes"])),
+        ("block_offsets", len(first["flags"])),
+    ):
+        out[name] = np.concatenate([first[name], second[name][1:] + base])
+    out["face_starts"] = np.concatenate([first["face_starts"],
+                                         second["face_starts"] + len(first["faces"])])  # fmt: skip
+    return {name: out[name] for name in first}
+
+
+def _model_arrays(models: Sequence, stands: Sequence[bool]) -> dict[str, np.ndarray]:
     vertices, faces, face_sizes, rgba, flags = [], [], [], [], []
     block_counts, vertex_counts, face_counts = [], [], []
     buildings = [_drawn(model) for model in models]
@@ -342,7 +408,7 @@ def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
                 faces.extend(face)
                 face_sizes.append(len(face))
             flags.append(int(fixed) | 2 * int(structural))
-    arrays = {
+    return {
         "vertices": np.concatenate(vertices) if vertices else np.zeros((0, 3)),
         "vertex_offsets": _offsets(vertex_counts),
         "faces": np.asarray(faces, dtype=np.int32),
@@ -353,16 +419,6 @@ def _pack(models: Sequence, stands: Sequence[bool]) -> bytes:
         "rgba": np.concatenate(rgba).astype(np.uint8) if rgba else np.zeros((0, 4), np.uint8),
         "flags": np.asarray(flags, dtype=np.uint8),
     }
-    header, chunks, offset = {}, [], 0
-    for name, array in arrays.items():
-        array = np.ascontiguousarray(array)
-        header[name] = [array.dtype.str, list(array.shape), offset]
-        padding = -array.nbytes % 8
-        chunks += [array.tobytes(), b"\x00" * padding]
-        offset += array.nbytes + padding
-    text = json.dumps(header, separators=(",", ":")).encode()
-    text += b" " * (-len(text) % 8)
-    return b"".join([_MAGIC, len(text).to_bytes(8, "little"), text, *chunks])
 
 
 def _offsets(counts: Sequence[int]) -> np.ndarray:

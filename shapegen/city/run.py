@@ -86,6 +86,22 @@ class CityRun:
         return sum(1 for r in self.records if r is not None and r["status"] == "ok")
 
     @property
+    def derivation(self) -> dict:
+        """How this run derived its lots: ``{"batch": lots derived together, "shape": lots
+        derived one at a time, "reasons": {why a lot was not in a batch: lots}}`` (lots of an
+        earlier run and of runs that judge or search, which derive one at a time, not
+        counted as such)."""
+        counts = {"batch": 0, "shape": 0, "reasons": {}}
+        for record in self.records:
+            how = None if record is None else record.get("derived")
+            if how in ("batch", "shape"):
+                counts[how] += 1
+                why = record.get("batch_fallback")
+                if how == "shape" and why:
+                    counts["reasons"][why] = counts["reasons"].get(why, 0) + 1
+        return counts
+
+    @property
     def standing(self) -> int:
         return sum(1 for r in self.records if r is not None and r.get("stands"))
 

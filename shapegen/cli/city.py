@@ -225,6 +225,14 @@ def _summary(outcome, args) -> None:
     )
     if ran:
         print(f"{ran} lots in {outcome.seconds:.1f} s ({rate:.2f} lots/s) on {outcome.executor}")
+    how = outcome.derivation
+    if how["batch"]:
+        reasons = sorted(how["reasons"].items(), key=lambda item: -item[1])
+        why = "; ".join(f"{reason}: {count}" for reason, count in reasons[:4])
+        print(
+            f"derived in batches: {how['batch']} lots; one shape at a time: {how['shape']}"
+            + (f" ({why})" if why else "")
+        )
     partial = [r["id"] for r in ok if r.get("left_out")]
     if partial:
         shown = ", ".join(partial[:5]) + (

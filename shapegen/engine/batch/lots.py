@@ -1,0 +1,462 @@
+"""A city's lots derived together: footprints as packed arrays, one operation on all of them.
+
+:func:`derive_lots` takes the footprints of many lots (their corners end to end with ring
+offsets), one seed and one set of attr values per lot, and derives them with one rule as a
+batch: the start shapes' scopes are computed for all lots at once, ``set``, ``extrude`` of the
+flat footprint, ``color``, ``report`` and successors act on the whole batch, ``case`` and
+stochastic bodies split it by masks, and every lot draws its random numbers from its own
+stream (the same generator, keyed by the same seed and shape path, as one lot at a time), so
+each lot's heights, reports and attrs are the ones its own derivation gives.
+
+Each lot of the batch ends in one leaf: its footprint extruded, a prism given by its packed
+corners and height. A lot (or a branch of lots) meeting anything the batch does not implement
+(:class:`~shapegen.engine.batch.columns.Unsupported`: other operations, a footprint whose
+convexity or shape is in doubt, a height that is not clearly positive) is marked
+``fallback``, with the reason counted: its caller derives it one shape at a time.
+
+The leaf of a lot is drawn as the one-at-a-time derivation draws it, up to round-off
+(1e-9 m): a footprint that is a rectangle filling its scope gives a box block (its eight
+corners in scope order), a convex one a block of the prism, any other a solid kept as derived.
+"""
+
+from __future__ import annotations
+
+__all__ = ["LotBatch", "derive_lots"]
+
+import random
+import warnings
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from shapegen.engine.batch.columns import ColumnExpressions, Unsupported, is_column
+from shapegen.engine.batch.footprints import Footprints
+from shapegen.grammar import ast
+
+BOX, CONVEX, SOLID = 0, 1, 2  # what a lot's leaf is drawn as
+
+
+@dataclass
+class LotBatch:
+    """What :func:`derive_lots` made of ``n`` lots.
+
+    Attributes
+    ----------
+    fallback
+        ``(n,)`` bool: lots the batch did not derive (derive them one at a time).
+    reasons
+        Why, counted over the lots (``{"reason": lots}``).
+    why
+        ``(n,)`` each lot's reason (``""`` for a lot the batch derived).
+    footprints
+        The lots' start shapes (:class:`~shapegen.engine.batch.footprints.Footprints`).
+    kind
+        ``(n,)`` what each lot's leaf is drawn as: ``BOX``, ``CONVEX`` (a block) or ``SOLID``.
+    height
+        ``(n,)`` the extrusion of each lot's footprint (m).
+    events
+        The batch's reports in the order they were made: ``(lot indices, key, value or
+        column)`` (:meth:`reports` gives each lot's).
+    values
+        Per lot, the attr values it started with (its group's dict, shared).
+    warnings
+        The warnings of every lot's derivation (the rule's own, from its load).
+    """
+
+    fallback: np.ndarray
+    reasons: Counter
+    why: np.ndarray
+    footprints: Footprints
+    kind: np.ndarray
+    height: np.ndarray
+    events: list
+    values: list
+    warnings: list = field(default_factory=list)
+
+    @property
+    def derived(self) -> int:
+        """Lots the batch derived."""
+        return int((~self.fallback).sum())
+
+    def reports(self) -> list:
+        """Per lot, its reports as its own derivation gives them (``{key: value}``, or a list
+        of values for a key reported more than once); None for a lot that fell back."""
+        found: list = [None if bad else {} for bad in self.fallback.tolist()]
+        for index, key, value in self.events:
+            column = is_column(value)
+            for j, k in enumerate(index.tolist()):
+                if found[k] is not None:
+                    found[k].setdefault(key, []).append(value[j].item() if column else value)
+        for lot in found:
+            if lot is not None:
+                for key, items in lot.items():
+                    lot[key] = items[0] if len(items) == 1 else items
+        return found
+
+
+def derive_lots(grammar, rings, offsets, seeds, overrides, limits=None) -> LotBatch:
+    """Derive lots with ``grammar`` (a loaded :class:`~shapegen.Grammar`) as one batch.
+
+    ``rings`` are ``(P, 2)`` corners ``(x, z)`` in metres of every lot end to end (as
+    :meth:`~shapegen.Grammar.build` takes a polygon: counter-clockwise seen from above),
+    ``offsets`` ``(n + 1,)`` where each lot's corners start; ``seeds`` one derivation seed per
+    lot; ``overrides`` one dict of attr values per lot (lots sharing a dict object are grouped
+    without comparing). ``limits`` are the :class:`~shapegen.limits.WorkLimits` of each lot.
+    Never raises for a lot's trouble: such a lot falls back (see module doc)."""
+    from shapegen.limits import current_limits
+
+    program = grammar.program
+    count = len(offsets) - 1
+    footprints = Footprints(np.asarray(rings, dtype=float), np.asarray(offsets, dtype=np.int64))
+    run = _Run(program, count, footprints, [int(s) for s in seeds])
+    for reason in set(footprints.doubt[footprints.doubtful].tolist()):
+        run.give_up(footprints.doubtful & (footprints.doubt == reason), reason)
+    limits = limits or current_limits()
+    reason = _whole_rule_reason(program, limits)
+    if reason is not None:
+        run.give_up(np.ones(count, dtype=bool), reason)
+    else:
+        for index, values in _groups(program, overrides, run):
+            batch = ShapeBatch(run, index, values, (), 0)
+            batch.derive(program.rules[(program.start.name, 0)])
+    return run.finish()
+
+
+def _whole_rule_reason(program, limits) -> str | None:
+    """Why no lot of this rule can go in a batch, or None."""
+    if not program.cga_dialect:
+        return "a .grammar rule (only .cga rules go in batches)"
+    for node in program.attr_nodes.values():
+        if node.local_variables or not isinstance(
+            node.value, ast.Number | ast.String | ast.Boolean
+        ):
+            return "an attr whose value is not a literal"
+        if any(a.name == "Free" for a in node.annotations):
+            return "an @Free attr"
+    for node in program.const_nodes.values():
+        if node.local_variables or not isinstance(
+            node.value, ast.Number | ast.String | ast.Boolean
+        ):
+            return "a const whose value is not a literal"
+    if program.start.annotations and any(a.name == "Structure" for a in program.start.annotations):
+        return "an @Structure start rule"
+    if limits.max_depth < 8 or limits.max_shapes < 8 or limits.max_blocks < 1:
+        return "work limits below a batch's few shapes"
+    return None
+
+
+def _groups(program, overrides, run):
+    """``(lot indices, initial values)`` per distinct overrides; a group whose values do not
+    come out cleanly (a coercion warns or fails) falls back."""
+    from shapegen.engine.shape import lot_scope
+
+    by_object: dict[int, list] = {}
+    first: dict[int, dict] = {}
+    for k, given in enumerate(overrides):
+        by_object.setdefault(id(given), []).append(k)
+        first.setdefault(id(given), given)
+    merged: dict[tuple, list] = {}
+    for key, lots in by_object.items():
+        given = first[key]
+        try:
+            signature = tuple(sorted((name, repr(v)) for name, v in given.items()))
+        except TypeError:
+            run.give_up(_mask(run.count, lots), "attr values that cannot be compared")
+            continue
+        merged.setdefault(signature, []).extend(lots)
+    scope = lot_scope(10.0, 10.0)
+    for lots in merged.values():
+        given = first[id(overrides[lots[0]])]
+        index = np.array(sorted(lots), dtype=np.int64)
+        try:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                values = program.initial_values(given, 0, scope)
+        except Exception:  # noqa: BLE001 - the one-at-a-time derivation says what it is
+            run.give_up(_mask(run.count, index), "attr values that do not evaluate")
+            continue
+        if caught:
+            run.give_up(_mask(run.count, index), "attr values that warn")
+            continue
+        index = index[~run.fallback[index]]
+        if len(index):
+            run.values_of[index] = len(run.groups)
+            run.groups.append(values)
+            yield index, values
+
+
+def _mask(count: int, index) -> np.ndarray:
+    mask = np.zeros(count, dtype=bool)
+    mask[np.asarray(index, dtype=np.int64)] = True
+    return mask
+
+
+class _Run:
+    """The batch's shared state: which lots fell back and why, the reports, the leaves."""
+
+    def __init__(self, program, count: int, footprints: Footprints, seeds: list[int]):
+        from shapegen.engine.derivation import Derivation, root_state
+        from shapegen.engine.shape import FACE, Shape, lot_scope
+
+        self.program = program
+        self.count = count
+        self.footprints = footprints
+        self.seeds = seeds
+        self.fallback = np.zeros(count, dtype=bool)
+        self.reasons: Counter = Counter()
+        self.why = np.full(count, "", dtype=object)
+        self.events: list[tuple] = []  # (lot indices, key, value or column), in order
+        self.kind = np.full(count, -1, dtype=np.int8)
+        self.height = np.zeros(count)
+        self.leaves = np.zeros(count, dtype=np.int64)
+        self.groups: list[dict] = []
+        self.values_of = np.full(count, -1, dtype=np.int64)
+        probe_run = Derivation(program, 0)
+        self.probe = root_state(probe_run, Shape(lot_scope(10.0, 10.0), FACE, 1), {}, ("probe",))
+        self.expressions = ColumnExpressions(program, self.probe)
+
+    def give_up(self, mask: np.ndarray, reason: str) -> None:
+        new = mask & ~self.fallback
+        if new.any():
+            self.fallback |= new
+            self.reasons[reason] += int(new.sum())
+            self.why[new] = reason
+
+    def finish(self) -> LotBatch:
+        self.give_up(self.leaves != 1, "not one leaf a lot")
+        self.give_up(self.kind < 0, "a leaf that is not an extruded footprint")
+        footprints = self.footprints
+        self.give_up(footprints.not_convex_in_doubt(self.height), "convex or not, in doubt")
+        kind = np.where(footprints.box, BOX, np.where(footprints.convex, CONVEX, SOLID))
+        kind = np.where(self.fallback, -1, kind).astype(np.int8)
+        values = [self.groups[g] if g >= 0 else None for g in self.values_of.tolist()]
+        return LotBatch(
+            self.fallback,
+            self.reasons,
+            self.why,
+            footprints,
+            kind,
+            self.height,
+            self.events,
+            values,
+            list(self.program.grammar.warnings),
+        )
+
+
+class ShapeBatch:
+    """The shapes of some lots standing at one rule: the same path in each lot's tree, their
+    attrs (shared values or columns) and shape (the footprint, or its extrusion)."""
+
+    def __init__(self, run: _Run, index: np.ndarray, attrs: dict, path: tuple, depth: int):
+        self.run = run
+        self.index = index
+        self.attrs = attrs
+        self.path = path
+        self.depth = depth
+        self.height = None  # None: the flat footprint; else the extrusion's column (m)
+        self.children = 0
+        self.streams: dict[int, random.Random] = {}  # lot -> this shape's generator
+
+    @property
+    def size(self) -> int:
+        return len(self.index)
+
+    def shared_attrs(self) -> dict:
+        return {k: v for k, v in self.attrs.items() if not is_column(v)}
+
+    def give_up(self, mask: np.ndarray, reason: str) -> None:
+        """Lots of this batch (``mask`` over it) that fall back."""
+        self.run.give_up(_mask(self.run.count, self.index[mask]), reason)
+
+    def draws(self) -> np.ndarray:
+        """One uniform draw in [0, 1) per shape, each from its lot's own generator for this
+        shape (keyed as ShapeState.random keys it)."""
+        streams, seeds = self.streams, self.run.seeds
+        tail = "/".join(str(k) for k in self.path)
+        out = np.empty(self.size)
+        for j, k in enumerate(self.index.tolist()):
+            rng = streams.get(k)
+            if rng is None:
+                rng = streams[k] = random.Random(f"{seeds[k]}/{tail}")
+            out[j] = rng.random()
+        return out
+
+    def geometry_value(self, node):
+        if node.args or node.obj != "geometry":
+            raise Unsupported(f"{node.obj}.{node.field}")
+        footprints = self.run.footprints
+        area = footprints.area[self.index]
+        if node.field == "area":  # the faces' area: the footprint, or the prism's surface
+            if self.height is None:
+                return area.copy()
+            return 2.0 * area + footprints.perimeter[self.index] * self.height
+        if node.field == "volume":
+            return area * self.height if self.height is not None else np.zeros(self.size)
+        raise Unsupported(f"geometry.{node.field}()")
+
+    # ------------------------------------------------------------------ derivation
+    def derive(self, rule) -> None:
+        """Apply ``rule`` (a compiled rule of the program) and derive the successors."""
+        try:
+            if rule.arity or rule.node.local_variables:
+                raise Unsupported("a rule with parameters or local variables")
+            self._body(rule.node.body)
+        except Unsupported as exc:
+            self.give_up(np.ones(self.size, dtype=bool), str(exc))
+
+    def _body(self, body) -> None:
+        if isinstance(body, ast.Sequence):
+            self._sequence(body.items)
+        elif isinstance(body, ast.ConditionalBody):
+            self._conditional(body)
+        elif isinstance(body, ast.StochasticBody):
+            self._stochastic(body)
+        else:
+            raise Unsupported(f"a rule body {type(body).__name__}")
+
+    def _sequence(self, items) -> None:
+        successor = None
+        for item in items:
+            if isinstance(item, ast.Successor):
+                if successor is not None:
+                    raise Unsupported("two successors of one shape")
+                successor = (item, self._snapshot())
+                self.children += 1
+            elif isinstance(item, ast.Set):
+                self._set(item)
+            elif isinstance(item, ast.Extrude):
+                self._extrude(item)
+            elif isinstance(item, ast.Report):
+                self._report(item)
+            elif isinstance(item, ast.Operation) and item.name == "color":
+                self._color(item)
+            else:
+                raise Unsupported(f"the operation {getattr(item, 'name', type(item).__name__)}")
+        if successor is None:
+            self._leaf()
+            return
+        node, (attrs, height) = successor
+        if node.args:
+            raise Unsupported("a successor with arguments")
+        rule = None if node.leaf else self.run.program.rules.get((node.name, 0))
+        if rule is None and not node.leaf and node.name in self.run.program.arities:
+            raise Unsupported("a successor of another arity")
+        child = ShapeBatch(self.run, self.index, attrs, self.path + (0,), self.depth + 1)
+        child.height = height
+        if rule is None:
+            child._leaf()
+        else:
+            child.derive(rule)
+
+    def _snapshot(self):
+        return dict(self.attrs), self.height
+
+    def _leaf(self) -> None:
+        run = self.run
+        run.leaves[self.index] += 1
+        if self.height is None:
+            self.give_up(np.ones(self.size, dtype=bool), "a flat footprint as a leaf")
+            return
+        run.kind[self.index] = 0
+        run.height[self.index] = self.height
+
+    def _set(self, item: ast.Set) -> None:
+        if item.attribute not in self.run.program.attr_nodes:
+            raise Unsupported(f"set() of {item.attribute}")
+        value = self.run.expressions.value(item.value, self)
+        old = self.attrs[item.attribute]
+        if _kind(value) != _kind(old):
+            raise Unsupported("set() of a value of another type")
+        self.attrs = {**self.attrs, item.attribute: value}
+
+    def _extrude(self, item: ast.Extrude) -> None:
+        if self.height is not None:
+            raise Unsupported("extrude() of a 3D shape")
+        value = self.run.expressions.value(item.height, self)
+        if not (is_column(value) and value.dtype == np.float64) and type(value) is not float:
+            raise Unsupported("extrude() of a value that is not a number")
+        height = np.broadcast_to(np.asarray(value, dtype=float), (self.size,)).copy()
+        sizes = self.run.footprints.span[self.index]
+        self.give_up(
+            ~(np.isfinite(height) & (height > 1e-6 * sizes)), "an extrusion not clearly up"
+        )
+        self.height = height
+
+    def _report(self, item: ast.Report) -> None:
+        from shapegen.engine.expressions import format_value
+
+        key = self.run.expressions.value(item.key, self)
+        if is_column(key):
+            raise Unsupported("a report key that differs between shapes")
+        value = self.run.expressions.value(item.value, self)
+        self.run.events.append((self.index, format_value(key), value))
+
+    def _color(self, item: ast.Operation) -> None:
+        if len(item.arguments) != 1 or item.arguments[0].kind != "plain" or item.branches:
+            raise Unsupported("color() with other than one argument")
+        value = self.run.expressions.value(item.arguments[0].value, self)
+        if is_column(value) or not _hex_color(value):
+            raise Unsupported("color() of other than a #rrggbb string")
+
+    def _conditional(self, body: ast.ConditionalBody) -> None:
+        remaining = np.ones(self.size, dtype=bool)
+        for branch in body.branches:
+            if not remaining.any():
+                return
+            part = self._part(remaining)
+            test = self.run.expressions.value(branch.condition, part)
+            if _kind(test) is not bool:
+                raise Unsupported("a case condition that is not a boolean")
+            chosen = np.zeros(self.size, dtype=bool)
+            chosen[np.flatnonzero(remaining)] = np.broadcast_to(test, (part.size,))
+            if chosen.any():
+                self._branch(chosen, branch.body)
+            remaining &= ~chosen
+        if remaining.any():
+            self._branch(remaining, body.otherwise)
+
+    def _stochastic(self, body: ast.StochasticBody) -> None:
+        draw = 100.0 * self.draws()
+        remaining = np.ones(self.size, dtype=bool)
+        for branch in body.branches:
+            percent = float(branch.percent)
+            chosen = remaining & (draw < percent)
+            if chosen.any():
+                self._branch(chosen, branch.body)
+            remaining &= ~chosen
+            draw = np.where(remaining, draw - percent, draw)
+        if remaining.any():
+            self._branch(remaining, body.otherwise)
+
+    def _part(self, mask: np.ndarray) -> ShapeBatch:
+        """The shapes of ``mask``, with their state (their random streams go on where they are)."""
+        part = ShapeBatch(self.run, self.index[mask], {}, self.path, self.depth)
+        part.attrs = {k: (v[mask] if is_column(v) else v) for k, v in self.attrs.items()}
+        part.height = None if self.height is None else self.height[mask]
+        part.children = self.children
+        part.streams = self.streams  # the same shapes: their generators go on
+        return part
+
+    def _branch(self, mask: np.ndarray, body) -> None:
+        part = self._part(mask)
+        try:
+            part._body(body)
+        except Unsupported as exc:
+            part.give_up(np.ones(part.size, dtype=bool), str(exc))
+
+
+def _kind(value) -> type:
+    if is_column(value):
+        return bool if value.dtype == np.bool_ else float
+    return type(value)
+
+
+def _hex_color(value) -> bool:
+    if type(value) is not str or len(value) != 7 or value[0] != "#":
+        return False
+    try:
+        int(value[1:], 16)
+    except ValueError:
+        return False
+    return True

@@ -1,0 +1,171 @@
+"""Lots derived as one batch against the same lots derived one at a time: the same leaves
+(corners to round-off, faces, block or solid), reports and attrs, on real footprints (most not
+convex) and rectangles; what the batch does not implement falls back, counted."""
+
+from __future__ import annotations
+
+import gzip
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shapegen
+from shapegen.engine.batch import derive_lots
+from shapegen.engine.batch.leaves import packed_leaves
+from shapegen.engine.batch.lots import BOX, SOLID
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+EXTRUSION = """version "2023.0"
+attr parcelArea = 0
+attr minBuildingHeight = 10
+attr maxBuildingHeight = 30
+attr buildingColor = "#FF00FF"
+attr OBJECTID = 0
+attr text = "salut"
+
+@StartRule
+Footprint -->
+    set(parcelArea, geometry.area())
+    BuildingCreation
+
+BuildingCreation -->
+    extrude(rand(minBuildingHeight, maxBuildingHeight))
+    color(buildingColor)
+    report("Building Height." + OBJECTID, geometry.volume() / parcelArea)
+    report("Min Height." + OBJECTID, minBuildingHeight)
+    report("Parcel Area." + OBJECTID, parcelArea)
+    report("Text", text)
+    ReportNext
+
+ReportNext -->
+    case text == "salut" && parcelArea > 300:
+        report("Value", 1)
+        report("Bool value", true)
+    else:
+        report("Value", 56)
+        Chance
+
+Chance -->
+    30% : report("Kind", "tall") Tall.
+    else : report("Kind", rand(2) + 1 > 2)
+"""
+
+
+def _footprints(count: int, tmp_path) -> list[np.ndarray]:
+    """The first ``count`` OSM footprints of the district as (x, z) lots, and rectangles."""
+    from shapegen.city import read_lots
+    from shapegen.city.work import city_lot
+
+    with gzip.open(DATA / "osm" / "neubrandenburg.geojson.gz") as handle:
+        document = json.load(handle)
+    document["features"] = document["features"][:count]
+    (tmp_path / "lots.geojson").write_text(json.dumps(document))
+    city = read_lots(tmp_path / "lots.geojson")
+    rings = [city_lot(lot.ring) for lot in city.lots[:count]]
+    rings += [np.array([[x, -z], [x + 12, -z], [x + 12, -z - 8], [x, -z - 8]], float)
+              for x, z in ((0.0, 0.0), (30.5, 7.25), (-40.0, 100.0))]  # fmt: skip
+    return rings
+
+
+def _grammar(tmp_path, text: str):
+    path = tmp_path / "rule.cga"
+    path.write_text(text)
+    return shapegen.load_grammar(path)
+
+
+def _batch(grammar, rings, overrides=None):
+    offsets = np.zeros(len(rings) + 1, dtype=np.int64)
+    np.cumsum([len(r) for r in rings], out=offsets[1:])
+    seeds = [1000 + 7 * k for k in range(len(rings))]
+    given = overrides or [{}] * len(rings)
+    return derive_lots(grammar, np.concatenate(rings), offsets, seeds, given), seeds
+
+
+def test_batch_gives_what_one_lot_at_a_time_gives(tmp_path):
+    from shapegen.pipeline import design
+
+    grammar = _grammar(tmp_path, EXTRUSION)
+    rings = _footprints(150, tmp_path)
+    batch, seeds = _batch(grammar, rings)
+    derived = np.flatnonzero(~batch.fallback)
+    assert len(derived) >= 0.95 * len(rings)  # most lots go in the batch
+    assert set(batch.kind[derived].tolist()) == {0, 1, 2}  # boxes, convex blocks, solids
+    leaves = packed_leaves(batch, derived)
+    vertex_at = np.concatenate([[0], np.cumsum(leaves["vertex_counts"])])
+    face_at = np.concatenate([[0], np.cumsum(leaves["face_counts"])])
+    corner_at = np.concatenate([[0], np.cumsum(leaves["face_sizes"])])
+    reports = batch.reports()
+    for j, k in enumerate(derived.tolist()):
+        lot = [tuple(p) for p in rings[k].tolist()]
+        model = design(grammar, seed=seeds[k], lot=lot, assess=False).model
+        solid = batch.kind[k] == SOLID
+        assert (len(model.blocks), len(model.surfaces)) == ((0, 1) if solid else (1, 0))
+        leaf = model.surfaces[0] if solid else model.blocks[0]
+        vertices = leaves["vertices"][vertex_at[j] : vertex_at[j + 1]]
+        scale = np.abs(vertices).max()
+        np.testing.assert_allclose(vertices, leaf.vertices, rtol=0, atol=1e-12 * scale + 1e-12)
+        sizes = leaves["face_sizes"][face_at[j] : face_at[j + 1]].tolist()
+        flat = leaves["faces"][corner_at[face_at[j]] : corner_at[face_at[j + 1]]].tolist()
+        faces, at = [], 0
+        for size in sizes:
+            faces.append(tuple(flat[at : at + size]))
+            at += size
+        assert tuple(faces) == tuple(leaf.faces)
+        expected = model.metadata["reports"]
+        assert list(reports[k]) == list(expected)  # same keys, same order
+        for key, value in expected.items():
+            got = reports[k][key]
+            if isinstance(value, float):
+                assert got == pytest.approx(value, rel=1e-12), key
+            else:
+                assert got == value and type(got) is type(value), key
+        assert batch.values[k]["parcelArea"] == model.metadata["attrs"]["parcelArea"]
+    assert (batch.kind[derived] == BOX).sum() >= 3  # the rectangles
+
+
+def test_lots_the_batch_cannot_derive_fall_back_counted(tmp_path):
+    rings = _footprints(40, tmp_path)
+    # an operation the batch does not implement: every lot falls back, with the reason
+    grammar = _grammar(tmp_path, "Lot --> extrude(10) comp(f) { top : Roof | side : Wall }")
+    batch, _ = _batch(grammar, rings)
+    assert batch.fallback.all() and batch.derived == 0
+    assert sum(batch.reasons.values()) == len(rings)
+    assert any("comp" in reason or "Comp" in reason for reason in batch.reasons)
+    # a branch that some lots take: only those lots fall back
+    text = (
+        "Lot --> case geometry.area() > 300 : extrude(5) Big\n"
+        "    else : extrude(3) comp(f) { top : R }"
+    )
+    batch, _ = _batch(_grammar(tmp_path, text), rings)
+    big = batch.footprints.area > 300
+    assert batch.fallback[~big & ~batch.footprints.doubtful].all()
+    assert not batch.fallback[big & ~batch.footprints.doubtful].any()
+    assert 0 < batch.derived < len(rings)
+    # a footprint that runs clockwise, one that crosses itself: left to the one-at-a-time path
+    square = np.array([[0.0, 0.0], [0.0, -5.0], [5.0, -5.0], [5.0, 0.0]])
+    bowtie = np.array([[0.0, -3.0], [9.0, 0.0], [9.0, -9.0], [0.0, 0.0]])
+    batch, _ = _batch(_grammar(tmp_path, EXTRUSION), [square, square[::-1], bowtie])
+    assert batch.fallback.tolist() == [True, False, True]
+    assert batch.reasons == {
+        "a footprint that runs clockwise": 1,
+        "a footprint that crosses itself": 1,
+    }
+
+
+def test_lot_properties_group_lots(tmp_path):
+    from shapegen.pipeline import design
+
+    grammar = _grammar(tmp_path, EXTRUSION)
+    rings = _footprints(30, tmp_path)
+    tall, short = {"maxBuildingHeight": 80.0, "text": "other"}, {}
+    given = [tall if k % 3 == 0 else short for k in range(len(rings))]
+    batch, seeds = _batch(grammar, rings, given)
+    reports = batch.reports()
+    for k in np.flatnonzero(~batch.fallback).tolist()[:12]:
+        lot = [tuple(p) for p in rings[k].tolist()]
+        model = design(grammar, attrs=given[k], seed=seeds[k], lot=lot, assess=False).model
+        assert reports[k].keys() == model.metadata["reports"].keys()
+        height = model.metadata["reports"]["Building Height.0"]
+        assert reports[k]["Building Height.0"] == pytest.approx(height, rel=1e-12)
