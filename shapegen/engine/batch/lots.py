@@ -149,7 +149,7 @@ def _whole_rule_reason(program, limits) -> str | None:
 def _groups(program, overrides, run):
     """``(lot indices, initial values)`` per distinct overrides; a group whose values do not
     come out cleanly (a coercion warns or fails) falls back."""
-    from shapegen.engine.shape import lot_scope
+    from shapegen.engine.shapes.shape import lot_scope
 
     by_object: dict[int, list] = {}
     first: dict[int, dict] = {}
@@ -196,8 +196,8 @@ class _Run:
     """The batch's shared state: which lots fell back and why, the reports, the leaves."""
 
     def __init__(self, program, count: int, footprints: Footprints, seeds: list[int]):
-        from shapegen.engine.derivation import Derivation, root_state
-        from shapegen.engine.shape import FACE, Shape, lot_scope
+        from shapegen.engine.derivation.state import Derivation, root_state
+        from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
 
         self.program = program
         self.count = count
@@ -384,7 +384,7 @@ class ShapeBatch:
         self.height = height
 
     def _report(self, item: ast.Report) -> None:
-        from shapegen.engine.expressions import format_value
+        from shapegen.engine.expressions.arrays import format_value
 
         key = self.run.expressions.value(item.key, self)
         if is_column(key):
