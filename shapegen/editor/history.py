@@ -1,71 +1,74 @@
 """Undo, redo and reset of the designer's changes.
 
-The history is a list of :class:`~shapegen.editor.inputs.Inputs` before each change (a drag of a
-slider, sent with one gesture, is one change; a search's result, a reset, a new seed or lot, a
-free or fixed attr and the search's margin are changes too) and one of those undone.
-:class:`HistoryMixin` is mixed into :class:`~shapegen.editor.session.EditorSession`, which
-provides ``grammar``, ``attrs``, ``_undo``, ``_redo``, ``_last_inputs`` and the change
-machinery (``_take_work``, ``_apply``).
+:class:`History` is a list of :class:`~shapegen.editor.inputs.Inputs` before each change (a drag
+of a slider, sent with one gesture, is one change; a search's result, a reset, a new seed or
+lot, a free or fixed attr and the search's margin are changes too) and one of those undone. The
+session asks it what to apply and tells it what was applied; it holds nothing else.
 """
 
 from __future__ import annotations
 
-__all__ = ["HistoryMixin"]
-
-from dataclasses import replace
+__all__ = ["History", "reset_names"]
 
 from shapegen.editor.attrs import RequestError
-from shapegen.editor.inputs import valid_attrs
+from shapegen.editor.inputs import Inputs
 
 
-class HistoryMixin:
-    """Undo, redo and reset (``POST /api/undo``, ``/api/redo``, ``/api/reset``)."""
+class History:
+    """The undo and redo steps of one session, and the gesture the last change belonged to."""
 
-    def undo(self) -> dict:
-        """Take the designer's values back to before the last change (a drag, a typed value, a
-        reset, a search's result)."""
-        return self._step_history(self._undo, self._redo, "undo")
+    def __init__(self):
+        self._undo: list[Inputs] = []  # the design's inputs before each change
+        self._redo: list[Inputs] = []  # ... and after each undone one
+        self._gesture: str | None = None
 
-    def redo(self) -> dict:
-        """Make the last undone change again."""
-        return self._step_history(self._redo, self._undo, "redo")
+    def counts(self) -> dict:
+        """``{"undo": n, "redo": n}``: the steps each way, for the page's buttons."""
+        return {"undo": len(self._undo), "redo": len(self._redo)}
 
-    def reset(self, payload: object = None) -> dict:
-        """Give attrs back their rule defaults: ``{"attrs": ["span", ...]}``, or every attr the
-        designer set for ``{}`` or no body. The defaults then follow the file: a changed default
-        saved in it shows at the next reload."""
-        payload = {} if payload is None else payload
-        if not isinstance(payload, dict) or set(payload) - {"attrs"}:
-            raise RequestError('send {"attrs": ["name", ...]} to reset those, or {} for all')
-        names = payload.get("attrs")
-        if names is not None:
-            if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
-                raise RequestError('"attrs" is a list of attr names, such as ["span"]')
-            unknown = [n for n in names if n not in self.grammar.attrs]
-            if unknown:
-                raise RequestError(f"the grammar has no attr {unknown[0]!r}")
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
-            gone = set(self.attrs) if names is None else set(names)
-            kept = {k: v for k, v in self.attrs.items() if k not in gone}
-            return self._apply(replace(self._inputs(), attrs=kept))
-        finally:
-            self._work.release()
+    def joins(self, gesture: str | None) -> bool:
+        """Whether a change of ``gesture`` continues the last change (the same drag)."""
+        return gesture is not None and gesture == self._gesture and bool(self._undo)
 
-    def _step_history(self, source: list, target: list, what: str) -> dict:
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
-            if not source:
-                raise RequestError(f"nothing to {what}", 409)
-            entry = source[-1]
-            # a value of the history may predate a reload of the file
-            self._apply(replace(entry, attrs=valid_attrs(self.grammar, entry.attrs)), record=False)
-            with self._state_lock:
-                target.append(self._last_inputs)
-                source.pop()
-                self.version += 1
-                return self.state()
-        finally:
-            self._work.release()
+    def changed(self, before: Inputs, after: Inputs, *, record: bool, gesture: str | None) -> None:
+        """A change from ``before`` to ``after`` was applied; with ``record`` (and a real
+        change) ``before`` is the next undo step and the redo steps are dropped."""
+        if record and after != before:
+            self._undo.append(before)
+            self._redo.clear()
+        self._gesture = gesture
+
+    def searched(self, before: Inputs) -> None:
+        """A search's result replaced ``before``: one undo step."""
+        self._undo.append(before)
+        self._redo.clear()
+        self._gesture = None
+
+    def next_step(self, what: str) -> Inputs:
+        """The inputs ``what`` (``"undo"`` or ``"redo"``) goes back to; a 409 when none."""
+        steps = self._undo if what == "undo" else self._redo
+        if not steps:
+            raise RequestError(f"nothing to {what}", 409)
+        return steps[-1]
+
+    def stepped(self, what: str, left: Inputs) -> None:
+        """``what`` was applied, leaving the inputs ``left``: they are a step the other way."""
+        source, target = (self._undo, self._redo) if what == "undo" else (self._redo, self._undo)
+        source.pop()
+        target.append(left)
+
+
+def reset_names(grammar, payload: object) -> list[str] | None:
+    """The attrs a reset request names (``{"attrs": ["span", ...]}``), checked; None for
+    every attr the designer set (``{}`` or no body)."""
+    payload = {} if payload is None else payload
+    if not isinstance(payload, dict) or set(payload) - {"attrs"}:
+        raise RequestError('send {"attrs": ["name", ...]} to reset those, or {} for all')
+    names = payload.get("attrs")
+    if names is not None:
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            raise RequestError('"attrs" is a list of attr names, such as ["span"]')
+        unknown = [n for n in names if n not in grammar.attrs]
+        if unknown:
+            raise RequestError(f"the grammar has no attr {unknown[0]!r}")
+    return names

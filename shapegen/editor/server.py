@@ -110,6 +110,12 @@ class EditorServer(ThreadingHTTPServer):
             self._connections -= 1
 
     @property
+    def connections(self) -> int:
+        """The connections served now (each on its own thread)."""
+        with self._connections_lock:
+            return self._connections
+
+    @property
     def url(self) -> str:
         return f"http://{HOST}:{self.server_address[1]}/"
 

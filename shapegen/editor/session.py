@@ -7,6 +7,11 @@ changes on disk; a file with errors leaves the last good design in place and the
 state. After every change the stable interval of each free attr is scanned in the background
 (:mod:`shapegen.editor.stability`).
 
+The session owns the design on screen and the locks; what it reads out is
+:mod:`~shapegen.editor.readouts`' (from a :class:`~shapegen.editor.readouts.Shown` copy), its
+undo steps a :class:`~shapegen.editor.history.History`, its scans a
+:class:`~shapegen.editor.scans.StableRanges`.
+
 >>> session = EditorSession("barrel_vault.grammar", scan=False)   # doctest: +SKIP
 >>> session.set_attrs({"span": 7.0})["verdict"]["stands"]          # doctest: +SKIP
 """
@@ -15,6 +20,7 @@ from __future__ import annotations
 
 __all__ = ["EditorSession"]
 
+import contextlib
 import threading
 import time
 from collections.abc import Mapping, Sequence
@@ -24,22 +30,26 @@ from pathlib import Path
 from shapegen import pipeline
 from shapegen.editor.attrs import RequestError, checked_values
 from shapegen.editor.completion import MeasureFollower
-from shapegen.editor.history import HistoryMixin
+from shapegen.editor.history import History, reset_names
 from shapegen.editor.inputs import UNCHANGED, Inputs, SettingsMixin, valid_attrs
-from shapegen.editor.readouts import ReadoutsMixin
-from shapegen.editor.stability import ScanJob, StabilityScanner
+from shapegen.editor.readouts import (
+    ModelFiles,
+    Shown,
+    attrs_export,
+    block_readout,
+    error_json,
+    state_json,
+)
+from shapegen.editor.scans import StableRanges, scan_design
+from shapegen.editor.searching import Cancelled, SearchState, search_options
 from shapegen.engine.project.rule_packages import PACKAGE_SUFFIX
-from shapegen.errors import GrammarError, OptionError, ShapegenError
-from shapegen.json_values import finite_or_none, json_ready
+from shapegen.errors import GrammarError, ShapegenError
+from shapegen.json_values import json_ready
 from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.options import SearchOptions
 
 
-class Cancelled(Exception):
-    """The designer stopped the search."""
-
-
-class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
+class EditorSession(SettingsMixin):
     """One grammar being edited: thread-safe; every public method returns the new state.
 
     Parameters
@@ -84,28 +94,20 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         self._text = _read(self.path)
         self._work = threading.Lock()  # one change at a time
         self._state_lock = threading.RLock()
-        self._searching = False  # a search holds ``_work`` (set and read under _state_lock)
+        self._state_changed = threading.Condition(self._state_lock)  # notified at each version
         self._reload_pending = False  # the file is to be re-read when the search ends
-        self._scanner: StabilityScanner | None = None
         self._idle = threading.Event()  # set while no foreground work runs: the scans wait for it
         self._idle.set()
-        self._cancel = threading.Event()
         self.version = 0
         self.model_version = 0
-        self._optimization: dict | None = None
+        self.search = SearchState(self._state_lock, self._bump)
         self._error: dict | None = None
-        self._stability: dict[str, dict] = {}
-        self._glb: tuple[int, bytes] | None = None
-        self._scene: tuple[int, dict] | None = None
+        self._files = ModelFiles()
         self.attrs: dict[str, object] = {}  # the designer's values; the others are the rule's
-        # the design's inputs before each change (undo) and after each undone one (redo)
-        self._undo: list[Inputs] = []
-        self._redo: list[Inputs] = []
-        self._gesture: str | None = None  # the drag the last change belonged to
+        self.history = History()
         self._free: list[str] | None = None  # the attrs the search varies; None: the @Free ones
         self.margin = DEFAULT_MARGIN
         self._last_inputs = self._inputs()  # the inputs before the last change
-        self._scan_generation = 0  # the scans' results of an older generation are dropped
         initial = checked_values(self.grammar, {}, dict(attrs)) if attrs else {}
         self._follower = MeasureFollower(self._publish_completed) if measure_follows else None
         self._carry_over = carry_over
@@ -113,16 +115,84 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         self._outcome = self._design(initial)
         self.attrs = initial
         self._timings = self._last_timings
-        if scan:
-            self._scanner = StabilityScanner(self._publish_scan)
-            self._idle = self._scanner.idle
+        self.scans = StableRanges(self._state_lock, self._bump, scan=scan)
+        if self.scans.idle is not None:
+            self._idle = self.scans.idle
         self._changed(model=True)
 
     # ------------------------------------------------------------------ the public operations
     def state(self) -> dict:
         """The page's state (plain JSON): attrs, verdict, timings, stability, search, error."""
         with self._state_lock:
-            return json_ready(self._state())
+            return state_json(self._shown())
+
+    def wait_for(self, condition, timeout: float | None = None) -> dict:
+        """The state, once ``condition(state)`` holds: checked at each new version of the
+        state (a scan's result, a search's step, a change), never by the clock. A
+        :class:`TimeoutError` after ``timeout`` seconds, a bound on the wait."""
+        seen: list[dict] = []
+
+        def holds() -> bool:
+            seen.append(self.state())
+            return bool(condition(seen[-1]))
+
+        with self._state_changed:
+            if not self._state_changed.wait_for(holds, timeout):
+                raise TimeoutError(f"the editor's state did not come within {timeout} s")
+            return seen[-1]
+
+    def report(self) -> dict:
+        """The current design's report, as ``shapegen build --analyze --report`` writes it."""
+        self._settled()
+        with self._state_lock:
+            return json_ready(self._outcome.report)
+
+    def glb(self) -> bytes:
+        """The current model as binary glTF (blocks coloured by tension, resultant arrows)."""
+        self._settled()
+        with self._state_lock:
+            version, outcome = self.model_version, self._outcome
+        return self._files.glb(version, outcome)
+
+    def scene(self) -> dict:
+        """Colours, forces and legend of the current model (see :mod:`shapegen.editor.scene`)."""
+        self._settled()
+        with self._state_lock:
+            version, outcome = self.model_version, self._outcome
+        return self._files.scene(version, outcome)
+
+    def attrs_export(self) -> dict:
+        """The current design's attrs and the ``shapegen build`` line that builds it again
+        (:func:`~shapegen.editor.readouts.attrs_export`)."""
+        with self._state_lock:
+            shown = self._shown()
+        return attrs_export(shown)
+
+    def block(self, block_id: str) -> dict:
+        """One block of the current model (:func:`~shapegen.editor.readouts.block_readout`)."""
+        self._settled()
+        with self._state_lock:
+            shown = self._shown()
+        return block_readout(shown, block_id)
+
+    def undo(self) -> dict:
+        """Take the designer's values back to before the last change (a drag, a typed value, a
+        reset, a search's result)."""
+        return self._step_history("undo")
+
+    def redo(self) -> dict:
+        """Make the last undone change again."""
+        return self._step_history("redo")
+
+    def reset(self, payload: object = None) -> dict:
+        """Give attrs back their rule defaults: ``{"attrs": ["span", ...]}``, or every attr the
+        designer set for ``{}`` or no body. The defaults then follow the file: a changed default
+        saved in it shows at the next reload."""
+        names = reset_names(self.grammar, payload)
+        with self._changing():
+            gone = set(self.attrs) if names is None else set(names)
+            kept = {k: v for k, v in self.attrs.items() if k not in gone}
+            return self._apply(replace(self._inputs(), attrs=kept))
 
     def set_attrs(self, payload: object, *, gesture: str | None = None) -> dict:
         """Build and judge the design with the attr values in ``payload`` (checked first).
@@ -130,17 +200,13 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         The changes of one ``gesture`` (a drag of a slider: the page names it) are one step of
         the history: undo takes the design back to before the drag, not to its last pixel.
         """
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
+        with self._changing():
             values = checked_values(
                 self.grammar, self._current_values(), payload, free=self.free_attrs
             )
-            same_gesture = gesture is not None and gesture == self._gesture and self._undo
+            same_gesture = self.history.joins(gesture)
             inputs = replace(self._inputs(), attrs={**self.attrs, **values})
             return self._apply(inputs, record=not same_gesture, gesture=gesture)
-        finally:
-            self._work.release()
 
     def _apply(self, inputs: Inputs, *, record: bool = True, gesture: str | None = None) -> dict:
         """Take the designer's ``inputs``: build and judge the design when they build another
@@ -149,114 +215,65 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         before = self._inputs()
         build = not inputs.builds_as(before)
         if build:
-            self._idle.clear()
-            try:
-                outcome = self._design(inputs.attrs, seed=inputs.seed, lot=inputs.lot)
-            finally:
-                self._idle.set()
+            outcome = self._design(inputs.attrs, seed=inputs.seed, lot=inputs.lot)
         with self._state_lock:
             self._last_inputs = before
-            if record and inputs != before:
-                self._undo.append(before)
-                self._redo.clear()
-            self._gesture = gesture
+            self.history.changed(before, inputs, record=record, gesture=gesture)
             self.attrs = dict(inputs.attrs)
             self.seed, self.lot = inputs.seed, inputs.lot
             self._free, self.margin = inputs.free, inputs.margin
             if build:
-                self._optimization = None  # the last search's message no longer applies
+                self.search.shown = None  # the last search's message no longer applies
                 self._outcome = outcome
                 self._timings = self._last_timings
                 if outcome.assessment is not None and outcome.assessment.pending:
                     self._follower.request(outcome)
             if build or inputs.free != before.free:
                 self._changed(model=build)
-            self.version += 1
+            self._bump()
             return self.state()
 
     def optimize(self, payload: object = None) -> dict:
         """Search the free attrs from the current values (``{"objective": "energy"}``, the
         default, or ``"closest"``) and take the design found; progress shows in the state."""
-        payload = {} if payload is None else payload
-        if not isinstance(payload, dict):
-            raise RequestError('send a JSON object such as {"objective": "closest"}, or nothing')
-        unknown = sorted(set(payload) - {"objective"})
-        if unknown:
-            raise RequestError(f"optimize takes only 'objective'; got {unknown[0]!r}")
-        try:
-            options = SearchOptions(free=self.free_attrs, margin=self.margin, **payload)
-        except OptionError as exc:
-            raise RequestError(str(exc)) from None
-        if not self.free_attrs:
-            raise RequestError(
-                'no attr is free to search: mark one free (POST /api/settings {"free": [...]})',
-                422,
-            )
+        options = search_options(payload, self.free_attrs, self.margin)
         if not self._work.acquire(blocking=False):
             raise RequestError("the design is being changed; try again when it is done", 409)
         try:
             with self._state_lock:
-                self._searching = True
+                self.search.running = True
             answer = self._search(options)
         finally:
             with self._state_lock:
-                self._searching = False
+                self.search.running = False
                 reload_now, self._reload_pending = self._reload_pending, False
             self._work.release()
         # the file changed during the search: the page shows it now, with the values found
         return self.reload() if reload_now else answer
 
     def _search(self, options: SearchOptions) -> dict:
-        objective = options.objective
-        self._cancel.clear()
-        with self._state_lock:
-            self._optimization = {"running": True, "objective": objective, "iteration": 0}
-            self.version += 1
-        self._idle.clear()
+        self.search.started(options.objective)
         try:
-            outcome = self._design(
-                dict(self.attrs),
-                search=options,
-            )
+            outcome = self._design(dict(self.attrs), search=options)
         except Cancelled:
-            with self._state_lock:
-                self._optimization = {
-                    **self._optimization, "running": False, "message": "stopped"
-                }  # fmt: skip
-                self.version += 1
-                return self.state()
-        finally:
-            self._idle.set()
+            self.search.stopped()
+            return self.state()
         result = outcome.optimization
         with self._state_lock:
             free = set(self.free_attrs)
-            self._undo.append(self._inputs())
-            self._redo.clear()
-            self._gesture = None
+            self.history.searched(self._inputs())
             self.attrs = {
                 **self.attrs, **{k: v for k, v in result.attrs.items() if k in free}
             }  # fmt: skip
             self._outcome = outcome
             self._timings = self._last_timings
-            self._optimization = {
-                "running": False,
-                "objective": objective,
-                "iteration": result.iterations,
-                "evaluations": result.evaluations,
-                "measure": finite_or_none(result.final_infeasibility),
-                "stands": bool(result.feasible),
-                "seconds": result.seconds,
-                "message": result.message,
-            }
+            self.search.ended(options.objective, result)
             self._changed(model=True)
             return self.state()
 
     def cancel(self) -> dict:
         """Stop a running search after its current iteration."""
-        running = self._optimization is not None and self._optimization.get("running")
-        if running:
-            self._cancel.set()
-        return {"cancelled": bool(running)}
+        return self.search.cancel()
 
     def reload(self) -> dict:
         """Re-read the grammar file (a package: the ``.rpk``); on an error keep the last good
@@ -282,15 +299,11 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
             grammar = pipeline.load(str(self.package or self.path))
             text = _read(grammar.path)
             kept = self._kept_attrs(grammar)
-            self._idle.clear()
-            try:
-                outcome = self._design(kept, grammar=grammar)
-            finally:
-                self._idle.set()
+            outcome = self._design(kept, grammar=grammar)
         except ShapegenError as exc:
             with self._state_lock:
-                self._error = _error_json(exc)
-                self.version += 1
+                self._error = error_json(exc)
+                self._bump()
                 return self.state()
         with self._state_lock:
             self.grammar = grammar
@@ -300,7 +313,6 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
             self._outcome = outcome
             self._timings = self._last_timings
             self._error = None
-            self._stability = {}
             self._changed(model=True)
             return self.state()
 
@@ -310,18 +322,27 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         when it ends."""
         while not self._work.acquire(timeout=0.05):
             with self._state_lock:  # the search notes the reload under the same lock as it ends
-                if self._searching:
+                if self.search.running:
                     if defer_reload and not self._reload_pending:
                         self._reload_pending = True
-                        self.version += 1
+                        self._bump()
                     return False
         return True
 
+    @contextlib.contextmanager
+    def _changing(self):
+        """Hold ``_work`` for a change of the design; a 409 while a search holds it."""
+        if not self._take_work():
+            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
+        try:
+            yield
+        finally:
+            self._work.release()
+
     def close(self) -> None:
         """Stop the background scan (and the measures that follow)."""
-        self._cancel.set()
-        if self._scanner is not None:
-            self._scanner.stop()
+        self.search.close()
+        self.scans.stop()
         if self._follower is not None:
             self._follower.stop()
 
@@ -331,6 +352,7 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         seed = self.seed if seed is None else seed
         lot = self.lot if lot is UNCHANGED else lot
         started = time.perf_counter()
+        self._idle.clear()  # the scans wait while a design is built
         try:
             outcome = pipeline.design(
                 grammar,
@@ -352,6 +374,8 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
             if search is None and grammar is self.grammar:
                 raise RequestError(str(exc).splitlines()[0], 422) from None
             raise
+        finally:
+            self._idle.set()
         assessment = outcome.assessment
         analysis_s = None
         if assessment is not None:
@@ -363,20 +387,7 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         return outcome
 
     def _progress(self, record) -> None:
-        with self._state_lock:
-            self._optimization = {
-                **(self._optimization or {}),
-                "running": True,
-                "iteration": record.iteration,
-                "measure": finite_or_none(record.infeasibility),
-                "stands": bool(record.feasible),
-                "evaluations": record.evaluations,
-                "seconds": record.seconds,
-                "parameters": dict(record.parameters),
-            }
-            self.version += 1
-        if self._cancel.is_set():
-            raise Cancelled
+        self.search.step(record)
 
     def _kept_attrs(self, grammar) -> dict:
         """The designer's values that still mean something in the re-read ``grammar``."""
@@ -389,48 +400,67 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
         metadata = self._outcome.model.metadata or {}
         return {**dict(metadata.get("attrs", {})), **self.attrs}
 
+    def _bump(self) -> None:
+        """A new version of the state (under ``_state_lock``): :meth:`wait_for` looks again."""
+        with self._state_changed:
+            self.version += 1
+            self._state_changed.notify_all()
+
     def _changed(self, *, model: bool) -> None:
         """Note a change (of the model, or of what the scans cover) and start the scans."""
         with self._state_lock:
-            self.version += 1
+            self._bump()
             if model:
                 self.model_version += 1
-            self._stability = {}
-            self._scan_generation += 1
-            job = self._scan_job()
-        if job is not None and self._scanner is not None:
-            self._scanner.request(job)
+            job = self.scans.restart(
+                scan_design(self.grammar, self._outcome, self._current_values(), self.free_attrs,
+                            self._text, seed=self.seed, lot=self.lot, path=self.path)
+            )  # fmt: skip
+        self.scans.request(job)
 
-    def _scan_job(self) -> ScanJob | None:
-        assessment = self._outcome.assessment
-        if assessment is None or not assessment.ok or self._text is None:
-            return None
-        values = self._current_values()
-        ranges = self.grammar.parameter_ranges(values)
-        free = {
-            name: (float(ranges[name]["min"]), float(ranges[name]["max"]))
-            for name in self.free_attrs
-            if name in ranges and isinstance(values.get(name), float)
-        }
-        if not free:
-            return None
-        for name, (low, high) in free.items():
-            self._stability[name] = {"status": "waiting", "range": [low, high], "intervals": []}
-        return ScanJob(
-            self._text,
-            self.grammar.name,
-            {  # arrays are not sent: the scanning process derives them as the editor did
-                k: v
-                for k, v in values.items()
-                if k in self.grammar.attrs and isinstance(v, bool | int | float | str)
-            },
-            free,
-            {name: (values[name], bool(assessment.stands)) for name in free},
+    def _shown(self) -> Shown:
+        """What is on screen now (call under ``_state_lock``)."""
+        return Shown(
+            grammar=self.grammar,
+            outcome=self._outcome,
+            attrs=dict(self.attrs),
+            values=self._current_values(),
+            free=self.free_attrs,
+            free_from_file=self._free is None,
+            margin=self.margin,
             seed=self.seed,
             lot=self.lot,
-            generation=self._scan_generation,
-            path=str(self.path) if self.path is not None else None,
+            path=self.path,
+            package=self.package,
+            rules_path=self.rules_path,
+            version=self.version,
+            model_version=self.model_version,
+            timings=dict(self._timings),
+            stability=self.scans.results(),
+            optimization=self.search.shown,
+            reload_pending=self._reload_pending,
+            history=self.history.counts(),
+            error=self._error,
         )
+
+    def _settled(self) -> None:
+        """Wait until the design on screen is complete: a pending verdict's measure and forces
+        followed (:mod:`shapegen.editor.completion`)."""
+        with self._state_lock:
+            outcome = self._outcome
+        if self._follower is not None and outcome.assessment is not None:
+            if outcome.assessment.pending:
+                self._follower.wait(outcome)
+
+    def _step_history(self, what: str) -> dict:
+        with self._changing():
+            entry = self.history.next_step(what)
+            # a value of the history may predate a reload of the file
+            self._apply(replace(entry, attrs=valid_attrs(self.grammar, entry.attrs)), record=False)
+            with self._state_lock:
+                self.history.stepped(what, self._last_inputs)
+                self._bump()
+                return self.state()
 
     def _publish_completed(self, pending, completed) -> None:
         """The measure of the design on screen has followed its verdict: a new model version."""
@@ -439,13 +469,6 @@ class EditorSession(HistoryMixin, SettingsMixin, ReadoutsMixin):
                 return
             self._outcome = completed
         self._changed(model=True)
-
-    def _publish_scan(self, generation: int, name: str, result: dict) -> None:
-        with self._state_lock:
-            if generation != self._scan_generation:
-                return
-            self._stability[name] = result
-            self.version += 1
 
 
 def _package(source: str) -> Path | None:
@@ -464,15 +487,3 @@ def _read(path: Path | None) -> str | None:
     from shapegen.grammar.source_files import read_rule_file
 
     return read_rule_file(path)[0]  # as the grammar was read: a cp1252 file too
-
-
-def _error_json(exc: ShapegenError) -> dict:
-    """A grammar (or build) error for the page: the message, its place and the source excerpt."""
-    location = getattr(exc, "location", None)
-    return {
-        "message": getattr(exc, "message", None) or str(exc).splitlines()[0],
-        "text": str(exc),
-        "file": location.file if location else None,
-        "line": location.line if location else None,
-        "column": location.column if location else None,
-    }

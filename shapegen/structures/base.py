@@ -237,6 +237,14 @@ class Structure(ABC):
         (``section``), as ``(label, text)`` lines: by default the measure and what it is."""
         return [("measure", f"{figure_text(section.get('measure'))} ({cls.measure_name})")]
 
+    @classmethod
+    def panel(cls, section: Mapping[str, object]) -> dict | None:
+        """The design page's panel of the structure's own figures beside the verdict, from an
+        assessment's ``section``: ``{"title": ..., "rows": [[label, text], ...]}`` in the
+        structure's words, or None for none (block statics' figures are the blocks' own,
+        shown on the model and in a block's readout)."""
+        return None
+
     def measure_change(self, base: Assessment, moved: Design) -> float | None:
         """First-order change of the measure from ``base``'s design to ``moved`` (a design a
         small step away), or None when it is not known there."""

@@ -71,6 +71,28 @@ class CableModel(Structure):
             *super().summary(section),
         ]
 
+    @classmethod
+    def panel(cls, section):
+        def metres(key: str, digits: int) -> str:
+            return f"{section[key]:.{digits}f} m"
+
+        def millimetres(key: str) -> str:
+            return f"{section[key] * 1000:.0f} mm"
+
+        tension = float(section["max_tension"])
+        return {
+            "title": "Cable sizing",
+            "rows": [
+                ["main span", metres("main_span", 1)],
+                ["sag", metres("sag", 1)],
+                ["cable diameter", millimetres("cable_diameter")],
+                ["allowed", millimetres("allowed_diameter")],
+                ["governed by", str(section["governing"])],
+                ["largest cable tension", f"{tension / 1e3:.4g} kN" if abs(tension) >= 1e3
+                 else f"{tension:.4g} N"],
+            ],
+        }  # fmt: skip
+
     def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
         margin = self.checked_margin(margin)
         values = self.checked_arguments(design.arguments)

@@ -143,3 +143,14 @@ def cga_package(folder, building=CGA_BUILDING):
         archive.writestr(b"compiled", "bin/building.cgb")
         archive.writestr(b"compiled import", "bin/building$lib.cgb")
     return path
+
+
+# A bound on waits for a state (a scan done, a page shown): the tests wait for the state, never
+# for a time; the bound only ends a wait that would otherwise never end, so it is generous
+# (the quick lane runs two workers per core on machines doing other work).
+WAIT_BOUND_S = 600.0
+
+
+def scanned(name: str):
+    """A condition on the editor's state: the stable-range scan of attr ``name`` is done."""
+    return lambda state: state["stability"].get(name, {}).get("status") == "done"

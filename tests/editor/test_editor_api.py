@@ -6,6 +6,7 @@ import threading
 
 import pytest
 from editor_http import request, serving
+from editor_stack import WAIT_BOUND_S
 
 from shapegen.editor.server import MAX_BODY
 
@@ -144,7 +145,7 @@ def test_a_reload_during_a_search_answers_at_once_and_happens_when_it_ends(stack
         )
         search.start()
         try:
-            assert searching.wait(120), "the search did not start"
+            assert searching.wait(WAIT_BOUND_S), "the search did not start"
             good = stack_file.read_text()
             stack_file.write_text(good.replace("attr courses = 2", "attr courses = 3"))
             status, _, content = request(server, "POST", "/api/reload")
@@ -156,7 +157,7 @@ def test_a_reload_during_a_search_answers_at_once_and_happens_when_it_ends(stack
             assert status == 409 and "a search is running" in json.loads(content)["error"]
         finally:
             held.set()
-            search.join(120)
+            search.join(WAIT_BOUND_S)
         ((status, _, content),) = answers
         state = json.loads(content)
         values = {a["name"]: a["value"] for a in state["attrs"]}

@@ -4,11 +4,17 @@ a free attr is scanned from the file (whose folder resolves the imports)."""
 
 import json
 import shlex
-import time
 
 import pytest
 from editor_http import request, serving
-from editor_stack import CGA_BUILDING, CGA_WARNING, cga_package, cga_project
+from editor_stack import (
+    CGA_BUILDING,
+    CGA_WARNING,
+    WAIT_BOUND_S,
+    cga_package,
+    cga_project,
+    scanned,
+)
 
 from shapegen.cli import main
 from shapegen.editor import EditorSession
@@ -80,14 +86,9 @@ def test_a_rule_package_exported_anew_is_read_anew(tmp_path):
 def test_the_stable_range_of_a_cga_files_free_attr_is_scanned(tmp_path):
     session = EditorSession(str(cga_project(tmp_path)))
     try:
-        deadline = time.monotonic() + 120  # a scan of two dozen small designs
-        while time.monotonic() < deadline:
-            stability = session.state()["stability"].get("floor_height", {})
-            if stability.get("status") == "done":
-                break
-            time.sleep(0.2)
+        state = session.wait_for(scanned("floor_height"), timeout=WAIT_BOUND_S)
+        stability = state["stability"]["floor_height"]
         # the scanning process read the file, so its import was found: every design was judged
-        assert stability.get("status") == "done", stability
         assert all(stands is not None for _, stands in stability["samples"])
         assert stability["intervals"] == [[0.5, 3.0]]
     finally:

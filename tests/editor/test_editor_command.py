@@ -12,7 +12,7 @@ import time
 import urllib.request
 
 import pytest
-from editor_stack import CGA_BUILDING, cga_package
+from editor_stack import CGA_BUILDING, WAIT_BOUND_S, cga_package
 
 COMMAND = [sys.executable, "-m", "shapegen", "edit"]
 
@@ -56,7 +56,8 @@ def test_edit_opens_a_rule_package_as_the_package(tmp_path):
         cga_package(
             tmp_path, CGA_BUILDING.replace("extrude(lib.height)", "extrude(lib.height + 1)")
         )
-        deadline = time.monotonic() + 120  # a bound on the wait, not a measure of it
+        # polled as the page does (the bound ends a wait that would never end; it times nothing)
+        deadline = time.monotonic() + WAIT_BOUND_S
         blocks = None
         while blocks != 10 and time.monotonic() < deadline:
             time.sleep(0.1)

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from editor_stack import STACK_BOUNDARY, STACK_WEIGHT
+from editor_stack import STACK_BOUNDARY, STACK_WEIGHT, WAIT_BOUND_S, scanned
 
 from shapegen.editor import EditorSession, RequestError
 from shapegen.search.defaults import DEFAULT_MARGIN
@@ -131,16 +131,10 @@ def test_the_scene_colours_blocks_by_label_and_by_tension(session):
 
 
 def test_the_stable_interval_arrives_in_the_state(stack_file):
-    import time
-
     session = EditorSession(str(stack_file))
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
-            stability = session.state()["stability"].get("offset", {})
-            if stability.get("status") == "done":
-                break
-            time.sleep(0.05)
+        state = session.wait_for(scanned("offset"), timeout=WAIT_BOUND_S)
+        stability = state["stability"]["offset"]
         ((low, high),) = stability["intervals"]
         assert low == 0 and abs(high - STACK_BOUNDARY) <= stability["resolution"] + 1e-9
     finally:
@@ -151,13 +145,20 @@ def test_a_bridge_shows_its_cable_sizing():
     session = EditorSession("suspension_bridge.grammar", scan=False)
     try:
         state = session.state()
-        cables = state["cables"]
+        sizing = session.report()["analysis"]
         assert state["grammar"]["structure"] == "cable"
-        assert cables["cable_diameter"] > 0 and cables["allowed_diameter"] > 0
-        fits = cables["cable_diameter"] <= cables["allowed_diameter"]
+        assert sizing["cable_diameter"] > 0 and sizing["allowed_diameter"] > 0
+        fits = sizing["cable_diameter"] <= sizing["allowed_diameter"]
         assert state["verdict"]["stands"] == fits
         assert state["verdict"]["fails_as"] == "cables too thick"
         assert not state["grammar"]["judges_blocks"]
+        # the panel is the structure's, in its words: the page knows no cable
+        panel = state["panel"]
+        rows = dict(panel["rows"])
+        assert panel["title"] == "Cable sizing"
+        assert rows["cable diameter"] == f"{sizing['cable_diameter'] * 1000:.0f} mm"
+        assert rows["main span"] == f"{sizing['main_span']:.1f} m"
+        assert "cables" in state["grammar"]["judged_by"]
         assert session.scene()["forces"] is None
     finally:
         session.close()

@@ -570,7 +570,7 @@ function showBlock(b) {
     <div>rules: ${b.rule_path.map(escape).join(' › ') || '–'}</div>
     <div>attrs its rules read: ${attrs || '–'}</div>
     <div>weight ${newtons(b.weight)}${tension ? ` · ${tension}` : ''}</div>
-    ${b.joints ? `<table class="joints"><tr><th>joint with</th><th>compression</th><th>shear</th><th title="the sum of the tensions at the joint's corners">tension</th></tr>${rows}</table>` : '<div>its cables, not its joints, judge this design</div>'}`;
+    ${b.joints ? `<table class="joints"><tr><th>joint with</th><th>compression</th><th>shear</th><th title="the sum of the tensions at the joint's corners">tension</th></tr>${rows}</table>` : `<div>judged by ${escape(app.state?.grammar?.judged_by || 'its structure')}, not by its joints</div>`}`;
   panel.querySelector('.close').addEventListener('click', () => select(null));
   for (const link of panel.querySelectorAll('a[data-attr]')) {
     link.addEventListener('click', (event) => {
@@ -867,7 +867,7 @@ function applyState(state) {
   $('timing').textContent = `update ${t.update_s.toFixed(2)} s${page}`;
   const tensionRadio = $('colour-tension');
   tensionRadio.disabled = !state.grammar.judges_blocks;
-  const why = 'this design is judged by its cables, not by block statics';
+  const why = `this design is judged by ${state.grammar.judged_by}, not by block statics`;
   tensionRadio.parentElement.title = tensionRadio.disabled ? why : '';
   for (const id of ['show-joints', 'show-ground']) {
     $(id).disabled = tensionRadio.disabled;
@@ -875,7 +875,7 @@ function applyState(state) {
   }
   showError(state.error);
   showWarnings(state.warnings);
-  showCables(state.cables);
+  showPanel(state.panel);
   showProgress(state.optimization);
   if (state.reload_pending) $('progress').textContent += ' · the file changed: it is re-read when the search ends';
   inspector(state);
@@ -904,18 +904,11 @@ function showError(error) {
   if (error) $('grammar-error-text').textContent = error.text;
 }
 
-function showCables(c) {
-  $('cables').hidden = !c;
-  if (!c) return;
-  const rows = [
-    ['main span', `${c.main_span.toFixed(1)} m`],
-    ['sag', `${c.sag.toFixed(1)} m`],
-    ['cable diameter', `${(c.cable_diameter * 1000).toFixed(0)} mm`],
-    ['allowed', `${(c.allowed_diameter * 1000).toFixed(0)} mm`],
-    ['governed by', c.governing],
-    ['largest cable tension', newtons(c.max_tension)],
-  ];
-  $('cables').innerHTML = `<strong>Cable sizing</strong><table>${rows.map(([a, b]) => `<tr><td>${a}</td><td>${escape(String(b))}</td></tr>`).join('')}</table>`;
+// The structure's own figures (a bridge's cable sizing), titled and worded by the structure.
+function showPanel(p) {
+  $('structure-panel').hidden = !p;
+  if (!p) return;
+  $('structure-panel').innerHTML = `<strong>${escape(p.title)}</strong><table>${p.rows.map(([a, b]) => `<tr><td>${escape(a)}</td><td>${escape(b)}</td></tr>`).join('')}</table>`;
 }
 
 function showProgress(o) {
