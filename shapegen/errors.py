@@ -15,6 +15,7 @@ __all__ = [
     "GeometryError",
     "StaticsError",
     "InputFormatError",
+    "LotError",
     "OptionError",
     "PluginError",
     "SourceLocation",
@@ -116,6 +117,12 @@ class StaticsError(ShapegenError):
 
 class InputFormatError(ShapegenError):
     """A file that cannot be read: unknown format, missing keys, wrong types."""
+
+
+class LotError(InputFormatError):
+    """What cannot be a lot (:class:`~shapegen.model.lot.Lot`): one line without the place it
+    came from, which each front end adds in its own words (``--lot '0,0 1,1': ...``, the
+    design page's ``"lot": ...``, a city's failed row)."""
 
 
 class OptionError(ShapegenError):

@@ -32,6 +32,7 @@ from pathlib import Path
 from shapegen.errors import OptionError
 from shapegen.json_values import json_ready
 from shapegen.model import Model
+from shapegen.model.lot import Lot
 from shapegen.search.options import SearchOptions
 from shapegen.statics.options import StaticsOptions
 from shapegen.structures import Assessment, Design, Structure, make_structure
@@ -61,7 +62,7 @@ def design(
     *,
     attrs: Mapping[str, object] | None = None,
     seed: int = 0,
-    lot: tuple[float, float] | None = None,
+    lot: Lot | None = None,
     statics: StaticsOptions | None = None,
     search: SearchOptions | None = None,
     assess: bool = False,
@@ -78,7 +79,8 @@ def design(
     grammar
         A loaded grammar.
     attrs, seed, lot
-        Attr overrides and derivation settings.
+        Attr overrides and derivation settings; ``lot`` a :class:`~shapegen.model.lot.Lot` or
+        what ``Lot.of`` takes (checked here, once), None for the rule's ``@Lot``.
     statics
         Block-statics options; refused (:class:`~shapegen.errors.OptionError`) when the grammar's
         structure is not block statics.
@@ -114,6 +116,7 @@ def design(
             f" {structure.name!r} structure ({structure.description})"
         )
     attrs = dict(attrs or {})
+    lot = Lot.of(lot) if lot is not None else None
     optimization = None
     if search is not None:
         from shapegen.search import optimize

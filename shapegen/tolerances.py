@@ -28,6 +28,7 @@ __all__ = [
     "TILT_RESOLUTION_DEG",
     "ZERO_LENGTH",
     "SIZE_FLOOR_M",
+    "LOT_MERGE_M",
 ]
 
 from dataclasses import dataclass, replace
@@ -186,3 +187,8 @@ ZERO_LENGTH = 1e-15
 #: Geometry: a relative tolerance is scaled by a size of at least ``SIZE_FLOOR_M`` metres, so a
 #: mesh shrunk to a point still gets a positive slack.
 SIZE_FLOOR_M = 1e-12
+
+#: Lots: consecutive corners of a polygon lot closer than ``LOT_MERGE_M`` metres are one corner
+#: (a repeated closing corner, a survey's doubled point, a ring projected from degrees), on
+#: every front end alike (:class:`shapegen.model.lot.Lot`).
+LOT_MERGE_M = 1e-3

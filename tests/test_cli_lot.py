@@ -12,6 +12,7 @@ import shapely
 
 from shapegen.cli import main
 from shapegen.errors import InputFormatError
+from shapegen.model.lot import Lot
 from shapegen.readers.lots import checked_polygon, read_lot
 
 # WGS84 (the ellipsoid shapegen.readers.projection projects on)
@@ -38,16 +39,16 @@ def _area_and_turn(points) -> tuple[float, float]:
 # ------------------------------------------------------------------------------ text forms
 @pytest.mark.parametrize("text", ["12,8", "12x8", " 12,8 ", "12X8"])
 def test_rectangles(text):
-    assert read_lot(text) == (12.0, 8.0)
+    assert read_lot(text) == Lot.rectangle(12.0, 8.0)
 
 
 def test_polygon_counter_clockwise_from_above_is_kept():
-    assert read_lot("0,8 12,8 12,0 0,0") == [(0, 8), (12, 8), (12, 0), (0, 0)]
+    assert read_lot("0,8 12,8 12,0 0,0").corners == ((0, 8), (12, 8), (12, 0), (0, 0))
 
 
 def test_polygon_given_clockwise_is_reversed_keeping_its_first_corner():
-    lot = read_lot("0,0 12,0 12,8 0,8 0,0")  # the closing corner is dropped too
-    assert lot == [(0, 0), (0, 8), (12, 8), (12, 0)]
+    lot = read_lot("0,0 12,0 12,8 0,8 0,0").corners  # the closing corner is dropped too
+    assert lot == ((0, 0), (0, 8), (12, 8), (12, 0))
     area, turn = _area_and_turn(lot)
     assert (area, turn) == (96.0, 1.0)
 
@@ -59,12 +60,13 @@ def test_polygon_given_clockwise_is_reversed_keeping_its_first_corner():
         ("0,0 1,1 0,0 1,1", r"the polygon has no area"),
         ("0,0 1,0 3,0", r"the polygon has no area \(its corners are in a line\)"),
         ("0,0 1,1 1,0 0,1", r"the polygon crosses itself \(self-intersection at x=0\.5, z=0\.5\)"),
-        ("0,0 nan,1 1,1", r"coordinates must be finite numbers, got nan"),
-        ("0,0 inf,1 1,1", r"coordinates must be finite numbers, got inf"),
+        ("0,0 nan,1 1,1", r"corner coordinates must be finite numbers"),
+        ("0,0 inf,1 1,1", r"corner coordinates must be finite numbers"),
         ("0,0 1 1,1", r"a corner is x,z in metres, got '1'"),
         ("0,0 a,1 1,1", r"'a' is not a number"),
         ("1,x", r"'x' is not a number"),
-        ("0,8", r"lot sides must be > 0 m"),
+        ("0,8", r"lot width and depth must be finite numbers > 0 m, got 0 x 8"),
+        ("inf,8", r"lot width and depth must be finite numbers > 0 m, got inf x 8"),
         ("12", r"expected WIDTH,DEPTH \(m\), corners"),
     ],
 )
@@ -110,7 +112,7 @@ def test_geojson_lonlat_is_projected_to_metres(tmp_path):
     """A 12 x 8 m rectangle given in degrees comes back 12 x 8 m (closed-form degree lengths)."""
     collection = {"type": "FeatureCollection", "features": [_feature(_lonlat_rectangle())]}
     path = _write(tmp_path / "lot.geojson", collection)
-    lot = read_lot(str(path))
+    lot = read_lot(str(path)).corners
     sides = np.linalg.norm(np.diff(np.vstack([lot, lot[:1]]), axis=0), axis=1)
     assert sides == pytest.approx([12, 8, 12, 8], abs=2e-3)
     area, turn = _area_and_turn(lot)
@@ -128,8 +130,8 @@ def test_geojson_feature_by_id_and_the_first_polygon(tmp_path):
         _feature(_lonlat_rectangle(width=20, depth=5), properties={"id": 7}, kind="MultiPolygon"),
     ]
     path = _write(tmp_path / "lots.geojson", {"type": "FeatureCollection", "features": features})
-    assert _area_and_turn(read_lot(str(path)))[0] == pytest.approx(100, rel=1e-4)
-    assert _area_and_turn(read_lot(f"{path}#7"))[0] == pytest.approx(100, rel=1e-4)
+    assert _area_and_turn(read_lot(str(path)).corners)[0] == pytest.approx(100, rel=1e-4)
+    assert _area_and_turn(read_lot(f"{path}#7").corners)[0] == pytest.approx(100, rel=1e-4)
     with pytest.raises(InputFormatError, match=r"lots\.geojson#b: no feature with id 'b' \(a, 7\)"):
         read_lot(f"{path}#b")
 
@@ -143,11 +145,11 @@ def test_geojson_in_a_projected_crs_is_read_in_ground_metres(tmp_path):
     crs = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::2154"}}
     geometry = {"type": "Polygon", "coordinates": [ring]}
     path = _write(tmp_path / "m.geojson", {"type": "Feature", "crs": crs, "geometry": geometry})
-    lot = np.array(read_lot(str(path)))
+    lot = np.array(read_lot(str(path)).corners)
     to_lonlat = pyproj.Transformer.from_crs("EPSG:2154", "OGC:CRS84", always_xy=True)
     lonlat = [list(to_lonlat.transform(x, y)) for x, y in ring]
     plain = _write(tmp_path / "ll.geojson", {"type": "Polygon", "coordinates": [lonlat]})
-    assert np.abs(lot - np.array(read_lot(str(plain)))).max() < 1e-6
+    assert np.abs(lot - np.array(read_lot(str(plain)).corners)).max() < 1e-6
     width, depth = np.hypot(*(lot[1] - lot[0])), np.hypot(*(lot[2] - lot[1]))
     scale = pyproj.Proj("EPSG:2154").get_factors(*lonlat[0]).meridional_scale
     assert width == pytest.approx(12 / scale, abs=1e-3) and width != pytest.approx(12, abs=1e-3)
@@ -190,7 +192,7 @@ def test_obj_first_face(tmp_path):
     path = tmp_path / "plot.obj"
     path.write_text("# a plot\nv 0 0 0\nv 10 0 0\nv 10 0 6\nv 4 0 6\nv 4 0 3\nv 0 0 3\n"
                     "vt 0 0\nf 1/1 2/1 3/1 4/1 5/1 6/1\nf 1 2 3\n")  # fmt: skip
-    lot = read_lot(str(path))
+    lot = read_lot(str(path)).corners
     area, turn = _area_and_turn(lot)
     assert (area, turn) == (10 * 6 - 4 * 3, 1.0)
     assert lot[0] == (0.0, 0.0)  # clockwise from above: reversed, first corner kept
@@ -213,9 +215,9 @@ def test_bad_obj_is_one_line(tmp_path, text, message):
 
 
 def test_checked_polygon_accepts_arrays():
-    assert checked_polygon(np.array([[0, 1], [1, 1], [1, 0]]), "test") == [
+    assert checked_polygon(np.array([[0, 1], [1, 1], [1, 0]]), "test").corners == (
         (0.0, 1.0), (1.0, 1.0), (1.0, 0.0)
-    ]  # fmt: skip
+    )  # fmt: skip
 
 
 # ------------------------------------------------------------------------------ end to end

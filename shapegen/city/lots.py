@@ -1,6 +1,6 @@
 """Lots of a city: polygons read from GeoJSON or OpenStreetMap buildings, in one local metric frame.
 
-A :class:`Lot` is one footprint: its id, its outer ring in metres (east, north) about the city's
+A :class:`CityLot` is one footprint: its id, its outer ring in metres (east, north) about the city's
 origin, counter-clockwise seen from above, and the properties of the feature it came from (which
 override the rule's attrs of the same names, as CityEngine maps object attributes).
 
@@ -23,22 +23,21 @@ of stopping.
 
 from __future__ import annotations
 
-__all__ = ["CRS_CHOICES", "City", "Lot", "city_from_polygons", "read_lots"]
+__all__ = ["CRS_CHOICES", "City", "CityLot", "city_from_polygons", "read_lots"]
 
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from shapegen.errors import InputFormatError
+from shapegen.errors import InputFormatError, LotError
+from shapegen.model.lot import Lot
 from shapegen.readers import geojson
 from shapegen.readers.crs import LONLAT, METRES, InputCrs, parse_crs, resolve_crs
 from shapegen.readers.files import GZIP_MAGIC, parse_json_document, read_input_bytes
 from shapegen.readers.osm import read_buildings
 
 CRS_CHOICES = ("lonlat", "metres")
-# Corners closer than this are one corner, m.
-_MERGE_M = 1e-3
 # Smallest lot area built, m^2.
 _MIN_AREA_M2 = 0.01
 # Widest lot built, m: wider is a mistake of units (metres near the origin read as degrees).
@@ -46,8 +45,9 @@ _MAX_LOT_M = 5000.0
 
 
 @dataclass(frozen=True)
-class Lot:
-    """One footprint.
+class CityLot:
+    """One footprint of a city (its lot to build on is made from its ``ring`` by
+    :class:`~shapegen.model.lot.Lot`, the one lot check).
 
     Attributes
     ----------
@@ -103,7 +103,7 @@ class City:
         The input's system in full (:class:`~shapegen.readers.crs.InputCrs`: its WKT).
     """
 
-    lots: list[Lot]
+    lots: list[CityLot]
     crs: str
     origin: tuple[float, float]
     skipped: int = 0
@@ -243,7 +243,7 @@ def _city(features: list[dict], crs: InputCrs, skipped: int, source: str) -> Cit
         origin = (float(centre[0]), float(centre[1]))
         if crs.name == LONLAT:
             origin_lonlat = origin
-    lots: list[Lot] = []
+    lots: list[CityLot] = []
     seen: set[str] = set()
     for number, feature in enumerate(features, start=1):
         properties = feature.get("properties")
@@ -256,7 +256,7 @@ def _city(features: list[dict], crs: InputCrs, skipped: int, source: str) -> Cit
         ring, problem = _ring(geometry, crs, origin_lonlat or origin)
         if not geojson.is_finite(geometry):  # kept as a row with its error, without a shape
             geometry = None
-        lots.append(Lot(lot_id, ring, properties, geometry, problem))
+        lots.append(CityLot(lot_id, ring, properties, geometry, problem))
     return City(lots, crs.name, origin, skipped, source, origin_lonlat, crs)
 
 
@@ -274,21 +274,16 @@ def _ring(
             return np.zeros((0, 2)), f"a corner where {crs.name} reaches no longitude/latitude"
     if crs.located and not geojson.within_lonlat(points):
         return np.zeros((0, 2)), "a corner outside longitude -180..180 / latitude -90..90"
-    ring = geojson.distinct_corners(geojson.local_metres(points, crs.located, origin), _MERGE_M)
-    if len(ring) < 3:
-        return ring, f"a polygon of {len(ring)} distinct corner(s); a lot needs 3"
-    span = float(np.max(np.ptp(ring, axis=0)))
+    ring = geojson.local_metres(points, crs.located, origin)
+    span = float(np.max(np.ptp(ring, axis=0))) if len(ring) else 0.0
     if span > _MAX_LOT_M:
         hint = "; are its coordinates metres? (--crs metres)" if crs.name == LONLAT else ""
         return ring, f"a lot {span / 1000:.4g} km across (at most {_MAX_LOT_M / 1000:g} km){hint}"
-    from shapely.geometry import Polygon
-
-    shape = Polygon(ring)
-    if not shape.is_valid:
-        return ring, "a self-crossing polygon"
-    if shape.area < _MIN_AREA_M2:
-        return ring, f"a polygon of {shape.area:.3g} m^2 (at least {_MIN_AREA_M2} m^2)"
-    if not shape.exterior.is_ccw:
-        ring = ring[::-1]
-        ring = np.roll(ring, 1, axis=0)  # keep the first corner first
+    try:  # the one lot check, in (x, z) = (east, -north)
+        lot = Lot.polygon(ring * [1.0, -1.0])
+    except LotError as exc:
+        return ring, str(exc)
+    ring = np.array(lot.corners) * [1.0, -1.0]
+    if lot.area < _MIN_AREA_M2:
+        return ring, f"a polygon of {lot.area:.3g} m^2 (at least {_MIN_AREA_M2} m^2)"
     return ring, None

@@ -15,6 +15,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from shapegen.engine.project.rules_path import find_bundled_rule
+from shapegen.model.lot import Lot
 
 
 def set_argument(name: str, value: object) -> str:
@@ -47,7 +48,7 @@ def command_line(
     values: Mapping[str, object],
     *,
     seed: int = 0,
-    lot: Sequence | None = None,
+    lot: Lot | None = None,
     rules_path: Sequence[str] = (),
 ) -> str:
     """The ``shapegen build`` line that builds the design: the rule file (a bundled rule by its
@@ -84,11 +85,11 @@ def _path_argument(path: Path) -> str:
         return str(path.resolve())
 
 
-def _lot_argument(lot: Sequence) -> str:
+def _lot_argument(lot: Lot) -> str:
     def metres(value: float) -> str:
         value = float(value)
         return str(int(value)) if value.is_integer() and math.isfinite(value) else repr(value)
 
-    if len(lot) == 2 and not isinstance(lot[0], Sequence):
-        return f"{metres(lot[0])},{metres(lot[1])}"
-    return " ".join(f"{metres(x)},{metres(z)}" for x, z in lot)  # a polygon: "x,z x,z ..."
+    if lot.size is not None:
+        return f"{metres(lot.size[0])},{metres(lot.size[1])}"
+    return " ".join(f"{metres(x)},{metres(z)}" for x, z in lot.corners)  # "x,z x,z ..."

@@ -22,12 +22,12 @@ __all__ = [
     "valid_attrs",
 ]
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 from shapegen.editor.attrs import RequestError
-from shapegen.errors import ShapegenError
+from shapegen.errors import LotError, ShapegenError
+from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
 
 UNCHANGED = object()  # an argument not given (None is a value: the file's @Lot)
@@ -42,7 +42,7 @@ class Inputs:
 
     attrs: dict
     seed: int
-    lot: object
+    lot: Lot | None
     free: list[str] | None = None
     margin: float = DEFAULT_MARGIN
 
@@ -156,27 +156,12 @@ def checked_seed(value: object) -> int:
     return value
 
 
-def checked_lot(value: object):
-    """A lot from JSON: null, ``[width, depth]`` (m, > 0) or ``[[x, z], ...]`` (3 or more
-    points, m, counter-clockwise seen from above) as the derivation takes it."""
+def checked_lot(value: object) -> Lot | None:
+    """A lot from JSON: null (the file's ``@Lot``), ``[width, depth]`` (m) or ``[[x, z], ...]``
+    (m), checked by the one lot check; its refusal is a 422 naming ``"lot"``."""
     if value is None:
         return None
-
-    def finite(v: object) -> bool:
-        return not isinstance(v, bool) and isinstance(v, int | float) and math.isfinite(v)
-
-    if isinstance(value, list) and len(value) == 2 and all(finite(v) for v in value):
-        if min(value) <= 0:
-            raise RequestError(f'"lot" width and depth must be > 0 m; got {value!r}')
-        return (float(value[0]), float(value[1]))
-    points = value if isinstance(value, list) else None
-    if (
-        points is None
-        or len(points) < 3
-        or not all(isinstance(p, list) and len(p) == 2 and all(finite(v) for v in p)
-                   for p in points)
-    ):  # fmt: skip
-        raise RequestError(
-            '"lot" is [width, depth] in metres, a polygon [[x, z], [x, z], [x, z], ...], or null'
-        )
-    return tuple((float(x), float(z)) for x, z in points)
+    try:
+        return Lot.of(value)
+    except LotError as exc:
+        raise RequestError(f'"lot": {exc}', 422) from None

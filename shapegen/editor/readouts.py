@@ -21,6 +21,7 @@ from shapegen.editor.exports import command_line
 from shapegen.editor.scene import scene_data
 from shapegen.errors import ShapegenError
 from shapegen.json_values import finite_or_none, json_ready
+from shapegen.model.lot import Lot
 
 
 @dataclass(frozen=True)
@@ -36,7 +37,7 @@ class Shown:
     free_from_file: bool  # they are the file's @Free ones
     margin: float
     seed: int
-    lot: object
+    lot: Lot | None
     path: Path | None  # the rule file read
     package: Path | None  # the .rpk opened, if one was
     rules_path: tuple
@@ -102,7 +103,7 @@ def state_json(shown: Shown) -> dict:
             "free_from_file": shown.free_from_file,
             "margin": shown.margin,
             "seed": shown.seed,
-            "lot": shown.lot,
+            "lot": shown.lot.to_json() if shown.lot is not None else None,
             "file_lot": list(shown.grammar.lot),
         },
         "error": shown.error,
@@ -122,7 +123,7 @@ def attrs_export(shown: Shown) -> dict:
     return json_ready({
         "grammar": str(path) if path else None,
         "seed": seed,
-        "lot": lot,
+        "lot": lot.to_json() if lot is not None else None,
         "attrs": every,
         "set": user,
         "command": command_line(path, user, seed=seed, lot=lot, rules_path=folders),

@@ -18,6 +18,7 @@ import sys
 import threading
 
 from shapegen.editor.stability import PAUSE_S, ScanJob, Stale, scan
+from shapegen.model.lot import Lot
 
 
 class Inbox:
@@ -42,10 +43,8 @@ class Inbox:
                     fields = dict(message["job"])
                     fields["ranges"] = {k: tuple(v) for k, v in fields["ranges"].items()}
                     fields["current"] = {k: tuple(v) for k, v in fields["current"].items()}
-                    lot = fields.get("lot")  # (width, depth) or a polygon's (x, z) points
-                    fields["lot"] = (
-                        tuple(tuple(p) if isinstance(p, list) else p for p in lot) if lot else None
-                    )
+                    lot = fields.get("lot")  # a Lot's fields, or None
+                    fields["lot"] = Lot(**lot) if lot else None
                     self.job = ScanJob(**fields)
                     self.generation = self.job.generation
                 elif "idle" in message:

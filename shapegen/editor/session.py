@@ -45,6 +45,7 @@ from shapegen.editor.searching import Cancelled, SearchState, search_options
 from shapegen.engine.project.rule_packages import PACKAGE_SUFFIX
 from shapegen.errors import GrammarError, ShapegenError
 from shapegen.json_values import json_ready
+from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.options import SearchOptions
 
@@ -79,7 +80,7 @@ class EditorSession(SettingsMixin):
         *,
         attrs: Mapping[str, object] | None = None,
         seed: int = 0,
-        lot: tuple[float, float] | None = None,
+        lot: Lot | None = None,
         rules_path: Sequence[str] = (),
         scan: bool = True,
         measure_follows: bool = False,
@@ -90,7 +91,7 @@ class EditorSession(SettingsMixin):
         self.package: Path | None = _package(source)  # the .rpk opened, if one was
         self.rules_path = tuple(str(folder) for folder in rules_path)
         self.seed = seed
-        self.lot = lot
+        self.lot = Lot.of(lot) if lot is not None else None  # checked once, at the edge
         self._text = _read(self.path)
         self._work = threading.Lock()  # one change at a time
         self._state_lock = threading.RLock()

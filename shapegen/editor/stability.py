@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from shapegen.model.lot import Lot
 from shapegen.search import Evaluator, FreeParameter
 
 SCAN_POINTS = 13  # samples over the range, ends included
@@ -138,7 +139,7 @@ class ScanJob:
     ranges: dict  # name -> (lower, upper) of the free attrs
     current: dict  # name -> (value, stands) of the current design
     seed: int = 0
-    lot: tuple[float, float] | None = None
+    lot: Lot | None = None
     generation: int = 0
     path: str | None = None  # the rule file, read again by the scanning process
 

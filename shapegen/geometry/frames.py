@@ -13,20 +13,20 @@ __all__ = [
     "face_rotation",
     "fitted_scope",
     "lot_polygon",
+    "polygon_face",
     "quadrant",
     "rotation_keeping_x",
 ]
 
 import math
-from collections.abc import Sequence
 
 import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh, polygon_normal
-from shapegen.limits import LOT_EXTENT_LIMIT_M
+from shapegen.model.lot import Lot
 from shapegen.model.scope import Scope
-from shapegen.tolerances import ROUNDOFF_REL, SIZE_FLOOR_M, ZERO_LENGTH
+from shapegen.tolerances import ROUNDOFF_REL, ZERO_LENGTH
 
 
 def _unit(vector: np.ndarray) -> np.ndarray | None:
@@ -96,40 +96,24 @@ def fitted_scope(world_points: np.ndarray, rotation: np.ndarray) -> tuple[Scope,
     return Scope(rotation @ low, rotation, size), local - low
 
 
-def lot_polygon(points: Sequence[Sequence[float]]) -> tuple[Scope, Mesh]:
-    """The start shape of a polygon lot: ``points`` ``(x, z)`` in metres, counter-clockwise seen
-    from above. Returns the scope (x along the first edge, y up, the bounding box in that frame)
-    and the face in scope coordinates.
+def lot_polygon(lot) -> tuple[Scope, Mesh]:
+    """The start shape of a polygon lot: ``lot`` a polygon :class:`~shapegen.model.lot.Lot`
+    (or its corners ``(x, z)`` in metres, checked by it). Returns the scope (x along the first
+    edge, y up, the bounding box in that frame) and the face in scope coordinates.
 
-    Raises ``ValueError`` with a message for the user for fewer than three points, non-finite
-    values, a polygon of no area, one that runs clockwise or one that crosses itself.
+    Raises :class:`~shapegen.errors.LotError` for what cannot be a lot.
     """
-    try:
-        flat = np.array([[float(x), float(z)] for x, z in points], dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"a polygon lot is a list of (x, z) points in metres ({exc})") from None
-    if len(flat) < 3:
-        raise ValueError(f"a polygon lot needs at least 3 (x, z) points, got {len(flat)}")
-    if not np.all(np.isfinite(flat)):
-        raise ValueError("a polygon lot's points must be finite numbers")
-    if float(np.abs(flat).max()) > LOT_EXTENT_LIMIT_M:
-        raise ValueError(
-            f"a polygon lot's points must lie within {LOT_EXTENT_LIMIT_M:g} m of the origin, "
-            f"got a coordinate of {float(np.abs(flat).max()):.3g} m"
-        )
-    world = np.column_stack([flat[:, 0], np.zeros(len(flat)), flat[:, 1]])
-    normal = polygon_normal(world)
-    span = float(np.ptp(flat, axis=0).max())
-    if float(np.linalg.norm(normal)) <= ROUNDOFF_REL * max(span, SIZE_FLOOR_M) ** 2:
-        raise ValueError("the polygon lot has no area")
-    if normal[1] < 0:
-        raise ValueError(
-            "the polygon lot runs clockwise seen from above; give its points counter-clockwise"
-        )
-    import shapely
+    if not isinstance(lot, Lot):
+        lot = Lot.polygon(lot)
+    return polygon_face(lot.corners)
 
-    if not shapely.LinearRing(flat).is_simple:
-        raise ValueError("the polygon lot crosses itself")
+
+def polygon_face(corners) -> tuple[Scope, Mesh]:
+    """The face of ``corners`` ``(x, z)`` (m, counter-clockwise seen from above, as a
+    :class:`~shapegen.model.lot.Lot` has them; not checked here) in a scope with x along its
+    first edge and y up."""
+    flat = np.array(corners, dtype=float)
+    world = np.column_stack([flat[:, 0], np.zeros(len(flat)), flat[:, 1]])
     rotation = face_rotation(world, np.array([0.0, 1.0, 0.0]))
     # x along the first edge, y up (the lot's normal), z = x x y
     rotation = np.column_stack(

@@ -11,7 +11,6 @@ metres are moved so that the origin is 0.
 from __future__ import annotations
 
 __all__ = [
-    "distinct_corners",
     "feature_id",
     "features",
     "is_finite",
@@ -149,19 +148,3 @@ def local_metres(points: np.ndarray, lonlat: bool, origin) -> np.ndarray:
     if lonlat:
         return east_north(points[:, 1], points[:, 0], origin[1], origin[0])
     return points - np.asarray(origin, dtype=float)
-
-
-def distinct_corners(ring: np.ndarray, merge_m: float) -> np.ndarray:
-    """The corners of a ring with each run of corners closer than ``merge_m`` (m) kept once, a
-    closing corner that repeats the first dropped."""
-    ring = np.asarray(ring, dtype=float).reshape(-1, 2)
-    if len(ring) == 0:
-        return ring
-    keep = [0]
-    for k in range(1, len(ring)):
-        if np.hypot(*(ring[k] - ring[keep[-1]])) > merge_m:
-            keep.append(k)
-    ring = ring[keep]
-    if len(ring) > 1 and np.hypot(*(ring[-1] - ring[0])) <= merge_m:
-        ring = ring[:-1]
-    return ring

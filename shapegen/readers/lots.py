@@ -23,30 +23,26 @@ projected onto the WGS84 tangent plane at the centre of the lot's bounding box
 millimetre), east along +x and north along -z. Other coordinates are taken as local metres
 (east, north) and moved so that the same centre is the origin.
 
-Every mistake is one :class:`~shapegen.errors.InputFormatError` line naming the input.
+Every mistake is one :class:`~shapegen.errors.InputFormatError` line naming the input; what
+the input holds is checked by the one :class:`~shapegen.model.lot.Lot` check, its line behind
+the input's name.
 """
 
 from __future__ import annotations
 
-__all__ = ["Lot", "checked_polygon", "lot_from_geojson", "lot_from_obj", "read_lot"]
+__all__ = ["checked_polygon", "lot_from_geojson", "lot_from_obj", "read_lot"]
 
-import math
 import re
 from pathlib import Path
 
 import numpy as np
 
-from shapegen.errors import InputFormatError
+from shapegen.errors import InputFormatError, LotError
+from shapegen.model.lot import Lot
 from shapegen.readers import geojson
 from shapegen.readers.crs import file_crs
 from shapegen.readers.files import parse_json_document, read_model_bytes
-from shapegen.readers.geojson import distinct_corners
 
-Lot = tuple[float, float] | list[tuple[float, float]]
-"""``(width, depth)`` in metres, or a polygon's corners ``[(x, z), ...]`` in metres."""
-
-MERGE_M = 1e-6
-"""Consecutive corners closer than this (m) are one corner (a repeated closing corner...)."""
 MAX_LONLAT_SPAN_DEG = 0.5
 """A longitude/latitude lot wider than this (about 55 km) is refused as a likely mistake
 (metres written without a ``crs`` member)."""
@@ -74,9 +70,10 @@ def read_lot(text: str) -> Lot:
                 "a .geojson file or an .obj file"
             )
         width, depth = (_number(v.strip(), text) for v in sides)
-        if width <= 0 or depth <= 0:
-            raise InputFormatError(f"--lot {text!r}: lot sides must be > 0 m")
-        return width, depth
+        try:
+            return Lot.rectangle(width, depth)
+        except LotError as exc:
+            raise LotError(f"--lot {text!r}: {exc}") from None
     points = []
     for corner in corners:
         parts = corner.split(",")
@@ -91,49 +88,20 @@ def _number(raw: str, text: str) -> float:
         value = float(raw)
     except ValueError:
         raise InputFormatError(f"--lot {text!r}: {raw!r} is not a number") from None
-    if not math.isfinite(value):
-        raise InputFormatError(f"--lot {text!r}: coordinates must be finite numbers, got {raw}")
-    return value
+    return value  # finite and in range: the Lot's check
 
 
-def checked_polygon(points, source: str) -> list[tuple[float, float]]:
-    """``points`` ``(x, z)`` (m) as a lot: repeated corners dropped, at least 3 corners, finite,
-    not crossing itself, with an area, counter-clockwise seen from above (+y; a clockwise ring
-    is reversed keeping its first corner). ``source`` names the input in errors."""
-    ring = np.asarray(points, dtype=float).reshape(-1, 2) if len(points) else np.zeros((0, 2))
-    if not np.all(np.isfinite(ring)):
-        raise InputFormatError(f"{source}: corner coordinates must be finite numbers")
-    ring = distinct_corners(ring, MERGE_M)
-    if len(ring) < 3:
-        raise InputFormatError(
-            f"{source}: a lot needs at least 3 distinct corners, got {len(ring)}"
-        )
-    import shapely  # a polygon lot's check; a WIDTH,DEPTH lot needs none
-
-    polygon = shapely.Polygon(ring)
-    spread = np.linalg.svd(ring - ring.mean(axis=0), compute_uv=False)
-    if spread[1] <= 1e-9 * spread[0]:
-        raise InputFormatError(f"{source}: the polygon has no area (its corners are in a line)")
-    if not polygon.is_valid:
-        raise InputFormatError(f"{source}: the polygon crosses itself ({_why(polygon)})")
-    # In (x, z) with y up, a ring counter-clockwise seen from above has a negative shoelace sum.
-    x, z = ring[:, 0], ring[:, 1]
-    if float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)) > 0:
-        ring = np.roll(ring[::-1], 1, axis=0)  # reversed, the first corner kept first
-    return [(float(a), float(b)) for a, b in ring]
-
-
-def _why(polygon) -> str:
-    """shapely's reason, its point written as x and z: ``self-intersection at x=1, z=0.5``."""
-    import shapely
-
-    reason = shapely.is_valid_reason(polygon)
-    point = re.compile(r"\[([-\d.e+]+) ([-\d.e+]+)\]")
-    return point.sub(lambda m: f" at x={float(m[1]):g}, z={float(m[2]):g}", reason).lower()
+def checked_polygon(points, source: str) -> Lot:
+    """``points`` ``(x, z)`` (m) as a polygon :class:`~shapegen.model.lot.Lot`, its refusal
+    one line behind ``source``, which names the input."""
+    try:
+        return Lot.polygon(points)
+    except LotError as exc:
+        raise LotError(f"{source}: {exc}") from None
 
 
 # ------------------------------------------------------------------------------ GeoJSON
-def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> list[tuple[float, float]]:
+def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> Lot:
     """The lot of a GeoJSON file: its first Polygon or MultiPolygon feature (a FeatureCollection,
     a Feature or a bare geometry), or the feature whose ``id`` or ``id`` property is
     ``feature_id``; in local metres (see the module's documentation)."""
@@ -180,7 +148,7 @@ def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> list[tu
 
 
 # ------------------------------------------------------------------------------ OBJ
-def lot_from_obj(path: str | Path) -> list[tuple[float, float]]:
+def lot_from_obj(path: str | Path) -> Lot:
     """The first face of an OBJ file as a lot: its corners' ``(x, z)`` (m, y up)."""
     path = Path(path)
     where = f"--lot {path}"

@@ -17,6 +17,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError, GrammarError, StaticsError
 from shapegen.model import Model
+from shapegen.model.lot import Lot
 from shapegen.search.parameters import FreeParameter
 from shapegen.structures import Assessment, Design, Structure
 
@@ -60,7 +61,7 @@ class Evaluator:
         attrs: Mapping[str, object] | None = None,
         *,
         seed: int = 0,
-        lot: tuple[float, float] | None = None,
+        lot: Lot | None = None,
         margin: float = 0.0,
     ):
         self.grammar = grammar
@@ -68,7 +69,7 @@ class Evaluator:
         self.parameters = list(parameters)
         self.attrs = dict(attrs or {})
         self.seed = seed
-        self.lot = lot
+        self.lot = Lot.of(lot) if lot is not None else None
         self.margin = margin
         self.evaluations = 0
         self._cache: dict[tuple, Evaluation] = {}

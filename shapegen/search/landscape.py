@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.errors import OptionError
+from shapegen.model.lot import Lot
 from shapegen.search.evaluator import Evaluator
 from shapegen.search.parameters import select_parameters
 from shapegen.structures import Structure, make_structure
@@ -38,7 +39,7 @@ def energy_landscape(
     grid: int = 15,
     attrs: Mapping[str, object] | None = None,
     seed: int = 0,
-    lot: tuple[float, float] | None = None,
+    lot: Lot | None = None,
     structure: Structure | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Landscape:

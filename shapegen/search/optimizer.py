@@ -17,6 +17,7 @@ from collections.abc import Callable, Mapping
 import numpy as np
 
 from shapegen.errors import GeometryError, OptionError
+from shapegen.model.lot import Lot
 from shapegen.search.evaluator import Evaluator
 from shapegen.search.methods import Search
 from shapegen.search.options import SearchOptions
@@ -32,7 +33,7 @@ def optimize(
     structure: Structure | None = None,
     attrs: Mapping[str, object] | None = None,
     seed: int = 0,
-    lot: tuple[float, float] | None = None,
+    lot: Lot | None = None,
     start: Mapping[str, float] | None = None,
     progress: Callable[[IterationRecord], None] | None = None,
     build: bool = True,

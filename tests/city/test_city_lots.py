@@ -133,10 +133,11 @@ def test_two_lots_with_one_id_are_refused(tmp_path):
     ("geometry", "problem"),
     [
         ({"type": "Polygon", "coordinates": [[[0, 0], [2, 2], [2, 0], [0, 2], [0, 0]]]},
-         "self-crossing"),
+         "the polygon crosses itself"),
         ({"type": "MultiPolygon", "coordinates": [[[[0, 0], [1, 0], [1, 1]]],
                                                    [[[5, 0], [6, 0], [6, 1]]]]}, "2 parts"),
-        ({"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [0, 0]]]}, "2 distinct"),
+        ({"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [0, 0]]]},
+             "a lot needs at least 3 distinct corners, got 2"),
         ({"type": "Polygon", "coordinates": [[[0, 0], ["a", 0], [1, 1]]]}, "two finite numbers"),
     ],
 )  # fmt: skip

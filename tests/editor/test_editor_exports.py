@@ -12,6 +12,7 @@ from editor_http import request, serving
 from shapegen.cli import build_parser
 from shapegen.editor.exports import command_line, set_argument
 from shapegen.engine.project.rules_path import find_bundled_rule
+from shapegen.model.lot import Lot
 
 
 @pytest.mark.parametrize(
@@ -37,13 +38,13 @@ def test_a_value_is_written_as_set_reads_it_back(name, value, argument, read_bac
 
 
 def test_the_command_line_gives_seed_and_lot_when_not_the_defaults():
-    line = command_line(Path("x.grammar"), {}, seed=3, lot=(12.5, 8))
+    line = command_line(Path("x.grammar"), {}, seed=3, lot=Lot.rectangle(12.5, 8))
     args = build_parser().parse_args(shlex.split(line)[1:])
-    assert (args.seed, args.lot) == (3, (12.5, 8.0))
-    polygon = [(0, 0), (5, 8.5), (10, 0)]  # counter-clockwise seen from above (y up)
+    assert (args.seed, args.lot) == (3, Lot.rectangle(12.5, 8.0))
+    polygon = Lot.polygon([(0, 0), (5, 8.5), (10, 0)])  # counter-clockwise seen from above
     line = command_line(Path("x.grammar"), {}, lot=polygon)
     args = build_parser().parse_args(shlex.split(line)[1:])
-    assert [tuple(p) for p in args.lot] == polygon
+    assert args.lot == polygon and polygon.corners == ((0, 0), (5, 8.5), (10, 0))
 
 
 def test_a_bundled_rule_is_named_by_its_name_from_any_folder(tmp_path, monkeypatch):

@@ -106,15 +106,21 @@ def test_every_change_of_the_settings_is_a_step_of_the_history(stack_file):
         ({"free": ["ofset"]}, 400, "the grammar has no attr 'ofset'"),
         ({"free": ["stone"]}, 400, "attr 'stone' cannot be free: the search varies numbers"),
         ({"free": ["courses"]}, 400, "attr 'courses' cannot be free"),  # no @Range
-        ({"lot": [0, 1]}, 400, '"lot" width and depth must be > 0 m'),
-        ({"lot": [1]}, 400, '"lot" is [width, depth] in metres, a polygon'),
-        ({"lot": [[0, 0], [1, 0]]}, 400, '"lot" is [width, depth]'),
-        ({"lot": [[0, 0], [2, 0], [2, 2], [0, 2]]}, 422, "clockwise"),  # the build refuses it
+        # every lot refusal is the one lot check's line behind "lot": (model/lot.py), a 422
+        ({"lot": [0, 1]}, 422, '"lot": lot width and depth must be finite numbers > 0 m, got 0'),
+        ({"lot": [1]}, 422, '"lot": a lot is (width, depth) in metres or a polygon of 3 or more'),
+        ({"lot": "12,8"}, 422, '"lot": a lot is (width, depth) in metres'),
+        ({"lot": [[0, 0], [1, 0]]}, 422, '"lot": a lot needs at least 3 distinct corners, got 2'),
+        ({"lot": [[0, 0], [2, 2], [2, 0], [0, 2]]}, 422, '"lot": the polygon crosses itself'),
         # numbers whose squares overflow, and a lot too small for its corners to stay apart
         ({"lot": [[0, 0], [1e308, 0], [1e308, 1e308], [0, 1e308]]}, 422, "within 1e+09 m"),
         ({"lot": [[0, 0], [0, 1e10], [1e10, 1e10], [1e10, 0]]}, 422, "within 1e+09 m"),
         ({"lot": [1e308, 1e308]}, 422, "width and depth must be at most 1e+09 m"),
-        ({"lot": [[1, 0], [1, 2e-9], [1 + 2e-9, 2e-9], [1 + 2e-9, 0]]}, 422, "zero or negative"),
+        (
+            {"lot": [[1, 0], [1, 2e-9], [1 + 2e-9, 2e-9], [1 + 2e-9, 0]]},
+            422,
+            '"lot": a lot needs at least 3 distinct corners, got 1',
+        ),
     ],
 )
 def test_bad_settings_are_refused_and_change_nothing(stack_file, capfd, body, status, message):

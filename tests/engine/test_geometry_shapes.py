@@ -17,7 +17,7 @@ from shapegen.engine.shapes.shape import (
     shape_geometry_value,
     split_piece,
 )
-from shapegen.errors import GrammarError
+from shapegen.errors import LotError
 from shapegen.geometry.mesh import Mesh
 from shapegen.statics.standins import CUT, statics_model
 
@@ -153,12 +153,17 @@ def test_comp_merge_makes_one_shape_of_the_selected_faces():
 
 def test_bad_polygon_lots_are_one_line():
     grammar = shapegen.parse_grammar("@StartRule\nLot --> extrude(1) S\n")
-    with pytest.raises(GrammarError, match="clockwise"):
-        grammar.build(lot=list(reversed(L_LOT)))
-    with pytest.raises(GrammarError, match="no area"):
+    with pytest.raises(LotError, match=r"^the polygon has no area \(its corners are in a line\)$"):
         grammar.build(lot=[(0, 0), (1, 0), (2, 0)])
-    with pytest.raises(GrammarError, match="crosses itself"):
+    with pytest.raises(LotError, match=r"^the polygon crosses itself \(self-intersection at"):
         grammar.build(lot=[(0, 0), (4, 0), (4, -4), (2, 2), (0, -4)])
+
+
+def test_a_clockwise_lot_is_the_same_lot_counter_clockwise_from_its_first_corner():
+    grammar = shapegen.parse_grammar("@StartRule\nLot --> extrude(1) S\n")
+    clockwise = [L_LOT[0], *reversed(L_LOT[1:])]
+    model = grammar.build(lot=clockwise)
+    assert model.metadata["lot_polygon"] == grammar.build(lot=L_LOT).metadata["lot_polygon"]
 
 
 def test_cityengine_extrude_of_a_comp_face_turns_the_scope(tmp_path):

@@ -6,7 +6,7 @@ with a coordinate or a size that is inf, NaN or beyond the work limit ``max_coor
 ``.cga`` file (:mod:`~shapegen.engine.derivation.cga_errors`: a warning at the operation's
 place, the operation is skipped and the shape carries on, as CityEngine's runtime does), and
 errors at their place in a ``.grammar`` file. So no such number reaches the model, the statics or a
-writer. """
+writer."""
 
 from __future__ import annotations
 

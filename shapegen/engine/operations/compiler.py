@@ -6,7 +6,7 @@ the successors it creates to ``out`` and returns False when the shape was replac
 split, a comp...). :class:`ShapeOperations` is mixed into
 :class:`~shapegen.engine.program.interpreter.Program`, which provides ``expressions``, ``rules``,
 ``arities``, ``attr_nodes``, ``const_nodes`` and ``error``; the compiler of an AST node type ``T``
-is its method ``_op_T``. """
+is its method ``_op_T``."""
 
 from __future__ import annotations
 

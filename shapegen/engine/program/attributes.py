@@ -20,9 +20,10 @@ from shapegen.engine.derivation.state import TOO_DEEP, Derivation, root_state
 from shapegen.engine.expressions.arrays import Array, array_from
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
 from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
-from shapegen.errors import GrammarError, OptionError
+from shapegen.errors import GrammarError, LotError, OptionError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
+from shapegen.model.lot import Lot
 from shapegen.model.scope import Scope
 
 DEFAULT_LOT = (10.0, 10.0)
@@ -137,12 +138,13 @@ class AttributeValues:
         for k, keyword in enumerate(("width", "depth")):
             node = annotation.argument(keyword, k)
             value = self.expressions.compile(node, {})((), state) if node is not None else None
-            if type(value) is not float or not math.isfinite(value) or value <= 0:
-                raise self.error(
-                    annotation, f"@Lot needs a positive width and depth in metres, got {value!r}"
-                )
+            if type(value) is not float:
+                raise self.error(annotation, f"@Lot takes numbers (m), got {value!r}")
             size.append(value)
-        return size[0], size[1]
+        try:
+            return Lot.rectangle(*size).size
+        except LotError as exc:
+            raise self.error(annotation, f"@Lot: {exc}") from None
 
     def structure_arguments(self, values: Mapping[str, object], lot: Scope) -> dict[str, object]:
         """The keyword arguments of the start rule's ``@Structure(...)``, evaluated with the attr

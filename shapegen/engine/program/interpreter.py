@@ -429,32 +429,9 @@ def _surface(
 
 
 def _checked_lot(lot: object) -> tuple[Shape, dict]:
-    """The start shape of a lot given to :meth:`Program.derive` and its metadata: ``(width,
-    depth)``, two finite numbers > 0 in metres, or a polygon of ``(x, z)`` points in metres,
-    counter-clockwise seen from above."""
-    try:
-        items = list(lot)
-    except TypeError:
-        items = None
-    if items is not None and len(items) >= 3:
-        try:
-            return lot_shape(items)
-        except ValueError as exc:
-            raise GrammarError(f"lot: {exc}") from None
-    try:
-        width, depth = (float(v) for v in lot)
-    except (TypeError, ValueError, OverflowError):
-        raise GrammarError(
-            f"lot must be (width, depth): two finite numbers > 0 in metres, or a polygon of "
-            f"(x, z) points, got {shown(lot)}"
-        ) from None
-    for side, value in (("width", width), ("depth", depth)):
-        if not math.isfinite(value) or value <= 0:
-            raise GrammarError(f"lot {side} must be a finite number > 0 in metres, got {value!r}")
-    try:
-        return lot_shape((width, depth))
-    except ValueError as exc:  # beyond LOT_EXTENT_LIMIT_M
-        raise GrammarError(f"lot: {exc}") from None
+    """The start shape of a lot given to :meth:`Program.derive` and its metadata; ``lot`` is a
+    :class:`~shapegen.model.lot.Lot` or what ``Lot.of`` takes (its one check)."""
+    return lot_shape(lot)
 
 
 def _insert(name: str, scope: Scope, params: dict) -> list[Block]:

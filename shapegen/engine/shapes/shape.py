@@ -53,7 +53,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh
-from shapegen.limits import LOT_EXTENT_LIMIT_M
+from shapegen.model.lot import Lot
 from shapegen.model.scope import Scope
 
 FACE = "face"
@@ -160,14 +160,8 @@ class Shape:
 
 
 def lot_scope(width: float, depth: float) -> Scope:
-    """The start shape's scope: ``width`` (m) along +x, ``depth`` (m) along +z, y up, flat."""
-    if not (math.isfinite(width) and math.isfinite(depth)) or width <= 0 or depth <= 0:
-        raise ValueError(f"the lot must have a positive width and depth, got {width} x {depth} m")
-    if max(width, depth) > LOT_EXTENT_LIMIT_M:
-        raise ValueError(
-            f"the lot's width and depth must be at most {LOT_EXTENT_LIMIT_M:g} m, got "
-            f"{width:.3g} x {depth:.3g} m"
-        )
+    """The start shape's scope: ``width`` (m) along +x, ``depth`` (m) along +z, y up, flat;
+    the sizes of a checked lot (:class:`~shapegen.model.lot.Lot`, or ``@Lot``'s)."""
     return Scope(np.zeros(3), np.eye(3), np.array([float(width), 0.0, float(depth)]))
 
 
@@ -366,16 +360,17 @@ def _is_scope_box(local: np.ndarray, size: np.ndarray, n_faces: int) -> bool:
 def lot_shape(lot) -> tuple[Shape, dict]:
     """The start shape of a derivation and what the model's metadata records of its lot.
 
-    ``lot`` is ``(width, depth)`` in metres (a rectangle filling its scope: the fast path) or a
-    polygon: a sequence of at least three ``(x, z)`` points in metres, counter-clockwise seen
-    from above. Raises ``ValueError`` with a message for the user."""
-    points = list(lot)
-    if len(points) == 2 and not any(isinstance(p, Sequence | np.ndarray) for p in points):
-        width, depth = (float(v) for v in points)
+    ``lot`` is a :class:`~shapegen.model.lot.Lot` (or what :meth:`Lot.of
+    <shapegen.model.lot.Lot.of>` takes): a rectangle fills its scope (the fast path), a polygon
+    is a face whose scope has x along its first edge. Raises
+    :class:`~shapegen.errors.LotError` for what cannot be a lot."""
+    lot = Lot.of(lot)
+    if lot.size is not None:
+        width, depth = lot.size
         return Shape(lot_scope(width, depth), FACE, 1), {"lot": [width, depth]}
     from shapegen.geometry.frames import lot_polygon
 
-    scope, mesh = lot_polygon(points)
+    scope, mesh = lot_polygon(lot)
     shape = Shape.with_geometry(scope, mesh, FACE, 1)
     if _rectangle_fills(mesh, scope.size):
         shape = Shape(scope, FACE, 1)

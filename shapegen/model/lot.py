@@ -1,0 +1,196 @@
+"""The lot a derivation starts on: one type, checked once, whatever front end made it.
+
+A :class:`Lot` is either a rectangle, ``width`` along x and ``depth`` along z (m), or a polygon,
+its corners ``(x, z)`` in metres, counter-clockwise seen from above (+y), the first corner first
+(the lot's front edge, along which the start scope's x axis runs, starts there). It is made at
+the edge (``--lot``, the design page's ``"lot"``, a city's footprint, ``Grammar.build(lot=...)``)
+and passed down as it is; the derivation trusts it.
+
+A polygon is cleaned as it is checked: consecutive corners closer than
+:data:`~shapegen.tolerances.LOT_MERGE_M` are one corner (a repeated closing corner goes), and
+a ring given clockwise is reversed keeping its first corner first (as CityEngine takes a lot
+drawn either way). What cannot be a lot is one :class:`~shapegen.errors.LotError` line, without
+the place it came from: each front end says that in its own words (``--lot '0,0 1,1': ...``,
+``"lot": ...``, a city's failed row).
+
+>>> Lot.of((12, 8))
+Lot(size=(12.0, 8.0), corners=None)
+>>> Lot.of([(0, 0), (4, 0), (4, 3), (0, 3), (0, 0)]).corners  # clockwise seen from above
+((0.0, 0.0), (0.0, 3.0), (4.0, 3.0), (4.0, 0.0))
+>>> Lot.of([(0, 0), (1, 1)])
+Traceback (most recent call last):
+...
+shapegen.errors.LotError: a lot needs at least 3 distinct corners, got 2
+"""
+
+from __future__ import annotations
+
+__all__ = ["Lot"]
+
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from shapegen.errors import LotError
+from shapegen.limits import LOT_EXTENT_LIMIT_M
+from shapegen.tolerances import FLAT_REL, LOT_MERGE_M
+
+_SHAPE = "a lot is (width, depth) in metres or a polygon of 3 or more (x, z) corners in metres"
+
+
+@dataclass(frozen=True)
+class Lot:
+    """A rectangle lot (``size``: width along x, depth along z, m) or a polygon lot
+    (``corners``: ``(x, z)`` m, counter-clockwise seen from above); exactly one is set. Made
+    by :meth:`rectangle`, :meth:`polygon` or :meth:`of`, which check it."""
+
+    size: tuple[float, float] | None = None
+    corners: tuple[tuple[float, float], ...] | None = None
+
+    def __post_init__(self):
+        if (self.size is None) == (self.corners is None):
+            raise LotError(_SHAPE)
+        if self.size is not None:
+            object.__setattr__(self, "size", _checked_size(self.size))
+        else:
+            object.__setattr__(self, "corners", _checked_corners(self.corners))
+
+    @classmethod
+    def rectangle(cls, width: float, depth: float) -> Lot:
+        """A ``width`` x ``depth`` lot (m, each finite and > 0)."""
+        return cls(size=(width, depth))
+
+    @classmethod
+    def polygon(cls, corners) -> Lot:
+        """A polygon lot of ``corners`` ``(x, z)`` (m), either way round."""
+        return cls(corners=corners)
+
+    @classmethod
+    def of(cls, value) -> Lot:
+        """``value`` as a lot: a :class:`Lot` as it is, two numbers as a rectangle, a sequence
+        of ``(x, z)`` pairs as a polygon."""
+        if isinstance(value, Lot):
+            return value
+        if isinstance(value, str | bytes):
+            raise LotError(f"{_SHAPE}, got {_shown(value)}")
+        try:
+            items = list(value)
+        except TypeError:
+            raise LotError(f"{_SHAPE}, got {_shown(value)}") from None
+        if len(items) == 2 and not any(_is_pair(item) for item in items):
+            return cls(size=tuple(items))
+        if not all(_is_pair(item) for item in items):
+            raise LotError(f"{_SHAPE}, got {_shown(value)}")
+        return cls(corners=items)
+
+    @property
+    def is_polygon(self) -> bool:
+        return self.corners is not None
+
+    @property
+    def area(self) -> float:
+        """The lot's area, m²."""
+        if self.size is not None:
+            return self.size[0] * self.size[1]
+        x, z = np.array(self.corners).T
+        return 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)))
+
+    def to_json(self) -> list:
+        """``[width, depth]`` or ``[[x, z], ...]`` (m), as the design page and the reports
+        write a lot; :meth:`of` reads it back."""
+        if self.size is not None:
+            return list(self.size)
+        return [list(corner) for corner in self.corners]
+
+
+def _is_pair(item) -> bool:
+    return isinstance(item, Sequence | np.ndarray) and not isinstance(item, str)
+
+
+def _shown(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _number(value) -> float:
+    if isinstance(value, bool):
+        raise LotError(f"{_SHAPE}, got {value!r}")
+    try:
+        return float(value)
+    except OverflowError:  # an integer past float's range: an infinite size, refused as one
+        return math.inf if value > 0 else -math.inf
+    except (TypeError, ValueError):
+        raise LotError(f"{_SHAPE}, got {_shown(value)}") from None
+
+
+def _checked_size(size) -> tuple[float, float]:
+    width, depth = (_number(v) for v in size)
+    if not (math.isfinite(width) and math.isfinite(depth)) or width <= 0 or depth <= 0:
+        raise LotError(
+            f"lot width and depth must be finite numbers > 0 m, got {width:g} x {depth:g}"
+        )
+    if max(width, depth) > LOT_EXTENT_LIMIT_M:
+        raise LotError(
+            f"lot width and depth must be at most {LOT_EXTENT_LIMIT_M:g} m, got "
+            f"{width:.3g} x {depth:.3g}"
+        )
+    return width, depth
+
+
+def _checked_corners(corners) -> tuple[tuple[float, float], ...]:
+    try:
+        ring = np.array([[_number(x), _number(z)] for x, z in corners], dtype=float)
+    except ValueError:
+        raise LotError(f"{_SHAPE}, got {_shown(corners)}") from None
+    ring = ring.reshape(-1, 2)
+    if not np.all(np.isfinite(ring)):
+        raise LotError("corner coordinates must be finite numbers")
+    ring = _distinct(ring)
+    if len(ring) < 3:
+        raise LotError(f"a lot needs at least 3 distinct corners, got {len(ring)}")
+    farthest = float(np.abs(ring).max())
+    if farthest > LOT_EXTENT_LIMIT_M:
+        raise LotError(
+            f"corners must lie within {LOT_EXTENT_LIMIT_M:g} m of the origin, got a coordinate "
+            f"of {farthest:.3g} m"
+        )
+    spread = np.linalg.svd(ring - ring.mean(axis=0), compute_uv=False)
+    if spread[1] <= FLAT_REL * spread[0]:
+        raise LotError("the polygon has no area (its corners are in a line)")
+    import shapely  # a polygon lot's check; a rectangle needs none
+
+    polygon = shapely.Polygon(ring)
+    if not polygon.is_valid:
+        raise LotError(f"the polygon crosses itself ({_why(polygon)})")
+    # In (x, z) with y up, a ring counter-clockwise seen from above has a negative shoelace sum.
+    x, z = ring[:, 0], ring[:, 1]
+    if float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)) > 0:
+        ring = np.roll(ring[::-1], 1, axis=0)  # reversed, the first corner kept first
+    return tuple((float(a), float(b)) for a, b in ring)
+
+
+def _distinct(ring: np.ndarray) -> np.ndarray:
+    """Each run of corners closer than ``LOT_MERGE_M`` kept once; a closing corner that repeats
+    the first dropped."""
+    if len(ring) == 0:
+        return ring
+    keep = [0]
+    for k in range(1, len(ring)):
+        if math.hypot(*(ring[k] - ring[keep[-1]])) > LOT_MERGE_M:
+            keep.append(k)
+    ring = ring[keep]
+    if len(ring) > 1 and math.hypot(*(ring[-1] - ring[0])) <= LOT_MERGE_M:
+        ring = ring[:-1]
+    return ring
+
+
+def _why(polygon) -> str:
+    """shapely's reason, its point written as x and z: ``self-intersection at x=1, z=0.5``."""
+    import shapely
+
+    reason = shapely.is_valid_reason(polygon)
+    point = re.compile(r"\[([-\d.e+]+) ([-\d.e+]+)\]")
+    return point.sub(lambda m: f" at x={float(m[1]):g}, z={float(m[2]):g}", reason).lower()
