@@ -19,6 +19,7 @@ __all__ = [
     "OptionError",
     "PluginError",
     "SourceLocation",
+    "WorkLimitError",
 ]
 
 from dataclasses import dataclass
@@ -141,3 +142,9 @@ class OptionError(ShapegenError):
 class PluginError(ShapegenError):
     """An extension that cannot be used as installed: a plug-in package that fails to load, or
     a primitive or structure registered under a name another one holds."""
+
+
+class WorkLimitError(ShapegenError):
+    """Work past one of the work limits (:mod:`shapegen.limits`) where no rule's place is at
+    hand (a geometry kernel's loop, a writer); the message names the limit and how to raise it.
+    A derivation reports it at the operation that ran, and never carries on past it."""

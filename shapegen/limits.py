@@ -28,19 +28,22 @@ __all__ = [
     "DEFAULT_LIMITS",
     "LOT_EXTENT_LIMIT_M",
     "WorkLimits",
+    "check_clock",
     "current_limits",
     "limit_hint",
     "raised_with",
+    "work_clock",
     "work_limits",
 ]
 
 import contextvars
 import math
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, fields, replace
 
-from shapegen.errors import OptionError
+from shapegen.errors import OptionError, WorkLimitError
 
 
 @dataclass(frozen=True)
@@ -97,7 +100,9 @@ class WorkLimits:
     max_archive_depth
         Folders one archive member lies in.
     max_seconds
-        Seconds of one derivation (wall clock), or None for no time limit.
+        Seconds of one derivation (wall clock), or None for no time limit; also of the
+        geometry work of judging its model and of encoding it for a file (each has its own
+        clock, :func:`work_clock`, that every long loop looks at).
     """
 
     max_source_chars: int = 10_000_000
@@ -205,3 +210,48 @@ def limit_hint(name: str, limits: WorkLimits | None = None) -> str:
     value = getattr(limits or current_limits(), name)
     how = dict(_RAISED_WITH.get()).get(name) or f"shapegen.limits.work_limits({name}=...)"
     return f"(limit {name} = {value}; raise it with {how})"
+
+
+# The work clock running in this context: its deadline (time.monotonic()), its seconds and
+# the work it times, for the message.
+_CLOCK: contextvars.ContextVar[tuple[float, float, str] | None] = contextvars.ContextVar(
+    "shapegen_work_clock", default=None
+)
+
+
+@contextmanager
+def work_clock(what: str, seconds: float | None = None) -> Iterator[float | None]:
+    """Within this block, :func:`check_clock` stops the work (``what``, for the message:
+    "the derivation") ``seconds`` (default: the limit ``max_seconds``; None: no clock) from
+    now, or at the deadline of a clock already running if that comes first. Yields the
+    deadline (``time.monotonic()``) or None."""
+    if seconds is None:
+        seconds = current_limits().max_seconds
+    running = _CLOCK.get()
+    clock = running
+    if seconds is not None:
+        mine = (time.monotonic() + seconds, float(seconds), what)
+        clock = mine if running is None or mine[0] < running[0] else running
+    token = _CLOCK.set(clock)
+    try:
+        yield None if clock is None else clock[0]
+    finally:
+        _CLOCK.reset(token)
+
+
+def check_clock() -> None:
+    """Raise :class:`~shapegen.errors.WorkLimitError` when the work clock of this context
+    (:func:`work_clock`) has run out. Cheap (about 0.1 µs): every loop whose count an input
+    sets looks at it once a pass.
+
+    >>> with work_limits(max_seconds=1e-9), work_clock("the derivation"):
+    ...     check_clock()
+    Traceback (most recent call last):
+        ...
+    shapegen.errors.WorkLimitError: the derivation ran for more than 1e-09 s ...
+    """
+    clock = _CLOCK.get()
+    if clock is not None and time.monotonic() > clock[0]:
+        raise WorkLimitError(
+            f"{clock[2]} ran for more than {clock[1]:g} s " + limit_hint("max_seconds")
+        )

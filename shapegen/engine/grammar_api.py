@@ -35,6 +35,7 @@ from shapegen.engine.shapes.shape import lot_scope
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast, import_paths
 from shapegen.grammar.source_files import read_rule_file
+from shapegen.limits import work_clock
 from shapegen.model.model import Model
 
 
@@ -164,7 +165,10 @@ class Grammar:
         """
         # an overflow on the way is no news: the boundary for numbers (engine/derivation/finite.py)
         # judges every shape an operation makes
-        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        with (
+            np.errstate(over="ignore", invalid="ignore", divide="ignore"),
+            work_clock("the derivation"),
+        ):
             return self.program.derive(
                 attrs, seed=seed, lot=lot, max_depth=max_depth, max_shapes=max_shapes
             )

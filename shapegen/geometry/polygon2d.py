@@ -41,6 +41,7 @@ from shapely.geometry import Polygon as ShapelyPolygon
 
 from shapegen.errors import GeometryError
 from shapegen.geometry.skeleton import straight_skeleton
+from shapegen.limits import check_clock
 from shapegen.tolerances import DEFAULT, ROUNDOFF_REL
 
 
@@ -311,12 +312,25 @@ def _convex_optimum(polygon: np.ndarray, corners: np.ndarray) -> tuple[float, np
     return float(area), np.array([[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]])
 
 
+#: Lines per axis through a polygon's corners that the rectangle search's grid takes at most:
+#: its cells (and their shapely boxes) grow as the square of the lines, so a polygon of more
+#: corners (a 4096-sided disk) takes this many of its corners' coordinates, evenly spread.
+GRID_CORNER_LINES = 256
+
+
+def _corner_lines(values: np.ndarray) -> np.ndarray:
+    values = np.unique(values)
+    if len(values) <= GRID_CORNER_LINES:
+        return values
+    return values[np.linspace(0, len(values) - 1, GRID_CORNER_LINES).round().astype(int)]
+
+
 def _grid_rectangle(polygon: np.ndarray, xs: np.ndarray, ys: np.ndarray):
     shape = ShapelyPolygon(polygon)
     shapely.prepare(shape)
     lo, hi = polygon.min(axis=0), polygon.max(axis=0)
-    xs = np.unique(np.clip(np.concatenate([polygon[:, 0], xs]), lo[0], hi[0]))
-    ys = np.unique(np.clip(np.concatenate([polygon[:, 1], ys]), lo[1], hi[1]))
+    xs = np.unique(np.clip(np.concatenate([_corner_lines(polygon[:, 0]), xs]), lo[0], hi[0]))
+    ys = np.unique(np.clip(np.concatenate([_corner_lines(polygon[:, 1]), ys]), lo[1], hi[1]))
     shrink = 1e-9 * float(np.ptp(polygon, axis=0).max())
     x0, y0 = np.meshgrid(xs[:-1], ys[:-1])
     x1, y1 = np.meshgrid(xs[1:], ys[1:])
@@ -326,6 +340,7 @@ def _grid_rectangle(polygon: np.ndarray, xs: np.ndarray, ys: np.ndarray):
     heights = np.zeros(len(xs) - 1)
     edges = np.concatenate([[0.0], np.cumsum(np.diff(xs))])  # x of each column's left side
     for j in range(len(ys) - 1):
+        check_clock()
         # Largest rectangle in the histogram of column heights (m) for rows up to j: a stack of
         # columns with rising heights; a lower column closes the taller ones before it.
         heights = np.where(inside[j], heights + (ys[j + 1] - ys[j]), 0.0)

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from shapegen.engine.shapes.shape import Shape
-from shapegen.errors import OperationError
+from shapegen.errors import OperationError, WorkLimitError
 from shapegen.grammar import ast
 from shapegen.limits import limit_hint
 
@@ -134,6 +134,8 @@ def checked_operation(program, node, operation):
             state.shape = before
             del out[made:]
             raise
+        except WorkLimitError as exc:  # a kernel's loop past the clock: at this operation
+            raise program.error(node, f"{name}(): {exc}") from None
 
     return checked
 

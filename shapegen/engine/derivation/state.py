@@ -24,8 +24,14 @@ from typing import Protocol
 
 from shapegen.engine.derivation.finite import checked_child
 from shapegen.engine.shapes.shape import Shape
-from shapegen.errors import GrammarError
-from shapegen.limits import DEFAULT_LIMITS, WorkLimits, current_limits, limit_hint
+from shapegen.errors import GrammarError, WorkLimitError
+from shapegen.limits import (
+    DEFAULT_LIMITS,
+    WorkLimits,
+    check_clock,
+    current_limits,
+    limit_hint,
+)
 
 DEFAULT_MAX_DEPTH = DEFAULT_LIMITS.max_depth
 """Longest chain of rules from the start rule to a shape (:class:`~shapegen.limits.WorkLimits`)."""
@@ -125,6 +131,7 @@ class Derivation:
         self.object_rotation = None
         self.start_shape: Shape | None = None  # what resetGeometry() goes back to
         self.started = time.monotonic()
+        # a build runs its derivation under a work clock of max_seconds (Grammar.build)
         self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
         # inside()/overlaps()/touches(): set by the interpreter
         # (shapegen.engine.derivation.occlusion)
@@ -136,13 +143,12 @@ class Derivation:
             self.warnings.append(message)
 
     def check_clock(self, node) -> None:
-        """Stop the derivation past its ``max_seconds``."""
-        if self.deadline is not None and time.monotonic() > self.deadline:
-            raise self.program.error(
-                node,
-                f"the derivation ran for more than {self.limits.max_seconds:g} s "
-                + limit_hint("max_seconds", self.limits),
-            )
+        """Stop the derivation past its ``max_seconds`` (the work clock its build runs,
+        :func:`shapegen.limits.work_clock`), at ``node``'s place."""
+        try:
+            check_clock()
+        except WorkLimitError as exc:
+            raise self.program.error(node, str(exc)) from None
 
     def enter_call(self, node, name: str) -> None:
         """Count a user-function call; stop a runaway one (``max_calls``, ``max_call_depth``)."""

@@ -40,6 +40,7 @@ from shapegen.geometry.frames import quadrant
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.geometry.queries import FACE_SELECTORS, face_matches
 from shapegen.grammar import ast
+from shapegen.limits import check_clock
 from shapegen.model.scope import Scope
 
 # Edge selectors are comp(f)'s, applied to each edge's outward normal in the face's plane
@@ -70,6 +71,7 @@ def face_frames(shape: Shape) -> list[tuple[FaceFrame, np.ndarray]]:
     guess = np.eye(3)[1 if axis == 0 else 0]  # the scope axis that runs along the face
     out = []
     for k in range(mesh.n_faces):
+        check_clock()
         points = mesh.face_points(k)
         normal = polygon_normal(points)
         length = float(np.linalg.norm(normal))

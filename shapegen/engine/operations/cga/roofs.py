@@ -29,6 +29,7 @@ from shapegen.geometry import roofs
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
+from shapegen.limits import check_clock, limit_hint
 
 
 def roof_shape(
@@ -122,12 +123,14 @@ def compile_roof(program, node: ast.Operation, params):
         if "index" in options:
             options["index"] = int(options["index"])
         amount = value(args, state)
+        _check_roof_faces(program, node, state)
         built = []
         if cga and state.shape.kind == MASS:  # op_roof*: a roof on each face of the geometry
             faces = face_frames(state.shape)
         else:
             faces = flat_faces(state, node, program, f"{node.name}()")
         for frame, polygon in faces:
+            check_clock()
             try:
                 if kind == "angle":
                     mesh = build(polygon, amount, **options)
@@ -142,6 +145,21 @@ def compile_roof(program, node: ast.Operation, params):
         return True
 
     return roof_op
+
+
+def _check_roof_faces(program, node, state) -> None:
+    """Refuse, before any roof is built, roofs whose faces would pass ``max_mesh_faces``: a
+    roof on a face of k corners has at least k + 1 faces (k slopes or walls, a bottom)."""
+    faces = state.shape.mesh().faces
+    least = len(faces) + sum(map(len, faces))
+    limits = state.run.limits
+    if least > limits.max_mesh_faces:
+        raise program.error(
+            node,
+            f"{node.name}(): the roofs on the shape's {len(faces)} faces would have at least "
+            f"{least} faces, more than {limits.max_mesh_faces} "
+            + limit_hint("max_mesh_faces", limits),
+        )
 
 
 @compiles("taper")

@@ -1,0 +1,115 @@
+"""Reproducers of the numbers fuzzer (tests/fuzz/test_fuzz_numbers.py): rules whose work grew
+past its child's caps (20 s of CPU, 4 GiB) now end within the work limits, in one line naming
+the limit, or build.
+
+Work is bounded by the size of what a rule makes: the faces a roof would make
+(``max_mesh_faces``), the grid of the largest-rectangle search (its lines, not the polygon's
+corners squared). And every loop whose count an input sets looks at the derivation's clock
+(``max_seconds``): the tests below run them with a clock that has already run out, so they
+must stop at once, at the operation's place.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from fuzz_sandbox import run_limited
+from test_fuzz_numbers import fuzz_rule
+
+from shapegen.cli import main
+from shapegen.errors import WorkLimitError
+from shapegen.limits import work_clock, work_limits
+
+
+def _build_once(tmp_path, text: str, capsys, **limits) -> str:
+    rule = tmp_path / "fuzz.cga"
+    rule.write_text(text)
+    with work_limits(**limits):
+        status = main(["build", str(rule), "-o", str(tmp_path / "x.json")])
+    printed = capsys.readouterr().err
+    assert "Traceback" not in printed
+    if status == 2:
+        assert [p.name for p in tmp_path.iterdir()] == ["fuzz.cga"]  # nothing written
+    return printed
+
+
+def test_roofs_on_a_mesh_of_many_faces_are_refused_before_any_is_built(tmp_path, capsys):
+    # seed 353311, input 55: roofPyramid on a mass of 32 772 faces built a roof on each (past
+    # 20 s of CPU), then had more faces than max_mesh_faces
+    text = fuzz_rule(353311, 55)
+    assert "roofPyramid(-1e-320)" in text
+    printed = _build_once(tmp_path, text, capsys)
+    first = printed.splitlines()[0]
+    assert first.startswith("shapegen: error:") and "fuzz.cga:3:7: roofPyramid(): " in first
+    assert "at least 180228 faces, more than 50000 (limit max_mesh_faces = 50000;" in first
+
+
+def test_a_roof_on_few_faces_is_built():
+    # the bound counts the faces a roof makes: k + 1 for a face of k corners, no more
+    import shapegen
+
+    grammar = shapegen.parse_grammar("@StartRule @Lot(10, 8)\nLot --> roofHip(30) A", "a.cga")
+    with work_limits(max_mesh_faces=5):
+        assert grammar.build().metadata["cga_errors"] == 0
+    with work_limits(max_mesh_faces=4), pytest.raises(shapegen.GrammarError) as caught:
+        grammar.build()
+    assert "would have at least 5 faces, more than 4 (limit max_mesh_faces = 4;" in str(
+        caught.value
+    )
+
+
+def _disk(corners: int, wobble: float = 0.0) -> np.ndarray:
+    a = np.linspace(0, 2 * np.pi, corners, endpoint=False)
+    return np.column_stack([np.cos(a), np.sin(a)]) * (5 * (1 + wobble * np.cos(5 * a)))[:, None]
+
+
+def _inner_rectangle_of_a_4096_sided_star(_):
+    from shapegen.geometry.polygon2d import inner_rectangle
+
+    rectangle, remainder = inner_rectangle(_disk(4096, wobble=0.3))
+    size = np.ptp(rectangle, axis=0)
+    assert size[0] * size[1] > 35  # the star's largest rectangle is about 41 m^2
+    assert remainder
+
+
+def test_the_largest_rectangle_of_a_polygon_of_many_corners_stays_small():
+    # seed 353311, input 767: innerRectangle of a 4096-sided disk made a grid of 17 million
+    # cells (a shapely box each: past 4 GiB); the grid takes at most 256 lines of its corners
+    outcome = run_limited(_inner_rectangle_of_a_4096_sided_star, None, memory_bytes=2**30)
+    assert outcome.kind == "clean", outcome.detail
+
+
+def test_the_largest_rectangle_of_a_convex_polygon_of_many_corners_is_the_optimum():
+    from shapegen.geometry.polygon2d import inner_rectangle
+
+    rectangle, _ = inner_rectangle(_disk(4096))
+    size = np.ptp(rectangle, axis=0)
+    assert size[0] * size[1] == pytest.approx(50.0, rel=1e-4)  # a square in a 5 m circle
+
+
+def _stops_at_once(work) -> str:
+    with work_limits(max_seconds=1e-9), work_clock("the derivation"):
+        with pytest.raises(WorkLimitError) as caught:
+            work()
+    return str(caught.value)
+
+
+def test_the_kernels_look_at_the_clock():
+    from shapegen.engine.cga_ops.polygons import face_frames
+    from shapegen.engine.shape import MASS, Shape, lot_scope
+    from shapegen.geometry.polygon2d import inner_rectangle
+
+    message = _stops_at_once(lambda: inner_rectangle(_disk(64, wobble=0.3)))
+    assert message.startswith("the derivation ran for more than 1e-09 s (limit max_seconds")
+    box = Shape(lot_scope(4.0, 3.0), MASS, 1)
+    _stops_at_once(lambda: face_frames(box))
+
+
+@pytest.mark.parametrize("number", [610, 767])
+def test_a_derivation_past_its_clock_stops_in_one_line(tmp_path, capsys, number):
+    # seed 353311, inputs 610 and 767: innerRectangle on every face of a remainder that is
+    # split again, shape after shape (610); 767 also made 17 million grid cells on the way
+    printed = _build_once(tmp_path, fuzz_rule(353311, number), capsys, max_seconds=0.5)
+    first = printed.splitlines()[0]
+    assert first.startswith("shapegen: error:")
+    assert "the derivation ran for more than 0.5 s (limit max_seconds = 0.5;" in first
