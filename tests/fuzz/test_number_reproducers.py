@@ -95,8 +95,8 @@ def _stops_at_once(work) -> str:
 
 
 def test_the_kernels_look_at_the_clock():
-    from shapegen.engine.cga_ops.polygons import face_frames
-    from shapegen.engine.shape import MASS, Shape, lot_scope
+    from shapegen.engine.operations.cga.polygons import face_frames
+    from shapegen.engine.shapes.shape import MASS, Shape, lot_scope
     from shapegen.geometry.polygon2d import inner_rectangle
 
     message = _stops_at_once(lambda: inner_rectangle(_disk(64, wobble=0.3)))

@@ -131,7 +131,6 @@ class Derivation:
         self.object_rotation = None
         self.start_shape: Shape | None = None  # what resetGeometry() goes back to
         self.started = time.monotonic()
-        # a build runs its derivation under a work clock of max_seconds (Grammar.build)
         self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
         # inside()/overlaps()/touches(): set by the interpreter
         # (shapegen.engine.derivation.occlusion)
@@ -143,8 +142,15 @@ class Derivation:
             self.warnings.append(message)
 
     def check_clock(self, node) -> None:
-        """Stop the derivation past its ``max_seconds`` (the work clock its build runs,
-        :func:`shapegen.limits.work_clock`), at ``node``'s place."""
+        """Stop the derivation past its ``max_seconds``, at ``node``'s place: its own, or the
+        work clock its build runs (:func:`shapegen.limits.work_clock`), which the geometry
+        kernels' loops look at too."""
+        if self.deadline is not None and time.monotonic() > self.deadline:
+            raise self.program.error(
+                node,
+                f"the derivation ran for more than {self.limits.max_seconds:g} s "
+                + limit_hint("max_seconds", self.limits),
+            )
         try:
             check_clock()
         except WorkLimitError as exc:
