@@ -21,7 +21,7 @@ from shapegen.model.appearance import DEFAULT_APPEARANCE, material_value, parse_
 
 @pytest.fixture(scope="module")
 def program():
-    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program
+    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program.operations
 
 
 def _state(program, width=6.0, depth=4.0):

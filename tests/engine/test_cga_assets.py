@@ -154,7 +154,7 @@ def test_fit_one_zero_size_takes_the_mean_scale():
 # ------------------------------------------------------------------------------ primitives
 @pytest.fixture(scope="module")
 def program():
-    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program
+    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program.operations
 
 
 def _primitive(program, name, *numbers, size=(2.0, 3.0, 2.0)):

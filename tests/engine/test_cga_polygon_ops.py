@@ -20,7 +20,7 @@ from shapegen.grammar import ast
 
 @pytest.fixture(scope="module")
 def program():
-    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program
+    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program.operations
 
 
 def _state(program, width=12.0, depth=8.0):

@@ -23,7 +23,7 @@ L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
 
 @pytest.fixture(scope="module")
 def program():
-    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program
+    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program.operations
 
 
 def _value(v):

@@ -340,7 +340,7 @@ class ShapeBatch:
         if node.args:
             raise Unsupported("a successor with arguments")
         rule = None if node.leaf else self.run.program.rules.get((node.name, 0))
-        if rule is None and not node.leaf and node.name in self.run.program.arities:
+        if rule is None and not node.leaf and node.name in self.run.program.operations.arities:
             raise Unsupported("a successor of another arity")
         child = ShapeBatch(self.run, self.index, attrs, self.path + (0,), self.depth + 1)
         child.height = height

@@ -3,32 +3,27 @@
 A compiled operation is called as ``op(state, args, out)``
 (:data:`~shapegen.engine.derivation.state.Operation`): it changes the shape ``state``, appends
 the successors it creates to ``out`` and returns False when the shape was replaced by others (a
-split, a comp...). :class:`ShapeOperations` is mixed into
-:class:`~shapegen.engine.program.interpreter.Program`, which provides ``expressions``, ``rules``,
-``arities``, ``attr_nodes``, ``const_nodes`` and ``error``; the compiler of an AST node type ``T``
-is its method ``_op_T``."""
+split, a comp...). :class:`OperationCompiler` compiles them for one grammar; the compiler of an
+AST node type ``T`` is its method ``_op_T``, and those of CityEngine's operations without a node
+of their own (:mod:`shapegen.engine.operations.cga`) are handed the compiler itself.
+"""
 
 from __future__ import annotations
 
-__all__ = ["INSERT", "ShapeOperations"]
+__all__ = ["OperationCompiler"]
 
 import difflib
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 from shapegen.engine.derivation.cga_errors import carrying_on
 from shapegen.engine.derivation.finite import checked_operation, finite_parameter
 from shapegen.engine.derivation.state import Operation, format_chain
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
 from shapegen.engine.operations.shape_writes import WRITABLE, compile_shape_write
-from shapegen.engine.operations.template_primitives import (
-    check_primitive_call,
-    is_template,
-    resolve_primitive,
-)
+from shapegen.engine.operations.template_primitives import INSERT, compile_insert
 from shapegen.engine.shapes.shape import (
     FACE,
     MASS,
-    Shape,
     axis_index,
     center,
     extrude_shape,
@@ -42,26 +37,50 @@ from shapegen.engine.shapes.split import (
     SplitRepeat,
     resolve_split,
 )
-from shapegen.errors import GeometryError, GrammarError, OperationError, OptionError
+from shapegen.errors import GrammarError, OperationError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES
 
-INSERT = "insert"
-"""The kind of a shape that holds an inserted primitive (``i(...)``), beside FACE and MASS."""
 
+class OperationCompiler:
+    """The compilers of rule bodies, their items and the operations' arguments, for one grammar.
 
-class ShapeOperations:
-    """The compilers of rule bodies, their items and the operations' arguments."""
+    Parameters
+    ----------
+    grammar
+        The parsed file: its dialect and its file name (where assets are searched from).
+    expressions
+        The grammar's expression compiler (arguments, conditions, values).
+    rules
+        ``(name, arity) -> rule`` of the grammar, read when a successor is compiled; a rule's
+        ``body`` is read only while deriving, so the rules' bodies may be compiled after.
+    """
 
-    expressions: ExpressionCompiler
-    rules: dict[tuple[str, int], object]
-    arities: dict[str, list[int]]
-    attr_nodes: dict[str, ast.Attribute]
-    const_nodes: dict[str, ast.Constant]
-    error: Callable[..., GrammarError]
-    cga_dialect: bool
+    def __init__(
+        self,
+        grammar: ast.RuleFile,
+        expressions: ExpressionCompiler,
+        rules: Mapping[tuple[str, int], object],
+    ):
+        self.grammar = grammar
+        self.expressions = expressions
+        self.rules = rules
+        self.arities: dict[str, list[int]] = {}
+        for name, arity in rules:
+            self.arities.setdefault(name, []).append(arity)
+        self.attr_names = frozenset(a.name for a in grammar.attrs)
+        self.const_names = frozenset(c.name for c in grammar.consts)
+        # CityEngine rule files (.cga) get CityEngine's semantics: its scope after extruding a
+        # comp face, its repeat counts, and its leniency (CGA errors carried on past).
+        self.cga_dialect = grammar.dialect == "cga"
 
-    def _body(self, node: ast.Body, params: dict[str, int]) -> Operation:
+    def error(self, node, message: str) -> GrammarError:
+        """The error at ``node`` of the grammar (file, line, column and caret)."""
+        return self.expressions.error(node, message)
+
+    def body(self, node: ast.Body, params: dict[str, int]) -> Operation:
+        """The operation of a rule body (a sequence, a case or a stochastic choice) whose
+        parameters are ``params`` (name -> index in the arguments)."""
         if isinstance(node, ast.Sequence):
             items = tuple(self._item(item, params) for item in node.items)
 
@@ -74,10 +93,10 @@ class ShapeOperations:
             return sequence
         if isinstance(node, ast.ConditionalBody):
             branches = [
-                (self.expressions.compile(b.condition, params), self._body(b.body, params), b)
+                (self.expressions.compile(b.condition, params), self.body(b.body, params), b)
                 for b in node.branches
             ]
-            otherwise = self._body(node.otherwise, params)
+            otherwise = self.body(node.otherwise, params)
             error = self.error
 
             def conditional(state, args, out):
@@ -93,8 +112,8 @@ class ShapeOperations:
 
             return conditional
         if isinstance(node, ast.StochasticBody):
-            branches = [(float(b.percent), self._body(b.body, params)) for b in node.branches]
-            otherwise = self._body(node.otherwise, params)
+            branches = [(float(b.percent), self.body(b.body, params)) for b in node.branches]
+            otherwise = self.body(node.otherwise, params)
 
             def stochastic(state, args, out):
                 draw = 100.0 * state.random()
@@ -125,8 +144,9 @@ class ShapeOperations:
         error = self.error(node, message)
         return OperationError(message, error.location, error.source)
 
-    def _number(self, node, expression, params, what: str):
-        """A compiled expression that must give a finite number."""
+    def number(self, node, expression, params, what: str):
+        """A compiled expression that must give a finite number (``what`` names it in the
+        error: ``"extrude height"``)."""
         compiled = self.expressions.compile(expression, params)
         error = self.error
 
@@ -171,7 +191,7 @@ class ShapeOperations:
         return delete
 
     def _op_Push(self, node: ast.Push, params) -> Operation:
-        body = self._body(node.body, params)
+        body = self.body(node.body, params)
 
         def push(state, args, out):
             body(state.copy(), args, out)
@@ -180,7 +200,7 @@ class ShapeOperations:
         return push
 
     def _op_Extrude(self, node: ast.Extrude, params) -> Operation:
-        height = self._number(node, node.height, params, "extrude height")
+        height = self.number(node, node.height, params, "extrude height")
         error, operation_error = self.error, self.operation_error
         cityengine = self.cga_dialect
 
@@ -218,8 +238,8 @@ class ShapeOperations:
                 else:
                     builders.append(inner)
                 continue
-            size = self._number(part, part.size, params, "a split size")
-            key = (self._body(part.body, params), part)
+            size = self.number(part, part.size, params, "a split size")
+            key = (self.body(part.body, params), part)
             mode = part.mode
             builders.append(
                 lambda args, state, size=size, key=key, mode=mode: [
@@ -311,14 +331,14 @@ class ShapeOperations:
                     "is not supported by shapegen",
                 )
         branches = [
-            (branch.selector, branch.merge, self._body(branch.body, params), branch)
+            (branch.selector, branch.merge, self.body(branch.body, params), branch)
             for branch in node.branches
         ]
         return comp_operation(self, node, node.kind, branches, params)
 
     def _coordinates(self, node, coordinates, params, what: str):
         compiled = [
-            (self._number(node, c.value, params, what), c.relative, k)
+            (self.number(node, c.value, params, what), c.relative, k)
             for k, c in enumerate(coordinates)
         ]
 
@@ -354,7 +374,7 @@ class ShapeOperations:
         return scale_op
 
     def _op_Rotate(self, node: ast.Rotate, params) -> Operation:
-        angles = [self._number(node, e, params, "an r() angle") for e in (node.x, node.y, node.z)]
+        angles = [self.number(node, e, params, "an r() angle") for e in (node.x, node.y, node.z)]
         about_center = node.pivot == "center"
 
         def rotate_op(state, args, out):
@@ -397,16 +417,16 @@ class ShapeOperations:
             compile_material_set = getattr(appearance, "compile_material_set", None)
             if compile_material_set is not None:
                 return compile_material_set(self, node, params)
-        if attribute in self.const_nodes:
+        if attribute in self.const_names:
             raise self.error(node, f"set() changes attrs; {attribute!r} is a const")
-        if self.cga_dialect and attribute in WRITABLE and attribute not in self.attr_nodes:
+        if self.cga_dialect and attribute in WRITABLE and attribute not in self.attr_names:
             return compile_shape_write(self, node, params)
         if (
-            attribute not in self.attr_nodes
+            attribute not in self.attr_names
             and attribute not in RESERVED_ATTRIBUTES
             and attribute not in SETTABLE_SHAPE_ATTRIBUTES
         ):
-            known = sorted(set(self.attr_nodes) | set(RESERVED_ATTRIBUTES))
+            known = sorted(set(self.attr_names) | set(RESERVED_ATTRIBUTES))
             close = difflib.get_close_matches(attribute, known, n=1)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             raise self.error(node, f"set() of unknown attribute {attribute!r}{hint}")
@@ -419,48 +439,7 @@ class ShapeOperations:
         return set_op
 
     def _op_Insert(self, node: ast.Insert, params) -> Operation:
-        from shapegen.engine.operations.cga.assets import asset_insert, is_asset_name
-
-        literal = isinstance(node.primitive, ast.String)
-        if literal and is_asset_name(node.primitive.value):  # a file or builtin: asset
-            return asset_insert(self, node, params)
-        cga = self.cga_dialect
-        if literal and cga and not node.parameters and not is_template(node.primitive.value):
-            # CityEngine knows no template primitives: a name shapegen lacks is an asset
-            return asset_insert(self, node, params)
-        assets = None if literal or node.parameters else asset_insert(self, node, params)
-        if literal:
-            check_primitive_call(node, self.error)
-        if node.options and (literal or node.parameters):
-            raise self.error(node, "i() of a template primitive takes key=value parameters only")
-        name_of = self.expressions.compile(node.primitive, params)
-        keywords = [(k.name, self.expressions.compile(k.value, params)) for k in node.parameters]
-        error = self.error
-
-        def insert_op(state, args, out):
-            name = name_of(args, state)
-            if type(name) is not str:
-                raise error(node, f"i() needs a primitive name (a string), got a {type_name(name)}")
-            if assets is not None and (is_asset_name(name) or (cga and not is_template(name))):
-                return assets(state, args, out)
-            if node.options:
-                raise error(
-                    node, f"i({name!r}): a template primitive takes key=value parameters only"
-                )
-            values = {key: value(args, state) for key, value in keywords}
-            scope = state.shape.scope
-            if name == "box" and not values:
-                # The box primitive is exactly the block a 3D leaf makes: skip the registry.
-                state.shape = Shape(scope, MASS)
-                return True
-            try:
-                resolved = resolve_primitive(name, values)
-            except (GeometryError, OptionError) as exc:
-                raise error(node, str(exc)) from None
-            state.shape = Shape(scope, INSERT, insert=(name, resolved, node))
-            return True
-
-        return insert_op
+        return compile_insert(self, node, params)
 
     def _op_Operation(self, node: ast.Operation, params) -> Operation:
         from shapegen.engine.operations.cga import compiler_for

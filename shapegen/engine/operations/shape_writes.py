@@ -77,7 +77,7 @@ def compile_shape_write(program, node, params):
     """The operation of ``set(scope.tx, v)``, ``set(pivot.ox, v)``... (``node.attribute`` one of
     :data:`WRITABLE`)."""
     attribute = node.attribute
-    value = program._number(node, node.value, params, f"set({attribute}, ...)'s value")
+    value = program.number(node, node.value, params, f"set({attribute}, ...)'s value")
 
     def set_shape(state, args, out):
         write_shape_attribute(state, attribute, value(args, state))

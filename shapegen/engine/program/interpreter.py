@@ -14,7 +14,8 @@ position in the shape tree, so a shape's draws do not depend on how many shapes 
 before it.
 
 The work is shared with :mod:`~shapegen.engine.derivation.state` (the state of a derivation),
-:mod:`~shapegen.engine.operations.compiler` (compiling rule bodies and operations) and
+:mod:`~shapegen.engine.operations.compiler` (compiling rule bodies and operations,
+:class:`~shapegen.engine.operations.compiler.OperationCompiler`) and
 :mod:`~shapegen.engine.program.attributes` (attr and const values, ``@Range``, ``@Lot``,
 ``@Structure``).
 """
@@ -50,7 +51,8 @@ from shapegen.engine.derivation.state import (
 )
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value
 from shapegen.engine.expressions.local_variables import local_scope, with_locals
-from shapegen.engine.operations.compiler import INSERT, ShapeOperations
+from shapegen.engine.operations.compiler import OperationCompiler
+from shapegen.engine.operations.template_primitives import INSERT
 from shapegen.engine.program.attributes import (
     DEFAULT_LOT,
     AttributeValues,
@@ -90,7 +92,7 @@ class _Rule:
         self.node = node
 
 
-class Program(AttributeValues, ShapeOperations):
+class Program(AttributeValues):
     """A compiled grammar, ready to derive models.
 
     Parameters
@@ -117,13 +119,11 @@ class Program(AttributeValues, ShapeOperations):
         }
         # Rules by (name, arity): CGA overloads a rule name by its number of parameters.
         self.rules = {(rule.name, len(rule.params)): _Rule(rule) for rule in grammar.rules}
-        self.arities: dict[str, list[int]] = {}
-        for name, arity in self.rules:
-            self.arities.setdefault(name, []).append(arity)
+        self.operations = OperationCompiler(grammar, self.expressions, self.rules)
         for rule in self.rules.values():
             params = {p.name: k for k, p in enumerate(rule.node.params)}
             scope, extend = local_scope(self.expressions, rule.node, params)
-            rule.body = self._body(rule.node.body, scope)
+            rule.body = self.operations.body(rule.node.body, scope)
             if extend is not None:  # with ( ... ): the values follow the rule's arguments
                 rule.body = _rule_with_locals(rule.body, extend)
         self.start = grammar.start_rule

@@ -4,9 +4,13 @@ The parser makes a generic :class:`~shapegen.grammar.ast.Operation` for them (``
 ``offset``, ``roofHip``, ``alignScopeToAxes``...); the interpreter looks the name up here. A
 compiler is registered with :func:`compiles` and is called as ``compiler(program, node, params)``
 when the rule is compiled; it returns the operation closure ``op(state, args, out) -> bool`` of
-:data:`~shapegen.engine.derivation.state.Operation`. ``program`` gives ``program.expressions``
-(compile an argument), ``program.error(node, message)`` and ``program._body(body, params)``
-(compile a branch's body).
+:data:`~shapegen.engine.derivation.state.Operation`. ``program`` is the grammar's
+:class:`~shapegen.engine.operations.compiler.OperationCompiler`: ``program.expressions``
+(compile an argument), ``program.number(node, expression, params, what)`` (an argument that
+must be a finite number), ``program.body(body, params)`` (compile a branch's body),
+``program.error(node, message)`` (an error at load time) and
+``program.operation_error(node, message)`` (a CGA error while deriving), ``program.cga_dialect``
+and ``program.grammar``.
 
 Each area of the language has its own module below; importing this package registers them all.
 An operation honoured with a difference from CityEngine's reference (a form it refuses, a

@@ -327,7 +327,7 @@ _PRIMITIVES = {
 def compile_primitive(program, node: ast.Operation, params):
     kind, counts = _PRIMITIVES[node.name]
     plain_arguments(program, node, counts)
-    numbers = [program._number(node, a.value, params, f"a {node.name}() argument")
+    numbers = [program.number(node, a.value, params, f"a {node.name}() argument")
                for a in node.arguments]  # fmt: skip
     error = program.error
     cga = program.cga_dialect

@@ -50,7 +50,7 @@ def compile_extrude(program, node: ast.Operation, params):
             raise program.error(
                 node, f"extrude()'s type is one of {', '.join(_EXTRUSION_TYPES)}; got {kind!r}"
             )
-    distance = program._number(node, arguments[-1], params, "extrude height")
+    distance = program.number(node, arguments[-1], params, "extrude height")
     cityengine = program.cga_dialect
     error = program.error
 

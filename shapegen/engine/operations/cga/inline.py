@@ -285,7 +285,7 @@ def compile_inline(program, node: ast.Operation, params):
                 )
     elif node.arguments or len(node.branches) != 2:
         raise program.error(node, f"{node.name} takes {{ operations A | operations B }}")
-    bodies = [(program._body(b.body, params), b) for b in node.branches]
+    bodies = [(program.body(b.body, params), b) for b in node.branches]
 
     def inline(state, args, out):
         ((body, branch),) = bodies

@@ -175,7 +175,7 @@ def _branches(program, node, params, allowed: set[str], edges: bool):
                 if edges
                 else f"{node.name}() selects {' or '.join(sorted(allowed))}, not {name}",
             )
-        out.append((selector, program._body(branch.body, params), branch.merge, branch))
+        out.append((selector, program.body(branch.body, params), branch.merge, branch))
     return out
 
 

@@ -72,7 +72,7 @@ def compile_scatter(program, node: ast.Operation, params):
     if len(node.branches) != 1 or node.branches[0].key is not None:
         raise program.error(node, "scatter() takes one { operations } block")
     branch = node.branches[0]
-    body = program._body(branch.body, params)
+    body = program.body(branch.body, params)
     error = program.error
 
     def scatter_op(state, args_, out):

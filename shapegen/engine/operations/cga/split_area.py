@@ -62,7 +62,7 @@ def compile_split_area(program, node: ast.Operation, params):
         if branch.merge:
             raise program.error(branch, "splitArea() parts take ':', not '='")
         size = number(program, node, branch.key, params, "a size", at=branch)
-        parts.append((size, branch.mode, program._body(branch.body, params), branch))
+        parts.append((size, branch.mode, program.body(branch.body, params), branch))
     repeat = node.repeat
 
     def split_area_op(state, args, out):

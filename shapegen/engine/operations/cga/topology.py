@@ -474,7 +474,7 @@ def compile_comp(program, node: ast.Operation, params):
                 "is not supported by shapegen",
             )
     branches = [
-        (branch.key, branch.merge, program._body(branch.body, params), branch)
+        (branch.key, branch.merge, program.body(branch.body, params), branch)
         for branch in node.branches
     ]
     return comp_operation(program, node, kind, branches, params, align)

@@ -56,9 +56,9 @@ def compile_insert_along_uv(program, node, params):
             )
         words.append(word)
     keep_position = words[1:] == ["keepPosition"]
-    uv_set = program._number(node, arguments[0], params, "insertAlongUV()'s uvSet")
+    uv_set = program.number(node, arguments[0], params, "insertAlongUV()'s uvSet")
     name_of = program.expressions.compile(arguments[1], params)
-    height_of = program._number(node, arguments[2], params, "insertAlongUV()'s height")
+    height_of = program.number(node, arguments[2], params, "insertAlongUV()'s height")
     rule_file = getattr(getattr(node, "location", None), "file", None) or program.grammar.filename
     error = program.operation_error  # a CGA error in .cga (engine/derivation/cga_errors.py)
 
