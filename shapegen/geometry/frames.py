@@ -11,6 +11,7 @@ from __future__ import annotations
 
 __all__ = [
     "face_rotation",
+    "fitted_face_scopes",
     "fitted_scope",
     "lot_polygon",
     "polygon_face",
@@ -94,6 +95,53 @@ def fitted_scope(world_points: np.ndarray, rotation: np.ndarray) -> tuple[Scope,
     size = local.max(axis=0) - low
     size[np.abs(size) < ROUNDOFF_REL * max(1.0, float(np.abs(local).max()))] = 0.0
     return Scope(rotation @ low, rotation, size), local - low
+
+
+def fitted_face_scopes(
+    points: np.ndarray, normals: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The scopes of a batch of planar polygons of the same corner count, as
+    :func:`face_rotation` and :func:`fitted_scope` make them one at a time: ``points``
+    ``(n, k, 3)`` world corners (m), ``normals`` ``(n, 3)`` their normals. Returns the origins
+    ``(n, 3)``, rotations ``(n, 3, 3)`` (columns x, y, z), sizes ``(n, 3)`` and the corners in
+    each scope's coordinates ``(n, k, 3)``."""
+    n0, n1, n2 = normals[:, 0], normals[:, 1], normals[:, 2]
+    length = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    flat = length <= ZERO_LENGTH
+    with np.errstate(invalid="ignore", divide="ignore"):
+        z = normals / length[:, None]
+    z[flat] = (0.0, 1.0, 0.0)
+    edges = np.roll(points, -1, axis=1) - points
+    along = edges[..., 0] * z[:, None, 0] + edges[..., 1] * z[:, None, 1]
+    along = along + edges[..., 2] * z[:, None, 2]
+    across = edges - z[:, None, :] * along[..., None]
+    a0, a1, a2 = across[..., 0], across[..., 1], across[..., 2]
+    reach = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    usable = reach > ZERO_LENGTH
+    first = usable.argmax(axis=1)
+    rows = np.arange(len(points))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x = across[rows, first] / reach[rows, first][:, None]
+    rotations = np.empty((len(points), 3, 3))
+    rotations[:, :, 0] = x
+    rotations[:, :, 1] = np.stack(
+        [
+            z[:, 1] * x[:, 2] - z[:, 2] * x[:, 1],
+            z[:, 2] * x[:, 0] - z[:, 0] * x[:, 2],
+            z[:, 0] * x[:, 1] - z[:, 1] * x[:, 0],
+        ],
+        axis=1,
+    )
+    rotations[:, :, 2] = z
+    for row in np.flatnonzero(~usable.any(axis=1)):  # no edge off the normal: one at a time
+        rotations[row] = face_rotation(points[row], normals[row])
+    local = points @ rotations
+    low = local.min(axis=1)
+    sizes = local.max(axis=1) - low
+    span = np.maximum(1.0, np.abs(local).max(axis=(1, 2)))
+    sizes[np.abs(sizes) < ROUNDOFF_REL * span[:, None]] = 0.0
+    origins = np.einsum("nij,nj->ni", rotations, low)
+    return origins, rotations, sizes, local - low[:, None, :]
 
 
 def lot_polygon(lot) -> tuple[Scope, Mesh]:

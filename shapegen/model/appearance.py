@@ -21,6 +21,8 @@ __all__ = [
     "MATERIAL_ATTRIBUTES",
     "SolidLeaf",
     "Surface",
+    "changed",
+    "with_uv",
     "material_value",
     "parse_hex_color",
     "with_material",
@@ -193,6 +195,40 @@ def material_value(appearance: Appearance | None, name: str) -> object:
     return dict(look.material).get(name, default)
 
 
+# The appearances made from others: a rule's leaves run the same chain of colour, texture and
+# material writes on the same looks, so each change is made once. Keyed by the look's id and
+# the change (the look kept in the value, so an id is not reused while its entry lives).
+_CHANGES: dict[tuple, tuple[Appearance, Appearance]] = {}
+_CHANGES_KEPT = 4096
+
+
+def _remembered(look: Appearance, change: tuple, make) -> Appearance:
+    key = (id(look), *change)
+    kept = _CHANGES.get(key)
+    if kept is not None and kept[0] is look:
+        return kept[1]
+    new = make()
+    if len(_CHANGES) >= _CHANGES_KEPT:
+        _CHANGES.clear()
+    _CHANGES[key] = (look, new)
+    return new
+
+
+def changed(appearance: Appearance | None, **fields) -> Appearance:
+    """``appearance`` (None: the default) with ``fields`` replaced, as
+    :func:`dataclasses.replace` gives it; the same change of the same look is made once."""
+    look = appearance or DEFAULT_APPEARANCE
+    # repr tells 0.0 from -0.0 and 1 from 1.0 and True, which a key of values would not
+    change = tuple((name, repr(value)) for name, value in fields.items())
+    return _remembered(look, change, lambda: replace(look, **fields))
+
+
+def with_uv(appearance: Appearance | None, entry: tuple) -> Appearance:
+    """``appearance`` (None: the default) with ``entry`` added to its UV log."""
+    look = appearance or DEFAULT_APPEARANCE
+    return _remembered(look, ("uv", repr(entry)), lambda: replace(look, uv=look.uv + (entry,)))
+
+
 def with_material(appearance: Appearance | None, name: str, value: object) -> Appearance:
     """``appearance`` (None: the default) with ``material.<name>`` set to ``value``, whose type
     has been checked. Colour components and the opacity are clamped to [0, 1].
@@ -201,6 +237,12 @@ def with_material(appearance: Appearance | None, name: str, value: object) -> Ap
     malformed ``color.rgb``, an unknown ``opacitymap.mode``).
     """
     look = appearance or DEFAULT_APPEARANCE
+    return _remembered(
+        look, ("material", name, repr(value)), lambda: _with_material(look, name, value)
+    )
+
+
+def _with_material(look: Appearance, name: str, value: object) -> Appearance:
     if name.startswith("color."):
         rgb = list(look.color or (1.0, 1.0, 1.0))
         if name == "color.rgb":

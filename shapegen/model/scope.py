@@ -22,6 +22,16 @@ class Scope:
     def axis_aligned(cls, origin=(0.0, 0.0, 0.0), size=(1.0, 1.0, 1.0)) -> Scope:
         return cls(np.asarray(origin, float), np.eye(3), np.asarray(size, float))
 
+    @classmethod
+    def of_arrays(cls, origin: np.ndarray, rotation: np.ndarray, size: np.ndarray) -> Scope:
+        """A scope of float arrays already of shapes (3,), (3, 3) and (3,), taken as they are
+        (rows of a batch's stacked arrays): no conversion, for operations that make many."""
+        scope = object.__new__(cls)
+        object.__setattr__(scope, "origin", origin)
+        object.__setattr__(scope, "rotation", rotation)
+        object.__setattr__(scope, "size", size)
+        return scope
+
     def __post_init__(self) -> None:
         object.__setattr__(self, "origin", np.asarray(self.origin, dtype=float).reshape(3))
         object.__setattr__(self, "rotation", np.asarray(self.rotation, dtype=float).reshape(3, 3))

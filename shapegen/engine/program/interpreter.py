@@ -37,8 +37,6 @@ import numbers
 import sys
 from collections.abc import Mapping
 
-import numpy as np
-
 from shapegen.engine.derivation.occlusion import Occlusion
 from shapegen.engine.derivation.state import (
     DEFAULT_MAX_DEPTH,
@@ -59,6 +57,7 @@ from shapegen.engine.program.attributes import (
     checked_structure,
     shown,
 )
+from shapegen.engine.program.leaf_batches import box_corners, rectangle_corners
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
@@ -74,11 +73,7 @@ from shapegen.tolerances import MIN_LEAF_SIZE
 
 _MIN_SIZE = MIN_LEAF_SIZE  # m; see shapegen.tolerances
 
-# Vertices of the unit box in scope coordinates and its outward faces (see Block.box).
-_UNIT_BOX = np.array(
-    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
-    dtype=float,
-)
+# The outward faces of a box leaf's corners (leaf_batches.box_corners; see Block.box).
 _BOX_FACES = ((0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (3, 2, 6, 7), (0, 3, 7, 4), (1, 5, 6, 2))
 
 
@@ -246,12 +241,9 @@ class Program(AttributeValues):
             raise self._too_many_blocks(len(boxes), run, boxes[limit].rule_path)
         corners = {}
         if boxes:
-            origins = np.array([s.shape.scope.origin for s in boxes])
-            rotations = np.array([s.shape.scope.rotation for s in boxes])
-            sizes = np.array([s.shape.scope.size for s in boxes])
-            local = _UNIT_BOX[None, :, :] * sizes[:, None, :]
-            world = origins[:, None, :] + np.einsum("nij,nkj->nki", rotations, local)
+            world = box_corners([s.shape.scope for s in boxes])
             corners = {id(s): world[k] for k, s in enumerate(boxes)}
+        rectangles = _rectangle_leaves(leaves)
         blocks: list[Block] = []
         surfaces: list[Surface] = []
         seen = produced = 0  # leaves that gave geometry: CityEngine's generated meshes
@@ -267,8 +259,9 @@ class Program(AttributeValues):
                 blocks.extend(made)
                 continue
             if kind == FACE:
-                face = state.shape.world_mesh()
-                if face.area() > _MIN_SIZE**2:
+                vertices, faces, area = rectangles[id(state)]
+                if area > _MIN_SIZE**2:
+                    face = Mesh._checked(vertices, faces)
                     surfaces.append(_surface(state, face, "a face (no volume)", len(surfaces)))
                 continue
             if kind == MASS:
@@ -411,6 +404,26 @@ class Program(AttributeValues):
                     f"{format_chain(state.rule_path)})"
                 )
         return density, structural, fixed
+
+
+def _rectangle_leaves(leaves: list[ShapeState]) -> dict[int, tuple]:
+    """``id(leaf) -> (world corners, faces, area)`` of the face leaves that fill their scopes,
+    placed together per flat axis (:mod:`shapegen.engine.program.leaf_batches`)."""
+    by_axis: dict[int, list[ShapeState]] = {}
+    for state in leaves:
+        shape = state.shape
+        if shape.kind == FACE and shape.geometry is None:
+            by_axis.setdefault(shape.normal_axis, []).append(state)
+    out = {}
+    for axis, states in by_axis.items():
+        corners, areas, mirrored = rectangle_corners([s.shape.scope for s in states], axis)
+        for k, state in enumerate(states):
+            out[id(state)] = (corners[k], _TURNED if mirrored[k] else _RECTANGLE, areas[k])
+    return out
+
+
+_RECTANGLE = ((0, 1, 2, 3),)
+_TURNED = ((0, 3, 2, 1),)  # a mirrored scope's rectangle, turned to face out (Mesh.transformed)
 
 
 def _surface(

@@ -45,9 +45,11 @@ from shapegen.grammar import ast
 from shapegen.model.appearance import (
     DEFAULT_APPEARANCE,
     MATERIAL_ATTRIBUTES,
+    changed,
     material_value,
     parse_hex_color,
     with_material,
+    with_uv,
 )
 
 _TYPE_NAMES = {float: "number", str: "string", bool: "boolean"}
@@ -177,8 +179,8 @@ def compile_color(program, node: ast.Operation, params):
                 rgb, opacity = parse_hex_color(text(args, state))
             except ValueError as exc:
                 raise program.operation_error(node, f"color(): {exc}") from None
-            look = replace(state.appearance or DEFAULT_APPEARANCE, color=rgb)
-            state.appearance = look if opacity is None else replace(look, opacity=opacity)
+            look = changed(state.appearance, color=rgb)
+            state.appearance = look if opacity is None else changed(look, opacity=opacity)
             return True
 
         return color_hex
@@ -190,8 +192,8 @@ def compile_color(program, node: ast.Operation, params):
 
     def color_components(state, args, out):
         values = [_clamped(component(args, state)) for component in components]
-        look = replace(state.appearance or DEFAULT_APPEARANCE, color=tuple(values[:3]))
-        state.appearance = look if len(values) == 3 else replace(look, opacity=values[3])
+        look = changed(state.appearance, color=tuple(values[:3]))
+        state.appearance = look if len(values) == 3 else changed(look, opacity=values[3])
         return True
 
     return color_components
@@ -267,8 +269,7 @@ def _recorder(name: str, values: list):
 
     def record(state, args, out):
         entry = (name, tuple(v(args, state) if callable(v) else v for v in values))
-        look = state.appearance or DEFAULT_APPEARANCE
-        state.appearance = replace(look, uv=look.uv + (entry,))
+        state.appearance = with_uv(state.appearance, entry)
         return True
 
     return record
@@ -340,8 +341,7 @@ def compile_setup_projection(program, node: ast.Operation, params):
             *(size(args, state, *s) for s in sizes),
             *(o(args, state) for o in others),
         )
-        look = state.appearance or DEFAULT_APPEARANCE
-        state.appearance = replace(look, uv=look.uv + (("setupProjection", values),))
+        state.appearance = with_uv(state.appearance, ("setupProjection", values))
         return True
 
     return setup_projection

@@ -45,7 +45,12 @@ from shapegen.engine.expressions.arrays import format_value, type_name
 from shapegen.engine.operations.cga import compiles
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.shapes.trim import comp_trim_planes
-from shapegen.geometry.frames import face_rotation, fitted_scope, rotation_keeping_x
+from shapegen.geometry.frames import (
+    face_rotation,
+    fitted_face_scopes,
+    fitted_scope,
+    rotation_keeping_x,
+)
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.queries import FACE_SELECTORS, border_faces, face_matches
 from shapegen.geometry.roof_edges import ROOF_EDGE_CLASSES, roof_edge_classes
@@ -85,14 +90,7 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
         firsts = [s.origin for s in scopes]  # each face's first edge starts at its origin
     else:
         mesh = shape.mesh()
-        shapes, firsts = [], []
-        for k in range(mesh.n_faces):
-            world = scope.to_world(mesh.face_points(k))
-            face_scope, local = fitted_scope(
-                world, face_rotation(world, rotation @ mesh.face_normal(k))
-            )
-            shapes.append(_face_shape(face_scope, local))
-            firsts.append(world[0])
+        shapes, firsts = _face_shapes(mesh, scope)
     normals = mesh.face_normals()
     worlds = normals @ rotation.T
     objects = worlds if object_rotation is None else worlds @ object_rotation
@@ -107,15 +105,41 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
     ]
 
 
-def _face_shape(scope: Scope, local: np.ndarray) -> Shape:
-    """A face shape; no geometry when the face is the rectangle filling its scope from its
-    origin along x (the fast path)."""
-    sx, sy = scope.sx, scope.sy
-    if len(local) == 4 and np.allclose(
-        local, [[0, 0, 0], [sx, 0, 0], [sx, sy, 0], [0, sy, 0]], atol=1e-9 * max(sx, sy, 1e-9)
-    ):
-        return Shape(scope, FACE, 2)
-    return Shape.with_geometry(scope, Mesh.polygon(local), FACE, 2)
+def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list[np.ndarray]]:
+    """The faces of ``mesh`` (in ``scope``) as face shapes, and each one's first corner
+    (world): the faces of one corner count framed and fitted together, as a batch."""
+    world_vertices = scope.to_world(mesh.vertices)
+    world_normals = mesh.face_normals() @ scope.rotation.T
+    faces = mesh.faces
+    by_count: dict[int, list[int]] = {}
+    for k, face in enumerate(faces):
+        by_count.setdefault(len(face), []).append(k)
+    shapes: list = [None] * len(faces)
+    firsts: list = [None] * len(faces)
+    for count, members in by_count.items():
+        points = world_vertices[np.array([faces[k] for k in members])]
+        origins, rotations, sizes, local = fitted_face_scopes(points, world_normals[members])
+        fills = _fills_rectangle(local, sizes) if count == 4 else [False] * len(members)
+        for row, k in enumerate(members):
+            face_scope = Scope.of_arrays(origins[row], rotations[row], sizes[row])
+            if fills[row]:  # the rectangle filling its scope from its origin: the fast path
+                shapes[k] = Shape(face_scope, FACE, 2)
+            else:
+                shapes[k] = Shape.with_geometry(face_scope, Mesh.polygon(local[row]), FACE, 2)
+            firsts[k] = points[row, 0]
+    return shapes, firsts
+
+
+def _fills_rectangle(local: np.ndarray, sizes: np.ndarray) -> list[bool]:
+    """Per quad ``(n, 4, 3)``: its corners are (0, 0) (sx, 0) (sx, sy) (0, sy) of its scope, as
+    ``np.allclose`` tells (absolute slack 1e-9 of the larger side, relative 1e-5)."""
+    sx, sy = sizes[:, 0], sizes[:, 1]
+    expected = np.zeros_like(local)
+    expected[:, 1, 0] = expected[:, 2, 0] = sx
+    expected[:, 2, 1] = expected[:, 3, 1] = sy
+    slack = 1e-9 * np.maximum(np.maximum(sx, sy), 1e-9)
+    close = np.abs(local - expected) <= slack[:, None, None] + 1e-5 * np.abs(expected)
+    return close.all(axis=(1, 2)).tolist()
 
 
 def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Component]:

@@ -1,0 +1,55 @@
+"""Leaves placed together: the world corners of a derivation's box and rectangle leaves.
+
+A model's leaves that fill their scopes (a box after ``extrude``, a face after ``split``) are
+placed in world coordinates as one stacked array operation per kind, not one mesh at a time:
+their scopes' origins, rotations and sizes stacked, the unit shape scaled and turned for all
+of them at once.
+"""
+
+from __future__ import annotations
+
+__all__ = ["box_corners", "rectangle_corners"]
+
+import numpy as np
+
+# The unit box's corners in Block.box's vertex order (the interpreter's box leaves).
+_UNIT_BOX = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
+    dtype=float,
+)
+
+# The rectangle filling a flat scope, per flat axis, in Mesh.rectangle's corner order.
+_UNIT_RECTANGLES = {
+    0: np.array([[0, 0, 1], [0, 0, 0], [0, 1, 0], [0, 1, 1]], dtype=float),
+    1: np.array([[0, 0, 1], [1, 0, 1], [1, 0, 0], [0, 0, 0]], dtype=float),
+    2: np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float),
+}
+# The two sides a rectangle flat along an axis spans.
+_SIDES = {0: (1, 2), 1: (0, 2), 2: (0, 1)}
+
+
+def _placed(unit: np.ndarray, scopes: list) -> tuple[np.ndarray, np.ndarray]:
+    """The corners ``unit`` (k, 3) scaled to each scope's size and placed in world coordinates
+    ``(n, k, 3)``, and the scopes' sizes ``(n, 3)``."""
+    origins = np.array([s.origin for s in scopes])
+    rotations = np.array([s.rotation for s in scopes])
+    sizes = np.array([s.size for s in scopes])
+    local = unit[None, :, :] * sizes[:, None, :]
+    return origins[:, None, :] + np.einsum("nij,nkj->nki", rotations, local), sizes
+
+
+def box_corners(scopes: list) -> np.ndarray:
+    """The 8 world corners ``(n, 8, 3)`` (m) of the boxes filling ``scopes``."""
+    return _placed(_UNIT_BOX, scopes)[0]
+
+
+def rectangle_corners(scopes: list, axis: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rectangles filling flat ``scopes`` (flat along scope ``axis``): their 4 world
+    corners ``(n, 4, 3)`` (m), as ``Mesh.rectangle(size, axis)`` placed by the scope gives
+    them; their areas ``(n,)`` (m^2); and whether each scope is a mirror (its face then turned,
+    as :meth:`~shapegen.geometry.mesh.Mesh.transformed` turns it)."""
+    corners, sizes = _placed(_UNIT_RECTANGLES[axis], scopes)
+    first, second = _SIDES[axis]
+    areas = sizes[:, first] * sizes[:, second]
+    mirrored = np.linalg.det(np.array([s.rotation for s in scopes])) < 0
+    return corners, areas, mirrored
