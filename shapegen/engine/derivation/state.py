@@ -195,8 +195,16 @@ class Derivation:
                 f"strings " + limit_hint("max_string_chars", limits),
             )
 
-    def child(self, parent: ShapeState, shape: Shape, node, name: str | None = None) -> ShapeState:
-        """A new shape below ``parent``; ``name`` is the successor's name for a successor."""
+    def child(
+        self,
+        parent: ShapeState,
+        shape: Shape,
+        node,
+        name: str | None = None,
+        within_bounds: bool = False,
+    ) -> ShapeState:
+        """A new shape below ``parent``; ``name`` is the successor's name for a successor.
+        ``within_bounds``: the operation has checked the shape's numbers (for its batch)."""
         self.shape_count += 1
         if self.shape_count > self.max_shapes:
             chain = parent.rule_path + ((name,) if name else ())
@@ -208,7 +216,7 @@ class Derivation:
             )
         if self.deadline is not None and self.shape_count % 64 == 0:
             self.check_clock(node)
-        if shape is not parent.shape:  # made by a split, a comp...: within the numbers' bounds
+        if shape is not parent.shape and not within_bounds:  # made by a split, a comp...
             checked_child(self.program, node, parent, shape)
         if self.occlusion is not None and shape.kind != parent.shape.kind:
             self.occlusion.parent(

@@ -28,7 +28,7 @@ from shapegen.engine.shapes.shape import (
     center,
     extrude_shape,
     rotate,
-    split_piece,
+    split_pieces,
     translate,
 )
 from shapegen.engine.shapes.split import (
@@ -304,14 +304,14 @@ class OperationCompiler:
                 ) from None
             except ValueError as exc:
                 raise operation_error(node, str(exc)) from None
-            made = []
-            for piece in pieces:
-                cut = split_piece(shape, axis, piece.start * scale, piece.size * scale)
-                if cut is not None:  # CityEngine drops pieces with no geometry
-                    made.append((piece.key, cut))
+            spans = [(piece.start * scale, piece.size * scale) for piece in pieces]
+            cuts, within = split_pieces(shape, axis, spans, run.limits.max_coordinate)
+            made = [  # CityEngine drops pieces with no geometry
+                (piece.key, cut) for piece, cut in zip(pieces, cuts, strict=True) if cut is not None
+            ]
             total = len(made)
             for index, ((body, part), cut) in enumerate(made):
-                child = run.child(state, cut, part)
+                child = run.child(state, cut, part, within_bounds=within)
                 child.split_index = index
                 child.split_total = total
                 if body(child, args, out) and child.is_leaf():

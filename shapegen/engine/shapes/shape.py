@@ -43,6 +43,7 @@ __all__ = [
     "rotation_matrix",
     "extrude_shape",
     "split_piece",
+    "split_pieces",
     "lot_shape",
     "shape_geometry_value",
 ]
@@ -341,6 +342,28 @@ def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | N
     if shape.kind == MASS and _is_scope_box(local, new_scope.size, piece.n_faces):
         return Shape(new_scope, MASS)  # a box filling its scope: back on the fast path
     return Shape.with_geometry(new_scope, Mesh(local, piece.faces), shape.kind, shape.normal_axis)
+
+
+def split_pieces(
+    shape: Shape, axis: int, spans: list[tuple[float, float]], bound: float
+) -> tuple[list[Shape | None], bool]:
+    """:func:`split_piece` for each ``(start, size)`` of ``spans`` (m). The pieces of a shape
+    filling its scope are sliced together, their origins and sizes as stacked arrays; the flag
+    says that every piece's scope is then known to be finite and within ``bound`` (m)."""
+    if shape.geometry is not None or not spans:
+        return [split_piece(shape, axis, start, size) for start, size in spans], False
+    scope = shape.scope
+    starts = np.array([start for start, _ in spans])
+    origins = scope.origin + scope.rotation[:, axis] * starts[:, None]
+    sizes = np.repeat(scope.size[None, :], len(spans), axis=0)
+    sizes[:, axis] = [size for _, size in spans]
+    within = bool((np.abs(origins) <= bound).all() and (np.abs(sizes) <= bound).all())
+    rotation, kind, normal_axis = scope.rotation, shape.kind, shape.normal_axis
+    pieces = [
+        Shape(Scope.of_arrays(origins[k], rotation, sizes[k]), kind, normal_axis)
+        for k in range(len(spans))
+    ]
+    return pieces, within
 
 
 def _is_scope_box(local: np.ndarray, size: np.ndarray, n_faces: int) -> bool:
