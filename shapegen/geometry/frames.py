@@ -11,6 +11,7 @@ from __future__ import annotations
 
 __all__ = [
     "face_rotation",
+    "fills_rectangle",
     "fitted_face_scopes",
     "fitted_scope",
     "lot_polygon",
@@ -142,6 +143,21 @@ def fitted_face_scopes(
     sizes[np.abs(sizes) < ROUNDOFF_REL * span[:, None]] = 0.0
     origins = np.einsum("nij,nj->ni", rotations, low)
     return origins, rotations, sizes, local - low[:, None, :]
+
+
+def fills_rectangle(local: np.ndarray, sizes: np.ndarray) -> list[bool]:
+    """Per quad ``(n, 4, 3)``: its corners are (0, 0) (sx, 0) (sx, sy) (0, sy) of its scope, as
+    ``np.allclose`` tells (absolute slack 1e-9 of the larger side, relative 1e-5); other
+    polygons ``(n, k, 3)`` do not."""
+    if local.shape[1] != 4:
+        return [False] * len(local)
+    sx, sy = sizes[:, 0], sizes[:, 1]
+    expected = np.zeros_like(local)
+    expected[:, 1, 0] = expected[:, 2, 0] = sx
+    expected[:, 2, 1] = expected[:, 3, 1] = sy
+    slack = 1e-9 * np.maximum(np.maximum(sx, sy), 1e-9)
+    close = np.abs(local - expected) <= slack[:, None, None] + 1e-5 * np.abs(expected)
+    return close.all(axis=(1, 2)).tolist()
 
 
 def lot_polygon(lot) -> tuple[Scope, Mesh]:

@@ -47,6 +47,7 @@ from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.shapes.trim import comp_trim_planes
 from shapegen.geometry.frames import (
     face_rotation,
+    fills_rectangle,
     fitted_face_scopes,
     fitted_scope,
     rotation_keeping_x,
@@ -105,7 +106,7 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
     ]
 
 
-def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list[np.ndarray]]:
+def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list]:
     """The faces of ``mesh`` (in ``scope``) as face shapes, and each one's first corner
     (world): the faces of one corner count framed and fitted together, as a batch."""
     world_vertices = scope.to_world(mesh.vertices)
@@ -114,12 +115,11 @@ def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list[np.ndarray
     by_count: dict[int, list[int]] = {}
     for k, face in enumerate(faces):
         by_count.setdefault(len(face), []).append(k)
-    shapes: list = [None] * len(faces)
-    firsts: list = [None] * len(faces)
-    for count, members in by_count.items():
+    shapes, firsts = [None] * len(faces), [None] * len(faces)
+    for members in by_count.values():
         points = world_vertices[np.array([faces[k] for k in members])]
         origins, rotations, sizes, local = fitted_face_scopes(points, world_normals[members])
-        fills = _fills_rectangle(local, sizes) if count == 4 else [False] * len(members)
+        fills = fills_rectangle(local, sizes)
         for row, k in enumerate(members):
             face_scope = Scope.of_arrays(origins[row], rotations[row], sizes[row])
             if fills[row]:  # the rectangle filling its scope from its origin: the fast path
@@ -128,18 +128,6 @@ def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list[np.ndarray
                 shapes[k] = Shape.with_geometry(face_scope, Mesh.polygon(local[row]), FACE, 2)
             firsts[k] = points[row, 0]
     return shapes, firsts
-
-
-def _fills_rectangle(local: np.ndarray, sizes: np.ndarray) -> list[bool]:
-    """Per quad ``(n, 4, 3)``: its corners are (0, 0) (sx, 0) (sx, sy) (0, sy) of its scope, as
-    ``np.allclose`` tells (absolute slack 1e-9 of the larger side, relative 1e-5)."""
-    sx, sy = sizes[:, 0], sizes[:, 1]
-    expected = np.zeros_like(local)
-    expected[:, 1, 0] = expected[:, 2, 0] = sx
-    expected[:, 2, 1] = expected[:, 3, 1] = sy
-    slack = 1e-9 * np.maximum(np.maximum(sx, sy), 1e-9)
-    close = np.abs(local - expected) <= slack[:, None, None] + 1e-5 * np.abs(expected)
-    return close.all(axis=(1, 2)).tolist()
 
 
 def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Component]:
