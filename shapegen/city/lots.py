@@ -167,9 +167,10 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     chosen = resolve_crs(member, path, crs)
     polygons = [f for f in features if geojson.is_polygon(f)]
     skipped = len(features) - len(polygons)
+    corners = _Corners(polygons)
     if chosen is None:
-        chosen = InputCrs(_detected_crs(polygons))
-    return _city(polygons, chosen, skipped, str(path))
+        chosen = InputCrs(_detected_crs(polygons, corners))
+    return _city(polygons, chosen, skipped, str(path), corners)
 
 
 def _gzipped(path: Path) -> bool:
@@ -209,19 +210,42 @@ def city_from_polygons(
     return _city(features, chosen, 0, "")
 
 
-def _detected_crs(features: list[dict]) -> str:
+class _Corners:
+    """The corners of every feature: the plain polygons' in one array, read at once
+    (:func:`~shapegen.city.lot_rings.plain_corners`), the others' feature by feature."""
+
+    def __init__(self, features: list[dict]):
+        from shapegen.city.lot_rings import plain_corners
+
+        self.plain, self.points, self.offsets = plain_corners(features)
+        others = [
+            geojson.positions(f["geometry"])
+            for f, plain in zip(features, self.plain.tolist(), strict=True)
+            if not plain
+        ]
+        self.all = np.concatenate([self.points, *others]) if others else self.points
+
+
+def _detected_crs(features: list[dict], corners: _Corners | None = None) -> str:
     """``lonlat`` when every corner of every lot lies within +-180 / +-90 degrees."""
-    for feature in features:
-        if not geojson.within_lonlat(geojson.positions(feature["geometry"])):
-            return METRES
-    return LONLAT
+    corners = corners or _Corners(features)
+    return LONLAT if geojson.within_lonlat(corners.all) else METRES
 
 
-def _city(features: list[dict], crs: InputCrs, skipped: int, source: str) -> City:
+def _city(
+    features: list[dict],
+    crs: InputCrs,
+    skipped: int,
+    source: str,
+    corners: _Corners | None = None,
+) -> City:
+    from shapegen.city.lot_rings import plain_rings
+
     if not features:
         where = f"{source}: " if source else ""
         raise InputFormatError(f"{where}no polygons to use as lots")
-    points = np.concatenate([geojson.positions(f["geometry"]) for f in features])
+    corners = corners or _Corners(features)
+    points = corners.all
     if len(points) == 0:
         raise InputFormatError(f"{source or 'lots'}: no polygon has a valid corner")
     origin_lonlat = None
@@ -243,6 +267,11 @@ def _city(features: list[dict], crs: InputCrs, skipped: int, source: str) -> Cit
         origin = (float(centre[0]), float(centre[1]))
         if crs.name == LONLAT:
             origin_lonlat = origin
+    read = plain_rings(corners.points, corners.offsets, crs, origin_lonlat or origin,
+                       _MAX_LOT_M, _MIN_AREA_M2)  # fmt: skip
+    found: list = [None] * len(features)
+    for k, ring in zip(np.flatnonzero(corners.plain).tolist(), read, strict=True):
+        found[k] = ring
     lots: list[CityLot] = []
     seen: set[str] = set()
     for number, feature in enumerate(features, start=1):
@@ -253,9 +282,12 @@ def _city(features: list[dict], crs: InputCrs, skipped: int, source: str) -> Cit
             raise InputFormatError(f"{source or 'lots'}: two lots have the id {lot_id!r}")
         seen.add(lot_id)
         geometry = feature["geometry"]
-        ring, problem = _ring(geometry, crs, origin_lonlat or origin)
-        if not geojson.is_finite(geometry):  # kept as a row with its error, without a shape
-            geometry = None
+        if found[number - 1] is not None:  # a plain polygon, all its numbers finite
+            ring, problem = found[number - 1]
+        else:
+            ring, problem = _ring(geometry, crs, origin_lonlat or origin)
+            if not geojson.is_finite(geometry):  # a row with its error, without a shape
+                geometry = None
         lots.append(CityLot(lot_id, ring, properties, geometry, problem))
     return City(lots, crs.name, origin, skipped, source, origin_lonlat, crs)
 

@@ -16,12 +16,13 @@ __all__ = ["Footprints"]
 import numpy as np
 
 from shapegen.limits import LOT_EXTENT_LIMIT_M
-from shapegen.tolerances import ROUNDOFF_REL, SIZE_FLOOR_M
+from shapegen.tolerances import LOT_MERGE_M, ROUNDOFF_REL, SIZE_FLOOR_M
 
 _BOX_ATOL = 1e-9  # lot_shape's rectangle test: corners within this times the size
 _STRAIGHT_SINE = 1e-6  # a corner turning by less (sine of its angle) is in doubt
 _SHORT_EDGE = 1e-6  # an edge shorter than this times the footprint's span is in doubt
 _CONVEX_REL = 1e-7  # DEFAULT tolerances' convex_rel: the derivation's "clearly not convex"
+_THIN = 1e-6  # a footprint of less area than this times its span squared is in doubt
 
 
 class Footprints:
@@ -123,10 +124,15 @@ class Footprints:
 
         mark(bad, "a corner that is not a finite number")
         mark(far, "a corner too far from the origin")
-        mark(np.abs(twice) <= 1e3 * floor, "a footprint of (almost) no area")
+        # (the Lot's own test of a flat ring is on its singular values: far below this)
+        mark(
+            np.abs(twice) <= np.maximum(1e3 * floor, _THIN * span**2),
+            "a footprint of (almost) no area",
+        )
         mark(twice < 0, "a footprint that runs clockwise")
         mark(~simple, "a footprint that crosses itself")
-        mark(shortest <= _SHORT_EDGE * span, "a repeated corner or a very short edge")
+        short = np.maximum(_SHORT_EDGE * span, 2 * LOT_MERGE_M)  # the Lot merges at LOT_MERGE_M
+        mark(shortest <= short, "a repeated corner or a very short edge")
         mark(straightest <= _STRAIGHT_SINE, "a corner that barely turns")
         self.area[lots] = 0.5 * np.abs(twice)
         self.span[lots] = span
