@@ -149,7 +149,8 @@ def _overlaps(model: Model, pack: PackedBlocks, tol: Tolerances, fixed: np.ndarr
         block_a, block_b = model.blocks[pack.index[a]], model.blocks[pack.index[b]]
         common = solid(a) ^ solid(b)
         overlap = common.volume()
-        if overlap > tol.penetration_rel * min(block_a.volume, block_b.volume):
+        # an empty intersection is no overlap, even of blocks of no volume (a 1e-320 m face)
+        if overlap > 0 and overlap > tol.penetration_rel * min(block_a.volume, block_b.volume):
             yield a, b, overlap, _centroid(common) + center if centroid else None
 
 

@@ -5,18 +5,24 @@ own one-line error), ``crash`` (any other exception: its traceback comes back), 
 (past the CPU cap or out of memory) or ``hung`` (no answer within the wall-clock guard, which is
 far above the CPU cap and only there so that a blocked child cannot stall the suite). The
 child's CPU seconds and peak resident memory come back with every outcome.
+
+:func:`run_campaign` is every fuzzer's loop: its inputs one by one in such children, the
+failures and the figures (refused in one line, slowest, largest, wall clock);
+:func:`print_figures` shows them and :func:`fuzz_seed` draws a campaign's seed.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import random
 import resource
 import select
 import signal
+import sys
 import time
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 CPU_SECONDS = 10
@@ -109,3 +115,60 @@ def run_limited(
         kind = "killed"
         message["detail"] = f"over the cap: {cpu:.1f} s CPU, {peak / 2**20:.0f} MiB"
     return Outcome(kind, message["detail"], cpu, peak)
+
+
+def run_campaign(
+    inputs: Iterable[tuple[str, Callable[[object], None], object]],
+    *,
+    cpu_seconds: int = CPU_SECONDS,
+    memory_bytes: int = MEMORY_BYTES,
+    progress: bool = False,
+    every: int = 200,
+) -> dict:
+    """Run each ``(label, target, data)`` of ``inputs`` with :func:`run_limited`; the figures:
+    ``inputs``, ``refused`` (ended in the project's one-line error), ``failures`` (one line
+    each, labelled), ``slowest_cpu_s`` and ``peak_mib`` (each with the label of its input)
+    and ``wall_s``. With ``progress``, failures and a count every ``every`` inputs go to
+    stderr as they come."""
+    failures: list[str] = []
+    refused = count = 0
+    slowest, peak = (0.0, ""), (0, "")
+    began = time.monotonic()
+    for label, target, data in inputs:
+        outcome = run_limited(target, data, cpu_seconds=cpu_seconds, memory_bytes=memory_bytes)
+        count += 1
+        if outcome.kind != "clean":
+            failures.append(f"{label}: {outcome.kind}: {outcome.detail}")
+            if progress:
+                print(failures[-1], file=sys.stderr, flush=True)
+        elif outcome.detail:
+            refused += 1
+        slowest = max(slowest, (outcome.cpu_seconds, label))
+        peak = max(peak, (outcome.peak_bytes, label))
+        if progress and count % every == 0:
+            print(f"{count} inputs, {len(failures)} failures", file=sys.stderr, flush=True)
+    return {
+        "inputs": count,
+        "refused": refused,
+        "failures": failures,
+        "slowest_cpu_s": slowest,
+        "peak_mib": (peak[0] / 2**20, peak[1]),
+        "wall_s": time.monotonic() - began,
+    }
+
+
+def print_figures(figures: dict, shown: int | None = None) -> None:
+    """The figures of :func:`run_campaign`, one a line, the failures indented below."""
+    for key, value in figures.items():
+        if key == "failures":
+            print(f"failures: {len(value)}")
+            for line in value[:shown]:
+                print("   ", line.replace("\n", "\n    "))
+        else:
+            print(f"{key}: {value}")
+
+
+def fuzz_seed() -> int:
+    """A campaign's seed: ``SHAPEGEN_FUZZ_SEED`` when set (to replay one), else a fresh one."""
+    given = os.environ.get("SHAPEGEN_FUZZ_SEED")
+    return int(given) if given else random.SystemRandom().randrange(10**6)

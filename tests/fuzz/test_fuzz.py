@@ -17,7 +17,6 @@ recorded in docs/performance.md ("Bounded work").
 from __future__ import annotations
 
 import sys
-import time
 
 import pytest
 from fuzz_inputs import (
@@ -28,7 +27,7 @@ from fuzz_inputs import (
     run_rule,
     warm_up,
 )
-from fuzz_sandbox import CPU_SECONDS, MEMORY_BYTES, run_limited
+from fuzz_sandbox import CPU_SECONDS, MEMORY_BYTES, print_figures, run_campaign, run_limited
 
 KINDS = {
     "rule": (lambda n, small: mutated_rule(n, small), run_rule),
@@ -42,36 +41,12 @@ def campaign(
 ) -> dict:
     """Run ``counts[kind]`` inputs of each kind; return the figures and the failures."""
     warm_up()
-    failures = []
-    slowest = (0.0, "")
-    peak = (0, "")
-    clean_errors = 0
-    total = 0
-    began = time.monotonic()
-    for kind, count in counts.items():
-        make, target = KINDS[kind]
-        for number in range(start, start + count):
-            outcome = run_limited(target, make(number, small_only))
-            total += 1
-            label = f"{kind} {number}"
-            if outcome.kind != "clean":
-                failures.append(f"{label}: {outcome.kind}: {outcome.detail}")
-                if progress:
-                    print(failures[-1], file=sys.stderr, flush=True)
-            if progress and total % 500 == 0:
-                print(f"{total} inputs, {len(failures)} failures", file=sys.stderr, flush=True)
-            elif outcome.detail:
-                clean_errors += 1
-            slowest = max(slowest, (outcome.cpu_seconds, label))
-            peak = max(peak, (outcome.peak_bytes, label))
-    return {
-        "inputs": total,
-        "project_errors": clean_errors,
-        "failures": failures,
-        "slowest_cpu_s": slowest,
-        "peak_mib": (peak[0] / 2**20, peak[1]),
-        "wall_s": time.monotonic() - began,
-    }
+    inputs = (
+        (f"{kind} {number}", KINDS[kind][1], KINDS[kind][0](number, small_only))
+        for kind, count in counts.items()
+        for number in range(start, start + count)
+    )
+    return run_campaign(inputs, progress=progress, every=500)
 
 
 def _check(figures: dict) -> None:
@@ -114,14 +89,7 @@ def _main(argv: list[str]) -> None:
     start = 100_000
     if len(argv) == 3:  # one kind from a given number, to run a campaign in parallel parts
         counts, start = {argv[1]: total}, int(argv[2])
-    figures = campaign(counts, small_only=False, start=start, progress=True)
-    for key, value in figures.items():
-        if key == "failures":
-            print(f"failures: {len(value)}")
-            for line in value:
-                print("   ", line.replace("\n", "\n    "))
-        else:
-            print(f"{key}: {value}")
+    print_figures(campaign(counts, small_only=False, start=start, progress=True))
 
 
 if __name__ == "__main__":

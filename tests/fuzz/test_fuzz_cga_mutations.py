@@ -15,17 +15,15 @@ docs/cga-compatibility.md.
 
 from __future__ import annotations
 
-import os
 import random
 import re
 import shutil
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import pytest
-from fuzz_sandbox import run_limited
+from fuzz_sandbox import fuzz_seed, print_figures, run_campaign
 
 CORPUS = Path(__file__).resolve().parents[1] / "data" / "cga-corpus"
 CPU_SECONDS = 20
@@ -100,38 +98,20 @@ def campaign(seed: int, count: int, *, progress: bool = False) -> dict:
     from fuzz_inputs import warm_up
 
     warm_up()
-    failures, refused = [], 0
-    slowest, peak = (0.0, -1), (0, -1)
-    began = time.monotonic()
-    for number in range(count):
-        path, text = mutated(seed, number)
-        outcome = run_limited(
-            derive, (str(path), text), cpu_seconds=CPU_SECONDS, memory_bytes=MEMORY_BYTES
-        )
-        if outcome.kind != "clean":
-            failures.append(f"seed {seed} input {number} ({path.name}): {outcome.kind}: "
-                            f"{outcome.detail[-600:]}")  # fmt: skip
-            if progress:
-                print(failures[-1], file=sys.stderr, flush=True)
-        refused += bool(outcome.detail)
-        slowest = max(slowest, (outcome.cpu_seconds, number))
-        peak = max(peak, (outcome.peak_bytes, number))
-        if progress and (number + 1) % 200 == 0:
-            print(f"{number + 1} inputs, {len(failures)} failures", file=sys.stderr, flush=True)
-    return {
-        "seed": seed,
-        "inputs": count,
-        "refused": refused,
-        "failures": failures,
-        "slowest_cpu_s": slowest,
-        "peak_mib": (peak[0] / 2**20, peak[1]),
-        "wall_s": time.monotonic() - began,
-    }
+
+    def inputs():
+        for number in range(count):
+            path, text = mutated(seed, number)
+            yield f"seed {seed} input {number} ({path.name})", derive, (str(path), text)
+
+    return run_campaign(
+        inputs(), cpu_seconds=CPU_SECONDS, memory_bytes=MEMORY_BYTES, progress=progress
+    )
 
 
 @pytest.mark.slow
 def test_mutated_corpus_files_end_cleanly():
-    seed = int(os.environ.get("SHAPEGEN_FUZZ_SEED", random.randrange(10**6)))
+    seed = fuzz_seed()
     print(f"cga mutation fuzz seed {seed}")
     figures = campaign(seed, SLOW_LANE_INPUTS)
     print(figures)
@@ -157,14 +137,7 @@ def _main(argv: list[str]) -> None:
     count = int(argv[0]) if argv else 2000
     seed = int(argv[1]) if len(argv) > 1 else random.randrange(10**6)
     print(f"cga mutation fuzz seed {seed}")
-    figures = campaign(seed, count, progress=True)
-    for key, value in figures.items():
-        if key == "failures":
-            print(f"failures: {len(value)}")
-            for line in value[:20]:
-                print("  " + line)
-        else:
-            print(f"{key}: {value}")
+    print_figures(campaign(seed, count, progress=True), shown=20)
 
 
 if __name__ == "__main__":

@@ -18,13 +18,10 @@ campaign of any size prints its figures: ``python tests/fuzz/test_fuzz_hostile.p
 
 from __future__ import annotations
 
-import os
-import random
 import sys
-import time
 
 import pytest
-from fuzz_sandbox import CPU_SECONDS, MEMORY_BYTES, run_limited
+from fuzz_sandbox import CPU_SECONDS, MEMORY_BYTES, fuzz_seed, print_figures, run_campaign
 from hostile_files import (
     bomb_package,
     corpus_packages,
@@ -63,45 +60,19 @@ def campaign(door: str, seed: int, count: int, *, start: int = 0, progress: bool
     """Run ``count`` inputs of one door; return the figures and the failures."""
     _warm_up()
     make, target = DOORS[door]
-    failures = []
-    slowest = (0.0, "")
-    peak = (0, "")
-    refused = 0
-    began = time.monotonic()
-    for number in range(start, start + count):
-        kind, data = make(seed, number)
-        outcome = run_limited(target, data)
-        label = f"{door} {seed} {number} ({kind})"
-        if outcome.kind != "clean":
-            failures.append(f"{label}: {outcome.kind}: {outcome.detail}")
-            if progress:
-                print(failures[-1], file=sys.stderr, flush=True)
-        elif outcome.detail:
-            refused += 1
-        if progress and (number - start + 1) % 250 == 0:
-            done = number - start + 1
-            print(f"{done} inputs, {len(failures)} failures", file=sys.stderr, flush=True)
-        slowest = max(slowest, (outcome.cpu_seconds, label))
-        peak = max(peak, (outcome.peak_bytes, label))
-    return {
-        "inputs": count,
-        "refused_in_one_line": refused,
-        "failures": failures,
-        "slowest_cpu_s": slowest,
-        "peak_mib": (peak[0] / 2**20, peak[1]),
-        "wall_s": time.monotonic() - began,
-    }
 
+    def inputs():
+        for number in range(start, start + count):
+            kind, data = make(seed, number)
+            yield f"{door} {seed} {number} ({kind})", target, data
 
-def _seed() -> int:
-    given = os.environ.get("SHAPEGEN_FUZZ_SEED")
-    return int(given) if given else random.SystemRandom().randrange(2**31)
+    return run_campaign(inputs(), progress=progress, every=250)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("door", sorted(DOORS))
 def test_hostile_files_fuzz(door):
-    seed = _seed()
+    seed = fuzz_seed()
     print(f"fuzz seed {seed}: replay with SHAPEGEN_FUZZ_SEED={seed}", flush=True)
     figures = campaign(door, seed, INPUTS_PER_DOOR)
     shown = "\n".join(figures["failures"][:10])
@@ -120,20 +91,14 @@ def _main(argv: list[str]) -> None:
         target(data)
         return
     count = int(argv[0]) if argv else INPUTS_PER_DOOR
-    seed = int(argv[1]) if len(argv) > 1 else _seed()
+    seed = int(argv[1]) if len(argv) > 1 else fuzz_seed()
     doors = [argv[2]] if len(argv) > 2 else sorted(DOORS)
     start = int(argv[3]) if len(argv) > 3 else 0
     print(f"fuzz seed {seed}", flush=True)
     for door in doors:
         figures = campaign(door, seed, count, start=start, progress=True)
         print(f"[{door}]")
-        for key, value in figures.items():
-            if key == "failures":
-                print(f"failures: {len(value)}")
-                for line in value:
-                    print("   ", line.replace("\n", "\n    "))
-            else:
-                print(f"{key}: {value}")
+        print_figures(figures)
 
 
 if __name__ == "__main__":

@@ -74,7 +74,8 @@ def _inner_rectangle_of_a_4096_sided_star(_):
 
 def test_the_largest_rectangle_of_a_polygon_of_many_corners_stays_small():
     # seed 353311, input 767: innerRectangle of a 4096-sided disk made a grid of 17 million
-    # cells (a shapely box each: past 4 GiB); the grid takes at most 256 lines of its corners
+    # cells (a shapely box each: past 4 GiB; seed 424242, input 391: GEOS's std::bad_alloc);
+    # the grid takes at most 256 lines of its corners
     outcome = run_limited(_inner_rectangle_of_a_4096_sided_star, None, memory_bytes=2**30)
     assert outcome.kind == "clean", outcome.detail
 
@@ -113,3 +114,17 @@ def test_a_derivation_past_its_clock_stops_in_one_line(tmp_path, capsys, number)
     first = printed.splitlines()[0]
     assert first.startswith("shapegen: error:")
     assert "the derivation ran for more than 0.5 s (limit max_seconds = 0.5;" in first
+
+
+def test_blocks_of_no_volume_judged_say_so_in_one_line(tmp_path, capsys):
+    # seed 424242, input 470: the overlap check took the empty intersection of two blocks of
+    # no volume (-1.7e-39 m^3) for an overlap, and numpy's warnings about its centroid came
+    # before the error line
+    text = fuzz_rule(424242, 470)
+    rule = tmp_path / "fuzz.cga"
+    rule.write_text(text)
+    assert main(["build", str(rule), "-o", str(tmp_path / "x.json"), "--analyze"]) == 2
+    printed = capsys.readouterr().err
+    assert printed.startswith("shapegen: error: block 'b0': zero or negative volume"), printed
+    assert len(printed.splitlines()) == 1
+
