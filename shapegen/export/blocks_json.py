@@ -16,7 +16,7 @@ import json
 from contextlib import contextmanager
 from pathlib import Path
 
-from shapegen.errors import GeometryError, InputFormatError
+from shapegen.errors import GeometryError, InputFormatError, OptionError
 from shapegen.export.atomic import atomic_write
 from shapegen.export.block_entries import read_block_entries
 from shapegen.export.json_fields import number as _number
@@ -28,6 +28,7 @@ from shapegen.export.surfaces import surface_from_entry, surfaces_of
 from shapegen.json_values import json_ready
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
+from shapegen.model.friction import checked_friction
 from shapegen.model.model import GRAVITY, Model, PointLoad
 from shapegen.readers.files import parse_json_document, read_model_bytes
 
@@ -143,9 +144,10 @@ def model_from_dict(document: object) -> Model:
     ground = document.get("ground", 0.0)
     if ground is not None:
         ground = _number(ground, '"ground"')
-    friction = _number(document.get("friction", 0.7), '"friction"')
-    if friction < 0:
-        raise InputFormatError(f'"friction" must be >= 0, got {friction}')
+    try:
+        friction = checked_friction(_number(document.get("friction", 0.7), '"friction"'))
+    except OptionError as exc:
+        raise InputFormatError(f'"friction": {exc}') from None
     raw_blocks = _require(document, "blocks", "the document")
     if not isinstance(raw_blocks, list):
         raise InputFormatError('"blocks" must be a list')

@@ -8,9 +8,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.errors import GeometryError
+from shapegen.errors import GeometryError, OptionError
 from shapegen.model.appearance import Surface
 from shapegen.model.block import Block, compute_mass_properties
+from shapegen.model.friction import checked_friction
 from shapegen.model.validation import validate_blocks
 from shapegen.tolerances import DEFAULT, Tolerances
 
@@ -144,8 +145,10 @@ class Model:
             raise GeometryError("gravity must be finite numbers")
         if self.ground is not None and not np.isfinite(self.ground):
             raise GeometryError("ground height must be a finite number or null")
-        if not np.isfinite(self.friction) or self.friction < 0:
-            raise GeometryError(f"friction must be a finite number >= 0, got {self.friction}")
+        try:
+            checked_friction(self.friction)
+        except OptionError as exc:  # a model that cannot be: its geometry's error
+            raise GeometryError(str(exc)) from None
         seen: set[str] = set()
         duplicate = None
         for k, block in enumerate(self.blocks):

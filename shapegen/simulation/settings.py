@@ -9,7 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.errors import ShapegenError
+from shapegen.errors import OptionError, ShapegenError
+from shapegen.model.friction import checked_friction
 from shapegen.search.defaults import DEFAULT_MARGIN
 
 # The geometric safety margin with which a design is optimized before it is simulated (``shapegen
@@ -95,8 +96,11 @@ class SimulationSettings:
         }.items():
             if not (math.isfinite(value) and value >= 0):
                 raise ShapegenError(f"simulation: {name} must be a number >= 0, got {value}")
-        if self.friction is not None and not (math.isfinite(self.friction) and self.friction >= 0):
-            raise ShapegenError(f"simulation: friction must be >= 0, got {self.friction}")
+        if self.friction is not None:
+            try:
+                checked_friction(self.friction)
+            except OptionError as exc:
+                raise ShapegenError(f"simulation: {exc}") from None
         if self.solver_iterations < 1:
             raise ShapegenError("simulation: solver_iterations must be at least 1")
         if self.time_step > self.seconds:

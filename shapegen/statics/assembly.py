@@ -36,9 +36,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from shapegen.errors import OptionError, StaticsError
+from shapegen.model.friction import checked_friction
 from shapegen.statics.interface import GROUND, Interface
 from shapegen.statics.loading import Loading, block_loading, load_vector, tilted, wrench
-from shapegen.statics.options import DEFAULT_PYRAMID, PYRAMIDS
+from shapegen.statics.options import DEFAULT_PYRAMID, PYRAMIDS, checked_kern, checked_pyramid
 
 OBJECTIVES = ("tension_squared", "tension_sum")
 
@@ -64,8 +65,7 @@ def friction_cone(pyramid: str, mu: float) -> np.ndarray:
     numpy.ndarray
         ``(K + 1, 3)`` dimensionless (``(1, 3)`` for the cone).
     """
-    if pyramid not in PYRAMIDS:
-        raise OptionError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
+    checked_pyramid(pyramid)
     if pyramid == "cone":
         return np.array([[-1.0, 0.0, 0.0]])
     sides = {"4": 4, "4r": 4, "8": 8}[pyramid]
@@ -311,15 +311,11 @@ def assemble(
         free body, about its centroid; the contacts between parts of one body are dropped, the
         ornaments' weight is added to the body that carries it); None: each block its own body.
     """
-    if pyramid not in PYRAMIDS:
-        raise OptionError(f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}")
-    if not (np.isfinite(kern) and 0 < kern <= 1):
-        raise OptionError(f"kern must be a number in (0, 1]; got {kern!r}")
+    checked_pyramid(pyramid)
+    kern = checked_kern(kern)
     if objective not in OBJECTIVES:
         raise OptionError(f"objective must be one of {', '.join(OBJECTIVES)}; got {objective!r}")
-    mu = float(model.friction if friction is None else friction)
-    if not (np.isfinite(mu) and mu >= 0):
-        raise OptionError(f"friction must be a finite number >= 0; got {friction!r}")
+    mu = checked_friction(model.friction if friction is None else friction)
 
     blocks = model.blocks
     nb = len(blocks)

@@ -16,7 +16,9 @@ __all__ = [
     "AUTO_ORDER",
     "PYRAMIDS",
     "DEFAULT_PYRAMID",
+    "checked_kern",
     "checked_margin",
+    "checked_pyramid",
     "statics_field",
     "statics_fields",
 ]
@@ -28,6 +30,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from shapegen.errors import OptionError
+from shapegen.model.friction import checked_friction
 from shapegen.statics.solvers import BACKENDS, cone_refusal, takes_cones
 
 AUTO_ORDER = ("reduced", "clarabel")
@@ -138,26 +141,16 @@ class StaticsOptions:
     def __post_init__(self) -> None:
         for name in ("structural", "ignore"):
             object.__setattr__(self, name, _labels(getattr(self, name), name))
-        for name in ("pyramid", "solver"):
-            choices = statics_field(name).metadata["choices"]
-            if getattr(self, name) not in choices:
-                raise OptionError(
-                    f"{name} must be one of {', '.join(choices)}; got {getattr(self, name)!r}",
-                    name,
-                )
+        checked_pyramid(self.pyramid)
+        if self.solver not in SOLVERS:
+            raise OptionError(
+                f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}", "solver"
+            )
         if not self.backends():
             raise OptionError(cone_refusal(self.solver), "solver")
-        kern = _number(self.kern)
-        if kern is None or not 0 < kern <= 1:
-            raise OptionError(f"kern must be a number in (0, 1]; got {self.kern!r}", "kern")
-        object.__setattr__(self, "kern", kern)
+        object.__setattr__(self, "kern", checked_kern(self.kern))
         if self.friction is not None:
-            friction = _number(self.friction)
-            if friction is None or friction < 0:
-                raise OptionError(
-                    f"friction must be a finite number >= 0; got {self.friction!r}", "friction"
-                )
-            object.__setattr__(self, "friction", friction)
+            object.__setattr__(self, "friction", checked_friction(self.friction))
         tilt = _number(self.tilt)
         if tilt is None or not 0 <= tilt < 90:
             hint = ""
@@ -250,6 +243,26 @@ def checked_margin(margin: object) -> float:
     if not 0.0 <= margin < 1.0:
         raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}", "margin")
     return float(margin)
+
+
+def checked_pyramid(pyramid: object) -> str:
+    """The friction model ``pyramid``, one of :data:`PYRAMIDS`, or an
+    :class:`~shapegen.errors.OptionError`: its one check (the options, an assembly's
+    arguments, a friction cone's rows)."""
+    if pyramid not in PYRAMIDS:
+        raise OptionError(
+            f"pyramid must be one of {', '.join(PYRAMIDS)}; got {pyramid!r}", "pyramid"
+        )
+    return pyramid
+
+
+def checked_kern(kern: object) -> float:
+    """The joint scale ``kern``, a number in (0, 1], or an :class:`~shapegen.errors.OptionError`:
+    its one check (the options, an assembly's arguments)."""
+    number = _number(kern)
+    if number is None or not 0 < number <= 1:
+        raise OptionError(f"kern must be a number in (0, 1]; got {kern!r}", "kern")
+    return number
 
 
 def statics_fields() -> tuple[dataclasses.Field, ...]:

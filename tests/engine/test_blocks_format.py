@@ -62,7 +62,7 @@ def test_round_trip_keeps_everything(tmp_path):
             "block 'x': \"density\" must be a finite number",
             _document(blocks=[{"id": "x", "vertices": CUBE, "density": "heavy"}]),
         ),
-        ('"friction" must be >= 0', _document(friction=-1)),
+        ('"friction": friction must be a finite number >= 0; got -1.0', _document(friction=-1)),
         (
             "face \\[0, 1, 99\\]",
             _document(blocks=[{"id": "x", "vertices": CUBE, "faces": [[0, 1, 99]]}]),
