@@ -99,6 +99,12 @@ class WorkLimits:
         Files and folders of one archive (a rule package).
     max_archive_depth
         Folders one archive member lies in.
+    max_import_depth
+        Rule files importing one another in a chain (``a`` imports ``b``, which imports ``c``...).
+    max_definitions
+        Rules, attrs, consts and functions of one rule file with its imports merged: each
+        ``import p:"x.cga"`` copies ``x.cga``'s under its prefix, so files that import one
+        another several times over multiply them.
     max_seconds
         Seconds of one derivation (wall clock), or None for no time limit; also of the
         geometry work of judging its model and of encoding it for a file (each has its own
@@ -123,6 +129,8 @@ class WorkLimits:
     max_json_depth: int = 256
     max_archive_members: int = 20_000
     max_archive_depth: int = 64
+    max_import_depth: int = 64
+    max_definitions: int = 50_000
     max_seconds: float | None = 60.0
 
     def __post_init__(self) -> None:

@@ -37,11 +37,13 @@ from pathlib import Path
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.dynamic_imports import reinitialised
-from shapegen.grammar.import_paths import import_candidates, project_folder
+from shapegen.grammar.import_paths import import_candidates, project_folder, search_folders
 from shapegen.grammar.names import BUILTIN_FUNCTIONS, OPERATION_KEYWORDS
 from shapegen.grammar.parser import parse_with_problems
 from shapegen.grammar.source_files import read_rule_file
 from shapegen.grammar.tree import rebuilt as _rebuilt
+from shapegen.limits import current_limits, limit_hint
+from shapegen.readers.archives import unpacked_package, within
 
 Problem = tuple[SourceLocation | None, str]
 
@@ -68,6 +70,7 @@ class _Merger:
         self.cache: dict[Path, _Merged | None] = {}
         self.failed: set[str] = set()  # prefixes whose file could not be merged
         self.warnings: list[str] = []  # an imported file read in another encoding than UTF-8
+        self.exhausted = False  # past max_definitions: nothing more is merged
 
     def merge(self, grammar: ast.RuleFile, folder: Path, stack: tuple[Path, ...]) -> _Merged:
         own = list(grammar.definitions)
@@ -89,8 +92,12 @@ class _Merger:
                     )
                     continue
             sub = self._imported(item, folder, stack)
-            if sub is not None:
+            if sub is not None and not self.exhausted:
                 imported += self._prefixed(sub, item, importer_attrs, redirects)
+                if len(imported) > current_limits().max_definitions and not self.exhausted:
+                    self._too_many(item)
+            if self.exhausted:
+                break
             elif item.prefix is not None:
                 self.failed.add(item.prefix)
         if redirects:
@@ -135,7 +142,19 @@ class _Merger:
 
     def _imported(self, item: ast.Import, folder: Path, stack: tuple[Path, ...]) -> _Merged | None:
         candidates = import_candidates(item.path, folder)
+        package = unpacked_package(folder)
+        if package is not None:  # a package's imports stay in it, or in the rules path
+            candidates = [c for c in candidates if within(c, [package, *search_folders()])]
         path = next((c.resolve() for c in candidates if c.is_file()), None)
+        if path is None and not candidates:
+            self.problems.append(
+                (
+                    item.location,
+                    f'import of "{item.path}": it lies outside the rule package (a package '
+                    "imports its own files, or those of the --rules-path folders)",
+                )
+            )
+            return None
         if path is None:
             tried = ", ".join(str(c) for c in candidates)
             self.problems.append(
@@ -143,6 +162,16 @@ class _Merger:
                     item.location,
                     f'import of "{item.path}": no such file (tried {tried}; name the folder '
                     "that holds it with --rules-path or SHAPEGEN_RULES_PATH)",
+                )
+            )
+            return None
+        if len(stack) > current_limits().max_import_depth:
+            depth = current_limits().max_import_depth
+            self.problems.append(
+                (
+                    item.location,
+                    f'import of "{item.path}": the imports nest more than {depth} files deep '
+                    + limit_hint("max_import_depth"),
                 )
             )
             return None
@@ -172,6 +201,18 @@ class _Merger:
         self.sources[filename] = grammar.source
         self.problems += problems
         return self.merge(grammar, path.parent, stack)
+
+    def _too_many(self, item: ast.Import) -> None:
+        self.exhausted = True
+        limit = current_limits().max_definitions
+        self.problems.append(
+            (
+                item.location,
+                f'import of "{item.path}": with it the imports make more than {limit} '
+                "definitions (each prefix copies the imported file's) "
+                + limit_hint("max_definitions"),
+            )
+        )
 
     # Prefixes, propagation and overrides -------------------------------------------------------
 

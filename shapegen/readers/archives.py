@@ -14,7 +14,7 @@ half-unpacked is the caller's to remove (it unpacks into a staging folder).
 
 from __future__ import annotations
 
-__all__ = ["UNPACKED_FACTOR", "unpack_7z"]
+__all__ = ["UNPACKED_FACTOR", "package_cache", "unpack_7z", "unpacked_package", "within"]
 
 import os
 import stat
@@ -27,6 +27,37 @@ UNPACKED_FACTOR = 16
 """An unpacked archive may hold this many ``max_file_bytes``."""
 
 _WHAT = "not a readable CityEngine rule package (a 7z archive)"
+
+
+def package_cache() -> Path:
+    """The folder rule packages are unpacked in, one folder each: ``$SHAPEGEN_CACHE/packages``,
+    else under ``$XDG_CACHE_HOME/shapegen``, else ``~/.cache/shapegen``."""
+    configured = os.environ.get("SHAPEGEN_CACHE")
+    if configured:
+        return Path(configured) / "packages"
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "shapegen" / "packages"
+
+
+def unpacked_package(path: str | os.PathLike) -> Path | None:
+    """The unpacked rule package that holds ``path`` (resolved), or None. What a package's
+    rules read (imports, assets, tables) stays inside it, as in CityEngine, where a package
+    resolves its names in its own files only: a ``../../etc/passwd`` is not found."""
+    try:
+        cache = package_cache().resolve()
+        relative = Path(path).resolve().relative_to(cache)
+    except (OSError, ValueError, RuntimeError):
+        return None
+    return cache / relative.parts[0] if relative.parts else None
+
+
+def within(path: Path, folders) -> bool:
+    """Whether ``path``, resolved (links followed), lies in one of ``folders`` (resolved)."""
+    try:
+        resolved = path.resolve()
+    except (OSError, RuntimeError):
+        return False
+    return any(resolved.is_relative_to(Path(folder).resolve()) for folder in folders)
 
 
 def unpack_7z(archive_path: Path, folder: Path) -> None:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from shapegen.engine.expressions.arrays import Array
 from shapegen.grammar.import_paths import project_folder
+from shapegen.readers.archives import unpacked_package, within
 
 
 def project_files(rule_file: str | None) -> tuple[Path | None, list[str]]:
@@ -94,7 +95,11 @@ def file_functions(rule_file: str | None) -> dict[str, Callable[..., object]]:
             return False
         folder = Path(rule_file).resolve().parent
         candidates = [project / path.lstrip("/"), folder / path]
-        return any(candidate.is_file() for candidate in candidates)
+        package = unpacked_package(rule_file)
+        return any(
+            candidate.is_file() and (package is None or within(candidate, [package]))
+            for candidate in candidates
+        )
 
     def search(query: object) -> str:  # func_fileSearch: a string list, each entry with ";"
         return "".join(f"{name};" for name in matching(query))

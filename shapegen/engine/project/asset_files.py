@@ -23,6 +23,7 @@ import numpy as np
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
 from shapegen.limits import current_limits, limit_hint
+from shapegen.readers.archives import unpacked_package, within
 
 _CACHE_SIZE = 64
 _cache: OrderedDict[tuple, Mesh] = OrderedDict()
@@ -49,8 +50,9 @@ def _project_roots(rule_file: str, working_folder: str) -> tuple[Path, ...]:
 
 def find_asset(name: str, rule_file: str | None) -> Path | None:
     """The file ``name`` names for a rule written in ``rule_file``, or None."""
+    package = unpacked_package(rule_file) if rule_file and not rule_file.startswith("<") else None
     for path in _candidates(name, rule_file, os.getcwd()):
-        if path.is_file():
+        if path.is_file() and (package is None or within(path, [package])):
             return path
     return None
 

@@ -23,17 +23,9 @@ import tempfile
 from pathlib import Path
 
 from shapegen.errors import GrammarError
-from shapegen.readers.archives import unpack_7z
+from shapegen.readers.archives import package_cache, unpack_7z
 
 PACKAGE_SUFFIX = ".rpk"
-
-
-def _cache_root() -> Path:
-    configured = os.environ.get("SHAPEGEN_CACHE")
-    if configured:
-        return Path(configured)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "shapegen"
 
 
 def _digest(path: Path) -> str:
@@ -48,7 +40,7 @@ def _unpacked(package: Path) -> Path:
     """The folder the package is unpacked in (unpacked on first use, into a staging folder
     renamed into place once whole: a refused or interrupted package leaves nothing)."""
     try:
-        folder = _cache_root() / "packages" / f"{package.stem}-{_digest(package)}"
+        folder = package_cache() / f"{package.stem}-{_digest(package)}"
     except OSError as exc:
         raise GrammarError(f"cannot read {str(package)!r}: {exc.strerror or exc}") from None
     if folder.is_dir():
