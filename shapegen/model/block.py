@@ -18,6 +18,14 @@ from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_nor
 from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, COPLANAR_REL, DEFAULT, Tolerances
 
 DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
+#: The densest block taken, kg/m^3: 40 times osmium's. It keeps a model's weight and its square
+#: (the tension measure, N^2) finite for every size a shape may have (max_coordinate).
+MAX_DENSITY = 1e6
+
+
+def density_is_valid(density: object) -> bool:
+    """Whether ``density`` is a block's density: a float in [0, MAX_DENSITY] kg/m^3."""
+    return isinstance(density, float | int) and 0 <= density <= MAX_DENSITY
 
 
 @dataclass(eq=False)
@@ -193,8 +201,11 @@ class Block:
         name = self.id or "block"
         if not np.all(np.isfinite(self.vertices)):
             raise GeometryError(f"block {name!r}: vertex coordinates must be finite numbers")
-        if not np.isfinite(self.density) or self.density < 0:
-            raise GeometryError(f"block {name!r}: density must be a finite number >= 0")
+        if not density_is_valid(self.density):
+            raise GeometryError(
+                f"block {name!r}: density must be a number in [0, {MAX_DENSITY:g}] kg/m^3, got "
+                f"{self.density}"
+            )
         n = len(self.vertices)
         for face in self.faces:
             if len(face) < 3 or min(face) < 0 or max(face) >= n:

@@ -20,7 +20,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from shapegen.errors import GeometryError
-from shapegen.model.block import Block
+from shapegen.model.block import MAX_DENSITY, Block
 from shapegen.model.packed import (
     PackedBlocks,
     gather_blocks,
@@ -61,7 +61,7 @@ def first_invalid_block(
     large = np.fromiter(
         (len(b.faces) * len(b.vertices) > _PAIRS_AT_ONCE for b in blocks), bool, len(blocks)
     )
-    doubtful = malformed_blocks(gathered) | ~(np.isfinite(density) & (density >= 0)) | large
+    doubtful = malformed_blocks(gathered) | ~((density >= 0) & (density <= MAX_DENSITY)) | large
     sound = np.flatnonzero(~doubtful)
     if len(sound) == len(blocks):
         pack = packed_from(sound, gathered)

@@ -138,8 +138,8 @@ def _three_faces() -> Block:
 
 BAD_BLOCKS = [
     ("vertex coordinates must be finite", _nan_vertex),
-    ("density must be a finite number >= 0", lambda: Block.box([0] * 3, [1] * 3, density=-1)),
-    ("density must be a finite number >= 0", lambda: Block.box([0] * 3, [1] * 3, density=np.nan)),
+    ("density must be a number in [0, 1e+06]", lambda: Block.box([0] * 3, [1] * 3, density=-1)),
+    ("density must be a number in [0, 1e+06]", lambda: Block.box([0] * 3, [1] * 3, density=np.nan)),
     ("face [1, 5, 6, 8] must list at least 3 of its 8 vertices", _face_out_of_range),
     ("face [0, 1, -2, 3] must list at least 3", _negative_face_index),
     ("face [0, 1] must list at least 3", _two_corner_face),

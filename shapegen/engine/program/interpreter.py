@@ -66,7 +66,7 @@ from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.limits import limit_hint
 from shapegen.model.appearance import DEFAULT_APPEARANCE, SolidLeaf, Surface
-from shapegen.model.block import Block
+from shapegen.model.block import MAX_DENSITY, Block, density_is_valid
 from shapegen.model.model import Model
 from shapegen.model.scope import Scope
 from shapegen.tolerances import MIN_LEAF_SIZE
@@ -391,9 +391,9 @@ class Program(AttributeValues):
     def _properties(self, state: ShapeState) -> tuple[float, bool, bool]:
         attrs = state.attrs
         density, structural, fixed = attrs["density"], attrs["structural"], attrs["fixed"]
-        if type(density) is not float or not math.isfinite(density) or density < 0:
+        if type(density) is not float or not density_is_valid(density):
             raise GrammarError(
-                f"attr 'density' must be a number >= 0 (kg/m^3), got "
+                f"attr 'density' must be a number in [0, {MAX_DENSITY:g}] (kg/m^3), got "
                 f"{format_value(density)!r} (rules: {format_chain(state.rule_path)})"
             )
         for name, value in (("structural", structural), ("fixed", fixed)):
