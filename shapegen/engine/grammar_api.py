@@ -31,7 +31,7 @@ from shapegen.engine.project.rule_packages import (
     start_rule_of_package,
 )
 from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
-from shapegen.engine.shapes.shape import lot_scope
+from shapegen.engine.shapes.shape import lot_scope, lot_shape
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast, import_paths
 from shapegen.grammar.source_files import read_rule_file
@@ -77,7 +77,7 @@ class Grammar:
     def free_parameters(self) -> dict[str, dict]:
         """``name -> {"value", "min", "max"}`` of the ``@Free`` attrs, at their defaults."""
         values = self._default_values()
-        return self.program.free_parameters(values, lot_scope(*self.lot))
+        return self.program.attributes.free_parameters(values, lot_scope(*self.lot))
 
     def parameter_ranges(self, attrs: Mapping[str, object] | None = None) -> dict[str, dict]:
         """``name -> {"value", "min", "max"}`` of every attr with a ``@Range`` (free or not),
@@ -87,13 +87,14 @@ class Grammar:
         else:
             from shapegen.engine.program.interpreter import DEFAULT_LOT
 
-            values = self.program.initial_values(attrs, 0, lot_scope(*DEFAULT_LOT))
-        return self.program.free_parameters(values, lot_scope(*self.lot), only_free=False)
+            values = self.program.attributes.initial_values(attrs, 0, lot_scope(*DEFAULT_LOT))
+        attributes = self.program.attributes
+        return attributes.free_parameters(values, lot_scope(*self.lot), only_free=False)
 
     @property
     def lot(self) -> tuple[float, float]:
         """The default lot (width, depth) in metres: the start rule's ``@Lot`` or 10 x 10."""
-        return self.program.lot_size(self._default_values())
+        return self.program.attributes.lot_size(self.program.start, self._default_values())
 
     @property
     def structure(self) -> str:
@@ -111,20 +112,21 @@ class Grammar:
         what a structure that judges from its arguments alone reads of the design."""
         from shapegen.engine.program.interpreter import DEFAULT_LOT
 
-        values = self.program.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
+        attributes, start = self.program.attributes, self.program.start
+        values = attributes.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
         if lot is None:
-            lot = self.program.lot_size(values)
-        from shapegen.engine.program.interpreter import _checked_lot
-
-        scope = _checked_lot(lot)[0].scope
-        values = self.program.initial_values(attrs, seed, scope)
-        return self.program.structure_arguments(values, scope)
+            lot = attributes.lot_size(start, values)
+        scope = lot_shape(lot)[0].scope
+        values = attributes.initial_values(attrs, seed, scope)
+        return attributes.structure_arguments(start, values, scope)
 
     def _default_values(self) -> dict:
         if self._defaults is None:
             from shapegen.engine.program.interpreter import DEFAULT_LOT
 
-            self._defaults = self.program.initial_values(None, 0, lot_scope(*DEFAULT_LOT))
+            self._defaults = self.program.attributes.initial_values(
+                None, 0, lot_scope(*DEFAULT_LOT)
+            )
         return self._defaults
 
     def build(

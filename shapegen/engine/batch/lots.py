@@ -172,7 +172,7 @@ def _groups(program, overrides, run):
         try:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                values = program.initial_values(given, 0, scope)
+                values = program.attributes.initial_values(given, 0, scope)
         except Exception:  # noqa: BLE001 - the one-at-a-time derivation says what it is
             run.give_up(_mask(run.count, index), "attr values that do not evaluate")
             continue

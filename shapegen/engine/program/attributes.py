@@ -1,9 +1,8 @@
 """Values of a grammar's attrs and consts, and the arguments of its ``@Range``, ``@Lot`` and
 ``@Structure`` annotations, evaluated before (and outside) a derivation.
 
-:class:`AttributeValues` is mixed into :class:`~shapegen.engine.program.interpreter.Program`, which
-provides ``attr_nodes``, ``const_nodes``, ``definitions`` (the compiled attr and const values),
-``expressions``, ``start`` (the start rule) and ``error``.
+:class:`AttributeValues` holds a grammar's compiled attrs and consts; the
+:class:`~shapegen.engine.program.interpreter.Program` makes one and asks it.
 """
 
 from __future__ import annotations
@@ -31,14 +30,33 @@ DEFAULT_LOT = (10.0, 10.0)
 
 
 class AttributeValues:
-    """Evaluation of attrs, consts and the start rule's annotations for given overrides."""
+    """Evaluation of a grammar's attrs, consts and start rule annotations for given overrides.
 
-    attr_nodes: dict[str, ast.Attribute]
-    const_nodes: dict[str, ast.Constant]
-    definitions: dict[str, Callable]
-    expressions: ExpressionCompiler
-    start: ast.Rule
-    error: Callable[..., GrammarError]
+    Parameters
+    ----------
+    attr_nodes, const_nodes
+        ``name -> node`` of the grammar's attrs and consts, in the file's order.
+    definitions
+        ``name -> compiled value`` of the same attrs and consts (``value(args, state)``).
+    expressions
+        The grammar's expression compiler (annotation arguments, errors at their place).
+    """
+
+    def __init__(
+        self,
+        attr_nodes: Mapping[str, ast.Attribute],
+        const_nodes: Mapping[str, ast.Constant],
+        definitions: Mapping[str, Callable],
+        expressions: ExpressionCompiler,
+    ):
+        self.attr_nodes = attr_nodes
+        self.const_nodes = const_nodes
+        self.definitions = definitions
+        self.expressions = expressions
+
+    def error(self, node, message: str) -> GrammarError:
+        """The error at ``node`` of the grammar (file, line, column and caret)."""
+        return self.expressions.error(node, message)
 
     def initial_values(
         self, overrides: Mapping[str, object] | None, seed: int, lot: Scope, run=None
@@ -127,9 +145,9 @@ class AttributeValues:
             out[name] = {"value": values[name], "min": low, "max": high}
         return out
 
-    def lot_size(self, values: Mapping[str, object]) -> tuple[float, float]:
-        """The start rule's ``@Lot(width, depth)`` (m), else :data:`DEFAULT_LOT`."""
-        annotation = self.start.annotation("Lot")
+    def lot_size(self, start: ast.Rule, values: Mapping[str, object]) -> tuple[float, float]:
+        """The ``@Lot(width, depth)`` (m) of the rule ``start``, else :data:`DEFAULT_LOT`."""
+        annotation = start.annotation("Lot")
         if annotation is None:
             return DEFAULT_LOT
         run = Derivation(self, 0)
@@ -146,10 +164,12 @@ class AttributeValues:
         except LotError as exc:
             raise self.error(annotation, f"@Lot: {exc}") from None
 
-    def structure_arguments(self, values: Mapping[str, object], lot: Scope) -> dict[str, object]:
-        """The keyword arguments of the start rule's ``@Structure(...)``, evaluated with the attr
-        ``values`` (empty without one): what the structure reads of this design."""
-        annotation = self.start.annotation("Structure")
+    def structure_arguments(
+        self, start: ast.Rule, values: Mapping[str, object], lot: Scope
+    ) -> dict[str, object]:
+        """The keyword arguments of the ``@Structure(...)`` of the rule ``start``, evaluated with
+        the attr ``values`` (empty without one): what the structure reads of this design."""
+        annotation = start.annotation("Structure")
         if annotation is None or not annotation.keywords:
             return {}
         run = Derivation(self, 0)

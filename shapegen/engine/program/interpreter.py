@@ -58,7 +58,7 @@ from shapegen.engine.program.attributes import (
     shown,
 )
 from shapegen.engine.program.leaf_batches import box_corners, rectangle_corners
-from shapegen.engine.shapes.shape import FACE, MASS, Shape, lot_scope, lot_shape
+from shapegen.engine.shapes.shape import FACE, MASS, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
@@ -87,7 +87,7 @@ class _Rule:
         self.node = node
 
 
-class Program(AttributeValues):
+class Program:
     """A compiled grammar, ready to derive models.
 
     Parameters
@@ -108,10 +108,13 @@ class Program(AttributeValues):
         global_names = set(self.attr_nodes) | set(self.const_nodes) | set(RESERVED_ATTRIBUTES)
         self.expressions = ExpressionCompiler(grammar, global_names)
         self.expressions.compile_functions()
-        self.definitions = {
+        definitions = {
             name: self._value(node)
             for name, node in {**self.attr_nodes, **self.const_nodes}.items()
         }
+        self.attributes = AttributeValues(
+            self.attr_nodes, self.const_nodes, definitions, self.expressions
+        )
         # Rules by (name, arity): CGA overloads a rule name by its number of parameters.
         self.rules = {(rule.name, len(rule.params)): _Rule(rule) for rule in grammar.rules}
         self.operations = OperationCompiler(grammar, self.expressions, self.rules)
@@ -164,16 +167,16 @@ class Program(AttributeValues):
         if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
             raise GrammarError(f"seed must be a whole number, got {shown(seed)}")
         if lot is None:
-            defaults = self.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
-            lot = self.lot_size(defaults)
-        start, lot_metadata = _checked_lot(lot)
+            defaults = self.attributes.initial_values(attrs, seed, lot_scope(*DEFAULT_LOT))
+            lot = self.attributes.lot_size(self.start, defaults)
+        start, lot_metadata = lot_shape(lot)  # a Lot, or what Lot.of takes (its one check)
         start_scope = start.scope
         run = Derivation(self, seed, max_depth, max_shapes)
         run.warnings.extend(self.grammar.warnings)  # what the load let through (.cga only)
         # the object frame (initialShape.origin) is known before attrs read it
         run.object_rotation = start_scope.rotation
         run.start_shape = start
-        values = self.initial_values(attrs, seed, start_scope, run)
+        values = self.attributes.initial_values(attrs, seed, start_scope, run)
         run.occlusion = Occlusion() if _first_pass is None else _first_pass
         root = root_state(run, start, values, ())
         root.rule_path = (self.start.name,)
@@ -211,14 +214,14 @@ class Program(AttributeValues):
             "seed": int(seed),
             **lot_metadata,
             "attrs": {name: values[name] for name in self.attr_nodes},
-            "free_parameters": self.free_parameters(values, start_scope),
+            "free_parameters": self.attributes.free_parameters(values, start_scope),
             "reports": {k: v[0] if len(v) == 1 else v for k, v in run.reports.items()},
             "warnings": list(run.warnings),  # assets not found, operations ignored
             "cga_errors": run.cga_errors,  # operations skipped (engine/derivation/cga_errors.py)
             "leaves": run.leaf_count,  # leaf shapes that gave a block or a surface
             "structure": {
                 "name": self.structure,
-                "arguments": self.structure_arguments(values, start_scope),
+                "arguments": self.attributes.structure_arguments(self.start, values, start_scope),
             },
         }
         return Model(blocks, metadata=metadata, surfaces=surfaces)
@@ -439,12 +442,6 @@ def _surface(
         id=f"s{number}",
         solid=solid,
     )
-
-
-def _checked_lot(lot: object) -> tuple[Shape, dict]:
-    """The start shape of a lot given to :meth:`Program.derive` and its metadata; ``lot`` is a
-    :class:`~shapegen.model.lot.Lot` or what ``Lot.of`` takes (its one check)."""
-    return lot_shape(lot)
 
 
 def _insert(name: str, scope: Scope, params: dict) -> list[Block]:
