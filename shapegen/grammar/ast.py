@@ -59,9 +59,9 @@ Items of a sequence (``Item``)
     ``split(x) { size : body | ... }`` with ``axis`` in ``"x"``, ``"y"``, ``"z"``; the top-level
     pattern is ``group`` (a :class:`SplitGroup`, whose ``repeat`` is set for ``{ ... }*``).
 :class:`SplitGroup`
-    ``{ part | part | ... }`` with ``repeat`` for a trailing ``*``; parts are :class:`SplitPart`
+    ``{ part | part | ... }`` with ``repeat`` for a trailing ``*``; parts are :class:`SplitEntry`
     or nested :class:`SplitGroup` (``{ 1 : A | { 2 : B }* | 1 : C }``).
-:class:`SplitPart`
+:class:`SplitEntry`
     ``size : body``; ``mode`` is ``"absolute"`` (``3``), ``"relative"`` (``'0.3``, a fraction of
     the scope size) or ``"floating"`` (``~3``); ``size`` is the expression after the prefix.
 :class:`Comp`
@@ -122,7 +122,7 @@ from shapegen.grammar.definitions import (
     RuleFile,
 )
 from shapegen.grammar.expressions import (
-    Array,
+    ArrayLiteral,
     Binary,
     Boolean,
     Call,
@@ -168,8 +168,8 @@ from shapegen.grammar.rule_bodies import (
     Set,
     SizeMode,
     Split,
+    SplitEntry,
     SplitGroup,
-    SplitPart,
     StochasticBody,
     StochasticBranch,
     Successor,
@@ -180,7 +180,7 @@ from shapegen.grammar.tree import NOWHERE, children, node, walk
 __all__ = [
     "NOWHERE",
     "Annotation",
-    "Array",
+    "ArrayLiteral",
     "Colon",
     "ComponentValue",
     "ComponentValues",
@@ -230,7 +230,7 @@ __all__ = [
     "SizeMode",
     "Split",
     "SplitGroup",
-    "SplitPart",
+    "SplitEntry",
     "StochasticBody",
     "StochasticBranch",
     "StochasticExpression",

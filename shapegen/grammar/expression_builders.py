@@ -102,7 +102,7 @@ class ExpressionBuilders:
 
     @v_args(meta=True)
     def array(self, meta, children):
-        return ast.Array(tuple(children), location=self._at(meta))
+        return ast.ArrayLiteral(tuple(children), location=self._at(meta))
 
     @v_args(meta=True)
     def array_row(self, meta, children):

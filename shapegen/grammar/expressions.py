@@ -11,7 +11,7 @@ from shapegen.errors import SourceLocation
 from shapegen.grammar.tree import location_field, node
 
 __all__ = [
-    "Array",
+    "ArrayLiteral",
     "Colon",
     "ComponentValue",
     "ComponentValues",
@@ -111,7 +111,7 @@ class Call:
 
 
 @node
-class Array:
+class ArrayLiteral:
     """``[1, 2, 3]`` (one row) or ``[1, 2; 3, 4]`` (rows split by ``;``), as CGA writes arrays.
     An item may be a :class:`Colon` range (``[1:5]``)."""
 
@@ -207,7 +207,7 @@ Expression = (
     | Unary
     | Binary
     | Call
-    | Array
+    | ArrayLiteral
     | Colon
     | Index
     | ComponentValues

@@ -218,7 +218,7 @@ class OperationBuilders:
                     "a split part is 'size : operations' (three parts are "
                     "splitAndSetbackPerimeter's)",
                 )
-            parts.append(ast.SplitPart(entry.key, entry.mode, entry.body, location=entry.location))
+            parts.append(ast.SplitEntry(entry.key, entry.mode, entry.body, location=entry.location))
         return ast.SplitGroup(tuple(parts), block.repeat, location=block.location)
 
     def _op_comp(self, arguments, block, location):

@@ -93,7 +93,7 @@ def _primary(expression) -> str:
         return text
     if kind is ast.Call:
         return f"{expression.name}({_values(expression.args)})"
-    if kind is ast.Array:
+    if kind is ast.ArrayLiteral:
         rows = "; ".join(", ".join(_array_item(item) for item in row) for row in expression.rows)
         return f"[{rows}]"
     if kind is ast.Colon:

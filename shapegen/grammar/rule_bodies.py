@@ -40,7 +40,7 @@ __all__ = [
     "SizeMode",
     "Split",
     "SplitGroup",
-    "SplitPart",
+    "SplitEntry",
     "StochasticBody",
     "StochasticBranch",
     "Successor",
@@ -100,7 +100,7 @@ SizeMode = Literal["absolute", "relative", "floating"]
 
 
 @node
-class SplitPart:
+class SplitEntry:
     """``size : body`` in a split; ``mode`` from the prefix (none, ``'``, ``~``)."""
 
     size: Expression
@@ -113,7 +113,7 @@ class SplitPart:
 class SplitGroup:
     """``{ part | ... }``, repeated to fill the scope when ``repeat`` (``{ ... }*``)."""
 
-    parts: tuple[SplitPart | SplitGroup, ...]
+    parts: tuple[SplitEntry | SplitGroup, ...]
     repeat: bool = False
     location: SourceLocation = location_field()
 

@@ -112,9 +112,9 @@ BODIES = [
                 "x",
                 ast.SplitGroup(
                     (
-                        ast.SplitPart(N(2), "absolute", Seq(S("B"))),
-                        ast.SplitPart(N(1), "floating", Seq(S("C"))),
-                        ast.SplitPart(N(0.5), "relative", Seq(S("D"))),
+                        ast.SplitEntry(N(2), "absolute", Seq(S("B"))),
+                        ast.SplitEntry(N(1), "floating", Seq(S("C"))),
+                        ast.SplitEntry(N(0.5), "relative", Seq(S("D"))),
                     )
                 ),
             )
@@ -127,8 +127,8 @@ BODIES = [
                 "y",
                 ast.SplitGroup(
                     (
-                        ast.SplitPart(N(2), "absolute", Seq(S("X"))),
-                        ast.SplitPart(N(1), "absolute", Seq(S("Y"))),
+                        ast.SplitEntry(N(2), "absolute", Seq(S("X"))),
+                        ast.SplitEntry(N(1), "absolute", Seq(S("Y"))),
                     ),
                     repeat=True,
                 ),
@@ -142,17 +142,17 @@ BODIES = [
                 "z",
                 ast.SplitGroup(
                     (
-                        ast.SplitPart(N(1), "absolute", Seq(S("A"))),
+                        ast.SplitEntry(N(1), "absolute", Seq(S("A"))),
                         ast.SplitGroup(
                             (
-                                ast.SplitPart(N(2), "floating", Seq(S("B"))),
+                                ast.SplitEntry(N(2), "floating", Seq(S("B"))),
                                 ast.SplitGroup(
-                                    (ast.SplitPart(N(3), "absolute", Seq(S("C"))),), repeat=True
+                                    (ast.SplitEntry(N(3), "absolute", Seq(S("C"))),), repeat=True
                                 ),
                             ),
                             repeat=True,
                         ),
-                        ast.SplitPart(N(1), "absolute", Seq(S("D"))),
+                        ast.SplitEntry(N(1), "absolute", Seq(S("D"))),
                     )
                 ),
             )
@@ -165,7 +165,7 @@ BODIES = [
                 "x",
                 ast.SplitGroup(
                     (
-                        ast.SplitPart(
+                        ast.SplitEntry(
                             B("/", ast.ShapeAttribute("scope", "sx"), N(3)),
                             "floating",
                             Seq(S("A"), ast.Extrude(N(1)), S("B")),
@@ -274,7 +274,7 @@ BODIES = [
                 "x",
                 ast.SplitGroup(
                     (
-                        ast.SplitPart(
+                        ast.SplitEntry(
                             N(1),
                             "absolute",
                             ast.ConditionalBody(
@@ -289,7 +289,7 @@ BODIES = [
                                 ),
                             ),
                         ),
-                        ast.SplitPart(N(1), "absolute", Seq(S("D"))),
+                        ast.SplitEntry(N(1), "absolute", Seq(S("D"))),
                     )
                 ),
             )

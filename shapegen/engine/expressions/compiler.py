@@ -166,7 +166,7 @@ class ExpressionCompiler(BuiltinCalls):
             return None
         return lambda args, state: name
 
-    def _Array(self, node: ast.Array, params) -> Compiled:
+    def _ArrayLiteral(self, node: ast.ArrayLiteral, params) -> Compiled:
         rows = [[self._item(item, params) for item in row] for row in node.rows]
         error = self.error
 
