@@ -14,7 +14,8 @@ from shapegen.cli.options import (
     add_statics_options,
     statics_options,
 )
-from shapegen.statics.options import StaticsOptions, statics_fields
+from shapegen.errors import OptionError
+from shapegen.statics.options import StaticsOptions, Tilt, statics_fields
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -45,8 +46,6 @@ def test_the_flags_make_the_options_type():
     [
         (["--kern", "1.5"], "--kern: kern must be a number in (0, 1]"),
         (["--friction", "-0.1"], "--friction: friction must be a finite number >= 0"),
-        (["--tilt=-10@0"], "--tilt: tilt must be a number of degrees"),
-        (["--tilt", "10@inf"], "--tilt: azimuth must be a finite number"),
         (["--solver", "cvxpy", "--pyramid", "cone"], None),  # every back-end takes the cone
     ],
 )
@@ -58,3 +57,21 @@ def test_a_refused_value_names_its_flag(argv, message):
     with pytest.raises(CommandLineError) as raised:
         statics_options(args)
     assert str(raised.value).startswith(message)
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--tilt=-10@0"], "tilt must be a number of degrees, at least 0 and below 90; got -10.0"),
+        (["--tilt", "10@inf"], "azimuth must be a finite number of degrees; got inf"),
+        (["--tilt", "ten"], "expected DEG or DEG@AZIMUTH (degrees), got 'ten'"),
+    ],
+)
+def test_a_refused_tilt_is_the_tilt_types_line_when_read(argv, message):
+    # --tilt is read into a Tilt (statics.options), which checks it: its line names the flag
+    with pytest.raises(CommandLineError) as raised:
+        _parser().parse_args(argv)
+    assert str(raised.value).startswith(f"argument --tilt: {message}")
+    with pytest.raises(OptionError) as same:
+        Tilt.parse(argv[-1].removeprefix("--tilt="))
+    assert str(raised.value) == f"argument --tilt: {same.value}"

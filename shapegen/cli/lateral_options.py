@@ -7,29 +7,20 @@ from __future__ import annotations
 __all__ = ["add_lateral_options", "capacity_request"]
 
 import argparse
-import math
 
 from shapegen.cli.options import CommandLineError
 
 
-def _tilt(text: str) -> tuple[float, float | None]:
-    """``--tilt DEG[@AZIMUTH]``: the two numbers as written (None: no azimuth, the worst
-    direction); :class:`~shapegen.statics.options.StaticsOptions` checks their ranges."""
-    tilt_text, sep, azimuth_text = text.partition("@")
+def _tilt(text: str):
+    """``--tilt DEG[@AZIMUTH]``: a :class:`~shapegen.statics.options.Tilt`, parsed and
+    checked by the type; its refusal is argparse's one line."""
+    from shapegen.errors import OptionError
+    from shapegen.statics.options import Tilt
+
     try:
-        tilt = float(tilt_text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected DEG or DEG@AZIMUTH (degrees), got {text!r}"
-        ) from None
-    if not sep:
-        return tilt, None
-    try:
-        return tilt, float(azimuth_text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"the azimuth {azimuth_text.strip()!r} in {text!r} is not a number of degrees"
-        ) from None
+        return Tilt.parse(text)
+    except OptionError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def _azimuths(text: str) -> tuple[float, ...]:
@@ -44,9 +35,13 @@ def _azimuths(text: str) -> tuple[float, ...]:
             f"expected azimuths in degrees separated by commas (0,90), got {text!r}; write"
             " --capacity after the model, or --capacity= for a sweep of directions"
         ) from None
-    if not all(math.isfinite(v) for v in values):
-        raise argparse.ArgumentTypeError(f"azimuths must be finite numbers, got {text!r}")
-    return values
+    from shapegen.errors import OptionError
+    from shapegen.statics.options import checked_azimuth
+
+    try:  # each as a tilt's azimuth is checked
+        return tuple(checked_azimuth(v) for v in values)
+    except OptionError as exc:
+        raise argparse.ArgumentTypeError(f"{exc} (in {text!r})") from None
 
 
 def add_lateral_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:

@@ -266,9 +266,9 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
         for dest in (*STATICS_FLAGS, *SELECTION_FLAGS)
         if getattr(args, dest, None) is not None
     }
-    tilt = getattr(args, "tilt", None)
+    tilt = getattr(args, "tilt", None)  # a Tilt, checked when --tilt was read
     if tilt is not None:
-        values["tilt"], values["azimuth"] = tilt
+        values["tilt"], values["azimuth"] = tilt.degrees, tilt.azimuth
     try:
         return StaticsOptions(**values)
     except OptionError as exc:

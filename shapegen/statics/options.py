@@ -16,6 +16,8 @@ __all__ = [
     "AUTO_ORDER",
     "PYRAMIDS",
     "DEFAULT_PYRAMID",
+    "Tilt",
+    "checked_azimuth",
     "checked_kern",
     "checked_margin",
     "checked_pyramid",
@@ -151,27 +153,9 @@ class StaticsOptions:
         object.__setattr__(self, "kern", checked_kern(self.kern))
         if self.friction is not None:
             object.__setattr__(self, "friction", checked_friction(self.friction))
-        tilt = _number(self.tilt)
-        if tilt is None or not 0 <= tilt < 90:
-            hint = ""
-            if tilt is not None and tilt < 0:
-                hint = f"; to tilt the other way add 180 to the azimuth ({-tilt:g}@180)"
-            raise OptionError(
-                f"tilt must be a number of degrees, at least 0 and below 90; got"
-                f" {self.tilt!r}{hint}",
-                "tilt",
-            )
-        object.__setattr__(self, "tilt", tilt)
-        if self.azimuth is not None:
-            azimuth = _number(self.azimuth)
-            if azimuth is None:
-                raise OptionError(
-                    f"azimuth must be a finite number of degrees; got {self.azimuth!r}",
-                    "azimuth",
-                )
-            from shapegen.statics.tilt import normalized_azimuth
-
-            object.__setattr__(self, "azimuth", normalized_azimuth(azimuth))
+        tilt = Tilt(self.tilt, self.azimuth)  # the tilt's one check
+        object.__setattr__(self, "tilt", tilt.degrees)
+        object.__setattr__(self, "azimuth", tilt.azimuth)
 
     @classmethod
     def from_mapping(cls, settings: Mapping[str, object]) -> StaticsOptions:
@@ -243,6 +227,70 @@ def checked_margin(margin: object) -> float:
     if not 0.0 <= margin < 1.0:
         raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}", "margin")
     return float(margin)
+
+
+@dataclass(frozen=True)
+class Tilt:
+    """The tilting-table test (:mod:`shapegen.statics.tilt`): every load turned by ``degrees``
+    in [0, 90) towards ``azimuth``, degrees in the ground plane from +x towards +z (normalised
+    to [0, 360); None: the worst direction). Checked once, when made, wherever a tilt is given
+    (``--tilt DEG[@AZIMUTH]`` through :meth:`parse`, :class:`StaticsOptions`' ``tilt`` and
+    ``azimuth``); its refusal is one :class:`~shapegen.errors.OptionError` naming ``tilt`` or
+    ``azimuth``.
+
+    >>> Tilt.parse("20@-90")
+    Tilt(degrees=20.0, azimuth=270.0)
+    """
+
+    degrees: float = 0.0
+    azimuth: float | None = None
+
+    def __post_init__(self) -> None:
+        degrees = _number(self.degrees)
+        if degrees is None or not 0 <= degrees < 90:
+            hint = ""
+            if degrees is not None and degrees < 0:
+                hint = f"; to tilt the other way add 180 to the azimuth ({-degrees:g}@180)"
+            raise OptionError(
+                f"tilt must be a number of degrees, at least 0 and below 90; got"
+                f" {self.degrees!r}{hint}",
+                "tilt",
+            )
+        object.__setattr__(self, "degrees", degrees)
+        if self.azimuth is not None:
+            object.__setattr__(self, "azimuth", checked_azimuth(self.azimuth))
+
+    @classmethod
+    def parse(cls, text: str) -> Tilt:
+        """``DEG`` or ``DEG@AZIMUTH`` (degrees), as ``--tilt`` takes it."""
+        degrees, sep, azimuth = text.partition("@")
+        try:
+            degrees = float(degrees)
+        except ValueError:
+            raise OptionError(
+                f"expected DEG or DEG@AZIMUTH (degrees), got {text!r}", "tilt"
+            ) from None
+        if not sep:
+            return cls(degrees)
+        try:
+            return cls(degrees, float(azimuth))
+        except ValueError:
+            raise OptionError(
+                f"the azimuth {azimuth.strip()!r} in {text!r} is not a number of degrees",
+                "azimuth",
+            ) from None
+
+
+def checked_azimuth(azimuth: object) -> float:
+    """A direction in the ground plane, degrees from +x towards +z, normalised to [0, 360), or
+    an :class:`~shapegen.errors.OptionError` naming ``azimuth``: its one check (a tilt's
+    direction, ``--capacity``'s)."""
+    number = _number(azimuth)
+    if number is None:
+        raise OptionError(f"azimuth must be a finite number of degrees; got {azimuth!r}", "azimuth")
+    from shapegen.statics.tilt import normalized_azimuth
+
+    return normalized_azimuth(number)
 
 
 def checked_pyramid(pyramid: object) -> str:

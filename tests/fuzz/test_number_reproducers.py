@@ -127,4 +127,3 @@ def test_blocks_of_no_volume_judged_say_so_in_one_line(tmp_path, capsys):
     printed = capsys.readouterr().err
     assert printed.startswith("shapegen: error: block 'b0': zero or negative volume"), printed
     assert len(printed.splitlines()) == 1
-

@@ -7,6 +7,7 @@ import pytest
 from shapegen.errors import OptionError
 from shapegen.model import Block, Model
 from shapegen.statics import StaticsOptions, analyze
+from shapegen.statics.options import Tilt
 
 
 def _stack() -> Model:
@@ -57,3 +58,37 @@ def test_a_margin_shrinks_the_kern():
     # a margin shrinks the joints and keeps the tilt
     tilted = StaticsOptions(tilt=10.0, azimuth=90.0).shrunk(0.1)
     assert (tilted.tilt, tilted.azimuth, tilted.kern) == (10.0, 90.0, pytest.approx(0.9))
+
+
+# ------------------------------------------------------------------ the tilt, one type
+@pytest.mark.parametrize(
+    ("text", "tilt"),
+    [
+        ("20", Tilt(20.0)),
+        ("20@90", Tilt(20.0, 90.0)),
+        ("20@-90", Tilt(20, 270)),
+        ("0@450", Tilt(0, 90)),
+    ],
+)
+def test_a_tilt_is_read_and_checked_by_its_type(text, tilt):
+    assert Tilt.parse(text) == tilt
+    options = StaticsOptions(tilt=tilt.degrees, azimuth=tilt.azimuth)
+    assert (options.tilt, options.azimuth) == (tilt.degrees, tilt.azimuth)
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ({"degrees": 90}, "tilt must be a number of degrees, at least 0 and below 90; got 90"),
+        ({"degrees": -5}, "got -5; to tilt the other way add 180 to the azimuth (5@180)"),
+        ({"degrees": True}, "tilt must be a number of degrees"),
+        ({"degrees": 5, "azimuth": float("nan")}, "azimuth must be a finite number of degrees"),
+    ],
+)
+def test_a_tilt_that_cannot_be_is_the_same_line_from_the_type_and_the_options(value, message):
+    with pytest.raises(OptionError) as alone:
+        Tilt(**value)
+    with pytest.raises(OptionError) as within:
+        StaticsOptions(tilt=value["degrees"], azimuth=value.get("azimuth"))
+    assert str(alone.value) == str(within.value) and message in str(alone.value)
+    assert alone.value.option == within.value.option
