@@ -6,6 +6,16 @@ turns the relative values into absolute ones.
 
 The module-level constants below the class are the tolerances that do not scale with a model:
 round-off slack of sums and ratios, and the force below which a statics result is noise.
+
+A comparison with a tolerance is written with one of the predicates at the end, each naming the
+tolerance it uses (in the unit of the values compared)::
+
+    >>> is_zero(1e-16, ZERO_LENGTH) and is_positive(1e-3, ZERO_LENGTH)
+    True
+    >>> is_close(0.1 + 0.2, 0.3, ROUNDOFF_REL) and at_least(0.99999999999999, 1.0, ROUNDOFF_REL)
+    True
+    >>> are_zero(np.array([0.0, 1e-16, 1e-3]), ZERO_LENGTH).tolist()
+    [True, True, False]
 """
 
 from __future__ import annotations
@@ -29,9 +39,34 @@ __all__ = [
     "ZERO_LENGTH",
     "SIZE_FLOOR_M",
     "LOT_MERGE_M",
+    "COINCIDENT_REL",
+    "COINCIDENT_M",
+    "COSINE_SLACK",
+    "COLLINEAR_REL",
+    "LEVEL_REL",
+    "LEVEL_M",
+    "TRIG_ROUNDOFF",
+    "DIVISION_FLOOR",
+    "GRID_SLACK",
+    "TIE_REL",
+    "HORIZON_SIN",
+    "GROUND_FLOOR_M",
+    "PIXEL_AREA_FLOOR",
+    "PIXEL_EDGE_SLACK_REL",
+    "is_zero",
+    "is_close",
+    "is_positive",
+    "is_negative",
+    "at_least",
+    "at_most",
+    "are_zero",
+    "are_close",
+    "are_positive",
 ]
 
 from dataclasses import dataclass, replace
+
+import numpy as np
 
 
 @dataclass(frozen=True)
@@ -192,3 +227,115 @@ SIZE_FLOOR_M = 1e-12
 #: (a repeated closing corner, a survey's doubled point, a ring projected from degrees), on
 #: every front end alike (:class:`shapegen.model.lot.Lot`).
 LOT_MERGE_M = 1e-3
+
+#: Geometry: points, lines and planes closer than ``COINCIDENT_REL`` times the size of the shape
+#: they belong to (its largest extent, metres) coincide (dimensionless): a corner on a cutting
+#: plane, a vertex on a face, a face's plane among a hull's, a solid on its placed scope.
+COINCIDENT_REL = 1e-9
+
+#: Geometry: a length below ``COINCIDENT_M`` metres in a derived shape (an edge, an offset, a
+#: tile's extent) is nought, and a shape's size is taken as at least this much when a relative
+#: tolerance is scaled by it; a shape's coordinates are keyed to it when shapes are compared.
+COINCIDENT_M = 1e-9
+
+#: Geometry: the cosine (or sine) of the angle between two unit vectors is compared with
+#: ``COSINE_SLACK`` of slack (dimensionless): two directions within it of opposite are opposite,
+#: a face within it of edge-on is edge-on.
+COSINE_SLACK = 1e-9
+
+#: Convex hulls: three vertices are collinear when the cross product of their edges is below
+#: ``COLLINEAR_REL`` times the squared size of the block (dimensionless).
+COLLINEAR_REL = 1e-8
+
+#: Roofs: an edge whose ends differ in height by less than ``LEVEL_REL`` times the mesh's size is
+#: level (dimensionless); a probe stepped off an edge is in front of a face beyond this share of
+#: the step.
+LEVEL_REL = 1e-6
+
+#: PyPRT initial shapes: the corners of a starting face lie at one height when within
+#: ``LEVEL_M`` metres of each other.
+LEVEL_M = 1e-6
+
+#: Trigonometry: a sine or cosine of an exact angle below ``TRIG_ROUNDOFF`` is zero
+#: (``cos(pi/2)`` is 6e-17 in float64), dimensionless.
+TRIG_ROUNDOFF = 1e-15
+
+#: Arithmetic: a non-negative quantity that divides, or whose logarithm is taken, is taken as at
+#: least ``DIVISION_FLOOR`` (in its own unit): far below any real one, it only keeps a degenerate
+#: zero (a shape of no extent) from dividing by zero.
+DIVISION_FLOOR = 1e-300
+
+#: Design page: a value lies on a slider's grid ``low + k * step`` when within ``GRID_SLACK``
+#: of a step of it (dimensionless, a fraction of one step).
+GRID_SLACK = 1e-6
+
+#: Lateral capacity: directions whose figures differ by at most ``TIE_REL`` are tied and the
+#: least azimuth is reported (degrees for a tilt; times ``max(1, |multiplier|)`` for a load
+#: multiplier).
+TIE_REL = 1e-9
+
+#: Pictures: the ground is drawn when the eye is above the horizon by a sine of more than
+#: ``HORIZON_SIN`` (dimensionless).
+HORIZON_SIN = 1e-6
+
+#: Pictures: the ground patch is sized from a footprint of at least ``GROUND_FLOOR_M`` metres.
+GROUND_FLOOR_M = 1e-6
+
+#: Pictures: a projected triangle of area ``PIXEL_AREA_FLOOR`` square pixels or less covers no
+#: sample.
+PIXEL_AREA_FLOOR = 1e-12
+
+#: Pictures: a sample on a triangle's edge is inside it within ``PIXEL_EDGE_SLACK_REL`` times the
+#: size of the edge functions (dimensionless), so an edge two triangles share covers it once.
+PIXEL_EDGE_SLACK_REL = 1e-7
+
+
+# Predicates. Each takes the tolerance by name (one of the constants above, or one scaled to a
+# size), in the unit of the values it compares; the comparisons are inclusive of the tolerance
+# (``is_zero``, ``is_close``, ``at_least``, ``at_most``) or strictly beyond it (``is_positive``,
+# ``is_negative``), so that ``is_positive(x, tol)`` is exactly ``not at_most(x, 0, tol)``.
+
+
+def is_zero(value: float, tol: float) -> bool:
+    """``|value| <= tol``: zero within ``tol`` (``tol`` in the unit of ``value``)."""
+    return abs(value) <= tol
+
+
+def is_close(a: float, b: float, tol: float) -> bool:
+    """``|a - b| <= tol``: equal within ``tol`` (``tol`` in the unit of ``a`` and ``b``)."""
+    return abs(a - b) <= tol
+
+
+def is_positive(value: float, tol: float) -> bool:
+    """``value > tol``: positive beyond ``tol`` (``tol`` in the unit of ``value``)."""
+    return value > tol
+
+
+def is_negative(value: float, tol: float) -> bool:
+    """``value < -tol``: negative beyond ``tol`` (``tol`` in the unit of ``value``)."""
+    return value < -tol
+
+
+def at_least(value: float, bound: float, tol: float) -> bool:
+    """``value >= bound - tol``: not below ``bound`` by more than ``tol``."""
+    return value >= bound - tol
+
+
+def at_most(value: float, bound: float, tol: float) -> bool:
+    """``value <= bound + tol``: not above ``bound`` by more than ``tol``."""
+    return value <= bound + tol
+
+
+def are_zero(values: np.ndarray, tol: float | np.ndarray) -> np.ndarray:
+    """``is_zero`` for every element of ``values`` (a boolean array of the same shape)."""
+    return np.abs(values) <= tol
+
+
+def are_close(a: np.ndarray, b: np.ndarray, tol: float | np.ndarray) -> np.ndarray:
+    """``is_close`` element by element (a boolean array of the broadcast shape)."""
+    return np.abs(np.subtract(a, b)) <= tol
+
+
+def are_positive(values: np.ndarray, tol: float | np.ndarray) -> np.ndarray:
+    """``is_positive`` for every element of ``values`` (a boolean array of the same shape)."""
+    return np.asarray(values) > tol

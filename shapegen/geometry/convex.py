@@ -15,6 +15,7 @@ import numpy as np
 
 from shapegen.geometry.frames import face_rotation
 from shapegen.geometry.mesh import Mesh
+from shapegen.tolerances import ROUNDOFF_REL, at_least
 
 
 def convex_faces(mesh: Mesh, max_length: float | None = None) -> Mesh:
@@ -103,4 +104,4 @@ def _is_convex(flat: np.ndarray) -> bool:
         edge[:, 0] * np.roll(edge, -1, axis=0)[:, 1] - edge[:, 1] * np.roll(edge, -1, axis=0)[:, 0]
     )
     scale = float(np.abs(flat).max()) or 1.0
-    return bool(turn.min() >= -1e-12 * scale * scale)
+    return bool(at_least(turn.min(), 0.0, ROUNDOFF_REL * scale * scale))

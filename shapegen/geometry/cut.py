@@ -26,15 +26,14 @@ import numpy as np
 
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 from shapegen.geometry.prism_cut import prism_decomposition
-from shapegen.tolerances import DEFAULT
+from shapegen.tolerances import COINCIDENT_REL, DEFAULT, ROUNDOFF_REL, SIZE_FLOOR_M, at_least
 
-_REL = 1e-9  # points closer than this times the mesh size to the plane lie on it
-# A face plane splits a piece with corners this many _REL beyond it; a piece with none is
-# convex. That is the blocks' convexity tolerance (convex_rel, relative to the piece here and
-# to the whole model, never smaller, in the block check): one tolerance for the cut and the
-# check, so that no block fails the check on a piece the cut made (at 1e-6, ten times the
+# A face plane splits a piece with corners this many COINCIDENT_REL beyond it; a piece with
+# none is convex. That is the blocks' convexity tolerance (convex_rel, relative to the piece
+# here and to the whole model, never smaller, in the block check): one tolerance for the cut
+# and the check, so that no block fails the check on a piece the cut made (at 1e-6, ten times the
 # check's, nearly straight corners of a footprint made pieces 2e-5 m out of convex).
-_SPLIT_HEIGHT = DEFAULT.convex_rel / _REL
+_SPLIT_HEIGHT = DEFAULT.convex_rel / COINCIDENT_REL
 
 
 def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | None:
@@ -42,7 +41,7 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
     capped if ``mesh`` is closed; None when nothing of positive extent is left."""
     if mesh.n_faces == 0:
         return None
-    eps = _REL * max(mesh.size(), 1e-12)
+    eps = COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M)
     sign = 1.0 if keep_above else -1.0
     vertices = mesh.vertices
     depth = (vertices[:, axis] - value) * sign
@@ -177,7 +176,9 @@ def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
     free = list(starts)
     for c in sorted(range(len(chains)), key=lambda c: position[chains[c][-1]]):
         end = position[chains[c][-1]]
-        choice = next((s for s in free if position[chains[s][0]] >= end - 1e-12), None)
+        choice = next(
+            (s for s in free if at_least(position[chains[s][0]], end, ROUNDOFF_REL)), None
+        )
         if choice is None:
             choice = free[0]
         free.remove(choice)
@@ -230,7 +231,7 @@ def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
     span = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
     corners, start = corner_layout(faces)
     area = 0.5 * np.linalg.norm(area_vectors(vertices, corners, start), axis=1)
-    keep = area > _REL * span * span
+    keep = area > COINCIDENT_REL * span * span
     if not keep.any():
         return None
     counts = (start[1:] - start[:-1])[keep]
@@ -306,7 +307,7 @@ def _general_decomposition(mesh: Mesh, max_pieces: int) -> list[Mesh] | None:
     todo = [mesh]
     while todo:
         piece = todo.pop()
-        slack = _REL * max(piece.size(), 1e-12)
+        slack = COINCIDENT_REL * max(piece.size(), SIZE_FLOOR_M)
         heights = piece.heights_above_faces()
         if heights.max(initial=0.0) <= slack:  # convex: Mesh.is_convex's test
             done.append(piece)
@@ -398,7 +399,7 @@ def _clearly_not_convex(mesh: Mesh) -> bool:
     lies in front of a face's plane by more than the height a cut plane needs."""
     if not mesh.is_closed:
         return False
-    slack = _SPLIT_HEIGHT * _REL * max(mesh.size(), 1e-12)
+    slack = _SPLIT_HEIGHT * COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M)
     return bool(mesh.heights_above_faces(slack).max(initial=0.0) > slack)
 
 

@@ -31,7 +31,7 @@ import numpy as np
 
 from shapegen.geometry.face_heights import height_bands
 from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_layout, face_normals
-from shapegen.tolerances import SIZE_FLOOR_M, ZERO_LENGTH
+from shapegen.tolerances import COINCIDENT_REL, COSINE_SLACK, SIZE_FLOOR_M, ZERO_LENGTH
 
 # The unit box's corners (scope coordinates) and faces in CityEngine's comp(f) order for an
 # extruded rectangle lot: 0 bottom, 1 top, then the sides from the lot's first edge (which runs
@@ -53,7 +53,6 @@ BOX_FACES = CheckedFaces(
 """Faces of :meth:`Mesh.box`, outward, in CityEngine's comp(f) order; each starts on its first
 edge (the bottom edge of a side, left to right seen from outside)."""
 
-_REL = 1e-9  # relative tolerance of the shape queries (times the mesh's size)
 _FEW_CORNERS = 8  # polygons with no more corners are summed in Python floats
 _FEW_FACES = 16  # meshes with no more faces are checked face by face
 
@@ -317,7 +316,7 @@ class Mesh:
         """All vertices lie in one plane within ``tolerance`` (m, plus a round-off margin)."""
         if self.n_vertices <= 3:
             return True
-        slack = tolerance + _REL * max(self.size(), SIZE_FLOOR_M)
+        slack = tolerance + COINCIDENT_REL * max(self.size(), SIZE_FLOOR_M)
         centred = self.vertices - self.vertices.mean(axis=0)
         normal = np.linalg.svd(centred, full_matrices=False)[2][-1]
         return float(np.abs(centred @ normal).max()) <= slack
@@ -325,7 +324,7 @@ class Mesh:
     def is_convex(self, tolerance: float = 0.0) -> bool:
         """For a closed mesh: no vertex lies in front of any face's plane (by more than
         ``tolerance`` m). For an open mesh: each face is a convex polygon."""
-        slack = tolerance + _REL * max(self.size(), SIZE_FLOOR_M)
+        slack = tolerance + COINCIDENT_REL * max(self.size(), SIZE_FLOOR_M)
         if self.is_closed:
             return all(band.max(initial=0.0) <= slack for band in self._height_bands())
         return all(self._face_is_convex(k, slack) for k in range(self.n_faces))
@@ -370,7 +369,7 @@ class Mesh:
         ``tolerance_degrees`` (CityEngine's ``geometry.isRectangular``)."""
         if not self.faces:
             return False
-        limit = np.cos(np.radians(90.0 - tolerance_degrees)) + 1e-9
+        limit = np.cos(np.radians(90.0 - tolerance_degrees)) + COSINE_SLACK
         for k in range(self.n_faces):
             p = self.face_points(k)
             if len(p) != 4:
@@ -430,7 +429,7 @@ class Mesh:
     def cleaned(self, tolerance: float = 0.0) -> Mesh:
         """Vertices closer than ``tolerance`` (m, plus round-off) merged, repeated corners and
         faces with fewer than three corners dropped, unused vertices removed."""
-        slack = tolerance + _REL * max(self.size(), SIZE_FLOOR_M)
+        slack = tolerance + COINCIDENT_REL * max(self.size(), SIZE_FLOOR_M)
         keys = np.round(self.vertices / max(slack, ZERO_LENGTH)).astype(np.int64)
         if not self.faces:
             return Mesh(np.empty((0, 3)), ())

@@ -42,7 +42,11 @@ from shapely.geometry import Polygon as ShapelyPolygon
 from shapegen.errors import GeometryError
 from shapegen.geometry.skeleton import straight_skeleton
 from shapegen.limits import check_clock
-from shapegen.tolerances import DEFAULT, ROUNDOFF_REL
+from shapegen.tolerances import COINCIDENT_REL, DEFAULT, DIVISION_FLOOR, ROUNDOFF_REL
+
+#: The largest inscribed rectangle's SLSQP stops when its objective (the log of the area) moves
+#: by less than this (a solver setting, not a comparison).
+RECTANGLE_FTOL = 1e-12
 
 
 @dataclass(frozen=True)
@@ -88,7 +92,7 @@ def checked_polygon(polygon) -> np.ndarray:
 def counter_clockwise(polygon) -> np.ndarray:
     """The polygon with repeated vertices dropped, turned counter-clockwise if it was not."""
     p = np.asarray(polygon, dtype=float).reshape(-1, 2)
-    eps = DEFAULT.merge_rel * max(float(np.ptp(p, axis=0).max()), 1e-300)
+    eps = DEFAULT.merge_rel * max(float(np.ptp(p, axis=0).max()), DIVISION_FLOOR)
     keep = [q for k, q in enumerate(p) if np.linalg.norm(q - p[k - 1]) > eps]
     p = np.array(keep).reshape(-1, 2)
     return p if signed_area(p) >= 0 else p[::-1].copy()
@@ -113,7 +117,7 @@ def edges_moved_out(polygon: np.ndarray, distances: np.ndarray) -> np.ndarray:
         ca = na @ polygon[k] + distances[a]
         cb = nb @ polygon[k] + distances[b]
         det = na[0] * nb[1] - na[1] * nb[0]
-        if abs(det) < 1e-12:
+        if abs(det) < ROUNDOFF_REL:
             out.append(polygon[k] + na * distances[a])
         else:
             out.append(np.array([ca * nb[1] - cb * na[1], na[0] * cb - nb[0] * ca]) / det)
@@ -292,20 +296,22 @@ def _convex_optimum(polygon: np.ndarray, corners: np.ndarray) -> tuple[float, np
     start = np.array([*corners[0], *(corners[2] - corners[0])])
     scale = float(np.ptp(polygon, axis=0).max())
     result = minimize(
-        lambda v: -(math.log(max(v[2], 1e-300)) + math.log(max(v[3], 1e-300))),
+        lambda v: -(math.log(max(v[2], DIVISION_FLOOR)) + math.log(max(v[3], DIVISION_FLOOR))),
         start,
-        jac=lambda v: np.array([0.0, 0.0, -1.0 / max(v[2], 1e-300), -1.0 / max(v[3], 1e-300)]),
+        jac=lambda v: np.array(
+            [0.0, 0.0, -1.0 / max(v[2], DIVISION_FLOOR), -1.0 / max(v[3], DIVISION_FLOOR)]
+        ),
         constraints=[
             {"type": "ineq", "fun": lambda v: (a @ v - b) / scale, "jac": lambda v: a / scale}
         ],
         method="SLSQP",
-        options={"ftol": 1e-12, "maxiter": 200},
+        options={"ftol": RECTANGLE_FTOL, "maxiter": 200},
     )
     x0, y0, w, h = result.x
     area = w * h
     if (
         not result.success
-        or np.any(a @ result.x - b < -1e-9 * scale**2)
+        or np.any(a @ result.x - b < -COINCIDENT_REL * scale**2)
         or area <= (np.prod(corners[2] - corners[0]))
     ):
         return float(np.prod(corners[2] - corners[0])), corners
@@ -331,7 +337,7 @@ def _grid_rectangle(polygon: np.ndarray, xs: np.ndarray, ys: np.ndarray):
     lo, hi = polygon.min(axis=0), polygon.max(axis=0)
     xs = np.unique(np.clip(np.concatenate([_corner_lines(polygon[:, 0]), xs]), lo[0], hi[0]))
     ys = np.unique(np.clip(np.concatenate([_corner_lines(polygon[:, 1]), ys]), lo[1], hi[1]))
-    shrink = 1e-9 * float(np.ptp(polygon, axis=0).max())
+    shrink = COINCIDENT_REL * float(np.ptp(polygon, axis=0).max())
     x0, y0 = np.meshgrid(xs[:-1], ys[:-1])
     x1, y1 = np.meshgrid(xs[1:], ys[1:])
     cells = shapely.box(x0 + shrink, y0 + shrink, x1 - shrink, y1 - shrink)

@@ -27,15 +27,15 @@ import numpy as np
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.rings import corners_apart, is_simple, turns_left, winds_once
 from shapegen.model.polygons import CheckedFaces
-from shapegen.tolerances import DEFAULT
+from shapegen.tolerances import COINCIDENT_REL, DEFAULT, ROUNDOFF_REL, SIZE_FLOOR_M, at_least
 
-_REL = 1e-9  # as in cut.py: points closer than this times the piece's size lie on a plane
-# as in cut.py: an edge's line splits a piece with corners this many _REL beyond it; a piece
-# with none is convex within the blocks' convexity tolerance, the check's
-_SPLIT_HEIGHT = DEFAULT.convex_rel / _REL
+# as in cut.py: an edge's line splits a piece with corners this many COINCIDENT_REL beyond it;
+# a piece with none is convex within the blocks' convexity tolerance, the check's
+_SPLIT_HEIGHT = DEFAULT.convex_rel / COINCIDENT_REL
 _THIN = 10.0  # a face with area within this many times cut.py's drop limit is left to it
 _FAR = 4e-3  # a piece smaller than this times the prism is left to the general path
-_NEAR = 4.0  # corners this many _REL of the size apart or closer are left to the general path
+# corners this many COINCIDENT_REL of the size apart or closer are left to the general path
+_NEAR = 4.0
 
 
 class _Doubt(Exception):
@@ -83,7 +83,7 @@ def _footprint(mesh: Mesh) -> _Footprint | None:
     offset = v[n:] - v[:n]
     d = offset[0]
     size = math.dist(v.max(axis=0).tolist(), v.min(axis=0).tolist())
-    eps = _REL * max(size, 1e-12)
+    eps = COINCIDENT_REL * max(size, SIZE_FLOOR_M)
     if float(np.abs(offset - d).max()) > eps:
         return None  # the caps are not translates
     height = math.hypot(*d.tolist())
@@ -151,7 +151,7 @@ class _Footprint:
             size = self._size(piece) if self.cuts else self.size
             if size < _FAR * self.size:
                 raise _Doubt
-            line = self._splitting_line(piece, _REL * max(size, 1e-12))
+            line = self._splitting_line(piece, COINCIDENT_REL * max(size, SIZE_FLOOR_M))
             if line is None:
                 if len(piece) != 1:
                     raise _Doubt  # a convex piece is one ring
@@ -159,7 +159,9 @@ class _Footprint:
                 if len(done) > max_pieces:
                     raise _Doubt
                 continue
-            if self.cuts == 0 and not is_simple(self.xs, self.ys, _SPLIT_HEIGHT * _REL * self.size):
+            if self.cuts == 0 and not is_simple(
+                self.xs, self.ys, _SPLIT_HEIGHT * COINCIDENT_REL * self.size
+            ):
                 raise _Doubt
             todo.extend(self._halves(piece, size, *line))
             if len(done) + len(todo) > max_pieces:
@@ -167,14 +169,14 @@ class _Footprint:
         if len(done) == 1:
             return self._whole(mesh)
         total = sum(self._ring_area(ring) for (ring, _), _ in done)
-        if abs(total - area) > _THIN * _REL * area:
+        if abs(total - area) > _THIN * COINCIDENT_REL * area:
             raise _Doubt
         return [self._mesh(ring, tags, size) for (ring, tags), size in done]
 
     def _whole(self, mesh: Mesh) -> list[Mesh]:
         """A convex prism: its own one piece, when it is clean (else left to the general path,
         which cleans it)."""
-        if not corners_apart(self.xs, self.ys, _NEAR * _REL * self.size):
+        if not corners_apart(self.xs, self.ys, _NEAR * COINCIDENT_REL * self.size):
             raise _Doubt
         return [mesh]
 
@@ -263,14 +265,14 @@ class _Footprint:
         depth = {i: xs[i] * nx + ys[i] * ny - offset for i in ids}
         # cut.py's round-off is that of the piece turned to the cut: unless a corner lies in
         # the band where the turn decides, the piece's own size gives the same clip
-        eps = _REL * max(size, 1e-12)
+        eps = COINCIDENT_REL * max(size, SIZE_FLOOR_M)
         if any(eps / 2 < abs(h) <= eps * 2 for h in depth.values()):
-            eps = _REL * max(self._turned_size(piece, nx, ny), 1e-12)
+            eps = COINCIDENT_REL * max(self._turned_size(piece, nx, ny), SIZE_FLOOR_M)
         crossing: dict = {}
         halves = []
-        # cut.py drops a face of area below _REL span^2, span the piece's largest extent in
-        # the turned frame, which is at most its diameter, at most ``size``
-        floor = _THIN * _REL * size * size
+        # cut.py drops a face of area below COINCIDENT_REL span^2, span the piece's largest extent
+        # in the turned frame, which is at most its diameter, at most ``size``
+        floor = _THIN * COINCIDENT_REL * size * size
         for sign in (-1.0, 1.0):
             half = []
             along = (sign * ny, -sign * nx)  # the kept part's boundary runs this way on the line
@@ -416,7 +418,9 @@ class _Footprint:
         free = list(starts)
         for c in sorted(range(len(chains)), key=lambda c: position[chains[c][0][-1]]):
             end = position[chains[c][0][-1]]
-            choice = next((s for s in free if position[chains[s][0][0]] >= end - 1e-12), None)
+            choice = next(
+                (s for s in free if at_least(position[chains[s][0][0]], end, ROUNDOFF_REL)), None
+            )
             if choice is None:
                 choice = free[0]
             free.remove(choice)
@@ -452,7 +456,7 @@ class _Footprint:
             tags = tags[start:] + tags[:start]
         px = [self.xs[i] for i in ring]
         py = [self.ys[i] for i in ring]
-        if not corners_apart(px, py, _NEAR * _REL * size):
+        if not corners_apart(px, py, _NEAR * COINCIDENT_REL * size):
             raise _Doubt
         if self.order is not None:
             low, high = self.low * self.e_sign, self.high * self.e_sign

@@ -25,6 +25,7 @@ import numpy as np
 
 from shapegen.geometry.frames import quadrant
 from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.tolerances import ROUNDOFF_REL, SIZE_FLOOR_M
 
 _SCOPE_QUADRANTS = ("front", "back", "left", "right", "top", "bottom")
 _WORLD = {
@@ -279,9 +280,9 @@ def _face_planar(points: np.ndarray, tolerance_deg: float) -> bool:
     preceding = np.roll(points, 1, axis=0) - points
     local = np.cross(following, preceding)
     lengths = np.linalg.norm(local, axis=1)
-    keep = lengths > 1e-12 * max(float(np.ptp(points, axis=0).max()), 1e-12) ** 2
+    keep = lengths > ROUNDOFF_REL * max(float(np.ptp(points, axis=0).max()), SIZE_FLOOR_M) ** 2
     cosines = np.abs(local[keep] @ normal) / lengths[keep]
-    return bool(np.all(cosines >= math.cos(math.radians(tolerance_deg)) - 1e-12))
+    return bool(np.all(cosines >= math.cos(math.radians(tolerance_deg)) - ROUNDOFF_REL))
 
 
 def _angle(mesh: Mesh, rotation: np.ndarray, kind: str) -> float:
@@ -299,7 +300,7 @@ def _angle(mesh: Mesh, rotation: np.ndarray, kind: str) -> float:
         return 90.0 - slope
     # azimuth of the direction the steepest face looks (its normal's horizontal part)
     east, south = float(world[k, 0]), float(world[k, 2])
-    if abs(east) < 1e-12 and abs(south) < 1e-12:
+    if abs(east) < ROUNDOFF_REL and abs(south) < ROUNDOFF_REL:
         return 0.0
     return math.degrees(math.atan2(east, -south)) % 360.0
 

@@ -20,10 +20,10 @@ __all__ = ["ROOF_EDGE_CLASSES", "roof_edge_classes"]
 import numpy as np
 
 from shapegen.geometry.mesh import unit_face_normals
+from shapegen.tolerances import COINCIDENT_M, LEVEL_REL
 
 ROOF_EDGE_CLASSES = ("eave", "hip", "valley", "ridge")
 _DOWN = -0.99  # cosine with world up of a face turned down (a bottom)
-_FLAT = 1e-6  # relative: an edge whose ends differ less than this in height is horizontal
 
 
 def roof_edge_classes(
@@ -36,7 +36,7 @@ def roof_edge_classes(
     normals = unit_face_normals(vertices, faces)
     bottom = [float(n[1]) < _DOWN for n in normals]
     size = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
-    tolerance = _FLAT * max(size, 1e-9)
+    tolerance = LEVEL_REL * max(size, COINCIDENT_M)
     lowest = float(vertices[:, 1].min()) if len(vertices) else 0.0
     incident: dict[tuple[int, int], list[int]] = {}
     for f, face in enumerate(faces):
@@ -96,4 +96,4 @@ def _concave(vertices, edge, face, normal, other, other_normal) -> bool:
         return False
     step = 1e-3 * float(np.linalg.norm(end - start))
     probe = 0.5 * (start + end) + inward / length * step
-    return float((probe - vertices[face[0]]) @ normal) > 1e-6 * step
+    return float((probe - vertices[face[0]]) @ normal) > LEVEL_REL * step

@@ -40,7 +40,7 @@ import numpy as np
 from shapegen.errors import GeometryError
 from shapegen.geometry.polygon2d import checked_polygon, edge_normals, edges_moved_out, signed_area
 from shapegen.geometry.skeleton import straight_skeleton
-from shapegen.tolerances import DEFAULT
+from shapegen.tolerances import DEFAULT, DIVISION_FLOOR, ROUNDOFF_REL
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ class _Welder:
     _NEAR = [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]
 
     def __init__(self, size: float):
-        self.eps = DEFAULT.merge_rel * max(size, 1e-300) * 10
+        self.eps = DEFAULT.merge_rel * max(size, DIVISION_FLOOR) * 10
         self.points: list[np.ndarray] = []
         self.faces: list[tuple[int, ...]] = []
         self.tags: list[str] = []
@@ -203,7 +203,7 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
     u = d / lengths[:, None]
     if index is not None:
         k = int(index) % n
-        return np.abs(u @ u[k]) >= math.cos(math.radians(45)) - 1e-12
+        return np.abs(u @ u[k]) >= math.cos(math.radians(45)) - ROUNDOFF_REL
     skeleton = straight_skeleton(p)
     triangles = [k for k in range(n) if len(skeleton.face_points(k)) == 3]
     chosen = np.zeros(n, dtype=bool)
@@ -252,7 +252,7 @@ def _simple(p: np.ndarray) -> bool:
 def _convex(p: np.ndarray) -> bool:
     d = np.roll(p, -1, axis=0) - p
     cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
-    return bool(np.all(cross >= -1e-12 * float(np.abs(cross).max())))
+    return bool(np.all(cross >= -ROUNDOFF_REL * float(np.abs(cross).max())))
 
 
 def roof_shed(

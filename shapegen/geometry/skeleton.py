@@ -25,9 +25,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.limits import current_limits, limit_hint
-from shapegen.tolerances import DEFAULT
-
-_PARALLEL = 1e-12  # |sin| between two edge directions below which they are parallel
+from shapegen.tolerances import COSINE_SLACK, DEFAULT, DIVISION_FLOOR, ROUNDOFF_REL
 
 
 @dataclass(frozen=True)
@@ -76,7 +74,7 @@ class Skeleton:
     @property
     def _eps(self) -> float:
         span = float(np.ptp(self.nodes, axis=0).max()) if len(self.nodes) else 1.0
-        return DEFAULT.merge_rel * max(span, 1e-300) * 10
+        return DEFAULT.merge_rel * max(span, DIVISION_FLOOR) * 10
 
 
 def _area(points: np.ndarray) -> float:
@@ -141,7 +139,7 @@ class _Builder:
         a, b = vertex.e_in, vertex.e_out
         na, nb = self.normal[a], self.normal[b]
         det = na[0] * nb[1] - na[1] * nb[0]
-        if abs(det) > _PARALLEL:
+        if abs(det) > ROUNDOFF_REL:
             wa, wb = self.weights[a], self.weights[b]
             return np.array([wa * nb[1] - wb * na[1], na[0] * wb - nb[0] * wa]) / det
         if na @ nb > 0:  # collinear continuation: the vertex rides with its edges
@@ -150,11 +148,11 @@ class _Builder:
 
     def growing(self, a: _Vertex, b: _Vertex) -> bool:
         """Whether the edge from ``a`` to ``b`` lengthens (a step just born between them)."""
-        return (self.velocity(b) - self.velocity(a)) @ self.u[a.e_out] > _PARALLEL
+        return (self.velocity(b) - self.velocity(a)) @ self.u[a.e_out] > ROUNDOFF_REL
 
     def reflex(self, vertex: _Vertex) -> bool:
         ua, ub = self.u[vertex.e_in], self.u[vertex.e_out]
-        return ua[0] * ub[1] - ua[1] * ub[0] < -_PARALLEL
+        return ua[0] * ub[1] - ua[1] * ub[0] < -ROUNDOFF_REL
 
     # -- the loop of one wavefront component ---------------------------------------------------
 
@@ -172,7 +170,7 @@ class _Builder:
             if changed or len(loop) < 3:
                 continue
             for i, vertex in enumerate(loop):
-                if self.normal[vertex.e_in] @ self.normal[vertex.e_out] < -1 + 1e-9:
+                if self.normal[vertex.e_in] @ self.normal[vertex.e_out] < -1 + COSINE_SLACK:
                     loop = self.retract(loop, i, t)
                     changed = True
                     break
@@ -219,7 +217,7 @@ class _Builder:
         u = self.u[e_out]
         rate = np.einsum("ij,ij->i", velocity[after] - velocity, u)
         length = np.maximum(np.einsum("ij,ij->i", pos[after] - pos, u), 0.0)
-        shrinking = rate < -_PARALLEL
+        shrinking = rate < -ROUNDOFF_REL
         best = None
         if np.any(shrinking):
             times = np.full(m, np.inf)
@@ -227,7 +225,7 @@ class _Builder:
             i = int(np.argmin(times))
             best = (float(times[i]), "edge", i, i)
         ua, ub = self.u[e_in], u
-        reflex = np.flatnonzero(ua[:, 0] * ub[:, 1] - ua[:, 1] * ub[:, 0] < -_PARALLEL)
+        reflex = np.flatnonzero(ua[:, 0] * ub[:, 1] - ua[:, 1] * ub[:, 0] < -ROUNDOFF_REL)
         if len(reflex) == 0:
             return best
         # Every reflex vertex (rows) against every edge (columns), the edge from j to j + 1.
@@ -242,7 +240,7 @@ class _Builder:
             & (e_out[None, :] != e_in[rows])
             & (e_out[None, :] != e_out[rows])
             & (gap >= -self.eps)
-            & (approach > _PARALLEL)
+            & (approach > ROUNDOFF_REL)
         )
         if not np.any(valid):
             return best
@@ -397,7 +395,7 @@ def straight_skeleton(polygon, weights=None, until: float | None = None) -> Skel
     for k in range(n):
         a = (k - 1) % n
         ua, ub = builder.u[a], builder.u[k]
-        collinear = abs(ua[0] * ub[1] - ua[1] * ub[0]) <= _PARALLEL and ua @ ub > 0
+        collinear = abs(ua[0] * ub[1] - ua[1] * ub[0]) <= ROUNDOFF_REL and ua @ ub > 0
         if collinear and weights[a] != weights[k]:
             # The faster edge runs ahead: a step grows between them along the inward normal.
             inward = builder.normal[k] * np.sign(weights[k] - weights[a])

@@ -23,6 +23,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
+from shapegen.tolerances import COINCIDENT_REL, DIVISION_FLOOR
 
 HULL_TRIANGLES = 256
 """A hull of more triangles than this is thinned by :func:`hull_corners`."""
@@ -32,7 +33,6 @@ HULL_FACE_SHARE = 0.01
 """A face over this share of a hull's area keeps corners spread around it when it is thinned."""
 _FACE_CORNERS = 32  # corners kept around each large face: an inscribed 32-gon of a disc has
 # 99.4 % of its area
-_PLANE_QUANTUM = 1e-9  # hull planes equal to this (normals, offsets over the size) are one face
 
 
 def capped(mesh: Mesh) -> Mesh | None:
@@ -104,8 +104,8 @@ def hull_corners(points, max_triangles: int = HULL_TRIANGLES, budget: int = HULL
     if len(hull.simplices) <= max_triangles:
         return points[corners]
     # the triangles of one face share its plane: group them by their rounded plane
-    scale = max(float(np.ptp(local, axis=0).max()), 1e-300)
-    planes = np.round(hull.equations / np.array([1.0, 1.0, 1.0, scale]) / _PLANE_QUANTUM)
+    scale = max(float(np.ptp(local, axis=0).max()), DIVISION_FLOOR)
+    planes = np.round(hull.equations / np.array([1.0, 1.0, 1.0, scale]) / COINCIDENT_REL)
     _, face = np.unique(planes, axis=0, return_inverse=True)
     face = face.ravel()
     triangles = local[hull.simplices]

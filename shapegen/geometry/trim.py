@@ -33,10 +33,10 @@ import numpy as np
 from shapegen.geometry.cut import clip_plane
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout, unit_face_normals
 from shapegen.model.polygons import CheckedFaces, cross
+from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL
 
 HORIZONTAL_LIMIT_DEGREES = 40.0
 _SIN_LIMIT = math.sin(math.radians(HORIZONTAL_LIMIT_DEGREES))
-_TINY = 1e-9
 
 
 @dataclass(frozen=True)
@@ -82,14 +82,14 @@ def face_trim_planes(vertices: np.ndarray, faces, up: np.ndarray) -> list[tuple[
     shared = other != owner
     edge = vertices[b] - vertices[a]
     length = np.linalg.norm(edge, axis=1)
-    shared &= length > _TINY
+    shared &= length > COINCIDENT_M
     k = np.flatnonzero(shared)
     edge = edge[k] / length[k, None]
     own = normals[owner[k]]
     inward = cross(own, edge)  # in the face's plane, into the face (it runs counter-clockwise)
     normal = own - normals[other[k]]
-    flat = (np.linalg.norm(normal, axis=1) <= _TINY) | (
-        np.abs(np.einsum("ij,ij->i", normal, inward)) <= _TINY
+    flat = (np.linalg.norm(normal, axis=1) <= COINCIDENT_M) | (
+        np.abs(np.einsum("ij,ij->i", normal, inward)) <= COINCIDENT_M
     )
     normal[flat] = inward[flat]  # coplanar neighbours (or folded flat): the plane across the edge
     normal /= np.linalg.norm(normal, axis=1)[:, None]
@@ -175,12 +175,12 @@ def _face_trim_planes_by_face(vertices, faces, normals, ups) -> list[tuple[TrimP
 def _bisector(start, end, own: np.ndarray, other: np.ndarray, up) -> TrimPlane | None:
     edge = end - start
     length = float(np.linalg.norm(edge))
-    if length <= _TINY:
+    if length <= COINCIDENT_M:
         return None
     edge = edge / length
     inward = np.cross(own, edge)  # in the face's plane, into the face (it runs counter-clockwise)
     normal = own - other
-    if np.linalg.norm(normal) <= _TINY or abs(float(normal @ inward)) <= _TINY:
+    if np.linalg.norm(normal) <= COINCIDENT_M or abs(float(normal @ inward)) <= COINCIDENT_M:
         normal = inward  # coplanar neighbours (or folded flat): the plane across the edge
     normal = normal / np.linalg.norm(normal)
     if normal @ inward < 0:
@@ -228,7 +228,7 @@ def _entry_bytes(key, cut) -> int:
 def _trimmed(mesh: Mesh, local) -> Mesh | None:
     for local_normal, local_offset in local:
         heights = mesh.vertices @ local_normal - local_offset
-        if heights.min() >= -_TINY * max(mesh.size(), 1.0):
+        if heights.min() >= -COINCIDENT_REL * max(mesh.size(), 1.0):
             continue
         piece = clip_plane(mesh, local_normal, local_offset, keep_above=True)
         if piece is None:

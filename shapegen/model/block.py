@@ -15,7 +15,13 @@ from shapegen.errors import GeometryError
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.appearance import Appearance
 from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_normals
-from shapegen.tolerances import COORDINATE_ROUNDOFF_REL, COPLANAR_REL, DEFAULT, Tolerances
+from shapegen.tolerances import (
+    COORDINATE_ROUNDOFF_REL,
+    COPLANAR_REL,
+    DEFAULT,
+    DIVISION_FLOOR,
+    Tolerances,
+)
 
 DEFAULT_DENSITY = 2400.0  # kg/m^3, stone masonry
 #: The densest block taken, kg/m^3: 40 times osmium's. It keeps a model's weight and its square
@@ -308,7 +314,7 @@ def _hull_polygons(points: np.ndarray, hull) -> tuple[np.ndarray, tuple]:
     """
     used = np.unique(hull.simplices)
     vertices = points[used]
-    scale = max(float(np.ptp(vertices, axis=0).max()), 1e-300)
+    scale = max(float(np.ptp(vertices, axis=0).max()), DIVISION_FLOOR)
     normals, offsets = hull.equations[:, :3], hull.equations[:, 3]  # n.x + e = 0, n outward
     on_plane = np.abs(vertices @ normals.T + offsets).T <= COPLANAR_REL * scale  # (facets, v.)
     _, first, group = np.unique(on_plane, axis=0, return_index=True, return_inverse=True)

@@ -30,13 +30,12 @@ import numpy as np
 
 from shapegen.model.block import Block
 from shapegen.model.polygons import CheckedFaces
-from shapegen.tolerances import COPLANAR_REL
+from shapegen.tolerances import COLLINEAR_REL, COPLANAR_REL
 
 MAX_BATCHED_VERTICES = 12
 """Blocks of at most this many points go through the batched hull (C(12, 3) = 220 candidate
 planes a block); larger point sets go to qhull one by one."""
 
-_NONCOLLINEAR_REL = 1e-8
 """A triple of points spans a plane when twice its triangle's area exceeds this times the
 block's size squared (dimensionless); flatter triples are not used as face planes."""
 
@@ -194,7 +193,7 @@ def _searched_hulls(local: np.ndarray) -> list[tuple | None]:
     first = local[:, triples[:, 0]]
     normal = np.cross(local[:, triples[:, 1]] - first, local[:, triples[:, 2]] - first)
     length = np.linalg.norm(normal, axis=2)
-    spans = length > _NONCOLLINEAR_REL * scale[:, None] ** 2
+    spans = length > COLLINEAR_REL * scale[:, None] ** 2
     normal /= np.where(spans, length, 1.0)[..., None]
     height = (
         np.einsum("bmd,bkd->bmk", normal, local)
