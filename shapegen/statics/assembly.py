@@ -40,6 +40,7 @@ from shapegen.model.friction import checked_friction
 from shapegen.statics.interface import GROUND, Interface
 from shapegen.statics.loading import Loading, block_loading, load_vector, tilted, wrench
 from shapegen.statics.options import DEFAULT_PYRAMID, PYRAMIDS, checked_kern, checked_pyramid
+from shapegen.tolerances import TRIG_ROUNDOFF
 
 OBJECTIVES = ("tension_squared", "tension_sum")
 
@@ -76,7 +77,7 @@ def friction_cone(pyramid: str, mu: float) -> np.ndarray:
     rows[:sides, 1] = np.cos(angles)
     rows[:sides, 2] = np.sin(angles)
     rows[sides] = (-1.0, 0.0, 0.0)
-    rows[np.abs(rows) < 1e-15] = 0.0
+    rows[np.abs(rows) < TRIG_ROUNDOFF] = 0.0
     return rows
 
 

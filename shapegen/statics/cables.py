@@ -43,6 +43,9 @@ from shapegen.errors import GeometryError, StaticsError
 from shapegen.model.model import STANDARD_GRAVITY
 from shapegen.tolerances import ROUNDOFF_REL
 
+# Solver setting: brentq's absolute tolerance on a cable's half angle (radians).
+_HALF_ANGLE_XTOL = 1e-15
+
 GOLDEN_FACTOR = 5300.0
 """Deck mass carried by the cables per metre of bridge and per lane (kg/m per lane)."""
 
@@ -96,9 +99,9 @@ def catenary_parameter(span: float, sag: float) -> float:
 
     half_angle = brentq(
         lambda u: math.sinh(u / 2.0) ** 2 / u - ratio,
-        1e-12 * ratio,
+        ROUNDOFF_REL * ratio,
         4.0 * ratio + 1.0,
-        xtol=1e-15,
+        xtol=_HALF_ANGLE_XTOL,
         rtol=4.0 * np.finfo(float).eps,
     )
     return span / (2.0 * half_angle)

@@ -37,7 +37,7 @@ from shapegen.statics.options import StaticsOptions
 from shapegen.statics.standins import statics_model
 from shapegen.statics.tilt import normalized_azimuth
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
-from shapegen.tolerances import TILT_RESOLUTION_DEG
+from shapegen.tolerances import TIE_REL, TILT_RESOLUTION_DEG, at_most
 
 # Tilts are judged below this: a multiplier of tan(89.95 deg) = 1146 is as far as a tilt goes.
 _HIGHEST_TILT = 90.0 - TILT_RESOLUTION_DEG
@@ -167,7 +167,11 @@ def lateral_capacity(
     candidates = [c for c in computed if c.azimuth in checked_azimuths]
     least = min(c.tilt if c.tilt is not None else math.inf for c in candidates)
     worst = min(
-        (c for c in candidates if (c.tilt if c.tilt is not None else math.inf) <= least + 1e-9),
+        (
+            c
+            for c in candidates
+            if at_most(c.tilt if c.tilt is not None else math.inf, least, TIE_REL)
+        ),
         key=lambda c: c.azimuth,
     )
     return Capacity(computed, worst, swept, True, time.perf_counter() - started, options)

@@ -33,7 +33,7 @@ from shapegen.model.model import Model
 from shapegen.model.packed import PackedBlocks, pack_blocks
 from shapegen.statics.broad_phase import candidate_pairs
 from shapegen.statics.interface import GROUND, Interface, tangent_frame
-from shapegen.tolerances import Tolerances
+from shapegen.tolerances import DIVISION_FLOOR, ROUNDOFF_REL, Tolerances
 
 _RADIUS_CLASSES = 12  # faces smaller than 2**-12 of the largest share the last class
 _HEMISPHERE = np.array([0.5773, 0.5771, 0.5780])  # generic: no common face is normal to it
@@ -73,9 +73,11 @@ def facing_face_pairs(pack: PackedBlocks, tol: Tolerances) -> tuple[np.ndarray, 
         pack.vertices[pack.corners] - np.repeat(center, corner_count, axis=0), axis=1
     )
     radius = np.maximum.reduceat(spread, pack.corner_start[:-1])
-    delta = np.sqrt(2.0 * max(1.0 - tol.normal_cos, 0.0)) + 1e-12
+    delta = np.sqrt(2.0 * max(1.0 - tol.normal_cos, 0.0)) + ROUNDOFF_REL
     middle = 0.5 * (center.min(axis=0) + center.max(axis=0))
-    width = tol.planar + delta * float(np.linalg.norm(center - middle, axis=1).max()) + 1e-300
+    width = (
+        tol.planar + delta * float(np.linalg.norm(center - middle, axis=1).max()) + DIVISION_FLOOR
+    )
     offset = np.einsum("ij,ij->i", normal, center - middle) / width
     largest = float(radius.max())
     size_class = np.floor(np.log2(largest / np.maximum(radius, largest * 2.0**-_RADIUS_CLASSES)))

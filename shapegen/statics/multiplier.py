@@ -45,6 +45,7 @@ import scipy.sparse as sp
 from shapegen.errors import OptionError, StaticsError
 from shapegen.statics.assembly import REGULARIZATION, StaticsProblem, load_vector
 from shapegen.statics.tilt import lateral_map, load_direction_problem, normalized_azimuth
+from shapegen.tolerances import TIE_REL
 
 SWEEP_DIRECTIONS = 16
 """Directions of the sweep for the worst one: every 22.5 degrees. The least multiplier lies at
@@ -311,5 +312,5 @@ def worst_direction(
 def _least(candidates: list[DirectionCapacity]) -> DirectionCapacity:
     """The direction of least multiplier; near-ties go to the least azimuth."""
     least = min(c.rank for c in candidates)
-    slack = 1e-9 * max(1.0, abs(least)) if math.isfinite(least) else 0.0
+    slack = TIE_REL * max(1.0, abs(least)) if math.isfinite(least) else 0.0
     return min((c for c in candidates if c.rank <= least + slack), key=lambda c: c.azimuth)

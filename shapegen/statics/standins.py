@@ -59,7 +59,7 @@ from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.solids import capped, hull_corners
 from shapegen.model.block import DEFAULT_DENSITY, Block
 from shapegen.model.model import Model
-from shapegen.tolerances import MIN_LEAF_SIZE
+from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, MIN_LEAF_SIZE
 
 CUT = "not convex, cut into convex parts"
 CAPPED = "open shell, capped"
@@ -242,7 +242,7 @@ def _stand_in(surface) -> tuple[str, list, float] | None:
             return CUT, pieces, 1.0
     anchor = vertices.min(axis=0)
     local = vertices - anchor
-    key = (surface.reason, np.round(local / _KEY_QUANTUM).astype(np.int64).tobytes(),
+    key = (surface.reason, np.round(local / COINCIDENT_M).astype(np.int64).tobytes(),
            tuple(surface.faces))  # fmt: skip
     found = _SHAPES.get(key, _MISSING)
     if found is _MISSING:
@@ -286,7 +286,9 @@ def _still_placed(vertices: np.ndarray, solid) -> bool:
         return False
     placed = local @ np.asarray(solid.rotation).T + solid.origin
     return bool(
-        np.allclose(placed, vertices, rtol=0.0, atol=_PLACED_M * (1.0 + np.abs(vertices).max()))
+        np.allclose(
+            placed, vertices, rtol=0.0, atol=COINCIDENT_REL * (1.0 + np.abs(vertices).max())
+        )
     )
 
 
@@ -317,8 +319,6 @@ def _local_stand_in(mesh: Mesh, reason: str) -> tuple[str, list, float] | None:
     return whole, [(hull.vertices, hull.faces)], volume / hull.volume
 
 
-_PLACED_M = 1e-9  # relative: a solid's vertices this close to its placed scope mesh are it
-_KEY_QUANTUM = 1e-9  # m: shapes equal to this after a translation share their stand-in
 _MAX_PIECES = 64  # convex parts of one stand-in, as the derivation's own decompositions
 # a solid of more faces is not cut (a fluted shaft, a curved capital: the cuts would fail after
 # many pieces, or give slivers) but stands on its hull

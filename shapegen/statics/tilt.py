@@ -33,6 +33,8 @@ import math
 
 import numpy as np
 
+from shapegen.tolerances import ROUNDOFF_REL, is_positive
+
 UP = np.array([0.0, 1.0, 0.0])
 
 
@@ -78,12 +80,12 @@ def load_direction_problem(model) -> str | None:
     the vertical loads (module docstring), which the lateral capacity computes."""
     gravity = np.asarray(model.gravity, float)
     g = float(np.linalg.norm(gravity))
-    if g > 0 and float(np.hypot(gravity[0], gravity[2])) > 1e-12 * g:
+    if g > 0 and is_positive(float(np.hypot(gravity[0], gravity[2])), ROUNDOFF_REL * g):
         shown = ", ".join(f"{v:g}" for v in gravity)
         return f"the model's gravity ({shown}) is not along -y"
     for load in model.loads:
         force = np.asarray(load.force, float)
         size = float(np.linalg.norm(force))
-        if size > 0 and float(np.hypot(force[0], force[2])) > 1e-12 * size:
+        if size > 0 and is_positive(float(np.hypot(force[0], force[2])), ROUNDOFF_REL * size):
             return f"the point load on block {load.block!r} is not vertical"
     return None

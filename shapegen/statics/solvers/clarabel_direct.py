@@ -11,6 +11,10 @@ import scipy.sparse as sp
 
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
 
+# Solver settings: clarabel's gap and feasibility tolerances, and its KKT ratio.
+TOLERANCE = 1e-10
+KKT_RATIO = 1e-8
+
 _STATUS = {
     "Solved": SolveStatus.OPTIMAL,
     "AlmostSolved": SolveStatus.OPTIMAL_INACCURATE,
@@ -38,7 +42,7 @@ class ClarabelBackend(Backend):
     library = "clarabel"
     second_order_cones = True
 
-    def __init__(self, tolerance: float = 1e-10, max_iter: int = 200):
+    def __init__(self, tolerance: float = TOLERANCE, max_iter: int = 200):
         self.tolerance = tolerance
         self.max_iter = max_iter
 
@@ -64,7 +68,7 @@ class ClarabelBackend(Backend):
         settings.tol_gap_abs = self.tolerance
         settings.tol_gap_rel = self.tolerance
         settings.tol_feas = self.tolerance
-        settings.tol_ktratio = 1e-8
+        settings.tol_ktratio = KKT_RATIO
         solver = clarabel.DefaultSolver(
             objective, problem.linear, constraints, rhs, cones, settings
         )

@@ -10,6 +10,9 @@ import numpy as np
 
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
 
+# Solver setting: the tolerance asked of cvxpy's back-end.
+TOLERANCE = 1e-10
+
 _STATUS = {
     "optimal": SolveStatus.OPTIMAL,
     "optimal_inaccurate": SolveStatus.OPTIMAL_INACCURATE,
@@ -33,7 +36,7 @@ class CvxpyBackend(Backend):
     library = "cvxpy"
     second_order_cones = True
 
-    def __init__(self, solver: str | None = None, tolerance: float = 1e-10):
+    def __init__(self, solver: str | None = None, tolerance: float = TOLERANCE):
         self.solver = solver
         self.tolerance = tolerance
 

@@ -43,6 +43,7 @@ import scipy.sparse.linalg as spla
 from shapegen.errors import OptionError
 from shapegen.statics.solvers import cholmod, pardiso
 from shapegen.statics.solvers.symmetric_factor import SymmetricFactor
+from shapegen.tolerances import DIVISION_FLOOR
 
 FACTORIZATIONS = ("auto", "cholmod", "pardiso", "superlu")
 # the Cholesky factorisations kept with a pattern, and the error each raises for a matrix it
@@ -324,7 +325,9 @@ class NormalEquations:
             per_interface.reshape(-1)[pattern.source],
             minlength=len(pattern.indices),
         )
-        values[pattern.diagonal] += regularization * float(values[pattern.diagonal].mean()) + 1e-300
+        values[pattern.diagonal] += (
+            regularization * float(values[pattern.diagonal].mean()) + DIVISION_FLOOR
+        )
         self.values = values  # the upper triangle of the permuted, shifted M
         self._lu = None
         factoring = time.process_time()

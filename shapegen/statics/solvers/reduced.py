@@ -61,6 +61,8 @@ _WARM_SLACK_FLOOR = 1e-2  # a warm start's slacks are at least this share of the
 _FARKAS_SIZE = 1e6  # the duals' size from which an infeasibility certificate is looked for
 _FARKAS_REL = 1e-7  # its stationarity and its strict separation, relative to that size
 _SCALE_FLOOR = 1e-12  # the load scale of a start that carries no load
+_TOLERANCE = 1e-11  # the default tolerance the stopping rules are multiples of
+_ACCEPT_BELOW = 1e-6  # the default objective below which an accepted point ends the solve
 # the friction cone with mu = 0 as linear rows on (c, u, t): u = t = 0 and c >= 0 (the rows of
 # assembly.friction_cone("4", 0.0))
 _CLOSED_CONE = np.array(
@@ -113,13 +115,13 @@ class ReducedBackend(Backend):
 
     def __init__(
         self,
-        tolerance: float = 1e-11,
+        tolerance: float = _TOLERANCE,
         max_iter: int = 80,
         verbose: bool = False,
         stop_above: float | None = None,
         factorization: str = "auto",
         accept=None,
-        accept_below: float = 1e-6,
+        accept_below: float = _ACCEPT_BELOW,
         screen_above: float | None = None,
     ):
         self.tolerance = tolerance

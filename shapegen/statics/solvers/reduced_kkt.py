@@ -32,6 +32,15 @@ import numpy as np
 
 from shapegen.statics.solvers import second_order as soc
 from shapegen.statics.solvers.normal_equations import NormalEquations
+from shapegen.tolerances import DIVISION_FLOOR
+
+# Solver settings. The shift added to each equilibrated 3x3 block before its inverse (rank-
+# deficient limits stay invertible; the refinement removes it), the one added to the normal
+# equations' diagonal relative to its mean, and the residual, relative to the right-hand side,
+# at which iterative refinement stops.
+_EQUILIBRATION_SHIFT = 1e-14
+_NORMAL_SHIFT = 1e-13
+_REFINED = 1e-12
 
 _CUT = [0, 2, 3]  # positions of c, u, t among the variable groups x = [c, s, u, t]
 
@@ -213,12 +222,12 @@ class KktSystem:
             # tiny shift keeps rank-deficient limits invertible and the refinement removes it
             d = 1.0 / np.sqrt(np.einsum("vii->vi", h))
             scale = d[:, :, None] * d[:, None, :]
-            inverse = symmetric_inverse(h * scale + 1e-14 * np.eye(3)) * scale
+            inverse = symmetric_inverse(h * scale + _EQUILIBRATION_SHIFT * np.eye(3)) * scale
         diagonal_s = self.p_s + weight_s
         local = inverse.copy()
         local[:, 0, 0] += 1.0 / diagonal_s  # the s column of A is minus the c column
         start = time.perf_counter()
-        self.normal.assemble(local, 1e-13)
+        self.normal.assemble(local, _NORMAL_SHIFT)
         self.factor_seconds += time.perf_counter() - start
         return Hessian(inverse, diagonal_s, weight_cut, weight_s, scaling, middle)
 
@@ -281,7 +290,7 @@ class KktSystem:
             float(np.abs(rhs_cut).max()),
             float(np.abs(rhs_s).max()),
             float(np.abs(r_p).max()),
-            1e-300,
+            DIVISION_FLOOR,
         )
         aty_cut, aty_s = np.zeros_like(rhs_cut), np.zeros_like(rhs_s)  # A^T dy, accumulated
         for done in range(1, passes + 1):
@@ -301,7 +310,7 @@ class KktSystem:
             error = max(
                 float(np.abs(e_cut).max()), float(np.abs(e_s).max()), float(np.abs(e_p).max())
             )
-            if error <= 1e-12 * scale:
+            if error <= _REFINED * scale:
                 break
         return dx_cut, dx_s, dy
 
