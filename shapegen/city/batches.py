@@ -48,6 +48,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from shapegen.json_values import json_ready
+from shapegen.tolerances import ROUNDOFF_REL
 
 BATCH_FORMAT = "shapegen-city-batch"
 _MAGIC = b"SGBLOCKS"
@@ -267,7 +268,7 @@ def _fan_ready(solids: list[tuple]) -> list[tuple]:
     sizes = np.diff(start)
     turns = np.einsum("ij,ij->i", cross(edges, edges[successor]), np.repeat(normals, sizes, axis=0))
     scale = np.maximum.reduceat(np.einsum("ij,ij->i", edges, edges), start[:-1])
-    bent = np.flatnonzero(np.minimum.reduceat(turns, start[:-1]) < -_FLAT_TURN * scale)
+    bent = np.flatnonzero(np.minimum.reduceat(turns, start[:-1]) < -ROUNDOFF_REL * scale)
     out = [faces for _, faces in solids]
     if not len(bent):
         return out
@@ -331,9 +332,6 @@ def _triangulated(vertices, corners, start, normals, bent) -> dict[int, list]:
     for triangle, w in zip(triangles.tolist(), owners, strict=True):
         out.setdefault(int(bent[w]), []).append(tuple(triangle))
     return out
-
-
-_FLAT_TURN = 1e-12  # a corner turning back by less than this times the squared edge is straight
 
 
 def _pack(models: Sequence, stands: Sequence[bool], batched=None) -> bytes:

@@ -45,6 +45,7 @@ import numpy as np
 from shapegen.errors import InputFormatError
 from shapegen.export.atomic import atomic_write
 from shapegen.readers.projection import WGS84_A, WGS84_F
+from shapegen.tolerances import COINCIDENT_M
 
 TILES_FOLDER = "tiles"
 LOTS_PER_TILE = 16
@@ -216,7 +217,7 @@ def _seated(buildings, en, origin_lonlat, height):
 def _tile(buildings, en, members, name, contents, lots_per_tile, level=0):
     """A tile (and its children) over the buildings ``members``; its depth below it."""
     lo, hi = en[members].min(axis=0), en[members].max(axis=0)
-    if len(members) <= lots_per_tile or np.all(hi - lo < 1e-9):
+    if len(members) <= lots_per_tile or np.all(hi - lo < COINCIDENT_M):
         contents[f"{name}.glb"] = _glb([buildings[k] for k in members])
         tile = {
             "boundingVolume": {"box": _box([buildings[k][1] for k in members])},

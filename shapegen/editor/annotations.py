@@ -51,6 +51,7 @@ from pathlib import Path
 
 from shapegen.grammar import ast
 from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
+from shapegen.tolerances import GRID_SLACK, is_close
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: The most asset files (or folders) offered for one ``@File`` attr: a project is browsed, not
@@ -329,4 +330,4 @@ def snapped(value: float, low: float, step: float) -> float:
 def on_grid(value: float, low: float, step: float) -> bool:
     """True when ``value`` lies on ``low + k * step`` (to a millionth of a step)."""
     k = (value - low) / step
-    return math.isfinite(k) and abs(k - round(k)) <= 1e-6
+    return math.isfinite(k) and is_close(k, round(k), GRID_SLACK)

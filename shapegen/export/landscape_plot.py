@@ -15,6 +15,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from shapegen.export.atomic import atomic_write  # noqa: E402
+from shapegen.tolerances import ROUNDOFF_REL
 
 
 def plot_landscape(
@@ -29,7 +30,7 @@ def plot_landscape(
     fig, ax = plt.subplots(figsize=(6.4, 5.2), dpi=100)
     values = np.asarray(landscape.infeasibility, float)
     positive = values[np.isfinite(values) & (values > 0)]
-    floor = positive.min() if positive.size else 1e-12
+    floor = positive.min() if positive.size else ROUNDOFF_REL
     shown = np.log10(np.where(np.isfinite(values), np.maximum(values, floor), np.nan))
     x, y = np.meshgrid(landscape.first, landscape.second)
     filled = ax.contourf(x, y, shown, levels=20, cmap="magma_r")

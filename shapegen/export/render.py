@@ -25,6 +25,16 @@ import numpy as np
 
 from shapegen.model.model import Model
 from shapegen.model.packed import pack_blocks
+from shapegen.tolerances import (
+    COINCIDENT_M,
+    COSINE_SLACK,
+    GROUND_FLOOR_M,
+    HORIZON_SIN,
+    PIXEL_AREA_FLOOR,
+    PIXEL_EDGE_SLACK_REL,
+    are_positive,
+    is_positive,
+)
 
 FRAME_FILL = 0.88  # the model's projected box spans this share of the limiting side
 SUPERSAMPLE = 3  # samples per pixel along each axis (9 per pixel)
@@ -66,7 +76,8 @@ def view_axes(elevation: float, azimuth: float) -> tuple[np.ndarray, np.ndarray,
     eye = np.array([np.cos(elev) * np.cos(azim), np.sin(elev), -np.cos(elev) * np.sin(azim)])
     right = np.cross([0.0, 1.0, 0.0], eye)
     norm = np.linalg.norm(right)
-    right = right / norm if norm > 1e-9 else np.array([1.0, 0.0, 0.0])  # looking straight down
+    looking_down = not is_positive(norm, COSINE_SLACK)
+    right = np.array([1.0, 0.0, 0.0]) if looking_down else right / norm
     return right, np.cross(eye, right), eye
 
 
@@ -128,7 +139,7 @@ def render_blocks(
     project, scale = _camera(framed, right, up, eye, w, h)
 
     # Front faces only: every block is a closed convex solid, so a face turned away is hidden.
-    front = pack.face_normal @ eye > 1e-9
+    front = are_positive(pack.face_normal @ eye, COSINE_SLACK)
     triangles, triangle_face = _fan_triangles(pack.corners, pack.corner_start, front)
     xy, depth = project(pack.vertices)
     tri_xy, tri_depth = xy[triangles], depth[triangles]
@@ -158,7 +169,7 @@ def render_blocks(
     opaque = alpha[triangle_face] >= 1.0
     nf = len(face_block)
     ground_id = nf  # face number of the ground patch, after the blocks' faces
-    if ground and model.ground is not None and eye[1] > 1e-6:
+    if ground and model.ground is not None and is_positive(eye[1], HORIZON_SIN):
         patch_xy, patch_depth = project(_ground_patch(everything, float(model.ground)))
         patch = np.array([[0, 1, 2], [0, 2, 3]])
         tri_xy = np.concatenate([tri_xy, patch_xy[patch]])
@@ -218,7 +229,7 @@ def _camera(framed: np.ndarray, right, up, eye, w: int, h: int):
     that centres ``framed`` and scales its projected box to :data:`FRAME_FILL` of the frame."""
     u, v = framed @ right, framed @ up
     du, dv = float(np.ptp(u)), float(np.ptp(v))
-    extent = max(du, dv, 1e-9)
+    extent = max(du, dv, COINCIDENT_M)
     scale = FRAME_FILL * min(w / max(du, 1e-3 * extent), h / max(dv, 1e-3 * extent))
     uc, vc = (u.min() + u.max()) / 2, (v.min() + v.max()) / 2
 
@@ -240,7 +251,7 @@ def _ground_patch(vertices: np.ndarray, level: float) -> np.ndarray:
     """The four corners of a ground rectangle around the blocks' footprint, counter-clockwise
     seen from above."""
     lo, hi = vertices.min(axis=0), vertices.max(axis=0)
-    margin = GROUND_MARGIN * max(hi[0] - lo[0], hi[2] - lo[2], 1e-6)
+    margin = GROUND_MARGIN * max(hi[0] - lo[0], hi[2] - lo[2], GROUND_FLOOR_M)
     x0, x1, z0, z1 = lo[0] - margin, hi[0] + margin, lo[2] - margin, hi[2] + margin
     return np.array([[x0, level, z1], [x1, level, z1], [x1, level, z0], [x0, level, z0]])
 
@@ -289,7 +300,7 @@ def _rasterize(xy: np.ndarray, depth: np.ndarray, w: int, h: int) -> tuple[np.nd
     top = np.maximum(np.ceil(np.minimum(np.minimum(a, b), c)[:, 1] - 0.5), 0).astype(np.int64)
     bottom = np.minimum(np.floor(np.maximum(np.maximum(a, b), c)[:, 1] - 0.5), h - 1)
     rows = np.maximum(bottom.astype(np.int64) - top + 1, 0)
-    keep = np.flatnonzero((area > 1e-12) & (rows > 0))
+    keep = np.flatnonzero(are_positive(area, PIXEL_AREA_FLOOR) & (rows > 0))
     if not len(keep):
         return zbuf.reshape(h, w), seen.reshape(h, w)
     # Edge functions e(x, y) = A x + B y + C, non-negative inside; the depth is their blend.
@@ -301,7 +312,7 @@ def _rasterize(xy: np.ndarray, depth: np.ndarray, w: int, h: int) -> tuple[np.nd
     z = np.stack([za, zb, zc], axis=1)[keep]
     plane = np.einsum("tk,tki->ti", z, edges) / area[keep, None]  # depth = plane . (x, y, 1)
     # A sample on an edge shared by two triangles is covered by both, never by neither.
-    slack = 1e-7 * np.abs(edges[:, :, :2]).sum(axis=(1, 2))
+    slack = PIXEL_EDGE_SLACK_REL * np.abs(edges[:, :, :2]).sum(axis=(1, 2))
     top, rows = top[keep], rows[keep]
     ends = np.cumsum(rows)
     start = 0

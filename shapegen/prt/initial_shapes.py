@@ -33,9 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from shapegen.errors import InputFormatError
-
-LEVEL_TOLERANCE_M = 1e-6
-"""How far (metres) the corners of a starting face may lie from one height."""
+from shapegen.tolerances import LEVEL_M
 
 READABLE_SUFFIXES = (".obj", ".gltf", ".glb")
 """Geometry files an initial shape is read from (OBJ by shapegen, glTF by trimesh)."""
@@ -159,7 +157,7 @@ def footprint(shape: InitialShape) -> Footprint:
         )
     corners = [coordinates[3 * i : 3 * i + 3] for i in indices]
     heights = [y for _, y, _ in corners]
-    if max(heights) - min(heights) > LEVEL_TOLERANCE_M:
+    if max(heights) - min(heights) > LEVEL_M:
         raise InputFormatError(
             f"{where}: the face is not horizontal (its corners lie between y = {min(heights):g}"
             f" and {max(heights):g} m); shapegen starts a rule on a level face"

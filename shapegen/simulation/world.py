@@ -40,6 +40,7 @@ from shapegen.errors import ShapegenError
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.simulation.inertia import PrincipalInertia, principal_inertia
+from shapegen.tolerances import DIVISION_FLOOR
 
 # Half size of the ground slab, metres: large enough for any model (the slab's top is the
 # ground plane; a slab rather than an infinite plane gives face contacts like between blocks).
@@ -292,7 +293,7 @@ def _quaternion(rotation: np.ndarray) -> list[float]:
     else:
         i = int(np.argmax(np.diag(m)))
         j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * math.sqrt(max(1.0 + m[i, i] - m[j, j] - m[k, k], 1e-300))
+        s = 2.0 * math.sqrt(max(1.0 + m[i, i] - m[j, j] - m[k, k], DIVISION_FLOOR))
         q = [0.0, 0.0, 0.0, 0.0]
         q[i] = s / 4
         q[j] = (m[j, i] + m[i, j]) / s
