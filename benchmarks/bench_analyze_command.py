@@ -46,7 +46,7 @@ _PHASES = """
 import json, sys, time
 start = time.process_time()
 from shapegen.cli import analyze as _cli
-from shapegen.export.model_io import read_model
+from shapegen.readers.models import read_model
 from shapegen.structures import Design, make_structure
 import shapegen.statics.contacts, shapegen.statics.solvers.reduced  # noqa
 from shapegen.limits import work_limits

@@ -277,7 +277,7 @@ def test_build_writes_model_and_report(tmp_path, wall_grammar, capsys):
     assert report["free_parameters"] == {"width": {"value": 2.0, "min": 1.0, "max": 5.0}}
     assert report["reports"] == {"courses": 1.0}
     assert REPORT_KEYS <= set(report["analysis"]) and report["analysis"]["feasible"] is True
-    from shapegen.export.model_io import read_model
+    from shapegen.readers.models import read_model
 
     model = read_model(out)
     assert len(model.blocks) == 4

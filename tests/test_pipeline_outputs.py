@@ -13,7 +13,7 @@ import pytest
 
 import shapegen
 from shapegen.cli import main
-from shapegen.export.model_io import read_model
+from shapegen.readers.models import read_model
 from shapegen.statics import analyze
 from shapegen.structures import Design, make_structure
 

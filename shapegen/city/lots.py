@@ -34,7 +34,7 @@ from shapegen.errors import InputFormatError, LotError
 from shapegen.model.lot import Lot
 from shapegen.readers import geojson
 from shapegen.readers.crs import LONLAT, METRES, InputCrs, parse_crs, resolve_crs
-from shapegen.readers.files import GZIP_MAGIC, parse_json_document, read_input_bytes
+from shapegen.readers.files import is_gzip_file, parse_json_document, read_input_bytes
 from shapegen.readers.osm import read_buildings
 
 CRS_CHOICES = ("lonlat", "metres")
@@ -154,7 +154,7 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     path = Path(path)
     data = read_input_bytes(path, "lots file", gunzip=True)
     head = data[:512].lstrip()
-    if head.startswith(b"<") and _gzipped(path):
+    if head.startswith(b"<") and is_gzip_file(path):
         raise InputFormatError(f"{path}: gzipped OSM XML is not read; gunzip it first")
     if path.suffix.lower() == ".osm" or head.startswith(b"<"):
         if crs is not None and parse_crs(crs, f"--crs {crs}").name != LONLAT:
@@ -171,14 +171,6 @@ def read_lots(path: str | Path, crs: str | None = None) -> City:
     if chosen is None:
         chosen = InputCrs(_detected_crs(polygons, corners))
     return _city(polygons, chosen, skipped, str(path), corners)
-
-
-def _gzipped(path: Path) -> bool:
-    try:
-        with open(path, "rb") as handle:
-            return handle.read(2) == GZIP_MAGIC
-    except OSError as exc:
-        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
 def city_from_polygons(

@@ -67,8 +67,8 @@ def add_command(commands) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from shapegen.engine.project.rules_path import find_bundled_rule
-    from shapegen.export.model_io import read_model
     from shapegen.pipeline import encode_outputs
+    from shapegen.readers.models import read_model
     from shapegen.structures import Design, make_structure
 
     name = str(args.model)

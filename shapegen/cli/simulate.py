@@ -171,7 +171,7 @@ def _simulation_model(args: argparse.Namespace):
             raise CommandLineError(
                 "--set, --lot, --optimize, --free and --fix apply only to a rule file MODEL"
             )
-        from shapegen.export.model_io import read_model
+        from shapegen.readers.models import read_model
 
         model = read_model(name)
         _refuse_other_structures((model.metadata.get("structure") or {}).get("name"), name)

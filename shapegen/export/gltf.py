@@ -33,7 +33,6 @@ import trimesh
 from trimesh.visual import TextureVisuals
 from trimesh.visual.material import PBRMaterial
 
-from shapegen.export.blocks_json import FORMAT_NAME, FORMAT_VERSION
 from shapegen.export.colors import (
     RESULTANT,
     display_color,
@@ -42,9 +41,11 @@ from shapegen.export.colors import (
     tension_levels,
 )
 from shapegen.export.meshes import block_mesh
-from shapegen.export.surfaces import SURFACE_ROLE, surface_mesh, surfaces_of
+from shapegen.export.surfaces import surface_mesh, surfaces_of
 from shapegen.json_values import json_ready
 from shapegen.model.model import Model
+from shapegen.readers.blocks_json import FORMAT_NAME, FORMAT_VERSION
+from shapegen.readers.surface_entries import SURFACE_ROLE
 from shapegen.tolerances import FORCE_NOISE_REL
 
 # Arrows are scaled to the blocks, not to the model: on a 2 km bridge a share of the model's

@@ -14,6 +14,11 @@ OpenStreetMap XML           :mod:`~shapegen.readers.osm`: one way, or every buil
 coordinate systems          :mod:`~shapegen.readers.crs`: a ``crs`` member, a ``.prj``,
                             ``--crs``; any pyproj system to WGS84 longitude/latitude
 WGS84 to local metres       :func:`~shapegen.readers.projection.east_north`
+block models                :func:`~shapegen.readers.models.read_model` by extension:
+                            shapegen-blocks JSON (:mod:`~shapegen.readers.blocks_json`,
+                            its blocks and surfaces in :mod:`~shapegen.readers.block_entries`
+                            and :mod:`~shapegen.readers.surface_entries`), OBJ, glTF, PLY
+                            and STL (:mod:`~shapegen.readers.meshes`)
 ==========================  ==========================================================
 
 Rule files are read by :func:`shapegen.grammar.source_files.read_rule_file`, where the grammar

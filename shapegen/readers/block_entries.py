@@ -19,11 +19,11 @@ from itertools import chain
 import numpy as np
 
 from shapegen.errors import InputFormatError
-from shapegen.export.json_fields import boolean, number, points, require, strings
-from shapegen.export.surfaces import appearance_from_entry
 from shapegen.model.block import DEFAULT_DENSITY, Block
 from shapegen.model.hulls import batched_hulls
 from shapegen.model.polygons import CheckedFaces, cross
+from shapegen.readers.json_fields import boolean, number, points, require, strings
+from shapegen.readers.surface_entries import appearance_from_entry
 
 
 def entry_block(entry: object, k: int) -> Block:
@@ -57,7 +57,7 @@ def _entry_fields(entry: object, k: int):
             structural=boolean(entry.get("structural", True), f'{where}: "structural"'),
             tags=strings(entry.get("tags", []), f'{where}: "tags"'),
             rule_path=strings(entry.get("rule_path", []), f'{where}: "rule_path"'),
-            appearance=appearance_from_entry(entry.get("appearance"), where, number),
+            appearance=appearance_from_entry(entry.get("appearance"), where),
             body=entry.get("body", ""),
         )
         if not isinstance(kwargs["body"], str):
@@ -164,7 +164,7 @@ def _plain_fields(entry: object, k: int):
     appearance = get("appearance")
     if appearance is not None:
         try:
-            appearance = appearance_from_entry(appearance, f"block {block_id!r}", number)
+            appearance = appearance_from_entry(appearance, f"block {block_id!r}")
         except InputFormatError:
             return None
     faces = get("faces")

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 __all__ = [
     "GZIP_MAGIC",
+    "is_gzip_file",
     "json_depth",
     "parse_json_document",
     "read_input_bytes",
@@ -74,6 +75,15 @@ def read_input_bytes(path: str | Path, kind: str = "model file", *, gunzip: bool
     except OSError as exc:
         raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
     return data
+
+
+def is_gzip_file(path: str | Path) -> bool:
+    """True when the file at ``path`` starts as a gzip stream does (its first two bytes)."""
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(2) == GZIP_MAGIC
+    except OSError as exc:
+        raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
 
 
 def _inflated(handle, path: Path, limit: int) -> bytes:

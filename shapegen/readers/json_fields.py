@@ -1,7 +1,7 @@
 """Checked values of a JSON model file: each refused in one line naming where it is.
 
-The readers of shapegen-blocks documents (:mod:`shapegen.export.blocks_json`,
-:mod:`shapegen.export.block_entries`) share these.
+The readers of shapegen-blocks documents (:mod:`shapegen.readers.blocks_json`,
+:mod:`shapegen.readers.block_entries`, :mod:`shapegen.readers.surface_entries`) share these.
 """
 
 from __future__ import annotations

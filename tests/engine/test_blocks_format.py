@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from shapegen.errors import GeometryError, InputFormatError
-from shapegen.export.blocks_json import model_from_dict, read_blocks_json, write_blocks_json
+from shapegen.export.blocks_json import write_blocks_json
 from shapegen.model import Block, Model, PointLoad
+from shapegen.readers.blocks_json import model_from_dict, read_blocks_json
 
 CUBE = [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]
 

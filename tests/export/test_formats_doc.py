@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from shapegen.export.blocks_json import model_from_dict
-from shapegen.export.model_io import read_model
+from shapegen.readers.blocks_json import model_from_dict
+from shapegen.readers.models import read_model
 
 DOCS = Path(__file__).resolve().parents[2] / "docs"
 

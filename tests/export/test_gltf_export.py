@@ -30,7 +30,8 @@ from shapegen.export.gltf import (
     encode_gltf,
     resultant_arrows,
 )
-from shapegen.export.model_io import read_model, write_model
+from shapegen.export.model_io import write_model
+from shapegen.readers.models import read_model
 
 
 def glb_json(content: bytes) -> dict:

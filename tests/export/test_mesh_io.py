@@ -9,7 +9,8 @@ from scipy.spatial import ConvexHull
 
 from shapegen import Block, GeometryError, InputFormatError, Model
 from shapegen.export.meshes import block_triangles, encode_obj
-from shapegen.export.model_io import read_model, write_model
+from shapegen.export.model_io import write_model
+from shapegen.readers.models import read_model
 
 ROCK_POINTS = np.random.default_rng(7).normal(size=(40, 3)) + [6.0, 3.0, 0.0]
 

@@ -17,8 +17,8 @@ import pytest
 from shapegen import Block, Model
 from shapegen.cli import main
 from shapegen.errors import InputFormatError
-from shapegen.export.model_io import read_model
 from shapegen.export.osm import place_on_way
+from shapegen.readers.models import read_model
 from shapegen.readers.osm import OsmNode, OsmWay, read_way
 from shapegen.readers.projection import east_north
 

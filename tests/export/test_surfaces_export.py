@@ -10,12 +10,14 @@ import pytest
 import trimesh
 
 from shapegen.errors import InputFormatError
-from shapegen.export.blocks_json import model_from_dict, model_to_dict
-from shapegen.export.model_io import encode_model, read_model, write_model
+from shapegen.export.blocks_json import model_to_dict
+from shapegen.export.model_io import encode_model, write_model
 from shapegen.export.surfaces import face_triangles, left_out_summary
 from shapegen.model import Model
 from shapegen.model.appearance import Appearance, Surface
 from shapegen.model.block import Block
+from shapegen.readers.blocks_json import model_from_dict
+from shapegen.readers.models import read_model
 
 # An L-shaped face at y = 2 (area 3 m^2), counter-clockwise seen from above (+y).
 L_SHAPE = np.array([[0, 2, 0], [0, 2, 2], [1, 2, 2], [1, 2, 1], [2, 2, 1], [2, 2, 0]], float)

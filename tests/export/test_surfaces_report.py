@@ -62,7 +62,7 @@ def test_a_written_model_keeps_its_surfaces_and_is_analyzed_again(tmp_path):
     import json
 
     from shapegen.cli import main
-    from shapegen.export.model_io import read_model
+    from shapegen.readers.models import read_model
 
     grammar = tmp_path / "roofed.grammar"
     grammar.write_text("@StartRule\nLot --> extrude(3) [ comp(f) { top : Roof. } ] Box.\n")

@@ -280,7 +280,7 @@ def mutated_model(number: int) -> tuple[str, bytes]:
 
 def run_model(item: tuple[str, bytes]) -> None:
     """What one child does with a model file: write it, read it back."""
-    from shapegen.export.model_io import read_model
+    from shapegen.readers.models import read_model
 
     suffix, data = item
     with tempfile.TemporaryDirectory() as folder:

@@ -21,7 +21,7 @@ import pytest
 from fuzz_sandbox import run_limited
 
 import shapegen
-from shapegen.export.model_io import read_model
+from shapegen.readers.models import read_model
 
 DOUBLING = "f(n) = case n > 0 : f(n - 1) + f(n - 1) else : 1\n"
 STRINGS = 'd(x) = x + x\ns(n) = case n > 0 : d(s(n - 1)) else : "x"\n'

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from shapegen.errors import GeometryError, InputFormatError
-from shapegen.export.block_entries import entry_block, read_block_entries
-from shapegen.export.blocks_json import model_from_dict
 from shapegen.model.block import Block
 from shapegen.model.hulls import batched_hulls, blocks_from_hulls
+from shapegen.readers.block_entries import entry_block, read_block_entries
+from shapegen.readers.blocks_json import model_from_dict
 
 RNG = np.random.default_rng(7)
 

@@ -22,7 +22,7 @@ from rule_checks import tagged
 from shapegen.cli import main
 from shapegen.errors import ShapegenError
 from shapegen.export.gltf import encode_glb
-from shapegen.export.model_io import read_model
+from shapegen.readers.models import read_model
 from shapegen.search import optimize
 from shapegen.statics import analyze
 from shapegen.structures import Design, make_structure

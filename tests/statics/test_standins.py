@@ -184,7 +184,8 @@ def test_a_solid_kept_as_derived_is_cut_when_judged_from_the_model_or_its_file()
     # an L-shaped mass stays one solid in the model and in its file; the statics cut it into
     # two convex parts of one body with the rule's density, before and after a round trip
     import shapegen
-    from shapegen.export.blocks_json import model_from_dict, model_to_dict
+    from shapegen.export.blocks_json import model_to_dict
+    from shapegen.readers.blocks_json import model_from_dict
     from shapegen.statics.standins import CUT
 
     grammar = shapegen.parse_grammar("attr density = 1500\n@StartRule\nLot --> extrude(3) Mass\n")
