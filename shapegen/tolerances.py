@@ -47,6 +47,7 @@ __all__ = [
     "LEVEL_M",
     "TRIG_ROUNDOFF",
     "DIVISION_FLOOR",
+    "RAY_PARALLEL_DET",
     "GRID_SLACK",
     "TIE_REL",
     "HORIZON_SIN",
@@ -264,6 +265,10 @@ TRIG_ROUNDOFF = 1e-15
 #: least ``DIVISION_FLOOR`` (in its own unit): far below any real one, it only keeps a degenerate
 #: zero (a shape of no extent) from dividing by zero.
 DIVISION_FLOOR = 1e-300
+
+#: Ray casting (CGA's scatter on a mesh): a ray is parallel to a triangle when the determinant
+#: of the Moller-Trumbore system is below ``RAY_PARALLEL_DET`` (square metres).
+RAY_PARALLEL_DET = 1e-14
 
 #: Design page: a value lies on a slider's grid ``low + k * step`` when within ``GRID_SLACK``
 #: of a step of it (dimensionless, a fraction of one step).

@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from shapegen.errors import GrammarError
+from shapegen.tolerances import COINCIDENT_M
 
 _TARGETS = ("intra", "inter", "all")
 
@@ -76,7 +77,7 @@ def context_query(name: str, state, target: str, label: object, comparison: str 
     if name == "contextCompare":
         value = COMPARISONS[comparison]
         own = value(state.shape.world_mesh())
-        return float(sum(1 for shape in shapes if value(shape.world_mesh()) > own + 1e-9))
+        return float(sum(1 for shape in shapes if value(shape.world_mesh()) > own + COINCIDENT_M))
     return min(_box_distance(state.shape.scope, shape.scope) for shape in shapes)
 
 

@@ -40,6 +40,7 @@ from shapegen.errors import GrammarError
 from shapegen.geometry.convex import convex_faces
 from shapegen.geometry.cut import convex_decomposition
 from shapegen.geometry.mesh import Mesh
+from shapegen.tolerances import COINCIDENT_M, DEFAULT
 
 TOLERANCE = 1e-4
 """Distance (m) under which two surfaces are taken to be in contact."""
@@ -64,7 +65,11 @@ class Occluder:
     def pieces(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """Convex pieces as half-spaces ``A x <= b`` (unit normals)."""
         if self._pieces is None:
-            meshes = [self.mesh] if self.mesh.is_convex(1e-9) else convex_decomposition(self.mesh)
+            meshes = (
+                [self.mesh]
+                if self.mesh.is_convex(COINCIDENT_M)
+                else convex_decomposition(self.mesh)
+            )
             self._pieces = [_halfspaces(m) for m in meshes or []]
         return self._pieces
 
@@ -183,7 +188,7 @@ class _Query:
             mesh = self.mesh
             solids = None
             if mesh.is_closed:
-                solids = [mesh] if mesh.is_convex(1e-9) else convex_decomposition(mesh)
+                solids = [mesh] if mesh.is_convex(COINCIDENT_M) else convex_decomposition(mesh)
             if solids:
                 self._parts = [m.vertices for m in solids]
             else:
@@ -248,7 +253,7 @@ def _planar_contact(query: _Query, occluder: Occluder) -> bool:
         q_normal = q_normals[j]
         for k in range(len(mesh.faces)):
             normal = normals[k]
-            if abs(float(q_normal @ normal)) < 1.0 - 1e-6:
+            if abs(float(q_normal @ normal)) < DEFAULT.normal_cos:
                 continue
             points = mesh.face_points(k)
             if np.max(np.abs((q_points - points[0]) @ normal)) > TOLERANCE:

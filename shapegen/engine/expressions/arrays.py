@@ -25,6 +25,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from shapegen.tolerances import REPEAT_SLACK
+
 
 @dataclass(frozen=True)
 class Array:
@@ -189,7 +191,7 @@ def colon_range(start: float, step: float, stop: float) -> list[float]:
     """``start : step : stop`` (colon.html): the numbers from start towards stop."""
     if step == 0 or not all(math.isfinite(v) for v in (start, step, stop)):
         return []
-    count = math.floor((stop - start) / step + 1e-9) + 1
+    count = math.floor((stop - start) / step + REPEAT_SLACK) + 1
     if count > 10_000_000:
         raise ValueError(f"the range {start}:{step}:{stop} has too many elements")
     return [start + k * step for k in range(max(count, 0))]

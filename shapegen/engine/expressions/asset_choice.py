@@ -30,6 +30,7 @@ from shapegen.engine.derivation.state import format_chain
 from shapegen.engine.expressions.arrays import Array
 from shapegen.engine.project.asset_files import find_asset, load_asset
 from shapegen.errors import GeometryError
+from shapegen.tolerances import ROUNDOFF_REL, at_most
 
 _AXES = {"x": (0,), "y": (1,), "z": (2,), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2),
          "xyz": (0, 1, 2)}  # fmt: skip
@@ -123,7 +124,11 @@ def asset_choosers(rule_file: str | None, matching: Callable[[str], list[str]]) 
         if not rows:
             return ""
         best = rows[0][0]
-        pool = [p for e, p in rows if e <= best + 1e-12] if count == 1 else [p for _, p in rows]
+        pool = (
+            [p for e, p in rows if at_most(e, best, ROUNDOFF_REL)]
+            if count == 1
+            else [p for _, p in rows]
+        )
         pool = pool[: max(count, 1)] if count > 1 else pool
         return pool[min(int(state.random() * len(pool)), len(pool) - 1)]
 

@@ -56,6 +56,7 @@ import numpy as np
 from shapegen.geometry.mesh import Mesh
 from shapegen.model.lot import Lot
 from shapegen.model.scope import Scope
+from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL
 
 FACE = "face"
 MASS = "mass"
@@ -264,7 +265,7 @@ def _box_fills(mesh: Mesh, size: np.ndarray) -> bool:
     if mesh.n_vertices != 8 or mesh.n_faces != 6:
         return False
     box = Mesh.box(size)
-    slack = 1e-9 * max(float(size.max()), 1e-9)
+    slack = COINCIDENT_REL * max(float(size.max()), COINCIDENT_M)
     for k in range(6):
         if not np.allclose(mesh.face_points(k), box.face_points(k), atol=slack):
             return False
@@ -371,7 +372,7 @@ def _is_scope_box(local: np.ndarray, size: np.ndarray, n_faces: int) -> bool:
     with these corners is that box)."""
     if len(local) != 8 or n_faces != 6 or size.min() <= 0:
         return False
-    slack = 1e-9 * float(size.max())
+    slack = COINCIDENT_REL * float(size.max())
     at_low = np.abs(local) <= slack
     at_high = np.abs(local - size) <= slack
     if not np.all(at_low | at_high):
@@ -406,7 +407,7 @@ def lot_shape(lot) -> tuple[Shape, dict]:
 
 def _rectangle_fills(mesh: Mesh, size: np.ndarray) -> bool:
     rectangle = Mesh.rectangle(size, 1)
-    slack = 1e-9 * max(float(size.max()), 1e-9)
+    slack = COINCIDENT_REL * max(float(size.max()), COINCIDENT_M)
     return mesh.n_vertices == 4 and np.allclose(mesh.vertices, rectangle.vertices, atol=slack)
 
 

@@ -30,6 +30,7 @@ from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.geometry.frames import fitted_scope
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.grammar import ast
+from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, COSINE_SLACK, ROUNDOFF_REL
 
 _STRATEGIES = ("append", "unify", "recompose")
 _BOOLEAN = ("union", "subtract", "intersect")
@@ -96,7 +97,7 @@ def _is_flat(mesh: Mesh) -> tuple[np.ndarray, float] | None:
         return None
     normal = normal / np.linalg.norm(normal)
     heights = mesh.vertices @ normal
-    slack = 1e-9 * max(1.0, mesh.size())
+    slack = COINCIDENT_REL * max(1.0, mesh.size())
     if np.ptp(heights) > slack or any(
         float(polygon_normal(mesh.face_points(k)) @ normal) < 0 for k in range(mesh.n_faces)
     ):
@@ -146,7 +147,11 @@ def _flat_boolean(kind: str, a: Mesh, b: Mesh, plane) -> Mesh | None:
 def _triangles(polygon):
     import shapely
 
-    return [t for t in shapely.delaunay_triangles(polygon).geoms if t.within(polygon.buffer(1e-9))]
+    return [
+        t
+        for t in shapely.delaunay_triangles(polygon).geoms
+        if t.within(polygon.buffer(COINCIDENT_M))
+    ]
 
 
 def _solid_boolean(kind: str, meshes: list[Mesh]) -> Mesh | None:
@@ -192,7 +197,7 @@ def _polygons(points: np.ndarray, triangles: np.ndarray) -> Mesh:
     normals = np.cross(points[triangles[:, 1]] - points[triangles[:, 0]],
                        points[triangles[:, 2]] - points[triangles[:, 0]])  # fmt: skip
     lengths = np.linalg.norm(normals, axis=1)
-    keep = lengths > 1e-12
+    keep = lengths > ROUNDOFF_REL
     triangles, normals = triangles[keep], normals[keep] / lengths[keep, None]
     scale = max(1.0, float(np.abs(points).max()))
     keys = np.round(
@@ -240,8 +245,8 @@ def _boolean(program, node, kind: str, meshes: list[Mesh]) -> Mesh:
         planes = [_is_flat(m) for m in meshes]
         first = planes[0]
         same = first is not None and all(
-            p is not None and np.allclose(p[0], first[0], atol=1e-9)
-            and abs(p[1] - first[1]) <= 1e-9 * max(1.0, abs(first[1]))
+            p is not None and np.allclose(p[0], first[0], atol=COSINE_SLACK)
+            and abs(p[1] - first[1]) <= COINCIDENT_REL * max(1.0, abs(first[1]))
             for p in planes
         )  # fmt: skip
         if not same:

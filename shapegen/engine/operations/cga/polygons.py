@@ -42,6 +42,7 @@ from shapegen.geometry.queries import FACE_SELECTORS, face_matches
 from shapegen.grammar import ast
 from shapegen.limits import check_clock
 from shapegen.model.scope import Scope
+from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, ROUNDOFF_REL
 
 # Edge selectors are comp(f)'s, applied to each edge's outward normal in the face's plane
 # (op_setback: "classifying their directions into the corresponding scope quadrants").
@@ -79,7 +80,7 @@ def face_frames(shape: Shape) -> list[tuple[FaceFrame, np.ndarray]]:
             continue
         n = normal / length
         a = guess - n * float(guess @ n)
-        if np.linalg.norm(a) < 1e-9:
+        if np.linalg.norm(a) < COINCIDENT_M:
             a = points[1] - points[0]
             a = a - n * float(a @ n)
         a = a / np.linalg.norm(a)
@@ -104,7 +105,7 @@ def edge_quadrants(frame: FaceFrame, polygon: np.ndarray) -> list[str]:
 def _welded(points: np.ndarray, counts: list[int]):
     """One vertex per distinct point (within round-off of the size), so that faces sharing an
     edge share its vertices: ``comp(f)``'s ``inside`` / ``border`` read that adjacency."""
-    eps = 1e-9 * max(1.0, float(np.ptp(points, axis=0).max()))
+    eps = COINCIDENT_REL * max(1.0, float(np.ptp(points, axis=0).max()))
     keys = np.round(points / eps).astype(np.int64)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     order = np.argsort(first)  # keep the vertices in the order they first appear
@@ -130,7 +131,7 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shap
     points = np.concatenate(faces)
     low, high = points.min(axis=0), points.max(axis=0)
     size = high - low
-    size[size < 1e-12 * max(1.0, float(np.abs(points).max()))] = 0.0
+    size[size < ROUNDOFF_REL * max(1.0, float(np.abs(points).max()))] = 0.0
     scope = Scope(parent.scope.to_world(low), parent.scope.rotation, size)
     vertices, indexed = _welded(points - low, [len(f) for f in faces])
     if any(len(face) < 2 for face in indexed):  # welded into a point (a 1e-320 m face)
@@ -289,7 +290,7 @@ def _joined(frame: FaceFrame, pieces: list[np.ndarray]) -> list[list[np.ndarray]
     without holes cannot hold) the strips together as one shape."""
     merged = polygon2d.union(pieces)
     if abs(sum(map(polygon2d.signed_area, merged)) - sum(map(polygon2d.signed_area, pieces))) > (
-        1e-9 * sum(map(polygon2d.signed_area, pieces))
+        COINCIDENT_REL * sum(map(polygon2d.signed_area, pieces))
     ):
         return [[frame.lift(p) for p in pieces]]
     return [[frame.lift(p)] for p in merged]

@@ -24,6 +24,7 @@ from shapegen.engine.operations.cga.arguments import plain_arguments, typed
 from shapegen.engine.operations.cga.scope_ops import refit, shape_with_faces
 from shapegen.engine.shapes.shape import Shape
 from shapegen.geometry.mesh import Mesh
+from shapegen.tolerances import COINCIDENT_REL, COSINE_SLACK
 
 
 def _groups(count: int, pairs: list[tuple[int, int]]) -> np.ndarray:
@@ -64,10 +65,10 @@ def rectified(mesh: Mesh, angle: float) -> Mesh:
             if members.sum() > 1:
                 vertices[members, other] = vertices[members, other].mean()
     units = mesh.face_normals()
-    if mesh.n_faces and np.allclose(units, units[0], atol=1e-9):
+    if mesh.n_faces and np.allclose(units, units[0], atol=COSINE_SLACK):
         offsets = [float(units[0] @ mesh.vertices[f[0]]) for f in mesh.faces]
         n = units[0]
-        if np.ptp(offsets) <= 1e-9 * max(1.0, mesh.size()) and abs(n[normal_axis]) > 0:
+        if np.ptp(offsets) <= COINCIDENT_REL * max(1.0, mesh.size()) and abs(n[normal_axis]) > 0:
             # one plane: the vertices slide along it, off the projection plane's normal
             rest = vertices @ n - vertices[:, normal_axis] * n[normal_axis]
             vertices[:, normal_axis] = (offsets[0] - rest) / n[normal_axis]

@@ -30,6 +30,7 @@ from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.limits import check_clock, limit_hint
+from shapegen.tolerances import COSINE_SLACK
 
 
 def roof_shape(
@@ -240,7 +241,7 @@ def compile_envelope(program, node: ast.Operation, params):
         for frame, polygon in flat_faces(state, node, program, "envelope()"):
             if direction == "world.up":
                 up = state.shape.scope.rotation @ frame.n
-                if up[1] < 1 - 1e-9:
+                if up[1] < 1 - COSINE_SLACK:
                     raise program.error(
                         node, "envelope(world.up, ...) on a face that does not face up is not "
                         "supported; use envelope(normal, ...)"

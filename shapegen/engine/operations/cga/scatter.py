@@ -28,6 +28,7 @@ from shapegen.geometry.frames import rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
+from shapegen.tolerances import RAY_PARALLEL_DET, SIZE_FLOOR_M
 
 _DOMAINS = ("surface", "volume", "scope")
 _MEANS = {  # scope coordinates, in units of the scope's size
@@ -182,7 +183,7 @@ class _Sampler:
     def _accepted(self, local: np.ndarray) -> bool:
         if self.domain == "scope":
             return True
-        spread = np.where(self.sigma > 0, self.sigma, 1e-12)
+        spread = np.where(self.sigma > 0, self.sigma, SIZE_FLOOR_M)
         z = (local - self.centre) / spread
         return self.random() < math.exp(-0.5 * float(z @ z))
 
@@ -208,7 +209,7 @@ def _inside(mesh: Mesh, point: np.ndarray) -> bool:
             e1, e2 = b - a, c - a
             h = np.cross(direction, e2)
             det = float(e1 @ h)
-            if abs(det) < 1e-14:
+            if abs(det) < RAY_PARALLEL_DET:
                 continue
             s = point - a
             u = float(s @ h) / det

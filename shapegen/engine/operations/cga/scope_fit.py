@@ -19,6 +19,7 @@ from shapegen.engine.operations.cga.scope_ops import (
     set_scope_pivot,
     shape_with_faces,
 )
+from shapegen.tolerances import ROUNDOFF_REL
 
 _AXIS_PAIRS = ("xy", "yx", "xz", "zx", "yz", "zy")
 
@@ -49,7 +50,7 @@ def minimum_rectangle_direction(points: np.ndarray) -> np.ndarray:
         along, across = hull @ direction, hull @ normal
         width, depth = np.ptp(along), np.ptp(across)
         area = width * depth
-        if best is None or area < best[0] * (1 - 1e-12):
+        if best is None or area < best[0] * (1 - ROUNDOFF_REL):
             best = (area, direction if width >= depth else normal)
     return best[1]
 

@@ -43,6 +43,7 @@ from shapegen.engine.shapes.trim import apply_trim
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
+from shapegen.tolerances import COINCIDENT_REL, ROUNDOFF_REL, at_most
 
 
 def refit(shape: Shape, rotation: np.ndarray) -> Shape:
@@ -109,7 +110,7 @@ def compile_align_scope_to_axes(program, node, params):
             # z projected onto the frame's yz-plane, x along the frame's x
             x = frame[:, 0]
             z = old[:, 2] - x * float(old[:, 2] @ x)
-            if np.linalg.norm(z) < 1e-12:
+            if np.linalg.norm(z) < ROUNDOFF_REL:
                 z = frame[:, 2]
             z = z / np.linalg.norm(z)
             rotation = np.column_stack([x, np.cross(z, x), z])
@@ -117,7 +118,7 @@ def compile_align_scope_to_axes(program, node, params):
             # x projected onto the frame's xy-plane, z along the frame's z
             z = frame[:, 2]
             x = old[:, 0] - z * float(old[:, 0] @ z)
-            if np.linalg.norm(x) < 1e-12:
+            if np.linalg.norm(x) < ROUNDOFF_REL:
                 x = frame[:, 0]
             x = x / np.linalg.norm(x)
             rotation = np.column_stack([x, np.cross(z, x), z])
@@ -192,7 +193,7 @@ def compile_align_scope_to_geometry(program, node, params):
         rule = edge_word
         if edge_word == "auto":  # 2009.2: the longest edge when all lie at one height
             heights = world[:, 1]
-            flat = float(np.ptp(heights)) <= 1e-9 * max(1.0, float(np.abs(world).max()))
+            flat = float(np.ptp(heights)) <= COINCIDENT_REL * max(1.0, float(np.abs(world).max()))
             rule = "longest" if flat else "world.lowest"
         best = None
         last_wins = rule != "world.lowest"
@@ -217,7 +218,11 @@ def compile_align_scope_to_geometry(program, node, params):
                 # Ties, as PyPRT breaks them: among equally long edges the last wins (an L with
                 # two longest edges, whichever corner the lot starts at); among equally low ones
                 # the first (a rectangle's x along its first edge, from any starting corner)
-                if best is None or key < best[0] - 1e-12 or (last_wins and key <= best[0] + 1e-12):
+                if (
+                    best is None
+                    or key < best[0] - ROUNDOFF_REL
+                    or (last_wins and at_most(key, best[0], ROUNDOFF_REL))
+                ):
                     best = (key, f, a, b)
         _, f, a, b = best
         normal = scope.rotation @ mesh.face_normal(f)
