@@ -48,6 +48,7 @@ __all__ = [
     "TRIG_ROUNDOFF",
     "DIVISION_FLOOR",
     "RAY_PARALLEL_DET",
+    "BATCH_DOUBT_REL",
     "GRID_SLACK",
     "TIE_REL",
     "HORIZON_SIN",
@@ -269,6 +270,11 @@ DIVISION_FLOOR = 1e-300
 #: Ray casting (CGA's scatter on a mesh): a ray is parallel to a triangle when the determinant
 #: of the Moller-Trumbore system is below ``RAY_PARALLEL_DET`` (square metres).
 RAY_PARALLEL_DET = 1e-14
+
+#: Batch derivation: a footprint corner turning by a sine below ``BATCH_DOUBT_REL``, an edge
+#: shorter than it times the footprint's span, an extrusion lower than it times that span, a
+#: footprint of less area than it times that span squared, is in doubt, and its lot is derived one shape at a time (dimensionless).
+BATCH_DOUBT_REL = 1e-6
 
 #: Design page: a value lies on a slider's grid ``low + k * step`` when within ``GRID_SLACK``
 #: of a step of it (dimensionless, a fraction of one step).

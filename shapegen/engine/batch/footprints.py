@@ -16,13 +16,21 @@ __all__ = ["Footprints"]
 import numpy as np
 
 from shapegen.limits import LOT_EXTENT_LIMIT_M
-from shapegen.tolerances import LOT_MERGE_M, ROUNDOFF_REL, SIZE_FLOOR_M
+from shapegen.tolerances import (
+    BATCH_DOUBT_REL,
+    COINCIDENT_M,
+    COINCIDENT_REL,
+    DEFAULT,
+    LOT_MERGE_M,
+    ROUNDOFF_REL,
+    SIZE_FLOOR_M,
+)
 
-_BOX_ATOL = 1e-9  # lot_shape's rectangle test: corners within this times the size
-_STRAIGHT_SINE = 1e-6  # a corner turning by less (sine of its angle) is in doubt
-_SHORT_EDGE = 1e-6  # an edge shorter than this times the footprint's span is in doubt
-_CONVEX_REL = 1e-7  # DEFAULT tolerances' convex_rel: the derivation's "clearly not convex"
-_THIN = 1e-6  # a footprint of less area than this times its span squared is in doubt
+_BOX_ATOL = COINCIDENT_REL  # lot_shape's rectangle test: corners within this times the size
+_STRAIGHT_SINE = BATCH_DOUBT_REL  # a corner turning by less (sine of its angle) is in doubt
+_SHORT_EDGE = BATCH_DOUBT_REL  # an edge shorter than this times the footprint's span is in doubt
+_CONVEX_REL = DEFAULT.convex_rel  # the derivation's "clearly not convex"
+_THIN = BATCH_DOUBT_REL  # a footprint of less area than this times its span squared is in doubt
 
 
 class Footprints:
@@ -157,7 +165,7 @@ class Footprints:
         want_x = np.column_stack([0 * sx, sx, sx, 0 * sx])
         want_z = np.column_stack([sz, sz, 0 * sz, 0 * sz])
         miss = np.maximum(np.abs(along - want_x).max(axis=1), np.abs(across - want_z).max(axis=1))
-        atol = _BOX_ATOL * np.maximum(np.maximum(sx, sz), 1e-9)
+        atol = _BOX_ATOL * np.maximum(np.maximum(sx, sz), COINCIDENT_M)
         self.box[lots] = miss <= 0.5 * atol
         full = np.zeros(self.count, dtype=bool)
         full[lots[(miss > 0.5 * atol) & (miss < 2 * atol)]] = True

@@ -33,6 +33,7 @@ import numpy as np
 from shapegen.engine.batch.columns import ColumnExpressions, Unsupported, is_column
 from shapegen.engine.batch.footprints import Footprints
 from shapegen.grammar import ast
+from shapegen.tolerances import BATCH_DOUBT_REL
 
 BOX, CONVEX, SOLID = 0, 1, 2  # what a lot's leaf is drawn as
 
@@ -379,7 +380,8 @@ class ShapeBatch:
         height = np.broadcast_to(np.asarray(value, dtype=float), (self.size,)).copy()
         sizes = self.run.footprints.span[self.index]
         self.give_up(
-            ~(np.isfinite(height) & (height > 1e-6 * sizes)), "an extrusion not clearly up"
+            ~(np.isfinite(height) & (height > BATCH_DOUBT_REL * sizes)),
+            "an extrusion not clearly up",
         )
         self.height = height
 
