@@ -273,7 +273,8 @@ RAY_PARALLEL_DET = 1e-14
 
 #: Batch derivation: a footprint corner turning by a sine below ``BATCH_DOUBT_REL``, an edge
 #: shorter than it times the footprint's span, an extrusion lower than it times that span, a
-#: footprint of less area than it times that span squared, is in doubt, and its lot is derived one shape at a time (dimensionless).
+#: footprint of less area than it times that span squared, is in doubt, and its lot is derived
+#: one shape at a time (dimensionless).
 BATCH_DOUBT_REL = 1e-6
 
 #: Design page: a value lies on a slider's grid ``low + k * step`` when within ``GRID_SLACK``

@@ -19,6 +19,7 @@ from itertools import chain
 import numpy as np
 
 from shapegen.limits import LOT_EXTENT_LIMIT_M
+from shapegen.tolerances import COINCIDENT_REL
 
 _PLAIN_KEYS = frozenset({"type", "coordinates"})
 
@@ -153,7 +154,7 @@ def plain_rings(points, offsets, crs, origin, max_lot_m, min_area_m2):
     nxt[starts[1:] - 1] = starts[:-1]
     twice = np.add.reduceat(x * z[nxt] - x[nxt] * z, starts[:-1])
     area = 0.5 * np.abs(twice)
-    clean &= (area > 2 * min_area_m2) & (np.abs(twice) > 1e-9 * big)
+    clean &= (area > 2 * min_area_m2) & (np.abs(twice) > COINCIDENT_REL * big)
     rings = np.split(ring_points, starts[1:-1])
     for j, k in enumerate(todo.tolist()):
         if not clean[j]:

@@ -28,7 +28,7 @@ from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.model.lot import Lot
 from shapegen.model.scope import Scope
-from shapegen.tolerances import ROUNDOFF_REL, ZERO_LENGTH
+from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, ROUNDOFF_REL, ZERO_LENGTH
 
 
 def _unit(vector: np.ndarray) -> np.ndarray | None:
@@ -155,7 +155,7 @@ def fills_rectangle(local: np.ndarray, sizes: np.ndarray) -> list[bool]:
     expected = np.zeros_like(local)
     expected[:, 1, 0] = expected[:, 2, 0] = sx
     expected[:, 2, 1] = expected[:, 3, 1] = sy
-    slack = 1e-9 * np.maximum(np.maximum(sx, sy), 1e-9)
+    slack = COINCIDENT_REL * np.maximum(np.maximum(sx, sy), COINCIDENT_M)
     close = np.abs(local - expected) <= slack[:, None, None] + 1e-5 * np.abs(expected)
     return close.all(axis=(1, 2)).tolist()
 
