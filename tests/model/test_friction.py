@@ -10,10 +10,10 @@ import pytest
 
 from shapegen.cli import main
 from shapegen.errors import GeometryError, InputFormatError, OptionError, ShapegenError
-from shapegen.export.blocks_json import model_from_dict
 from shapegen.model.block import Block
 from shapegen.model.friction import checked_friction
 from shapegen.model.model import Model
+from shapegen.readers.blocks_json import model_from_dict
 from shapegen.simulation.settings import SimulationSettings
 from shapegen.statics.assembly import assemble, friction_cone
 from shapegen.statics.options import StaticsOptions, checked_kern, checked_pyramid

@@ -32,7 +32,6 @@ __all__ = [
 
 import contextlib
 import io
-import math
 import numbers
 import sys
 from collections.abc import Mapping
