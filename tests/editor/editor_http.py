@@ -23,6 +23,18 @@ def serving(path, **options):
         session.close()
 
 
+@contextlib.contextmanager
+def serving_stack(folder):
+    """A server for a new session on the two-block stack of ``editor_stack``, written in
+    ``folder``."""
+    from editor_stack import STACK
+
+    path = folder / "stack.grammar"
+    path.write_text(STACK, encoding="utf-8")
+    with serving(path) as server:
+        yield server
+
+
 def request(server, method, path, body=None, headers=None, *, answer_headers=False):
     """``(status, Content-Type, content)`` (and the answer's headers with ``answer_headers``).
 

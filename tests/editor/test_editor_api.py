@@ -5,7 +5,7 @@ import struct
 import threading
 
 import pytest
-from editor_http import request, serving
+from editor_http import request, serving, serving_stack
 from editor_stack import WAIT_BOUND_S
 
 from shapegen.editor.server import MAX_BODY
@@ -13,11 +13,7 @@ from shapegen.editor.server import MAX_BODY
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    from editor_stack import STACK
-
-    path = tmp_path_factory.mktemp("api") / "stack.grammar"
-    path.write_text(STACK, encoding="utf-8")
-    with serving(path) as server:
+    with serving_stack(tmp_path_factory.mktemp("api")) as server:
         yield server
 
 

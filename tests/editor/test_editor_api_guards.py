@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
-from editor_http import request, serving, state
+from editor_http import request, serving, serving_stack, state
 from editor_stack import WAIT_BOUND_S
 
 from shapegen.editor.server import MAX_BODY
@@ -28,11 +28,7 @@ CHANGES = [
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    from editor_stack import STACK
-
-    path = tmp_path_factory.mktemp("guards") / "stack.grammar"
-    path.write_text(STACK, encoding="utf-8")
-    with serving(path) as server:
+    with serving_stack(tmp_path_factory.mktemp("guards")) as server:
         yield server
 
 
