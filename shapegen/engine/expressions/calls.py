@@ -5,13 +5,15 @@ queries (``inside``, ``overlaps``, ``touches``, answered by
 ``contextCompare``, ``minimumDistance``, answered by
 ``shapegen.engine.derivation.context_queries``).
 
-:class:`BuiltinCalls` is mixed into
-:class:`~shapegen.engine.expressions.compiler.ExpressionCompiler`.
+:class:`~shapegen.engine.expressions.compiler.ExpressionCompiler` makes one
+:class:`BuiltinCalls` and hands it these calls.
 """
 
 from __future__ import annotations
 
 __all__ = ["CONTEXT_QUERIES", "OCCLUSION", "PARTIAL_FUNCTIONS", "BuiltinCalls"]
+
+from collections.abc import Callable
 
 from shapegen.engine.derivation.context_queries import COMPARISONS, CONTEXT_QUERIES, context_query
 from shapegen.engine.expressions.arrays import format_value, type_name
@@ -26,9 +28,26 @@ PARTIAL_FUNCTIONS: dict[str, str] = dict.fromkeys((*OCCLUSION, *CONTEXT_QUERIES)
 
 
 class BuiltinCalls:
-    """Compilers of builtin calls; the host provides ``compile``, ``error`` and ``files``."""
+    """The compilers of one grammar's calls of these builtins.
 
-    def _call_pure(self, node, function, arguments: tuple, *, with_state: bool = False):
+    Parameters
+    ----------
+    compile
+        ``compile(node, params)``: the grammar's expression compiler, for an argument compiled
+        here (a query's label).
+    error
+        ``error(node, message)``: the grammar's error at a node (file, line, column and caret).
+    files
+        The project's file functions (``file_search.file_functions``): ``fileRandom`` for
+        ``fileRandom()``.
+    """
+
+    def __init__(self, compile: Callable, error: Callable[..., GrammarError], files: dict):
+        self.compile = compile
+        self.error = error
+        self.files = files
+
+    def pure(self, node, function, arguments: tuple, *, with_state: bool = False):
         """``function(*values)`` (``function(state, *values)`` with ``with_state``); its
         ValueError is the user's message, located at the call."""
         error = self.error
@@ -49,7 +68,7 @@ class BuiltinCalls:
 
         return call
 
-    def _call_random_choice(self, node, name: str, arguments: tuple):
+    def random_choice(self, node, name: str, arguments: tuple):
         error = self.error
         files = self.files
 
@@ -71,7 +90,7 @@ class BuiltinCalls:
 
         return call
 
-    def _call_print(self, node, arguments: tuple):
+    def printed(self, node, arguments: tuple):
         def call(args, state):
             value = arguments[0](args, state)
             print(format_value(value))
@@ -79,7 +98,7 @@ class BuiltinCalls:
 
         return call
 
-    def _call_occlusion(self, node, params):
+    def occlusion(self, node, params):
         name = node.name
         target = "all"
         label = None
@@ -104,7 +123,7 @@ class BuiltinCalls:
 
         return call
 
-    def _call_context(self, node, params):
+    def context(self, node, params):
         name = node.name
         _, count = CONTEXT_QUERIES[name]
         if len(node.args) != count:

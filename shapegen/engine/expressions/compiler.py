@@ -50,7 +50,7 @@ Value = float | bool | str
 Compiled = Callable[[tuple, object], Value]
 
 
-class ExpressionCompiler(BuiltinCalls):
+class ExpressionCompiler:
     """Compiles expressions of one grammar.
 
     Parameters
@@ -70,6 +70,7 @@ class ExpressionCompiler(BuiltinCalls):
         self.function_nodes = {f.name: f for f in reversed(grammar.functions)}
         self.files = file_functions(grammar.filename)
         self.readers = reading_functions(grammar.filename, self.files["fileRandom"])
+        self.calls = BuiltinCalls(self.compile, self.error, self.files)
 
     # ------------------------------------------------------------------ errors
     def error(self, node: object, message: str) -> GrammarError:
@@ -370,9 +371,9 @@ class ExpressionCompiler(BuiltinCalls):
     def _Call(self, node: ast.Call, params) -> Compiled:
         name = node.name
         if name in OCCLUSION:
-            return self._call_occlusion(node, params)
+            return self.calls.occlusion(node, params)
         if name in CONTEXT_QUERIES:
-            return self._call_context(node, params)
+            return self.calls.context(node, params)
         words = FUNCTION_KEYWORDS.get(name, frozenset())
         arguments = tuple(
             self._keyword(arg, params, words) or self.compile(arg, params) for arg in node.args
@@ -384,16 +385,16 @@ class ExpressionCompiler(BuiltinCalls):
         if name == "rand":
             return self._call_rand(node, arguments)
         if name in ("p", "listRandom", "fileRandom"):
-            return self._call_random_choice(node, name, arguments)
+            return self.calls.random_choice(node, name, arguments)
         if name == "print":
-            return self._call_print(node, arguments)
+            return self.calls.printed(node, arguments)
         if name == "convert":
-            return self._call_pure(node, convert_value, arguments, with_state=True)
+            return self.calls.pure(node, convert_value, arguments, with_state=True)
         if name in self.readers:
-            return self._call_pure(node, self.readers[name], arguments, with_state=True)
+            return self.calls.pure(node, self.readers[name], arguments, with_state=True)
         function = self.files.get(name) or PURE_FUNCTIONS.get(name)
         if function is not None:
-            return self._call_pure(node, function, arguments)
+            return self.calls.pure(node, function, arguments)
         raise self.error(node, f"the CGA function {name}() is not supported by shapegen")
 
     def _call_user(self, node, name: str, arguments: tuple) -> Compiled:
