@@ -108,8 +108,13 @@ def write_batch(
             records[k]["building"] = f"{key}:{index}"
         stands = [records[k].get("stands") is not False for k, _ in built]
         store.write(f"lots/{key}.blocks", _pack([model for _, model in built], stands, batched))
-    document = {"format": BATCH_FORMAT, "version": 1, "records": records}
-    text = json.dumps(json_ready(document), allow_nan=False, separators=(",", ":"))
+    # a batch-derived lot's record holds plain values already: only the others are converted
+    plain = [r if r.get("derived") == "batch" else json_ready(r) for r in records]
+    document = {"format": BATCH_FORMAT, "version": 1, "records": plain}
+    try:
+        text = json.dumps(document, allow_nan=False, separators=(",", ":"))
+    except (TypeError, ValueError):  # not as plain as it should be: convert it all
+        text = json.dumps(json_ready(document), allow_nan=False, separators=(",", ":"))
     store.write(f"lots/{key}.json", text.encode("utf-8"))
 
 

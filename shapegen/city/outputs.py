@@ -120,16 +120,14 @@ def encode_geojson(city, rows: list[dict]) -> bytes:
     features = []
     for lot, row in zip(city.lots, rows, strict=True):
         geometry = lot.geometry if isinstance(lot.geometry, dict) else None
-        properties = json_ready(row)
-        features.append(
-            {"type": "Feature", "id": lot.id, "geometry": geometry, "properties": properties}
-        )
+        features.append({"type": "Feature", "id": lot.id, "geometry": geometry, "properties": row})
     document = {"type": "FeatureCollection", "shapegen": city.frame(), "features": features}
     urn = city.input_crs.urn() if getattr(city, "input_crs", None) is not None else None
     if urn is not None:  # the input's coordinates are kept: say their system (old-style member)
         document = {"type": "FeatureCollection", "crs": {"type": "name", "properties": {
             "name": urn}}, **document}  # fmt: skip
-    try:  # the input's geometries are plain JSON already: not walked through value by value
+    try:  # the input's geometries and the rows (records read back from JSON) are plain JSON
+        # already: not walked through value by value
         text = json.dumps(document, allow_nan=False)
     except (TypeError, ValueError):
         text = json.dumps(json_ready(document), allow_nan=False)

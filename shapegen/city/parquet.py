@@ -15,6 +15,8 @@ __all__ = ["GEOPARQUET_VERSION", "PARQUET_MISSING", "encode_parquet", "have_pyar
 
 import json
 
+import numpy as np
+
 GEOPARQUET_VERSION = "1.1.0"
 PARQUET_MISSING = (
     "results.parquet not written: it needs pyarrow (pip install 'shapegen[city]' or pyarrow)"
@@ -59,12 +61,10 @@ def encode_parquet(city, columns: list[str], rows: list[dict], records: list[dic
             data[name] = pa.array(values, type=pa.list_(pa.string()))
         else:
             data[name] = _column(name, [row.get(name) for row in rows])
-    shapes = [_shape(lot.geometry) for lot in city.lots]
-    data["geometry"] = pa.array(
-        [None if s is None else shapely.to_wkb(s) for s in shapes], type=pa.binary()
-    )
+    shapes = _shapes([lot.geometry for lot in city.lots])
+    data["geometry"] = pa.array(shapely.to_wkb(shapes), type=pa.binary())
     table = pa.table(data)
-    geo = _geo_metadata(city, [s for s in shapes if s is not None])
+    geo = _geo_metadata(city, shapes[~shapely.is_missing(shapes)])
     table = table.replace_schema_metadata({b"geo": json.dumps(geo).encode("utf-8")})
     sink = pa.BufferOutputStream()
     pq.write_table(table, sink, compression="zstd")
@@ -86,6 +86,27 @@ def _column(name: str, values: list):
     except (pa.ArrowInvalid, pa.ArrowTypeError):
         # values of several kinds (an attr that is a number on one lot, text on another)
         return pa.array([None if v is None else str(v) for v in values], type=pa.string())
+
+
+def _shapes(geometries: list) -> np.ndarray:
+    """Each lot's geometry as a shapely geometry (None where :func:`_shape` gives none): the
+    plain polygons (one ring of pairs of finite numbers, the common case) made together from one
+    array of their corners, the others one by one."""
+    import shapely
+
+    from shapegen.city.lot_rings import plain_corners
+
+    plain, corners, offsets = plain_corners([{"geometry": g} for g in geometries])
+    out = np.empty(len(geometries), dtype=object)
+    if len(offsets) > 1:
+        index = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+        try:
+            out[plain] = shapely.polygons(shapely.linearrings(corners, indices=index))
+        except (ValueError, shapely.errors.ShapelyError):  # a ring of too few corners
+            plain[:] = False
+    for k in np.flatnonzero(~plain).tolist():
+        out[k] = _shape(geometries[k])
+    return out
 
 
 def _shape(geometry):
@@ -123,8 +144,10 @@ def _geo_metadata(city, shapes) -> dict:
     input_crs = getattr(city, "input_crs", None)
     if input_crs is not None:
         column["crs"] = input_crs.projjson()  # None (JSON null): the system is unknown
-    if shapes:
-        bounds = np.array([shape.bounds for shape in shapes])
+    if len(shapes):
+        import shapely
+
+        bounds = shapely.bounds(np.asarray(shapes, dtype=object))
         column["bbox"] = [
             float(bounds[:, 0].min()),
             float(bounds[:, 1].min()),

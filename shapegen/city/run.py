@@ -340,5 +340,9 @@ def _fingerprint(lot) -> str:
     digest = hashlib.blake2b(
         np.round(np.asarray(lot.ring, dtype=float), 6).tobytes(), digest_size=8
     )
-    digest.update(json.dumps(lot.properties, sort_keys=True, default=str).encode())
+    digest.update(_PROPERTIES.encode(lot.properties).encode())
     return digest.hexdigest()
+
+
+# json.dumps(properties, sort_keys=True, default=str), made once rather than for every lot
+_PROPERTIES = json.JSONEncoder(sort_keys=True, default=str)
