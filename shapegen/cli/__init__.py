@@ -92,16 +92,17 @@ def _run(argv) -> int:
 
 def _apply_rules_path(folders: list[str] | None) -> None:
     """``--rules-path`` folders go before SHAPEGEN_RULES_PATH's, for every rule file this run
-    loads (the page's reloads and the city's workers included); each is checked at once."""
+    loads (the page's reloads and the city's workers included): they are made into one
+    :class:`~shapegen.engine.project.rule_packages.RulesPath` here, each checked once (a
+    missing folder is one line now, not at the first import), and the checked folders are what
+    the variable then lists, for this process's loads and the processes it starts."""
     if not folders:
         return
     import os
 
-    from shapegen.engine.project.rule_packages import RULES_PATH_VARIABLE, import_search_folders
+    from shapegen.engine.project.rule_packages import RULES_PATH_VARIABLE, RulesPath
 
-    import_search_folders(folders)  # a missing folder is one line now, not at the first import
-    current = os.environ.get(RULES_PATH_VARIABLE, "")
-    os.environ[RULES_PATH_VARIABLE] = os.pathsep.join([*folders, *([current] if current else [])])
+    os.environ[RULES_PATH_VARIABLE] = RulesPath.of(folders).exported()
 
 
 def _interrupted(exc: KeyboardInterrupt) -> int:

@@ -25,15 +25,11 @@ from pathlib import Path
 import numpy as np
 
 from shapegen.engine.program.interpreter import Program
-from shapegen.engine.project.rule_packages import (
-    PACKAGE_SUFFIX,
-    import_search_folders,
-    start_rule_of_package,
-)
+from shapegen.engine.project.rule_packages import PACKAGE_SUFFIX, RulesPath, start_rule_of_package
 from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shapes.shape import lot_scope, lot_shape
 from shapegen.errors import GrammarError
-from shapegen.grammar import ast, import_paths
+from shapegen.grammar import ast
 from shapegen.grammar.source_files import read_rule_file
 from shapegen.limits import work_clock
 from shapegen.model.model import Model
@@ -199,12 +195,11 @@ def load_grammar(path: str | os.PathLike, rules_path=()) -> Grammar:
         a pointer to :func:`parse_grammar`), syntax errors and load-time problems (all of them
         at once, with file, line, column and caret).
     """
-    folders = import_search_folders(rules_path)
+    folders = RulesPath.of(rules_path).folders  # checked once, where it is made
     path = _rule_file(path)
     text, encoding = read_rule_file(path)
     warnings = (f"{path}: {encoding}",) if encoding is not None else ()
-    with import_paths.rules_path(folders):
-        return Grammar(_parse(text, str(path), origin=path, warnings=warnings), path)
+    return Grammar(_parse(text, str(path), path, warnings, folders), path)
 
 
 def parse_grammar(text: str, name: str = "<string>") -> Grammar:
@@ -293,10 +288,14 @@ def _is_bare_name(text: str) -> bool:
 
 
 def _parse(
-    text: str, filename: str, origin: Path | None = None, warnings: tuple[str, ...] = ()
+    text: str,
+    filename: str,
+    origin: Path | None = None,
+    warnings: tuple[str, ...] = (),
+    search_folders: tuple[Path, ...] = (),
 ) -> ast.RuleFile:
     """Parse and check ``text`` with the grammar package's loader; imports are resolved from
-    ``origin``'s folder (the working directory without one)."""
+    ``origin``'s folder (the working directory without one), then ``search_folders``."""
     from shapegen import grammar as language
 
-    return language.load(text, filename, origin, warnings)
+    return language.load(text, filename, origin, warnings, search_folders)

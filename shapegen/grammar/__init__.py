@@ -51,6 +51,7 @@ def load(
     filename: str = "<string>",
     origin: str | Path | None = None,
     warnings: tuple[str, ...] = (),
+    search_folders: tuple[Path, ...] = (),
 ) -> ast.RuleFile:
     """Parse and check .grammar ``text``, with the files it imports merged in.
 
@@ -65,6 +66,8 @@ def load(
         project). Without one they are relative to the working directory.
     warnings : tuple of str
         Warnings of reading the file (its encoding), put first in the grammar's ``warnings``.
+    search_folders : tuple of Path
+        Folders imports are looked up in after the file's own project (the user's rules path).
 
     Returns
     -------
@@ -79,7 +82,7 @@ def load(
     """
     grammar, problems = parse_with_problems(text, filename)
     if grammar.imports or any(isinstance(n, ast.DynamicImport) for n in ast.walk(grammar)):
-        grammar, imported, failed = resolve_imports(grammar, origin)
+        grammar, imported, failed = resolve_imports(grammar, origin, search_folders)
         problems = problems + imported
     else:
         failed = set()

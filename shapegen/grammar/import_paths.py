@@ -4,41 +4,20 @@ Relative to the importing file's folder, then to its project (the nearest folder
 ``rules/``); ``/Project/rest`` is the project itself when named so, else a project beside it in
 the workspace, else ``.ws/Project/rest`` (an extracted ``.rpk``), or what the project's
 ``.resolvemap.xml`` maps the path to. Last come the folders the user names
-(:func:`rules_path`: ``--rules-path DIR``, ``SHAPEGEN_RULES_PATH``), each searched as a
+(``search_folders``: ``--rules-path DIR``, ``SHAPEGEN_RULES_PATH``, made into one
+:class:`~shapegen.engine.project.rule_packages.RulesPath` by the loader), each searched as a
 workspace (``/ESRI.lib/rules/x.cga`` as ``DIR/ESRI.lib/rules/x.cga``) and as a project
 (``DIR/rules/x.cga``).
 """
 
 from __future__ import annotations
 
-__all__ = ["import_candidates", "project_folder", "rules_path", "search_folders"]
+__all__ = ["import_candidates", "project_folder"]
 
-import contextlib
-import contextvars
 import functools
 import xml.etree.ElementTree as ElementTree
-from collections.abc import Iterator
+from collections.abc import Sequence
 from pathlib import Path
-
-_SEARCH_FOLDERS: contextvars.ContextVar[tuple[Path, ...]] = contextvars.ContextVar(
-    "shapegen_rules_path", default=()
-)
-
-
-def search_folders() -> tuple[Path, ...]:
-    """The folders imports are looked up in after the importing file's own project."""
-    return _SEARCH_FOLDERS.get()
-
-
-@contextlib.contextmanager
-def rules_path(folders) -> Iterator[tuple[Path, ...]]:
-    """Look imports up in ``folders`` too (after the importing file's project), within the
-    block."""
-    token = _SEARCH_FOLDERS.set(tuple(Path(f) for f in folders))
-    try:
-        yield _SEARCH_FOLDERS.get()
-    finally:
-        _SEARCH_FOLDERS.reset(token)
 
 
 def project_folder(folder: Path) -> Path | None:
@@ -64,8 +43,9 @@ def _resolve_map(project: Path) -> dict[str, str]:
     }
 
 
-def import_candidates(path: str, folder: Path) -> list[Path]:
-    """Where ``import "path"`` written in a file of ``folder`` may be, in search order."""
+def import_candidates(path: str, folder: Path, search_folders: Sequence[Path] = ()) -> list[Path]:
+    """Where ``import "path"`` written in a file of ``folder`` may be, in search order, the
+    user's ``search_folders`` last."""
     project = project_folder(folder)
     found: list[Path] = []
     if project is not None:
@@ -87,7 +67,7 @@ def import_candidates(path: str, folder: Path) -> list[Path]:
             found += [project / path, project / "rules" / path]
     relative = path.lstrip("/")
     name, _, rest = relative.partition("/")
-    for extra in search_folders():
+    for extra in search_folders:
         found.append(extra / relative)  # a workspace: /ESRI.lib/rules/x.cga
         if path.startswith("/") and rest:
             found.append(extra / rest)  # the project itself: /ESRI.lib/rules/x.cga

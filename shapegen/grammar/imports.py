@@ -37,7 +37,7 @@ from pathlib import Path
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.dynamic_imports import reinitialised
-from shapegen.grammar.import_paths import import_candidates, project_folder, search_folders
+from shapegen.grammar.import_paths import import_candidates, project_folder
 from shapegen.grammar.names import BUILTIN_FUNCTIONS, OPERATION_KEYWORDS
 from shapegen.grammar.parser import parse_with_problems
 from shapegen.grammar.source_files import read_rule_file
@@ -64,7 +64,8 @@ class _Merged:
 class _Merger:
     """Merges the imports of one file and, recursively, of the files it imports."""
 
-    def __init__(self) -> None:
+    def __init__(self, search_folders: tuple[Path, ...] = ()) -> None:
+        self.search_folders = search_folders  # the user's rules path, looked in last
         self.problems: list[Problem] = []
         self.sources: dict[str, str] = {}
         self.cache: dict[Path, _Merged | None] = {}
@@ -141,10 +142,10 @@ class _Merger:
     # Files -------------------------------------------------------------------------------------
 
     def _imported(self, item: ast.Import, folder: Path, stack: tuple[Path, ...]) -> _Merged | None:
-        candidates = import_candidates(item.path, folder)
+        candidates = import_candidates(item.path, folder, self.search_folders)
         package = unpacked_package(folder)
         if package is not None:  # a package's imports stay in it, or in the rules path
-            candidates = [c for c in candidates if within(c, [package, *search_folders()])]
+            candidates = [c for c in candidates if within(c, [package, *self.search_folders])]
         path = next((c.resolve() for c in candidates if c.is_file()), None)
         if path is None and not candidates:
             self.problems.append(
@@ -401,7 +402,7 @@ def _redirected(definition: ast.Definition, mapping: dict[str, str] | None) -> a
 
 
 def resolve_imports(
-    grammar: ast.RuleFile, origin: str | Path | None = None
+    grammar: ast.RuleFile, origin: str | Path | None = None, search_folders: tuple[Path, ...] = ()
 ) -> tuple[ast.RuleFile, list[Problem], set[str]]:
     """Merge the files ``grammar`` imports (and theirs) into it.
 
@@ -412,6 +413,9 @@ def resolve_imports(
     origin
         The file it was read from: import paths are relative to its folder. None (a text)
         resolves them against the working directory.
+    search_folders
+        Where imports are looked up after the file's own project (the user's rules path,
+        checked by :class:`~shapegen.engine.project.rule_packages.RulesPath`).
 
     Returns
     -------
@@ -422,7 +426,7 @@ def resolve_imports(
         (references to ``prefix.*`` are not worth reporting after that); a syntax error in an
         imported file raises its :class:`GrammarError`.
     """
-    merger = _Merger()
+    merger = _Merger(tuple(search_folders))
     if origin is not None:
         path = Path(origin).resolve()
         folder, stack = path.parent, (path,)

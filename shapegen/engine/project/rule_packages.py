@@ -14,12 +14,14 @@ archive is refused with one line naming it.
 
 from __future__ import annotations
 
-__all__ = ["PACKAGE_SUFFIX", "start_rule_of_package"]
+__all__ = ["PACKAGE_SUFFIX", "RULES_PATH_VARIABLE", "RulesPath", "start_rule_of_package"]
 
+import functools
 import hashlib
 import os
 import shutil
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 from shapegen.errors import GrammarError
@@ -93,19 +95,42 @@ def start_rule_of_package(package: Path) -> Path:
 RULES_PATH_VARIABLE = "SHAPEGEN_RULES_PATH"
 
 
-def import_search_folders(given=()) -> tuple[Path, ...]:
-    """The folders imports are looked up in beyond a file's own project: ``given`` (the
-    ``--rules-path`` options) then :data:`RULES_PATH_VARIABLE`'s; a rule package (``.rpk``)
-    among them stands for its unpacked folder.
+@dataclass(frozen=True)
+class RulesPath:
+    """The folders imports are looked up in beyond a file's own project: the ``--rules-path``
+    options given, then :data:`RULES_PATH_VARIABLE`'s entries; a rule package (``.rpk``) among
+    them stands for its unpacked folder. Made (and its entries checked) once, at the edge: the
+    command line makes it from its options, :func:`~shapegen.engine.grammar_api.load_grammar`
+    from its ``rules_path`` argument; it is then passed down to the import resolution as it is.
 
     Raises
     ------
     GrammarError
-        For an entry that is neither a folder nor a rule package.
+        On construction (:meth:`of`), for an entry that is neither a folder nor a rule package.
     """
-    entries = [(str(e), "--rules-path") for e in given]
-    variable = os.environ.get(RULES_PATH_VARIABLE, "")
-    entries += [(e, RULES_PATH_VARIABLE) for e in variable.split(os.pathsep) if e.strip()]
+
+    folders: tuple[Path, ...] = ()
+
+    @classmethod
+    def of(cls, given=()) -> RulesPath:
+        """``given`` (folders or packages, as ``--rules-path`` names them; a :class:`RulesPath`
+        is taken as it is) then the variable's entries, the variable read now."""
+        if isinstance(given, RulesPath):
+            return given
+        environment = os.environ.get(RULES_PATH_VARIABLE, "")
+        return _checked_rules_path(tuple(str(e) for e in given), environment)
+
+    def exported(self) -> str:
+        """The folders as :data:`RULES_PATH_VARIABLE` lists them, for the processes this one
+        starts (the city's workers, the page's scans)."""
+        return os.pathsep.join(str(folder) for folder in self.folders)
+
+
+@functools.lru_cache(maxsize=16)
+def _checked_rules_path(given: tuple[str, ...], environment: str) -> RulesPath:
+    """The entries checked once per process for one value of the options and the variable."""
+    entries = [(e, "--rules-path") for e in given]
+    entries += [(e, RULES_PATH_VARIABLE) for e in environment.split(os.pathsep) if e.strip()]
     folders = []
     for entry, origin in entries:
         path = Path(entry).expanduser()
@@ -117,4 +142,4 @@ def import_search_folders(given=()) -> tuple[Path, ...]:
             raise GrammarError(
                 f"{origin} {entry!r}: not a folder nor a rule package (.rpk) to look imports up in"
             )
-    return tuple(dict.fromkeys(folders))
+    return RulesPath(tuple(dict.fromkeys(folders)))
