@@ -59,11 +59,22 @@ class ExpressionCompiler:
         The parsed file (for the source text in error messages and the function table).
     global_names
         Names of attributes and constants, read from ``state.attrs`` at run time.
+    component_values
+        The compiler of the comp *function* (``comp(f) { all : scope.sx }``),
+        ``component_values(compiler, node, params)``: it takes the shape apart as the comp
+        operation does, so it lives with the operations
+        (:func:`~shapegen.engine.operations.cga.comp_values.compile_component_values`).
     """
 
-    def __init__(self, grammar: ast.RuleFile, global_names: set[str]):
+    def __init__(
+        self,
+        grammar: ast.RuleFile,
+        global_names: set[str],
+        component_values: Callable[..., Compiled],
+    ):
         self.grammar = grammar
         self.global_names = global_names
+        self.component_values = component_values
         # User functions by (name, number of parameters): CGA overloads a name by its arity.
         self.functions: dict[tuple[str, int], Compiled | None] = {}
         self.overloads = {(f.name, len(f.params)): f for f in grammar.functions}
@@ -243,11 +254,7 @@ class ExpressionCompiler:
         return index
 
     def _ComponentValues(self, node: ast.ComponentValues, params) -> Compiled:
-        # the comp function takes the shape apart as the comp operation does (cga_ops imports
-        # this module, so it is looked up when a rule file uses it, as operations.py does)
-        from shapegen.engine.operations.cga.comp_values import compile_component_values
-
-        return compile_component_values(self, node, params)
+        return self.component_values(self, node, params)
 
     def _Unary(self, node: ast.Unary, params) -> Compiled:
         operand = self.compile(node.operand, params)

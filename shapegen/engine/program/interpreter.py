@@ -105,7 +105,7 @@ class Program:
         self.attr_nodes = {a.name: a for a in grammar.attrs}
         self.const_nodes = {c.name: c for c in grammar.consts}
         global_names = set(self.attr_nodes) | set(self.const_nodes) | set(RESERVED_ATTRIBUTES)
-        self.expressions = ExpressionCompiler(grammar, global_names)
+        self.expressions = ExpressionCompiler(grammar, global_names, _component_values)
         self.expressions.compile_functions()
         definitions = {
             name: self._value(node)
@@ -447,6 +447,14 @@ def _insert(name: str, scope: Scope, params: dict) -> list[Block]:
     from shapegen.primitives import insert
 
     return insert(name, scope, **params)
+
+
+def _component_values(compiler, node, params):
+    """The comp function, compiled by the operations' module of it: the CGA operations are
+    loaded when a rule file uses one, not with the engine."""
+    from shapegen.engine.operations.cga.comp_values import compile_component_values
+
+    return compile_component_values(compiler, node, params)
 
 
 def _rule_with_locals(body, extend):
