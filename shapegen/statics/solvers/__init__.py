@@ -33,19 +33,22 @@ if TYPE_CHECKING:
 _HOMES = {name: "base" for name in ("Backend", "Solution", "SolveRequest", "SolveStatus")}
 __getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)
 
-_CLASSES = {  # name: (module, class, whether it takes second-order cones)
-    "reduced": ("shapegen.statics.solvers.reduced", "ReducedBackend", True),
-    "clarabel": ("shapegen.statics.solvers.clarabel_direct", "ClarabelBackend", True),
-    "cvxpy": ("shapegen.statics.solvers.cvxpy_reference", "CvxpyBackend", True),
+_CLASSES = {  # name: (module, class); what each takes is declared on its class
+    "reduced": ("shapegen.statics.solvers.reduced", "ReducedBackend"),
+    "clarabel": ("shapegen.statics.solvers.clarabel_direct", "ClarabelBackend"),
+    "cvxpy": ("shapegen.statics.solvers.cvxpy_reference", "CvxpyBackend"),
 }
 
 
 class _Backends(Mapping):
     """Name -> back-end class; a back-end's module (and so scipy, Clarabel or cvxpy) is imported
-    when its class is first asked for, so naming and checking options loads no solver."""
+    when its class is first asked for. A back-end's module holds its class and what it declares
+    (:attr:`~Backend.second_order_cones`, :attr:`~Backend.honours`) and imports its solver's
+    library (scipy.sparse.linalg, Clarabel, cvxpy) only when it solves, so checking options
+    loads no solver library."""
 
     def __getitem__(self, name: str) -> type[Backend]:
-        module, cls, _ = _CLASSES[name]
+        module, cls = _CLASSES[name]
         return getattr(importlib.import_module(module), cls)
 
     def __iter__(self) -> Iterator[str]:
@@ -66,10 +69,9 @@ def get_backend(name: str) -> Backend:
 
 
 def takes_cones(name: str) -> bool:
-    """Whether back-end ``name`` solves the exact Coulomb cone, known without importing it (the
-    class's :attr:`~Backend.second_order_cones` says the same; a test holds them equal), so
-    checking options loads no solver."""
-    return _CLASSES[name][2]
+    """Whether back-end ``name`` solves the exact Coulomb cone: what its class declares
+    (:attr:`~Backend.second_order_cones`), the one place it is said."""
+    return BACKENDS[name].second_order_cones
 
 
 def cone_refusal(solver: str) -> str:

@@ -7,7 +7,6 @@ __all__ = ["ClarabelBackend"]
 import time
 
 import numpy as np
-import scipy.sparse as sp
 
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
 
@@ -48,6 +47,7 @@ class ClarabelBackend(Backend):
 
     def solve(self, problem) -> Solution:
         import clarabel
+        import scipy.sparse as sp  # with the solve: checking options loads no solver
 
         trivial = trivial_solution(problem)
         if trivial is not None:

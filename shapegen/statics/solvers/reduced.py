@@ -25,19 +25,18 @@ __all__ = ["ReducedBackend"]
 
 import dataclasses
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from shapegen.statics.solvers import second_order as _soc
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
-from shapegen.statics.solvers.normal_equations import check_factorization
-from shapegen.statics.solvers.reduced_kkt import KktSystem as _Kkt
-from shapegen.statics.solvers.reduced_kkt import Point as _Point
-from shapegen.statics.solvers.reduced_kkt import complementarity as _complementarity
-from shapegen.statics.solvers.reduced_kkt import from_rows as _from_rows
-from shapegen.statics.solvers.reduced_kkt import max_steps as _max_steps
-from shapegen.statics.solvers.reduced_kkt import objective_value as _objective
-from shapegen.statics.solvers.reduced_kkt import to_rows as _to_rows
+
+# The KKT system and its factorisations (scipy.sparse.linalg, CHOLMOD) are imported when a
+# solve starts: the class, and what it declares it takes, loads without them.
+if TYPE_CHECKING:
+    from shapegen.statics.solvers.reduced_kkt import KktSystem as _Kkt
+    from shapegen.statics.solvers.reduced_kkt import Point as _Point
 
 # Stopping rules, as multiples of ``tolerance`` (dimensionless). The primal residual stays tight
 # because the certificate reads the forces themselves; the gap (1e-9 at the default tolerance)
@@ -128,6 +127,8 @@ class ReducedBackend(Backend):
         self.max_iter = max_iter
         self.verbose = verbose
         self.stop_above = stop_above
+        from shapegen.statics.solvers.normal_equations import check_factorization
+
         check_factorization(factorization)
         self.factorization = factorization
         self.accept = accept
@@ -136,6 +137,11 @@ class ReducedBackend(Backend):
         self.warm_start = None
 
     def solve(self, problem) -> Solution:
+        from shapegen.statics.solvers.reduced_kkt import KktSystem as _Kkt
+        from shapegen.statics.solvers.reduced_kkt import complementarity as _complementarity
+        from shapegen.statics.solvers.reduced_kkt import max_steps as _max_steps
+        from shapegen.statics.solvers.reduced_kkt import objective_value as _objective
+
         start = time.perf_counter()
         trivial = trivial_solution(problem)
         if trivial is not None:
@@ -301,6 +307,8 @@ class ReducedBackend(Backend):
         18-20 at 10 000): those starts put the forces far from the compressive region and the
         first iterations only took short steps.
         """
+        from shapegen.statics.solvers.reduced_kkt import Point as _Point
+
         m, k = kkt.m, len(kkt.cone)
         primal = max(float(np.abs(kkt.w).max()), _SCALE_FLOOR)
         dual = max(float(np.abs(kkt.q_s).max()), primal)
@@ -328,6 +336,9 @@ class ReducedBackend(Backend):
         screened) forces saves a fifth to a third of its iterations (1 004 blocks: 17 -> 14):
         the cold start spends its first iterations finding forces that balance the load.
         """
+        from shapegen.statics.solvers.reduced_kkt import Point as _Point
+        from shapegen.statics.solvers.reduced_kkt import to_rows as _to_rows
+
         x_cut, x_s = kkt.split(np.asarray(x, dtype=float))
         floor = _WARM_SLACK_FLOOR * float(cold.slack_s[0])
         return _Point(
@@ -348,6 +359,8 @@ class ReducedBackend(Backend):
         with ``A^T y + G^T z = 0`` and ``w . y > 0`` (then ``y . (A x + w) > 0`` for every
         admissible ``x``). Interior point duals grow along such a ray when the primal is
         infeasible; the test runs once they are large."""
+        from shapegen.statics.solvers.reduced_kkt import from_rows as _from_rows
+
         size = max(
             float(np.abs(point.y).max()),
             float(point.dual_cut.max(initial=0.0)),
