@@ -337,9 +337,9 @@ def _identity(settings: CitySettings) -> dict:
 
 def _fingerprint(lot) -> str:
     """A hash of what a lot is built from: its corners (to the micrometre) and properties."""
-    digest = hashlib.blake2b(
-        np.round(np.asarray(lot.ring, dtype=float), 6).tobytes(), digest_size=8
-    )
+    with np.errstate(over="ignore", invalid="ignore"):  # a refused lot's 1e308 corner
+        corners = np.round(np.asarray(lot.ring, dtype=float), 6)
+    digest = hashlib.blake2b(corners.tobytes(), digest_size=8)
     digest.update(_PROPERTIES.encode(lot.properties).encode())
     return digest.hexdigest()
 

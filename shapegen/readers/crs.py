@@ -130,12 +130,14 @@ def parse_crs(text: str, where: str) -> InputCrs:
             f"{where}: {shown!r} is not a coordinate system pyproj knows (give EPSG:NNNN, a"
             " WKT .prj, 'lonlat' or 'metres')"
         ) from None
-    return _checked(crs, where)
+    return _checked(crs, where, text)
 
 
-def _checked(crs, where: str) -> InputCrs:
+def _checked(crs, where: str, text: str = "") -> InputCrs:
     authority = crs.to_authority(min_confidence=90)
     name = f"{authority[0]}:{authority[1]}" if authority else crs.name
+    if name == "unknown" and text:  # a proj string's system has no name: show the string
+        name = repr(text if len(text) <= 60 else text[:57] + "...")
     if crs.is_geographic:
         datum = crs.datum.name if crs.datum is not None else ""
         if "World Geodetic System 1984" in datum and crs.prime_meridian.longitude == 0:
@@ -148,7 +150,19 @@ def _checked(crs, where: str) -> InputCrs:
         raise InputFormatError(
             f"{where}: {name} ({crs.name}) is not a map projection nor longitude/latitude"
         )
-    return InputCrs(name, crs.to_wkt())
+    pyproj = _pyproj(name)
+    wkt = crs.to_wkt()
+    try:  # made now, so that a system proj cannot invert (+to_meter=1e-300) is this input's line
+        if not wkt:
+            raise pyproj.exceptions.CRSError("it has no WKT")
+        _transformer(wkt, True)
+        _transformer(wkt, False)
+    except (pyproj.exceptions.CRSError, pyproj.exceptions.ProjError) as exc:
+        reason = " ".join(str(exc).split())[:160]
+        raise InputFormatError(
+            f"{where}: {name} ({crs.name}): pyproj cannot take it to longitude/latitude ({reason})"
+        ) from None
+    return InputCrs(name, wkt)
 
 
 def _member_text(member: object, where: str) -> str:

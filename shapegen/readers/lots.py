@@ -59,6 +59,11 @@ def read_lot(text: str) -> Lot:
         if feature:
             raise InputFormatError(f"--lot {text}: an OBJ lot takes no #ID (its first face)")
         return lot_from_obj(path)
+    if suffix and Path(path).is_file():  # not "osm_x.osm" read as WIDTHxDEPTH
+        raise InputFormatError(
+            f"--lot {text}: a lot is read from a .geojson, .json or .obj file, not a "
+            f"{suffix} file (shapegen city reads OSM XML and gzipped GeoJSON)"
+        )
     # "3.4, 3" is WIDTH,DEPTH and "0, 0 12, 0 ..." corners: spaces beside a comma do not separate
     corners = re.sub(r"\s*,\s*", ",", stripped).replace(";", " ").split()
     if len(corners) == 1:

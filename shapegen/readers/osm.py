@@ -207,6 +207,8 @@ def _elements(path: Path):
         raise InputFormatError(f"{path}:{line}:{column + 1}: invalid XML: {message}") from None
     except OSError as exc:
         raise InputFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except LookupError as exc:  # the XML declaration names an encoding Python does not know
+        raise InputFormatError(f"{path}: invalid XML: {exc}") from None
 
 
 def _osm_id(element, path: Path) -> int:
