@@ -412,7 +412,7 @@ class Mesh:
 
     def reversed(self) -> Mesh:
         """The same mesh with every face turned around (CityEngine's ``reverseNormals``)."""
-        return Mesh(self.vertices, tuple(_reversed(f) for f in self.faces))
+        return Mesh._checked(self.vertices, tuple(_reversed(f) for f in self.faces))
 
     def face(self, index: int) -> Mesh:
         """Face ``index`` alone, with only its own vertices."""
