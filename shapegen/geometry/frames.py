@@ -200,8 +200,12 @@ _QUADRANTS = {
 def quadrant(normal: np.ndarray) -> str:
     """``front back left right top bottom`` of a direction in scope coordinates: its largest
     component (CityEngine classifies face normals into the scope's quadrants)."""
-    n = np.asarray(normal, float)
-    axis = int(np.argmax(np.abs(n)))
-    if abs(n[1]) >= max(abs(n[0]), abs(n[2])) - ROUNDOFF_REL and n[1] != 0:
+    n = np.asarray(normal, float).tolist()  # three floats: numpy's calls cost more here
+    a = [abs(v) for v in n]
+    if a[0] != a[0] or a[1] != a[1] or a[2] != a[2]:  # NaN: argmax takes the first NaN
+        axis = int(np.argmax(np.abs(np.asarray(n))))
+    else:  # the first largest, as np.argmax
+        axis = 0 if a[0] >= a[1] and a[0] >= a[2] else (1 if a[1] >= a[2] else 2)
+    if a[1] >= max(a[0], a[2]) - ROUNDOFF_REL and n[1] != 0:
         axis = 1
     return _QUADRANTS[(axis, 1 if n[axis] >= 0 else -1)]

@@ -311,6 +311,8 @@ def extrude_shape(
     world = scope.to_world(prism.vertices)
     if world_up:
         rotation = rotation_keeping_x(scope.rotation[:, 0], np.array([0.0, 1.0, 0.0]))
+    elif not solid and shape.geometry is None and shape.normal_axis == 2:  # a rectangle: +z
+        rotation = rotation_keeping_x(scope.rotation[:, 0], scope.rotation[:, 2])
     elif shape.normal_axis == 1 or cityengine_scope:
         normal = scope.rotation @ face.face_normal(0)
         rotation = rotation_keeping_x(scope.rotation[:, 0], normal)
