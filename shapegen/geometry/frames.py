@@ -112,7 +112,7 @@ def fitted_face_scopes(
     with np.errstate(invalid="ignore", divide="ignore"):
         z = normals / length[:, None]
     z[flat] = (0.0, 1.0, 0.0)
-    edges = np.roll(points, -1, axis=1) - points
+    edges = np.concatenate([points[:, 1:], points[:, :1]], axis=1) - points
     along = edges[..., 0] * z[:, None, 0] + edges[..., 1] * z[:, None, 1]
     along = along + edges[..., 2] * z[:, None, 2]
     across = edges - z[:, None, :] * along[..., None]
