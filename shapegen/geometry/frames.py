@@ -147,8 +147,8 @@ def fitted_face_scopes(
 
 def fills_rectangle(local: np.ndarray, sizes: np.ndarray) -> list[bool]:
     """Per quad ``(n, 4, 3)``: its corners are (0, 0) (sx, 0) (sx, sy) (0, sy) of its scope, as
-    ``np.allclose`` tells (absolute slack 1e-9 of the larger side, relative 1e-5); other
-    polygons ``(n, k, 3)`` do not."""
+    ``np.allclose`` tells (absolute slack COINCIDENT_REL of the larger side, relative 1e-5);
+    other polygons ``(n, k, 3)`` do not."""
     if local.shape[1] != 4:
         return [False] * len(local)
     sx, sy = sizes[:, 0], sizes[:, 1]
