@@ -8,6 +8,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from shapegen.cli.display import ProgressBar
 from shapegen.cli.options import (
     CommandLineError,
     add_derivation_options,
@@ -253,29 +254,18 @@ def _summary(outcome, args) -> None:
         print(f"city: {outcome.files['glb']}")
 
 
-class _ProgressBar:
+class _ProgressBar(ProgressBar):
     """A rich progress bar on stderr: lots done of all, failures and the rate."""
 
-    def __init__(self, quiet: bool):
-        self.quiet = quiet
-        self.bar = None
-        self.task = None
+    def columns(self) -> tuple:
+        from rich.progress import BarColumn, MofNCompleteColumn, TextColumn
 
-    def __enter__(self):
-        if not self.quiet:
-            from rich.console import Console
-            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
-
-            self.bar = Progress(
-                TextColumn("lots"),
-                BarColumn(),
-                MofNCompleteColumn(),
-                TextColumn("{task.fields[failed]} failed, {task.fields[rate]:.2f} lots/s"),
-                console=Console(stderr=True),
-                transient=True,
-            )
-            self.bar.__enter__()
-        return self
+        return (
+            TextColumn("lots"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn("{task.fields[failed]} failed, {task.fields[rate]:.2f} lots/s"),
+        )
 
     def __call__(self, event) -> None:
         if self.bar is None:
@@ -283,8 +273,3 @@ class _ProgressBar:
         if self.task is None:
             self.task = self.bar.add_task("lots", total=event.total, failed=0, rate=0.0)
         self.bar.update(self.task, completed=event.done, failed=event.failed, rate=event.rate)
-
-    def __exit__(self, *exc_info):
-        if self.bar is not None:
-            self.bar.__exit__(*exc_info)
-        return False

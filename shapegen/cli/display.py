@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 __all__ = [
+    "ProgressBar",
     "SearchProgress",
     "SimulationProgress",
     "capacity_line",
@@ -64,27 +65,45 @@ class SearchProgress:
         self.status.update(f"optimizing: {record.evaluations} evaluations, {record.seconds:.1f} s")
 
 
-class SimulationProgress:
-    """A progress bar over simulated seconds, on stderr."""
+class ProgressBar:
+    """A rich progress bar on stderr that goes when it is done; nothing when ``quiet``.
+
+    A command's bar says what it shows in :meth:`columns` (rich's default ones if none) and
+    moves it in ``__call__``.
+    """
 
     def __init__(self, quiet: bool):
         self.quiet = quiet
         self.bar = None
         self.task = None
 
+    def columns(self) -> tuple:
+        return ()
+
+    def started(self) -> None:
+        """Called once the bar is shown."""
+
     def __enter__(self):
         if not self.quiet:
             from rich.console import Console
             from rich.progress import Progress
 
-            self.bar = Progress(console=Console(stderr=True), transient=True)
+            self.bar = Progress(*self.columns(), console=Console(stderr=True), transient=True)
             self.bar.__enter__()
-            self.task = self.bar.add_task("simulating", total=1.0)
+            self.started()
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc_info):
         if self.bar is not None:
-            self.bar.__exit__(*exc)
+            self.bar.__exit__(*exc_info)
+        return False
+
+
+class SimulationProgress(ProgressBar):
+    """A progress bar over simulated seconds, on stderr."""
+
+    def started(self) -> None:
+        self.task = self.bar.add_task("simulating", total=1.0)
 
     def __call__(self, done: float, total: float) -> None:
         if self.bar is not None:

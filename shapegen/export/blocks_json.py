@@ -5,7 +5,7 @@ version."""
 
 from __future__ import annotations
 
-__all__ = ["model_to_dict", "write_blocks_json"]
+__all__ = ["load_entries", "model_settings", "model_to_dict", "write_blocks_json"]
 
 import json
 from pathlib import Path
@@ -26,18 +26,9 @@ def model_to_dict(model: Model) -> dict:
     the report that came with it did.
     """
     document = {
-        "format": FORMAT_NAME,
-        "version": FORMAT_VERSION,
-        "units": "m",
-        "up": "y",
-        "gravity": [float(g) for g in model.gravity],
-        "ground": None if model.ground is None else float(model.ground),
-        "friction": float(model.friction),
+        **model_settings(model),
         "blocks": [_block_entry(block) for block in model.blocks],
-        "loads": [
-            {"block": load.block, "force": load.force.tolist(), "point": load.point.tolist()}
-            for load in model.loads
-        ],
+        "loads": load_entries(model),
     }
     surfaces = surfaces_of(model)
     if surfaces:
@@ -46,6 +37,28 @@ def model_to_dict(model: Model) -> dict:
     if structure:
         document["structure"] = json_ready(structure)
     return document
+
+
+def model_settings(model: Model) -> dict:
+    """The format, units and the model's gravity, ground and friction, as a shapegen-blocks
+    document (and a glTF scene's extras) begin."""
+    return {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "units": "m",
+        "up": "y",
+        "gravity": [float(g) for g in model.gravity],
+        "ground": None if model.ground is None else float(model.ground),
+        "friction": float(model.friction),
+    }
+
+
+def load_entries(model: Model) -> list[dict]:
+    """The model's point loads as shapegen-blocks entries (N, m)."""
+    return [
+        {"block": load.block, "force": load.force.tolist(), "point": load.point.tolist()}
+        for load in model.loads
+    ]
 
 
 def _block_entry(block: Block) -> dict:

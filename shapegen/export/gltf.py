@@ -33,6 +33,7 @@ import trimesh
 from trimesh.visual import TextureVisuals
 from trimesh.visual.material import PBRMaterial
 
+from shapegen.export.blocks_json import load_entries, model_settings
 from shapegen.export.colors import (
     RESULTANT,
     display_color,
@@ -44,7 +45,6 @@ from shapegen.export.meshes import block_mesh
 from shapegen.export.surfaces import surface_mesh, surfaces_of
 from shapegen.json_values import json_ready
 from shapegen.model.model import Model
-from shapegen.readers.blocks_json import FORMAT_NAME, FORMAT_VERSION
 from shapegen.readers.surface_entries import SURFACE_ROLE
 from shapegen.tolerances import FORCE_NOISE_REL
 
@@ -260,19 +260,7 @@ def _material(color: np.ndarray, double_sided: bool = False) -> PBRMaterial:
 
 
 def _scene_extras(model: Model, analysis) -> dict:
-    extras = {
-        "format": FORMAT_NAME,
-        "version": FORMAT_VERSION,
-        "units": "m",
-        "up": "y",
-        "gravity": [float(g) for g in model.gravity],
-        "ground": None if model.ground is None else float(model.ground),
-        "friction": float(model.friction),
-        "loads": [
-            {"block": load.block, "force": load.force.tolist(), "point": load.point.tolist()}
-            for load in model.loads
-        ],
-    }
+    extras = {**model_settings(model), "loads": load_entries(model)}
     structure = (model.metadata or {}).get("structure")
     if structure:
         extras["structure"] = json_ready(structure)

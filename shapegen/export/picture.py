@@ -43,33 +43,14 @@ _DPI = 100
 _MAX_LABELS = 8  # label entries in a legend; the rest are counted on one line
 
 
-def render_model(
-    model: Model,
-    path: str | Path,
-    analysis=None,
-    *,
-    title: str | None = None,
-    elevation: float = 25.0,
-    azimuth: float = -60.0,
-    size_px: tuple[int, int] = (800, 600),
-    bounds: np.ndarray | None = None,
-    legend: bool | None = None,
-) -> None:
+def render_model(model: Model, path: str | Path, analysis=None, **options) -> None:
     """Write a PNG picture of ``model`` to ``path`` (atomically; the folder is checked first).
 
-    See :func:`model_figure` for the parameters.
+    ``options`` are the keywords of :func:`model_figure` (title, elevation, azimuth, size_px,
+    bounds, legend).
     """
     target = check_writable(path)
-    content = encode_picture(
-        model,
-        analysis,
-        title=title,
-        elevation=elevation,
-        azimuth=azimuth,
-        size_px=size_px,
-        bounds=bounds,
-        legend=legend,
-    )
+    content = encode_picture(model, analysis, **options)
     with atomic_write(target, "wb") as handle:
         handle.write(content)
 

@@ -26,7 +26,8 @@ import numpy as np
 
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 from shapegen.geometry.prism_cut import prism_decomposition
-from shapegen.tolerances import COINCIDENT_REL, DEFAULT, ROUNDOFF_REL, SIZE_FLOOR_M, at_least
+from shapegen.geometry.rings import chain_loops
+from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
 
 # A face plane splits a piece with corners this many COINCIDENT_REL beyond it; a piece with
 # none is convex. That is the blocks' convexity tolerance (convex_rel, relative to the piece
@@ -171,30 +172,9 @@ def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
         for i in (c[0], c[-1]):
             x, y, z = points[i].tolist()
             position[i] = x * ax + y * ay + z * az
-    starts = sorted(range(len(chains)), key=lambda c: position[chains[c][0]])
-    link: dict[int, int] = {}
-    free = list(starts)
-    for c in sorted(range(len(chains)), key=lambda c: position[chains[c][-1]]):
-        end = position[chains[c][-1]]
-        choice = next(
-            (s for s in free if at_least(position[chains[s][0]], end, ROUNDOFF_REL)), None
-        )
-        if choice is None:
-            choice = free[0]
-        free.remove(choice)
-        link[c] = choice
     polygons = []
-    seen: set[int] = set()
-    for first in range(len(chains)):
-        if first in seen:
-            continue
-        polygon: list[int] = []
-        c = first
-        while c not in seen:
-            seen.add(c)
-            polygon.extend(chains[c])
-            c = link[c]
-        polygon = _without_repeats(polygon)
+    for loop in chain_loops([position[c[0]] for c in chains], [position[c[-1]] for c in chains]):
+        polygon = _without_repeats([i for c in loop for i in chains[c]])
         if len(polygon) >= 3:
             polygons.append(tuple(polygon))
     return polygons

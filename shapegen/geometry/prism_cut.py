@@ -25,9 +25,9 @@ from functools import lru_cache
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh
-from shapegen.geometry.rings import corners_apart, is_simple, turns_left, winds_once
+from shapegen.geometry.rings import chain_loops, corners_apart, is_simple, turns_left, winds_once
 from shapegen.model.polygons import CheckedFaces
-from shapegen.tolerances import COINCIDENT_REL, DEFAULT, ROUNDOFF_REL, SIZE_FLOOR_M, at_least
+from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
 
 # as in cut.py: an edge's line splits a piece with corners this many COINCIDENT_REL beyond it;
 # a piece with none is convex within the blocks' convexity tolerance, the check's
@@ -413,31 +413,11 @@ class _Footprint:
         for c, _ in chains:
             for i in (c[0], c[-1]):
                 position[i] = self.xs[i] * ax + self.ys[i] * ay
-        starts = sorted(range(len(chains)), key=lambda c: position[chains[c][0][0]])
-        link: dict[int, int] = {}
-        free = list(starts)
-        for c in sorted(range(len(chains)), key=lambda c: position[chains[c][0][-1]]):
-            end = position[chains[c][0][-1]]
-            choice = next(
-                (s for s in free if at_least(position[chains[s][0][0]], end, ROUNDOFF_REL)), None
-            )
-            if choice is None:
-                choice = free[0]
-            free.remove(choice)
-            link[c] = choice
         rings = []
-        seen: set[int] = set()
-        for first in range(len(chains)):
-            if first in seen:
-                continue
-            corners: list[int] = []
-            corner_tags: list[int] = []
-            c = first
-            while c not in seen:
-                seen.add(c)
-                corners.extend(chains[c][0])
-                corner_tags.extend(chains[c][1])
-                c = link[c]
+        starts = [position[c[0]] for c, _ in chains]
+        for loop in chain_loops(starts, [position[c[-1]] for c, _ in chains]):
+            corners = [i for c in loop for i in chains[c][0]]
+            corner_tags = [t for c in loop for t in chains[c][1]]
             if len(set(corners)) != len(corners):
                 raise _Doubt  # a ring through a corner twice
             if len(corners) >= 3:

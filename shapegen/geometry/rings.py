@@ -5,11 +5,13 @@ numpy for a ring of many corners."""
 
 from __future__ import annotations
 
-__all__ = ["corners_apart", "is_simple", "turns_left", "winds_once"]
+__all__ = ["chain_loops", "corners_apart", "is_simple", "turns_left", "winds_once"]
 
 import math
 
 import numpy as np
+
+from shapegen.tolerances import ROUNDOFF_REL, at_least
 
 
 def turns_left(ring: list[int], xs: list[float], ys: list[float]) -> bool:
@@ -125,3 +127,30 @@ def _simple_many(xs: list[float], ys: list[float], tol: float) -> bool:
     i, k = np.indices((n, n))
     apart = (np.abs(i - k) >= 2) & (np.abs(i - k) != n - 1)
     return not bool((meet & apart).any())
+
+
+def chain_loops(start: list[float], end: list[float]) -> list[list[int]]:
+    """The chains of a polygon cut by a line, closed into loops along the line.
+
+    ``start[c]`` and ``end[c]`` are where chain ``c`` begins and ends along the line (m). The
+    chains are taken by their ends in order along the line, and each joins the first chain still
+    free whose start is not before its end (by more than round-off), else the first one free;
+    the loops come as lists of chain numbers, each from its lowest-numbered chain.
+    """
+    count = len(start)
+    free = sorted(range(count), key=start.__getitem__)
+    link: dict[int, int] = {}
+    for c in sorted(range(count), key=end.__getitem__):
+        choice = next((s for s in free if at_least(start[s], end[c], ROUNDOFF_REL)), free[0])
+        free.remove(choice)
+        link[c] = choice
+    loops, seen = [], set()
+    for first in range(count):
+        loop, c = [], first
+        while c not in seen:
+            seen.add(c)
+            loop.append(c)
+            c = link[c]
+        if loop:
+            loops.append(loop)
+    return loops
