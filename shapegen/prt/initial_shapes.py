@@ -26,6 +26,7 @@ from __future__ import annotations
 
 __all__ = ["Footprint", "InitialShape", "footprint"]
 
+import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from shapegen.errors import InputFormatError
+from shapegen.readers.files import read_input_bytes
 from shapegen.tolerances import LEVEL_M
 
 READABLE_SUFFIXES = (".obj", ".gltf", ".glb")
@@ -211,10 +213,7 @@ def _read_obj(path: Path) -> tuple[list[float], list[int], list[int]]:
     coordinates: list[float] = []
     indices: list[int] = []
     face_counts: list[int] = []
-    try:
-        text = path.read_text(encoding="utf-8", errors="replace")
-    except OSError as exc:
-        raise InputFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    text = read_input_bytes(path, "initial shape file").decode("utf-8", errors="replace")
     for number, line in enumerate(text.splitlines(), 1):
         fields = line.split()
         if not fields:
@@ -240,8 +239,15 @@ def _read_gltf(path: Path) -> tuple[list[float], list[int], list[int]]:
     import shapely
     import trimesh
 
+    data = read_input_bytes(path, "initial shape file")
     try:
-        mesh = trimesh.load(path, force="mesh", process=False)
+        mesh = trimesh.load(
+            io.BytesIO(data),
+            file_type=path.suffix.lower().lstrip("."),
+            resolver=trimesh.resolvers.FilePathResolver(str(path.resolve())),
+            force="mesh",
+            process=False,
+        )
     except Exception as exc:  # trimesh raises many kinds for a broken file
         raise InputFormatError(f"{path}: not a readable glTF file ({exc})") from None
     vertices = mesh.vertices

@@ -169,6 +169,28 @@ def test_an_obj_footprint_is_read_with_its_polygon_whole(tmp_path):
     assert model.get_report()["Parcel Area.0_sum"] == pytest.approx(125.0)
 
 
+@pytest.mark.parametrize("suffix", [".obj", ".glb"])
+def test_an_initial_shape_file_is_read_within_the_size_limit(tmp_path, suffix):
+    from shapegen.limits import work_limits
+
+    lot = tmp_path / f"lot{suffix}"
+    if suffix == ".obj":
+        lot.write_text("v 0 0 0\nv 0 0 10\nv 10 0 10\nv 10 0 0\nf 1 2 3 4\n")
+    else:
+        import trimesh
+
+        square = trimesh.Trimesh([[0, 0, 0], [0, 0, 10], [10, 0, 10], [10, 0, 0]],
+                                 [[0, 1, 2], [0, 2, 3]], process=False)  # fmt: skip
+        lot.write_bytes(square.export(file_type="glb"))
+    shape = pyprt.InitialShape(str(lot))
+    (model,) = pyprt.ModelGenerator([shape]).generate_model([FIXED], str(EXTRUSION))
+    assert model.get_report()["Parcel Area.0_sum"] == pytest.approx(100.0)
+    with work_limits(max_file_bytes=lot.stat().st_size - 1):
+        (refused,) = pyprt.ModelGenerator([shape]).generate_model([FIXED], str(EXTRUSION))
+    assert refused.get_vertices() == []
+    assert "more than" in refused.get_cga_errors()[0], refused.get_cga_errors()
+
+
 def test_rule_package_attributes_carry_their_group():
     info = pyprt.get_rpk_attributes_info(str(EXTRUSION))
     assert "parcelArea" not in info  # @Hidden
