@@ -20,9 +20,11 @@ __all__ = [
     "atomic_write",
     "check_distinct",
     "check_writable",
+    "is_abandoned",
     "remove_abandoned",
     "remove_temporaries",
     "stop_on_signals",
+    "writer_name",
 ]
 
 import contextlib
@@ -266,13 +268,26 @@ def remove_abandoned(directory: str | os.PathLike) -> list[str]:
             changed = entry.stat(follow_symlinks=False).st_mtime
         except OSError:
             continue
-        pid = int(found["pid"])
-        gone = found["host"] == _HOST and pid != os.getpid() and not _running(pid)
-        if gone or now - changed > ABANDONED_SECONDS:
+        if is_abandoned(found["host"], int(found["pid"]), changed, now):
             with contextlib.suppress(OSError):
                 os.unlink(entry.path)
                 removed.append(entry.path)
     return removed
+
+
+def writer_name() -> str:
+    """``HOST-PID``: the part of a temporary file's or folder's name that says which process of
+    which machine (a short hash of its name) writes it."""
+    return f"{_HOST}-{os.getpid()}"
+
+
+def is_abandoned(host: str, pid: int, changed: float, now: float | None = None) -> bool:
+    """Whether a temporary file or folder that process ``pid`` of machine ``host`` (as in
+    :func:`writer_name`) writes, last changed at ``changed`` (s since the epoch), is abandoned:
+    its writer, of this machine, no longer runs, or it has not changed for
+    :data:`ABANDONED_SECONDS`."""
+    gone = host == _HOST and pid != os.getpid() and not _running(pid)
+    return gone or (time.time() if now is None else now) - changed > ABANDONED_SECONDS
 
 
 def _running(pid: int) -> bool:

@@ -19,12 +19,14 @@ __all__ = ["PACKAGE_SUFFIX", "RULES_PATH_VARIABLE", "RulesPath", "start_rule_of_
 import functools
 import hashlib
 import os
+import re
 import shutil
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 from shapegen.errors import GrammarError
+from shapegen.export.atomic import is_abandoned, writer_name
 from shapegen.readers.archives import package_cache, unpack_7z
 
 PACKAGE_SUFFIX = ".rpk"
@@ -49,7 +51,8 @@ def _unpacked(package: Path) -> Path:
         return folder
     try:
         folder.parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=".unpacking-"))
+        _remove_abandoned_staging(folder.parent)
+        staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".unpacking-{writer_name()}-"))
     except OSError as exc:
         raise GrammarError(
             f"{package}: cannot unpack it into {folder.parent}: {exc.strerror or exc} (set "
@@ -65,6 +68,25 @@ def _unpacked(package: Path) -> Path:
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     return folder
+
+
+_STAGING = re.compile(r"\.unpacking-(?P<host>[0-9a-f]{6})-(?P<pid>[0-9]+)-.+")
+
+
+def _remove_abandoned_staging(cache: Path) -> None:
+    """Remove the staging folders of unpackings whose process was killed (SIGKILL, a power
+    cut: nothing of it ran to clean up), as :func:`~shapegen.export.atomic.remove_abandoned`
+    does for files; another process's unpacking under way is left alone."""
+    for entry in os.scandir(cache):
+        found = _STAGING.fullmatch(entry.name)
+        if found is None:
+            continue
+        try:
+            changed = entry.stat(follow_symlinks=False).st_mtime
+        except OSError:
+            continue
+        if is_abandoned(found["host"], int(found["pid"]), changed):
+            shutil.rmtree(entry.path, ignore_errors=True)
 
 
 def start_rule_of_package(package: Path) -> Path:
