@@ -256,6 +256,38 @@ def test_the_cli_takes_rules_path(tmp_path, monkeypatch, capsys):
     assert cli(["build", str(main), "--lot", "12,8", "--rules-path", str(library)]) == 0
 
 
+# the rules path, one type (engine.project.rule_packages.RulesPath; tests/engine/test_rules_path.py)
+def test_the_command_line_refuses_a_missing_folder_in_one_line_before_any_work(tmp_path, capsys):
+    rule, _ = _esri_lib_project(tmp_path)
+    written = tmp_path / "m.json"
+    missing = tmp_path / "nowhere"
+    from shapegen.cli import main as cli
+
+    status = cli(["build", str(rule), "--rules-path", str(missing), "-o", str(written)])
+    assert status == 2 and not written.exists()
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"shapegen: error: --rules-path '{missing}': not a folder nor a rule package"
+                   " (.rpk) to look imports up in"]  # fmt: skip
+
+
+def test_loads_take_the_rules_path_made_once(tmp_path, monkeypatch):
+    from shapegen.engine.project import rule_packages
+    from shapegen.engine.project.rule_packages import RULES_PATH_VARIABLE, RulesPath
+
+    rule, library = _esri_lib_project(tmp_path)
+    monkeypatch.setenv(RULES_PATH_VARIABLE, str(library))
+    rule_packages._checked_rules_path.cache_clear()
+    for _ in range(3):  # the variable's entries are checked at its first read, not every load
+        assert load_grammar(rule).build(lot=(12, 8)).volume == pytest.approx(384)
+    info = rule_packages._checked_rules_path.cache_info()
+    assert (info.misses, info.hits) == (1, 2)
+    given = RulesPath.of([library])  # a RulesPath made at the edge is passed down as it is
+    monkeypatch.setenv(RULES_PATH_VARIABLE, "")
+    assert load_grammar(rule, rules_path=given).build(lot=(12, 8)).volume == pytest.approx(384)
+    with pytest.raises(GrammarError, match="no such file"):
+        load_grammar(rule)
+
+
 def test_division_by_zero_follows_ieee_in_cga_and_is_an_error_in_grammar():
     text = "attr w = 0\nattr q = 3 / w\nattr r = 0 / w\nattr m = 5 % w\n@StartRule\nLot --> X."
     attrs = parse_grammar(text, "r.cga").build(lot=LOT).metadata["attrs"]
