@@ -69,13 +69,13 @@ class InitialShape:
             )
         self._path = ""
         self._depth = 0
-        self._coordinates = [float(v) for v in values["vertex_coordinates"]]
+        self._coordinates = _listed(values["vertex_coordinates"], "vertex_coordinates", float)
         count = len(self._coordinates) // 3
         indices = values.get("indices")
         face_counts = values.get("face_counts")
-        self._indices = list(range(count)) if indices is None else [int(i) for i in indices]
-        self._face_counts = [count] if face_counts is None else [int(n) for n in face_counts]
-        self._holes = [[int(i) for i in hole] for hole in values.get("holes") or []]
+        self._indices = list(range(count)) if indices is None else _listed(indices, "indices")
+        self._face_counts = [count] if face_counts is None else _listed(face_counts, "face_counts")
+        self._holes = [_listed(hole, "holes") for hole in values.get("holes") or []]
 
     def get_vertex_count(self) -> int:
         """The number of vertex coordinates (three per vertex); 0 for a shape read from a file."""
@@ -99,6 +99,33 @@ class InitialShape:
         return (
             f"InitialShape({len(self._face_counts)} faces, {len(self._coordinates) // 3} vertices)"
         )
+
+
+def _listed(values: object, name: str, kind: type = int) -> list:
+    """``values`` as a list of floats (or whole numbers), or one line naming ``name``: a
+    string or a 1.5 given as an index is not read as something else."""
+    try:
+        items = list(values)  # type: ignore[call-overload]
+        if isinstance(values, str | bytes) or not all(
+            isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool)
+            for v in items
+        ):
+            raise TypeError
+        if kind is float:
+            return [float(v) for v in items]
+        if not all(float(v).is_integer() for v in items):
+            raise TypeError
+        return [int(v) for v in items]
+    except (TypeError, ValueError, OverflowError):
+        wanted = "numbers" if kind is float else "whole numbers"
+        raise InputFormatError(
+            f"InitialShape: {name} must be a list of {wanted}, got {_shown(values)}"
+        ) from None
+
+
+def _shown(values: object) -> str:
+    text = repr(values)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 @dataclass(frozen=True)
