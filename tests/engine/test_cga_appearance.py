@@ -8,12 +8,11 @@ shape, so these tests do not depend on how the parser spells a call.
 from __future__ import annotations
 
 import pytest
+from operation_nodes import lot_state, operation, operations_program
 
 import shapegen
-from shapegen.engine.derivation.state import Derivation, root_state
 from shapegen.engine.operations.cga import compiler_for
 from shapegen.engine.operations.cga.appearance import compile_material_set
-from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.model.appearance import DEFAULT_APPEARANCE, material_value, parse_hex_color
@@ -21,32 +20,15 @@ from shapegen.model.appearance import DEFAULT_APPEARANCE, material_value, parse_
 
 @pytest.fixture(scope="module")
 def program():
-    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program.operations
+    return operations_program()
 
 
 def _state(program, width=6.0, depth=4.0):
-    run = Derivation(program, seed=0)
-    return root_state(run, Shape(lot_scope(width, depth), FACE, 1), {}, ())
-
-
-def _value(v):
-    if isinstance(v, bool):
-        return ast.Boolean(v)
-    if isinstance(v, int | float):
-        return ast.Number(float(v))
-    if isinstance(v, str) and v.startswith("@"):
-        return ast.Name(v[1:])  # a selector written bare
-    if isinstance(v, str):
-        return ast.String(v)
-    return v
+    return lot_state(program, width, depth)
 
 
 def _operation(name, *values, kinds=None):
-    kinds = kinds or ["plain"] * len(values)
-    arguments = tuple(
-        ast.OperationArgument(kind, _value(v)) for kind, v in zip(kinds, values, strict=True)
-    )
-    return ast.Operation(name, arguments)
+    return operation(name, *values, kinds=kinds, text=ast.String)
 
 
 def run(program, *operations, state=None):

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from operation_nodes import lot_state, operation, operations_program
 
 import shapegen
-from shapegen.engine.derivation.state import Derivation, root_state
 from shapegen.engine.operations.cga import compiler_for
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, lot_scope
 from shapegen.errors import GrammarError
@@ -20,34 +20,14 @@ from shapegen.grammar import ast
 
 @pytest.fixture(scope="module")
 def program():
-    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program.operations
+    return operations_program()
 
 
 def _state(program, width=12.0, depth=8.0):
-    run = Derivation(program, seed=0)
-    return root_state(run, Shape(lot_scope(width, depth), FACE, 1), {}, ())
+    return lot_state(program, width, depth)
 
 
-def _value(v):
-    if isinstance(v, bool):
-        return ast.Boolean(v)
-    if isinstance(v, int | float):
-        return ast.Number(float(v))
-    if isinstance(v, str) and "." in v:
-        obj, field = v.split(".")
-        return ast.ShapeAttribute(obj, field)
-    if isinstance(v, str):
-        return ast.Name(v)
-    return v
-
-
-def _operation(name, *values, branches=()):
-    arguments = tuple(ast.OperationArgument("plain", _value(v)) for v in values)
-    block = tuple(
-        ast.OperationBranch(_value(key), "absolute", ast.Sequence(()), merge)
-        for key, merge in branches
-    )
-    return ast.Operation(name, arguments, block)
+_operation = operation
 
 
 def run(program, operation, state=None):

@@ -9,47 +9,24 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from operation_nodes import operation, operations_program, shape_state
 
 import shapegen
-from shapegen.engine.derivation.state import Derivation, root_state
 from shapegen.engine.operations.cga import compiler_for
 from shapegen.engine.operations.cga.scope_ops import pivot_frame
 from shapegen.engine.shapes.shape import extrude_shape, lot_shape
 from shapegen.errors import GrammarError
-from shapegen.grammar import ast
 
 L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
 
 
 @pytest.fixture(scope="module")
 def program():
-    return shapegen.parse_grammar("@StartRule\nLot --> extrude(1) A").program.operations
+    return operations_program()
 
 
-def _value(v):
-    if isinstance(v, bool):
-        return ast.Boolean(v)
-    if isinstance(v, int | float):
-        return ast.Number(float(v))
-    if isinstance(v, str) and "." in v:
-        obj, field = v.split(".")
-        return ast.ShapeAttribute(obj, field)
-    return ast.Name(v)
-
-
-def _operation(name, *values, branches=()):
-    arguments = tuple(ast.OperationArgument("plain", _value(v)) for v in values)
-    block = tuple(
-        ast.OperationBranch(_value(key), "absolute", ast.Sequence(()), merge)
-        for key, merge in branches
-    )
-    return ast.Operation(name, arguments, block)
-
-
-def _state(program, shape):
-    run = Derivation(program, seed=0)
-    run.start_shape = shape
-    return root_state(run, shape, {}, ())
+_state = shape_state
+_operation = operation
 
 
 def run(program, operation, state):
