@@ -4,10 +4,22 @@ program and run on one shape, so a test does not depend on how the parser spells
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import shapegen
 from shapegen.engine.derivation.state import Derivation, root_state
 from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
 from shapegen.grammar import ast
+
+SIMPLE_RULE_DATASET = (
+    Path(__file__).resolve().parents[1]
+    / "data"
+    / "cga-corpus"
+    / "caseStudy_Tensorflow_simpleRuleDataset__de221ff8"
+    / "rules"
+    / "simpleRuleDataset.cga"
+)
+"""A corpus rule with setbacks, innerRectangle and comp selectors, as its package ships it."""
 
 
 def operations_program():

@@ -4,11 +4,10 @@ makes them (areas and heights in closed form; the roofs' layout as PyPRT builds 
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
-from operation_nodes import lot_state, operation, operations_program
+from operation_nodes import SIMPLE_RULE_DATASET, lot_state, operation, operations_program
 
 import shapegen
 from shapegen.engine.operations.cga import compiler_for
@@ -290,17 +289,7 @@ def test_footprint_of_a_roof_is_its_plan(program):
     assert np.allclose(shape.mesh().face_normals() @ [0, 1, 0], 1)
 
 
-SIMPLE_RULE = (
-    Path(__file__).resolve().parents[1]
-    / "data"
-    / "cga-corpus"
-    / "caseStudy_Tensorflow_simpleRuleDataset__de221ff8"
-    / "rules"
-    / "simpleRuleDataset.cga"
-)
-
-
-@pytest.mark.skipif(not SIMPLE_RULE.exists(), reason="the CGA corpus test data is missing")
+@pytest.mark.skipif(not SIMPLE_RULE_DATASET.exists(), reason="the CGA corpus test data is missing")
 @pytest.mark.parametrize(
     "lot, rel, area",
     [
@@ -312,7 +301,7 @@ SIMPLE_RULE = (
 def test_corpus_setback_and_inner_rectangle_report_pyprts_footprint(lot, rel, area):
     """The corpus rule's setback(d) { front : NIL | remainder = ... } and innerRectangle(edge)
     on lots three times these sizes: the 'Footprint Area (m2)' PyPRT reports."""
-    grammar = shapegen.load_grammar(SIMPLE_RULE)
+    grammar = shapegen.load_grammar(SIMPLE_RULE_DATASET)
     model = grammar.build(attrs={"frontSetbackRel": rel}, lot=[(3 * x, 3 * z) for x, z in lot])
     assert model.metadata["reports"]["Footprint Area (m2)"] == pytest.approx(area, rel=2e-5)
 

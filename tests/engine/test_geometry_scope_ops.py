@@ -5,11 +5,10 @@ on meshes: the geometry stays where it is in the world, the scope is refitted as
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
-from operation_nodes import operation, operations_program, shape_state
+from operation_nodes import SIMPLE_RULE_DATASET, operation, operations_program, shape_state
 
 import shapegen
 from shapegen.engine.operations.cga import compiler_for
@@ -216,17 +215,7 @@ def test_comp_records_its_selector_for_comp_sel(program):
     assert [f.comp_index for f in faces] == [0, 0, 1, 2, 0]
 
 
-CORPUS_RULE = (
-    Path(__file__).resolve().parents[1]
-    / "data"
-    / "cga-corpus"
-    / "caseStudy_Tensorflow_simpleRuleDataset__de221ff8"
-    / "rules"
-    / "simpleRuleDataset.cga"
-)
-
-
-@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus test data is missing")
+@pytest.mark.skipif(not SIMPLE_RULE_DATASET.exists(), reason="the CGA corpus test data is missing")
 @pytest.mark.parametrize(
     "lot, setback_x, setback_z, edges",
     # PyPRT on the corpus package simpleRuleDataset with these lots: the reports of its
@@ -243,7 +232,7 @@ CORPUS_RULE = (
 def test_align_scope_to_geometry_and_comp_edges_report_pyprts_figures(
     lot, setback_x, setback_z, edges
 ):
-    model = shapegen.load_grammar(CORPUS_RULE).build(lot=lot)
+    model = shapegen.load_grammar(SIMPLE_RULE_DATASET).build(lot=lot)
     reports = model.metadata["reports"]
     assert reports["Max Setback X (m)"] == pytest.approx(setback_x, rel=1e-12)
     assert reports["Max Setback Z (m)"] == pytest.approx(setback_z, rel=1e-12)
@@ -252,7 +241,7 @@ def test_align_scope_to_geometry_and_comp_edges_report_pyprts_figures(
         assert (sum(lengths), min(lengths), max(lengths)) == pytest.approx(edges, rel=1e-12)
 
 
-@pytest.mark.skipif(not CORPUS_RULE.exists(), reason="the CGA corpus test data is missing")
+@pytest.mark.skipif(not SIMPLE_RULE_DATASET.exists(), reason="the CGA corpus test data is missing")
 @pytest.mark.parametrize(
     "lot, high",
     # PyPRT: the same L lot from three corners; its two 10 m edges tie for 'longest' and the
@@ -264,7 +253,7 @@ def test_align_scope_to_geometry_and_comp_edges_report_pyprts_figures(
     ],
 )
 def test_align_scope_to_geometry_breaks_ties_as_pyprt(lot, high):
-    model = shapegen.load_grammar(CORPUS_RULE).build(lot=lot)
+    model = shapegen.load_grammar(SIMPLE_RULE_DATASET).build(lot=lot)
     (surface,) = model.surfaces
     assert np.allclose(surface.vertices.min(axis=0)[[0, 2]], [0, 0])
     assert np.allclose(surface.vertices.max(axis=0)[[0, 2]], high)
