@@ -95,25 +95,26 @@ def test_builtins_follow_the_reference(expression, expected):
     assert _value(expression) == expected
 
 
+def _reports_on_a_box(operations: str) -> dict:
+    """The reports of ``operations`` run on the lot extruded by 2 m (a 12 x 8 x 2 box)."""
+    text = f"attr a = 0\nLot --> extrude(2) {operations} X."
+    return parse_grammar(text, "g.cga").build(lot=(12, 8)).metadata["reports"]
+
+
 def test_geometry_and_scope_reads():
-    grammar = parse_grammar(
-        'attr a = 0\nLot --> extrude(2) report("area", geometry.area()) '
-        'report("h", scope.elevation) report("n", geometry.nVertices) X.',
-        "g.cga",
+    reports = _reports_on_a_box(
+        'report("area", geometry.area()) report("h", scope.elevation) '
+        'report("n", geometry.nVertices)'
     )
-    reports = grammar.build(lot=(12, 8)).metadata["reports"]
     assert reports["area"] == pytest.approx(2 * 12 * 8 + 2 * 2 * (12 + 8))
     assert reports["n"] == 8.0
     assert reports["h"] == 0.0
 
 
 def test_geometry_selectors_are_read_as_names():
-    grammar = parse_grammar(
-        'Lot --> extrude(2) report("top", geometry.area(top)) '
-        'report("slope", geometry.angle(maxSlope)) X.',
-        "g.cga",
+    reports = _reports_on_a_box(
+        'report("top", geometry.area(top)) report("slope", geometry.angle(maxSlope))'
     )
-    reports = grammar.build(lot=(12, 8)).metadata["reports"]
     assert reports["top"] == pytest.approx(12 * 8)
     assert reports["slope"] == pytest.approx(90.0)  # the box's walls are vertical
 
