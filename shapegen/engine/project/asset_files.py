@@ -23,7 +23,7 @@ import numpy as np
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh
 from shapegen.limits import current_limits, limit_hint
-from shapegen.readers.archives import package_cache, unpacked_package, within
+from shapegen.readers.archives import package_cache, unpacked_package
 
 _CACHE_SIZE = 64
 _cache: OrderedDict[tuple, Mesh] = OrderedDict()
@@ -55,16 +55,26 @@ def find_asset(name: str, rule_file: str | None) -> Path | None:
     if rule_file and not rule_file.startswith("<"):
         package = _package_of(rule_file, working_folder, str(package_cache()))
     for path in _candidates(name, rule_file, working_folder):
-        if path.is_file() and (package is None or within(path, [package])):
+        if path.is_file() and (package is None or _inside(path, package)):
             return path
     return None
+
+
+def _inside(path: Path, package: Path) -> bool:
+    """:func:`~shapegen.readers.archives.within` for a package folder already resolved: the
+    asset's path resolved (links followed) at every look, the folder's once per rule file."""
+    try:
+        return path.resolve().is_relative_to(package)
+    except (OSError, RuntimeError):
+        return False
 
 
 @functools.lru_cache(maxsize=64)
 def _package_of(rule_file: str, working_folder: str, cache: str) -> Path | None:
     """The unpacked package that holds ``rule_file``, worked out once per rule file (an
     ``i()`` in a repeat asks at every shape; resolving both paths took 0.3 ms each time)."""
-    return unpacked_package(Path(working_folder, rule_file))
+    package = unpacked_package(Path(working_folder, rule_file))
+    return None if package is None else package.resolve()
 
 
 @functools.lru_cache(maxsize=1024)
