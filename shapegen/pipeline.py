@@ -31,6 +31,7 @@ from pathlib import Path
 
 from shapegen.errors import OptionError
 from shapegen.json_values import json_ready
+from shapegen.limits import work_clock
 from shapegen.model import Model
 from shapegen.model.lot import Lot
 from shapegen.search.options import SearchOptions
@@ -139,7 +140,8 @@ def design(
                 Design.of_model(model), previous.assessment, measure_follows=measure_follows
             )
         else:
-            assessment = structure.assess(Design.of_model(model))
+            with work_clock("judging the model"):  # its leaves cut into convex blocks...
+                assessment = structure.assess(Design.of_model(model))
     report = build_report(model)
     if optimization is not None:
         report["optimization"] = optimization.to_report()
@@ -221,7 +223,8 @@ def encode_outputs(
     outputs = []
     if model_path:
         analysis = assessment.block_analysis if assessment else None
-        outputs.append((Path(model_path), encode_model(model, model_path, analysis)))
+        with work_clock("encoding the model"):
+            outputs.append((Path(model_path), encode_model(model, model_path, analysis)))
     if report_path:
         outputs.append((Path(report_path), report_bytes(report)))
     return outputs

@@ -44,6 +44,7 @@ from shapegen.export.colors import (
 from shapegen.export.meshes import block_mesh
 from shapegen.export.surfaces import surface_mesh, surfaces_of
 from shapegen.json_values import json_ready
+from shapegen.limits import check_clock
 from shapegen.model.model import Model
 from shapegen.readers.surface_entries import SURFACE_ROLE
 from shapegen.tolerances import FORCE_NOISE_REL
@@ -82,6 +83,7 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
         colors = np.array([display_color(b, by_label) for b in model.blocks], dtype=np.uint8)
         colors = colors.reshape(-1, 4)
     for k, block in enumerate(model.blocks):
+        check_clock()
         mesh = block_mesh(block)
         mesh.visual = TextureVisuals(material=_material(colors[k]))
         extras = {
@@ -121,6 +123,7 @@ def _add_surfaces(scene: trimesh.Scene, model: Model, by_label: dict) -> None:
     labelled surface in its label's colour among the blocks' (``by_label``)."""
     used = {block.id for block in model.blocks}
     for surface in surfaces_of(model):
+        check_clock()
         mesh = surface_mesh(surface)
         if len(mesh.faces) == 0:
             continue

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from shapegen.limits import check_clock
 from shapegen.model.appearance import Surface
 from shapegen.model.model import Model
 from shapegen.tolerances import ROUNDOFF_REL
@@ -83,6 +84,7 @@ def face_triangles(vertices: np.ndarray, faces) -> np.ndarray:
     vertices = np.asarray(vertices, dtype=float).reshape(-1, 3)
     out: list[tuple[int, int, int]] = []
     for face in faces:
+        check_clock()
         face = [int(i) for i in face]
         if len(face) < 3:
             continue

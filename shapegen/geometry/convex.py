@@ -15,6 +15,7 @@ import numpy as np
 
 from shapegen.geometry.frames import face_rotation
 from shapegen.geometry.mesh import Mesh
+from shapegen.limits import check_clock
 from shapegen.tolerances import ROUNDOFF_REL, at_least
 
 
@@ -22,6 +23,7 @@ def convex_faces(mesh: Mesh, max_length: float | None = None) -> Mesh:
     """``mesh`` with each concave face replaced by convex faces (same vertices)."""
     faces: list[tuple[int, ...]] = []
     for k, face in enumerate(mesh.faces):
+        check_clock()
         if len(face) <= 3 or mesh.face(k).is_convex():
             faces.append(face)
             continue

@@ -27,6 +27,7 @@ import numpy as np
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 from shapegen.geometry.prism_cut import prism_decomposition
 from shapegen.geometry.rings import chain_loops
+from shapegen.limits import check_clock
 from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
 
 # A face plane splits a piece with corners this many COINCIDENT_REL beyond it; a piece with
@@ -286,6 +287,7 @@ def _general_decomposition(mesh: Mesh, max_pieces: int) -> list[Mesh] | None:
     done: list[Mesh] = []
     todo = [mesh]
     while todo:
+        check_clock()
         piece = todo.pop()
         slack = COINCIDENT_REL * max(piece.size(), SIZE_FLOOR_M)
         heights = piece.heights_above_faces()

@@ -14,6 +14,7 @@ __all__ = ["extrude_faces", "prism"]
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.limits import check_clock
 
 
 def prism(points: np.ndarray, offset: np.ndarray) -> Mesh:
@@ -48,6 +49,7 @@ def extrude_faces(
     faces: list[tuple[int, ...]] = []
     count = 0
     for k in range(mesh.n_faces):
+        check_clock()
         points = mesh.face_points(k)
         if len(points) < 3:
             continue

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.errors import GeometryError
-from shapegen.limits import current_limits, limit_hint
+from shapegen.limits import check_clock, current_limits, limit_hint
 from shapegen.tolerances import COSINE_SLACK, DEFAULT, DIVISION_FLOOR, ROUNDOFF_REL
 
 
@@ -295,6 +295,7 @@ class _Builder:
         while stack:
             loop, t = stack.pop()
             while True:
+                check_clock()
                 guard += 1
                 if guard > 100 * len(self.polygon) ** 2 + 1000:
                     raise GeometryError("the straight skeleton did not converge")

@@ -32,6 +32,7 @@ import numpy as np
 
 from shapegen.geometry.cut import clip_plane
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout, unit_face_normals
+from shapegen.limits import check_clock
 from shapegen.model.polygons import CheckedFaces, cross
 from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL
 
@@ -160,6 +161,7 @@ def _face_trim_planes_by_face(vertices, faces, normals, ups) -> list[tuple[TrimP
             sharing.setdefault((min(a, b), max(a, b)), []).append(f)
     out = []
     for f, face in enumerate(faces):
+        check_clock()
         planes = []
         for a, b in zip(face, face[1:] + face[:1], strict=True):
             others = [g for g in sharing[(min(a, b), max(a, b))] if g != f]

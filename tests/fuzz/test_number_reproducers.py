@@ -98,19 +98,33 @@ def _stops_at_once(work) -> str:
 def test_the_kernels_look_at_the_clock():
     from shapegen.engine.operations.cga.polygons import face_frames
     from shapegen.engine.shapes.shape import MASS, Shape, lot_scope
+    from shapegen.geometry.convex import convex_faces
     from shapegen.geometry.polygon2d import inner_rectangle
+    from shapegen.geometry.skeleton import straight_skeleton
 
     message = _stops_at_once(lambda: inner_rectangle(_disk(64, wobble=0.3)))
     assert message.startswith("the derivation ran for more than 1e-09 s (limit max_seconds")
     box = Shape(lot_scope(4.0, 3.0), MASS, 1)
     _stops_at_once(lambda: face_frames(box))
+    _stops_at_once(lambda: straight_skeleton(_disk(12)))  # roofs, offsets, setbacks
+    _stops_at_once(lambda: convex_faces(box.mesh()))  # convexify()
 
 
-@pytest.mark.parametrize("number", [610, 767])
-def test_a_derivation_past_its_clock_stops_in_one_line(tmp_path, capsys, number):
+def test_the_writers_look_at_the_clock():
+    import shapegen
+    from shapegen.export.gltf import encode_glb
+
+    model = shapegen.parse_grammar("@StartRule @Lot(4, 1)\nLot --> extrude(1) A").build()
+    assert encode_glb(model)
+    _stops_at_once(lambda: encode_glb(model))
+
+
+@pytest.mark.parametrize(("seed", "number"), [(353311, 610), (353311, 767), (90210, 34)])
+def test_a_derivation_past_its_clock_stops_in_one_line(tmp_path, capsys, seed, number):
     # seed 353311, inputs 610 and 767: innerRectangle on every face of a remainder that is
-    # split again, shape after shape (610); 767 also made 17 million grid cells on the way
-    printed = _build_once(tmp_path, fuzz_rule(353311, number), capsys, max_seconds=0.5)
+    # split again, shape after shape (610); 767 also made 17 million grid cells on the way;
+    # seed 90210, input 34: convexify() of a sphere of 12 288 faces, 60 s past the clock
+    printed = _build_once(tmp_path, fuzz_rule(seed, number), capsys, max_seconds=0.5)
     first = printed.splitlines()[0]
     assert first.startswith("shapegen: error:")
     assert "the derivation ran for more than 0.5 s (limit max_seconds = 0.5;" in first

@@ -40,6 +40,7 @@ from shapegen.errors import GrammarError
 from shapegen.geometry.convex import convex_faces
 from shapegen.geometry.cut import convex_decomposition
 from shapegen.geometry.mesh import Mesh
+from shapegen.limits import check_clock
 from shapegen.tolerances import COINCIDENT_M, DEFAULT
 
 TOLERANCE = 1e-4
@@ -249,6 +250,7 @@ def _planar_contact(query: _Query, occluder: Occluder) -> bool:
     q_mesh = convex_faces(query.mesh)
     q_normals = q_mesh.face_normals()
     for j in range(len(q_mesh.faces)):
+        check_clock()
         q_points = q_mesh.face_points(j)
         q_normal = q_normals[j]
         for k in range(len(mesh.faces)):

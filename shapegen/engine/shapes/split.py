@@ -51,6 +51,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from shapegen.limits import check_clock
 from shapegen.tolerances import REPEAT_SLACK, SPLIT_SLACK_REL
 
 BEST_COUNT_COMBINATIONS = 10_000
@@ -263,6 +264,7 @@ class _Resolver:
                 fixed, weight = self._weights(item)
                 step = fixed + weight * scale
                 for _ in range(next(counts)):
+                    check_clock()
                     if step <= 0 or cursor >= end - self.eps:
                         break
                     self.sequence(item.items, cursor, min(step, end - cursor))
@@ -290,6 +292,7 @@ class _Resolver:
             self._check_count(count, items)
             step = length / count
             for k in range(count):
+                check_clock()
                 self.sequence(items, start + k * step, step)
             return
         # Only fixed sizes: whole repetitions, then one more cut at the end.
@@ -297,6 +300,7 @@ class _Resolver:
         self._check_count(count, items)
         end = start + length
         for k in range(count):
+            check_clock()
             offset = start + k * period
             if offset >= end - self.eps:
                 break

@@ -27,6 +27,7 @@ from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.geometry.frames import rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
+from shapegen.limits import check_clock
 from shapegen.model.scope import Scope
 from shapegen.tolerances import RAY_PARALLEL_DET, SIZE_FLOOR_M
 
@@ -204,6 +205,7 @@ def _inside(mesh: Mesh, point: np.ndarray) -> bool:
     crossings = 0
     v = mesh.vertices
     for face in mesh.faces:
+        check_clock()
         for j in range(1, len(face) - 1):
             a, b, c = v[face[0]], v[face[j]], v[face[j + 1]]
             e1, e2 = b - a, c - a
