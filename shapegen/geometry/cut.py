@@ -41,6 +41,7 @@ _SPLIT_HEIGHT = DEFAULT.convex_rel / COINCIDENT_REL
 def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | None:
     """The part of ``mesh`` with ``coordinate[axis] >= value`` (``keep_above``) or ``<=``,
     capped if ``mesh`` is closed; None when nothing of positive extent is left."""
+    check_clock()  # a split's pieces, a trim's planes, the convex cut: one clip each
     if mesh.n_faces == 0:
         return None
     eps = COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M)

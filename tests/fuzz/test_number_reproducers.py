@@ -99,6 +99,7 @@ def test_the_kernels_look_at_the_clock():
     from shapegen.engine.operations.cga.polygons import face_frames
     from shapegen.engine.shapes.shape import MASS, Shape, lot_scope
     from shapegen.geometry.convex import convex_faces
+    from shapegen.geometry.cut import clip_slab
     from shapegen.geometry.polygon2d import inner_rectangle
     from shapegen.geometry.skeleton import straight_skeleton
 
@@ -108,6 +109,7 @@ def test_the_kernels_look_at_the_clock():
     _stops_at_once(lambda: face_frames(box))
     _stops_at_once(lambda: straight_skeleton(_disk(12)))  # roofs, offsets, setbacks
     _stops_at_once(lambda: convex_faces(box.mesh()))  # convexify()
+    _stops_at_once(lambda: clip_slab(box.mesh(), 0, 1.0, 2.0))  # each piece of a split
 
 
 def test_the_writers_look_at_the_clock():
@@ -141,3 +143,13 @@ def test_blocks_of_no_volume_judged_say_so_in_one_line(tmp_path, capsys):
     printed = capsys.readouterr().err
     assert printed.startswith("shapegen: error: block 'b0': zero or negative volume"), printed
     assert len(printed.splitlines()) == 1
+
+
+def test_a_shape_a_comp_makes_past_the_coordinate_limit_is_a_cga_error(tmp_path, capsys):
+    # seed 271828, input 40 (and 244, 575, 1086, 1249...: innerRectangle, setback): the check
+    # of a new shape asked the program, not the operations' compiler, for the CGA error
+    rule = tmp_path / "fuzz.cga"
+    rule.write_text(fuzz_rule(271828, 40))
+    assert main(["build", str(rule), "-o", str(tmp_path / "x.json")]) == 0
+    printed = capsys.readouterr().out
+    assert "fuzz.cga:3:60: comp(): a shape it makes reaches" in printed

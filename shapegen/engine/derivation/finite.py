@@ -82,6 +82,7 @@ _NAMES = {
     "Insert": "i",
     "Split": "split",
     "Comp": "comp",
+    "CompBranch": "comp",  # a shape a comp's branch makes
     "Set": "set",
 }
 
@@ -144,7 +145,13 @@ def overflowed(program, node, problem: str) -> OperationError:
     """The error of an operation at ``node`` whose result is out of range (``problem``, for
     the message): a CGA error the shape carries on past in a ``.cga`` file, an error in a
     ``.grammar`` file."""
-    return program.operation_error(node, f"{operation_name(node)}(): {problem}")
+    # ``program`` is what can place an error at ``node``: the operations' compiler, or the
+    # program a derivation's new shape is checked for (Derivation.child)
+    # a generic operation's branch (setback's front : ...) is placed, and not named, here
+    prefix = "" if type(node).__name__ == "OperationBranch" else f"{operation_name(node)}(): "
+    message = prefix + problem
+    error = program.error(node, message)
+    return OperationError(message, error.location, error.source)
 
 
 def checked_child(program, node, parent, shape: Shape) -> None:
