@@ -25,17 +25,11 @@ from itertools import compress
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
+from shapegen.geometry.prism_cut import SPLIT_HEIGHT as _SPLIT_HEIGHT
 from shapegen.geometry.prism_cut import prism_decomposition
 from shapegen.geometry.rings import chain_loops
 from shapegen.limits import check_clock
 from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
-
-# A face plane splits a piece with corners this many COINCIDENT_REL beyond it; a piece with
-# none is convex. That is the blocks' convexity tolerance (convex_rel, relative to the piece
-# here and to the whole model, never smaller, in the block check): one tolerance for the cut
-# and the check, so that no block fails the check on a piece the cut made (at 1e-6, ten times the
-# check's, nearly straight corners of a footprint made pieces 2e-5 m out of convex).
-_SPLIT_HEIGHT = DEFAULT.convex_rel / COINCIDENT_REL
 
 
 def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | None:
@@ -277,11 +271,24 @@ def convex_decomposition(
     ``cleaned``: the pieces :meth:`~Mesh.cleaned` (a prism's pieces are made so)."""
     pieces = prism_decomposition(mesh, max_pieces)
     if pieces is not None:
-        return pieces
+        return _without_slivers(pieces, mesh)
     pieces = _general_decomposition(mesh, max_pieces)
     if pieces is not None and cleaned:
         pieces = [piece.cleaned() for piece in pieces]
-    return pieces
+    return _without_slivers(pieces, mesh)
+
+
+def _without_slivers(pieces: list[Mesh] | None, mesh: Mesh) -> list[Mesh] | None:
+    """The pieces but those whose volume is below the blocks' volume tolerance for the whole
+    mesh (``volume_rel`` times its size cubed): a sliver the cut leaves between corners nearly
+    in line (a triangle 1.3e-6 m across in a 230 m footprint) is no block, and its volume is
+    below what a model of that size resolves, so leaving it out changes no weight the model
+    can tell. None when nothing else is left."""
+    if not pieces or len(pieces) == 1:
+        return pieces
+    floor = DEFAULT.volume_rel * mesh.size() ** 3
+    kept = [piece for piece in pieces if piece.signed_volume() > floor]
+    return kept or None
 
 
 def _general_decomposition(mesh: Mesh, max_pieces: int) -> list[Mesh] | None:

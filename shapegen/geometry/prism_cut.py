@@ -29,9 +29,14 @@ from shapegen.geometry.rings import chain_loops, corners_apart, is_simple, turns
 from shapegen.model.polygons import CheckedFaces
 from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
 
-# as in cut.py: an edge's line splits a piece with corners this many COINCIDENT_REL beyond it;
-# a piece with none is convex within the blocks' convexity tolerance, the check's
-_SPLIT_HEIGHT = DEFAULT.convex_rel / COINCIDENT_REL
+SPLIT_HEIGHT = DEFAULT.convex_rel / COINCIDENT_REL / math.sqrt(3.0)
+"""A face's plane (an edge's line) splits a piece with corners this many ``COINCIDENT_REL`` of
+the piece's size beyond it; a piece with none is taken as convex. The size is the bounding
+box's diagonal in the frame the piece is cut in, which is up to sqrt(3) times its diagonal in
+another frame (the world's, where its block is checked against ``convex_rel`` times the model's
+size): hence the sqrt(3), so that a piece taken as convex is convex for the check whatever the
+frame (cut in a rotated scope, it once lay 3.2e-6 m out of convex against 3.1e-6 m allowed)."""
+_SPLIT_HEIGHT = SPLIT_HEIGHT
 _THIN = 10.0  # a face with area within this many times cut.py's drop limit is left to it
 _FAR = 4e-3  # a piece smaller than this times the prism is left to the general path
 # corners this many COINCIDENT_REL of the size apart or closer are left to the general path
