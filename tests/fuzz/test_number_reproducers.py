@@ -153,3 +153,16 @@ def test_a_shape_a_comp_makes_past_the_coordinate_limit_is_a_cga_error(tmp_path,
     assert main(["build", str(rule), "-o", str(tmp_path / "x.json")]) == 0
     printed = capsys.readouterr().out
     assert "fuzz.cga:3:60: comp(): a shape it makes reaches" in printed
+
+
+def test_judging_a_model_past_its_clock_stops_in_one_line(tmp_path, capsys):
+    # seed 271828, input 907: a mass extruded face by face, then judged (--analyze): past 20 s
+    # of CPU in the convex cut; judging runs on a clock of max_seconds of its own
+    rule = tmp_path / "fuzz.cga"
+    rule.write_text(fuzz_rule(271828, 907))
+    with work_limits(max_seconds=0.5):
+        status = main(["build", str(rule), "-o", str(tmp_path / "x.json"), "--analyze"])
+    first = capsys.readouterr().err.splitlines()[0]
+    assert status == 2 and first.startswith("shapegen: error:")
+    assert "ran for more than 0.5 s (limit max_seconds = 0.5;" in first
+    assert [p.name for p in tmp_path.iterdir()] == ["fuzz.cga"]
