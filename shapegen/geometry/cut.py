@@ -227,7 +227,7 @@ def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
     kept = vertices[order]
     if float(np.ptp(kept, axis=0).max()) <= 0:
         return None
-    return Mesh._checked(kept, faces, (corners, start))
+    return Mesh.of_valid_faces(kept, faces, (corners, start))
 
 
 def clip_plane(mesh: Mesh, normal, offset: float, keep_above: bool) -> Mesh | None:
@@ -247,7 +247,7 @@ def _frame_of(normal) -> np.ndarray:
 
 
 def _turned(mesh: Mesh, frame: np.ndarray) -> Mesh:
-    turned = Mesh._checked(mesh.vertices @ frame, mesh.faces, mesh._corners)
+    turned = Mesh.of_valid_faces(mesh.vertices @ frame, mesh.faces, mesh._corners)
     if "is_closed" in mesh.__dict__:
         turned.__dict__["is_closed"] = mesh.is_closed  # a rotation keeps the topology
     return turned
@@ -354,7 +354,7 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin, *, cut: bool = Tru
     # answer to cut=False is the same whether or not the pieces were made before
     needs_cut, pieces = _DECOMPOSED.get(key, (None, _MISSING))
     if pieces is _MISSING or (pieces is NEEDS_CUT and cut):
-        unit_mesh = Mesh._checked(unit, mesh.faces)
+        unit_mesh = Mesh.of_valid_faces(unit, mesh.faces)
         if needs_cut is None:
             needs_cut = _clearly_not_convex(unit_mesh)
         if needs_cut and not cut:
@@ -379,7 +379,7 @@ def placed_convex_decomposition(mesh: Mesh, rotation, origin, *, cut: bool = Tru
     # as transformed moves them, without checking the pieces' faces again
     turn, shift = rotation.T, np.asarray(origin, float)
     return [
-        Mesh._checked((piece.vertices * scale + low) @ turn + shift, piece.faces)
+        Mesh.of_valid_faces((piece.vertices * scale + low) @ turn + shift, piece.faces)
         for piece in pieces
     ]
 

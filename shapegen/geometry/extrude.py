@@ -25,7 +25,7 @@ def prism(points: np.ndarray, offset: np.ndarray) -> Mesh:
     bottom_face = (1, 0) + tuple(range(n - 1, 1, -1))
     faces = [bottom_face, tuple(range(n, 2 * n))]
     faces += [(k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n)]
-    mesh = Mesh._checked(np.vstack([p, top]), tuple(faces))
+    mesh = Mesh.of_valid_faces(np.vstack([p, top]), tuple(faces))
     if float(polygon_normal(p) @ np.asarray(offset, float)) < 0:
         mesh = mesh.reversed()
     return mesh
@@ -70,7 +70,7 @@ def extrude_faces(
         count += piece.n_vertices
     if not faces:
         return Mesh(np.empty((0, 3)), ())
-    return Mesh._checked(np.vstack(vertices), tuple(faces))
+    return Mesh.of_valid_faces(np.vstack(vertices), tuple(faces))
 
 
 def _flat_top_prism(points: np.ndarray, up: np.ndarray, distance: float) -> Mesh:

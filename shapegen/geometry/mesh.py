@@ -162,7 +162,7 @@ class Mesh:
         raise ValueError(f"a mesh face {self.faces[bad]} does not index its {len(v)} vertices")
 
     @classmethod
-    def _checked(cls, vertices: np.ndarray, faces: tuple, layout=None) -> Mesh:
+    def of_valid_faces(cls, vertices: np.ndarray, faces: tuple, layout=None) -> Mesh:
         """A mesh of faces known to be valid (tuples of ints indexing ``vertices``), made by
         shapegen's own cuts: no conversion and no check. ``layout`` is the faces'
         :func:`corner_layout` when the caller has it."""
@@ -179,7 +179,7 @@ class Mesh:
     @classmethod
     def box(cls, size: Sequence[float]) -> Mesh:
         """The box ``[0, sx] x [0, sy] x [0, sz]`` (m), faces in :data:`BOX_FACES` order."""
-        return cls._checked(_UNIT_BOX * np.asarray(size, float), BOX_FACES)
+        return cls.of_valid_faces(_UNIT_BOX * np.asarray(size, float), BOX_FACES)
 
     @classmethod
     def polygon(cls, points) -> Mesh:
@@ -187,7 +187,7 @@ class Mesh:
         points = np.asarray(points, float).reshape(-1, 3)
         if len(points) < 2:
             return cls(points, (tuple(range(len(points))),))  # refused with the usual message
-        return cls._checked(points, (tuple(range(len(points))),))
+        return cls.of_valid_faces(points, (tuple(range(len(points))),))
 
     @classmethod
     def rectangle(cls, size: Sequence[float], normal_axis: int) -> Mesh:
@@ -398,7 +398,7 @@ class Mesh:
                 layout = None
         if offset is not None:
             v = v + np.asarray(offset, float)
-        moved = Mesh._checked(v, faces, layout)
+        moved = Mesh.of_valid_faces(v, faces, layout)
         if "is_closed" in self.__dict__:
             moved.__dict__["is_closed"] = self.is_closed  # reversing every face keeps it
         return moved
@@ -407,12 +407,14 @@ class Mesh:
         """Each coordinate times ``factors`` (about the origin); a negative factor mirrors."""
         factors = np.asarray(factors, float)
         if np.prod(np.sign(factors)) < 0:
-            return Mesh._checked(self.vertices * factors, tuple(_reversed(f) for f in self.faces))
-        return Mesh._checked(self.vertices * factors, self.faces)
+            return Mesh.of_valid_faces(
+                self.vertices * factors, tuple(_reversed(f) for f in self.faces)
+            )
+        return Mesh.of_valid_faces(self.vertices * factors, self.faces)
 
     def reversed(self) -> Mesh:
         """The same mesh with every face turned around (CityEngine's ``reverseNormals``)."""
-        return Mesh._checked(self.vertices, tuple(_reversed(f) for f in self.faces))
+        return Mesh.of_valid_faces(self.vertices, tuple(_reversed(f) for f in self.faces))
 
     def face(self, index: int) -> Mesh:
         """Face ``index`` alone, with only its own vertices."""

@@ -453,7 +453,7 @@ class _Footprint:
             base = xy[:, :1] * u + xy[:, 1:] * w
             vertices = np.concatenate([base + self.low * e, base + self.high * e])
         if not runs:
-            return Mesh._checked(vertices, _layouts(m)[0])
+            return Mesh.of_valid_faces(vertices, _layouts(m)[0])
         faces = [(1, 0) + tuple(range(m - 1, 1, -1)), tuple(range(m, 2 * m))]
         k = 0
         while k < m:
@@ -464,4 +464,4 @@ class _Footprint:
             bottom = tuple(range(k, end + 1)) if end < m else tuple(range(k, m)) + (0,)
             faces.append(bottom + tuple(m + i for i in reversed(bottom)))
             k = end
-        return Mesh._checked(vertices, tuple(faces))
+        return Mesh.of_valid_faces(vertices, tuple(faces))

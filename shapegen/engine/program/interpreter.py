@@ -263,7 +263,7 @@ class Program:
             if kind == FACE:
                 vertices, faces, area = rectangles[id(state)]
                 if area > _MIN_SIZE**2:
-                    face = Mesh._checked(vertices, faces)
+                    face = Mesh.of_valid_faces(vertices, faces)
                     surfaces.append(_surface(state, face, "a face (no volume)", len(surfaces)))
                 continue
             if kind == MASS:

@@ -319,7 +319,7 @@ def extrude_shape(
     else:
         rotation = scope.rotation
     new_scope, local = fitted_scope(world, rotation)
-    mesh = Mesh._checked(local, prism.faces)
+    mesh = Mesh.of_valid_faces(local, prism.faces)
     if _box_fills(mesh, new_scope.size):
         return Shape(new_scope, MASS)
     return Shape.with_geometry(new_scope, mesh, MASS)
@@ -343,7 +343,7 @@ def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | N
     if shape.kind == MASS and _is_scope_box(local, new_scope.size, piece.n_faces):
         return Shape(new_scope, MASS)  # a box filling its scope: back on the fast path
     return Shape.with_geometry(
-        new_scope, Mesh._checked(local, piece.faces), shape.kind, shape.normal_axis
+        new_scope, Mesh.of_valid_faces(local, piece.faces), shape.kind, shape.normal_axis
     )
 
 

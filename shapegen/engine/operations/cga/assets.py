@@ -143,7 +143,7 @@ def fitted(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
         size[axis] = scale * extent[axis]
     factors = np.divide(size, extent, out=np.zeros(3), where=extent > 0)
     local = (mesh.vertices - lo) * factors
-    return Scope(origin, scope.rotation, size), Mesh._checked(local, mesh.faces)
+    return Scope(origin, scope.rotation, size), Mesh.of_valid_faces(local, mesh.faces)
 
 
 def _placed(mesh: Mesh, scope: Scope, dimensions) -> tuple[Scope, Mesh]:
@@ -154,7 +154,7 @@ def _placed(mesh: Mesh, scope: Scope, dimensions) -> tuple[Scope, Mesh]:
     offset = np.array(
         [(scope.size[0] - dimensions[0]) / 2, 0.0, (scope.size[2] - dimensions[2]) / 2]
     )
-    return scope, Mesh._checked(mesh.vertices * dimensions + offset, mesh.faces)
+    return scope, Mesh.of_valid_faces(mesh.vertices * dimensions + offset, mesh.faces)
 
 
 def _flat_in_scope(mesh: Mesh, scope: Scope) -> tuple[Mesh, int]:
@@ -286,7 +286,9 @@ def _kept_size(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
     extent = hi - lo
     offset = np.array([(scope.size[0] - extent[0]) / 2, 0.0, (scope.size[2] - extent[2]) / 2])
     origin = scope.origin + scope.rotation @ offset
-    return Scope(origin, scope.rotation, extent), Mesh._checked(mesh.vertices - lo, mesh.faces)
+    return Scope(origin, scope.rotation, extent), Mesh.of_valid_faces(
+        mesh.vertices - lo, mesh.faces
+    )
 
 
 def _name_problem(name: str, cga: bool = False) -> str | None:

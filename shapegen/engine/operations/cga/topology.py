@@ -286,7 +286,7 @@ def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
     first = shape.scope.to_world(mesh.face_points(faces[0]))
     rotation = face_rotation(first, shape.scope.rotation @ mesh.face_normal(faces[0]))
     scope, local = fitted_scope(world, rotation)
-    return Shape.with_geometry(scope, Mesh._checked(local, subset.faces), FACE, 2)
+    return Shape.with_geometry(scope, Mesh.of_valid_faces(local, subset.faces), FACE, 2)
 
 
 # ---------------------------------------------------------------------------- selectors
