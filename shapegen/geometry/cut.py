@@ -48,7 +48,7 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
         return None
     # Faces wholly in front of the plane stay as they are and faces nowhere in front of it go;
     # only the faces the plane crosses or touches are clipped one by one.
-    corners, start = mesh._corners
+    corners, start = mesh.corner_layout
     heads = start[:-1]
     corner_depth = depth[corners]
     successor = np.arange(1, len(corners) + 1)
@@ -247,7 +247,7 @@ def _frame_of(normal) -> np.ndarray:
 
 
 def _turned(mesh: Mesh, frame: np.ndarray) -> Mesh:
-    turned = Mesh.of_valid_faces(mesh.vertices @ frame, mesh.faces, mesh._corners)
+    turned = Mesh.of_valid_faces(mesh.vertices @ frame, mesh.faces, mesh.corner_layout)
     if "is_closed" in mesh.__dict__:
         turned.__dict__["is_closed"] = mesh.is_closed  # a rotation keeps the topology
     return turned
@@ -410,7 +410,7 @@ def _splitting_planes(mesh: Mesh, heights: np.ndarray, slack: float) -> list:
     """The planes of the faces with corners both in front of and behind them (a reflex face's
     plane), as ``(normal, offset)``: most corners in front first, ties in face order;
     ``heights`` are :meth:`Mesh.heights_above_faces`, ``slack`` the mesh's round-off (m)."""
-    normals, centres = mesh._normals
+    normals, centres = mesh.normals_and_centres
     ahead = (heights > slack * _SPLIT_HEIGHT).sum(axis=1)
     behind = (heights < -slack * _SPLIT_HEIGHT).sum(axis=1)
     usable = np.flatnonzero((ahead > 0) & (behind > 0) & normals.any(axis=1))

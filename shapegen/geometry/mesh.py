@@ -236,27 +236,28 @@ class Mesh:
         return self.vertices[list(self.faces[index])]
 
     @property
-    def _corners(self) -> tuple[np.ndarray, np.ndarray]:
+    def corner_layout(self) -> tuple[np.ndarray, np.ndarray]:
         """The faces' :func:`corner_layout`: flat corners and ``(F + 1,)`` start offsets."""
         return face_layout(self.faces)
 
     @cached_property
-    def _normals(self) -> tuple[np.ndarray, np.ndarray]:
-        corners, start = self._corners
+    def normals_and_centres(self) -> tuple[np.ndarray, np.ndarray]:
+        """The faces' unit normals ``(F, 3)`` and centres ``(F, 3)`` (m), computed once."""
+        corners, start = self.corner_layout
         return face_normals(self.vertices, corners, start)
 
     def face_areas(self) -> np.ndarray:
         """Each face's area, ``(F,)`` m^2."""
         if len(self.faces) <= 2:  # a face: numpy's calls would cost more than the sums
             return np.array([polygon_area(self.face_points(k)) for k in range(len(self.faces))])
-        return 0.5 * np.linalg.norm(area_vectors(self.vertices, *self._corners), axis=1)
+        return 0.5 * np.linalg.norm(area_vectors(self.vertices, *self.corner_layout), axis=1)
 
     def face_normals(self) -> np.ndarray:
         """Unit normals ``(F, 3)`` (zero for a degenerate face)."""
-        return self._normals[0]
+        return self.normals_and_centres[0]
 
     def face_normal(self, index: int) -> np.ndarray:
-        return self._normals[0][index]
+        return self.normals_and_centres[0][index]
 
     def face_area(self, index: int) -> float:
         return polygon_area(self.face_points(index))
@@ -274,7 +275,7 @@ class Mesh:
         if not self.is_closed:
             return 0.0
         centre = self.vertices.mean(axis=0)
-        corners, start = self._corners
+        corners, start = self.corner_layout
         # each face's cone from the mesh's centre: its first corner . its Newell vector
         first = self.vertices[corners[start[:-1]]] - centre
         cones = np.einsum("fk,fk->f", first, area_vectors(self.vertices - centre, corners, start))
@@ -299,7 +300,7 @@ class Mesh:
         consistently oriented surface)."""
         if not self.faces:
             return False
-        corners, start = self._corners
+        corners, start = self.corner_layout
         successor = np.arange(1, len(corners) + 1)
         successor[start[1:] - 1] = start[:-1]
         n = len(self.vertices)
@@ -352,7 +353,7 @@ class Mesh:
     def _height_bands(self):
         """:meth:`heights_above_faces` a band of faces at a time
         (:func:`~shapegen.geometry.face_heights.height_bands`)."""
-        return height_bands(*self._normals, self.vertices)
+        return height_bands(*self.normals_and_centres, self.vertices)
 
     def _face_is_convex(self, index: int, slack: float) -> bool:
         p = self.face_points(index)
@@ -435,7 +436,7 @@ class Mesh:
         keys = np.round(self.vertices / max(slack, ZERO_LENGTH)).astype(np.int64)
         if not self.faces:
             return Mesh(np.empty((0, 3)), ())
-        corners, start = self._corners
+        corners, start = self.corner_layout
         order = np.lexsort(keys.T)
         twins = (keys[order[1:]] == keys[order[:-1]]).all(axis=1)
         if not twins.any() and self._plain(corners, start):

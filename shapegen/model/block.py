@@ -132,7 +132,7 @@ class Block:
     def _mass_properties(self) -> tuple[float, np.ndarray]:
         # Divergence theorem: sum of signed tetrahedra (reference point, face fan triangle).
         reference = self.vertices.mean(axis=0)
-        tris = self._triangles
+        tris = self.fan_triangles
         a = tris[:, 0] - reference
         b = tris[:, 1] - reference
         c = tris[:, 2] - reference
@@ -144,7 +144,8 @@ class Block:
         return float(volume), centroid
 
     @cached_property
-    def _triangles(self) -> np.ndarray:
+    def fan_triangles(self) -> np.ndarray:
+        """The block's faces fanned into triangles, ``(t, 3 corners, 3 coordinates)`` (m)."""
         return self.vertices[_fan_indices(self.faces)]
 
     @property

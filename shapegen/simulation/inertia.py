@@ -50,7 +50,7 @@ def inertia_tensor(block: Block) -> np.ndarray:
 
     Uses the block's density (kg/m^3); exact for the polyhedron.
     """
-    triangles = block._triangles - block.centroid  # (t, 3 corners, 3 coordinates)
+    triangles = block.fan_triangles - block.centroid  # (t, 3 corners, 3 coordinates)
     a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
     determinants = np.einsum("ij,ij->i", a, np.cross(b, c))
     s = a + b + c

@@ -111,7 +111,7 @@ def _check_pieces(mesh: Mesh, pieces: list[Mesh], samples: int = 400) -> None:
     points = low + rng.random((samples, 3)) * (high - low)
     inside = np.zeros(samples, dtype=int)
     for piece in pieces:
-        normals, centres = piece._normals
+        normals, centres = piece.normals_and_centres
         heights = points @ normals.T - (centres * normals).sum(axis=1)
         inside += (heights < -1e-6 * size).all(axis=1)
     assert inside.max() <= 1
