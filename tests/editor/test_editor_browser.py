@@ -517,6 +517,7 @@ def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, 
         page.keyboard.press("ArrowRight")
         wait_for_value(page, "angle", 45)
         page.keyboard.press("ArrowLeft")
+        wait_for_value(page, "angle", 30)  # each step taken before the next key
         page.keyboard.press("ArrowLeft")
         wait_for_value(page, "angle", 15)
         page.focus('input[type=range][name="offset"]')
