@@ -19,6 +19,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from shapegen.errors import GeometryError, StaticsError
+from shapegen.limits import check_clock
 from shapegen.model.model import Model
 from shapegen.model.packed import PackedBlocks, pack_blocks
 from shapegen.statics.contacts import candidate_pairs
@@ -146,6 +147,7 @@ def _overlaps(model: Model, pack: PackedBlocks, tol: Tolerances, fixed: np.ndarr
         return solids[k]
 
     for a, b in suspects.tolist():
+        check_clock()  # blocks all overlapping are n^2 / 2 intersections of 1-2 ms each
         block_a, block_b = model.blocks[pack.index[a]], model.blocks[pack.index[b]]
         common = solid(a) ^ solid(b)
         overlap = common.volume()
