@@ -17,6 +17,7 @@ from __future__ import annotations
 __all__ = [
     "ABANDONED_SECONDS",
     "Interrupted",
+    "abandoned_entries",
     "atomic_write",
     "check_distinct",
     "check_writable",
@@ -251,27 +252,38 @@ def _sweep_once(directory: Path) -> None:
     remove_abandoned(directory)
 
 
-def remove_abandoned(directory: str | os.PathLike) -> list[str]:
-    """Remove the temporary files in ``directory`` that a killed write left (see the module's
-    docstring); returns their names. Another process's write under way is left alone."""
-    removed = []
+def abandoned_entries(directory: str | os.PathLike, pattern: re.Pattern) -> list[os.DirEntry]:
+    """The entries of ``directory`` whose names ``pattern`` matches (with its groups ``host``
+    and ``pid``, as :func:`writer_name` writes them) and whose writer is gone
+    (:func:`is_abandoned`): what a killed write or unpacking left. Another process's work
+    under way is not among them."""
     now = time.time()
     try:
         entries = list(os.scandir(directory))
     except OSError:
-        return removed
+        return []
+    found = []
     for entry in entries:
-        found = _TEMPORARY_NAME.fullmatch(entry.name)
-        if found is None:
+        named = pattern.fullmatch(entry.name)
+        if named is None:
             continue
         try:
             changed = entry.stat(follow_symlinks=False).st_mtime
         except OSError:
             continue
-        if is_abandoned(found["host"], int(found["pid"]), changed, now):
-            with contextlib.suppress(OSError):
-                os.unlink(entry.path)
-                removed.append(entry.path)
+        if is_abandoned(named["host"], int(named["pid"]), changed, now):
+            found.append(entry)
+    return found
+
+
+def remove_abandoned(directory: str | os.PathLike) -> list[str]:
+    """Remove the temporary files in ``directory`` that a killed write left (see the module's
+    docstring); returns their names. Another process's write under way is left alone."""
+    removed = []
+    for entry in abandoned_entries(directory, _TEMPORARY_NAME):
+        with contextlib.suppress(OSError):
+            os.unlink(entry.path)
+            removed.append(entry.path)
     return removed
 
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from shapegen.errors import GrammarError
-from shapegen.export.atomic import is_abandoned, writer_name
+from shapegen.export.atomic import abandoned_entries, writer_name
 from shapegen.readers.archives import package_cache, unpack_7z
 
 PACKAGE_SUFFIX = ".rpk"
@@ -77,16 +77,8 @@ def _remove_abandoned_staging(cache: Path) -> None:
     """Remove the staging folders of unpackings whose process was killed (SIGKILL, a power
     cut: nothing of it ran to clean up), as :func:`~shapegen.export.atomic.remove_abandoned`
     does for files; another process's unpacking under way is left alone."""
-    for entry in os.scandir(cache):
-        found = _STAGING.fullmatch(entry.name)
-        if found is None:
-            continue
-        try:
-            changed = entry.stat(follow_symlinks=False).st_mtime
-        except OSError:
-            continue
-        if is_abandoned(found["host"], int(found["pid"]), changed):
-            shutil.rmtree(entry.path, ignore_errors=True)
+    for entry in abandoned_entries(cache, _STAGING):
+        shutil.rmtree(entry.path, ignore_errors=True)
 
 
 def start_rule_of_package(package: Path) -> Path:
