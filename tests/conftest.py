@@ -1,4 +1,4 @@
-"""Test-suite settings.
+"""Test-suite settings, and the fixtures that tests in every folder share.
 
 Property-based tests (hypothesis) draw new random examples on every run, which is how they find
 edge cases during development. Under CI (the ``CI`` environment variable set) they run
@@ -8,8 +8,18 @@ found locally is then fixed in the test or the code, not left to chance.
 
 import os
 
+import pytest
 from hypothesis import settings
 
 settings.register_profile("ci", derandomize=True)
 if os.environ.get("CI"):
     settings.load_profile("ci")
+
+
+@pytest.fixture
+def package_cache(tmp_path, monkeypatch):
+    """Rule packages unpack into the test's own folder (``tmp_path / "cache"``), never into the
+    user's cache, so that a test sees only what it unpacked itself."""
+    cache = tmp_path / "cache"
+    monkeypatch.setenv("SHAPEGEN_CACHE", str(cache))
+    return cache

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from analysis_report import ANALYSIS_REPORT_KEYS
 
 import shapegen
 from shapegen import Block, Model
@@ -18,16 +19,6 @@ from shapegen.export.blocks_json import model_to_dict, write_blocks_json
 
 REPO = Path(__file__).resolve().parents[1]
 ARCH = REPO / "docs" / "examples" / "arch.json"
-REPORT_KEYS = {
-    "blocks",
-    "interfaces",
-    "feasible",
-    "infeasibility",
-    "infeasibility_normalized",
-    "max_tension",
-    "total_weight",
-    "seconds",
-}
 
 
 def semicircular_arch(thickness_ratio: float, voussoirs: int = 24) -> Model:
@@ -72,7 +63,7 @@ def test_analyze_arch_reports_and_writes(tmp_path, capsys, thickness_ratio, stan
     status = main(["analyze", str(model_path), "--report", str(report_path), "-o", str(glb_path)])
     assert status == 0  # standing or not, the run succeeded
     report = json.loads(report_path.read_text())
-    assert REPORT_KEYS <= set(report)
+    assert ANALYSIS_REPORT_KEYS <= set(report), ANALYSIS_REPORT_KEYS - set(report)
     assert report["blocks"] == 24
     assert report["interfaces"] == 25  # 23 joints and 2 springings
     assert report["feasible"] is stands
@@ -276,7 +267,9 @@ def test_build_writes_model_and_report(tmp_path, wall_grammar, capsys):
     assert report["attrs"]["height"] == 2.0 and report["attrs"]["width"] == 2.0
     assert report["free_parameters"] == {"width": {"value": 2.0, "min": 1.0, "max": 5.0}}
     assert report["reports"] == {"courses": 1.0}
-    assert REPORT_KEYS <= set(report["analysis"]) and report["analysis"]["feasible"] is True
+    assert (
+        ANALYSIS_REPORT_KEYS <= set(report["analysis"]) and report["analysis"]["feasible"] is True
+    )
     from shapegen.readers.models import read_model
 
     model = read_model(out)

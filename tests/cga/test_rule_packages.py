@@ -31,9 +31,7 @@ def _package(path, members: dict[str, str]):
     return path
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("SHAPEGEN_CACHE", str(tmp_path / "cache"))
+pytestmark = pytest.mark.usefixtures("package_cache")
 
 
 def _building(tmp_path):

@@ -19,10 +19,7 @@ from editor_stack import (
 from shapegen.cli import main
 from shapegen.editor import EditorSession
 
-
-@pytest.fixture(autouse=True)
-def _cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("SHAPEGEN_CACHE", str(tmp_path / "cache"))  # where packages unpack
+pytestmark = pytest.mark.usefixtures("package_cache")
 
 
 def values(state) -> dict:

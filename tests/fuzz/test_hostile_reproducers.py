@@ -26,10 +26,7 @@ from hostile_files import (
 from shapegen.cli import main
 from shapegen.limits import work_limits
 
-
-@pytest.fixture(autouse=True)
-def _cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("SHAPEGEN_CACHE", str(tmp_path / "cache"))
+pytestmark = pytest.mark.usefixtures("package_cache")
 
 
 def _refused(capsys, argv: list[str], path, pattern: str) -> str:

@@ -15,9 +15,7 @@ from shapegen.limits import work_limits
 SECRET = "a line outside the package"
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("SHAPEGEN_CACHE", str(tmp_path / "cache"))
+pytestmark = pytest.mark.usefixtures("package_cache")
 
 
 def _package(tmp_path, members: dict, name: str = "p.rpk"):

@@ -23,9 +23,8 @@ def _package(path):
     return path
 
 
-def test_a_killed_unpackings_staging_folder_is_removed_by_the_next(tmp_path, monkeypatch):
-    monkeypatch.setenv("SHAPEGEN_CACHE", str(tmp_path / "cache"))
-    packages = tmp_path / "cache" / "packages"
+def test_a_killed_unpackings_staging_folder_is_removed_by_the_next(tmp_path, package_cache):
+    packages = package_cache / "packages"
     packages.mkdir(parents=True)
     ended = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
                            capture_output=True, text=True, check=True)  # fmt: skip
