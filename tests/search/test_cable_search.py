@@ -15,6 +15,7 @@ import json
 
 import numpy as np
 import pytest
+from suspension_bridges import BRIDGES, Bridge
 
 import shapegen
 from shapegen.cli import main
@@ -26,16 +27,6 @@ from shapegen.structures import Assessment, Design
 from shapegen.structures.cable import CableModel
 
 GRAMMAR = "suspension_bridge.grammar"
-
-# Real bridges: main span (m), length between anchorages (main + both side spans, m), lanes,
-# tracks, cables, published main-cable diameter (m).
-REAL_BRIDGES = [
-    ("Golden Gate", 1280.0, 1966.0, 6, 0, 2, 0.924),
-    ("Akashi Kaikyo", 1991.0, 3911.0, 6, 0, 2, 1.122),
-    ("Humber", 1410.0, 2220.0, 4, 0, 2, 0.70),
-    ("Manhattan", 448.0, 890.0, 7, 4, 4, 0.53),
-    ("Brooklyn", 487.0, 1053.0, 6, 0, 4, 0.40),
-]
 
 
 class RecordingCable(CableModel):
@@ -57,18 +48,19 @@ def grammar():
     return shapegen.load_grammar(GRAMMAR)
 
 
-def bridge_attrs(span, length, lanes, tracks, cables, diameter) -> dict:
+def bridge_attrs(bridge: Bridge) -> dict:
     """The bridge at the shortest span allowed, with a shallow start (sag span / 10) whose cable
-    is too thick, so that the search has to move."""
+    is too thick, and the diameter of the bridge as built for the maximum, so that the search
+    has to move."""
     return {
-        "length": length,
-        "min_span": span,
-        "main_span": span,
-        "sag": span / 10,
-        "lanes": lanes,
-        "tracks": tracks,
-        "cables": cables,
-        "max_cable_diameter": diameter,
+        "length": bridge.length,
+        "min_span": bridge.main_span,
+        "main_span": bridge.main_span,
+        "sag": bridge.main_span / 10,
+        "lanes": bridge.lanes,
+        "tracks": bridge.tracks,
+        "cables": bridge.cables,
+        "max_cable_diameter": bridge.built_diameter,
     }
 
 
@@ -81,14 +73,11 @@ def thinnest_cable(length: float, min_span: float, lanes: int = 6) -> tuple[floa
     return span, sizing.diameter
 
 
-@pytest.mark.parametrize(
-    ("name", "span", "length", "lanes", "tracks", "cables", "diameter"), REAL_BRIDGES
-)
-def test_search_stops_at_the_first_design_under_the_maximum(
-    grammar, name, span, length, lanes, tracks, cables, diameter
-):
+@pytest.mark.parametrize("bridge", BRIDGES, ids=[bridge.name for bridge in BRIDGES])
+def test_search_stops_at_the_first_design_under_the_maximum(grammar, bridge):
+    name, span = bridge.name, bridge.main_span
     structure = RecordingCable()
-    attrs = bridge_attrs(span, length, lanes, tracks, cables, diameter)
+    attrs = bridge_attrs(bridge)
     # Margin 0: the paper's rule, the first design whose cable is under the maximum itself.
     result = optimize(grammar, attrs=attrs, structure=structure, build=False, margin=0)
     assert result.feasible and result.converged, name
@@ -99,7 +88,7 @@ def test_search_stops_at_the_first_design_under_the_maximum(
     # Every design before the last was too thick; the last one is the design found.
     assert all(not assessment.stands for _, assessment in judged[:-1]), name
     last_arguments, last = judged[-1]
-    assert last.stands and last.section["cable_diameter"] <= diameter
+    assert last.stands and last.section["cable_diameter"] <= bridge.built_diameter
     assert last_arguments == grammar.structure_arguments(result.attrs)
     assert result.assessment.section == last.section
     assert result.initial_infeasibility == judged[0][1].measure > 0
@@ -107,14 +96,14 @@ def test_search_stops_at_the_first_design_under_the_maximum(
     assert result.path[0] == {"main_span": span, "sag": span / 10}
     assert result.path[-1] == result.values
     found_span, found_sag = result.values["main_span"], result.values["sag"]
-    assert span <= found_span <= length
+    assert span <= found_span <= bridge.length
     assert 0 < found_sag < found_span / 2
     assert result.iterations >= 1
 
 
 def test_search_with_a_forward_gradient_also_stops_at_the_first_standing_design(grammar):
     structure = RecordingCable()
-    attrs = bridge_attrs(*REAL_BRIDGES[0][1:])
+    attrs = bridge_attrs(BRIDGES[0])
     result = optimize(grammar, attrs=attrs, structure=structure, gradient="forward", margin=0)
     assert result.feasible and result.method == "SLSQP"
     assert all(not assessment.stands for _, assessment in structure.judged[:-1])

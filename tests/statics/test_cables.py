@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
+from suspension_bridges import BRIDGES
 
 from shapegen.errors import GeometryError, ShapegenError, StaticsError
 from shapegen.statics.cables import (
@@ -18,25 +19,12 @@ from shapegen.statics.cables import (
     size_cables,
 )
 
-# Patow 2012, Table 1 (main span m, height above the road m, lanes, tracks, cables) and the
-# D_direct column of Table 2 (m), published to two decimals.
-PAPER_TABLE_2 = [
-    ("Golden Gate", 1280.0, 152.0, 6, 0, 2, 0.92),
-    ("Akashi Kaikyo", 1991.0, 217.08, 6, 0, 2, 1.19),
-    ("Humber", 1410.0, 125.5, 4, 0, 2, 0.89),
-    ("Manhattan", 448.0, 61.3, 7, 4, 4, 0.49),
-    ("Brooklyn", 487.0, 43.12, 6, 0, 4, 0.45),
-]
 
-
-@pytest.mark.parametrize(
-    ("name", "span", "sag", "lanes", "tracks", "cables", "paper_diameter"), PAPER_TABLE_2
-)
-def test_main_span_diameter_reproduces_paper_table_2(
-    name, span, sag, lanes, tracks, cables, paper_diameter
-):
-    sizing = size_cables(BridgeLoading(lanes, tracks, cables), span, sag)
-    assert sizing.main_span_diameter == pytest.approx(paper_diameter, abs=0.01), name
+@pytest.mark.parametrize("bridge", BRIDGES, ids=[bridge.name for bridge in BRIDGES])
+def test_main_span_diameter_reproduces_paper_table_2(bridge):
+    loading = BridgeLoading(bridge.lanes, bridge.tracks, bridge.cables)
+    sizing = size_cables(loading, bridge.main_span, bridge.sag)
+    assert sizing.main_span_diameter == pytest.approx(bridge.table_2_diameter, abs=0.01)
     # Without side spans the governing diameter is the main span's.
     assert sizing.diameter == sizing.main_span_diameter
 
