@@ -16,6 +16,7 @@ DOCS = Path(__file__).resolve().parents[2] / "docs"
 RULES = Path(__file__).resolve().parents[2] / "rules"
 sys.path.insert(0, str(DOCS))
 import editor_screenshots as page_steps  # noqa: E402
+from editor_stack import STACK  # noqa: E402
 
 pytest.importorskip(
     "playwright.sync_api", reason="the browser tests need playwright (pip install playwright)"
@@ -39,6 +40,14 @@ def browser():
         browser = page_steps.launch(playwright, BROWSER)
         yield browser
         browser.close()
+
+
+@pytest.fixture
+def stack_grammar(tmp_path):
+    """editor_stack's two blocks, in a rule file of the test's own that it may rewrite."""
+    grammar = tmp_path / "stack.grammar"
+    grammar.write_text(STACK, encoding="utf-8")
+    return grammar
 
 
 def test_the_canvas_shows_the_model_and_a_slider_changes_the_verdict(browser, tmp_path):
@@ -114,8 +123,6 @@ ASKED_FOR_FRAMES = """frames => new Promise((resolve) => {
 
 
 def test_an_idle_page_draws_nothing_and_the_shading_lines_up_with_the_slider(browser, tmp_path):
-    from editor_stack import STACK
-
     # the stack on a column of `courses` drums: a count, whose slider steps by 1
     grammar = tmp_path / "stack.grammar"
     grammar.write_text(
@@ -272,12 +279,8 @@ def wait_for_value(page, name: str, value) -> None:
     )
 
 
-def test_undo_redo_reset_and_the_mark_on_the_designers_values(browser, tmp_path):
-    from editor_stack import STACK
-
-    grammar = tmp_path / "stack.grammar"
-    grammar.write_text(STACK, encoding="utf-8")
-    with page_steps.Editor(grammar) as editor:
+def test_undo_redo_reset_and_the_mark_on_the_designers_values(browser, stack_grammar):
+    with page_steps.Editor(stack_grammar) as editor:
         page = page_steps.open_page(browser, editor.url)
         mark = '.attr[data-attr="{}"] .user'
         assert page.is_hidden(mark.format("offset")) and page.is_disabled("#undo")
@@ -312,7 +315,7 @@ def test_undo_redo_reset_and_the_mark_on_the_designers_values(browser, tmp_path)
         page.press('input[name="courses"]', "Enter")
         wait_for_value(page, "courses", 4)
         text = STACK.replace("attr offset = 0.2", "attr offset = 0.1")
-        grammar.write_text(text.replace("attr courses = 2", "attr courses = 3"))
+        stack_grammar.write_text(text.replace("attr courses = 2", "attr courses = 3"))
         wait_for_value(page, "offset", 0.1)
         assert attr_value(page, "courses") == 4
         assert page.is_hidden(mark.format("offset")) and page.is_visible(mark.format("courses"))
@@ -325,13 +328,9 @@ def test_undo_redo_reset_and_the_mark_on_the_designers_values(browser, tmp_path)
         assert not page.problems, page.problems
 
 
-def test_a_block_clicked_is_highlighted_and_its_account_shown(browser, tmp_path):
-    from editor_stack import STACK
-
-    grammar = tmp_path / "stack.grammar"
-    grammar.write_text(STACK, encoding="utf-8")
+def test_a_block_clicked_is_highlighted_and_its_account_shown(browser, tmp_path, stack_grammar):
     # the upper block shifted beyond half a block: its joint with the lower one needs tension
-    with page_steps.Editor(grammar, "--set", "offset=0.7") as editor:
+    with page_steps.Editor(stack_grammar, "--set", "offset=0.7") as editor:
         page = page_steps.open_page(browser, editor.url)
         assert page_steps.verdict(page) == "needs tension"
         x, y = page.evaluate("window.shapegenEditor.blockScreenPoint('b1')")
@@ -364,17 +363,13 @@ def test_a_block_clicked_is_highlighted_and_its_account_shown(browser, tmp_path)
         assert not page.problems, page.problems
 
 
-def test_the_page_exports_the_model_the_report_and_the_attrs(browser, tmp_path):
+def test_the_page_exports_the_model_the_report_and_the_attrs(browser, stack_grammar):
     import json
     import shlex
 
-    from editor_stack import STACK
-
     from shapegen.cli import build_parser
 
-    grammar = tmp_path / "stack.grammar"
-    grammar.write_text(STACK, encoding="utf-8")
-    with page_steps.Editor(grammar) as editor:
+    with page_steps.Editor(stack_grammar) as editor:
         page = page_steps.open_page(browser, editor.url)
         page_steps.drag_slider(page, "offset", 0.4)
         page.wait_for_function("window.shapegenEditor.exported?.set?.offset !== undefined")
@@ -532,12 +527,8 @@ def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, 
         assert not page.problems, page.problems
 
 
-def test_labels_hide_and_a_section_plane_cuts_the_model(browser, tmp_path):
-    from editor_stack import STACK
-
-    grammar = tmp_path / "stack.grammar"
-    grammar.write_text(STACK, encoding="utf-8")
-    with page_steps.Editor(grammar) as editor:
+def test_labels_hide_and_a_section_plane_cuts_the_model(browser, tmp_path, stack_grammar):
+    with page_steps.Editor(stack_grammar) as editor:
         page = page_steps.open_page(browser, editor.url)
         full = page_steps.model_coverage(page)
         x, y = page.evaluate("window.shapegenEditor.blockScreenPoint('b1')")
@@ -583,12 +574,8 @@ def settings(page) -> dict:
     return page.evaluate("window.shapegenEditor.state.settings")
 
 
-def test_the_searchs_settings_free_attrs_margin_seed_and_lot(browser, tmp_path):
-    from editor_stack import STACK
-
-    grammar = tmp_path / "stack.grammar"
-    grammar.write_text(STACK, encoding="utf-8")
-    with page_steps.Editor(grammar, "--set", "offset=0.8") as editor:
+def test_the_searchs_settings_free_attrs_margin_seed_and_lot(browser, tmp_path, stack_grammar):
+    with page_steps.Editor(stack_grammar, "--set", "offset=0.8") as editor:
         page = page_steps.open_page(browser, editor.url)
         page.click("#settings summary")
         # the margin: closest stands with every joint shrunk to half its size, offset <= 1/3
