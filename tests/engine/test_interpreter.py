@@ -390,27 +390,6 @@ def test_runaway_repeat_split_is_stopped():
         grammar.build(max_shapes=1000)
 
 
-@pytest.mark.parametrize(
-    "text, message, line, column",
-    [
-        ("Lot --> extrude(1)\n  split(x) { 1 / (scope.sx - 10) : A }", "division by zero", 2, 16),
-        ('Lot --> extrude("a" * 2)', "needs numbers", 1, 21),
-        ('Lot --> extrude(1) i("nosuchthing")', "unknown primitive", 1, 20),
-        ('Lot --> extrude(1) i("box", size = 2)', "no parameter 'size'", 1, 29),
-        ("Lot --> extrude(1) extrude(2)", "already 3D", 1, 20),
-        ("Lot --> extrude(1) s(sqrt(0 - 1), 1, 1)", "must be a finite number, got nan", 1, 20),
-        ('Lot --> extrude(1) split(x) { "wide" : A }', "split size must be a number", 1, 31),
-        ("Lot --> extrude(1) s(1, true, 1)", "must be a number, got a boolean", 1, 20),
-    ],
-)
-def test_evaluation_errors_point_at_the_node(text, message, line, column):
-    with pytest.raises(GrammarError, match=re.escape(message)) as caught:
-        build(text)
-    assert caught.value.location.line == line
-    assert caught.value.location.column == column
-    assert "^" in str(caught.value)  # the caret under the source line
-
-
 def test_block_vertices_are_rotation_of_scope_corners():
     model = build(
         """

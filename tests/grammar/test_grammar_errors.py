@@ -1,11 +1,15 @@
 """Errors of the .grammar language: table-driven (message fragment, bad snippet, line, column).
 
 Each snippet must fail to load with a GrammarError holding a problem whose message contains the
-fragment, at the given 1-based line and column. Files with several problems report them all.
+fragment, at the given 1-based line and column; those of EVALUATION_ERRORS load, and fail so
+in the interpreter. Files with several problems report them all.
 """
+
+import re
 
 import pytest
 
+import shapegen
 from shapegen.errors import GrammarError, ShapegenError, SourceLocation
 from shapegen.grammar import check, load, parse
 
@@ -204,6 +208,19 @@ SEMANTIC_ERRORS = [
     ("undefined name 'nope'", "@Description(nope)\nattr x = 1", 1, 14),
 ]
 
+# Found by the interpreter: the snippet is good .grammar text (it loads), and reading its
+# inserts or deriving it stops at the node that fails.
+EVALUATION_ERRORS = [
+    ("division by zero", "Lot --> extrude(1)\n  split(x) { 1 / (scope.sx - 10) : A }", 2, 16),
+    ("needs numbers", 'Lot --> extrude("a" * 2)', 1, 21),
+    ("unknown primitive", 'Lot --> extrude(1) i("nosuchthing")', 1, 20),
+    ("no parameter 'size'", 'Lot --> extrude(1) i("box", size = 2)', 1, 29),
+    ("already 3D", "Lot --> extrude(1) extrude(2)", 1, 20),
+    ("must be a finite number, got nan", "Lot --> extrude(1) s(sqrt(0 - 1), 1, 1)", 1, 20),
+    ("split size must be a number", 'Lot --> extrude(1) split(x) { "wide" : A }', 1, 31),
+    ("must be a number, got a boolean", "Lot --> extrude(1) s(1, true, 1)", 1, 20),
+]
+
 ALL_ERRORS = SYNTAX_ERRORS + STRUCTURE_ERRORS + SEMANTIC_ERRORS
 
 
@@ -245,6 +262,19 @@ def test_semantic_problems_come_from_check(fragment, snippet, line, column):
     with pytest.raises(GrammarError) as caught:
         check(grammar)
     _problem_with(caught.value, fragment)
+
+
+@pytest.mark.parametrize(
+    "fragment, snippet, line, column",
+    EVALUATION_ERRORS,
+    ids=[case[0][:50] for case in EVALUATION_ERRORS],
+)
+def test_evaluation_errors_point_at_the_node(fragment, snippet, line, column):
+    load(snippet, "<string>")  # the language is fine: the error comes from the interpreter
+    with pytest.raises(GrammarError, match=re.escape(fragment)) as caught:
+        shapegen.parse_grammar(snippet).build()
+    assert (caught.value.location.line, caught.value.location.column) == (line, column)
+    assert "^" in str(caught.value)  # the caret under the source line
 
 
 def test_rendering_has_place_source_line_and_caret():
