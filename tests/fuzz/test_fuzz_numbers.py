@@ -26,6 +26,7 @@ from pathlib import Path
 
 import pytest
 from fuzz_sandbox import fuzz_seed, print_figures, run_campaign
+from json_numbers import json_numbers as _numbers
 
 CPU_SECONDS = 20
 DERIVATION_SECONDS = 6  # each of a child's two builds: both within its CPU_SECONDS
@@ -82,17 +83,6 @@ class _Draws(dict):
 
     def __missing__(self, key: str) -> str:
         return self.draw.choice(NUMBERS if key == "n" else COUNTS)
-
-
-def _numbers(value):
-    if isinstance(value, dict):
-        for item in value.values():
-            yield from _numbers(item)
-    elif isinstance(value, list):
-        for item in value:
-            yield from _numbers(item)
-    elif isinstance(value, float):
-        yield value
 
 
 def build_through_the_command_line(text: str) -> None:
