@@ -29,9 +29,11 @@ __all__ = [
     "LOT_EXTENT_LIMIT_M",
     "WorkLimits",
     "check_clock",
+    "clock_ran_out",
     "current_limits",
     "limit_hint",
     "raised_with",
+    "remaining_seconds",
     "work_clock",
     "work_limits",
 ]
@@ -106,9 +108,10 @@ class WorkLimits:
         ``import p:"x.cga"`` copies ``x.cga``'s under its prefix, so files that import one
         another several times over multiply them.
     max_seconds
-        Seconds of one derivation (wall clock), or None for no time limit; also of the
-        geometry work of judging its model and of encoding it for a file (each has its own
-        clock, :func:`work_clock`, that every long loop looks at).
+        Seconds of one derivation (wall clock), or None for no time limit; also of judging its
+        model (the geometry and the solver) and of encoding it for a file. Each runs under a
+        clock of its own (:func:`work_clock`) that every long loop looks at, within the clock
+        of the whole when there is one (the command line's ``build`` runs all three under one).
     """
 
     max_source_chars: int = 10_000_000
@@ -231,8 +234,9 @@ _CLOCK: contextvars.ContextVar[tuple[float, float, str] | None] = contextvars.Co
 def work_clock(what: str, seconds: float | None = None) -> Iterator[float | None]:
     """Within this block, :func:`check_clock` stops the work (``what``, for the message:
     "the derivation") ``seconds`` (default: the limit ``max_seconds``; None: no clock) from
-    now, or at the deadline of a clock already running if that comes first. Yields the
-    deadline (``time.monotonic()``) or None."""
+    now, or at the deadline of a clock already running if that comes first (its message then
+    names both: "the build (judging the model) ran for more than 60 s"). Yields the deadline
+    (``time.monotonic()``) or None."""
     if seconds is None:
         seconds = current_limits().max_seconds
     running = _CLOCK.get()
@@ -240,11 +244,20 @@ def work_clock(what: str, seconds: float | None = None) -> Iterator[float | None
     if seconds is not None:
         mine = (time.monotonic() + seconds, float(seconds), what)
         clock = mine if running is None or mine[0] < running[0] else running
+    if clock is not None and clock is running and what not in running[2]:
+        clock = (running[0], running[1], f"{running[2]} ({what})")
     token = _CLOCK.set(clock)
     try:
         yield None if clock is None else clock[0]
     finally:
         _CLOCK.reset(token)
+
+
+def remaining_seconds() -> float | None:
+    """Seconds left on the work clock of this context (at least 0), or None without one: the
+    time limit of a step that cannot look at the clock itself (a solver's own loop)."""
+    clock = _CLOCK.get()
+    return None if clock is None else max(0.0, clock[0] - time.monotonic())
 
 
 def check_clock() -> None:
@@ -260,6 +273,13 @@ def check_clock() -> None:
     """
     clock = _CLOCK.get()
     if clock is not None and time.monotonic() > clock[0]:
-        raise WorkLimitError(
-            f"{clock[2]} ran for more than {clock[1]:g} s " + limit_hint("max_seconds")
-        )
+        clock_ran_out()
+
+
+def clock_ran_out() -> None:
+    """Raise the :class:`~shapegen.errors.WorkLimitError` of the running work clock: a step
+    given :func:`remaining_seconds` as its time limit (a solver) said that it ran out."""
+    clock = _CLOCK.get()
+    seconds = 0.0 if clock is None else clock[1]
+    what = "the work" if clock is None else clock[2]
+    raise WorkLimitError(f"{what} ran for more than {seconds:g} s " + limit_hint("max_seconds"))

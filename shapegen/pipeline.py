@@ -131,24 +131,26 @@ def design(
         model = grammar.build(attrs=attrs, seed=seed, lot=lot)
     if place is not None:
         model = place(model)
-    assessment = None
+    assessment = found = None
     if assess or optimization is not None or capacity is not None:
-        if optimization is not None and place is None and optimization.assessment is not None:
-            assessment = optimization.assessment
-        elif previous is not None and previous.structure.name == structure.name:
-            assessment = structure.reassess(
-                Design.of_model(model), previous.assessment, measure_follows=measure_follows
-            )
-        else:
-            with work_clock("judging the model"):  # its leaves cut into convex blocks...
+        # the cut into convex blocks, the checks and the solver: all under judging's clock
+        with work_clock("judging the model"):
+            if optimization is not None and place is None and optimization.assessment is not None:
+                assessment = optimization.assessment
+            elif previous is not None and previous.structure.name == structure.name:
+                assessment = structure.reassess(
+                    Design.of_model(model), previous.assessment, measure_follows=measure_follows
+                )
+            else:
                 assessment = structure.assess(Design.of_model(model))
+            if capacity is not None:
+                found = structure.lateral_capacity(Design.of_model(model), list(capacity))
     report = build_report(model)
     if optimization is not None:
         report["optimization"] = optimization.to_report()
     if assessment is not None:
         report["analysis"] = assessment.to_report()
-    if capacity is not None:
-        found = structure.lateral_capacity(Design.of_model(model), list(capacity))
+    if found is not None:
         report["analysis"]["capacity"] = found.to_report()
     report["seconds"] = time.perf_counter() - started
     return Outcome(grammar, model, structure, assessment, optimization, report)
@@ -161,7 +163,8 @@ def completed(outcome: Outcome) -> Outcome:
     if assessment is None or not assessment.pending:
         return outcome
     started = time.perf_counter()
-    assessment = outcome.structure.complete(assessment)
+    with work_clock("judging the model"):
+        assessment = outcome.structure.complete(assessment)
     report = {**outcome.report, "analysis": assessment.to_report()}
     report["seconds"] = outcome.report.get("seconds", 0.0) + time.perf_counter() - started
     return Outcome(outcome.grammar, outcome.model, outcome.structure, assessment,

@@ -5,6 +5,7 @@ from __future__ import annotations
 __all__ = ["add_command", "run"]
 
 import argparse
+import contextlib
 from pathlib import Path
 
 from shapegen.cli.display import SearchProgress, print_build
@@ -17,10 +18,12 @@ from shapegen.cli.options import (
     check_statics_apply,
     checked_attrs,
     load_grammar,
+    positive,
     search_settings,
     statics_options,
 )
 from shapegen.cli.outputs import check_outputs, write_all
+from shapegen.limits import DEFAULT_LIMITS, raised_with, work_clock, work_limits
 
 
 def add_command(commands) -> None:
@@ -68,11 +71,25 @@ def add_command(commands) -> None:
         " sets the attr length, its first and last nodes the position and direction",
     )
     build.add_argument("--way", type=int, metavar="ID", help="with --osm: the way's id")
+    build.add_argument(
+        "--max-seconds",
+        type=positive,
+        metavar="S",
+        help="stop with an error once the build (deriving, judging and writing the model) has"
+        f" run S seconds (default {DEFAULT_LIMITS.max_seconds:g}); with --optimize, each of the"
+        " search's derivations and judgings",
+    )
     build.add_argument("-q", "--quiet", action="store_true", help="print nothing")
     build.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    changes = {} if args.max_seconds is None else {"max_seconds": args.max_seconds}
+    with work_limits(**changes), raised_with(max_seconds="--max-seconds S"):
+        return _build(args)
+
+
+def _build(args: argparse.Namespace) -> int:
     from shapegen.pipeline import design, encode_outputs
     from shapegen.structures import structure_class
 
@@ -102,7 +119,10 @@ def run(args: argparse.Namespace) -> int:
             return osm.place_on_way(model, way)
 
     measure = structure_class(grammar.structure).measure_name
-    with SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:
+    # one clock over the whole build, from deriving to the files' bytes (a search runs many
+    # builds, each under its own clocks)
+    whole = work_clock("the build") if search is None else contextlib.nullcontext()
+    with whole, SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:
         outcome = design(
             grammar,
             attrs=attrs,
@@ -115,14 +135,18 @@ def run(args: argparse.Namespace) -> int:
             progress=progress,
             capacity=capacity,
         )
-    report = outcome.report
-    if way is not None:
-        report["osm"] = outcome.model.metadata["osm"]
-    outputs = encode_outputs(
-        outcome.model, outcome.assessment, report, model_path=args.output, report_path=args.report
-    )
-    if args.picture:
-        outputs.append((Path(args.picture), _picture(args.grammar, outcome)))
+        report = outcome.report
+        if way is not None:
+            report["osm"] = outcome.model.metadata["osm"]
+        outputs = encode_outputs(
+            outcome.model,
+            outcome.assessment,
+            report,
+            model_path=args.output,
+            report_path=args.report,
+        )
+        if args.picture:
+            outputs.append((Path(args.picture), _picture(args.grammar, outcome)))
     write_all(outputs)
     if not args.quiet:
         print_build(str(args.grammar), report)

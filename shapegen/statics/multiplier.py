@@ -43,7 +43,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from shapegen.errors import OptionError, StaticsError
+from shapegen.limits import clock_ran_out
 from shapegen.statics.assembly import REGULARIZATION, StaticsProblem, load_vector
+from shapegen.statics.solvers.base import limit_time
 from shapegen.statics.tilt import lateral_map, load_direction_problem, normalized_azimuth
 from shapegen.tolerances import TIE_REL
 
@@ -218,8 +220,11 @@ def _solve_clarabel(problem, dead, lateral) -> tuple[str, float]:
     # Clarabel's own LDL: "auto" picks the multithreaded faer, three times the process time
     # here (a 1 000-block wall: 3.9 s against 12.6 s of CPU, the same 29 iterations)
     settings.direct_solve_method = "qdldl"
+    limit_time(settings)
     result = clarabel.DefaultSolver(objective, linear, constraints, rhs, kinds, settings).solve()
     native = str(result.status).split(".")[-1]
+    if native == "MaxTime":
+        clock_ran_out()
     if native in ("Solved", "AlmostSolved"):
         return "optimal", float(result.x[-1])
     if native in ("PrimalInfeasible", "AlmostPrimalInfeasible"):

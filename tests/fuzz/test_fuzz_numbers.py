@@ -1,8 +1,8 @@
 """Fuzzing the boundary for numbers: random ``.cga`` rules whose operations take extreme numbers
 (1e308, -1e308, NaN as 0/0, 1e-320, inf as 1e308 * 10, huge counts), each built through the
 command line (``build -o x.json --report --analyze``, then ``-o x.glb``) in a forked child capped
-at 20 s of CPU and 4 GiB; each build's derivation under the work limit ``max_seconds = 6``, so
-that both builds, with their judging and writing, fit in the child's CPU seconds.
+at 20 s of CPU and 4 GiB; each build (deriving, judging and writing: the command's one clock)
+under the work limit ``max_seconds = 6``, so that both builds fit in the child's CPU seconds.
 
 Every input must end in exit status 0 with outputs whose numbers are all finite, or in exit
 status 2 with no output file at all; never in a traceback, past the caps or hung. Every input
@@ -29,7 +29,7 @@ from fuzz_sandbox import fuzz_seed, print_figures, run_campaign
 from json_numbers import json_numbers as _numbers
 
 CPU_SECONDS = 20
-DERIVATION_SECONDS = 6  # each of a child's two builds: both within its CPU_SECONDS
+BUILD_SECONDS = 6  # each of a child's two builds, whole: both within its CPU_SECONDS
 MEMORY_BYTES = 4 * 2**30
 SLOW_LANE_INPUTS = 300
 
@@ -90,8 +90,8 @@ def build_through_the_command_line(text: str) -> None:
     from shapegen.cli import main
     from shapegen.limits import work_limits
 
-    # a derivation stops itself past max_seconds (one line, exit status 2): below the CPU cap
-    with tempfile.TemporaryDirectory() as folder, work_limits(max_seconds=DERIVATION_SECONDS):
+    # a build stops itself past max_seconds (one line, exit status 2): below the CPU cap
+    with tempfile.TemporaryDirectory() as folder, work_limits(max_seconds=BUILD_SECONDS):
         place = Path(folder)
         rule = place / "fuzz.cga"
         rule.write_text(text)

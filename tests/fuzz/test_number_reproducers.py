@@ -129,7 +129,8 @@ def test_a_derivation_past_its_clock_stops_in_one_line(tmp_path, capsys, seed, n
     printed = _build_once(tmp_path, fuzz_rule(seed, number), capsys, max_seconds=0.5)
     first = printed.splitlines()[0]
     assert first.startswith("shapegen: error:")
-    assert "the derivation ran for more than 0.5 s (limit max_seconds = 0.5;" in first
+    # the command's one clock over the whole build, stopped while deriving
+    assert "the build (the derivation) ran for more than 0.5 s (limit max_seconds = 0.5;" in first
 
 
 def test_blocks_of_no_volume_judged_say_so_in_one_line(tmp_path, capsys):
@@ -157,7 +158,7 @@ def test_a_shape_a_comp_makes_past_the_coordinate_limit_is_a_cga_error(tmp_path,
 
 def test_judging_a_model_past_its_clock_stops_in_one_line(tmp_path, capsys):
     # seed 271828, input 907: a mass extruded face by face, then judged (--analyze): past 20 s
-    # of CPU in the convex cut; judging runs on a clock of max_seconds of its own
+    # of CPU in the convex cut; judging runs under the build's clock
     rule = tmp_path / "fuzz.cga"
     rule.write_text(fuzz_rule(271828, 907))
     with work_limits(max_seconds=0.5):

@@ -13,6 +13,7 @@ from typing import ClassVar
 import numpy as np
 
 from shapegen.errors import StaticsError
+from shapegen.limits import remaining_seconds
 
 
 class SolveStatus(enum.Enum):
@@ -132,3 +133,13 @@ def trivial_solution(problem) -> Solution | None:
     if problem.load.size and float(np.abs(problem.load).max()) > 0 and not problem.n_vertices:
         return Solution(SolveStatus.INFEASIBLE, None, None, float("nan"))
     return Solution(SolveStatus.OPTIMAL, x, np.zeros(problem.load.size), 0.0)
+
+
+def limit_time(settings) -> None:
+    """Give a Clarabel solve the time left on the work clock (judging's, see
+    :func:`shapegen.limits.work_clock`) as its ``time_limit``: its iterations cannot look at
+    the clock themselves. A solve that runs out ends with status ``MaxTime``, which the caller
+    turns into the clock's one-line error (:func:`shapegen.limits.clock_ran_out`)."""
+    left = remaining_seconds()
+    if left is not None:
+        settings.time_limit = max(left, 1e-3)

@@ -8,7 +8,14 @@ import time
 
 import numpy as np
 
-from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
+from shapegen.limits import clock_ran_out
+from shapegen.statics.solvers.base import (
+    Backend,
+    Solution,
+    SolveStatus,
+    limit_time,
+    trivial_solution,
+)
 
 # Solver settings: clarabel's gap and feasibility tolerances, and its KKT ratio.
 TOLERANCE = 1e-10
@@ -69,11 +76,14 @@ class ClarabelBackend(Backend):
         settings.tol_gap_rel = self.tolerance
         settings.tol_feas = self.tolerance
         settings.tol_ktratio = KKT_RATIO
+        limit_time(settings)
         solver = clarabel.DefaultSolver(
             objective, problem.linear, constraints, rhs, cones, settings
         )
         result = solver.solve()
         native = str(result.status).split(".")[-1]
+        if native == "MaxTime":
+            clock_ran_out()
         status = _STATUS.get(native, SolveStatus.NUMERICAL_ERROR)
         seconds = time.perf_counter() - start
         if not status.solved:

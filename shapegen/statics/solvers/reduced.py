@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from shapegen.limits import check_clock
 from shapegen.statics.solvers import second_order as _soc
 from shapegen.statics.solvers.base import Backend, Solution, SolveStatus, trivial_solution
 
@@ -165,6 +166,7 @@ class ReducedBackend(Backend):
         # consistent when the Hessian is negligible: the phase-one problem
         separate_steps = bool(problem.quadratic.max() <= _NEGLIGIBLE_HESSIAN)
         for iterations in range(1, self.max_iter + 1):
+            check_clock()  # one iteration is a factorisation: judging's clock between them
             res = kkt.residuals(point)
             gap = _complementarity(point)
             x = kkt.join(point.x_cut, point.x_s)
