@@ -144,17 +144,19 @@ class Derivation:
     def check_clock(self, node) -> None:
         """Stop the derivation past its ``max_seconds``, at ``node``'s place: its own, or the
         work clock its build runs (:func:`shapegen.limits.work_clock`), which the geometry
-        kernels' loops look at too."""
+        kernels' loops look at too. The work clock is looked at first: it started before this
+        derivation did, so its message (which names the whole build's clock when that one
+        ends first) is the one given whenever both have run out."""
+        try:
+            check_clock()
+        except WorkLimitError as exc:
+            raise self.program.error(node, str(exc)) from None
         if self.deadline is not None and time.monotonic() > self.deadline:
             raise self.program.error(
                 node,
                 f"the derivation ran for more than {self.limits.max_seconds:g} s "
                 + limit_hint("max_seconds", self.limits),
             )
-        try:
-            check_clock()
-        except WorkLimitError as exc:
-            raise self.program.error(node, str(exc)) from None
 
     def enter_call(self, node, name: str) -> None:
         """Count a user-function call; stop a runaway one (``max_calls``, ``max_call_depth``)."""
