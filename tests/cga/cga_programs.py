@@ -137,6 +137,51 @@ VARIANTS = (
     'insertAlongUV(0, "x.obj", 1)',
 )
 
+#: Decorations (operations that keep the geometry) written as one of a list, by form; the other
+#: forms are built from expressions (``_Writer.decoration``).
+DECORATIONS = {
+    "set shape attribute": (
+        "set(material.opacity, 0.5)",
+        "set(material.color.r, 0.3)",
+        'set(material.colormap, "wall.jpg")',
+        "set(trim.vertical, false)",
+        "set(trim.horizontal, true)",
+        'set(material.name, "stone")',
+    ),
+    "label": ('label("wall")', 'label("roof")'),
+    "tag": ('tag("a")', 'tag("b")'),
+    "center": tuple(f"center({axes})" for axes in ("x", "y", "z", "xy", "xz", "yz", "xyz")),
+    "align": (
+        "alignScopeToAxes()",
+        "alignScopeToAxes(y)",
+        "alignScopeToGeometry(yUp, 0, 0)",
+        "alignScopeToGeometry(zUp, any, longest)",
+        "setPivot(xyz, 0)",
+        "mirror(true, false, false)",
+        "mirrorScope(false, false, true)",
+    ),
+    "texture": (
+        "setupProjection(0, scope.xy, 1.5, 1) projectUV(0)",
+        'texture("facade.jpg")',
+        "tileUV(0, 2, 2)",
+        "deleteUV(0)",
+        'setMaterial(["color.r", "1.0", "color.g", "0.5"])',
+    ),
+    "variant": VARIANTS,
+    "misc": (
+        "reverseNormals()",
+        "reverseNormals",
+        "resetMaterial()",
+        "deleteHoles()",
+        "deleteHoles",
+        "cleanupGeometry(all, 0.01)",
+        "convexify()",
+        "reduceGeometry(0.05)",
+        "softenNormals(30)",
+        "setNormals(hard)",
+    ),
+}
+
 #: Forms drawn less often than the others, with the share of their draws kept: each would
 #: otherwise be in a third of the programs, and a program the parser refuses is not derived.
 RARE = {"perimeter": 0.3, "inline": 0.3, "degenerate": 0.5, "splitArea": 0.5}
@@ -561,16 +606,7 @@ class _Writer:
             form = "label"
         if form == "set" and self.chance(0.25):
             self.forms.add("set shape attribute")
-            return rng.choice(
-                [
-                    "set(material.opacity, 0.5)",
-                    "set(material.color.r, 0.3)",
-                    'set(material.colormap, "wall.jpg")',
-                    "set(trim.vertical, false)",
-                    "set(trim.horizontal, true)",
-                    'set(material.name, "stone")',
-                ]
-            )
+            return rng.choice(DECORATIONS["set shape attribute"])
         if form == "set":
             name = rng.choice(list(self.attrs))
             return f"set({name}, {self.expression(self.attrs[name], env, 1)})"
@@ -589,52 +625,9 @@ class _Writer:
             return rng.choice(
                 [f"r({angles})", f"r(scopeCenter, {angles})", f"rotateScope({angles})"]
             )
-        if form == "label":
-            return f'label("{rng.choice(["wall", "roof"])}")'
-        if form == "tag":
-            return f'tag("{rng.choice(["a", "b"])}")'
-        if form == "center":
-            return f"center({rng.choice(['x', 'y', 'z', 'xy', 'xz', 'yz', 'xyz'])})"
-        if form == "align":
-            return rng.choice(
-                [
-                    "alignScopeToAxes()",
-                    "alignScopeToAxes(y)",
-                    "alignScopeToGeometry(yUp, 0, 0)",
-                    "alignScopeToGeometry(zUp, any, longest)",
-                    "setPivot(xyz, 0)",
-                    "mirror(true, false, false)",
-                    "mirrorScope(false, false, true)",
-                ]
-            )
-        if form == "texture":
-            return rng.choice(
-                [
-                    "setupProjection(0, scope.xy, 1.5, 1) projectUV(0)",
-                    'texture("facade.jpg")',
-                    "tileUV(0, 2, 2)",
-                    "deleteUV(0)",
-                    'setMaterial(["color.r", "1.0", "color.g", "0.5"])',
-                ]
-            )
         if form == "push":
             return f"[ {self.decoration(env, geometry)} ]"
-        if form == "variant":
-            return rng.choice(VARIANTS)
-        return rng.choice(
-            [
-                "reverseNormals()",
-                "reverseNormals",
-                "resetMaterial()",
-                "deleteHoles()",
-                "deleteHoles",
-                "cleanupGeometry(all, 0.01)",
-                "convexify()",
-                "reduceGeometry(0.05)",
-                "softenNormals(30)",
-                "setNormals(hard)",
-            ]
-        )
+        return rng.choice(DECORATIONS[form])
 
     def coordinate(self, env, scale: bool = False) -> str:
         if self.chance(0.3):
