@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from polygon_cases import star_polygon
+from rotations import about_y
 
 from shapegen.geometry.convex import convex_faces, convex_pieces
 from shapegen.geometry.cut import (
@@ -135,10 +136,7 @@ def _signed_area(points):
 
 def test_placed_decomposition_is_the_world_decomposition():
     local = _prism(U_LOT)
-    angle = np.radians(30.0)
-    rotation = np.array(
-        [[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]]
-    )
+    rotation = about_y(30.0)
     origin = np.array([100.0, 5.0, -40.0])
     world = local.transformed(rotation, origin)
     expected = convex_decomposition(world)

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from polygon_cases import star_polygon
+from rotations import about_y
 
 from shapegen.errors import LotError
 from shapegen.geometry.cut import _general_decomposition, placed_convex_decomposition
@@ -258,10 +259,7 @@ def test_random_star_footprints_give_the_general_pieces(seed):
 
 def test_placed_pieces_of_a_prism_are_the_general_ones_moved():
     mesh = _prism(COMB)
-    angle = np.radians(25.0)
-    rotation = np.array(
-        [[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]]
-    )
+    rotation = about_y(25.0)
     origin = np.array([3.0, 1.0, -2.0])
     placed = placed_convex_decomposition(mesh, rotation, origin)
     general = [

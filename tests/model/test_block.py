@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from rotations import about_y
 from scipy.spatial import ConvexHull
 
 from shapegen.errors import GeometryError
@@ -54,10 +55,7 @@ def test_triangular_prism_matches_closed_form():
 
 def test_rotation_keeps_volume_and_moves_centroid():
     block = Block.box([0, 0, 0], [1, 2, 3])
-    angle = np.radians(37.0)
-    rot = np.array(
-        [[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]]
-    )
+    rot = about_y(37.0)
     moved = block.transformed(rot, [1, 2, 3])
     assert moved.volume == pytest.approx(6.0)
     np.testing.assert_allclose(moved.centroid, rot @ block.centroid + [1, 2, 3], atol=1e-12)

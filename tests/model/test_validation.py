@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from rotations import about_y
 
 import shapegen
 from shapegen.errors import GeometryError
@@ -77,10 +78,7 @@ def test_boxes_and_hulls_agree_with_block_validate(size):
 
 
 def test_turned_and_mirrored_blocks_agree(grammar_blocks):
-    angle = np.radians(23.0)
-    turn = np.array(
-        [[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]]
-    )
+    turn = about_y(23.0)
     mirror = np.diag([-1.0, 1.0, 1.0])
     blocks = grammar_blocks["mosque"][:40]
     moved = [b.transformed(turn, [3.0, 0.0, -7.0]) for b in blocks]

@@ -5,20 +5,15 @@ from __future__ import annotations
 __all__ = ["ROTATED", "assert_convex", "interface_counts", "local_bounds"]
 
 import numpy as np
+from rotations import about_y
 from scipy.spatial import ConvexHull
 
 from shapegen.model.model import Model
 from shapegen.model.scope import Scope
 from shapegen.statics.interface import GROUND
 
-
-def _rotation_about_y(degrees: float) -> np.ndarray:
-    a = np.radians(degrees)
-    return np.array([[np.cos(a), 0.0, np.sin(a)], [0.0, 1.0, 0.0], [-np.sin(a), 0.0, np.cos(a)]])
-
-
 # A scope turned about the vertical and moved off the origin, to catch local/world mix-ups.
-ROTATED = Scope(np.array([3.0, 0.0, -2.0]), _rotation_about_y(35.0), np.array([4.0, 5.0, 3.0]))
+ROTATED = Scope(np.array([3.0, 0.0, -2.0]), about_y(35.0), np.array([4.0, 5.0, 3.0]))
 
 
 def assert_convex(blocks) -> None:

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from rotations import about_y
 
 from shapegen.errors import GeometryError
 from shapegen.model.model import Model
@@ -72,10 +73,7 @@ def test_joints_are_shared(running_bond):
 
 
 def test_rotated_wall_keeps_its_volume():
-    angle = np.radians(30)
-    rotation = np.array(
-        [[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]]
-    )
+    rotation = about_y(30)
     scope = Scope(np.array([2.0, 0.0, 1.0]), rotation, np.array([3.0, 2.0, 0.4]))
     blocks = insert("wall", scope)
     assert sum(b.volume for b in blocks) == pytest.approx(2.4)
