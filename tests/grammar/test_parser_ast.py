@@ -38,6 +38,18 @@ def C(value, relative=False):
     return ast.Coordinate(value, relative)
 
 
+def Group(*parts, repeat=False):
+    return ast.SplitGroup(tuple(parts), repeat=repeat)
+
+
+def Split(axis, *parts, repeat=False):
+    return ast.Split(axis, Group(*parts, repeat=repeat))
+
+
+def Entry(size, mode, body):
+    return ast.SplitEntry(size, mode, body)
+
+
 def body_of(text):
     """The body of the rule ``A --> text``."""
     return parse(f"A --> {text}").rules[0].body
@@ -108,69 +120,49 @@ BODIES = [
     (
         "split(x) { 2 : B | ~1 : C | '0.5 : D }",
         Seq(
-            ast.Split(
+            Split(
                 "x",
-                ast.SplitGroup(
-                    (
-                        ast.SplitEntry(N(2), "absolute", Seq(S("B"))),
-                        ast.SplitEntry(N(1), "floating", Seq(S("C"))),
-                        ast.SplitEntry(N(0.5), "relative", Seq(S("D"))),
-                    )
-                ),
+                Entry(N(2), "absolute", Seq(S("B"))),
+                Entry(N(1), "floating", Seq(S("C"))),
+                Entry(N(0.5), "relative", Seq(S("D"))),
             )
         ),
     ),
     (
         "split(y) { 2 : X | 1 : Y }*",
         Seq(
-            ast.Split(
+            Split(
                 "y",
-                ast.SplitGroup(
-                    (
-                        ast.SplitEntry(N(2), "absolute", Seq(S("X"))),
-                        ast.SplitEntry(N(1), "absolute", Seq(S("Y"))),
-                    ),
-                    repeat=True,
-                ),
+                Entry(N(2), "absolute", Seq(S("X"))),
+                Entry(N(1), "absolute", Seq(S("Y"))),
+                repeat=True,
             )
         ),
     ),
     (
         "split(z) { 1 : A | { ~2 : B | { 3 : C }* }* | 1 : D }",
         Seq(
-            ast.Split(
+            Split(
                 "z",
-                ast.SplitGroup(
-                    (
-                        ast.SplitEntry(N(1), "absolute", Seq(S("A"))),
-                        ast.SplitGroup(
-                            (
-                                ast.SplitEntry(N(2), "floating", Seq(S("B"))),
-                                ast.SplitGroup(
-                                    (ast.SplitEntry(N(3), "absolute", Seq(S("C"))),), repeat=True
-                                ),
-                            ),
-                            repeat=True,
-                        ),
-                        ast.SplitEntry(N(1), "absolute", Seq(S("D"))),
-                    )
+                Entry(N(1), "absolute", Seq(S("A"))),
+                Group(
+                    Entry(N(2), "floating", Seq(S("B"))),
+                    Group(Entry(N(3), "absolute", Seq(S("C"))), repeat=True),
+                    repeat=True,
                 ),
+                Entry(N(1), "absolute", Seq(S("D"))),
             )
         ),
     ),
     (
         "split(x) { ~scope.sx / 3 : A extrude(1) B }",
         Seq(
-            ast.Split(
+            Split(
                 "x",
-                ast.SplitGroup(
-                    (
-                        ast.SplitEntry(
-                            B("/", ast.ShapeAttribute("scope", "sx"), N(3)),
-                            "floating",
-                            Seq(S("A"), ast.Extrude(N(1)), S("B")),
-                        ),
-                    )
+                Entry(
+                    B("/", ast.ShapeAttribute("scope", "sx"), N(3)),
+                    "floating",
+                    Seq(S("A"), ast.Extrude(N(1)), S("B")),
                 ),
             )
         ),
@@ -270,28 +262,21 @@ BODIES = [
     (
         "split(x) { 1 : case split.index == 0 : A else : 50% : B else : C | 1 : D }",
         Seq(
-            ast.Split(
+            Split(
                 "x",
-                ast.SplitGroup(
-                    (
-                        ast.SplitEntry(
-                            N(1),
-                            "absolute",
-                            ast.ConditionalBody(
-                                (
-                                    ast.ConditionalBranch(
-                                        B("==", ast.ShapeAttribute("split", "index"), N(0)),
-                                        Seq(S("A")),
-                                    ),
-                                ),
-                                ast.StochasticBody(
-                                    (ast.StochasticBranch(50.0, Seq(S("B"))),), Seq(S("C"))
-                                ),
+                Entry(
+                    N(1),
+                    "absolute",
+                    ast.ConditionalBody(
+                        (
+                            ast.ConditionalBranch(
+                                B("==", ast.ShapeAttribute("split", "index"), N(0)), Seq(S("A"))
                             ),
                         ),
-                        ast.SplitEntry(N(1), "absolute", Seq(S("D"))),
-                    )
+                        ast.StochasticBody((ast.StochasticBranch(50.0, Seq(S("B"))),), Seq(S("C"))),
+                    ),
                 ),
+                Entry(N(1), "absolute", Seq(S("D"))),
             )
         ),
     ),
