@@ -7,6 +7,8 @@ out)."""
 
 from __future__ import annotations
 
+import pytest
+
 from shapegen.engine.grammar_api import parse_grammar
 from shapegen.pipeline import design
 
@@ -56,17 +58,6 @@ NEAR_IN_LINE = [
     (1617.8684784445065, 1547.4935306547898),
     (1617.5733888457062, 1545.8860464414213),
 ]
-
-
-def test_a_scaled_footprint_is_judged_on_its_own_cut():
-    outcome = design(parse_grammar("Lot --> extrude(10)\n", "lot.cga"), lot=SCALED, assess=True)
-    assert outcome.assessment is not None and outcome.assessment.judged
-
-
-def test_a_footprint_of_the_lot_generator_is_judged_on_its_own_cut():
-    grammar = parse_grammar("Lot --> extrude(10)\n", "lot.cga")
-    outcome = design(grammar, lot=NEAR_IN_LINE, assess=True)
-    assert outcome.assessment is not None and outcome.assessment.judged
 
 
 # a star whose edges carry corners within 1e-9 to 1e-4 m of their line (seed 4242): a piece of
@@ -121,7 +112,12 @@ STAR_IN_LINE = [
 ]
 
 
-def test_a_star_with_corners_nearly_in_line_is_judged_on_its_own_cut():
+@pytest.mark.parametrize(
+    "footprint",
+    [SCALED, NEAR_IN_LINE, STAR_IN_LINE],
+    ids=["scaled", "of the lot generator", "a star with corners nearly in line"],
+)
+def test_a_footprint_is_judged_on_its_own_cut(footprint):
     grammar = parse_grammar("Lot --> extrude(10)\n", "lot.cga")
-    outcome = design(grammar, lot=STAR_IN_LINE, assess=True)
+    outcome = design(grammar, lot=footprint, assess=True)
     assert outcome.assessment is not None and outcome.assessment.judged
