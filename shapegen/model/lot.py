@@ -148,15 +148,16 @@ def _checked_corners(corners) -> tuple[tuple[float, float], ...]:
     ring = ring.reshape(-1, 2)
     if not np.all(np.isfinite(ring)):
         raise LotError("corner coordinates must be finite numbers")
-    ring = _distinct(ring)
-    if len(ring) < 3:
-        raise LotError(f"a lot needs at least 3 distinct corners, got {len(ring)}")
-    farthest = float(np.abs(ring).max())
+    # the extent first: the distances between corners 1e308 m apart overflow
+    farthest = float(np.abs(ring).max(initial=0.0))
     if farthest > LOT_EXTENT_LIMIT_M:
         raise LotError(
             f"corners must lie within {LOT_EXTENT_LIMIT_M:g} m of the origin, got a coordinate "
             f"of {farthest:.3g} m"
         )
+    ring = _distinct(ring)
+    if len(ring) < 3:
+        raise LotError(f"a lot needs at least 3 distinct corners, got {len(ring)}")
     spread = np.linalg.svd(ring - ring.mean(axis=0), compute_uv=False)
     if spread[1] <= FLAT_REL * spread[0]:
         raise LotError("the polygon has no area (its corners are in a line)")

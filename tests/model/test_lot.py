@@ -5,6 +5,7 @@ in the same line, behind its own name for the place."""
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -61,10 +62,13 @@ def test_corners_closer_than_the_merge_distance_are_one(gap, corners):
         ([(0, 0), (1, 1), (1, 0), (0, 1)],
          "the polygon crosses itself (self-intersection at x=0.5, z=0.5)"),
         ([(0, 0), (2e9, 0), (0, 1)], "corners must lie within 1e+09 m of the origin"),
+        # corners 2e308 m apart: refused before their distances are taken (they overflow)
+        ([(0, 0), (1e308, 0), (-1e308, 1e308)], "corners must lie within 1e+09 m of the origin"),
     ],
 )  # fmt: skip
 def test_what_cannot_be_a_lot_is_one_line(value, message):
-    with pytest.raises(LotError) as caught:
+    with pytest.raises(LotError) as caught, warnings.catch_warnings():
+        warnings.simplefilter("error")  # one line, and not numpy's overflow warning before it
         Lot.of(value)
     assert str(caught.value).startswith(message) and "\n" not in str(caught.value)
     assert isinstance(caught.value, InputFormatError)
