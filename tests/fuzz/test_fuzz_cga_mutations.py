@@ -10,11 +10,15 @@ every input comes from its number and the seed:
 ``python tests/fuzz/test_fuzz_cga_mutations.py 2000 SEED`` runs a campaign,
 ``python tests/fuzz/test_fuzz_cga_mutations.py replay SEED NUMBER`` prints and runs one input.
 The slow lane runs 300 inputs a run (a few minutes); the figure of a 2 000-input campaign is in
-docs/cga-compatibility.md.
+docs/cga-compatibility.md. ``SHAPEGEN_FUZZ_CGA_CORPUS=FOLDER`` mutates the rule files of another
+folder (one folder a repository) instead.
 """
 
 from __future__ import annotations
 
+import functools
+import itertools
+import os
 import random
 import re
 import shutil
@@ -26,6 +30,11 @@ import pytest
 from fuzz_sandbox import fuzz_seed, print_figures, run_campaign
 
 CORPUS = Path(__file__).resolve().parents[1] / "data" / "cga-corpus"
+# Another folder of rule files, one folder a repository (SHAPEGEN_FUZZ_CGA_CORPUS): files of
+# repositories too large to copy for each input are derived from a copy of the file alone, with
+# the file's folder and its repository on the rules path (where their imports and assets are).
+OTHER_CORPUS = os.environ.get("SHAPEGEN_FUZZ_CGA_CORPUS")
+COPIED_FILES, COPIED_BYTES = 2000, 100 * 2**20  # a repository of more is not copied
 CPU_SECONDS = 20
 DERIVATION_SECONDS = 8
 MEMORY_BYTES = 4 * 2**30
@@ -39,8 +48,21 @@ UNICODE = ["\u00e9", "\u200b", "\ufeff", "\U0001f600", "\u202e", "\x00", "\u2028
 MUTATIONS = ("delete", "swap", "double", "unicode", "extreme", "deep")
 
 
+def corpus() -> Path:
+    return Path(OTHER_CORPUS).resolve() if OTHER_CORPUS else CORPUS
+
+
+@functools.cache
 def corpus_files() -> list[Path]:
-    return sorted(CORPUS.rglob("*.cga"))
+    return sorted(corpus().rglob("*.cga"))
+
+
+@functools.cache
+def _copied(repository: Path) -> bool:
+    """Whether a repository of the corpus is small enough to copy for each input."""
+    files = list(itertools.islice(repository.rglob("*"), COPIED_FILES + 1))
+    size = sum(f.stat().st_size for f in files if f.is_file() and not f.is_symlink())
+    return len(files) <= COPIED_FILES and size <= COPIED_BYTES
 
 
 def mutated(seed: int, number: int) -> tuple[Path, str]:
@@ -82,15 +104,19 @@ def derive(item: tuple[str, str]) -> None:
     import shapegen
     from shapegen.limits import work_limits
 
-    original, text = item
-    relative = Path(original).relative_to(CORPUS)
+    original, text, copied = item
+    relative = Path(original).relative_to(corpus())
+    repository = corpus() / relative.parts[0]
     with tempfile.TemporaryDirectory() as folder:
-        package = Path(folder) / relative.parts[0]
-        shutil.copytree(CORPUS / relative.parts[0], package)
-        path = Path(folder) / relative
+        if copied:
+            shutil.copytree(repository, Path(folder) / relative.parts[0], symlinks=True)
+            path, rules_path = Path(folder) / relative, ()
+        else:
+            path, rules_path = Path(folder) / relative.name, (Path(original).parent, repository)
+        path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text, encoding="utf-8", errors="surrogatepass")
         with work_limits(max_seconds=DERIVATION_SECONDS):
-            shapegen.load_grammar(path).build(lot=(12.0, 8.0))
+            shapegen.load_grammar(path, rules_path).build(lot=(12.0, 8.0))
 
 
 def campaign(seed: int, count: int, *, progress: bool = False) -> dict:
@@ -102,7 +128,8 @@ def campaign(seed: int, count: int, *, progress: bool = False) -> dict:
     def inputs():
         for number in range(count):
             path, text = mutated(seed, number)
-            yield f"seed {seed} input {number} ({path.name})", derive, (str(path), text)
+            copied = _copied(corpus() / path.relative_to(corpus()).parts[0])
+            yield f"seed {seed} input {number} ({path.name})", derive, (str(path), text, copied)
 
     return run_campaign(
         inputs(), cpu_seconds=CPU_SECONDS, memory_bytes=MEMORY_BYTES, progress=progress
@@ -132,7 +159,7 @@ def _main(argv: list[str]) -> None:
     if argv and argv[0] == "replay":
         path, text = mutated(int(argv[1]), int(argv[2]))
         print(f"// mutated {path}\n{text}")
-        derive((str(path), text))
+        derive((str(path), text, _copied(corpus() / path.relative_to(corpus()).parts[0])))
         return
     count = int(argv[0]) if argv else 2000
     seed = int(argv[1]) if len(argv) > 1 else random.randrange(10**6)
