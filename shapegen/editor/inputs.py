@@ -1,11 +1,8 @@
 """What the designer chooses of a design besides the rule file: their attr values, the seed and
 the lot (:class:`Inputs`, one step of the undo history), and the search's settings (which attrs
 are free, its margin), with the checks on the values a client sends for them
-(``POST /api/settings``).
-
-:class:`SettingsMixin` is mixed into :class:`~shapegen.editor.session.EditorSession`, which
-provides ``grammar``, ``attrs``, ``seed``, ``lot``, ``margin``, ``_free`` and the change
-machinery (``_take_work``, ``_apply``, ``_changed``, ``state``).
+(``POST /api/settings``, :func:`with_settings`), as functions of the grammar and the values
+that :class:`~shapegen.editor.session.EditorSession` passes them.
 """
 
 from __future__ import annotations
@@ -13,13 +10,16 @@ from __future__ import annotations
 __all__ = [
     "MAX_SEED",
     "UNCHANGED",
+    "SETTINGS",
     "Inputs",
-    "SettingsMixin",
     "checked_free",
     "checked_lot",
     "checked_margin",
     "checked_seed",
+    "free_attrs",
+    "ranged_numbers",
     "valid_attrs",
+    "with_settings",
 ]
 
 from collections.abc import Mapping
@@ -51,56 +51,52 @@ class Inputs:
         return (self.attrs, self.seed, self.lot) == (other.attrs, other.seed, other.lot)
 
 
-class SettingsMixin:
-    """The search's settings and the derivation's, on the page."""
+SETTINGS = ("free", "margin", "seed", "lot")
 
-    @property
-    def free_attrs(self) -> list[str]:
-        """The attrs the search varies and the stable ranges cover: the ``@Free`` ones, or
-        those the designer chose (``POST /api/settings``) that the grammar still has with a
-        ``@Range``."""
-        if self._free is None:
-            return list(self.grammar.free_parameters)
-        ranged = self._ranged_numbers()
-        return [name for name in self._free if name in ranged]
 
-    def _ranged_numbers(self) -> set[str]:
-        try:
-            ranges = self.grammar.parameter_ranges(self._current_values())
-        except ShapegenError:
-            return set()
-        defaults = self.grammar.attrs
-        return {n for n in ranges if isinstance(defaults.get(n), float)}
+def ranged_numbers(grammar, values: Mapping[str, object]) -> set[str]:
+    """The attrs of ``grammar`` a search can vary with the attr values ``values``: numbers
+    within a ``@Range`` (none when the ranges cannot be worked out)."""
+    try:
+        ranges = grammar.parameter_ranges(values)
+    except ShapegenError:
+        return set()
+    defaults = grammar.attrs
+    return {n for n in ranges if isinstance(defaults.get(n), float)}
 
-    def settings(self, payload: object) -> dict:
-        """The search's settings and the derivation's: ``{"free": [names] | null, "margin":
-        0.1, "seed": 3, "lot": [width, depth] | [[x, z], ...] | null}``, any of them. ``free``
-        null (and ``lot`` null) give back the file's ``@Free`` attrs (its ``@Lot``). Each change is
-        a step of the undo history, as an attr's is; a new seed or lot rebuilds the design,
-        new free attrs restart the stable-range scans."""
-        if not isinstance(payload, dict) or not payload:
-            raise RequestError(
-                'send a JSON object with any of "free", "margin", "seed", "lot", such as'
-                ' {"margin": 0.2}'
-            )  # fmt: skip
-        unknown = sorted(set(payload) - {"free", "margin", "seed", "lot"})
-        if unknown:
-            raise RequestError(
-                f"the settings are free, margin, seed and lot; got {unknown[0]!r}"
-            )  # fmt: skip
-        free, margin = self._free, self.margin
-        if "free" in payload:
-            free = checked_free(payload["free"], self.grammar, self._ranged_numbers())
-        if "margin" in payload:
-            margin = checked_margin(payload["margin"])
-        seed = checked_seed(payload["seed"]) if "seed" in payload else self.seed
-        lot = checked_lot(payload["lot"]) if "lot" in payload else self.lot
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
-            return self._apply(Inputs(dict(self.attrs), seed, lot, free, margin))
-        finally:
-            self._work.release()
+
+def free_attrs(grammar, free: list[str] | None, values: Mapping[str, object]) -> list[str]:
+    """The attrs the search varies and the stable ranges cover: the ``@Free`` ones (``free``
+    None), or those the designer chose that the grammar still has with a ``@Range``."""
+    if free is None:
+        return list(grammar.free_parameters)
+    ranged = ranged_numbers(grammar, values)
+    return [name for name in free if name in ranged]
+
+
+def with_settings(payload: object, current: Inputs, grammar, ranged: set[str]) -> Inputs:
+    """``current`` with the settings a client sends (``POST /api/settings``): ``{"free":
+    [names] | null, "margin": 0.1, "seed": 3, "lot": [width, depth] | [[x, z], ...] | null}``,
+    any of them, each checked; ``free`` null (and ``lot`` null) give back the file's ``@Free``
+    attrs (its ``@Lot``). ``ranged``: the attrs that can be free (:func:`ranged_numbers`)."""
+    if not isinstance(payload, dict) or not payload:
+        raise RequestError(
+            'send a JSON object with any of "free", "margin", "seed", "lot", such as'
+            ' {"margin": 0.2}'
+        )  # fmt: skip
+    unknown = sorted(set(payload) - set(SETTINGS))
+    if unknown:
+        raise RequestError(f"the settings are free, margin, seed and lot; got {unknown[0]!r}")
+    free, margin, seed, lot = current.free, current.margin, current.seed, current.lot
+    if "free" in payload:
+        free = checked_free(payload["free"], grammar, ranged)
+    if "margin" in payload:
+        margin = checked_margin(payload["margin"])
+    if "seed" in payload:
+        seed = checked_seed(payload["seed"])
+    if "lot" in payload:
+        lot = checked_lot(payload["lot"])
+    return Inputs(dict(current.attrs), seed, lot, free, margin)
 
 
 def valid_attrs(grammar, attrs: Mapping[str, object]) -> dict:

@@ -31,7 +31,14 @@ from shapegen import pipeline
 from shapegen.editor.attrs import RequestError, checked_values
 from shapegen.editor.completion import MeasureFollower
 from shapegen.editor.history import History, reset_names
-from shapegen.editor.inputs import UNCHANGED, Inputs, SettingsMixin, valid_attrs
+from shapegen.editor.inputs import (
+    UNCHANGED,
+    Inputs,
+    free_attrs,
+    ranged_numbers,
+    valid_attrs,
+    with_settings,
+)
 from shapegen.editor.readouts import (
     ModelFiles,
     Shown,
@@ -50,7 +57,7 @@ from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.options import SearchOptions
 
 
-class EditorSession(SettingsMixin):
+class EditorSession:
     """One grammar being edited: thread-safe; every public method returns the new state.
 
     Parameters
@@ -393,6 +400,26 @@ class EditorSession(SettingsMixin):
     def _kept_attrs(self, grammar) -> dict:
         """The designer's values that still mean something in the re-read ``grammar``."""
         return valid_attrs(grammar, self.attrs)
+
+    @property
+    def free_attrs(self) -> list[str]:
+        """The attrs the search varies and the stable ranges cover (the ``@Free`` ones, or the
+        designer's choice, :func:`~shapegen.editor.inputs.free_attrs`)."""
+        return free_attrs(self.grammar, self._free, self._current_values())
+
+    def settings(self, payload: object) -> dict:
+        """The search's settings and the derivation's (``POST /api/settings``, checked by
+        :func:`~shapegen.editor.inputs.with_settings`). Each change is a step of the undo
+        history, as an attr's is; a new seed or lot rebuilds the design, new free attrs
+        restart the stable-range scans."""
+        ranged = ranged_numbers(self.grammar, self._current_values())
+        inputs = with_settings(payload, self._inputs(), self.grammar, ranged)
+        if not self._take_work():
+            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
+        try:
+            return self._apply(inputs)
+        finally:
+            self._work.release()
 
     def _inputs(self) -> Inputs:
         return Inputs(dict(self.attrs), self.seed, self.lot, self._free, self.margin)
