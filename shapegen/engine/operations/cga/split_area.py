@@ -72,6 +72,8 @@ def compile_split_area(program, node: ast.Operation, params):
             fail = program.operation_error if shape.kind != "insert" else program.error
             raise fail(node, "splitArea() needs a flat shape (the lot or a comp(f) face)")
         mesh = shape.mesh()
+        if mesh.n_vertices == 0:  # cleanupGeometry() merged it all away: no pieces, as split()
+            return True
         total = mesh.area()
         pattern = [SplitPart(size(args, state), mode, (body, branch))
                    for size, mode, body, branch in parts]  # fmt: skip
