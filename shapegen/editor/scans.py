@@ -9,12 +9,13 @@ which it shares, so a design and its shading change together.
 
 from __future__ import annotations
 
-__all__ = ["StableRanges", "scan_design"]
+__all__ = ["StableRanges", "rule_text", "scan_design"]
 
 import threading
 from collections.abc import Callable, Mapping
 
 from shapegen.editor.stability import ScanJob, StabilityScanner
+from shapegen.grammar.source_files import read_rule_file
 
 
 class StableRanges:
@@ -77,6 +78,12 @@ class StableRanges:
                 return
             self._results[name] = result
             self._published()
+
+
+def rule_text(path) -> str | None:
+    """The grammar's text the scanning process derives (None: no file, no scan), read as the
+    grammar was (a cp1252 file too)."""
+    return None if path is None else read_rule_file(path)[0]
 
 
 def scan_design(grammar, outcome, values: Mapping, free: list[str], text: str | None, *,

@@ -47,9 +47,9 @@ from shapegen.editor.readouts import (
     error_json,
     state_json,
 )
-from shapegen.editor.scans import StableRanges, scan_design
+from shapegen.editor.scans import StableRanges, rule_text, scan_design
 from shapegen.editor.searching import Cancelled, SearchState, search_options
-from shapegen.engine.project.rule_packages import PACKAGE_SUFFIX
+from shapegen.engine.project.rule_packages import package_named
 from shapegen.errors import GrammarError, ShapegenError
 from shapegen.json_values import json_ready
 from shapegen.model.lot import Lot
@@ -95,11 +95,11 @@ class EditorSession:
     ):
         self.grammar = pipeline.load(source)
         self.path: Path | None = self.grammar.path  # the rule file read (a package's unpacked)
-        self.package: Path | None = _package(source)  # the .rpk opened, if one was
+        self.package: Path | None = package_named(source)  # the .rpk opened, if any
         self.rules_path = tuple(str(folder) for folder in rules_path)
         self.seed = seed
         self.lot = Lot.of(lot) if lot is not None else None  # checked once, at the edge
-        self._text = _read(self.path)
+        self._text = rule_text(self.path)
         self._work = threading.Lock()  # one change at a time
         self._state_lock = threading.RLock()
         self._state_changed = threading.Condition(self._state_lock)  # notified at each version
@@ -305,7 +305,7 @@ class EditorSession:
             # a package is unpacked again: a new one (CityEngine exported it anew) has a
             # folder of its own in the cache
             grammar = pipeline.load(str(self.package or self.path))
-            text = _read(grammar.path)
+            text = rule_text(grammar.path)
             kept = self._kept_attrs(grammar)
             outcome = self._design(kept, grammar=grammar)
         except ShapegenError as exc:
@@ -403,23 +403,15 @@ class EditorSession:
 
     @property
     def free_attrs(self) -> list[str]:
-        """The attrs the search varies and the stable ranges cover (the ``@Free`` ones, or the
-        designer's choice, :func:`~shapegen.editor.inputs.free_attrs`)."""
+        """The attrs the search varies and the stable ranges cover (:func:`free_attrs`)."""
         return free_attrs(self.grammar, self._free, self._current_values())
 
     def settings(self, payload: object) -> dict:
-        """The search's settings and the derivation's (``POST /api/settings``, checked by
-        :func:`~shapegen.editor.inputs.with_settings`). Each change is a step of the undo
-        history, as an attr's is; a new seed or lot rebuilds the design, new free attrs
-        restart the stable-range scans."""
-        ranged = ranged_numbers(self.grammar, self._current_values())
-        inputs = with_settings(payload, self._inputs(), self.grammar, ranged)
-        if not self._take_work():
-            raise RequestError("a search is running; wait for it or POST /api/cancel", 409)
-        try:
-            return self._apply(inputs)
-        finally:
-            self._work.release()
+        """Change the search's settings and the derivation's (``POST /api/settings``, checked
+        by :func:`with_settings`): a step of the undo history, as an attr's change is."""
+        with self._changing():
+            ranged = ranged_numbers(self.grammar, self._current_values())
+            return self._apply(with_settings(payload, self._inputs(), self.grammar, ranged))
 
     def _inputs(self) -> Inputs:
         return Inputs(dict(self.attrs), self.seed, self.lot, self._free, self.margin)
@@ -497,21 +489,3 @@ class EditorSession:
                 return
             self._outcome = completed
         self._changed(model=True)
-
-
-def _package(source: str) -> Path | None:
-    """The rule package (``.rpk``) ``source`` names, if it names one: the file the designer
-    opened, which the exported command line names, rather than its unpacked start rule."""
-    path = Path(source)
-    if path.suffix.lower() == PACKAGE_SUFFIX and path.is_file():
-        return path.resolve()
-    return None
-
-
-def _read(path: Path | None) -> str | None:
-    """The grammar's text for the scanning process (None: no file, no scan)."""
-    if path is None:
-        return None
-    from shapegen.grammar.source_files import read_rule_file
-
-    return read_rule_file(path)[0]  # as the grammar was read: a cp1252 file too

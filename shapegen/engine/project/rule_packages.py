@@ -14,7 +14,13 @@ archive is refused with one line naming it.
 
 from __future__ import annotations
 
-__all__ = ["PACKAGE_SUFFIX", "RULES_PATH_VARIABLE", "RulesPath", "start_rule_of_package"]
+__all__ = [
+    "PACKAGE_SUFFIX",
+    "RULES_PATH_VARIABLE",
+    "RulesPath",
+    "package_named",
+    "start_rule_of_package",
+]
 
 import functools
 import hashlib
@@ -79,6 +85,16 @@ def _remove_abandoned_staging(cache: Path) -> None:
     does for files; another process's unpacking under way is left alone."""
     for entry in abandoned_entries(cache, _STAGING):
         shutil.rmtree(entry.path, ignore_errors=True)
+
+
+def package_named(source: str) -> Path | None:
+    """The rule package (``.rpk``) file ``source`` names, resolved, or None when it names none
+    (a rule file, a bundled rule's name): the file the designer opened rather than its
+    unpacked start rule."""
+    path = Path(source)
+    if path.suffix.lower() == PACKAGE_SUFFIX and path.is_file():
+        return path.resolve()
+    return None
 
 
 def start_rule_of_package(package: Path) -> Path:
