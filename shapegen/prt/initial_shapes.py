@@ -35,6 +35,7 @@ import numpy as np
 
 from shapegen.errors import InputFormatError
 from shapegen.readers.files import read_input_bytes
+from shapegen.readers.obj import obj_polygons
 from shapegen.tolerances import LEVEL_M
 
 READABLE_SUFFIXES = (".obj", ".gltf", ".glb")
@@ -235,29 +236,11 @@ def _read_file(path: Path) -> tuple[list[float], list[int], list[int]]:
 
 
 def _read_obj(path: Path) -> tuple[list[float], list[int], list[int]]:
-    """Vertices and polygon faces of an OBJ file, faces kept whole (a library reader would
-    triangulate them, and a lot is one polygon)."""
-    coordinates: list[float] = []
-    indices: list[int] = []
-    face_counts: list[int] = []
+    """Vertices and polygon faces of an OBJ file (:func:`~shapegen.readers.obj.obj_polygons`:
+    faces kept whole, a lot is one polygon)."""
     text = read_input_bytes(path, "initial shape file").decode("utf-8", errors="replace")
-    for number, line in enumerate(text.splitlines(), 1):
-        fields = line.split()
-        if not fields:
-            continue
-        try:
-            if fields[0] == "v":
-                coordinates.extend(float(v) for v in fields[1:4])
-            elif fields[0] == "f":
-                face = [int(item.split("/")[0]) for item in fields[1:]]
-                count = len(coordinates) // 3
-                indices.extend(i - 1 if i > 0 else count + i for i in face)
-                face_counts.append(len(face))
-        except ValueError:
-            raise InputFormatError(
-                f"{path}:{number}: not an OBJ vertex or face: {line[:60]!r}"
-            ) from None
-    return coordinates, indices, face_counts
+    vertices, faces = obj_polygons(text, str(path))
+    return vertices.ravel().tolist(), [i for face in faces for i in face], [len(f) for f in faces]
 
 
 def _read_gltf(path: Path) -> tuple[list[float], list[int], list[int]]:

@@ -42,6 +42,7 @@ from shapegen.model.lot import Lot
 from shapegen.readers import geojson
 from shapegen.readers.crs import file_crs
 from shapegen.readers.files import parse_json_document, read_model_bytes
+from shapegen.readers.obj import obj_polygons
 
 MAX_LONLAT_SPAN_DEG = 0.5
 """A longitude/latitude lot wider than this (about 55 km) is refused as a likely mistake
@@ -165,29 +166,7 @@ def lot_from_obj(path: str | Path) -> Lot:
         raise InputFormatError(f"--lot {exc}") from None
     except UnicodeDecodeError:
         raise InputFormatError(f"{where}: not an OBJ text file (invalid UTF-8)") from None
-    vertices: list[tuple[float, float]] = []
-    for number, line in enumerate(text.splitlines(), start=1):
-        fields = line.split()
-        if not fields:
-            continue
-        if fields[0] == "v":
-            try:
-                x, _, z = (float(v) for v in fields[1:4])
-            except ValueError:
-                raise InputFormatError(f"{where}:{number}: a vertex needs x y z numbers") from None
-            vertices.append((x, z))
-        elif fields[0] == "f":
-            corners = []
-            for item in fields[1:]:
-                try:
-                    index = int(item.split("/")[0])
-                except ValueError:
-                    raise InputFormatError(f"{where}:{number}: bad face corner {item!r}") from None
-                position = index - 1 if index > 0 else len(vertices) + index
-                if not 0 <= position < len(vertices):
-                    raise InputFormatError(
-                        f"{where}:{number}: the face names vertex {index}, which is not defined"
-                    )
-                corners.append(vertices[position])
-            return checked_polygon(corners, f"{where} (its first face)")
-    raise InputFormatError(f"{where}: the file has no face")
+    vertices, faces = obj_polygons(text, where)
+    if not faces:
+        raise InputFormatError(f"{where}: the file has no face")
+    return checked_polygon(vertices[faces[0]][:, [0, 2]], f"{where} (its first face)")

@@ -20,10 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from shapegen.errors import GeometryError
+from shapegen.errors import GeometryError, InputFormatError
 from shapegen.geometry.mesh import Mesh
 from shapegen.limits import current_limits, limit_hint
 from shapegen.readers.archives import package_cache, unpacked_package
+from shapegen.readers.obj import obj_polygons
 
 _CACHE_SIZE = 64
 _cache: OrderedDict[tuple, Mesh] = OrderedDict()
@@ -104,11 +105,14 @@ def load_asset(path: Path) -> Mesh:
         )
     try:
         if path.suffix.lower() == ".obj":
-            vertices, faces = _read_obj(path)
+            text = path.read_text(encoding="utf-8", errors="replace")
+            vertices, faces = obj_polygons(text, f"asset {path}")
         else:
             vertices, faces = _read_triangles(path)
     except GeometryError:
         raise
+    except InputFormatError as exc:
+        raise GeometryError(str(exc)) from None
     except Exception as exc:  # any parser failure on a user's file
         text = str(exc).strip().splitlines()
         raise GeometryError(f"cannot read asset {path}: {text[0] if text else exc}") from None
@@ -121,31 +125,6 @@ def load_asset(path: Path) -> Mesh:
     while len(_cache) > _CACHE_SIZE:
         _cache.popitem(last=False)
     return mesh
-
-
-def _read_obj(path: Path) -> tuple[np.ndarray, list[list[int]]]:
-    """The vertices and polygon faces of an OBJ file (materials, groups, texture coordinates
-    and normals are skipped). Polygons are kept whole: a non-convex face fanned into
-    triangles, as mesh readers do, would cover more than the face."""
-    vertices: list[list[float]] = []
-    faces: list[list[int]] = []
-    with open(path, encoding="utf-8", errors="replace") as handle:
-        for number, line in enumerate(handle, start=1):
-            fields = line.split()
-            if not fields:
-                continue
-            if fields[0] == "v":
-                vertices.append([float(v) for v in fields[1:4]])
-            elif fields[0] == "f":
-                face = []
-                for item in fields[1:]:
-                    index = int(item.split("/")[0])
-                    position = index - 1 if index > 0 else len(vertices) + index
-                    if not 0 <= position < len(vertices):
-                        raise GeometryError(f"asset {path}:{number}: no vertex {index}")
-                    face.append(position)
-                faces.append(face)
-    return np.array(vertices, dtype=float).reshape(-1, 3), faces
 
 
 def _read_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:

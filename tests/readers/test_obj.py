@@ -1,0 +1,86 @@
+"""One OBJ reader for the polygons of assets, lots and PyPRT initial shapes: faces kept whole,
+the OBJ index forms read, and a broken file is one line naming the file and the line, the same
+from each door."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from shapegen.errors import GeometryError, InputFormatError
+from shapegen.readers.obj import obj_polygons
+
+# an L-shaped face (not convex) and a triangle, with texture and normal indices, a comment, a
+# group and a material line; the triangle's corners counted back from the last vertex
+TEXT = """# an L and a triangle
+mtllib x.mtl
+o L
+v 0 0 0
+v 4 0 0
+v 4 0 1
+v 1 0 1
+v 1 0 3
+v 0 0 3
+vt 0 0
+vn 0 1 0
+usemtl stone
+f 1/1/1 2/1/1 3/1/1 4/1/1 5/1/1 6/1/1
+v 9 0 9
+v 10 0 9
+v 10 0 10
+f -3 -2//1 -1
+"""
+
+BROKEN = [
+    ("v 0 0\nv 1 0 0\nv 1 0 1\nf 1 2 3\n", ":1: a vertex needs x y z numbers"),
+    ("v 0 0 x\n", ":1: a vertex needs x y z numbers"),
+    ("v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 two 3\n", ":4: bad face corner 'two'"),
+    ("v 0 0 0\nf 1 2 3\n", ":2: the face names vertex 2, which is not defined"),
+    ("v 0 0 0\nv 1 0 0\nf 1 2 -3\n", ":3: the face names vertex -3, which is not defined"),
+    ("v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 2 0\n", ":4: the face names vertex 0, which is not defined"),
+]
+
+
+def test_faces_are_kept_whole_in_every_index_form():
+    vertices, faces = obj_polygons(TEXT, "x.obj")
+    assert vertices.shape == (9, 3)
+    assert faces == [[0, 1, 2, 3, 4, 5], [6, 7, 8]]  # six corners: not fanned into triangles
+    assert np.array_equal(vertices[faces[1]][:, [0, 2]], [[9, 9], [10, 9], [10, 10]])
+
+
+@pytest.mark.parametrize(("text", "line"), BROKEN)
+def test_a_broken_file_is_one_line_naming_its_place(text, line):
+    with pytest.raises(InputFormatError) as caught:
+        obj_polygons(text, "x.obj")
+    assert str(caught.value) == "x.obj" + line
+
+
+@pytest.mark.parametrize(("text", "line"), BROKEN)
+def test_each_door_gives_the_readers_line(tmp_path, text, line):
+    import shapegen.prt as pyprt
+    from shapegen.engine.project.asset_files import load_asset
+    from shapegen.prt.initial_shapes import footprint
+    from shapegen.readers.lots import lot_from_obj
+
+    path = tmp_path / "x.obj"
+    path.write_text(text)
+    with pytest.raises(GeometryError) as asset:
+        load_asset(path)
+    assert str(asset.value) == f"asset {path}{line}"
+    with pytest.raises(InputFormatError) as lot:
+        lot_from_obj(path)
+    assert str(lot.value) == f"--lot {path}{line}"
+    with pytest.raises(InputFormatError) as shape:
+        footprint(pyprt.InitialShape(str(path)))
+    assert str(shape.value) == f"{path}{line}"
+
+
+def test_the_lot_is_the_first_face_and_the_asset_every_face(tmp_path):
+    from shapegen.engine.project.asset_files import load_asset
+    from shapegen.readers.lots import lot_from_obj
+
+    path = tmp_path / "x.obj"
+    path.write_text(TEXT)
+    lot = lot_from_obj(path)
+    assert len(lot.corners) == 6  # the L, whole
+    assert load_asset(path).n_faces == 2
