@@ -193,3 +193,27 @@ def test_every_operation_on_geometry_cleaned_away_ends_cleanly(operation):
     except ShapegenError:  # the fuzzer's alignScopeToGeometryBBox() has no argument: refused
         return
     assert model.metadata is not None
+
+
+def test_an_offset_that_leaves_rings_of_no_corners_is_ignored(tmp_path, capsys):
+    # seed 626221, input 552: offset(1e-320, inside) of a shape moved by 1e-320 m gave rings
+    # of no corners, and the flat shape of them took the bounds of no points (a ValueError);
+    # an offset that leaves no face is ignored with a warning, as CityEngine does
+    text = fuzz_rule(626221, 552)
+    assert "offset(1e-320, inside)" in text
+    printed = _build_once(tmp_path, text, capsys)
+    assert not printed.startswith("shapegen: error:"), printed
+
+
+@pytest.mark.parametrize("query", ["inside()", "overlaps(intra)", "touches()", "overlaps()"])
+def test_an_occlusion_query_of_geometry_cleaned_away_is_false(query):
+    # found beside seed 626221's input 552: the query took the bounds of no vertices; empty
+    # geometry has no point inside, overlapping or touching anything
+    import shapegen
+
+    text = (
+        "Lot --> extrude(5) A primitiveQuad(0.3, 0.3) cleanupGeometry(all, 1) B\nA --> X\n"
+        f'B --> case {query}: report("hit", 1) X else: report("hit", 0) NIL\n'
+    )
+    model = shapegen.parse_grammar(text, "empty.cga").build(lot=(12.0, 8.0))
+    assert model.metadata["reports"]["hit"] == 0

@@ -156,7 +156,10 @@ def _query(state, target: str, label, test) -> bool:
         return False
     if target == "inter":
         return False  # one initial shape per derivation: no other shape trees
-    query = _Query(state.shape.world_mesh())
+    mesh = state.shape.world_mesh()
+    if mesh.n_vertices == 0:  # geometry cleaned away: no point of it is inside or touches any
+        return False
+    query = _Query(mesh)
     path = state.path
     lows, highs = occlusion.boxes()
     near = ~(

@@ -128,6 +128,8 @@ def _welded(points: np.ndarray, counts: list[int]):
 def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shape:
     """A flat shape made of ``faces`` (``(k, 3)`` in ``parent``'s scope coordinates): the
     parent's orientation, the scope fitted to the faces."""
+    if not any(len(face) for face in faces):
+        raise GeometryError("it makes no face")
     points = np.concatenate(faces)
     low, high = points.min(axis=0), points.max(axis=0)
     size = high - low
@@ -211,8 +213,8 @@ def compile_offset(program, node: ast.Operation, params):
                 result = polygon2d.offset(polygon, d)
             except GeometryError as exc:
                 raise program.operation_error(node, f"offset({d:g}): {exc}") from None
-            if keep in ("all", "inside"):
-                faces += [frame.lift(p) for p in result.inside]
+            if keep in ("all", "inside"):  # a ring of no corners: an offset of 1e-320 m
+                faces += [frame.lift(p) for p in result.inside if len(p) >= 3]
             if keep in ("all", "border"):
                 faces += [frame.lift(p) for p in result.border if len(p) >= 3]
         if not faces:  # CityEngine: "offset(): no face selected, ignoring operation"
