@@ -362,3 +362,32 @@ def test_malformed_block_is_a_geometry_error_naming_it(faces, problem):
         bad.faces = faces
     with pytest.raises(GeometryError, match=rf"block 'bad'.*{problem}"):
         find_interfaces(Model([box((2, 0, 0), (3, 1, 1)), bad]))
+
+
+def test_contacts_found_in_bands_of_pairs_are_the_same(monkeypatch):
+    # numbers fuzz seed 544607, input 1930: 300-sided cylinder caps among 400 000 candidate
+    # face pairs padded to one array of 2.7 GiB; the pairs are now clipped in bands
+    from statics_cases import running_bond_wall
+
+    from shapegen.statics import contacts
+
+    model = running_bond_wall(courses=4, per_course=5)
+    whole = contacts.find_interfaces(model)
+    monkeypatch.setattr(contacts, "_BAND_BYTES", 1)  # one pair a band
+    banded = contacts.find_interfaces(model)
+    assert len(banded) == len(whole) > 20
+    for a, b in zip(whole, banded, strict=True):
+        assert (a.first, a.second) == (b.first, b.second)
+        assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.normal, b.normal)
+
+
+def test_finding_contacts_stops_at_the_work_clock():
+    from statics_cases import running_bond_wall
+
+    from shapegen.errors import WorkLimitError
+    from shapegen.limits import work_clock, work_limits
+    from shapegen.statics.contacts import find_interfaces
+
+    with work_limits(max_seconds=1e-9), work_clock("judging the model"):
+        with pytest.raises(WorkLimitError, match="judging the model ran for more than"):
+            find_interfaces(running_bond_wall(courses=2, per_course=2))
