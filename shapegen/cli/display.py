@@ -14,6 +14,7 @@ __all__ = [
     "print_build",
     "print_simulation",
     "stand_ins_line",
+    "too_small_line",
 ]
 
 
@@ -147,8 +148,11 @@ def analysis_table(title: str, analysis: dict):
     if bodies:
         table.add_row("bodies", bodies_line(bodies))
     stand_ins = analysis.get("stand_ins")
-    if stand_ins:
+    too_small = too_small_line(stand_ins)
+    if stand_ins and (stand_ins["leaves"] or not too_small):
         table.add_row(Text("stand-ins", style="yellow"), Text(stand_ins_line(stand_ins), "yellow"))
+    if too_small:
+        table.add_row(Text("too small", style="yellow"), Text(too_small, "yellow"))
     table.add_row("interfaces", str(analysis.get("interfaces")))
     table.add_row(
         "infeasibility",
@@ -204,6 +208,20 @@ def stand_ins_line(stand_ins: dict) -> str:
     return (
         f"{count} {'leaf' if count == 1 else 'leaves'} judged as solids the rule did not model"
         f" ({reasons}; {stand_ins['blocks']} blocks); the model itself is as derived"
+    )
+
+
+def too_small_line(stand_ins: dict | None) -> str:
+    """``2 blocks within the model's volume tolerance (5.6e-07 m^3), not judged: 1 merged
+    into its leaf's body, 1 carried as load by the block it touches``, or ``""``."""
+    too_small = (stand_ins or {}).get("too_small") or {}
+    count = too_small.get("blocks", 0)
+    if not count:
+        return ""
+    reasons = ", ".join(f"{n} {reason}" for reason, n in too_small.get("by_reason", {}).items())
+    return (
+        f"{count} {'block' if count == 1 else 'blocks'} within the model's volume tolerance"
+        f" ({fmt(too_small.get('volume_floor_m3'))} m^3), not judged: {reasons}"
     )
 
 

@@ -220,7 +220,16 @@ class Block:
                     f"block {name!r}: face {list(face)} must list at least 3 of its {n} vertices"
                 )
         if self.volume <= tol.volume:
-            raise GeometryError(f"block {name!r}: zero or negative volume ({self.volume:.3g} m^3)")
+            rules = f" (rules: {' -> '.join(self.rule_path)})" if self.rule_path else ""
+            if self.volume <= 0:
+                raise GeometryError(
+                    f"block {name!r}{rules}: zero or negative volume ({self.volume:.3g} m^3)"
+                )
+            raise GeometryError(
+                f"block {name!r}{rules}: volume {self.volume:.3g} m^3 is within the model's "
+                f"volume tolerance of zero, {tol.volume:.3g} m^3 ({tol.volume_rel:g} times the "
+                f"cube of its size, {tol.size:.4g} m): too small to judge"
+            )
         limits = current_limits()
         if len(self.faces) * n > limits.max_face_vertex_pairs:
             raise GeometryError(

@@ -43,7 +43,7 @@ from shapegen.statics.compression_only import compression_only
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveRequest, SolveStatus, get_backend
-from shapegen.statics.standins import design_blocks, statics_model
+from shapegen.statics.standins import design_blocks, design_figures, statics_model
 from shapegen.statics.tension import PHASE_ONE_STOP, proves_tension
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import ROUNDOFF_REL
@@ -449,7 +449,7 @@ def _build_analysis(
         structural_free = problem.free_index >= 0
         block_tension[~structural_free] = 0.0
     # the figures per block are the model's own blocks' (its stand-ins, if any, follow them)
-    block_tension = block_tension[: design_blocks(model)]
+    block_tension = design_figures(block_tension, model)
     multipliers = None
     if solution.multipliers is not None:
         # d(y/W^2)/d(w/W) = lam  ->  dy/dw = W lam (force rows), W lam / L (torque rows)

@@ -36,7 +36,7 @@ from shapegen.errors import OptionError, StaticsError
 from shapegen.model.model import Model
 from shapegen.model.packed import pack_blocks
 from shapegen.statics.interface import GROUND, Interface
-from shapegen.statics.standins import statics_model
+from shapegen.statics.standins import from_cityengine, statics_model
 from shapegen.tolerances import Tolerances
 
 NO_HOST = -1
@@ -422,12 +422,3 @@ def contacts_and_bodies(model, options, tol, *, interfaces=None, bodies=None,
 
         check_model(model, interfaces, tol, bodies)
     return interfaces, bodies
-
-
-def from_cityengine(model) -> bool:
-    """True for a model derived from a CityEngine rule (``.cga``, or a rule package): the
-    derivation records its grammar's dialect in ``metadata["dialect"]``. Its ornaments are
-    often fixed to surfaces the statics leave out (a triglyph's open mesh), so a body that
-    touches no support rides as load on the body below rather than being an error, as it is
-    in a ``.grammar`` design."""
-    return (model.metadata or {}).get("dialect") == "cga"

@@ -46,10 +46,17 @@ analysis of a :class:`StaticsModel` gives its per-block figures for the model's 
 
 from __future__ import annotations
 
-__all__ = ["StandIns", "StaticsModel", "design_blocks", "statics_model"]
+__all__ = [
+    "StandIns",
+    "StaticsModel",
+    "design_blocks",
+    "design_figures",
+    "from_cityengine",
+    "statics_model",
+]
 
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -57,8 +64,8 @@ from shapegen.errors import GeometryError
 from shapegen.geometry.cut import convex_decomposition, placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.solids import capped, hull_corners
-from shapegen.model.block import DEFAULT_DENSITY, Block
-from shapegen.model.model import Model
+from shapegen.model.block import DEFAULT_DENSITY, Block, compute_mass_properties
+from shapegen.model.model import Model, PointLoad
 from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, MIN_LEAF_SIZE
 
 CUT = "not convex, cut into convex parts"
@@ -67,6 +74,12 @@ CAPPED_HULL = "open shell, capped, on its convex hull"
 HULL = "not convex, on its convex hull"
 TURNED = "faces turned inwards, turned out"
 TURNED_HULL = "faces turned inwards, turned out, on its convex hull"
+
+# what became of a block too small to judge (:func:`statics_model`, a real CityEngine model's)
+MERGED = "merged into its leaf's body"
+CARRIED = "carried as load by the block it touches"
+TOUCHING_NOTHING = "left out, touching no block"
+NOT_STRUCTURAL = "left out, not structural"
 
 # the surfaces' reasons (the interpreter's, kept in the JSON format) a stand-in is tried for
 _OPEN, _NOT_CONVEX, _INWARDS = "not closed", "not convex", "faces turned inwards"
@@ -91,12 +104,27 @@ class StandIns:
     left_out
         Leaves the statics still leave out, by the surface's reason (a mesh whose boundary is
         not loops of edges stays ``"not closed"``).
+    too_small
+        Blocks too small to judge (volume at most ``volume_floor``), by what became of them:
+        ``"merged into its leaf's body"`` (a sliver of a leaf's cut, its weight a load on a
+        part it touches), ``"carried as load by the block it touches"``, ``"left out,
+        touching no block"``, ``"left out, not structural"``; in decreasing count.
+    volume_floor
+        The model's volume tolerance, m^3 (:attr:`~shapegen.tolerances.Tolerances.volume`:
+        ``volume_rel`` times the cube of the model's size).
+    judged_design
+        Positions among the model's own blocks of those the statics judge (all of them but
+        the blocks too small to judge), in order: they are the statics model's first blocks;
+        None when every one is.
     """
 
     design_blocks: int
     blocks: int
     by_reason: dict = field(default_factory=dict)
     left_out: dict = field(default_factory=dict)
+    too_small: dict = field(default_factory=dict)
+    volume_floor: float = 0.0
+    judged_design: tuple | None = None
 
     @property
     def leaves(self) -> int:
@@ -110,6 +138,16 @@ class StandIns:
             "blocks": int(self.blocks),
             "by_reason": dict(self.by_reason),
             "left_out": {"leaves": int(sum(self.left_out.values())), "by_reason": self.left_out},
+            **({"too_small": self.too_small_report()} if self.too_small else {}),
+        }
+
+    def too_small_report(self) -> dict:
+        """``{"blocks": n, "volume_floor_m3": v, "by_reason": {...}}``: the blocks too small
+        to judge (see docs/formats.md, ``analysis.stand_ins.too_small``)."""
+        return {
+            "blocks": int(sum(self.too_small.values())),
+            "volume_floor_m3": float(self.volume_floor),
+            "by_reason": dict(self.too_small),
         }
 
 
@@ -128,6 +166,20 @@ def design_blocks(model) -> int:
     return len(model.blocks) if stand_ins is None else stand_ins.design_blocks
 
 
+def design_figures(values: np.ndarray, model) -> np.ndarray:
+    """``values`` per block of the statics model ``model`` as figures per block of the model as
+    derived: the stand-ins' dropped, 0 for a block too small to judge."""
+    stand_ins = getattr(model, "stand_ins", None)
+    if stand_ins is None:
+        return values
+    if stand_ins.judged_design is None:
+        return values[: stand_ins.design_blocks]
+    out = np.zeros(stand_ins.design_blocks, dtype=np.asarray(values).dtype)
+    judged = np.asarray(stand_ins.judged_design, dtype=int)
+    out[judged] = values[: len(judged)]
+    return out
+
+
 def statics_model(model: Model) -> Model:
     """The model the statics judge: ``model`` itself when no surface can stand in, else a
     :class:`StaticsModel` with the model's blocks followed by the stand-ins (see the module
@@ -137,12 +189,18 @@ def statics_model(model: Model) -> Model:
     if isinstance(model, StaticsModel):
         return model
     surfaces = list(getattr(model, "surfaces", None) or [])
-    if not any(s.reason in _CANDIDATES for s in surfaces):
+    standing_in = any(s.reason in _CANDIDATES for s in surfaces)
+    cityengine = from_cityengine(model)
+    if not standing_in and not cityengine:
         return model
     kept = _MODELS.get(id(model))
     if kept is not None and kept[0] is model:
         return kept[1]
     judged = _with_stand_ins(model, surfaces)
+    if cityengine:
+        judged = _without_too_small(judged)
+    if not standing_in and not judged.stand_ins.too_small:
+        judged = model  # nothing to stand in, nothing too small: the model as derived
     if len(_MODELS) >= _MODELS_LIMIT:
         del _MODELS[next(iter(_MODELS))]  # the oldest entry
     _MODELS[id(model)] = (model, judged)
@@ -207,6 +265,103 @@ def _with_stand_ins(model: Model, surfaces: list) -> StaticsModel:
         surfaces=remaining,
         stand_ins=stand_ins,
     )
+
+
+def from_cityengine(model) -> bool:
+    """True for a model derived from a CityEngine rule (``.cga``, or a rule package): the
+    derivation records its grammar's dialect in ``metadata["dialect"]``. Its ornaments are
+    often fixed to surfaces the statics leave out (a triglyph's open mesh), so a body that
+    touches no support rides as load on the body below rather than being an error, as it is
+    in a ``.grammar`` design; and a block too small to judge is merged or carried as load
+    (:func:`statics_model`) rather than refused, as it is in a ``.grammar`` design."""
+    return (getattr(model, "metadata", None) or {}).get("dialect") == "cga"
+
+
+def _without_too_small(judged: StaticsModel) -> StaticsModel:
+    """``judged`` without its blocks too small to judge (volume within the model's volume
+    tolerance of zero), each counted by what became of it (:attr:`StandIns.too_small`).
+
+    A block that cannot be judged (its six equilibrium rows would rest on contacts of no
+    area) is not the whole model's failure: a sliver of a leaf's cut gives its weight, as a
+    point load at its centroid, to the part of its own leaf nearest it (merged into its
+    body); any other block to the block it touches (the one its bounding box overlaps most,
+    the nearest of those it touches); a block touching none is left out with its weight.
+    Point loads turn with gravity on a tilted table, so the weight is carried as a
+    block's own would be. The floor is the model's: ``volume_rel`` times the cube of its
+    size (:attr:`~shapegen.tolerances.Tolerances.volume`)."""
+    blocks = judged.blocks
+    if not blocks:
+        return judged
+    compute_mass_properties(blocks)
+    floor = judged.tolerances().volume
+    volumes = np.array([b.volume for b in blocks])
+    small = np.abs(volumes) <= floor
+    if not small.any():
+        return replace(judged, stand_ins=replace(judged.stand_ins, volume_floor=floor))
+    low = np.array([b.vertices.min(axis=0) for b in blocks])
+    high = np.array([b.vertices.max(axis=0) for b in blocks])
+    reach = judged.tolerances().planar  # bounding boxes this close touch, m
+    loads = list(judged.loads)
+    outcome: Counter = Counter()
+    gravity = np.asarray(judged.gravity, float)
+    for k in np.flatnonzero(small).tolist():
+        block = blocks[k]
+        host = None
+        if block.structural:
+            host = _host(k, blocks, small, low, high, reach)
+        if host is None:
+            outcome[TOUCHING_NOTHING if block.structural else NOT_STRUCTURAL] += 1
+        else:
+            merged = bool(block.body) and blocks[host].body == block.body
+            outcome[MERGED if merged else CARRIED] += 1
+            if not block.fixed and block.mass > 0:
+                loads.append(PointLoad(blocks[host].id, block.mass * gravity, block.centroid))
+        # the loads on it go where its weight goes, or with it
+        moved = []
+        for load in loads:
+            if load.block != block.id:
+                moved.append(load)
+            elif host is not None:
+                moved.append(PointLoad(blocks[host].id, load.force, load.point))
+        loads = moved
+    stand_ins = judged.stand_ins
+    design = stand_ins.design_blocks
+    judged_design = tuple(k for k in range(design) if not small[k])
+    kept = [b for b, tiny in zip(blocks, small.tolist(), strict=True) if not tiny]
+    return replace(
+        judged,
+        blocks=kept,
+        loads=loads,
+        stand_ins=replace(
+            stand_ins,
+            blocks=stand_ins.blocks - int(small[design:].sum()),
+            too_small=dict(outcome.most_common()),
+            volume_floor=floor,
+            judged_design=judged_design if len(judged_design) < design else None,
+        ),
+    )
+
+
+def _host(k, blocks, small, low, high, reach) -> int | None:
+    """The block that takes block ``k``'s weight: a part of its own leaf's body it touches,
+    else a block it touches; of several, the one whose bounding box overlaps its own most,
+    then the nearest. None when it touches none (bounding boxes ``reach`` m apart or more)."""
+    gap = np.maximum(low - high[k], low[k] - high).max(axis=1)  # > 0: apart along some axis
+    touching = (gap <= reach) & ~small
+    if not touching.any():
+        return None
+    body = blocks[k].body
+    if body:
+        same = touching & np.array([b.body == body for b in blocks])
+        if same.any():
+            touching = same
+    candidates = np.flatnonzero(touching)
+    overlap = np.clip(
+        np.minimum(high[candidates], high[k]) - np.maximum(low[candidates], low[k]), 0.0, None
+    ).prod(axis=1)
+    centre = 0.5 * (low[k] + high[k])
+    distance = np.linalg.norm(0.5 * (low[candidates] + high[candidates]) - centre, axis=1)
+    return int(candidates[np.lexsort((distance, -overlap))[0]])
 
 
 class _Properties:

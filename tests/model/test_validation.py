@@ -142,7 +142,10 @@ BAD_BLOCKS = [
     ("face [0, 1, -2, 3] must list at least 3", _negative_face_index),
     ("face [0, 1] must list at least 3", _two_corner_face),
     ("zero or negative volume (0 m^3)", lambda: Block.box([0, 0, 0], [1, 0, 1])),
-    ("zero or negative volume (1e-13 m^3)", lambda: Block.box([0, 0, 0], [1, 1e-13, 1])),
+    (
+        "volume 1e-13 m^3 is within the model's volume tolerance of zero, 1e-12 m^3",
+        lambda: Block.box([0, 0, 0], [1, 1e-13, 1]),
+    ),
     ("zero or negative volume (-1 m^3)", _inside_out),
     pytest.param(
         "zero or negative volume (0 m^3)",
