@@ -94,7 +94,12 @@ class Tolerances:
         until none of its corners lies farther than ``convex_rel`` times the piece's size
         outside a face plane, so the pieces it makes pass this check.
     volume_rel
-        A block with volume below ``volume_rel * L**3`` is degenerate (dimensionless).
+        A block with volume below ``volume_rel * L**3`` (m^3, :attr:`volume`) is degenerate,
+        too small to judge (dimensionless): a ``.grammar`` design refuses it, naming this
+        tolerance and the block's rules; in a model derived from a ``.cga`` rule it is merged
+        into its leaf's body or carried as load by the block it touches, counted
+        (:func:`shapegen.statics.standins.statics_model`). The cut of a leaf into convex
+        pieces drops the slivers it makes (thinner than ``convex_rel`` times the leaf's size).
     penetration_rel
         Two blocks interpenetrate when their intersection volume exceeds
         ``penetration_rel * min(volume_a, volume_b)`` (dimensionless).
