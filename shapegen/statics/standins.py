@@ -181,11 +181,14 @@ def design_figures(values: np.ndarray, model) -> np.ndarray:
 
 
 def statics_model(model: Model) -> Model:
-    """The model the statics judge: ``model`` itself when no surface can stand in, else a
-    :class:`StaticsModel` with the model's blocks followed by the stand-ins (see the module
-    docstring) and the surfaces still left out. The same model gives the same object (the
-    last few are kept), so an analysis, its contacts and its capacity agree on the blocks;
-    a statics model is its own."""
+    """The model the statics judge: ``model`` itself when no surface can stand in and no
+    block is too small to judge, else a :class:`StaticsModel` with the model's blocks
+    followed by the stand-ins (see the module docstring) and the surfaces still left out.
+    In a model derived from a ``.cga`` rule, the blocks too small to judge are taken out and
+    their weight carried (:func:`_without_too_small`); a ``.grammar`` design keeps them, and
+    its validation refuses them. The same model gives the same object (the last few are
+    kept), so an analysis, its contacts and its capacity agree on the blocks; a statics
+    model is its own."""
     if isinstance(model, StaticsModel):
         return model
     surfaces = list(getattr(model, "surfaces", None) or [])

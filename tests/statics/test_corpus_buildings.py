@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from shapegen.limits import work_limits
 from shapegen.pipeline import design, load
 from shapegen.statics import StaticsOptions
 
@@ -116,7 +117,8 @@ def test_the_parthenon_on_30_by_70_stands_with_its_documented_capacity():
     # its door windows left slivers below the model's volume floor and the analysis stopped
     # at "block 's670.1': zero or negative volume"
     grammar = load(str(CORPUS / "caseStudy_NumPy_parthenon__2b00aac9" / "rules" / "parthenon.cga"))
-    outcome = design(grammar, lot=(30.0, 70.0), assess=True, capacity=[0.0, 90.0])
+    with work_limits(max_seconds=1800):  # 61 s of CPU, 155 s on a loaded 2-core machine
+        outcome = design(grammar, lot=(30.0, 70.0), assess=True, capacity=[0.0, 90.0])
     analysis = outcome.report["analysis"]
     assert analysis["stands"]
     assert not analysis["stand_ins"].get("too_small")  # the cut leaves no sliver to count
