@@ -169,14 +169,19 @@ def _polygon_area(n: int, radius: float) -> float:
     return 0.5 * n * radius * radius * math.sin(2 * math.pi / n)
 
 
+# an unsized 16-gon fitted to a 2 m scope: its flats span the scope (CityEngine's ring has an
+# edge across each axis), so its vertices are at 1 / cos(pi / 16) m from the axis
+_FITTED_16 = 1 / math.cos(math.pi / 16)
+
+
 @pytest.mark.parametrize(
     "name, numbers, volume",
     [
         ("primitiveCube", (), 2 * 3 * 2),
         ("primitiveCube", (1, 2, 3), 6),
-        ("primitiveCylinder", (), _polygon_area(16, 1.0) * 3),
+        ("primitiveCylinder", (), _polygon_area(16, _FITTED_16) * 3),
         ("primitiveCylinder", (8, 0.5, 2), _polygon_area(8, 0.5) * 2),
-        ("primitiveCone", (), _polygon_area(16, 1.0) * 3 / 3),
+        ("primitiveCone", (), _polygon_area(16, _FITTED_16) * 3 / 3),
         ("primitiveCone", (6, 1, 1.5), _polygon_area(6, 1.0) * 1.5 / 3),
     ],
 )
@@ -188,21 +193,28 @@ def test_solid_primitives_have_their_closed_form_volume(program, name, numbers, 
 
 
 def test_primitive_with_dimensions_sits_in_the_xz_centre_on_y0(program):
-    lo, hi = _primitive(program, "primitiveCylinder", 8, 0.5, 2).mesh().bounds()
-    assert lo.tolist() == pytest.approx([0.5, 0, 0.5]) and hi.tolist() == pytest.approx(
-        [1.5, 2, 1.5]
+    # the scope becomes the octagon's box, 2 * 0.5 * cos(22.5 degrees) across its flats,
+    # centred in the 2 x 3 x 2 scope on its y = 0; the mesh fills it
+    shape = _primitive(program, "primitiveCylinder", 8, 0.5, 2)
+    width = math.cos(math.pi / 8)
+    assert shape.scope.size.tolist() == pytest.approx([width, 2, width])
+    assert shape.scope.origin.tolist() == pytest.approx([1 - width / 2, 0, 1 - width / 2])
+    lo, hi = shape.mesh().bounds()
+    assert lo.tolist() == pytest.approx([0, 0, 0]) and hi.tolist() == pytest.approx(
+        [width, 2, width]
     )
 
 
 def test_sphere_is_a_closed_convex_solid_inside_its_sphere(program):
     mesh = _primitive(program, "primitiveSphere", size=(2, 2, 2)).mesh()
     assert mesh.is_closed and mesh.is_convex(1e-9)
-    assert 0.95 * 4 / 3 * math.pi < mesh.volume() < 4 / 3 * math.pi
+    # inside the spheroid through its vertices: radius 1 / cos(pi / 16) in x-z, 1 in y
+    assert 0.95 * 4 / 3 * math.pi < mesh.volume() < 4 / 3 * math.pi * _FITTED_16**2
     assert _primitive(program, "primitiveSphere", 8, 4).mesh().n_vertices == 8 * 3 + 2
 
 
 @pytest.mark.parametrize(
-    "name, area", [("primitiveQuad", 4.0), ("primitiveDisk", _polygon_area(16, 1))]
+    "name, area", [("primitiveQuad", 4.0), ("primitiveDisk", _polygon_area(16, _FITTED_16))]
 )
 def test_flat_primitives_lie_in_the_non_zero_plane(program, name, area):
     lying = _primitive(program, name, size=(2, 0, 2))
@@ -227,10 +239,26 @@ def test_primitive_errors(program, name, numbers, message):
         _primitive(program, name, *numbers)
 
 
-def test_templates_are_in_the_unit_box():
-    for kind in ("cube", "quad", "disk", "cylinder", "cone", "sphere"):
-        lo, hi = primitive_mesh(kind).bounds()
-        assert lo.tolist() == pytest.approx([0, 0, 0]) and hi.max() == pytest.approx(1.0)
+@pytest.mark.parametrize("sides", [3, 4, 5, 6, 8, 16])
+def test_templates_are_cityengines(sides):
+    # as its runtime makes them (PyPRT, tests/data/prt_primitives.json): the cube [0, 1]^3, the
+    # quad [-0.5, 0.5]^2 in y = 0, round ones of radius 0.5 to their vertices about the y axis,
+    # y in [0, 1], a ring's first edge straddling +z
+    assert primitive_mesh("cube").bounds()[0].tolist() == [0, 0, 0]
+    assert primitive_mesh("cube").bounds()[1].tolist() == [1, 1, 1]
+    lo, hi = primitive_mesh("quad").bounds()
+    assert lo.tolist() == [-0.5, 0, -0.5] and hi.tolist() == [0.5, 0, 0.5]
+    for kind in ("disk", "cylinder", "cone", "sphere"):
+        mesh = primitive_mesh(kind, sides, 4)
+        v = mesh.vertices
+        radii = np.hypot(v[:, 0], v[:, 2])
+        assert radii.max() == pytest.approx(0.5) and v[:, 1].min() == 0
+        assert v[:, 1].max() == (0 if kind == "disk" else 1)
+        first, second = v[0], v[1]
+        if kind == "sphere":  # its first ring follows the top
+            first, second = v[1] / np.hypot(v[1, 0], v[1, 2]), v[2] / np.hypot(v[2, 0], v[2, 2])
+        assert first[0] == pytest.approx(-second[0]) and first[2] == pytest.approx(second[2])
+        assert first[2] > 0
 
 
 def _slab(project):

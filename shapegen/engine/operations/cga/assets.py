@@ -8,9 +8,13 @@ Semantics of CityEngine's reference (``op_i``, ``op_primitive``):
   0 keeps the asset's proportion: all three 0 keep the asset as it is (the scope takes its size
   and is moved by its offset), two 0 scale the asset uniformly by the third, one 0 takes the
   mean scale of the other two;
-- a primitive given its dimensions keeps them and sits in the scope's x-z centre on y = 0;
-  ``primitiveQuad``/``primitiveDisk`` lie in the plane of the scope's two non-zero sizes
-  (x-z when all three are non-zero);
+- a primitive given its dimensions keeps them: the scope becomes its bounding box, in the old
+  scope's x-z centre on its y = 0 (``primitiveCube(20, 2, 20)`` on a 10 x 10 lot has the scope
+  20 x 2 x 20 from (-5, 0, -5), so a following ``s(4, 1, 4)`` makes a 4 x 1 x 4 box there, as
+  CityEngine's runtime does); ``primitiveQuad``/``primitiveDisk`` lie in the plane of the
+  scope's two non-zero sizes (x-z when all three are non-zero) and are centred in it;
+- the templates are CityEngine's (see :func:`primitive_mesh`): a radius is to the vertices,
+  so ``primitiveDisk(8, 3)`` is 2 * 3 * cos(22.5 degrees) = 5.54 m across its flats;
 - the defaults: 16 sides for cylinder, cone and disk, 16 x 16 for the sphere.
 
 An asset file is found next to the rule file, then in each folder above it that holds a
@@ -71,18 +75,20 @@ def is_asset_name(name: str) -> bool:
 
 # ------------------------------------------------------------------------- meshes
 def primitive_mesh(kind: str, sides: int = DEFAULT_SIDES, divisions: int = DEFAULT_SIDES) -> Mesh:
-    """The unit template of a CityEngine primitive, in its bounding box ``[0, 1]^3`` (the quad
-    and the disk flat in ``y = 0``), faces counter-clockwise seen from outside (or from +y)."""
-    angles = 2 * np.pi * np.arange(sides) / sides
-    # a ring in x-z, counter-clockwise seen from +y: x = cos, z = -sin
-    ring = np.column_stack(
-        [0.5 + 0.5 * np.cos(angles), np.zeros(sides), 0.5 - 0.5 * np.sin(angles)]
-    )
+    """The unit template of a CityEngine primitive, as its runtime makes it (measured with
+    PyPRT): the cube ``[0, 1]^3``; the quad ``[-0.5, 0.5]^2`` in ``y = 0``; the disk, cylinder,
+    cone and sphere of radius 0.5 (to their vertices) about the y axis, ``y`` in ``[0, 1]``, a
+    ring's first edge straddling +z (a hexagon has a vertex on +x, an octagon its flats on both
+    axes). Faces counter-clockwise seen from outside (the flat ones from +y). The position
+    matters where the scope has zero sizes (a point-like scope keeps the template as it is)."""
     n = sides
+    # the ring counter-clockwise seen from +y: angles from +x towards +z, decreasing
+    angles = np.pi / 2 + np.pi / n - 2 * np.pi * np.arange(n) / n
+    ring = np.column_stack([0.5 * np.cos(angles), np.zeros(n), 0.5 * np.sin(angles)])
     if kind == "cube":
         return Mesh.box((1.0, 1.0, 1.0))
     if kind == "quad":
-        return Mesh.polygon([(0, 0, 1), (1, 0, 1), (1, 0, 0), (0, 0, 0)])
+        return Mesh.polygon([(-0.5, 0, 0.5), (0.5, 0, 0.5), (0.5, 0, -0.5), (-0.5, 0, -0.5)])
     if kind == "disk":
         return Mesh.polygon(ring)
     if kind == "cylinder":
@@ -92,7 +98,7 @@ def primitive_mesh(kind: str, sides: int = DEFAULT_SIDES, divisions: int = DEFAU
         return Mesh(np.vstack([ring, top]), faces)
     if kind == "cone":
         faces = [tuple(range(n - 1, -1, -1))] + [(k, (k + 1) % n, n) for k in range(n)]
-        return Mesh(np.vstack([ring, [[0.5, 1.0, 0.5]]]), faces)
+        return Mesh(np.vstack([ring, [[0.0, 1.0, 0.0]]]), faces)
     if kind == "sphere":
         rows = []
         for j in range(1, divisions):
@@ -100,13 +106,13 @@ def primitive_mesh(kind: str, sides: int = DEFAULT_SIDES, divisions: int = DEFAU
             rows.append(
                 np.column_stack(
                     [
-                        0.5 + 0.5 * math.sin(polar) * np.cos(angles),
+                        math.sin(polar) * ring[:, 0],
                         np.full(n, 0.5 + 0.5 * math.cos(polar)),
-                        0.5 - 0.5 * math.sin(polar) * np.sin(angles),
+                        math.sin(polar) * ring[:, 2],
                     ]
                 )
             )
-        vertices = np.vstack([[[0.5, 1.0, 0.5]], *rows, [[0.5, 0.0, 0.5]]])
+        vertices = np.vstack([[[0.0, 1.0, 0.0]], *rows, [[0.0, 0.0, 0.0]]])
         bottom = len(vertices) - 1
         faces = [(0, 1 + (k + 1) % n, 1 + k) for k in range(n)]
         for j in range(divisions - 2):
@@ -146,28 +152,37 @@ def fitted(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
     return Scope(origin, scope.rotation, size), Mesh.of_valid_faces(local, mesh.faces)
 
 
-def _placed(mesh: Mesh, scope: Scope, dimensions) -> tuple[Scope, Mesh]:
-    """A primitive of the given ``dimensions`` (m, x y z: a radius r gives 2r) in the scope's
-    x-z centre on y = 0; the template's nominal box ``[0, 1]^3`` is scaled, so a hexagon of
-    radius r keeps its true width across the flats."""
-    dimensions = np.asarray(dimensions, dtype=float)
-    offset = np.array(
-        [(scope.size[0] - dimensions[0]) / 2, 0.0, (scope.size[2] - dimensions[2]) / 2]
+def _sized(mesh: Mesh, scope: Scope, flat_axis: int = 1, centre=(0.0, 0.0, 0.0)):
+    """A primitive ``mesh`` already at its size (m) placed as op_primitive places one given its
+    dimensions: its ``centre`` (the axis of a round one, in the mesh's coordinates) on the
+    scope's x-z centre and its bottom on the scope's y = 0, the scope becoming its bounding box;
+    a quad or disk standing in the scope's x-y or y-z plane (``flat_axis`` 2 or 0) is centred
+    in that plane. The centre, not the bounding box, is centred: a triangle of radius 3 on a
+    10 m lot spans z 2..6.5, as CityEngine's runtime places it. Returns the new scope and the
+    mesh in its coordinates."""
+    lo, hi = mesh.bounds()
+    offset = lo.copy()
+    centred = [k for k in range(3) if k != flat_axis]
+    offset[centred] += scope.size[centred] / 2 - np.asarray(centre, float)[centred]
+    origin = scope.origin + scope.rotation @ offset
+    return Scope(origin, scope.rotation, hi - lo), Mesh.of_valid_faces(
+        mesh.vertices - lo, mesh.faces
     )
-    return scope, Mesh.of_valid_faces(mesh.vertices * dimensions + offset, mesh.faces)
 
 
 def _flat_in_scope(mesh: Mesh, scope: Scope) -> tuple[Mesh, int]:
     """A flat template (in y = 0) turned into the plane of the scope's two non-zero sizes (x-z
-    when none or several are zero); returns it and the axis it is flat along."""
+    when none or several are zero), as op_primitive does; returns it and the axis it is flat
+    along. Its x-z front edge (+z) goes to the bottom of an x-y plane, which it faces from +z;
+    in a y-z plane it faces +x (the orders CityEngine's runtime gives, measured with PyPRT)."""
     zero = [k for k in range(3) if scope.size[k] <= 0]
     if len(zero) != 1 or zero[0] == 1:
         return mesh, 1
     v = mesh.vertices
-    if zero[0] == 2:  # the x-y plane, front facing +z: (x, z) -> (x, 1 - z)
-        return Mesh(np.column_stack([v[:, 0], 1.0 - v[:, 2], np.zeros(len(v))]), mesh.faces), 2
-    # the y-z plane, facing +x: (x, z) -> (z, x)... keep it counter-clockwise seen from +x
-    return Mesh(np.column_stack([np.zeros(len(v)), v[:, 0], v[:, 2]]), mesh.faces), 0
+    if zero[0] == 2:  # the x-y plane: (x, z) -> (x, -z)
+        return Mesh(np.column_stack([v[:, 0], -v[:, 2], np.zeros(len(v))]), mesh.faces), 2
+    # the y-z plane: (x, z) -> (-x, z)
+    return Mesh(np.column_stack([np.zeros(len(v)), -v[:, 0], v[:, 2]]), mesh.faces), 0
 
 
 def _shape_of(mesh: Mesh, scope: Scope) -> Shape:
@@ -377,25 +392,29 @@ def compile_primitive(program, node: ast.Operation, params):
                                  "within its size, as s() does")  # fmt: skip
             signs = np.where(np.asarray(dimensions) < 0, -1.0, 1.0)
             dimensions = tuple(abs(d) for d in dimensions)
-        if kind == "cube" and dimensions is None:
-            state.shape = _box_shape(state.shape.scope)
+        scope = state.shape.scope
+        if kind == "cube":  # a box filling its scope: the fast path, mirrored or not
+            if dimensions is None:
+                state.shape = _box_shape(scope)
+            else:
+                box = Mesh.box(dimensions)
+                state.shape = Shape(_sized(box, scope, 1, np.divide(dimensions, 2))[0], MASS)
             return True
         template = primitive_mesh(kind, int(sides), int(divisions))
-        if (signs < 0).any():  # mirrored inside its unit box, faces kept outward
-            mirrored = template.scaled(signs)
-            template = Mesh(mirrored.vertices + (signs < 0), mirrored.faces)
-        scope = state.shape.scope
+        if dimensions is not None:  # op_primitive: the primitive at its size, the scope its box
+            template = template.scaled(np.asarray(dimensions) * signs)
+        elif (signs < 0).any():
+            template = template.scaled(signs)
         if kind in ("quad", "disk"):
-            if dimensions is not None:
-                scope, local = _placed(template, scope, dimensions)
-                state.shape = Shape.with_geometry(scope, local, FACE, 1)
-                return True
             template, axis = _flat_in_scope(template, scope)
-            scope, local = fitted(template, scope)
+            if dimensions is not None:
+                scope, local = _sized(template, scope, axis)
+            else:
+                scope, local = fitted(template, scope)
             state.shape = Shape.with_geometry(scope, local, FACE, axis)
             return True
         if dimensions is not None:
-            scope, local = _placed(template, scope, dimensions)
+            scope, local = _sized(template, scope)
         else:
             scope, local = fitted(template, scope)
         state.shape = Shape.with_geometry(scope, local, MASS)
