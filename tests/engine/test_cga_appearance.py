@@ -265,8 +265,9 @@ def test_parse_hex_color():
 
 def test_rule_text_end_to_end():
     """From rule text to the blocks' appearance: each piece keeps its own colour and UV set-up,
-    and the colour never changes the geometry (a 16-sided cylinder in a 2 x 2 x 4 m scope:
-    8 sin(pi/8) x 1 x 2 m^2 of base, 2 m high)."""
+    and the colour never changes the geometry (a 16-sided cylinder in a 2 x 2 x 4 m scope, its
+    flats fitted to it as CityEngine's runtime fits them: 8 sin(pi/8) x 1 x 2 / cos(pi/16)^2
+    m^2 of base, 2 m high)."""
     import math
 
     grammar = shapegen.parse_grammar(
@@ -277,7 +278,8 @@ def test_rule_text_end_to_end():
     a, b, c = grammar.build(lot=(8, 4)).blocks
     assert a.appearance.color == (1.0, 0.0, 0.0) and a.volume == pytest.approx(2 * 2 * 4)
     assert b.appearance.color == (1.0, 0.5, 1.0)
-    assert b.volume == pytest.approx(8 * math.sin(math.pi / 8) * 1 * 2 * 2)
+    base = 8 * math.sin(math.pi / 8) * 1 * 2 / math.cos(math.pi / 16) ** 2
+    assert b.volume == pytest.approx(base * 2)
     assert c.appearance.uv == (("setupProjection", (0, "scope.xy", 1.0, 1.0)), ("projectUV", (0,)))
 
 
