@@ -291,6 +291,8 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         target = self.values.get(name)
         if target is None and name in RESERVED_ATTRIBUTES:
             return
+        if name in self.keyword_names.get(id(node), ()):
+            return
         if isinstance(target, ast.Function) and 0 not in self.function_arities[name]:
             self.report(
                 node.location,

@@ -16,6 +16,7 @@ __all__ = [
     "COMP_KINDS",
     "COMP_SELECTORS",
     "FUNCTION_KEYWORDS",
+    "FUNCTION_SELECTOR_POSITIONS",
     "GEOMETRY_FUNCTIONS",
     "GEOMETRY_KEYWORDS",
     "LIBRARY_FUNCTIONS",
@@ -166,6 +167,13 @@ FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
     ),
     "getGeoCoord": frozenset({"X", "Y", "lat", "lon"}),
 }
+
+#: The argument positions where a builtin of :data:`FUNCTION_KEYWORDS` takes only a selector,
+#: for the builtins where a value may stand at other positions: convert(component, from, to,
+#: type, x, y, z) (func_convert) has selectors first and values after, so ``x`` there may be an
+#: attr. At a selector position (every position of a builtin not listed) the keyword wins over
+#: a parameter, attr, const or function of the same name: CGA has no selector values.
+FUNCTION_SELECTOR_POSITIONS: dict[str, range] = {"convert": range(4)}
 
 #: ``geometry.<name>``: CityEngine's geometry functions, read as ``geometry.area`` or
 #: ``geometry.area()`` (with arguments where they take them): name -> (minimum, maximum).

@@ -43,7 +43,12 @@ from shapegen.engine.expressions.pure_functions import PURE_FUNCTIONS
 from shapegen.engine.expressions.shape_attributes import convert_value, shape_reader
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
-from shapegen.grammar.names import BUILTIN_FUNCTIONS, FUNCTION_KEYWORDS, GEOMETRY_KEYWORDS
+from shapegen.grammar.names import (
+    BUILTIN_FUNCTIONS,
+    FUNCTION_KEYWORDS,
+    FUNCTION_SELECTOR_POSITIONS,
+    GEOMETRY_KEYWORDS,
+)
 from shapegen.limits import limit_hint
 
 Value = float | bool | str
@@ -167,14 +172,20 @@ class ExpressionCompiler:
     def _geometry_selector(self, node, params) -> Compiled | None:
         return self._keyword(node, params, GEOMETRY_KEYWORDS)
 
-    def _keyword(self, node, params, words: frozenset[str]) -> Compiled | None:
+    def _keyword(
+        self, node, params, words: frozenset[str], selector_only: bool = True
+    ) -> Compiled | None:
         """A selector among ``words`` (``maxSlope`` of geometry.angle, ``tx`` of assetInfo,
-        ``world.up``) read as its name, unless a parameter, attr, const or function has that
-        name."""
+        ``world.up``) read as its name. Where only a selector may stand (``selector_only``:
+        CGA has no selector values, so an attr, const or parameter cannot be one) the keyword
+        wins over any name the rule defines (a function that takes arguments included, as
+        ``y(i)`` beside ``alignScopeToAxes(y)``); where a value may stand too (convert's
+        coordinates) a parameter, attr, const or function of that name is the value."""
         if not isinstance(node, ast.Name) or node.name not in words:
             return None
         name = node.name
-        if name in params or name in self.global_names or name in self.function_nodes:
+        defined = name in params or name in self.global_names or name in self.function_nodes
+        if defined and not selector_only:
             return None
         return lambda args, state: name
 
@@ -382,8 +393,11 @@ class ExpressionCompiler:
         if name in CONTEXT_QUERIES:
             return self.calls.context(node, params)
         words = FUNCTION_KEYWORDS.get(name, frozenset())
+        selectors = FUNCTION_SELECTOR_POSITIONS.get(name)
         arguments = tuple(
-            self._keyword(arg, params, words) or self.compile(arg, params) for arg in node.args
+            self._keyword(arg, params, words, selectors is None or k in selectors)
+            or self.compile(arg, params)
+            for k, arg in enumerate(node.args)
         )
         if (name, len(arguments)) in self.overloads or (
             name in self.function_nodes and name not in BUILTIN_FUNCTIONS
@@ -408,9 +422,15 @@ class ExpressionCompiler:
         functions = self.functions
         key = (name, len(arguments))
         if key not in self.overloads:
-            expected = " or ".join(str(n) for f, n in sorted(self.overloads) if f == name)
+            counts = [n for f, n in sorted(self.overloads) if f == name]
+            expected = " or ".join(str(n) for n in counts)
+            noun = "argument" if counts == [1] else "arguments"
+            if isinstance(node, ast.Name):  # written bare where a value stands
+                raise self.error(
+                    node, f"function {name!r} takes {expected} {noun}: write {name}(...)"
+                )
             raise self.error(
-                node, f"function {name!r} takes {expected} arguments, got {len(arguments)}"
+                node, f"function {name!r} takes {expected} {noun}, got {len(arguments)}"
             )
 
         error = self.error
