@@ -1,5 +1,5 @@
 """CityEngine's primitives against its runtime: each case of ``tests/data/prt_primitives.json``
-was run through PyPRT (its source field says how); shapegen must give the same scope (size and
+was run through PyPRT by ``tools/prt_primitives.py`` (its source field says how); shapegen must give the same scope (size and
 origin), the same vertices and, for a quad or disk, the same facing. op_primitive: "If
 dimensions are specified the cube is positioned in the xz-center of the scope lying on y=0";
 "If no width, height and depth are given the bounding box coincides with the scope. Zero scope
