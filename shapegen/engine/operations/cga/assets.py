@@ -389,7 +389,8 @@ def compile_primitive(program, node: ast.Operation, params):
                 raise error(node, f"{node.name}(): dimensions must be >= 0 m")
             # as s() with negative sizes (op_s: "negative sizes result in mirroring")
             warn_at(state, node, f"{node.name}(): a negative dimension mirrors the primitive "
-                                 "within its size, as s() does")  # fmt: skip
+                                 "within its size, as s() does (a negative height hangs it "
+                                 "below the scope's y = 0)")  # fmt: skip
             signs = np.where(np.asarray(dimensions) < 0, -1.0, 1.0)
             dimensions = tuple(abs(d) for d in dimensions)
         scope = state.shape.scope
@@ -397,8 +398,10 @@ def compile_primitive(program, node: ast.Operation, params):
             if dimensions is None:
                 state.shape = _box_shape(scope)
             else:
-                box = Mesh.box(dimensions)
-                state.shape = Shape(_sized(box, scope, 1, np.divide(dimensions, 2))[0], MASS)
+                # a negative height hangs the box below y = 0, as the runtime does (PyPRT)
+                signed = np.asarray(dimensions) * signs
+                box = Mesh.box(dimensions).scaled(signs)
+                state.shape = Shape(_sized(box, scope, 1, signed / 2)[0], MASS)
             return True
         template = primitive_mesh(kind, int(sides), int(divisions))
         if dimensions is not None:  # op_primitive: the primitive at its size, the scope its box
