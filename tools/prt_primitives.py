@@ -83,6 +83,13 @@ CASES = [
     "primitiveSphere(8, 4, 2) s(4, 1, 4)",
     "s(0, 0, 0) primitiveSphere()",
     "rotateScope(0, 0, 90) primitiveCube(2, 3, 4)",
+    "primitiveCylinder(3.5)",
+    "primitiveCylinder(4.5)",
+    "primitiveCylinder(7.4)",
+    "primitiveCylinder(7.6)",
+    "primitiveSphere(8, 2.5)",
+    "primitiveSphere(8, 3.5)",
+    "primitiveCylinder(2.5)",
 ]
 
 # The rewriter: replaces `invokestatic Builtins.extrude(D)V` of Default$BuildingCreation by the

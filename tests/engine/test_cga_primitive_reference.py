@@ -1,10 +1,10 @@
 """CityEngine's primitives against its runtime: each case of ``tests/data/prt_primitives.json``
-was run through PyPRT by ``tools/prt_primitives.py`` (its source field says how); shapegen must give the same scope (size and
-origin), the same vertices and, for a quad or disk, the same facing. op_primitive: "If
-dimensions are specified the cube is positioned in the xz-center of the scope lying on y=0";
-"If no width, height and depth are given the bounding box coincides with the scope. Zero scope
-sizes are handled the same way as in the i operation"; a quad or disk "will be inserted with
-respect to the plane defined by the valued scope sizes"."""
+was run through PyPRT by ``tools/prt_primitives.py`` (its source field says how); shapegen
+must give the same scope (size and origin), the same vertices and faces and, for a quad or
+disk, the same facing. op_primitive: "If dimensions are specified the cube is positioned in the
+xz-center of the scope lying on y=0"; "If no width, height and depth are given the bounding box
+coincides with the scope. Zero scope sizes are handled the same way as in the i operation"; a
+quad or disk "will be inserted with respect to the plane defined by the valued scope sizes"."""
 
 from __future__ import annotations
 
@@ -55,6 +55,7 @@ def test_primitive_as_cityengine_derives_it(case):
     assert points.min(axis=0).tolist() == pytest.approx(case["lo"], abs=_TOLERANCE_M)
     assert points.max(axis=0).tolist() == pytest.approx(case["hi"], abs=_TOLERANCE_M)
     assert len(points) == case["vertices"]
+    assert sum(len(leaf.faces) for leaf in [*model.blocks, *model.surfaces]) == case["faces"]
     if "points" in case:  # the same vertices, each within the rounding of the other's
         distances = cdist(points, np.array(case["points"]))
         assert distances.min(axis=0).max() < _TOLERANCE_M

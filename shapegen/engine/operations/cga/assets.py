@@ -371,6 +371,10 @@ def compile_primitive(program, node: ast.Operation, params):
             dimensions = (values[0], 0.0, values[1])
         elif kind == "cube" and values:
             dimensions = tuple(values)
+        if cga and math.isfinite(sides) and math.isfinite(divisions):
+            # CityEngine's runtime rounds them half to even, as round() does (PyPRT: 3.5 and
+            # 4.5 sides both make 4, 7.6 makes 8, 2.5 is 2 and skips the operation)
+            sides, divisions = round(sides), round(divisions)
         for what, count, least in (("sides", sides, 3), ("divisions", divisions, 2)):
             if count != int(count) or count < least or count > 4096:
                 raise program.operation_error(
