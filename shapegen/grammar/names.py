@@ -38,8 +38,6 @@ _MANY = 1_000_000
 UNSUPPORTED_FUNCTIONS: dict[str, str] = {
     # CGA functions of the reference that shapegen does not evaluate: said as such, not as a
     # name nobody defined
-    "isTagged": "(component tags, op_comp's selectors and tagging operations) is not supported"
-    " by shapegen",
 }
 
 BUILTIN_FUNCTIONS: dict[str, tuple[int, int]] = {
@@ -55,6 +53,8 @@ BUILTIN_FUNCTIONS: dict[str, tuple[int, int]] = {
     # probability
     "rand": (0, 2),
     "p": (1, 1),
+    # component tags: op_comp's selector (also in modify)
+    "isTagged": (1, 2),
     # conversion
     "str": (1, 1),
     "float": (1, 1),
@@ -166,6 +166,7 @@ FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
         frozenset({"x", "y", "z", "xy", "xz", "yz", "yx", "zx", "zy", "xyz"}),
     ),
     "getGeoCoord": frozenset({"X", "Y", "lat", "lon"}),
+    "isTagged": frozenset({"e", "v"}),  # op_comp: match the tags of the edges or vertices
 }
 
 #: The argument positions where a builtin of :data:`FUNCTION_KEYWORDS` takes only a selector,
@@ -184,7 +185,7 @@ GEOMETRY_FUNCTIONS: dict[str, tuple[int, int]] = {
     "du": (0, 2),
     "dv": (0, 2),
     "groups": (0, 0),
-    "hasTags": (0, 1),
+    "hasTags": (0, 2),
     "hasUVs": (0, 1),
     "height": (0, 0),
     "isClosedSurface": (0, 0),
@@ -198,7 +199,7 @@ GEOMETRY_FUNCTIONS: dict[str, tuple[int, int]] = {
     "nFaces": (0, 0),
     "nHoles": (0, 0),
     "nVertices": (0, 0),
-    "tags": (0, 1),
+    "tags": (0, 2),
     "uMax": (0, 1),
     "uMin": (0, 1),
     "vMax": (0, 1),
@@ -393,7 +394,10 @@ FUNCTION_KEYWORDS["convert"] = OPERATION_KEYWORDS
 
 #: Selectors the ``geometry.*`` functions take (``geometry.angle(maxSlope)``,
 #: ``geometry.area(top)``, ``geometry.nVertices(world.up)``): read as their names.
-GEOMETRY_KEYWORDS: frozenset[str] = OPERATION_KEYWORDS | {"maxSlope", "azimuth", "zenith"}
+GEOMETRY_KEYWORDS: frozenset[str] = OPERATION_KEYWORDS | {
+    *("maxSlope", "azimuth", "zenith"),
+    *("all", "faces", "edges", "vertices"),  # geometry.tags and geometry.hasTags
+}
 
 #: Operations recognised in rule bodies: name -> (minimum, maximum) positional arguments.
 OPERATIONS: dict[str, tuple[int, int]] = {

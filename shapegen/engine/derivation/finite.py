@@ -11,11 +11,13 @@ writer."""
 from __future__ import annotations
 
 __all__ = [
+    "CLEARS_TAGS",
     "checked_child",
     "checked_operation",
     "finite_parameter",
     "overflowed",
     "shape_problem",
+    "with_carried_tags",
 ]
 
 import math
@@ -87,6 +89,39 @@ _NAMES = {
 }
 
 
+#: The operations that replace the geometry and so clear its component tags
+#: (cga_componentTags: "i (insert), insertAlongUV operations, primitiveXXX operations, footprint
+#: operation, resetGeometry operation"; splitArea and reduceGeometry "do (currently) not support
+#: working with component tags and clear all tags").
+CLEARS_TAGS = frozenset(
+    {
+        "i",
+        "insert",
+        "insertAlongUV",
+        "footprint",
+        "resetGeometry",
+        "splitArea",
+        "reduceGeometry",
+        "primitiveCube",
+        "primitiveCylinder",
+        "primitiveCone",
+        "primitiveDisk",
+        "primitiveQuad",
+        "primitiveSphere",
+        "primitiveTorus",
+    }
+)
+
+
+def with_carried_tags(before: Shape, shape: Shape) -> Shape:
+    """``shape`` (made from ``before`` by an operation that gives no tags of its own) with the
+    component tags of ``before`` that its components keep, worked out when read
+    (:func:`~shapegen.engine.shapes.tags.carried_tags`)."""
+    from shapegen.engine.shapes.tags import Pending
+
+    return shape.with_tags(Pending(before))
+
+
 def operation_name(node) -> str:
     """``extrude``, ``t``, ``roofHip``: the name of the operation ``node`` as written."""
     kind = type(node).__name__
@@ -112,6 +147,8 @@ def checked_operation(program, node, operation):
             shape = state.shape
             if shape is before:
                 return going_on
+            if before.tags is not None and shape.tags is None and name not in CLEARS_TAGS:
+                state.shape = shape = with_carried_tags(before, shape)
             limits = state.run.limits
             geometry = shape.geometry
             if geometry is not None and geometry is not before.geometry:

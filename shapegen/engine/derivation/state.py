@@ -22,7 +22,7 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
-from shapegen.engine.derivation.finite import checked_child
+from shapegen.engine.derivation.finite import checked_child, with_carried_tags
 from shapegen.engine.shapes.shape import Shape
 from shapegen.errors import GrammarError, WorkLimitError
 from shapegen.limits import (
@@ -135,6 +135,10 @@ class Derivation:
         # inside()/overlaps()/touches(): set by the interpreter
         # (shapegen.engine.derivation.occlusion)
         self.occlusion = None
+        # isTagged(): the component a comp() or modify() selector is looking at
+        # (shapegen.engine.operations.cga.topology.TagSelection), None elsewhere
+        self.tag_selection = None
+        self.tag_index = None  # (shape, its shapegen.engine.shapes.tags.TagIndex): the last
 
     def warn(self, message: str) -> None:
         """Record a warning of the derivation once (an asset not found, an operation ignored)."""
@@ -218,8 +222,11 @@ class Derivation:
             )
         if self.deadline is not None and self.shape_count % 64 == 0:
             self.check_clock(node)
-        if shape is not parent.shape and not within_bounds:  # made by a split, a comp...
-            checked_child(self.program, node, parent, shape)
+        if shape is not parent.shape:
+            if not within_bounds:  # made by a split, a comp...
+                checked_child(self.program, node, parent, shape)
+            if parent.shape.tags is not None and shape.tags is None:
+                shape = with_carried_tags(parent.shape, shape)
         if self.occlusion is not None and shape.kind != parent.shape.kind:
             self.occlusion.parent(
                 parent

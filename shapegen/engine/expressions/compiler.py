@@ -41,6 +41,7 @@ from shapegen.engine.expressions.operators import (
 )
 from shapegen.engine.expressions.pure_functions import PURE_FUNCTIONS
 from shapegen.engine.expressions.shape_attributes import convert_value, shape_reader
+from shapegen.engine.shapes.tags import is_tagged
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.grammar.names import (
@@ -411,6 +412,8 @@ class ExpressionCompiler:
             return self.calls.printed(node, arguments)
         if name == "convert":
             return self.calls.pure(node, convert_value, arguments, with_state=True)
+        if name == "isTagged":
+            return self.calls.pure(node, is_tagged, arguments, with_state=True)
         if name in self.readers:
             return self.calls.pure(node, self.readers[name], arguments, with_state=True)
         function = self.files.get(name) or PURE_FUNCTIONS.get(name)

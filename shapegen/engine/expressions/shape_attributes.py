@@ -157,6 +157,10 @@ def shape_reader(obj: str, field: str, grammar) -> Reader | None:
     if obj == "geometry":
         if field not in GEOMETRY_FUNCTIONS:
             raise ValueError(f"unknown geometry function {key!r}")
+        if field in ("tags", "hasTags"):
+            from shapegen.engine.shapes.tags import tags_value
+
+            return lambda state, *args: tags_value(state.shape, field, *args)
         if field not in ANSWERED_GEOMETRY:
             return None  # CGA has it (tags, groups, uv bounds...); shapegen does not answer it
 

@@ -98,9 +98,15 @@ class Shape:
         The shape's polygon mesh in scope coordinates (m), or None when the shape fills its
         scope (a box for :data:`MASS`, a rectangle for :data:`FACE`: the fast path). A scope
         operation (t, r) moves the geometry with the scope; s() scales it to the new size.
+    tags
+        The component tags of :meth:`mesh` (a
+        :class:`~shapegen.engine.shapes.tags.ComponentTags`, or a
+        :class:`~shapegen.engine.shapes.tags.Pending` carry from the shape it was made of,
+        read through :func:`~shapegen.engine.shapes.tags.resolved_tags`), or None: no tag
+        (most shapes). The operations that keep the components keep them.
     """
 
-    __slots__ = ("scope", "kind", "normal_axis", "insert", "geometry")
+    __slots__ = ("scope", "kind", "normal_axis", "insert", "geometry", "tags")
 
     def __init__(
         self,
@@ -109,12 +115,14 @@ class Shape:
         normal_axis: int = 2,
         insert=None,
         geometry: Mesh | None = None,
+        tags=None,
     ):
         self.scope = scope
         self.kind = kind
         self.normal_axis = normal_axis
         self.insert = insert
         self.geometry = geometry
+        self.tags = tags
 
     @classmethod
     def with_geometry(cls, scope: Scope, mesh: Mesh, kind: str = MASS, normal_axis: int = 2):
@@ -123,10 +131,25 @@ class Shape:
 
     def with_scope(self, scope: Scope) -> Shape:
         """The same shape in another scope (its geometry keeps its scope coordinates)."""
-        return Shape(scope, self.kind, self.normal_axis, self.insert, self.geometry)
+        return Shape(scope, self.kind, self.normal_axis, self.insert, self.geometry, self._kept())
 
     def copy(self) -> Shape:
-        return Shape(self.scope, self.kind, self.normal_axis, self.insert, self.geometry)
+        return Shape(
+            self.scope, self.kind, self.normal_axis, self.insert, self.geometry, self._kept()
+        )
+
+    def _kept(self):
+        """The tags of a shape made of these very components (moved, scaled)."""
+        tags = self.tags
+        if tags is None:
+            return None
+        from shapegen.engine.shapes.tags import kept_tags
+
+        return kept_tags(self)
+
+    def with_tags(self, tags) -> Shape:
+        """The same shape with the component tags ``tags`` (None: none)."""
+        return Shape(self.scope, self.kind, self.normal_axis, self.insert, self.geometry, tags)
 
     def mesh(self) -> Mesh:
         """The geometry in scope coordinates, made from the scope when the shape fills it."""
@@ -158,7 +181,7 @@ class Shape:
                 geometry = Mesh(
                     geometry.vertices + np.where(flips, scope.size, 0.0), geometry.faces
                 )
-        return Shape(scope, self.kind, self.normal_axis, self.insert, geometry)
+        return Shape(scope, self.kind, self.normal_axis, self.insert, geometry, self._kept())
 
 
 def lot_scope(width: float, depth: float) -> Scope:

@@ -27,6 +27,7 @@ from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word
 from shapegen.engine.operations.cga.topology import EDGE
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, extrude_shape
+from shapegen.engine.shapes.tags import extruded
 from shapegen.geometry.extrude import extrude_faces
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
@@ -57,7 +58,7 @@ def compile_extrude(program, node: ast.Operation, params):
     def extrude_op(state, args, out):
         shape = state.shape
         if cityengine and shape.kind == EDGE and kind == "face.normal":
-            state.shape = edge_extrusion(shape, distance(args, state))
+            state.shape = extruded(shape, edge_extrusion(shape, distance(args, state)))
             return True
         if cityengine and shape.kind in (EDGE, "vertex"):  # vertex.normal, or a vertex
             raise error(
@@ -75,11 +76,12 @@ def compile_extrude(program, node: ast.Operation, params):
                     f"extrude({kind}, ...) is deprecated (cga_changelog 2016.0: use world.up); "
                     f"the face is extruded along the world's {kind[-1]} axis",
                 )
-                state.shape = _along_world_axis(shape, height, _WORLD_AXES[kind[-1]])
+                made = _along_world_axis(shape, height, _WORLD_AXES[kind[-1]])
             elif kind == "vertex.normal":
-                state.shape = vertex_normal_extrusion(shape, height)
+                made = vertex_normal_extrusion(shape, height)
             else:
-                state.shape = extrude_shape(shape, height, cityengine, kind)
+                made = extrude_shape(shape, height, cityengine, kind)
+            state.shape = extruded(shape, made)
         except ValueError as exc:
             raise program.operation_error(node, str(exc)) from None
         return True

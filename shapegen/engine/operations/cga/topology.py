@@ -78,6 +78,7 @@ class Component:
     mesh_faces: tuple[int, ...] = ()
     roof: str = ""  # comp(e): eave, hip, valley, ridge or "" (shapegen.geometry.roof_edges)
     first: np.ndarray | None = None  # the pivot's origin (op_comp): the first vertex, world
+    vertices: tuple[int, ...] = ()  # its vertices in the shape's mesh (isTagged reads them)
 
 
 def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Component]:
@@ -100,7 +101,15 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
     )
     return [
         Component(
-            k, normals[k], worlds[k], objects[k], borders[k], shapes[k], (k,), first=firsts[k]
+            k,
+            normals[k],
+            worlds[k],
+            objects[k],
+            borders[k],
+            shapes[k],
+            (k,),
+            first=firsts[k],
+            vertices=tuple(mesh.faces[k]),
         )
         for k in range(mesh.n_faces)
     ]
@@ -179,6 +188,7 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
                 tuple(faces),
                 roof,
                 start,
+                (a, b),
             )
         )
     return out
@@ -225,6 +235,7 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
                 Shape.with_geometry(vertex_scope, Mesh([(0, 0, 0)], ()), VERTEX, 2),
                 tuple(faces),
                 first=world_vertices[k],
+                vertices=(k,),
             )
         )
     return out
@@ -262,6 +273,7 @@ def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
                     ),
                     (f,),
                     first=world_vertices[i],
+                    vertices=(i,),
                 )
             )
     return out
@@ -308,13 +320,14 @@ def component_selector(program, key, params, kind: str, where=None) -> Selector:
         return _named(program, key, key.name, kind)
     if isinstance(key, ast.ShapeAttribute) and f"{key.obj}.{key.field}" in FACE_SELECTORS:
         return _named(program, key, f"{key.obj}.{key.field}", kind)
-    if isinstance(key, ast.Binary) and key.op in ("||", "&&") and _is_selector(key):
+    # selectors and conditions mix (op_comp: isTagged("x") && side)
+    if isinstance(key, ast.Binary) and key.op in ("||", "&&") and _has_selector(key):
         left = component_selector(program, key.left, params, kind)
         right = component_selector(program, key.right, params, kind)
         if key.op == "||":
             return lambda c, state, args: left(c, state, args) or right(c, state, args)
         return lambda c, state, args: left(c, state, args) and right(c, state, args)
-    if isinstance(key, ast.Unary) and key.op == "!" and _is_selector(key.operand):
+    if isinstance(key, ast.Unary) and key.op == "!" and _has_selector(key.operand):
         inner = component_selector(program, key.operand, params, kind)
         return lambda c, state, args: not inner(c, state, args)
     # any other expression: a condition evaluated on the component's own shape
@@ -323,11 +336,15 @@ def component_selector(program, key, params, kind: str, where=None) -> Selector:
 
     def condition(c, state, args):
         saved = state.shape
+        run = state.run
+        outer = run.tag_selection
+        run.tag_selection = (saved, kind, c)  # what isTagged() looks at
         state.shape = c.shape
         try:
             value = compiled(args, state)
         finally:
             state.shape = saved
+            run.tag_selection = outer
         if type(value) is float and value == int(value):  # op_comp: an index may be computed
             return c.index == int(value)
         if type(value) is not bool:
@@ -352,6 +369,18 @@ def selector_text(key) -> str:
     if isinstance(key, ast.ShapeAttribute):
         return f"{key.obj}.{key.field}"
     return ""
+
+
+def _has_selector(key) -> bool:
+    """Whether a selector name or index is somewhere in the ``||``, ``&&`` and ``!`` of
+    ``key``."""
+    if _is_selector(key):
+        return True
+    if isinstance(key, ast.Binary) and key.op in ("||", "&&"):
+        return _has_selector(key.left) or _has_selector(key.right)
+    if isinstance(key, ast.Unary) and key.op == "!":
+        return _has_selector(key.operand)
+    return False
 
 
 def _is_selector(key) -> bool:
