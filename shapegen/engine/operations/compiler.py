@@ -31,13 +31,13 @@ from shapegen.engine.shapes.shape import (
     split_pieces,
     translate,
 )
-from shapegen.engine.shapes.tags import extruded
 from shapegen.engine.shapes.split import (
     PieceLimitError,
     SplitPart,
     SplitRepeat,
     resolve_split,
 )
+from shapegen.engine.shapes.tags import extruded
 from shapegen.errors import GrammarError, OperationError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES
