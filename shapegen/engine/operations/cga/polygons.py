@@ -34,6 +34,7 @@ from shapegen.engine.expressions.arrays import type_name
 from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import number, plain_arguments, selector_name
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
+from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
 from shapegen.geometry.frames import quadrant
@@ -247,6 +248,7 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
         strips: dict[object, list[list[np.ndarray]]] = {}  # selector -> groups of faces
         remainder: list[list[np.ndarray]] = []
         shape_pieces: list[np.ndarray] = []
+        lines = SetbackLines()
         for frame, polygon in flat_faces(state, node, program, f"{node.name}()"):
             n = len(polygon)
             scope_normals = edge_normals(frame, polygon)
@@ -268,6 +270,7 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
                 result = polygon2d.setback(polygon, distances)
             except GeometryError as exc:
                 raise program.operation_error(node, f"{node.name}(): {exc}") from None
+            lines.add(state.shape.scope, frame, polygon, distances)
             for k, piece in result.strips:
                 if shape_selector:
                     shape_pieces.append(piece)
@@ -281,10 +284,80 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
         def pieces_of(selector):
             return remainder if selector == "remainder" else strips.get(selector, [])
 
-        _emit_all(state, args, branches, pieces_of, out)
+        _emit_all(state, args, branches, pieces_of, out, lines)
         return True
 
     return setback_op
+
+
+class SetbackLines:
+    """The edges of the faces a setback cuts and the lines it sets them back to (world
+    coordinates), to give its pieces' edges their auto-tags (op_setback, "Component tags"):
+    on a piece of an edge's strip, ``setback.front`` the original selected edge,
+    ``setback.back`` the new setback edge, ``setback.side`` the others; on the remainder,
+    ``setback.back`` the setback edges, ``setback.remainder`` the original edges the setback
+    did not cut and ``setback.side`` the others (the reference's picture shows the rest of a cut
+    original edge as a side edge). Earlier ``setback.*`` tags are replaced; the others are kept
+    as the pieces' components keep them."""
+
+    def __init__(self):
+        self.edges: list[tuple[np.ndarray, np.ndarray, bool]] = []  # start, end, set back
+        self.moved: list[tuple[np.ndarray, np.ndarray]] = []  # a point and the direction
+
+    def add(self, scope, frame: FaceFrame, polygon: np.ndarray, distances) -> None:
+        n = len(polygon)
+        world = scope.to_world(frame.lift(polygon))
+        for k in range(n):
+            start, end = world[k], world[(k + 1) % n]
+            self.edges.append((start, end, bool(distances[k] > 0)))
+            if distances[k] > 0:
+                a, b = polygon[k], polygon[(k + 1) % n]
+                direction = b - a
+                inward = np.array([-direction[1], direction[0]]) / np.linalg.norm(direction)
+                moved = scope.to_world(frame.lift(np.array([a, b]) + distances[k] * inward))
+                self.moved.append((moved[0], moved[1] - moved[0]))
+
+    def rule(self, remainder: bool):
+        """The tags of a piece (a remainder one or a strip), made from the parent shape."""
+
+        def tags(parent, shape):
+            from shapegen.engine.shapes.tags import ComponentTags, carried_tags
+
+            kept = carried_tags(parent, shape)
+            if kept is not None:
+                kept = kept.without_prefix("setback")
+            mesh = shape.world_mesh()
+            slack = 1e-6 * max(1.0, float(mesh.size()))
+            edges = dict(kept.edges) if kept is not None else {}
+            for a, b in mesh.edges:
+                p, q = mesh.vertices[a], mesh.vertices[b]
+                edges[(a, b)] = (*edges.get((a, b), ()), self._class(p, q, remainder, slack))
+            faces = kept.faces if kept is not None else ((),) * mesh.n_faces
+            return ComponentTags(faces, edges, dict(kept.vertices) if kept is not None else {})
+
+        return tags
+
+    def _class(self, p, q, remainder: bool, slack: float) -> str:
+        for start, end, moved in self.edges:
+            if _on_line(p, start, end - start, slack) and _on_line(q, start, end - start, slack):
+                if not remainder:
+                    return "setback.front" if moved else "setback.side"
+                # an original edge the setback did not cut (the picture of op_setback)
+                near = [float(np.linalg.norm(a - b)) <= slack for a in (p, q) for b in (start, end)]
+                whole = (near[0] and near[3]) or (near[1] and near[2])
+                return "setback.remainder" if whole else "setback.side"
+        for point, direction in self.moved:
+            if _on_line(p, point, direction, slack) and _on_line(q, point, direction, slack):
+                return "setback.back"
+        return "setback.side"
+
+
+def _on_line(p, point, direction, slack: float) -> bool:
+    length = float(np.linalg.norm(direction))
+    if length == 0:
+        return False
+    offset = p - point
+    return float(np.linalg.norm(offset - (offset @ direction) / length**2 * direction)) <= slack
 
 
 def _joined(frame: FaceFrame, pieces: list[np.ndarray]) -> list[list[np.ndarray]]:
@@ -298,8 +371,9 @@ def _joined(frame: FaceFrame, pieces: list[np.ndarray]) -> list[list[np.ndarray]
     return [[frame.lift(p)] for p in merged]
 
 
-def _emit_all(state, args, branches, pieces_of, out) -> None:
-    """Give each branch its face groups: ``:`` one shape per group, ``=`` one for all."""
+def _emit_all(state, args, branches, pieces_of, out, lines=None) -> None:
+    """Give each branch its face groups: ``:`` one shape per group, ``=`` one for all;
+    ``lines`` (a :class:`SetbackLines`) gives the pieces the setback's auto-tags."""
     run = state.run
     parent = state.shape
     for selector, body, merge, branch in branches:
@@ -308,7 +382,10 @@ def _emit_all(state, args, branches, pieces_of, out) -> None:
             continue
         groups = [[face for group in pieces for face in group]] if merge else pieces
         for index, group in enumerate(groups):
-            child = run.child(state, flat_shape(parent, group), branch)
+            piece = flat_shape(parent, group)
+            if lines is not None:
+                piece = piece.with_tags(Pending(parent, lines.rule(selector == "remainder")))
+            child = run.child(state, piece, branch)
             child.comp_index = index
             child.comp_total = len(groups)
             if body(child, args, out) and child.is_leaf():

@@ -24,6 +24,7 @@ from shapegen.engine.operations.cga.polygons import (
     flat_faces,
 )
 from shapegen.engine.shapes.shape import MASS, Shape
+from shapegen.engine.shapes.tags import ComponentTags, Pending, resolved_tags
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
@@ -54,7 +55,30 @@ def roof_shape(
         else rotation_keeping_x(parent.scope.rotation[:, 0], normal)
     )
     scope, fitted = fitted_scope(parent.scope.to_world(local), frame)
-    return Shape(scope, MASS, 1, None, Mesh(fitted, faces))
+    names = [(k, tag) for k, (_, mesh) in enumerate(built) for tag in mesh.tags]
+    return Shape(
+        scope, MASS, 1, None, Mesh(fitted, faces), Pending(parent, _auto_tags(names, len(built)))
+    )
+
+
+def _auto_tags(names: list[tuple[int, str]], count: int):
+    """The rule of a roof's tags (cga_componentTags): each face its auto-tag (``roof.top``,
+    ``taper.side``...), after the tags of the face it was built on (when the roofs are one per
+    face of the parent); the parent's auto-tags of the same operation are replaced."""
+
+    def tags(parent, shape):
+        old = resolved_tags(parent)
+        prefix = names[0][1].split(".")[0] if names else ""
+        sources = old.without_prefix(prefix).faces if old is not None else ()
+        if len(sources) != count:
+            sources = ()
+        return ComponentTags(
+            tuple(
+                tuple(dict.fromkeys((*(sources[k] if sources else ()), name))) for k, name in names
+            )
+        )
+
+    return tags
 
 
 def _value_type(node) -> tuple[str, list]:
