@@ -26,6 +26,7 @@ from __future__ import annotations
 __all__ = [
     "ComponentTags",
     "Pending",
+    "boolean_tags",
     "carried_tags",
     "extruded",
     "extrusion_tags",
@@ -273,7 +274,40 @@ def is_tagged(state, query, sub=None) -> bool:
     return any(query_matches(query, t) for t in tags)
 
 
-def merged_tags(items: Sequence[tuple[object, ComponentTags | None]], mesh) -> ComponentTags:
+def boolean_tags(result, operands) -> ComponentTags:
+    """The tags of a Boolean's ``result`` (a world mesh) from its ``operands``, ``(world mesh,
+    tags or None)`` of A and B (cga_componentTags, "Boolean operations"): each face the tags of
+    the operand faces it lies on and ``bool.A`` or ``bool.B`` (both where both are), and
+    ``bool.cut`` on the edges where a face of A meets a face of B. The operands' former
+    ``bool.*`` tags are replaced."""
+    items = []
+    for (mesh, tags), name in zip(operands, ("bool.A", "bool.B"), strict=True):
+        tags = tags.without_prefix("bool") if tags is not None else ComponentTags.empty(0)
+        own = ComponentTags(
+            tuple(_added(tags.face(k), (name,)) for k in range(mesh.n_faces)),
+            tags.edges,
+            tags.vertices,
+        )
+        items.append((mesh, own))
+    merged = merged_tags(items, result, either_side=True)
+    cut: dict[tuple[int, int], Tags] = dict(merged.edges)
+    sides: dict[tuple[int, int], set[str]] = {}
+    for f, face in enumerate(result.faces):
+        for a, b in zip(face, face[1:] + face[:1], strict=True):
+            if a != b:
+                key = (a, b) if a < b else (b, a)
+                sides.setdefault(key, set()).update(
+                    t for t in merged.faces[f] if t in ("bool.A", "bool.B")
+                )
+    for key, names in sides.items():
+        if len(names) == 2:
+            cut[key] = _added(cut.get(key, _NONE), ("bool.cut",))
+    return ComponentTags(merged.faces, cut, merged.vertices)
+
+
+def merged_tags(
+    items: Sequence[tuple[object, ComponentTags | None]], mesh, either_side: bool = False
+) -> ComponentTags:
     """The tags of ``mesh`` (world coordinates) carried from several tagged world meshes
     ``(mesh, tags)``: an inline's leaves joined, a Boolean's operands."""
     faces = [list() for _ in range(mesh.n_faces)]
@@ -282,7 +316,7 @@ def merged_tags(items: Sequence[tuple[object, ComponentTags | None]], mesh) -> C
     for old, tags in items:
         if tags is None:
             continue
-        one = _coincident(old, tags, mesh)
+        one = _coincident(old, tags, mesh, either_side)
         for k, t in enumerate(one.faces):
             faces[k].extend(t)
         for key, t in one.edges.items():
@@ -358,8 +392,10 @@ def _slack(*meshes) -> float:
     return max(1e-6, 1e3 * COINCIDENT_REL) * max(1.0, size)
 
 
-def _coincident(old, tags: ComponentTags, new) -> ComponentTags:
-    """``tags`` of the world mesh ``old`` carried to the world mesh ``new`` by geometry."""
+def _coincident(old, tags: ComponentTags, new, either_side: bool = False) -> ComponentTags:
+    """``tags`` of the world mesh ``old`` carried to the world mesh ``new`` by geometry
+    (``either_side``: a new face facing the other way counts too, as a subtracted operand's
+    faces do)."""
     slack = _slack(old, new)
     faces = [_NONE] * new.n_faces
     tagged_faces = [k for k, t in enumerate(tags.faces) if t and len(old.faces[k]) > 2]
@@ -385,7 +421,10 @@ def _coincident(old, tags: ComponentTags, new) -> ComponentTags:
             inner = _inner_point(points, normal)
             found: list[str] = []
             for k, n, offset, outline in planes:
-                if float(n @ normal) < 1 - 1e-6 - COSINE_SLACK:
+                facing = float(n @ normal)
+                if either_side:
+                    facing = abs(facing)
+                if facing < 1 - 1e-6 - COSINE_SLACK:
                     continue
                 if abs(float(inner @ n) - offset) > slack:
                     continue

@@ -27,6 +27,7 @@ import numpy as np
 from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.arguments import argument_word
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
+from shapegen.engine.shapes.tags import boolean_tags, merged_tags, resolved_tags
 from shapegen.geometry.frames import fitted_scope
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.grammar import ast
@@ -262,6 +263,14 @@ def _boolean(program, node, kind: str, meshes: list[Mesh]) -> Mesh:
     return result if result is not None else Mesh(np.empty((0, 3)), ())
 
 
+def _leaf_tags(leaves, mesh: Mesh):
+    """The tags of the leaves of an operand, on its unified world ``mesh``; None for none."""
+    tagged = [(leaf.shape, resolved_tags(leaf.shape)) for leaf in leaves]
+    if all(tags is None for _, tags in tagged):
+        return None
+    return merged_tags([(s.world_mesh(), t) for s, t in tagged if t is not None], mesh)
+
+
 def _shape_of(mesh: Mesh, rotation: np.ndarray) -> Shape:
     if mesh.n_faces == 0:
         return Shape.with_geometry(fitted_scope(np.zeros((1, 3)), rotation)[0], mesh, MASS)
@@ -274,8 +283,7 @@ def _shape_of(mesh: Mesh, rotation: np.ndarray) -> Shape:
 @compiles(
     "inline",
     *_BOOLEAN,
-    partial="unify and the Boolean operations combine closed solids or faces in one plane only; "
-    "no auto-tags (bool.A, bool.B, bool.cut)",
+    partial="unify and the Boolean operations combine closed solids or faces in one plane only",
 )
 def compile_inline(program, node: ast.Operation, params):
     if node.name == "inline":
@@ -305,6 +313,10 @@ def compile_inline(program, node: ast.Operation, params):
             return True
         mesh = _combined(program, node, strategy, meshes)
         state.shape = _shape_of(mesh, state.shape.scope.rotation)
+        tagged = [(leaf.shape, resolved_tags(leaf.shape)) for leaf in leaves]
+        if any(tags is not None for _, tags in tagged):  # op_inline: the leaves' tags kept
+            world = [(shape.world_mesh(), tags) for shape, tags in tagged if tags is not None]
+            state.shape = state.shape.with_tags(merged_tags(world, state.shape.world_mesh()))
         return True
 
     def boolean(state, args, out):
@@ -325,7 +337,13 @@ def compile_inline(program, node: ast.Operation, params):
             return True
         first = a_leaves[0]  # "The first operand A determines the resulting shape and attributes"
         state.attrs, state.appearance = first.attrs, first.appearance
-        state.shape = _shape_of(result, first.shape.scope.rotation)
+        shape = _shape_of(result, first.shape.scope.rotation)
+        operands = [
+            (mesh, _leaf_tags(leaves, mesh)) for (leaves, mesh) in operands if mesh is not None
+        ]
+        if len(operands) == 1:
+            operands.append((Mesh(np.empty((0, 3)), ()), None))
+        state.shape = shape.with_tags(boolean_tags(shape.world_mesh(), operands))
         return True
 
     return inline if node.name == "inline" else boolean
