@@ -83,6 +83,7 @@ from shapegen.engine.operations.cga import (  # noqa: E402, F401
     assets,
     extrusion,
     inline,
+    modify,
     polygons,
     rectify,
     roofs,

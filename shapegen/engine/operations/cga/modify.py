@@ -1,0 +1,218 @@
+"""``modify(component[, zUp|noAlign]) { selector operator operations | ... }`` (op_modify,
+cga_shapeRecomposition): the selected components are derived as ``comp`` would make them, and
+what they become is put back into the shape's geometry, which stays one shape with no successor.
+
+Recomposition as shapegen does it:
+
+- a component whose derivation ends in one shape with its components (moved, turned, scaled:
+  ``t``, ``r``, ``s``, ``center``) moves its vertices; the moves of a vertex shared by several
+  components are summed ("shared vertices are merged by summing their individual offsets from
+  the original vertex position"), so the faces around follow;
+- a face component deleted (``NIL``) leaves a hole; a face component made into other shapes
+  (split, extruded...) is replaced by their faces, appended without joining them to the rest (as
+  CityEngine appends what its connectivity tracking does not follow);
+- an edge or vertex component made into several shapes (an edge split in parts) keeps its
+  place, with a warning: shapegen does not insert the new vertices into the faces around it;
+- the tags the component's shape was given (``tag()``) are put on the component.
+
+The shape keeps its scope's axes; the scope is fitted to the new geometry, as after ``inline``.
+``comp.index``, ``comp.total`` and ``comp.sel`` are set as comp sets them.
+"""
+
+from __future__ import annotations
+
+__all__ = ["compile_modify"]
+
+import numpy as np
+
+from shapegen.engine.operations.cga import compiles, warn_at
+from shapegen.engine.operations.cga.inline import _shape_of, derived_leaves
+from shapegen.engine.operations.cga.topology import (
+    COMPONENT_KINDS,
+    EDGE,
+    component_selector,
+    components_of,
+    merged_shape,
+    selector_text,
+    selector_word,
+)
+from shapegen.engine.shapes.shape import FACE, MASS
+from shapegen.engine.shapes.tags import ComponentTags, merged_tags, resolved_tags
+from shapegen.geometry.mesh import Mesh
+from shapegen.grammar import ast
+
+_KINDS = COMPONENT_KINDS + ("g", "m")
+
+
+@compiles(
+    "modify",
+    partial="moves, scales and turns of components are recomposed; a face made into other "
+    "shapes is appended, an edge or vertex made into several shapes keeps its place (a "
+    "warning)",
+)
+def compile_modify(program, node: ast.Operation, params):
+    if not node.arguments or len(node.arguments) > 2:
+        raise program.error(node, "modify() takes (component) or (component, zUp|noAlign)")
+    kind = selector_word(node.arguments[0].value)
+    if kind not in _KINDS:
+        raise program.error(node, f"modify({kind}): the component is one of {', '.join(_KINDS)}")
+    align = True
+    if len(node.arguments) == 2:
+        mode = selector_word(node.arguments[1].value)
+        if mode not in ("zUp", "noAlign"):
+            raise program.error(node, f"modify's alignment is zUp or noAlign, got {mode!r}")
+        align = mode == "zUp"
+    split_kind = "f" if kind in ("g", "m") else kind  # shapegen's geometry: one group, material
+    branches = []
+    for branch in node.branches:
+        if branch.connected:
+            raise program.error(
+                branch, "modify's '=:' operator is not supported by shapegen; use ':' or '='"
+            )
+        branches.append(
+            (
+                component_selector(program, branch.key, params, split_kind, branch),
+                branch.merge,
+                program.body(branch.body, params),
+                branch,
+                selector_text(branch.key),
+            )
+        )
+
+    def modify_op(state, args, out):
+        shape = state.shape
+        if shape.kind not in (FACE, MASS, EDGE):
+            raise program.operation_error(node, "modify() cannot take apart an inserted primitive")
+        rotation = getattr(state.run, "object_rotation", None)
+        components = components_of(shape, split_kind, rotation)
+        if kind in ("g", "m"):
+            components = components[:1]
+            if components:
+                everything = merged_shape(shape, components_of(shape, "f", rotation))
+                components[0].shape = everything
+                components[0].mesh_faces = tuple(range(shape.mesh().n_faces))
+        mesh = shape.mesh()
+        world = shape.scope.to_world(mesh.vertices)
+        offsets = np.zeros_like(world)
+        removed: set[int] = set()
+        appended: list[tuple[Mesh, object]] = []
+        added: dict = {"faces": {}, "edges": {}, "vertices": {}}
+        taken = [False] * len(components)
+        for select, merge, body, branch, text in branches:
+            chosen = []
+            for k, component in enumerate(components):
+                if not taken[k] and select(component, state, args):
+                    taken[k] = True
+                    chosen.append(component)
+            if not chosen:
+                continue
+            if merge and split_kind == "f" and len(chosen) > 1:
+                pieces = [(merged_shape(shape, chosen), chosen)]
+            else:
+                pieces = [(c.shape, [c]) for c in chosen]
+            for index, (piece, members) in enumerate(pieces):
+                leaves = _derived(state, piece, body, args, branch, index, len(pieces), text)
+                _recompose(
+                    state, node, split_kind, piece, members, leaves, world, offsets, removed,
+                    appended, added,
+                )  # fmt: skip
+        state.shape = _recomposed(shape, world + offsets, mesh, removed, appended, added)
+        return True
+
+    def _derived(state, piece, body, args, branch, index, total, text):
+        def with_comp(child, args, out):
+            child.comp_index, child.comp_total, child.comp_sel = index, total, text
+            if not align:
+                child.pivot = state.pivot
+            return body(child, args, out)
+
+        saved = state.shape
+        state.shape = piece
+        try:
+            return derived_leaves(state, with_comp, args, branch)
+        finally:
+            state.shape = saved
+
+    return modify_op
+
+
+def _recompose(state, node, kind, piece, members, leaves, world, offsets, removed, appended, added):
+    """Put what the component ``piece`` (of ``members``) became back: see the module."""
+    kept = [leaf for leaf in leaves if not leaf.deleted]
+    before = piece.world_mesh()
+    vertices = [v for member in members for v in member.vertices]
+    if len(kept) == 1 and _same_components(piece, kept[0].shape):
+        after = kept[0].shape.world_mesh()
+        mine = np.unique(np.array(vertices, dtype=int))
+        for j, point in enumerate(before.vertices):  # each piece corner is one of the members'
+            nearest = mine[int(np.argmin(np.linalg.norm(world[mine] - point, axis=1)))]
+            offsets[nearest] += after.vertices[j] - point
+        tags = resolved_tags(kept[0].shape)
+        if tags is not None:
+            names = tags.listed("all")
+            key = {"f": "faces", "e": "edges", "fe": "edges"}.get(kind, "vertices")
+            for member in members:
+                where = member.mesh_faces if key == "faces" else (tuple(sorted(member.vertices)),)
+                if key == "vertices":
+                    where = member.vertices
+                for item in where:
+                    added[key].setdefault(item, []).extend(names)
+        return
+    if kind == "f":
+        for member in members:
+            removed.update(member.mesh_faces)
+        for leaf in kept:
+            if leaf.shape.kind in (FACE, MASS) and leaf.shape.insert is None:
+                mesh = leaf.shape.world_mesh()
+                if mesh.n_faces:
+                    appended.append((mesh, resolved_tags(leaf.shape)))
+        return
+    if kept:
+        warn_at(
+            state,
+            node,
+            f"modify({kind}): a component made into {len(kept)} shapes (or other components) "
+            "keeps its place: shapegen does not recompose it into the faces around it",
+        )
+
+
+def _same_components(piece, made) -> bool:
+    """Whether ``made`` has the components of ``piece`` (moved, turned or scaled)."""
+    if piece.kind != made.kind or made.insert is not None:
+        return False
+    a, b = piece.mesh(), made.mesh()
+    return a.n_vertices == b.n_vertices and a.faces == b.faces
+
+
+def _recomposed(shape, vertices, mesh, removed, appended, added):
+    """The shape of the moved ``vertices`` (world) with ``mesh``'s faces but the ``removed``
+    ones, then the ``appended`` world meshes' faces; tags kept by index."""
+    faces = [f for k, f in enumerate(mesh.faces) if k not in removed]
+    kept_index = [k for k in range(mesh.n_faces) if k not in removed]
+    points = [vertices]
+    count = len(vertices)
+    for extra, _ in appended:
+        faces += [tuple(i + count for i in f) for f in extra.faces]
+        points.append(extra.vertices)
+        count += extra.n_vertices
+    world = Mesh(np.vstack(points), faces)
+    made = _shape_of(world, shape.scope.rotation)
+    if made.kind == FACE and shape.kind == MASS and not removed and not appended:
+        made.kind = MASS
+    old = resolved_tags(shape)
+    if old is None and not any(added.values()) and all(t is None for _, t in appended):
+        return made
+    old = old or ComponentTags.empty(mesh.n_faces)
+    face_tags = [
+        tuple(dict.fromkeys((*old.face(k), *added["faces"].get(k, ())))) for k in kept_index
+    ]
+    edges = dict(old.edges)
+    for key, names in added["edges"].items():
+        edges[key] = tuple(dict.fromkeys((*edges.get(key, ()), *names)))
+    vertex_tags = dict(old.vertices)
+    for key, names in added["vertices"].items():
+        vertex_tags[key] = tuple(dict.fromkeys((*vertex_tags.get(key, ()), *names)))
+    if appended:
+        more = merged_tags(list(appended), world)
+        face_tags += list(more.faces[len(face_tags) :])
+    return made.with_tags(ComponentTags(tuple(face_tags), edges, vertex_tags))
