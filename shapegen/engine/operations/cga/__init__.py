@@ -84,6 +84,7 @@ from shapegen.engine.operations.cga import (  # noqa: E402, F401
     extrusion,
     inline,
     modify,
+    perimeter,
     polygons,
     rectify,
     roofs,
