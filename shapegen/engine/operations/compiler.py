@@ -325,11 +325,11 @@ class OperationCompiler:
         from shapegen.engine.operations.cga.topology import comp_operation
 
         for branch in node.branches:
-            if branch.connected:
+            if branch.connected and node.kind != "f":
                 raise self.error(
                     branch,
-                    "comp's '=:' operator (a shape per connected set of components) "
-                    "is not supported by shapegen",
+                    f"comp's '=:' operator (a shape per connected set of components) is "
+                    f"supported by shapegen for faces, not comp({node.kind})",
                 )
         branches = [
             (branch.selector, branch.merge, self.body(branch.body, params), branch)

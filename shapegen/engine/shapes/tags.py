@@ -214,7 +214,7 @@ class TagIndex:
         if kind in ("e", "fe"):
             a, b = vertices
             return self.edge(a, b)
-        if kind == "f":
+        if kind in ("f", "g", "m"):
             out = set()
             for f in faces:
                 if sub == "e":

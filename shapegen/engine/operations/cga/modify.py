@@ -41,7 +41,7 @@ from shapegen.engine.shapes.tags import ComponentTags, merged_tags, resolved_tag
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 
-_KINDS = COMPONENT_KINDS + ("g", "m")
+_KINDS = COMPONENT_KINDS
 
 
 @compiles(
@@ -62,7 +62,7 @@ def compile_modify(program, node: ast.Operation, params):
         if mode not in ("zUp", "noAlign"):
             raise program.error(node, f"modify's alignment is zUp or noAlign, got {mode!r}")
         align = mode == "zUp"
-    split_kind = "f" if kind in ("g", "m") else kind  # shapegen's geometry: one group, material
+    split_kind = "f" if kind in ("g", "m") else kind  # faces, as far as recomposing goes
     branches = []
     for branch in node.branches:
         if branch.connected:
@@ -71,7 +71,7 @@ def compile_modify(program, node: ast.Operation, params):
             )
         branches.append(
             (
-                component_selector(program, branch.key, params, split_kind, branch),
+                component_selector(program, branch.key, params, kind, branch),
                 branch.merge,
                 program.body(branch.body, params),
                 branch,
@@ -84,13 +84,7 @@ def compile_modify(program, node: ast.Operation, params):
         if shape.kind not in (FACE, MASS, EDGE):
             raise program.operation_error(node, "modify() cannot take apart an inserted primitive")
         rotation = getattr(state.run, "object_rotation", None)
-        components = components_of(shape, split_kind, rotation)
-        if kind in ("g", "m"):
-            components = components[:1]
-            if components:
-                everything = merged_shape(shape, components_of(shape, "f", rotation))
-                components[0].shape = everything
-                components[0].mesh_faces = tuple(range(shape.mesh().n_faces))
+        components = components_of(shape, kind, rotation)
         mesh = shape.mesh()
         world = shape.scope.to_world(mesh.vertices)
         offsets = np.zeros_like(world)
@@ -106,7 +100,7 @@ def compile_modify(program, node: ast.Operation, params):
                     chosen.append(component)
             if not chosen:
                 continue
-            if merge and split_kind == "f" and len(chosen) > 1:
+            if merge and kind == "f" and len(chosen) > 1:
                 pieces = [(merged_shape(shape, chosen), chosen)]
             else:
                 pieces = [(c.shape, [c]) for c in chosen]

@@ -30,6 +30,7 @@ __all__ = [
     "comp_operation",
     "component_selector",
     "components_of",
+    "connected_sets",
     "face_components",
     "merged_shape",
     "selector_text",
@@ -60,7 +61,7 @@ from shapegen.model.scope import Scope
 
 EDGE = "edge"
 VERTEX = "vertex"
-COMPONENT_KINDS = ("f", "e", "v", "fe", "fv")
+COMPONENT_KINDS = ("f", "e", "v", "fe", "fv", "g", "m")
 _ROOF_EDGES = ROOF_EDGE_CLASSES
 
 
@@ -448,12 +449,16 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                     chosen.append(component)
             if not chosen:
                 continue
+            groups = [chosen]
+            if getattr(branch, "connected", False):  # =: a shape per connected set
+                groups = connected_sets(shape.mesh(), chosen)
             if merge and kind == "f":
-                shapes = [merged_shape(shape, chosen)]
+                shapes = [merged_shape(shape, group) for group in groups]
+                firsts = [group[0].first for group in groups]
             else:
                 shapes = [c.shape for c in chosen]
+                firsts = [c.first for c in chosen]
             # op_comp: the pivot at the (first) component's first vertex, along its scope
-            firsts = [chosen[0].first] if merge and kind == "f" else [c.first for c in chosen]
             if not align:
                 shapes = [_unaligned(s, shape.scope) for s in shapes]
             total = len(shapes)
@@ -481,7 +486,34 @@ def components_of(shape: Shape, kind: str, object_rotation) -> list[Component]:
         return _edge_components(shape, object_rotation, kind == "fe")
     if kind == "fv":
         return _face_vertex_components(shape, object_rotation)
+    if kind in ("g", "m"):
+        return _whole_components(shape, object_rotation)
     return _vertex_components(shape, object_rotation)
+
+
+def _whole_components(shape: Shape, object_rotation) -> list[Component]:
+    """comp(g) and comp(m): shapegen's geometry is one group of one material, so there is one
+    component, the whole shape. It meets a selector when one of its faces does (op_comp: "Group
+    and material components satisfy a specific selection keyword if at least one geometric
+    component (usually a face) satifies it"); shapegen takes the first face's normal."""
+    faces = face_components(shape, object_rotation)
+    if not faces:
+        return []
+    first = faces[0]
+    mesh = shape.mesh()
+    return [
+        Component(
+            0,
+            first.normal,
+            first.world,
+            first.object,
+            any(f.border for f in faces),
+            shape.copy(),
+            tuple(range(mesh.n_faces)),
+            first=first.first,
+            vertices=tuple(range(mesh.n_vertices)),
+        )
+    ]
 
 
 def _unaligned(piece: Shape, parent: Scope) -> Shape:
@@ -494,7 +526,9 @@ def _unaligned(piece: Shape, parent: Scope) -> Shape:
 
 @compiles(
     "comp",
-    partial="refused: the components g, m and h, the =: operator and isTagged() selectors",
+    partial="refused: the component h (holes: shapegen's faces have none), and =: on edges "
+    "and vertices; g and m give one component, the whole geometry (shapegen's meshes have one "
+    "group and one material)",
 )
 def compile_comp(program, node: ast.Operation, params):
     """``comp(f|e|v|fe [, zUp|noAlign]) { selector : body | ... }`` as a generic operation."""
@@ -508,17 +542,45 @@ def compile_comp(program, node: ast.Operation, params):
             raise program.error(node, f"comp's alignment is zUp or noAlign, got {mode!r}")
         align = mode == "zUp"
     for branch in node.branches:
-        if branch.connected:
+        if branch.connected and kind != "f":
             raise program.error(
                 branch,
-                "comp's '=:' operator (a shape per connected set of components) "
-                "is not supported by shapegen",
+                f"comp's '=:' operator (a shape per connected set of components) is supported "
+                f"by shapegen for faces, not comp({kind})",
             )
     branches = [
         (branch.key, branch.merge, program.body(branch.body, params), branch)
         for branch in node.branches
     ]
     return comp_operation(program, node, kind, branches, params, align)
+
+
+def connected_sets(mesh: Mesh, chosen: list[Component]) -> list[list[Component]]:
+    """The face components ``chosen`` in sets connected by shared edges (op_comp's ``=:``: "Two
+    components are connected if their faces share an edge"), each in the order chosen, the sets
+    in the order of their first component."""
+    parent = list(range(len(chosen)))
+
+    def root(k: int) -> int:
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    seen: dict[tuple[int, int], int] = {}
+    for k, component in enumerate(chosen):
+        for f in component.mesh_faces:
+            face = mesh.faces[f]
+            for a, b in zip(face, face[1:] + face[:1], strict=True):
+                key = (a, b) if a < b else (b, a)
+                if key in seen:
+                    parent[root(k)] = root(seen[key])
+                else:
+                    seen[key] = k
+    sets: dict[int, list[Component]] = {}
+    for k, component in enumerate(chosen):
+        sets.setdefault(root(k), []).append(component)
+    return list(sets.values())
 
 
 def selector_word(expression) -> str:
