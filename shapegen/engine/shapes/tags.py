@@ -358,13 +358,18 @@ def kept_tags(shape):
     """What a shape made of ``shape``'s very components (moved, turned, scaled) holds as its
     tags."""
     tags = shape.tags
-    return tags if tags is None or type(tags) is ComponentTags else Pending(shape)
+    return tags if tags is None or type(tags) is ComponentTags else Pending(shape, _by_index)
+
+
+def _by_index(old, new) -> ComponentTags | None:
+    return old.tags
 
 
 def carried_tags(old, new) -> ComponentTags | None:
     """The tags of shape ``new`` carried from shape ``old`` (both
-    :class:`~shapegen.engine.shapes.shape.Shape`): by index when ``new`` has ``old``'s
-    components (a move, a turn, a scale), else by geometry in world coordinates."""
+    :class:`~shapegen.engine.shapes.shape.Shape`) by geometry in world coordinates (a shape
+    made of the very same components, moved or scaled, keeps them by index:
+    :func:`kept_tags`)."""
     if old.tags is None:
         return None
     resolved_tags(old)
@@ -375,15 +380,13 @@ def _carried(old, new) -> ComponentTags | None:
     tags = old.tags
     if tags is None:
         return None
-    if old.geometry is None and new.geometry is None:
-        if old.kind == new.kind and old.normal_axis == new.normal_axis:
-            return tags
-    elif old.geometry is not None and new.geometry is not None:
-        if old.geometry is new.geometry or (
-            old.geometry.n_vertices == new.geometry.n_vertices
-            and old.geometry.faces == new.geometry.faces
-        ):
-            return tags
+    same = old.scope is new.scope or (
+        np.array_equal(old.scope.origin, new.scope.origin)
+        and np.array_equal(old.scope.rotation, new.scope.rotation)
+        and np.array_equal(old.scope.size, new.scope.size)
+    )
+    if same and old.geometry is new.geometry and old.kind == new.kind:
+        return tags  # the very same geometry where it was
     return _coincident(old.world_mesh(), tags, new.world_mesh())
 
 

@@ -30,6 +30,7 @@ from shapegen.engine.operations.cga.inline import _shape_of, derived_leaves
 from shapegen.engine.operations.cga.topology import (
     COMPONENT_KINDS,
     EDGE,
+    _unaligned,
     component_selector,
     components_of,
     merged_shape,
@@ -104,6 +105,8 @@ def compile_modify(program, node: ast.Operation, params):
                 pieces = [(merged_shape(shape, chosen), chosen)]
             else:
                 pieces = [(c.shape, [c]) for c in chosen]
+            if not align:  # noAlign: the components keep the shape's axes (op_comp)
+                pieces = [(_unaligned(piece, shape.scope), members) for piece, members in pieces]
             for index, (piece, members) in enumerate(pieces):
                 leaves = _derived(state, piece, body, args, branch, index, len(pieces), text)
                 _recompose(

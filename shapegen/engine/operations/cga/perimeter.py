@@ -9,8 +9,9 @@ the chain's length, ``~`` floating; ``*`` repeats), starting ``splitOffset`` alo
 edges are cut at the sections' ends and one weighted setback sets every piece back by its
 section's depth, so where two sections' strips would overlap the deeper one takes the overlap
 ("The overlap belongs to the shape that has been generated with larger depth"). A section's
-strips are one shape; the remainder is a shape per polygon. The pieces' edges get setback's
-auto-tags (``setback.front``, ``setback.back``, ``setback.side``, ``setback.remainder``).
+strips are one shape; the remainder (the face without the strips) is a shape per polygon. The
+pieces' edges get setback's auto-tags (``setback.front``, ``setback.back``, ``setback.side``,
+``setback.remainder``).
 
 shapegen works on the first face of the shape (the lot, a comp face); a shape of several faces
 gives a warning and its other faces are left out.
@@ -157,8 +158,9 @@ def compile_split_and_setback_perimeter(program, node: ast.Operation, params):
             child.split_index, child.split_total = index, len(sections)
             if body(child, args, out) and child.is_leaf():
                 out.append((child, None, ()))
+        rest = _remainder(cut, [piece for _, piece in result.strips])
         for body, branch in remainder:
-            for piece in result.remainder:
+            for piece in rest:
                 made = flat_shape(parent, [frame.lift(piece)])
                 made = made.with_tags(Pending(parent, lines.rule(True)))
                 child = run.child(state, made, branch)
@@ -202,6 +204,24 @@ def _cut_polygon(polygon, lengths, chain, sections, shift: float, total: float):
                 else None
             )
     return np.array(points), owner
+
+
+def _remainder(polygon: np.ndarray, strips: list[np.ndarray]) -> list[np.ndarray]:
+    """``polygon`` without the ``strips``, counter-clockwise polygons. The weighted setback's
+    own remainder (its front) leaves out what lies before an edge that stays put between two
+    that move, which belongs to the remainder here: the pieces tile the face."""
+    import shapely
+    from shapely.geometry import Polygon
+
+    whole = Polygon(polygon)
+    rest = whole.difference(shapely.union_all([Polygon(p) for p in strips])) if strips else whole
+    slack = 1e-9 * max(1.0, whole.area)
+    out = []
+    for part in getattr(rest, "geoms", [rest]):
+        if isinstance(part, Polygon) and part.area > slack:
+            ring = shapely.geometry.polygon.orient(part, 1.0).exterior.coords
+            out.append(np.array(ring[:-1]))
+    return out
 
 
 def _section_at(position: float, sections, shift: float, total: float):

@@ -45,6 +45,7 @@ import numpy as np
 from shapegen.engine.expressions.arrays import format_value, type_name
 from shapegen.engine.operations.cga import compiles
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
+from shapegen.engine.shapes.tags import Pending
 from shapegen.engine.shapes.trim import comp_trim_planes
 from shapegen.geometry.frames import (
     face_rotation,
@@ -340,6 +341,8 @@ def component_selector(program, key, params, kind: str, where=None) -> Selector:
         run = state.run
         outer = run.tag_selection
         run.tag_selection = (saved, kind, c)  # what isTagged() looks at
+        if saved.tags is not None and c.shape.tags is None:  # geometry.tags() reads its own
+            c.shape = c.shape.with_tags(Pending(saved))
         state.shape = c.shape
         try:
             value = compiled(args, state)
