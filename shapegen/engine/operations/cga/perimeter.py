@@ -41,7 +41,10 @@ from shapegen.geometry import polygon2d
 from shapegen.grammar import ast
 
 
-@compiles("splitAndSetbackPerimeter")
+@compiles(
+    "splitAndSetbackPerimeter",
+    partial="the perimeter of the first face only (a warning for the others)",
+)
 def compile_split_and_setback_perimeter(program, node: ast.Operation, params):
     arguments = node.arguments
     if len(arguments) not in (1, 3):
