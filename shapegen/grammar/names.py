@@ -360,7 +360,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("world.lowest", "world.highest", "object.lowest", "object.highest"),
         *("largest", "longest", "shortest", "lowest", "highest", "smallest", "any"),
         *("adjust", "noAdjust"),
-        *("f", "e", "v", "u", "fe", "fv", "g", "h", "zUp", "noAlign"),
+        *("f", "e", "v", "u", "fe", "fv", "g", "h", "m", "zUp", "noAlign"),
         *("separatePerFace", "collectiveAllFaces"),  # normalizeUV's modes
         *("streetSide", "noStreetSide", "streetFront"),  # deprecated selectors, still compiled
         *("inside", "border", "remainder", "shape", "all", "none", "keep", "remove"),

@@ -126,14 +126,7 @@ def test_an_imported_file_may_overload_a_builtin_by_arity(tmp_path):
 @pytest.mark.parametrize(
     "text",
     [
-        pytest.param(
-            "Lot --> extrude(3) comp(f) { comp.index > 2 && side : A | top : B }",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="comp selectors that are logical expressions naming selectors are not"
-                " read yet",
-            ),
-        ),
+        "Lot --> extrude(3) comp(f) { comp.index > 2 && side : A | top : B }",
         "Lot --> extrude(3) R(true)\nR(q) --> comp(f) { q : A }",
     ],
 )
