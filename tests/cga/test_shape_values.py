@@ -90,9 +90,7 @@ def test_get_geo_coord_without_a_georeference():
     assert any("no georeference" in w for w in model.metadata["warnings"])
 
 
-@pytest.mark.parametrize(
-    "read", ["geometry.hasTags", "geometry.tags", "geometry.materials", "geometry.groups"]
-)
+@pytest.mark.parametrize("read", ["geometry.materials", "geometry.groups"])
 def test_geometry_functions_shapegen_does_not_answer_are_refused_when_loaded(read):
     with pytest.raises(GrammarError, match="is not supported by shapegen"):
         parse_grammar(f"@StartRule\nLot --> print({read}) X.", "values.cga")

@@ -21,6 +21,7 @@ from shapegen.engine.derivation.state import Operation, format_chain
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
 from shapegen.engine.operations.shape_writes import WRITABLE, compile_shape_write
 from shapegen.engine.operations.template_primitives import INSERT, compile_insert
+from shapegen.engine.shapes.auto_tags import extruded
 from shapegen.engine.shapes.shape import (
     FACE,
     MASS,
@@ -37,7 +38,6 @@ from shapegen.engine.shapes.split import (
     SplitRepeat,
     resolve_split,
 )
-from shapegen.engine.shapes.tags import extruded
 from shapegen.errors import GrammarError, OperationError
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES

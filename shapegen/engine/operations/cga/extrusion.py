@@ -26,8 +26,8 @@ import numpy as np
 from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word
 from shapegen.engine.operations.cga.topology import EDGE
+from shapegen.engine.shapes.auto_tags import extruded
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, extrude_shape
-from shapegen.engine.shapes.tags import extruded
 from shapegen.geometry.extrude import extrude_faces
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh

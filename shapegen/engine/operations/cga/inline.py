@@ -26,8 +26,9 @@ import numpy as np
 
 from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.arguments import argument_word
+from shapegen.engine.shapes.auto_tags import boolean_tags
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
-from shapegen.engine.shapes.tags import boolean_tags, merged_tags, resolved_tags
+from shapegen.engine.shapes.tags import merged_tags, resolved_tags
 from shapegen.geometry.frames import fitted_scope
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.grammar import ast

@@ -28,12 +28,12 @@ import numpy as np
 from shapegen.engine.expressions.arrays import type_name
 from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.polygons import (
-    SetbackLines,
     _joined,
     array_elements,
     flat_faces,
     flat_shape,
 )
+from shapegen.engine.operations.cga.setback_tags import SetbackLines
 from shapegen.engine.shapes.split import SplitPart, SplitRepeat, resolve_split
 from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
