@@ -148,6 +148,7 @@ def checked_operation(program, node, operation):
             if shape is before:
                 return going_on
             if before.tags is not None and shape.tags is None and name not in CLEARS_TAGS:
+                # (before has tags only where the derivation keeps them: Derivation.tags)
                 state.shape = shape = with_carried_tags(before, shape)
             limits = state.run.limits
             geometry = shape.geometry

@@ -138,6 +138,8 @@ class Derivation:
         # isTagged(): the component a comp() or modify() selector is looking at
         # (shapegen.engine.operations.cga.topology.TagSelection), None elsewhere
         self.tag_selection = None
+        # whether component tags are kept (the program reads them: Program.reads_tags)
+        self.tags = getattr(program, "reads_tags", True)
         self.tag_index = None  # (shape, its shapegen.engine.shapes.tags.TagIndex): the last
 
     def warn(self, message: str) -> None:
@@ -225,7 +227,7 @@ class Derivation:
         if shape is not parent.shape:
             if not within_bounds:  # made by a split, a comp...
                 checked_child(self.program, node, parent, shape)
-            if parent.shape.tags is not None and shape.tags is None:
+            if self.tags and parent.shape.tags is not None and shape.tags is None:
                 shape = with_carried_tags(parent.shape, shape)
         if self.occlusion is not None and shape.kind != parent.shape.kind:
             self.occlusion.parent(

@@ -210,7 +210,7 @@ class OperationCompiler:
             if cityengine and shape.kind == "edge":  # an edge of comp(e|fe): a face
                 from shapegen.engine.operations.cga.extrusion import edge_extrusion
 
-                state.shape = extruded(shape, edge_extrusion(shape, height(args, state)))
+                state.shape = extruded(state, shape, edge_extrusion(shape, height(args, state)))
                 return True
             if shape.kind != FACE and not (cityengine and shape.kind == MASS):
                 raise error(
@@ -219,7 +219,9 @@ class OperationCompiler:
                     "this shape is already 3D",
                 )
             try:
-                state.shape = extruded(shape, extrude_shape(shape, height(args, state), cityengine))
+                state.shape = extruded(
+                    state, shape, extrude_shape(shape, height(args, state), cityengine)
+                )
             except ValueError as exc:
                 raise operation_error(node, str(exc)) from None
             return True

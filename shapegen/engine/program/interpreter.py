@@ -102,6 +102,9 @@ class Program:
         # its repeat counts, and its leniency: where its runtime warns and carries on, so does
         # the derivation (the model's metadata lists the warnings); .grammar files stay strict.
         self.cga_dialect = grammar.dialect == "cga"
+        # component tags are kept only where the file can read them (isTagged, geometry.tags,
+        # geometry.hasTags): elsewhere nothing could tell them, and keeping them costs
+        self.reads_tags = reads_tags(grammar)
         self.attr_nodes = {a.name: a for a in grammar.attrs}
         self.const_nodes = {c.name: c for c in grammar.consts}
         global_names = set(self.attr_nodes) | set(self.const_nodes) | set(RESERVED_ATTRIBUTES)
@@ -455,6 +458,19 @@ def _component_values(compiler, node, params):
     from shapegen.engine.operations.cga.comp_values import compile_component_values
 
     return compile_component_values(compiler, node, params)
+
+
+def reads_tags(grammar: ast.RuleFile) -> bool:
+    """Whether the rule file reads component tags: isTagged(), geometry.tags, geometry.hasTags."""
+    from shapegen.grammar.tree import walk
+
+    for item in walk(grammar):
+        if type(item) is ast.Call and item.name == "isTagged":
+            return True
+        if type(item) is ast.ShapeAttribute and item.obj == "geometry":
+            if item.field in ("tags", "hasTags"):
+                return True
+    return False
 
 
 def _rule_with_locals(body, extend):

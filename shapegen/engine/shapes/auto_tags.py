@@ -85,7 +85,9 @@ def extrusion_tags(source, result) -> ComponentTags | None:
     return tags
 
 
-def extruded(source, result):
+def extruded(state, source, result):
     """``result``, the extrusion of ``source``, with its auto-tags to be worked out when read
-    (:func:`extrusion_tags`)."""
+    (:func:`extrusion_tags`), when the derivation of ``state`` keeps tags."""
+    if not state.run.tags:
+        return result
     return result.with_tags(Pending(source, extrusion_tags))

@@ -58,7 +58,7 @@ def compile_extrude(program, node: ast.Operation, params):
     def extrude_op(state, args, out):
         shape = state.shape
         if cityengine and shape.kind == EDGE and kind == "face.normal":
-            state.shape = extruded(shape, edge_extrusion(shape, distance(args, state)))
+            state.shape = extruded(state, shape, edge_extrusion(shape, distance(args, state)))
             return True
         if cityengine and shape.kind in (EDGE, "vertex"):  # vertex.normal, or a vertex
             raise error(
@@ -81,7 +81,7 @@ def compile_extrude(program, node: ast.Operation, params):
                 made = vertex_normal_extrusion(shape, height)
             else:
                 made = extrude_shape(shape, height, cityengine, kind)
-            state.shape = extruded(shape, made)
+            state.shape = extruded(state, shape, made)
         except ValueError as exc:
             raise program.operation_error(node, str(exc)) from None
         return True

@@ -344,7 +344,9 @@ def compile_inline(program, node: ast.Operation, params):
         ]
         if len(operands) == 1:
             operands.append((Mesh(np.empty((0, 3)), ()), None))
-        state.shape = shape.with_tags(boolean_tags(shape.world_mesh(), operands))
+        state.shape = shape
+        if state.run.tags:
+            state.shape = shape.with_tags(boolean_tags(shape.world_mesh(), operands))
         return True
 
     return inline if node.name == "inline" else boolean

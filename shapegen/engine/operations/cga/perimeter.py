@@ -156,7 +156,8 @@ def compile_split_and_setback_perimeter(program, node: ast.Operation, params):
             body, branch = pattern[piece.key][3], pattern[piece.key][4]
             groups = _joined(frame, strips[index])
             made = flat_shape(parent, [face for group in groups for face in group])
-            made = made.with_tags(Pending(parent, lines.rule(False)))
+            if run.tags:
+                made = made.with_tags(Pending(parent, lines.rule(False)))
             child = run.child(state, made, branch)
             child.split_index, child.split_total = index, len(sections)
             if body(child, args, out) and child.is_leaf():
@@ -165,7 +166,8 @@ def compile_split_and_setback_perimeter(program, node: ast.Operation, params):
         for body, branch in remainder:
             for piece in rest:
                 made = flat_shape(parent, [frame.lift(piece)])
-                made = made.with_tags(Pending(parent, lines.rule(True)))
+                if run.tags:
+                    made = made.with_tags(Pending(parent, lines.rule(True)))
                 child = run.child(state, made, branch)
                 if body(child, args, out) and child.is_leaf():
                     out.append((child, None, ()))

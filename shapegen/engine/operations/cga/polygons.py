@@ -314,7 +314,7 @@ def _emit_all(state, args, branches, pieces_of, out, lines=None) -> None:
         groups = [[face for group in pieces for face in group]] if merge else pieces
         for index, group in enumerate(groups):
             piece = flat_shape(parent, group)
-            if lines is not None:
+            if lines is not None and run.tags:
                 piece = piece.with_tags(Pending(parent, lines.rule(selector == "remainder")))
             child = run.child(state, piece, branch)
             child.comp_index = index

@@ -35,12 +35,15 @@ from shapegen.tolerances import COSINE_SLACK
 
 
 def roof_shape(
-    parent: Shape, built: list[tuple[object, roofs.RoofMesh]], keep_axes: bool = False
+    parent: Shape,
+    built: list[tuple[object, roofs.RoofMesh]],
+    keep_axes: bool = False,
+    tagged: bool = True,
 ) -> Shape:
     """The 3D shape holding the roofs ``(frame, RoofMesh)`` built on ``parent``'s faces: its
     scope's y along the face normal (the roofs), or the parent's axes (``keep_axes``: the
     envelope, whose scope PyPRT only resizes; candler's ventilation moves along the envelope's
-    scope z to its top)."""
+    scope z to its top). ``tagged``: with its auto-tags (the derivation keeps tags)."""
     points, faces = [], []
     start = 0
     for frame, mesh in built:
@@ -56,9 +59,8 @@ def roof_shape(
     )
     scope, fitted = fitted_scope(parent.scope.to_world(local), frame)
     names = [(k, tag) for k, (_, mesh) in enumerate(built) for tag in mesh.tags]
-    return Shape(
-        scope, MASS, 1, None, Mesh(fitted, faces), Pending(parent, _auto_tags(names, len(built)))
-    )
+    tags = Pending(parent, _auto_tags(names, len(built))) if tagged else None
+    return Shape(scope, MASS, 1, None, Mesh(fitted, faces), tags)
 
 
 def _auto_tags(names: list[tuple[int, str]], count: int):
@@ -166,7 +168,7 @@ def compile_roof(program, node: ast.Operation, params):
             built.append((frame, mesh))
         if not built:
             return False
-        state.shape = roof_shape(state.shape, built)
+        state.shape = roof_shape(state.shape, built, tagged=state.run.tags)
         return True
 
     return roof_op
@@ -202,7 +204,7 @@ def compile_taper(program, node: ast.Operation, params):
             mesh = roofs.taper(polygon, height(args, state))
         except GeometryError as exc:
             raise program.operation_error(node, f"taper(): {exc}") from None
-        state.shape = roof_shape(state.shape, [(frame, mesh)])
+        state.shape = roof_shape(state.shape, [(frame, mesh)], tagged=state.run.tags)
         return True
 
     return taper_op
@@ -288,7 +290,7 @@ def compile_envelope(program, node: ast.Operation, params):
                 raise program.operation_error(node, f"envelope(): {exc}") from None
         if not built:
             return False
-        state.shape = roof_shape(state.shape, built, keep_axes=True)
+        state.shape = roof_shape(state.shape, built, keep_axes=True, tagged=state.run.tags)
         return True
 
     return envelope_op

@@ -72,6 +72,8 @@ def compile_tags(program, node: ast.Operation, params):
         if not text:
             warn_at(state, node, "tag(): an empty tag name tags nothing")
             return True
+        if not state.run.tags:  # the file never reads a tag (Program.reads_tags)
+            return True
         shape = state.shape
         state.shape = shape.with_tags(shape_tags(shape).tagged(shape.mesh(), text, components))
         return True
