@@ -202,6 +202,24 @@ def test_booleans_tag_faces_by_operand_and_the_cut_edges():
     assert _count(reports, "cut") == 6
 
 
+# op_setback: "isTagged(tagQuery): Selects tagged edges ... Edges can also be selected based on
+# the tags of adjacent faces."
+@pytest.mark.parametrize(
+    "operations, selector, strips",
+    [
+        ('tag("E", edges)', 'isTagged("E") && front', 1),
+        ('tag("E", edges)', 'isTagged("E")', 4),
+        ('tag("F")', 'isTagged("F") && (back || left)', 2),  # the tags of the face
+        ('tag("E", edges)', 'isTagged("Other")', 0),
+    ],
+)
+def test_setback_selects_tagged_edges(operations, selector, strips):
+    text = (
+        f"""Lot --> {operations} setback(2) {{ {selector} : report("n", 1) X. | remainder : R. }}"""
+    )
+    assert _count(_reports(text), "n") == strips
+
+
 def test_is_tagged_outside_a_selector_is_an_error():
     with pytest.raises(Exception, match="selector of comp"):
         _reports('Lot --> extrude(2) print(isTagged("a"))')

@@ -33,7 +33,11 @@ from shapegen.engine.derivation.state import format_chain
 from shapegen.engine.expressions.arrays import type_name
 from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import number, plain_arguments, selector_name
-from shapegen.engine.operations.cga.setback_tags import SetbackLines
+from shapegen.engine.operations.cga.setback_tags import (
+    SetbackLines,
+    edge_component,
+    tag_selector,
+)
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
@@ -171,6 +175,8 @@ def _branches(program, node, params, allowed: set[str], edges: bool):
             selector: str | int = int(branch.key.value)
         elif name in allowed or (edges and name in _EDGE_SELECTORS):
             selector = name
+        elif edges and (tagged := tag_selector(program, branch.key, params)) is not None:
+            selector = tagged
         else:
             choices = sorted(allowed | (set(_EDGE_SELECTORS) if edges else set()))
             raise program.error(
@@ -234,10 +240,14 @@ def compile_offset(program, node: ast.Operation, params):
 # -- setbacks -------------------------------------------------------------------------------
 
 
-def _edge_selected(selector, normals, index: int, count: int) -> bool:
-    """Whether edge ``index`` with ``normals`` (scope, world, object) matches ``selector``."""
+def _edge_selected(selector, normals, index: int, count: int, where) -> bool:
+    """Whether edge ``index`` with ``normals`` (scope, world, object) matches ``selector``
+    (``where``: state, face frame, polygon, arguments, for a selector written with isTagged)."""
     if isinstance(selector, int):
         return index == selector % count
+    if callable(selector):
+        state, frame, polygon, args = where
+        return selector(edge_component(state.shape, frame, polygon, index, normals), state, args)
     return face_matches(selector, *normals, True)
 
 
@@ -258,12 +268,14 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
             rotation = getattr(state.run, "object_rotation", None)
             objects = world if rotation is None else world @ rotation
             owner: list[object] = [None] * n  # the first selector that takes each edge
+            where = (state, frame, polygon, args)
             for selector, _, _, _ in branches:
                 if selector in ("remainder", "shape"):
                     continue
                 for k in range(n):
                     normals = (scope_normals[k], world[k], objects[k])
-                    if owner[k] is None and _edge_selected(selector, normals, k, n):
+
+                    if owner[k] is None and _edge_selected(selector, normals, k, n, where):
                         owner[k] = selector
             selected = np.array([o is not None for o in owner]) if not shape_selector else None
             distances = distances_of(args, state, frame, polygon, quadrants, selected)

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-__all__ = ["SetbackLines"]
+__all__ = ["SetbackLines", "edge_component", "tag_selector"]
 
 import numpy as np
+
+from shapegen.grammar import ast
 
 
 class SetbackLines:
@@ -78,3 +80,53 @@ def _on_line(p, point, direction, slack: float) -> bool:
         return False
     offset = p - point
     return float(np.linalg.norm(offset - (offset @ direction) / length**2 * direction)) <= slack
+
+
+def _tag_words(key) -> bool:
+    """Whether ``key`` is made of isTagged() calls, selector names and edge indices joined by
+    ``&&``, ``||`` and ``!``, with at least one isTagged()."""
+
+    def plain(node) -> bool:
+        if isinstance(node, ast.Call):
+            return node.name == "isTagged"
+        if isinstance(node, (ast.Name, ast.ShapeAttribute, ast.Number)):
+            return True
+        if isinstance(node, ast.Binary) and node.op in ("&&", "||"):
+            return plain(node.left) and plain(node.right)
+        if isinstance(node, ast.Unary) and node.op == "!":
+            return plain(node.operand)
+        return False
+
+    def tagged(node) -> bool:
+        if isinstance(node, ast.Call):
+            return True
+        if isinstance(node, ast.Binary):
+            return tagged(node.left) or tagged(node.right)
+        return isinstance(node, ast.Unary) and tagged(node.operand)
+
+    return plain(key) and tagged(key)
+
+
+def tag_selector(program, key, params):
+    """A setback selector written with isTagged() (op_setback: "isTagged(tagQuery): Selects
+    tagged edges ... Edges can also be selected based on the tags of adjacent faces"), as
+    comp(e) reads it: ``selector(component, state, args) -> bool``; None for other forms."""
+    if not _tag_words(key):
+        return None
+    from shapegen.engine.operations.cga.comp_selectors import component_selector
+
+    return component_selector(program, key, params, "e")
+
+
+def edge_component(shape, frame, polygon, k: int, normals):
+    """Edge ``k`` of the face ``polygon`` (in the plane of ``frame``) of ``shape`` as a comp(e)
+    component: its mesh vertices found by position, the faces along it, its normals (scope,
+    world, object), on the border."""
+    from shapegen.engine.operations.cga.topology import Component
+
+    mesh = shape.mesh()
+    ends = frame.lift(np.array([polygon[k], polygon[(k + 1) % len(polygon)]]))
+    a, b = (int(np.argmin(np.linalg.norm(mesh.vertices - p, axis=1))) for p in ends)
+    faces = tuple(f for f, face in enumerate(mesh.faces) if a in face and b in face)
+    scope_normal, world, obj = normals
+    return Component(k, scope_normal, world, obj, True, shape, faces, vertices=(a, b))
