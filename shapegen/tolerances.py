@@ -282,7 +282,7 @@ RAY_PARALLEL_DET = 1e-14
 #: one shape at a time (dimensionless).
 BATCH_DOUBT_REL = 1e-6
 
-#: Design page: a value lies on a slider's grid ``low + k * step`` when within ``GRID_SLACK``
+#: A value lies on a ``@Range`` stepsize's grid ``low + k * step`` when within ``GRID_SLACK``
 #: of a step of it (dimensionless, a fraction of one step).
 GRID_SLACK = 1e-6
 

@@ -64,13 +64,15 @@ def add_command(commands) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from shapegen.cli.options import load_grammar
+    from shapegen.cli.options import checked_attrs, load_grammar
     from shapegen.editor import EditorSession, make_server
     from shapegen.editor.watch import FileWatcher
 
     grammar = load_grammar(args.grammar)
     if grammar.path is None:
         raise CommandLineError(f"{args.grammar}: the editor needs a grammar file")
+    # the build's rule: an unknown attr is refused, a value outside its @Range warned of
+    checked_attrs(grammar, args.assignments)
     try:
         server = make_server(None, args.port)  # the port first: a taken one costs no build
     except OSError as exc:
@@ -81,7 +83,8 @@ def run(args: argparse.Namespace) -> int:
             ) from None
         raise
     try:
-        # --set values are checked as the page's are: a known attr, of its kind, in its @Range
+        # --set values are checked as the page's are: a known attr, of its kind (the page
+        # shows the warning of one outside its @Range too)
         # a package is opened as such (its exported command names it), not as its start rule
         opened = args.grammar if Path(args.grammar).suffix.lower() == ".rpk" else grammar.path
         server.session = session = EditorSession(

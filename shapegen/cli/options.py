@@ -332,9 +332,10 @@ def checked_attrs(
     grammar, assignments: list[tuple[str, object]], option: str = "--set", given=None
 ) -> dict:
     """The ``--set`` (or ``--fix``) values by name; an unknown name is an error with close
-    suggestions, and a number outside its attr's ``@Range`` one warning line: CityEngine treats
-    a range as a hint, so the value is used as given, never clamped. ``given`` holds the other
-    attrs the ranges may depend on."""
+    suggestions, and a number outside its attr's ``@Range`` (or off its stepsize) one warning
+    line: CityEngine treats a range as a hint, so the value is used as given, never clamped
+    (:meth:`~shapegen.engine.grammar_api.Grammar.range_warnings`, the design page's rule too).
+    ``given`` holds the other attrs the ranges may depend on."""
     known = attr_names(grammar)
     attrs: dict = {}
     for name, value in assignments:
@@ -353,14 +354,5 @@ def checked_attrs(
 def _warn_outside_ranges(grammar, attrs: dict, option: str, given: dict) -> None:
     import sys
 
-    ranges = grammar.parameter_ranges({**given, **attrs})
-    for name, value in attrs.items():
-        spec = ranges.get(name)
-        if spec is None or isinstance(value, bool) or not isinstance(value, int | float):
-            continue
-        if not spec["min"] <= value <= spec["max"]:
-            sys.stderr.write(
-                f"shapegen: warning: {option} {name}={value:g} is outside its @Range"
-                f" [{spec['min']:g}, {spec['max']:g}]: built as given (a range is a hint, as in"
-                " CityEngine)\n"
-            )
+    for warning in grammar.range_warnings(attrs, given).values():
+        sys.stderr.write(f"shapegen: warning: {option} {warning}\n")

@@ -38,11 +38,8 @@ __all__ = [
     "asset_choices",
     "attr_hints",
     "inspector_sections",
-    "on_grid",
-    "snapped",
 ]
 
-import math
 import os
 import weakref
 from collections.abc import Iterable, Mapping
@@ -51,7 +48,6 @@ from pathlib import Path
 
 from shapegen.grammar import ast
 from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
-from shapegen.tolerances import GRID_SLACK, is_close
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 #: The most asset files (or folders) offered for one ``@File`` attr: a project is browsed, not
@@ -319,15 +315,3 @@ def _walk(root: Path, directories: bool, depth: int) -> Iterable[Path]:
             yield from (here / f for f in folders)
         else:
             yield from (here / f for f in sorted(files) if not f.startswith("."))
-
-
-def snapped(value: float, low: float, step: float) -> float:
-    """``value`` moved to the nearest of ``low + k * step`` (a ``@Range`` stepsize's grid)."""
-    k = round((value - low) / step)
-    return low + k * step
-
-
-def on_grid(value: float, low: float, step: float) -> bool:
-    """True when ``value`` lies on ``low + k * step`` (to a millionth of a step)."""
-    k = (value - low) / step
-    return math.isfinite(k) and is_close(k, round(k), GRID_SLACK)

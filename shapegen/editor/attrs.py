@@ -6,14 +6,22 @@ current value and the rule's default, its ``@Range`` (a slider) when it has one,
 annotations`: step, choices, group, order, description, hidden), and whether it is a whole
 number (a count: :mod:`shapegen.editor.counts`), whose slider steps by 1.
 A value sent to the editor is checked here before any work: an unknown name, a value of the wrong
-kind, a number that is not finite or lies outside its ``@Range`` (unless ``restricted=false``)
-or off its stepsize, a value not among its ``@Enum``'s, a fraction for a count is a
-:class:`RequestError` naming it.
+kind, a number that is not finite, a value not among its ``@Enum``'s, a fraction for a count is
+a :class:`RequestError` naming it. A number outside its ``@Range`` or off its stepsize is taken,
+with a warning the page shows (:func:`range_warnings`): the command line's rule, since a range
+is a hint, as in CityEngine.
 """
 
 from __future__ import annotations
 
-__all__ = ["AttrSpec", "RequestError", "attr_specs", "checked_values", "plain_value"]
+__all__ = [
+    "AttrSpec",
+    "RequestError",
+    "attr_specs",
+    "checked_values",
+    "plain_value",
+    "range_warnings",
+]
 
 import difflib
 import math
@@ -27,7 +35,6 @@ from shapegen.editor.annotations import (
     AttrHints,
     asset_choices,
     attr_hints,
-    on_grid,
 )
 from shapegen.editor.counts import count_attrs, is_whole
 from shapegen.errors import ShapegenError
@@ -191,13 +198,11 @@ def checked_values(
 ) -> dict[str, object]:
     """The attr values of a request body, checked: ``{"name": value, ...}``.
 
-    Numbers must be finite JSON numbers within the attr's ``@Range`` (evaluated with the new
-    values, since a bound may depend on another attr; any number for ``restricted=false``
-    unless the attr is ``@Free`` or named in ``free``), on its stepsize's grid, and whole for
-    a count; booleans ``true``/``false``; strings strings, a ``@Color`` ``"#rrggbb"``, one of
-    the ``@Enum``'s values when restricted. Raises :class:`RequestError` naming the first
-    problem: 400 for a request the page cannot mean, 422 for a fraction given to a count or a
-    number off its stepsize.
+    Numbers must be finite JSON numbers, and whole for a count (one outside its ``@Range``
+    or off its stepsize is taken: :func:`range_warnings` says so); booleans ``true``/``false``;
+    strings strings, a ``@Color`` ``"#rrggbb"``, one of the ``@Enum``'s values when restricted.
+    Raises :class:`RequestError` naming the first problem: 400 for a request the page cannot
+    mean, 422 for a fraction given to a count.
     """
     if not isinstance(payload, dict):
         raise RequestError('send a JSON object of attr values, such as {"span": 7.5}')
@@ -239,7 +244,6 @@ def checked_values(
             )
         values[name] = value
     given = {**current, **values}
-    ranges = grammar.parameter_ranges(given)
     nodes = grammar.program.attr_nodes
     for name, value in values.items():
         hint = hints[name]
@@ -255,22 +259,20 @@ def checked_values(
                 raise RequestError(
                     f"attr {name!r} takes one of {listed}{more}; got {_choice(value)}"
                 )
-        spec = ranges.get(name)
-        if spec is None or hint.kind != "number":
-            continue
-        low, high = spec["min"], spec["max"]
-        if restricted and not low <= value <= high:
-            raise RequestError(
-                f"attr {name!r} = {value:g} is outside its @Range [{low:g}, {high:g}]"
-            )
-        if restricted and hint.step and not on_grid(value, low, hint.step):
-            below = low + math.floor((value - low) / hint.step) * hint.step
-            raise RequestError(
-                f"attr {name!r} steps by {hint.step:g} from {low:g}: the values nearest are "
-                f"{below:g} and {below + hint.step:g}; got {value:g}",
-                422,
-            )
     return values
+
+
+def range_warnings(
+    grammar, attrs: Mapping[str, object], values: Mapping[str, object], free: Collection[str] = ()
+) -> list[str]:
+    """The warnings of the designer's ``attrs`` outside their ``@Range`` or off its stepsize
+    (``values``: every attr's value, which a bound may depend on), one line each as the page
+    shows them: the command line's ``--set`` rule
+    (:meth:`~shapegen.engine.grammar_api.Grammar.range_warnings`)."""
+    if not attrs:
+        return []
+    found = grammar.range_warnings(attrs, values, free=free)
+    return [f"attr {warning}" for warning in found.values()]
 
 
 def _choice(value: object) -> str:

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from shapegen.editor.annotations import attr_hints, inspector_sections
-from shapegen.editor.attrs import RequestError, attr_specs, plain_value
+from shapegen.editor.attrs import RequestError, attr_specs, plain_value, range_warnings
 from shapegen.editor.blocks import block_details
 from shapegen.editor.exports import command_line
 from shapegen.editor.scene import scene_data
@@ -83,8 +83,12 @@ def state_json(shown: Shown) -> dict:
             "dialect": shown.grammar.dialect,
             "judged_by": structure.description,  # the page's words for what judges it
         },
-        # what the load let through and the derivation warned about (a .cga file's)
-        "warnings": [str(w) for w in (outcome.model.metadata or {}).get("warnings", [])],
+        # the designer's values outside their @Range, taken as given as on the command line,
+        # then what the load let through and the derivation warned about (a .cga file's)
+        "warnings": [
+            *range_warnings(shown.grammar, shown.attrs, shown.values, shown.free),
+            *(str(w) for w in (outcome.model.metadata or {}).get("warnings", [])),
+        ],
         "attrs": [
             spec.to_json()
             for spec in attr_specs(shown.grammar, shown.values, user=shown.attrs, free=shown.free)

@@ -2,6 +2,8 @@
 each attr, the sections and their order, and the values the API takes or refuses for them."""
 
 import json
+import subprocess
+import sys
 
 import pytest
 from editor_http import request, serving
@@ -9,7 +11,7 @@ from editor_stack import annotated_project
 
 from shapegen import pipeline
 from shapegen.editor.annotations import asset_choices, attr_hints, inspector_sections
-from shapegen.editor.attrs import RequestError, checked_values
+from shapegen.editor.attrs import RequestError, checked_values, range_warnings
 
 
 @pytest.fixture
@@ -76,8 +78,6 @@ def test_asset_choices_list_files_next_to_the_rule_and_in_the_projects_assets(an
 @pytest.mark.parametrize(
     ("payload", "status", "message"),
     [
-        ({"angle": 20}, 422, "attr 'angle' steps by 15 from 0: the values nearest are 15 and 30"),
-        ({"angle": 60}, 400, "attr 'angle' = 60 is outside its @Range [0, 45]"),
         ({"stone": "slate"}, 400, "attr 'stone' takes one of 'limestone', 'granite', 'marble'"),
         ({"detail": "mid"}, 400, "attr 'detail' takes one of 'low', 'high'; got 'mid'"),
         ({"size": 5}, 400, "attr 'size' takes one of 1, 2, 3; got 5"),
@@ -85,7 +85,6 @@ def test_asset_choices_list_files_next_to_the_rule_and_in_the_projects_assets(an
         ({"tint": "#12345"}, 400, "is a @Color"),
         ({"sizes": [1, 2]}, 400, "attr 'sizes' is an array: the editor shows it but cannot set"),
         ({"mortar": "yes"}, 400, "attr 'mortar' takes true or false"),
-        ({"offset": 1.5}, 400, "outside its @Range [0, 0.9]"),  # @Free: always restricted
     ],
 )
 def test_values_the_annotations_refuse(annotated, payload, status, message):
@@ -110,6 +109,41 @@ def test_values_the_annotations_take(annotated):
     assert checked_values(grammar, {}, taken) == {**taken, "angle": 45.0, "lanes": 3.0}
 
 
+HINT = "built as given (a range is a hint, as in CityEngine)"
+
+
+def test_a_range_is_a_hint_a_value_outside_is_taken_with_one_warning(annotated):
+    grammar = pipeline.load(str(annotated))
+    taken = {"angle": 60, "offset": 1.5, "loose": 52.5, "courses": 3}
+    assert checked_values(grammar, {}, taken) == {k: float(v) for k, v in taken.items()}
+    assert range_warnings(grammar, taken, grammar.attrs) == [
+        f"attr angle=60 is outside its @Range [0, 45]: {HINT}",
+        f"attr offset=1.5 is outside its @Range [0, 0.9]: {HINT}",  # @Free: its range holds
+    ]  # loose is restricted=false, courses has no @Range: no warning
+    assert range_warnings(grammar, {"angle": 15, "offset": 0.9}, grammar.attrs) == []
+    # the stepsize is the slider's: a value between its steps is a hint's matter too
+    assert range_warnings(grammar, {"angle": 20, "loose": 20}, grammar.attrs) == [
+        "attr angle=20 is off its @Range stepsize 15 from 0 (the values nearest are 15 and 30):"
+        f" {HINT}"
+    ]
+
+
+def test_the_command_line_and_the_page_say_the_same_of_a_value_outside_its_range(annotated):
+    done = subprocess.run(
+        [sys.executable, "-m", "shapegen", "build", str(annotated), "--set", "angle=60",
+         "--set", "offset=0.95", "-q"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    said = [line for line in done.stderr.splitlines() if "@Range" in line]
+    with serving(annotated) as server:
+        status, _, content = request(server, "POST", "/api/attrs", {"angle": 60, "offset": 0.95})
+    assert status == 200, content
+    page = [w for w in json.loads(content)["warnings"] if "@Range" in w]
+    assert said == [w.replace("attr ", "shapegen: warning: --set ", 1) for w in page]
+    assert len(page) == 2
+
+
 def test_the_page_sets_annotated_attrs_through_the_api(annotated):
     with serving(annotated) as server:
         status, _, content = request(server, "POST", "/api/attrs", {"tint": "#336699"})
@@ -118,7 +152,13 @@ def test_the_page_sets_annotated_attrs_through_the_api(annotated):
         status, _, content = request(server, "POST", "/api/attrs", {"loose": 60})
         assert status == 200 and rows(json.loads(content))["loose"]["value"] == 60
         status, _, content = request(server, "POST", "/api/attrs", {"angle": 10})
-        assert status == 422 and "steps by 15" in json.loads(content)["error"]
+        assert status == 200 and "steps by 15" not in content.decode()
+        state = json.loads(content)
+        assert rows(state)["angle"]["value"] == 10
+        assert state["warnings"][0] == (
+            "attr angle=10 is off its @Range stepsize 15 from 0 (the values nearest are 0 and"
+            " 15): built as given (a range is a hint, as in CityEngine)"
+        )
 
 
 # CityEngine's unit annotations, in a .cga file as CityEngine writes them
@@ -173,7 +213,8 @@ def test_unit_annotations_give_the_unit_and_cityengines_default_slider(tmp_path)
         assert status == 200, content
         assert {a["name"]: a["value"] for a in json.loads(content)["attrs"]}["pitch"] == 400
         status, _, content = request(server, "POST", "/api/attrs", {"tilt": 61})
-        assert status == 400 and b"outside its @Range [0, 60]" in content
+        assert status == 200 and rows(json.loads(content))["tilt"]["value"] == 61
+        assert "attr tilt=61 is outside its @Range [0, 60]" in json.loads(content)["warnings"][0]
         status, _, content = request(server, "POST", "/api/settings", {"free": ["pitch"]})
         assert status == 400 and b"cannot be free" in content
         assert request(server, "POST", "/api/settings", {"free": ["tilt"]})[0] == 200

@@ -41,8 +41,6 @@ def test_good_values_are_converted_to_the_attrs_kinds(grammar):
         ({"offset": [1]}, "attr 'offset' takes a number; got [1]"),
         ({"offset": float("nan")}, "attr 'offset' takes a finite number"),
         ({"offset": float("inf")}, "attr 'offset' takes a finite number"),
-        ({"offset": 0.95}, "attr 'offset' = 0.95 is outside its @Range [0, 0.9]"),
-        ({"offset": -1e-9}, "is outside its @Range [0, 0.9]"),
         ({"mortar": 1}, "attr 'mortar' takes true or false; got 1"),
         ({"stone": 3}, "attr 'stone' takes a string; got 3"),
         ({}, "no attr values given"),

@@ -491,15 +491,26 @@ def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, 
         wait_for_value(page, "offset", 0.4321)
         # the slider goes to its nearest step; the design takes the value typed
         assert page.input_value('input[type=range][name="offset"]') == "0.432"
-        # restricted: a value beyond the range is taken at its end, one off the stepsize's
-        # grid at the nearest step
+        # a value beyond the range, or off the stepsize's grid, is built as given with a
+        # warning the page shows (a range is a hint, as on the command line)
         page.fill(field.format("offset"), "5")
         page.press(field.format("offset"), "Enter")
-        wait_for_value(page, "offset", 0.9)
+        wait_for_value(page, "offset", 5)
         page.wait_for_function(
-            "() => document.getElementById('message').textContent === 'offset: 5 is taken as 0.9'"
+            "() => document.getElementById('warnings-list').textContent"
+            ".includes('attr offset=5 is outside its @Range [0, 0.9]: built as given')"
         )
+        page.fill(field.format("offset"), "0.4")
+        page.press(field.format("offset"), "Enter")
+        wait_for_value(page, "offset", 0.4)
         page.fill(field.format("angle"), "37")
+        page.press(field.format("angle"), "Enter")
+        wait_for_value(page, "angle", 37)
+        page.wait_for_function(
+            "() => document.getElementById('warnings-list').textContent"
+            ".includes('attr angle=37 is off its @Range stepsize 15 from 0')"
+        )
+        page.fill(field.format("angle"), "30")
         page.press(field.format("angle"), "Enter")
         wait_for_value(page, "angle", 30)
         # restricted=false: the typed value is taken as it is

@@ -105,7 +105,7 @@ def test_the_exported_line_finds_the_imports_where_the_page_found_them(tmp_path)
     ("args", "message"),
     [
         (["missing.grammar"], "no grammar file 'missing.grammar'"),
-        (["{stack}", "--set", "offset=3"], "outside its @Range"),
+        (["{stack}", "--set", "ofset=0.3"], "did you mean 'offset'?"),
     ],
 )
 def test_bad_arguments_are_one_line_and_status_2(stack_file, args, message):

@@ -887,15 +887,16 @@ function applyState(state) {
   if (state.model_version !== app.renderedModelVersion) loadModel();
 }
 
-// What the rule file's load and derivation warned about (a .cga file's: an asset not found,
-// an operation shapegen does not carry out), one line each.
+// The designer's values outside their @Range (built as given), then what the rule file's load
+// and derivation warned about (a .cga file's: an asset not found, an operation shapegen does
+// not carry out), one line each.
 function showWarnings(warnings) {
   const box = $('warnings');
   box.hidden = !warnings.length;
   const key = JSON.stringify(warnings);
   if (box.dataset.key === key) return;
   box.dataset.key = key;
-  $('warnings-count').textContent = `⚠ ${warnings.length} warning${warnings.length === 1 ? '' : 's'} from the rule file`;
+  $('warnings-count').textContent = `⚠ ${warnings.length} warning${warnings.length === 1 ? '' : 's'}`;
   $('warnings-list').innerHTML = warnings.map((w) => `<li>${escape(w)}</li>`).join('');
 }
 
@@ -1019,10 +1020,10 @@ function makeRow(attr, parent) {
       change(attr.name, Number(input.value), app.dragging === attr.name ? app.gesture : null);
     });
     track.appendChild(input);
-    // the exact value, typed: to the range and the stepsize when restricted, whole for a count
+    // the exact value, typed: taken as typed (outside the range with a warning), whole for a count
     const field = document.createElement('input');
     Object.assign(field, { type: 'number', className: 'value', step: attr.step * scale, name: `${attr.name}-value` });
-    field.title = attr.restricted ? `type a value from ${shown(attr, attr.minimum)} to ${shown(attr, attr.maximum)}` : 'type any value (restricted=false)';
+    field.title = attr.restricted ? `the range is ${shown(attr, attr.minimum)} to ${shown(attr, attr.maximum)}: a value typed outside it is built as given, with a warning` : 'type any value (restricted=false)';
     field.addEventListener('change', () => {
       const typed = Number(field.value) / scale;
       if (field.value.trim() === '' || !Number.isFinite(typed)) {
@@ -1095,15 +1096,12 @@ function makeRow(attr, parent) {
   return row;
 }
 
-// A typed number as the attr takes it: within its range and on its stepsize's grid when
-// restricted, whole for a count.
+// A typed number as the attr takes it: as typed, even outside its range or off its stepsize
+// (a range is a hint, as on the command line: the server takes it and warns), whole for a count.
 function typedValue(attr, value) {
   let v = value;
-  if (attr.restricted && attr.minimum !== null) v = Math.min(attr.maximum, Math.max(attr.minimum, v));
-  if (attr.grid) v = attr.minimum + Math.round((v - attr.minimum) / attr.grid) * attr.grid;
   if (attr.whole) v = Math.round(v);
-  if (attr.restricted && attr.minimum !== null) v = Math.min(attr.maximum, Math.max(attr.minimum, v));
-  return Number(v.toPrecision(12)); // no 0.30000000000000004 from the grid
+  return Number(v.toPrecision(12)); // no 0.30000000000000004 from the display scale
 }
 
 // A drop-down's options: the attr's choices, and its current value if it is none of them (a
