@@ -80,6 +80,7 @@ def _run(argv) -> int:
             warnings.showwarning = _warning_line
             args = parser.parse_args(argv)
             _apply_rules_path(getattr(args, "rules_path", None))
+            _apply_plugins(getattr(args, "plugin", None))
             return args.handler(args)
     except SystemExit as exc:  # --help and --version
         return exc.code if isinstance(exc.code, int) else EXIT_OK
@@ -103,6 +104,16 @@ def _apply_rules_path(folders: list[str] | None) -> None:
     from shapegen.engine.project.rule_packages import RULES_PATH_VARIABLE, RulesPath
 
     os.environ[RULES_PATH_VARIABLE] = RulesPath.of(folders).exported()
+
+
+def _apply_plugins(specs: list[str] | None) -> None:
+    """``--plugin`` modules are imported before the work (a broken one is one line now) and
+    listed in SHAPEGEN_PLUGINS, so that a city's workers load them too."""
+    if not specs:
+        return
+    from shapegen.plugins import use_modules
+
+    use_modules(specs)
 
 
 def _interrupted(exc: KeyboardInterrupt) -> int:

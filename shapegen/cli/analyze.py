@@ -13,6 +13,7 @@ from shapegen.cli.display import print_analysis
 from shapegen.cli.lateral_options import add_lateral_options, capacity_request
 from shapegen.cli.options import (
     CommandLineError,
+    add_plugin_option,
     add_statics_options,
     block_statics_flags,
     judges_blocks,
@@ -46,6 +47,7 @@ def add_command(commands) -> None:
     )
     add_statics_options(analyze)
     add_lateral_options(analyze)
+    add_plugin_option(analyze)  # a model judged by a structure of one's own
     analyze.add_argument(
         "-o",
         "--output",

@@ -23,6 +23,9 @@ from shapegen.cli.options import (
 )
 from shapegen.cli.outputs import check_outputs
 
+EXIT_OK = 0
+EXIT_ALL_FAILED = 1  # the run went through and no lot was built
+
 
 def _workers(text: str) -> int:
     try:
@@ -200,7 +203,37 @@ def run(args: argparse.Namespace) -> int:
                 f"3D Tiles: {tileset.path} ({tileset.buildings} buildings in {tileset.tiles}"
                 f" tiles); view: python -m shapegen.city.viewer {args.output}"
             )
-    return 0
+    return _exit_status(outcome, quiet=args.quiet)
+
+
+def _exit_status(outcome, quiet: bool) -> int:
+    """0 when some lot was built (a failed one is a row of the results, and said on stderr);
+    1 when every lot failed: the run made nothing, which a script must see. (2 stays a
+    mistake found before any work.)"""
+    records = [r for r in outcome.records if r is not None]
+    failed = [r for r in records if r["status"] != "ok"]
+    if not failed:
+        return EXIT_OK
+    if len(failed) == len(records):
+        first = failed[0]
+        sys.stderr.write(
+            f"shapegen: error: every lot failed ({_failures(failed)}); first: {first['id']}:"
+            f" {first['status']}: {first['error']}\n"
+        )
+        return EXIT_ALL_FAILED
+    if not quiet:
+        sys.stderr.write(
+            f"shapegen: warning: {len(failed)} of {len(records)} lots failed"
+            f" ({_failures(failed)}): their rows' error column says why\n"
+        )
+    return EXIT_OK
+
+
+def _failures(failed: list[dict]) -> str:
+    errors = sum(1 for r in failed if r["status"] == "error")
+    timeouts = len(failed) - errors
+    parts = [f"{errors} error{'s' * (errors != 1)}"] if errors else []
+    return ", ".join(parts + ([f"{timeouts} timed out"] if timeouts else []))
 
 
 def _summary(outcome, args) -> None:

@@ -11,6 +11,7 @@ __all__ = [
     "CommandLineError",
     "Parser",
     "add_derivation_options",
+    "add_plugin_option",
     "add_search_options",
     "add_statics_options",
     "block_statics_flags",
@@ -200,6 +201,19 @@ def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") ->
         help=prefix + "seed of rand() and stochastic rules (default 0)",
     )
     add_rules_path_option(parser)
+    add_plugin_option(parser)
+
+
+def add_plugin_option(parser: argparse.ArgumentParser) -> None:
+    """--plugin: a module of one's own primitives or structures, loaded for this command."""
+    parser.add_argument(
+        "--plugin",
+        action="append",
+        metavar="MODULE_OR_FILE.py",
+        help="import a module (a name on the Python path, or a .py file) before the work, so"
+        " that the primitives and structures it registers can be used without installing it;"
+        " repeatable; SHAPEGEN_PLUGINS lists more",
+    )
 
 
 def add_rules_path_option(parser: argparse.ArgumentParser) -> None:

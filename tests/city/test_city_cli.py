@@ -77,3 +77,36 @@ def test_a_small_city_runs_from_the_command_line(tmp_path, capsys):
     for name in ("results.csv", "results.geojson", "city.glb", "run.json"):
         assert (out / name).is_file()
     assert not list(out.rglob("*.tmp"))
+
+
+def _lots_with(tmp_path: Path, properties: list[dict]) -> Path:
+    path = tmp_path / "lots.geojson"
+    features = []
+    for k, given in enumerate(properties):
+        ring = [[20 * k, 0], [20 * k + 12, 0], [20 * k + 12, 8], [20 * k, 8], [20 * k, 0]]
+        features.append({"type": "Feature", "id": f"lot-{k}", "properties": given,
+                         "geometry": {"type": "Polygon", "coordinates": [ring]}})  # fmt: skip
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": features}))
+    return path
+
+
+def test_a_city_whose_every_lot_failed_exits_1_with_one_line(tmp_path, capsys):
+    lots = _lots_with(tmp_path, [{"storeys": "three"}, {"storeys": "four"}])
+    argv = ["city", str(lots), str(HOUSE), "-o", str(tmp_path / "out"), "--workers", "1"]
+    assert main([*argv, "--crs", "metres", "--no-analyze", "-q"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("shapegen: error: every lot failed (2 errors); first: lot-0: error:")
+    assert "storeys" in err[0]
+    assert (tmp_path / "out" / "results.csv").is_file()  # the rows say why, lot by lot
+
+
+def test_a_city_with_some_lots_failed_exits_0_and_says_how_many(tmp_path, capsys):
+    lots = _lots_with(tmp_path, [{"storeys": 1}, {"storeys": "four"}])
+    argv = ["city", str(lots), str(HOUSE), "-o", str(tmp_path / "out"), "--workers", "1"]
+    assert main([*argv, "--crs", "metres", "--no-analyze"]) == 0
+    captured = capsys.readouterr()
+    assert "2 lots: 1 built (not judged), 1 failed, 0 timed out" in captured.out
+    assert "shapegen: warning: 1 of 2 lots failed (1 error): their rows' error column" in (
+        captured.err
+    )
