@@ -44,16 +44,16 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(rule: str, out: Path) -> int:
-    from rich.console import Console
     from rich.table import Table
 
     from shapegen import pipeline
+    from shapegen.cli.display import console as display_console
     from shapegen.export.atomic import check_writable
     from shapegen.export.model_io import write_model
     from shapegen.export.picture import render_model
     from shapegen.search.options import SearchOptions
 
-    console = Console(highlight=False)
+    console = display_console()
     if out.exists() and not out.is_dir():
         raise ShapegenError(f"--out {out}: exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)

@@ -255,7 +255,7 @@ def test_an_l_shaped_lot_is_a_surface_and_says_so(tmp_path, capsys):
     assert main(["build", str(grammar), "--lot", "0,10 10,10 10,6 4,6 4,0 0,0",
                  "--report", str(report)]) == 0  # fmt: skip
     out = capsys.readouterr().out
-    assert "left out: 1 leaf not judged by the statics: 1 a face (no volume)" in out
+    assert "surfaces  1 drawn, not solid: 1 a face (no volume)" in out
     built = json.loads(report.read_text())
     assert built["left_out"] == {"leaves": 1, "by_reason": {"a face (no volume)": 1}}
     # the L's prism is one solid kept as derived (cut into convex parts only when judged)

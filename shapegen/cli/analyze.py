@@ -19,7 +19,7 @@ from shapegen.cli.options import (
     judges_blocks,
     statics_options,
 )
-from shapegen.cli.outputs import check_outputs, write_all
+from shapegen.cli.outputs import check_outputs, print_written, write_all
 from shapegen.limits import DEFAULT_LIMITS, current_limits, raised_with, work_limits
 
 EXIT_OK = 0
@@ -99,10 +99,12 @@ def run(args: argparse.Namespace) -> int:
     azimuths = capacity_request(args)
     if azimuths is not None:
         report["capacity"] = structure.lateral_capacity(design, azimuths).to_report()
-    write_all(encode_outputs(model, assessment, report, model_path=args.output,
-                             report_path=args.report))  # fmt: skip
+    outputs = encode_outputs(model, assessment, report, model_path=args.output,
+                             report_path=args.report)  # fmt: skip
+    write_all(outputs)
     if not args.quiet:
         print_analysis(name, report)
+        print_written(outputs)
     return EXIT_OK
 
 

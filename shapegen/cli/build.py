@@ -22,7 +22,7 @@ from shapegen.cli.options import (
     search_settings,
     statics_options,
 )
-from shapegen.cli.outputs import check_outputs, write_all
+from shapegen.cli.outputs import check_outputs, print_written, write_all
 from shapegen.limits import DEFAULT_LIMITS, raised_with, work_clock, work_limits
 
 
@@ -149,8 +149,16 @@ def _build(args: argparse.Namespace) -> int:
             outputs.append((Path(args.picture), _picture(args.grammar, outcome)))
     write_all(outputs)
     if not args.quiet:
-        print_build(str(args.grammar), report)
+        print_build(str(args.grammar), report, lot_source=_lot_source(args, grammar))
+        print_written(outputs)
     return 0
+
+
+def _lot_source(args: argparse.Namespace, grammar) -> str:
+    """Where the lot came from: ``--lot``, the start rule's ``@Lot``, or the default."""
+    if args.lot is not None or args.osm is not None:
+        return "--lot"
+    return "@Lot" if grammar.program.start.annotation("Lot") is not None else "default"
 
 
 def _picture(grammar_path: str, outcome) -> bytes:

@@ -7,15 +7,35 @@ __all__ = [
     "SearchProgress",
     "SimulationProgress",
     "capacity_line",
+    "console",
     "directions_line",
     "fmt",
     "left_out_line",
     "print_analysis",
     "print_build",
     "print_simulation",
+    "empty_model_line",
+    "holdings_rows",
     "stand_ins_line",
     "too_small_line",
 ]
+
+
+#: The width given to output that is not a terminal (a pipe, a file): wide enough that no
+#: table row or path is wrapped or cut, since a script reads it line by line.
+UNWRAPPED_WIDTH = 100_000
+
+
+def console(stderr: bool = False):
+    """A rich console for stdout (or stderr): a terminal's width on a terminal (a long path
+    then folds onto the next line, never cut), no wrapping at all when piped or redirected
+    (rich would otherwise wrap at 80 columns)."""
+    from rich.console import Console
+
+    shown = Console(stderr=stderr, highlight=False)
+    if shown.is_terminal:
+        return shown
+    return Console(stderr=stderr, highlight=False, width=UNWRAPPED_WIDTH)
 
 
 def fmt(value) -> str:
@@ -43,9 +63,7 @@ class SearchProgress:
 
     def __enter__(self):
         if not self.quiet:
-            from rich.console import Console
-
-            self.console = Console(stderr=True, highlight=False)
+            self.console = console(stderr=True)
             self.status = self.console.status("optimizing: first evaluation...")
             self.status.__enter__()
         return self
@@ -115,8 +133,8 @@ def _grid():
     from rich.table import Table
 
     table = Table.grid(padding=(0, 2))
-    table.add_column(style="bold")
-    table.add_column()
+    table.add_column(style="bold", no_wrap=True)
+    table.add_column(overflow="fold")  # a long path folds onto the next line, never cut
     return table
 
 
@@ -143,7 +161,7 @@ def analysis_table(title: str, analysis: dict):
         for label, text in structure.summary(analysis):
             table.add_row(label, text)
         return table
-    table.add_row("blocks", str(analysis.get("blocks")))
+    table.add_row("blocks", judged_blocks_line(analysis))
     bodies = analysis.get("bodies")
     if bodies:
         table.add_row("bodies", bodies_line(bodies))
@@ -177,6 +195,22 @@ def analysis_table(title: str, analysis: dict):
             table.add_row("by direction", Text(directions_line(capacity)))
     table.add_row("seconds", f"{fmt(analysis.get('seconds'))}")
     return table
+
+
+def judged_blocks_line(analysis: dict) -> str:
+    """The blocks in the statics: the model's own, and with stand-ins, theirs too, so that the
+    count agrees with the stand-ins line (``571: the model's 69 and 502 standing in for 126
+    leaves``; the bodies line says which ride as load)."""
+    blocks = analysis.get("blocks") or 0
+    stand_ins = analysis.get("stand_ins") or {}
+    extra = stand_ins.get("blocks") or 0
+    if not extra:
+        return str(blocks)
+    leaves = stand_ins.get("leaves", 0)
+    return (
+        f"{blocks + extra}: the model's {blocks} and {extra} standing in for {leaves}"
+        f" {'leaf' if leaves == 1 else 'leaves'}"
+    )
 
 
 def unjudged_line(analysis: dict) -> str:
@@ -269,9 +303,7 @@ def directions_line(capacity: dict) -> str:
 
 
 def print_analysis(title: str, analysis: dict) -> None:
-    from rich.console import Console
-
-    Console(highlight=False).print(analysis_table(title, analysis))
+    console().print(analysis_table(title, analysis))
 
 
 def optimization_table(optimization: dict):
@@ -284,39 +316,95 @@ def optimization_table(optimization: dict):
         table.add_row(name, *(fmt(spec[k]) for k in ("initial", "final", "min", "max")))
     for name, value in (optimization.get("fixed") or {}).items():
         table.add_row(f"{name} (fixed)", fmt(value), fmt(value), "-", "-")
-    table.caption = (
-        f"{optimization['message']}; {optimization['method']}, {optimization['iterations']}"
-        f" iterations, {optimization['evaluations']} evaluations, {fmt(optimization['seconds'])} s"
-    )
     return table
 
 
-def print_build(title: str, report: dict) -> None:
-    from rich.console import Console
+def optimization_line(optimization: dict) -> str:
+    """How the search ended, printed under its table as one line (as the table's caption it
+    was wrapped to the table's width)."""
+    return (
+        f"{optimization['message']}; {optimization['method']}, {optimization['iterations']}"
+        f" iterations, {optimization['evaluations']} evaluations, {fmt(optimization['seconds'])} s"
+    )
+
+
+def print_build(title: str, report: dict, lot_source: str | None = None) -> None:
+    """The build's table: what the model holds, counted by kind (blocks, solids kept as
+    derived, surfaces), its volume, and why nothing can be judged when it holds no solid.
+    ``lot_source`` says where the lot came from (``"--lot"``, ``"@Lot"``, ``"default"``) for
+    the hint under a model that holds nothing."""
     from rich.text import Text
 
-    console = Console(highlight=False)
+    out = console()
     table = _grid()
     table.add_row("grammar", Text(title))
-    table.add_row("blocks", str(report["blocks"]))
+    for label, text in holdings_rows(report):
+        table.add_row(label, Text(text))
     table.add_row("volume", f"{fmt(report['volume'])} m^3")
     table.add_row("seconds", fmt(report["seconds"]))
     for name, value in report.get("reports", {}).items():
         table.add_row(Text(f"report {name}"), Text(str(value)))
-    console.print(table)
-    # what the statics still leave out, once the leaves they can judge stand in
+    out.print(table)
+    empty = empty_model_line(report, lot_source)
+    if empty and not (report.get("left_out") and "analysis" in report):  # its verdict says it
+        out.print(Text(empty, style="yellow"), soft_wrap=True)
+    # what the statics still leave out, once the leaves they can judge stand in (without an
+    # analysis the surfaces row has said it)
     stand_ins = (report.get("analysis") or {}).get("stand_ins")
-    left_out = left_out_line(stand_ins["left_out"] if stand_ins else report.get("left_out"))
+    left_out = left_out_line(stand_ins["left_out"]) if stand_ins else ""
     if left_out:  # one line, never wrapped
-        console.print(Text(f"left out: {left_out}"), soft_wrap=True)
+        out.print(Text(f"left out: {left_out}"), soft_wrap=True)
     for warning in report.get("warnings", []):
-        console.print(Text(f"warning: {warning}", style="yellow"), soft_wrap=True)
+        out.print(Text(f"warning: {warning}", style="yellow"), soft_wrap=True)
     if report.get("cga_errors"):
-        console.print(Text(cga_errors_line(report["cga_errors"]), style="yellow"), soft_wrap=True)
+        out.print(Text(cga_errors_line(report["cga_errors"]), style="yellow"), soft_wrap=True)
     if "optimization" in report:
-        console.print(optimization_table(report["optimization"]))
+        out.print(optimization_table(report["optimization"]))
+        out.print(Text(optimization_line(report["optimization"])), soft_wrap=True)
     if "analysis" in report:
-        console.print(analysis_table(title, report["analysis"]))
+        out.print(analysis_table(title, report["analysis"]))
+
+
+def holdings_rows(report: dict) -> list[tuple[str, str]]:
+    """What a built model holds, one row per kind: ``blocks`` (convex, judged as they are),
+    ``solids`` (closed leaves that are not convex, kept as derived) and ``surfaces`` (leaves
+    drawn but not solid: faces, open meshes), the last two only when there are some."""
+    rows = [("blocks", str(report["blocks"]))]
+    solids = report.get("solids") or 0
+    if solids:
+        rows.append(("solids", f"{solids} closed, not convex, kept as derived (cut into convex"
+                               " parts when judged)"))  # fmt: skip
+    surfaces = report.get("left_out") or {}
+    if surfaces.get("leaves"):
+        reasons = ", ".join(f"{n} {why}" for why, n in surfaces.get("by_reason", {}).items())
+        rows.append(("surfaces", f"{surfaces['leaves']} drawn, not solid: {reasons}"))
+    return rows
+
+
+def empty_model_line(report: dict, lot_source: str | None = None) -> str:
+    """Why a model without a block or a solid has nothing to judge (a rule of faces), or
+    what to try when the rule made nothing at all on its lot; ``""`` for a model with one."""
+    if report["blocks"] or report.get("solids"):
+        return ""
+    surfaces = (report.get("left_out") or {}).get("leaves", 0)
+    if surfaces:
+        return (
+            f"nothing to judge: the model holds {surfaces} surface{'s' * (surfaces != 1)} and no"
+            " solid (a rule of faces or open surfaces models no volume; the statics judge"
+            " blocks and closed solids)"
+        )
+    lot = report.get("lot")
+    size = ""
+    if isinstance(lot, list | tuple) and len(lot) == 2 and all(isinstance(v, float) for v in lot):
+        size = f" of {fmt(lot[0])} x {fmt(lot[1])} m"
+    where = {
+        "--lot": f"the lot{size} given with --lot",
+        "@Lot": f"the rule's @Lot{size}",
+    }.get(lot_source or "", f"the default lot{size}")
+    return (
+        f"the rule made nothing on {where}: a rule may make nothing below a size or on another"
+        " shape; try another lot with --lot WIDTH,DEPTH (or the rule's @Lot)"
+    )
 
 
 def cga_errors_line(count: int) -> str:
@@ -339,7 +427,6 @@ def left_out_line(left_out: dict | None) -> str:
 
 
 def print_simulation(title: str, result, args, build: dict) -> None:
-    from rich.console import Console
     from rich.text import Text
 
     table = _grid()
@@ -391,7 +478,7 @@ def print_simulation(title: str, result, args, build: dict) -> None:
     for label, path in (("report", args.report), ("output", args.output), ("frames", args.frames)):
         if path:
             table.add_row(label, Text(str(path)))
-    Console(highlight=False).print(table)
+    console().print(table)
 
 
 def _distance(metres: float) -> str:

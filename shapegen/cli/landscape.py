@@ -69,9 +69,9 @@ def run(args: argparse.Namespace) -> int:
     attrs = checked_attrs(grammar, args.assignments)
     console = None
     if not args.quiet:
-        from rich.console import Console
+        from shapegen.cli.display import console as make_console
 
-        console = Console(stderr=True, highlight=False)
+        console = make_console(stderr=True)
     path = None
     if not args.no_path:
         result = optimize(

@@ -6,7 +6,7 @@ a mistake costs nothing: it is found before a model is built or a search is run.
 
 from __future__ import annotations
 
-__all__ = ["check_outputs", "require_suffix", "write_all"]
+__all__ = ["check_outputs", "print_written", "require_suffix", "write_all"]
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -71,6 +71,23 @@ def write_all(outputs: list[tuple[Path, bytes]]) -> None:
     from shapegen.pipeline import write_outputs
 
     write_outputs(outputs)
+
+
+def print_written(outputs: list[tuple[Path, bytes]]) -> None:
+    """One line per file written, ``wrote arch.glb (45.2 kB)``, in the order given: what a
+    command made is named, not left to be guessed from its options."""
+    for path, content in outputs:
+        print(f"wrote {path} ({_size(len(content))})", flush=True)
+
+
+def _size(count: int) -> str:
+    if count < 1000:
+        return f"{count} bytes"
+    for unit in ("kB", "MB", "GB"):
+        count /= 1000
+        if count < 1000 or unit == "GB":
+            return f"{count:.3g} {unit}"
+    raise AssertionError("unreachable")
 
 
 def require_suffix(path: str | None, suffixes: tuple[str, ...], what: str, option: str = "-o"):

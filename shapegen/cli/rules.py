@@ -20,10 +20,10 @@ def add_command(commands) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from rich.console import Console
     from rich.table import Table
     from rich.text import Text
 
+    from shapegen.cli import display
     from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
 
     table = Table(box=None, show_header=True, header_style="bold", pad_edge=False)
@@ -32,7 +32,7 @@ def run(args: argparse.Namespace) -> int:
     paths = [find_bundled_rule(name) for name in bundled_rules()]
     for path in paths:
         table.add_row(Text(path.name), Text(description(path)))
-    console = Console(highlight=False)
+    console = display.console()
     if paths:
         console.print(table)
     else:
