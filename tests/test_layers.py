@@ -5,6 +5,7 @@ function), so a lazy import counts as much as a top-level one.
 """
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -49,8 +50,15 @@ def _modules() -> dict[str, Path]:
 MODULE_NAMES: list[str] = []
 
 
+@functools.cache
+def _tree(path: Path) -> ast.Module:
+    """The module's syntax tree, parsed once per process and only when a test asks (not while
+    the tests are collected: each worker collects them)."""
+    return ast.parse(path.read_text(encoding="utf-8"))
+
+
 def _imports(module: str, path: Path) -> set[str]:
-    tree = ast.parse(path.read_text(encoding="utf-8"))
+    tree = _tree(path)
     package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
     found = set()
     for node in ast.walk(tree):
@@ -70,10 +78,15 @@ def _imports(module: str, path: Path) -> set[str]:
 
 MODULES = _modules()
 MODULE_NAMES.extend(MODULES)
-GRAPH = {
-    module: {name for name in _imports(module, path) if name in MODULES and name != module}
-    for module, path in MODULES.items()
-}
+
+
+@functools.cache
+def _graph() -> dict[str, set[str]]:
+    """Each module's imports of the package's modules."""
+    return {
+        module: {name for name in _imports(module, path) if name in MODULES and name != module}
+        for module, path in MODULES.items()
+    }
 
 
 def _layer(module: str) -> int:
@@ -88,7 +101,7 @@ def test_every_top_level_module_has_a_layer():
 
 @pytest.mark.parametrize("module", sorted(MODULES))
 def test_imports_only_downward(module):
-    upward = sorted(i for i in GRAPH[module] if _layer(i) > _layer(module))
+    upward = sorted(i for i in _graph()[module] if _layer(i) > _layer(module))
     assert not upward, f"{module} imports from a higher layer: {upward}"
 
 
@@ -97,7 +110,7 @@ def test_no_import_cycles():
     # its package's face is not a dependency, so both directions inside one package are ignored
     # for the package module itself.
     def edges(module):
-        return {i for i in GRAPH[module] if not module.startswith(i + ".")}
+        return {i for i in _graph()[module] if not module.startswith(i + ".")}
 
     state: dict[str, int] = {}
     cycles = []
@@ -128,7 +141,7 @@ def test_no_module_is_too_long():
 
 
 def test_lower_layers_know_nothing_of_the_engine_or_the_search():
-    for module, imports in GRAPH.items():
+    for module, imports in _graph().items():
         if _layer(module) <= LEVEL["primitives"]:
             bad = [i for i in imports if i.startswith(("shapegen.engine", "shapegen.search"))]
             assert not bad, f"{module} imports {bad}"
@@ -144,7 +157,7 @@ def test_only_structures_compare_a_structure_name():
     for path in PACKAGE.rglob("*.py"):
         if "structures" in path.relative_to(PACKAGE).parts:
             continue
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(_tree(path)):
             if isinstance(node, ast.Compare) and any(
                 isinstance(c, ast.Constant) and c.value in names
                 for side in (node.left, *node.comparators)

@@ -162,6 +162,7 @@ def _long_rule_file(count: int) -> str:
     return "@StartRule\nLot --> extrude(1) R0\n" + rules
 
 
+@pytest.mark.slow  # 5 s; test_a_5_mb_rule_file_loads below is the larger case of the same
 def test_a_file_larger_than_the_largest_real_one_loads():
     # the largest real rule file seen is a 219 kB street rule; 100 000 characters refused it
     text = _long_rule_file(6_000)
