@@ -493,12 +493,12 @@ def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, 
         assert page.input_value('input[type=range][name="offset"]') == "0.432"
         # a value beyond the range, or off the stepsize's grid, is built as given with a
         # warning the page shows (a range is a hint, as on the command line)
-        page.fill(field.format("offset"), "5")
+        page.fill(field.format("offset"), "0.95")
         page.press(field.format("offset"), "Enter")
-        wait_for_value(page, "offset", 5)
+        wait_for_value(page, "offset", 0.95)
         page.wait_for_function(
             "() => document.getElementById('warnings-list').textContent"
-            ".includes('attr offset=5 is outside its @Range [0, 0.9]: built as given')"
+            ".includes('attr offset=0.95 is outside its @Range [0, 0.9]: built as given')"
         )
         page.fill(field.format("offset"), "0.4")
         page.press(field.format("offset"), "Enter")
@@ -528,7 +528,7 @@ def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, 
         wait_for_value(page, "angle", 15)
         page.focus('input[type=range][name="offset"]')
         page.keyboard.press("ArrowLeft")
-        wait_for_value(page, "offset", 0.899)
+        wait_for_value(page, "offset", 0.399)
         # and in the typed field too
         page.focus(field.format("angle"))
         page.keyboard.press("ArrowUp")
