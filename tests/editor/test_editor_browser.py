@@ -650,7 +650,7 @@ def test_a_cga_rule_opens_with_its_warnings_shown(browser, tmp_path):
         page = page_steps.open_page(browser, editor.url)
         assert page.inner_text("#file").startswith("building.rpk › building.cga")
         assert page.is_visible("#warnings")
-        assert page.inner_text("#warnings-count") == "⚠ 1 warning from the rule file"
+        assert page.inner_text("#warnings-count") == "⚠ 1 warning"
         page.click("#warnings-count")
         assert CGA_WARNING in page.inner_text("#warnings-list")
         # the imported attr has its slider; the @Group its section
