@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from shapegen import load_grammar, parse_grammar
-from shapegen.errors import GrammarError, ShapegenError
+from shapegen.errors import GrammarError
 from shapegen.grammar import ast, load
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -316,11 +316,8 @@ def test_corpus_envelope_merges_its_four_imports_and_esri_lib(package):
     # propagated: volume0110's shape_of_building takes envelope2002's
     assert attrs["volume.shape_of_building"].value == ast.Name("shape_of_building")
     assert "plant_distributor.Plant.Name" in attrs  # a second-level import of ESRI.lib
-    try:
-        load_grammar(rule).build(lot=LOT)
-    except ShapegenError as error:  # what shapegen does not do yet, in one line
-        message = str(error).splitlines()[0]
-        assert "import" not in message and "not supported by shapegen" in message
+    # that the merged file derives on the 12 x 8 lot is tests/cga/test_corpus.py's test_derives
+    # (envelope2002_*.cga are among its files): building it here again cost 1.2 s a package
 
 
 def test_the_docs_example_prints_what_it_says(capsys):
