@@ -17,11 +17,11 @@ __all__ = [
     "root_state",
 ]
 
-import random
 import time
 from collections.abc import Callable
 from typing import Protocol
 
+from shapegen.engine.derivation import random_streams
 from shapegen.engine.derivation.finite import checked_child, with_carried_tags
 from shapegen.engine.shapes.shape import Shape
 from shapegen.errors import GrammarError, WorkLimitError
@@ -84,12 +84,11 @@ class ShapeState:
         return self.children[0] == 0 and not self.deleted
 
     def random(self) -> float:
-        """A uniform draw in [0, 1) from this shape's own generator."""
-        rng = self.rng[0]
-        if rng is None:
-            key = f"{self.run.seed}/" + "/".join(str(k) for k in self.path)
-            rng = self.rng[0] = random.Random(key)
-        return rng.random()
+        """A uniform draw in [0, 1] from this shape's own stream, as CityEngine draws it
+        (:mod:`~shapegen.engine.derivation.random_streams`)."""
+        stream = self.rng
+        stream[0], u = random_streams.draw(stream[0])
+        return u
 
     def copy(self) -> ShapeState:
         """A copy for ``[ ... ]``: same place in the tree (children and draws are shared)."""
@@ -246,7 +245,11 @@ class Derivation:
         state.path = parent.path + (parent.children[0],)
         parent.children[0] += 1
         state.children = [0]
-        state.rng = [None]
+        # a new shape takes one step of its parent's stream and begins its own from there
+        stream = parent.rng
+        x = stream[0]
+        state.rng = [random_streams.child_stream(x)]
+        stream[0] = random_streams.step(x)
         state.initial_scope = shape.scope
         state.appearance = parent.appearance
         state.trim_planes = parent.trim_planes
@@ -292,7 +295,11 @@ def format_chain(chain: tuple[str, ...], keep: int = 12) -> str:
 Operation = Callable[[ShapeState, tuple, list], bool]
 
 
-def root_state(run: Derivation, shape: Shape, attrs, path: tuple) -> ShapeState:
+def root_state(
+    run: Derivation, shape: Shape, attrs, path: tuple, stream: int | None = None
+) -> ShapeState:
+    """A shape with no parent: the start shape of ``run`` (its stream begins at the seed's
+    state), or the shape an attr's default is evaluated on (``stream``: the attr's own)."""
     state = ShapeState.__new__(ShapeState)
     state.run = run
     state.shape = shape
@@ -305,7 +312,7 @@ def root_state(run: Derivation, shape: Shape, attrs, path: tuple) -> ShapeState:
     state.comp_sel = ""  # comp.sel: the selector of the last comp, as written ("" before one)
     state.path = path
     state.children = [0]
-    state.rng = [None]
+    state.rng = [random_streams.start(run.seed) if stream is None else stream]
     state.rule_path = ()
     state.depth = 0
     state.initial_scope = shape.scope

@@ -18,6 +18,7 @@ __all__ = ["ExpressionCompiler", "format_value", "type_name"]
 
 from collections.abc import Callable
 
+from shapegen.engine.derivation.random_streams import choice
 from shapegen.engine.expressions.arrays import (
     Array,
     colon_range,
@@ -497,15 +498,11 @@ class ExpressionCompiler:
         return case
 
     def _StochasticExpression(self, node: ast.StochasticExpression, params) -> Compiled:
-        branches = [(float(b.percent), self.compile(b.value, params)) for b in node.branches]
-        otherwise = self.compile(node.otherwise, params)
+        fractions = tuple(float(b.percent) / 100.0 for b in node.branches)
+        values = (*(self.compile(b.value, params) for b in node.branches),
+                  self.compile(node.otherwise, params))  # fmt: skip
 
         def stochastic(args, state):
-            draw = 100.0 * state.random()
-            for percent, value in branches:
-                if draw < percent:
-                    return value(args, state)
-                draw -= percent
-            return otherwise(args, state)
+            return values[choice(state.random, fractions)](args, state)
 
         return stochastic

@@ -17,6 +17,7 @@ from collections.abc import Callable, Mapping
 
 from shapegen.engine.derivation.cga_errors import carrying_on
 from shapegen.engine.derivation.finite import checked_operation, finite_parameter
+from shapegen.engine.derivation.random_streams import choice
 from shapegen.engine.derivation.state import Operation, format_chain
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
 from shapegen.engine.operations.shape_writes import WRITABLE, compile_shape_write
@@ -113,16 +114,12 @@ class OperationCompiler:
 
             return conditional
         if isinstance(node, ast.StochasticBody):
-            branches = [(float(b.percent), self.body(b.body, params)) for b in node.branches]
-            otherwise = self.body(node.otherwise, params)
+            fractions = tuple(float(b.percent) / 100.0 for b in node.branches)
+            bodies = (*(self.body(b.body, params) for b in node.branches),
+                      self.body(node.otherwise, params))  # fmt: skip
 
             def stochastic(state, args, out):
-                draw = 100.0 * state.random()
-                for percent, body in branches:
-                    if draw < percent:
-                        return body(state, args, out)
-                    draw -= percent
-                return otherwise(state, args, out)
+                return bodies[choice(state.random, fractions)](state, args, out)
 
             return stochastic
         raise self.error(node, f"unsupported rule body {type(node).__name__}")

@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
+from shapegen.engine.derivation import random_streams
 from shapegen.engine.derivation.state import TOO_DEEP, Derivation, root_state
 from shapegen.engine.expressions.arrays import Array, array_from
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
@@ -93,7 +94,9 @@ class AttributeValues:
                     node, f"attributes and constants refer to each other in a cycle: {cycle}"
                 )
             resolving.append(name)
-            state = root_state(run, Shape(lot, FACE, 1), lazy, ("attr", name))
+            # an attr's default draws from a stream of its own (CityEngine's, measured)
+            stream = random_streams.attr_stream(seed, name)
+            state = root_state(run, Shape(lot, FACE, 1), lazy, ("attr", name), stream)
             if name in self.definitions:
                 value = self.definitions[name]((), state)
             else:

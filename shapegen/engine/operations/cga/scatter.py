@@ -194,6 +194,8 @@ def _normal3(random) -> np.ndarray:
     out = []
     while len(out) < 3:
         u, v = 1.0 - random(), random()
+        if u <= 0.0:  # CityEngine's draws reach 1.0
+            continue
         radius = math.sqrt(-2.0 * math.log(u))
         out += [radius * math.cos(2 * math.pi * v), radius * math.sin(2 * math.pi * v)]
     return np.array(out[:3])
