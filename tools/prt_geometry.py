@@ -27,7 +27,12 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-CORPUS = Path(__file__).resolve().parents[2] / "shared" / "cga-corpus"
+# ../shared/cga-corpus of the checkout; a worktree's checkout lies one folder further down
+CORPUS = next(
+    (p / "shared" / "cga-corpus" for p in Path(__file__).resolve().parents[2:4]
+     if (p / "shared" / "cga-corpus").is_dir()),
+    Path(__file__).resolve().parents[2] / "shared" / "cga-corpus",
+)  # fmt: skip
 LOTS = {
     "12x8": [0.0, 0.0, 8.0, 12.0, 0.0, 8.0, 12.0, 0.0, 0.0, 0.0, 0.0, 0.0],
     "L": [0, 0, 0, 0, 0, 12, 6, 0, 12, 6, 0, 5, 14, 0, 5, 14, 0, 0],

@@ -10,6 +10,7 @@ import pytest
 import shapegen
 from shapegen.errors import GrammarError
 from shapegen.export.blocks_json import model_to_dict
+from shapegen.limits import work_limits
 
 
 def build(text, **kwargs):
@@ -408,5 +409,39 @@ def test_block_vertices_are_rotation_of_scope_corners():
 
 def test_endless_function_recursion_is_a_grammar_error():
     with pytest.raises(GrammarError, match="calls itself too deeply") as caught:
-        build("f(n) = f(n + 1)\nLot --> extrude(f(1))")
+        build("f(n) = f(n + 1) + 1\nLot --> extrude(f(1))")
     assert caught.value.location.line == 1
+
+
+def test_endless_tail_recursion_stops_at_max_calls():
+    # a call in tail position nests no deeper: the count of calls (or the clock) stops it
+    with work_limits(max_calls=2_000), pytest.raises(GrammarError, match="max_calls") as caught:
+        build("f(n) = f(n + 1)\nLot --> extrude(f(1))")
+    assert "endless recursion" in str(caught.value)
+    assert caught.value.location.line == 1
+
+
+def test_tail_recursion_runs_100000_deep():
+    # deeper than Python's stack and than max_call_depth: CityEngine evaluates it
+    model = build(
+        """
+        tally(i, acc) = case i == 0 : acc else : tally(i - 1, acc + 1)
+        even(n) = case n == 0 : true else : odd(n - 1)
+        odd(n) = case n == 0 : false else : even(n - 1)
+        heads(i, acc) = case i == 0 : acc
+                        else : heads(i - 1, acc + (case p(0.5) : 1 else : 0))
+        Lot --> report("count", tally(100000, 0)) report("even", even(20001))
+                report("heads", heads(4000, 0))
+        """
+    )
+    reports = model.metadata["reports"]
+    assert reports["count"] == 100000.0
+    assert reports["even"] is False
+    assert abs(reports["heads"] - 2000) < 4 * math.sqrt(4000 * 0.25)
+
+
+def test_non_tail_recursion_is_bounded_by_max_call_depth():
+    text = "f(n) = case n > 0 : f(n - 1) + 1 else : 0\nLot --> report(\"f\", f(150))"
+    assert build(text).metadata["reports"]["f"] == 150.0
+    with work_limits(max_call_depth=100), pytest.raises(GrammarError, match="max_call_depth"):
+        build(text)

@@ -5,8 +5,9 @@ offsets), one seed and one set of attr values per lot, and derives them with one
 batch: the start shapes' scopes are computed for all lots at once, ``set``, ``extrude`` of the
 flat footprint, ``color``, ``report`` and successors act on the whole batch, ``case`` and
 stochastic bodies split it by masks, and every lot draws its random numbers from its own
-stream (the same generator, keyed by the same seed and shape path, as one lot at a time), so
-each lot's heights, reports and attrs are the ones its own derivation gives.
+stream (CityEngine's, :mod:`~shapegen.engine.derivation.random_streams`, stepped for all the
+lots at once as one lot at a time steps it), so each lot's heights, reports and attrs are the
+ones its own derivation gives.
 
 Each lot of the batch ends in one leaf: its footprint extruded, a prism given by its packed
 corners and height. A lot (or a branch of lots) meeting anything the batch does not implement
@@ -23,7 +24,6 @@ from __future__ import annotations
 
 __all__ = ["LotBatch", "derive_lots"]
 
-import random
 import warnings
 from collections import Counter
 from dataclasses import dataclass, field
@@ -32,6 +32,7 @@ import numpy as np
 
 from shapegen.engine.batch.columns import ColumnExpressions, Unsupported, is_column
 from shapegen.engine.batch.footprints import Footprints
+from shapegen.engine.derivation import random_streams
 from shapegen.grammar import ast
 from shapegen.tolerances import BATCH_DOUBT_REL
 
@@ -120,6 +121,7 @@ def derive_lots(grammar, rings, offsets, seeds, overrides, limits=None) -> LotBa
     else:
         for index, values in _groups(program, overrides, run):
             batch = ShapeBatch(run, index, values, (), 0)
+            batch.streams = random_streams.starts(run.seeds)
             batch.derive(program.rules[(program.start.name, 0)])
     return run.finish()
 
@@ -257,7 +259,9 @@ class ShapeBatch:
         self.depth = depth
         self.height = None  # None: the flat footprint; else the extrusion's column (m)
         self.children = 0
-        self.streams: dict[int, random.Random] = {}  # lot -> this shape's generator
+        # each lot's state of this shape's stream, indexed by lot (the parts of the batch share
+        # the array: the same shapes, whose streams go on)
+        self.streams = np.zeros(run.count, dtype=np.int64)
 
     @property
     def size(self) -> int:
@@ -271,17 +275,19 @@ class ShapeBatch:
         self.run.give_up(_mask(self.run.count, self.index[mask]), reason)
 
     def draws(self) -> np.ndarray:
-        """One uniform draw in [0, 1) per shape, each from its lot's own generator for this
-        shape (keyed as ShapeState.random keys it)."""
-        streams, seeds = self.streams, self.run.seeds
-        tail = "/".join(str(k) for k in self.path)
-        out = np.empty(self.size)
-        for j, k in enumerate(self.index.tolist()):
-            rng = streams.get(k)
-            if rng is None:
-                rng = streams[k] = random.Random(f"{seeds[k]}/{tail}")
-            out[j] = rng.random()
-        return out
+        """One uniform draw in [0, 1] per shape, each from its lot's stream of this shape (as
+        ShapeState.random draws it)."""
+        self.streams[self.index], u = random_streams.draws(self.streams[self.index])
+        return u
+
+    def successor_streams(self) -> np.ndarray:
+        """The streams of a successor of these shapes, which step theirs for it (as
+        Derivation.child makes a successor)."""
+        x = self.streams[self.index]
+        streams = np.zeros(self.run.count, dtype=np.int64)
+        streams[self.index] = random_streams.child_stream(x)
+        self.streams[self.index] = random_streams.step(x)
+        return streams
 
     def geometry_value(self, node):
         if node.args or node.obj != "geometry":
@@ -322,7 +328,7 @@ class ShapeBatch:
             if isinstance(item, ast.Successor):
                 if successor is not None:
                     raise Unsupported("two successors of one shape")
-                successor = (item, self._snapshot())
+                successor = (item, self._snapshot(), self.successor_streams())
                 self.children += 1
             elif isinstance(item, ast.Set):
                 self._set(item)
@@ -337,7 +343,7 @@ class ShapeBatch:
         if successor is None:
             self._leaf()
             return
-        node, (attrs, height) = successor
+        node, (attrs, height), streams = successor
         if node.args:
             raise Unsupported("a successor with arguments")
         rule = None if node.leaf else self.run.program.rules.get((node.name, 0))
@@ -345,6 +351,7 @@ class ShapeBatch:
             raise Unsupported("a successor of another arity")
         child = ShapeBatch(self.run, self.index, attrs, self.path + (0,), self.depth + 1)
         child.height = height
+        child.streams = streams
         if rule is None:
             child._leaf()
         else:
@@ -419,15 +426,23 @@ class ShapeBatch:
             self._branch(remaining, body.otherwise)
 
     def _stochastic(self, body: ast.StochasticBody) -> None:
-        draw = 100.0 * self.draws()
+        """random_streams.choice for every shape: one draw per branch tried, by the shapes
+        that reach it."""
         remaining = np.ones(self.size, dtype=bool)
+        left = 1.0
         for branch in body.branches:
-            percent = float(branch.percent)
-            chosen = remaining & (draw < percent)
+            if not remaining.any():
+                return
+            fraction = float(branch.percent) / 100.0
+            reach = np.flatnonzero(remaining)
+            chosen = np.zeros(self.size, dtype=bool)
+            chosen[reach] = self._part(remaining).draws() < random_streams.threshold(
+                fraction, left
+            )
             if chosen.any():
                 self._branch(chosen, branch.body)
             remaining &= ~chosen
-            draw = np.where(remaining, draw - percent, draw)
+            left -= fraction
         if remaining.any():
             self._branch(remaining, body.otherwise)
 

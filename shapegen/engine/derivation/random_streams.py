@@ -8,7 +8,11 @@ docs/cga-compatibility.md):
   steps it and gives ``u = float32(x / 714024)``, so ``u`` lies in [0, 1] and can be 1.0;
 - a derivation's start shape begins at ``uint32(seed) mod 714025``;
 - a successor shape takes one step of its parent's stream; the successor's own stream begins
-  at ``(4096 x + 339068) mod 714025``, ``x`` the parent's state before that step;
+  at ``(4096 x + 339068) mod 714025``, ``x`` the parent's state before that step; a successor's
+  arguments are evaluated (and draw) before that step;
+- a shape an operation makes (a piece of a split, a component of comp...) is made the same
+  way, and its stream begins one step further (as if its first draw had been taken);
+- a split's sizes are drawn from the splitting shape's stream before its pieces are made;
 - an attr's default is evaluated with a stream of its own, beginning at
   ``(uint32(seed) mod 714025 + k) mod 714025``, ``k`` fixed per attr. How CityEngine derives
   ``k`` from the attr is not known (no common hash of its name gives the measured values), so
@@ -39,7 +43,9 @@ __all__ = [
     "draw",
     "draws",
     "start",
+    "starts",
     "step",
+    "threshold",
 ]
 
 import struct
@@ -80,10 +86,12 @@ def draws(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return x, (x / _DIVISOR).astype(np.float32).astype(np.float64)
 
 
-def child_stream(x):
-    """The state a successor's stream begins at, ``x`` its parent's state before the parent
-    steps for it."""
-    return (MULTIPLIER * x + CHILD_INCREMENT) % MODULUS
+def child_stream(x, successor: bool = True):
+    """The state a new shape's stream begins at, ``x`` its parent's state before the parent
+    steps for it: a successor's (``A --> ... B``), or one step further a piece's, a shape an
+    operation makes (a split's, a comp's, a setback's...)."""
+    begin = (MULTIPLIER * x + CHILD_INCREMENT) % MODULUS
+    return begin if successor else (MULTIPLIER * begin + INCREMENT) % MODULUS
 
 
 def attr_stream(seed: int, name: str) -> int:
@@ -103,7 +111,18 @@ def choice(random, fractions) -> int:
     """
     left = 1.0
     for index, fraction in enumerate(fractions):
-        if random() < (fraction / left if left > 0.0 else np.inf):
+        if random() < threshold(fraction, left):
             return index
         left -= fraction
     return len(fractions)
+
+
+def threshold(fraction: float, left: float) -> float:
+    """What a stochastic branch's draw must be below to take it: its ``fraction`` of what the
+    branches before it ``left`` (:func:`choice`; the city batch applies it to many lots)."""
+    return fraction / left if left > 0.0 else np.inf
+
+
+def starts(seeds) -> np.ndarray:
+    """:func:`start` of many seeds: an int64 array."""
+    return np.array([start(seed) for seed in seeds], dtype=np.int64)

@@ -163,16 +163,18 @@ class Derivation:
                 + limit_hint("max_seconds", self.limits),
             )
 
-    def enter_call(self, node, name: str) -> None:
-        """Count a user-function call; stop a runaway one (``max_calls``, ``max_call_depth``)."""
+    def enter_call(self, node, name: str, nested: bool = True) -> None:
+        """Count a user-function call; stop a runaway one (``max_calls``, ``max_call_depth``).
+        A call in tail position (``nested=False``) takes its caller's place: it is counted,
+        and the clock looked at, but it nests no deeper."""
         self.calls += 1
-        self.call_depth += 1
+        self.call_depth += nested
         limits = self.limits
         if self.calls > limits.max_calls:
             raise self.program.error(
                 node,
-                f"more than {limits.max_calls} user-function calls (the last to {name!r}); a "
-                f"function may call itself more than once per level "
+                f"more than {limits.max_calls} user-function calls (the last to {name!r}): an "
+                f"endless recursion, or a function calling itself more than once per level "
                 + limit_hint("max_calls", limits),
             )
         if self.call_depth > limits.max_call_depth:
@@ -246,9 +248,10 @@ class Derivation:
         parent.children[0] += 1
         state.children = [0]
         # a new shape takes one step of its parent's stream and begins its own from there
+        # (random_streams: a successor, or a piece of a split, comp... one step further)
         stream = parent.rng
         x = stream[0]
-        state.rng = [random_streams.child_stream(x)]
+        state.rng = [random_streams.child_stream(x, successor=name is not None)]
         stream[0] = random_streams.step(x)
         state.initial_scope = shape.scope
         state.appearance = parent.appearance

@@ -57,6 +57,18 @@ Value = float | bool | str
 Compiled = Callable[[tuple, object], Value]
 
 
+class TailCall:
+    """A user function's call in tail position, not made yet: what its function returns to
+    the calling site, which makes it (:meth:`ExpressionCompiler.compile_tail`)."""
+
+    __slots__ = ("key", "values", "node")
+
+    def __init__(self, key: tuple[str, int], values: tuple, node):
+        self.key = key  # (name, number of arguments)
+        self.values = values
+        self.node = node
+
+
 class ExpressionCompiler:
     """Compiles expressions of one grammar.
 
@@ -106,8 +118,43 @@ class ExpressionCompiler:
         for key, function in self.overloads.items():
             params = {p.name: k for k, p in enumerate(function.params)}
             scope, extend = local_scope(self, function, params)
-            body = self.compile(function.body, scope)
+            body = self.compile_tail(function.body, scope)
             self.functions[key] = body if extend is None else with_locals(body, extend)
+
+    def compile_tail(self, node: ast.Expression, params: dict[str, int]) -> Compiled:
+        """:meth:`compile` for a function's body: a call of a user function in tail position
+        (the body, or a value of its ``case`` or stochastic choice) gives a :class:`TailCall`
+        that the calling site runs in its loop, so a tail recursion (``f(i, acc) = case i ==
+        0: acc else: f(i - 1, acc + 1)``) runs as deep as the work clock and ``max_calls``
+        allow without nesting Python frames, as CityEngine evaluates it."""
+        if isinstance(node, ast.CaseExpression):
+            return self._CaseExpression(node, params, tail=True)
+        if isinstance(node, ast.StochasticExpression):
+            return self._StochasticExpression(node, params, tail=True)
+        if isinstance(node, ast.Call) and self._is_user_call(node.name, len(node.args)):
+            words = FUNCTION_KEYWORDS.get(node.name, frozenset())
+            arguments = tuple(
+                self._keyword(arg, params, words) or self.compile(arg, params)
+                for arg in node.args
+            )
+            return self._call_user(node, node.name, arguments, tail=True)
+        if (
+            isinstance(node, ast.Name)
+            and node.name not in params
+            and node.name not in self.global_names
+            and node.name in self.function_nodes
+        ):
+            return self._call_user(node, node.name, (), tail=True)
+        return self.compile(node, params)
+
+    def _is_user_call(self, name: str, count: int) -> bool:
+        """A call of ``name`` with ``count`` arguments calls a user function (which may
+        overload a builtin with another number of parameters)."""
+        if name in OCCLUSION or name in CONTEXT_QUERIES:
+            return False
+        return (name, count) in self.overloads or (
+            name in self.function_nodes and name not in BUILTIN_FUNCTIONS
+        )
 
     # ------------------------------------------------------------------ expressions
     def compile(self, node: ast.Expression, params: dict[str, int]) -> Compiled:
@@ -401,9 +448,7 @@ class ExpressionCompiler:
             or self.compile(arg, params)
             for k, arg in enumerate(node.args)
         )
-        if (name, len(arguments)) in self.overloads or (
-            name in self.function_nodes and name not in BUILTIN_FUNCTIONS
-        ):  # a user function may overload a builtin with another number of parameters
+        if self._is_user_call(name, len(arguments)):
             return self._call_user(node, name, arguments)
         if name == "rand":
             return self._call_rand(node, arguments)
@@ -422,7 +467,7 @@ class ExpressionCompiler:
             return self.calls.pure(node, function, arguments)
         raise self.error(node, f"the CGA function {name}() is not supported by shapegen")
 
-    def _call_user(self, node, name: str, arguments: tuple) -> Compiled:
+    def _call_user(self, node, name: str, arguments: tuple, tail: bool = False) -> Compiled:
         functions = self.functions
         key = (name, len(arguments))
         if key not in self.overloads:
@@ -436,16 +481,26 @@ class ExpressionCompiler:
             raise self.error(
                 node, f"function {name!r} takes {expected} {noun}, got {len(arguments)}"
             )
+        if tail:
+
+            def tail_call(args, state):
+                return TailCall(key, tuple(a(args, state) for a in arguments), node)
+
+            return tail_call
 
         error = self.error
 
         def call(args, state):
-            body = functions[key]
             values = tuple(a(args, state) for a in arguments)
             run = state.run
             run.enter_call(node, name)
             try:
-                return body(values, state)
+                result = functions[key](values, state)
+                # calls in tail position: one after the other, at this call's depth
+                while type(result) is TailCall:
+                    run.enter_call(result.node, result.key[0], nested=False)
+                    result = functions[result.key](result.values, state)
+                return result
             except RecursionError:
                 raise error(
                     node,
@@ -476,12 +531,13 @@ class ExpressionCompiler:
 
         return call
 
-    def _CaseExpression(self, node: ast.CaseExpression, params) -> Compiled:
+    def _CaseExpression(self, node: ast.CaseExpression, params, tail: bool = False) -> Compiled:
+        value_of = self.compile_tail if tail else self.compile
         branches = [
-            (self.compile(b.condition, params), self.compile(b.value, params), b)
+            (self.compile(b.condition, params), value_of(b.value, params), b)
             for b in node.branches
         ]
-        otherwise = self.compile(node.otherwise, params)
+        otherwise = value_of(node.otherwise, params)
         error = self.error
 
         def case(args, state):
@@ -497,10 +553,13 @@ class ExpressionCompiler:
 
         return case
 
-    def _StochasticExpression(self, node: ast.StochasticExpression, params) -> Compiled:
+    def _StochasticExpression(
+        self, node: ast.StochasticExpression, params, tail: bool = False
+    ) -> Compiled:
+        value_of = self.compile_tail if tail else self.compile
         fractions = tuple(float(b.percent) / 100.0 for b in node.branches)
-        values = (*(self.compile(b.value, params) for b in node.branches),
-                  self.compile(node.otherwise, params))  # fmt: skip
+        values = (*(value_of(b.value, params) for b in node.branches),
+                  value_of(node.otherwise, params))  # fmt: skip
 
         def stochastic(args, state):
             return values[choice(state.random, fractions)](args, state)
