@@ -441,7 +441,7 @@ def test_tail_recursion_runs_100000_deep():
 
 
 def test_non_tail_recursion_is_bounded_by_max_call_depth():
-    text = "f(n) = case n > 0 : f(n - 1) + 1 else : 0\nLot --> report(\"f\", f(150))"
+    text = 'f(n) = case n > 0 : f(n - 1) + 1 else : 0\nLot --> report("f", f(150))'
     assert build(text).metadata["reports"]["f"] == 150.0
     with work_limits(max_call_depth=100), pytest.raises(GrammarError, match="max_call_depth"):
         build(text)

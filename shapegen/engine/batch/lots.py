@@ -436,9 +436,7 @@ class ShapeBatch:
             fraction = float(branch.percent) / 100.0
             reach = np.flatnonzero(remaining)
             chosen = np.zeros(self.size, dtype=bool)
-            chosen[reach] = self._part(remaining).draws() < random_streams.threshold(
-                fraction, left
-            )
+            chosen[reach] = self._part(remaining).draws() < random_streams.threshold(fraction, left)
             if chosen.any():
                 self._branch(chosen, branch.body)
             remaining &= ~chosen

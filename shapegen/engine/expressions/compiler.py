@@ -134,8 +134,7 @@ class ExpressionCompiler:
         if isinstance(node, ast.Call) and self._is_user_call(node.name, len(node.args)):
             words = FUNCTION_KEYWORDS.get(node.name, frozenset())
             arguments = tuple(
-                self._keyword(arg, params, words) or self.compile(arg, params)
-                for arg in node.args
+                self._keyword(arg, params, words) or self.compile(arg, params) for arg in node.args
             )
             return self._call_user(node, node.name, arguments, tail=True)
         if (
@@ -534,8 +533,7 @@ class ExpressionCompiler:
     def _CaseExpression(self, node: ast.CaseExpression, params, tail: bool = False) -> Compiled:
         value_of = self.compile_tail if tail else self.compile
         branches = [
-            (self.compile(b.condition, params), value_of(b.value, params), b)
-            for b in node.branches
+            (self.compile(b.condition, params), value_of(b.value, params), b) for b in node.branches
         ]
         otherwise = value_of(node.otherwise, params)
         error = self.error
