@@ -48,7 +48,9 @@ out["extrusion_rule"] = {
     "lot": "12x8",
     "what": "report 'Building Height.0' = rand(minBuildingHeight 10, maxBuildingHeight 30): the "
     "first draw of BuildingCreation, the start shape's first successor",
-    "values": {str(s): m.get_report()["Building Height.0_sum"] for s, m in zip(seeds, models)},
+    "values": {
+        str(s): m.get_report()["Building Height.0_sum"] for s, m in zip(seeds, models, strict=True)
+    },
 }
 seeds = [0, 1, 2, -1, 12345, 2147483647]
 models = generate(BFF, LOT, [{"seed": s} for s in seeds], report=False)
@@ -61,7 +63,7 @@ out["attr_streams"] = {
     "k": {"Eave_Ht": 442175, "Ridge_Ht": 643046},
     "values": {
         str(s): {k: m.get_attributes()[k] for k in ("Eave_Ht", "Ridge_Ht", "Roof_Form")}
-        for s, m in zip(seeds, models)
+        for s, m in zip(seeds, models, strict=True)
     },
 }
 seeds = list(range(0, 400, 7))
@@ -70,10 +72,11 @@ out["three_way_choice"] = {
     "package": "data_Building_From_FootprintSMALL__fc6ce924",
     "lot": "12x8",
     "what": "get_attributes()['Roof_Form'] = 40%: hip 50%: gable else: gambrel, in the attr's "
-    "own stream; the offsets k consistent with 700 seeds (0..299 and 400 drawn from the int32 range) under 'one draw per branch, "
-    "u < share / share left' (none under one draw against running sums)",
+    "own stream; the offsets k consistent with 700 seeds (0..299 and 400 drawn from the "
+    "int32 range) under 'one draw per branch, u < share / share left' (no k fits one draw "
+    "against running sums)",
     "k_candidates": [381130, 384442],
-    "values": {str(s): m.get_attributes()["Roof_Form"] for s, m in zip(seeds, models)},
+    "values": {str(s): m.get_attributes()["Roof_Form"] for s, m in zip(seeds, models, strict=True)},
 }
 fixed = {"Roof_Form": "flat", "Eave_Ht": 20.0, "Ridge_Ht": 20.0, "Representation": "solid color"}
 splits = {}
@@ -87,7 +90,7 @@ for form in ("setback top", "setback everywhere"):
         geometry=True,
     )
     splits[form] = {}
-    for s, m in zip(seeds, models):
+    for s, m in zip(seeds, models, strict=True):
         v = m.get_vertices()
         splits[form][str(s)] = {
             "vertices": len(v) // 3,
@@ -114,7 +117,7 @@ out["comp_pieces"] = {
         str(s): {
             k: v for k, v in m.get_report().items() if k.startswith(("green area", "Greenery Area"))
         }
-        for s, m in zip(seeds, models)
+        for s, m in zip(seeds, models, strict=True)
     },
 }
 open(Path(__file__).resolve().parents[1] / "tests" / "data" / "cityengine_random.json", "w").write(
