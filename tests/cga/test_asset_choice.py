@@ -71,7 +71,8 @@ def test_the_best_size_along_the_axes_named(project):
 
 def test_approximate_and_fit_choices_draw_among_the_best(project):
     seen = set()
-    for seed in range(12):
+    # seeds apart: CityEngine's generator gives consecutive seeds close first draws
+    for seed in range(0, 1200, 100):
         path = project / "rules" / "pick.cga"
         path.write_text('@StartRule\nLot --> report("pick", '
                         'assetApproxSize("assets/box_*.obj", "xz", 2)) X.\n')  # fmt: skip
