@@ -68,7 +68,9 @@ class WorkLimits:
         User-function calls in one derivation (or one evaluation of attrs, ``@Range``, ``@Lot``
         and ``@Structure`` arguments); without calls, an expression's work is bounded by its size.
     max_call_depth
-        User functions calling each other (or themselves) at once.
+        User functions calling each other (or themselves) at once; a call in tail position
+        (the function's value, or a value of its ``case``) takes its caller's place and nests
+        no deeper, so a tail recursion is bounded by ``max_calls`` and the clock only.
     max_string_length
         Characters of one string value.
     max_string_chars
