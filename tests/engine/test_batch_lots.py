@@ -49,7 +49,13 @@ ReportNext -->
 
 Chance -->
     30% : report("Kind", "tall") Tall.
+    25% : report("Kind", "mid") Mid
     else : report("Kind", rand(2) + 1 > 2)
+
+Mid -->
+    40% : report("Mid", "a")
+    40% : report("Mid", "b")
+    else : report("Mid", rand())
 """
 
 
