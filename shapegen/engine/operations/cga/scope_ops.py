@@ -196,7 +196,10 @@ def compile_align_scope_to_geometry(program, node, params):
             flat = float(np.ptp(heights)) <= COINCIDENT_REL * max(1.0, float(np.abs(world).max()))
             rule = "longest" if flat else "world.lowest"
         best = None
-        last_wins = rule != "world.lowest"
+        # an explicit face index (alignScopeToGeometry(yUp, 0, longest)): the first of equally
+        # long edges wins, as PyPRT aligns Building_From_FootprintSMALL on rectangles and L's
+        # from every corner; over any face the last (simpleRuleDataset's L lots)
+        last_wins = rule != "world.lowest" and face_word is not None
         for f in candidates:
             face = mesh.faces[f]
             n = len(face)
