@@ -9,9 +9,9 @@ stack rather than recursion, so deep grammars need no Python recursion. Each 3D 
 the blocks of its inserted primitive, numbered ``b0``, ``b1``... in derivation order; any other
 leaf (a face, an open mesh, a closed solid that is not convex, kept as derived) is a
 :class:`~shapegen.model.appearance.Surface` of the model, with the reason it is not a block.
-Randomness (``rand``, stochastic rules) comes from a generator seeded by the seed and the shape's
-position in the shape tree, so a shape's draws do not depend on how many shapes were derived
-before it.
+Randomness (``rand``, stochastic rules) comes from CityEngine's streams: one per shape, begun from
+its parent's when the shape is made (:mod:`~shapegen.engine.derivation.random_streams`), so a
+shape's draws do not depend on how many shapes were derived before it elsewhere in the tree.
 
 The work is shared with :mod:`~shapegen.engine.derivation.state` (the state of a derivation),
 :mod:`~shapegen.engine.operations.compiler` (compiling rule bodies and operations,
