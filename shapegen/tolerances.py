@@ -250,6 +250,13 @@ COINCIDENT_M = 1e-9
 #: a face within it of edge-on is edge-on.
 COSINE_SLACK = 1e-9
 
+#: Component tags: a face or edge of an operation's result carries the tags of one before it
+#: when it lies within ``TAG_MATCH_REL`` times the shape's size (its largest extent, metres) of
+#: it (dimensionless), and a face faces the same way when the cosine between their normals is
+#: within ``TAG_MATCH_REL`` of one. Coarser than ``COINCIDENT_REL``: a remade face (a split
+#: cap's neighbour, a setback's strip) is recomputed, not copied, and drifts by round-off.
+TAG_MATCH_REL = 1e-6
+
 #: Convex hulls: three vertices are collinear when the cross product of their edges is below
 #: ``COLLINEAR_REL`` times the squared size of the block (dimensionless).
 COLLINEAR_REL = 1e-8

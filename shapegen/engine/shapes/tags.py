@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.tolerances import COINCIDENT_REL, COSINE_SLACK
+from shapegen.tolerances import COSINE_SLACK, TAG_MATCH_REL
 
 Tags = tuple[str, ...]
 _NONE: Tags = ()
@@ -358,7 +358,7 @@ def _carried(old, new) -> ComponentTags | None:
 
 def _slack(*meshes) -> float:
     size = max((float(m.size()) for m in meshes if m.n_vertices), default=1.0)
-    return max(1e-6, 1e3 * COINCIDENT_REL) * max(1.0, size)
+    return TAG_MATCH_REL * max(1.0, size)
 
 
 def _coincident(old, tags: ComponentTags, new, either_side: bool = False) -> ComponentTags:
@@ -393,7 +393,7 @@ def _coincident(old, tags: ComponentTags, new, either_side: bool = False) -> Com
                 facing = float(n @ normal)
                 if either_side:
                     facing = abs(facing)
-                if facing < 1 - 1e-6 - COSINE_SLACK:
+                if facing < 1 - TAG_MATCH_REL - COSINE_SLACK:
                     continue
                 if abs(float(inner @ n) - offset) > slack:
                     continue

@@ -39,6 +39,7 @@ from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
 from shapegen.grammar import ast
+from shapegen.tolerances import COINCIDENT_REL
 
 
 @compiles(
@@ -188,7 +189,7 @@ def _cut_polygon(polygon, lengths, chain, sections, shift: float, total: float):
     for k in chain:
         along[k] = position
         position += lengths[k]
-    slack = 1e-9 * max(1.0, total)
+    slack = COINCIDENT_REL * max(1.0, total)
     points, owner = [], []
     n = len(polygon)
     for k in range(n):
@@ -220,7 +221,7 @@ def _remainder(polygon: np.ndarray, strips: list[np.ndarray]) -> list[np.ndarray
 
     whole = Polygon(polygon)
     rest = whole.difference(shapely.union_all([Polygon(p) for p in strips])) if strips else whole
-    slack = 1e-9 * max(1.0, whole.area)
+    slack = COINCIDENT_REL * max(1.0, whole.area)
     out = []
     for part in getattr(rest, "geoms", [rest]):
         if isinstance(part, Polygon) and part.area > slack:

@@ -7,6 +7,7 @@ __all__ = ["SetbackLines", "edge_component", "tag_selector"]
 import numpy as np
 
 from shapegen.grammar import ast
+from shapegen.tolerances import TAG_MATCH_REL
 
 
 class SetbackLines:
@@ -49,7 +50,7 @@ class SetbackLines:
             if kept is not None:
                 kept = kept.without_prefix("setback")
             mesh = shape.world_mesh()
-            slack = 1e-6 * max(1.0, float(mesh.size()))
+            slack = TAG_MATCH_REL * max(1.0, float(mesh.size()))
             edges = dict(kept.edges) if kept is not None else {}
             for a, b in mesh.edges:
                 p, q = mesh.vertices[a], mesh.vertices[b]
