@@ -4,8 +4,10 @@ One reader for every OBJ file shapegen takes as polygons: an asset (``i("window.
 (``--lot lot.obj``, its first face) and a PyPRT initial shape. Faces stay polygons: a library
 reader fans them into triangles, and a fan of a face that is not convex covers more than the
 face. Materials, groups, texture coordinates and normals are skipped (``f 1/2/3`` is vertex 1);
-a negative index counts back from the last vertex read. Mesh models (blocks from OBJ, glTF,
-PLY, STL) are :mod:`shapegen.readers.meshes`', through trimesh.
+a negative index counts back from the last vertex read; a line ending in a backslash goes on
+on the next line (the OBJ format's continuation: envelope2002's glass_door.obj has long faces
+written so). Mesh models (blocks from OBJ, glTF, PLY, STL) are :mod:`shapegen.readers.meshes`',
+through trimesh.
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ def obj_polygons(text: str, where: str) -> tuple[np.ndarray, list[list[int]]]:
     """
     vertices: list[list[float]] = []
     faces: list[list[int]] = []
-    for number, line in enumerate(text.splitlines(), start=1):
+    for number, line in _logical_lines(text):
         fields = line.split()
         if not fields:
             continue
@@ -59,3 +61,21 @@ def obj_polygons(text: str, where: str) -> tuple[np.ndarray, list[list[int]]]:
                 face.append(position)
             faces.append(face)
     return np.array(vertices, dtype=float).reshape(-1, 3), faces
+
+
+def _logical_lines(text: str):
+    """``(number, line)`` for each line of ``text``, a line ending in ``\\`` joined to the
+    next; the number is that of the line's first physical line."""
+    pending: list[str] = []
+    first = 0
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not pending:
+            first = number
+        stripped = line.rstrip()
+        if stripped.endswith("\\"):
+            pending.append(stripped[:-1])
+            continue
+        yield first, " ".join([*pending, line])
+        pending = []
+    if pending:
+        yield first, " ".join(pending)

@@ -84,3 +84,12 @@ def test_the_lot_is_the_first_face_and_the_asset_every_face(tmp_path):
     lot = lot_from_obj(path)
     assert len(lot.corners) == 6  # the L, whole
     assert load_asset(path).n_faces == 2
+
+
+def test_a_line_ending_in_a_backslash_goes_on_on_the_next():
+    # the OBJ format's continuation line, as envelope2002's glass_door.obj writes long faces
+    text = "v 0 0 0\nv 1 0 0 \\\n\nv 1 0 1\nv 0 0 1\nf 1 2 \\\n 3 \\\n 4\nf 1 2 x\n"
+    with pytest.raises(InputFormatError, match=r"^x.obj:9: bad face corner 'x'$"):
+        obj_polygons(text, "x.obj")
+    vertices, faces = obj_polygons(text.rsplit("f 1 2 x", 1)[0], "x.obj")
+    assert len(vertices) == 4 and faces == [[0, 1, 2, 3]]

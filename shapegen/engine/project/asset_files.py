@@ -5,7 +5,9 @@ project-absolute ``/Project/assets/x.obj`` works too. Used by ``i()``, ``assetIn
 table readers.
 
 Asset files are read into a :class:`~shapegen.geometry.mesh.Mesh` in their own coordinates (y
-up): OBJ by shapegen's reader (polygons kept whole), glTF, COLLADA, PLY and STL with trimesh;
+up): OBJ by shapegen's reader (polygons kept whole), glTF, COLLADA, PLY and STL with trimesh,
+and cleaned as CityEngine's runtime cleans an asset (:mod:`shapegen.geometry.asset_cleanup`:
+its vertices kept as listed, edges and faces of no extent removed, unused vertices dropped);
 a file is read once and kept while it is unchanged."""
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from shapegen.errors import GeometryError, InputFormatError
+from shapegen.geometry.asset_cleanup import cleaned_polygons
 from shapegen.geometry.mesh import Mesh
 from shapegen.limits import current_limits, limit_hint
 from shapegen.readers.archives import package_cache, unpacked_package
@@ -120,7 +123,10 @@ def load_asset(path: Path) -> Mesh:
         raise GeometryError(f"asset {path} holds no face")
     if not np.all(np.isfinite(vertices)):
         raise GeometryError(f"asset {path}: vertex coordinates must be finite numbers")
-    mesh = _welded(vertices, faces)
+    vertices, faces = cleaned_polygons(vertices, faces)
+    if not faces:
+        raise GeometryError(f"asset {path} holds no face with an area")
+    mesh = Mesh(vertices, faces)
     _cache[key] = mesh
     while len(_cache) > _CACHE_SIZE:
         _cache.popitem(last=False)
@@ -155,18 +161,3 @@ def _collada_up(path: Path) -> np.ndarray:
         head = handle.read(1 << 16)  # the <asset> element comes first
     found = re.search(r"<up_axis>\s*([XYZ]_UP)\s*</up_axis>", head)
     return _UP_AXES[found.group(1) if found else "Y_UP"]
-
-
-def _welded(vertices: np.ndarray, faces: list[list[int]]) -> Mesh:
-    """The mesh with vertices at one position merged (asset files repeat a corner per
-    texture coordinate), so a closed solid reads as closed; faces left with fewer than three
-    corners are dropped."""
-    unique, inverse = np.unique(vertices, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    kept = []
-    for face in faces:
-        corners = [int(inverse[i]) for i in face]
-        corners = [c for k, c in enumerate(corners) if c != corners[k - 1]]
-        if len(set(corners)) >= 3:
-            kept.append(corners)
-    return Mesh(unique, kept)
