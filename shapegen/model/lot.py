@@ -9,7 +9,9 @@ and passed down as it is; the derivation trusts it.
 A polygon is cleaned as it is checked: consecutive corners closer than
 :data:`~shapegen.tolerances.LOT_MERGE_M` are one corner (a repeated closing corner goes), and
 a ring given clockwise is reversed keeping its first corner first (as CityEngine takes a lot
-drawn either way). What cannot be a lot is one :class:`~shapegen.errors.LotError` line, without
+drawn either way). A :class:`MeshLot` is the other start a derivation takes: faces in space,
+as PyPRT's initial shapes read from a file (a building's faces, a sloped roof), in world
+coordinates (m, y up). What cannot be a lot is one :class:`~shapegen.errors.LotError` line, without
 the place it came from: each front end says that in its own words (``--lot '0,0 1,1': ...``,
 ``"lot": ...``, a city's failed row).
 
@@ -25,7 +27,7 @@ shapegen.errors.LotError: a lot needs at least 3 distinct corners, got 2
 
 from __future__ import annotations
 
-__all__ = ["Lot"]
+__all__ = ["Lot", "MeshLot"]
 
 import math
 import re
@@ -195,3 +197,30 @@ def _why(polygon) -> str:
     reason = shapely.is_valid_reason(polygon)
     point = re.compile(r"\[([-\d.e+]+) ([-\d.e+]+)\]")
     return point.sub(lambda m: f" at x={float(m[1]):g}, z={float(m[2]):g}", reason).lower()
+
+
+@dataclass(frozen=True, eq=False)
+class MeshLot:
+    """A start of several faces, or of one face that is not level: ``vertices`` ``(n, 3)`` in
+    metres (world coordinates, y up) and ``faces`` (each three or more vertex indices, turned
+    counter-clockwise seen from its front), as PyPRT reads an initial shape from a file. The
+    start scope has x along the first face's first edge and y along its normal."""
+
+    vertices: np.ndarray
+    faces: tuple[tuple[int, ...], ...]
+
+    def __post_init__(self):
+        vertices = np.asarray(self.vertices, dtype=float)
+        if vertices.ndim != 2 or vertices.shape[1:] != (3,) or len(vertices) < 3:
+            raise LotError("a mesh lot needs three or more (x, y, z) vertices")
+        if not np.all(np.isfinite(vertices)):
+            raise LotError("a mesh lot's vertex coordinates must be finite numbers")
+        if np.abs(vertices).max() > LOT_EXTENT_LIMIT_M:
+            raise LotError(f"a mesh lot reaches beyond {LOT_EXTENT_LIMIT_M:g} m of the origin")
+        faces = tuple(tuple(int(i) for i in face) for face in self.faces)
+        if not faces or any(len(face) < 3 for face in faces):
+            raise LotError("a mesh lot needs faces of three or more corners")
+        if any(not 0 <= i < len(vertices) for face in faces for i in face):
+            raise LotError(f"a mesh lot's face names a vertex outside its {len(vertices)}")
+        object.__setattr__(self, "vertices", vertices)
+        object.__setattr__(self, "faces", faces)

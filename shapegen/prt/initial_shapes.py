@@ -9,11 +9,16 @@ PyPRT's constructors, with its argument order and types:
   ``[face, hole face, ...]`` groups;
 - ``InitialShape(initial_shape_path, max_dir_recursion_depth=0)``: a geometry file.
 
-shapegen starts a derivation on one horizontal polygon (its lot). A shape of one face, given
-by coordinates or read from an OBJ or glTF file, becomes that polygon at the face's height; what
-shapegen cannot start on (several faces, holes, a sloped face, FBX and other formats without a
-maintained reader) is refused with one line when the model is generated, as PyPRT reports an
-initial shape it cannot use.
+A shape of one level face, given by coordinates or read from a file, becomes a polygon lot at
+the face's height (:func:`footprint`). A shape of several faces, or of one that is not level,
+is one start shape made of all its faces, as PyPRT makes it (:func:`start_of`: a
+:class:`~shapegen.model.lot.MeshLot`). Files are read as CityEngine's runtime reads them: OBJ by
+shapegen's reader, cleaned as an asset is (:mod:`shapegen.geometry.asset_cleanup`), with the
+``mtllib`` and textures it names looked for in the file's folder and, as deep as
+``max_dir_recursion_depth`` says, the folders below it; glTF and GLB by trimesh, as triangles;
+FBX by ufbx (:mod:`shapegen.readers.fbx`), its faces whole. What shapegen cannot start on
+(holes, other formats) is refused with one line when the model is generated, as PyPRT reports
+an initial shape it cannot use.
 
 >>> shape = InitialShape([0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0])
 >>> shape.get_vertex_count(), shape.get_index_count(), shape.get_face_counts_count()
@@ -24,8 +29,9 @@ initial shape it cannot use.
 
 from __future__ import annotations
 
-__all__ = ["Footprint", "InitialShape", "footprint"]
+__all__ = ["Footprint", "InitialShape", "footprint", "start_of"]
 
+import contextlib
 import io
 import math
 from dataclasses import dataclass
@@ -33,13 +39,16 @@ from pathlib import Path
 
 import numpy as np
 
-from shapegen.errors import InputFormatError
+from shapegen.errors import InputFormatError, LotError
+from shapegen.geometry.asset_cleanup import cleaned_polygons
+from shapegen.model.lot import MeshLot
 from shapegen.readers.files import read_input_bytes
 from shapegen.readers.obj import obj_polygons
 from shapegen.tolerances import LEVEL_M
 
-READABLE_SUFFIXES = (".obj", ".gltf", ".glb")
-"""Geometry files an initial shape is read from (OBJ by shapegen, glTF by trimesh)."""
+READABLE_SUFFIXES = (".obj", ".gltf", ".glb", ".fbx")
+"""Geometry files an initial shape is read from (OBJ by shapegen, glTF by trimesh, FBX by
+ufbx)."""
 
 
 class InitialShape:
@@ -157,6 +166,54 @@ class Footprint:
         return placed
 
 
+def start_of(shape: InitialShape) -> Footprint | MeshLot:
+    """Where a rule starts on ``shape``: its one level face as a :class:`Footprint`, else all
+    its faces as a :class:`~shapegen.model.lot.MeshLot` (world coordinates, m, y up); an
+    :class:`InputFormatError` saying why neither."""
+    path = Path(shape.get_path()) if shape.get_path() else None
+    if path is not None:
+        vertices, faces = _read_mesh(path)
+        coordinates = vertices.ravel().tolist()
+        indices = [i for face in faces for i in face]
+        face_counts = [len(face) for face in faces]
+    else:
+        coordinates, indices, face_counts = shape._coordinates, shape._indices, shape._face_counts
+    where = shape.get_path() or "initial shape"
+    _check(where, coordinates, indices, face_counts)
+    if shape._holes:
+        raise InputFormatError(f"{where}: initial shapes with holes are not supported by shapegen")
+    heights = [coordinates[3 * i + 1] for i in indices]
+    if len(face_counts) == 1 and max(heights) - min(heights) <= LEVEL_M:
+        return footprint(shape)
+    level = max(coordinates[1::3]) - min(coordinates[1::3]) <= LEVEL_M
+    if level and path is not None and path.suffix.lower() in (".gltf", ".glb"):
+        with contextlib.suppress(InputFormatError):  # triangles of one level polygon: its lot
+            return footprint(shape)
+    vertices = np.array(coordinates, dtype=float).reshape(-1, 3)
+    starts = np.cumsum([0, *face_counts])
+    faces = [indices[a:b] for a, b in zip(starts[:-1], starts[1:], strict=True)]
+    try:
+        return MeshLot(vertices, tuple(tuple(face) for face in faces))
+    except LotError as exc:
+        raise InputFormatError(f"{where}: {exc}") from None
+
+
+def _check(where: str, coordinates, indices, face_counts) -> None:
+    if len(coordinates) % 3:
+        raise InputFormatError(
+            f"{where}: {len(coordinates)} vertex coordinates, not x, y, z triples"
+        )
+    if not all(math.isfinite(v) for v in coordinates):
+        raise InputFormatError(f"{where}: a vertex coordinate is not a finite number")
+    count = len(coordinates) // 3
+    if sum(face_counts) != len(indices) or any(n < 3 for n in face_counts):
+        raise InputFormatError(
+            f"{where}: face counts {face_counts} do not add up to the {len(indices)} indices"
+        )
+    if any(not 0 <= i < count for i in indices):
+        raise InputFormatError(f"{where}: a vertex index is outside the {count} vertices")
+
+
 def footprint(shape: InitialShape) -> Footprint:
     """The one horizontal face of ``shape``, or an :class:`InputFormatError` saying why not."""
     if shape.get_path():
@@ -232,7 +289,54 @@ def _read_file(path: Path) -> tuple[list[float], list[int], list[int]]:
         raise InputFormatError(f"{path}: no such file")
     if suffix == ".obj":
         return _read_obj(path)
+    if suffix == ".fbx":
+        vertices, faces = _read_mesh(path)
+        return vertices.ravel().tolist(), [i for f in faces for i in f], [len(f) for f in faces]
     return _read_gltf(path)
+
+
+def _read_mesh(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    """All the faces of a geometry file, as CityEngine's runtime reads them as an initial
+    shape: OBJ and FBX faces whole and cleaned (as assets are), glTF as its triangles."""
+    suffix = path.suffix.lower()
+    if suffix not in READABLE_SUFFIXES:
+        raise InputFormatError(
+            f"{path}: initial shapes are read from {', '.join(READABLE_SUFFIXES)} files;"
+            f" {suffix or 'a file without a suffix'} is not supported by shapegen"
+        )
+    if not path.is_file():
+        raise InputFormatError(f"{path}: no such file")
+    if suffix == ".obj":
+        text = read_input_bytes(path, "initial shape file").decode("utf-8", errors="replace")
+        vertices, faces = obj_polygons(text, str(path))
+    elif suffix == ".fbx":
+        from shapegen.readers.fbx import fbx_polygons
+
+        read_input_bytes(path, "initial shape file")  # the size limit, as for the others
+        vertices, faces = fbx_polygons(path)
+    else:
+        vertices, faces = _gltf_triangles(path)
+    vertices, faces = cleaned_polygons(vertices, faces)
+    if not faces:
+        raise InputFormatError(f"{path}: the file holds no face with an area")
+    return vertices, faces
+
+
+def _gltf_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    import trimesh
+
+    data = read_input_bytes(path, "initial shape file")
+    try:
+        mesh = trimesh.load(
+            io.BytesIO(data),
+            file_type=path.suffix.lower().lstrip("."),
+            resolver=trimesh.resolvers.FilePathResolver(str(path.resolve())),
+            force="mesh",
+            process=False,
+        )
+    except Exception as exc:  # trimesh raises many kinds for a broken file
+        raise InputFormatError(f"{path}: not a readable glTF file ({exc})") from None
+    return np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces).tolist()
 
 
 def _read_obj(path: Path) -> tuple[list[float], list[int], list[int]]:

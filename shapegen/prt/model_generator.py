@@ -4,7 +4,7 @@
 geometry_encoder, encoder_options)`` as PyPRT documents it: one attribute dictionary per
 initial shape, or one for all (any other count is an error: nothing is generated and an empty
 list returned, as PyPRT does, with the reason on standard error). A shape that cannot be
-generated (a face shapegen cannot start on, a derivation error) gives a model without geometry
+generated (a shape shapegen cannot start on, a derivation error) gives a model without geometry
 whose ``get_cga_errors()`` says why, and the same line on standard error; the other shapes are
 generated. A dictionary holds the rule's
 attrs, and ``seed`` (int, default 0), ``shapeName``, ``ruleFile`` and ``startRule``
@@ -35,7 +35,7 @@ from pathlib import Path
 from shapegen.errors import GeometryError, GrammarError, InputFormatError, OptionError
 from shapegen.model.model import Model
 from shapegen.prt.generated_models import GeneratedModel
-from shapegen.prt.initial_shapes import InitialShape, footprint
+from shapegen.prt.initial_shapes import Footprint, InitialShape, start_of
 
 PY_ENCODER = "com.esri.pyprt.PyEncoder"
 PY_ENCODER_OPTIONS = {"emitGeometry": True, "emitReport": True, "triangulate": False}
@@ -106,9 +106,10 @@ class ModelGenerator:
         ignored = sorted(k for k in attributes if k not in SHAPE_KEYS and k not in known)
         printed = io.StringIO()
         try:
-            base = footprint(shape)
+            base = start_of(shape)
+            lot = list(base.points) if isinstance(base, Footprint) else base
             with contextlib.redirect_stdout(printed):
-                model = grammar.build(attrs=overrides, seed=seed, lot=list(base.points))
+                model = grammar.build(attrs=overrides, seed=seed, lot=lot)
         except (InputFormatError, GrammarError, GeometryError) as exc:
             # CityEngine's runtime logs a shape it cannot generate and goes on with the others
             problem = str(exc).splitlines()[0]
@@ -137,8 +138,9 @@ class ModelGenerator:
 
 def _placed(model, base):
     """``model`` moved where CityEngine derives it on the initial shape (raised to its height,
-    turned back if it faces down); its ground is the shape's height."""
-    if not base.faces_down and base.height == 0.0:
+    turned back if it faces down); its ground is the shape's height. A start of several faces
+    is derived where it is."""
+    if not isinstance(base, Footprint) or (not base.faces_down and base.height == 0.0):
         return model
     blocks = [replace(b, vertices=base.place(b.vertices)) for b in model.blocks]
     surfaces = [replace(s, vertices=base.place(s.vertices)) for s in model.surfaces]

@@ -148,17 +148,27 @@ def test_the_obj_encoder_writes_the_model_and_its_text_files(tmp_path):
 def test_a_shape_shapegen_cannot_start_on_is_a_model_with_its_error(capsys):
     holed = pyprt.InitialShape(SQUARE + [2, 0, 2, 8, 0, 8, 2, 0, 8], list(range(7)), [4, 3],
                                [[0, 1]])  # fmt: skip
-    tilted = pyprt.InitialShape([v + (k // 3) if k % 3 == 1 else v for k, v in enumerate(SQUARE)])
     crossing = pyprt.InitialShape([0, 0, 0, 0, 0, -10, 10, 0, -10, 10, 0, 0, -5, 0, -5])
-    shapes = [holed, tilted, pyprt.InitialShape("model.fbx"), crossing, pyprt.InitialShape(SQUARE)]
+    shapes = [holed, pyprt.InitialShape("model.dwg"), crossing, pyprt.InitialShape(SQUARE)]
     models = pyprt.ModelGenerator(shapes).generate_model([{}], str(EXTRUSION))
     printed = capsys.readouterr().err.splitlines()
     errors = [model.get_cga_errors() for model in models]
-    for k, expected in enumerate(["holes", "not horizontal", "not supported", "crosses itself"]):
+    for k, expected in enumerate(["holes", "not supported", "crosses itself"]):
         assert models[k].get_vertices() == [] and expected in errors[k][0], errors[k]
         assert printed[k] == f"shapegen.prt: initial shape {k}: {errors[k][0]}"
-    assert len(printed) == 4
-    assert models[4].get_vertices() and not errors[4]  # the others are generated
+    assert len(printed) == 3
+    assert models[3].get_vertices() and not errors[3]  # the others are generated
+
+
+def test_a_tilted_face_is_extruded_along_its_normal_as_pyprt_does():
+    # PyPRT 1.12, the same shape and attrs: 8 vertices, 6 faces, from (-4.511, 0, 0) to
+    # (10, 25.553, 10) (the square's y rises by 1 m per corner)
+    tilted = pyprt.InitialShape([v + (k // 3) if k % 3 == 1 else v for k, v in enumerate(SQUARE)])
+    (model,) = pyprt.ModelGenerator([tilted]).generate_model([FIXED], str(EXTRUSION))
+    points = np.array(model.get_vertices()).reshape(-1, 3)
+    assert (len(points), len(model.get_faces())) == (8, 6)
+    assert points.min(axis=0) == pytest.approx([-4.511, 0.0, 0.0], abs=1e-3)
+    assert points.max(axis=0) == pytest.approx([10.0, 25.553, 10.0], abs=1e-3)
 
 
 def test_an_obj_footprint_is_read_with_its_polygon_whole(tmp_path):

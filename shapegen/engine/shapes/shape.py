@@ -33,6 +33,7 @@ __all__ = [
     "MASS",
     "FACE_ORDER",
     "lot_scope",
+    "mesh_lot_shape",
     "extrude",
     "split_scope",
     "face_scopes",
@@ -54,7 +55,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh
-from shapegen.model.lot import Lot
+from shapegen.model.lot import Lot, MeshLot
 from shapegen.model.scope import Scope
 from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL
 
@@ -411,8 +412,11 @@ def lot_shape(lot) -> tuple[Shape, dict]:
 
     ``lot`` is a :class:`~shapegen.model.lot.Lot` (or what :meth:`Lot.of
     <shapegen.model.lot.Lot.of>` takes): a rectangle fills its scope (the fast path), a polygon
-    is a face whose scope has x along its first edge. Raises
+    is a face whose scope has x along its first edge; a
+    :class:`~shapegen.model.lot.MeshLot` is its faces (see :func:`mesh_lot_shape`). Raises
     :class:`~shapegen.errors.LotError` for what cannot be a lot."""
+    if isinstance(lot, MeshLot):
+        return mesh_lot_shape(lot)
     lot = Lot.of(lot)
     if lot.size is not None:
         width, depth = lot.size
@@ -428,6 +432,35 @@ def lot_shape(lot) -> tuple[Shape, dict]:
         "lot": [float(scope.size[0]), float(scope.size[2])],
         "lot_polygon": [[float(p[0]), float(p[2])] for p in world],
     }
+
+
+def mesh_lot_shape(lot: MeshLot) -> tuple[Shape, dict]:
+    """The start shape of a :class:`~shapegen.model.lot.MeshLot`: its faces, in a scope with
+    x along the first face's first edge and y along that face's normal (a level face's scope is
+    a polygon lot's), the bounding box of every vertex in that frame. It is a face when the
+    faces lie in one plane of the scope, else a mass; the model's metadata records the scope's
+    size as ``lot`` and the mesh's counts as ``initial_mesh``."""
+    from shapegen.geometry.frames import face_rotation, fitted_scope
+
+    first = lot.vertices[list(lot.faces[0])]
+    frame = face_rotation(first)
+    x, normal = frame[:, 0], frame[:, 2]
+    rotation = np.column_stack([x, normal, np.cross(x, normal)])
+    scope, local = fitted_scope(lot.vertices, rotation)
+    mesh = Mesh(local, [list(face) for face in lot.faces])
+    lo, hi = mesh.bounds()
+    flat = [
+        k
+        for k in range(3)
+        if hi[k] - lo[k] <= COINCIDENT_REL * max(float((hi - lo).max()), COINCIDENT_M)
+    ]
+    shape = (
+        Shape.with_geometry(scope, mesh, FACE, flat[0])
+        if flat
+        else Shape.with_geometry(scope, mesh, MASS)
+    )
+    counts = {"vertices": int(mesh.n_vertices), "faces": int(mesh.n_faces)}
+    return shape, {"lot": [float(scope.size[0]), float(scope.size[2])], "initial_mesh": counts}
 
 
 def _rectangle_fills(mesh: Mesh, size: np.ndarray) -> bool:
