@@ -13,12 +13,12 @@ A shape of one level face, given by coordinates or read from a file, becomes a p
 the face's height (:func:`footprint`). A shape of several faces, or of one that is not level,
 is one start shape made of all its faces, as PyPRT makes it (:func:`start_of`: a
 :class:`~shapegen.model.lot.MeshLot`). Files are read as CityEngine's runtime reads them: OBJ by
-shapegen's reader, cleaned as an asset is (:mod:`shapegen.geometry.asset_cleanup`), with the
-``mtllib`` and textures it names looked for in the file's folder and, as deep as
-``max_dir_recursion_depth`` says, the folders below it; glTF and GLB by trimesh, as triangles;
-FBX by ufbx (:mod:`shapegen.readers.fbx`), its faces whole. What shapegen cannot start on
-(holes, other formats) is refused with one line when the model is generated, as PyPRT reports
-an initial shape it cannot use.
+shapegen's reader, cleaned as an asset is (:mod:`shapegen.geometry.asset_cleanup`); glTF and
+GLB by trimesh, as triangles; FBX by ufbx (:mod:`shapegen.readers.fbx`), its faces whole.
+``max_dir_recursion_depth`` is how deep PyPRT looks below the file's folder for the files it
+names (materials, textures); shapegen takes the geometry only, so the depth changes nothing.
+What shapegen cannot start on (holes, other formats) is refused with one line when the model is
+generated, as PyPRT reports an initial shape it cannot use.
 
 >>> shape = InitialShape([0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0])
 >>> shape.get_vertex_count(), shape.get_index_count(), shape.get_face_counts_count()
