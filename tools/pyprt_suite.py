@@ -39,8 +39,10 @@ def main(argv: list[str] | None = None) -> int:
         (Path(shim_root) / "pyprt").mkdir()
         (Path(shim_root) / "pyprt" / "__init__.py").write_text(SHIM)
         environment = dict(os.environ)
+        # the shapegen of this checkout, not whichever one the interpreter has installed
+        checkout = str(Path(__file__).resolve().parents[1])
         environment["PYTHONPATH"] = os.pathsep.join(
-            [shim_root, *filter(None, [environment.get("PYTHONPATH")])]
+            [shim_root, checkout, *filter(None, [environment.get("PYTHONPATH")])]
         )
         command = [sys.executable, "-m", "pytest", "-q", "-rf", "-p", "no:cacheprovider",
                    "--rootdir", str(args.checkout), str(tests)]  # fmt: skip
