@@ -5,10 +5,12 @@ solids and surfaces for the rest; a missing file is a warning, never a silent em
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 import pytest
 import trimesh
+from fbx_files import write_block_fbx
 
 import shapegen
 from shapegen.engine.derivation.state import Derivation, root_state
@@ -74,17 +76,34 @@ def test_missing_asset_is_a_warning_naming_file_and_rule(project):
 def test_a_format_shapegen_cannot_read_is_an_asset_not_found_in_cga_and_an_error_in_grammar(
     project,
 ):
-    (project / "assets" / "tree.fbx").write_bytes(b"Kaydara FBX Binary  \x00")
-    text = 'Lot --> extrude(1) i("assets/tree.fbx")'
+    (project / "assets" / "tree.usd").write_bytes(b"PXR-USDC")
+    text = 'Lot --> extrude(1) i("assets/tree.usd")'
     model = _build(project, text)
-    # CityEngine reads FBX; shapegen says so and inserts the box of an asset not found
+    # CityEngine reads USD; shapegen says so and inserts the box of an asset not found
     assert [b.volume for b in model.blocks] == pytest.approx([12 * 1 * 8])
     (warning,) = model.metadata["warnings"]
-    assert ".fbx assets are not read by shapegen" in warning and "a box fills" in warning
+    assert ".usd assets are not read by shapegen" in warning and "a box fills" in warning
     path = project / "rules" / "house.grammar"
     path.write_text("@StartRule\n" + text)
-    with pytest.raises(GrammarError, match=r"\.fbx assets are not read by shapegen; it reads"):
+    with pytest.raises(GrammarError, match=r"\.usd assets are not read by shapegen; it reads"):
         shapegen.load_grammar(path)
+
+
+def test_an_fbx_asset_without_ufbx_is_a_box_and_a_line_saying_what_to_install(project, monkeypatch):
+    monkeypatch.setitem(sys.modules, "ufbx", None)  # as if it were not installed
+    (project / "assets" / "tree.fbx").write_bytes(b"Kaydara FBX Binary  \x00")
+    model = _build(project, 'Lot --> extrude(1) i("assets/tree.fbx")')
+    assert [b.volume for b in model.blocks] == pytest.approx([12 * 1 * 8])
+    (warning,) = model.metadata["warnings"]
+    assert "reading FBX needs the ufbx package: pip install 'shapegen[fbx]'" in warning
+
+
+def test_an_fbx_asset_is_read_with_its_faces_whole(project):
+    pytest.importorskip("ufbx", reason="reading FBX needs the ufbx package")
+    write_block_fbx(project / "assets" / "block.fbx")
+    model = _build(project, 'Lot --> i("assets/block.fbx", yUp, keepSizeAndPosition) B.')
+    faces = sorted(len(f) for leaf in [*model.blocks, *model.surfaces] for f in leaf.faces)
+    assert faces == [4] * 6 + [5] and not model.metadata["warnings"]
 
 
 @pytest.mark.parametrize(("up", "size"), [("Y_UP", (1, 2, 3)), ("Z_UP", (1, 3, 2)),

@@ -5,7 +5,8 @@ project-absolute ``/Project/assets/x.obj`` works too. Used by ``i()``, ``assetIn
 table readers.
 
 Asset files are read into a :class:`~shapegen.geometry.mesh.Mesh` in their own coordinates (y
-up): OBJ by shapegen's reader (polygons kept whole), glTF, COLLADA, PLY and STL with trimesh,
+up): OBJ by shapegen's reader (polygons kept whole), FBX with ufbx (faces whole, in metres;
+an optional dependency), glTF, COLLADA, PLY and STL with trimesh,
 and cleaned as CityEngine's runtime cleans an asset (:mod:`shapegen.geometry.asset_cleanup`:
 its vertices kept as listed, edges and faces of no extent removed, unused vertices dropped);
 a file is read once and kept while it is unchanged."""
@@ -27,6 +28,7 @@ from shapegen.geometry.asset_cleanup import cleaned_polygons
 from shapegen.geometry.mesh import Mesh
 from shapegen.limits import current_limits, limit_hint
 from shapegen.readers.archives import package_cache, unpacked_package
+from shapegen.readers.fbx import fbx_polygons
 from shapegen.readers.obj import obj_polygons
 
 _CACHE_SIZE = 64
@@ -110,6 +112,8 @@ def load_asset(path: Path) -> Mesh:
         if path.suffix.lower() == ".obj":
             text = path.read_text(encoding="utf-8", errors="replace")
             vertices, faces = obj_polygons(text, f"asset {path}")
+        elif path.suffix.lower() == ".fbx":
+            vertices, faces = fbx_polygons(path)
         else:
             vertices, faces = _read_triangles(path)
     except GeometryError:

@@ -23,16 +23,17 @@ and ``<project>/assets/PATH``. OBJ, glTF, COLLADA, PLY and STL files are read. A
 is not found is replaced by a box filling the scope, as CityEngine's runtime does (its model of
 the candler package without the asset files has the bounding box of these boxes, trimmed), and
 is a warning of the derivation naming the file and the chain of rules; so is, in a ``.cga``
-rule, a file of a format CityEngine reads and shapegen does not (FBX, USD, DWG, IFC; COLLADA is
-read through pycollada, its up axis honoured). The inserted geometry is
-cut to the shape's trim planes (:mod:`shapegen.engine.shapes.trim`); it becomes a block when it is a
-closed convex solid, else a surface (see the interpreter).
+rule, a file of a format CityEngine reads and shapegen does not (USD, DWG, IFC; FBX when the
+optional ufbx is not installed; COLLADA is read through pycollada, its up axis honoured). The
+inserted geometry is cut to the shape's trim planes (:mod:`shapegen.engine.shapes.trim`); it
+becomes a block when it is a closed convex solid, else a surface (see the interpreter).
 """
 
 from __future__ import annotations
 
 __all__ = ["asset_insert", "is_asset_name", "primitive_mesh"]
 
+import importlib.util
 import math
 import os
 from collections.abc import Callable
@@ -52,10 +53,12 @@ from shapegen.grammar import ast
 from shapegen.grammar.names import OPERATION_KEYWORDS
 from shapegen.limits import limit_hint
 from shapegen.model.scope import Scope
+from shapegen.readers.fbx import MISSING as FBX_MISSING
 
-ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".dae", ".ply", ".stl")
-"""Asset files shapegen reads (trimesh); CityEngine also reads .fbx, .usd, .dwg, .ifc."""
-OTHER_CITYENGINE_SUFFIXES = (".fbx", ".usd", ".usda", ".usdc", ".usdz", ".dwg", ".ifc")
+ASSET_SUFFIXES = (".obj", ".gltf", ".glb", ".dae", ".ply", ".stl", ".fbx")
+"""Asset files shapegen reads (FBX with the optional ufbx); CityEngine also reads .usd, .dwg,
+.ifc."""
+OTHER_CITYENGINE_SUFFIXES = (".usd", ".usda", ".usdc", ".usdz", ".dwg", ".ifc")
 BUILTIN_ASSETS = ("builtin:cube", "builtin:cube:notex")
 DEFAULT_SIDES = 16
 
@@ -313,6 +316,8 @@ def _name_problem(name: str, cga: bool = False) -> str | None:
     if name.startswith("builtin:") and name not in BUILTIN_ASSETS and not cga:
         return f"i({name!r}): shapegen has the built-in assets {', '.join(BUILTIN_ASSETS)}"
     suffix = os.path.splitext(name)[1].lower()
+    if suffix == ".fbx" and importlib.util.find_spec("ufbx") is None:
+        return f"i({name!r}): {FBX_MISSING}"
     if suffix in OTHER_CITYENGINE_SUFFIXES:
         return (
             f"i({name!r}): {suffix} assets are not read by shapegen; "
