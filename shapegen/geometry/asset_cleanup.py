@@ -90,7 +90,9 @@ def _without_slivers(vertices: np.ndarray, faces: list[list[int]], edge: float) 
     surface, is merged into that face: its other corners are spliced into the edge, and the
     edges so made may take in the next sliver of a fan. A sliver that meets no face kept so is
     dropped."""
-    thin = [_thickness(vertices[face]) <= edge for face in faces]
+    if not faces:
+        return faces
+    thin = (_thicknesses(vertices, faces) <= edge).tolist()
     if not any(thin):
         return faces
     kept = {k: list(face) for k, face in enumerate(faces) if not thin[k]}
@@ -129,11 +131,19 @@ def _edges(face: list[int]) -> list[tuple[int, int]]:
     return list(zip(face, face[1:] + face[:1], strict=True))
 
 
-def _thickness(polygon: np.ndarray) -> float:
-    """Twice the polygon's area over its longest edge: its width across that edge."""
-    normal = np.cross(polygon, np.roll(polygon, -1, axis=0)).sum(axis=0)  # Newell's method
-    longest = np.linalg.norm(np.roll(polygon, -1, axis=0) - polygon, axis=1).max()
-    return float(np.linalg.norm(normal) / longest) if longest > 0 else 0.0
+def _thicknesses(vertices: np.ndarray, faces: list[list[int]]) -> np.ndarray:
+    """Each face's width across its longest edge: twice its area (Newell's method) over that
+    edge's length (0 for a face whose corners are one point)."""
+    corners = np.concatenate([np.asarray(f, dtype=np.int64) for f in faces])
+    sizes = np.array([len(f) for f in faces])
+    start = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    following = np.arange(1, len(corners) + 1)
+    following[start + sizes - 1] = start
+    here, there = vertices[corners], vertices[corners[following]]
+    normal = np.add.reduceat(np.cross(here, there), start, axis=0)
+    longest = np.maximum.reduceat(np.linalg.norm(there - here, axis=1), start)
+    area2 = np.linalg.norm(normal, axis=1)
+    return np.divide(area2, longest, out=np.zeros_like(area2), where=longest > 0)
 
 
 def _renumbered(vertices: np.ndarray, faces: list[list[int]]):
