@@ -5,8 +5,9 @@ two) and its faces whole, and repairs three things, which its log names ("contai
 edges (removed)", "unreferenced vertices ... were removed"):
 
 - an edge no longer than :data:`~shapegen.tolerances.ASSET_EDGE_M` is collapsed into one
-  vertex, the one more faces use (the other is left unused); a face left with fewer than three
-  corners goes;
+  vertex, the one more faces use (the other is left unused), and a corner repeated at once
+  (``f 1 2 2 3``) is one corner; a face left with fewer than three corners goes; a face given
+  twice stays twice;
 - a face with no area (its corners on one line, a sliver modelling tools leave along a seam) is
   removed; one whose spanning edge a face kept shares is merged into that face (its corners
   spliced into the edge, so the face goes round the seam's corners), a fan one after another;
@@ -55,8 +56,9 @@ def _collapsed(vertices: np.ndarray, faces: list[list[int]], edge: float) -> lis
     following = np.arange(1, len(corners) + 1)
     following[start + sizes - 1] = start
     lengths = np.linalg.norm(vertices[corners[following]] - vertices[corners], axis=1)
-    short = np.flatnonzero((lengths <= edge) & (corners != corners[following]))
-    if len(short) == 0:
+    repeated = corners == corners[following]  # f 1 2 2 3: an edge from a vertex to itself
+    short = np.flatnonzero((lengths <= edge) & ~repeated)
+    if len(short) == 0 and not repeated.any():
         return [list(map(int, f)) for f in faces]
     uses = np.bincount(corners, minlength=len(vertices))
     parent = np.arange(len(vertices))

@@ -76,3 +76,10 @@ def test_vertices_at_one_position_stay_two_and_unused_ones_go():
     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [5, 5, 5.0]])
     vertices, faces = cleaned_polygons(points, [[0, 1, 2], [3, 4, 2]])
     assert len(vertices) == 5 and faces == [[0, 1, 2], [3, 4, 2]]
+
+
+def test_a_repeated_corner_is_one_and_a_face_given_twice_stays_twice():
+    # PyPRT 1.12 reads "f 1 2 2 3 4" as a quad, and keeps both copies of a face given twice
+    points = np.array([[0, 0, 0], [1, 0, 0], [1, 0, -1], [0, 0, -1.0]])
+    assert cleaned_polygons(points, [[0, 1, 1, 2, 3]])[1] == [[0, 1, 2, 3]]
+    assert cleaned_polygons(points, [[0, 1, 2, 3], [0, 1, 2, 3]])[1] == [[0, 1, 2, 3]] * 2
