@@ -9,7 +9,7 @@ STAMP := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install -qq --upgrade pip
-	$(BIN)/pip install -qq -e '.[test,sim,city]'
+	$(BIN)/pip install -qq -e '.[test,sim,city,fbx]'
 	touch $(STAMP)
 
 demo: $(STAMP)
