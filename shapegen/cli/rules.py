@@ -41,7 +41,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def description(path: Path) -> str:
-    """The first sentence of the file's opening comment (``//``, ``#`` or ``/* */``), or ``""``."""
+    """The first sentence of the file's opening comment (``//``, ``#`` or ``/* */``), or ``""``;
+    for a rule package (``.rpk``, an archive), its row in ``PACKAGES.md`` beside it."""
+    if path.suffix.lower() == ".rpk":
+        return _package_description(path)
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except OSError:
@@ -72,3 +75,17 @@ def description(path: Path) -> str:
         if not in_block and not line.strip().startswith(("//", "#")):
             break
     return " ".join(words)
+
+
+def _package_description(package: Path) -> str:
+    """The "what it builds" cell of the package's row in the ``PACKAGES.md`` table beside it
+    (`` | `parthenon.rpk` | The Parthenon... | ... | ``), or ``""``."""
+    try:
+        lines = (package.parent / "PACKAGES.md").read_text(encoding="utf-8").splitlines()
+    except OSError:
+        return ""
+    for line in lines:
+        cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
+        if len(cells) >= 2 and cells[0] == f"`{package.name}`":
+            return cells[1]
+    return ""

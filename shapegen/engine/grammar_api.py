@@ -341,9 +341,12 @@ def _rule_file(path: str | os.PathLike) -> Path:
     if _is_bare_name(name):
         bundled = find_bundled_rule(name)
         if bundled is not None:
+            if bundled.suffix.lower() == PACKAGE_SUFFIX:
+                return start_rule_of_package(bundled)
             return bundled
     names = bundled_rules()
-    # compare the stems: every bundled name ends in .grammar, which would make any two look alike
+    # compare the stems: every bundled name ends in .grammar or .rpk, which would make any two
+    # look alike
     stems = {Path(bundled).stem: bundled for bundled in names}
     close = difflib.get_close_matches(Path(candidate.name).stem, list(stems), n=1, cutoff=0.75)
     hint = f"; did you mean {stems[close[0]]!r}?" if close else ""

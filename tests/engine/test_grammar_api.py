@@ -124,3 +124,30 @@ def test_rules_directory_is_the_top_level_one():
     path = find_bundled_rule("wall_windows")
     assert path is not None and path.parent.name == "rules"
     assert (Path(shapegen.__file__).resolve().parent.parent / "rules").is_dir()
+
+
+def test_a_bundled_rule_package_resolves_by_its_bare_name(tmp_path, monkeypatch):
+    from shapegen.engine.project.rule_packages import package_named
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("SHAPEGEN_CACHE", str(tmp_path / "cache"))
+    assert "parthenon.rpk" in shapegen.bundled_rules()
+    package = find_bundled_rule("parthenon.rpk")
+    assert package is not None and package.parent.name == "rules"
+    assert find_bundled_rule("parthenon") == package  # no .grammar of that name: the package
+    grammar = shapegen.load_grammar("parthenon.rpk")
+    assert grammar.path.name == "parthenon.cga"  # the package's start rule, unpacked
+    assert grammar.attrs["Diameter"] == pytest.approx(1.92)
+    assert package_named("parthenon.rpk") == package.resolve()
+    assert package_named("elsewhere/parthenon.rpk") is None  # a path names no bundled file
+
+
+def test_every_bundled_package_has_its_provenance_and_licence():
+    from shapegen.cli.rules import description
+
+    packages = [name for name in shapegen.bundled_rules() if name.endswith(".rpk")]
+    assert packages
+    for name in packages:
+        path = find_bundled_rule(name)
+        assert description(path).endswith("."), name
+        assert (path.parent / "LICENSE-pyprt").read_text().lstrip().startswith("Apache License")

@@ -31,6 +31,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from shapegen.engine.project.rules_path import find_bundled_rule
 from shapegen.errors import GrammarError
 from shapegen.export.atomic import abandoned_entries, writer_name
 from shapegen.readers.archives import package_cache, unpack_7z
@@ -88,12 +89,18 @@ def _remove_abandoned_staging(cache: Path) -> None:
 
 
 def package_named(source: str) -> Path | None:
-    """The rule package (``.rpk``) file ``source`` names, resolved, or None when it names none
-    (a rule file, a bundled rule's name): the file the designer opened rather than its
-    unpacked start rule."""
+    """The rule package (``.rpk``) file ``source`` names (a path, or a bundled package's bare
+    name such as ``parthenon.rpk``), resolved, or None when it names none (a rule file): the
+    file the designer opened rather than its unpacked start rule."""
     path = Path(source)
-    if path.suffix.lower() == PACKAGE_SUFFIX and path.is_file():
+    if path.suffix.lower() != PACKAGE_SUFFIX:
+        return None
+    if path.is_file():
         return path.resolve()
+    if path.name == source:
+        bundled = find_bundled_rule(source)
+        if bundled is not None:
+            return bundled.resolve()
     return None
 
 
