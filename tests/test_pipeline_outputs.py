@@ -162,6 +162,27 @@ def test_landscape_of_a_bridge_plots_the_cable_measure(tmp_path):
     assert code == 0 and picture.read_bytes()[:4] == b"\x89PNG"
 
 
+def test_landscape_titles_its_plot_with_the_rule_name_not_a_path(tmp_path, monkeypatch):
+    import shapegen.export.landscape_plot as landscape_plot
+
+    titles = []
+    plot = landscape_plot.plot_landscape
+    monkeypatch.setattr(
+        landscape_plot,
+        "plot_landscape",
+        lambda *args, title=None, **kw: (titles.append(title), plot(*args, title=title, **kw)),
+    )
+    deep = tmp_path / "a folder with a long name" / "and another one"
+    deep.mkdir(parents=True)
+    rule = deep / "stack.grammar"
+    rule.write_text(STACK)
+    picture = tmp_path / "l.png"
+    code = main(["landscape", str(rule), "base", "shift", "--grid", "2", "--no-path", "--quiet",
+                 "-o", str(picture)])  # fmt: skip
+    assert code == 0 and picture.read_bytes()[:4] == b"\x89PNG"
+    assert titles == ["stack.grammar: y/W²"]
+
+
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [

@@ -91,7 +91,11 @@ def run(args: argparse.Namespace) -> int:
             )  # fmt: skip
     else:
         landscape = energy_landscape(grammar, args.first, args.second, grid=args.grid, **settings)
-    plot_landscape(landscape, output, path, title=f"{grammar.name}: {structure.measure_name}")
+    # the rule's file name (a package's, when one was opened): a full path would be cut at the
+    # plot's edge, leaving the reader a fragment of a folder
+    opened = args.grammar if Path(args.grammar).suffix.lower() == ".rpk" else grammar.name
+    title = f"{Path(opened).name}: {structure.measure_name}"
+    plot_landscape(landscape, output, path, title=title)
     if console is not None:
         share = landscape.feasible.mean() * 100
         console.print(
