@@ -6,12 +6,21 @@ writer); both write beside it ``CGAReport.txt`` (a line per report: the initial 
 the key, the value), ``CGAPrint.txt`` (what ``print`` wrote) and ``CGAError.txt`` (the CGA
 errors and warnings). Every file is written atomically. Other encoders (I3S, FBX, ...) are
 refused with one line.
+
+``outputPath`` is treated as PyPRT treats it (``src/cpp/client/ModelGenerator.cpp`` of
+Esri/pyprt): without it the files go to the folder ``pyprt_fallback_output`` in the system's
+temporary folder, made if missing, with a warning; a folder that does not exist is refused
+(PyPRT logs that it "is not valid or does not exist" and writes nothing), so a script that runs
+here runs on PyPRT too. PyPRT's own examples make the folder first
+(``os.makedirs(path, exist_ok=True)``), and the refusal says so.
 """
 
 from __future__ import annotations
 
 __all__ = ["file_encoder", "ENCODERS"]
 
+import tempfile
+import warnings
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
@@ -34,9 +43,7 @@ def file_encoder(name: str, options: Mapping[str, object]) -> Callable[[list], N
     unknown = sorted(set(options) - set(FILE_OPTIONS))
     if unknown:
         raise OptionError(f"{name} takes {', '.join(FILE_OPTIONS)}; not {', '.join(unknown)}")
-    folder = Path(str(options.get("outputPath", "")))
-    if not options.get("outputPath") or not folder.is_dir():
-        raise OptionError(f"{name}: outputPath {str(folder)!r} is not an existing folder")
+    folder = _output_folder(name, options)
     base = str(options.get("baseName", "base_name"))
     if not base or "/" in base or "\\" in base:
         raise OptionError(f"{name}: baseName {base!r} is not a file name")
@@ -51,6 +58,37 @@ def file_encoder(name: str, options: Mapping[str, object]) -> Callable[[list], N
         )
 
     return write
+
+
+#: Where PyPRT writes a file encoder's output when no ``outputPath`` is given (in the system's
+#: temporary folder).
+FALLBACK_FOLDER = "pyprt_fallback_output"
+
+
+def _output_folder(name: str, options: Mapping[str, object]) -> Path:
+    """The folder ``outputPath`` names, or PyPRT's fallback folder (made) when it is absent."""
+    if "outputPath" not in options:
+        folder = Path(tempfile.gettempdir()) / FALLBACK_FOLDER
+        try:
+            folder.mkdir(exist_ok=True)
+        except OSError as exc:
+            raise OptionError(
+                f"{name}: cannot make {str(folder)!r}: {exc.strerror or exc}"
+            ) from None
+        warnings.warn(
+            f"{name}: encoder option 'outputPath' was not given; writing to {folder}, as PyPRT"
+            " does",
+            stacklevel=3,
+        )
+        return folder
+    folder = Path(str(options["outputPath"]))
+    if not str(options["outputPath"]) or not folder.is_dir():
+        what = "is not a folder" if folder.exists() else "does not exist"
+        raise OptionError(
+            f"{name}: outputPath {str(folder)!r} {what}; make the folder first"
+            " (os.makedirs(path, exist_ok=True)), as PyPRT needs too"
+        )
+    return folder
 
 
 def _write_obj(models: list[GeneratedModel], folder: Path, base: str) -> None:

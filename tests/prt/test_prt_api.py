@@ -133,6 +133,28 @@ def test_an_encoder_shapegen_does_not_have_is_refused(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_an_output_folder_that_does_not_exist_is_refused_as_pyprt_refuses_it(tmp_path):
+    # PyPRT (src/cpp/client/ModelGenerator.cpp) logs that the outputPath "is not valid or does
+    # not exist" and writes nothing; its examples make the folder first
+    generator = pyprt.ModelGenerator([pyprt.InitialShape(SQUARE)])
+    missing = tmp_path / "out" / "models"
+    with pytest.raises(OptionError, match="does not exist; make the folder first"):
+        generator.generate_model([FIXED], str(EXTRUSION), "com.esri.prt.codecs.OBJEncoder",
+                                 {"outputPath": str(missing)})  # fmt: skip
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_without_an_output_folder_the_files_go_to_pyprts_fallback_folder(tmp_path, monkeypatch):
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    generator = pyprt.ModelGenerator([pyprt.InitialShape(SQUARE)])
+    with pytest.warns(UserWarning, match="'outputPath' was not given; writing to .*pyprt_fallb"):
+        assert generator.generate_model([FIXED], str(EXTRUSION),
+                                        "com.esri.prt.codecs.OBJEncoder", {}) == []  # fmt: skip
+    assert (tmp_path / "pyprt_fallback_output" / "base_name_0.obj").read_text().count("\nf ") > 0
+
+
 def test_the_obj_encoder_writes_the_model_and_its_text_files(tmp_path):
     generator = pyprt.ModelGenerator([pyprt.InitialShape(SQUARE)])
     assert generator.generate_model([FIXED], str(EXTRUSION), "com.esri.prt.codecs.OBJEncoder",
