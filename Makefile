@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-slow lint bench clean
+.PHONY: demo test test-slow lint bench figures clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -34,6 +34,12 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_contacts.py
 	$(BIN)/python benchmarks/bench_interactive.py
 	$(BIN)/python benchmarks/bench_rules.py
+
+# The figures the README and docs/ state (rewritten where the code now gives others) and their
+# pictures, remade from the code: docs/make_figures.py (long: the parthenon's searches, the
+# design page in Chromium). `.venv/bin/python docs/make_figures.py --check` changes nothing.
+figures: $(STAMP)
+	$(BIN)/python docs/make_figures.py
 
 clean:
 	rm -rf $(VENV) out build *.egg-info

@@ -10,6 +10,17 @@ tests with ``SHAPEGEN_SCREENSHOTS=docs/images``):
 
 It needs Chromium (Debian: ``apt-get install chromium``) and the ``playwright`` Python package
 (installed with the test extra); playwright drives the system's browser, nothing is downloaded.
+
+One picture of a page, taken once its model is drawn (a headless browser's own
+``--screenshot`` takes it when the page has loaded, before the model has come)::
+
+    .venv/bin/python docs/editor_screenshots.py --shot http://127.0.0.1:8765/ page.png
+    .venv/bin/python docs/editor_screenshots.py --shot rules/barrel_vault.grammar page.png
+
+A rule file is opened in a ``shapegen edit`` of its own, stopped after the picture. The picture
+waits for the model drawn (``window.shapegenEditor.modelsRendered``), the drawn model being the
+state's (``renderedModelVersion === state.model_version``) and, with ``--scans``, the stable
+intervals of the free sliders shaded.
 """
 
 from __future__ import annotations
@@ -150,7 +161,61 @@ def screenshot(page, name: str, folder: Path) -> Path:
     return path
 
 
+def wait_for_scans(page, timeout_ms: float = 600_000) -> None:
+    """Wait until every free slider's stable interval is shaded (or said to be nowhere)."""
+    page.wait_for_function(
+        """() => {
+          const s = window.shapegenEditor.state;
+          const free = s.attrs.filter((a) => a.free).map((a) => a.name);
+          return free.every((n) => s.stability?.[n]?.status === 'done');
+        }""",
+        timeout=timeout_ms,
+    )
+
+
+def shot(target: str, output: Path, scans: bool = False) -> Path:
+    """A picture of the page at ``target`` (its address, or a rule file opened for it) once
+    the model is drawn."""
+    from playwright.sync_api import sync_playwright
+
+    executable = find_browser()
+    if executable is None:
+        sys.exit("no Chromium found: apt-get install chromium")
+    editor = None if target.startswith(("http://", "https://")) else Editor(target)
+    try:
+        with sync_playwright() as playwright:
+            browser = launch(playwright, executable)
+            page = open_page(browser, target if editor is None else editor.url)
+            if scans:
+                wait_for_scans(page)
+            settle(page)
+            page.screenshot(path=str(output))
+            browser.close()
+    finally:
+        if editor is not None:
+            editor.stop()
+    return output
+
+
 def main() -> None:
+    import argparse
+
+    parser = argparse.ArgumentParser(description="The design page's pictures, in Chromium.")
+    parser.add_argument(
+        "--shot",
+        nargs=2,
+        metavar=("PAGE", "PNG"),
+        help="one picture of PAGE (an address, or a rule file) once its model is drawn",
+    )
+    parser.add_argument(
+        "--scans",
+        action="store_true",
+        help="with --shot: wait also for the free sliders' stable intervals",
+    )
+    args = parser.parse_args()
+    if args.shot:
+        print(shot(args.shot[0], Path(args.shot[1]), scans=args.scans))
+        return
     if find_browser() is None:
         sys.exit("no Chromium found: apt-get install chromium")
     IMAGES.mkdir(exist_ok=True)

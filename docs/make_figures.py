@@ -201,7 +201,8 @@ MEASUREMENTS: tuple[Measurement, ...] = (
             Figure(
                 "the thin arch's verdict",
                 README,
-                r"arch_columns\.grammar --analyze\s+# a thin arch on narrow columns: (?P<value>\w+)",
+                r"arch_columns\.grammar --analyze\s+# a thin arch on narrow columns:"
+                r" (?P<value>\w+)",
                 _report("analysis", "stands", then=lambda s: "yes" if s else "no"),
             ),
         ),
@@ -336,8 +337,16 @@ class Picture:
 PICTURES: tuple[Picture, ...] = (
     Picture(
         "docs/images/arch_columns_landscape.png",
-        ("-m", "shapegen", "landscape", "arch_columns.grammar", "arch_thickness", "column_width",
-         "-o", "docs/images/arch_columns_landscape.png"),
+        (
+            "-m",
+            "shapegen",
+            "landscape",
+            "arch_columns.grammar",
+            "arch_thickness",
+            "column_width",
+            "-o",
+            "docs/images/arch_columns_landscape.png",
+        ),
     ),  # fmt: skip
     Picture("docs/images/primitives/*.png", ("docs/render_primitives.py",)),
     Picture("docs/images/editor_*.png (Chromium)", ("docs/editor_screenshots.py",)),
@@ -397,9 +406,13 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             changes = stale(measurement, result)
             for figure, stated, measured in changes:
-                print(f"{measurement.name}: {figure.document}: {figure.name}: {stated} -> {measured}")
+                print(
+                    f"{measurement.name}: {figure.document}: {figure.name}: {stated} -> {measured}"
+                )
             if not changes:
-                print(f"{measurement.name}: {len(measurement.figures)} figures hold ({seconds:.0f} s)")
+                print(
+                    f"{measurement.name}: {len(measurement.figures)} figures hold ({seconds:.0f} s)"
+                )
             if measurement.held:
                 print(f"{measurement.name}: held, left as stated: {measurement.held}")
             elif changes and args.check:
