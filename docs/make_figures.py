@@ -35,6 +35,7 @@ import time
 import urllib.request
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from decimal import ROUND_HALF_UP, Decimal
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -161,12 +162,14 @@ def _report(*keys: str, then: Callable = str) -> Callable[[dict], str]:
 
 
 def _editor_stable_range(cwd: Path) -> dict:
-    """The stable interval the design page shades on the barrel vault's ``angle`` slider,
-    asked of ``shapegen edit``'s JSON API as the page asks it."""
+    """The stable interval the design page shades on the barrel vault's ``angle`` slider at
+    60 degrees, as docs/editor.md's picture shows it (the scan's samples include the current
+    value, so its ends move within the resolution with it), asked of ``shapegen edit``'s JSON
+    API as the page asks it."""
     sys.path.insert(0, str(ROOT / "docs"))
     from editor_screenshots import Editor
 
-    with Editor("barrel_vault.grammar") as editor:
+    with Editor("barrel_vault.grammar", "--set", "angle=60") as editor:
         deadline = time.monotonic() + 600
         while time.monotonic() < deadline:
             with urllib.request.urlopen(f"{editor.url}api/state", timeout=60) as answer:
@@ -180,8 +183,15 @@ def _editor_stable_range(cwd: Path) -> dict:
 
 
 def page_number(x: float) -> str:
-    """A number as the design page prints it (four significant digits, no trailing zeros)."""
-    return f"{float(f'{x:.4g}'):g}"
+    """A number as the design page prints it: JavaScript's ``Number(x.toPrecision(4))``, four
+    significant digits of the exact binary value, a tie rounded up (85.625 -> 85.63, where
+    Python's format would give 85.62), no trailing zeros."""
+    exact = Decimal(x)
+    if exact == 0:
+        return "0"
+    quantum = Decimal(1).scaleb(exact.adjusted() - 3)
+    rounded = exact.quantize(quantum, rounding=ROUND_HALF_UP)
+    return f"{float(rounded):g}"
 
 
 def _interval(result: dict) -> str:
