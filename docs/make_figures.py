@@ -308,6 +308,21 @@ MEASUREMENTS: tuple[Measurement, ...] = (
         ),
     ),
     Measurement(
+        "parthenon-30x70-search",
+        command="shapegen build parthenon.rpk --lot 30,70 --set Column_Height=10.43 --free Diameter"
+        " --optimize --tilt 10@0 --pyramid 4 --max-seconds 1800",
+        held="the parthenon on 30 x 70 m stops at a sliver since 6f5ed9e; the fix being made"
+        " restores it",
+        figures=(
+            Figure(
+                "the diameter found on 30 x 70 m",
+                README,
+                r"search a sweep of directions per design\) gives (?P<value>[0-9.]+) m in",
+                _report("attrs", "Diameter", then=_decimals(2)),
+            ),
+        ),
+    ),
+    Measurement(
         "editor-barrel-vault-angle",
         measure=_editor_stable_range,
         figures=(
