@@ -288,10 +288,22 @@ MEASUREMENTS: tuple[Measurement, ...] = (
         pictures={"parthenon.png": "docs/images/parthenon.png"},
         figures=(
             Figure(
-                "the temple's blocks",
+                "its leaves standing in",
                 README,
-                r"on a 30 x 70 m lot: (?P<value>[0-9][0-9 ]*[0-9]) blocks",
-                _report("blocks", then=_thousands),
+                r"blocks and (?P<value>[0-9][0-9 ]*[0-9]) leaves standing in",
+                _report("analysis", "stand_ins", "leaves", then=_thousands),
+            ),
+            Figure(
+                "its bodies",
+                README,
+                r"252 geisa\.\.\.\), (?P<value>[0-9][0-9 ]*[0-9]) bodies",
+                _report("analysis", "bodies", "bodies", then=_thousands),
+            ),
+            Figure(
+                "its weight",
+                README,
+                r"bodies, W = (?P<value>[0-9.]+) MN",
+                _report("analysis", "total_weight", then=lambda w: f"{w / 1e6:.1f}"),
             ),
             Figure(
                 "its lateral capacity",
