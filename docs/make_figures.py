@@ -161,6 +161,13 @@ def _report(*keys: str, then: Callable = str) -> Callable[[dict], str]:
     return value
 
 
+def _tilt_towards(result: dict, azimuth: float) -> float:
+    """The tilt (degrees) the capacity sweep found towards ``azimuth`` (degrees)."""
+    directions = result["report"]["analysis"]["capacity"]["directions"]
+    (found,) = [d["tilt_deg"] for d in directions if abs(d["azimuth_deg"] - azimuth) < 1e-6]
+    return found
+
+
 def _editor_stable_range(cwd: Path) -> dict:
     """The stable interval the design page shades on the barrel vault's ``angle`` slider at
     60 degrees, as docs/editor.md's picture shows it (the scan's samples include the current
@@ -321,6 +328,12 @@ MEASUREMENTS: tuple[Measurement, ...] = (
                 README,
                 r"its lateral capacity is \*\*(?P<value>[0-9.]+)°\*\*",
                 _report("analysis", "capacity", "tilt_deg", then=_decimals(2)),
+            ),
+            Figure(
+                "its lateral capacity along the temple",
+                README,
+                r"across the temple, (?P<value>[0-9.]+)° along it",
+                lambda result: _decimals(2)(_tilt_towards(result, 90.0)),
             ),
             Figure(
                 "its load multiplier",
