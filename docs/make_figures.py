@@ -308,13 +308,19 @@ MEASUREMENTS: tuple[Measurement, ...] = (
             Figure(
                 "its leaves standing in",
                 README,
-                r"blocks and (?P<value>[0-9][0-9 ]*[0-9]) leaves standing in",
+                r"on a 30 x 70 m lot: (?P<value>[0-9][0-9 ]*[0-9]) leaves standing in as",
                 _report("analysis", "stand_ins", "leaves", then=_thousands),
+            ),
+            Figure(
+                "the blocks standing in for them",
+                README,
+                r"leaves standing in as (?P<value>[0-9][0-9 ]*[0-9]) blocks",
+                _report("analysis", "stand_ins", "blocks", then=_thousands),
             ),
             Figure(
                 "its bodies",
                 README,
-                r"252 geisa\.\.\.\), (?P<value>[0-9][0-9 ]*[0-9]) bodies",
+                r"open shells capped\), (?P<value>[0-9][0-9 ]*[0-9]) bodies",
                 _report("analysis", "bodies", "bodies", then=_thousands),
             ),
             Figure(
@@ -351,7 +357,7 @@ MEASUREMENTS: tuple[Measurement, ...] = (
             Figure(
                 "the diameter found on 30 x 70 m",
                 README,
-                r"search a sweep of directions per design\) gives (?P<value>[0-9.]+) m in",
+                r"search a sweep of directions per design\) gives (?P<value>[0-9.]+) m\.",
                 _report("attrs", "Diameter", then=_decimals(2)),
             ),
         ),
