@@ -360,6 +360,12 @@ MEASUREMENTS: tuple[Measurement, ...] = (
                 r"search a sweep of directions per design\) gives (?P<value>[0-9.]+) m\.",
                 _report("attrs", "Diameter", then=_decimals(2)),
             ),
+            Figure(
+                "the diameter found on 30 x 70 m (statics page)",
+                STATICS,
+                r"the same search finds (?P<value>[0-9.]+) m",
+                _report("attrs", "Diameter", then=_decimals(2)),
+            ),
         ),
     ),
     Measurement(
