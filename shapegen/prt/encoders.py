@@ -4,8 +4,9 @@
 one group per leaf), ``com.esri.prt.codecs.GLTFEncoder`` ``<baseName>_0.glb`` (shapegen's glTF
 writer); both write beside it ``CGAReport.txt`` (a line per report: the initial shape's index,
 the key, the value), ``CGAPrint.txt`` (what ``print`` wrote) and ``CGAError.txt`` (the CGA
-errors and warnings). Every file is written atomically. Other encoders (I3S, FBX, ...) are
-refused with one line.
+errors and warnings). ``com.esri.prt.codecs.I3SEncoder`` writes ``<baseName>.slpk`` (a Scene
+Layer Package, :mod:`shapegen.prt.i3s_encoder`) with the same three files. Every file is
+written atomically. Other encoders (FBX, ...) are refused with one line.
 
 ``outputPath`` is treated as PyPRT treats it (``src/cpp/client/ModelGenerator.cpp`` of
 Esri/pyprt): without it the files go to the folder ``pyprt_fallback_output`` in the system's
@@ -27,9 +28,11 @@ from pathlib import Path
 from shapegen.errors import OptionError
 from shapegen.export.atomic import atomic_write
 from shapegen.prt.generated_models import GeneratedModel
+from shapegen.prt.i3s_encoder import i3s_writer
 
 OBJ_ENCODER = "com.esri.prt.codecs.OBJEncoder"
 GLTF_ENCODER = "com.esri.prt.codecs.GLTFEncoder"
+I3S_ENCODER = "com.esri.prt.codecs.I3SEncoder"
 FILE_OPTIONS = ("outputPath", "baseName")
 
 
@@ -40,14 +43,12 @@ def file_encoder(name: str, options: Mapping[str, object]) -> Callable[[list], N
             f"encoder {name!r} is not supported by shapegen; it has com.esri.pyprt.PyEncoder,"
             f" {', '.join(ENCODERS)}"
         )
-    unknown = sorted(set(options) - set(FILE_OPTIONS))
-    if unknown:
-        raise OptionError(f"{name} takes {', '.join(FILE_OPTIONS)}; not {', '.join(unknown)}")
+    # each encoder checks its own options (beyond the folder and name) before anything is made
+    write_geometry = ENCODERS[name]({k: v for k, v in options.items() if k not in FILE_OPTIONS})
     folder = _output_folder(name, options)
     base = str(options.get("baseName", "base_name"))
     if not base or "/" in base or "\\" in base:
         raise OptionError(f"{name}: baseName {base!r} is not a file name")
-    write_geometry = ENCODERS[name]
 
     def write(models: list[GeneratedModel]) -> None:
         write_geometry(models, folder, base)
@@ -138,4 +139,23 @@ def _write_text(path: Path, text: str) -> None:
         handle.write(text)
 
 
-ENCODERS = {OBJ_ENCODER: _write_obj, GLTF_ENCODER: _write_gltf}
+def _plain_writer(name: str, writer: Callable) -> Callable[[Mapping[str, object]], Callable]:
+    """An encoder that takes no option but ``outputPath`` and ``baseName``."""
+
+    def prepare(options: Mapping[str, object]) -> Callable:
+        if options:
+            raise OptionError(
+                f"{name} takes {', '.join(FILE_OPTIONS)}; not {', '.join(sorted(options))}"
+            )
+        return writer
+
+    return prepare
+
+
+ENCODERS = {
+    OBJ_ENCODER: _plain_writer(OBJ_ENCODER, _write_obj),
+    GLTF_ENCODER: _plain_writer(GLTF_ENCODER, _write_gltf),
+    I3S_ENCODER: i3s_writer,
+}
+"""Each encoder's name and what checks its options (all but ``outputPath`` and ``baseName``)
+and returns its writer ``(models, folder, base_name)``."""
