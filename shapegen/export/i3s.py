@@ -16,10 +16,12 @@ of :class:`Feature` (a triangle mesh each, metres, the scene's x east, y north, 
     the root of a 3D Object layer empty), node 1 its only child, holding every feature.
 ``nodes/1/geometries/0.bin.gz``
     the geometry buffer: ``vertexCount``, ``featureCount`` (UInt32 each), then ``position``
-    (Float32 x 3 per vertex, relative to the node's bounding box centre), ``normal`` (Float32 x
-    3), ``featureId`` (UInt64 per feature), ``faceRange`` (UInt32 x 2 per feature: its first
-    and last triangle, inclusive); triangles are listed vertex after vertex (no index buffer),
-    little-endian, in this fixed order.
+    (Float32 x 3 per vertex, relative to the node's bounding box centre), ``normal`` (Float32
+    x 3), ``uv0`` (Float32 x 2, zero: no texture), ``color`` (UInt8 x 4, white: the material's
+    colour shows; the specification's defaultGeometrySchema requires both), ``featureId``
+    (UInt64 per feature), ``faceRange`` (UInt32 x 2 per feature: its first and last triangle,
+    inclusive); triangles are listed vertex after vertex (no index buffer), little-endian, in
+    this fixed order.
 ``nodes/1/attributes/f_K/0.bin.gz``
     an attribute per feature: ``f_0`` the object ids, then one per field (the count as UInt32,
     then the values: Float64, or for text the UTF-8 byte counts and the bytes).
@@ -239,6 +241,8 @@ def _geometry_buffer(points, box, feature_ids, face_ranges) -> bytes:
             header,
             offsets.astype("<f4").tobytes(),
             normals.astype("<f4").tobytes(),
+            np.zeros((len(points), 2), dtype="<f4").tobytes(),
+            np.full((len(points), 4), 255, dtype="u1").tobytes(),
             np.asarray(feature_ids, dtype="<u8").tobytes(),
             np.asarray(face_ranges, dtype="<u4").reshape(-1, 2).tobytes(),
         ]
@@ -351,8 +355,6 @@ def _scene_layer(layer: SceneLayer, box: dict, fields_: list, storage: list) -> 
         "capabilities": ["View"],
         "spatialReference": {"wkid": layer.wkid, "latestWkid": layer.wkid},
         "heightModelInfo": {"heightModel": "gravity_related_height", "heightUnit": "meter"},
-        "fullExtent": dict(zip(("xmin", "ymin", "zmin"), _floats(low), strict=True))
-        | dict(zip(("xmax", "ymax", "zmax"), _floats(high), strict=True)),
         "store": {
             "id": layer.uid or str(uuid.uuid4()).upper(),
             "profile": "meshpyramids",
@@ -372,10 +374,12 @@ def _scene_layer(layer: SceneLayer, box: dict, fields_: list, storage: list) -> 
                     {"property": "vertexCount", "type": "UInt32"},
                     {"property": "featureCount", "type": "UInt32"},
                 ],
-                "ordering": ["position", "normal"],
+                "ordering": ["position", "normal", "uv0", "color"],
                 "vertexAttributes": {
                     "position": {"valueType": "Float32", "valuesPerElement": 3},
                     "normal": {"valueType": "Float32", "valuesPerElement": 3},
+                    "uv0": {"valueType": "Float32", "valuesPerElement": 2},
+                    "color": {"valueType": "UInt8", "valuesPerElement": 4},
                 },
                 "featureAttributeOrder": ["id", "faceRange"],
                 "featureAttributes": {
@@ -409,6 +413,8 @@ def _scene_layer(layer: SceneLayer, box: dict, fields_: list, storage: list) -> 
                         "offset": 8,
                         "position": {"type": "Float32", "component": 3},
                         "normal": {"type": "Float32", "component": 3},
+                        "uv0": {"type": "Float32", "component": 2},
+                        "color": {"type": "UInt8", "component": 4},
                         "featureId": {"type": "UInt64", "component": 1, "binding": "per-feature"},
                         "faceRange": {"type": "UInt32", "component": 2, "binding": "per-feature"},
                     }
