@@ -17,8 +17,8 @@ of :class:`Feature` (a triangle mesh each, metres, the scene's x east, y north, 
 ``nodes/1/geometries/0.bin.gz``
     the geometry buffer: ``vertexCount``, ``featureCount`` (UInt32 each), then ``position``
     (Float32 x 3 per vertex, relative to the node's bounding box centre), ``normal`` (Float32
-    x 3), ``uv0`` (Float32 x 2, zero: no texture), ``color`` (UInt8 x 4, white: the material's
-    colour shows; the specification's defaultGeometrySchema requires both), ``featureId``
+    x 3), ``uv0`` (Float32 x 2, zero: no texture), ``color`` (UInt8 x 4: each triangle's RGBA, as
+    CityEngine's encoder writes a leaf's colour), ``featureId``
     (UInt64 per feature), ``faceRange`` (UInt32 x 2 per feature: its first and last triangle,
     inclusive); triangles are listed vertex after vertex (no index buffer), little-endian, in
     this fixed order.
@@ -67,13 +67,15 @@ class Feature:
     """One feature of the layer: a triangle mesh and its attributes.
 
     ``positions`` (n, 3) metres in the scene's frame (x east, y north, z up); ``triangles``
-    (t, 3) indices into them, counter-clockwise seen from outside; ``attributes`` field name to
+    (t, 3) indices into them, counter-clockwise seen from outside; ``colors`` (t, 4) each
+    triangle's sRGB and opacity, 0 to 255 (None: opaque white); ``attributes`` field name to
     a number or a text.
     """
 
     positions: np.ndarray
     triangles: np.ndarray
     attributes: Mapping[str, float | str] = field(default_factory=dict)
+    colors: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -94,7 +96,7 @@ class SceneLayer:
 
 def encode_slpk(features: Sequence[Feature], layer: SceneLayer) -> bytes:
     """The ``.slpk`` archive of ``features`` as one layer (see the module's documentation)."""
-    triangles, feature_ids, face_ranges = _triangle_soup(features)
+    triangles, colors, feature_ids, face_ranges = _triangle_soup(features)
     points = triangles.reshape(-1, 3)
     if len(points):
         low, high = points.min(axis=0), points.max(axis=0)
@@ -130,10 +132,11 @@ def encode_slpk(features: Sequence[Feature], layer: SceneLayer) -> bytes:
         },
     ]
     put("nodepages/0.json", _json({"nodes": nodes}))
-    put("nodes/1/geometries/0.bin", _geometry_buffer(points, box, feature_ids, face_ranges))
+    put("nodes/1/geometries/0.bin", _geometry_buffer(points, colors, box, feature_ids, face_ranges))
     for key, payload in _attribute_buffers(feature_ids, columns).items():
         put(f"nodes/1/attributes/{key}/0.bin", payload)
-    put("3dSceneLayer.json", _json(_scene_layer(layer, box, fields_, storage)))
+    translucent = bool(len(colors)) and bool((colors[:, 3] < 255).any())
+    put("3dSceneLayer.json", _json(_scene_layer(layer, box, fields_, storage, translucent)))
     metadata = {
         "folderPattern": "BASIC",
         "archiveCompressionType": "STORE",
@@ -146,21 +149,26 @@ def encode_slpk(features: Sequence[Feature], layer: SceneLayer) -> bytes:
 
 
 def _triangle_soup(features: Sequence[Feature]):
-    """(t, 3, 3) corners of every triangle, feature after feature; the feature ids (1, 2, ...)
-    and each feature's inclusive range of triangles. A feature without triangles is left out
-    of the geometry (a range cannot be empty) but keeps its id."""
-    parts, ids, ranges, start = [], [], [], 0
+    """(t, 3, 3) corners of every triangle, feature after feature, and (t, 4) their colours;
+    the feature ids (1, 2, ...) and each feature's inclusive range of triangles. A feature
+    without triangles is left out of the geometry (a range cannot be empty) but keeps its id."""
+    parts, colors, ids, ranges, start = [], [], [], [], 0
     for k, feature in enumerate(features):
         positions = np.asarray(feature.positions, dtype=float).reshape(-1, 3)
         triangles = np.asarray(feature.triangles, dtype=np.int64).reshape(-1, 3)
         if not len(triangles):
             continue
         parts.append(positions[triangles])
+        if feature.colors is None:
+            colors.append(np.full((len(triangles), 4), 255, dtype=np.uint8))
+        else:
+            colors.append(np.asarray(feature.colors, dtype=np.uint8).reshape(len(triangles), 4))
         ids.append(k + 1)
         ranges.append((start, start + len(triangles) - 1))
         start += len(triangles)
     soup = np.concatenate(parts) if parts else np.zeros((0, 3, 3))
-    return soup, ids, ranges
+    rgba = np.concatenate(colors) if colors else np.zeros((0, 4), dtype=np.uint8)
+    return soup, rgba, ids, ranges
 
 
 def _oriented_box(low: np.ndarray, high: np.ndarray, is_global: bool) -> dict:
@@ -223,7 +231,7 @@ def rotation_quaternion(matrix: np.ndarray) -> np.ndarray:
     return np.array(q) / np.linalg.norm(q)
 
 
-def _geometry_buffer(points, box, feature_ids, face_ranges) -> bytes:
+def _geometry_buffer(points, colors, box, feature_ids, face_ranges) -> bytes:
     """The legacy non-indexed buffer (``defaultGeometrySchema``), little-endian."""
     corners = points.reshape(-1, 3, 3)
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
@@ -242,7 +250,7 @@ def _geometry_buffer(points, box, feature_ids, face_ranges) -> bytes:
             offsets.astype("<f4").tobytes(),
             normals.astype("<f4").tobytes(),
             np.zeros((len(points), 2), dtype="<f4").tobytes(),
-            np.full((len(points), 4), 255, dtype="u1").tobytes(),
+            np.repeat(colors, 3, axis=0).astype("u1").tobytes(),
             np.asarray(feature_ids, dtype="<u8").tobytes(),
             np.asarray(face_ranges, dtype="<u4").reshape(-1, 2).tobytes(),
         ]
@@ -335,7 +343,9 @@ def _attribute_buffers(feature_ids: list[int], columns: dict) -> dict[str, bytes
     return out
 
 
-def _scene_layer(layer: SceneLayer, box: dict, fields_: list, storage: list) -> dict:
+def _scene_layer(
+    layer: SceneLayer, box: dict, fields_: list, storage: list, translucent: bool
+) -> dict:
     centre, half = np.asarray(box["obb"]["center"]), np.asarray(box["obb"]["halfSize"])
     if box["degrees"] is None:
         low, high = centre - half, centre + half
@@ -400,7 +410,7 @@ def _scene_layer(layer: SceneLayer, box: dict, fields_: list, storage: list) -> 
                     "metallicFactor": 0.0,
                     "roughnessFactor": 1.0,
                 },
-                "alphaMode": "opaque",
+                "alphaMode": "blend" if translucent else "opaque",
                 "doubleSided": not layer.cull_back_faces,
                 "cullFace": "back" if layer.cull_back_faces else "none",
             }

@@ -156,29 +156,37 @@ def scene_features(models: list, *, per_leaf: bool, reports: bool) -> list:
         leaves = [*model.model.blocks, *model.model.surfaces]
         meshes = [_leaf_mesh(leaf) for leaf in leaves]
         if per_leaf:
-            features += [Feature(p, t, attributes) for p, t in meshes]
+            features += [Feature(p, t, attributes, c) for p, t, c in meshes]
             continue
-        positions, triangles, base = [], [], 0
-        for points, faces in meshes:
+        positions, triangles, colors, base = [], [], [], 0
+        for points, faces, rgba in meshes:
             positions.append(points)
             triangles.append(faces + base)
+            colors.append(rgba)
             base += len(points)
         features.append(
             Feature(
                 np.concatenate(positions) if positions else np.zeros((0, 3)),
                 np.concatenate(triangles) if triangles else np.zeros((0, 3), dtype=int),
                 attributes,
+                np.concatenate(colors) if colors else None,
             )
         )
     return features
 
 
-def _leaf_mesh(leaf) -> tuple[np.ndarray, np.ndarray]:
+def _leaf_mesh(leaf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A leaf's corners in the scene's frame, its triangles, and their colour: the leaf's
+    ``color`` and opacity (CityEngine's default white where the rule set none)."""
     points = np.asarray(leaf.vertices, dtype=float).reshape(-1, 3)
     triangles = face_triangles(points, leaf.faces).reshape(-1, 3)
     # CGA y up, z south; the scene z up, y north (a proper rotation: the turn is kept)
     scene = np.column_stack([points[:, 0], -points[:, 2], points[:, 1]])
-    return scene, triangles
+    look = leaf.appearance
+    rgb = look.color if look is not None and look.color is not None else (1.0, 1.0, 1.0)
+    alpha = look.opacity if look is not None else 1.0
+    rgba = np.round(np.clip([*rgb, alpha], 0.0, 1.0) * 255).astype(np.uint8)
+    return scene, triangles, np.tile(rgba, (len(triangles), 1))
 
 
 def _report_attributes(reports: Mapping[str, object]) -> dict:

@@ -183,6 +183,9 @@ def test_the_geometry_read_back_is_the_model(tmp_path):
     assert np.all(outward > 0)
     normals = scene_to_cga(buffer["normal"].astype(float))[: 3 * len(corners)]
     assert np.allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-6)
+    # the rule's color(buildingColor), "#FF00FF", on every vertex, opaque
+    assert {tuple(c) for c in buffer["color"].tolist()} == {(255, 0, 255, 255)}
+    assert layer["materialDefinitions"][0]["alphaMode"] == "opaque"
 
 
 def test_the_hash_index_is_last_and_finds_every_entry(tmp_path):
