@@ -131,10 +131,16 @@ def encode_slpk(features: Sequence[Feature], layer: SceneLayer) -> bytes:
             },
         },
     ]
+    if feature_ids:
+        put(
+            "nodes/1/geometries/0.bin",
+            _geometry_buffer(points, colors, box, feature_ids, face_ranges),
+        )
+        for key, payload in _attribute_buffers(feature_ids, columns).items():
+            put(f"nodes/1/attributes/{key}/0.bin", payload)
+    else:
+        del nodes[1]["mesh"]  # no shape gave geometry: an empty node, not an empty buffer
     put("nodepages/0.json", _json({"nodes": nodes}))
-    put("nodes/1/geometries/0.bin", _geometry_buffer(points, colors, box, feature_ids, face_ranges))
-    for key, payload in _attribute_buffers(feature_ids, columns).items():
-        put(f"nodes/1/attributes/{key}/0.bin", payload)
     translucent = bool(len(colors)) and bool((colors[:, 3] < 255).any())
     put("3dSceneLayer.json", _json(_scene_layer(layer, box, fields_, storage, translucent)))
     metadata = {

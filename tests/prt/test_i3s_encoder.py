@@ -188,6 +188,22 @@ def test_the_geometry_read_back_is_the_model(tmp_path):
     assert layer["materialDefinitions"][0]["alphaMode"] == "opaque"
 
 
+def test_no_geometry_is_an_empty_node_and_still_valid(tmp_path):
+    """A shape that cannot be generated (a face with a hole, here) has no feature."""
+    holed = pyprt.InitialShape(
+        SQUARE + [2, 0, 2, 8, 0, 8, 2, 0, 8], list(range(7)), [4, 3], [[0, 1]]
+    )
+    generator = pyprt.ModelGenerator([holed])
+    options = {"outputPath": str(tmp_path), "baseName": "layer", "sceneType": "Local"}
+    generator.generate_model([FIXED], str(EXTRUSION), I3S, options)
+    package = read_package(tmp_path / "layer.slpk")
+    assert "mesh" not in package["nodepages/0.json"]["nodes"][1]
+    assert not any("geometries" in name for name in package["_order"])
+    for document, schema in (("3dSceneLayer.json", "3DSceneLayer.cmn.0107.json"),
+                             ("nodepages/0.json", "nodePage.cmn.0107.json")):  # fmt: skip
+        assert not list(schema_validator(schema).iter_errors(package[document]))
+
+
 def test_the_hash_index_is_last_and_finds_every_entry(tmp_path):
     package = write_slpk(tmp_path, [SQUARE], [FIXED])
     assert package["_order"][-1] == HASH_INDEX
