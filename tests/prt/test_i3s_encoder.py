@@ -23,6 +23,7 @@ referencing = pytest.importorskip("referencing")
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 SCHEMAS = DATA / "i3s-spec-schema"
+CITYENGINE_PACKAGE = DATA / "i3s-pyprt" / "extrusion_pyprt112.slpk"
 EXTRUSION = (
     DATA / "cga-corpus" / "tests_data_extrusion_rule__e4df6667" / "rules" / "extrusion_rule.cga"
 )
@@ -111,6 +112,42 @@ def scene_to_cga(points: np.ndarray) -> np.ndarray:
     return np.column_stack([points[:, 0], points[:, 2], -points[:, 1]])
 
 
+def feature_triangles(package: dict) -> list[np.ndarray]:
+    """Each feature's triangles (t, 3, 3), in CGA's frame, read through the node pages and the
+    geometry definition the mesh names."""
+    layer, nodes = package["3dSceneLayer.json"], package["nodepages/0.json"]["nodes"]
+    out = []
+    for node in nodes:
+        if not node.get("mesh"):
+            continue
+        mesh = node["mesh"]["geometry"]
+        definition = layer["geometryDefinitions"][mesh["definition"]]["geometryBuffers"][0]
+        buffer = geometry_buffer(package[f"nodes/{mesh['resource']}/geometries/0.bin"], definition)
+        positions = buffer["position"].astype(float) + node["obb"]["center"]
+        triangles = scene_to_cga(positions).reshape(-1, 3, 3)
+        out += [triangles[first : last + 1] for first, last in buffer["faceRange"].tolist()]
+    return out
+
+
+def area_by_normal(triangles: np.ndarray) -> dict:
+    crosses = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    areas = np.linalg.norm(crosses, axis=1) / 2
+    out: dict = {}
+    for cross, area in zip(crosses, areas, strict=True):
+        key = tuple(np.round(cross / np.linalg.norm(cross), 6) + 0.0)
+        out[key] = out.get(key, 0.0) + area
+    return out
+
+
+def signed_volume(triangles: np.ndarray) -> float:
+    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6)
+
+
+def corner_set(triangles: np.ndarray) -> set:
+    return {tuple(np.round(c, 3)) for c in triangles.reshape(-1, 3)}
+
+
 def write_slpk(tmp_path, shapes, attrs, **options):
     generator = pyprt.ModelGenerator([pyprt.InitialShape(s) for s in shapes])
     options = {"outputPath": str(tmp_path), "baseName": "layer", "sceneType": "Local", **options}
@@ -186,6 +223,22 @@ def test_the_geometry_read_back_is_the_model(tmp_path):
     # the rule's color(buildingColor), "#FF00FF", on every vertex, opaque
     assert {tuple(c) for c in buffer["color"].tolist()} == {(255, 0, 255, 255)}
     assert layer["materialDefinitions"][0]["alphaMode"] == "opaque"
+
+
+def test_the_reader_reads_cityengines_package_and_finds_the_same_triangles(tmp_path):
+    """The reader on a package PyPRT 1.12 wrote (tests/data/i3s-pyprt): it holds the same
+    models, and shapegen's package the same triangles, feature for feature."""
+    theirs = feature_triangles(read_package(CITYENGINE_PACKAGE))
+    ours = feature_triangles(write_slpk(tmp_path, [SQUARE, SMALL], [FIXED], sceneWkid="3857"))
+    assert [len(t) for t in ours] == [len(t) for t in theirs] == [12, 12]
+    for mine, reference in zip(ours, theirs, strict=True):
+        assert corner_set(mine) == corner_set(reference)
+        # the same faces, turned the same way: the area facing each direction (the diagonals
+        # that cut a quad may differ)
+        assert area_by_normal(mine) == pytest.approx(area_by_normal(reference))
+        # and enclosing the same volume, positive: outward on both (divergence theorem)
+        assert signed_volume(mine) == pytest.approx(signed_volume(reference), rel=1e-6)
+        assert signed_volume(reference) > 0
 
 
 def test_no_geometry_is_an_empty_node_and_still_valid(tmp_path):
