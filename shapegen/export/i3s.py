@@ -187,6 +187,8 @@ def _oriented_box(low: np.ndarray, high: np.ndarray, is_global: bool) -> dict:
         radius = float(np.linalg.norm(half))
         return {"obb": obb, "centre": centre, "degrees": None, "radius": radius}
     lon, lat = web_mercator_to_degrees(centre[0], centre[1])
+    # Mercator metres are true metres times 1/cos(latitude): the half sizes taken from them
+    # are never smaller than the true ones, so the box still holds every vertex
     obb = {
         "center": [lon, lat, float(centre[2])],
         "halfSize": _floats(half),
