@@ -33,8 +33,9 @@ _PARTIAL: dict[str, str] = {}
 #: What the operations with a node of their own (compiled by
 #: shapegen.engine.operations.compiler) do not honour of the reference, in a few words.
 DEDICATED_NOTES: dict[str, str] = {
-    "i": "reads OBJ, glTF, COLLADA, PLY and STL assets; an .fbx, .usd, .dwg or .ifc asset is a "
-    "box with a warning in .cga rules (refused in .grammar ones)",
+    "i": "reads OBJ, glTF, COLLADA, PLY and STL assets, and FBX with the optional ufbx "
+    "(`shapegen[fbx]`), cleaned as CityEngine cleans them; a .usd, .dwg or .ifc asset (or an "
+    ".fbx without ufbx) is a box with a warning in .cga rules (refused in .grammar ones)",
     "r": "turns about the scope's own axes: rotate(rel, pivot, ...) while they are the pivot's",
     "set": "seedian and scope.elevation cannot be set (refused when the file loads); scope.* "
     "and pivot.* are set in .cga rules",
