@@ -7,11 +7,18 @@ block in equilibrium with the friction pyramid respected (Whiting, Ochsendorf, D
 The verdict ``feasible`` is scale independent and robust to solver noise. It comes from a
 certificate: a set of compressive, pyramid-respecting vertex forces whose equilibrium residual
 (largest entry, forces / W and torques / (W L), see :func:`certify`) is at most
-``tolerances.feasible_rel``. The forces are taken from the linear phase-one problem
-``min sum s`` on the same constraints, solved first: an interior point solution of it carries
-tensions of the order of the barrier parameter (~1e-12 W), whereas one of ``min sum s^2`` keeps
-tensions of order sqrt(barrier) that would blur the verdict near a limit state.
+``tolerances.feasible_rel``. The forces are tried first from the least-norm equilibrium
+(:mod:`~shapegen.statics.solvers.least_norm`, one factorisation of the normal equations the
+interior point method builds; with ``solver`` ``auto`` or ``reduced``): a wall that stands
+comfortably is certified by them without any interior point iteration. Otherwise they are
+taken from the linear phase-one problem ``min sum s`` on the same constraints: an interior
+point solution of it carries tensions of the order of the barrier parameter (~1e-12 W),
+whereas one of ``min sum s^2`` keeps tensions of order sqrt(barrier) that would blur the
+verdict near a limit state. Either way the same test decides (:attr:`Analysis.decided_by`
+says whose forces it read).
 
+0. least-norm forces certified: feasible, ``y = 0`` (the certified forces carry no tension),
+   multipliers zero;
 1. phase one infeasible (no equilibrium even with tension: e.g. a tangential load with no
    friction): not feasible, ``y = inf``;
 2. phase one certified: feasible; ``y`` is the (negligible) sum of squared phase-one tensions and
@@ -27,7 +34,7 @@ tension buys friction capacity, so an assembly that could only stand by sliding 
 
 from __future__ import annotations
 
-__all__ = ["Analysis", "analyze", "certify"]
+__all__ = ["DECIDERS", "Analysis", "analyze", "certify"]
 
 import math
 import time
@@ -51,6 +58,9 @@ from shapegen.tolerances import ROUNDOFF_REL
 # estimated sum of tensions (of W) above which phase one may stop on its estimate; the QP then
 # confirms "does not stand" (y / W^2 above screen_rel), else phase one is run in full
 PHASE_ONE_SCREEN = 0.1
+
+DECIDERS = ("least_norm", "phase_one", "qp", "reserve", "carried")
+"""The values of :attr:`Analysis.decided_by`."""
 
 
 @dataclass
@@ -107,6 +117,13 @@ class Analysis:
         keeps as drawn (None when there are none). ``model`` is then the
         :class:`~shapegen.statics.standins.StaticsModel` judged, and ``n_blocks`` and
         ``block_tension`` are those of the model's own blocks, which come first in it.
+    decided_by
+        Whose forces or bound decided the verdict (one of :data:`DECIDERS`): ``"least_norm"``
+        (the least-norm forces passed the certificate: no interior point iteration ran),
+        ``"phase_one"`` (phase one's forces passed it, or phase one found no equilibrium),
+        ``"qp"`` (the QP's tension: does not stand), ``"reserve"`` (the forces of the same
+        design judged with a reserve, ``stood``), ``"carried"`` (the last design's forces or
+        multipliers, :func:`~shapegen.statics.incremental.reanalyze`).
     """
 
     status: SolveStatus
@@ -130,6 +147,7 @@ class Analysis:
     worst_direction: bool = False
     bodies: object = field(default=None, repr=False)
     stand_ins: object = field(default=None, repr=False)
+    decided_by: str = "phase_one"
 
     @property
     def tilt(self) -> dict | None:
@@ -160,6 +178,7 @@ class Analysis:
             "seconds": float(sum(self.timings.values())),
             "status": self.status.value,
             "solver": self.solver,
+            "decided_by": self.decided_by,
             "friction": number(self.problem.friction) if self.problem is not None else None,
             "pyramid": self.problem.pyramid if self.problem is not None else None,
             "timings": {k: float(v) for k, v in self.timings.items()},
@@ -308,7 +327,12 @@ def analyze(
         if known is not None:
             timings["certify"] = known.info["certify"]
             return _build_analysis(model, problem, known, stood.solver, True, known.objective,
-                                   timings, worst)  # fmt: skip
+                                   timings, worst, "reserve")  # fmt: skip
+    if not expect_tension and order and order[0] == "reduced":
+        least = _least_norm_solution(problem, tol, timings)
+        if least is not None:
+            return _build_analysis(model, problem, least, order[0], True, 0.0, timings, worst,
+                                   "least_norm")  # fmt: skip
 
     start = time.perf_counter()
 
@@ -325,7 +349,7 @@ def analyze(
     if qp is not None and proves_tension(qp):  # then the only solve
         timings["solve"] = time.perf_counter() - start
         y_norm = float(np.sum(qp.x[problem.n_vertices : 2 * problem.n_vertices] ** 2))
-        return _build_analysis(model, problem, qp, qp_used, False, y_norm, timings, worst)
+        return _build_analysis(model, problem, qp, qp_used, False, y_norm, timings, worst, "qp")
     qp = qp if qp is not None and qp.status.solved else None  # else judged from scratch below
     phase_one, used = solve_phase_one(screen=qp is None)
     timings["solve"] = time.perf_counter() - start
@@ -345,6 +369,7 @@ def analyze(
         feasible = phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel
     timings["certify"] = time.perf_counter() - start
 
+    decided_by = "phase_one"
     if phase_one.status is SolveStatus.INFEASIBLE:
         solution, y_norm = phase_one, float("inf")
     elif feasible:
@@ -357,6 +382,7 @@ def analyze(
         if qp is None:  # the QP starts from phase one's forces (same constraints) where it can
             qp, qp_used = _solve(problem, order, warm_start=phase_one.x)
         solution, used = qp, qp_used
+        decided_by = "qp"
         timings["solve"] += time.perf_counter() - start
         if solution.status.solved:
             m = problem.n_vertices
@@ -367,7 +393,7 @@ def analyze(
                 phase_one, _ = solve_phase_one(screen=False)
                 timings["solve"] += time.perf_counter() - start
                 if phase_one.status.solved and certify(problem, phase_one.x) <= tol.feasible_rel:
-                    feasible, solution = True, phase_one
+                    feasible, solution, decided_by = True, phase_one, "phase_one"
                     y_norm = float(np.sum(phase_one.x[m : 2 * m] ** 2))
                     solution.multipliers = np.zeros_like(phase_one.multipliers)
             if not phase_one.status.solved and y_norm <= tol.screen_rel:
@@ -378,7 +404,27 @@ def analyze(
             y_norm = float("inf")
         else:
             y_norm = float("nan")
-    return _build_analysis(model, problem, solution, used, feasible, y_norm, timings, worst)
+    return _build_analysis(
+        model, problem, solution, used, feasible, y_norm, timings, worst, decided_by
+    )
+
+
+def _least_norm_solution(problem: StaticsProblem, tol, timings: dict) -> Solution | None:
+    """The least-norm forces' compression-only part, when the certificate passes it (see
+    :mod:`~shapegen.statics.solvers.least_norm`); None sends the analysis on to phase one.
+    Its seconds are added to ``timings`` ("solve" for the forces, "certify" for the test)."""
+    from shapegen.statics.solvers.least_norm import least_norm_forces
+
+    start = time.perf_counter()
+    x = least_norm_forces(problem)
+    certifying = time.perf_counter()
+    timings["solve"] += certifying - start
+    certified = x is not None and certify(problem, x) <= tol.feasible_rel
+    timings["certify"] += time.perf_counter() - certifying
+    if not certified:
+        return None
+    forces = compression_only(problem, x)[0]  # what the certificate measured: no tension
+    return Solution(SolveStatus.OPTIMAL, forces, np.zeros(6 * problem.n_free), 0.0)
 
 
 def _known_solution(stood: Analysis, problem: StaticsProblem, tol) -> Solution | None:
@@ -406,7 +452,7 @@ def _tension_sum(problem: StaticsProblem, x: np.ndarray | None) -> float:
 
 
 def _build_analysis(
-    model, problem, solution, used, feasible, y_norm, timings, worst=False
+    model, problem, solution, used, feasible, y_norm, timings, worst=False, decided_by="phase_one"
 ) -> Analysis:
     m = problem.n_vertices
     ni = len(problem.interfaces)
@@ -484,4 +530,5 @@ def _build_analysis(
         worst_direction=bool(worst),
         bodies=problem.cache.get("bodies"),
         stand_ins=getattr(model, "stand_ins", None),
+        decided_by=decided_by,
     )

@@ -210,7 +210,7 @@ def reanalyze(model, options, previous, *, check: bool = True, measure_follows: 
             timings["solve"] = 0.0
             solution = Solution(SolveStatus.OPTIMAL, x, np.zeros(6 * problem.n_free), 0.0)
             analysis = _build_analysis(model, problem, solution, previous.solver, True, 0.0,
-                                       timings)  # fmt: skip
+                                       timings, decided_by="carried")  # fmt: skip
             return _noted(analysis, options, {**summary, "carried": True})
     else:
         proof = carried_tension_proof(problem, previous, correspondence, tol)
@@ -220,7 +220,8 @@ def reanalyze(model, options, previous, *, check: bool = True, measure_follows: 
             if measure_follows:
                 pending = Solution(SolveStatus.OPTIMAL, None, None, float("nan"))
                 analysis = _build_analysis(model, problem, pending, previous.solver, False,
-                                           float("nan"), timings)  # fmt: skip
+                                           float("nan"), timings,
+                                           decided_by="carried")  # fmt: skip
                 return _noted(analysis, options, {**summary, "pending": True})
             return _noted(_tension_analysis(model, problem, options, timings), options, summary)
     analysis = analyze(model, options, interfaces=interfaces, bodies=bodies, check=False)
@@ -264,7 +265,9 @@ def _tension_analysis(model, problem, options, timings: dict):
         y_norm = float(np.sum(solution.x[m : 2 * m] ** 2))
     else:
         y_norm = float("inf") if solution.status.value == "infeasible" else float("nan")
-    return _build_analysis(model, problem, solution, used, False, y_norm, timings)
+    # the verdict is the carried proof's; the QP gives the measure
+    return _build_analysis(model, problem, solution, used, False, y_norm, timings,
+                           decided_by="carried")  # fmt: skip
 
 
 def _noted(analysis, options, summary: dict):

@@ -185,7 +185,10 @@ class KktSystem:
         m = problem.n_vertices
         self.m = m
         self.a = problem.equality
-        self.at = self.a.T.tocsr()
+        # A^T, kept with the problem: phase one, the QP and the least-norm forces share it
+        self.at = problem.cache.get("equality_transposed")
+        if self.at is None:
+            self.at = problem.cache["equality_transposed"] = self.a.T.tocsr()
         self.w = problem.load
         self.second_order = bool(problem.second_order)
         # with the exact cone (and mu > 0) c >= 0 follows from ||(u, t)|| <= mu c: no linear row
