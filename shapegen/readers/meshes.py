@@ -19,11 +19,10 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError
 
 from shapegen.errors import GeometryError, InputFormatError
+from shapegen.geometry.graphs import connected_components
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.model import Model
 from shapegen.readers.blocks_json import FORMAT_NAME, FORMAT_VERSION, model_from_dict
@@ -266,8 +265,7 @@ def _split(vertices: np.ndarray, faces: np.ndarray) -> list[tuple[np.ndarray, fl
     n = len(vertices)
     faces = faces.astype(np.int64)
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    adjacency = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
-    count, label = connected_components(adjacency, directed=False)
+    count, label = connected_components(n, edges[:, 0], edges[:, 1])
     face_label = label[faces[:, 0]]
     # Closed: every edge of the piece is shared by exactly two of its triangles.
     _, inverse, uses = np.unique(

@@ -29,10 +29,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from shapegen.errors import OptionError, StaticsError
+from shapegen.geometry.graphs import connected_components
 from shapegen.model.model import Model
 from shapegen.model.packed import pack_blocks
 from shapegen.statics.interface import GROUND, Interface
@@ -264,8 +263,7 @@ def _bodies(model, interfaces, structural, ignore, stranded, overlaps) -> Bodies
                 rows.append(np.array([leader]))
                 cols.append(np.array([k]))
     rows, cols = np.concatenate(rows), np.concatenate(cols)
-    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(nb, nb))
-    _, component = connected_components(graph, directed=False)
+    _, component = connected_components(nb, rows, cols)
     body = np.full(nb, -1, dtype=np.int64)
     members = np.flatnonzero(chosen)
     # bodies numbered in the order of their first part: one block each gives the block order

@@ -15,10 +15,9 @@ __all__ = [
 ]
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from shapegen.errors import GeometryError, StaticsError
+from shapegen.geometry.graphs import connected_components
 from shapegen.limits import check_clock
 from shapegen.model.model import Model
 from shapegen.model.packed import PackedBlocks, pack_blocks
@@ -295,8 +294,7 @@ def check_support(model: Model, interfaces: list[Interface], bodies=None) -> Non
         cols.append(leader[bodies.body[parts]])
         free[:n] &= bodies.body >= 0
     rows, cols = np.concatenate(rows), np.concatenate(cols)
-    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n + 1, n + 1))
-    _, label = connected_components(graph, directed=False)
+    _, label = connected_components(n + 1, rows, cols)
     stranded = np.flatnonzero(free & (label != label[support]))
     if len(stranded) == 0:
         return

@@ -38,7 +38,6 @@ from dataclasses import dataclass
 import numpy as np
 import qdldl
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from shapegen.errors import OptionError
 from shapegen.statics.solvers import cholmod, pardiso
@@ -339,6 +338,9 @@ class NormalEquations:
                     return
                 except _REFUSED:
                     self.fallbacks += 1
+            # scipy.sparse.linalg (0.1 s to import) only for a matrix CHOLMOD refused
+            import scipy.sparse.linalg as spla
+
             self._lu = spla.splu(
                 pattern.full_matrix(values),
                 permc_spec="NATURAL",
