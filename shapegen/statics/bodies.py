@@ -170,6 +170,7 @@ def find_bodies(
     structural: Sequence[str] | str | None = None,
     ignore: Sequence[str] | str | None = None,
     unsupported: str = "error",
+    pack=None,
 ) -> Bodies:
     """The bodies of ``model`` and the ornaments they carry.
 
@@ -194,6 +195,8 @@ def find_bodies(
         ``"error"``: a body with no chain of contacts to a support is left for the checks to
         name; ``"ride"``: its blocks ride as load like ornaments (a real model's ornament
         fixed to a surface the statics leave out).
+    pack
+        The structural blocks already packed (packed here when None).
 
     Raises
     ------
@@ -206,7 +209,8 @@ def find_bodies(
         raise OptionError(f"unsupported must be 'error' or 'ride'; got {unsupported!r}")
     tol = model.tolerances() if tol is None else tol
     # overlaps among every structural block: glue between statics blocks, hosts for ornaments
-    pack = pack_blocks(model.blocks, np.flatnonzero([b.structural for b in model.blocks]))
+    if pack is None:
+        pack = pack_blocks(model.blocks, np.flatnonzero([b.structural for b in model.blocks]))
     pairs, volumes, centroids = overlapping_pairs(model, pack, tol)
     overlaps = (pack.index[pairs] if len(pairs) else pairs, volumes, centroids)
     bodies = _bodies(model, interfaces, structural, ignore, None, overlaps)
@@ -406,17 +410,20 @@ def contacts_and_bodies(model, options, tol, *, interfaces=None, bodies=None,
     :func:`~shapegen.statics.standins.statics_model` ``(model)``, the model with its
     stand-ins."""
     model = statics_model(model)
+    pack = None  # the structural blocks packed once for the contacts, bodies and checks
+    if interfaces is None or bodies is None or check:
+        pack = pack_blocks(model.blocks, np.flatnonzero([b.structural for b in model.blocks]))
     if interfaces is None:
         from shapegen.statics.contacts import find_interfaces
 
-        interfaces = find_interfaces(model, tol)
+        interfaces = find_interfaces(model, tol, pack)
     if bodies is None:
         bodies = find_bodies(
             model, interfaces, tol, structural=options.structural, ignore=options.ignore,
-            unsupported="ride" if from_cityengine(model) else "error",
+            unsupported="ride" if from_cityengine(model) else "error", pack=pack,
         )  # fmt: skip
     if check:
         from shapegen.statics.checks import check_model
 
-        check_model(model, interfaces, tol, bodies)
+        check_model(model, interfaces, tol, bodies, pack)
     return interfaces, bodies

@@ -30,14 +30,19 @@ _SAT_ENTRIES_PER_CHUNK = 4_000_000  # (pair, face, vertex) heights per chunk, ~3
 
 
 def check_model(
-    model: Model, interfaces: list[Interface], tol: Tolerances | None = None, bodies=None
+    model: Model,
+    interfaces: list[Interface],
+    tol: Tolerances | None = None,
+    bodies=None,
+    pack: PackedBlocks | None = None,
 ) -> None:
     """Raise if ``model`` cannot be analysed with ``interfaces`` (from ``find_interfaces``);
     ``tol`` defaults to ``model.tolerances()``.
 
     With ``bodies`` (:class:`~shapegen.statics.bodies.Bodies`), blocks that overlap are parts
     of one body (no error), a body is supported through any of its parts, and the blocks left
-    out of the statics (ornaments riding as load) need no support.
+    out of the statics (ornaments riding as load) need no support. ``pack``: blocks a caller
+    already packed, used when they are the ones checked.
 
     Raises
     ------
@@ -59,7 +64,8 @@ def check_model(
         )
     if bodies is not None:
         structural = np.flatnonzero(bodies.body >= 0)
-    pack = pack_blocks(model.blocks, structural)
+    if pack is None or not np.array_equal(pack.index, structural):
+        pack = pack_blocks(model.blocks, structural)
     check_ground(model, pack, tol)
     if bodies is None:
         check_interpenetration(model, pack, tol)

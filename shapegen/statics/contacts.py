@@ -114,7 +114,9 @@ def facing_face_pairs(pack: PackedBlocks, tol: Tolerances) -> tuple[np.ndarray, 
 
 
 # ------------------------------------------------------------------------------------- interfaces
-def find_interfaces(model: Model, tol: Tolerances | None = None) -> list[Interface]:
+def find_interfaces(
+    model: Model, tol: Tolerances | None = None, pack: PackedBlocks | None = None
+) -> list[Interface]:
     """Every contact polygon between structural blocks, fixed supports and the ground plane.
 
     Parameters
@@ -124,6 +126,9 @@ def find_interfaces(model: Model, tol: Tolerances | None = None) -> list[Interfa
         (or a fixed block and the ground) are not reported, since supports need no equilibrium.
     tol
         Absolute tolerances; default ``model.tolerances()`` (scaled to the model's size).
+    pack
+        The structural blocks already packed (``pack_blocks(model.blocks, structural)``), by
+        a caller that packs them for its checks too; packed here when None.
 
     Returns
     -------
@@ -134,7 +139,8 @@ def find_interfaces(model: Model, tol: Tolerances | None = None) -> list[Interfa
     """
     tol = model.tolerances() if tol is None else tol
     structural = np.array([b.structural for b in model.blocks], dtype=bool)
-    pack = pack_blocks(model.blocks, np.flatnonzero(structural))
+    if pack is None:
+        pack = pack_blocks(model.blocks, np.flatnonzero(structural))
     if len(pack.index) == 0:
         return []
     fixed = np.array([model.blocks[i].fixed for i in pack.index], dtype=bool)
