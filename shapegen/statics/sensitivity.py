@@ -8,7 +8,10 @@ parameters; each parameter costs only a rebuild and an assembly of the moved mod
 
 The moved model must keep the contact topology (same interfaces, same vertex count per
 interface); where it does not, :func:`infeasibility_change` returns None and the caller falls
-back to a finite difference of whole analyses.
+back to a finite difference of whole analyses. A parameter step moves some blocks only (a
+window's width, not the nave's walls): the moved model's contacts are those of the base's
+unchanged blocks plus a search around the moved ones
+(:func:`~shapegen.statics.incremental.incremental_interfaces`, the list a full search gives).
 """
 
 from __future__ import annotations
@@ -21,9 +24,10 @@ from scipy.spatial import cKDTree
 from shapegen.errors import ShapegenError
 from shapegen.statics.analysis import Analysis
 from shapegen.statics.assembly import StaticsProblem, assemble, tilted
-from shapegen.statics.contacts import find_interfaces
+from shapegen.statics.incremental import incremental_interfaces
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.standins import statics_model
+from shapegen.tolerances import DEFAULT
 
 
 def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> float | None:
@@ -56,7 +60,13 @@ def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> floa
     lam = base.multipliers.reshape(-1, 6).copy() / weight
     lam[:, 3:] *= length
     try:
-        interfaces = find_interfaces(moved)
+        interfaces, _ = incremental_interfaces(
+            moved,
+            DEFAULT.for_size(float(moved.size)),
+            base.model,
+            problem.cache.get("interfaces"),
+            problem.cache.get("tolerances") or DEFAULT.for_size(problem.length),
+        )
         bodies = None
         if problem.bodies is not None:  # the moved model's bodies, found as the base's were
             from shapegen.statics.bodies import find_bodies
