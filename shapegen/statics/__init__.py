@@ -6,7 +6,7 @@ from shapegen.lazy_names import lazy_names
 _HOMES = {
     "Analysis": "shapegen.statics.analysis",
     "analyze": "shapegen.statics.analysis",
-    "certify": "shapegen.statics.analysis",
+    "certify": "shapegen.statics.certificate",
     "StaticsProblem": "shapegen.statics.assembly",
     "assemble": "shapegen.statics.assembly",
     "friction_cone": "shapegen.statics.assembly",

@@ -8,9 +8,8 @@ The verdict ``feasible`` is scale independent and robust to solver noise. It com
 certificate: a set of compressive, pyramid-respecting vertex forces whose equilibrium residual
 (largest entry, forces / W and torques / (W L), see :func:`certify`) is at most
 ``tolerances.feasible_rel``. The forces are tried first from the least-norm equilibrium
-(:mod:`~shapegen.statics.solvers.least_norm`, one factorisation of the normal equations the
-interior point method builds; with ``solver`` ``auto`` or ``reduced``): a wall that stands
-comfortably is certified by them without any interior point iteration. Otherwise they are
+(:mod:`~shapegen.statics.certificate`; solver ``auto`` or ``reduced``): a wall that stands
+comfortably is certified without any interior point iteration. Otherwise they are
 taken from the linear phase-one problem ``min sum s`` on the same constraints: an interior
 point solution of it carries tensions of the order of the barrier parameter (~1e-12 W),
 whereas one of ``min sum s^2`` keeps tensions of order sqrt(barrier) that would blur the
@@ -46,7 +45,12 @@ from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.bodies import contacts_and_bodies
-from shapegen.statics.compression_only import compression_only
+from shapegen.statics.certificate import (
+    certify,
+    least_norm_certificate,
+    nearby_forces,
+    reserve_certificate,
+)
 from shapegen.statics.interface import Interface
 from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveRequest, SolveStatus, get_backend
@@ -194,19 +198,6 @@ class Analysis:
         }
 
 
-def certify(problem: StaticsProblem, x: np.ndarray) -> float:
-    """Scaled equilibrium residual of the compression-only part of a solution.
-
-    Tensions are dropped, compressions clipped at zero and each vertex's friction shrunk
-    radially into its pyramid (or its cone). Returns the largest entry of ``|A f + w|`` with
-    forces divided by ``W`` and torques by ``W L`` (dimensionless); the assembly is certified to
-    stand when it is at most ``tolerances.feasible_rel``.
-    """
-    forces, _, _ = compression_only(problem, x)
-    residual = problem.residual(forces)
-    return float(np.abs(residual).max()) if residual.size else 0.0
-
-
 def _solve(
     problem: StaticsProblem,
     names: tuple[str, ...],
@@ -248,6 +239,7 @@ def analyze(
     stood: Analysis | None = None,
     bodies=None,
     expect_tension: bool = False,
+    warm_start: Analysis | None = None,
     **settings: object,
 ) -> Analysis:
     """Check whether ``model`` stands under self-weight and its point loads.
@@ -274,6 +266,11 @@ def analyze(
     expect_tension
         Solve the QP first (a search whose last design needed tension): phase one is only run
         when the QP does not prove the tension (:func:`~shapegen.statics.tension.proves_tension`).
+    warm_start
+        The analysis of a nearby design (the last one of a search): when its joints are this
+        model's (the same pairs of blocks, the same vertex count each), its forces start the
+        interior point solves instead of the cold start (the verdict and ``y`` are the same;
+        fewer iterations).
     settings
         Instead of ``options``, its fields by name: ``analyze(model, friction=0.5)``.
 
@@ -323,18 +320,19 @@ def analyze(
             timings["directions"] = time.perf_counter() - start
         problem = tilted(problem, model, options.tilt, azimuth)
     if reuse:
-        known = _known_solution(stood, problem, tol)
+        known = reserve_certificate(stood, problem, tol)
         if known is not None:
             timings["certify"] = known.info["certify"]
             return _build_analysis(model, problem, known, stood.solver, True, known.objective,
                                    timings, worst, "reserve")  # fmt: skip
     if not expect_tension and order and order[0] == "reduced":
-        least = _least_norm_solution(problem, tol, timings)
+        least = least_norm_certificate(problem, tol, timings)
         if least is not None:
             return _build_analysis(model, problem, least, order[0], True, 0.0, timings, worst,
                                    "least_norm")  # fmt: skip
 
     start = time.perf_counter()
+    near = nearby_forces(warm_start, problem)
 
     def solve_phase_one(screen: bool) -> tuple[Solution, str]:
         return _solve(
@@ -343,9 +341,11 @@ def analyze(
             phase_one=True,
             accept=lambda x: certify(problem, x) <= tol.feasible_rel,
             screen=screen,
+            warm_start=near,
         )
 
-    qp, qp_used = _solve(problem, order) if expect_tension else (None, None)  # the QP first
+    # the QP first
+    qp, qp_used = _solve(problem, order, warm_start=near) if expect_tension else (None, None)
     if qp is not None and proves_tension(qp):  # then the only solve
         timings["solve"] = time.perf_counter() - start
         y_norm = float(np.sum(qp.x[problem.n_vertices : 2 * problem.n_vertices] ** 2))
@@ -407,40 +407,6 @@ def analyze(
     return _build_analysis(
         model, problem, solution, used, feasible, y_norm, timings, worst, decided_by
     )
-
-
-def _least_norm_solution(problem: StaticsProblem, tol, timings: dict) -> Solution | None:
-    """The least-norm forces' compression-only part, when the certificate passes it (see
-    :mod:`~shapegen.statics.solvers.least_norm`); None sends the analysis on to phase one.
-    Its seconds are added to ``timings`` ("solve" for the forces, "certify" for the test)."""
-    from shapegen.statics.solvers.least_norm import least_norm_forces
-
-    start = time.perf_counter()
-    x = least_norm_forces(problem)
-    certifying = time.perf_counter()
-    timings["solve"] += certifying - start
-    certified = x is not None and certify(problem, x) <= tol.feasible_rel
-    timings["certify"] += time.perf_counter() - certifying
-    if not certified:
-        return None
-    forces = compression_only(problem, x)[0]  # what the certificate measured: no tension
-    return Solution(SolveStatus.OPTIMAL, forces, np.zeros(6 * problem.n_free), 0.0)
-
-
-def _known_solution(stood: Analysis, problem: StaticsProblem, tol) -> Solution | None:
-    """``stood``'s forces moved to ``problem``'s wider joints, if they certify it."""
-    from shapegen.statics.reserve import widened_forces
-
-    start = time.perf_counter()
-    narrow = stood.problem
-    x = widened_forces(narrow, problem, (stood.forces / narrow.weight).T.ravel())
-    certified = x is not None and certify(problem, x) <= tol.feasible_rel
-    timings = {"certify": time.perf_counter() - start}
-    if not certified:
-        return None
-    m = problem.n_vertices
-    y_norm = float(np.sum(x[m : 2 * m] ** 2))
-    return Solution(SolveStatus.OPTIMAL, x, np.zeros(6 * problem.n_free), y_norm, info=timings)
 
 
 def _tension_sum(problem: StaticsProblem, x: np.ndarray | None) -> float:

@@ -121,7 +121,7 @@ def carried_certificate(problem, previous, correspondence: np.ndarray, tol: Tole
     for none). The forces returned certify (:func:`~shapegen.statics.analysis.certify` at most
     ``tol.feasible_rel``): the design stands.
     """
-    from shapegen.statics.analysis import certify
+    from shapegen.statics.certificate import certify
     from shapegen.statics.solvers.normal_equations import NormalEquations
 
     if not problem.n_vertices or not problem.n_free:

@@ -54,7 +54,8 @@ class BlockStatics(Structure):
 
     options: StaticsOptions
     _stood: tuple[float, object] | None = None  # the last design that stood with a margin
-    _last: tuple[float, float] | None = None  # margin and measure of the last design judged
+    # margin, measure and analysis of the last design judged
+    _last: tuple[float, float, object] | None = None
 
     def __init__(self, options: StaticsOptions | None = None):
         super().__init__(options)
@@ -91,8 +92,10 @@ class BlockStatics(Structure):
                 stood=stood[1] if stood is not None and stood[1].model is model else None,
                 expect_tension=last is not None and last[0] == margin
                 and last[1] >= EXPECT_TENSION_ABOVE,
+                # the last design's forces start the solves where its joints are these
+                warm_start=last[2] if last is not None and last[0] == margin else None,
             )  # fmt: skip
-            self._last = (margin, float(analysis.infeasibility_normalized))
+            self._last = (margin, float(analysis.infeasibility_normalized), analysis)
         if analysis.feasible and margin > 0:
             # A search judges with a reserve and reports without one: the forces that stand
             # with the reserve certify the design without another solve.

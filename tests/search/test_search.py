@@ -244,7 +244,9 @@ def test_landscape_marks_the_feasible_region(stack):
     expected = base + shift >= 0.3 + 1e-9
     clearly = np.abs(base + shift - 0.3) > 1e-6  # leave points exactly on the boundary alone
     np.testing.assert_array_equal(landscape.feasible[clearly], expected[clearly])
-    assert np.all(landscape.infeasibility[~expected] > 0)
+    # on the boundary y is 0 (up to the solver's noise): only the points clearly outside need
+    # tension
+    assert np.all(landscape.infeasibility[~expected & clearly] > 0)
     assert landscape.evaluations == 25
 
 

@@ -51,7 +51,7 @@ def test_a_screened_phase_one_is_redone_when_the_qp_finds_little_tension(monkeyp
     model = running_bond_wall(friction=0.7)
     monkeypatch.setattr(analysis, "PHASE_ONE_SCREEN", -1e9)  # screen at the first chance
     # the wall's least-norm forces would certify it before phase one runs: this is phase one's
-    monkeypatch.setattr(analysis, "_least_norm_solution", lambda *args: None)
+    monkeypatch.setattr(analysis, "least_norm_certificate", lambda *args: None)
     calls = []
     original = ReducedBackend.solve
 

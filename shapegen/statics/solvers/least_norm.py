@@ -9,7 +9,7 @@ pattern, ordering and symbolic analysis, assembled and factored once.
 In a wall that stands comfortably (every joint's resultant well inside its polygon, friction
 well inside the cone) these forces are compressive and within the cone everywhere, and so they
 are a certificate of the kind phase one looks for: the analysis checks them with its own test
-(:func:`~shapegen.statics.analysis.certify`, to ``tolerances.feasible_rel``) and, when it
+(:func:`~shapegen.statics.certificate.certify`, to ``tolerances.feasible_rel``) and, when it
 holds, no interior point iteration runs. When it does not hold (a resultant near a joint's
 edge, an arch's thrust, anything that does not stand) the interior point method runs as
 before: the candidate never decides on its own, and costs one iteration's linear algebra.
