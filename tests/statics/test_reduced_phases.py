@@ -66,3 +66,29 @@ def test_a_screened_phase_one_is_redone_when_the_qp_finds_little_tension(monkeyp
     assert calls[-1] == ("tension_sum", False)  # redone in full after the QP
     assert result.feasible
     assert result.infeasibility_normalized <= 1e-12
+
+
+def test_a_nearby_designs_forces_start_the_solves_and_change_nothing(monkeypatch):
+    # a search's next design: the same joints, a little more tilt; the QP starts from the
+    # last design's forces and finds the same y, in fewer iterations
+    last = analyze(running_bond_wall(tilt_degrees=12.0, friction=0.2), check=False)
+    model = running_bond_wall(tilt_degrees=12.5, friction=0.2)
+    iterations = []
+    original = ReducedBackend.solve
+
+    def counting(self, problem):
+        solution = original(self, problem)
+        iterations.append(solution.iterations)
+        return solution
+
+    monkeypatch.setattr(ReducedBackend, "solve", counting)
+    cold = analyze(model, check=False, expect_tension=True)
+    cold_iterations, iterations[:] = sum(iterations), []
+    warm = analyze(model, check=False, expect_tension=True, warm_start=last)
+    assert not warm.feasible and not cold.feasible
+    assert warm.infeasibility_normalized == pytest.approx(cold.infeasibility_normalized, rel=1e-6)
+    assert sum(iterations) < cold_iterations  # 10 against 13
+    # other joints (a wall of another size) are not a start
+    other = analyze(running_bond_wall(courses=6, tilt_degrees=12.0, friction=0.2), check=False)
+    assert analysis.nearby_forces(other, warm.problem) is None
+    assert analysis.nearby_forces(last, warm.problem) is not None
