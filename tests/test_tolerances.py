@@ -53,6 +53,7 @@ SOLVER_SETTINGS = {
         "_ACCEPT_BELOW",
     },
     "statics/solvers/reduced_kkt.py": {"_EQUILIBRATION_SHIFT", "_NORMAL_SHIFT", "_REFINED"},
+    "statics/solvers/least_norm.py": {"_SHIFT"},  # the least-norm forces' diagonal shift
 }
 
 
