@@ -239,6 +239,28 @@ def _skew(r: np.ndarray) -> np.ndarray:
     return out
 
 
+def _equality_matrix(jacobian: np.ndarray, vertex_blocks: np.ndarray, nf: int) -> sp.csc_matrix:
+    """``A`` ``(6 nf, 4 m)`` written straight into compressed columns: column ``g m + v`` (group
+    ``g`` of ``[c, s, u, t]``, vertex ``v``) holds the vertex's six wrench rows on each free
+    block it touches, the lower block's first; ``s`` is minus ``c``. (Built through
+    coordinates, the 10 021-brick wall's 0.9 M entries took 0.4 s of masks and a sort.)"""
+    m = len(vertex_blocks)
+    local = np.arange(12)
+    # the block with the lower row numbers first, so that each column's rows are sorted
+    swap = (vertex_blocks[:, 0] > vertex_blocks[:, 1]) & (vertex_blocks[:, 1] >= 0)
+    position = np.where(swap[:, None], (local + 6) % 12, local)  # (m, 12) rows of jacobian
+    block = vertex_blocks[np.arange(m)[:, None], position // 6]  # (m, 12)
+    on = block >= 0
+    indices = (6 * block + position % 6)[on].astype(np.int32)
+    counts = on.sum(axis=1)
+    data = []
+    for direction, sign in ((0, 1.0), (0, -1.0), (1, 1.0), (2, 1.0)):  # c, s, u, t
+        values = jacobian[np.arange(m)[:, None], position, direction][on]
+        data.append(values if sign > 0 else -values)
+    indptr = np.concatenate([[0], np.cumsum(np.tile(counts, 4))])
+    return sp.csc_matrix((np.concatenate(data), np.tile(indices, 4), indptr), shape=(6 * nf, 4 * m))
+
+
 def polygon_centroids(points: np.ndarray, normals: np.ndarray, starts: np.ndarray) -> np.ndarray:
     """Area centroids of convex polygons stored back to back (fan triangulation), m.
 
@@ -373,23 +395,8 @@ def assemble(
         block = np.concatenate([rotation[on], _skew(lever) @ rotation[on]], axis=1)
         jacobian[on, rows] = sign * block
 
-    # A: column group 0 (c) = n-direction, 1 (s) = -(n-direction), 2 (u) = t1, 3 (t) = t2
-    side_idx, row_idx, dir_idx = np.meshgrid(
-        np.arange(2), np.arange(6), np.arange(3), indexing="ij"
-    )
-    side_idx, row_idx, dir_idx = side_idx.ravel(), row_idx.ravel(), dir_idx.ravel()
-    blk = vertex_blocks[:, side_idx]  # (m, 36)
-    vals = jacobian[:, 6 * side_idx + row_idx, dir_idx]
-    rows = 6 * blk + row_idx
-    cols = np.array([0, 2, 3])[dir_idx] * m + np.arange(m)[:, None]
-    on = blk >= 0
-    rows, cols, vals = rows[on], cols[on], vals[on]
-    normal_dir = dir_idx[np.nonzero(on)[1]] == 0
-    rows = np.concatenate([rows, rows[normal_dir]])
-    cols = np.concatenate([cols, cols[normal_dir] + m])  # s columns follow c columns
-    vals = np.concatenate([vals, -vals[normal_dir]])
     nf = len(free_blocks)
-    equality = sp.csc_matrix((vals, (rows, cols)), shape=(6 * nf, 4 * m))
+    equality = _equality_matrix(jacobian, vertex_blocks, nf)
 
     load = wrench(model, loading, len(free_blocks), length, weight_scale)
 
