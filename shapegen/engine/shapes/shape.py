@@ -54,6 +54,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from shapegen.engine.shapes.boxes import extruded_rectangle
 from shapegen.geometry.mesh import Mesh
 from shapegen.model.lot import Lot, MeshLot
 from shapegen.model.scope import Scope
@@ -319,6 +320,10 @@ def extrude_shape(
     fast = not solid and shape.geometry is None and (lying or not cityengine_scope)
     if not world_up and fast:
         return Shape(extrude(scope, shape.normal_axis, height), MASS)
+    if not world_up and not solid and shape.geometry is None and shape.normal_axis == 2:
+        boxed = extruded_rectangle(scope, height)  # a comp face: a box in closed form
+        if boxed is not None:
+            return Shape(boxed[0], MASS, 2, None, boxed[1])
     from shapegen.geometry.extrude import extrude_faces
     from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 

@@ -43,6 +43,7 @@ import numpy as np
 
 from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.comp_selectors import component_selector, selector_text
+from shapegen.engine.shapes.boxes import box_faces_of
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.shapes.trim import comp_trim_planes
 from shapegen.geometry.frames import (
@@ -85,6 +86,9 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
     """The faces of ``shape`` as components, in its geometry's order."""
     scope = shape.scope
     rotation = scope.rotation
+    box = box_faces_of(shape)
+    if box is not None:
+        return _box_components(box, scope, object_rotation)
     if shape.geometry is None and shape.kind == MASS:
         mesh = Mesh.box(scope.size)
         scopes = [s for _, s in face_scopes(scope)]
@@ -112,6 +116,29 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
             vertices=tuple(mesh.faces[k]),
         )
         for k in range(mesh.n_faces)
+    ]
+
+
+def _box_components(box, scope: Scope, object_rotation) -> list[Component]:
+    """The six faces of a box in closed form (:mod:`shapegen.engine.shapes.boxes`): each a
+    rectangle filling its scope from its first corner, none on the border."""
+    origins, rotations, sizes = box.face_scopes(scope)
+    normals = box.normals
+    worlds = normals @ scope.rotation.T
+    objects = worlds if object_rotation is None else worlds @ object_rotation
+    return [
+        Component(
+            k,
+            normals[k],
+            worlds[k],
+            objects[k],
+            False,
+            Shape(Scope.of_arrays(origins[k], rotations[k], sizes[k]), FACE, 2),
+            (k,),
+            first=origins[k],
+            vertices=tuple(box.faces[k]),
+        )
+        for k in range(6)
     ]
 
 
@@ -291,14 +318,32 @@ def _frame(x: np.ndarray, z: np.ndarray) -> np.ndarray:
 
 def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
     """All ``chosen`` faces as one shape, in the frame of the first."""
-    mesh = shape.mesh()
     faces = [f for c in chosen for f in c.mesh_faces]
+    box = box_faces_of(shape)
+    if box is not None:
+        return _merged_box_faces(box, shape.scope, faces)
+    mesh = shape.mesh()
     subset = mesh.subset(faces)
     world = shape.scope.to_world(subset.vertices)
     first = shape.scope.to_world(mesh.face_points(faces[0]))
     rotation = face_rotation(first, shape.scope.rotation @ mesh.face_normal(faces[0]))
     scope, local = fitted_scope(world, rotation)
     return Shape.with_geometry(scope, Mesh.of_valid_faces(local, subset.faces), FACE, 2)
+
+
+def _merged_box_faces(box, scope: Scope, faces: list[int]) -> Shape:
+    """:func:`merged_shape` of faces of a box in closed form: the corners in the first face's
+    frame are the box's corners times that frame (its axes are box axes), so the fitted scope
+    needs no projection of world points."""
+    used: dict[int, int] = {}
+    subset = tuple(tuple(used.setdefault(i, len(used)) for i in box.faces[k]) for k in faces)
+    frame = box.frames[faces[0]]
+    points = (box.corners[list(used)] * scope.size) @ frame
+    low = points.min(axis=0)
+    size = points.max(axis=0) - low
+    rotation = scope.rotation @ frame
+    merged = Scope.of_arrays(scope.origin + rotation @ low, rotation, size)
+    return Shape.with_geometry(merged, Mesh.of_valid_faces(points - low, subset), FACE, 2)
 
 
 # ---------------------------------------------------------------------------- the operation

@@ -1,0 +1,142 @@
+"""Boxes in closed form: a rectangle extruded either way, and the faces ``comp(f)`` gives them.
+
+Most masses of a building's rules are boxes: a lot or a comp face extruded, the reveal of a
+window extruded backwards (candler's ``extrude(-depth) comp(f) {...}``). Their scopes, meshes
+and faces follow from the scope's origin, axes and size without fitting a scope to points,
+which is what the general mesh path does (:func:`~shapegen.engine.shapes.shape.extrude_shape`
+through :func:`~shapegen.geometry.extrude.extrude_faces`, ``comp(f)`` through
+:func:`~shapegen.geometry.frames.fitted_face_scopes`): the same numbers up to round-off (the
+fitted path's ~1e-15 m), tested against it.
+
+Two layouts, each a table of unit corners and faces in comp(f) order:
+
+- the box filling its scope (a shape without geometry, kind ``mass``): faces in
+  :data:`~shapegen.geometry.mesh.BOX_FACES` order, 0 bottom (-y), 1 top (+y), then the sides;
+- the *backward box*, a rectangle extruded by a negative depth: the prism of op_extrude turned
+  inside out, so face 0 is the original face (+y of the new scope, still facing where the face
+  faced), face 1 the face moved back (-y), then the sides +z, +x, -z, -x, each starting where
+  :func:`~shapegen.geometry.extrude.prism` starts it. Its mesh is kept (the leaf is that mesh,
+  as before), marked so that ``comp(f)`` takes the closed form.
+
+A box thinner than :data:`~shapegen.tolerances.COINCIDENT_REL` of its extent (or of 1 m) along
+any axis takes the general path, whose degenerate faces and sizes snapped to 0 these tables do
+not model.
+"""
+
+from __future__ import annotations
+
+__all__ = ["BoxFaces", "box_faces_of", "extruded_rectangle"]
+
+import math
+
+import numpy as np
+
+from shapegen.geometry.frames import rotation_keeping_x
+from shapegen.geometry.mesh import BOX_FACES, Mesh
+from shapegen.model.scope import Scope
+from shapegen.tolerances import COINCIDENT_REL
+
+_MARK = "box_faces"  # the key of a mesh's __dict__ that holds its BoxFaces table
+
+
+class BoxFaces:
+    """A box layout: unit corners ``(8, 3)``, faces (tuples of corner indices, outward, in
+    comp(f) order) and, per face, its frame in the box's scope coordinates (corner in units of
+    the size, x along the face's first edge, y = z x x, z the outward normal) and which scope
+    sizes become the face's (sx, sy)."""
+
+    __slots__ = ("corners", "faces", "normals", "origins", "frames", "dims")
+
+    def __init__(self, corners, faces):
+        self.corners = np.array(corners, dtype=float)
+        self.faces = faces
+        origins, frames, dims, normals = [], [], [], []
+        for face in faces:
+            first, second, last = (self.corners[face[k]] for k in (0, 1, -1))
+            x, y = second - first, last - first
+            z = np.cross(x, y)
+            origins.append(first)
+            frames.append(np.column_stack([x, y, z]))
+            dims.append((int(np.flatnonzero(x)[0]), int(np.flatnonzero(y)[0])))
+            normals.append(z)
+        self.origins = np.array(origins)  # (6, 3) face corners, in units of the box's size
+        self.frames = np.array(frames)  # (6, 3, 3): columns x, y, z in box scope coordinates
+        self.dims = np.array(dims)  # (6, 2)
+        self.normals = np.array(normals)  # (6, 3) outward unit normals, scope coordinates
+
+    def mesh(self, size) -> Mesh:
+        """The box of ``size`` (m) in its scope's coordinates, marked as this layout."""
+        mesh = Mesh.of_valid_faces(self.corners * np.asarray(size, float), self.faces)
+        mesh.__dict__[_MARK] = self
+        return mesh
+
+    def face_scopes(self, scope: Scope) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each face's scope as comp(f) sets it: origins ``(6, 3)`` (world, m; each face's first
+        corner), rotations ``(6, 3, 3)`` (columns x, y, z) and sizes ``(6, 3)`` (m, sz = 0)."""
+        size = scope.size
+        origins = scope.origin + (self.origins * size) @ scope.rotation.T
+        rotations = scope.rotation @ self.frames
+        sizes = np.zeros((len(self.faces), 3))
+        sizes[:, :2] = size[self.dims]
+        return origins, rotations, sizes
+
+
+FILLING = BoxFaces(
+    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
+    tuple(BOX_FACES),
+)
+"""The box filling its scope (:meth:`~shapegen.geometry.mesh.Mesh.box`)."""
+
+BACKWARD = BoxFaces(
+    [[0, 1, 1], [1, 1, 1], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0], [0, 0, 0]],
+    ((1, 2, 3, 0), (4, 7, 6, 5), (0, 4, 5, 1), (1, 5, 6, 2), (2, 6, 7, 3), (3, 7, 4, 0)),
+)
+"""A rectangle extruded by a negative depth: corners 0-3 the rectangle (its scope's y = the
+depth), 4-7 the rectangle moved back, faces the prism's turned around (keeping first corners)."""
+
+
+def _solid(scope: Scope) -> bool:
+    """Whether every side of ``scope`` is clearly more than round-off of its extent."""
+    size = scope.size.tolist()
+    reach = max(1.0, max(abs(v) for v in scope.origin.tolist()) + max(size))
+    return min(size) > COINCIDENT_REL * reach
+
+
+def box_faces_of(shape) -> BoxFaces | None:
+    """The closed-form layout of ``shape`` (a :class:`~shapegen.engine.shapes.shape.Shape`)
+    when it is a box of one, else None: a mass filling its scope, or a marked backward box."""
+    geometry = shape.geometry
+    if geometry is None:
+        layout = FILLING if shape.kind == "mass" else None
+    else:
+        layout = geometry.__dict__.get(_MARK)
+    if layout is None or not _solid(shape.scope):
+        return None
+    return layout
+
+
+def extruded_rectangle(scope: Scope, height: float):
+    """``(scope, mesh)`` of the rectangle filling the flat ``scope`` (flat along its z, a comp
+    face) extruded by ``height`` (m) along its normal, with op_extrude's scope (x kept, y along
+    the extrusion, z = x x y, fitted): mesh None for a positive height (the box filling its
+    scope), the marked backward box for a negative one. None when the closed form does not
+    apply (a zero height or side, axes that are not a right-handed orthonormal frame): the
+    caller takes the general path."""
+    if height == 0 or not math.isfinite(height):
+        return None
+    axes = scope.rotation
+    rotation = rotation_keeping_x(axes[:, 0], axes[:, 2])
+    # x kept, y the face's normal, z its -y: only then are the fitted box's corners these
+    x_kept = float(rotation[:, 0] @ axes[:, 0])
+    z_down = float(rotation[:, 2] @ axes[:, 1])
+    if x_kept < 1.0 - COINCIDENT_REL or z_down > -1.0 + COINCIDENT_REL:
+        return None
+    sx, sy = float(scope.size[0]), float(scope.size[1])
+    depth = abs(height)
+    origin = scope.origin + axes[:, 1] * sy
+    if height < 0:
+        origin = origin + axes[:, 2] * height
+    box = Scope.of_arrays(origin, rotation, np.array([sx, depth, sy]))
+    if not _solid(box):
+        return None
+    return box, (BACKWARD.mesh(box.size) if height < 0 else None)
