@@ -31,6 +31,7 @@ __all__ = [
 ]
 
 import contextlib
+import gc
 import io
 import numbers
 import sys
@@ -57,6 +58,7 @@ from shapegen.engine.program.attributes import (
     shown,
 )
 from shapegen.engine.program.leaf_batches import box_corners, rectangle_corners
+from shapegen.engine.project.asset_files import assets_held
 from shapegen.engine.shapes.shape import FACE, MASS, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
@@ -74,6 +76,21 @@ _MIN_SIZE = MIN_LEAF_SIZE  # m; see shapegen.tolerances
 
 # The outward faces of a box leaf's corners (leaf_batches.box_corners; see Block.box).
 _BOX_FACES = ((0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (3, 2, 6, 7), (0, 3, 7, 4), (1, 5, 6, 2))
+
+
+@contextlib.contextmanager
+def _collector_paused():
+    """Within: no cyclic garbage collection. A derivation makes some 100 000 objects that live
+    until it ends (shapes, scopes, arrays), few of them in cycles, and the collector's passes
+    over them cost a few percent of a building's derivation; its state is restored however the
+    derivation ends (a collector paused by the caller stays paused)."""
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
 class _Rule:
@@ -166,6 +183,10 @@ class Program:
         ``max_depth`` and ``max_shapes`` default to the current
         :class:`~shapegen.limits.WorkLimits`, which bound the rest of the work too.
         """
+        with assets_held(), _collector_paused():
+            return self._derive(attrs, seed, lot, max_depth, max_shapes, _first_pass)
+
+    def _derive(self, attrs, seed, lot, max_depth, max_shapes, _first_pass) -> Model:
         if isinstance(seed, bool) or not isinstance(seed, numbers.Integral):
             raise GrammarError(f"seed must be a whole number, got {shown(seed)}")
         if lot is None:
@@ -207,7 +228,7 @@ class Program:
             raise
         if run.occlusion.asked and _first_pass is None:  # CityEngine's second pass
             first_pass = run.occlusion.second_pass(leaves)
-            return self.derive(attrs, seed, lot, max_depth, max_shapes, first_pass)
+            return self._derive(attrs, seed, lot, max_depth, max_shapes, first_pass)
         sys.stdout.write(printed.getvalue())
         blocks, surfaces = self._blocks(leaves, run)
         metadata = {

@@ -13,8 +13,10 @@ a file is read once and kept while it is unchanged."""
 
 from __future__ import annotations
 
-__all__ = ["find_asset", "load_asset"]
+__all__ = ["assets_held", "find_asset", "load_asset"]
 
+import contextlib
+import contextvars
 import functools
 import os
 import re
@@ -33,6 +35,22 @@ from shapegen.readers.obj import obj_polygons
 
 _CACHE_SIZE = 64
 _cache: OrderedDict[tuple, Mesh] = OrderedDict()
+
+# Within one derivation (:func:`assets_held`): what each name was found to be and each file read
+# as, so that the 500 i() of a building look at the disk once per name, not once per shape.
+_held: contextvars.ContextVar[dict | None] = contextvars.ContextVar("assets_held", default=None)
+
+
+@contextlib.contextmanager
+def assets_held():
+    """Within: each asset name is looked up and each asset file read (or its change checked)
+    once. A derivation holds them so, as CityEngine reads a rule package's assets once per
+    generation; a file changed during one derivation is seen by the next."""
+    token = _held.set({})
+    try:
+        yield
+    finally:
+        _held.reset(token)
 
 
 def _search_roots(rule_file: str | None) -> tuple[Path, ...]:
@@ -56,6 +74,16 @@ def _project_roots(rule_file: str, working_folder: str) -> tuple[Path, ...]:
 
 def find_asset(name: str, rule_file: str | None) -> Path | None:
     """The file ``name`` names for a rule written in ``rule_file``, or None."""
+    held = _held.get()
+    if held is None:
+        return _found(name, rule_file)
+    key = ("find", name, rule_file)
+    if key not in held:
+        held[key] = _found(name, rule_file)
+    return held[key]
+
+
+def _found(name: str, rule_file: str | None) -> Path | None:
     working_folder = os.getcwd()
     package = None
     if rule_file and not rule_file.startswith("<"):
@@ -96,6 +124,17 @@ def _candidates(name: str, rule_file: str | None, working_folder: str) -> tuple[
 
 def load_asset(path: Path) -> Mesh:
     """The mesh of an asset file (its own coordinates, y up), read once and kept."""
+    held = _held.get()
+    if held is None:
+        return _loaded(path)
+    key = ("load", path)
+    mesh = held.get(key)
+    if mesh is None:
+        mesh = held[key] = _loaded(path)
+    return mesh
+
+
+def _loaded(path: Path) -> Mesh:
     status = path.stat()
     key = (str(path), status.st_mtime_ns, status.st_size)
     mesh = _cache.get(key)
