@@ -57,7 +57,7 @@ from shapegen.engine.program.attributes import (
     checked_structure,
     shown,
 )
-from shapegen.engine.program.leaf_batches import box_corners, rectangle_corners
+from shapegen.engine.program.leaf_batches import box_corners, placed_meshes, rectangle_corners
 from shapegen.engine.project.asset_files import assets_held
 from shapegen.engine.shapes.shape import FACE, MASS, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
@@ -270,6 +270,7 @@ class Program:
             world = box_corners([s.shape.scope for s in boxes])
             corners = {id(s): world[k] for k, s in enumerate(boxes)}
         rectangles = _rectangle_leaves(leaves)
+        placed = _geometry_leaves(leaves)
         blocks: list[Block] = []
         surfaces: list[Surface] = []
         seen = produced = 0  # leaves that gave geometry: CityEngine's generated meshes
@@ -279,7 +280,7 @@ class Program:
             seen = count
             kind = state.shape.kind
             if state.shape.geometry is not None and kind in (MASS, FACE):
-                made = self._geometry_leaf(state, len(blocks), surfaces)
+                made = self._geometry_leaf(state, *placed[id(state)], len(blocks), surfaces)
                 if len(blocks) + len(made) > limit:
                     raise self._too_many_blocks(len(blocks) + len(made), run, state.rule_path)
                 blocks.extend(made)
@@ -357,7 +358,9 @@ class Program:
         if keep:
             surfaces.append(_surface(state, mesh.subset(keep), "a face (no volume)", len(surfaces)))
 
-    def _geometry_leaf(self, state: ShapeState, number: int, surfaces: list) -> list[Block]:
+    def _geometry_leaf(
+        self, state: ShapeState, mesh: Mesh, area: float, number: int, surfaces: list
+    ) -> list[Block]:
         """The blocks of a leaf with geometry: one for a closed convex mesh. Otherwise none,
         and the leaf is added to ``surfaces`` with the reason: a closed solid that is not
         convex stays as derived (``"not convex"``, with its :class:`SolidLeaf`), and the
@@ -365,10 +368,10 @@ class Program:
         (:mod:`shapegen.statics.standins`), so a model nobody judges never pays for the cut.
         The model keeps the leaf's own geometry: an open shell is not capped and a solid is not
         replaced by its hull here, so the model is the one CityEngine's runtime derives (its
-        volume and bounding box)."""
-        mesh = state.shape.world_mesh()
+        volume and bounding box). ``mesh`` is the leaf's geometry in world coordinates, ``area``
+        its faces' total (m^2)."""
         if state.shape.kind == FACE or not mesh.is_closed:
-            if mesh.area() > _MIN_SIZE**2:
+            if area > _MIN_SIZE**2:
                 reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
                 surfaces.append(_surface(state, mesh, reason, len(surfaces)))
             return []
@@ -446,6 +449,18 @@ def _rectangle_leaves(leaves: list[ShapeState]) -> dict[int, tuple]:
         for k, state in enumerate(states):
             out[id(state)] = (corners[k], _TURNED if mirrored[k] else _RECTANGLE, areas[k])
     return out
+
+
+def _geometry_leaves(leaves: list[ShapeState]) -> dict[int, tuple]:
+    """``{id(state): (world mesh, area m^2)}`` of the leaves with geometry (faces and masses),
+    placed and measured together (:func:`~shapegen.engine.program.leaf_batches.placed_meshes`)."""
+    states = [s for s in leaves if s.shape.kind in (FACE, MASS) and s.shape.geometry is not None]
+    if not states:
+        return {}
+    meshes, areas = placed_meshes(
+        [s.shape.scope for s in states], [s.shape.geometry for s in states]
+    )
+    return {id(s): (meshes[k], float(areas[k])) for k, s in enumerate(states)}
 
 
 _RECTANGLE = ((0, 1, 2, 3),)

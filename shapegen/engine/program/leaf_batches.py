@@ -1,4 +1,6 @@
-"""Leaves placed together: the world corners of a derivation's box and rectangle leaves.
+"""Leaves placed together: the world corners of a derivation's box and rectangle leaves, and
+the leaves with geometry (a merged ``comp(f)`` selection, a cut face, an asset) with their
+areas.
 
 A model's leaves that fill their scopes (a box after ``extrude``, a face after ``split``) are
 placed in world coordinates as one stacked array operation per kind, not one mesh at a time:
@@ -8,9 +10,11 @@ of them at once.
 
 from __future__ import annotations
 
-__all__ = ["box_corners", "rectangle_corners"]
+__all__ = ["box_corners", "placed_meshes", "rectangle_corners"]
 
 import numpy as np
+
+from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 
 # The unit box's corners in Block.box's vertex order (the interpreter's box leaves).
 _UNIT_BOX = np.array(
@@ -53,3 +57,34 @@ def rectangle_corners(scopes: list, axis: int) -> tuple[np.ndarray, np.ndarray, 
     areas = sizes[:, first] * sizes[:, second]
     mirrored = np.linalg.det(np.array([s.rotation for s in scopes])) < 0
     return corners, areas, mirrored
+
+
+def placed_meshes(scopes: list, meshes: list[Mesh]) -> tuple[list[Mesh], np.ndarray]:
+    """Each mesh (scope coordinates) placed by its scope in world coordinates, as
+    :meth:`~shapegen.geometry.mesh.Mesh.transformed` places it (a mirror's faces turned to face
+    out), and each one's total face area ``(n,)`` (m^2), all meshes in one stacked pass."""
+    counts = np.array([m.n_vertices for m in meshes])
+    rotations = np.array([s.rotation for s in scopes])
+    origins = np.array([s.origin for s in scopes])
+    owner = np.repeat(np.arange(len(meshes)), counts)
+    local = np.concatenate([m.vertices for m in meshes])
+    world = np.einsum("nij,nj->ni", rotations[owner], local) + origins[owner]
+    mirrored = (np.linalg.det(rotations) < 0).tolist()
+    placed, faces, first_face = [], [], [0]
+    start = 0
+    for mesh, count, mirror in zip(meshes, counts.tolist(), mirrored, strict=True):
+        own = mesh.faces
+        if mirror:
+            own = tuple((f[0],) + tuple(reversed(f[1:])) for f in own)
+        moved = Mesh.of_valid_faces(world[start : start + count], own)
+        if "is_closed" in mesh.__dict__:
+            moved.__dict__["is_closed"] = mesh.is_closed  # turning every face keeps it
+        placed.append(moved)
+        faces.extend(tuple(i + start for i in f) for f in own)
+        first_face.append(len(faces))
+        start += count
+    corners, starts = corner_layout(faces)
+    face_areas = 0.5 * np.linalg.norm(area_vectors(world, corners, starts), axis=1)
+    totals = np.add.reduceat(np.append(face_areas, 0.0), first_face[:-1])
+    totals[np.diff(first_face) == 0] = 0.0  # a mesh without faces (reduceat gives a neighbour's)
+    return placed, totals
