@@ -179,3 +179,15 @@ def test_runaway_repeat_is_stopped():
 def test_non_finite_size_is_refused():
     with pytest.raises(ValueError):
         resolve_split(10.0, [absolute(float("nan"), "A")])
+
+
+def test_a_layout_resolved_before_is_refused_under_a_smaller_piece_limit():
+    # the same split again comes from the layouts already resolved: its pieces are equal, a
+    # caller's list is its own, and a limit below what the layout needs still refuses it
+    pattern = SplitRepeat((SplitPart(1.0, FLOATING, "tile"),))
+    first = resolve_split(10.0, pattern, max_pieces=100)
+    first.clear()
+    again = resolve_split(10.0, pattern, max_pieces=100)
+    assert [(p.key, p.start, p.size) for p in again] == [("tile", float(k), 1.0) for k in range(10)]
+    with pytest.raises(PieceLimitError):
+        resolve_split(10.0, pattern, max_pieces=9)

@@ -133,13 +133,38 @@ def resolve_split(
     total = float(total)
     if not math.isfinite(total) or total <= 0:
         return []
-    resolver = _Resolver(total, max_pieces, best_counts)
     items = (pattern,) if isinstance(pattern, SplitRepeat) else tuple(pattern)
+    memo = (total, best_counts, _pattern_key(items))
+    known = _laid_out.get(memo)
+    if known is not None and known[0] <= max_pieces:
+        return list(known[1])
+    resolver = _Resolver(total, max_pieces, best_counts)
     for item in _all_parts(items):
         if not math.isfinite(item.size):
             raise ValueError(f"split size {item.size} is not a finite number")
     resolver.sequence(items, 0.0, total)
+    if len(_laid_out) >= _LAID_OUT_SIZE:
+        _laid_out.clear()
+    needed = max(resolver.peak, len(resolver.pieces))
+    _laid_out[memo] = (needed, tuple(resolver.pieces), items)
     return resolver.pieces
+
+
+# Layouts already resolved: a building splits its floors and windows over the same lengths
+# again and again (candler: 557 splits, 28 distinct). Keyed by the length and the pattern's
+# sizes, modes and part keys (by identity: the entry holds the pattern, so its keys stay alive);
+# each entry records the piece limit it needs, so a smaller limit is still refused as before.
+_LAID_OUT_SIZE = 4096
+_laid_out: dict[tuple, tuple] = {}
+
+
+def _pattern_key(items) -> tuple:
+    return tuple(
+        ("*", _pattern_key(item.items))
+        if isinstance(item, SplitRepeat)
+        else (item.size, item.mode, id(item.key))
+        for item in items
+    )
 
 
 def _all_parts(items):
@@ -160,6 +185,7 @@ class _Resolver:
         self.eps = SPLIT_SLACK_REL * total
         self.max_pieces = max_pieces
         self.pieces: list[SplitPiece] = []
+        self.peak = 0.0  # the most pieces a repeat count was checked for
 
     def nominal(self, item: SplitItem) -> float:
         """Length of an item before any floating adjustment, m (0 for non-positive sizes)."""
@@ -308,6 +334,7 @@ class _Resolver:
 
     def _check_count(self, count: float, items: tuple[SplitItem, ...]) -> None:
         pieces = count * len(items)
+        self.peak = max(self.peak, pieces)
         if not pieces <= self.max_pieces:  # also true for an infinite count
             shown = f"{pieces:.3g}" if pieces < 1e15 else "more than 1e15"
             raise PieceLimitError(
