@@ -115,3 +115,24 @@ def test_merged_faces_of_a_box_are_the_general_paths(chosen):
         _same_scope(fast.scope, slow.scope)
         assert fast.geometry.faces == slow.geometry.faces
         assert np.abs(fast.geometry.vertices - slow.geometry.vertices).max() < TOL
+
+
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_comp_of_a_rectangle_is_the_general_paths(axis):
+    rng = np.random.default_rng(5 + axis)
+    for _ in range(30):
+        size = rng.uniform(0.01, 20, 3)
+        size[axis] = 0.0
+        scope = Scope(rng.uniform(-50, 50, 3), rotation_matrix(rng.uniform(-180, 180, 3)), size)
+        face = Shape(scope, FACE, axis)
+        plain = Shape.with_geometry(scope, Mesh.rectangle(size, axis), FACE, axis)
+        assert boxes.box_faces_of(face) is boxes.RECTANGLES[axis]
+        (fast,), (slow,) = face_components(face, None), face_components(plain, None)
+        assert fast.border and slow.border
+        for name in ("normal", "world", "object", "first"):
+            assert np.abs(getattr(fast, name) - getattr(slow, name)).max() < TOL, name
+        _same_scope(fast.shape.scope, slow.shape.scope)
+        assert fast.shape.geometry is None and slow.shape.geometry is None
+        merged_fast, merged_slow = merged_shape(face, [fast]), merged_shape(plain, [slow])
+        _same_scope(merged_fast.scope, merged_slow.scope)
+        assert np.abs(merged_fast.geometry.vertices - merged_slow.geometry.vertices).max() < TOL

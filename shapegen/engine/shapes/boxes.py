@@ -45,11 +45,13 @@ class BoxFaces:
     the size, x along the face's first edge, y = z x x, z the outward normal) and which scope
     sizes become the face's (sx, sy)."""
 
-    __slots__ = ("corners", "faces", "normals", "origins", "frames", "dims")
+    __slots__ = ("corners", "faces", "normals", "origins", "frames", "dims", "spans", "border")
 
-    def __init__(self, corners, faces):
+    def __init__(self, corners, faces, spans=(0, 1, 2), border=False):
         self.corners = np.array(corners, dtype=float)
         self.faces = faces
+        self.spans = spans  # the scope axes that must have a size (a rectangle's two)
+        self.border = border  # whether each face has an edge no other face shares
         origins, frames, dims, normals = [], [], [], []
         for face in faces:
             first, second, last = (self.corners[face[k]] for k in (0, 1, -1))
@@ -95,22 +97,45 @@ BACKWARD = BoxFaces(
 depth), 4-7 the rectangle moved back, faces the prism's turned around (keeping first corners)."""
 
 
-def _solid(scope: Scope) -> bool:
-    """Whether every side of ``scope`` is clearly more than round-off of its extent."""
+RECTANGLES = {
+    axis: BoxFaces(corners, ((0, 1, 2, 3),), spans, border=True)
+    for axis, corners, spans in (
+        (0, [[0, 0, 1], [0, 0, 0], [0, 1, 0], [0, 1, 1]], (1, 2)),
+        (1, [[0, 0, 1], [1, 0, 1], [1, 0, 0], [0, 0, 0]], (0, 2)),
+        (2, [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], (0, 1)),
+    )
+}
+"""The rectangle filling a flat scope, by the axis it is flat along
+(:meth:`~shapegen.geometry.mesh.Mesh.rectangle`): one face, all of its edges on the border."""
+
+
+def _solid(scope: Scope, spans=(0, 1, 2)) -> bool:
+    """Whether every side ``spans`` of ``scope`` is clearly more than round-off of its extent,
+    and its axes a right-handed frame (a mirror's faces are turned: the general path)."""
     size = scope.size.tolist()
     reach = max(1.0, max(abs(v) for v in scope.origin.tolist()) + max(size))
-    return min(size) > COINCIDENT_REL * reach
+    if min(size[k] for k in spans) <= COINCIDENT_REL * reach:
+        return False
+    x, y, z = scope.rotation.T.tolist()
+    handed = (x[1] * y[2] - x[2] * y[1]) * z[0] + (x[2] * y[0] - x[0] * y[2]) * z[1]
+    return handed + (x[0] * y[1] - x[1] * y[0]) * z[2] > 0
 
 
 def box_faces_of(shape) -> BoxFaces | None:
     """The closed-form layout of ``shape`` (a :class:`~shapegen.engine.shapes.shape.Shape`)
-    when it is a box of one, else None: a mass filling its scope, or a marked backward box."""
+    when it has one, else None: a mass filling its scope, a face filling its flat scope, or a
+    marked backward box."""
     geometry = shape.geometry
     if geometry is None:
-        layout = FILLING if shape.kind == "mass" else None
+        if shape.kind == "mass":
+            layout = FILLING
+        elif shape.kind == "face":
+            layout = RECTANGLES.get(shape.normal_axis)
+        else:
+            layout = None
     else:
         layout = geometry.__dict__.get(_MARK)
-    if layout is None or not _solid(shape.scope):
+    if layout is None or not _solid(shape.scope, layout.spans):
         return None
     return layout
 

@@ -120,8 +120,8 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
 
 
 def _box_components(box, scope: Scope, object_rotation) -> list[Component]:
-    """The six faces of a box in closed form (:mod:`shapegen.engine.shapes.boxes`): each a
-    rectangle filling its scope from its first corner, none on the border."""
+    """The faces of a box or rectangle in closed form (:mod:`shapegen.engine.shapes.boxes`):
+    each a rectangle filling its scope from its first corner."""
     origins, rotations, sizes = box.face_scopes(scope)
     normals = box.normals
     worlds = normals @ scope.rotation.T
@@ -132,13 +132,13 @@ def _box_components(box, scope: Scope, object_rotation) -> list[Component]:
             normals[k],
             worlds[k],
             objects[k],
-            False,
+            box.border,
             Shape(Scope.of_arrays(origins[k], rotations[k], sizes[k]), FACE, 2),
             (k,),
             first=origins[k],
             vertices=tuple(box.faces[k]),
         )
-        for k in range(6)
+        for k in range(len(box.faces))
     ]
 
 
