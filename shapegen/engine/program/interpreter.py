@@ -457,9 +457,12 @@ def _geometry_leaves(leaves: list[ShapeState]) -> dict[int, tuple]:
     states = [s for s in leaves if s.shape.kind in (FACE, MASS) and s.shape.geometry is not None]
     if not states:
         return {}
-    meshes, areas = placed_meshes(
-        [s.shape.scope for s in states], [s.shape.geometry for s in states]
-    )
+    meshes = [s.shape.geometry for s in states]
+    # an area decides whether a face or an open shell is drawn; a closed solid's is not asked
+    measured = [
+        s.shape.kind == FACE or not m.is_closed for s, m in zip(states, meshes, strict=True)
+    ]
+    meshes, areas = placed_meshes([s.shape.scope for s in states], meshes, measured)
     return {id(s): (meshes[k], float(areas[k])) for k, s in enumerate(states)}
 
 

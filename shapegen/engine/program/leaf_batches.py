@@ -59,32 +59,41 @@ def rectangle_corners(scopes: list, axis: int) -> tuple[np.ndarray, np.ndarray, 
     return corners, areas, mirrored
 
 
-def placed_meshes(scopes: list, meshes: list[Mesh]) -> tuple[list[Mesh], np.ndarray]:
+def placed_meshes(
+    scopes: list, meshes: list[Mesh], measured: list[bool]
+) -> tuple[list[Mesh], np.ndarray]:
     """Each mesh (scope coordinates) placed by its scope in world coordinates, as
     :meth:`~shapegen.geometry.mesh.Mesh.transformed` places it (a mirror's faces turned to face
-    out), and each one's total face area ``(n,)`` (m^2), all meshes in one stacked pass."""
+    out), and the total face area (m^2) of those ``measured`` (0 for the others), all meshes in
+    one stacked pass."""
     counts = np.array([m.n_vertices for m in meshes])
     rotations = np.array([s.rotation for s in scopes])
     origins = np.array([s.origin for s in scopes])
     owner = np.repeat(np.arange(len(meshes)), counts)
-    local = np.concatenate([m.vertices for m in meshes])
-    world = np.einsum("nij,nj->ni", rotations[owner], local) + origins[owner]
+    world = np.einsum("nij,nj->ni", rotations[owner], np.concatenate([m.vertices for m in meshes]))
+    world += origins[owner]
     mirrored = (np.linalg.det(rotations) < 0).tolist()
-    placed, faces, first_face = [], [], [0]
-    start = 0
-    for mesh, count, mirror in zip(meshes, counts.tolist(), mirrored, strict=True):
-        own = mesh.faces
+    placed = []
+    corners, starts, owners = [], [], []
+    offset = corner_offset = 0
+    for k, (mesh, count, mirror) in enumerate(zip(meshes, counts.tolist(), mirrored, strict=True)):
+        faces = mesh.faces
+        if measured[k] and faces:
+            own_corners, own_start = corner_layout(faces)
+            corners.append(own_corners + offset)
+            starts.append(own_start[:-1] + corner_offset)
+            owners.append(np.full(len(faces), k))
+            corner_offset += len(own_corners)
         if mirror:
-            own = tuple((f[0],) + tuple(reversed(f[1:])) for f in own)
-        moved = Mesh.of_valid_faces(world[start : start + count], own)
+            faces = tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
+        moved = Mesh.of_valid_faces(world[offset : offset + count], faces)
         if "is_closed" in mesh.__dict__:
             moved.__dict__["is_closed"] = mesh.is_closed  # turning every face keeps it
         placed.append(moved)
-        faces.extend(tuple(i + start for i in f) for f in own)
-        first_face.append(len(faces))
-        start += count
-    corners, starts = corner_layout(faces)
-    face_areas = 0.5 * np.linalg.norm(area_vectors(world, corners, starts), axis=1)
-    totals = np.add.reduceat(np.append(face_areas, 0.0), first_face[:-1])
-    totals[np.diff(first_face) == 0] = 0.0  # a mesh without faces (reduceat gives a neighbour's)
+        offset += count
+    totals = np.zeros(len(meshes))
+    if corners:
+        start = np.append(np.concatenate(starts), corner_offset)
+        vectors = area_vectors(world, np.concatenate(corners), start)
+        np.add.at(totals, np.concatenate(owners), 0.5 * np.linalg.norm(vectors, axis=1))
     return placed, totals
