@@ -201,14 +201,14 @@ def extrude(scope: Scope, axis: int, height: float) -> Scope:
     origin = scope.origin
     if height < 0:
         origin = origin + scope.rotation[:, axis] * height
-    return Scope(origin, scope.rotation, size)
+    return Scope.of_arrays(origin, scope.rotation, size)
 
 
 def split_scope(scope: Scope, axis: int, start: float, size: float) -> Scope:
     """The slice ``[start, start + size]`` (m) of ``scope`` along its scope ``axis``."""
     new_size = scope.size.copy()
     new_size[axis] = size
-    return Scope(scope.origin + scope.rotation[:, axis] * start, scope.rotation, new_size)
+    return Scope.of_arrays(scope.origin + scope.rotation[:, axis] * start, scope.rotation, new_size)
 
 
 def face_scopes(scope: Scope) -> list[tuple[str, Scope]]:
@@ -226,9 +226,10 @@ def face_scopes(scope: Scope) -> list[tuple[str, Scope]]:
 
 def translate(scope: Scope, offset: Sequence[float]) -> Scope:
     """Move the scope by ``offset`` (m) along its own axes."""
-    return Scope(
-        scope.origin + scope.rotation @ np.asarray(offset, float), scope.rotation, scope.size
-    )
+    moved = scope.origin + scope.rotation @ np.asarray(offset, float)
+    if moved.shape != (3,):
+        raise ValueError(f"an offset has 3 coordinates, got {np.shape(offset)}")
+    return Scope.of_arrays(moved, scope.rotation, scope.size)
 
 
 def rotation_matrix(angles: Sequence[float]) -> np.ndarray:
@@ -255,7 +256,7 @@ def rotate(scope: Scope, angles: Sequence[float], about_center: bool = False) ->
     if about_center:
         center_world = scope.to_world(scope.size / 2)
         origin = center_world - turn @ (scope.size / 2)
-    return Scope(origin, turn, scope.size)
+    return Scope.of_arrays(origin, turn, scope.size)
 
 
 def resize(scope: Scope, size: Sequence[float]) -> Scope:
@@ -263,7 +264,9 @@ def resize(scope: Scope, size: Sequence[float]) -> Scope:
     size = np.asarray(size, float)
     if not np.all(np.isfinite(size)) or np.any(size < 0):
         raise ValueError(f"scope sizes must be finite numbers >= 0, got {size.tolist()}")
-    return Scope(scope.origin, scope.rotation, size)
+    if size.shape != (3,):
+        return Scope(scope.origin, scope.rotation, size)  # its check names the shape
+    return Scope.of_arrays(scope.origin, scope.rotation, size)
 
 
 def center(scope: Scope, reference: Scope, axes: str) -> Scope:
@@ -276,7 +279,7 @@ def center(scope: Scope, reference: Scope, axes: str) -> Scope:
     for name in axes:
         direction = reference.rotation[:, _AXES[name]]
         shift += direction * float(direction @ delta)
-    return Scope(scope.origin + shift, scope.rotation, scope.size)
+    return Scope.of_arrays(scope.origin + shift, scope.rotation, scope.size)
 
 
 def axis_index(name: str) -> int:

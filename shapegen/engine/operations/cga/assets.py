@@ -131,7 +131,10 @@ def fitted(mesh: Mesh, scope: Scope) -> tuple[Scope, Mesh]:
     """``mesh`` (asset coordinates) fitted into ``scope`` as op_i does: its bounding box scaled
     onto the scope, zero scope sizes taking the asset's proportion. Returns the new scope and
     the mesh in its coordinates."""
-    lo, hi = mesh.bounds()
+    bounds = mesh.__dict__.get("asset_bounds")  # an asset's mesh is inserted again and again
+    if bounds is None:
+        bounds = mesh.__dict__["asset_bounds"] = mesh.bounds()
+    lo, hi = bounds
     extent = hi - lo
     size = np.asarray(scope.size, dtype=float).copy()
     origin = np.asarray(scope.origin, dtype=float).copy()
