@@ -31,7 +31,6 @@ __all__ = [
 ]
 
 import contextlib
-import gc
 import io
 import numbers
 import sys
@@ -57,8 +56,8 @@ from shapegen.engine.program.attributes import (
     checked_structure,
     shown,
 )
-from shapegen.engine.program.leaf_batches import box_corners, placed_meshes, rectangle_corners
-from shapegen.engine.project.asset_files import assets_held
+from shapegen.engine.program.held import derivation_held
+from shapegen.engine.program.leaf_batches import box_corners, geometry_leaves, rectangle_corners
 from shapegen.engine.shapes.shape import FACE, MASS, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
@@ -76,21 +75,6 @@ _MIN_SIZE = MIN_LEAF_SIZE  # m; see shapegen.tolerances
 
 # The outward faces of a box leaf's corners (leaf_batches.box_corners; see Block.box).
 _BOX_FACES = ((0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (3, 2, 6, 7), (0, 3, 7, 4), (1, 5, 6, 2))
-
-
-@contextlib.contextmanager
-def _collector_paused():
-    """Within: no cyclic garbage collection. A derivation makes some 100 000 objects that live
-    until it ends (shapes, scopes, arrays), few of them in cycles, and the collector's passes
-    over them cost a few percent of a building's derivation; its state is restored however the
-    derivation ends (a collector paused by the caller stays paused)."""
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            gc.enable()
 
 
 class _Rule:
@@ -183,7 +167,7 @@ class Program:
         ``max_depth`` and ``max_shapes`` default to the current
         :class:`~shapegen.limits.WorkLimits`, which bound the rest of the work too.
         """
-        with assets_held(), _collector_paused():
+        with derivation_held():
             return self._derive(attrs, seed, lot, max_depth, max_shapes, _first_pass)
 
     def _derive(self, attrs, seed, lot, max_depth, max_shapes, _first_pass) -> Model:
@@ -270,7 +254,7 @@ class Program:
             world = box_corners([s.shape.scope for s in boxes])
             corners = {id(s): world[k] for k, s in enumerate(boxes)}
         rectangles = _rectangle_leaves(leaves)
-        placed = _geometry_leaves(leaves)
+        placed = geometry_leaves(leaves)
         blocks: list[Block] = []
         surfaces: list[Surface] = []
         seen = produced = 0  # leaves that gave geometry: CityEngine's generated meshes
@@ -449,21 +433,6 @@ def _rectangle_leaves(leaves: list[ShapeState]) -> dict[int, tuple]:
         for k, state in enumerate(states):
             out[id(state)] = (corners[k], _TURNED if mirrored[k] else _RECTANGLE, areas[k])
     return out
-
-
-def _geometry_leaves(leaves: list[ShapeState]) -> dict[int, tuple]:
-    """``{id(state): (world mesh, area m^2)}`` of the leaves with geometry (faces and masses),
-    placed and measured together (:func:`~shapegen.engine.program.leaf_batches.placed_meshes`)."""
-    states = [s for s in leaves if s.shape.kind in (FACE, MASS) and s.shape.geometry is not None]
-    if not states:
-        return {}
-    meshes = [s.shape.geometry for s in states]
-    # an area decides whether a face or an open shell is drawn; a closed solid's is not asked
-    measured = [
-        s.shape.kind == FACE or not m.is_closed for s, m in zip(states, meshes, strict=True)
-    ]
-    meshes, areas = placed_meshes([s.shape.scope for s in states], meshes, measured)
-    return {id(s): (meshes[k], float(areas[k])) for k, s in enumerate(states)}
 
 
 _RECTANGLE = ((0, 1, 2, 3),)

@@ -10,10 +10,11 @@ of them at once.
 
 from __future__ import annotations
 
-__all__ = ["box_corners", "placed_meshes", "rectangle_corners"]
+__all__ = ["box_corners", "geometry_leaves", "placed_meshes", "rectangle_corners"]
 
 import numpy as np
 
+from shapegen.engine.shapes.shape import FACE, MASS
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 
 # The unit box's corners in Block.box's vertex order (the interpreter's box leaves).
@@ -97,3 +98,18 @@ def placed_meshes(
         vectors = area_vectors(world, np.concatenate(corners), start)
         np.add.at(totals, np.concatenate(owners), 0.5 * np.linalg.norm(vectors, axis=1))
     return placed, totals
+
+
+def geometry_leaves(leaves: list) -> dict[int, tuple]:
+    """``{id(state): (world mesh, area m^2)}`` of the leaves with geometry (faces and masses),
+    placed and measured together (:func:`placed_meshes`)."""
+    states = [s for s in leaves if s.shape.kind in (FACE, MASS) and s.shape.geometry is not None]
+    if not states:
+        return {}
+    meshes = [s.shape.geometry for s in states]
+    # an area decides whether a face or an open shell is drawn; a closed solid's is not asked
+    measured = [
+        s.shape.kind == FACE or not m.is_closed for s, m in zip(states, meshes, strict=True)
+    ]
+    meshes, areas = placed_meshes([s.shape.scope for s in states], meshes, measured)
+    return {id(s): (meshes[k], float(areas[k])) for k, s in enumerate(states)}

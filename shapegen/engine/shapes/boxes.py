@@ -72,6 +72,19 @@ class BoxFaces:
         mesh.__dict__[_MARK] = self
         return mesh
 
+    def merged(self, scope: Scope, faces: list[int]) -> tuple[Scope, Mesh]:
+        """The scope and mesh (its coordinates) of the faces ``faces`` taken as one, in the
+        first one's frame (comp(f)'s ``sel = X``): the corners in that frame are the box's
+        corners times the frame, whose axes are box axes, so no world point is projected."""
+        used: dict[int, int] = {}
+        subset = tuple(tuple(used.setdefault(i, len(used)) for i in self.faces[k]) for k in faces)
+        frame = self.frames[faces[0]]
+        points = (self.corners[list(used)] * scope.size) @ frame
+        low = points.min(axis=0)
+        rotation = scope.rotation @ frame
+        merged = Scope.of_arrays(scope.origin + rotation @ low, rotation, points.max(axis=0) - low)
+        return merged, Mesh.of_valid_faces(points - low, subset)
+
     def face_scopes(self, scope: Scope) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Each face's scope as comp(f) sets it: origins ``(6, 3)`` (world, m; each face's first
         corner), rotations ``(6, 3, 3)`` (columns x, y, z) and sizes ``(6, 3)`` (m, sz = 0)."""

@@ -85,45 +85,21 @@ class Component:
 def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Component]:
     """The faces of ``shape`` as components, in its geometry's order."""
     scope = shape.scope
-    rotation = scope.rotation
     box = box_faces_of(shape)
-    if box is not None:
-        return _box_components(box, scope, object_rotation)
-    if shape.geometry is None and shape.kind == MASS:
+    if box is not None:  # a box or a rectangle: each face's scope from a table
+        firsts, rotations, sizes = box.face_scopes(scope)  # origins: each face's first corner
+        rows = zip(firsts, rotations, sizes, strict=True)
+        shapes = [Shape(Scope.of_arrays(*row), FACE, 2) for row in rows]
+        normals, borders, faces = box.normals, [box.border] * len(shapes), box.faces
+    elif shape.geometry is None and shape.kind == MASS:
         mesh = Mesh.box(scope.size)
         scopes = [s for _, s in face_scopes(scope)]
-        shapes = [Shape(s, FACE, 2) for s in scopes]
-        firsts = [s.origin for s in scopes]  # each face's first edge starts at its origin
+        shapes, normals, borders = [Shape(s, FACE, 2) for s in scopes], mesh.face_normals(), [0] * 6
+        firsts, faces = [s.origin for s in scopes], mesh.faces
     else:
         mesh = shape.mesh()
         shapes, firsts = _face_shapes(mesh, scope)
-    normals = mesh.face_normals()
-    worlds = normals @ rotation.T
-    objects = worlds if object_rotation is None else worlds @ object_rotation
-    borders = (
-        border_faces(mesh) if shape.kind != MASS or shape.geometry is not None else [False] * 6
-    )
-    return [
-        Component(
-            k,
-            normals[k],
-            worlds[k],
-            objects[k],
-            borders[k],
-            shapes[k],
-            (k,),
-            first=firsts[k],
-            vertices=tuple(mesh.faces[k]),
-        )
-        for k in range(mesh.n_faces)
-    ]
-
-
-def _box_components(box, scope: Scope, object_rotation) -> list[Component]:
-    """The faces of a box or rectangle in closed form (:mod:`shapegen.engine.shapes.boxes`):
-    each a rectangle filling its scope from its first corner."""
-    origins, rotations, sizes = box.face_scopes(scope)
-    normals = box.normals
+        normals, borders, faces = mesh.face_normals(), border_faces(mesh), mesh.faces
     worlds = normals @ scope.rotation.T
     objects = worlds if object_rotation is None else worlds @ object_rotation
     return [
@@ -132,13 +108,13 @@ def _box_components(box, scope: Scope, object_rotation) -> list[Component]:
             normals[k],
             worlds[k],
             objects[k],
-            box.border,
-            Shape(Scope.of_arrays(origins[k], rotations[k], sizes[k]), FACE, 2),
+            bool(borders[k]),
+            shapes[k],
             (k,),
-            first=origins[k],
-            vertices=tuple(box.faces[k]),
+            first=firsts[k],
+            vertices=tuple(faces[k]),
         )
-        for k in range(len(box.faces))
+        for k in range(len(shapes))
     ]
 
 
@@ -320,8 +296,8 @@ def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
     """All ``chosen`` faces as one shape, in the frame of the first."""
     faces = [f for c in chosen for f in c.mesh_faces]
     box = box_faces_of(shape)
-    if box is not None:
-        return _merged_box_faces(box, shape.scope, faces)
+    if box is not None:  # a box or a rectangle: in closed form
+        return Shape.with_geometry(*box.merged(shape.scope, faces), FACE, 2)
     mesh = shape.mesh()
     subset = mesh.subset(faces)
     world = shape.scope.to_world(subset.vertices)
@@ -329,21 +305,6 @@ def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
     rotation = face_rotation(first, shape.scope.rotation @ mesh.face_normal(faces[0]))
     scope, local = fitted_scope(world, rotation)
     return Shape.with_geometry(scope, Mesh.of_valid_faces(local, subset.faces), FACE, 2)
-
-
-def _merged_box_faces(box, scope: Scope, faces: list[int]) -> Shape:
-    """:func:`merged_shape` of faces of a box in closed form: the corners in the first face's
-    frame are the box's corners times that frame (its axes are box axes), so the fitted scope
-    needs no projection of world points."""
-    used: dict[int, int] = {}
-    subset = tuple(tuple(used.setdefault(i, len(used)) for i in box.faces[k]) for k in faces)
-    frame = box.frames[faces[0]]
-    points = (box.corners[list(used)] * scope.size) @ frame
-    low = points.min(axis=0)
-    size = points.max(axis=0) - low
-    rotation = scope.rotation @ frame
-    merged = Scope.of_arrays(scope.origin + rotation @ low, rotation, size)
-    return Shape.with_geometry(merged, Mesh.of_valid_faces(points - low, subset), FACE, 2)
 
 
 # ---------------------------------------------------------------------------- the operation
