@@ -9,7 +9,7 @@ as op_convexify only applies split lines shorter than its ``maxLength``.
 
 from __future__ import annotations
 
-__all__ = ["convex_faces", "convex_pieces"]
+__all__ = ["convex_faces", "convex_pieces", "hole_free"]
 
 import numpy as np
 
@@ -32,15 +32,44 @@ def convex_faces(mesh: Mesh, max_length: float | None = None) -> Mesh:
     return Mesh(mesh.vertices, faces)
 
 
-def convex_pieces(points: np.ndarray, max_length: float | None = None) -> list[tuple[int, ...]]:
+def hole_free(mesh: Mesh) -> Mesh:
+    """``mesh`` with each face that has holes replaced by convex faces covering it but its
+    holes (same vertices, no hole left): the same surface, area and volume, in the polygons
+    without holes that blocks, exports and the statics' cuts take. A mesh without holes is
+    returned as it is."""
+    if not mesh.holes:
+        return mesh
+    faces: list[tuple[int, ...]] = []
+    for face, rings in zip(mesh.faces, mesh.holes, strict=True):
+        check_clock()
+        if not rings:
+            faces.append(face)
+            continue
+        every = list(face) + [i for ring in rings for i in ring]
+        points = mesh.vertices[every]
+        sizes = [len(face)] + [len(ring) for ring in rings]
+        pieces = convex_pieces(points, hole_sizes=sizes[1:])
+        faces.extend(tuple(every[i] for i in piece) for piece in pieces)
+    return Mesh(mesh.vertices, faces)
+
+
+def convex_pieces(
+    points: np.ndarray, max_length: float | None = None, hole_sizes=()
+) -> list[tuple[int, ...]]:
     """Convex polygons (indices into ``points``, counter-clockwise like the face) covering the
-    planar polygon ``points`` ``(n, 3)``."""
+    planar polygon ``points`` ``(n, 3)``; with ``hole_sizes`` the last corners of ``points``
+    are the polygon's holes, that many corners each, and the pieces leave them out."""
     import shapely  # loaded by the first concave face
 
     points = np.asarray(points, float)
-    frame = face_rotation(points)
+    outer = len(points) - sum(hole_sizes)
+    frame = face_rotation(points[:outer])
     flat = (points - points[0]) @ frame[:, :2]
-    polygon = shapely.Polygon(flat)
+    rings, first = [], outer
+    for size in hole_sizes:
+        rings.append(flat[first : first + size])
+        first += size
+    polygon = shapely.Polygon(flat[:outer], rings)
     if not polygon.is_valid:
         polygon = shapely.make_valid(polygon)
     triangles = shapely.constrained_delaunay_triangles(polygon)
@@ -54,7 +83,7 @@ def convex_pieces(points: np.ndarray, max_length: float | None = None) -> list[t
             ids.reverse()
         pieces.append(ids)
     if not pieces:
-        return [tuple(range(len(points)))]
+        return [tuple(range(outer))]
     length = None if max_length is None else float(max_length)
     if length is not None:
         _merge(pieces, flat, lambda a, b, merged: np.linalg.norm(flat[a] - flat[b]) > length)

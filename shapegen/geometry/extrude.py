@@ -5,6 +5,11 @@ direction gives, as PyPRT does (checked on an extruded 12 x 8 m lot): face 0 the
 turned around, starting on its second vertex: ``v1 v0 v(n-1) ... v2``), face 1 the top (the face
 moved by ``d``), then one side per edge from the first: ``v(k) v(k+1) v(k+1)' v(k)'``.
 A negative distance extrudes backwards; the faces are turned so the prism still faces out.
+
+A face with holes extrudes to a solid with inner walls, as CityEngine's does (measured with
+PyPRT, tests/data/prt_holes.json: a square with a triangular hole gives 14 vertices, 9 faces
+and 2 holes): the bottom and the top keep the holes, and after the outer sides come the inner
+walls, one per hole edge, hole by hole, facing into the hole.
 """
 
 from __future__ import annotations
@@ -17,16 +22,49 @@ from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.limits import check_clock
 
 
-def prism(points: np.ndarray, offset: np.ndarray) -> Mesh:
-    """The prism swept by the polygon ``points`` ``(n, 3)`` moved by ``offset`` (m)."""
+def prism(points: np.ndarray, offset: np.ndarray, holes=()) -> Mesh:
+    """The prism swept by the polygon ``points`` ``(n, 3)`` moved by ``offset`` (m); ``holes``
+    the polygon's hole rings ``(m, 3)``, wound against it, which become inner walls."""
     p = np.asarray(points, float)
     n = len(p)
+    if len(holes):
+        return _holed_prism(p, [np.asarray(h, float) for h in holes], np.asarray(offset, float))
     top = p + np.asarray(offset, float)
     bottom_face = (1, 0) + tuple(range(n - 1, 1, -1))
     faces = [bottom_face, tuple(range(n, 2 * n))]
     faces += [(k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n)]
     mesh = Mesh.of_valid_faces(np.vstack([p, top]), tuple(faces))
     if float(polygon_normal(p) @ np.asarray(offset, float)) < 0:
+        mesh = mesh.reversed()
+    return mesh
+
+
+def _holed_prism(p: np.ndarray, holes: list[np.ndarray], offset: np.ndarray) -> Mesh:
+    """:func:`prism` of a face with holes: the bottom corners (outer ring, then each hole's),
+    then the top's in the same order; faces bottom, top, the outer sides, the inner walls."""
+    rings, first = [], 0
+    for ring in (p, *holes):
+        rings.append(tuple(range(first, first + len(ring))))
+        first += len(ring)
+    count = first
+    bottom = np.vstack([p, *holes])
+
+    def turned(ring):
+        return (ring[1], ring[0]) + tuple(reversed(ring[2:]))
+
+    faces = [turned(rings[0]), tuple(i + count for i in rings[0])]
+    for ring in rings:  # the outer ring's sides, then each hole's walls
+        m = len(ring)
+        faces += [
+            (ring[k], ring[(k + 1) % m], ring[(k + 1) % m] + count, ring[k] + count)
+            for k in range(m)
+        ]
+    holes_of = [()] * len(faces)
+    holes_of[0] = tuple(turned(ring) for ring in rings[1:])
+    holes_of[1] = tuple(tuple(i + count for i in ring) for ring in rings[1:])
+    mesh = Mesh.of_valid_faces(np.vstack([bottom, bottom + offset]), tuple(faces),
+                               holes=tuple(holes_of))  # fmt: skip
+    if float(polygon_normal(p) @ offset) < 0:
         mesh = mesh.reversed()
     return mesh
 
@@ -47,6 +85,7 @@ def extrude_faces(
     gives the flat top at the highest corner)."""
     vertices: list[np.ndarray] = []
     faces: list[tuple[int, ...]] = []
+    holes: list[tuple] = []
     count = 0
     for k in range(mesh.n_faces):
         check_clock()
@@ -61,16 +100,27 @@ def extrude_faces(
             step = normal / length * distance
         else:
             step = np.asarray(direction, float) * distance
+        rings = mesh.holes[k] if mesh.holes else ()
         if flat_top and direction is not None:
+            if rings:
+                raise ValueError(
+                    "extrude(world.up.flatTop) of a face with holes is not supported by shapegen"
+                )
             piece = _flat_top_prism(points, np.asarray(direction, float), distance)
         else:
-            piece = prism(points, step)
+            piece = prism(points, step, [mesh.vertices[list(r)] for r in rings])
         vertices.append(piece.vertices)
         faces.extend(tuple(i + count for i in f) for f in piece.faces)
+        if piece.holes:
+            holes += [tuple(tuple(i + count for i in r) for r in rs) for rs in piece.holes]
+        else:
+            holes += [()] * piece.n_faces
         count += piece.n_vertices
     if not faces:
         return Mesh(np.empty((0, 3)), ())
-    return Mesh.of_valid_faces(np.vstack(vertices), tuple(faces))
+    return Mesh.of_valid_faces(
+        np.vstack(vertices), tuple(faces), holes=tuple(holes) if any(holes) else ()
+    )
 
 
 def _flat_top_prism(points: np.ndarray, up: np.ndarray, distance: float) -> Mesh:

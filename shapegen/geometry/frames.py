@@ -169,15 +169,31 @@ def lot_polygon(lot) -> tuple[Scope, Mesh]:
     """
     if not isinstance(lot, Lot):
         lot = Lot.polygon(lot)
-    return polygon_face(lot.corners)
+    return polygon_face(lot.corners, lot.holes)
 
 
-def polygon_face(corners) -> tuple[Scope, Mesh]:
+def polygon_face(corners, holes=()) -> tuple[Scope, Mesh]:
     """The face of ``corners`` ``(x, z)`` (m, counter-clockwise seen from above, as a
     :class:`~shapegen.model.lot.Lot` has them; not checked here) in a scope with x along its
-    first edge and y up."""
+    first edge and y up; ``holes`` its hole rings (clockwise seen from above), whose corners
+    follow the polygon's in the mesh."""
     flat = np.array(corners, dtype=float)
     world = np.column_stack([flat[:, 0], np.zeros(len(flat)), flat[:, 1]])
+    if len(holes):
+        rings, first = [], len(flat)
+        for hole in holes:
+            rings.append(tuple(range(first, first + len(hole))))
+            first += len(hole)
+        inner = np.array([corner for hole in holes for corner in hole], dtype=float)
+        rotation = face_rotation(world, np.array([0.0, 1.0, 0.0]))
+        rotation = np.column_stack(
+            [rotation[:, 0], [0.0, 1.0, 0.0], np.cross(rotation[:, 0], [0, 1, 0])]
+        )
+        every = np.vstack(
+            [world, np.column_stack([inner[:, 0], np.zeros(len(inner)), inner[:, 1]])]
+        )
+        scope, local = fitted_scope(every, rotation)
+        return scope, Mesh(local, [tuple(range(len(flat)))], [tuple(rings)])
     rotation = face_rotation(world, np.array([0.0, 1.0, 0.0]))
     # x along the first edge, y up (the lot's normal), z = x x y
     rotation = np.column_stack(

@@ -2,7 +2,12 @@
 
 A :class:`Mesh` is immutable: ``vertices`` ``(V, 3)`` and ``faces``, a tuple of vertex-index
 tuples, each polygon counter-clockwise seen from its front (the outside of a closed mesh).
-Faces may be non-convex polygons; holes are not represented.
+Faces may be non-convex polygons, and may have holes, as CityEngine's faces do: ``holes`` is
+``()`` for a mesh without any, else one tuple per face of its hole rings, each a tuple of
+vertex indices wound the other way round (clockwise seen from the face's front), as PyPRT's
+``InitialShape(..., holes)`` gives them. A hole is not a face: ``n_faces`` counts the faces,
+``n_holes`` the holes (CityEngine's ``geometry.nFaces`` and ``geometry.nHoles``), and a face's
+area is its outer ring's less its holes'.
 
 >>> import numpy as np
 >>> box = Mesh.box((2.0, 3.0, 4.0))
@@ -17,6 +22,7 @@ from __future__ import annotations
 __all__ = [
     "Mesh",
     "BOX_FACES",
+    "checked_holes",
     "area_vectors",
     "corner_layout",
     "polygon_normal",
@@ -127,6 +133,22 @@ def area_vectors(vertices: np.ndarray, corners: np.ndarray, start: np.ndarray) -
     return np.add.reduceat(cross(p, p[successor]), start[:-1], axis=0)
 
 
+def checked_holes(holes, n_faces: int, n_vertices: int) -> tuple:
+    """``holes`` (one sequence of hole rings per face, or empty) as :attr:`Mesh.holes`: ``()``
+    when no face has a hole, else a tuple per face of tuples of vertex-index tuples. Raises
+    ``ValueError`` for a list of the wrong length or a ring that does not index the vertices."""
+    if not holes:
+        return ()
+    rings = tuple(tuple(tuple(int(i) for i in ring) for ring in face) for face in holes)
+    if len(rings) != n_faces:
+        raise ValueError(f"{len(rings)} lists of holes for {n_faces} faces")
+    for face in rings:
+        for ring in face:
+            if len(ring) < 3 or min(ring) < 0 or max(ring) >= n_vertices:
+                raise ValueError(f"a hole {ring} does not index the mesh's {n_vertices} vertices")
+    return rings if any(rings) else ()
+
+
 class Mesh:
     """An immutable polygon mesh.
 
@@ -136,15 +158,19 @@ class Mesh:
         ``(V, 3)`` points, metres.
     faces
         Polygons as tuples of vertex indices, counter-clockwise seen from the front.
+    holes
+        ``()`` (no holes), or per face a tuple of its hole rings (vertex-index tuples wound
+        against the face).
     """
 
-    __slots__ = ("vertices", "faces", "__dict__")
+    __slots__ = ("vertices", "faces", "holes", "__dict__")
 
-    def __init__(self, vertices, faces: Sequence[Sequence[int]]):
+    def __init__(self, vertices, faces: Sequence[Sequence[int]], holes=()):
         v = np.array(vertices, dtype=float).reshape(-1, 3)
         v.setflags(write=False)
         self.vertices = v
         self.faces = checked_faces(faces)
+        self.holes = checked_holes(holes, len(self.faces), len(v)) if holes else ()
         if len(self.faces) <= _FEW_FACES:  # a face or a box: plain Python is quicker than arrays
             count = len(v)
             for face in self.faces:
@@ -162,15 +188,16 @@ class Mesh:
         raise ValueError(f"a mesh face {self.faces[bad]} does not index its {len(v)} vertices")
 
     @classmethod
-    def of_valid_faces(cls, vertices: np.ndarray, faces: tuple, layout=None) -> Mesh:
+    def of_valid_faces(cls, vertices: np.ndarray, faces: tuple, layout=None, holes=()) -> Mesh:
         """A mesh of faces known to be valid (tuples of ints indexing ``vertices``), made by
         shapegen's own cuts: no conversion and no check. ``layout`` is the faces'
-        :func:`corner_layout` when the caller has it."""
+        :func:`corner_layout` when the caller has it; ``holes`` as :attr:`holes`, valid."""
         mesh = cls.__new__(cls)
         v = np.array(vertices, dtype=float).reshape(-1, 3)
         v.setflags(write=False)
         mesh.vertices = v
         mesh.faces = faces if type(faces) is CheckedFaces else CheckedFaces(faces)
+        mesh.holes = holes
         if layout is not None and "layout" not in mesh.faces.__dict__:
             mesh.faces.__dict__["layout"] = layout
         return mesh
@@ -216,11 +243,39 @@ class Mesh:
     def n_faces(self) -> int:
         return len(self.faces)
 
+    @property
+    def n_holes(self) -> int:
+        """The number of holes of all faces (CityEngine's ``geometry.nHoles``)."""
+        return sum(len(rings) for rings in self.holes)
+
+    def rings(self) -> list[tuple[int, ...]]:
+        """Every boundary ring: the faces, then the faces' holes in face order."""
+        return [*self.faces, *(ring for rings in self.holes for ring in rings)]
+
+    def face_rings(self, index: int) -> tuple[tuple[int, ...], ...]:
+        """Face ``index``'s outer ring and its hole rings."""
+        return (self.faces[index], *(self.holes[index] if self.holes else ()))
+
+    def without_holes(self) -> Mesh:
+        """The mesh with every hole closed: each face its outer ring alone, the vertices only
+        the holes used removed (CityEngine's ``deleteHoles``)."""
+        if not self.holes:
+            return self
+        used: dict[int, int] = {}
+        for face in self.faces:
+            for i in face:
+                used.setdefault(i, len(used))
+        order = sorted(used)  # the vertices kept in their order
+        index = {old: new for new, old in enumerate(order)}
+        faces = tuple(tuple(index[i] for i in face) for face in self.faces)
+        return Mesh.of_valid_faces(self.vertices[order], CheckedFaces(faces))
+
     @cached_property
     def edges(self) -> tuple[tuple[int, int], ...]:
-        """The undirected edges ``(a, b)``, in the order they first appear around the faces."""
+        """The undirected edges ``(a, b)``, in the order they first appear around the faces
+        (and their holes)."""
         seen: dict[tuple[int, int], None] = {}
-        for face in self.faces:
+        for face in self.rings() if self.holes else self.faces:
             for a, b in zip(face, face[1:] + face[:1], strict=True):
                 if a != b:
                     seen.setdefault((a, b) if a < b else (b, a), None)
@@ -240,6 +295,15 @@ class Mesh:
         """The faces' :func:`corner_layout`: flat corners and ``(F + 1,)`` start offsets."""
         return face_layout(self.faces)
 
+    def _hole_vectors(self) -> np.ndarray:
+        """``(F, 3)``: the Newell vectors of each face's holes summed (wound against their
+        face, they take the holes' area off the face's)."""
+        out = np.zeros((len(self.faces), 3))
+        for k, rings in enumerate(self.holes):
+            for ring in rings:
+                out[k] += polygon_normal(self.vertices[list(ring)])
+        return out
+
     @cached_property
     def normals_and_centres(self) -> tuple[np.ndarray, np.ndarray]:
         """The faces' unit normals ``(F, 3)`` and centres ``(F, 3)`` (m), computed once."""
@@ -247,7 +311,10 @@ class Mesh:
         return face_normals(self.vertices, corners, start)
 
     def face_areas(self) -> np.ndarray:
-        """Each face's area, ``(F,)`` m^2."""
+        """Each face's area, ``(F,)`` m^2 (its holes' taken off)."""
+        if self.holes:
+            vectors = area_vectors(self.vertices, *self.corner_layout) + self._hole_vectors()
+            return 0.5 * np.linalg.norm(vectors, axis=1)
         if len(self.faces) <= 2:  # a face: numpy's calls would cost more than the sums
             return np.array([polygon_area(self.face_points(k)) for k in range(len(self.faces))])
         return 0.5 * np.linalg.norm(area_vectors(self.vertices, *self.corner_layout), axis=1)
@@ -260,6 +327,8 @@ class Mesh:
         return self.normals_and_centres[0][index]
 
     def face_area(self, index: int) -> float:
+        if self.holes and self.holes[index]:
+            return float(self.face_areas()[index])
         return polygon_area(self.face_points(index))
 
     def area(self) -> float:
@@ -275,7 +344,10 @@ class Mesh:
         if not self.is_closed:
             return 0.0
         centre = self.vertices.mean(axis=0)
-        corners, start = self.corner_layout
+        if self.holes:  # every ring's cone, the holes' wound the other way round
+            corners, start = face_layout(CheckedFaces(self.rings()))
+        else:
+            corners, start = self.corner_layout
         # each face's cone from the mesh's centre: its first corner . its Newell vector
         first = self.vertices[corners[start[:-1]]] - centre
         cones = np.einsum("fk,fk->f", first, area_vectors(self.vertices - centre, corners, start))
@@ -300,7 +372,10 @@ class Mesh:
         consistently oriented surface)."""
         if not self.faces:
             return False
-        corners, start = self.corner_layout
+        if self.holes:  # a hole's ring borders the inner walls as a face's does the outer
+            corners, start = face_layout(CheckedFaces(self.rings()))
+        else:
+            corners, start = self.corner_layout
         successor = np.arange(1, len(corners) + 1)
         successor[start[1:] - 1] = start[:-1]
         n = len(self.vertices)
@@ -326,6 +401,8 @@ class Mesh:
         """For a closed mesh: no vertex lies in front of any face's plane (by more than
         ``tolerance`` m). For an open mesh: each face is a convex polygon."""
         slack = tolerance + COINCIDENT_REL * max(self.size(), SIZE_FLOOR_M)
+        if self.holes:
+            return False  # a face with a hole is not convex, nor a solid with a hole through it
         if self.is_closed:
             return all(band.max(initial=0.0) <= slack for band in self._height_bands())
         return all(self._face_is_convex(k, slack) for k in range(self.n_faces))
@@ -390,16 +467,18 @@ class Mesh:
         still face out)."""
         v = self.vertices
         faces = self.faces
+        holes = self.holes
         layout = None
         if rotation is not None:
             rotation = np.asarray(rotation, float)
             v = v @ rotation.T
             if np.linalg.det(rotation) < 0:
                 faces = tuple(_reversed(f) for f in faces)
+                holes = _reversed_holes(holes)
                 layout = None
         if offset is not None:
             v = v + np.asarray(offset, float)
-        moved = Mesh.of_valid_faces(v, faces, layout)
+        moved = Mesh.of_valid_faces(v, faces, layout, holes)
         if "is_closed" in self.__dict__:
             moved.__dict__["is_closed"] = self.is_closed  # reversing every face keeps it
         return moved
@@ -409,25 +488,43 @@ class Mesh:
         factors = np.asarray(factors, float)
         if np.prod(np.sign(factors)) < 0:
             return Mesh.of_valid_faces(
-                self.vertices * factors, tuple(_reversed(f) for f in self.faces)
+                self.vertices * factors,
+                tuple(_reversed(f) for f in self.faces),
+                holes=_reversed_holes(self.holes),
             )
-        return Mesh.of_valid_faces(self.vertices * factors, self.faces)
+        return Mesh.of_valid_faces(self.vertices * factors, self.faces, holes=self.holes)
+
+    def moved_to(self, vertices) -> Mesh:
+        """The same faces and holes on other ``vertices`` ``(V, 3)`` (m), one per vertex."""
+        return Mesh(vertices, self.faces, self.holes)
 
     def reversed(self) -> Mesh:
         """The same mesh with every face turned around (CityEngine's ``reverseNormals``)."""
-        return Mesh.of_valid_faces(self.vertices, tuple(_reversed(f) for f in self.faces))
+        return Mesh.of_valid_faces(
+            self.vertices,
+            tuple(_reversed(f) for f in self.faces),
+            holes=_reversed_holes(self.holes),
+        )
 
     def face(self, index: int) -> Mesh:
-        """Face ``index`` alone, with only its own vertices."""
+        """Face ``index`` alone, with only its own vertices (and its holes)."""
+        if self.holes and self.holes[index]:
+            return self.subset([index])
         return Mesh.polygon(self.face_points(index))
 
     def subset(self, indices: Sequence[int]) -> Mesh:
-        """The faces ``indices`` (in that order), with only the vertices they use."""
+        """The faces ``indices`` (in that order), with only the vertices they use (their holes
+        kept)."""
         used: dict[int, int] = {}
         faces = []
+        holes = []
         for k in indices:
             faces.append(tuple(used.setdefault(i, len(used)) for i in self.faces[k]))
-        return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces)
+            if self.holes:
+                holes.append(
+                    tuple(tuple(used.setdefault(i, len(used)) for i in r) for r in self.holes[k])
+                )
+        return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces, holes)
 
     def cleaned(self, tolerance: float = 0.0) -> Mesh:
         """Vertices closer than ``tolerance`` (m, plus round-off) merged, repeated corners and
@@ -436,6 +533,8 @@ class Mesh:
         keys = np.round(self.vertices / max(slack, ZERO_LENGTH)).astype(np.int64)
         if not self.faces:
             return Mesh(np.empty((0, 3)), ())
+        if self.holes:
+            return self._cleaned_with_holes(keys)
         corners, start = self.corner_layout
         order = np.lexsort(keys.T)
         twins = (keys[order[1:]] == keys[order[:-1]]).all(axis=1)
@@ -458,6 +557,33 @@ class Mesh:
         faces = [tuple(used.setdefault(i, len(used)) for i in f) for f in faces]
         return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces)
 
+    def _cleaned_with_holes(self, keys: np.ndarray) -> Mesh:
+        """:meth:`cleaned` of a mesh with holes: the holes' rings cleaned as the faces' are,
+        a hole left with fewer than three corners dropped, a face's holes dropped with it."""
+        first: dict[tuple, int] = {}
+        remap = [first.setdefault(key, k) for k, key in enumerate(map(tuple, keys.tolist()))]
+
+        def ring_of(indices):
+            ring = []
+            for i in indices:
+                j = remap[i]
+                if not ring or ring[-1] != j:
+                    ring.append(j)
+            while len(ring) > 1 and ring[0] == ring[-1]:
+                ring.pop()
+            return ring if len(ring) >= 3 else None
+
+        used: dict[int, int] = {}
+        faces, holes = [], []
+        for face, rings in zip(self.faces, self.holes, strict=True):
+            ring = ring_of(face)
+            if ring is None:
+                continue
+            faces.append(tuple(used.setdefault(i, len(used)) for i in ring))
+            kept = (ring_of(r) for r in rings)
+            holes.append(tuple(tuple(used.setdefault(i, len(used)) for i in r) for r in kept if r))
+        return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces, holes)
+
     def _plain(self, corners: np.ndarray, start: np.ndarray) -> bool:
         """Every face has three corners or more, none repeated next to itself, and every
         vertex is used."""
@@ -475,13 +601,19 @@ class Mesh:
         return self.vertices, self.faces
 
     def __repr__(self) -> str:
-        return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces)"
+        holes = f", {self.n_holes} holes" if self.holes else ""
+        return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces{holes})"
 
 
 def _faces_out_of_range(corners: np.ndarray, start: np.ndarray, count: int) -> np.ndarray:
     """``(F,)``: the faces with a corner outside ``0 .. count - 1``."""
     bad = ((corners < 0) | (corners >= count)).astype(np.intp)
     return np.add.reduceat(bad, start[:-1]) > 0
+
+
+def _reversed_holes(holes: tuple) -> tuple:
+    """:attr:`Mesh.holes` with every ring turned around, as its face is."""
+    return tuple(tuple(_reversed(ring) for ring in rings) for rings in holes)
 
 
 def _reversed(face: tuple[int, ...]) -> tuple[int, ...]:

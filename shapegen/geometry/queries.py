@@ -145,7 +145,6 @@ PARTIAL_GEOMETRY: dict[str, str] = {
         name: "0 or 1 over the scope, with a warning: no texture coordinates"
         for name in TEXTURE_BOUNDS
     },
-    "nHoles": "always 0: shapegen's faces have no holes",
 }
 
 
@@ -166,7 +165,7 @@ def geometry_value(
       selector such as ``top``, ``world.up``, ``object.side``: see :data:`FACE_SELECTORS`);
     - ``volume()``: enclosed volume, m^3 (0 for an open mesh);
     - ``height()``: extent along world y, m;
-    - ``nVertices()``, ``nFaces()``, ``nEdges()``, ``nHoles()`` (always 0: no holes) as floats;
+    - ``nVertices()``, ``nFaces()``, ``nEdges()``, ``nHoles()`` as floats;
     - ``isClosedSurface()``, ``isConcave()`` (a face is concave), ``isPlanar(tolerance_deg)``
       (every face planar), ``isRectangular(tolerance_deg)``, ``isOriented(selector)``;
     - ``angle(maxSlope | azimuth | zenith)``: degrees; the steepest face relative to the world
@@ -200,7 +199,7 @@ def geometry_value(
     if name == "nEdges":
         return float(mesh.n_edges)
     if name == "nHoles":
-        return 0.0
+        return float(mesh.n_holes)
     if name == "isClosedSurface":
         return bool(mesh.is_closed)
     if name == "isConcave":

@@ -6,6 +6,11 @@ its corners ``(x, z)`` in metres, counter-clockwise seen from above (+y), the fi
 the edge (``--lot``, the design page's ``"lot"``, a city's footprint, ``Grammar.build(lot=...)``)
 and passed down as it is; the derivation trusts it.
 
+A polygon lot may have holes (a courtyard): ``holes``, each a ring of ``(x, z)`` corners inside
+the polygon, kept clockwise seen from above (wound against the polygon, as CityEngine's holes
+are; a hole given the other way round is reversed keeping its first corner first). It is made
+by :meth:`Lot.polygon` with ``holes``, or read from ``{"polygon": [...], "holes": [[...]]}``.
+
 A polygon is cleaned as it is checked: consecutive corners closer than
 :data:`~shapegen.tolerances.LOT_MERGE_M` are one corner (a repeated closing corner goes), and
 a ring given clockwise is reversed keeping its first corner first (as CityEngine takes a lot
@@ -16,9 +21,11 @@ the place it came from: each front end says that in its own words (``--lot '0,0 
 ``"lot": ...``, a city's failed row).
 
 >>> Lot.of((12, 8))
-Lot(size=(12.0, 8.0), corners=None)
+Lot(size=(12.0, 8.0), corners=None, holes=())
 >>> Lot.of([(0, 0), (4, 0), (4, 3), (0, 3), (0, 0)]).corners  # clockwise seen from above
 ((0.0, 0.0), (0.0, 3.0), (4.0, 3.0), (4.0, 0.0))
+>>> Lot.polygon([(0, 0), (0, 8), (12, 8), (12, 0)], holes=[[(4, 3), (8, 3), (8, 5), (4, 5)]]).area
+88.0
 >>> Lot.of([(0, 0), (1, 1)])
 Traceback (most recent call last):
 ...
@@ -51,14 +58,21 @@ class Lot:
 
     size: tuple[float, float] | None = None
     corners: tuple[tuple[float, float], ...] | None = None
+    holes: tuple[tuple[tuple[float, float], ...], ...] = ()
 
     def __post_init__(self):
         if (self.size is None) == (self.corners is None):
             raise LotError(_SHAPE)
         if self.size is not None:
+            if self.holes:
+                raise LotError("a rectangle lot has no holes: give the polygon with its holes")
             object.__setattr__(self, "size", _checked_size(self.size))
         else:
             object.__setattr__(self, "corners", _checked_corners(self.corners))
+            if self.holes:
+                holes = tuple(_checked_corners(h, hole=True) for h in self.holes)
+                _check_holes(self.corners, holes)
+                object.__setattr__(self, "holes", holes)
 
     @classmethod
     def rectangle(cls, width: float, depth: float) -> Lot:
@@ -66,9 +80,10 @@ class Lot:
         return cls(size=(width, depth))
 
     @classmethod
-    def polygon(cls, corners) -> Lot:
-        """A polygon lot of ``corners`` ``(x, z)`` (m), either way round."""
-        return cls(corners=corners)
+    def polygon(cls, corners, holes=()) -> Lot:
+        """A polygon lot of ``corners`` ``(x, z)`` (m), either way round, with ``holes``
+        (rings of ``(x, z)`` corners inside it, either way round)."""
+        return cls(corners=corners, holes=tuple(holes))
 
     @classmethod
     def of(cls, value) -> Lot:
@@ -76,6 +91,11 @@ class Lot:
         of ``(x, z)`` pairs as a polygon."""
         if isinstance(value, Lot):
             return value
+        if isinstance(value, dict) and set(value) <= {"polygon", "holes"} and "polygon" in value:
+            holes = value.get("holes") or ()
+            if isinstance(holes, str | bytes) or not all(_is_pair_list(h) for h in holes):
+                raise LotError(f"a lot's holes are rings of (x, z) corners, got {_shown(holes)}")
+            return cls.polygon(value["polygon"], holes)
         if isinstance(value, str | bytes):
             raise LotError(f"{_SHAPE}, got {_shown(value)}")
         try:
@@ -97,15 +117,37 @@ class Lot:
         """The lot's area, m²."""
         if self.size is not None:
             return self.size[0] * self.size[1]
-        x, z = np.array(self.corners).T
-        return 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)))
+        return _ring_area(self.corners) - sum(_ring_area(hole) for hole in self.holes)
 
-    def to_json(self) -> list:
-        """``[width, depth]`` or ``[[x, z], ...]`` (m), as the design page and the reports
-        write a lot; :meth:`of` reads it back."""
+    def to_json(self) -> list | dict:
+        """``[width, depth]`` or ``[[x, z], ...]`` (m), or ``{"polygon": [...], "holes":
+        [[...], ...]}`` for a lot with holes, as the design page and the reports write a lot;
+        :meth:`of` reads it back."""
         if self.size is not None:
             return list(self.size)
-        return [list(corner) for corner in self.corners]
+        polygon = [list(corner) for corner in self.corners]
+        if self.holes:
+            return {"polygon": polygon, "holes": [[list(c) for c in h] for h in self.holes]}
+        return polygon
+
+
+def _ring_area(ring) -> float:
+    x, z = np.array(ring, dtype=float).T
+    return 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)))
+
+
+def _is_pair_list(ring) -> bool:
+    return _is_pair(ring) and all(_is_pair(item) for item in ring)
+
+
+def _check_holes(corners, holes) -> None:
+    """Each hole lies inside the polygon, and no two holes overlap (shapely's validity of the
+    polygon with its holes; holes may touch, as shapely allows)."""
+    import shapely
+
+    polygon = shapely.Polygon(corners, holes)
+    if not polygon.is_valid:
+        raise LotError(f"the lot's holes do not fit inside it ({_why(polygon)})")
 
 
 def _is_pair(item) -> bool:
@@ -142,7 +184,7 @@ def _checked_size(size) -> tuple[float, float]:
     return width, depth
 
 
-def _checked_corners(corners) -> tuple[tuple[float, float], ...]:
+def _checked_corners(corners, hole: bool = False) -> tuple[tuple[float, float], ...]:
     try:
         ring = np.array([[_number(x), _number(z)] for x, z in corners], dtype=float)
     except ValueError:
@@ -158,19 +200,23 @@ def _checked_corners(corners) -> tuple[tuple[float, float], ...]:
             f"of {farthest:.3g} m"
         )
     ring = _distinct(ring)
+    what = "a lot's hole" if hole else "a lot"
     if len(ring) < 3:
-        raise LotError(f"a lot needs at least 3 distinct corners, got {len(ring)}")
+        raise LotError(f"{what} needs at least 3 distinct corners, got {len(ring)}")
     spread = np.linalg.svd(ring - ring.mean(axis=0), compute_uv=False)
     if spread[1] <= FLAT_REL * spread[0]:
-        raise LotError("the polygon has no area (its corners are in a line)")
+        raise LotError(
+            f"{'a hole' if hole else 'the polygon'} has no area (its corners are in a line)"
+        )
     import shapely  # a polygon lot's check; a rectangle needs none
 
     polygon = shapely.Polygon(ring)
     if not polygon.is_valid:
         raise LotError(f"the polygon crosses itself ({_why(polygon)})")
     # In (x, z) with y up, a ring counter-clockwise seen from above has a negative shoelace sum.
+    # A hole is kept the other way round (clockwise seen from above), as CityEngine's are.
     x, z = ring[:, 0], ring[:, 1]
-    if float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)) > 0:
+    if (float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)) > 0) != hole:
         ring = np.roll(ring[::-1], 1, axis=0)  # reversed, the first corner kept first
     return tuple((float(a), float(b)) for a, b in ring)
 

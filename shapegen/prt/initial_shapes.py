@@ -6,18 +6,20 @@ PyPRT's constructors, with its argument order and types:
   y up;
 - ``InitialShape(vertex_coordinates, indices, face_counts)``: faces by vertex indices;
 - ``InitialShape(vertex_coordinates, indices, face_counts, holes)``: ``holes`` lists
-  ``[face, hole face, ...]`` groups;
+  ``[face, hole face, ...]`` groups, each naming faces of ``face_counts`` by their index: the
+  hole faces are not faces of the shape but holes of the first (a courtyard);
 - ``InitialShape(initial_shape_path, max_dir_recursion_depth=0)``: a geometry file.
 
-A shape of one level face, given by coordinates or read from a file, becomes a polygon lot at
-the face's height (:func:`footprint`). A shape of several faces, or of one that is not level,
-is one start shape made of all its faces, as PyPRT makes it (:func:`start_of`: a
-:class:`~shapegen.model.lot.MeshLot`). Files are read as CityEngine's runtime reads them: OBJ by
-shapegen's reader, cleaned as an asset is (:mod:`shapegen.geometry.asset_cleanup`); glTF and
-GLB by trimesh, as triangles; FBX by ufbx (:mod:`shapegen.readers.fbx`), its faces whole.
-``max_dir_recursion_depth`` is how deep PyPRT looks below the file's folder for the files it
-names (materials, textures); shapegen takes the geometry only, so the depth changes nothing.
-What shapegen cannot start on (holes, other formats) is refused with one line when the model is
+A shape of one level face (and its holes), given by coordinates or read from a file, becomes a
+polygon lot at the face's height, with those holes (:func:`footprint`). A shape of several
+faces, or of one that is not level, is one start shape made of all its faces, as PyPRT makes it
+(:func:`start_of`: a :class:`~shapegen.model.lot.MeshLot`). Files are read as CityEngine's
+runtime reads them: OBJ by shapegen's reader, cleaned as an asset is
+(:mod:`shapegen.geometry.asset_cleanup`); glTF and GLB by trimesh, as triangles; FBX by ufbx
+(:mod:`shapegen.readers.fbx`), its faces whole. ``max_dir_recursion_depth`` is how deep PyPRT
+looks below the file's folder for the files it names (materials, textures); shapegen takes the
+geometry only, so the depth changes nothing. What shapegen cannot start on (holes in a shape of
+several faces, other formats) is refused with one line when the model is
 generated, as PyPRT reports an initial shape it cannot use.
 
 >>> shape = InitialShape([0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0])
@@ -152,6 +154,14 @@ class Footprint:
     points: tuple[tuple[float, float], ...]
     height: float
     faces_down: bool = False
+    holes: tuple[tuple[tuple[float, float], ...], ...] = ()
+    """The face's holes, ``(x, z)`` rings (m) wound against :attr:`points`."""
+
+    def lot(self):
+        """The :class:`~shapegen.model.lot.Lot` shapegen derives on."""
+        from shapegen.model.lot import Lot
+
+        return Lot.polygon(self.points, self.holes)
 
     def place(self, points: np.ndarray) -> np.ndarray:
         """``(n, 3)`` points of the model derived on :attr:`points` where CityEngine has them."""
@@ -180,8 +190,16 @@ def start_of(shape: InitialShape) -> Footprint | MeshLot:
         coordinates, indices, face_counts = shape._coordinates, shape._indices, shape._face_counts
     where = shape.get_path() or "initial shape"
     _check(where, coordinates, indices, face_counts)
-    if shape._holes:
-        raise InputFormatError(f"{where}: initial shapes with holes are not supported by shapegen")
+    if path is None and shape._holes:  # a face with its holes: a lot with holes
+        hole_faces = _hole_faces(shape._holes, len(face_counts), where)
+        inside = {k for inner in hole_faces.values() for k in inner}
+        if hole_faces and len(face_counts) - len(inside) != 1:
+            raise InputFormatError(
+                f"{where}: {len(face_counts) - len(inside)} faces with holes; shapegen starts a"
+                " rule on one face with holes"
+            )
+        if hole_faces:
+            return footprint(shape)
     heights = [coordinates[3 * i + 1] for i in indices]
     if len(face_counts) == 1 and max(heights) - min(heights) <= LEVEL_M:
         return footprint(shape)
@@ -217,8 +235,7 @@ def _check(where: str, coordinates, indices, face_counts) -> None:
 def footprint(shape: InitialShape) -> Footprint:
     """The one horizontal face of ``shape``, or an :class:`InputFormatError` saying why not."""
     if shape.get_path():
-        coordinates, indices, face_counts = _read_file(Path(shape.get_path()))
-        holes: list[list[int]] = []
+        coordinates, indices, face_counts, holes = _read_file(Path(shape.get_path()))
     else:
         coordinates, indices, face_counts = shape._coordinates, shape._indices, shape._face_counts
         holes = shape._holes
@@ -236,24 +253,60 @@ def footprint(shape: InitialShape) -> Footprint:
         )
     if any(not 0 <= i < count for i in indices):
         raise InputFormatError(f"{where}: a vertex index is outside the {count} vertices")
-    if holes:
-        raise InputFormatError(f"{where}: initial shapes with holes are not supported by shapegen")
-    if len(face_counts) != 1:
-        raise InputFormatError(
-            f"{where}: {len(face_counts)} faces; shapegen starts a rule on one face"
-        )
-    corners = [coordinates[3 * i : 3 * i + 3] for i in indices]
-    heights = [y for _, y, _ in corners]
+    rings = _rings(indices, face_counts)
+    hole_faces = _hole_faces(holes, len(face_counts), where)
+    inside = {k for inner in hole_faces.values() for k in inner}
+    faces = [k for k in range(len(face_counts)) if k not in inside]
+    if len(faces) != 1:
+        raise InputFormatError(f"{where}: {len(faces)} faces; shapegen starts a rule on one face")
+    hole_rings = [rings[k] for k in hole_faces.get(faces[0], ())]
+    corners = [coordinates[3 * i : 3 * i + 3] for i in rings[faces[0]]]
+    inner = [[coordinates[3 * i : 3 * i + 3] for i in ring] for ring in hole_rings]
+    heights = [y for _, y, _ in corners] + [y for ring in inner for _, y, _ in ring]
     if max(heights) - min(heights) > LEVEL_M:
         raise InputFormatError(
             f"{where}: the face is not horizontal (its corners lie between y = {min(heights):g}"
             f" and {max(heights):g} m); shapegen starts a rule on a level face"
         )
     ring = [(x, z) for x, _, z in corners]
+    holes_xz = [[(x, z) for x, _, z in hole] for hole in inner]
     faces_down = _signed_area(ring) > 0.0
     if faces_down:  # the half turn about the first edge keeps its corners, reverses the ring
+        holes_xz = [_half_turn(hole, ring[:2]) for hole in holes_xz]
         ring = _half_turn(ring)
-    return Footprint(tuple(ring), heights[0], faces_down)
+    return Footprint(tuple(ring), heights[0], faces_down, tuple(tuple(hole) for hole in holes_xz))
+
+
+def _rings(indices: list[int], face_counts: list[int]) -> list[list[int]]:
+    """The vertex indices of each face of ``face_counts``."""
+    out, first = [], 0
+    for count in face_counts:
+        out.append(indices[first : first + count])
+        first += count
+    return out
+
+
+def _hole_faces(holes: list[list[int]], n_faces: int, where: str) -> dict[int, list[int]]:
+    """PyPRT's ``holes`` (``[face, hole face, ...]`` groups of face indices) as ``face -> its
+    hole faces``, or one line saying what is wrong (CityEngine's runtime reports an illegal
+    hole index): an index outside the faces, a face that is its own hole or a hole twice."""
+    out: dict[int, list[int]] = {}
+    seen: set[int] = set()
+    for group in holes:
+        if len(group) < 2:
+            continue  # a face with no hole
+        face, *inner = group
+        if any(not 0 <= k < n_faces for k in group):
+            raise InputFormatError(
+                f"{where}: holes {group}: a face index outside the {n_faces} faces"
+            )
+        if face in inner or len(set(inner)) != len(inner) or seen & {face, *inner}:
+            raise InputFormatError(
+                f"{where}: holes {group}: illegal hole index (a face used twice)"
+            )
+        seen.update(group)
+        out[face] = inner
+    return out
 
 
 def _signed_area(ring: list[tuple[float, float]]) -> float:
@@ -264,10 +317,10 @@ def _signed_area(ring: list[tuple[float, float]]) -> float:
     )
 
 
-def _half_turn(ring: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """The ring turned half a turn about its first edge: each corner mirrored across the edge's
-    line (the turn's effect in the ground plane)."""
-    (x0, z0), (x1, z1) = ring[0], ring[1]
+def _half_turn(ring: list[tuple[float, float]], edge=None) -> list[tuple[float, float]]:
+    """The ring turned half a turn about its first edge (or ``edge``, two corners): each corner
+    mirrored across the edge's line (the turn's effect in the ground plane)."""
+    (x0, z0), (x1, z1) = edge if edge is not None else ring[:2]
     ex, ez = x1 - x0, z1 - z0
     norm = math.hypot(ex, ez)
     ex, ez = ex / norm, ez / norm
@@ -278,7 +331,8 @@ def _half_turn(ring: list[tuple[float, float]]) -> list[tuple[float, float]]:
     return out
 
 
-def _read_file(path: Path) -> tuple[list[float], list[int], list[int]]:
+def _read_file(path: Path) -> tuple[list[float], list[int], list[int], list[list[int]]]:
+    """Coordinates, indices, face counts and holes (PyPRT's lists) of a geometry file."""
     suffix = path.suffix.lower()
     if suffix not in READABLE_SUFFIXES:
         raise InputFormatError(
@@ -287,11 +341,12 @@ def _read_file(path: Path) -> tuple[list[float], list[int], list[int]]:
         )
     if not path.is_file():
         raise InputFormatError(f"{path}: no such file")
-    if suffix == ".obj":
-        return _read_obj(path)
+    if suffix == ".obj":  # OBJ has no holes: each face is a polygon
+        return (*_read_obj(path), [])
     if suffix == ".fbx":
         vertices, faces = _read_mesh(path)
-        return vertices.ravel().tolist(), [i for f in faces for i in f], [len(f) for f in faces]
+        flat = vertices.ravel().tolist()
+        return flat, [i for f in faces for i in f], [len(f) for f in faces], []
     return _read_gltf(path)
 
 
@@ -347,9 +402,9 @@ def _read_obj(path: Path) -> tuple[list[float], list[int], list[int]]:
     return vertices.ravel().tolist(), [i for face in faces for i in face], [len(f) for f in faces]
 
 
-def _read_gltf(path: Path) -> tuple[list[float], list[int], list[int]]:
+def _read_gltf(path: Path) -> tuple[list[float], list[int], list[int], list[list[int]]]:
     """The outline of a glTF file's faces (trimesh reads it as triangles; coplanar triangles
-    are merged back into their polygon)."""
+    are merged back into their polygon), its inner rings the polygon's holes."""
     import shapely
     import trimesh
 
@@ -369,9 +424,15 @@ def _read_gltf(path: Path) -> tuple[list[float], list[int], list[int]]:
     outline = shapely.unary_union(triangles)
     if not isinstance(outline, shapely.Polygon):
         raise InputFormatError(f"{path}: its faces do not form one polygon")
-    ring = list(outline.exterior.coords)[:-1]
-    if outline.exterior.is_ccw:  # (x, z) counter-clockwise is clockwise seen from above (+y)
-        ring.reverse()
     height = float(vertices[:, 1].mean())
-    coordinates = [value for x, z in ring for value in (x, height, z)]
-    return coordinates, list(range(len(ring))), [len(ring)]
+    rings = []
+    for k, boundary in enumerate([outline.exterior, *outline.interiors]):
+        ring = list(boundary.coords)[:-1]
+        # (x, z) counter-clockwise is clockwise seen from above (+y); holes the other way
+        if boundary.is_ccw == (k == 0):
+            ring.reverse()
+        rings.append(ring)
+    coordinates = [value for ring in rings for x, z in ring for value in (x, height, z)]
+    counts = [len(ring) for ring in rings]
+    holes = [list(range(len(rings)))] if len(rings) > 1 else []
+    return coordinates, list(range(sum(counts))), counts, holes

@@ -107,7 +107,7 @@ class ModelGenerator:
         printed = io.StringIO()
         try:
             base = start_of(shape)
-            lot = list(base.points) if isinstance(base, Footprint) else base
+            lot = base.lot() if isinstance(base, Footprint) else base
             with contextlib.redirect_stdout(printed):
                 model = grammar.build(attrs=overrides, seed=seed, lot=lot)
         except (InputFormatError, GrammarError, GeometryError) as exc:

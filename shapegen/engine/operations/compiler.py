@@ -131,6 +131,8 @@ class OperationCompiler:
         operation = checked_operation(
             self, node, method(node, params)
         )  # engine/derivation/finite.py
+        if not _keeps_holes(node):
+            operation = _refusing_holes(operation, node, self)
         if self.cga_dialect and not isinstance(node, _CANNOT_FAIL):
             return carrying_on(operation, node, self)  # CityEngine records a CGA error
         return operation
@@ -472,6 +474,46 @@ class OperationCompiler:
 
 # Items that call no operation of their own: nothing to carry on past.
 _CANNOT_FAIL = (ast.Successor, ast.Nil, ast.Push)
+
+# The operations that keep a face's holes (or remove them, as deleteHoles does): those that
+# move, turn or scale the geometry as a whole, read it, or set what it looks like. Any other
+# refuses a shape whose geometry has holes rather than drop them unseen.
+_HOLE_NODES = (
+    ast.Successor, ast.Nil, ast.Push, ast.Extrude, ast.Comp, ast.Translate, ast.Scale,
+    ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert,
+)  # fmt: skip
+_HOLE_OPERATIONS = frozenset(
+    (
+        "deleteHoles", "color", "texture", "setMaterial", "resetMaterial", "setupProjection",
+        "projectUV", "deleteUV", "tileUV", "translateUV", "scaleUV", "rotateUV", "offsetUV",
+        "normalizeUV", "copyUV", "setNormals", "softenNormals", "tag", "deleteTags",
+        "setTagsFromEdgeAttrs", "alignScopeToAxes", "alignScopeToGeometry", "rotateScope",
+        "mirror", "mirrorScope", "setPivot", "reverseNormals", "translate", "rotate",
+    )
+)  # fmt: skip
+
+
+def _keeps_holes(node) -> bool:
+    if isinstance(node, ast.Operation):
+        return node.name in _HOLE_OPERATIONS
+    return isinstance(node, _HOLE_NODES)
+
+
+def _refusing_holes(operation: Operation, node, program) -> Operation:
+    """``operation``, refusing (a CGA error in ``.cga``) a shape whose faces have holes."""
+    name = node.name if isinstance(node, ast.Operation) else type(node).__name__.lower()
+
+    def refusing(state, args, out):
+        geometry = state.shape.geometry
+        if geometry is not None and geometry.holes:
+            raise program.operation_error(
+                node,
+                f"{name}() of a shape whose faces have holes is not supported by shapegen "
+                "(deleteHoles() first removes them)",
+            )
+        return operation(state, args, out)
+
+    return refusing
 
 
 def _selector(name: str) -> str | int:

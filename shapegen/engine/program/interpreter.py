@@ -60,6 +60,7 @@ from shapegen.engine.program.held import derivation_held
 from shapegen.engine.program.leaf_batches import box_corners, geometry_leaves, rectangle_corners
 from shapegen.engine.shapes.shape import FACE, MASS, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
+from shapegen.geometry.convex import hole_free
 from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
@@ -369,7 +370,7 @@ class Program:
             return []
         # judged and cut in scope coordinates, where the same asset gives the same mesh
         scope = state.shape.scope
-        local = state.shape.mesh()
+        local = hole_free(state.shape.mesh())
         pieces = placed_convex_decomposition(local, scope.rotation, scope.origin, cut=False)
         density, structural, fixed = self._properties(state)
         if pieces is None or pieces is NEEDS_CUT:

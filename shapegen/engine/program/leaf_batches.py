@@ -15,6 +15,7 @@ __all__ = ["box_corners", "geometry_leaves", "placed_meshes", "rectangle_corners
 import numpy as np
 
 from shapegen.engine.shapes.shape import FACE, MASS
+from shapegen.geometry.convex import hole_free
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 
 # The unit box's corners in Block.box's vertex order (the interpreter's box leaves).
@@ -106,7 +107,9 @@ def geometry_leaves(leaves: list) -> dict[int, tuple]:
     states = [s for s in leaves if s.shape.kind in (FACE, MASS) and s.shape.geometry is not None]
     if not states:
         return {}
-    meshes = [s.shape.geometry for s in states]
+    # a face's holes are kept to the leaf, whose geometry is made of polygons without holes
+    # covering the same surface: what blocks, exports and the statics' cut take
+    meshes = [hole_free(s.shape.geometry) for s in states]
     # an area decides whether a face or an open shell is drawn; a closed solid's is not asked
     measured = [
         s.shape.kind == FACE or not m.is_closed for s, m in zip(states, meshes, strict=True)

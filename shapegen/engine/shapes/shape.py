@@ -180,9 +180,7 @@ class Shape:
             flips = signed < 0
             geometry = geometry.scaled(np.where(flips, -factors, factors))
             if flips.any():
-                geometry = Mesh(
-                    geometry.vertices + np.where(flips, scope.size, 0.0), geometry.faces
-                )
+                geometry = geometry.moved_to(geometry.vertices + np.where(flips, scope.size, 0.0))
         return Shape(scope, self.kind, self.normal_axis, self.insert, geometry, self._kept())
 
 
@@ -351,8 +349,8 @@ def extrude_shape(
     else:
         rotation = scope.rotation
     new_scope, local = fitted_scope(world, rotation)
-    mesh = Mesh.of_valid_faces(local, prism.faces)
-    if _box_fills(mesh, new_scope.size):
+    mesh = Mesh.of_valid_faces(local, prism.faces, holes=prism.holes)
+    if not mesh.holes and _box_fills(mesh, new_scope.size):
         return Shape(new_scope, MASS)
     return Shape.with_geometry(new_scope, mesh, MASS)
 
@@ -436,10 +434,16 @@ def lot_shape(lot) -> tuple[Shape, dict]:
     if _rectangle_fills(mesh, scope.size):
         shape = Shape(scope, FACE, 1)
     world = scope.to_world(mesh.vertices)
-    return shape, {
+    outer = world[list(mesh.faces[0])]
+    metadata = {
         "lot": [float(scope.size[0]), float(scope.size[2])],
-        "lot_polygon": [[float(p[0]), float(p[2])] for p in world],
+        "lot_polygon": [[float(p[0]), float(p[2])] for p in outer],
     }
+    if mesh.holes:
+        metadata["lot_holes"] = [
+            [[float(p[0]), float(p[2])] for p in world[list(ring)]] for ring in mesh.holes[0]
+        ]
+    return shape, metadata
 
 
 def mesh_lot_shape(lot: MeshLot) -> tuple[Shape, dict]:

@@ -41,7 +41,6 @@ from shapegen.engine.operations.cga.topology import EDGE, VERTEX
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.shapes.trim import apply_trim
 from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
-from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.tolerances import COINCIDENT_REL, ROUNDOFF_REL, at_most
 
@@ -52,11 +51,11 @@ def refit(shape: Shape, rotation: np.ndarray) -> Shape:
     mesh = shape.mesh()
     world = shape.scope.to_world(mesh.vertices)
     scope, local = fitted_scope(world, rotation)
-    faces = mesh.faces
+    moved = mesh.moved_to(local)
     if np.linalg.det(shape.scope.rotation) * np.linalg.det(rotation) < 0:
-        faces = tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
+        moved = moved.reversed()
     kind = shape.kind if shape.kind in (FACE, MASS, EDGE, VERTEX) else MASS
-    return Shape.with_geometry(scope, Mesh(local, faces), kind, shape.normal_axis)
+    return Shape.with_geometry(scope, moved, kind, shape.normal_axis)
 
 
 def set_scope_pivot(state) -> None:
@@ -289,7 +288,7 @@ def compile_mirror(program, node, params):
         size = shape.scope.size
         factors = np.where(chosen, -1.0, 1.0)
         mirrored = mesh.scaled(factors)
-        mirrored = Mesh(mirrored.vertices + np.where(chosen, size, 0.0), mirrored.faces)
+        mirrored = mirrored.moved_to(mirrored.vertices + np.where(chosen, size, 0.0))
         state.shape = Shape.with_geometry(shape.scope, mirrored, shape.kind, shape.normal_axis)
         return True
 
@@ -433,10 +432,19 @@ def compile_trim(program, node, params):
 
 @compiles("deleteHoles")
 def compile_delete_holes(program, node, params):
-    """``deleteHoles()``: shapegen's faces have no holes (a face with holes is read as its
-    outer boundary), so the geometry is already what deleting them gives."""
+    """``deleteHoles()``: every face's holes closed (op_deleteHoles); the vertices only the
+    holes used go, the scope stays (checked with PyPRT, tests/data/prt_holes.json)."""
     plain_arguments(program, node, (0,))
-    return lambda state, args, out: True
+
+    def delete_holes(state, args, out):
+        shape = state.shape
+        if shape.geometry is not None and shape.geometry.holes:
+            state.shape = Shape.with_geometry(
+                shape.scope, shape.geometry.without_holes(), shape.kind, shape.normal_axis
+            )
+        return True
+
+    return delete_holes
 
 
 @compiles("convexify")

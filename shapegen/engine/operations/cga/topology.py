@@ -134,12 +134,31 @@ def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list]:
         fills = fills_rectangle(local, sizes)
         for row, k in enumerate(members):
             face_scope = Scope.of_arrays(origins[row], rotations[row], sizes[row])
-            if fills[row]:  # the rectangle filling its scope from its origin: the fast path
+            if mesh.holes and mesh.holes[k]:  # the face keeps its holes (op_comp)
+                shapes[k] = Shape.with_geometry(
+                    face_scope, _holed_face(mesh, k, local[row], world_vertices, face_scope),
+                    FACE, 2,
+                )  # fmt: skip
+            elif fills[row]:  # the rectangle filling its scope from its origin: the fast path
                 shapes[k] = Shape(face_scope, FACE, 2)
             else:
                 shapes[k] = Shape.with_geometry(face_scope, Mesh.polygon(local[row]), FACE, 2)
             firsts[k] = points[row, 0]
     return shapes, firsts
+
+
+def _holed_face(mesh: Mesh, k: int, outer: np.ndarray, world: np.ndarray, scope: Scope) -> Mesh:
+    """Face ``k`` of ``mesh`` with its holes, in its own ``scope`` (``outer``: its outer ring's
+    corners there, ``world``: the mesh's vertices in world coordinates). The face's scope is
+    its outer ring's, which holds the holes."""
+    rings, points, first = [], [outer], len(outer)
+    for ring in mesh.holes[k]:
+        points.append(scope.to_local(world[list(ring)]))
+        rings.append(tuple(range(first, first + len(ring))))
+        first += len(ring)
+    return Mesh.of_valid_faces(
+        np.vstack(points), (tuple(range(len(outer))),), holes=(tuple(rings),)
+    )
 
 
 def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Component]:
@@ -304,7 +323,9 @@ def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
     first = shape.scope.to_world(mesh.face_points(faces[0]))
     rotation = face_rotation(first, shape.scope.rotation @ mesh.face_normal(faces[0]))
     scope, local = fitted_scope(world, rotation)
-    return Shape.with_geometry(scope, Mesh.of_valid_faces(local, subset.faces), FACE, 2)
+    return Shape.with_geometry(
+        scope, Mesh.of_valid_faces(local, subset.faces, holes=subset.holes), FACE, 2
+    )
 
 
 # ---------------------------------------------------------------------------- the operation
