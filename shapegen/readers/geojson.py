@@ -18,6 +18,7 @@ __all__ = [
     "is_polygon",
     "local_metres",
     "outer_ring",
+    "polygon_rings",
     "positions",
     "within_lonlat",
 ]
@@ -89,7 +90,21 @@ def within_lonlat(points: np.ndarray) -> bool:
 
 def outer_ring(geometry: object) -> tuple[np.ndarray | None, str | None]:
     """The ``(k, 2)`` corners of a Polygon (or a MultiPolygon of one part) and None, or None
-    and why it is not one lot (a phrase: ``"a polygon with 1 hole(s)..."``)."""
+    and why it is not one lot without holes (a phrase: ``"a polygon with 1 hole(s)..."``)."""
+    rings, problem = polygon_rings(geometry)
+    if rings is not None and len(rings) > 1:
+        holes = len(rings) - 1
+        return (
+            None,
+            f"a polygon with {holes} hole(s); a city's lot is one ring (courtyards are not built)",
+        )
+    return (None, problem) if rings is None else (rings[0], None)
+
+
+def polygon_rings(geometry: object) -> tuple[list[np.ndarray] | None, str | None]:
+    """The rings of a Polygon (or a MultiPolygon of one part), each ``(k, 2)`` corners, the
+    outer ring first and then its holes (RFC 7946's interior rings), and None; or None and
+    why it is not one lot (a phrase)."""
     if not isinstance(geometry, dict) or geometry.get("type") not in POLYGONS:
         kind = geometry.get("type") if isinstance(geometry, dict) else None
         return None, f"a {kind}, not a Polygon"
@@ -103,15 +118,14 @@ def outer_ring(geometry: object) -> tuple[np.ndarray | None, str | None]:
         return None, "a polygon without coordinates"
     if not all(isinstance(ring, list) for ring in coordinates):
         return None, "a polygon whose rings are not lists of corners"
-    if len(coordinates) > 1:
-        holes = len(coordinates) - 1
-        return None, f"a polygon with {holes} hole(s); a lot is one ring (courtyards are not built)"
-    corners = coordinates[0]
-    if not corners:
-        return None, "a polygon without corners"
-    if not all(is_point(p) for p in corners):
-        return None, "a corner that is not two finite numbers"
-    return np.array([p[:2] for p in corners], dtype=float), None
+    rings = []
+    for corners in coordinates:
+        if not corners:
+            return None, "a polygon without corners"
+        if not all(is_point(p) for p in corners):
+            return None, "a corner that is not two finite numbers"
+        rings.append(np.array([p[:2] for p in corners], dtype=float))
+    return rings, None
 
 
 def positions(geometry: object) -> np.ndarray:

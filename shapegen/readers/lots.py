@@ -97,11 +97,12 @@ def _number(raw: str, text: str) -> float:
     return value  # finite and in range: the Lot's check
 
 
-def checked_polygon(points, source: str) -> Lot:
-    """``points`` ``(x, z)`` (m) as a polygon :class:`~shapegen.model.lot.Lot`, its refusal
-    one line behind ``source``, which names the input."""
+def checked_polygon(points, source: str, holes=()) -> Lot:
+    """``points`` ``(x, z)`` (m) as a polygon :class:`~shapegen.model.lot.Lot` (with
+    ``holes``, rings of ``(x, z)``), its refusal one line behind ``source``, which names the
+    input."""
     try:
-        return Lot.polygon(points)
+        return Lot.polygon(points, holes)
     except LotError as exc:
         raise LotError(f"{source}: {exc}") from None
 
@@ -130,9 +131,11 @@ def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> Lot:
         chosen = [f for f in found if geojson.is_polygon(f)]
         if not chosen:
             raise InputFormatError(f"{where}: no Polygon or MultiPolygon feature")
-    points, problem = geojson.outer_ring(chosen[0].get("geometry"))
+    rings, problem = geojson.polygon_rings(chosen[0].get("geometry"))
     if problem is not None:
         raise InputFormatError(f"{where}: {problem}")
+    sizes = [len(ring) for ring in rings]  # a courtyard's rings are its lot's holes
+    points = np.vstack(rings)
     member = document.get("crs") if isinstance(document, dict) else None
     declared = file_crs(member, path, where)
     if declared is not None and declared.projected:
@@ -150,7 +153,9 @@ def lot_from_geojson(path: str | Path, feature_id: str | None = None) -> Lot:
             )
     local = geojson.local_metres(points, lonlat, centre)
     # east -> +x, north -> -z (y up)
-    return checked_polygon(np.column_stack([local[:, 0], -local[:, 1]]), where)
+    flat = np.column_stack([local[:, 0], -local[:, 1]])
+    parts = np.split(flat, np.cumsum(sizes)[:-1])
+    return checked_polygon(parts[0], where, parts[1:])
 
 
 # ------------------------------------------------------------------------------ OBJ

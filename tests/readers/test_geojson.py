@@ -8,6 +8,7 @@ import pytest
 
 from shapegen.city import read_lots
 from shapegen.errors import InputFormatError
+from shapegen.model.lot import Lot
 from shapegen.readers import geojson
 from shapegen.readers.lots import read_lot
 
@@ -29,8 +30,6 @@ def test_ids_read_the_same_whole_number_however_written():
 @pytest.mark.parametrize(
     "geometry, problem",
     [
-        ({"type": "Polygon", "coordinates": [[[0, 0], [9, 0], [9, 9]], [[1, 1], [2, 1], [2, 2]]]},
-         "with 1 hole(s)"),
         ({"type": "MultiPolygon", "coordinates": [[[[0, 0], [1, 0], [1, 1]]]] * 2},
          "a MultiPolygon of 2 parts"),
         ({"type": "Polygon", "coordinates": [[[0, 0], [True, 0], [1, 1]]]},
@@ -45,3 +44,19 @@ def test_a_lot_and_a_city_refuse_a_ring_in_the_same_words(tmp_path, geometry, pr
         read_lot(str(path))
     assert problem in str(caught.value)
     assert problem in read_lots(path, crs="metres").lots[0].problem
+
+
+def test_a_courtyard_is_a_lot_with_a_hole_and_a_city_still_refuses_it(tmp_path):
+    # RFC 7946: a Polygon's rings after the first are its holes; here a square of 9e-4 degrees
+    # at the equator with a courtyard of a third of its side in the middle
+    outer = [[0, 0], [9e-4, 0], [9e-4, 9e-4], [0, 9e-4], [0, 0]]
+    inner = [[3e-4, 3e-4], [3e-4, 6e-4], [6e-4, 6e-4], [6e-4, 3e-4], [3e-4, 3e-4]]
+    geometry = {"type": "Polygon", "coordinates": [outer, inner]}
+    feature = {"type": "Feature", "id": "a", "properties": {}, "geometry": geometry}
+    path = tmp_path / "lots.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [feature]}))
+    lot = read_lot(str(path))
+    assert len(lot.holes) == 1 and len(lot.holes[0]) == 4
+    whole = Lot.polygon(lot.corners).area
+    assert lot.area == pytest.approx(whole * 8 / 9, rel=1e-6)
+    assert "with 1 hole(s)" in read_lots(path).lots[0].problem
