@@ -484,7 +484,7 @@ _HOLE_NODES = (
 )  # fmt: skip
 _HOLE_OPERATIONS = frozenset(
     (
-        "deleteHoles", "color", "texture", "setMaterial", "resetMaterial", "setupProjection",
+        "deleteHoles", "offset", "color", "texture", "setMaterial", "resetMaterial", "setupProjection",
         "projectUV", "deleteUV", "tileUV", "translateUV", "scaleUV", "rotateUV", "offsetUV",
         "normalizeUV", "copyUV", "setNormals", "softenNormals", "tag", "deleteTags",
         "setTagsFromEdgeAttrs", "alignScopeToAxes", "alignScopeToGeometry", "rotateScope",

@@ -108,6 +108,27 @@ def edge_quadrants(frame: FaceFrame, polygon: np.ndarray) -> list[str]:
     return [quadrant(n) for n in edge_normals(frame, polygon)]
 
 
+def face_holes(shape: Shape) -> list[list[np.ndarray]]:
+    """The holes of each face of :func:`face_frames` (in its order), each clockwise ``(k, 2)``
+    in the face's plane; empty lists for a shape without holes."""
+    mesh = shape.mesh()
+    frames = face_frames(shape)
+    if not mesh.holes:
+        return [[] for _ in frames]
+    out = []
+    for k in range(mesh.n_faces):
+        if float(np.linalg.norm(polygon_normal(mesh.face_points(k)))) <= 0:
+            continue  # as face_frames skips it
+        frame = frames[len(out)][0]
+        rings = []
+        for ring in mesh.holes[k]:
+            points = mesh.vertices[list(ring)]
+            flat = np.column_stack([points @ frame.a, points @ frame.b])
+            rings.append(flat if polygon2d.signed_area(flat) < 0 else flat[::-1])
+        out.append(rings)
+    return out
+
+
 def _welded(points: np.ndarray, counts: list[int]):
     """One vertex per distinct point (within round-off of the size), so that faces sharing an
     edge share its vertices: ``comp(f)``'s ``inside`` / ``border`` read that adjacency."""
@@ -131,11 +152,14 @@ def _welded(points: np.ndarray, counts: list[int]):
     return points[np.sort(first)], faces
 
 
-def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shape:
+def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE, holes=None) -> Shape:
     """A flat shape made of ``faces`` (``(k, 3)`` in ``parent``'s scope coordinates): the
-    parent's orientation, the scope fitted to the faces."""
+    parent's orientation, the scope fitted to the faces. ``holes``: for each face, its hole
+    rings ``(k, 3)`` (or None for none)."""
     if not any(len(face) for face in faces):
         raise GeometryError("it makes no face")
+    if holes is not None and any(holes):
+        return _flat_shape_with_holes(parent, faces, kind, holes)
     points = np.concatenate(faces)
     low, high = points.min(axis=0), points.max(axis=0)
     size = high - low
@@ -145,6 +169,23 @@ def flat_shape(parent: Shape, faces: list[np.ndarray], kind: str = FACE) -> Shap
     if any(len(face) < 2 for face in indexed):  # welded into a point (a 1e-320 m face)
         raise GeometryError("a face it makes has no extent (its corners are one point)")
     return Shape(scope, kind, parent.normal_axis, None, Mesh(vertices, indexed))
+
+
+def _flat_shape_with_holes(parent: Shape, faces, kind: str, holes) -> Shape:
+    """:func:`flat_shape` of faces with holes: the rings welded together, the holes' after
+    the faces'."""
+    rings = list(faces) + [ring for face_holes in holes for ring in face_holes]
+    points = np.concatenate(rings)
+    low, high = points.min(axis=0), points.max(axis=0)
+    size = high - low
+    size[size < ROUNDOFF_REL * max(1.0, float(np.abs(points).max()))] = 0.0
+    scope = Scope(parent.scope.to_world(low), parent.scope.rotation, size)
+    vertices, indexed = _welded(points - low, [len(r) for r in rings])
+    if any(len(ring) < 3 for ring in indexed):
+        raise GeometryError("a face it makes has no extent (its corners are in a line)")
+    out_faces, rest = indexed[: len(faces)], iter(indexed[len(faces) :])
+    out_holes = [tuple(next(rest) for _ in face_holes) for face_holes in holes]
+    return Shape(scope, kind, parent.normal_axis, None, Mesh(vertices, out_faces, out_holes))
 
 
 def flat_faces(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndarray]]:
@@ -216,22 +257,34 @@ def compile_offset(program, node: ast.Operation, params):
             )
         if shape.kind not in (FACE, MASS):
             raise program.error(node, "offset() cannot offset an inserted primitive's faces")
-        for frame, polygon in face_frames(shape):  # every face in its own plane, 3D ones too
+        holes = []  # each face's holes (an inside face of a face with holes has them)
+        frames = face_frames(shape)
+        for (frame, polygon), rings in zip(frames, face_holes(shape), strict=True):
             try:
-                result = polygon2d.offset(polygon, d)
+                if rings:
+                    result = polygon2d.offset_with_holes(polygon, rings, d)
+                else:
+                    result = polygon2d.offset(polygon, d)
             except GeometryError as exc:
                 raise program.operation_error(node, f"offset({d:g}): {exc}") from None
             if keep in ("all", "inside"):  # a ring of no corners: an offset of 1e-320 m
-                faces += [frame.lift(p) for p in result.inside if len(p) >= 3]
+                inside = [k for k, p in enumerate(result.inside) if len(p) >= 3]
+                faces += [frame.lift(result.inside[k]) for k in inside]
+                holes += [
+                    [frame.lift(h) for h in result.inside_holes[k]] if result.inside_holes else []
+                    for k in inside
+                ]
             if keep in ("all", "border"):
-                faces += [frame.lift(p) for p in result.border if len(p) >= 3]
+                border = [frame.lift(p) for p in result.border if len(p) >= 3]
+                faces += border
+                holes += [[] for _ in border]
         if not faces:  # CityEngine: "offset(): no face selected, ignoring operation"
             state.run.warn(
                 f"offset({d:g}, {keep}) left no face; the operation is ignored, as CityEngine "
                 f"does (rules: {format_chain(state.rule_path)})"
             )
             return True
-        state.shape = flat_shape(shape, faces, shape.kind)
+        state.shape = flat_shape(shape, faces, shape.kind, holes)
         return True
 
     return offset_op
