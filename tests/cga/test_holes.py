@@ -21,7 +21,7 @@ from shapegen.statics.standins import statics_model
 #: The reference entries each test shows (tools/cga_coverage.py reads this table).
 COVERS = {
     "test_pyprt_s_figures_of_a_holed_initial_shape": ("op:extrude", "op:deleteHoles",
-                                                      "op:offset", "fn:geometry.nHoles"),
+                                                      "op:offset", "func:geometry.nHoles"),
     "test_comp_keeps_the_holes_and_gives_the_inner_walls": ("op:comp",),
 }  # fmt: skip
 
