@@ -6,7 +6,8 @@ clipped as polygons (a non-convex face stays one polygon); an intersection point
 per cut edge, so two faces that shared the edge share the new vertex and a closed mesh stays
 closed once capped. A closed mesh is capped with the loops of the cut ("hollow meshes are closed
 after the cut", op_split); open meshes (faces) are not. Holes in a cap are not represented:
-each loop becomes its own face.
+each loop becomes its own face (a mesh whose faces have holes is cut by
+:mod:`shapegen.geometry.holed_cut`, whose caps keep them).
 """
 
 from __future__ import annotations
@@ -38,6 +39,10 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
     check_clock()  # a split's pieces, a trim's planes, the convex cut: one clip each
     if mesh.n_faces == 0:
         return None
+    if mesh.holes:  # faces with holes: clipped ring by ring (geometry/holed_cut.py)
+        from shapegen.geometry.holed_cut import clip_half_with_holes
+
+        return clip_half_with_holes(mesh, axis, value, keep_above)
     eps = COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M)
     sign = 1.0 if keep_above else -1.0
     vertices = mesh.vertices

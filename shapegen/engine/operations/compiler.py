@@ -480,7 +480,7 @@ _CANNOT_FAIL = (ast.Successor, ast.Nil, ast.Push)
 # refuses a shape whose geometry has holes rather than drop them unseen.
 _HOLE_NODES = (
     ast.Successor, ast.Nil, ast.Push, ast.Extrude, ast.Comp, ast.Translate, ast.Scale,
-    ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert,
+    ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert, ast.Split,
 )  # fmt: skip
 _HOLE_OPERATIONS = frozenset(
     (

@@ -370,10 +370,17 @@ def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | N
     scope = shape.scope
     new_scope = Scope(scope.origin + scope.rotation @ low, scope.rotation, high - low)
     local = piece.vertices - low
-    if shape.kind == MASS and _is_scope_box(local, new_scope.size, piece.n_faces):
+    if (
+        shape.kind == MASS
+        and not piece.holes
+        and _is_scope_box(local, new_scope.size, piece.n_faces)
+    ):
         return Shape(new_scope, MASS)  # a box filling its scope: back on the fast path
     return Shape.with_geometry(
-        new_scope, Mesh.of_valid_faces(local, piece.faces), shape.kind, shape.normal_axis
+        new_scope,
+        Mesh.of_valid_faces(local, piece.faces, holes=piece.holes),
+        shape.kind,
+        shape.normal_axis,
     )
 
 

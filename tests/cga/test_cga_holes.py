@@ -132,15 +132,15 @@ def test_a_courtyard_building_stands_on_convex_blocks_that_fill_it():
 
 
 def test_an_operation_that_does_not_keep_holes_refuses_them():
-    text = "@StartRule\nLot --> extrude(10) split(x) { 6: X | ~1: X }"
-    model = parse_grammar(text, "split.cga").build(lot=COURTYARD)
+    text = "@StartRule\nLot --> extrude(10) roofHip(30) X."
+    model = parse_grammar(text, "roof.cga").build(lot=COURTYARD)
     assert any("holes" in w and "deleteHoles" in w for w in model.metadata["warnings"])
-    # the shape carries on unsplit, as after any CGA error: one solid with the courtyard
+    # the shape carries on without its roof, as after any CGA error: the courtyard building
     volume = sum(Mesh(b.vertices, b.faces).volume() for b in statics_model(model).blocks)
     assert volume == pytest.approx(880.0)
-    # deleteHoles first: the split runs on the whole 12 x 8 m block
-    text = "@StartRule\nLot --> extrude(10) deleteHoles() split(x) { 6: X | ~1: X }"
-    model = parse_grammar(text, "split.cga").build(lot=COURTYARD)
+    # deleteHoles first: the roof is built on the whole 12 x 8 m block
+    text = "@StartRule\nLot --> extrude(10) comp(f) { top: deleteHoles() roofHip(30) X. }"
+    model = parse_grammar(text, "roof.cga").build(lot=COURTYARD)
     assert not model.metadata.get("warnings")
 
 
@@ -156,3 +156,33 @@ def test_a_lot_s_holes_are_checked_and_wound_against_it():
         Lot.polygon([(0, 0), (12, 0), (12, 8), (0, 8)], [[(10, 3), (14, 3), (14, 5)]])
     with pytest.raises(LotError, match="rectangle lot has no holes"):
         Lot(size=(12, 8), holes=(((1, 1), (2, 1), (2, 2)),))
+
+
+@pytest.mark.parametrize(
+    "rule, volumes, holes",
+    [
+        # floors of the courtyard building: each 3 m of (96 - 8) m^2, with its courtyard
+        ("extrude(9) split(y) { 3: A }*", [264.0] * 3, [2] * 3),
+        # across the courtyard (scope x runs along the lot's first edge, world z): 4 m of the
+        # 8 m, through the 2 m of the courtyard from z = 3 to 5
+        ("extrude(9) split(x) { 4: A | ~1: A }", [(48 - 4) * 9.0] * 2, [0, 0]),
+        # beside it: the first 2 m hold no courtyard, the rest holds all of it
+        ("extrude(9) split(x) { 2: A | ~1: A }", [24 * 9.0, (72 - 8) * 9.0], [0, 2]),
+        # the lot itself: a face with a hole is cut as a face
+        ("split(z) { 5: A | ~1: A }", [0.0, 0.0], [0, 0]),
+    ],
+)
+def test_a_split_cuts_the_holes_with_the_faces(rule, volumes, holes):
+    text = f"""@StartRule
+Lot --> {rule}
+A --> report("v", geometry.volume) report("h", geometry.nHoles) report("a", geometry.area) X.
+"""
+    model = parse_grammar(text, "split.cga").build(lot=COURTYARD)
+    reports = model.metadata["reports"]
+    assert not model.metadata.get("warnings")
+    assert reports["v"] == pytest.approx(volumes) and reports["h"] == holes
+    if not any(volumes):  # the lot's pieces: 5 m and 7 m of its 12 m, the hole from 4 to 8
+        assert reports["a"] == pytest.approx([5 * 8 - 2, 7 * 8 - 6])
+    judged = statics_model(model)
+    total = sum(Mesh(b.vertices, b.faces).volume() for b in judged.blocks)
+    assert total == pytest.approx(sum(volumes))
