@@ -484,9 +484,10 @@ _HOLE_NODES = (
 )  # fmt: skip
 _HOLE_OPERATIONS = frozenset(
     (
-        "deleteHoles", "offset", "color", "texture", "setMaterial", "resetMaterial", "setupProjection",
-        "projectUV", "deleteUV", "tileUV", "translateUV", "scaleUV", "rotateUV", "offsetUV",
-        "normalizeUV", "copyUV", "setNormals", "softenNormals", "tag", "deleteTags",
+        "deleteHoles", "offset", "comp", "color", "texture", "setMaterial", "resetMaterial",
+        "setupProjection", "projectUV", "deleteUV", "tileUV", "translateUV", "scaleUV",
+        "rotateUV", "offsetUV", "normalizeUV", "copyUV", "setNormals", "softenNormals", "tag",
+        "deleteTags",
         "setTagsFromEdgeAttrs", "alignScopeToAxes", "alignScopeToGeometry", "rotateScope",
         "mirror", "mirrorScope", "setPivot", "reverseNormals", "translate", "rotate",
     )

@@ -55,8 +55,8 @@ def boolean_tags(result, operands) -> ComponentTags:
 def extrusion_tags(source, result) -> ComponentTags | None:
     """The tags of ``result``, the extrusion of ``source``'s faces (each face a prism in face
     order: its bottom, its top, a side per edge; :func:`shapegen.geometry.extrude.prism`):
-    ``extrude.bottom``, ``extrude.top`` and ``extrude.side.outer`` (cga_componentTags; shapegen's
-    faces have no holes, so no ``extrude.side.inner``), after the tags of the source face ("New
+    ``extrude.bottom``, ``extrude.top``, ``extrude.side.outer`` and, on the walls of a face's
+    holes, ``extrude.side.inner`` (cga_componentTags), after the tags of the source face ("New
     faces constructed on top of existing ones get the tags of their source face") and, on a
     side, of the edge it emanates from. The former ``extrude.*`` tags are replaced. None when
     the result's faces are not the prisms' (a degenerate face dropped)."""
@@ -73,9 +73,12 @@ def extrusion_tags(source, result) -> ComponentTags | None:
         own = old.face(k) if old is not None else _NONE
         faces.append(_added(own, ("extrude.bottom",)))
         faces.append(_added(own, ("extrude.top",)))
-        for a, b in zip(face, face[1:] + face[:1], strict=True):
-            edge = old.edge(a, b) if old is not None else _NONE
-            faces.append(_added(_added(own, edge), ("extrude.side.outer",)))
+        rings = [(face, "extrude.side.outer")]
+        rings += [(ring, "extrude.side.inner") for ring in (mesh.holes[k] if mesh.holes else ())]
+        for ring, name in rings:
+            for a, b in zip(ring, ring[1:] + ring[:1], strict=True):
+                edge = old.edge(a, b) if old is not None else _NONE
+                faces.append(_added(_added(own, edge), (name,)))
     if len(faces) != result.mesh().n_faces:
         return None
     tags = ComponentTags(tuple(faces))

@@ -438,13 +438,12 @@ def _unaligned(piece: Shape, parent: Scope) -> Shape:
     """``noAlign``: the component in the parent's scope axes, the scope fitted to it."""
     world = piece.scope.to_world(piece.mesh().vertices)
     scope, local = fitted_scope(world, parent.rotation)
-    faces = piece.mesh().faces
-    return Shape.with_geometry(scope, Mesh(local, faces), piece.kind, piece.normal_axis)
+    return Shape.with_geometry(scope, piece.mesh().moved_to(local), piece.kind, piece.normal_axis)
 
 
 @compiles(
     "comp",
-    partial="refused: the component h (holes: shapegen's faces have none), and =: on edges "
+    partial="refused: the component h (holes), and =: on edges "
     "and vertices; g and m give one component, the whole geometry (shapegen's meshes have one "
     "group and one material)",
 )
