@@ -23,6 +23,7 @@ COVERS = {
     "test_pyprt_s_figures_of_a_holed_initial_shape": ("op:extrude", "op:deleteHoles",
                                                       "op:offset", "func:geometry.nHoles"),
     "test_comp_keeps_the_holes_and_gives_the_inner_walls": ("op:comp",),
+    "test_a_split_cuts_the_holes_with_the_faces": ("op:split",),
 }  # fmt: skip
 
 MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_holes.json").read_text())
@@ -186,3 +187,16 @@ A --> report("v", geometry.volume) report("h", geometry.nHoles) report("a", geom
     judged = statics_model(model)
     total = sum(Mesh(b.vertices, b.faces).volume() for b in judged.blocks)
     assert total == pytest.approx(sum(volumes))
+
+
+def test_the_walls_of_a_hole_are_tagged_extrude_side_inner():
+    # cga_componentTags: "extrude.side.inner", the side faces from holes
+    text = """@StartRule
+Lot --> extrude(5) comp(f) { isTagged("extrude.side.inner"): W("i")
+                           | isTagged("extrude.side.outer"): W("o") | all: W("a") }
+W(kind) --> report(kind, geometry.area)
+"""
+    reports = parse_grammar(text, "tags.cga").build(lot=COURTYARD).metadata["reports"]
+    assert reports["i"] == pytest.approx([20, 10, 20, 10])  # the courtyard's 4 x 2 m, 5 m high
+    assert reports["o"] == pytest.approx([40, 60, 40, 60])
+    assert reports["a"] == pytest.approx([88, 88])  # bottom and top
