@@ -200,3 +200,23 @@ W(kind) --> report(kind, geometry.area)
     assert reports["i"] == pytest.approx([20, 10, 20, 10])  # the courtyard's 4 x 2 m, 5 m high
     assert reports["o"] == pytest.approx([40, 60, 40, 60])
     assert reports["a"] == pytest.approx([88, 88])  # bottom and top
+
+
+def test_a_gltf_initial_shape_keeps_its_inner_ring_as_a_hole(tmp_path):
+    import shapely
+    import trimesh
+
+    from shapegen.prt.initial_shapes import footprint
+
+    outline = shapely.Polygon(
+        [(0, 0), (12, 0), (12, 8), (0, 8)], [[(4, 3), (8, 3), (8, 5), (4, 5)]]
+    )
+    triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(outline))
+    corners = [np.asarray(t.exterior.coords)[:3] for t in triangles]
+    vertices = np.array([[x, 0.0, z] for tri in corners for x, z in tri])
+    faces = np.arange(len(vertices)).reshape(-1, 3)
+    path = tmp_path / "court.glb"
+    trimesh.Trimesh(vertices, faces, process=False).export(path)
+    base = footprint(pyprt.InitialShape(str(path)))
+    assert len(base.points) == 4 and [len(h) for h in base.holes] == [4]
+    assert base.lot().area == pytest.approx(88.0)
