@@ -35,12 +35,15 @@ REFUSED = {
     ("square_triangle", "offset(-1)"),
     ("courtyard", "offset(1)"),
     *((lot, f"roof{kind}(30)") for lot in ("square_triangle", "courtyard")
-      for kind in ("Hip", "Gable", "Pyramid", "Shed")),
+      for kind in ("Hip", "Gable", "Shed")),
 }  # fmt: skip
 # deleteHoles leaves the walls of the courtyard without the faces around them: not a closed
 # surface, whose volume shapegen gives as 0 (func_geometry: "the volume of a closed
 # surface"); CityEngine's runtime sums it anyway (880 and 906.7 m^3 here).
 OPEN_VOLUME = {"extrude(10) deleteHoles()"}
+# roofPyramid builds on the outer ring, as CityEngine's runtime does; its mesh keeps the holes'
+# vertices, unused, which shapegen's does not (9 vertices there, 5 here).
+UNUSED_VERTICES = {"roofPyramid(30)"}
 
 
 def _case_id(case):
@@ -68,6 +71,8 @@ def test_pyprt_s_figures_of_a_holed_initial_shape(tmp_path, case):
     report = model.get_report()
     for name in FIGURES:
         if name == "volume" and case["rule"] in OPEN_VOLUME:
+            continue
+        if name == "nVertices" and case["rule"] in UNUSED_VERTICES:
             continue
         assert report[f"{name}_avg"] == pytest.approx(case[name], abs=1e-5), name
     sizes = [report[f"s{a}_avg"] for a in "xyz"]

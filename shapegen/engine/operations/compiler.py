@@ -475,16 +475,17 @@ class OperationCompiler:
 # Items that call no operation of their own: nothing to carry on past.
 _CANNOT_FAIL = (ast.Successor, ast.Nil, ast.Push)
 
-# The operations that keep a face's holes (or remove them, as deleteHoles does): those that
-# move, turn or scale the geometry as a whole, read it, or set what it looks like. Any other
-# refuses a shape whose geometry has holes rather than drop them unseen.
+# The operations that keep a face's holes (or remove them, as deleteHoles does, and
+# roofPyramid, which CityEngine's runtime builds on the outer ring: tests/data/prt_holes.json):
+# those that move, turn or scale the geometry as a whole, read it, or set what it looks like.
+# Any other refuses a shape whose geometry has holes rather than drop them unseen.
 _HOLE_NODES = (
     ast.Successor, ast.Nil, ast.Push, ast.Extrude, ast.Comp, ast.Translate, ast.Scale,
     ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert, ast.Split,
 )  # fmt: skip
 _HOLE_OPERATIONS = frozenset(
     (
-        "deleteHoles", "offset", "comp", "color", "texture", "setMaterial", "resetMaterial",
+        "deleteHoles", "offset", "comp", "roofPyramid", "color", "texture", "setMaterial", "resetMaterial",
         "setupProjection", "projectUV", "deleteUV", "tileUV", "translateUV", "scaleUV",
         "rotateUV", "offsetUV", "normalizeUV", "copyUV", "setNormals", "softenNormals", "tag",
         "deleteTags",
