@@ -55,11 +55,14 @@ class RoofMesh:
         Vertex-index tuples, counter-clockwise seen from outside.
     tags
         One CityEngine component tag per face (``roof.bottom``, ``roof.top``, ``roof.side``...).
+    holes
+        ``()``, or per face its hole rings (:attr:`~shapegen.geometry.mesh.Mesh.holes`).
     """
 
     vertices: np.ndarray
     faces: tuple[tuple[int, ...], ...]
     tags: tuple[str, ...]
+    holes: tuple = ()
 
     def volume(self) -> float:
         """Enclosed volume (m³) by the divergence theorem (meaningful for a closed mesh)."""
@@ -81,6 +84,7 @@ class _Welder:
         self.points: list[np.ndarray] = []
         self.faces: list[tuple[int, ...]] = []
         self.tags: list[str] = []
+        self.holes: list[tuple[tuple[int, ...], ...]] = []
         self.cells: dict[tuple[int, int, int], list[int]] = {}  # grid of cell size eps
 
     def index(self, point) -> int:
@@ -94,7 +98,7 @@ class _Welder:
         self.cells.setdefault(cell, []).append(len(self.points) - 1)
         return len(self.points) - 1
 
-    def face(self, points, tag: str) -> None:
+    def ring(self, points) -> tuple[int, ...]:
         ids: list[int] = []
         for p in points:
             k = self.index(p)
@@ -102,12 +106,21 @@ class _Welder:
                 ids.append(k)
         while len(ids) > 1 and ids[0] == ids[-1]:
             ids.pop()
+        return tuple(ids)
+
+    def face(self, points, tag: str, holes=()) -> None:
+        ids = self.ring(points)
         if len(ids) >= 3:
-            self.faces.append(tuple(ids))
+            self.faces.append(ids)
             self.tags.append(tag)
+            rings = (self.ring(hole) for hole in holes)
+            self.holes.append(tuple(r for r in rings if len(r) >= 3))
 
     def mesh(self) -> RoofMesh:
-        return RoofMesh(np.array(self.points).reshape(-1, 3), tuple(self.faces), tuple(self.tags))
+        holes = tuple(self.holes) if any(self.holes) else ()
+        return RoofMesh(
+            np.array(self.points).reshape(-1, 3), tuple(self.faces), tuple(self.tags), holes
+        )
 
 
 def _bottom(welder: _Welder, polygon: np.ndarray, tag: str) -> None:
@@ -256,12 +269,19 @@ def _convex(p: np.ndarray) -> bool:
 
 
 def roof_shed(
-    polygon, angle: float | None = None, *, height: float | None = None, index: int = 0
+    polygon,
+    angle: float | None = None,
+    *,
+    height: float | None = None,
+    index: int = 0,
+    holes=(),
 ) -> RoofMesh:
     """A shed roof: one plane through edge ``index`` rising inward at ``angle`` (degrees).
 
     ``height`` (m) instead of ``angle`` makes the highest point that high. Vertical side faces
-    close it (``roof.side.outer``); a side of zero height is left out.
+    close it (``roof.side.outer``); a side of zero height is left out. ``holes`` (clockwise
+    rings inside the polygon) stay holes of the bottom and the roof, with walls of their own
+    (``roof.side.inner``), as CityEngine's runtime builds them (tests/data/prt_holes.json).
     """
     p = checked_polygon(polygon)
     n = len(p)
@@ -269,13 +289,20 @@ def roof_shed(
     inward = -edge_normals(p)[k]
     reach = (p - p[k]) @ inward
     slope = _slope(angle, height, float(reach.max()))
-    h = reach * slope
     welder = _Welder(float(np.ptp(p, axis=0).max()))
-    _bottom(welder, p, "roof.bottom")
-    for e in range(n):
-        a, b = e, (e + 1) % n
-        welder.face([(*p[a], 0.0), (*p[b], 0.0), (*p[b], h[b]), (*p[a], h[a])], "roof.side.outer")
-    welder.face([(*q, z) for q, z in zip(p, h, strict=True)], "roof.top")
+    rings = [np.asarray(r, dtype=float).reshape(-1, 2) for r in holes]
+    welder.face([(x, y, 0.0) for x, y in p[::-1]], "roof.bottom",
+                [[(x, y, 0.0) for x, y in r[::-1]] for r in rings])  # fmt: skip
+    lifted = []
+    for ring, name in [(p, "roof.side.outer"), *((r, "roof.side.inner") for r in rings)]:
+        h = ((ring - p[k]) @ inward) * slope
+        m = len(ring)
+        for e in range(m):
+            a, b = e, (e + 1) % m
+            welder.face([(*ring[a], 0.0), (*ring[b], 0.0), (*ring[b], h[b]), (*ring[a], h[a])],
+                        name)  # fmt: skip
+        lifted.append([(*q, z) for q, z in zip(ring, h, strict=True)])
+    welder.face(lifted[0], "roof.top", lifted[1:])
     return welder.mesh()
 
 

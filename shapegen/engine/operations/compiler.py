@@ -485,7 +485,8 @@ _HOLE_NODES = (
 )  # fmt: skip
 _HOLE_OPERATIONS = frozenset(
     (
-        "deleteHoles", "offset", "comp", "roofPyramid", "color", "texture", "setMaterial", "resetMaterial",
+        "deleteHoles", "offset", "comp", "roofPyramid", "roofShed", "color", "texture",
+        "setMaterial", "resetMaterial",
         "setupProjection", "projectUV", "deleteUV", "tileUV", "translateUV", "scaleUV",
         "rotateUV", "offsetUV", "normalizeUV", "copyUV", "setNormals", "softenNormals", "tag",
         "deleteTags",

@@ -21,6 +21,7 @@ from shapegen.engine.operations.cga.polygons import (
     array_elements,
     edge_quadrants,
     face_frames,
+    face_holes,
     flat_faces,
 )
 from shapegen.engine.shapes.shape import MASS, Shape
@@ -44,11 +45,15 @@ def roof_shape(
     scope's y along the face normal (the roofs), or the parent's axes (``keep_axes``: the
     envelope, whose scope PyPRT only resizes; candler's ventilation moves along the envelope's
     scope z to its top). ``tagged``: with its auto-tags (the derivation keeps tags)."""
-    points, faces = [], []
+    points, faces, holes = [], [], []
     start = 0
     for frame, mesh in built:
         points.append(frame.lift(mesh.vertices[:, :2], mesh.vertices[:, 2]))
         faces += [tuple(start + i for i in face) for face in mesh.faces]
+        if mesh.holes:
+            holes += [tuple(tuple(start + i for i in r) for r in rs) for rs in mesh.holes]
+        else:
+            holes += [()] * len(mesh.faces)
         start += len(mesh.vertices)
     local = np.concatenate(points)
     normal = parent.scope.rotation @ built[0][0].n
@@ -60,7 +65,7 @@ def roof_shape(
     scope, fitted = fitted_scope(parent.scope.to_world(local), frame)
     names = [(k, tag) for k, (_, mesh) in enumerate(built) for tag in mesh.tags]
     tags = Pending(parent, _auto_tags(names, len(built))) if tagged else None
-    return Shape(scope, MASS, 1, None, Mesh(fitted, faces), tags)
+    return Shape(scope, MASS, 1, None, Mesh(fitted, faces, holes if any(holes) else ()), tags)
 
 
 def _auto_tags(names: list[tuple[int, str]], count: int):
@@ -156,8 +161,15 @@ def compile_roof(program, node: ast.Operation, params):
             faces = face_frames(state.shape)
         else:
             faces = flat_faces(state, node, program, f"{node.name}()")
-        for frame, polygon in faces:
+        # a shed keeps a face's holes; roofPyramid builds on the outer ring, as CityEngine's
+        # runtime does; the other roofs refuse a shape with holes (engine/operations/compiler)
+        rings = face_holes(state.shape) if node.name == "roofShed" else [()] * len(faces)
+        for (frame, polygon), holes in zip(faces, rings, strict=True):
             check_clock()
+            if len(holes):
+                options["holes"] = holes
+            else:
+                options.pop("holes", None)
             try:
                 if kind == "angle":
                     mesh = build(polygon, amount, **options)
