@@ -447,11 +447,16 @@ function showSettings(settings) {
   const idle = (id) => document.activeElement !== $(id);
   if (idle('margin')) $('margin').value = settings.margin;
   if (idle('seed')) $('seed').value = settings.seed;
-  const lot = settings.lot;
+  // a lot with holes (a courtyard) is {polygon, holes}: its outline is shown, and it is changed
+  // in its file only, as the polygon field has no way to write holes
+  const holed = settings.lot !== null && !Array.isArray(settings.lot);
+  const lot = holed ? settings.lot.polygon : settings.lot;
   const rectangle = lot === null ? settings.file_lot : (lot.length === 2 && !Array.isArray(lot[0]) ? lot : null);
   if (idle('lot-width')) $('lot-width').value = rectangle ? rectangle[0] : '';
   if (idle('lot-depth')) $('lot-depth').value = rectangle ? rectangle[1] : '';
   if (idle('lot-polygon')) $('lot-polygon').value = rectangle ? '' : lot.map(([x, z]) => `${x},${z}`).join(' ');
+  $('lot-polygon').disabled = holed;
+  $('lot-polygon').title = holed ? `the lot has ${settings.lot.holes.length} hole(s): change it in its file` : '';
   $('lot-file').disabled = lot === null;
 }
 
