@@ -34,6 +34,9 @@ MAX_LINES = 500
 LONG_BY_CONCEPT = {
     "engine/expressions/compiler.py": "one compiler from expression AST to closures: each node "
     "kind and each builtin's dispatch belong to the one walk",
+    "geometry/mesh.py": "one immutable polygon mesh: its faces and their holes, counts, measures, "
+    "predicates and the meshes made from it are one class (the ring work on holes is "
+    "geometry/hole_rings.py)",
 }
 
 

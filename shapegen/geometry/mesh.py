@@ -22,7 +22,6 @@ from __future__ import annotations
 __all__ = [
     "Mesh",
     "BOX_FACES",
-    "checked_holes",
     "area_vectors",
     "corner_layout",
     "polygon_normal",
@@ -36,6 +35,14 @@ from functools import cached_property
 import numpy as np
 
 from shapegen.geometry.face_heights import height_bands
+from shapegen.geometry.hole_rings import (
+    checked_holes,
+    cleaned_rings,
+    hole_vectors,
+    outer_rings_only,
+    reversed_holes,
+    turned,
+)
 from shapegen.model.polygons import CheckedFaces, checked_faces, cross, face_layout, face_normals
 from shapegen.tolerances import COINCIDENT_REL, COSINE_SLACK, SIZE_FLOOR_M, ZERO_LENGTH
 
@@ -131,22 +138,6 @@ def area_vectors(vertices: np.ndarray, corners: np.ndarray, start: np.ndarray) -
     successor = np.arange(1, len(corners) + 1)
     successor[start[1:] - 1] = start[:-1]  # a face's last corner wraps to its first
     return np.add.reduceat(cross(p, p[successor]), start[:-1], axis=0)
-
-
-def checked_holes(holes, n_faces: int, n_vertices: int) -> tuple:
-    """``holes`` (one sequence of hole rings per face, or empty) as :attr:`Mesh.holes`: ``()``
-    when no face has a hole, else a tuple per face of tuples of vertex-index tuples. Raises
-    ``ValueError`` for a list of the wrong length or a ring that does not index the vertices."""
-    if not holes:
-        return ()
-    rings = tuple(tuple(tuple(int(i) for i in ring) for ring in face) for face in holes)
-    if len(rings) != n_faces:
-        raise ValueError(f"{len(rings)} lists of holes for {n_faces} faces")
-    for face in rings:
-        for ring in face:
-            if len(ring) < 3 or min(ring) < 0 or max(ring) >= n_vertices:
-                raise ValueError(f"a hole {ring} does not index the mesh's {n_vertices} vertices")
-    return rings if any(rings) else ()
 
 
 class Mesh:
@@ -252,22 +243,12 @@ class Mesh:
         """Every boundary ring: the faces, then the faces' holes in face order."""
         return [*self.faces, *(ring for rings in self.holes for ring in rings)]
 
-    def face_rings(self, index: int) -> tuple[tuple[int, ...], ...]:
-        """Face ``index``'s outer ring and its hole rings."""
-        return (self.faces[index], *(self.holes[index] if self.holes else ()))
-
     def without_holes(self) -> Mesh:
         """The mesh with every hole closed: each face its outer ring alone, the vertices only
         the holes used removed (CityEngine's ``deleteHoles``)."""
         if not self.holes:
             return self
-        used: dict[int, int] = {}
-        for face in self.faces:
-            for i in face:
-                used.setdefault(i, len(used))
-        order = sorted(used)  # the vertices kept in their order
-        index = {old: new for new, old in enumerate(order)}
-        faces = tuple(tuple(index[i] for i in face) for face in self.faces)
+        order, faces = outer_rings_only(self.faces)
         return Mesh.of_valid_faces(self.vertices[order], CheckedFaces(faces))
 
     @cached_property
@@ -295,15 +276,6 @@ class Mesh:
         """The faces' :func:`corner_layout`: flat corners and ``(F + 1,)`` start offsets."""
         return face_layout(self.faces)
 
-    def _hole_vectors(self) -> np.ndarray:
-        """``(F, 3)``: the Newell vectors of each face's holes summed (wound against their
-        face, they take the holes' area off the face's)."""
-        out = np.zeros((len(self.faces), 3))
-        for k, rings in enumerate(self.holes):
-            for ring in rings:
-                out[k] += polygon_normal(self.vertices[list(ring)])
-        return out
-
     @cached_property
     def normals_and_centres(self) -> tuple[np.ndarray, np.ndarray]:
         """The faces' unit normals ``(F, 3)`` and centres ``(F, 3)`` (m), computed once."""
@@ -313,7 +285,8 @@ class Mesh:
     def face_areas(self) -> np.ndarray:
         """Each face's area, ``(F,)`` m^2 (its holes' taken off)."""
         if self.holes:
-            vectors = area_vectors(self.vertices, *self.corner_layout) + self._hole_vectors()
+            holed = hole_vectors(self.vertices, self.holes, len(self.faces))
+            vectors = area_vectors(self.vertices, *self.corner_layout) + holed
             return 0.5 * np.linalg.norm(vectors, axis=1)
         if len(self.faces) <= 2:  # a face: numpy's calls would cost more than the sums
             return np.array([polygon_area(self.face_points(k)) for k in range(len(self.faces))])
@@ -474,7 +447,7 @@ class Mesh:
             v = v @ rotation.T
             if np.linalg.det(rotation) < 0:
                 faces = tuple(_reversed(f) for f in faces)
-                holes = _reversed_holes(holes)
+                holes = reversed_holes(holes)
                 layout = None
         if offset is not None:
             v = v + np.asarray(offset, float)
@@ -490,7 +463,7 @@ class Mesh:
             return Mesh.of_valid_faces(
                 self.vertices * factors,
                 tuple(_reversed(f) for f in self.faces),
-                holes=_reversed_holes(self.holes),
+                holes=reversed_holes(self.holes),
             )
         return Mesh.of_valid_faces(self.vertices * factors, self.faces, holes=self.holes)
 
@@ -503,7 +476,7 @@ class Mesh:
         return Mesh.of_valid_faces(
             self.vertices,
             tuple(_reversed(f) for f in self.faces),
-            holes=_reversed_holes(self.holes),
+            holes=reversed_holes(self.holes),
         )
 
     def face(self, index: int) -> Mesh:
@@ -558,31 +531,12 @@ class Mesh:
         return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces)
 
     def _cleaned_with_holes(self, keys: np.ndarray) -> Mesh:
-        """:meth:`cleaned` of a mesh with holes: the holes' rings cleaned as the faces' are,
-        a hole left with fewer than three corners dropped, a face's holes dropped with it."""
+        """:meth:`cleaned` of a mesh with holes (:func:`~shapegen.geometry.hole_rings.
+        cleaned_rings`)."""
         first: dict[tuple, int] = {}
         remap = [first.setdefault(key, k) for k, key in enumerate(map(tuple, keys.tolist()))]
-
-        def ring_of(indices):
-            ring = []
-            for i in indices:
-                j = remap[i]
-                if not ring or ring[-1] != j:
-                    ring.append(j)
-            while len(ring) > 1 and ring[0] == ring[-1]:
-                ring.pop()
-            return ring if len(ring) >= 3 else None
-
-        used: dict[int, int] = {}
-        faces, holes = [], []
-        for face, rings in zip(self.faces, self.holes, strict=True):
-            ring = ring_of(face)
-            if ring is None:
-                continue
-            faces.append(tuple(used.setdefault(i, len(used)) for i in ring))
-            kept = (ring_of(r) for r in rings)
-            holes.append(tuple(tuple(used.setdefault(i, len(used)) for i in r) for r in kept if r))
-        return Mesh(self.vertices[list(used)] if used else np.empty((0, 3)), faces, holes)
+        used, faces, holes = cleaned_rings(remap, self.faces, self.holes)
+        return Mesh(self.vertices[used] if used else np.empty((0, 3)), faces, holes)
 
     def _plain(self, corners: np.ndarray, start: np.ndarray) -> bool:
         """Every face has three corners or more, none repeated next to itself, and every
@@ -611,12 +565,4 @@ def _faces_out_of_range(corners: np.ndarray, start: np.ndarray, count: int) -> n
     return np.add.reduceat(bad, start[:-1]) > 0
 
 
-def _reversed_holes(holes: tuple) -> tuple:
-    """:attr:`Mesh.holes` with every ring turned around, as its face is."""
-    return tuple(tuple(_reversed(ring) for ring in rings) for rings in holes)
-
-
-def _reversed(face: tuple[int, ...]) -> tuple[int, ...]:
-    """The face turned around, keeping its first vertex (so its first edge stays on the same
-    segment)."""
-    return (face[0],) + tuple(reversed(face[1:]))
+_reversed = turned  # a face turned around keeps its first vertex

@@ -20,6 +20,7 @@ from shapegen.engine.derivation.finite import checked_operation, finite_paramete
 from shapegen.engine.derivation.random_streams import choice
 from shapegen.engine.derivation.state import Operation, format_chain
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
+from shapegen.engine.operations.hole_guard import keeps_holes, refusing_holes
 from shapegen.engine.operations.shape_writes import WRITABLE, compile_shape_write
 from shapegen.engine.operations.template_primitives import INSERT, compile_insert
 from shapegen.engine.shapes.auto_tags import extruded
@@ -131,8 +132,8 @@ class OperationCompiler:
         operation = checked_operation(
             self, node, method(node, params)
         )  # engine/derivation/finite.py
-        if not _keeps_holes(node):
-            operation = _refusing_holes(operation, node, self)
+        if not keeps_holes(node):
+            operation = refusing_holes(operation, node, self)
         if self.cga_dialect and not isinstance(node, _CANNOT_FAIL):
             return carrying_on(operation, node, self)  # CityEngine records a CGA error
         return operation
@@ -474,49 +475,6 @@ class OperationCompiler:
 
 # Items that call no operation of their own: nothing to carry on past.
 _CANNOT_FAIL = (ast.Successor, ast.Nil, ast.Push)
-
-# The operations that keep a face's holes (or remove them, as deleteHoles does, and
-# roofPyramid, which CityEngine's runtime builds on the outer ring: tests/data/prt_holes.json):
-# those that move, turn or scale the geometry as a whole, read it, or set what it looks like.
-# Any other refuses a shape whose geometry has holes rather than drop them unseen.
-_HOLE_NODES = (
-    ast.Successor, ast.Nil, ast.Push, ast.Extrude, ast.Comp, ast.Translate, ast.Scale,
-    ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert, ast.Split,
-)  # fmt: skip
-_HOLE_OPERATIONS = frozenset(
-    (
-        "deleteHoles", "offset", "comp", "roofPyramid", "roofShed", "color", "texture",
-        "setMaterial", "resetMaterial",
-        "setupProjection", "projectUV", "deleteUV", "tileUV", "translateUV", "scaleUV",
-        "rotateUV", "offsetUV", "normalizeUV", "copyUV", "setNormals", "softenNormals", "tag",
-        "deleteTags",
-        "setTagsFromEdgeAttrs", "alignScopeToAxes", "alignScopeToGeometry", "rotateScope",
-        "mirror", "mirrorScope", "setPivot", "reverseNormals", "translate", "rotate",
-    )
-)  # fmt: skip
-
-
-def _keeps_holes(node) -> bool:
-    if isinstance(node, ast.Operation):
-        return node.name in _HOLE_OPERATIONS
-    return isinstance(node, _HOLE_NODES)
-
-
-def _refusing_holes(operation: Operation, node, program) -> Operation:
-    """``operation``, refusing (a CGA error in ``.cga``) a shape whose faces have holes."""
-    name = node.name if isinstance(node, ast.Operation) else type(node).__name__.lower()
-
-    def refusing(state, args, out):
-        geometry = state.shape.geometry
-        if geometry is not None and geometry.holes:
-            raise program.operation_error(
-                node,
-                f"{name}() of a shape whose faces have holes is not supported by shapegen "
-                "(deleteHoles() first removes them)",
-            )
-        return operation(state, args, out)
-
-    return refusing
 
 
 def _selector(name: str) -> str | int:

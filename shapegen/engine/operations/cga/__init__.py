@@ -85,6 +85,7 @@ from shapegen.engine.operations.cga import (  # noqa: E402, F401
     extrusion,
     inline,
     modify,
+    offset,
     perimeter,
     polygons,
     rectify,

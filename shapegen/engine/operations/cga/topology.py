@@ -135,10 +135,8 @@ def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list]:
         for row, k in enumerate(members):
             face_scope = Scope.of_arrays(origins[row], rotations[row], sizes[row])
             if mesh.holes and mesh.holes[k]:  # the face keeps its holes (op_comp)
-                shapes[k] = Shape.with_geometry(
-                    face_scope, _holed_face(mesh, k, local[row], world_vertices, face_scope),
-                    FACE, 2,
-                )  # fmt: skip
+                holed = _holed_face(mesh, k, world_vertices, face_scope)
+                shapes[k] = Shape.with_geometry(face_scope, holed, FACE, 2)
             elif fills[row]:  # the rectangle filling its scope from its origin: the fast path
                 shapes[k] = Shape(face_scope, FACE, 2)
             else:
@@ -147,18 +145,10 @@ def _face_shapes(mesh: Mesh, scope: Scope) -> tuple[list[Shape], list]:
     return shapes, firsts
 
 
-def _holed_face(mesh: Mesh, k: int, outer: np.ndarray, world: np.ndarray, scope: Scope) -> Mesh:
-    """Face ``k`` of ``mesh`` with its holes, in its own ``scope`` (``outer``: its outer ring's
-    corners there, ``world``: the mesh's vertices in world coordinates). The face's scope is
-    its outer ring's, which holds the holes."""
-    rings, points, first = [], [outer], len(outer)
-    for ring in mesh.holes[k]:
-        points.append(scope.to_local(world[list(ring)]))
-        rings.append(tuple(range(first, first + len(ring))))
-        first += len(ring)
-    return Mesh.of_valid_faces(
-        np.vstack(points), (tuple(range(len(outer))),), holes=(tuple(rings),)
-    )
+def _holed_face(mesh: Mesh, k: int, world: np.ndarray, scope: Scope) -> Mesh:
+    """Face ``k`` of ``mesh`` (its vertices ``world``) with its holes, in its ``scope``."""
+    face = Mesh.of_valid_faces(world, mesh.faces, holes=mesh.holes).subset([k])
+    return face.moved_to(scope.to_local(face.vertices))
 
 
 def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Component]:
