@@ -36,8 +36,8 @@ LOTS = {
     },
     # a courtyard lot: 12 x 8 m with a 4 x 2 m hole from (4, 3) to (8, 5)
     "courtyard": {
-        "coordinates": [0, 0, 8, 12, 0, 8, 12, 0, 0, 0, 0, 0,
-                        4, 0, 3, 8, 0, 3, 8, 0, 5, 4, 0, 5],  # fmt: skip
+        "coordinates": [0, 0, 8, 12, 0, 8, 12, 0, 0, 0, 0, 0]  # the 12 x 8 m outline
+        + [4, 0, 3, 8, 0, 3, 8, 0, 5, 4, 0, 5],  # the hole
         "indices": [0, 1, 2, 3, 4, 5, 6, 7],
         "face_counts": [4, 4],
         "holes": [[0, 1]],
