@@ -62,6 +62,8 @@ def compile_component_values(compiler, node: ast.ComponentValues, params):
         shape = state.shape
         if shape.kind not in (FACE, MASS, EDGE):
             raise error(node, f"comp({kind}) cannot take apart an inserted primitive")
+        if kind != "f" and shape.geometry is not None and shape.geometry.holes:
+            raise error(node, f"comp({kind}) of a shape whose faces have holes is not supported")
         components = components_of(shape, kind, getattr(state.run, "object_rotation", None))
         out: list = [None] * len(components)
         taken = [False] * len(components)

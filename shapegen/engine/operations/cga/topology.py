@@ -343,6 +343,11 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
         shape = state.shape
         if shape.kind not in (FACE, MASS, EDGE):
             raise error(node, f"comp({kind}) cannot take apart an inserted primitive")
+        if kind not in ("f", "g", "m") and shape.geometry is not None and shape.geometry.holes:
+            raise program.operation_error(  # a hole's edges and corners are not listed
+                node, f"comp({kind}) of a shape whose faces have holes is not supported by "
+                "shapegen (deleteHoles() first removes them)",
+            )  # fmt: skip
         components = components_of(shape, kind, getattr(state.run, "object_rotation", None))
         taken = [False] * len(components)
         run = state.run
