@@ -309,6 +309,11 @@ class Surface:
     solid
         For a closed solid leaf kept as derived (``"not convex"``), its density, flags and
         scope (:class:`SolidLeaf`); None otherwise.
+    polygons
+        For a leaf whose faces have holes, its faces as CityEngine has them: each face's outer
+        ring, then every face's holes, as vertex-index tuples over ``vertices`` (what PyPRT's
+        encoder writes). ``faces`` are then polygons without holes covering the same surface,
+        which the exports, pictures and statics take. None otherwise.
     """
 
     vertices: np.ndarray
@@ -320,6 +325,7 @@ class Surface:
     id: str = ""
     extras: dict = field(default_factory=dict)
     solid: SolidLeaf | None = None
+    polygons: tuple[tuple[int, ...], ...] | None = None
 
     def __post_init__(self) -> None:
         self.vertices = np.ascontiguousarray(self.vertices, dtype=float).reshape(-1, 3)

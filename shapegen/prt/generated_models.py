@@ -139,7 +139,10 @@ def _packed_geometry(model: Model, triangulate: bool):
     base = 0
     for leaf in [*model.blocks, *model.surfaces]:
         points = np.asarray(leaf.vertices, dtype=float)
-        polygons = face_triangles(points, leaf.faces).tolist() if triangulate else leaf.faces
+        if triangulate:
+            polygons = face_triangles(points, leaf.faces).tolist()
+        else:  # a leaf with holes: its faces and their holes, as PyPRT's encoder writes them
+            polygons = getattr(leaf, "polygons", None) or leaf.faces
         for polygon in polygons:
             indices.extend(base + int(i) for i in polygon)
             faces.append(len(polygon))

@@ -355,10 +355,14 @@ class Program:
         replaced by its hull here, so the model is the one CityEngine's runtime derives (its
         volume and bounding box). ``mesh`` is the leaf's geometry in world coordinates, ``area``
         its faces' total (m^2)."""
+        # the leaf's geometry is made of polygons without holes covering the same surface (what
+        # blocks and the statics' cut take); its faces and holes as rings are what PyPRT writes
+        holed = state.shape.geometry is not None and state.shape.geometry.holes
+        polygons = tuple(state.shape.world_mesh().rings()) if holed else None
         if state.shape.kind == FACE or not mesh.is_closed:
             if area > _MIN_SIZE**2:
                 reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
-                surfaces.append(_surface(state, mesh, reason, len(surfaces)))
+                surfaces.append(_surface(state, mesh, reason, len(surfaces), None, polygons))
             return []
         volume = mesh.signed_volume()
         if abs(volume) <= _MIN_SIZE**3:
@@ -366,7 +370,9 @@ class Program:
                 self._flat_solid(state, mesh, surfaces)
             return []
         if volume < 0:
-            surfaces.append(_surface(state, mesh, "faces turned inwards", len(surfaces)))
+            surfaces.append(
+                _surface(state, mesh, "faces turned inwards", len(surfaces), None, polygons)
+            )
             return []
         # judged and cut in scope coordinates, where the same asset gives the same mesh
         scope = state.shape.scope
@@ -375,7 +381,7 @@ class Program:
         density, structural, fixed = self._properties(state)
         if pieces is None or pieces is NEEDS_CUT:
             solid = SolidLeaf(density, structural, fixed, local, scope.rotation, scope.origin)
-            surfaces.append(_surface(state, mesh, "not convex", len(surfaces), solid))
+            surfaces.append(_surface(state, mesh, "not convex", len(surfaces), solid, polygons))
             return []
         blocks = []
         for piece in pieces:
@@ -441,7 +447,12 @@ _TURNED = ((0, 3, 2, 1),)  # a mirrored scope's rectangle, turned to face out (M
 
 
 def _surface(
-    state: ShapeState, mesh, reason: str, number: int, solid: SolidLeaf | None = None
+    state: ShapeState,
+    mesh,
+    reason: str,
+    number: int,
+    solid: SolidLeaf | None = None,
+    polygons: tuple | None = None,
 ) -> Surface:
     return Surface(
         mesh.vertices,
@@ -452,6 +463,7 @@ def _surface(
         reason=reason,
         id=f"s{number}",
         solid=solid,
+        polygons=polygons,
     )
 
 
