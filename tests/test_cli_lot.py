@@ -275,3 +275,16 @@ def test_a_lot_beyond_float_range_is_refused_in_one_line(text, message, capsys):
     assert main(["build", "wall_windows.grammar", "--lot", text]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert message in err[-1] and "Traceback" not in "\n".join(err)
+
+
+def test_a_polygon_s_holes_follow_it_after_a_bar():
+    lot = read_lot("0,8 12,8 12,0 0,0 | 4,3 4,5 8,5 8,3")
+    assert lot.area == pytest.approx(12 * 8 - 4 * 2)
+    assert len(lot.holes) == 1 and len(lot.holes[0]) == 4
+    from shapegen.editor.exports import command_line
+
+    line = command_line(None, {}, lot=lot)
+    written = line.split("--lot ")[1].strip("'")
+    assert read_lot(written) == lot  # the editor's command line gives the same lot back
+    with pytest.raises(InputFormatError, match="holes do not fit"):
+        read_lot("0,8 12,8 12,0 0,0 | 10,3 14,3 14,5")

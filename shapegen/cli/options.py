@@ -191,7 +191,8 @@ def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") ->
         type=_lot,
         metavar="LOT",
         help=prefix + "the lot instead of the grammar's @Lot: WIDTH,DEPTH in metres (x, z), a"
-        ' polygon "x,z x,z x,z ..." in metres, FILE.geojson[#ID] or FILE.obj (its first face)',
+        ' polygon "x,z x,z x,z ..." in metres (its holes after a "|": "... | x,z x,z x,z"),'
+        " FILE.geojson[#ID] (a polygon's inner rings its holes) or FILE.obj (its first face)",
     )
     parser.add_argument(
         "--seed",

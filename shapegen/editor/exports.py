@@ -92,4 +92,5 @@ def _lot_argument(lot: Lot) -> str:
 
     if lot.size is not None:
         return f"{metres(lot.size[0])},{metres(lot.size[1])}"
-    return " ".join(f"{metres(x)},{metres(z)}" for x, z in lot.corners)  # "x,z x,z ..."
+    rings = [lot.corners, *lot.holes]  # "x,z x,z ... | x,z ...": the holes after a "|"
+    return " | ".join(" ".join(f"{metres(x)},{metres(z)}" for x, z in ring) for ring in rings)

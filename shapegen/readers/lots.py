@@ -4,7 +4,8 @@ an OBJ face.
 :func:`read_lot` takes what follows ``--lot``:
 
 - ``12,8`` or ``12x8``: a rectangle, width along x and depth along z (m);
-- ``"0,8 12,8 12,0 0,0"``: a polygon, corners ``x,z`` in metres separated by spaces;
+- ``"0,8 12,8 12,0 0,0"``: a polygon, corners ``x,z`` in metres separated by spaces; rings
+  after a ``|`` are its holes (``"0,8 12,8 12,0 0,0 | 4,3 4,5 8,5 8,3"``: a courtyard);
 - ``lots.geojson`` or ``lots.geojson#ID``: the first Polygon (or one-part MultiPolygon)
   feature of a GeoJSON file, or the one whose ``id`` (or ``id`` property) is ``ID``;
 - ``plot.obj``: the first face of an OBJ file, its corners' ``x`` and ``z`` (y up).
@@ -65,6 +66,10 @@ def read_lot(text: str) -> Lot:
             f"--lot {text}: a lot is read from a .geojson, .json or .obj file, not a "
             f"{suffix} file (shapegen city reads OSM XML and gzipped GeoJSON)"
         )
+    outline, *inner = stripped.split("|")  # a polygon's holes follow it, each after a "|"
+    if inner:
+        holes = [_corners(ring, text) for ring in inner]
+        return checked_polygon(_corners(outline, text), f"--lot {text!r}", holes)
     # "3.4, 3" is WIDTH,DEPTH and "0, 0 12, 0 ..." corners: spaces beside a comma do not separate
     corners = re.sub(r"\s*,\s*", ",", stripped).replace(";", " ").split()
     if len(corners) == 1:
@@ -80,13 +85,18 @@ def read_lot(text: str) -> Lot:
             return Lot.rectangle(width, depth)
         except LotError as exc:
             raise LotError(f"--lot {text!r}: {exc}") from None
+    return checked_polygon(_corners(stripped, text), f"--lot {text!r}")
+
+
+def _corners(ring: str, text: str) -> list[tuple[float, float]]:
+    """The ``x,z`` corners (m) of one ring of ``--lot text``."""
     points = []
-    for corner in corners:
+    for corner in re.sub(r"\s*,\s*", ",", ring).replace(";", " ").split():
         parts = corner.split(",")
         if len(parts) != 2:
             raise InputFormatError(f"--lot {text!r}: a corner is x,z in metres, got {corner!r}")
         points.append(tuple(_number(v, text) for v in parts))
-    return checked_polygon(points, f"--lot {text!r}")
+    return points
 
 
 def _number(raw: str, text: str) -> float:
