@@ -1,6 +1,7 @@
-"""Faces with holes as CityEngine's runtime has them: initial shapes with holes, extrude,
-deleteHoles, offset and comp on them, against PyPRT's measured figures
-(tests/data/prt_holes.json, made by tools/prt_holes.py) and closed forms; and the statics of a
+"""Faces with holes as CityEngine's runtime has them: initial shapes with holes (coordinates,
+glTF, GeoJSON through the lot), extrude, deleteHoles, offset, comp, split and the shed and
+pyramid roofs on them, against PyPRT's measured figures (tests/data/prt_holes.json, made by
+tools/prt_holes.py) and closed forms; the operations that refuse them; and the statics of a
 courtyard building."""
 
 from __future__ import annotations
@@ -38,8 +39,8 @@ REFUSED = {
       for kind in ("Hip", "Gable")),
 }  # fmt: skip
 # deleteHoles leaves the walls of the courtyard without the faces around them: not a closed
-# surface, whose volume shapegen gives as 0 (func_geometry: "the volume of a closed
-# surface"); CityEngine's runtime sums it anyway (880 and 906.7 m^3 here).
+# surface, whose volume shapegen gives as 0 (a sum over its faces would depend on where it is
+# taken from); CityEngine's runtime sums it anyway (880 and 906.7 m^3 here).
 OPEN_VOLUME = {"extrude(10) deleteHoles()"}
 # roofPyramid builds on the outer ring, as CityEngine's runtime does; its mesh keeps the holes'
 # vertices, unused, which shapegen's does not (9 vertices there, 5 here).
