@@ -242,9 +242,10 @@ def test_the_reader_reads_cityengines_package_and_finds_the_same_triangles(tmp_p
 
 
 def test_no_geometry_is_an_empty_node_and_still_valid(tmp_path):
-    """A shape that cannot be generated (a face with a hole, here) has no feature."""
+    """A shape that cannot be generated (a hole named by a face index the shape does not
+    have, here) has no feature."""
     holed = pyprt.InitialShape(
-        SQUARE + [2, 0, 2, 8, 0, 8, 2, 0, 8], list(range(7)), [4, 3], [[0, 1]]
+        SQUARE + [2, 0, 2, 8, 0, 8, 2, 0, 8], list(range(7)), [4, 3], [[0, 5]]
     )
     generator = pyprt.ModelGenerator([holed])
     options = {"outputPath": str(tmp_path), "baseName": "layer", "sceneType": "Local"}
