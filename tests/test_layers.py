@@ -34,6 +34,12 @@ MAX_LINES = 500
 LONG_BY_CONCEPT = {
     "engine/expressions/compiler.py": "one compiler from expression AST to closures: each node "
     "kind and each builtin's dispatch belong to the one walk",
+    "engine/shapes/shape.py": "the shape a rule works on: its scope, geometry, holes, tags and "
+    "the values CGA reads of it are one object",
+    "engine/program/interpreter.py": "one walk of the rule tree: the derivation loop and how its "
+    "leaves become blocks and surfaces",
+    "engine/operations/cga/topology.py": "comp and its kin: taking a shape apart into components "
+    "and their scopes (boxes' closed forms in engine/shapes/boxes.py)",
     "geometry/mesh.py": "one immutable polygon mesh: its faces and their holes, counts, measures, "
     "predicates and the meshes made from it are one class (the ring work on holes is "
     "geometry/hole_rings.py)",
