@@ -11,7 +11,7 @@ the workers wrote, the tables), the seconds to write the tables and the city glT
 lots (once, at the end), and, with
 dask.distributed installed, the rate on a two-worker ``LocalCluster`` over the first 300 lots
 (the scheduler's cost per task against local processes). The figures are recorded in
-docs/performance.md.
+docs/performance.md (the current figure) and docs/journal/performance.md (each run).
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ wall-like: ``SIDE x SIDE`` bodies of 6 rows, each coupled to its grid neighbours
 (``normal_equations._block_ordering``). The analysis is done once; the numeric factorisation
 and the solve ``N`` times (min and median printed), as the solver repeats them per iteration.
 An option that is not installed is said so and skipped. The figures and the choice made from
-them are in docs/architecture.md (point 10).
+them are in docs/journal/architecture.md ("One home per idea", point 10).
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ Every input comes from its number, so a failure names an input that can be repla
 The quick lane runs a few hundred inputs; the slow lane a few thousand. A campaign of any size
 prints its figures: ``python tests/fuzz/test_fuzz.py 10000`` (or one kind from a given number,
 ``python tests/fuzz/test_fuzz.py 2500 rule 100000``, to run parts in parallel); the last one is
-recorded in docs/performance.md ("Bounded work").
+recorded in docs/journal/performance.md ("Bounded work").
 """
 
 from __future__ import annotations

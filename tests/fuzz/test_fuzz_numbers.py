@@ -8,7 +8,7 @@ Every input must end in exit status 0 with outputs whose numbers are all finite,
 status 2 with no output file at all; never in a traceback, past the caps or hung. Every input
 comes from its number and the campaign's seed, which is printed. The slow lane runs 300 inputs
 (``SHAPEGEN_FUZZ_SEED=N`` replays a run); the campaigns run and what they found are in
-docs/performance.md ("Bounded work"), their reproducers in test_number_reproducers.py.
+docs/journal/performance.md ("Bounded work"), their reproducers in test_number_reproducers.py.
 ``python tests/fuzz/test_fuzz_numbers.py 2000 SEED [START]`` runs a campaign,
 ``python tests/fuzz/test_fuzz_numbers.py replay SEED NUMBER`` prints and runs one input.
 """

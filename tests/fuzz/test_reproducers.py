@@ -4,8 +4,8 @@ is valid and small.
 
 The library cases run in a forked child capped at 10 s of CPU and 2 GiB
 (tests/fuzz/fuzz_sandbox.py), so a regression fails here instead of hanging the suite. How fast
-each one answers is a measured figure (docs/performance.md, "Bounded work"), not asserted here:
-a timed assert would fail on a loaded machine and pass a slow regression on a fast one.
+each one answers is a measured figure (docs/journal/performance.md, "Bounded work"), not asserted
+here: a timed assert would fail on a loaded machine and pass a slow regression on a fast one.
 """
 
 from __future__ import annotations

@@ -17,7 +17,8 @@ ordering is always the one used).
 Factorisation: CHOLMOD's supernodal Cholesky through ``cvxopt``
 (:mod:`~shapegen.statics.solvers.cholmod`), of the lower triangle in this order, analysed once
 per pattern and kept with it, so that phase one, the QP and every iteration only refactor
-numerically; 4-5 times faster than SuperLU at 1 000 and 10 000 blocks (docs/architecture.md). MKL
+numerically; 4-5 times faster than SuperLU at 1 000 and 10 000 blocks
+(docs/journal/architecture.md). MKL
 PARDISO (:mod:`~shapegen.statics.solvers.pardiso`, the optional ``shapegen[pardiso]``) factors
 1.7-2 times faster still; where it is installed, ``"auto"`` takes it. Without cvxopt (or
 should the Cholesky factorisation stop on a matrix that is not numerically positive definite),

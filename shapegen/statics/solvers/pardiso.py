@@ -4,7 +4,7 @@ An alternative to the default CHOLMOD (:mod:`~shapegen.statics.solvers.cholmod`)
 name (``factorization="pardiso"`` of the reduced back-end), with the same interface: a symbolic
 analysis once per pattern, a numeric factorisation per iteration, solves. Its numeric
 factorisation of the walls' normal equations takes half to 0.6 times CHOLMOD's (an analysis of
-the 10 000-block wall about 8 % less; docs/architecture.md), but the ``mkl`` wheel installs
+the 10 000-block wall about 8 % less; docs/journal/architecture.md), but the ``mkl`` wheel installs
 691 MB and has no macOS or ARM build, so it is the optional ``shapegen[pardiso]`` rather than a
 dependency.
 
