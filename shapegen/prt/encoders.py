@@ -5,8 +5,9 @@ one group per leaf), ``com.esri.prt.codecs.GLTFEncoder`` ``<baseName>_0.glb`` (s
 writer); both write beside it ``CGAReport.txt`` (a line per report: the initial shape's index,
 the key, the value), ``CGAPrint.txt`` (what ``print`` wrote) and ``CGAError.txt`` (the CGA
 errors and warnings). ``com.esri.prt.codecs.I3SEncoder`` writes ``<baseName>.slpk`` (a Scene
-Layer Package, :mod:`shapegen.prt.i3s_encoder`) with the same three files. Every file is
-written atomically. Other encoders (FBX, ...) are refused with one line.
+Layer Package, :mod:`shapegen.prt.i3s_encoder`) and ``com.esri.prt.codecs.FBXEncoder``
+``<baseName>_0.fbx`` (binary FBX, :mod:`shapegen.prt.fbx_encoder`), each with the same three
+files. Every file is written atomically. Other encoders are refused with one line.
 
 ``outputPath`` is treated as PyPRT treats it (``src/cpp/client/ModelGenerator.cpp`` of
 Esri/pyprt): without it the files go to the folder ``pyprt_fallback_output`` in the system's
@@ -28,11 +29,13 @@ from pathlib import Path
 from shapegen.errors import OptionError
 from shapegen.export.atomic import atomic_write
 from shapegen.prt.generated_models import GeneratedModel
+from shapegen.prt.fbx_encoder import fbx_writer
 from shapegen.prt.i3s_encoder import i3s_writer
 
 OBJ_ENCODER = "com.esri.prt.codecs.OBJEncoder"
 GLTF_ENCODER = "com.esri.prt.codecs.GLTFEncoder"
 I3S_ENCODER = "com.esri.prt.codecs.I3SEncoder"
+FBX_ENCODER = "com.esri.prt.codecs.FBXEncoder"
 FILE_OPTIONS = ("outputPath", "baseName")
 
 
@@ -156,6 +159,7 @@ ENCODERS = {
     OBJ_ENCODER: _plain_writer(OBJ_ENCODER, _write_obj),
     GLTF_ENCODER: _plain_writer(GLTF_ENCODER, _write_gltf),
     I3S_ENCODER: i3s_writer,
+    FBX_ENCODER: fbx_writer,
 }
 """Each encoder's name and what checks its options (all but ``outputPath`` and ``baseName``)
 and returns its writer ``(models, folder, base_name)``."""

@@ -1,0 +1,233 @@
+"""Binary FBX 7.4: meshes of polygon faces, one node each, written as Autodesk's format has them.
+
+FBX is a tree of named records, each with a list of typed values and its own children. The
+binary form (what CityEngine's runtime writes: PyPRT 1.12 writes version 7700) is the one
+most readers take: Blender's importer refuses the ASCII form. Version 7400 has 32-bit record
+offsets, so a file holds up to 4 GiB; the readers that read 7700 read 7400.
+
+The layout, from the published descriptions of the format:
+
+- the header: ``Kaydara FBX Binary  \\x00``, the bytes 0x1A 0x00, the version (uint32);
+- a record: the offset of its end in the file, the number of values and their byte length
+  (uint32 each), the name's length (uint8) and the name, the values, the children, and, when
+  it has children (or no values), a record of 13 zero bytes closing them;
+- a value: a type letter and the value, little-endian: ``I`` int32, ``L`` int64, ``D`` double,
+  ``C`` bool (one byte), ``S`` text (uint32 length and the bytes); an array
+  (``i``, ``d``, ...) is its length, its encoding (0, not compressed) and byte length, then the
+  items;
+- the top level closes with the zero record, then the footer.
+
+Objects (geometry, model, material) have int64 ids and are tied by ``Connections``: geometry
+and material to their model, the model to the scene's root (id 0). A face is its corners'
+vertex indices with the last written as ``-(i + 1)``. Coordinates are metres, y up, with
+``UnitScaleFactor`` 100 (centimetres per unit), so a reader asking for metres reads them as they
+are.
+"""
+
+from __future__ import annotations
+
+__all__ = ["FbxMesh", "encode_fbx"]
+
+import struct
+from dataclasses import dataclass, field
+
+import numpy as np
+
+VERSION = 7400
+HEADER = b"Kaydara FBX Binary  \x00\x1a\x00"
+ZERO_RECORD = bytes(13)
+# the footer's fixed bytes, as the format's readers and writers give them
+FOOTER_ID = bytes.fromhex("fabc ab09 d0c8 d466 b176 fb83 1cf7 267e")
+FOOTER_MAGIC = bytes.fromhex("f85a 8c6a def5 d97e ece9 0ce3 758f 290b")
+
+
+@dataclass
+class FbxMesh:
+    """One node's mesh: ``vertices`` ``(n, 3)`` metres (y up), ``faces`` (vertex indices, each
+    face counter-clockwise seen from its front), and each face's material: ``face_materials``
+    indexes ``materials``, each ``(name, (r, g, b), opacity)``."""
+
+    name: str
+    vertices: np.ndarray
+    faces: list[list[int]]
+    face_materials: list[int] = field(default_factory=list)
+    materials: list[tuple[str, tuple[float, float, float], float]] = field(
+        default_factory=list
+    )
+
+
+class _Record:
+    def __init__(self, name: str, *values, children: list[_Record] | None = None):
+        self.name = name
+        self.values = values
+        self.children = children or []
+
+    def add(self, name: str, *values) -> _Record:
+        child = _Record(name, *values)
+        self.children.append(child)
+        return child
+
+    def encode(self, offset: int) -> bytes:
+        """The record's bytes when it starts at ``offset`` in the file."""
+        values = b"".join(_value(v) for v in self.values)
+        name = self.name.encode("ascii")
+        start = offset + 13 + len(name) + len(values)
+        body = b""
+        for child in self.children:
+            body += child.encode(start + len(body))
+        if self.children or not self.values:
+            body += ZERO_RECORD
+        end = start + len(body)
+        head = struct.pack("<IIIB", end, len(self.values), len(values), len(name))
+        return head + name + values + body
+
+
+def _value(value) -> bytes:
+    if isinstance(value, bool):
+        return b"C" + struct.pack("<?", value)
+    if isinstance(value, int):
+        if -(2**31) <= value < 2**31:
+            return b"I" + struct.pack("<i", value)
+        return b"L" + struct.pack("<q", value)
+    if isinstance(value, float):
+        return b"D" + struct.pack("<d", value)
+    if isinstance(value, str):
+        data = value.encode("utf-8")
+        return b"S" + struct.pack("<I", len(data)) + data
+    if isinstance(value, np.ndarray):
+        kind = {"f": ("d", "<f8"), "i": ("i", "<i4")}[value.dtype.kind]
+        data = np.ascontiguousarray(value, dtype=kind[1]).tobytes()
+        return kind[0].encode() + struct.pack("<III", value.size, 0, len(data)) + data
+    raise TypeError(f"no FBX value type for {type(value).__name__}")
+
+
+def _properties(record: _Record, rows: list[tuple]) -> None:
+    block = record.add("Properties70")
+    for row in rows:
+        block.add("P", *row)
+
+
+def _object_name(name: str, kind: str) -> str:
+    """An object's name as binary FBX stores it: the name, 0x00 0x01, the class."""
+    return f"{name}\x00\x01{kind}"
+
+
+def _face_normals(vertices: np.ndarray, faces: list[list[int]]) -> np.ndarray:
+    """Each face's unit normal (Newell's sum over its corners: a polygon's area vector)."""
+    normals = np.zeros((len(faces), 3))
+    for k, face in enumerate(faces):
+        ring = vertices[face]
+        nxt = np.roll(ring, -1, axis=0)
+        normal = np.cross(ring, nxt).sum(axis=0)
+        length = np.linalg.norm(normal)
+        normals[k] = normal / length if length > 0 else (0.0, 1.0, 0.0)
+    return normals
+
+
+def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: bool = True) -> bytes:
+    """A binary FBX 7.4 file of ``meshes``, each its own node under the scene's root; with
+    ``normals`` each face's normal at each of its corners."""
+    header = _Record("FBXHeaderExtension")
+    header.add("FBXHeaderVersion", 1003)
+    header.add("FBXVersion", VERSION)
+    header.add("Creator", creator)
+    settings = _Record("GlobalSettings")
+    settings.add("Version", 1000)
+    axes = [("UpAxis", 1), ("UpAxisSign", 1), ("FrontAxis", 2), ("FrontAxisSign", 1),
+            ("CoordAxis", 0), ("CoordAxisSign", 1), ("OriginalUpAxis", 1),
+            ("OriginalUpAxisSign", 1)]  # fmt: skip
+    _properties(
+        settings,
+        [(name, "int", "Integer", "", value) for name, value in axes]
+        + [
+            ("UnitScaleFactor", "double", "Number", "", 100.0),
+            ("OriginalUnitScaleFactor", "double", "Number", "", 100.0),
+        ],
+    )
+    objects = _Record("Objects")
+    connections = _Record("Connections")
+    next_id = iter(range(1_000_000, 2**62))
+    counts = {"Model": 0, "Geometry": 0, "Material": 0}
+    for mesh in meshes:
+        vertices = np.asarray(mesh.vertices, dtype=float).reshape(-1, 3)
+        geometry_id, model_id = next(next_id), next(next_id)
+        counts["Geometry"] += 1
+        counts["Model"] += 1
+        geometry = objects.add(
+            "Geometry", geometry_id, _object_name(mesh.name, "Geometry"), "Mesh"
+        )
+        geometry.add("Vertices", vertices.ravel())
+        polygon_index = np.array(
+            [i for face in mesh.faces for i in (*face[:-1], -face[-1] - 1)], dtype=np.int32
+        )
+        geometry.add("PolygonVertexIndex", polygon_index)
+        geometry.add("GeometryVersion", 124)
+        layer = _Record("Layer", 0)
+        layer.add("Version", 100)
+        if normals:
+            per_face = _face_normals(vertices, mesh.faces)
+            per_corner = np.repeat(per_face, [len(face) for face in mesh.faces], axis=0)
+            element = geometry.add("LayerElementNormal", 0)
+            element.add("Version", 101)
+            element.add("Name", "")
+            element.add("MappingInformationType", "ByPolygonVertex")
+            element.add("ReferenceInformationType", "Direct")
+            element.add("Normals", per_corner.ravel())
+            entry = layer.add("LayerElement")
+            entry.add("Type", "LayerElementNormal")
+            entry.add("TypedIndex", 0)
+        if mesh.materials:
+            element = geometry.add("LayerElementMaterial", 0)
+            element.add("Version", 101)
+            element.add("Name", "")
+            element.add("MappingInformationType", "ByPolygon")
+            element.add("ReferenceInformationType", "IndexToDirect")
+            element.add("Materials", np.array(mesh.face_materials, dtype=np.int32))
+            entry = layer.add("LayerElement")
+            entry.add("Type", "LayerElementMaterial")
+            entry.add("TypedIndex", 0)
+        geometry.children.append(layer)
+        model = objects.add("Model", model_id, _object_name(mesh.name, "Model"), "Mesh")
+        model.add("Version", 232)
+        _properties(model, [("DefaultAttributeIndex", "int", "Integer", "", 0)])
+        model.add("Shading", True)
+        model.add("Culling", "CullingOff")
+        connections.add("C", "OO", model_id, 0)
+        connections.add("C", "OO", geometry_id, model_id)
+        for name, rgb, opacity in mesh.materials:
+            material_id = next(next_id)
+            counts["Material"] += 1
+            material = objects.add(
+                "Material", material_id, _object_name(name, "Material"), ""
+            )
+            material.add("Version", 102)
+            material.add("ShadingModel", "lambert")
+            material.add("MultiLayer", 0)
+            color = tuple(float(c) for c in rgb)
+            _properties(
+                material,
+                [
+                    ("DiffuseColor", "Color", "", "A", *color),
+                    ("Diffuse", "Vector3D", "Vector", "", *color),
+                    ("TransparencyFactor", "Number", "", "A", float(1.0 - opacity)),
+                    ("Opacity", "double", "Number", "", float(opacity)),
+                ],
+            )
+            connections.add("C", "OO", material_id, model_id)
+    definitions = _Record("Definitions")
+    definitions.add("Version", 100)
+    used = {kind: n for kind, n in counts.items() if n}
+    definitions.add("Count", sum(used.values()))
+    for kind, n in used.items():
+        template = definitions.add("ObjectType", kind)
+        template.add("Count", n)
+    records = [header, settings, definitions, objects, connections]
+    out = bytearray(HEADER + struct.pack("<I", VERSION))
+    for record in records:
+        out += record.encode(len(out))
+    out += ZERO_RECORD
+    out += FOOTER_ID
+    out += bytes(4)
+    out += bytes((16 - len(out) % 16) % 16 or 16)
+    out += struct.pack("<I", VERSION) + bytes(120) + FOOTER_MAGIC
+    return bytes(out)

@@ -1,0 +1,156 @@
+"""``com.esri.prt.codecs.FBXEncoder``: the generated models as ``<baseName>_0.fbx``.
+
+Binary FBX 7.4 (:mod:`shapegen.export.fbx`), as CityEngine's runtime writes binary FBX (its
+``fileType`` default); each initial shape is one node with one mesh of all its leaves, the
+faces kept whole (quads, n-gons) with each face's normal at its corners, and a Lambert material
+per colour. The options are those CityEngine's runtime documents for this encoder
+(Esri/cityengine-sdk, ``esri_prt_codecs.html``); each is honoured or refused with one line, in
+:data:`FBX_OPTIONS`.
+
+Coordinates are CGA's: metres, y up (the file says so in ``GlobalSettings``), as PyPRT 1.12
+writes them (measured: its FBX of the extrusion rule reads, in metres y up, as the vertices its
+PyEncoder gives).
+"""
+
+from __future__ import annotations
+
+__all__ = ["FBX_OPTIONS", "fbx_writer"]
+
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+import numpy as np
+
+from shapegen.errors import OptionError
+
+NAME = "com.esri.prt.codecs.FBXEncoder"
+FBX_OPTIONS = {
+    "outputPath": "the folder the file is written to",
+    "baseName": "the file's name: <baseName>_0.fbx (default base_name)",
+    "fileType": "BINARY (default) only: FBX 7.4 binary",
+    "existingFiles": "OVERWRITE (default) or SKIP an existing file",
+    "includeMaterials": "a Lambert material per leaf colour (default True), or none",
+    "vertexNormals": "SET_MISSING (default), SET_ALL or PASS write each face's normal; NONE none",
+    "normalsIndexing": "INDEXED or SEPARATED: normals are written per face corner either way",
+    "createShapeGroups": "accepted: each initial shape is its own node either way",
+    "meshGranularity": "INSTANCED (default), PER_MATERIAL or AS_GENERATED: one mesh per shape",
+    "fileGranularity": "MEMORY_BUDGET (default) or START_SHAPE within one file only",
+    "memoryBudget": "accepted: one file is written",
+    "localOffset": "NONE (default) only",
+    "globalOffset": "[0, 0, 0] only",
+    "triangulateMeshes": "False (default) only: faces are kept whole",
+    "facesWithHoles": "accepted: shapegen's faces have no holes",
+    "textureCoordinates": "accepted: shapegen's leaves have no texture coordinates",
+    "collectTextures": "accepted: no texture is written (the leaves have no texture coordinates)",
+    "embedTextures": "False (default) only: no texture is written",
+    "createTextureAtlases": "False (default) only",
+    "errorFallback": "False only: a shape that fails is left out",
+    "writeLog": "False (default) only",
+    "shapeNameDelimiter": "accepted: nodes are named shape_<index>, no clash to resolve",
+    **{
+        name: "accepted: vertices are written as derived, not merged"
+        for name in ("mergeVertices", "vertexPrecision", "mergeNormals", "normalPrecision",
+                     "mergeTexcoords", "texcoordPrecision", "maxAtlasDim", "atlasAddWrapBorder",
+                     "tempPath")  # fmt: skip
+    },
+}
+"""Every option the encoder takes, with what it does; any other is refused."""
+REFUSED_TEXT = ("author", "applicationName", "applicationVersion", "applicationString",
+                "applicationVendor")  # fmt: skip
+CHOICES = {
+    "fileType": ("BINARY",),
+    "existingFiles": ("OVERWRITE", "SKIP"),
+    "vertexNormals": ("SET_MISSING", "SET_ALL", "PASS", "NONE"),
+    "normalsIndexing": ("INDEXED", "SEPARATED"),
+    "meshGranularity": ("INSTANCED", "PER_MATERIAL", "AS_GENERATED"),
+    "fileGranularity": ("MEMORY_BUDGET", "START_SHAPE"),
+    "localOffset": ("NONE",),
+    "facesWithHoles": ("PASS", "TRIANGULATE_FACES_WITH_HOLES", "DISCARD_HOLES",
+                       "CONVERT_HOLES_TO_FACES"),  # fmt: skip
+    "textureCoordinates": ("NONE", "FIRST", "ALL"),
+}
+ONLY = {"triangulateMeshes": False, "embedTextures": False, "createTextureAtlases": False,
+        "writeLog": False, "errorFallback": False}  # fmt: skip
+FLAGS = ("includeMaterials", "createShapeGroups", "collectTextures",
+         "mergeVertices", "mergeNormals", "mergeTexcoords", "atlasAddWrapBorder")  # fmt: skip
+
+
+def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], None]:
+    """Check ``options`` (all but ``outputPath`` and ``baseName``) and return the writer."""
+    for name in REFUSED_TEXT:
+        if options.get(name):
+            raise OptionError(f"{NAME}: {name!r}: shapegen writes 'shapegen' as the creator")
+    unknown = sorted(set(options) - set(FBX_OPTIONS) - set(REFUSED_TEXT))
+    if unknown:
+        raise OptionError(f"{NAME} takes {', '.join(FBX_OPTIONS)}; not {', '.join(unknown)}")
+    for name, allowed in CHOICES.items():
+        if name in options and str(options[name]) not in allowed:
+            if name == "fileType" and str(options[name]) == "TEXT":
+                raise OptionError(f"{NAME}: fileType TEXT: shapegen writes binary FBX only")
+            raise OptionError(f"{NAME}: {name} {options[name]!r}: give {', '.join(allowed)}")
+    for name, allowed in ONLY.items():
+        if options.get(name, allowed) is not allowed:
+            raise OptionError(f"{NAME}: {name} {options[name]!r}: only {allowed} is supported")
+    for name in FLAGS:
+        if name in options and not isinstance(options[name], bool):
+            raise OptionError(f"{NAME}: {name} is a boolean, got {options[name]!r}")
+    offset = options.get("globalOffset", [0.0, 0.0, 0.0])
+    try:
+        zero = len(offset) == 3 and all(float(v) == 0.0 for v in offset)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        zero = False
+    if not zero:
+        raise OptionError(f"{NAME}: globalOffset {offset!r}: only [0, 0, 0] is supported")
+    for name in ("memoryBudget", "maxAtlasDim"):
+        value = options.get(name, 0)
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise OptionError(f"{NAME}: {name} is a whole number, got {value!r}")
+    for name in ("vertexPrecision", "normalPrecision", "texcoordPrecision"):
+        value = options.get(name, 0.0)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise OptionError(f"{NAME}: {name} is a number, got {value!r}")
+    existing = str(options.get("existingFiles", "OVERWRITE"))
+    normals = str(options.get("vertexNormals", "SET_MISSING")) != "NONE"
+    materials = options.get("includeMaterials", True)
+
+    def write(models: list, folder: Path, base: str) -> None:
+        from shapegen.export.atomic import atomic_write
+        from shapegen.export.fbx import encode_fbx
+
+        target = folder / f"{base}_0.fbx"
+        if existing == "SKIP" and target.exists():
+            return
+        meshes = [shape_mesh(model, k, materials=materials) for k, model in enumerate(models)]
+        payload = encode_fbx([m for m in meshes if m.faces], normals=normals)
+        with atomic_write(target, "wb") as handle:
+            handle.write(payload)
+
+    return write
+
+
+def shape_mesh(model, index: int, *, materials: bool):
+    """One initial shape's leaves (a :class:`GeneratedModel`'s blocks and surfaces) as one
+    :class:`~shapegen.export.fbx.FbxMesh` named ``shape_<index>``: each leaf's faces whole,
+    each face's material the leaf's colour and opacity (CityEngine's default white where the
+    rule set none)."""
+    from shapegen.export.fbx import FbxMesh
+
+    parts, faces, face_materials, looks = [], [], [], {}
+    base = 0
+    for leaf in [*model.model.blocks, *model.model.surfaces]:
+        points = np.asarray(leaf.vertices, dtype=float).reshape(-1, 3)
+        look = leaf.appearance
+        rgb = look.color if look is not None and look.color is not None else (1.0, 1.0, 1.0)
+        alpha = look.opacity if look is not None else 1.0
+        key = (*(round(float(c), 6) for c in rgb), round(float(alpha), 6))
+        material = looks.setdefault(key, len(looks))
+        parts.append(points)
+        for face in leaf.faces:
+            faces.append([int(i) + base for i in face])
+            face_materials.append(material)
+        base += len(points)
+    vertices = np.concatenate(parts) if parts else np.zeros((0, 3))
+    table = [(f"shape_{index}_material_{k}", key[:3], key[3]) for key, k in looks.items()]
+    if not materials:
+        table, face_materials = [], []
+    return FbxMesh(f"shape_{index}", vertices, faces, face_materials, table)
