@@ -51,9 +51,7 @@ class FbxMesh:
     vertices: np.ndarray
     faces: list[list[int]]
     face_materials: list[int] = field(default_factory=list)
-    materials: list[tuple[str, tuple[float, float, float], float]] = field(
-        default_factory=list
-    )
+    materials: list[tuple[str, tuple[float, float, float], float]] = field(default_factory=list)
 
 
 class _Record:
@@ -153,9 +151,7 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
         geometry_id, model_id = next(next_id), next(next_id)
         counts["Geometry"] += 1
         counts["Model"] += 1
-        geometry = objects.add(
-            "Geometry", geometry_id, _object_name(mesh.name, "Geometry"), "Mesh"
-        )
+        geometry = objects.add("Geometry", geometry_id, _object_name(mesh.name, "Geometry"), "Mesh")
         geometry.add("Vertices", vertices.ravel())
         polygon_index = np.array(
             [i for face in mesh.faces for i in (*face[:-1], -face[-1] - 1)], dtype=np.int32
@@ -197,9 +193,7 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
         for name, rgb, opacity in mesh.materials:
             material_id = next(next_id)
             counts["Material"] += 1
-            material = objects.add(
-                "Material", material_id, _object_name(name, "Material"), ""
-            )
+            material = objects.add("Material", material_id, _object_name(name, "Material"), "")
             material.add("Version", 102)
             material.add("ShadingModel", "lambert")
             material.add("MultiLayer", 0)

@@ -28,8 +28,8 @@ from pathlib import Path
 
 from shapegen.errors import OptionError
 from shapegen.export.atomic import atomic_write
-from shapegen.prt.generated_models import GeneratedModel
 from shapegen.prt.fbx_encoder import fbx_writer
+from shapegen.prt.generated_models import GeneratedModel
 from shapegen.prt.i3s_encoder import i3s_writer
 
 OBJ_ENCODER = "com.esri.prt.codecs.OBJEncoder"

@@ -49,9 +49,17 @@ FBX_OPTIONS = {
     "shapeNameDelimiter": "accepted: nodes are named shape_<index>, no clash to resolve",
     **{
         name: "accepted: vertices are written as derived, not merged"
-        for name in ("mergeVertices", "vertexPrecision", "mergeNormals", "normalPrecision",
-                     "mergeTexcoords", "texcoordPrecision", "maxAtlasDim", "atlasAddWrapBorder",
-                     "tempPath")  # fmt: skip
+        for name in (
+            "mergeVertices",
+            "vertexPrecision",
+            "mergeNormals",
+            "normalPrecision",
+            "mergeTexcoords",
+            "texcoordPrecision",
+            "maxAtlasDim",
+            "atlasAddWrapBorder",
+            "tempPath",
+        )  # fmt: skip
     },
 }
 """Every option the encoder takes, with what it does; any other is refused."""
@@ -65,8 +73,12 @@ CHOICES = {
     "meshGranularity": ("INSTANCED", "PER_MATERIAL", "AS_GENERATED"),
     "fileGranularity": ("MEMORY_BUDGET", "START_SHAPE"),
     "localOffset": ("NONE",),
-    "facesWithHoles": ("PASS", "TRIANGULATE_FACES_WITH_HOLES", "DISCARD_HOLES",
-                       "CONVERT_HOLES_TO_FACES"),  # fmt: skip
+    "facesWithHoles": (
+        "PASS",
+        "TRIANGULATE_FACES_WITH_HOLES",
+        "DISCARD_HOLES",
+        "CONVERT_HOLES_TO_FACES",
+    ),  # fmt: skip
     "textureCoordinates": ("NONE", "FIRST", "ALL"),
 }
 ONLY = {"triangulateMeshes": False, "embedTextures": False, "createTextureAtlases": False,

@@ -1,0 +1,192 @@
+"""The FBX encoder (``com.esri.prt.codecs.FBXEncoder``): the file read back by ufbx, a reader
+independent of the writer, and the same checks passed by the FBX that CityEngine's runtime
+(PyPRT 1.12) wrote of the same shapes (tests/data/fbx-pyprt/README.md)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shapegen.prt as pyprt
+from shapegen.errors import OptionError
+
+ufbx = pytest.importorskip("ufbx")
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+CITYENGINE_FILE = DATA / "fbx-pyprt" / "extrusion_pyprt112_0.fbx"
+EXTRUSION = (
+    DATA / "cga-corpus" / "tests_data_extrusion_rule__e4df6667" / "rules" / "extrusion_rule.cga"
+)
+SQUARE = [0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0]
+SMALL = [30, 0, 0, 30, 0, 8, 38, 0, 8, 38, 0, 0]
+FIXED = {"minBuildingHeight": 23.0, "maxBuildingHeight": 23.0}
+FBX = "com.esri.prt.codecs.FBXEncoder"
+
+
+def read_fbx(path: Path) -> list[dict]:
+    """Each mesh node of the file, in metres and y up: its name, vertices ``(n, 3)``, faces
+    (vertex indices as the file has them), each face corner's normal, its materials' colours
+    and each face's material; read by ufbx (plain data: nothing of ufbx outlives the scene)."""
+    scene = ufbx.load_file(
+        str(path), target_axes=ufbx.axes_right_handed_y_up, target_unit_meters=1.0
+    )
+    meshes = []
+    for node in scene.nodes:
+        mesh = node.mesh
+        if mesh is None:
+            continue
+        m = node.geometry_to_world
+        affine = np.array([[m.c0.x, m.c1.x, m.c2.x, m.c3.x], [m.c0.y, m.c1.y, m.c2.y, m.c3.y],
+                           [m.c0.z, m.c1.z, m.c2.z, m.c3.z]])  # fmt: skip
+        points = np.array([[v.x, v.y, v.z] for v in mesh.vertices], dtype=float)
+        faces = [
+            [mesh.vertex_indices[f.index_begin + k] for k in range(f.num_indices)]
+            for f in mesh.faces
+        ]
+        normals = None
+        if mesh.vertex_normal.exists:
+            values, indices = mesh.vertex_normal.values, mesh.vertex_normal.indices
+            normals = [
+                np.array([[values[indices[f.index_begin + k]].x,
+                           values[indices[f.index_begin + k]].y,
+                           values[indices[f.index_begin + k]].z] for k in range(f.num_indices)])
+                for f in mesh.faces
+            ]  # fmt: skip
+        colors = []
+        for material in mesh.materials:
+            c = material.fbx.diffuse_color.value_vec4
+            colors.append((c.x, c.y, c.z))
+        meshes.append(
+            {
+                "name": node.name,
+                "vertices": points @ affine[:, :3].T + affine[:, 3],
+                "faces": faces,
+                "normals": normals,
+                "colors": colors,
+                "face_materials": list(mesh.face_material) if colors else [],
+                "version": scene.metadata.version,
+                "ascii": scene.metadata.ascii,
+            }
+        )
+    return meshes
+
+
+def polygons(meshes: list[dict]) -> list[tuple]:
+    """Every face as its corners' coordinates (mm), starting at its least corner so that a
+    face reads the same wherever its ring starts, sorted: the geometry, however it is split
+    into meshes or its vertices numbered."""
+    out = []
+    for mesh in meshes:
+        for face in mesh["faces"]:
+            ring = [tuple(np.round(mesh["vertices"][i] * 1000).astype(int)) for i in face]
+            first = ring.index(min(ring))
+            out.append(tuple(ring[first:] + ring[:first]))
+    return sorted(out)
+
+
+def check_normals(meshes: list[dict]) -> None:
+    """Each face corner's normal is a unit vector across the face's plane (at right angles to
+    its edges), and points out of the closed box the face belongs to (the centre of the faces
+    joined to it by shared corners: a mesh may hold several boxes)."""
+    for mesh in meshes:
+        roots = corner_groups(len(mesh["vertices"]), mesh["faces"])
+        for face, normals in zip(mesh["faces"], mesh["normals"], strict=True):
+            centre = mesh["vertices"][roots == roots[face[0]]].mean(axis=0)
+            ring = mesh["vertices"][face]
+            edges = np.roll(ring, -1, axis=0) - ring
+            for normal in normals:
+                assert np.linalg.norm(normal) == pytest.approx(1.0)
+                assert np.abs(edges @ normal).max() < 1e-9
+                assert (ring.mean(axis=0) - centre) @ normal > 0.0
+
+
+def corner_groups(count: int, faces: list[list[int]]) -> np.ndarray:
+    """For each vertex, the root of the group of vertices joined by faces (union-find)."""
+    part = list(range(count))
+
+    def root(i: int) -> int:
+        while part[i] != i:
+            i = part[i]
+        return i
+
+    for face in faces:
+        for i in face[1:]:
+            part[root(i)] = root(face[0])
+    return np.array([root(i) for i in range(count)])
+
+
+def generate(tmp_path: Path, **options) -> list:
+    generator = pyprt.ModelGenerator([pyprt.InitialShape(SQUARE), pyprt.InitialShape(SMALL)])
+    generator.generate_model(
+        [FIXED, FIXED], str(EXTRUSION), FBX, {"outputPath": str(tmp_path), **options}
+    )
+    return pyprt.ModelGenerator(
+        [pyprt.InitialShape(SQUARE), pyprt.InitialShape(SMALL)]
+    ).generate_model([FIXED, FIXED], str(EXTRUSION), "com.esri.pyprt.PyEncoder", {})
+
+
+def test_each_shape_is_a_node_whose_mesh_is_the_model(tmp_path):
+    models = generate(tmp_path, baseName="extrusion")
+    meshes = read_fbx(tmp_path / "extrusion_0.fbx")
+    assert not meshes[0]["ascii"] and meshes[0]["version"] == 7400
+    assert [m["name"] for m in meshes] == ["shape_0", "shape_1"]
+    for mesh, model in zip(meshes, models, strict=True):
+        vertices = np.array(model.get_vertices()).reshape(-1, 3)
+        np.testing.assert_allclose(mesh["vertices"], vertices, atol=1e-9)
+        indices = iter(model.get_indices())
+        assert mesh["faces"] == [[next(indices) for _ in range(n)] for n in model.get_faces()]
+        assert [len(f) for f in mesh["faces"]] == [4] * 6  # the box's quads kept whole
+    check_normals(meshes)
+    # the rule's buildingColor, #FF00FF, on every face
+    assert all(m["colors"] == [(1.0, 0.0, 1.0)] and set(m["face_materials"]) == {0}
+               for m in meshes)  # fmt: skip
+    for name in ("CGAReport.txt", "CGAPrint.txt", "CGAError.txt"):
+        assert (tmp_path / name).is_file()
+
+
+def test_cityengines_file_passes_the_same_checks_and_holds_the_same_faces(tmp_path):
+    """The reader and checks read a file CityEngine's runtime wrote: its two boxes (one mesh)
+    are shapegen's, face for face, in the same place and colour."""
+    generate(tmp_path)
+    ours = read_fbx(tmp_path / "base_name_0.fbx")
+    theirs = read_fbx(CITYENGINE_FILE)
+    assert not theirs[0]["ascii"] and theirs[0]["version"] == 7700
+    check_normals(theirs)
+    assert polygons(theirs) == polygons(ours)
+    assert len(polygons(ours)) == 12
+    assert theirs[0]["colors"] == ours[0]["colors"]
+
+
+def test_options_change_what_is_written(tmp_path):
+    generate(tmp_path, vertexNormals="NONE", includeMaterials=False)
+    meshes = read_fbx(tmp_path / "base_name_0.fbx")
+    assert all(m["normals"] is None and m["colors"] == [] for m in meshes)
+    target = tmp_path / "base_name_0.fbx"
+    target.write_bytes(b"kept")
+    generate(tmp_path, existingFiles="SKIP")
+    assert target.read_bytes() == b"kept"
+    generate(tmp_path, existingFiles="OVERWRITE")
+    assert len(read_fbx(target)) == 2
+
+
+@pytest.mark.parametrize(
+    ("options", "words"),
+    [
+        ({"fileType": "TEXT"}, "binary FBX only"),
+        ({"triangulateMeshes": True}, "triangulateMeshes True"),
+        ({"embedTextures": True}, "embedTextures True"),
+        ({"globalOffset": [1, 0, 0]}, "globalOffset"),
+        ({"localOffset": "SHAPE_CENTROID"}, "localOffset"),
+        ({"vertexNormals": "SOME"}, "vertexNormals 'SOME'"),
+        ({"includeMaterials": "yes"}, "includeMaterials is a boolean"),
+        ({"author": "me"}, "'author'"),
+        ({"colour": 1}, "not colour"),
+    ],
+)
+def test_an_option_it_cannot_honour_is_refused_before_anything_is_written(tmp_path, options, words):
+    with pytest.raises(OptionError, match=words) as caught:
+        generate(tmp_path, **options)
+    assert "\n" not in str(caught.value)
+    assert list(tmp_path.iterdir()) == []
