@@ -128,7 +128,7 @@ def test_py_encoder_options_are_checked(options, message):
 def test_an_encoder_shapegen_does_not_have_is_refused(tmp_path):
     generator = pyprt.ModelGenerator([pyprt.InitialShape(SQUARE)])
     with pytest.raises(OptionError, match="is not supported by shapegen"):
-        generator.generate_model([{}], str(EXTRUSION), "com.esri.prt.codecs.FBXEncoder",
+        generator.generate_model([{}], str(EXTRUSION), "com.esri.prt.codecs.USDEncoder",
                                  {"outputPath": str(tmp_path)})  # fmt: skip
     assert list(tmp_path.iterdir()) == []
 
