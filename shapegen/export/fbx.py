@@ -15,7 +15,14 @@ The layout, from the published descriptions of the format:
   ``C`` bool (one byte), ``S`` text (uint32 length and the bytes); an array
   (``i``, ``d``, ...) is its length, its encoding (0, not compressed) and byte length, then the
   items;
-- the top level closes with the zero record, then the footer.
+- the top level closes with the zero record, then the footer: a 16-byte code, zeros up to the
+  version (uint32) so that the file ends on a 16-byte boundary, 120 zeros, a 16-byte magic.
+
+What Autodesk's FBX SDK asks beyond the layout (measured with CityEngine's runtime, PyPRT 1.12,
+whose FBX reader is that SDK: it reported "geometry must at least contain one mesh" until each
+held): object ids and the connections' ids are int64 (``L``) even when small; every object
+type is declared in ``Definitions``; the footer's code goes with the file's ``FileId`` and
+``CreationTime`` (a fixed triple, so the file is the same for the same models).
 
 Objects (geometry, model, material) have int64 ids and are tied by ``Connections``: geometry
 and material to their model, the model to the scene's root (id 0). A face is its corners'
@@ -36,7 +43,10 @@ import numpy as np
 VERSION = 7400
 HEADER = b"Kaydara FBX Binary  \x00\x1a\x00"
 ZERO_RECORD = bytes(13)
-# the footer's fixed bytes, as the format's readers and writers give them
+# the footer code goes with this FileId and CreationTime (the SDK checks the three together);
+# the magic ends every binary FBX file
+FILE_ID = bytes.fromhex("28b3 2aeb b624 ccc2 bfc8 b02a a92b fcf1")
+CREATION_TIME = "1970-01-01 10:00:00:000"
 FOOTER_ID = bytes.fromhex("fabc ab09 d0c8 d466 b176 fb83 1cf7 267e")
 FOOTER_MAGIC = bytes.fromhex("f85a 8c6a def5 d97e ece9 0ce3 758f 290b")
 
@@ -80,11 +90,21 @@ class _Record:
         return head + name + values + body
 
 
+class _Id(int):
+    """An object id: written as int64 (``L``) whatever its size, as readers expect ids."""
+
+
+class _Raw(bytes):
+    """Bytes written as a raw value (``R``), not as text."""
+
+
 def _value(value) -> bytes:
     if isinstance(value, bool):
         return b"C" + struct.pack("<?", value)
+    if isinstance(value, _Raw):
+        return b"R" + struct.pack("<I", len(value)) + bytes(value)
     if isinstance(value, int):
-        if -(2**31) <= value < 2**31:
+        if -(2**31) <= value < 2**31 and not isinstance(value, _Id):
             return b"I" + struct.pack("<i", value)
         return b"L" + struct.pack("<q", value)
     if isinstance(value, float):
@@ -103,6 +123,10 @@ def _properties(record: _Record, rows: list[tuple]) -> None:
     block = record.add("Properties70")
     for row in rows:
         block.add("P", *row)
+
+
+ROOT = _Id(0)
+"""The scene's root node."""
 
 
 def _object_name(name: str, kind: str) -> str:
@@ -144,7 +168,7 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
     )
     objects = _Record("Objects")
     connections = _Record("Connections")
-    next_id = iter(range(1_000_000, 2**62))
+    next_id = (_Id(k) for k in range(1_000_000, 2**62))
     counts = {"Model": 0, "Geometry": 0, "Material": 0}
     for mesh in meshes:
         vertices = np.asarray(mesh.vertices, dtype=float).reshape(-1, 3)
@@ -188,7 +212,7 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
         _properties(model, [("DefaultAttributeIndex", "int", "Integer", "", 0)])
         model.add("Shading", True)
         model.add("Culling", "CullingOff")
-        connections.add("C", "OO", model_id, 0)
+        connections.add("C", "OO", model_id, ROOT)
         connections.add("C", "OO", geometry_id, model_id)
         for name, rgb, opacity in mesh.materials:
             material_id = next(next_id)
@@ -211,17 +235,27 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
     definitions = _Record("Definitions")
     definitions.add("Version", 100)
     used = {kind: n for kind, n in counts.items() if n}
-    definitions.add("Count", sum(used.values()))
+    definitions.add("Count", sum(used.values()) + 1)
+    definitions.add("ObjectType", "GlobalSettings").add("Count", 1)
     for kind, n in used.items():
         template = definitions.add("ObjectType", kind)
         template.add("Count", n)
-    records = [header, settings, definitions, objects, connections]
+    documents = _Record("Documents")
+    documents.add("Count", 1)
+    document = documents.add("Document", next(next_id), "Scene", "Scene")
+    _properties(document, [])
+    document.add("RootNode", ROOT)
+    takes = _Record("Takes")
+    takes.add("Current", "")
+    records = [header, _Record("FileId", _Raw(FILE_ID)), _Record("CreationTime", CREATION_TIME),
+               _Record("Creator", creator), settings, documents, _Record("References"),
+               definitions, objects, connections, takes]  # fmt: skip
     out = bytearray(HEADER + struct.pack("<I", VERSION))
     for record in records:
         out += record.encode(len(out))
-    out += ZERO_RECORD
-    out += FOOTER_ID
-    out += bytes(4)
-    out += bytes((16 - len(out) % 16) % 16 or 16)
+    out += ZERO_RECORD + FOOTER_ID
+    # zeros (at least one) up to the version, so that the file ends on a 16-byte boundary
+    tail = 4 + 120 + len(FOOTER_MAGIC)
+    out += bytes((-(len(out) + tail)) % 16 or 16)
     out += struct.pack("<I", VERSION) + bytes(120) + FOOTER_MAGIC
     return bytes(out)

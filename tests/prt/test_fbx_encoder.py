@@ -190,3 +190,72 @@ def test_an_option_it_cannot_honour_is_refused_before_anything_is_written(tmp_pa
         generate(tmp_path, **options)
     assert "\n" not in str(caught.value)
     assert list(tmp_path.iterdir()) == []
+
+
+def records(data: bytes) -> list[tuple]:
+    """The top-level records of a binary FBX file (versions below 7500: 32-bit offsets), each
+    ``(name, [(type letter, value)], children)``, parsed from the format's description."""
+    import struct
+
+    sizes = {"Y": "<h", "C": "<?", "I": "<i", "F": "<f", "D": "<d", "L": "<q"}
+
+    def record(offset: int):
+        end, count, _, length = struct.unpack_from("<IIIB", data, offset)
+        if end == 0:
+            return None, offset + 13
+        name = data[offset + 13 : offset + 13 + length].decode()
+        offset += 13 + length
+        values = []
+        for _ in range(count):
+            kind = chr(data[offset])
+            offset += 1
+            if kind in sizes:
+                values.append((kind, struct.unpack_from(sizes[kind], data, offset)[0]))
+                offset += struct.calcsize(sizes[kind])
+            elif kind in "SR":
+                (size,) = struct.unpack_from("<I", data, offset)
+                values.append((kind, data[offset + 4 : offset + 4 + size]))
+                offset += 4 + size
+            else:
+                _, _, size = struct.unpack_from("<III", data, offset)
+                values.append((kind, None))
+                offset += 12 + size
+        children = []
+        while offset < end:
+            child, offset = record(offset)
+            if child is None:
+                break
+            children.append(child)
+        return (name, values, children), end
+
+    out, offset = [], 27
+    while True:
+        top, offset = record(offset)
+        if top is None:
+            return out
+        out.append(top)
+
+
+def test_the_file_holds_what_autodesks_reader_asks(tmp_path):
+    """What CityEngine's runtime (Autodesk's FBX SDK) needed to find the meshes, measured:
+    int64 ids, every object type declared, the footer code with its FileId and CreationTime
+    (the pair PyPRT's file shows: another time with the same code is not read), 16-byte end."""
+    generate(tmp_path)
+    data = (tmp_path / "base_name_0.fbx").read_bytes()
+    assert data[:27] == b"Kaydara FBX Binary  \x00\x1a\x00" + (7400).to_bytes(4, "little")
+    assert len(data) % 16 == 0 and data.endswith(bytes.fromhex("f85a8c6adef5d97eece90ce3758f290b"))
+    top = {name: (values, children) for name, values, children in records(data)}
+    assert top["FileId"][0] == [("R", bytes.fromhex("28b32aebb624ccc2bfc8b02aa92bfcf1"))]
+    assert top["CreationTime"][0] == [("S", b"1970-01-01 10:00:00:000")]
+    assert bytes.fromhex("fabcab09d0c8d466b176fb831cf7267e") in data[-176:]
+    objects = top["Objects"][1]
+    assert {name for name, _, _ in objects} == {"Geometry", "Model", "Material"}
+    assert all(values[0][0] == "L" for _, values, _ in objects)
+    links = [values for name, values, _ in top["Connections"][1] if name == "C"]
+    assert links and all(v[1][0] == "L" and v[2][0] == "L" for v in links)
+    declared = {
+        values[0][1].decode(): next(c[1][0][1] for c in children if c[0] == "Count")
+        for name, values, children in top["Definitions"][1]
+        if name == "ObjectType"
+    }
+    assert declared == {"GlobalSettings": 1, "Model": 2, "Geometry": 2, "Material": 2}
