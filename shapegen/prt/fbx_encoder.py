@@ -24,6 +24,8 @@ import numpy as np
 from shapegen.errors import OptionError
 
 NAME = "com.esri.prt.codecs.FBXEncoder"
+VERTEX_PRECISION_M = 0.001
+"""CityEngine's default ``vertexPrecision``: vertices closer than 1 mm are merged."""
 FBX_OPTIONS = {
     "outputPath": "the folder the file is written to",
     "baseName": "the file's name: <baseName>_0.fbx (default base_name)",
@@ -47,20 +49,15 @@ FBX_OPTIONS = {
     "errorFallback": "False only: a shape that fails is left out",
     "writeLog": "False (default) only",
     "shapeNameDelimiter": "accepted: nodes are named shape_<index>, no clash to resolve",
-    **{
-        name: "accepted: vertices are written as derived, not merged"
-        for name in (
-            "mergeVertices",
-            "vertexPrecision",
-            "mergeNormals",
-            "normalPrecision",
-            "mergeTexcoords",
-            "texcoordPrecision",
-            "maxAtlasDim",
-            "atlasAddWrapBorder",
-            "tempPath",
-        )  # fmt: skip
-    },
+    "mergeVertices": "True (default): a shape's vertices closer than vertexPrecision are one",
+    "vertexPrecision": "the distance within which vertices merge (default 0.001 m)",
+    "mergeNormals": "accepted: each face corner has its face's normal, written per corner",
+    "normalPrecision": "accepted: normals are not merged",
+    "mergeTexcoords": "accepted: no texture coordinates are written",
+    "texcoordPrecision": "accepted: no texture coordinates are written",
+    "maxAtlasDim": "accepted: no texture atlas is made",
+    "atlasAddWrapBorder": "accepted: no texture atlas is made",
+    "tempPath": "accepted: the file is written atomically in outputPath",
 }
 """Every option the encoder takes, with what it does; any other is refused."""
 REFUSED_TEXT = ("author", "applicationName", "applicationVersion", "applicationString",
@@ -121,6 +118,10 @@ def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], Non
         value = options.get(name, 0.0)
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise OptionError(f"{NAME}: {name} is a number, got {value!r}")
+    precision = float(options.get("vertexPrecision", VERTEX_PRECISION_M))
+    if not 0.0 <= precision <= 1.0:
+        raise OptionError(f"{NAME}: vertexPrecision {precision!r} is not between 0 and 1 m")
+    merge = precision if options.get("mergeVertices", True) else None
     existing = str(options.get("existingFiles", "OVERWRITE"))
     normals = str(options.get("vertexNormals", "SET_MISSING")) != "NONE"
     materials = options.get("includeMaterials", True)
@@ -132,7 +133,9 @@ def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], Non
         target = folder / f"{base}_0.fbx"
         if existing == "SKIP" and target.exists():
             return
-        meshes = [shape_mesh(model, k, materials=materials) for k, model in enumerate(models)]
+        meshes = [
+            shape_mesh(model, k, materials=materials, merge=merge) for k, model in enumerate(models)
+        ]
         payload = encode_fbx([m for m in meshes if m.faces], normals=normals)
         with atomic_write(target, "wb") as handle:
             handle.write(payload)
@@ -140,11 +143,12 @@ def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], Non
     return write
 
 
-def shape_mesh(model, index: int, *, materials: bool):
+def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None):
     """One initial shape's leaves (a :class:`GeneratedModel`'s blocks and surfaces) as one
     :class:`~shapegen.export.fbx.FbxMesh` named ``shape_<index>``: each leaf's faces whole,
     each face's material the leaf's colour and opacity (CityEngine's default white where the
-    rule set none)."""
+    rule set none). With ``merge`` (metres), vertices closer than it are one (see
+    :func:`merged_vertices`)."""
     from shapegen.export.fbx import FbxMesh
 
     parts, faces, face_materials, looks = [], [], [], {}
@@ -163,6 +167,48 @@ def shape_mesh(model, index: int, *, materials: bool):
         base += len(points)
     vertices = np.concatenate(parts) if parts else np.zeros((0, 3))
     table = [(f"shape_{index}_material_{k}", key[:3], key[3]) for key, k in looks.items()]
+    if merge is not None and len(vertices):
+        vertices, faces, kept = merged_vertices(vertices, faces, merge)
+        face_materials = [face_materials[k] for k in kept]
     if not materials:
         table, face_materials = [], []
     return FbxMesh(f"shape_{index}", vertices, faces, face_materials, table)
+
+
+def merged_vertices(
+    vertices: np.ndarray, faces: list[list[int]], precision: float
+) -> tuple[np.ndarray, list[list[int]], list[int]]:
+    """``vertices`` with those within ``precision`` of each other (chains included) made one,
+    at the first one's place, as CityEngine's ``mergeVertices`` shares co-incident vertices;
+    unused ones dropped. A face's corners that became one are written once; a face left with
+    fewer than three corners is dropped. Returns the vertices, the faces and the indices of the
+    faces kept."""
+    from scipy.spatial import cKDTree
+
+    parent = np.arange(len(vertices))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return int(i)
+
+    for i, j in sorted(cKDTree(vertices).query_pairs(precision)):
+        a, b = root(i), root(j)
+        if a != b:
+            parent[max(a, b)] = min(a, b)
+    roots = np.array([root(i) for i in range(len(vertices))])
+    out_faces, kept = [], []
+    for k, face in enumerate(faces):
+        ring = [int(roots[i]) for i in face]
+        ring = [c for n, c in enumerate(ring) if c != ring[n - 1]] if len(set(ring)) > 1 else []
+        if len(ring) >= 3:
+            out_faces.append(ring)
+            kept.append(k)
+    used = sorted({i for face in out_faces for i in face})
+    number = {old: new for new, old in enumerate(used)}
+    return (
+        vertices[used],
+        [[number[i] for i in face] for face in out_faces],
+        kept,
+    )

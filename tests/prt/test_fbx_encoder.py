@@ -259,3 +259,30 @@ def test_the_file_holds_what_autodesks_reader_asks(tmp_path):
         if name == "ObjectType"
     }
     assert declared == {"GlobalSettings": 1, "Model": 2, "Geometry": 2, "Material": 2}
+
+
+def test_vertices_within_the_precision_are_merged_and_a_face_they_collapse_is_dropped():
+    from shapegen.prt.fbx_encoder import merged_vertices
+
+    # two unit quads side by side, each with its own corners; the second's shared edge 0.5 mm
+    # off; a sliver triangle whose corners are all within 1 mm of one place
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1],
+                         [1.0005, 0, 0], [2, 0, 0], [2, 0, 1], [1.0005, 0, 1],
+                         [5, 0, 5], [5.0004, 0, 5], [5, 0, 5.0004]], dtype=float)  # fmt: skip
+    faces = [[0, 1, 2, 3], [4, 5, 6, 7], [8, 9, 10]]
+    points, merged, kept = merged_vertices(vertices, faces, 0.001)
+    assert len(points) == 6 and kept == [0, 1]
+    assert merged == [[0, 1, 2, 3], [1, 4, 5, 2]]
+    np.testing.assert_allclose(points[merged[1][0]], [1, 0, 0])  # the first one's place
+    points, merged, kept = merged_vertices(vertices, faces, 0.0001)
+    assert len(points) == 11 and kept == [0, 1, 2]
+
+
+@pytest.mark.parametrize(
+    ("options", "words"),
+    [({"vertexPrecision": 5.0}, "not between 0 and 1"), ({"mergeVertices": 1}, "a boolean")],
+)
+def test_a_merge_option_out_of_range_is_refused(tmp_path, options, words):
+    with pytest.raises(OptionError, match=words):
+        generate(tmp_path, **options)
+    assert list(tmp_path.iterdir()) == []
