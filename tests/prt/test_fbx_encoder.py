@@ -179,6 +179,7 @@ def test_options_change_what_is_written(tmp_path):
         ({"embedTextures": True}, "embedTextures True"),
         ({"globalOffset": [1, 0, 0]}, "globalOffset"),
         ({"localOffset": "SHAPE_CENTROID"}, "localOffset"),
+        ({"fileGranularity": "START_SHAPE"}, "fileGranularity"),
         ({"vertexNormals": "SOME"}, "vertexNormals 'SOME'"),
         ({"includeMaterials": "yes"}, "includeMaterials is a boolean"),
         ({"author": "me"}, "'author'"),
