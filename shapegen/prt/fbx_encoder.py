@@ -41,7 +41,7 @@ FBX_OPTIONS = {
     "localOffset": "NONE (default) only",
     "globalOffset": "[0, 0, 0] only",
     "triangulateMeshes": "False (default) only: faces are kept whole",
-    "facesWithHoles": "accepted: shapegen's faces have no holes",
+    "facesWithHoles": "TRIANGULATE_FACES_WITH_HOLES (default) only: an FBX polygon has no holes",
     "textureCoordinates": "accepted: shapegen's leaves have no texture coordinates",
     "collectTextures": "accepted: no texture is written (the leaves have no texture coordinates)",
     "embedTextures": "False (default) only: no texture is written",
@@ -70,12 +70,8 @@ CHOICES = {
     "meshGranularity": ("INSTANCED", "PER_MATERIAL", "AS_GENERATED"),
     "fileGranularity": ("MEMORY_BUDGET",),
     "localOffset": ("NONE",),
-    "facesWithHoles": (
-        "PASS",
-        "TRIANGULATE_FACES_WITH_HOLES",
-        "DISCARD_HOLES",
-        "CONVERT_HOLES_TO_FACES",
-    ),  # fmt: skip
+    "facesWithHoles": ("TRIANGULATE_FACES_WITH_HOLES",),
+    # fmt: skip
     "textureCoordinates": ("NONE", "FIRST", "ALL"),
 }
 ONLY = {"triangulateMeshes": False, "embedTextures": False, "createTextureAtlases": False,
@@ -161,7 +157,7 @@ def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None
         key = (*(round(float(c), 6) for c in rgb), round(float(alpha), 6))
         material = looks.setdefault(key, len(looks))
         parts.append(points)
-        for face in leaf.faces:
+        for face in _leaf_faces(leaf, points):
             faces.append([int(i) + base for i in face])
             face_materials.append(material)
         base += len(points)
@@ -173,6 +169,27 @@ def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None
     if not materials:
         table, face_materials = [], []
     return FbxMesh(f"shape_{index}", vertices, faces, face_materials, table)
+
+
+def _leaf_faces(leaf, points: np.ndarray) -> list:
+    """A leaf's faces, each whole; a face with holes as triangles covering it, as CityEngine's
+    default ``facesWithHoles`` (TRIANGULATE_FACES_WITH_HOLES) writes it. A leaf with holes
+    keeps its faces as CityEngine has them in ``polygons`` and, in ``faces``, polygons without
+    holes covering the same surface: those of its ``faces`` that are not among ``polygons``
+    are the pieces of a face with holes."""
+    polygons = getattr(leaf, "polygons", None)
+    if not polygons:
+        return list(leaf.faces)
+    from shapegen.export.surfaces import face_triangles
+
+    whole = {tuple(int(i) for i in polygon) for polygon in polygons}
+    out = []
+    for face in leaf.faces:
+        if tuple(int(i) for i in face) in whole:
+            out.append(face)
+        else:
+            out.extend(face_triangles(points, [face]).tolist())
+    return out
 
 
 def merged_vertices(

@@ -33,44 +33,47 @@ def read_fbx(path: Path) -> list[dict]:
         str(path), target_axes=ufbx.axes_right_handed_y_up, target_unit_meters=1.0
     )
     meshes = []
-    for node in scene.nodes:
-        mesh = node.mesh
-        if mesh is None:
-            continue
-        m = node.geometry_to_world
-        affine = np.array([[m.c0.x, m.c1.x, m.c2.x, m.c3.x], [m.c0.y, m.c1.y, m.c2.y, m.c3.y],
-                           [m.c0.z, m.c1.z, m.c2.z, m.c3.z]])  # fmt: skip
-        points = np.array([[v.x, v.y, v.z] for v in mesh.vertices], dtype=float)
-        faces = [
-            [mesh.vertex_indices[f.index_begin + k] for k in range(f.num_indices)]
-            for f in mesh.faces
-        ]
-        normals = None
-        if mesh.vertex_normal.exists:
-            values, indices = mesh.vertex_normal.values, mesh.vertex_normal.indices
-            normals = [
-                np.array([[values[indices[f.index_begin + k]].x,
-                           values[indices[f.index_begin + k]].y,
-                           values[indices[f.index_begin + k]].z] for k in range(f.num_indices)])
-                for f in mesh.faces
-            ]  # fmt: skip
-        colors = []
-        for material in mesh.materials:
-            c = material.fbx.diffuse_color.value_vec4
-            colors.append((c.x, c.y, c.z))
-        meshes.append(
-            {
-                "name": node.name,
-                "vertices": points @ affine[:, :3].T + affine[:, 3],
-                "faces": faces,
-                "normals": normals,
-                "colors": colors,
-                "face_materials": list(mesh.face_material) if colors else [],
-                "version": scene.metadata.version,
-                "ascii": scene.metadata.ascii,
-            }
-        )
+    try:
+        version, ascii_form = scene.metadata.version, scene.metadata.ascii
+        for node in scene.nodes:
+            if node.mesh is not None:
+                meshes.append({**_mesh_data(node), "version": version, "ascii": ascii_form})
+            del node  # nothing may point into the scene when it is freed
+    finally:
+        scene.free()
     return meshes
+
+
+def _mesh_data(node) -> dict:
+    """A ufbx node's mesh as plain data (nothing of ufbx kept)."""
+    mesh = node.mesh
+    m = node.geometry_to_world
+    affine = np.array([[m.c0.x, m.c1.x, m.c2.x, m.c3.x], [m.c0.y, m.c1.y, m.c2.y, m.c3.y],
+                       [m.c0.z, m.c1.z, m.c2.z, m.c3.z]])  # fmt: skip
+    points = np.array([[v.x, v.y, v.z] for v in mesh.vertices], dtype=float).reshape(-1, 3)
+    corners = list(mesh.vertex_indices)
+    spans = [(f.index_begin, f.num_indices) for f in mesh.faces]
+    faces = [corners[start : start + n] for start, n in spans]
+    normals = None
+    if mesh.vertex_normal.exists:
+        values = [(v.x, v.y, v.z) for v in mesh.vertex_normal.values]
+        indices = list(mesh.vertex_normal.indices)
+        normals = [np.array([values[indices[start + k]] for k in range(n)]) for start, n in spans]
+    colors = []
+    for material in mesh.materials:
+        c = material.fbx.diffuse_color.value_vec4
+        colors.append((c.x, c.y, c.z))
+        del material
+    out = {
+        "name": str(node.name),
+        "vertices": points @ affine[:, :3].T + affine[:, 3],
+        "faces": faces,
+        "normals": normals,
+        "colors": colors,
+        "face_materials": list(mesh.face_material) if colors else [],
+    }
+    del mesh, m
+    return out
 
 
 def polygons(meshes: list[dict]) -> list[tuple]:
@@ -86,9 +89,10 @@ def polygons(meshes: list[dict]) -> list[tuple]:
     return sorted(out)
 
 
-def check_normals(meshes: list[dict]) -> None:
+def check_normals(meshes: list[dict], *, boxes: bool = True) -> None:
     """Each face corner's normal is a unit vector across the face's plane (at right angles to
-    its edges), and points out of the closed box the face belongs to (the centre of the faces
+    its edges) on the side the face's corners turn counter-clockwise, and (``boxes``) points out
+    of the closed box the face belongs to (the centre of the faces
     joined to it by shared corners: a mesh may hold several boxes)."""
     for mesh in meshes:
         roots = corner_groups(len(mesh["vertices"]), mesh["faces"])
@@ -99,7 +103,9 @@ def check_normals(meshes: list[dict]) -> None:
             for normal in normals:
                 assert np.linalg.norm(normal) == pytest.approx(1.0)
                 assert np.abs(edges @ normal).max() < 1e-9
-                assert (ring.mean(axis=0) - centre) @ normal > 0.0
+                assert np.cross(ring, np.roll(ring, -1, axis=0)).sum(axis=0) @ normal > 0.0
+                if boxes:
+                    assert (ring.mean(axis=0) - centre) @ normal > 0.0
 
 
 def corner_groups(count: int, faces: list[list[int]]) -> np.ndarray:
@@ -180,6 +186,7 @@ def test_options_change_what_is_written(tmp_path):
         ({"globalOffset": [1, 0, 0]}, "globalOffset"),
         ({"localOffset": "SHAPE_CENTROID"}, "localOffset"),
         ({"fileGranularity": "START_SHAPE"}, "fileGranularity"),
+        ({"facesWithHoles": "PASS"}, "facesWithHoles"),
         ({"vertexNormals": "SOME"}, "vertexNormals 'SOME'"),
         ({"includeMaterials": "yes"}, "includeMaterials is a boolean"),
         ({"author": "me"}, "'author'"),
@@ -287,3 +294,51 @@ def test_a_merge_option_out_of_range_is_refused(tmp_path, options, words):
     with pytest.raises(OptionError, match=words):
         generate(tmp_path, **options)
     assert list(tmp_path.iterdir()) == []
+
+
+COURTYARD_FILE = DATA / "fbx-pyprt" / "courtyard_pyprt112_0.fbx"
+COURTYARD = [0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0, 3, 0, 3, 7, 0, 3, 7, 0, 7, 3, 0, 7]
+
+
+def surface(meshes: list[dict]) -> float:
+    """The faces' total area (m²): each polygon's area vector (Newell) halved."""
+    total = 0.0
+    for mesh in meshes:
+        for face in mesh["faces"]:
+            ring = mesh["vertices"][face]
+            total += np.linalg.norm(np.cross(ring, np.roll(ring, -1, axis=0)).sum(axis=0)) / 2
+    return total
+
+
+def volume(meshes: list[dict]) -> float:
+    """The volume the faces enclose (m³), by the divergence theorem over fans of triangles:
+    positive when every face turns counter-clockwise seen from outside."""
+    total = 0.0
+    for mesh in meshes:
+        for face in mesh["faces"]:
+            a, *rest = mesh["vertices"][face]
+            for b, c in zip(rest, rest[1:], strict=False):
+                total += np.dot(a, np.cross(b, c)) / 6
+    return total
+
+
+def test_a_face_with_a_hole_is_written_as_triangles_around_the_hole(tmp_path):
+    """A 10 x 10 lot with a 4 x 4 courtyard, extruded 23 m: roof and floor with their hole as
+    triangles (CityEngine's default facesWithHoles), the eight walls as quads; its surface in
+    closed form, 2 (100 - 16) + 4 (10 x 23) + 4 (4 x 23) = 1456 m²; none of it over the
+    courtyard; the triangle and quad counts of CityEngine's own file of it."""
+    shape = pyprt.InitialShape(COURTYARD, [0, 1, 2, 3, 4, 5, 6, 7], [4, 4], [[0, 1]])
+    pyprt.ModelGenerator([shape]).generate_model(
+        [FIXED], str(EXTRUSION), FBX, {"outputPath": str(tmp_path)}
+    )
+    ours, theirs = read_fbx(tmp_path / "base_name_0.fbx"), read_fbx(COURTYARD_FILE)
+    for meshes in (ours, theirs):
+        assert surface(meshes) == pytest.approx(2 * (100 - 16) + 4 * 10 * 23 + 4 * 4 * 23)
+        sizes = sorted(len(face) for mesh in meshes for face in mesh["faces"])
+        assert sizes == [3] * 16 + [4] * 8
+        check_normals(meshes, boxes=False)
+        assert volume(meshes) == pytest.approx((100 - 16) * 23)  # the faces turn outwards
+        for mesh in meshes:
+            for face in mesh["faces"]:
+                x, _, z = mesh["vertices"][face].mean(axis=0)
+                assert not (3 < x < 7 and 3 < z < 7)  # no face over the courtyard
