@@ -89,13 +89,14 @@ def test_convex_decomposition_of_prisms(lot, count):
 
 def test_convexify_faces():
     _, face = lot_polygon(U_LOT)
-    pieces = convex_pieces(face.vertices)
-    assert len(pieces) == 3  # Hertel-Mehlhorn: the U's minimum
+    points, pieces = convex_pieces(face.vertices)
+    assert len(pieces) == 3  # a cut from each inner corner along an edge
+    assert len(points) == len(face.vertices) + 2  # each meets the outline at a new vertex
     mesh = convex_faces(face)
     assert all(mesh.face(k).is_convex() for k in range(mesh.n_faces))
     assert mesh.area() == pytest.approx(18.0)
-    # with maxLength 1 every cut the triangulation offers is longer: the face stays whole
-    assert convex_faces(face, 1.0).n_faces == 1
+    # with maxLength 0.5 every cut is longer (the shortest, 1 m): the face stays whole
+    assert convex_faces(face, 0.5).n_faces == 1
 
 
 def _random_lots(count, seed=1):

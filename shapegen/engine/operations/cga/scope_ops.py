@@ -23,9 +23,10 @@
 - ``trim()``: the shape's geometry cut to its enabled trim planes
   (:mod:`shapegen.engine.shapes.trim`);
 - ``deleteHoles()``: nothing to do, shapegen's faces have no holes;
-- ``convexify([maxLength])``: every concave face cut into convex polygons (constrained
-  triangulation, then diagonals removed while the pieces stay convex, Hertel and Mehlhorn; with
-  ``maxLength`` only cuts shorter than it are kept).
+- ``convexify([maxLength])``: every concave face cut into convex polygons as CityEngine's
+  runtime cuts them (:mod:`shapegen.geometry.convex`: the shortest cut along an edge through a
+  reflex corner first, new vertices where cuts meet the outline; with ``maxLength`` no cut
+  longer than it).
 """
 
 from __future__ import annotations
