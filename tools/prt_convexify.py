@@ -9,6 +9,9 @@ It runs with PyPRT's Python (a development tool; shapegen never imports it) and 
 ``javac``/``java``, the ASM bytecode library (Debian's ``libasm-java``) and ``7z``::
 
     /tmp/prt-venv/bin/python tools/prt_convexify.py tests/geometry/prt_convexify.json
+    /tmp/prt-venv/bin/python tools/prt_convexify.py out.json --corpus /work/shared/cga-corpus
+
+(``--corpus`` from a worktree: the default is ``shared/cga-corpus`` beside the checkout.)
 """
 
 from __future__ import annotations
