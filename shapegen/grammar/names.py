@@ -364,6 +364,7 @@ OPERATION_KEYWORDS: frozenset[str] = frozenset(
         *("separatePerFace", "collectiveAllFaces"),  # normalizeUV's modes
         *("streetSide", "noStreetSide", "streetFront"),  # deprecated selectors, still compiled
         *("inside", "border", "remainder", "shape", "all", "none", "keep", "remove"),
+        "geometry",  # resetMaterial(geometry): the inserted asset's materials
         "center",  # scatter's gaussian mean (op_scatter: center, front, back...)
         *("front", "back", "left", "right", "top", "bottom", "side", "vertical", "horizontal"),
         *("aslant", "nutant", "nonaside", "street", "eave", "hip", "valley", "ridge"),

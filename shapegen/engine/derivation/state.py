@@ -77,6 +77,7 @@ class ShapeState:
         "trim_planes",
         "deleted",
         "pivot",
+        "tree",
     )
 
     def is_leaf(self) -> bool:
@@ -261,7 +262,11 @@ class Derivation:
         if name is None:
             state.rule_path = parent.rule_path
             state.depth = parent.depth
+            state.tree = parent.tree  # an operation's result: still the same node of the tree
         else:
+            key, count = parent.tree
+            state.tree = (key + (count[0],), [0])
+            count[0] += 1
             state.rule_path = parent.rule_path + (name,)
             state.depth = parent.depth + 1
             if state.depth > self.max_depth:
@@ -325,4 +330,7 @@ def root_state(
     # attr_pivot: (origin, axes as columns) in world coordinates, set by comp, setPivot and the
     # alignScopeTo* operations; None is the initial shape's pivot, the object frame
     state.pivot = None
+    # getTreeKey(): the shape's path in the tree of rule applications (func_getTreeKey), and
+    # the number of successors it has made so far
+    state.tree = ((0,), [0])
     return state

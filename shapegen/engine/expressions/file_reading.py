@@ -19,6 +19,13 @@ an asset inserts a box filling the scope).
 ``imageInfo(path, sx|sy)`` (func_imageInfo): an image's width or height in pixels (Pillow reads
 it); 0 and a warning when it cannot be read.
 
+``readMaterial(path)`` (func_readMaterial): a material file as the 2D string array of material
+attributes that ``setMaterial()`` takes, one ``name, value`` pair a row. A Wavefront ``.mtl``
+file's first material is read (``Kd``, ``Ka``, ``Ks``, ``Ns``, ``d``, ``Tr`` and the ``map_*``
+textures, relative to the file's folder); CityEngine's own ``.cgamat`` format is not documented
+and is refused with one line. A file that is missing gives an empty array and a warning, so
+``setMaterial()`` of it changes nothing.
+
 ``assetMetadata(path, key, default)`` (func_assetMetadata): the metadata "potentially included in
 the geometry asset", which OBJ, PLY and STL files do not carry: ``default``. Metadata of glTF
 assets (their ``extras``) is not read: an error names it rather than a guess at which extras
@@ -184,6 +191,61 @@ def _image_info(rule_file: str | None):
     return info
 
 
+# Wavefront .mtl statements -> the material attributes they set (cga material attributes).
+_MTL_COLOURS = {"kd": "color", "ka": "ambient", "ks": "specular"}
+_MTL_MAPS = {"map_kd": "colormap", "map_d": "opacitymap", "map_bump": "bumpmap",
+             "bump": "bumpmap", "norm": "normalmap", "map_ks": "specularmap"}  # fmt: skip
+
+
+def read_mtl(path: Path) -> list[tuple[str, str]]:
+    """The ``(attribute, value)`` pairs of the first material of the ``.mtl`` file ``path``."""
+    pairs: list[tuple[str, str]] = []
+    started = False
+    for line in path.read_text("utf-8", errors="replace").splitlines():
+        words = line.split("#", 1)[0].split()
+        if not words:
+            continue
+        key, rest = words[0].lower(), words[1:]
+        if key == "newmtl":
+            if started:
+                break  # the first material only
+            started = True
+            pairs.append(("name", " ".join(rest)))
+        elif key in _MTL_COLOURS and len(rest) >= 3:
+            pairs += [(f"{_MTL_COLOURS[key]}.{c}", v) for c, v in zip("rgb", rest[:3], strict=True)]
+        elif key == "ns" and rest:
+            pairs.append(("shininess", rest[0]))
+        elif key == "d" and rest:
+            pairs.append(("opacity", rest[0]))
+        elif key == "tr" and rest:  # transparency, the complement of d
+            pairs.append(("opacity", repr(1.0 - float(rest[0]))))
+        elif key in _MTL_MAPS and rest:
+            pairs.append((_MTL_MAPS[key], str(path.parent / rest[-1])))
+    return pairs
+
+
+def _material_file(rule_file: str | None):
+    def read(state, path: object) -> Array:
+        if type(path) is not str:
+            raise ValueError("needs a file path (a string)")
+        found = find_asset(path, rule_file)
+        if found is None:
+            _warn(state, f"readMaterial({path!r}): the file is not found; an empty material is "
+                         "used (setMaterial() of it changes nothing)")  # fmt: skip
+            return _EMPTY_STRINGS
+        if found.suffix.lower() != ".mtl":
+            raise ValueError(f"{found.name}: shapegen reads .mtl material files, not "
+                             f"{found.suffix or 'files without a suffix'}")  # fmt: skip
+        try:
+            pairs = read_mtl(found)
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"{found.name} cannot be read: {exc}") from None
+        pairs = [(k, v) for k, v in pairs if k != "name"]
+        return Array(tuple(c for pair in pairs for c in pair), len(pairs), 2)
+
+    return read
+
+
 _NO_METADATA = (".obj", ".ply", ".stl")
 
 
@@ -220,4 +282,5 @@ def reading_functions(rule_file: str | None, matching=None) -> dict:
         "assetInfo": _asset_info(rule_file),
         "imageInfo": _image_info(rule_file),
         "assetMetadata": _asset_metadata(rule_file),
+        "readMaterial": _material_file(rule_file),
     }

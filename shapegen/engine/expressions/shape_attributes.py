@@ -248,15 +248,49 @@ def _geo_coordinate(state, which: object) -> float:
     raise ValueError(f"the coordinate is X, Y, lon or lat, got {which!r}")
 
 
+def _tree_key(state) -> str:
+    """getTreeKey() (func_getTreeKey): the 0-based child indices from the root shape to the
+    shape whose rule is being applied, each followed by ``;`` (``0;0;1;``). It stays the same
+    through the whole rule: the operations' results are not nodes of the tree, its successors
+    are."""
+    return "".join(f"{k};" for k in state.tree[0])
+
+
+def _edge_attribute(kind: str, default: object, shown: str):
+    """edgeAttr.getFloat|getString|getBool(name) (func_edgeAttr): the initial shape's edge
+    attribute ``/edgeattr/name`` sampled on the shape. shapegen's lots carry no edge attributes,
+    and for an attribute that does not exist the reference gives the default (0, "", false):
+    that, with a warning, since a lot drawn in CityEngine may have them."""
+
+    def read(state, name: object) -> object:
+        if type(name) is not str:
+            raise ValueError("the attribute name must be a string")
+        state.run.warn(
+            f"edgeAttr.{kind}({name!r}): shapegen's lots have no edge attributes, so it gives "
+            f"the default {shown} (rules: {format_chain(state.rule_path)})"
+        )
+        return default
+
+    return read
+
+
 #: Builtins of the shape being derived: ``name -> f(state, *values)``.
 STATE_FUNCTIONS: dict[str, Callable[..., object]] = {
     "uid": _uid,
     "getGeoCoord": _geo_coordinate,
+    "getTreeKey": _tree_key,
+    "edgeAttr.getFloat": _edge_attribute("getFloat", 0.0, "0"),
+    "edgeAttr.getString": _edge_attribute("getString", "", '""'),
+    "edgeAttr.getBool": _edge_attribute("getBool", False, "false"),
 }
 
 #: Builtins answered with a difference from the reference: name -> what differs.
 PARTIAL_FUNCTIONS: dict[str, str] = {
     "getGeoCoord": "no georeference: X and Y are scene metres (east, north), lon and lat nan",
+    **dict.fromkeys(
+        ("edgeAttr.getFloat", "edgeAttr.getString", "edgeAttr.getBool"),
+        'lots have no edge attributes: the default (0, "", false), with a warning',
+    ),
 }
 
 
