@@ -328,16 +328,16 @@ def test_split_area(tmp_path, body, lot, areas):
     assert _surface_areas(model) == pytest.approx(areas, rel=1e-6)  # cuts bisected
 
 
-def test_split_area_refuses_no_adjust(program):
+def test_split_area_refuses_an_unknown_adjust_mode(program):
     operation = ast.Operation(
         "splitArea",
         (
             ast.OperationArgument("plain", ast.Name("x")),
-            ast.OperationArgument("plain", ast.Name("noAdjust")),
+            ast.OperationArgument("plain", ast.Name("stretch")),
         ),
         (ast.OperationBranch(ast.Number(1.0), "absolute", ast.Sequence(())),),
     )
-    with pytest.raises(GrammarError, match="only adjust"):
+    with pytest.raises(GrammarError, match="adjust or noAdjust"):
         run(program, operation)
 
 

@@ -265,6 +265,7 @@ class OperationCompiler:
         error, operation_error = self.error, self.operation_error
         best_counts = self.cga_dialect  # CityEngine's repeat counts in .cga files
         where = node.location
+        adjust = node.adjust  # noAdjust: the pieces keep the scope slices (op_split)
 
         def split_op(state, args, out):
             shape = state.shape
@@ -308,7 +309,7 @@ class OperationCompiler:
             except ValueError as exc:
                 raise operation_error(node, str(exc)) from None
             spans = [(piece.start * scale, piece.size * scale) for piece in pieces]
-            cuts, within = split_pieces(shape, axis, spans, run.limits.max_coordinate)
+            cuts, within = split_pieces(shape, axis, spans, run.limits.max_coordinate, adjust)
             made = [  # CityEngine drops pieces with no geometry
                 (piece.key, cut) for piece, cut in zip(pieces, cuts, strict=True) if cut is not None
             ]

@@ -355,23 +355,37 @@ def extrude_shape(
     return Shape.with_geometry(new_scope, mesh, MASS)
 
 
-def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | None:
+def split_piece(
+    shape: Shape, axis: int, start: float, size: float, adjust: bool = True
+) -> Shape | None:
     """The piece ``[start, start + size]`` (m) along scope ``axis`` of ``shape``: the scope slice
     for a shape filling its scope, else its geometry cut by the two planes with the scope fitted
-    to what is left (op_split's default ``adjust``); None when nothing is left."""
+    to what is left (op_split's default ``adjust``) or, with ``adjust`` False (``noAdjust``),
+    the scope slice itself; None when nothing is left. An edge (comp(e), comp(fe)) is cut into
+    the part of its segments between the planes."""
     if shape.geometry is None:
         return Shape(split_scope(shape.scope, axis, start, size), shape.kind, shape.normal_axis)
     from shapegen.geometry.cut import clip_slab
 
-    piece = clip_slab(shape.geometry, axis, start, start + size)
+    geometry = shape.geometry
+    if geometry.n_faces and all(len(face) == 2 for face in geometry.faces):
+        piece = _clip_segments(geometry, axis, start, start + size)
+    else:
+        piece = clip_slab(geometry, axis, start, start + size)
     if piece is None:
         return None
-    low, high = piece.bounds()
     scope = shape.scope
-    new_scope = Scope(scope.origin + scope.rotation @ low, scope.rotation, high - low)
+    if adjust:
+        low, high = piece.bounds()
+        new_scope = Scope(scope.origin + scope.rotation @ low, scope.rotation, high - low)
+    else:
+        new_scope = split_scope(scope, axis, start, size)
+        low = np.zeros(3)
+        low[axis] = start
     local = piece.vertices - low
     if (
         shape.kind == MASS
+        and adjust
         and not piece.holes
         and _is_scope_box(local, new_scope.size, piece.n_faces)
     ):
@@ -384,14 +398,42 @@ def split_piece(shape: Shape, axis: int, start: float, size: float) -> Shape | N
     )
 
 
+def _clip_segments(mesh: Mesh, axis: int, low: float, high: float) -> Mesh | None:
+    """The parts of the segments of ``mesh`` (two-vertex faces: an edge's geometry) with
+    ``low <= coordinate[axis] <= high`` (m); None when none has a length left. A segment lying
+    across the slab's side keeps its part inside; one lying in a plane of the cut is kept."""
+    vertices: list[np.ndarray] = []
+    faces: list[tuple[int, int]] = []
+    for a, b in mesh.faces:
+        p, q = mesh.vertices[a], mesh.vertices[b]
+        u, v = float(p[axis]), float(q[axis])
+        if u == v:
+            if not low - COINCIDENT_M <= u <= high + COINCIDENT_M:
+                continue
+            t0, t1 = 0.0, 1.0
+        else:
+            t0, t1 = sorted(((low - u) / (v - u), (high - u) / (v - u)))
+            t0, t1 = max(t0, 0.0), min(t1, 1.0)
+        if t1 - t0 <= 0.0:
+            continue
+        start, end = p + (q - p) * t0, p + (q - p) * t1
+        if float(np.linalg.norm(end - start)) <= COINCIDENT_M:
+            continue
+        faces.append((len(vertices), len(vertices) + 1))
+        vertices += [start, end]
+    if not faces:
+        return None
+    return Mesh(np.array(vertices), faces)
+
+
 def split_pieces(
-    shape: Shape, axis: int, spans: list[tuple[float, float]], bound: float
+    shape: Shape, axis: int, spans: list[tuple[float, float]], bound: float, adjust: bool = True
 ) -> tuple[list[Shape | None], bool]:
     """:func:`split_piece` for each ``(start, size)`` of ``spans`` (m). The pieces of a shape
     filling its scope are sliced together, their origins and sizes as stacked arrays; the flag
     says that every piece's scope is then known to be finite and within ``bound`` (m)."""
     if shape.geometry is not None or not spans:
-        return [split_piece(shape, axis, start, size) for start, size in spans], False
+        return [split_piece(shape, axis, start, size, adjust) for start, size in spans], False
     scope = shape.scope
     starts = np.array([start for start, _ in spans])
     origins = scope.origin + scope.rotation[:, axis] * starts[:, None]

@@ -5,7 +5,9 @@ resolved exactly as ``split`` resolves lengths, but over the geometry's area ins
 scope's length (:func:`shapegen.engine.shapes.split.resolve_split`); each piece's bounds in area are
 then turned into cut positions along the axis, where the area of the geometry below the cut
 (a continuous, increasing function) reaches them, found by bisection. The pieces are cut as
-``split`` cuts (:func:`shapegen.engine.shapes.shape.split_piece`, scopes adjusted to the pieces).
+``split`` cuts (:func:`shapegen.engine.shapes.shape.split_piece`): scopes adjusted to the pieces,
+or with ``noAdjust`` the slices of the shape's scope between the cuts, which "fill the parent's
+scope without gaps" (op_splitArea).
 """
 
 from __future__ import annotations
@@ -46,14 +48,14 @@ def _position(mesh, axis: int, low: float, high: float, area: float, total: floa
 
 @compiles("splitArea")
 def compile_split_area(program, node: ast.Operation, params):
-    """``splitArea(x|y|z[, adjust]) { area : ... | 'fraction : ... | ~weight : ... }[*]``."""
+    """``splitArea(x|y|z[, adjust|noAdjust]) { area : ... | 'fraction : ... | ~w : ... }[*]``."""
     names = [selector_name(v) for v in plain_arguments(program, node, (1, 2), block=True)]
     if names[0] not in ("x", "y", "z"):
         raise program.error(node, "splitArea()'s axis is x, y or z")
-    if len(names) == 2 and names[1] != "adjust":
-        raise program.error(
-            node, f"splitArea(..., {names[1] or '?'}) is not supported; only adjust (the default)"
-        )  # fmt: skip
+    if len(names) == 2 and names[1] not in ("adjust", "noAdjust"):
+        raise program.error(node, f"splitArea()'s adjust mode is adjust or noAdjust, got "
+                                  f"{names[1] or 'a value'}")  # fmt: skip
+    adjust = len(names) == 1 or names[1] == "adjust"
     if not node.branches:
         raise program.error(node, "splitArea() needs a { area : ... } block")
     axis = axis_index(names[0])
@@ -91,12 +93,14 @@ def compile_split_area(program, node: ast.Operation, params):
         except ValueError as exc:
             raise program.operation_error(node, str(exc)) from None
         low, high = (float(v) for v in np.array(mesh.bounds())[:, axis])
+        if not adjust:  # the slices fill the scope: the first from its start, the last to its end
+            low, high = min(low, 0.0), max(high, float(shape.scope.size[axis]))
         made = []
         for piece in pieces:
             run.check_clock(node)  # 120 bisections a piece, before any child is counted
             start = _position(mesh, axis, low, high, piece.start, total)
             end = _position(mesh, axis, low, high, piece.start + piece.size, total)
-            cut = split_piece(shape, axis, start, end - start)
+            cut = split_piece(shape, axis, start, end - start, adjust)
             if cut is not None:
                 made.append((piece.key, cut))
         for index, ((body, branch), cut) in enumerate(made):
