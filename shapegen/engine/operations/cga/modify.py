@@ -11,8 +11,13 @@ Recomposition as shapegen does it:
 - a face component deleted (``NIL``) leaves a hole; a face component made into other shapes
   (split, extruded...) is replaced by their faces, appended without joining them to the rest (as
   CityEngine appends what its connectivity tracking does not follow);
-- an edge or vertex component made into several shapes (an edge split in parts) keeps its
-  place, with a warning: shapegen does not insert the new vertices into the faces around it;
+- an edge component made into several edges (``split(x)`` of the edge, its parts moved or
+  scaled or not) is replaced in the faces around it by the chain of its parts' end points, in
+  the order the parts were made, as the reference's Chaikin corner cutting and corrugated
+  facade examples build their outlines: consecutive parts are joined where they meet, a moved
+  part by new edges from its neighbours' ends to its own; each part's tags go on its edge;
+- a vertex component made into several shapes, or an edge made into other than edges, keeps
+  its place, with a warning;
 - the tags the component's shape was given (``tag()``) are put on the component.
 
 The shape keeps its scope's axes; the scope is fitted to the new geometry, as after ``inline``.
@@ -41,6 +46,7 @@ from shapegen.engine.shapes.shape import FACE, MASS
 from shapegen.engine.shapes.tags import ComponentTags, merged_tags, resolved_tags
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
+from shapegen.tolerances import COINCIDENT_M
 
 _KINDS = COMPONENT_KINDS
 
@@ -48,8 +54,8 @@ _KINDS = COMPONENT_KINDS
 @compiles(
     "modify",
     partial="moves, scales and turns of components are recomposed; a face made into other "
-    "shapes is appended, an edge or vertex made into several shapes keeps its place (a "
-    "warning)",
+    "shapes is appended, an edge split in parts is replaced by their chain; a vertex made into "
+    "several shapes keeps its place (a warning)",
 )
 def compile_modify(program, node: ast.Operation, params):
     if not node.arguments or len(node.arguments) > 2:
@@ -91,7 +97,8 @@ def compile_modify(program, node: ast.Operation, params):
         offsets = np.zeros_like(world)
         removed: set[int] = set()
         appended: list[tuple[Mesh, object]] = []
-        added: dict = {"faces": {}, "edges": {}, "vertices": {}}
+        # "chains": an edge (a, b) split in parts -> (their end points, world; tags per part)
+        added: dict = {"faces": {}, "edges": {}, "vertices": {}, "chains": {}}
         taken = [False] * len(components)
         for select, merge, body, branch, text in branches:
             chosen = []
@@ -164,6 +171,10 @@ def _recompose(state, node, kind, piece, members, leaves, world, offsets, remove
                 if mesh.n_faces:
                     appended.append((mesh, resolved_tags(leaf.shape)))
         return
+    if kind in ("e", "fe") and kept and all(leaf.shape.kind == EDGE for leaf in kept):
+        (member,) = members
+        _chain(member.vertices, kept, world, added["chains"])
+        return
     if kept:
         warn_at(
             state,
@@ -171,6 +182,35 @@ def _recompose(state, node, kind, piece, members, leaves, world, offsets, remove
             f"modify({kind}): a component made into {len(kept)} shapes (or other components) "
             "keeps its place: shapegen does not recompose it into the faces around it",
         )
+
+
+def _chain(ends, leaves, world, chains) -> None:
+    """Record the edge ``ends`` (a, b) replaced by the segments of ``leaves`` in order: the
+    points between a and b (coincident ones once) and, for each part, the tags it was given
+    with the positions of its two ends in the chain (0 is a, len + 1 is b)."""
+    a, b = ends
+    points: list[np.ndarray] = []
+    parts = []
+    slack = COINCIDENT_M
+
+    def place(point) -> int:
+        if float(np.linalg.norm(point - world[a])) <= slack and not points:
+            return 0
+        if points and float(np.linalg.norm(point - points[-1])) <= slack:
+            return len(points)
+        points.append(np.asarray(point, float))
+        return len(points)
+
+    for leaf in leaves:
+        mesh = leaf.shape.world_mesh()
+        tags = resolved_tags(leaf.shape)
+        names = tuple(tags.listed("all")) if tags is not None else ()
+        for i, j in mesh.faces:
+            parts.append((place(mesh.vertices[i]), place(mesh.vertices[j]), names))
+    if points and float(np.linalg.norm(points[-1] - world[b])) <= slack:
+        points.pop()  # the last part ends at b
+        parts = [(i, min(j, len(points) + 1), n) for i, j, n in parts]
+    chains[(a, b)] = (points, parts)
 
 
 def _same_components(piece, made) -> bool:
@@ -188,6 +228,9 @@ def _recomposed(shape, vertices, mesh, removed, appended, added):
     kept_index = [k for k in range(mesh.n_faces) if k not in removed]
     points = [vertices]
     count = len(vertices)
+    chain_edges: dict[tuple[int, int], tuple] = {}
+    if added["chains"]:
+        faces, count, chain_edges = _with_chains(faces, added["chains"], points, count)
     for extra, _ in appended:
         faces += [tuple(i + count for i in f) for f in extra.faces]
         points.append(extra.vertices)
@@ -197,13 +240,20 @@ def _recomposed(shape, vertices, mesh, removed, appended, added):
     if made.kind == FACE and shape.kind == MASS and not removed and not appended:
         made.kind = MASS
     old = resolved_tags(shape)
-    if old is None and not any(added.values()) and all(t is None for _, t in appended):
+    if (
+        old is None
+        and not chain_edges
+        and not any(added[k] for k in ("faces", "edges", "vertices"))
+        and all(t is None for _, t in appended)
+    ):
         return made
     old = old or ComponentTags.empty(mesh.n_faces)
     face_tags = [
         tuple(dict.fromkeys((*old.face(k), *added["faces"].get(k, ())))) for k in kept_index
     ]
     edges = dict(old.edges)
+    for key, names in chain_edges.items():
+        edges[key] = tuple(dict.fromkeys((*edges.get(key, ()), *names)))
     for key, names in added["edges"].items():
         edges[key] = tuple(dict.fromkeys((*edges.get(key, ()), *names)))
     vertex_tags = dict(old.vertices)
@@ -213,3 +263,35 @@ def _recomposed(shape, vertices, mesh, removed, appended, added):
         more = merged_tags(list(appended), world)
         face_tags += list(more.faces[len(face_tags) :])
     return made.with_tags(ComponentTags(tuple(face_tags), edges, vertex_tags))
+
+
+def _with_chains(faces, chains, points, count):
+    """``faces`` with each chained edge replaced by its chain's points (appended to ``points``,
+    numbered from ``count``, shared by the faces on both sides), the new count, and the tags of
+    the chains' edges keyed by their sorted vertex pairs."""
+    numbers = {}
+    tags: dict[tuple[int, int], tuple] = {}
+    for (a, b), (chain, parts) in chains.items():
+        if not chain:
+            continue
+        numbers[(a, b)] = list(range(count, count + len(chain)))
+        points.append(np.array(chain))
+        nodes = [a, *numbers[(a, b)], b]
+        for i, j, names in parts:
+            if names and i != j:
+                u, v = nodes[i], nodes[j]
+                key = (u, v) if u < v else (v, u)
+                tags[key] = tuple(dict.fromkeys((*tags.get(key, ()), *names)))
+        count += len(chain)
+    out = []
+    for face in faces:
+        ring = []
+        for k, u in enumerate(face):
+            v = face[(k + 1) % len(face)]
+            ring.append(u)
+            if (u, v) in numbers:
+                ring += numbers[(u, v)]
+            elif (v, u) in numbers:
+                ring += numbers[(v, u)][::-1]
+        out.append(tuple(ring))
+    return out, count, tags
