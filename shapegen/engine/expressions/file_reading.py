@@ -51,6 +51,7 @@ from shapegen.limits import current_limits, limit_hint
 #: File functions that differ from the reference, in a few words.
 PARTIAL_FUNCTIONS: dict[str, str] = {
     "assetMetadata": "OBJ, PLY and STL carry none (the default); glTF assets are refused",
+    "readMaterial": "a .mtl file's first material; CityEngine's .cgamat files are refused",
     **CHOOSER_NOTES,
 }
 
