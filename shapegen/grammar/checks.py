@@ -235,8 +235,11 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
     def _successor(self, successor: ast.Successor) -> None:
         if successor.leaf:
             return  # ``Name.`` is a leaf named Name, whatever rules or operations are called so
-        if successor.called and (successor.name, len(successor.args)) in self.rules:
-            pass  # a rule with an operation's name and another arity (_operation_overload)
+        if (successor.name, len(successor.args)) in self.rules and (
+            successor.called or (self.cga and _needs_arguments(successor.name))
+        ):
+            pass  # a rule with an operation's name and another arity (_operation_overload),
+            # written with its arguments or, taking none, bare (``i --> ...`` then ``A --> i``)
         elif successor.name in OPERATIONS or successor.name in CGA_OPERATIONS:
             self.report(
                 successor.location,
@@ -440,3 +443,10 @@ def check(grammar: ast.RuleFile) -> ast.RuleFile:
         location, message = problems[0]
         raise GrammarError(message, location, source=grammar.source, problems=problems)
     return grammar
+
+
+def _needs_arguments(name: str) -> bool:
+    """Whether every signature of the CGA operation ``name`` takes arguments: then a bare
+    ``name`` can only be a rule of that name taking none."""
+    low, _ = CGA_OPERATIONS.get(name, (0, 0))
+    return low > 0

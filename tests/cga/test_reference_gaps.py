@@ -236,3 +236,14 @@ def test_corrugated_facade():
 def test_a_rule_defined_twice_is_refused():
     with pytest.raises(ShapegenError, match="duplicate rule 'House'"):
         parse_grammar("House --> extrude(10)\nHouse --> extrude(20)\n", "twice.cga")
+
+
+# cga_changelog 2019.1: operations are told from rules of the same name by their signature. A
+# rule ``i`` taking no parameters is what a bare ``i`` names (every signature of the operation
+# i() takes arguments); with no such rule a bare ``i`` stays an operation written wrong.
+def test_a_bare_name_is_the_rule_when_the_operation_needs_arguments():
+    rules = 'Lot --> split(x) { 2 : i | ~1 : X. }\ni --> i("builtin:cube")\n'
+    model = parse_grammar(rules, "rule_i.cga").build(lot=(12.0, 8.0))
+    assert len(model.blocks) == 1  # the cube inserted into the 2 m piece
+    with pytest.raises(ShapegenError, match="'i' is an operation"):
+        parse_grammar("Lot --> split(x) { 2 : i | ~1 : X. }\n", "bare_i.cga")
