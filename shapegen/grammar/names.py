@@ -167,6 +167,7 @@ FUNCTION_KEYWORDS: dict[str, frozenset[str]] = {
     ),
     "getGeoCoord": frozenset({"X", "Y", "lat", "lon"}),
     "isTagged": frozenset({"e", "v"}),  # op_comp: match the tags of the edges or vertices
+    "getMaterial": frozenset({"used", "shape", "geometry", "changed", "all"}),
 }
 
 #: The argument positions where a builtin of :data:`FUNCTION_KEYWORDS` takes only a selector,

@@ -21,6 +21,7 @@ COVERS = {
         "func:edgeAttr.getBool",
     ),
     "test_read_material_of_an_mtl_file": ("func:readMaterial",),
+    "test_get_material_as_the_reference_prints_it": ("func:getMaterial",),
 }
 
 
@@ -126,6 +127,23 @@ def test_read_material_of_an_mtl_file(tmp_path):
     )
     assert printed == ["1"]  # the material as it was
     assert any("nowhere.mtl" in w and "not found" in w for w in metadata["warnings"])
+
+
+# func_getMaterial, example 1: after color(0.5, 0.6, 0.7), getMaterial(used, changed) is the
+# three rows color.b 0.7, color.g 0.6, color.r 0.5 (the reference prints them in another
+# order); (shape, all) has every attribute, and setMaterial of it gives the default back.
+def test_get_material_as_the_reference_prints_it():
+    printed, _ = _printed(
+        "Lot --> color(0.5, 0.6, 0.7) print(getMaterial(used, changed))\n"
+        "        print(size(getMaterial(geometry, changed)))\n"
+        "        print(getMaterial(shape, all)[0, 0]) A\n"
+        "A --> setMaterial(getMaterial(geometry, all)) print(material.color.r) X.\n"
+    )
+    assert printed[0] == "(3x2)"
+    assert sorted(line.split() for line in printed[1:4]) == [
+        ["color.b", "0.7"], ["color.g", "0.6"], ["color.r", "0.5"]
+    ]  # fmt: skip
+    assert printed[4:] == ["0", "name", "1"]
 
 
 # op_split, op_splitArea: "noAdjust avoids [adjusting the scope to the geometry's bounding

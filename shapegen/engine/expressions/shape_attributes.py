@@ -274,11 +274,39 @@ def _edge_attribute(kind: str, default: object, shown: str):
     return read
 
 
+def _material_array(state, source: object = None, mode: object = None):
+    """getMaterial(used|shape|geometry, changed|all) (func_getMaterial): the material as a 2D
+    string array of ``name, value`` rows, which setMaterial() takes. shapegen's geometry carries
+    no material of its own (an inserted asset's materials are not kept): ``geometry`` is the
+    default material, ``used`` the shape's; for an inserted asset a warning says so."""
+    from shapegen.engine.expressions.arrays import Array, format_value
+    from shapegen.model.appearance import MATERIAL_ATTRIBUTES, material_value
+
+    if source not in ("used", "shape", "geometry") or mode not in ("changed", "all"):
+        raise ValueError("takes (used|shape|geometry, changed|all)")
+    if source != "shape" and state.shape.kind == "insert":
+        state.run.warn(
+            f"getMaterial({source}, {mode}): shapegen keeps no material of an inserted asset, "
+            f"so the asset's own material is not in it (rules: {format_chain(state.rule_path)})"
+        )
+    look = None if source == "geometry" else state.appearance
+    cells: list[str] = []
+    for name, (_, default) in MATERIAL_ATTRIBUTES.items():
+        if name == "color.rgb":
+            continue  # color.r, color.g and color.b say it
+        value = material_value(look, name)
+        if mode == "changed" and value == default:
+            continue
+        cells += [name, format_value(value)]
+    return Array(tuple(cells), len(cells) // 2, 2)
+
+
 #: Builtins of the shape being derived: ``name -> f(state, *values)``.
 STATE_FUNCTIONS: dict[str, Callable[..., object]] = {
     "uid": _uid,
     "getGeoCoord": _geo_coordinate,
     "getTreeKey": _tree_key,
+    "getMaterial": _material_array,
     "edgeAttr.getFloat": _edge_attribute("getFloat", 0.0, "0"),
     "edgeAttr.getString": _edge_attribute("getString", "", '""'),
     "edgeAttr.getBool": _edge_attribute("getBool", False, "false"),
@@ -287,6 +315,8 @@ STATE_FUNCTIONS: dict[str, Callable[..., object]] = {
 #: Builtins answered with a difference from the reference: name -> what differs.
 PARTIAL_FUNCTIONS: dict[str, str] = {
     "getGeoCoord": "no georeference: X and Y are scene metres (east, north), lon and lat nan",
+    "getMaterial": "shapegen's geometry has no material of its own: geometry is the default "
+    "material, used the shape's (an inserted asset's materials are not kept)",
     **dict.fromkeys(
         ("edgeAttr.getFloat", "edgeAttr.getString", "edgeAttr.getBool"),
         'lots have no edge attributes: the default (0, "", false), with a warning',
