@@ -264,8 +264,8 @@ class Derivation:
             state.depth = parent.depth
             state.tree = parent.tree  # an operation's result: still the same node of the tree
         else:
-            key, count = parent.tree
-            state.tree = (key + (count[0],), [0])
+            count = parent.tree[2]
+            state.tree = (parent.tree, count[0], [0])  # a link up: no copy of the path
             count[0] += 1
             state.rule_path = parent.rule_path + (name,)
             state.depth = parent.depth + 1
@@ -330,7 +330,7 @@ def root_state(
     # attr_pivot: (origin, axes as columns) in world coordinates, set by comp, setPivot and the
     # alignScopeTo* operations; None is the initial shape's pivot, the object frame
     state.pivot = None
-    # getTreeKey(): the shape's path in the tree of rule applications (func_getTreeKey), and
-    # the number of successors it has made so far
-    state.tree = ((0,), [0])
+    # getTreeKey(): the shape's node in the tree of rule applications (func_getTreeKey): the
+    # parent's node, its index among the parent's successors, the successors made so far
+    state.tree = (None, 0, [0])
     return state

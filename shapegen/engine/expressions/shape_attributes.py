@@ -253,7 +253,12 @@ def _tree_key(state) -> str:
     shape whose rule is being applied, each followed by ``;`` (``0;0;1;``). It stays the same
     through the whole rule: the operations' results are not nodes of the tree, its successors
     are."""
-    return "".join(f"{k};" for k in state.tree[0])
+    indices = []
+    node = state.tree
+    while node is not None:
+        indices.append(node[1])
+        node = node[0]
+    return "".join(f"{k};" for k in reversed(indices))
 
 
 def _edge_attribute(kind: str, default: object, shown: str):
