@@ -56,6 +56,20 @@ def test_attr_stream_given_its_offset(seed, values):
     assert ridge == pytest.approx(values["Ridge_Ht"], rel=1e-12)
 
 
+@pytest.mark.parametrize("name, measured", MEASURED["attr_offsets"]["values"].items())
+def test_attr_offset_follows_from_the_name(name, measured):
+    # the compiled rule's attr renamed: its one draw, from the stream k further than the seed's
+    assert 96.0 / (5.0 + 5.0 * uniform(measured["k"])) == pytest.approx(
+        measured["Eave_Ht_value"], rel=1e-12
+    )
+
+
+def test_attr_offset_of_a_renamed_attr_is_the_original_offset():
+    # Eave_Ht under its own name in the renamed package and in the stock one: one offset
+    renamed = MEASURED["attr_offsets"]["values"]["Default$Eave_Ht"]["k"]
+    assert renamed == MEASURED["attr_streams"]["k"]["Eave_Ht"]
+
+
 def test_three_way_choice_draws_once_per_branch():
     measured = MEASURED["three_way_choice"]
     names = ("hip", "gable", "gambrel")
