@@ -44,6 +44,7 @@ __all__ = [
     "COINCIDENT_M",
     "COSINE_SLACK",
     "COLLINEAR_REL",
+    "EXTRUDE_JOIN_REL",
     "LEVEL_REL",
     "LEVEL_M",
     "TRIG_ROUNDOFF",
@@ -264,6 +265,12 @@ COSINE_SLACK = 1e-9
 #: within ``TAG_MATCH_REL`` of one. Coarser than ``COINCIDENT_REL``: a remade face (a split
 #: cap's neighbour, a setback's strip) is recomputed, not copied, and drifts by round-off.
 TAG_MATCH_REL = 1e-6
+
+#: Extrusion: faces extruded together (op_extrude: "no internal lamina faces") share a corner
+#: within ``EXTRUDE_JOIN_REL`` times the faces' size (their largest extent, metres), and lie in
+#: one plane facing one way within it (dimensionless). Coarser than ``COINCIDENT_REL``: an
+#: offset's or a setback's faces meet at corners computed once per face.
+EXTRUDE_JOIN_REL = 1e-6
 
 #: Convex hulls: three vertices are collinear when the cross product of their edges is below
 #: ``COLLINEAR_REL`` times the squared size of the block (dimensionless).

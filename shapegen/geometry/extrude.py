@@ -10,6 +10,12 @@ A face with holes extrudes to a solid with inner walls, as CityEngine's does (me
 PyPRT, tests/data/prt_holes.json: a square with a triangular hole gives 14 vertices, 9 faces
 and 2 holes): the bottom and the top keep the holes, and after the outer sides come the inner
 walls, one per hole edge, hole by hole, facing into the hole.
+
+Several faces extruded along one direction (faces in one plane along their common normal, or
+any faces along a world axis) combine: "no internal lamina faces are created" (op_extrude), so
+an edge two faces share gets no side; faces in different planes along their own normals are
+extruded one by one, internal faces kept. (PyPRT extrudes the border ring of
+Building_From_FootprintSMALL's flat roof, six faces, with 12 sides, not 24.)
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ import numpy as np
 
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.limits import check_clock
+from shapegen.tolerances import COINCIDENT_M, EXTRUDE_JOIN_REL
 
 
 def prism(points: np.ndarray, offset: np.ndarray, holes=()) -> Mesh:
@@ -76,8 +83,10 @@ def extrude_faces(
     flat_top: bool = False,
 ) -> Mesh:
     """Every face of ``mesh`` extruded by ``distance`` (m) along its own normal (or along the
-    unit ``direction`` for all), the prisms in one mesh in face order (CityEngine's
-    ``face.normal`` extrusion: internal faces are kept).
+    unit ``direction`` for all), the prisms in one mesh in face order: each face's bottom, top
+    and sides. Along one direction (a ``direction``, or faces in one plane) an edge two faces
+    share has no side (op_extrude: no internal lamina faces); faces in different planes each
+    make a whole prism (CityEngine's ``face.normal`` extrusion: internal faces are kept).
 
     ``flat_top`` (with a ``direction``: ``world.up.flatTop``) puts every top corner at the same
     height along ``direction``: ``distance`` above the face's lowest corner (below its highest
@@ -87,6 +96,10 @@ def extrude_faces(
     faces: list[tuple[int, ...]] = []
     holes: list[tuple] = []
     count = 0
+    if not flat_top:
+        combined = _combined_prism(mesh, distance, direction)
+        if combined is not None:
+            return combined
     for k in range(mesh.n_faces):
         check_clock()
         points = mesh.face_points(k)
@@ -121,6 +134,48 @@ def extrude_faces(
     return Mesh.of_valid_faces(
         np.vstack(vertices), tuple(faces), holes=tuple(holes) if any(holes) else ()
     )
+
+
+def _combined_prism(mesh: Mesh, distance: float, direction) -> Mesh | None:
+    """The faces of ``mesh`` extruded together along one direction (a ``direction``, or their
+    common normal when all lie in one plane facing one way), corners at one place made one
+    vertex, a side only on an edge no other face runs the other way; None when the faces do
+    not extrude together (one face, or faces in different planes along their own normals)."""
+    if mesh.n_faces < 2 or any(mesh.holes):
+        return None  # faces with holes: their own prisms with inner walls
+    points = mesh.vertices
+    span = max(float(np.ptp(points, axis=0).max()), COINCIDENT_M)
+    merge = EXTRUDE_JOIN_REL * span  # corners this close are one (m)
+    if direction is None:
+        normals = mesh.face_normals()
+        if not np.allclose(normals, normals[0], atol=merge / span):
+            return None
+        if np.ptp(points @ normals[0]) > merge:
+            return None  # parallel faces at different levels: each its own prism
+        step = normals[0] * distance
+    else:
+        step = np.asarray(direction, float) * distance
+    keys = np.round(points / merge).astype(np.int64)
+    place: dict[tuple, int] = {}
+    same = np.array([place.setdefault(tuple(key), i) for i, key in enumerate(keys.tolist())])
+    used, number = np.unique(same, return_inverse=True)
+    faces = [tuple(int(number[i]) for i in face) for face in mesh.faces]
+    runs = {(f[e], f[(e + 1) % len(f)]) for f in faces for e in range(len(f))}
+    n = len(used)
+    out: list[tuple[int, ...]] = []
+    for face in faces:
+        corners = len(face)
+        out.append((face[1], face[0]) + tuple(face[corners - 1 : 1 : -1]))  # bottom
+        out.append(tuple(n + i for i in face))  # top
+        for e in range(corners):
+            a, b = face[e], face[(e + 1) % corners]
+            if (b, a) not in runs:
+                out.append((a, b, n + b, n + a))
+    base = points[used]
+    solid = Mesh.of_valid_faces(np.vstack([base, base + step]), tuple(out))
+    if float(polygon_normal(mesh.face_points(0)) @ step) < 0:
+        solid = solid.reversed()
+    return solid
 
 
 def _flat_top_prism(points: np.ndarray, up: np.ndarray, distance: float) -> Mesh:
