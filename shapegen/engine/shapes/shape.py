@@ -374,6 +374,8 @@ def split_piece(
         piece = clip_slab(geometry, axis, start, start + size)
     if piece is None:
         return None
+    if shape.kind == FACE:
+        piece = _begun_as(piece, shape.geometry)
     scope = shape.scope
     if adjust:
         low, high = piece.bounds()
@@ -424,6 +426,27 @@ def _clip_segments(mesh: Mesh, axis: int, low: float, high: float) -> Mesh | Non
     if not faces:
         return None
     return Mesh(np.array(vertices), faces)
+
+
+def _begun_as(piece: Mesh, face: Mesh) -> Mesh:
+    """The polygons of a split ``piece`` of the one-polygon ``face``, each begun at its corner
+    nearest the face's first corner: so a piece's first edge runs as the face's does, as the
+    pieces of a shape filling its scope (a rectangle's) begin at their lower corner on its
+    first edge. PyPRT's pieces of a facade cut by split(y) begin so (envelope2002's vertical
+    greenery, whose images take their scope from that edge); the clip itself would begin a
+    middle piece at the cut on the face's last edge."""
+    if face.n_faces != 1 or not face.faces[0]:
+        return piece
+    first = face.vertices[face.faces[0][0]]
+    faces = []
+    for polygon in piece.faces:
+        if len(polygon) < 3:  # a segment (an edge's geometry) keeps its direction
+            faces.append(tuple(polygon))
+            continue
+        distance = np.linalg.norm(piece.vertices[list(polygon)] - first, axis=1)
+        begin = int(np.argmin(distance))
+        faces.append(tuple(polygon[begin:]) + tuple(polygon[:begin]))
+    return Mesh(piece.vertices, tuple(faces))
 
 
 def split_pieces(

@@ -386,6 +386,11 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                     child.trim_planes = () if merge else planes[chosen[index].index]
                 if body(child, args, out) and child.is_leaf():
                     out.append((child, None, ()))
+        if not any(taken):
+            # the shape is taken apart into the chosen components: none chosen, none left (an
+            # offset's bottom whose inside vanished, comp(f){inside: ...}, leaves nothing in
+            # PyPRT's envelope2002)
+            state.deleted = True
         return True
 
     return comp_op
