@@ -37,9 +37,13 @@ def checked_holes(holes, n_faces: int, n_vertices: int) -> tuple:
 
 
 def turned(ring: tuple[int, ...]) -> tuple[int, ...]:
-    """The ring turned around, keeping its first vertex (so its first edge stays on the same
-    segment)."""
-    return (ring[0],) + tuple(reversed(ring[1:]))
+    """The ring turned around, starting on its second vertex (``v1 v0 v(n-1) ... v2``), so its
+    first edge stays on the same segment, run the other way: as an extruded lot's bottom, and
+    as PyPRT turns envelope2002's floors with ``reverseNormals()`` (their new bottom's first
+    edge orders the interior walls' splits)."""
+    if len(ring) < 3:
+        return tuple(reversed(ring))
+    return (ring[1], ring[0]) + tuple(reversed(ring[2:]))
 
 
 def reversed_holes(holes: tuple) -> tuple:

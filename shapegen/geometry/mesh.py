@@ -565,4 +565,4 @@ def _faces_out_of_range(corners: np.ndarray, start: np.ndarray, count: int) -> n
     return np.add.reduceat(bad, start[:-1]) > 0
 
 
-_reversed = turned  # a face turned around keeps its first vertex
+_reversed = turned  # a face turned around starts on its second vertex

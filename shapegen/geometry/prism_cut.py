@@ -24,6 +24,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from shapegen.geometry.hole_rings import turned
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.rings import chain_loops, corners_apart, is_simple, turns_left, winds_once
 from shapegen.model.polygons import CheckedFaces
@@ -54,7 +55,7 @@ def _layouts(n: int) -> tuple[CheckedFaces, CheckedFaces]:
     faces = (bottom, tuple(range(n, 2 * n))) + tuple(
         (k, (k + 1) % n, n + (k + 1) % n, n + k) for k in range(n)
     )
-    backward = tuple((f[0],) + tuple(reversed(f[1:])) for f in faces)
+    backward = tuple(turned(f) for f in faces)
     return CheckedFaces(faces), CheckedFaces(backward)
 
 
