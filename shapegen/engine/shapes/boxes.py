@@ -104,10 +104,11 @@ FILLING = BoxFaces(
 
 BACKWARD = BoxFaces(
     [[0, 1, 1], [1, 1, 1], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0], [0, 0, 0]],
-    ((1, 2, 3, 0), (4, 7, 6, 5), (0, 4, 5, 1), (1, 5, 6, 2), (2, 6, 7, 3), (3, 7, 4, 0)),
+    ((0, 1, 2, 3), (5, 4, 7, 6), (1, 0, 4, 5), (2, 1, 5, 6), (3, 2, 6, 7), (0, 3, 7, 4)),
 )
 """A rectangle extruded by a negative depth: corners 0-3 the rectangle (its scope's y = the
-depth), 4-7 the rectangle moved back, faces the prism's turned around (keeping first corners)."""
+depth), 4-7 the rectangle moved back, faces the prism's turned around (each starting on its
+second corner, :func:`~shapegen.geometry.hole_rings.turned`)."""
 
 
 RECTANGLES = {

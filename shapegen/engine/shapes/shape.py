@@ -446,7 +446,7 @@ def _begun_as(piece: Mesh, face: Mesh) -> Mesh:
         distance = np.linalg.norm(piece.vertices[list(polygon)] - first, axis=1)
         begin = int(np.argmin(distance))
         faces.append(tuple(polygon[begin:]) + tuple(polygon[:begin]))
-    return Mesh(piece.vertices, tuple(faces))
+    return Mesh(piece.vertices, tuple(faces), piece.holes)
 
 
 def split_pieces(
