@@ -24,15 +24,20 @@ from shapegen.simulation import SIMULATION_MARGIN, simulate
 
 LARGEST = 500  # blocks
 SKIP = {"suspension_bridge.grammar": "a cable model, not blocks"}
+PACKAGE_SKIP = "a CityEngine rule package: its attrs carry no @Free, nothing to optimize"
 MARGIN = SIMULATION_MARGIN  # the search's geometric safety margin, a fraction of each joint
-BOUNDARY_COLLAPSES: dict[str, str] = {}  # rule file -> what was measured, when one moves
+BOUNDARY_COLLAPSES: dict[str, str] = {  # rule file -> what was measured, when one moves
+    "sainte_chapelle.grammar": "2026-12-07: after 5 s, 2 blocks still moving (b22 6.61%, b169 "
+    "4.17%), where it stood before; the search finds the same design as before to 3e-5 m, so "
+    "the derived model or the simulator's contacts moved: not yet traced",
+}
 
 
 def _cases():
     for name in bundled_rules():
         marks = [pytest.mark.slow]
-        if name in SKIP:
-            marks.append(pytest.mark.skip(reason=SKIP[name]))
+        if name in SKIP or name.endswith(".rpk"):
+            marks.append(pytest.mark.skip(reason=SKIP.get(name, PACKAGE_SKIP)))
         elif name in BOUNDARY_COLLAPSES:
             # Not run: each costs a minute to confirm a measured collapse (docs/simulation.md).
             marks.append(pytest.mark.xfail(reason=BOUNDARY_COLLAPSES[name], run=False))
