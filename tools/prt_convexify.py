@@ -17,7 +17,6 @@ It runs with PyPRT's Python (a development tool; shapegen never imports it) and 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import random
@@ -28,7 +27,7 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import ASM_JAR, CORPUS, PACKAGE, PATCHER  # noqa: E402
+from prt_primitives import ASM_JAR, CORPUS, rewritable_package, write_fixture  # noqa: E402
 
 # (name, outline as (x, z) corners, maxLength or None)
 LOTS = [
@@ -186,23 +185,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("output", type=Path, help="the JSON file to write")
     parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
     args = parser.parse_args(argv)
-    package = args.corpus / PACKAGE
-    missing = [tool for tool in ("java", "javac", "7z") if shutil.which(tool) is None]
-    if missing or not Path(ASM_JAR).exists() or not package.exists():
-        what = missing + [p for p in (ASM_JAR, str(package)) if not Path(p).exists()]
-        print(f"prt_convexify: missing {', '.join(what)}", file=sys.stderr)
-        return 2
-    import pyprt  # PyPRT's environment only
-
-    with tempfile.TemporaryDirectory() as tmp:
-        work = Path(tmp)
-        source = work / "source"
-        subprocess.run(["7z", "x", f"-o{source}", str(package)], check=True,
-                       stdout=subprocess.DEVNULL)  # fmt: skip
-        patcher = work / "patcher"
-        patcher.mkdir()
-        (patcher / "Patch.java").write_text(PATCHER)
-        subprocess.run(["javac", "-cp", ASM_JAR, "Patch.java"], cwd=patcher, check=True)
+    with rewritable_package(args.corpus, "prt_convexify") as (pyprt, work, source, patcher):
         rows = [measure(pyprt, work, source, patcher, *lot) for lot in LOTS]
         rows += [
             measure(pyprt, work, source, patcher, name, outline, None, before)
@@ -219,10 +202,7 @@ def main(argv: list[str] | None = None) -> int:
         "in PyPRT's order, rounded to 0.1 mm; a row with before ran those operations first and "
         "gives its parts' corners as (x, y, z)",
     }
-    lines = ["{", *(f" {json.dumps(k)}: {json.dumps(v)}," for k, v in head.items()), ' "lots": [']
-    lines += [f"  {json.dumps(row)}," for row in rows]
-    lines[-1] = lines[-1].rstrip(",")
-    args.output.write_text("\n".join([*lines, " ]", "}"]) + "\n")
+    write_fixture(args.output, head, "lots", rows)
     print(f"prt_convexify: {len(rows)} lots written to {args.output}")
     return 0
 

@@ -14,7 +14,6 @@ PyPRT's Python (a development tool; shapegen never imports it)::
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import shutil
 import subprocess
@@ -23,7 +22,7 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import ASM_JAR, CORPUS, PACKAGE, PATCHER, SCOPE  # noqa: E402
+from prt_primitives import ASM_JAR, CORPUS, SCOPE, rewritable_package, write_fixture  # noqa: E402
 
 GEOMETRY = ("nVertices", "nFaces", "nHoles", "area", "volume")
 LOTS = {
@@ -102,18 +101,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("output", type=Path, help="the JSON file to write")
     parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
     args = parser.parse_args(argv)
-    package = args.corpus / PACKAGE
-    import pyprt  # PyPRT's environment only
-
-    with tempfile.TemporaryDirectory() as tmp:
-        work = Path(tmp)
-        source = work / "source"
-        subprocess.run(["7z", "x", f"-o{source}", str(package)], check=True,
-                       stdout=subprocess.DEVNULL)  # fmt: skip
-        patcher = work / "patcher"
-        patcher.mkdir()
-        (patcher / "Patch.java").write_text(PATCHER)
-        subprocess.run(["javac", "-cp", ASM_JAR, "Patch.java"], cwd=patcher, check=True)
+    with rewritable_package(args.corpus, "prt_holes") as (pyprt, work, source, patcher):
         rows = []
         for name, lot in LOTS.items():
             for case in CASES:
@@ -133,10 +121,7 @@ def main(argv: list[str] | None = None) -> int:
         "what the PyEncoder returns (its faces as vertex counts)",
         "lots": LOTS,
     }
-    lines = ["{", *(f" {json.dumps(k)}: {json.dumps(v)}," for k, v in head.items()), ' "cases": [']
-    lines += [f"  {json.dumps(row)}," for row in rows]
-    lines[-1] = lines[-1].rstrip(",")
-    args.output.write_text("\n".join([*lines, " ]", "}"]) + "\n")
+    write_fixture(args.output, head, "cases", rows)
     print(f"prt_holes: {len(rows)} cases written to {args.output}")
     return 0
 

@@ -28,6 +28,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 CORPUS = Path(__file__).resolve().parents[2] / "shared" / "cga-corpus"
@@ -221,17 +222,17 @@ def measure(pyprt, work: Path, source: Path, patcher: Path, operations: str) -> 
     return row
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("output", type=Path, help="the JSON file to write")
-    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
-    args = parser.parse_args(argv)
-    package = args.corpus / PACKAGE
-    missing = [tool for tool in ("java", "javac", "7z") if shutil.which(tool) is None]
+@contextmanager
+def rewritable_package(corpus: Path, tool: str):
+    """The corpus's extrusion_rule package unpacked and the ASM patcher compiled, in a
+    temporary folder: ``(pyprt, work, source, patcher)`` for each tool's ``measure``. What is
+    missing (java, javac, 7z, the ASM jar, the package) ends the tool with one line, status 2."""
+    package = corpus / PACKAGE
+    missing = [name for name in ("java", "javac", "7z") if shutil.which(name) is None]
     if missing or not Path(ASM_JAR).exists() or not package.exists():
         what = missing + [p for p in (ASM_JAR, str(package)) if not Path(p).exists()]
-        print(f"prt_primitives: missing {', '.join(what)}", file=sys.stderr)
-        return 2
+        print(f"{tool}: missing {', '.join(what)}", file=sys.stderr)
+        raise SystemExit(2)
     import pyprt  # PyPRT's environment only
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -243,6 +244,28 @@ def main(argv: list[str] | None = None) -> int:
         patcher.mkdir()
         (patcher / "Patch.java").write_text(PATCHER)
         subprocess.run(["javac", "-cp", ASM_JAR, "Patch.java"], cwd=patcher, check=True)
+        yield pyprt, work, source, patcher
+
+
+def write_fixture(path: Path, head: dict, key: str, rows: list) -> None:
+    """The measured ``rows`` as a JSON fixture: ``head``'s entries, then ``key`` with a row a
+    line, so that a new measurement's difference reads row by row."""
+    lines = [
+        "{",
+        *(f" {json.dumps(k)}: {json.dumps(v)}," for k, v in head.items()),
+        f" {json.dumps(key)}: [",
+    ]
+    lines += [f"  {json.dumps(row)}," for row in rows]
+    lines[-1] = lines[-1].rstrip(",")
+    path.write_text("\n".join([*lines, " ]", "}"]) + "\n")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("output", type=Path, help="the JSON file to write")
+    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
+    args = parser.parse_args(argv)
+    with rewritable_package(args.corpus, "prt_primitives") as (pyprt, work, source, patcher):
         rows = [measure(pyprt, work, source, patcher, case) for case in CASES]
     from importlib.metadata import version as installed
 
@@ -256,10 +279,7 @@ def main(argv: list[str] | None = None) -> int:
         "normal of a one-face result",
         "lot": LOT,
     }
-    lines = ["{", *(f" {json.dumps(k)}: {json.dumps(v)}," for k, v in head.items()), ' "cases": [']
-    lines += [f"  {json.dumps(row)}," for row in rows]
-    lines[-1] = lines[-1].rstrip(",")
-    args.output.write_text("\n".join([*lines, " ]", "}"]) + "\n")
+    write_fixture(args.output, head, "cases", rows)
     print(f"prt_primitives: {len(rows)} cases written to {args.output}")
     return 0
 
