@@ -8,8 +8,13 @@ found locally is then fixed in the test or the code, not left to chance.
 
 import os
 
-import pytest
-from hypothesis import settings
+from shapegen.threads import one_thread_unless_chosen
+
+# The tests run the numerical libraries as the command line does (before numpy loads).
+one_thread_unless_chosen()
+
+import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
 
 settings.register_profile("ci", derandomize=True)
 if os.environ.get("CI"):

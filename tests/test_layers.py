@@ -14,7 +14,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "shapegen"
 
 # Bottom to top. A module may import its own layer and the layers below it.
 LAYERS = [
-    ["errors", "tolerances", "json_values", "plugins", "limits", "lazy_names"],
+    ["errors", "tolerances", "json_values", "plugins", "limits", "lazy_names", "threads"],
     ["model"],
     ["geometry"],  # polygon meshes and their CGA operations (cut, extrude, offset, roofs)
     ["readers"],  # input files (lots, GeoJSON, OSM): export writes, city and cli read

@@ -43,6 +43,7 @@ from collections.abc import Iterator, Sequence
 from shapegen.city.batches import batch_key, run_batch, write_batch
 from shapegen.city.work import CitySettings, LotTask, lot_seed, new_record, timeout_message
 from shapegen.errors import InputFormatError, ShapegenError
+from shapegen.threads import ONE_THREAD
 
 # A lot whose worker has not answered this long after its timeout is stopped from outside, s.
 KILL_GRACE_S = 2.0
@@ -50,17 +51,6 @@ KILL_GRACE_S = 2.0
 BATCH_SECONDS = 0.5
 MAX_BATCH = 1000
 FIRST_BATCH = 4
-# The numerical libraries' thread counts in a worker.
-_ONE_THREAD = {
-    name: "1"
-    for name in (
-        "OMP_NUM_THREADS",
-        "MKL_NUM_THREADS",
-        "OPENBLAS_NUM_THREADS",
-        "NUMEXPR_NUM_THREADS",
-        "VECLIB_MAXIMUM_THREADS",
-    )
-}
 
 
 def default_workers() -> int:
@@ -133,7 +123,7 @@ class _Worker:
         self.board = tempfile.TemporaryFile()
         self.board.truncate(PROGRESS.size)
         self.view = mmap.mmap(self.board.fileno(), PROGRESS.size)
-        env = {**os.environ, **_ONE_THREAD}
+        env = {**os.environ, **ONE_THREAD}
         fd = self.board.fileno()
         self.process = subprocess.Popen(
             [sys.executable, "-m", "shapegen.city.worker", str(fd)],
@@ -398,7 +388,7 @@ def _local_cluster(spec: str):
         threads_per_worker=1,
         processes=True,
         dashboard_address=None,
-        env=_ONE_THREAD,
+        env=ONE_THREAD,
     ) as cluster, Client(cluster) as client:  # fmt: skip
         yield client
 

@@ -61,6 +61,9 @@ def main(argv=None) -> int:
     when interrupted (130 for Ctrl-C).
     """
     try:
+        from shapegen.threads import one_thread_unless_chosen
+
+        one_thread_unless_chosen()  # before numpy loads: see shapegen.threads
         from shapegen.export.atomic import stop_on_signals
 
         with stop_on_signals():

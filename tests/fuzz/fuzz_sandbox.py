@@ -26,6 +26,12 @@ import traceback
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+from shapegen.threads import one_thread_unless_chosen
+
+# A child's CPU cap counts every thread: the numerical libraries on one, as the command runs them
+# (here too when a campaign runs as a script, outside the tests' conftest).
+one_thread_unless_chosen()
+
 CPU_SECONDS = 10
 MEMORY_BYTES = 2 * 2**30
 WALL_SECONDS = 600  # a busy child on a machine loaded 10 times over gets a tenth of a core
