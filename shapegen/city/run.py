@@ -214,8 +214,9 @@ def run_city(
     earlier = read_records(store)
     tasks = []
     resumed = 0
-    for k, lot in enumerate(city.lots):
-        fingerprint = _fingerprint(lot)
+    with np.errstate(over="ignore", invalid="ignore"):  # a refused lot's 1e308 corner
+        fingerprints = [_fingerprint(lot) for lot in city.lots]
+    for k, (lot, fingerprint) in enumerate(zip(city.lots, fingerprints, strict=True)):
         old = [r for r in earlier.get(lot.id, ()) if r.get("input") == fingerprint]
         if old:
             records[k] = old[-1]
@@ -336,9 +337,10 @@ def _identity(settings: CitySettings) -> dict:
 
 
 def _fingerprint(lot) -> str:
-    """A hash of what a lot is built from: its corners (to the micrometre) and properties."""
-    with np.errstate(over="ignore", invalid="ignore"):  # a refused lot's 1e308 corner
-        corners = np.round(np.asarray(lot.ring, dtype=float), 6)
+    """A hash of what a lot is built from: its corners (to the micrometre) and properties.
+    Called under ``np.errstate(over="ignore", invalid="ignore")``: a refused lot's corner may be
+    1e308 (the state is entered once for all lots: it costs as much as the rest)."""
+    corners = np.round(np.asarray(lot.ring, dtype=float), 6)
     digest = hashlib.blake2b(corners.tobytes(), digest_size=8)
     digest.update(_PROPERTIES.encode(lot.properties).encode())
     return digest.hexdigest()
