@@ -13,12 +13,21 @@ it::
     .venv/bin/python tools/prt_geometry.py --prt /tmp/prt/bin/python --markdown /tmp/table.md
 
 A package that fails on either side is a row with the first line of its error.
+
+``--fixture tests/data/prt_geometry.npz.xz`` also writes what PyPRT gave for every pair (vertex
+and face counts, report, and its vertex set rounded to 0.1 mm), so that the slow lane checks the
+table without PyPRT (tests/prt/test_geometry_table.py)::
+
+    .venv/bin/python tools/prt_geometry.py --prt /tmp/prt/bin/python \
+        --fixture tests/data/prt_geometry.npz.xz
 """
 
 from __future__ import annotations
 
 import argparse
+import io
 import json
+import lzma
 import math
 import subprocess
 import sys
@@ -40,6 +49,8 @@ LOTS = {
 """Initial shapes as PyPRT's flat coordinate lists, counter-clockwise seen from above."""
 TOLERANCE_M = 1e-3
 REPORT_REL = 1e-6
+# A fixture's vertices are rounded to this (m): within half of it of PyPRT's on each axis
+FIXTURE_STEP_M = 1e-4
 
 PRT_SCRIPT = r"""
 import json, sys, pyprt
@@ -103,8 +114,11 @@ def reports_equal(ours: dict, theirs: dict) -> bool:
     return True
 
 
-def compare(python: str, package: Path, lot: str) -> dict:
-    theirs = prt_model(python, package, LOTS[lot])
+def compare(python: str, package: Path, lot: str, theirs: dict | None = None) -> dict:
+    """One row of the table: ``package`` on ``lot`` by shapegen and by PyPRT (run by
+    ``python``, or its model ``theirs`` given: a fixture's)."""
+    if theirs is None:
+        theirs = prt_model(python, package, LOTS[lot])
     ours = shapegen_model(package, LOTS[lot])
     row = {"package": package.name.removeprefix("Esri+pyprt__").removesuffix(".rpk"), "lot": lot}
     if "error" in theirs or "error" in ours:
@@ -112,7 +126,7 @@ def compare(python: str, package: Path, lot: str) -> dict:
         return row
     a = np.asarray(ours["vertices"], float).reshape(-1, 3)
     b = np.asarray(theirs["vertices"], float).reshape(-1, 3)
-    row["vertices"] = (len(a), len(b))
+    row["vertices"] = (len(a), theirs.get("vertex_count", len(b)))
     row["faces"] = (len(ours["faces"]), len(theirs["faces"]))
     row["hausdorff"] = hausdorff(a, b)
     row["reports"] = reports_equal(ours["report"], theirs["report"])
@@ -122,6 +136,41 @@ def compare(python: str, package: Path, lot: str) -> dict:
         and max(row["hausdorff"]) <= TOLERANCE_M
     )
     return row
+
+
+def pair_key(package: Path, lot: str) -> str:
+    return package.name.removeprefix("Esri+pyprt__").removesuffix(".rpk") + "/" + lot
+
+
+def write_fixture(path: Path, models: dict[str, dict]) -> None:
+    """PyPRT's ``models`` (by :func:`pair_key`) into ``path``: one xz-compressed ``.npz`` whose
+    ``meta`` is a JSON text (counts, report or error per pair) and whose array ``<k>`` is pair
+    k's vertex set, rounded to ``FIXTURE_STEP_M`` (unique rows, int32 steps)."""
+    meta, arrays = {}, {}
+    for k, (key, model) in enumerate(sorted(models.items())):
+        if "error" in model:
+            meta[key] = {"error": model["error"]}
+            continue
+        vertices = np.asarray(model["vertices"], float).reshape(-1, 3)
+        steps = np.unique(np.round(vertices / FIXTURE_STEP_M).astype(np.int64), axis=0)
+        arrays[f"v{k}"] = steps.astype(np.int32)
+        meta[key] = {"array": f"v{k}", "vertex_count": len(vertices),
+                     "faces": list(model["faces"]), "report": model["report"]}  # fmt: skip
+    buffer = io.BytesIO()
+    np.savez(buffer, meta=np.array(json.dumps(meta, sort_keys=True)), **arrays)
+    path.write_bytes(lzma.compress(buffer.getvalue()))
+
+
+def read_fixture(path: Path) -> dict[str, dict]:
+    """The models :func:`write_fixture` wrote, by pair key: ``vertices`` (the rounded set,
+    metres), ``vertex_count``, ``faces`` (as PyPRT's ``get_faces()``: each face's corner
+    count), ``report``; or ``error``."""
+    with np.load(io.BytesIO(lzma.decompress(path.read_bytes()))) as data:
+        meta = json.loads(str(data["meta"]))
+        for model in meta.values():
+            if "array" in model:
+                model["vertices"] = (data[model.pop("array")] * FIXTURE_STEP_M).ravel().tolist()
+    return meta
 
 
 def markdown(rows: list[dict]) -> str:
@@ -151,19 +200,24 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--prt", required=True, help="the python of an environment with PyPRT")
     parser.add_argument("--only", default="", help="a substring of the package names to run")
     parser.add_argument("--markdown", type=Path, help="write the table as markdown here")
+    parser.add_argument("--fixture", type=Path, help="write PyPRT's models here (see above)")
     args = parser.parse_args(argv)
-    rows = []
+    rows, models = [], {}
     for package in sorted((CORPUS / "packages").glob("*.rpk")):
         if args.only not in package.name:
             continue
         for lot in LOTS:
-            row = compare(args.prt, package.resolve(), lot)
+            theirs = prt_model(args.prt, package.resolve(), LOTS[lot])
+            models[pair_key(package, lot)] = theirs
+            row = compare(args.prt, package.resolve(), lot, theirs)
             rows.append(row)
             print(json.dumps(row), flush=True)
     table = markdown(rows)
     print(table)
     if args.markdown:
         args.markdown.write_text(table)
+    if args.fixture:
+        write_fixture(args.fixture, models)
     return 0
 
 
