@@ -20,8 +20,11 @@ __all__ = [
     "PluginError",
     "SourceLocation",
     "WorkLimitError",
+    "did_you_mean",
 ]
 
+import difflib
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 
@@ -148,3 +151,34 @@ class WorkLimitError(ShapegenError):
     """Work past one of the work limits (:mod:`shapegen.limits`) where no rule's place is at
     hand (a geometry kernel's loop, a writer); the message names the limit and how to raise it.
     A derivation reports it at the operation that ran, and never carries on past it."""
+
+
+def did_you_mean(
+    name: object,
+    known: Iterable[str],
+    *,
+    most: int = 1,
+    cutoff: float = 0.6,
+    parenthesised: bool = False,
+    shown: Mapping[str, str] | None = None,
+) -> str:
+    """The hint an error gives after a name nothing has: ``; did you mean 'x'?`` for the
+    closest of ``known`` (up to ``most`` of them, joined by "or"), `` (did you mean 'x'?)``
+    with ``parenthesised``, or ``""`` when none is close (``cutoff``: difflib's ratio, 0 to 1).
+    ``shown`` gives the name shown for a known one where they differ (a file's stem, compared,
+    and its file name, shown).
+    Every "did you mean" of the package is this one, so each near miss reads alike.
+
+    >>> did_you_mean("heigth", ["height", "width"])
+    "; did you mean 'height'?"
+    >>> did_you_mean("arc", ["arch", "dome"], parenthesised=True)
+    " (did you mean 'arch'?)"
+    >>> did_you_mean("spam", ["height"])
+    ''
+    """
+    close = difflib.get_close_matches(str(name), sorted(set(known)), n=most, cutoff=cutoff)
+    if not close:
+        return ""
+    shown = shown or {}
+    hint = f"did you mean {' or '.join(repr(shown.get(c, c)) for c in close)}?"
+    return f" ({hint})" if parenthesised else f"; {hint}"

@@ -12,12 +12,11 @@ __all__ = [
     "use_modules",
 ]
 
-import difflib
 import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-from shapegen.errors import OptionError, PluginError
+from shapegen.errors import OptionError, PluginError, did_you_mean
 
 #: The entry-point groups whose plug-ins have been looked for (each is looked for once).
 LOADED_GROUPS: set[str] = set()
@@ -139,8 +138,7 @@ def find_registered(registry: Mapping[str, object], name: str, what: str):
     """``registry[name]``; an unknown name is one error suggesting the closest registered one,
     listing them all, and saying how one of one's own is made known."""
     if name not in registry:
-        close = difflib.get_close_matches(str(name), list(registry), n=1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        hint = did_you_mean(name, registry, parenthesised=True)
         own = ""
         if what in GROUPS:
             own = (

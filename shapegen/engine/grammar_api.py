@@ -16,7 +16,6 @@ from __future__ import annotations
 
 __all__ = ["Grammar", "load_grammar", "parse_grammar", "bundled_rules"]
 
-import difflib
 import math
 import os
 import re
@@ -29,7 +28,7 @@ from shapegen.engine.program.interpreter import Program
 from shapegen.engine.project.rule_packages import PACKAGE_SUFFIX, RulesPath, start_rule_of_package
 from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
 from shapegen.engine.shapes.shape import lot_scope, lot_shape
-from shapegen.errors import GrammarError
+from shapegen.errors import GrammarError, did_you_mean
 from shapegen.grammar import ast
 from shapegen.grammar.source_files import read_rule_file
 from shapegen.limits import work_clock
@@ -348,8 +347,7 @@ def _rule_file(path: str | os.PathLike) -> Path:
     # compare the stems: every bundled name ends in .grammar or .rpk, which would make any two
     # look alike
     stems = {Path(bundled).stem: bundled for bundled in names}
-    close = difflib.get_close_matches(Path(candidate.name).stem, list(stems), n=1, cutoff=0.75)
-    hint = f"; did you mean {stems[close[0]]!r}?" if close else ""
+    hint = did_you_mean(Path(candidate.name).stem, stems, cutoff=0.75, shown=stems)
     raise GrammarError(
         f"no grammar file {name!r} (not in the working directory nor among the bundled "
         f"rules: {', '.join(names) or 'none'}){hint}"

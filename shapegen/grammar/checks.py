@@ -18,11 +18,10 @@ What is checked (each message names the place, and suggests a near name where on
 
 from __future__ import annotations
 
-from shapegen.errors import GrammarError, SourceLocation
+from shapegen.errors import GrammarError, SourceLocation, did_you_mean
 from shapegen.grammar import ast
 from shapegen.grammar.checks_annotations import AnnotationChecks
 from shapegen.grammar.checks_keywords import KeywordNameChecks
-from shapegen.grammar.checks_keywords import suggestion as _suggestion
 from shapegen.grammar.constant_folding import constant_value
 from shapegen.grammar.names import (
     BUILTIN_FUNCTIONS,
@@ -253,7 +252,7 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
                 successor.location,
                 f"'{successor.name}(...)' is neither a CGA operation nor a rule of this file"
                 + (" (the shape stays a leaf)" if self.cga else "")
-                + _suggestion(successor.name, known),
+                + did_you_mean(successor.name, known),
             )
             return
         if arities is None:
@@ -284,7 +283,7 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         self.report(
             item.location,
             f"set() of undefined attr '{name}'"
-            + _suggestion(name, [*candidates, *RESERVED_ATTRIBUTES]),
+            + did_you_mean(name, [*candidates, *RESERVED_ATTRIBUTES]),
         )
 
     def _name(self, node: ast.Name, params: dict) -> None:
@@ -312,7 +311,7 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
                 self.report(node.location, f"'{name}' is a builtin function: write {name}(...)")
             return
         candidates = [*params, *self.values, *RESERVED_ATTRIBUTES]
-        self.report(node.location, f"undefined name '{name}'" + _suggestion(name, candidates))
+        self.report(node.location, f"undefined name '{name}'" + did_you_mean(name, candidates))
 
     def _call(self, node: ast.Call, params: dict) -> None:
         name = node.name
@@ -346,7 +345,7 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         functions = [n for n, d in self.values.items() if isinstance(d, ast.Function)]
         self.report(
             node.location,
-            f"undefined function '{name}'" + _suggestion(name, [*BUILTIN_FUNCTIONS, *functions]),
+            f"undefined function '{name}'" + did_you_mean(name, [*BUILTIN_FUNCTIONS, *functions]),
         )
 
     def _shape_attribute(self, node: ast.ShapeAttribute) -> None:
@@ -371,7 +370,7 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         self.report(
             node.location,
             f"unknown shape attribute '{written}'"
-            + (_suggestion(written, valid) or f"; valid: {', '.join(valid)}"),
+            + (did_you_mean(written, valid) or f"; valid: {', '.join(valid)}"),
         )
 
 

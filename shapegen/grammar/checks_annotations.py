@@ -8,9 +8,7 @@ provides ``grammar``, ``values``, ``rules``, ``cga``, ``report`` and ``_visit``.
 
 from __future__ import annotations
 
-import difflib
-from collections.abc import Iterable
-
+from shapegen.errors import did_you_mean
 from shapegen.grammar import ast
 from shapegen.grammar.constant_folding import UNKNOWN, constant_value, is_number
 from shapegen.grammar.definitions import dialect_of
@@ -39,11 +37,6 @@ _KIND_NAMES = {
 _UNEVALUATED = frozenset(
     {"Handle", "Location", "Out", "Macro", "File", "Directory", "MaterialFile", "Label"}
 )
-
-
-def _suggestion(name: str, candidates: Iterable[str]) -> str:
-    matches = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
-    return f"; did you mean '{matches[0]}'?" if matches else ""
 
 
 def _arity(low: int, high: int) -> str:
@@ -83,7 +76,7 @@ class AnnotationChecks:
             if name not in ANNOTATIONS:
                 self.report(
                     annotation.location,
-                    f"unknown annotation '@{name}'" + _suggestion(name, ANNOTATIONS),
+                    f"unknown annotation '@{name}'" + did_you_mean(name, ANNOTATIONS),
                 )
                 continue
             if name in seen:
@@ -104,7 +97,7 @@ class AnnotationChecks:
                         name,
                         keyword.location,
                         f"@{name} has no argument '{keyword.name}' (valid: {valid})"
-                        + _suggestion(keyword.name, keywords),
+                        + did_you_mean(keyword.name, keywords),
                     )
             if name not in _UNEVALUATED and (not self.cga or name in _EVALUATED_IN_CGA):
                 # CityEngine reads the other inspector hints' unquoted words as words

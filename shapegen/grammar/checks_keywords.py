@@ -8,9 +8,7 @@ provides ``report``, ``values`` and ``keyword_names``.
 
 from __future__ import annotations
 
-import difflib
-from collections.abc import Iterable
-
+from shapegen.errors import did_you_mean
 from shapegen.grammar import ast
 from shapegen.grammar.names import (
     COMP_KINDS,
@@ -20,13 +18,7 @@ from shapegen.grammar.names import (
     OPERATION_KEYWORDS,
 )
 
-__all__ = ["KeywordNameChecks", "suggestion"]
-
-
-def suggestion(name: str, candidates: Iterable[str]) -> str:
-    """``; did you mean 'x'?`` for the closest of ``candidates``, or nothing."""
-    matches = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
-    return f"; did you mean '{matches[0]}'?" if matches else ""
+__all__ = ["KeywordNameChecks"]
 
 
 class KeywordNameChecks:
@@ -89,7 +81,7 @@ class KeywordNameChecks:
                     key.location,
                     f"unknown comp selector '{key.name}'; valid: {', '.join(COMP_SELECTORS[:6])}"
                     + "..."
-                    + suggestion(key.name, COMP_SELECTORS),
+                    + did_you_mean(key.name, COMP_SELECTORS),
                 )
                 self.keyword_names[id(key)] = frozenset({key.name})
 

@@ -30,7 +30,6 @@ __all__ = [
     "REGISTRY",
 ]
 
-import difflib
 import inspect
 import math
 from collections.abc import Callable
@@ -38,7 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.errors import GeometryError, PluginError
+from shapegen.errors import GeometryError, PluginError, did_you_mean
 from shapegen.limits import current_limits, limit_hint
 from shapegen.model.block import Block
 from shapegen.model.scope import Scope
@@ -169,8 +168,7 @@ class Primitive:
         for key, value in params.items():
             if key not in self.parameters:
                 known = ", ".join(sorted(self.parameters)) or "none"
-                close = difflib.get_close_matches(key, list(self.parameters), n=1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                hint = did_you_mean(key, self.parameters, parenthesised=True)
                 raise GeometryError(
                     f"primitive {self.name!r} has no parameter {key!r}{hint}; "
                     f"its parameters: {known}"

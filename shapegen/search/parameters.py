@@ -5,12 +5,11 @@ from __future__ import annotations
 
 __all__ = ["FreeParameter", "RangeWarning", "select_parameters"]
 
-import difflib
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from shapegen.errors import GrammarError
+from shapegen.errors import GrammarError, did_you_mean
 
 
 class RangeWarning(UserWarning):
@@ -49,8 +48,7 @@ def select_parameters(
     known = grammar.attrs
     for name in [*(free or []), *fix]:
         if name not in known:
-            close = difflib.get_close_matches(name, list(known), n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(name, known, parenthesised=True)
             raise GrammarError(f"{grammar.name}: no attr named {name!r}{hint}")
     attrs.update(fix)
     ranges = grammar.parameter_ranges(attrs)

@@ -36,7 +36,6 @@ __all__ = [
     "moved_model",
 ]
 
-import difflib
 import math
 import time
 from collections.abc import Callable, Iterable
@@ -44,7 +43,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from shapegen.errors import ShapegenError
+from shapegen.errors import ShapegenError, did_you_mean
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.simulation.settings import SIMULATION_MARGIN, SimulationSettings
@@ -277,8 +276,7 @@ def remove_blocks(model: Model, names: Iterable[str]) -> tuple[Model, list[str]]
         hits = {k for k, b in enumerate(model.blocks) if b.id == name or name in b.tags}
         if not hits:
             known = sorted({b.id for b in model.blocks} | {t for b in model.blocks for t in b.tags})
-            close = difflib.get_close_matches(name, known, n=3)
-            hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+            hint = did_you_mean(name, known, most=3)
             raise ShapegenError(f"--remove {name}: no block has the id or label {name!r}{hint}")
         doomed |= hits
     kept = [b for k, b in enumerate(model.blocks) if k not in doomed]

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 __all__ = ["DEFAULT_LOT", "AttributeValues", "checked_structure", "shown"]
 
-import difflib
 import math
 from collections.abc import Callable, Mapping
 
@@ -20,7 +19,7 @@ from shapegen.engine.derivation.state import TOO_DEEP, Derivation, root_state
 from shapegen.engine.expressions.arrays import Array, array_from
 from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
 from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
-from shapegen.errors import GrammarError, LotError, OptionError
+from shapegen.errors import GrammarError, LotError, OptionError, did_you_mean
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.model.lot import Lot
@@ -76,8 +75,7 @@ class AttributeValues:
             if name in self.const_nodes:
                 raise GrammarError(f"{name!r} is a const and cannot be set; only attrs can")
             known = sorted(self.attr_nodes)
-            close = difflib.get_close_matches(name, known, n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(name, known, parenthesised=True)
             listing = ", ".join(known) if known else "none"
             raise GrammarError(f"unknown attribute {name!r}{hint}; attributes: {listing}")
         run = run or Derivation(self, seed)
@@ -202,8 +200,7 @@ def checked_structure(start: ast.Rule, error: Callable) -> str:
     for keyword in annotation.keywords:
         if keyword.name not in structure.arguments:
             known = ", ".join(structure.arguments) or "none"
-            close = difflib.get_close_matches(keyword.name, list(structure.arguments), n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(keyword.name, structure.arguments, parenthesised=True)
             raise error(
                 keyword if getattr(keyword, "location", None) else annotation,
                 f"structure {name!r} has no argument {keyword.name!r}{hint}; its arguments: "
