@@ -24,7 +24,6 @@ __all__ = [
 ]
 
 import argparse
-import difflib
 import math
 from dataclasses import MISSING
 
@@ -339,35 +338,22 @@ def load_grammar(name: str):
     return load(name)
 
 
-def attr_names(grammar) -> list[str]:
-    return list(grammar.attrs)
-
-
 def checked_attrs(
     grammar, assignments: list[tuple[str, object]], option: str = "--set", given=None
 ) -> dict:
     """The ``--set`` (or ``--fix``) values by name; an unknown name is an error with close
     suggestions, and a number outside its attr's ``@Range`` (or off its stepsize) one warning
     line: CityEngine treats a range as a hint, so the value is used as given, never clamped
-    (:meth:`~shapegen.engine.grammar_api.Grammar.range_warnings`, the design page's rule too).
-    ``given`` holds the other attrs the ranges may depend on."""
-    known = attr_names(grammar)
-    attrs: dict = {}
-    for name, value in assignments:
-        if name not in known:
-            close = difflib.get_close_matches(name, known, n=3)
-            hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
-            listing = f" (attrs: {', '.join(known)})" if known and not close else ""
-            raise CommandLineError(
-                f"{option} {name}: the grammar has no attr {name!r}{hint}{listing}"
-            )
-        attrs[name] = value
-    _warn_outside_ranges(grammar, attrs, option, given or {})
-    return attrs
-
-
-def _warn_outside_ranges(grammar, attrs: dict, option: str, given: dict) -> None:
+    (:meth:`~shapegen.engine.attr_catalogue.AttrCatalogue.range_warnings`, the design page's
+    rule too). ``given`` holds the other attrs the ranges may depend on."""
     import sys
 
-    for warning in grammar.range_warnings(attrs, given).values():
+    catalogue = grammar.catalogue
+    attrs: dict = {}
+    for name, value in assignments:
+        if name not in catalogue:
+            raise CommandLineError(f"{option} {name}: {catalogue.no_attr(name, most=3)}")
+        attrs[name] = value
+    for warning in catalogue.range_warnings(attrs, given or {}).values():
         sys.stderr.write(f"shapegen: warning: {option} {warning}\n")
+    return attrs

@@ -2,9 +2,10 @@
 
 Every attr is listed with its kind (number, bool, string, color, file, directory, array), its
 current value and the rule's default, its ``@Range`` (a slider) when it has one, whether it is
-``@Free``, and what its other annotations ask of the Inspector (:mod:`shapegen.editor.
-annotations`: step, choices, group, order, description, hidden), and whether it is a whole
-number (a count: :mod:`shapegen.editor.counts`), whose slider steps by 1.
+``@Free``, and what its other annotations ask of the Inspector (step, choices, group, order,
+description, hidden: the grammar's attribute catalogue, :mod:`shapegen.engine.attr_catalogue`),
+and whether it is a whole number (a count: :mod:`shapegen.editor.counts`), whose slider steps
+by 1.
 A value sent to the editor is checked here before any work: an unknown name, a value of the wrong
 kind, a number that is not finite, a value not among its ``@Enum``'s, a fraction for a count is
 a :class:`RequestError` naming it. A number outside its ``@Range`` or off its stepsize is taken,
@@ -23,20 +24,15 @@ __all__ = [
     "range_warnings",
 ]
 
-import difflib
 import math
 import re
 import weakref
 from collections.abc import Collection, Mapping
 from dataclasses import asdict, dataclass
 
-from shapegen.editor.annotations import (
-    UNIT_RANGES,
-    AttrHints,
-    asset_choices,
-    attr_hints,
-)
+from shapegen.editor.annotations import asset_choices
 from shapegen.editor.counts import count_attrs, is_whole
+from shapegen.engine.attr_catalogue import UNIT_RANGES, AttrEntry
 from shapegen.errors import ShapegenError
 
 _COLOUR = re.compile(r"#[0-9a-fA-F]{6}")
@@ -105,23 +101,25 @@ def plain_value(value: object) -> object:
     return list(values) if isinstance(values, tuple) else value
 
 
-def choices_of(grammar, name: str, hint: AttrHints, values: Mapping[str, object]) -> list | None:
+def choices_of(grammar, name: str, entry: AttrEntry, values: Mapping[str, object]) -> list | None:
     """The values a drop-down offers for attr ``name``: its ``@Enum`` or ``@Range`` of strings,
     the array its ``@Enum(valuesAttr=...)`` names (at its current value), or the asset files
     (folders) of a ``@File`` (``@Directory``) attr; None for none."""
-    if hint.choices is not None:
-        return list(hint.choices)
-    if hint.values_attr is not None:
-        source = plain_value(values.get(hint.values_attr, grammar.attrs.get(hint.values_attr)))
+    if entry.choices is not None:
+        return list(entry.choices)
+    if entry.values_attr is not None:
+        array = grammar.catalogue.get(entry.values_attr)
+        default = array.default if array is not None else None
+        source = plain_value(values.get(entry.values_attr, default))
         if isinstance(source, list):
             return [float(v) if isinstance(v, int | float) and not isinstance(v, bool) else v
                     for v in source]  # fmt: skip
         return None
-    if hint.kind in ("file", "directory"):
+    if entry.kind in ("file", "directory"):
         listed = _ASSETS.setdefault(grammar, {})
         if name not in listed:
             listed[name] = asset_choices(
-                grammar.path, hint.extensions, directories=hint.kind == "directory"
+                grammar.path, entry.extensions, directories=entry.kind == "directory"
             )
         return listed[name]
     return None
@@ -137,54 +135,52 @@ def attr_specs(
     built model's final values) and the ranges evaluated for them; ``user`` names the attrs
     whose values are the designer's, ``free`` the attrs the search may change (the ``@Free``
     ones by default)."""
-    ranges = grammar.parameter_ranges(dict(values))
-    nodes = grammar.program.attr_nodes
+    catalogue = grammar.catalogue
+    ranges = catalogue.ranges(values)
     counts = count_attrs(grammar)
-    hints = attr_hints(grammar)
-    defaults = grammar.attrs
     rows = []
-    for name, default in defaults.items():
+    for name, entry in catalogue.items():
+        default = entry.default
         value = values.get(name, default)
         spec = ranges.get(name)
-        hint = hints[name]
         whole = name in counts
         low = high = step = None
-        is_free = nodes[name].free if free is None else name in free
-        restricted = hint.restricted or is_free
-        ranged = spec is not None and hint.kind == "number"
+        is_free = entry.free if free is None else name in free
+        restricted = entry.restricted or is_free
+        ranged = spec is not None
         if ranged:
             low, high = float(spec["min"]), float(spec["max"])
         elif (
-            hint.kind == "number"
-            and hint.unit in UNIT_RANGES
-            and not (hint.choices or hint.values_attr)
+            entry.kind == "number"
+            and entry.unit in UNIT_RANGES
+            and not (entry.choices or entry.values_attr)
         ):
-            low, high = UNIT_RANGES[hint.unit]  # CityEngine's slider, no bound on the value
+            low, high = UNIT_RANGES[entry.unit]  # CityEngine's slider, no bound on the value
             restricted = False
         if low is not None:
-            step = hint.step or (1.0 if whole else _step(low, high))
+            step = entry.step or (1.0 if whole else _step(low, high))
         rows.append(
             AttrSpec(
                 name,
-                hint.kind,
+                entry.kind,
                 plain_value(value),
                 low,
                 high,
                 step,
                 is_free,
-                hint.description,
+                entry.description,
                 whole,
                 default=plain_value(default),
                 user=name in user,
                 restricted=restricted,
-                choices=choices_of(grammar, name, hint, values),
-                group=list(hint.group),
-                order=hint.order,
-                hidden=hint.hidden,
-                display_name=hint.display_name,
-                grid=hint.step if hint.step and ranged and restricted else None,
+                choices=choices_of(grammar, name, entry, values),
+                group=list(entry.group),
+                order=entry.order,
+                hidden=entry.hidden,
+                display_name=entry.display_name,
+                grid=entry.step if entry.step and ranged and restricted else None,
                 ranged=ranged,
-                unit=hint.unit,
+                unit=entry.unit,
             )
         )
     return rows
@@ -208,16 +204,13 @@ def checked_values(
         raise RequestError('send a JSON object of attr values, such as {"span": 7.5}')
     if not payload:
         raise RequestError("no attr values given")
-    defaults = grammar.attrs
+    catalogue = grammar.catalogue
     counts = count_attrs(grammar)
-    hints = attr_hints(grammar)
     values: dict[str, object] = {}
     for name, value in payload.items():
-        if name not in defaults:
-            close = difflib.get_close_matches(str(name), list(defaults), n=1)
-            hint = f"; did you mean {close[0]!r}?" if close else ""
-            raise RequestError(f"the grammar has no attr {name!r}{hint}")
-        kind = hints[name].kind
+        if name not in catalogue:
+            raise RequestError(catalogue.no_attr(name))
+        kind = catalogue[name].kind
         if kind == "number":
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise RequestError(f"attr {name!r} takes a number; got {_shown(value)}")
@@ -244,14 +237,13 @@ def checked_values(
             )
         values[name] = value
     given = {**current, **values}
-    nodes = grammar.program.attr_nodes
     for name, value in values.items():
-        hint = hints[name]
-        restricted = hint.restricted or nodes[name].free or name in free
+        entry = catalogue[name]
+        restricted = entry.restricted or entry.free or name in free
         # an asset not listed may still be found by the asset search: a path is not refused
-        choices = None if hint.kind in ("file", "directory") else hint.choices
-        if hint.values_attr is not None:
-            choices = choices_of(grammar, name, hint, given)
+        choices = None if entry.kind in ("file", "directory") else entry.choices
+        if entry.values_attr is not None:
+            choices = choices_of(grammar, name, entry, given)
         if restricted and choices is not None:
             if value not in choices:
                 listed = ", ".join(_choice(c) for c in choices[:8])
@@ -268,10 +260,10 @@ def range_warnings(
     """The warnings of the designer's ``attrs`` outside their ``@Range`` or off its stepsize
     (``values``: every attr's value, which a bound may depend on), one line each as the page
     shows them: the command line's ``--set`` rule
-    (:meth:`~shapegen.engine.grammar_api.Grammar.range_warnings`)."""
+    (:meth:`~shapegen.engine.attr_catalogue.AttrCatalogue.range_warnings`)."""
     if not attrs:
         return []
-    found = grammar.range_warnings(attrs, values, free=free)
+    found = grammar.catalogue.range_warnings(attrs, values, free=free)
     return [f"attr {warning}" for warning in found.values()]
 
 

@@ -68,7 +68,7 @@ def reset_names(grammar, payload: object) -> list[str] | None:
     if names is not None:
         if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
             raise RequestError('"attrs" is a list of attr names, such as ["span"]')
-        unknown = [n for n in names if n not in grammar.attrs]
-        if unknown:
-            raise RequestError(f"the grammar has no attr {unknown[0]!r}")
+        unknown = grammar.catalogue.first_unknown(names)
+        if unknown is not None:
+            raise RequestError(grammar.catalogue.no_attr(unknown))
     return names

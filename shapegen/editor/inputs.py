@@ -58,18 +58,16 @@ def ranged_numbers(grammar, values: Mapping[str, object]) -> set[str]:
     """The attrs of ``grammar`` a search can vary with the attr values ``values``: numbers
     within a ``@Range`` (none when the ranges cannot be worked out)."""
     try:
-        ranges = grammar.parameter_ranges(values)
+        return set(grammar.catalogue.ranges(values))
     except ShapegenError:
         return set()
-    defaults = grammar.attrs
-    return {n for n in ranges if isinstance(defaults.get(n), float)}
 
 
 def free_attrs(grammar, free: list[str] | None, values: Mapping[str, object]) -> list[str]:
     """The attrs the search varies and the stable ranges cover: the ``@Free`` ones (``free``
     None), or those the designer chose that the grammar still has with a ``@Range``."""
     if free is None:
-        return list(grammar.free_parameters)
+        return list(grammar.catalogue.free)
     ranged = ranged_numbers(grammar, values)
     return [name for name in free if name in ranged]
 
@@ -102,21 +100,20 @@ def with_settings(payload: object, current: Inputs, grammar, ranged: set[str]) -
 def valid_attrs(grammar, attrs: Mapping[str, object]) -> dict:
     """The values of ``attrs`` that mean something in ``grammar``: an attr it has, of the
     same type, within its range (a value of the history may predate a reload)."""
-    kept = {}
-    defaults = grammar.attrs
-    for name, value in attrs.items():
-        if name in defaults and type(defaults[name]) is type(value):
-            kept[name] = value
+    catalogue = grammar.catalogue
+    kept = {
+        name: value
+        for name, value in attrs.items()
+        if name in catalogue and type(catalogue[name].default) is type(value)
+    }
     try:
-        ranges = grammar.parameter_ranges(kept)
+        ranges = catalogue.ranges(kept)
     except ShapegenError:
         return {}
     return {
         name: value
         for name, value in kept.items()
-        if name not in ranges
-        or not isinstance(value, float)
-        or ranges[name]["min"] <= value <= ranges[name]["max"]
+        if name not in ranges or ranges[name]["min"] <= value <= ranges[name]["max"]
     }
 
 
@@ -126,8 +123,8 @@ def checked_free(value: object, grammar, ranged: set[str]) -> list[str] | None:
     if not isinstance(value, list) or not all(isinstance(n, str) for n in value):
         raise RequestError('"free" is a list of attr names, such as ["span"], or null')
     for name in value:
-        if name not in grammar.attrs:
-            raise RequestError(f"the grammar has no attr {name!r}")
+        if name not in grammar.catalogue:
+            raise RequestError(grammar.catalogue.no_attr(name))
         if name not in ranged:
             raise RequestError(
                 f"attr {name!r} cannot be free: the search varies numbers within a @Range"

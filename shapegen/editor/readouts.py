@@ -14,7 +14,7 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-from shapegen.editor.annotations import attr_hints, inspector_sections
+from shapegen.editor.annotations import inspector_sections
 from shapegen.editor.attrs import RequestError, attr_specs, plain_value, range_warnings
 from shapegen.editor.blocks import block_details
 from shapegen.editor.exports import command_line
@@ -93,7 +93,7 @@ def state_json(shown: Shown) -> dict:
             spec.to_json()
             for spec in attr_specs(shown.grammar, shown.values, user=shown.attrs, free=shown.free)
         ],
-        "sections": inspector_sections(attr_hints(shown.grammar)),
+        "sections": inspector_sections(shown.grammar.catalogue),
         "verdict": verdict,
         # the structure's own panel (a bridge's cable sizing), in the structure's words
         "panel": structure.panel(assessment.section) if assessment is not None else None,

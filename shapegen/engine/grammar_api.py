@@ -16,14 +16,15 @@ from __future__ import annotations
 
 __all__ = ["Grammar", "load_grammar", "parse_grammar", "bundled_rules"]
 
-import math
+import functools
 import os
 import re
-from collections.abc import Collection, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
+from shapegen.engine.attr_catalogue import AttrCatalogue
 from shapegen.engine.program.interpreter import Program
 from shapegen.engine.project.rule_packages import PACKAGE_SUFFIX, RulesPath, start_rule_of_package
 from shapegen.engine.project.rules_path import bundled_rules, find_bundled_rule
@@ -87,81 +88,11 @@ class Grammar:
         attributes = self.program.attributes
         return attributes.free_parameters(values, lot_scope(*self.lot), only_free=False)
 
-    def range_warnings(
-        self,
-        values: Mapping[str, object],
-        given: Mapping[str, object] | None = None,
-        free: Collection[str] = (),
-    ) -> dict[str, str]:
-        """``name -> warning`` for each number of ``values`` outside its attr's ``@Range`` or
-        off the range's stepsize: the one rule of ``--set``/``--fix`` and the design page.
-
-        A range is a hint, as in CityEngine, whose annotations "do not affect the semantics of
-        a rule" (they shape the Inspector's slider): such a value is used as given, never
-        clamped nor refused, and gets one warning. ``restricted=false`` says any value is
-        meant and gets none, except for a ``@Free`` attr (or one named in ``free``), whose
-        range is the search's bounds. ``given`` holds the other attrs a bound may depend on.
-
-        >>> import shapegen
-        >>> grammar = shapegen.parse_grammar('''
-        ... @Range(min=0.1, max=0.8, stepsize=0.1)
-        ... attr t = 0.3
-        ... @StartRule
-        ... Lot --> extrude(t) Wall
-        ... ''')
-        >>> grammar.range_warnings({"t": 2.0})["t"]
-        't=2 is outside its @Range [0.1, 0.8]: built as given (a range is a hint, as in CityEngine)'
-        >>> grammar.range_warnings({"t": 0.5})
-        {}
-        """
-        from shapegen.grammar.constant_folding import constant_value, is_number
-        from shapegen.tolerances import GRID_SLACK, is_close
-
-        numbers = {
-            name: float(value)
-            for name, value in values.items()
-            if isinstance(value, int | float) and not isinstance(value, bool)
-        }
-        if not numbers:
-            return {}
-        ranges = self.parameter_ranges({**(given or {}), **values})
-        nodes = self.program.attr_nodes
-        definitions = {**{c.name: c for c in self.ast.consts}, **nodes}
-        hint = "built as given (a range is a hint, as in CityEngine)"
-        warnings = {}
-        for name, value in numbers.items():
-            spec, node = ranges.get(name), nodes.get(name)
-            if spec is None or node is None:
-                continue
-            annotation = node.annotation("Range")
-            pinned = node.free or name in free
-            restricted = next(
-                (
-                    constant_value(k.value, definitions)
-                    for k in annotation.keywords
-                    if k.name == "restricted"
-                ),
-                True,
-            )
-            if restricted is False and not pinned:
-                continue
-            low, high = spec["min"], spec["max"]
-            if not low <= value <= high:
-                warnings[name] = (
-                    f"{name}={value:g} is outside its @Range [{low:g}, {high:g}]: {hint}"
-                )
-                continue
-            step = annotation.argument("stepsize", 2)
-            step = constant_value(step, definitions) if step is not None else None
-            if is_number(step) and step > 0:
-                k = (value - low) / step
-                if not is_close(k, round(k), GRID_SLACK):
-                    below = low + math.floor(k) * step
-                    warnings[name] = (
-                        f"{name}={value:g} is off its @Range stepsize {step:g} from {low:g} (the"
-                        f" values nearest are {below:g} and {below + step:g}): {hint}"
-                    )
-        return warnings
+    @functools.cached_property
+    def catalogue(self) -> AttrCatalogue:
+        """Every fact of the attrs (kind, default, ``@Free``, ``@Range``, group, hidden, ...)
+        and the one line for a name no attr has: :mod:`shapegen.engine.attr_catalogue`."""
+        return AttrCatalogue(self)
 
     @property
     def lot(self) -> tuple[float, float]:

@@ -101,7 +101,7 @@ class ModelGenerator:
         seed = attributes.get("seed", 0)
         if isinstance(seed, bool) or not isinstance(seed, int):
             raise OptionError(f"shape attribute 'seed' must be an int, got {seed!r}")
-        known = grammar.program.attr_nodes
+        known = grammar.catalogue
         overrides = {k: v for k, v in attributes.items() if k not in SHAPE_KEYS and k in known}
         ignored = sorted(k for k in attributes if k not in SHAPE_KEYS and k not in known)
         printed = io.StringIO()
@@ -206,9 +206,7 @@ def _attributes(grammar, model) -> dict:
     """The attrs a model was generated with, as PyPRT lists them: hidden ones left out."""
     final = model.metadata.get("attrs", {})
     out = {}
-    for name, node in grammar.program.attr_nodes.items():
-        if any(a.name == "Hidden" for a in getattr(node, "annotations", ())):
-            continue
-        if name in final:
+    for name, entry in grammar.catalogue.items():
+        if not entry.hidden and name in final:
             out[name] = _plain(final[name])
     return out

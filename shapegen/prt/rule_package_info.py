@@ -1,11 +1,20 @@
 """PyPRT's ``get_rpk_attributes_info``: a rule package's attrs, their types and annotations.
 
-An ``@Group`` holds for the attrs that follow it in its file until the next ``@Group`` (the
-Inspector's grouping), so each of them lists it after its own annotations, as PRT does.
+The attrs and their annotations are the grammar's attribute catalogue's
+(:mod:`shapegen.engine.attr_catalogue`): an ``@Group`` holds for the attrs that follow it in
+its file until the next ``@Group`` (the Inspector's grouping), so each of them lists it after
+its own annotations, as PRT does; ``@Hidden`` attrs are left out.
 
->>> info = attributes_info_of({"height": 3.0}, {})
->>> info["height"]
-{'type': 'float', 'annotations': []}
+>>> import shapegen
+>>> grammar = shapegen.parse_grammar('''
+... @Group("Walls")
+... attr height = 3
+... attr depth = 1
+... @StartRule
+... Lot --> extrude(height) Stone
+... ''')
+>>> attributes_info_of(grammar.catalogue)["depth"]
+{'type': 'float', 'annotations': [['@Group', ['#NULL#', 'Walls']]]}
 """
 
 from __future__ import annotations
@@ -14,6 +23,7 @@ __all__ = ["NO_KEY", "attributes_info_of", "get_rpk_attributes_info"]
 
 from collections.abc import Mapping
 
+from shapegen.engine.attr_catalogue import AttrEntry
 from shapegen.grammar.constant_folding import UNKNOWN, constant_value
 
 NO_KEY = "#NULL#"
@@ -27,25 +37,20 @@ def get_rpk_attributes_info(rule_package_path: str) -> dict:
     as ``["@Name", [key, value], ...]``, the key of an unnamed argument being :data:`NO_KEY`."""
     from shapegen.engine.grammar_api import load_grammar
 
-    grammar = load_grammar(rule_package_path)
-    return attributes_info_of(grammar.attrs, grammar.program.attr_nodes)
+    return attributes_info_of(load_grammar(rule_package_path).catalogue)
 
 
-def attributes_info_of(defaults: Mapping[str, object], nodes: Mapping[str, object]) -> dict:
-    """The attributes info of attrs with these default values and definitions."""
+def attributes_info_of(catalogue: Mapping[str, AttrEntry]) -> dict:
+    """The attributes info of the attrs of a grammar's ``catalogue``."""
     out = {}
-    groups: dict[str, list] = {}  # the last @Group of each file (by import prefix)
-    for name, value in defaults.items():
-        annotations = [_annotation(a) for a in getattr(nodes.get(name), "annotations", ())]
-        prefix = name.rpartition(".")[0]
-        own = [a for a in annotations if a[0] == "@Group"]
-        if own:
-            groups[prefix] = own[-1]
-        elif prefix in groups:
-            annotations.append(groups[prefix])
-        if any(a[0] == "@Hidden" for a in annotations):
+    for name, entry in catalogue.items():
+        if entry.hidden:
             continue
-        out[name] = {"type": _type_name(value), "annotations": annotations}
+        own = entry.node.annotations
+        annotations = [_annotation(a) for a in own]
+        if entry.group_annotation is not None and entry.group_annotation not in own:
+            annotations.append(_annotation(entry.group_annotation))
+        out[name] = {"type": _type_name(entry.default), "annotations": annotations}
     return out
 
 

@@ -9,7 +9,7 @@ import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from shapegen.errors import GrammarError, did_you_mean
+from shapegen.errors import GrammarError
 
 
 class RangeWarning(UserWarning):
@@ -45,14 +45,13 @@ def select_parameters(
     """
     attrs = dict(attrs or {})
     fix = dict(fix or {})
-    known = grammar.attrs
-    for name in [*(free or []), *fix]:
-        if name not in known:
-            hint = did_you_mean(name, known, parenthesised=True)
-            raise GrammarError(f"{grammar.name}: no attr named {name!r}{hint}")
+    catalogue = grammar.catalogue
+    unknown = catalogue.first_unknown([*(free or []), *fix])
+    if unknown is not None:
+        raise GrammarError(f"{grammar.name}: {catalogue.no_attr(unknown)}")
     attrs.update(fix)
-    ranges = grammar.parameter_ranges(attrs)
-    names = list(free) if free else list(grammar.free_parameters)
+    ranges = catalogue.ranges(attrs)
+    names = list(free) if free else list(catalogue.free)
     names = [n for n in names if n not in fix]
     if not names:
         raise GrammarError(
@@ -61,14 +60,14 @@ def select_parameters(
         )
     parameters = []
     for name in names:
+        if catalogue[name].kind != "number":
+            raise GrammarError(f"{grammar.name}: attr {name!r} is not a number")
         if name not in ranges:
             raise GrammarError(
                 f"{grammar.name}: attr {name!r} has no @Range, so it cannot be a free parameter"
             )
         spec = ranges[name]
-        lower, upper, initial = spec["min"], spec["max"], spec["value"]
-        if type(initial) is not float:
-            raise GrammarError(f"{grammar.name}: attr {name!r} is not a number")
+        lower, upper, initial = spec["min"], spec["max"], float(spec["value"])
         if not (lower < upper):
             raise GrammarError(f"{grammar.name}: attr {name!r} has an empty @Range")
         start = min(max(initial, lower), upper)

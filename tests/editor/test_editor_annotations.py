@@ -8,7 +8,7 @@ from editor_http import request, serving
 from editor_stack import annotated_project
 
 from shapegen import pipeline
-from shapegen.editor.annotations import asset_choices, attr_hints, inspector_sections
+from shapegen.editor.annotations import asset_choices, inspector_sections
 from shapegen.editor.attrs import RequestError, checked_values, range_warnings
 
 
@@ -52,8 +52,7 @@ def test_the_state_says_how_each_attr_is_shown(annotated):
 
 
 def test_sections_follow_group_and_order_and_leave_hidden_attrs_out(annotated):
-    hints = attr_hints(pipeline.load(str(annotated)))
-    sections = inspector_sections(hints)
+    sections = inspector_sections(pipeline.load(str(annotated)).catalogue)
     assert sections == [
         {
             "group": [],

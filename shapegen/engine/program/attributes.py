@@ -14,6 +14,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
+from shapegen.engine.attr_catalogue import no_attr_line
 from shapegen.engine.derivation import random_streams
 from shapegen.engine.derivation.state import TOO_DEEP, Derivation, root_state
 from shapegen.engine.expressions.arrays import Array, array_from
@@ -74,10 +75,7 @@ class AttributeValues:
                 continue
             if name in self.const_nodes:
                 raise GrammarError(f"{name!r} is a const and cannot be set; only attrs can")
-            known = sorted(self.attr_nodes)
-            hint = did_you_mean(name, known, parenthesised=True)
-            listing = ", ".join(known) if known else "none"
-            raise GrammarError(f"unknown attribute {name!r}{hint}; attributes: {listing}")
+            raise GrammarError(no_attr_line(name, list(self.attr_nodes)))
         run = run or Derivation(self, seed)
         values: dict[str, object] = {}
         resolving: list[str] = []
