@@ -24,6 +24,7 @@ __all__ = ["NO_KEY", "attributes_info_of", "get_rpk_attributes_info"]
 from collections.abc import Mapping
 
 from shapegen.engine.attr_catalogue import AttrEntry
+from shapegen.engine.expressions.arrays import Array
 from shapegen.grammar.constant_folding import UNKNOWN, constant_value
 
 NO_KEY = "#NULL#"
@@ -55,6 +56,8 @@ def attributes_info_of(catalogue: Mapping[str, AttrEntry]) -> dict:
 
 
 def _type_name(value: object) -> str:
+    if isinstance(value, Array):
+        value = value.values  # an array attr's default: its items name the type
     if isinstance(value, list | tuple):
         kinds = {_type_name(item) for item in value} or {"float"}
         return f"{kinds.pop() if len(kinds) == 1 else 'string'}[]"
