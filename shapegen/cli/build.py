@@ -105,9 +105,7 @@ def _build(args: argparse.Namespace) -> int:
     capacity = capacity_request(args, applies=judged, why="it applies with --analyze or --optimize")
     grammar = load_grammar(args.grammar)
     check_statics_apply(args, grammar, args.grammar)
-    attrs = checked_attrs(grammar, args.assignments)
-    if search is not None:
-        checked_attrs(grammar, list(search.fix.items()), "--fix", given=attrs)
+    attrs = checked_attrs(grammar, args.assignments, search)
     place = None
     way = _osm_way(args, grammar, attrs)
     if way is not None:

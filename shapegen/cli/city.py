@@ -147,7 +147,7 @@ def run(args: argparse.Namespace) -> int:
     statics = statics_options(args)
     grammar = load_grammar(args.grammar)
     check_statics_apply(args, grammar, args.grammar)
-    attrs = checked_attrs(grammar, args.assignments)
+    attrs = checked_attrs(grammar, args.assignments, search)
     city = read_lots(args.lots, crs=args.crs)
     if args.tiles and city.origin_lonlat is None:
         raise CommandLineError(

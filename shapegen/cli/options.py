@@ -338,14 +338,22 @@ def load_grammar(name: str):
     return load(name)
 
 
-def checked_attrs(
-    grammar, assignments: list[tuple[str, object]], option: str = "--set", given=None
-) -> dict:
-    """The ``--set`` (or ``--fix``) values by name; an unknown name is an error with close
-    suggestions, and a number outside its attr's ``@Range`` (or off its stepsize) one warning
-    line: CityEngine treats a range as a hint, so the value is used as given, never clamped
-    (:meth:`~shapegen.engine.attr_catalogue.AttrCatalogue.range_warnings`, the design page's
-    rule too). ``given`` holds the other attrs the ranges may depend on."""
+def checked_attrs(grammar, assignments: list[tuple[str, object]], search=None) -> dict:
+    """The ``--set`` values by name, and, with ``search`` (the search's settings), its
+    ``--fix`` values checked alike with the ``--set`` ones beside them; an unknown name is an
+    error with close suggestions, and a number outside its attr's ``@Range`` (or off its
+    stepsize) one warning line: CityEngine treats a range as a hint, so the value is used as
+    given, never clamped (:meth:`~shapegen.engine.attr_catalogue.AttrCatalogue.range_warnings`,
+    the design page's rule too)."""
+    attrs = _checked(grammar, assignments, "--set", {})
+    if search is not None:
+        _checked(grammar, list(search.fix.items()), "--fix", attrs)
+    return attrs
+
+
+def _checked(grammar, assignments: list[tuple[str, object]], option: str, given: dict) -> dict:
+    """The values of one option by name; ``given`` holds the other attrs the ranges may
+    depend on."""
     import sys
 
     catalogue = grammar.catalogue
@@ -354,6 +362,6 @@ def checked_attrs(
         if name not in catalogue:
             raise CommandLineError(f"{option} {name}: {catalogue.no_attr(name, most=3)}")
         attrs[name] = value
-    for warning in catalogue.range_warnings(attrs, given or {}).values():
+    for warning in catalogue.range_warnings(attrs, given).values():
         sys.stderr.write(f"shapegen: warning: {option} {warning}\n")
     return attrs

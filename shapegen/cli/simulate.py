@@ -185,9 +185,7 @@ def _simulation_model(args: argparse.Namespace):
     # --friction also sets the simulator's friction; the other statics options shape the search.
     statics = statics_options(args) if search is not None else None
     check_statics_apply(args, grammar, name)
-    attrs = checked_attrs(grammar, args.assignments)
-    if search is not None:
-        checked_attrs(grammar, list(search.fix.items()), "--fix", given=attrs)
+    attrs = checked_attrs(grammar, args.assignments, search)
     measure = structure_class(grammar.structure).measure_name
     with SearchProgress(quiet=args.quiet or search is None, measure=measure) as progress:
         outcome = design(

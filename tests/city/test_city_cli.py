@@ -33,6 +33,10 @@ def _lots(tmp_path: Path) -> Path:
         (["{lots}", str(HOUSE), "--workers", "2", "--scheduler", "tcp://x:1"], "--workers"),
         (["{lots}", str(HOUSE), "--timeout", "0"], "must be > 0"),
         (["{lots}", str(HOUSE), "--fix", "jetty=0.1"], "only applies with --optimize"),
+        (
+            ["{lots}", str(HOUSE), "--optimize", "--fix", "jety=0.1"],
+            "--fix jety: the grammar has no attr 'jety'; did you mean 'jetty'?",
+        ),
     ],
 )
 def test_bad_input_is_one_line_and_status_2(tmp_path, capsys, argv, message):
