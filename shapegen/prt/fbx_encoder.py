@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from shapegen.errors import OptionError
+from shapegen.prt.encoder_options import checked_option_names
 
 NAME = "com.esri.prt.codecs.FBXEncoder"
 VERTEX_PRECISION_M = 0.001
@@ -82,12 +83,9 @@ FLAGS = ("includeMaterials", "createShapeGroups", "collectTextures",
 
 def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], None]:
     """Check ``options`` (all but ``outputPath`` and ``baseName``) and return the writer."""
-    for name in REFUSED_TEXT:
-        if options.get(name):
-            raise OptionError(f"{NAME}: {name!r}: shapegen writes 'shapegen' as the creator")
-    unknown = sorted(set(options) - set(FBX_OPTIONS) - set(REFUSED_TEXT))
-    if unknown:
-        raise OptionError(f"{NAME} takes {', '.join(FBX_OPTIONS)}; not {', '.join(unknown)}")
+    checked_option_names(
+        NAME, options, FBX_OPTIONS, REFUSED_TEXT, "shapegen writes 'shapegen' as the creator"
+    )
     for name, allowed in CHOICES.items():
         if name in options and str(options[name]) not in allowed:
             if name == "fileType" and str(options[name]) == "TEXT":

@@ -24,6 +24,7 @@ import numpy as np
 
 from shapegen.errors import OptionError
 from shapegen.export.surfaces import face_triangles
+from shapegen.prt.encoder_options import checked_option_names
 
 NAME = "com.esri.prt.codecs.I3SEncoder"
 GRANULARITY = {"0": "shape", "FEATURE_PER_SHAPE": "shape",
@@ -71,12 +72,9 @@ def i3s_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], Non
     """Check ``options`` (all but ``outputPath``) and return the package's writer."""
     from shapegen.export.i3s import SceneLayer
 
-    for name in REFUSED_TEXT:
-        if options.get(name):
-            raise OptionError(f"{NAME}: {name!r}: an I3S 1.7 layer has no field for it")
-    unknown = sorted(set(options) - set(I3S_OPTIONS) - set(REFUSED_TEXT))
-    if unknown:
-        raise OptionError(f"{NAME} takes {', '.join(I3S_OPTIONS)}; not {', '.join(unknown)}")
+    checked_option_names(
+        NAME, options, I3S_OPTIONS, REFUSED_TEXT, "an I3S 1.7 layer has no field for it"
+    )
     for name in TEXTURE_OPTIONS:
         _layer_value(options, name, None)
     scene = str(options.get("sceneType", "Global"))

@@ -240,19 +240,7 @@ def footprint(shape: InitialShape) -> Footprint:
         coordinates, indices, face_counts = shape._coordinates, shape._indices, shape._face_counts
         holes = shape._holes
     where = shape.get_path() or "initial shape"
-    if len(coordinates) % 3:
-        raise InputFormatError(
-            f"{where}: {len(coordinates)} vertex coordinates, not x, y, z triples"
-        )
-    if not all(math.isfinite(v) for v in coordinates):
-        raise InputFormatError(f"{where}: a vertex coordinate is not a finite number")
-    count = len(coordinates) // 3
-    if sum(face_counts) != len(indices) or any(n < 3 for n in face_counts):
-        raise InputFormatError(
-            f"{where}: face counts {face_counts} do not add up to the {len(indices)} indices"
-        )
-    if any(not 0 <= i < count for i in indices):
-        raise InputFormatError(f"{where}: a vertex index is outside the {count} vertices")
+    _check(where, coordinates, indices, face_counts)
     rings = _rings(indices, face_counts)
     hole_faces = _hole_faces(holes, len(face_counts), where)
     inside = {k for inner in hole_faces.values() for k in inner}
