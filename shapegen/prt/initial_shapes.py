@@ -366,6 +366,12 @@ def _read_mesh(path: Path) -> tuple[np.ndarray, list[list[int]]]:
 
 
 def _gltf_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:
+    mesh = _gltf_mesh(path)
+    return np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces).tolist()
+
+
+def _gltf_mesh(path: Path):
+    """The triangles of a glTF file as trimesh reads them (its buffers found beside it)."""
     import trimesh
 
     data = read_input_bytes(path, "initial shape file")
@@ -379,7 +385,7 @@ def _gltf_triangles(path: Path) -> tuple[np.ndarray, list[list[int]]]:
         )
     except Exception as exc:  # trimesh raises many kinds for a broken file
         raise InputFormatError(f"{path}: not a readable glTF file ({exc})") from None
-    return np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces).tolist()
+    return mesh
 
 
 def _read_obj(path: Path) -> tuple[list[float], list[int], list[int]]:
@@ -394,19 +400,8 @@ def _read_gltf(path: Path) -> tuple[list[float], list[int], list[int], list[list
     """The outline of a glTF file's faces (trimesh reads it as triangles; coplanar triangles
     are merged back into their polygon), its inner rings the polygon's holes."""
     import shapely
-    import trimesh
 
-    data = read_input_bytes(path, "initial shape file")
-    try:
-        mesh = trimesh.load(
-            io.BytesIO(data),
-            file_type=path.suffix.lower().lstrip("."),
-            resolver=trimesh.resolvers.FilePathResolver(str(path.resolve())),
-            force="mesh",
-            process=False,
-        )
-    except Exception as exc:  # trimesh raises many kinds for a broken file
-        raise InputFormatError(f"{path}: not a readable glTF file ({exc})") from None
+    mesh = _gltf_mesh(path)
     vertices = mesh.vertices
     triangles = [shapely.Polygon(vertices[face][:, [0, 2]]) for face in mesh.faces]
     outline = shapely.unary_union(triangles)
