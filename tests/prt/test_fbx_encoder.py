@@ -8,20 +8,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from prt_shapes import DATA, EXTRUSION, FIXED, SMALL, SQUARE
 
 import shapegen.prt as pyprt
 from shapegen.errors import OptionError
 
 ufbx = pytest.importorskip("ufbx")
 
-DATA = Path(__file__).resolve().parents[1] / "data"
 CITYENGINE_FILE = DATA / "fbx-pyprt" / "extrusion_pyprt112_0.fbx"
-EXTRUSION = (
-    DATA / "cga-corpus" / "tests_data_extrusion_rule__e4df6667" / "rules" / "extrusion_rule.cga"
-)
-SQUARE = [0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0]
-SMALL = [30, 0, 0, 30, 0, 8, 38, 0, 8, 38, 0, 0]
-FIXED = {"minBuildingHeight": 23.0, "maxBuildingHeight": 23.0}
 FBX = "com.esri.prt.codecs.FBXEncoder"
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from prt_shapes import DATA, EXTRUSION, FIXED, SMALL, SQUARE
 
 import shapegen.prt as pyprt
 from shapegen.errors import OptionError
@@ -21,15 +22,8 @@ from shapegen.errors import OptionError
 jsonschema = pytest.importorskip("jsonschema")
 referencing = pytest.importorskip("referencing")
 
-DATA = Path(__file__).resolve().parents[1] / "data"
 SCHEMAS = DATA / "i3s-spec-schema"
 CITYENGINE_PACKAGE = DATA / "i3s-pyprt" / "extrusion_pyprt112.slpk"
-EXTRUSION = (
-    DATA / "cga-corpus" / "tests_data_extrusion_rule__e4df6667" / "rules" / "extrusion_rule.cga"
-)
-SQUARE = [0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0]
-SMALL = [30, 0, 0, 30, 0, 8, 38, 0, 8, 38, 0, 0]
-FIXED = {"minBuildingHeight": 23.0, "maxBuildingHeight": 23.0}
 I3S = "com.esri.prt.codecs.I3SEncoder"
 HASH_INDEX = "@specialIndexFileHASH128@"
 WEB_MERCATOR_RADIUS_M = 6378137.0

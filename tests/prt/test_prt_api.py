@@ -4,19 +4,15 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
+from prt_shapes import CORPUS, EXTRUSION, FIXED, SQUARE
 
 import shapegen.prt as pyprt
 from shapegen.errors import OptionError
 
-CORPUS = Path(__file__).resolve().parents[1] / "data" / "cga-corpus"
-EXTRUSION = CORPUS / "tests_data_extrusion_rule__e4df6667" / "rules" / "extrusion_rule.cga"
 ARRAYS = CORPUS / "tests_data_arrayAttrs__507bccc9" / "rules" / "arrayAttrs.cga"
-SQUARE = [0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0]  # counter-clockwise seen from above (+y)
-FIXED = {"minBuildingHeight": 23.0, "maxBuildingHeight": 23.0}
 
 
 def generate(shapes, attrs, options=None, rule=EXTRUSION):
@@ -230,6 +226,16 @@ def test_rule_package_attributes_carry_their_group():
     assert "parcelArea" not in info  # @Hidden
     group = ["@Group", [pyprt.NO_KEY, "My Group"]]
     assert info["buildingColor"] == {"type": "string", "annotations": [["@Color"], group]}
+
+
+def test_array_attrs_are_listed_with_their_items_type():
+    # PyPRT 1.12's get_rpk_attributes_info of the same rules (Esri/pyprt's arrayAttrs.rpk)
+    info = pyprt.get_rpk_attributes_info(str(ARRAYS))
+    assert {name: entry["type"] for name, entry in info.items()} == {
+        "arrayAttrFloat": "float[]",
+        "arrayAttrBool": "bool[]",
+        "arrayAttrString": "string[]",
+    }
 
 
 def test_the_statics_through_the_same_api():
