@@ -57,15 +57,15 @@ def count_attrs(grammar) -> frozenset[str]:
 
 def _count_attrs(grammar) -> frozenset[str]:
     counted = _Counts(grammar.ast).names()
-    defaults = grammar.attrs
+    catalogue = grammar.catalogue
     try:
-        ranges = grammar.parameter_ranges()
+        ranges = catalogue.ranges()
     except ShapegenError:
         ranges = {}
     whole = set()
-    for name in counted & set(defaults):
+    for name in counted & set(catalogue):
         bounds = ranges.get(name)
-        if is_whole(defaults[name]) and (
+        if is_whole(catalogue[name].default) and (
             bounds is None or (is_whole(bounds["min"]) and is_whole(bounds["max"]))
         ):
             whole.add(name)

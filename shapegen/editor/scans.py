@@ -95,7 +95,7 @@ def scan_design(grammar, outcome, values: Mapping, free: list[str], text: str | 
     assessment = outcome.assessment
     if assessment is None or not assessment.ok or text is None:
         return None
-    ranges = grammar.parameter_ranges(values)
+    ranges = grammar.catalogue.ranges(values)
     free_ranges = {
         name: (float(ranges[name]["min"]), float(ranges[name]["max"]))
         for name in free
@@ -107,7 +107,7 @@ def scan_design(grammar, outcome, values: Mapping, free: list[str], text: str | 
         "attrs": {  # arrays are not sent: the scanning process derives them as the editor did
             k: v
             for k, v in values.items()
-            if k in grammar.attrs and isinstance(v, bool | int | float | str)
+            if k in grammar.catalogue and isinstance(v, bool | int | float | str)
         },
         "ranges": free_ranges,
         "current": {name: (values[name], bool(assessment.stands)) for name in free_ranges},
