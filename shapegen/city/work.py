@@ -27,6 +27,7 @@ __all__ = [
     "warm_up",
 ]
 
+import contextlib
 import hashlib
 import math
 import os
@@ -225,7 +226,14 @@ def timeout_message(timeout: float) -> str:
 
 
 def _run(settings: CitySettings, task: LotTask, seed: int, started: float, record: dict) -> None:
-    from shapegen.limits import current_limits, work_limits
+    from shapegen.errors import ShapegenError
+    from shapegen.limits import (
+        check_clock,
+        current_limits,
+        remaining_seconds,
+        work_clock,
+        work_limits,
+    )
     from shapegen.pipeline import design
 
     grammar = _grammar(settings)
@@ -242,28 +250,29 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
     record["lot"] = [float(size[0]), float(size[1])]
     lot = [(x, z) for x, z in city_lot(task.ring).tolist()]
 
-    deadline = None if settings.timeout is None else started + settings.timeout
-
-    def check_time(_record=None) -> None:
-        if deadline is not None and time.perf_counter() > deadline:
-            raise LotTimeout
-
+    # One clock for the lot (--timeout, counted from the lot's start): the derivation, the
+    # statics and the search look at it (shapegen.limits.work_clock) besides their own
+    # max_seconds; past it, the lot is a timeout row (run_lot), whatever step it stopped in.
     limits = settings.limits or current_limits()
-    seconds = limits.max_seconds
+    clock = contextlib.nullcontext()
     if settings.timeout is not None:
-        seconds = settings.timeout if seconds is None else min(seconds, settings.timeout)
-    with work_limits(limits, max_seconds=seconds):
-        outcome = design(
-            grammar,
-            attrs=attrs,
-            seed=seed,
-            lot=lot,
-            statics=settings.statics,
-            search=settings.search,
-            assess=settings.analyze,
-            progress=check_time,
-        )
-    check_time()
+        clock = work_clock("the lot", settings.timeout - (time.perf_counter() - started))
+    with work_limits(limits), clock:
+        try:
+            outcome = design(
+                grammar,
+                attrs=attrs,
+                seed=seed,
+                lot=lot,
+                statics=settings.statics,
+                search=settings.search,
+                assess=settings.analyze,
+            )
+            check_clock()
+        except ShapegenError:
+            if settings.timeout is not None and remaining_seconds() == 0.0:
+                raise LotTimeout from None
+            raise
     assessment = outcome.assessment
     if assessment is not None:
         record["structure"] = outcome.structure.name

@@ -52,6 +52,7 @@ from shapegen.editor.searching import Cancelled, SearchState, search_options
 from shapegen.engine.project.rule_packages import package_named
 from shapegen.errors import GrammarError, ShapegenError
 from shapegen.json_values import json_ready
+from shapegen.limits import work_clock
 from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.options import SearchOptions
@@ -361,21 +362,25 @@ class EditorSession:
         lot = self.lot if lot is UNCHANGED else lot
         started = time.perf_counter()
         self._idle.clear()  # the scans wait while a design is built
+        # One clock for the request (max_seconds over deriving and judging, as for a build on
+        # the command line); a search is bounded by its iterations and the page's Stop instead.
+        clock = work_clock("the page's request") if search is None else contextlib.nullcontext()
         try:
-            outcome = pipeline.design(
-                grammar,
-                attrs=attrs,
-                seed=seed,
-                lot=lot,
-                search=search,
-                assess=True,
-                progress=self._progress if search is not None else None,
-                # a change of the design on screen: what did not change is carried over
-                previous=self._outcome
-                if self._carry_over and grammar is self.grammar and search is None
-                else None,
-                measure_follows=self._follower is not None,
-            )
+            with clock:
+                outcome = pipeline.design(
+                    grammar,
+                    attrs=attrs,
+                    seed=seed,
+                    lot=lot,
+                    search=search,
+                    assess=True,
+                    progress=self._progress if search is not None else None,
+                    # a change of the design on screen: what did not change is carried over
+                    previous=self._outcome
+                    if self._carry_over and grammar is self.grammar and search is None
+                    else None,
+                    measure_follows=self._follower is not None,
+                )
         except RecursionError:
             raise RequestError("the derivation recursed too deeply", 422) from None
         except (GrammarError, ShapegenError) as exc:

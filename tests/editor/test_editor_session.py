@@ -5,6 +5,7 @@ import pytest
 from editor_stack import STACK_BOUNDARY, STACK_WEIGHT, WAIT_BOUND_S, scanned
 
 from shapegen.editor import EditorSession, RequestError
+from shapegen.limits import work_limits
 from shapegen.search.defaults import DEFAULT_MARGIN
 
 
@@ -37,6 +38,16 @@ def test_a_change_rebuilds_and_judges_the_design(session):
     # either side of the closed-form boundary
     assert verdict(session.set_attrs({"offset": STACK_BOUNDARY - 0.01}))
     assert not verdict(session.set_attrs({"offset": STACK_BOUNDARY + 0.01}))
+
+
+def test_a_request_past_its_clock_is_refused_and_the_design_kept(session):
+    # one clock over the request's derivation and judging (shapegen.limits.work_clock), named
+    before = session.state()
+    with work_limits(max_seconds=1e-9), pytest.raises(RequestError) as refused:
+        session.set_attrs({"offset": 0.7})
+    assert refused.value.status == 422
+    assert "the page's request" in str(refused.value) and "max_seconds" in str(refused.value)
+    assert session.state()["model_version"] == before["model_version"]
 
 
 def test_a_refused_change_leaves_the_design_alone(session):

@@ -17,7 +17,6 @@ __all__ = [
     "root_state",
 ]
 
-import time
 from collections.abc import Callable
 from typing import Protocol
 
@@ -31,6 +30,7 @@ from shapegen.limits import (
     check_clock,
     current_limits,
     limit_hint,
+    remaining_seconds,
 )
 
 DEFAULT_MAX_DEPTH = DEFAULT_LIMITS.max_depth
@@ -130,8 +130,10 @@ class Derivation:
         # The start shape's axes: the frame of CGA's object.* selectors.
         self.object_rotation = None
         self.start_shape: Shape | None = None  # what resetGeometry() goes back to
-        self.started = time.monotonic()
-        self.deadline = None if limits.max_seconds is None else self.started + limits.max_seconds
+        # whether a work clock runs (shapegen.limits.work_clock: Grammar.build starts one for
+        # the derivation, inside any the build, the lot or the page's request runs): the
+        # derivation's own checks look at it only then
+        self.timed = remaining_seconds() is not None
         # inside()/overlaps()/touches(): set by the interpreter
         # (shapegen.engine.derivation.occlusion)
         self.occlusion = None
@@ -148,21 +150,14 @@ class Derivation:
             self.warnings.append(message)
 
     def check_clock(self, node) -> None:
-        """Stop the derivation past its ``max_seconds``, at ``node``'s place: its own, or the
-        work clock its build runs (:func:`shapegen.limits.work_clock`), which the geometry
-        kernels' loops look at too. The work clock is looked at first: it started before this
-        derivation did, so its message (which names the whole build's clock when that one
-        ends first) is the one given whenever both have run out."""
+        """Stop the derivation, at ``node``'s place, when the work clock it runs
+        (:func:`shapegen.limits.work_clock`, which the geometry kernels' loops look at too) has
+        run out: the one clock of the build, the city lot or the page's request, or the
+        derivation's own ``max_seconds`` when that ends first."""
         try:
             check_clock()
         except WorkLimitError as exc:
             raise self.program.error(node, str(exc)) from None
-        if self.deadline is not None and time.monotonic() > self.deadline:
-            raise self.program.error(
-                node,
-                f"the derivation ran for more than {self.limits.max_seconds:g} s "
-                + limit_hint("max_seconds", self.limits),
-            )
 
     def enter_call(self, node, name: str, nested: bool = True) -> None:
         """Count a user-function call; stop a runaway one (``max_calls``, ``max_call_depth``).
@@ -224,7 +219,7 @@ class Derivation:
                 f"the grammar may be running away. Chain of rules: {format_chain(chain)} "
                 + _argument_hint("max_shapes"),
             )
-        if self.deadline is not None and self.shape_count % 64 == 0:
+        if self.timed and self.shape_count % 64 == 0:
             self.check_clock(node)
         if shape is not parent.shape:
             if not within_bounds:  # made by a split, a comp...
