@@ -21,7 +21,7 @@ through an identity rule): the same vertex and face counts on every one
 
 from __future__ import annotations
 
-__all__ = ["cleaned_polygons"]
+__all__ = ["cleaned_polygons", "cleaned_polygons_and_corners"]
 
 import numpy as np
 
@@ -41,15 +41,38 @@ def cleaned_polygons(
     (4, [[0, 1, 2, 3]])
     """
     vertices = np.asarray(vertices, dtype=float).reshape(-1, 3)
-    faces = _collapsed(vertices, faces, edge)
-    faces = _without_slivers(vertices, faces, edge)
+    faces, _ = _collapsed(vertices, faces, edge)
+    faces, _ = _without_slivers(vertices, faces, edge)
     return _renumbered(vertices, faces)
 
 
-def _collapsed(vertices: np.ndarray, faces: list[list[int]], edge: float) -> list[list[int]]:
-    """The faces with every edge no longer than ``edge`` collapsed into one vertex."""
+def cleaned_polygons_and_corners(
+    vertices: np.ndarray, faces: list[list[int]], edge: float = ASSET_EDGE_M
+) -> tuple[np.ndarray, list[list[int]], list[list[int]]]:
+    """As :func:`cleaned_polygons`, with each cleaned face's corners named by the corner of the
+    input they are: the number of the corner in the input's faces taken one after another
+    (face 0's corners 0..k-1, then face 1's...). What a face corner carries (its texture
+    coordinates) follows it so: a collapsed edge keeps the corner that stays, and a sliver's
+    corners spliced into a face bring their own.
+
+    >>> square = np.array([[0, 0, 0], [1, 0, 0], [1, 0.0005, 0], [1, 1, 0], [0, 1, 0.0]])
+    >>> cleaned_polygons_and_corners(square, [[0, 1, 2, 3, 4]])[1:]
+    ([[0, 1, 2, 3]], [[0, 1, 3, 4]])
+    """
+    vertices = np.asarray(vertices, dtype=float).reshape(-1, 3)
+    starts = np.cumsum([0, *(len(face) for face in faces)])
+    ids = [list(range(a, a + len(face))) for a, face in zip(starts, faces, strict=False)]
+    faces, ids = _collapsed(vertices, faces, edge, ids)
+    faces, ids = _without_slivers(vertices, faces, edge, ids)
+    vertices, faces = _renumbered(vertices, faces)
+    return vertices, faces, ids
+
+
+def _collapsed(vertices: np.ndarray, faces: list[list[int]], edge: float, ids=None):
+    """The faces with every edge no longer than ``edge`` collapsed into one vertex, and
+    ``ids`` (per face a value per corner, or None) of the corners kept."""
     if not faces:
-        return []
+        return [], [] if ids is not None else None
     corners = np.concatenate([np.asarray(f, dtype=np.int64) for f in faces])
     sizes = np.array([len(f) for f in faces])
     start = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -59,7 +82,7 @@ def _collapsed(vertices: np.ndarray, faces: list[list[int]], edge: float) -> lis
     repeated = corners == corners[following]  # f 1 2 2 3: an edge from a vertex to itself
     short = np.flatnonzero((lengths <= edge) & ~repeated)
     if len(short) == 0 and not repeated.any():
-        return [list(map(int, f)) for f in faces]
+        return [list(map(int, f)) for f in faces], ids
     uses = np.bincount(corners, minlength=len(vertices))
     parent = np.arange(len(vertices))
 
@@ -77,33 +100,41 @@ def _collapsed(vertices: np.ndarray, faces: list[list[int]], edge: float) -> lis
         keep, drop = (a, b) if (uses[a], -a) >= (uses[b], -b) else (b, a)
         parent[drop] = keep
         uses[keep] += uses[drop]
-    kept = []
-    for face in faces:
+    kept, kept_ids = [], []
+    for n, face in enumerate(faces):
         merged = [root(int(i)) for i in face]
-        merged = [c for k, c in enumerate(merged) if c != merged[k - 1]]
-        if len(set(merged)) >= 3:
-            kept.append(merged)
-    return kept
+        stays = [k for k, c in enumerate(merged) if c != merged[k - 1]]
+        if len({merged[k] for k in stays}) >= 3:
+            kept.append([merged[k] for k in stays])
+            if ids is not None:
+                kept_ids.append([ids[n][k] for k in stays])
+    return kept, kept_ids if ids is not None else None
 
 
-def _without_slivers(vertices: np.ndarray, faces: list[list[int]], edge: float) -> list[list[int]]:
+def _without_slivers(vertices: np.ndarray, faces: list[list[int]], edge: float, ids=None):
     """The faces without those of no area. A sliver whose longest edge (the one that spans it)
     a face kept shares, run the other way as between two faces of one consistently turned
     surface, is merged into that face: its other corners are spliced into the edge, and the
     edges so made may take in the next sliver of a fan. A sliver that meets no face kept so is
-    dropped."""
+    dropped. ``ids`` (per face a value per corner, or None) follow the corners."""
     if not faces:
-        return faces
+        return faces, ids
     thin = (_thicknesses(vertices, faces) <= edge).tolist()
     if not any(thin):
-        return faces
+        return faces, ids
+    if ids is None:
+        ids = [[None] * len(face) for face in faces]
+        named = False
+    else:
+        named = True
     kept = {k: list(face) for k, face in enumerate(faces) if not thin[k]}
+    kept_ids = {k: list(ids[k]) for k in kept}
     owner = {(a, b): k for k, face in kept.items() for a, b in _edges(face)}
-    slivers = [list(face) for k, face in enumerate(faces) if thin[k]]
+    slivers = [(list(face), list(ids[k])) for k, face in enumerate(faces) if thin[k]]
     merged = True
     while merged and slivers:
         merged = False
-        for sliver in list(slivers):
+        for sliver, sliver_ids in list(slivers):
             a, b = _longest_edge(vertices, sliver)
             k = owner.get((b, a))
             if k is None:
@@ -111,14 +142,17 @@ def _without_slivers(vertices: np.ndarray, faces: list[list[int]], edge: float) 
             face = kept[k]
             at = next(i for i in range(len(face)) if (face[i], face[(i + 1) % len(face)]) == (b, a))
             start = sliver.index(b)
-            path = [sliver[(start + j) % len(sliver)] for j in range(1, len(sliver))]
-            path = path[: path.index(a)]  # the sliver's corners from b round to a
+            turn = [(start + j) % len(sliver) for j in range(1, len(sliver))]
+            turn = turn[: [sliver[j] for j in turn].index(a)]  # from b round to a
+            path = [sliver[j] for j in turn]
             face[at + 1 : at + 1] = path
+            kept_ids[k][at + 1 : at + 1] = [sliver_ids[j] for j in turn]
             del owner[(b, a)]
             owner.update({pair: k for pair in _edges([b, *path, a])[:-1]})
-            slivers.remove(sliver)
+            slivers.remove((sliver, sliver_ids))
             merged = True
-    return [kept[k] for k in sorted(kept)]
+    order = sorted(kept)
+    return [kept[k] for k in order], [kept_ids[k] for k in order] if named else None
 
 
 def _longest_edge(vertices: np.ndarray, face: list[int]) -> tuple[int, int]:
