@@ -40,6 +40,7 @@ __all__ = [
     "SIZE_FLOOR_M",
     "LOT_MERGE_M",
     "ASSET_EDGE_M",
+    "TEXTURE_FACE_M",
     "COINCIDENT_REL",
     "COINCIDENT_M",
     "COSINE_SLACK",
@@ -243,6 +244,12 @@ LOT_MERGE_M = 1e-3
 #: (:mod:`shapegen.geometry.asset_cleanup`). Measured with PyPRT 1.12 on the corpus assets: an
 #: edge of 0.00066 is removed (candler's ledgeLarge.obj), one of 0.00102 is kept (ledgeSmall.obj).
 ASSET_EDGE_M = 1e-3
+
+#: Texture coordinates: a derived face whose corners lie within ``TEXTURE_FACE_M`` metres of an
+#: initial shape's face (its plane, and inside its outline) lies on it and takes its texture
+#: coordinates (:mod:`shapegen.geometry.texture_transfer`); a tenth of a millimetre, ten times
+#: the derivation's own drift on a 100 m model and far below a face a modeller draws.
+TEXTURE_FACE_M = 1e-4
 
 #: Geometry: points, lines and planes closer than ``COINCIDENT_REL`` times the size of the shape
 #: they belong to (its largest extent, metres) coincide (dimensionless): a corner on a cutting

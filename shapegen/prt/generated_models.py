@@ -39,8 +39,12 @@ class GeneratedModel:
         emit_geometry: bool = True,
         emit_report: bool = True,
         triangulate: bool = False,
+        texture=None,
     ):
         self._model = model
+        #: the initial shape's texturing (:class:`~shapegen.prt.initial_textures.InitialTexture`,
+        #: or None), which the file encoders write
+        self.initial_texture = texture
         self._index = initial_shape_index
         self._attributes = dict(attributes)
         self._prints = prints

@@ -121,7 +121,9 @@ class ModelGenerator:
                 f"shape attribute {name!r} is not an attr of the rule: ignored" for name in ignored
             )
         used = _attributes(grammar, model)
-        return GeneratedModel(_placed(model, base), index, used, printed.getvalue(), **flags)
+        placed = _placed(model, base)
+        texture = _texture(shape, placed)
+        return GeneratedModel(placed, index, used, printed.getvalue(), texture=texture, **flags)
 
     def _grammar(self, package: str, attributes: Mapping[str, object]):
         from shapegen.engine.grammar_api import load_grammar
@@ -145,6 +147,21 @@ def _placed(model, base):
     blocks = [replace(b, vertices=base.place(b.vertices)) for b in model.blocks]
     surfaces = [replace(s, vertices=base.place(s.vertices)) for s in model.surfaces]
     return replace(model, blocks=blocks, surfaces=surfaces, ground=base.height)
+
+
+def _texture(shape: InitialShape, model):
+    """The initial shape's texturing (read from its OBJ file), its warnings and the count of
+    faces left without its texture coordinates added to ``model``'s warnings."""
+    from shapegen.prt.initial_textures import initial_texture, texture_warning
+
+    if not shape.get_path():
+        return None
+    texture, warnings = initial_texture(Path(shape.get_path()), shape._depth)
+    lost = texture_warning(model, texture)
+    notes = [*warnings, *([lost] if lost else [])]
+    if notes:
+        model.metadata.setdefault("warnings", []).extend(notes)
+    return texture
 
 
 def _py_encoder_options(options: dict) -> dict:
