@@ -29,11 +29,21 @@ and material to their model, the model to the scene's root (id 0). A face is its
 vertex indices with the last written as ``-(i + 1)``. Coordinates are metres, y up, with
 ``UnitScaleFactor`` 100 (centimetres per unit), so a reader asking for metres reads them as they
 are.
+
+Texturing, as CityEngine's runtime writes it (PyPRT 1.12's file of a textured OBJ, read record
+by record): the texture coordinates are the geometry's ``LayerElementUV`` named ``uvSet0``, one
+``(u, v)`` per face corner (``ByPolygonVertex``, ``IndexToDirect``: ``UV`` and ``UVIndex``),
+listed in the ``Layer``; a material's diffuse texture is a ``Texture`` object (type
+``TextureVideoClip``, its ``UVSet`` uvSet0) tied to the material's ``DiffuseColor`` property
+(an ``OP`` connection) and holding a ``Video`` object (a ``Clip``) that names the file, both
+by ``FileName`` (absolute) and ``RelativeFilename`` (from the FBX file's folder). Colours are
+written as that runtime writes them: each sRGB component c as c ** 2.2 (its file of a grey
+0.5 shows 0.2176, of 128/255 0.2195).
 """
 
 from __future__ import annotations
 
-__all__ = ["FbxMesh", "encode_fbx"]
+__all__ = ["FbxMesh", "FbxTexture", "encode_fbx"]
 
 import struct
 from dataclasses import dataclass, field
@@ -51,17 +61,35 @@ FOOTER_ID = bytes.fromhex("fabc ab09 d0c8 d466 b176 fb83 1cf7 267e")
 FOOTER_MAGIC = bytes.fromhex("f85a 8c6a def5 d97e ece9 0ce3 758f 290b")
 
 
+#: the power CityEngine's runtime raises a colour component to in an FBX material (sRGB to
+#: linear, as measured: see the module)
+COLOR_GAMMA = 2.2
+UV_SET = "uvSet0"
+
+
+@dataclass(frozen=True)
+class FbxTexture:
+    """A texture file as a material names it: ``path`` absolute, ``relative`` from the FBX
+    file's folder."""
+
+    path: str
+    relative: str
+
+
 @dataclass
 class FbxMesh:
     """One node's mesh: ``vertices`` ``(n, 3)`` metres (y up), ``faces`` (vertex indices, each
     face counter-clockwise seen from its front), and each face's material: ``face_materials``
-    indexes ``materials``, each ``(name, (r, g, b), opacity)``."""
+    indexes ``materials``, each ``(name, (r, g, b), opacity)`` or ``(name, (r, g, b), opacity,
+    texture)`` with an :class:`FbxTexture` (or None). ``uvs``: per face its corners' ``(k, 2)``
+    texture coordinates, or None for a face without; empty when no face has any."""
 
     name: str
     vertices: np.ndarray
     faces: list[list[int]]
     face_materials: list[int] = field(default_factory=list)
-    materials: list[tuple[str, tuple[float, float, float], float]] = field(default_factory=list)
+    materials: list[tuple] = field(default_factory=list)
+    uvs: list[np.ndarray | None] = field(default_factory=list)
 
 
 class _Record:
@@ -146,6 +174,43 @@ def _face_normals(vertices: np.ndarray, faces: list[list[int]]) -> np.ndarray:
     return normals
 
 
+def _uv_layer(mesh: FbxMesh) -> tuple[np.ndarray, np.ndarray]:
+    """The UV layer's distinct ``(u, v)`` values and each face corner's index into them; a
+    face without coordinates has (0, 0) at its corners (the layer covers every corner)."""
+    rows = [
+        np.asarray(uv, dtype=float).reshape(len(face), 2)
+        if uv is not None
+        else np.zeros((len(face), 2))
+        for face, uv in zip(mesh.faces, mesh.uvs, strict=True)
+    ]
+    corners = np.concatenate(rows) if rows else np.zeros((0, 2))
+    values, index = np.unique(corners, axis=0, return_inverse=True)
+    return values, index.reshape(-1).astype(np.int32)
+
+
+def _add_texture(objects: _Record, texture: FbxTexture, name: str, texture_id, video_id) -> None:
+    """A ``Texture`` and the ``Video`` naming its file, as Autodesk's SDK writes them."""
+    video = objects.add("Video", video_id, _object_name(name, "Video"), "Clip")
+    video.add("Type", "Clip")
+    _properties(video, [("Path", "KString", "XRefUrl", "", texture.path),
+                        ("RelPath", "KString", "XRefUrl", "", texture.relative)])  # fmt: skip
+    video.add("UseMipMap", 0)
+    video.add("Filename", texture.path)
+    video.add("RelativeFilename", texture.relative)
+    record = objects.add("Texture", texture_id, _object_name(name, "Texture"), "")
+    record.add("Type", "TextureVideoClip")
+    record.add("Version", 202)
+    record.add("TextureName", _object_name(name, "Texture"))
+    _properties(record, [("UVSet", "KString", "", "", UV_SET), ("UseMaterial", "bool", "", "", 1)])
+    record.add("Media", _object_name(name, "Video"))
+    record.add("FileName", texture.path)
+    record.add("RelativeFilename", texture.relative)
+    record.add("ModelUVTranslation", 0.0, 0.0)
+    record.add("ModelUVScaling", 1.0, 1.0)
+    record.add("Texture_Alpha_Source", "None")
+    record.add("Cropping", 0, 0, 0, 0)
+
+
 def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: bool = True) -> bytes:
     """A binary FBX 7.4 file of ``meshes``, each its own node under the scene's root; with
     ``normals`` each face's normal at each of its corners."""
@@ -169,7 +234,7 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
     objects = _Record("Objects")
     connections = _Record("Connections")
     next_id = (_Id(k) for k in range(1_000_000, 2**62))
-    counts = {"Model": 0, "Geometry": 0, "Material": 0}
+    counts = {"Model": 0, "Geometry": 0, "Material": 0, "Texture": 0, "Video": 0}
     for mesh in meshes:
         vertices = np.asarray(mesh.vertices, dtype=float).reshape(-1, 3)
         geometry_id, model_id = next(next_id), next(next_id)
@@ -196,6 +261,18 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
             entry = layer.add("LayerElement")
             entry.add("Type", "LayerElementNormal")
             entry.add("TypedIndex", 0)
+        if any(uv is not None for uv in mesh.uvs):
+            values, index = _uv_layer(mesh)
+            element = geometry.add("LayerElementUV", 0)
+            element.add("Version", 101)
+            element.add("Name", UV_SET)
+            element.add("MappingInformationType", "ByPolygonVertex")
+            element.add("ReferenceInformationType", "IndexToDirect")
+            element.add("UV", values.ravel())
+            element.add("UVIndex", index)
+            entry = layer.add("LayerElement")
+            entry.add("Type", "LayerElementUV")
+            entry.add("TypedIndex", 0)
         if mesh.materials:
             element = geometry.add("LayerElementMaterial", 0)
             element.add("Version", 101)
@@ -214,14 +291,14 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
         model.add("Culling", "CullingOff")
         connections.add("C", "OO", model_id, ROOT)
         connections.add("C", "OO", geometry_id, model_id)
-        for name, rgb, opacity in mesh.materials:
+        for name, rgb, opacity, *texture in mesh.materials:
             material_id = next(next_id)
             counts["Material"] += 1
             material = objects.add("Material", material_id, _object_name(name, "Material"), "")
             material.add("Version", 102)
             material.add("ShadingModel", "lambert")
             material.add("MultiLayer", 0)
-            color = tuple(float(c) for c in rgb)
+            color = tuple(max(float(c), 0.0) ** COLOR_GAMMA for c in rgb)
             _properties(
                 material,
                 [
@@ -232,6 +309,13 @@ def encode_fbx(meshes: list[FbxMesh], *, creator: str = "shapegen", normals: boo
                 ],
             )
             connections.add("C", "OO", material_id, model_id)
+            if texture and texture[0] is not None:
+                texture_id, video_id = next(next_id), next(next_id)
+                counts["Texture"] += 1
+                counts["Video"] += 1
+                _add_texture(objects, texture[0], f"{name}_tex", texture_id, video_id)
+                connections.add("C", "OP", texture_id, material_id, "DiffuseColor")
+                connections.add("C", "OO", video_id, texture_id)
     definitions = _Record("Definitions")
     definitions.add("Version", 100)
     used = {kind: n for kind, n in counts.items() if n}

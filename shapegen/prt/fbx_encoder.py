@@ -119,6 +119,8 @@ def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], Non
     existing = str(options.get("existingFiles", "OVERWRITE"))
     normals = str(options.get("vertexNormals", "SET_MISSING")) != "NONE"
     materials = options.get("includeMaterials", True)
+    uvs = str(options.get("textureCoordinates", "ALL")) != "NONE"
+    collect = options.get("collectTextures", True)
 
     def write(models: list, folder: Path, base: str) -> None:
         from shapegen.export.atomic import atomic_write
@@ -128,45 +130,104 @@ def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], Non
         if existing == "SKIP" and target.exists():
             return
         meshes = [
-            shape_mesh(model, k, materials=materials, merge=merge) for k, model in enumerate(models)
+            shape_mesh(model, k, materials=materials, merge=merge, uvs=uvs)
+            for k, model in enumerate(models)
         ]
-        payload = encode_fbx([m for m in meshes if m.faces], normals=normals)
+        meshes = [m for m in meshes if m.faces]
+        placed = _placed_textures(meshes, folder, collect)
+        for mesh in meshes:
+            mesh.materials = [(*m[:3], placed.get(m[3])) for m in mesh.materials]
+        payload = encode_fbx(meshes, normals=normals)
         with atomic_write(target, "wb") as handle:
             handle.write(payload)
 
     return write
 
 
-def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None):
+def _placed_textures(meshes: list, folder: Path, collect: bool) -> dict:
+    """Each texture file the meshes' materials name, as the FBX file names it: copied into
+    ``folder`` under its own name (``collect``, CityEngine's default; a second file of the same
+    name and other bytes as ``name_1.png``...), else where it is."""
+    import os
+
+    from shapegen.export.atomic import atomic_write
+    from shapegen.export.fbx import FbxTexture
+
+    sources = sorted({m[3] for mesh in meshes for m in mesh.materials if m[3] is not None})
+    out, taken = {}, {}
+    for source in sources:
+        if not collect:
+            relative = os.path.relpath(source, folder).replace(os.sep, "/")
+            out[source] = FbxTexture(str(source), relative)
+            continue
+        data = Path(source).read_bytes()
+        name, n = Path(source).name, 0
+        while name in taken and taken[name] != data:
+            n += 1
+            name = f"{Path(source).stem}_{n}{Path(source).suffix}"
+        if name not in taken:
+            taken[name] = data
+            with atomic_write(folder / name, "wb") as handle:
+                handle.write(data)
+        out[source] = FbxTexture(str((folder / name).resolve()), name)
+    return out
+
+
+def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None,
+               uvs: bool = True):  # fmt: skip
     """One initial shape's leaves (a :class:`GeneratedModel`'s blocks and surfaces) as one
     :class:`~shapegen.export.fbx.FbxMesh` named ``shape_<index>``: each leaf's faces whole,
     each face's material the leaf's colour and opacity (CityEngine's default white where the
-    rule set none). With ``merge`` (metres), vertices closer than it are one (see
+    rule set none). A face lying on a textured face of the initial shape (read from an OBJ
+    file: :mod:`shapegen.prt.initial_textures`) takes its texture coordinates (with ``uvs``)
+    and its material: the OBJ material's name, its diffuse colour unless the rule set one, and
+    its texture (the source file's path, for the writer to place) where the face has
+    coordinates. With ``merge`` (metres), vertices closer than it are one (see
     :func:`merged_vertices`)."""
     from shapegen.export.fbx import FbxMesh
+    from shapegen.prt.initial_textures import face_textures
 
-    parts, faces, face_materials, looks = [], [], [], {}
+    texture = getattr(model, "initial_texture", None)
+    parts, faces, face_materials, face_uvs, looks = [], [], [], [], {}
     base = 0
     for leaf in [*model.model.blocks, *model.model.surfaces]:
         points = np.asarray(leaf.vertices, dtype=float).reshape(-1, 3)
         look = leaf.appearance
-        rgb = look.color if look is not None and look.color is not None else (1.0, 1.0, 1.0)
+        own = look.color if look is not None and look.color is not None else None
         alpha = look.opacity if look is not None else 1.0
-        key = (*(round(float(c), 6) for c in rgb), round(float(alpha), 6))
-        material = looks.setdefault(key, len(looks))
-        parts.append(points)
-        for face in _leaf_faces(leaf, points):
+        leaf_faces = _leaf_faces(leaf, points)
+        for face, (uv, source, _) in zip(
+            leaf_faces, face_textures(leaf, leaf_faces, texture), strict=True
+        ):
+            name, rgb, image = "", own if own is not None else (1.0, 1.0, 1.0), None
+            if source is not None:
+                obj = texture.materials[source]
+                name = obj.name
+                rgb = own if own is not None else obj.diffuse
+                image = obj.texture if uv is not None else None
+            key = (name, *(round(float(c), 6) for c in rgb), round(float(alpha), 6), image)
+            face_materials.append(looks.setdefault(key, len(looks)))
             faces.append([int(i) + base for i in face])
-            face_materials.append(material)
+            face_uvs.append(uv if uvs else None)
+        parts.append(points)
         base += len(points)
     vertices = np.concatenate(parts) if parts else np.zeros((0, 3))
-    table = [(f"shape_{index}_material_{k}", key[:3], key[3]) for key, k in looks.items()]
+    table = [
+        (f"{key[0]}_mat" if key[0] else f"shape_{index}_material_{k}", key[1:4], key[4], key[5])
+        for key, k in looks.items()
+    ]
     if merge is not None and len(vertices):
-        vertices, faces, kept = merged_vertices(vertices, faces, merge)
+        vertices, faces, kept, corners = _merged(vertices, faces, merge)
         face_materials = [face_materials[k] for k in kept]
+        face_uvs = [
+            None if face_uvs[k] is None else np.asarray(face_uvs[k])[ids]
+            for k, ids in zip(kept, corners, strict=True)
+        ]
     if not materials:
         table, face_materials = [], []
-    return FbxMesh(f"shape_{index}", vertices, faces, face_materials, table)
+    if not any(uv is not None for uv in face_uvs):
+        face_uvs = []
+    return FbxMesh(f"shape_{index}", vertices, faces, face_materials, table, face_uvs)
 
 
 def _leaf_faces(leaf, points: np.ndarray) -> list:
@@ -198,6 +259,13 @@ def merged_vertices(
     unused ones dropped. A face's corners that became one are written once; a face left with
     fewer than three corners is dropped. Returns the vertices, the faces and the indices of the
     faces kept."""
+    vertices, faces, kept, _ = _merged(vertices, faces, precision)
+    return vertices, faces, kept
+
+
+def _merged(vertices: np.ndarray, faces: list[list[int]], precision: float):
+    """:func:`merged_vertices`, and for each face kept the positions in its input ring of the
+    corners it keeps (what each corner carries, its texture coordinates, follows them)."""
     from scipy.spatial import cKDTree
 
     parent = np.arange(len(vertices))
@@ -213,17 +281,19 @@ def merged_vertices(
         if a != b:
             parent[max(a, b)] = min(a, b)
     roots = np.array([root(i) for i in range(len(vertices))])
-    out_faces, kept = [], []
+    out_faces, kept, corners = [], [], []
     for k, face in enumerate(faces):
         ring = [int(roots[i]) for i in face]
-        ring = [c for n, c in enumerate(ring) if c != ring[n - 1]] if len(set(ring)) > 1 else []
-        if len(ring) >= 3:
-            out_faces.append(ring)
+        stays = [n for n, c in enumerate(ring) if c != ring[n - 1]] if len(set(ring)) > 1 else []
+        if len(stays) >= 3:
+            out_faces.append([ring[n] for n in stays])
             kept.append(k)
+            corners.append(stays)
     used = sorted({i for face in out_faces for i in face})
     number = {old: new for new, old in enumerate(used)}
     return (
         vertices[used],
         [[number[i] for i in face] for face in out_faces],
         kept,
+        corners,
     )
