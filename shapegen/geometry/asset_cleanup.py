@@ -107,8 +107,20 @@ def _collapsed(vertices: np.ndarray, faces: list[list[int]], edge: float, ids=No
         if len({merged[k] for k in stays}) >= 3:
             kept.append([merged[k] for k in stays])
             if ids is not None:
-                kept_ids.append([ids[n][k] for k in stays])
+                kept_ids.append([ids[n][_own_corner(face, merged, k)] for k in stays])
     return kept, kept_ids if ids is not None else None
+
+
+def _own_corner(face: list[int], merged: list[int], first: int) -> int:
+    """Of the run of corners from ``first`` that became one vertex, the one that was that
+    vertex (else the first): the corner that stays."""
+    k = first
+    while True:
+        if int(face[k]) == merged[k]:
+            return k
+        k = (k + 1) % len(face)
+        if k == first or merged[k] != merged[first]:
+            return first
 
 
 def _without_slivers(vertices: np.ndarray, faces: list[list[int]], edge: float, ids=None):

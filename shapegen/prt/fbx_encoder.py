@@ -3,9 +3,11 @@
 Binary FBX 7.4 (:mod:`shapegen.export.fbx`), as CityEngine's runtime writes binary FBX (its
 ``fileType`` default); each initial shape is one node with one mesh of all its leaves, the
 faces kept whole (quads, n-gons) with each face's normal at its corners, and a Lambert material
-per colour. The options are those CityEngine's runtime documents for this encoder
-(Esri/cityengine-sdk, ``esri_prt_codecs.html``); each is honoured or refused with one line, in
-:data:`FBX_OPTIONS`.
+per colour. Faces lying on an initial shape read from an OBJ file carry its texture coordinates
+(the mesh's UV layer) and its material with its diffuse texture, copied beside the file, as
+PyPRT 1.12 writes them (:mod:`shapegen.prt.initial_textures`). The options are those
+CityEngine's runtime documents for this encoder (Esri/cityengine-sdk, ``esri_prt_codecs.html``);
+each is honoured or refused with one line, in :data:`FBX_OPTIONS`.
 
 Coordinates are CGA's: metres, y up (the file says so in ``GlobalSettings``), as PyPRT 1.12
 writes them (measured: its FBX of the extrusion rule reads, in metres y up, as the vertices its
@@ -43,9 +45,9 @@ FBX_OPTIONS = {
     "globalOffset": "[0, 0, 0] only",
     "triangulateMeshes": "False (default) only: faces are kept whole",
     "facesWithHoles": "TRIANGULATE_FACES_WITH_HOLES (default) only: an FBX polygon has no holes",
-    "textureCoordinates": "accepted: shapegen's leaves have no texture coordinates",
-    "collectTextures": "accepted: no texture is written (the leaves have no texture coordinates)",
-    "embedTextures": "False (default) only: no texture is written",
+    "textureCoordinates": "FIRST or ALL (default: the one uv-set faces carry), or NONE",
+    "collectTextures": "True (default): textures copied beside the file; False: named in place",
+    "embedTextures": "False (default) only: a texture is a file the FBX names",
     "createTextureAtlases": "False (default) only",
     "errorFallback": "False only: a shape that fails is left out",
     "writeLog": "False (default) only",
@@ -54,8 +56,8 @@ FBX_OPTIONS = {
     "vertexPrecision": "the distance within which vertices merge (default 0.001 m)",
     "mergeNormals": "accepted: each face corner has its face's normal, written per corner",
     "normalPrecision": "accepted: normals are not merged",
-    "mergeTexcoords": "accepted: no texture coordinates are written",
-    "texcoordPrecision": "accepted: no texture coordinates are written",
+    "mergeTexcoords": "accepted: equal texture coordinates are written once (indexed)",
+    "texcoordPrecision": "accepted: texture coordinates are kept as read",
     "maxAtlasDim": "accepted: no texture atlas is made",
     "atlasAddWrapBorder": "accepted: no texture atlas is made",
     "tempPath": "accepted: the file is written atomically in outputPath",
@@ -205,16 +207,19 @@ def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None
                 name = obj.name
                 rgb = own if own is not None else obj.diffuse
                 image = obj.texture if uv is not None else None
+            # faces group by the colour to 1e-6; the material holds the first one's as it is
             key = (name, *(round(float(c), 6) for c in rgb), round(float(alpha), 6), image)
-            face_materials.append(looks.setdefault(key, len(looks)))
+            if key not in looks:
+                looks[key] = (len(looks), (name, tuple(float(c) for c in rgb), alpha, image))
+            face_materials.append(looks[key][0])
             faces.append([int(i) + base for i in face])
             face_uvs.append(uv if uvs else None)
         parts.append(points)
         base += len(points)
     vertices = np.concatenate(parts) if parts else np.zeros((0, 3))
     table = [
-        (f"{key[0]}_mat" if key[0] else f"shape_{index}_material_{k}", key[1:4], key[4], key[5])
-        for key, k in looks.items()
+        (f"{name}_mat" if name else f"shape_{index}_material_{k}", rgb, alpha, image)
+        for k, (name, rgb, alpha, image) in looks.values()
     ]
     if merge is not None and len(vertices):
         vertices, faces, kept, corners = _merged(vertices, faces, merge)

@@ -83,3 +83,26 @@ def test_a_repeated_corner_is_one_and_a_face_given_twice_stays_twice():
     points = np.array([[0, 0, 0], [1, 0, 0], [1, 0, -1], [0, 0, -1.0]])
     assert cleaned_polygons(points, [[0, 1, 1, 2, 3]])[1] == [[0, 1, 2, 3]]
     assert cleaned_polygons(points, [[0, 1, 2, 3], [0, 1, 2, 3]])[1] == [[0, 1, 2, 3]] * 2
+
+
+def test_each_cleaned_corner_is_named_by_the_input_corner_it_is():
+    """What a corner carries follows it: the corner that stays of a collapsed edge, the
+    corners of a sliver spliced into a face (numbered in the input's faces, one after
+    another), the same faces and vertices as cleaned_polygons gives."""
+    from shapegen.geometry.asset_cleanup import cleaned_polygons_and_corners
+
+    # the short edge: corners 0..4 of the pentagon, 5..8 of the square; vertex 1 stays
+    points = np.array([[0, 0, 0], [1, 0, 0], [1, 0.0005, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0],
+                       [2, 1, 0]], dtype=float)  # fmt: skip
+    faces = [[0, 2, 1, 3, 4], [1, 5, 6, 3]]
+    vertices, cleaned, corners = cleaned_polygons_and_corners(points, faces)
+    expected_vertices, expected_faces = cleaned_polygons(points, faces)
+    assert np.array_equal(vertices, expected_vertices) and cleaned == expected_faces
+    assert corners == [[0, 2, 3, 4], [5, 6, 7, 8]]
+    # the sliver [1, 6, 2] (corners 4, 5, 6) spliced into the first square (corners 0..3)
+    points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0], [2, 1, 0],
+                       [1, 0.5, 0]], dtype=float)  # fmt: skip
+    _, cleaned, corners = cleaned_polygons_and_corners(
+        points, [[0, 1, 2, 3], [1, 6, 2], [1, 4, 5, 2]]
+    )
+    assert corners == [[0, 1, 5, 2, 3], [7, 8, 9, 10]]

@@ -336,3 +336,14 @@ def test_a_face_with_a_hole_is_written_as_triangles_around_the_hole(tmp_path):
             for face in mesh["faces"]:
                 x, _, z = mesh["vertices"][face].mean(axis=0)
                 assert not (3 < x < 7 and 3 < z < 7)  # no face over the courtyard
+
+
+def test_a_colour_is_written_as_cityengines_runtime_writes_it(tmp_path):
+    """PyPRT 1.12's FBX of this rule with buildingColor #808080 holds DiffuseColor
+    0.2195197180748679 (measured): (128 / 255) ** 2.2."""
+    generator = pyprt.ModelGenerator([pyprt.InitialShape(SQUARE)])
+    generator.generate_model(
+        [{**FIXED, "buildingColor": "#808080"}], str(EXTRUSION), FBX, {"outputPath": str(tmp_path)}
+    )
+    (mesh,) = read_fbx(tmp_path / "base_name_0.fbx")
+    assert mesh["colors"] == [pytest.approx((0.2195197180748679,) * 3, abs=1e-12)]

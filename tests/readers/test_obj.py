@@ -93,3 +93,38 @@ def test_a_line_ending_in_a_backslash_goes_on_on_the_next():
         obj_polygons(text, "x.obj")
     vertices, faces = obj_polygons(text.rsplit("f 1 2 x", 1)[0], "x.obj")
     assert len(vertices) == 4 and faces == [[0, 1, 2, 3]]
+
+
+def test_texture_coordinates_materials_and_libraries_are_read_per_face_corner():
+    from shapegen.readers.obj import obj_surface
+
+    text = (
+        "mtllib a.mtl b.mtl\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\n"
+        "vt 0 0\nvt 1 0 0\nvt 1 1\nvt 0 1\n"
+        "f 1 2 3\n"  # before any usemtl, without coordinates
+        "usemtl red brick\nf 1/1/1 2/2/1 3/-2/1 4/-1/1\n"
+        "f 1//1 3//1 4//1\n"  # normals only
+        "f 1/1 2/2 3\n"  # a corner without: the face has none
+    )
+    surface = obj_surface(text, "a.obj")
+    assert surface.libraries == ["a.mtl", "b.mtl"]
+    assert surface.face_materials == ["", "red brick", "red brick", "red brick"]
+    assert surface.face_uvs[0] is None and surface.face_uvs[2] is None
+    assert surface.face_uvs[3] is None
+    assert surface.face_uvs[1].tolist() == [[0, 0], [1, 0], [1, 1], [0, 1]]
+    assert obj_polygons(text, "a.obj")[1] == surface.faces
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("v 0 0 0\nv 1 0 0\nv 0 0 1\nvt 0 0\nf 1/1 2/2 3/1\n", "a.obj:5: the face names texture"),
+        ("vt 0 x\n", "a.obj:1: a texture coordinate needs u v numbers"),
+    ],
+)
+def test_a_broken_texture_coordinate_is_one_line_naming_the_place(text, words):
+    from shapegen.readers.obj import obj_surface
+
+    with pytest.raises(InputFormatError, match=words):
+        obj_surface(text, "a.obj")
+    obj_polygons(text, "a.obj")  # the positions alone do not read them

@@ -1,0 +1,209 @@
+"""An initial shape read from an OBJ file keeps its texture coordinates and material through
+the derivation and into the FBX file, as CityEngine's runtime writes them: compared, corner by
+corner, with the FBX PyPRT 1.12 wrote of the same file and rule
+(tests/data/fbx-pyprt/README.md), read back by ufbx, a reader independent of the writer."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shapegen.prt as pyprt
+
+ufbx = pytest.importorskip("ufbx")
+
+DATA = Path(__file__).parent / "data"
+CORPUS = Path(__file__).parents[1] / "data" / "cga-corpus"
+IDENTITY_RULE = CORPUS / "tests_data_identity__c7aa1921" / "rules" / "identity.cga"
+PYPRT_FILE = Path(__file__).parents[1] / "data" / "fbx-pyprt" / "bonnland_pyprt112_0.fbx"
+FBX = "com.esri.prt.codecs.FBXEncoder"
+
+
+def read_corners(path: Path) -> dict:
+    """Every face of the file as its corners' (position mm, uv) pairs, starting at its least
+    corner, sorted; and each material's name, diffuse colour and texture file (as the file
+    names it, relative and absolute). Plain data: nothing of ufbx outlives the scene."""
+    scene = ufbx.load_file(
+        str(path), target_axes=ufbx.axes_right_handed_y_up, target_unit_meters=1.0
+    )
+    faces, materials = [], {}
+    try:
+        for node in scene.nodes:
+            mesh = node.mesh
+            if mesh is None:
+                continue
+            m = node.geometry_to_world
+            affine = np.array([[m.c0.x, m.c1.x, m.c2.x, m.c3.x], [m.c0.y, m.c1.y, m.c2.y, m.c3.y],
+                               [m.c0.z, m.c1.z, m.c2.z, m.c3.z]])  # fmt: skip
+            points = np.array([[v.x, v.y, v.z] for v in mesh.vertices]).reshape(-1, 3)
+            points = points @ affine[:, :3].T + affine[:, 3]
+            corners = list(mesh.vertex_indices)
+            uvs = uv_index = None
+            if mesh.vertex_uv.exists:
+                uvs = [(v.x, v.y) for v in mesh.vertex_uv.values]
+                uv_index = list(mesh.vertex_uv.indices)
+            for start, count in [(f.index_begin, f.num_indices) for f in mesh.faces]:
+                ring = []
+                for i in range(start, start + count):
+                    key = tuple(int(v) for v in np.round(points[corners[i]] * 1000))
+                    uv = None if uvs is None else tuple(np.round(uvs[uv_index[i]], 9).tolist())
+                    ring.append((key, uv))
+                first = ring.index(min(ring))
+                faces.append(tuple(ring[first:] + ring[:first]))
+            for material in mesh.materials:
+                diffuse = material.fbx.diffuse_color
+                texture = diffuse.texture
+                c = diffuse.value_vec4
+                materials[str(material.name)] = {
+                    "diffuse": (c.x, c.y, c.z),
+                    "texture": None if texture is None else str(texture.relative_filename),
+                    "absolute": None if texture is None else str(texture.absolute_filename),
+                }
+                del material, diffuse, texture
+            del mesh, m, node
+    finally:
+        scene.free()
+    return {"faces": sorted(faces), "materials": materials}
+
+
+def generate(tmp_path: Path, obj: Path, depth: int = 0, rule: Path = IDENTITY_RULE, **options):
+    out = tmp_path / "out"
+    out.mkdir(exist_ok=True)
+    shape = pyprt.InitialShape(str(obj), depth)
+    (model,) = pyprt.ModelGenerator([shape]).generate_model([{}], str(rule))
+    pyprt.ModelGenerator([shape]).generate_model(
+        [{}], str(rule), FBX, {"outputPath": str(out), **options}
+    )
+    return model, out
+
+
+def test_an_obj_passed_through_is_written_with_its_uvs_and_texture_as_cityengine_writes_it(
+    tmp_path,
+):
+    model, out = generate(tmp_path, DATA / "Bonnland_102.obj")
+    ours, theirs = read_corners(out / "base_name_0.fbx"), read_corners(PYPRT_FILE)
+    assert model.get_cga_errors() == []
+    assert len(theirs["faces"]) == 14 and all(
+        uv is not None for f in theirs["faces"] for _, uv in f
+    )
+    assert ours["faces"] == theirs["faces"]
+    assert list(ours["materials"]) == list(theirs["materials"]) == ["Bonnland_102_mat"]
+    mine, cityengine = (
+        ours["materials"]["Bonnland_102_mat"],
+        theirs["materials"]["Bonnland_102_mat"],
+    )
+    assert mine["diffuse"] == pytest.approx(cityengine["diffuse"], abs=1e-12)
+    assert Path(mine["texture"]).name == Path(cityengine["texture"]).name == "Bonnland_102.png"
+    # the texture is copied beside the FBX file, which names the copy
+    assert (out / "Bonnland_102.png").read_bytes() == (DATA / "Bonnland_102.png").read_bytes()
+    assert Path(mine["absolute"]) == (out / "Bonnland_102.png").resolve()
+
+
+def test_without_collecting_the_texture_the_file_names_the_original(tmp_path):
+    _, out = generate(tmp_path, DATA / "Bonnland_102.obj", collectTextures=False)
+    (material,) = read_corners(out / "base_name_0.fbx")["materials"].values()
+    assert not (out / "Bonnland_102.png").exists()
+    assert Path(material["absolute"]).resolve() == (DATA / "Bonnland_102.png").resolve()
+
+
+def test_texture_coordinates_none_writes_no_uv_layer_but_keeps_the_textured_material(tmp_path):
+    """As PyPRT 1.12 writes with textureCoordinates NONE: no LayerElementUV, the material
+    still tied to its texture, which is still copied."""
+    _, out = generate(tmp_path, DATA / "Bonnland_102.obj", textureCoordinates="NONE")
+    read = read_corners(out / "base_name_0.fbx")
+    assert all(uv is None for face in read["faces"] for _, uv in face)
+    assert read["materials"]["Bonnland_102_mat"]["texture"] == "Bonnland_102.png"
+    assert (out / "Bonnland_102.png").exists()
+
+
+@pytest.mark.parametrize(("depth", "found"), [(0, False), (1, False), (2, True)])
+def test_files_the_obj_names_are_found_within_the_recursion_depth(tmp_path, depth, found):
+    """PyPRT 1.12 on OBJ-Bonnland-nested (library two folders down, texture one): the
+    material is found with depth 2 and "Could not resolve material" with 0 and 1."""
+    model, out = generate(tmp_path, DATA / "OBJ-Bonnland-nested" / "Bonnland_102.obj", depth)
+    read = read_corners(out / "base_name_0.fbx")
+    assert (out / "Bonnland_102.png").exists() == found
+    assert ("Bonnland_102_mat" in read["materials"]) == found
+    errors = model.get_cga_errors()
+    if found:
+        assert errors == []
+        assert read["faces"] == read_corners(PYPRT_FILE)["faces"]
+    else:
+        assert len(errors) == 1 and "could not resolve material library" in errors[0]
+        assert "'a/b/Bonnland_102.mtl'" in errors[0] and f"within {depth} folder" in errors[0]
+
+
+def test_a_library_or_texture_outside_the_files_folder_is_not_read(tmp_path):
+    folder = tmp_path / "shape"
+    folder.mkdir()
+    shutil.copy(DATA / "Bonnland_102.png", tmp_path / "outside.png")
+    text = (DATA / "Bonnland_102.obj").read_text()
+    (folder / "b.obj").write_text(text.replace("mtllib Bonnland_102.mtl", "mtllib b.mtl"))
+    (folder / "b.mtl").write_text("newmtl Bonnland_102\nKd 1 0 0\nmap_Kd ../outside.png\n")
+    model, out = generate(tmp_path, folder / "b.obj", 5)
+    read = read_corners(out / "base_name_0.fbx")
+    (error,) = model.get_cga_errors()
+    assert "could not resolve texture '../outside.png'" in error
+    assert read["materials"]["Bonnland_102_mat"] == {
+        "diffuse": (1.0, 0.0, 0.0), "texture": None, "absolute": None}  # fmt: skip
+
+
+def square_obj(folder: Path) -> Path:
+    """A 10 x 10 m level square whose texture coordinates are (x, z) / 10 at each corner, in
+    two triangles, with a textured material."""
+    shutil.copy(DATA / "Bonnland_102.png", folder / "tex.png")
+    (folder / "square.mtl").write_text("newmtl stone\nKd 1 1 1\nmap_Kd tex.png\n")
+    (folder / "square.obj").write_text(
+        "mtllib square.mtl\n"
+        "v 0 0 0\nv 0 0 10\nv 10 0 10\nv 10 0 0\n"
+        "vt 0 0\nvt 0 1\nvt 1 1\nvt 1 0\n"
+        "usemtl stone\nf 1/1 2/2 3/3 4/4\n"
+    )
+    return folder / "square.obj"
+
+
+def write_rule(folder: Path, body: str) -> Path:
+    path = folder / "rule.cga"
+    path.write_text(f'version "2023.0"\n\n@StartRule\nLot -->\n    {body}\n')
+    return path
+
+
+def test_faces_cut_from_an_initial_face_take_its_coordinates_between_corners(tmp_path):
+    """split cuts the square into strips; each strip's corners take the square's texture
+    coordinates where they lie: (x, z) / 10 (the closed form of this square's layout)."""
+    rule = write_rule(tmp_path, "split(x) { 2.5 : X. | ~1 : X. }")
+    model, out = generate(tmp_path, square_obj(tmp_path), rule=rule)
+    read = read_corners(out / "base_name_0.fbx")
+    assert model.get_cga_errors() == []
+    assert len(read["faces"]) == 2
+    zs = set()
+    for face in read["faces"]:
+        for (x, _, z), uv in face:
+            assert uv == pytest.approx((x / 10000, z / 10000), abs=1e-9)
+            zs.add(z)
+    assert zs == {0, 2500, 10000}  # the scope's x runs along the first edge, along z
+
+
+def test_faces_moved_off_the_initial_faces_lose_their_coordinates_with_a_warning(tmp_path):
+    rule = write_rule(tmp_path, "t(0, 3, 0) X.")
+    model, out = generate(tmp_path, square_obj(tmp_path), rule=rule)
+    read = read_corners(out / "base_name_0.fbx")
+    (warning,) = model.get_cga_errors()
+    assert warning.startswith("texture coordinates: 1 of 1 faces are not on the initial shape")
+    assert all(uv is None for face in read["faces"] for _, uv in face)
+    # the shape keeps its one material's colour; its texture goes with the coordinates
+    assert read["materials"]["stone_mat"]["texture"] is None
+
+
+def test_an_extrusion_keeps_the_coordinates_of_the_face_it_stands_on_only(tmp_path):
+    rule = write_rule(tmp_path, "extrude(4) X.")
+    model, out = generate(tmp_path, square_obj(tmp_path), rule=rule)
+    read = read_corners(out / "base_name_0.fbx")
+    # the layer covers every corner: a face without coordinates has (0, 0) at each
+    with_uvs = [face for face in read["faces"] if any(uv != (0.0, 0.0) for _, uv in face)]
+    (warning,) = model.get_cga_errors()
+    assert "5 of 6 faces are not on the initial shape's faces" in warning
+    assert len(with_uvs) == 1 and {y for (_, y, _), _ in with_uvs[0]} == {0}
