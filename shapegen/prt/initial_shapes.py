@@ -18,9 +18,9 @@ runtime reads them: OBJ by shapegen's reader, cleaned as an asset is
 (:mod:`shapegen.geometry.asset_cleanup`); glTF and GLB by trimesh, as triangles; FBX by ufbx
 (:mod:`shapegen.readers.fbx`), its faces whole. ``max_dir_recursion_depth`` is how deep PyPRT
 looks below the file's folder for the files it names (materials, textures): an OBJ file's
-texture coordinates and materials are read with it (:mod:`shapegen.prt.initial_textures`). What shapegen cannot start on (holes in a shape of
-several faces, other formats) is refused with one line when the model is
-generated, as PyPRT reports an initial shape it cannot use.
+texture coordinates and materials are read with it (:mod:`shapegen.prt.initial_textures`).
+What shapegen cannot start on (holes in a shape of several faces, other formats) is refused
+with one line when the model is generated, as PyPRT reports an initial shape it cannot use.
 
 >>> shape = InitialShape([0, 0, 0, 0, 0, 10, 10, 0, 10, 10, 0, 0])
 >>> shape.get_vertex_count(), shape.get_index_count(), shape.get_face_counts_count()
