@@ -7,7 +7,10 @@ the key, the value), ``CGAPrint.txt`` (what ``print`` wrote) and ``CGAError.txt`
 errors and warnings). ``com.esri.prt.codecs.I3SEncoder`` writes ``<baseName>.slpk`` (a Scene
 Layer Package, :mod:`shapegen.prt.i3s_encoder`) and ``com.esri.prt.codecs.FBXEncoder``
 ``<baseName>_0.fbx`` (binary FBX, :mod:`shapegen.prt.fbx_encoder`), each with the same three
-files. Every file is written atomically. Other encoders are refused with one line.
+files. The OBJ and FBX encoders write the texture coordinates and materials an initial shape
+read from an OBJ file carries (:mod:`shapegen.prt.initial_textures`); the glTF and I3S encoders
+do not, and say so in ``CGAError.txt`` and on standard error. Every file is written
+atomically. Other encoders are refused with one line.
 
 ``outputPath`` is treated as PyPRT treats it (``src/cpp/client/ModelGenerator.cpp`` of
 Esri/pyprt): without it the files go to the folder ``pyprt_fallback_output`` in the system's
@@ -21,10 +24,13 @@ from __future__ import annotations
 
 __all__ = ["file_encoder", "ENCODERS"]
 
+import sys
 import tempfile
 import warnings
 from collections.abc import Callable, Mapping
 from pathlib import Path
+
+import numpy as np
 
 from shapegen.errors import OptionError
 from shapegen.export.atomic import atomic_write
@@ -37,6 +43,8 @@ GLTF_ENCODER = "com.esri.prt.codecs.GLTFEncoder"
 I3S_ENCODER = "com.esri.prt.codecs.I3SEncoder"
 FBX_ENCODER = "com.esri.prt.codecs.FBXEncoder"
 FILE_OPTIONS = ("outputPath", "baseName")
+TEXTURING = (OBJ_ENCODER, FBX_ENCODER)
+"""The encoders that write an initial shape's texture coordinates and textures."""
 
 
 def file_encoder(name: str, options: Mapping[str, object]) -> Callable[[list], None]:
@@ -55,11 +63,18 @@ def file_encoder(name: str, options: Mapping[str, object]) -> Callable[[list], N
 
     def write(models: list[GeneratedModel]) -> None:
         write_geometry(models, folder, base)
+        errors = [e for m in models for e in m.get_cga_errors()]
+        if name not in TEXTURING and any(m.initial_texture is not None for m in models):
+            # said, not silently dropped: the initial shapes carry textures this writer leaves
+            left_out = (
+                f"{name}: shapegen's encoder writes no texture coordinates or textures; those"
+                " of the initial shapes are left out (the OBJ and FBX encoders write them)"
+            )
+            print(f"shapegen.prt: {left_out}", file=sys.stderr)
+            errors.append(left_out)
         _write_text(folder / "CGAReport.txt", _report_lines(models))
         _write_text(folder / "CGAPrint.txt", "".join(m.get_cga_prints() for m in models))
-        _write_text(
-            folder / "CGAError.txt", "".join(f"{e}\n" for m in models for e in m.get_cga_errors())
-        )
+        _write_text(folder / "CGAError.txt", "".join(f"{e}\n" for e in errors))
 
     return write
 
@@ -96,8 +111,18 @@ def _output_folder(name: str, options: Mapping[str, object]) -> Path:
 
 
 def _write_obj(models: list[GeneratedModel], folder: Path, base: str) -> None:
+    """Every model's leaves, one group per initial shape. Faces lying on an initial shape read
+    from an OBJ file (:mod:`shapegen.prt.initial_textures`) carry its texture coordinates
+    (``f v/vt``) and its material (``usemtl``, in ``<baseName>.mtl`` with its ``Kd`` and
+    ``map_Kd``, the texture copied beside), as PyPRT 1.12's OBJ encoder writes them."""
+    from shapegen.prt.initial_textures import face_textures, placed_textures
+
+    textured = any(m.initial_texture is not None for m in models)
     lines = [f"# {len(models)} initial shapes"]
-    offset = 1
+    if textured:
+        lines.append(f"mtllib {base}.mtl")
+    offset, uv_offset, current = 1, 1, None
+    library: dict = {}  # (name, rgb, texture) -> the material's name in the library
     for k, model in enumerate(models):
         vertices = model.get_vertices()
         lines.append(f"g shape_{k}")
@@ -105,11 +130,58 @@ def _write_obj(models: list[GeneratedModel], folder: Path, base: str) -> None:
             f"v {vertices[i]:.6f} {vertices[i + 1]:.6f} {vertices[i + 2]:.6f}"
             for i in range(0, len(vertices), 3)
         )
-        indices = iter(model.get_indices())
-        for count in model.get_faces():
-            lines.append("f " + " ".join(str(next(indices) + offset) for _ in range(count)))
+        texture = model.initial_texture
+        corner = offset
+        for leaf in [*model.model.blocks, *model.model.surfaces] if vertices else []:
+            polygons = list(getattr(leaf, "polygons", None) or leaf.faces)
+            for polygon, (uv, source, _) in zip(
+                polygons, face_textures(leaf, polygons, texture), strict=True
+            ):
+                ring = [str(corner + int(i)) for i in polygon]
+                if textured:
+                    look = _obj_material(leaf, texture, source, uv, library)
+                    if look != current:
+                        lines.append(f"usemtl {look}")
+                        current = look
+                if uv is not None:
+                    lines.extend(f"vt {u:.6f} {v:.6f}" for u, v in np.asarray(uv))
+                    ring = [f"{c}/{uv_offset + n}" for n, c in enumerate(ring)]
+                    uv_offset += len(ring)
+                lines.append("f " + " ".join(ring))
+            corner += len(leaf.vertices)
         offset += len(vertices) // 3
+    if textured:
+        images = placed_textures([key[2] for key in library if key[2]], folder)
+        entries = []
+        for (_, rgb, image), name in library.items():
+            entries += [f"newmtl {name}", "Kd " + " ".join(f"{c:.6f}" for c in rgb)]
+            if image:
+                entries.append(f"map_Kd {images[image][1]}")
+            entries.append("")
+        _write_text(folder / f"{base}.mtl", "\n".join(entries))
     _write_text(folder / f"{base}_0.obj", "\n".join(lines) + "\n")
+
+
+def _obj_material(leaf, texture, source, uv, library: dict) -> str:
+    """The library name of a face's material: its OBJ material (the rule's colour over
+    ``Kd``; the texture where the face has coordinates), else the leaf's colour or white."""
+    look = leaf.appearance
+    own = look.color if look is not None and look.color is not None else None
+    name, rgb, image = "default", own if own is not None else (1.0, 1.0, 1.0), None
+    if source is not None:
+        material = texture.materials[source]
+        name = material.name
+        rgb = own if own is not None else material.diffuse
+        image = material.texture if uv is not None else None
+    key = (name, tuple(round(float(c), 6) for c in rgb), image)
+    if key not in library:
+        taken = set(library.values())
+        unique, n = name, 0
+        while unique in taken:
+            n += 1
+            unique = f"{name}_{n}"
+        library[key] = unique
+    return library[key]
 
 
 def _write_gltf(models: list[GeneratedModel], folder: Path, base: str) -> None:

@@ -147,32 +147,14 @@ def fbx_writer(options: Mapping[str, object]) -> Callable[[list, Path, str], Non
 
 
 def _placed_textures(meshes: list, folder: Path, collect: bool) -> dict:
-    """Each texture file the meshes' materials name, as the FBX file names it: copied into
-    ``folder`` under its own name (``collect``, CityEngine's default; a second file of the same
-    name and other bytes as ``name_1.png``...), else where it is."""
-    import os
-
-    from shapegen.export.atomic import atomic_write
+    """Each texture file the meshes' materials name, as the FBX file names it
+    (:func:`~shapegen.prt.initial_textures.placed_textures`)."""
     from shapegen.export.fbx import FbxTexture
+    from shapegen.prt.initial_textures import placed_textures
 
-    sources = sorted({m[3] for mesh in meshes for m in mesh.materials if m[3] is not None})
-    out, taken = {}, {}
-    for source in sources:
-        if not collect:
-            relative = os.path.relpath(source, folder).replace(os.sep, "/")
-            out[source] = FbxTexture(str(source), relative)
-            continue
-        data = Path(source).read_bytes()
-        name, n = Path(source).name, 0
-        while name in taken and taken[name] != data:
-            n += 1
-            name = f"{Path(source).stem}_{n}{Path(source).suffix}"
-        if name not in taken:
-            taken[name] = data
-            with atomic_write(folder / name, "wb") as handle:
-                handle.write(data)
-        out[source] = FbxTexture(str((folder / name).resolve()), name)
-    return out
+    sources = [m[3] for mesh in meshes for m in mesh.materials if m[3] is not None]
+    placed = placed_textures(sources, folder, collect)
+    return {source: FbxTexture(*names) for source, names in placed.items()}
 
 
 def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None,

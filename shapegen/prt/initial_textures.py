@@ -21,7 +21,7 @@ coordinates they would carry in CityEngine.
 from __future__ import annotations
 
 __all__ = ["InitialTexture", "SurfaceMaterial", "face_textures", "initial_texture",
-           "texture_warning"]  # fmt: skip
+           "placed_textures", "texture_warning"]  # fmt: skip
 
 from dataclasses import dataclass
 from pathlib import Path
@@ -206,3 +206,31 @@ def texture_warning(model, texture: InitialTexture | None) -> str | None:
             " does not compute"
         )
     return "texture coordinates: " + "; ".join(parts) + "; those faces have none"
+
+
+def placed_textures(sources, folder: Path, collect: bool = True) -> dict:
+    """Each texture file of ``sources`` as an encoder's file names it, ``path -> (absolute
+    path, path from folder)``: copied into ``folder`` under its own name (``collect``,
+    CityEngine's default; a second file of the same name and other bytes as ``name_1.png``...),
+    else where it is. Each copy is written atomically."""
+    import os
+
+    from shapegen.export.atomic import atomic_write
+
+    out, taken = {}, {}
+    for source in sorted(set(sources)):
+        if not collect:
+            relative = os.path.relpath(source, folder).replace(os.sep, "/")
+            out[source] = (str(source), relative)
+            continue
+        data = Path(source).read_bytes()
+        name, n = Path(source).name, 0
+        while name in taken and taken[name] != data:
+            n += 1
+            name = f"{Path(source).stem}_{n}{Path(source).suffix}"
+        if name not in taken:
+            taken[name] = data
+            with atomic_write(folder / name, "wb") as handle:
+                handle.write(data)
+        out[source] = (str((folder / name).resolve()), name)
+    return out

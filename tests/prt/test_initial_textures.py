@@ -19,6 +19,7 @@ DATA = Path(__file__).parent / "data"
 CORPUS = Path(__file__).parents[1] / "data" / "cga-corpus"
 IDENTITY_RULE = CORPUS / "tests_data_identity__c7aa1921" / "rules" / "identity.cga"
 PYPRT_FILE = Path(__file__).parents[1] / "data" / "fbx-pyprt" / "bonnland_pyprt112_0.fbx"
+PYPRT_OBJ = Path(__file__).parents[1] / "data" / "obj-pyprt" / "bonnland_pyprt112_0.obj"
 FBX = "com.esri.prt.codecs.FBXEncoder"
 
 
@@ -207,3 +208,50 @@ def test_an_extrusion_keeps_the_coordinates_of_the_face_it_stands_on_only(tmp_pa
     (warning,) = model.get_cga_errors()
     assert "5 of 6 faces are not on the initial shape's faces" in warning
     assert len(with_uvs) == 1 and {y for (_, y, _), _ in with_uvs[0]} == {0}
+
+
+def obj_corners(path: Path) -> list:
+    """Every face of an OBJ file as its corners' positions (mm), from its least corner, with
+    their texture coordinates, its material's diffuse colour and texture file name; sorted by
+    the positions."""
+    from shapegen.readers.mtl import mtl_materials
+    from shapegen.readers.obj import obj_surface
+
+    surface = obj_surface(path.read_text(), str(path))
+    (library,) = surface.libraries
+    materials = mtl_materials((path.parent / library).read_text(), library)
+    faces = []
+    for face, uv, name in zip(surface.faces, surface.face_uvs, surface.face_materials,
+                              strict=True):  # fmt: skip
+        ring = [tuple(np.round(surface.vertices[i] * 1000).astype(int).tolist()) for i in face]
+        first = ring.index(min(ring))
+        order = [(first + n) % len(ring) for n in range(len(ring))]
+        look = materials[name]
+        faces.append((tuple(ring[n] for n in order), uv[order].tolist(), look.diffuse,
+                      Path(look.texture).name))  # fmt: skip
+    return sorted(faces, key=lambda face: face[0])
+
+
+def test_the_obj_encoder_writes_the_uvs_and_material_as_cityengine_writes_them(tmp_path):
+    """PyPRT writes texture coordinates to 4 decimals, shapegen to 6: equal within 1e-4."""
+    shape = pyprt.InitialShape(str(DATA / "Bonnland_102.obj"))
+    pyprt.ModelGenerator([shape]).generate_model(
+        [{}], str(IDENTITY_RULE), "com.esri.prt.codecs.OBJEncoder", {"outputPath": str(tmp_path)}
+    )
+    ours = obj_corners(tmp_path / "base_name_0.obj")
+    theirs = obj_corners(PYPRT_OBJ)
+    assert len(theirs) == 14
+    assert [(f[0], f[2], f[3]) for f in ours] == [(f[0], f[2], f[3]) for f in theirs]
+    for mine, cityengine in zip(ours, theirs, strict=True):
+        assert np.abs(np.subtract(mine[1], cityengine[1])).max() <= 1e-4
+    assert (tmp_path / "Bonnland_102.png").read_bytes() == (DATA / "Bonnland_102.png").read_bytes()
+
+
+@pytest.mark.parametrize("encoder", ["GLTFEncoder", "I3SEncoder"])
+def test_an_encoder_that_writes_no_texture_says_so(tmp_path, encoder):
+    shape = pyprt.InitialShape(str(DATA / "Bonnland_102.obj"))
+    pyprt.ModelGenerator([shape]).generate_model(
+        [{}], str(IDENTITY_RULE), f"com.esri.prt.codecs.{encoder}", {"outputPath": str(tmp_path)}
+    )
+    (line,) = (tmp_path / "CGAError.txt").read_text().splitlines()
+    assert line.startswith(f"com.esri.prt.codecs.{encoder}: shapegen's encoder writes no texture")
