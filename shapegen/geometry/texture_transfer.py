@@ -49,39 +49,84 @@ def carried_uvs(
     """
     if not source_faces:
         return [None] * len(faces)
-    import shapely
-
-    normals = np.array([_unit_normal(face) for face in source_faces])
-    anchors = np.array([face[0] for face in source_faces], dtype=float)
-    frames, outlines, maps = [], [], []
-    for face, normal, uv in zip(source_faces, normals, source_uvs, strict=True):
-        frame = _plane_frame(normal)
-        flat = (face - face[0]) @ frame.T
-        frames.append(frame)
-        outlines.append(shapely.Polygon(flat) if len(flat) >= 3 else shapely.Polygon())
-        maps.append(_affine_map(flat, uv))
-    out: list[tuple[int, np.ndarray] | None] = []
     points = np.asarray(vertices, dtype=float).reshape(-1, 3)
+    sources = _Sources(source_faces, source_uvs, tolerance)
+    out: list[tuple[int, np.ndarray] | None] = []
     for face in faces:
         corners = points[list(face)]
+        found = sources.same_corners(corners)
+        out.append(found if found is not None else sources.lying_on(corners))
+    return out
+
+
+class _Sources:
+    """The initial faces, with what finding the one a face lies on needs: each face keyed by
+    its corners (a face passed on unchanged is found at once), and the bounding spheres,
+    planes and outlines of the others (made when first asked)."""
+
+    def __init__(self, faces, uvs, tolerance: float):
+        self.faces = [np.asarray(face, dtype=float) for face in faces]
+        self.uvs = [np.asarray(uv, dtype=float) for uv in uvs]
+        self.tolerance = tolerance
+        self.by_corners: dict[tuple, int] = {}
+        for k, face in enumerate(self.faces):
+            self.by_corners.setdefault(self._key(face), k)
+        self._planes = None
+
+    def _key(self, corners: np.ndarray) -> tuple:
+        return tuple(
+            sorted(map(tuple, np.round(corners / self.tolerance).astype(np.int64).tolist()))
+        )
+
+    def same_corners(self, corners: np.ndarray) -> tuple[int, np.ndarray] | None:
+        """The initial face with these very corners (to the tolerance's grid), each corner
+        taking its coordinates; None when there is none."""
+        k = self.by_corners.get(self._key(corners))
+        if k is None:
+            return None
+        source = self.faces[k]
+        distances = np.linalg.norm(corners[:, None, :] - source[None], axis=2)
+        return k, self.uvs[k][distances.argmin(axis=1)]
+
+    def lying_on(self, corners: np.ndarray) -> tuple[int, np.ndarray] | None:
+        """The initial face ``corners`` lie on (its plane and outline) and their coordinates."""
+        import shapely
+
         normal = _unit_normal(corners)
         if not normal.any():
-            out.append(None)
-            continue
-        parallel = 1.0 - np.abs(normals @ normal) <= _PARALLEL
-        offsets = np.abs(np.einsum("sk,csk->cs", normals, corners[:, None, :] - anchors[None]))
-        near = parallel & (offsets.max(axis=0) <= tolerance)
-        found = None
-        for k in np.flatnonzero(near):
-            flat = (corners - source_faces[k][0]) @ frames[k].T
-            inside = shapely.dwithin(outlines[k], shapely.points(flat), tolerance)
-            centre = shapely.Point(flat.mean(axis=0))
-            if inside.all() and shapely.dwithin(outlines[k], centre, tolerance):
-                found = (int(k), _uvs_at(flat, source_faces[k], frames[k], source_uvs[k],
-                                         maps[k], tolerance))  # fmt: skip
-                break
-        out.append(found)
-    return out
+            return None
+        normals, anchors, centres, radii, spheres = self._spheres()
+        centre = corners.mean(axis=0)
+        reach = float(np.linalg.norm(corners - centre, axis=1).max()) + self.tolerance
+        nearby = np.array(spheres.query_ball_point(centre, reach + radii.max()), dtype=int)
+        nearby = nearby[np.linalg.norm(centres[nearby] - centre, axis=1) <= reach + radii[nearby]]
+        parallel = 1.0 - np.abs(normals[nearby] @ normal) <= _PARALLEL
+        offsets = np.einsum("sk,csk->cs", normals[nearby], corners[:, None, :] - anchors[nearby])
+        for k in np.sort(nearby[parallel & (np.abs(offsets).max(axis=0) <= self.tolerance)]):
+            source = self.faces[k]
+            frame = _plane_frame(normals[k])
+            source_flat = (source - source[0]) @ frame.T
+            flat = (corners - source[0]) @ frame.T
+            outline = shapely.Polygon(source_flat)
+            inside = shapely.dwithin(outline, shapely.points(flat), self.tolerance)
+            middle = shapely.Point(flat.mean(axis=0))
+            if inside.all() and shapely.dwithin(outline, middle, self.tolerance):
+                return int(k), _uvs_at(flat, source_flat, self.uvs[k], self.tolerance)
+        return None
+
+    def _spheres(self):
+        if self._planes is None:
+            from scipy.spatial import cKDTree
+
+            normals = np.array([_unit_normal(face) for face in self.faces])
+            anchors = np.array([face[0] for face in self.faces])
+            # the initial faces near a face, by their bounding spheres: a mesh of thousands of
+            # faces is not compared face against face
+            centres = np.array([face.mean(axis=0) for face in self.faces])
+            radii = np.array([np.linalg.norm(face - c, axis=1).max() for face, c in
+                              zip(self.faces, centres, strict=True)])  # fmt: skip
+            self._planes = (normals, anchors, centres, radii, cKDTree(centres))
+        return self._planes
 
 
 def _unit_normal(corners: np.ndarray) -> np.ndarray:
@@ -89,11 +134,8 @@ def _unit_normal(corners: np.ndarray) -> np.ndarray:
     corners = np.asarray(corners, dtype=float)
     normal = np.cross(corners, np.roll(corners, -1, axis=0)).sum(axis=0)
     length = float(np.linalg.norm(normal))
-    return (
-        normal / length
-        if length > COSINE_SLACK * max(1.0, float(np.abs(corners).max()))
-        else (np.zeros(3))
-    )
+    floor = COSINE_SLACK * max(1.0, float(np.abs(corners).max()))
+    return normal / length if length > floor else np.zeros(3)
 
 
 def _plane_frame(normal: np.ndarray) -> np.ndarray:
@@ -104,21 +146,15 @@ def _plane_frame(normal: np.ndarray) -> np.ndarray:
     return np.array([first, np.cross(normal, first)])
 
 
-def _affine_map(flat: np.ndarray, uv: np.ndarray) -> np.ndarray:
-    """The ``(3, 2)`` least-squares affine map from plane coordinates ``[x, y, 1]`` to texture
-    coordinates (exact for a triangle and for a planar projection)."""
-    rows = np.column_stack([flat, np.ones(len(flat))])
-    solution, *_ = np.linalg.lstsq(rows, np.asarray(uv, dtype=float), rcond=None)
-    return solution
-
-
-def _uvs_at(flat, source, frame, uv, affine, tolerance) -> np.ndarray:
+def _uvs_at(flat, source_flat, uv, tolerance) -> np.ndarray:
     """Each corner's texture coordinates: those of the initial corner it is on, else the
-    initial face's affine map at it."""
-    source_flat = (source - source[0]) @ frame.T
+    initial face's least-squares affine map from plane coordinates ``[x, y, 1]`` to texture
+    coordinates at it (exact for a triangle and for a planar projection)."""
+    rows = np.column_stack([source_flat, np.ones(len(source_flat))])
+    affine, *_ = np.linalg.lstsq(rows, uv, rcond=None)
     out = np.column_stack([flat, np.ones(len(flat))]) @ affine
     distances = np.linalg.norm(flat[:, None, :] - source_flat[None], axis=2)
     nearest = distances.argmin(axis=1)
     on_corner = distances[np.arange(len(flat)), nearest] <= tolerance
-    out[on_corner] = np.asarray(uv, dtype=float)[nearest[on_corner]]
+    out[on_corner] = uv[nearest[on_corner]]
     return out

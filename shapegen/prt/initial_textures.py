@@ -23,7 +23,7 @@ from __future__ import annotations
 __all__ = ["InitialTexture", "SurfaceMaterial", "face_textures", "initial_texture",
            "placed_textures", "texture_warning"]  # fmt: skip
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +53,8 @@ class InitialTexture:
     uvs: list[np.ndarray | None]
     face_materials: list[int | None]
     materials: list[SurfaceMaterial]
+    #: :func:`face_textures`' answers by leaf and faces: the warning and the encoders ask alike
+    memo: dict = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def has_uvs(self) -> bool:
@@ -69,6 +71,8 @@ def initial_texture(path: Path, depth: int) -> tuple[InitialTexture | None, list
         return None, []
     text = read_input_bytes(path, "initial shape file").decode("utf-8", errors="replace")
     surface = obj_surface(text, str(path))
+    if not surface.libraries and all(uv is None for uv in surface.face_uvs):
+        return None, []
     vertices, faces, corners = cleaned_polygons_and_corners(surface.vertices, surface.faces)
     warnings: list[str] = []
     library = _materials(path, surface.libraries, depth, warnings)
@@ -157,6 +161,9 @@ def face_textures(leaf, faces, texture: InitialTexture | None) -> list[tuple]:
     look = leaf.appearance
     if look is not None and (look.texture is not None or look.uv):
         return [(None, None, False)] * len(faces)
+    key = (id(leaf), tuple(tuple(int(i) for i in face) for face in faces))
+    if key in texture.memo:
+        return texture.memo[key][1]
     found = carried_uvs(
         np.asarray(leaf.vertices, dtype=float),
         faces,
@@ -173,6 +180,7 @@ def face_textures(leaf, faces, texture: InitialTexture | None) -> list[tuple]:
         k, uv = match
         coordinates = uv if texture.uvs[k] is not None else None
         out.append((coordinates, texture.face_materials[k], True))
+    texture.memo[key] = (leaf, out)  # the leaf held, so that its id is not another's
     return out
 
 

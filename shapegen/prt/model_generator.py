@@ -156,7 +156,10 @@ def _texture(shape: InitialShape, model):
 
     if not shape.get_path():
         return None
-    texture, warnings = initial_texture(Path(shape.get_path()), shape._depth)
+    try:
+        texture, warnings = initial_texture(Path(shape.get_path()), shape._depth)
+    except InputFormatError as exc:  # the geometry was read: the model goes on untextured
+        texture, warnings = None, [f"{str(exc).splitlines()[0]}: no texture coordinates read"]
     lost = texture_warning(model, texture)
     notes = [*warnings, *([lost] if lost else [])]
     if notes:

@@ -255,3 +255,14 @@ def test_an_encoder_that_writes_no_texture_says_so(tmp_path, encoder):
     )
     (line,) = (tmp_path / "CGAError.txt").read_text().splitlines()
     assert line.startswith(f"com.esri.prt.codecs.{encoder}: shapegen's encoder writes no texture")
+
+
+def test_a_broken_texture_coordinate_leaves_the_model_untextured_with_one_line(tmp_path):
+    text = (DATA / "Bonnland_102.obj").read_text().replace("vt 0.0877396028586", "vt x", 1)
+    shutil.copy(DATA / "Bonnland_102.mtl", tmp_path)
+    (tmp_path / "Bonnland_102.obj").write_text(text)
+    (model,) = pyprt.ModelGenerator([pyprt.InitialShape(str(tmp_path / "Bonnland_102.obj"))]
+                                    ).generate_model([{}], str(IDENTITY_RULE))  # fmt: skip
+    (error,) = model.get_cga_errors()
+    assert "a texture coordinate needs u v numbers: no texture coordinates read" in error
+    assert model.initial_texture is None and len(model.get_faces()) == 14
