@@ -30,9 +30,6 @@ import numpy as np
 
 from shapegen.tolerances import COSINE_SLACK, TEXTURE_FACE_M
 
-#: two faces' normals this close to parallel (1 - |cos|) share a plane's direction
-_PARALLEL = 1e-6
-
 
 def carried_uvs(
     vertices: np.ndarray,
@@ -100,7 +97,7 @@ class _Sources:
         reach = float(np.linalg.norm(corners - centre, axis=1).max()) + self.tolerance
         nearby = np.array(spheres.query_ball_point(centre, reach + radii.max()), dtype=int)
         nearby = nearby[np.linalg.norm(centres[nearby] - centre, axis=1) <= reach + radii[nearby]]
-        parallel = 1.0 - np.abs(normals[nearby] @ normal) <= _PARALLEL
+        parallel = 1.0 - np.abs(normals[nearby] @ normal) <= COSINE_SLACK
         offsets = np.einsum("sk,csk->cs", normals[nearby], corners[:, None, :] - anchors[nearby])
         for k in np.sort(nearby[parallel & (np.abs(offsets).max(axis=0) <= self.tolerance)]):
             source = self.faces[k]
