@@ -21,7 +21,7 @@ coordinates they would carry in CityEngine.
 from __future__ import annotations
 
 __all__ = ["InitialTexture", "SurfaceMaterial", "face_textures", "initial_texture",
-           "placed_textures", "texture_warning"]  # fmt: skip
+           "moving_operations", "placed_textures", "texture_warning"]  # fmt: skip
 
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -242,3 +242,26 @@ def placed_textures(sources, folder: Path, collect: bool = True) -> dict:
                 handle.write(data)
         out[source] = (str((folder / name).resolve()), name)
     return out
+
+
+#: the operations after which a face's texture coordinates are not those of where it lies: the
+#: moves carry a face's coordinates with its corners in CityEngine (t, r, s, center, translate,
+#: rotate, mirror), an inserted asset or primitive has its own, a roof its own faces
+_MOVING_NODES = {"Translate": "t", "Rotate": "r", "Scale": "s", "Center": "center",
+                 "Insert": "i"}  # fmt: skip
+_MOVING_OPERATIONS = ("translate", "rotate", "mirror", "insertAlongUV", "primitive", "roof")
+
+
+def moving_operations(rule_file) -> list[str]:
+    """The operations of ``rule_file`` (a grammar AST) after which shapegen's texture
+    coordinates, carried by where faces lie, may not be CityEngine's, in order of first use."""
+    from shapegen.grammar.tree import walk
+
+    found: dict[str, None] = {}
+    for node in walk(rule_file):
+        kind = type(node).__name__
+        if kind in _MOVING_NODES:
+            found.setdefault(_MOVING_NODES[kind], None)
+        elif kind == "Operation" and str(node.name).startswith(_MOVING_OPERATIONS):
+            found.setdefault(str(node.name), None)
+    return list(found)

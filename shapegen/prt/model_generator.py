@@ -122,7 +122,7 @@ class ModelGenerator:
             )
         used = _attributes(grammar, model)
         placed = _placed(model, base)
-        texture = _texture(shape, placed)
+        texture = _texture(shape, placed, grammar)
         return GeneratedModel(placed, index, used, printed.getvalue(), texture=texture, **flags)
 
     def _grammar(self, package: str, attributes: Mapping[str, object]):
@@ -149,10 +149,11 @@ def _placed(model, base):
     return replace(model, blocks=blocks, surfaces=surfaces, ground=base.height)
 
 
-def _texture(shape: InitialShape, model):
-    """The initial shape's texturing (read from its OBJ file), its warnings and the count of
-    faces left without its texture coordinates added to ``model``'s warnings."""
-    from shapegen.prt.initial_textures import initial_texture, texture_warning
+def _texture(shape: InitialShape, model, grammar):
+    """The initial shape's texturing (read from its OBJ file); its warnings, the count of faces
+    left without its texture coordinates, and the rule's operations after which the carried
+    coordinates may differ from CityEngine's, added to ``model``'s warnings."""
+    from shapegen.prt.initial_textures import initial_texture, moving_operations, texture_warning
 
     if not shape.get_path():
         return None
@@ -162,6 +163,14 @@ def _texture(shape: InitialShape, model):
         texture, warnings = None, [f"{str(exc).splitlines()[0]}: no texture coordinates read"]
     lost = texture_warning(model, texture)
     notes = [*warnings, *([lost] if lost else [])]
+    moves = moving_operations(grammar.ast) if texture is not None and texture.has_uvs else []
+    if moves:
+        notes.append(
+            f"texture coordinates: the rule uses {', '.join(moves)}; shapegen carries an initial"
+            " shape's coordinates by where faces lie, so a face moved within an initial face's"
+            " plane, or inserted on it, takes those of where it lies, which CityEngine's need"
+            " not be"
+        )
     if notes:
         model.metadata.setdefault("warnings", []).extend(notes)
     return texture

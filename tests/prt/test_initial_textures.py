@@ -192,8 +192,9 @@ def test_faces_moved_off_the_initial_faces_lose_their_coordinates_with_a_warning
     rule = write_rule(tmp_path, "t(0, 3, 0) X.")
     model, out = generate(tmp_path, square_obj(tmp_path), rule=rule)
     read = read_corners(out / "base_name_0.fbx")
-    (warning,) = model.get_cga_errors()
+    warning, moves = model.get_cga_errors()
     assert warning.startswith("texture coordinates: 1 of 1 faces are not on the initial shape")
+    assert moves.startswith("texture coordinates: the rule uses t; ")
     assert all(uv is None for face in read["faces"] for _, uv in face)
     # the shape keeps its one material's colour; its texture goes with the coordinates
     assert read["materials"]["stone_mat"]["texture"] is None
@@ -266,3 +267,17 @@ def test_a_broken_texture_coordinate_leaves_the_model_untextured_with_one_line(t
     (error,) = model.get_cga_errors()
     assert "a texture coordinate needs u v numbers: no texture coordinates read" in error
     assert model.initial_texture is None and len(model.get_faces()) == 14
+
+
+def test_a_rule_that_moves_faces_within_their_plane_is_named_in_a_warning(tmp_path):
+    """t(2, 0, 0) moves the strip along the square: CityEngine's corners keep their own
+    coordinates; shapegen's take those of where they lie, and one line says which operations
+    make them differ."""
+    rule = write_rule(tmp_path, "split(x) { 2.5 : t(0, 0, 2) X. | ~1 : r(0, 10, 0) X. }")
+    model, _ = generate(tmp_path, square_obj(tmp_path), rule=rule)
+    moves = [e for e in model.get_cga_errors() if "the rule uses" in e]
+    assert moves == [
+        "texture coordinates: the rule uses t, r; shapegen carries an initial shape's"
+        " coordinates by where faces lie, so a face moved within an initial face's plane, or"
+        " inserted on it, takes those of where it lies, which CityEngine's need not be"
+    ]
