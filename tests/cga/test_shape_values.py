@@ -1,7 +1,7 @@
 """Values a rule reads of its shape: geometry.isOriented with its selector (func_geometry), the
 deprecated uid and initialShape.symbol (cga_changelog), getGeoCoord without a georeference
-(func_getGeoCoord), and the geometry functions shapegen does not answer refused when the file
-loads."""
+(func_getGeoCoord), geometry.materials as CityEngine's runtime names the one material, and the
+geometry functions shapegen does not answer refused when the file loads."""
 
 from __future__ import annotations
 
@@ -22,6 +22,7 @@ COVERS = {
         "attr:initialShape.symbol",
     ),
     "test_get_geo_coord_without_a_georeference": ("func:getGeoCoord",),
+    "test_geometry_materials_names_the_one_material": ("func:geometry.materials",),
 }
 
 
@@ -90,7 +91,20 @@ def test_get_geo_coord_without_a_georeference():
     assert any("no georeference" in w for w in model.metadata["warnings"])
 
 
-@pytest.mark.parametrize("read", ["geometry.materials", "geometry.groups"])
+# PyPRT 1.12 reports geometry.materials as (1)[CityEngineMaterial] for the lot, extrude(5),
+# primitiveCube(), primitiveSphere() and i() of an asset not found (its box of 6 faces).
+@pytest.mark.parametrize("before", ["", "extrude(5) ", "primitiveSphere() ", 'i("none.obj") '])
+def test_geometry_materials_names_the_one_material(before):
+    model = _build(
+        f'Lot --> {before}report("m", str(geometry.materials)) '
+        'report("i", findFirst(geometry.materials, "CityEngineMaterial")) X.'
+    )
+    assert model.metadata["reports"]["m"] == "(1)[CityEngineMaterial]"
+    assert model.metadata["reports"]["i"] == 0.0
+    assert any("geometry.materials: " in w for w in model.metadata["warnings"])
+
+
+@pytest.mark.parametrize("read", ["geometry.groups"])
 def test_geometry_functions_shapegen_does_not_answer_are_refused_when_loaded(read):
     with pytest.raises(GrammarError, match="is not supported by shapegen"):
         parse_grammar(f"@StartRule\nLot --> print({read}) X.", "values.cga")

@@ -38,6 +38,10 @@ from shapegen.grammar.names import GEOMETRY_FUNCTIONS, SHAPE_ATTRIBUTES
 
 Reader = Callable[..., object]
 
+#: The name CityEngine's runtime gives the one material of a geometry that has no other: PyPRT
+#: 1.12 reports ``geometry.materials`` as ``(1)[CityEngineMaterial]`` for the lot, an extrusion,
+#: the primitives and the box that stands in for an asset not found.
+DEFAULT_GEOMETRY_MATERIAL = "CityEngineMaterial"
 _READ_ONLY = "read only: set() of it is refused when the file loads"
 #: Shape attributes read with a difference from the reference: name -> what differs.
 PARTIAL_ATTRIBUTES: dict[str, str] = {
@@ -161,6 +165,8 @@ def shape_reader(obj: str, field: str, grammar) -> Reader | None:
             from shapegen.engine.shapes.tags import tags_value
 
             return lambda state, *args: tags_value(state.shape, field, *args)
+        if field == "materials":
+            return _geometry_materials
         if field not in ANSWERED_GEOMETRY:
             return None  # CGA has it (tags, groups, uv bounds...); shapegen does not answer it
 
@@ -322,6 +328,8 @@ PARTIAL_FUNCTIONS: dict[str, str] = {
     "getGeoCoord": "no georeference: X and Y are scene metres (east, north), lon and lat nan",
     "getMaterial": "shapegen's geometry has no material of its own: geometry is the default "
     "material, used the shape's (an inserted asset's materials are not kept)",
+    "geometry.materials": f"one material, {DEFAULT_GEOMETRY_MATERIAL!r}, with a warning: "
+    "shapegen's geometry has one material (an inserted asset's own materials are not read)",
     **dict.fromkeys(
         ("edgeAttr.getFloat", "edgeAttr.getString", "edgeAttr.getBool"),
         'lots have no edge attributes: the default (0, "", false), with a warning',
@@ -363,6 +371,23 @@ def convert_value(state, *values):
     if coordinate is not None:
         return result["xyz".index(coordinate)]
     return Array(tuple(result), 3, 1)
+
+
+def _geometry_materials(state, *args):
+    """``geometry.materials()`` (func_geometry): the names of the geometry's materials, in
+    ``comp(m)``'s order. shapegen's geometry is one material, as comp(m) makes one component of
+    it; an asset's own materials are not read, which the warning says."""
+    from shapegen.engine.expressions.arrays import Array
+
+    if args:
+        raise ValueError("takes no arguments")
+    state.run.warn(
+        f"geometry.materials: shapegen's geometry has one material, {DEFAULT_GEOMETRY_MATERIAL!r} "
+        "(CityEngine's name for it); an inserted asset's own materials are not read"
+    )
+    if state.shape.mesh().n_faces == 0:
+        return Array((), 0, 0, str)
+    return Array((DEFAULT_GEOMETRY_MATERIAL,), 1, 1)
 
 
 def _said_to_stand_in(field: str, read: Reader) -> Reader:
