@@ -1,6 +1,7 @@
 """insertAlongUV (op_insertAlongUV), approximated: shapegen keeps no texture coordinates, so
-the uv space is taken as 0..1 over the face's scope; the asset's x-span runs along u, its
-z-span along -v and its y-span is the height given. Every use is a warning."""
+the uv space is taken as 0..1 over the face's scope (over each triangle and quad of a mass); the
+asset's x-span runs along u, its z-span along -v and its y-span is the height given. Every use
+is a warning."""
 
 from __future__ import annotations
 
@@ -64,3 +65,24 @@ def test_malformed_calls_are_refused_when_the_file_loads(tmp_path, call, message
     path.write_text(f"@StartRule\nLot --> {call}\n")
     with pytest.raises(GrammarError, match=message):
         load_grammar(path)
+
+
+def test_on_a_mass_the_asset_is_laid_on_each_face_along_the_vertex_normals(tmp_path):
+    # a box asset (not found) 0.5 m high on each face of a 4 m cube, raised along the vertex
+    # normals: at a corner of the cube the three faces' mean normal is (+-1, +-1, +-1) / sqrt(3)
+    body = (
+        'primitiveCube(4, 4, 4) insertAlongUV(0, "gone.obj", 0.5, vertex.normal, alignPosition) B.'
+    )
+    model = _build(tmp_path, body)
+    points = np.vstack([b.vertices for b in model.blocks] + [s.vertices for s in model.surfaces])
+    reach = 0.5 / np.sqrt(3)
+    low, high = points.min(axis=0), points.max(axis=0)
+    assert np.allclose(high - low, 4 + 2 * reach)
+    assert any("laid once on each triangle and quad" in w for w in model.metadata["warnings"])
+
+
+def test_on_a_mass_faces_of_more_than_four_corners_get_nothing(tmp_path):
+    # a cylinder of 8 sides: 8 side quads get a box each, the two octagonal caps none
+    model = _build(tmp_path, 'primitiveCylinder(8, 1, 2) insertAlongUV(0, "gone.obj", 0.2) B.')
+    faces = sum(len(b.faces) for b in model.blocks) + sum(len(s.faces) for s in model.surfaces)
+    assert faces == 8 * 6
