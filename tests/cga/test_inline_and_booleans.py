@@ -85,6 +85,18 @@ def test_boolean_operations_on_two_boxes(operation, b, volume):
     assert reports["f"] == 6.0  # a box again: its coplanar triangles joined into faces
 
 
+def test_a_boolean_of_closed_solids_is_closed_and_splits_into_closed_parts():
+    # op_boolOp's mass-modelling example: a lot extruded 40 m intersected with a sphere; where a
+    # face of the box meets the sphere's facets its corners are theirs, so that the solid stays
+    # closed (no vertex of one face in the middle of another's edge) and a split caps its parts
+    reports = _reports(
+        "Lot --> extrude(40) intersect { A. | s('1, 40, '2) center(z) t(0, '-0.2, 0) "
+        'primitiveSphere } report("closed", geometry.isClosedSurface) '
+        'split(y) { ~1 : P | 20 : P }\nP --> report("part", geometry.isClosedSurface) X.'
+    )
+    assert reports == {"closed": True, "part": [True, True]}
+
+
 def test_operand_a_gives_the_attributes():
     # op_boolOp's example: "The first operand A determines the attributes of the resulting shape"
     reports = _reports(

@@ -192,10 +192,14 @@ def _solid_boolean(kind: str, meshes: list[Mesh]) -> Mesh | None:
 
 
 def _polygons(points: np.ndarray, triangles: np.ndarray) -> Mesh:
-    """Triangles of one plane joined into polygons (holes keep their triangles)."""
+    """Triangles of one plane joined into polygons (holes keep their triangles). A polygon's
+    corners are the triangles' own vertices, and a corner on a straight stretch of its ring is
+    dropped only when no triangle of another plane uses it: a closed solid stays closed (no
+    vertex of a neighbouring face left in the middle of an edge)."""
     import shapely
     from shapely.geometry import Polygon
 
+    triangles = _welded(points, triangles)
     normals = np.cross(points[triangles[:, 1]] - points[triangles[:, 0]],
                        points[triangles[:, 2]] - points[triangles[:, 0]])  # fmt: skip
     lengths = np.linalg.norm(normals, axis=1)
@@ -206,12 +210,13 @@ def _polygons(points: np.ndarray, triangles: np.ndarray) -> Mesh:
         np.column_stack([normals, np.einsum("ij,ij->i", normals, points[triangles[:, 0]]) / scale]),
         6,
     )
+    groups = [triangles[np.all(keys == key, axis=1)] for key in np.unique(keys, axis=0)]
+    planes_at = np.zeros(len(points), dtype=np.int64)  # how many planes use each vertex
+    for group in groups:
+        planes_at[np.unique(group)] += 1
     faces: list[tuple[int, ...]] = []
-    vertices = [points]
-    count = len(points)
-    for key in np.unique(keys, axis=0):
-        group = triangles[np.all(keys == key, axis=1)]
-        normal = key[:3] / np.linalg.norm(key[:3])
+    for group in groups:
+        normal = normals[np.all(triangles == group[0], axis=1)][0]
         frame = _plane_frame(normal)
         flat = points @ frame[:, :2]
         merged = shapely.unary_union([Polygon(flat[t]) for t in group])
@@ -219,15 +224,49 @@ def _polygons(points: np.ndarray, triangles: np.ndarray) -> Mesh:
         if any(p.geom_type != "Polygon" or p.interiors for p in polygons):
             faces.extend(tuple(int(i) for i in t) for t in group)
             continue
-        offset = float(np.mean(points[group[:, 0]] @ normal))
+        used = np.unique(group)
         for polygon in polygons:
-            ring = np.asarray(shapely.Polygon(polygon.exterior).simplify(0).exterior.coords)[:-1]
+            ring = np.asarray(polygon.exterior.coords)[:-1]
             if not shapely.Polygon(ring).exterior.is_ccw:
                 ring = ring[::-1]
-            vertices.append(ring @ frame[:, :2].T + normal * offset)
-            faces.append(tuple(range(count, count + len(ring))))
-            count += len(ring)
-    return Mesh(np.vstack(vertices), faces).cleaned()
+            # each corner back to the vertex it was made from (the nearest of the plane's)
+            nearest = np.argmin(
+                np.linalg.norm(ring[:, None, :] - flat[used][None, :, :], axis=2), axis=1
+            )
+            corners = [int(i) for i in used[nearest]]
+            corners = [c for k, c in enumerate(corners) if c != corners[k - 1]]
+            faces.append(_without_idle_corners(corners, flat, planes_at))
+    return Mesh(points, [f for f in faces if len(f) >= 3]).cleaned()
+
+
+def _welded(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """``triangles`` with the points that coincide (within round-off of the solid's size)
+    replaced by one of them, so that faces meeting there share it."""
+    if len(points) == 0:
+        return triangles
+    scale = COINCIDENT_REL * max(1.0, float(np.ptp(points, axis=0).max()))
+    keys = np.round(points / scale).astype(np.int64)
+    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    return first[inverse.reshape(-1)][triangles]
+
+
+def _without_idle_corners(corners: list[int], flat: np.ndarray, planes_at) -> tuple[int, ...]:
+    """The ring ``corners`` without the corners on a straight stretch that no other plane
+    uses (a triangulation's inner vertex on the polygon's edge)."""
+    kept = list(corners)
+    changed = True
+    while changed and len(kept) > 3:
+        changed = False
+        for k in range(len(kept)):
+            before, here, after = flat[kept[k - 1]], flat[kept[k]], flat[kept[(k + 1) % len(kept)]]
+            span = np.linalg.norm(after - before)
+            (ax, ay), (bx, by) = here - before, after - before
+            bend = abs(float(ax * by - ay * bx))
+            if planes_at[kept[k]] <= 1 and bend <= COINCIDENT_REL * max(span, 1.0) * span:
+                del kept[k]
+                changed = True
+                break
+    return tuple(kept)
 
 
 def _combined(program, node, strategy: str, meshes: list[Mesh]) -> Mesh:
