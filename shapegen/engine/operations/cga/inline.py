@@ -12,10 +12,14 @@ leaves; the leaves' geometries then replace the current shape's:
 
 A Boolean operation unifies each operand's leaves, then takes A's union, difference or
 intersection with B; A gives the attributes and the scope's axes. Closed solids are combined by
-manifold3d, faces lying in one plane by shapely; the pieces of one plane of the result become
-polygons again (a piece with a hole stays triangles, as shapegen's faces have no holes). Other
-operands (an open mesh against a solid, faces in different planes) are refused with one line
-when derived. Leaves deleted by ``NIL`` and edge or vertex shapes add no geometry.
+manifold3d, faces lying in one plane by shapely, and other operands (an open mesh against a
+solid, faces in different planes) by cutting each one's faces along the other's surface
+(:mod:`shapegen.geometry.open_boolean`): an open operand is "assumed closed as long as
+boundaries are not intersected", its inside the side its faces do not face ("everything below
+the plane is regarded as inside"); where its open boundary does cross the other operand the
+reference defines no result, and the derivation warns. The pieces of one plane of the result
+become polygons again (a piece with a hole stays triangles, as shapegen's faces have no holes).
+Leaves deleted by ``NIL`` and edge or vertex shapes add no geometry.
 """
 
 from __future__ import annotations
@@ -24,13 +28,14 @@ __all__ = ["derived_leaves", "joined_mesh"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles
+from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word
 from shapegen.engine.shapes.auto_tags import boolean_tags
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.tags import merged_tags, resolved_tags
 from shapegen.geometry.frames import fitted_scope
 from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.geometry.open_boolean import open_boolean
 from shapegen.grammar import ast
 from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, COSINE_SLACK, ROUNDOFF_REL
 
@@ -269,38 +274,61 @@ def _without_idle_corners(corners: list[int], flat: np.ndarray, planes_at) -> tu
     return tuple(kept)
 
 
-def _combined(program, node, strategy: str, meshes: list[Mesh]) -> Mesh:
+def _combined(program, node, strategy: str, meshes: list[Mesh], state) -> Mesh:
     if strategy == "append":
         return joined_mesh(meshes)
     if strategy == "recompose":
         return joined_mesh(meshes).cleaned()
-    return _boolean(program, node, "union", meshes)
+    return _boolean(program, node, "union", meshes, state)
 
 
-def _boolean(program, node, kind: str, meshes: list[Mesh]) -> Mesh:
+_EMPTY = Mesh(np.empty((0, 3)), ())
+
+
+def _boolean(program, node, kind: str, meshes: list[Mesh], state) -> Mesh:
+    """``kind`` of ``meshes`` (the union of all, or the first and the second): closed solids
+    by manifold3d, faces in one plane in 2D, anything else by cutting each operand's faces
+    along the other (:mod:`shapegen.geometry.open_boolean`), two at a time."""
     if len(meshes) == 1 and kind == "union":
         return meshes[0]
     if all(m.is_closed for m in meshes):
         result = _solid_boolean(kind, meshes)
-    else:
-        planes = [_is_flat(m) for m in meshes]
-        first = planes[0]
-        same = first is not None and all(
-            p is not None and np.allclose(p[0], first[0], atol=COSINE_SLACK)
-            and abs(p[1] - first[1]) <= COINCIDENT_REL * max(1.0, abs(first[1]))
-            for p in planes
-        )  # fmt: skip
-        if not same:
-            raise program.error(
-                node,
-                f"{node.name}: shapegen combines closed solids, or faces in one plane; these "
-                "operands are neither (an open mesh against a solid, faces in several planes)",
-            )
-        result = meshes[0]
-        for other in meshes[1:]:  # a union of several, or A and B
-            combined = _flat_boolean(kind, result, other, first) if result.n_faces else None
-            result = combined if combined is not None else Mesh(np.empty((0, 3)), ())
-    return result if result is not None else Mesh(np.empty((0, 3)), ())
+        return result if result is not None else _EMPTY
+    result = meshes[0]
+    for other in meshes[1:]:
+        if result.n_faces == 0:
+            if kind != "union":
+                return _EMPTY
+            result = other
+            continue
+        result = _pair(program, node, kind, result, other, state)
+    return result
+
+
+def _pair(program, node, kind: str, a: Mesh, b: Mesh, state) -> Mesh:
+    if a.is_closed and b.is_closed:
+        result = _solid_boolean(kind, [a, b])
+        return result if result is not None else _EMPTY
+    plane_a, plane_b = _is_flat(a), _is_flat(b)
+    if (
+        plane_a is not None
+        and plane_b is not None
+        and np.allclose(plane_a[0], plane_b[0], atol=COSINE_SLACK)
+        and abs(plane_a[1] - plane_b[1]) <= COINCIDENT_REL * max(1.0, abs(plane_a[1]))
+    ):
+        result = _flat_boolean(kind, a, b, plane_a)
+        return result if result is not None else _EMPTY
+    points, triangles, crossed = open_boolean(kind, a, b)
+    if crossed:
+        warn_at(
+            state,
+            node,
+            f"{node.name}: the open boundary of an operand crosses the other operand, where "
+            "op_boolOp defines no result (open operands are assumed closed only while their "
+            "boundaries are not intersected); shapegen takes an open surface's inside as the "
+            "side its faces do not face, carried on past its boundary",
+        )
+    return _polygons(points, triangles) if len(triangles) else _EMPTY
 
 
 def _leaf_tags(leaves, mesh: Mesh):
@@ -323,7 +351,8 @@ def _shape_of(mesh: Mesh, rotation: np.ndarray) -> Shape:
 @compiles(
     "inline",
     *_BOOLEAN,
-    partial="unify and the Boolean operations combine closed solids or faces in one plane only",
+    partial="an open operand whose open boundary crosses the other (no result in the "
+    "reference) is taken as closed past its boundary, with a warning",
 )
 def compile_inline(program, node: ast.Operation, params):
     if node.name == "inline":
@@ -351,7 +380,7 @@ def compile_inline(program, node: ast.Operation, params):
         if not meshes:
             state.deleted = True  # nothing was made: the shape is gone, as after NIL
             return True
-        mesh = _combined(program, node, strategy, meshes)
+        mesh = _combined(program, node, strategy, meshes, state)
         state.shape = _shape_of(mesh, state.shape.scope.rotation)
         tagged = [(leaf.shape, resolved_tags(leaf.shape)) for leaf in leaves]
         if any(tags is not None for _, tags in tagged):  # op_inline: the leaves' tags kept
@@ -364,13 +393,15 @@ def compile_inline(program, node: ast.Operation, params):
         for body, branch in bodies:
             leaves = derived_leaves(state, body, args, branch)
             meshes = _world_meshes(program, node, leaves)
-            operands.append((leaves, _boolean(program, node, "union", meshes) if meshes else None))
+            operands.append(
+                (leaves, _boolean(program, node, "union", meshes, state) if meshes else None)
+            )
         (a_leaves, a), (_, b) = operands
         if a is None:
             state.deleted = True
             return True
         result = a if b is None and node.name != "intersect" else (
-            _boolean(program, node, node.name, [a, b]) if b is not None else None
+            _boolean(program, node, node.name, [a, b], state) if b is not None else None
         )  # fmt: skip
         if result is None or result.n_faces == 0:
             state.deleted = True
