@@ -5,7 +5,10 @@ The examples are ``tests/data/cga_reference_examples.json`` (made from the refer
 fragment wrapped in the least context that makes it one. Every program is parsed in the quick
 lane; in the slow lane it is loaded (the load-time checks) and, where it has a rule, derived on
 a 12 x 8 m lot (an asset the reference does not ship is a missing asset, as in CityEngine: a
-warning).
+warning). CityEngine's workspace holds its library ESRI.lib, which examples import
+(``/ESRI.lib/rules/Plants/Plant_Loader.cga``); the reference does not ship it, the corpus does
+(PyPRT's envelope2002 test package, version 2021.1), so that workspace is searched last for
+imports, as ``--rules-path`` is, its assets absent (warnings).
 
 The examples of a page build on one another, as the reference writes them: an example that
 imports a file the page shows under a ``// name.cga`` line (import.html's ``main.cga`` and
@@ -43,6 +46,8 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 EXAMPLES = json.loads((DATA / "cga_reference_examples.json").read_text("utf-8"))["examples"]
 EXPECTED = json.loads((DATA / "cga_reference_examples_expected.json").read_text("utf-8"))
 STAGES = ("parse", "load", "derive")
+#: a workspace holding CityEngine's ESRI.lib (rules only), from the corpus
+ESRI_LIB_WORKSPACE = DATA / "cga-corpus" / "tests_data_envelope2002__c00dca01" / ".ws"
 LOT = (12.0, 8.0)
 
 
@@ -129,7 +134,7 @@ def _program_stage(example: dict, program: str, folder: Path, last: str) -> tupl
         path.write_text(program, "utf-8")
         try:
             stage = "load"
-            tree = load(program, name, origin=path)
+            tree = load(program, name, origin=path, search_folders=(ESRI_LIB_WORKSPACE,))
             if last == "load" or not example["derive"]:
                 return None, ""
             stage = "derive"
