@@ -329,7 +329,7 @@ PARTIAL_FUNCTIONS: dict[str, str] = {
     "getMaterial": "shapegen's geometry has no material of its own: geometry is the default "
     "material, used the shape's (an inserted asset's materials are not kept)",
     "geometry.materials": f"one material, {DEFAULT_GEOMETRY_MATERIAL!r}, with a warning: "
-    "shapegen's geometry has one material (an inserted asset's own materials are not read)",
+    "shapegen's geometry has one material (an inserted asset's own materials are not kept)",
     **dict.fromkeys(
         ("edgeAttr.getFloat", "edgeAttr.getString", "edgeAttr.getBool"),
         'lots have no edge attributes: the default (0, "", false), with a warning',
@@ -376,14 +376,14 @@ def convert_value(state, *values):
 def _geometry_materials(state, *args):
     """``geometry.materials()`` (func_geometry): the names of the geometry's materials, in
     ``comp(m)``'s order. shapegen's geometry is one material, as comp(m) makes one component of
-    it; an asset's own materials are not read, which the warning says."""
+    it; an asset's own materials are not kept, which the warning says."""
     from shapegen.engine.expressions.arrays import Array
 
     if args:
         raise ValueError("takes no arguments")
     state.run.warn(
         f"geometry.materials: shapegen's geometry has one material, {DEFAULT_GEOMETRY_MATERIAL!r} "
-        "(CityEngine's name for it); an inserted asset's own materials are not read"
+        "(CityEngine's name for it); an inserted asset's own materials are not kept"
     )
     if state.shape.mesh().n_faces == 0:
         return Array((), 0, 0, str)
