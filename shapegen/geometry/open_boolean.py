@@ -56,7 +56,7 @@ def open_boolean(kind: str, a: Mesh, b: Mesh) -> tuple[np.ndarray, np.ndarray, b
                 keep, turn = _kept(kind, first, _side(inner, _normal(triangle), other, slack))
                 if keep:
                     _add(points, triangles, piece, turn)
-    crossed = _boundary_crosses(a, tris_b, slack) or _boundary_crosses(b, tris_a, slack)
+    crossed = _boundary_crosses(a, b, tris_b, slack) or _boundary_crosses(b, a, tris_a, slack)
     if not triangles:
         return np.empty((0, 3)), np.empty((0, 3), dtype=np.int64), crossed
     return np.vstack(points), np.asarray(triangles, dtype=np.int64), crossed
@@ -314,11 +314,25 @@ def _closest_points(point: np.ndarray, triangles: np.ndarray):
 # the open boundary ------------------------------------------------------------------------
 
 
-def _boundary_crosses(mesh: Mesh, other: np.ndarray, slack: float) -> bool:
+def _boundary_crosses(mesh: Mesh, other: Mesh, triangles: np.ndarray, slack: float) -> bool:
     """Whether an edge of ``mesh`` that only one face has (its open boundary) passes through a
-    triangle of ``other``."""
-    if len(other) == 0:
+    face of ``other`` (``triangles``, its faces' triangles): through its inside, not along it
+    nor through its rim, where a boundary lying on the other's surface only touches it."""
+    if len(triangles) == 0:
         return False
+    edges = _open_edges(mesh, slack)
+    rims = [other.vertices[list(face)] for face in other.faces]
+    for x, y in edges:
+        for hit in _hits(mesh.vertices[x], mesh.vertices[y], triangles, slack):
+            if all(
+                _ring_distance(hit, rim) > 1e3 * slack for rim in rims if _on_plane(hit, rim, slack)
+            ):
+                return True
+    return False
+
+
+def _open_edges(mesh: Mesh, slack: float) -> list[tuple[int, int]]:
+    """The edges of ``mesh`` that one face has, its vertices that coincide taken as one."""
     keys = np.round(mesh.vertices / slack).astype(np.int64)
     _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
     weld = first[inverse.reshape(-1)]
@@ -329,16 +343,12 @@ def _boundary_crosses(mesh: Mesh, other: np.ndarray, slack: float) -> bool:
             if x != y:
                 key = (min(x, y), max(x, y))
                 count[key] = count.get(key, 0) + 1
-    edges = [key for key, n in count.items() if n == 1]
-    for x, y in edges:
-        start, end = mesh.vertices[x], mesh.vertices[y]
-        if _segment_crosses(start, end, other, slack):
-            return True
-    return False
+    return [key for key, n in count.items() if n == 1]
 
 
-def _segment_crosses(start, end, triangles: np.ndarray, slack: float) -> bool:
-    """Whether the segment ``start``-``end`` passes through one of ``triangles`` (not along it)."""
+def _hits(start, end, triangles: np.ndarray, slack: float) -> np.ndarray:
+    """The points where the segment ``start``-``end`` passes through ``triangles`` (crossing
+    their planes, not lying in them)."""
     a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
     n = np.cross(b - a, c - a)
     h0 = np.einsum("ij,ij->i", start - a, n)
@@ -346,7 +356,7 @@ def _segment_crosses(start, end, triangles: np.ndarray, slack: float) -> bool:
     scale = np.linalg.norm(n, axis=1) * slack
     across = ((h0 > scale) & (h1 < -scale)) | ((h0 < -scale) & (h1 > scale))
     if not across.any():
-        return False
+        return np.empty((0, 3))
     t = h0[across] / (h0[across] - h1[across])
     hit = start + t[:, None] * (end - start)
     inside = np.ones(len(hit), dtype=bool)
@@ -354,7 +364,22 @@ def _segment_crosses(start, end, triangles: np.ndarray, slack: float) -> bool:
     for x, y in ((a, b), (b, c), (c, a)):
         edge_normal = np.cross(y[across] - x[across], sub)
         inside &= np.einsum("ij,ij->i", hit - x[across], edge_normal) <= 0
-    return bool(inside.any())
+    return hit[inside]
+
+
+def _on_plane(point: np.ndarray, rim: np.ndarray, slack: float) -> bool:
+    normal = _newell(rim)
+    length = np.linalg.norm(normal)
+    return bool(length) and abs(float((point - rim[0]) @ normal)) <= 1e3 * slack * length
+
+
+def _ring_distance(point: np.ndarray, rim: np.ndarray) -> float:
+    """The distance from ``point`` to the nearest edge of the polygon ``rim``."""
+    start, end = rim, np.roll(rim, -1, axis=0)
+    edge = end - start
+    span = np.einsum("ij,ij->i", edge, edge)
+    t = np.clip(np.einsum("ij,ij->i", point - start, edge) / np.where(span > 0, span, 1), 0, 1)
+    return float(np.linalg.norm(point - (start + t[:, None] * edge), axis=1).min())
 
 
 def _add(points: list, triangles: list, ring: np.ndarray, turn: bool) -> None:

@@ -79,3 +79,14 @@ def test_an_opening_that_crosses_the_other_operand_is_said():
 def test_only_the_three_operations():
     with pytest.raises(ValueError, match="unknown Boolean operation"):
         open_boolean("xor", BOX, UP)
+
+
+def test_a_boundary_lying_on_the_other_surface_only_touches_it():
+    # the plane exactly as wide as the box (x 0..12): its edges at x = 0 and 12 lie on the
+    # box's sides, through the corners of its front and back faces, without crossing them
+    plane = Mesh(
+        np.array([[0, 2, -6], [0, 2, 14], [12, 2, 14], [12, 2, -6]], float), [(0, 1, 2, 3)]
+    )
+    mesh, crossed = _solid("subtract", BOX, plane)
+    assert not crossed
+    assert _volume(mesh) == pytest.approx(12 * 2 * 8)
