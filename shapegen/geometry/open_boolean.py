@@ -7,12 +7,13 @@ meshes. In 3D, open operands (planes and meshes with holes) are assumed closed a
 boundaries are not intersected", and of a plane cutting a cube, "Everything below the plane is
 regarded as 'inside' and thus disappears". So here each face of one operand is cut along the
 other's surface, and each piece is kept or dropped by the side of the other operand it lies
-on: the side of the other's nearest face, taken against that face's normal (the normals of the
-faces nearest, summed, where the nearest point is on an edge or a corner). A closed solid's
-inside is its inside; an open surface's inside is the side its normals do not face, carried on
-past its boundary, which is what "assumed closed" and "below the plane" say while the boundary
-does not cross the other operand. Where it does, the reference defines no result; the caller
-is told (``crossed``) so that it can say so.
+on. A surface in one plane has the side its normal does not face as its inside, carried on
+past its outline ("below the plane"). Any other surface has as its inside the points it winds
+round at least half (its generalized winding number: 1 inside a closed solid and 0 outside;
+inside a solid with an opening more than a half, outside less, as though the opening were
+capped, exactly so for an opening in one plane), which is what "assumed closed" says while the
+boundary does not cross the other operand. Where it does, the reference defines no result; the
+caller is told (``crossed``) so that it can say so.
 
 Kept, as for closed solids: for ``union`` the pieces of each operand outside the other, for
 ``intersect`` those inside, for ``subtract`` A's pieces outside B and B's inside A turned
@@ -44,6 +45,7 @@ def open_boolean(kind: str, a: Mesh, b: Mesh) -> tuple[np.ndarray, np.ndarray, b
     slack = COINCIDENT_REL * max(1.0, size)
     tris_a, tris_b = _triangles(a), _triangles(b)
     cuts_a, cuts_b = _cuts(tris_a, tris_b, slack)
+    flat = (_is_plane(tris_a, slack), _is_plane(tris_b, slack))
     points: list[np.ndarray] = []
     triangles: list[tuple[int, int, int]] = []
     for mine, other, cuts, first in (
@@ -53,7 +55,8 @@ def open_boolean(kind: str, a: Mesh, b: Mesh) -> tuple[np.ndarray, np.ndarray, b
         for k, triangle in enumerate(mine):
             for piece in _pieces(triangle, cuts.get(k, []), slack):
                 inner = piece.mean(axis=0) if len(piece) == 3 else _inner_point(piece, triangle)
-                keep, turn = _kept(kind, first, _side(inner, _normal(triangle), other, slack))
+                side = _side(inner, _normal(triangle), other, slack, flat[1 if first else 0])
+                keep, turn = _kept(kind, first, side)
                 if keep:
                     _add(points, triangles, piece, turn)
     crossed = _boundary_crosses(a, b, tris_b, slack) or _boundary_crosses(b, a, tris_a, slack)
@@ -263,27 +266,52 @@ def _inner_point(piece: np.ndarray, triangle: np.ndarray) -> np.ndarray:
 # which side of the other operand a piece lies on ---------------------------------------------
 
 
-def _side(point: np.ndarray, normal: np.ndarray, other: np.ndarray, slack: float) -> str:
+def _side(
+    point: np.ndarray, normal: np.ndarray, other: np.ndarray, slack: float, plane: bool
+) -> str:
     """ "in" or "out" of ``other`` (triangles) for ``point``, or "same" / "opposite" when it lies
-    on ``other``'s surface (by the way ``normal`` faces against it)."""
+    on ``other``'s surface (by the way ``normal`` faces against it). A surface in one plane
+    (``plane``) has the side its normal does not face as its inside; another surface the
+    points it winds round at least half (its generalized winding number, 1 inside a closed
+    solid, more than a half inside one with openings, which counts as closed)."""
     if len(other) == 0:
         return "out"
     nearest, distance = _closest_points(point, other)
     closest = int(np.argmin(distance))
-    best = float(distance[closest])
-    # the faces whose nearest point is that one (an edge's two, a corner's several)
-    tied = np.nonzero(
-        (distance <= best + 1e3 * slack)
-        & (np.linalg.norm(nearest - nearest[closest], axis=1) <= 1e3 * slack)
-    )[0]
-    normals = np.array([_normal(other[k]) for k in tied])
-    if best <= 1e3 * slack:
-        on = normals[int(np.argmin(distance[tied]))]
-        return "same" if float(on @ normal) > 0 else "opposite"
-    distinct = np.unique(np.round(normals, 9), axis=0)
-    facing = distinct.sum(axis=0)
-    height = float((point - nearest[closest]) @ facing)
+    if distance[closest] <= 1e3 * slack:
+        return "same" if float(_normal(other[closest]) @ normal) > 0 else "opposite"
+    if not plane:
+        return "in" if _winding_number(point, other) >= 0.5 else "out"
+    height = float((point - nearest[closest]) @ _normal(other[0]))
     return "in" if height < 0 else "out"
+
+
+def _is_plane(triangles: np.ndarray, slack: float) -> bool:
+    """Whether all ``triangles`` lie in one plane, facing one way."""
+    if len(triangles) == 0:
+        return False
+    normal = _normal(triangles[0])
+    if not normal.any():
+        return False
+    heights = (triangles.reshape(-1, 3) - triangles[0, 0]) @ normal
+    size = max(1.0, float(np.ptp(triangles.reshape(-1, 3), axis=0).max()))
+    facing = all(float(_normal(t) @ normal) > 0 for t in triangles if _normal(t).any())
+    return facing and float(np.abs(heights).max()) <= COINCIDENT_REL * size * 1e3
+
+
+def _winding_number(point: np.ndarray, triangles: np.ndarray) -> float:
+    """How many times the surface ``triangles`` winds round ``point``: the solid angles of its
+    triangles seen from the point (Van Oosterom and Strackee), over 4 pi."""
+    a, b, c = (triangles[:, k] - point for k in range(3))
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    volume = np.einsum("ij,ij->i", a, np.cross(b, c))
+    below = (
+        la * lb * lc
+        + np.einsum("ij,ij->i", a, b) * lc
+        + np.einsum("ij,ij->i", a, c) * lb
+        + np.einsum("ij,ij->i", b, c) * la
+    )
+    return float(np.sum(2.0 * np.arctan2(volume, below)) / (4.0 * np.pi))
 
 
 def _closest_points(point: np.ndarray, triangles: np.ndarray):

@@ -90,3 +90,14 @@ def test_a_boundary_lying_on_the_other_surface_only_touches_it():
     mesh, crossed = _solid("subtract", BOX, plane)
     assert not crossed
     assert _volume(mesh) == pytest.approx(12 * 2 * 8)
+
+
+@pytest.mark.parametrize(("kind", "volume"), [("subtract", 8.0), ("intersect", 0.0)])
+def test_what_lies_in_front_of_an_opening_is_outside(kind, volume):
+    # a 2 m cube 1 m in front of the open box's opening (z = 12), within its outline: the box
+    # counts as closed, its opening capped, so the cube is outside it (the nearest faces, the
+    # open box's sides, would have put it behind them)
+    cube = Mesh(Mesh.box((2.0, 2.0, 2.0)).vertices + (9.0, 3.0, 13.0), Mesh.box((2, 2, 2)).faces)
+    mesh, crossed = _solid(kind, cube, _open_box((0, 0, 1)))
+    assert not crossed
+    assert _volume(mesh) == pytest.approx(volume)

@@ -15,11 +15,12 @@ intersection with B; A gives the attributes and the scope's axes. Closed solids 
 manifold3d, faces lying in one plane by shapely, and other operands (an open mesh against a
 solid, faces in different planes) by cutting each one's faces along the other's surface
 (:mod:`shapegen.geometry.open_boolean`): an open operand is "assumed closed as long as
-boundaries are not intersected", its inside the side its faces do not face ("everything below
-the plane is regarded as inside"); where its open boundary does cross the other operand the
-reference defines no result, and the derivation warns. The pieces of one plane of the result
-become polygons again (a piece with a hole stays triangles, as shapegen's faces have no holes).
-Leaves deleted by ``NIL`` and edge or vertex shapes add no geometry.
+boundaries are not intersected": a plane's inside is the side it does not face ("everything
+below the plane is regarded as inside"), another open surface's the points it winds round at
+least half (as though its openings were capped); where its open boundary does cross the other
+operand the reference defines no result, and the derivation warns. The pieces of one plane of
+the result become polygons again (a piece with a hole stays triangles, as shapegen's faces
+have no holes). Leaves deleted by ``NIL`` and edge or vertex shapes add no geometry.
 """
 
 from __future__ import annotations
@@ -325,8 +326,9 @@ def _pair(program, node, kind: str, a: Mesh, b: Mesh, state) -> Mesh:
             node,
             f"{node.name}: the open boundary of an operand crosses the other operand, where "
             "op_boolOp defines no result (open operands are assumed closed only while their "
-            "boundaries are not intersected); shapegen takes an open surface's inside as the "
-            "side its faces do not face, carried on past its boundary",
+            "boundaries are not intersected); shapegen takes a plane's inside as the side it "
+            "does not face, carried on past its outline, and another open surface's as the "
+            "points it winds round at least half",
         )
     return _polygons(points, triangles) if len(triangles) else _EMPTY
 
@@ -352,7 +354,7 @@ def _shape_of(mesh: Mesh, rotation: np.ndarray) -> Shape:
     "inline",
     *_BOOLEAN,
     partial="an open operand whose open boundary crosses the other (no result in the "
-    "reference) is taken as closed past its boundary, with a warning",
+    "reference) is still read as a plane's half-space or by its winding number, with a warning",
 )
 def compile_inline(program, node: ast.Operation, params):
     if node.name == "inline":
