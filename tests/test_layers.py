@@ -32,6 +32,9 @@ LEVEL = {name: level for level, names in enumerate(LAYERS) for name in names}
 # that are one concept all the same are listed with the reason, rather than cut to fit.
 MAX_LINES = 500
 LONG_BY_CONCEPT = {
+    "grammar/transformer.py": "the one lark Transformer of cga.lark: a short callback per rule of "
+    "the grammar, named as the rule (lark's contract), in one class; what an operation call means "
+    "is grammar/operation_calls.py's OperationCalls",
     "engine/expressions/compiler.py": "one compiler from expression AST to closures: each node "
     "kind and each builtin's dispatch belong to the one walk",
     "engine/shapes/shape.py": "the shape a rule works on: its scope, geometry, holes, tags and "

@@ -100,6 +100,13 @@ parameter or parameterless function), :class:`ShapeAttribute` (``scope.sx``, ``s
 (builtin or user function), :class:`CaseExpression` and :class:`StochasticExpression` (function
 bodies ``case a > 1 : 2 else : 3`` and ``30% : 1 else : 2``).
 
+Operation calls before they are known
+-------------------------------------
+:class:`CallArgument`, :class:`BlockEntry` and :class:`EntryGroup` hold a call's arguments and
+``{ ... }`` block as written, while the parser's transformer hands them to
+:class:`~shapegen.grammar.operation_calls.OperationCalls`, which makes one of the nodes above of
+them; no finished tree holds them.
+
 Walking the tree
 ----------------
 :func:`children` gives the nodes directly below a node, in field order; :func:`walk` gives a
@@ -143,7 +150,9 @@ from shapegen.grammar.expressions import (
     Unary,
 )
 from shapegen.grammar.rule_bodies import (
+    BlockEntry,
     Body,
+    CallArgument,
     Center,
     Comp,
     CompBranch,
@@ -151,6 +160,7 @@ from shapegen.grammar.rule_bodies import (
     ConditionalBranch,
     Coordinate,
     DynamicImport,
+    EntryGroup,
     Extrude,
     Insert,
     Item,
@@ -188,9 +198,11 @@ __all__ = [
     "Index",
     "Attribute",
     "Binary",
+    "BlockEntry",
     "Body",
     "Boolean",
     "Call",
+    "CallArgument",
     "CaseBranch",
     "CaseExpression",
     "Center",
@@ -201,6 +213,7 @@ __all__ = [
     "Constant",
     "Coordinate",
     "DynamicImport",
+    "EntryGroup",
     "Definition",
     "Expression",
     "Extrude",

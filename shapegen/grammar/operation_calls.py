@@ -1,20 +1,27 @@
-"""Operation calls -> operation nodes: one builder per operation (``extrude``, ``split``...).
+"""Operation calls -> operation nodes: :class:`OperationCalls`, one builder per operation.
 
-:class:`OperationBuilders` is mixed into :class:`~shapegen.grammar.transformer.AstBuilder`, whose
-``operation`` callback picks the builder by the call's name and checks the number of arguments; a
-builder decides what each argument means. Arguments that the syntax lets through but the operation
-cannot use (an unknown split axis, a ``'`` where it means nothing) become problems, not exceptions.
+The parser's transformer (:class:`~shapegen.grammar.transformer.AstBuilder`) hands every call
+``name(args) { block }*`` to :meth:`OperationCalls.node` with its arguments
+(:class:`~shapegen.grammar.ast.CallArgument`) and block
+(:class:`~shapegen.grammar.ast.EntryGroup`) as written. :meth:`~OperationCalls.node` checks the
+number of arguments and the block, then either builds the operation's own node (``comp(f) {
+front : A }`` -> :class:`~shapegen.grammar.ast.Comp` in :meth:`OperationCalls._comp`) or, for
+the other forms and every other CGA operation, a generic :class:`~shapegen.grammar.ast.Operation`.
+Arguments that the syntax lets through but the operation cannot use (an unknown split axis, a
+``'`` where it means nothing) become problems, not exceptions.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.ast import BlockEntry, CallArgument, EntryGroup
 from shapegen.grammar.names import (
+    BLOCK_OPERATIONS,
     CENTER_MODES,
+    CGA_OPERATIONS,
     COMP_KINDS,
     COMP_SELECTORS,
     OPERATIONS,
@@ -25,50 +32,96 @@ from shapegen.grammar.names import (
 _UV_DIRECTIONS = {"u": "x", "v": "y"}
 _UV_SPACES = ("unitSpace", "uvSpace")
 
-__all__ = ["Argument", "EntryGroup", "BlockEntry", "OperationBuilders", "prefix_in_words"]
+__all__ = ["OperationCalls", "Problem", "prefix_in_words"]
+
+Problem = tuple[SourceLocation | None, str]
 
 
-@dataclasses.dataclass(frozen=True)
-class Argument:
-    """One argument of an operation call before it is known which operation it belongs to."""
+class OperationCalls:
+    """Builds the node of each operation call; collects the problems it finds in ``problems``.
 
-    kind: str  # "plain", "relative", "floating", "keyword"
-    value: ast.Expression
-    location: SourceLocation
-    name: str | None = None
+    A call whose number of arguments fits none of the operation's signatures may call a rule of
+    the operation's name (a ``.cga`` file may define one): it becomes a successor call, and
+    :meth:`settle` decides once every rule of the file is known.
+    """
 
-
-@dataclasses.dataclass(frozen=True)
-class BlockEntry:
-    """``size : body`` (``selector = body`` with ``merge``) before split or comp claims it."""
-
-    mode: ast.SizeMode
-    key: ast.Expression
-    body: ast.Body
-    merge: bool
-    location: SourceLocation
-    connected: bool = False  # ``=:``
-    depth: ast.Expression | None = None  # splitAndSetbackPerimeter's ``length : depth : ops``
-
-
-@dataclasses.dataclass(frozen=True)
-class EntryGroup:
-    """``{ entry | ... }``; ``repeat`` for a trailing ``*``."""
-
-    entries: tuple[BlockEntry | EntryGroup, ...]
-    repeat: bool
-    location: SourceLocation
-
-
-class OperationBuilders:
-    """The builders of operation nodes from their call's arguments and ``{ ... }`` block."""
-
-    problems: list[tuple[SourceLocation | None, str]]
+    def __init__(self, problems: list[Problem]):
+        self.problems = problems
+        # calls whose arity fits no signature: (location, message, name, number of arguments)
+        self._rule_named_calls: list[tuple[SourceLocation, str, str, int]] = []
 
     def _problem(self, location: SourceLocation, message: str) -> None:
         self.problems.append((location, message))
 
-    def _plain(self, operation: str, argument: Argument) -> ast.Expression:
+    def node(
+        self,
+        name: str,
+        arguments: list[CallArgument],
+        block: EntryGroup | None,
+        location: SourceLocation,
+    ):
+        """The node of the call ``name(arguments) block``: an operation's node, a generic
+        :class:`~shapegen.grammar.ast.Operation`, a successor call, or ``Nil`` after a problem."""
+        positional = [a for a in arguments if a.kind != "keyword"]
+        if name in CGA_OPERATIONS:
+            low, high = CGA_OPERATIONS[name]
+            if not low <= len(positional) <= high:
+                message = _count_message(name, low, high, len(positional))
+                if block is None and all(a.kind == "plain" for a in arguments):
+                    # a rule of the operation's name and this arity is called (a .cga file may
+                    # define one: 'settle' decides once every rule is known)
+                    self._rule_named_calls.append((location, message, name, len(arguments)))
+                    args = tuple(a.value for a in arguments)
+                    return ast.Successor(name, args, called=True, location=location)
+                self._problem(location, message)
+                return ast.Nil(location=location)
+            if name in ("split", "comp") and block is None:
+                self._problem(location, f"{name}() needs a {{ ... }} block of branches after it")
+                return ast.Nil(location=location)
+            if block is not None and name not in BLOCK_OPERATIONS:
+                self._problem(block.location, f"{name}() takes no {{ ... }} block")
+                block = None
+            bare = block is not None and any(
+                isinstance(e, BlockEntry) and e.key is None for e in block.entries
+            )
+            if bare and name not in ("scatter", "inline"):  # inline(unify) { operations }
+                self._problem(block.location, f"{name}() needs 'key : operations' in its block")
+                return ast.Nil(location=location)
+            if self._dedicated(name, arguments, block):
+                if name != "i":
+                    for argument in arguments:
+                        if argument.kind == "keyword":
+                            self._problem(
+                                argument.location,
+                                f"{name}() takes no keyword arguments (got '{argument.name}=')",
+                            )
+                return _DEDICATED[name](self, arguments, block, location)
+            return self.generic(name, arguments, block, location)
+        if block is not None:
+            self._problem(
+                block.location,
+                f"'{name}' is not a CGA operation, and only operations take a {{ ... }} block",
+            )
+        args = []
+        for argument in arguments:
+            if argument.kind != "plain":
+                self._problem(
+                    argument.location,
+                    f"arguments of the successor '{name}' are plain expressions "
+                    f"({prefix_in_words(argument)} is not allowed here)",
+                )
+            args.append(argument.value)
+        return ast.Successor(name, tuple(args), called=True, location=location)
+
+    def settle(self, rules: set[tuple[str, int]], cga: bool) -> None:
+        """Report the calls of an operation with a number of arguments none of its signatures
+        takes, unless ``rules`` (``(name, number of parameters)``) has a rule they call and the
+        file is a ``.cga`` one."""
+        for location, message, name, count in self._rule_named_calls:
+            if (name, count) not in rules or not cga:
+                self._problem(location, message)
+
+    def _plain(self, operation: str, argument: CallArgument) -> ast.Expression:
         if argument.kind not in ("plain", "keyword"):
             self._problem(
                 argument.location,
@@ -77,7 +130,7 @@ class OperationBuilders:
         return argument.value
 
     def _keyword_choice(
-        self, operation: str, what: str, argument: Argument, valid: tuple[str, ...]
+        self, operation: str, what: str, argument: CallArgument, valid: tuple[str, ...]
     ) -> str:
         value = argument.value
         if argument.kind == "plain" and isinstance(value, ast.Name) and value.name in valid:
@@ -91,7 +144,7 @@ class OperationBuilders:
         self._problem(argument.location, message)
         return valid[0]
 
-    def _coordinate(self, operation: str, argument: Argument) -> ast.Coordinate:
+    def _coordinate(self, operation: str, argument: CallArgument) -> ast.Coordinate:
         if argument.kind not in ("plain", "relative"):
             self._problem(
                 argument.location, f"{prefix_in_words(argument)} is not allowed in {operation}()"
@@ -100,7 +153,9 @@ class OperationBuilders:
             argument.value, relative=argument.kind == "relative", location=argument.location
         )
 
-    def _dedicated(self, name: str, arguments: list[Argument], block: EntryGroup | None) -> bool:
+    def _dedicated(
+        self, name: str, arguments: list[CallArgument], block: EntryGroup | None
+    ) -> bool:
         """True when the call fits the operation's node of its own (``extrude(h)``, ``comp(f)``
         with named or numbered selectors...); other forms become a generic Operation."""
         if name not in OPERATIONS:
@@ -135,7 +190,7 @@ class OperationBuilders:
         low, high = OPERATIONS[name]
         return low <= len(positional) <= high
 
-    def _generic(self, name: str, arguments: list[Argument], block: EntryGroup | None, location):
+    def generic(self, name: str, arguments: list[CallArgument], block: EntryGroup | None, location):
         """A generic :class:`~shapegen.grammar.ast.Operation` node for the call."""
         branches = []
         if name == "comp" and block is not None and block.repeat:
@@ -178,10 +233,10 @@ class OperationBuilders:
             location=location,
         )
 
-    def _op_extrude(self, arguments, block, location):
+    def _extrude(self, arguments, block, location):
         return ast.Extrude(self._plain("extrude", arguments[0]), location=location)
 
-    def _op_split(self, arguments, block, location):
+    def _split(self, arguments, block, location):
         first = arguments[0].value
         if isinstance(first, ast.Name) and first.name in _UV_DIRECTIONS:
             return self._uv_split(arguments, block, location)
@@ -221,7 +276,7 @@ class OperationBuilders:
             parts.append(ast.SplitEntry(entry.key, entry.mode, entry.body, location=entry.location))
         return ast.SplitGroup(tuple(parts), block.repeat, location=block.location)
 
-    def _op_comp(self, arguments, block, location):
+    def _comp(self, arguments, block, location):
         kind = self._keyword_choice("comp", "component type", arguments[0], COMP_KINDS)
         if block.repeat:
             self._problem(block.location, "a comp block cannot be repeated with '*'")
@@ -258,15 +313,15 @@ class OperationBuilders:
             )
         return ast.Comp(kind, tuple(branches), location=location)
 
-    def _op_t(self, arguments, block, location):
+    def _t(self, arguments, block, location):
         x, y, z = (self._coordinate("t", a) for a in arguments)
         return ast.Translate(x, y, z, location=location)
 
-    def _op_s(self, arguments, block, location):
+    def _s(self, arguments, block, location):
         x, y, z = (self._coordinate("s", a) for a in arguments)
         return ast.Scale(x, y, z, location=location)
 
-    def _op_r(self, arguments, block, location):
+    def _r(self, arguments, block, location):
         pivot = "origin"
         if len(arguments) == 4:
             pivot_name = self._keyword_choice("r", "pivot", arguments[0], tuple(ROTATE_PIVOTS))
@@ -275,14 +330,14 @@ class OperationBuilders:
         x, y, z = (self._plain("r", a) for a in arguments)
         return ast.Rotate(x, y, z, pivot=pivot, location=location)
 
-    def _op_center(self, arguments, block, location):
+    def _center(self, arguments, block, location):
         axes = self._keyword_choice("center", "axes", arguments[0], CENTER_MODES)
         return ast.Center(axes, location=location)
 
-    def _op_label(self, arguments, block, location):
+    def _label(self, arguments, block, location):
         return ast.Label(self._plain("label", arguments[0]), location=location)
 
-    def _op_set(self, arguments, block, location):
+    def _set(self, arguments, block, location):
         target, value = arguments
         if target.kind == "plain" and isinstance(target.value, ast.Name):
             attribute = target.value.name
@@ -293,7 +348,7 @@ class OperationBuilders:
             attribute = ""
         return ast.Set(attribute, self._plain("set", value), location=location)
 
-    def _op_i(self, arguments, block, location):
+    def _i(self, arguments, block, location):
         primitive, *rest = arguments
         if primitive.kind == "keyword":
             self._problem(primitive.location, "i() needs the primitive's name first")
@@ -309,13 +364,31 @@ class OperationBuilders:
             self._plain("i", primitive), tuple(keywords), location=location, options=tuple(options)
         )
 
-    def _op_print(self, arguments, block, location):
+    def _print(self, arguments, block, location):
         values = tuple(self._plain("print", a) for a in arguments)
         return ast.Print(values, location=location)
 
-    def _op_report(self, arguments, block, location):
+    def _report(self, arguments, block, location):
         key, value = (self._plain("report", a) for a in arguments)
         return ast.Report(key, value, location=location)
+
+
+#: The operations that have a node of their own, and the method of :class:`OperationCalls` that
+#: builds it (the call's form decides first, :meth:`OperationCalls._dedicated`).
+_DEDICATED = {
+    "extrude": OperationCalls._extrude,
+    "split": OperationCalls._split,
+    "comp": OperationCalls._comp,
+    "t": OperationCalls._t,
+    "s": OperationCalls._s,
+    "r": OperationCalls._r,
+    "center": OperationCalls._center,
+    "label": OperationCalls._label,
+    "set": OperationCalls._set,
+    "i": OperationCalls._i,
+    "print": OperationCalls._print,
+    "report": OperationCalls._report,
+}
 
 
 def _is_face_index(mode: str, key: ast.Expression) -> bool:
@@ -328,10 +401,24 @@ def _is_face_index(mode: str, key: ast.Expression) -> bool:
     )
 
 
-def prefix_in_words(argument: Argument) -> str:
+def prefix_in_words(argument: CallArgument) -> str:
     """How the user wrote a non-plain argument, in words."""
     if argument.kind == "relative":
         return "a relative value (')"
     if argument.kind == "floating":
         return "a floating size (~)"
     return f"a keyword argument ({argument.name}=)"
+
+
+def _plural(count: int, word: str) -> str:
+    return f"{count} {word}" if count == 1 else f"{count} {word}s"
+
+
+def _count_message(name: str, low: int, high: int, got: int) -> str:
+    if low == high:
+        wanted = _plural(low, "argument")
+    elif high >= 1_000_000:
+        wanted = f"at least {_plural(low, 'argument')}"
+    else:
+        wanted = f"{low} to {high} arguments"
+    return f"{name}() takes {wanted}, got {got}"

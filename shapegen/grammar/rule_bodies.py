@@ -6,6 +6,7 @@ The whole tree is described in :mod:`shapegen.grammar.ast`, which re-exports the
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import field
 from typing import Literal
 
@@ -14,7 +15,9 @@ from shapegen.grammar.expressions import Expression, Keyword
 from shapegen.grammar.tree import location_field, node
 
 __all__ = [
+    "BlockEntry",
     "Body",
+    "CallArgument",
     "Center",
     "Comp",
     "CompBranch",
@@ -22,6 +25,7 @@ __all__ = [
     "ConditionalBranch",
     "Coordinate",
     "DynamicImport",
+    "EntryGroup",
     "Extrude",
     "Insert",
     "Item",
@@ -370,3 +374,42 @@ class StochasticBody:
 
 
 Body = Sequence | ConditionalBody | StochasticBody
+
+
+# --------------------------------------------------------------------------------------------
+# An operation call before it is known which operation it is: what the parser's transformer
+# hands to :class:`~shapegen.grammar.operation_calls.OperationCalls`, which turns it into one of
+# the nodes above. No finished tree holds these.
+
+
+@dataclasses.dataclass(frozen=True)
+class CallArgument:
+    """One argument of an operation call: ``kind`` says how it was written (``"plain"``,
+    ``"relative"`` for ``'x``, ``"floating"`` for ``~x``, ``"keyword"`` for ``name = x``)."""
+
+    kind: str
+    value: Expression
+    location: SourceLocation
+    name: str | None = None
+
+
+@dataclasses.dataclass(frozen=True)
+class BlockEntry:
+    """``size : body`` (``selector = body`` with ``merge``) before split or comp claims it."""
+
+    mode: SizeMode
+    key: Expression
+    body: Body
+    merge: bool
+    location: SourceLocation
+    connected: bool = False  # ``=:``
+    depth: Expression | None = None  # splitAndSetbackPerimeter's ``length : depth : ops``
+
+
+@dataclasses.dataclass(frozen=True)
+class EntryGroup:
+    """``{ entry | ... }``; ``repeat`` for a trailing ``*``."""
+
+    entries: tuple[BlockEntry | EntryGroup, ...]
+    repeat: bool
+    location: SourceLocation

@@ -1,10 +1,15 @@
-"""Parse tree -> AST: the lark Transformer that builds :mod:`shapegen.grammar.ast` nodes.
+"""Parse tree -> AST: :class:`AstBuilder`, the lark Transformer that builds
+:mod:`shapegen.grammar.ast` nodes.
 
-Operation calls share one syntax (``name(args) { block }*``); which operation a call is, and
-whether its arguments fit, is decided here and in the builders of
-:mod:`shapegen.grammar.operation_calls`. Problems that the syntax lets through (an unknown split
-axis, a ``'`` where it means nothing) are collected in :attr:`AstBuilder.problems`, not raised, so
-that they are reported together with the load-time checks.
+It has one callback per rule of ``cga.lark``, named as the rule is (lark calls ``comp_value``
+for the rule ``comp_value``), in the grammar's order: the file and its definitions, function
+and rule bodies, operation calls, expressions, imports. What an operation call means is decided
+by the :class:`~shapegen.grammar.operation_calls.OperationCalls` it owns (``comp(f) { ... }``:
+:meth:`AstBuilder.operation` -> :meth:`OperationCalls.node
+<shapegen.grammar.operation_calls.OperationCalls.node>` -> ``OperationCalls._comp``). Problems
+that the syntax lets through (an unknown split axis, a ``'`` where it means nothing) are
+collected in :attr:`AstBuilder.problems`, not raised, so that they are reported together with
+the load-time checks; merging imported files is :mod:`shapegen.grammar.imports`' work.
 """
 
 from __future__ import annotations
@@ -15,26 +20,13 @@ from lark import Token, Transformer, v_args
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.ast import BlockEntry, CallArgument, EntryGroup
 from shapegen.grammar.definitions import dialect_of
-from shapegen.grammar.expression_builders import ExpressionBuilders, unescape
-from shapegen.grammar.import_syntax import ImportBuilders
-from shapegen.grammar.names import (
-    BLOCK_OPERATIONS,
-    CGA_OPERATIONS,
-    OPERATIONS,
-)
-from shapegen.grammar.operation_calls import (
-    Argument,
-    BlockEntry,
-    EntryGroup,
-    OperationBuilders,
-    prefix_in_words,
-)
+from shapegen.grammar.names import CGA_OPERATIONS, OPERATIONS, SHAPE_ATTRIBUTES, SHAPE_VALUES
+from shapegen.grammar.operation_calls import OperationCalls, Problem
 from shapegen.grammar.rewrites import BOOLEAN_OPERATIONS, generic_start_rules, two_operands
 
 __all__ = ["AstBuilder", "Problem"]
-
-Problem = tuple[SourceLocation | None, str]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,23 +66,20 @@ _EXTENSION_MARK = object()  # ``extension`` before a rule
 _START_MARK = object()  # ``start`` before a rule
 
 
-def _plural(count: int, word: str) -> str:
-    return f"{count} {word}" if count == 1 else f"{count} {word}s"
-
-
 @v_args(meta=True)
-class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transformer):
+class AstBuilder(Transformer):
     """Builds AST nodes; problems that the syntax lets through are collected, not raised."""
-
-    _string_value = staticmethod(unescape)
 
     def __init__(self, filename: str):
         super().__init__()
         self.filename = filename
         self.problems: list[Problem] = []
         self.start_keyword_rules: set[SourceLocation] = set()  # rules written `start Name`
-        # operation calls whose arity fits no signature: (location, message, name, count)
-        self.operation_named_calls: list[tuple[SourceLocation, str, str, int]] = []
+        #: What each operation call means; it reports into ``problems``.
+        self.operation_calls = OperationCalls(self.problems)
+
+    def _problem(self, location: SourceLocation, message: str) -> None:
+        self.problems.append((location, message))
 
     # Locations -------------------------------------------------------------------------------
 
@@ -121,9 +110,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
                 definitions.append(child)
         definitions += generic_start_rules(definitions, self.start_keyword_rules)
         rules = {(d.name, len(d.params)) for d in definitions if isinstance(d, ast.Rule)}
-        for location, message, name, count in self.operation_named_calls:
-            if (name, count) not in rules or dialect_of(self.filename) != "cga":
-                self._problem(location, message)
+        self.operation_calls.settle(rules, cga=dialect_of(self.filename) == "cga")
         return ast.RuleFile(
             definitions=tuple(definitions),
             version=version,
@@ -242,41 +229,46 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
     def params(self, meta, children):
         return tuple(ast.Parameter(str(name), location=self._at(name)) for name in children)
 
-    # Function bodies ---------------------------------------------------------------------------
+    # Function and rule bodies: ``case ... else`` and ``30% : ... else``, each of an expression
+    # (a function's body) or of a rule body, with the ``else`` last
+
+    def _choice(self, node_class, meta, children):
+        *branches, otherwise = children
+        return node_class(tuple(branches), otherwise, location=self._at(meta))
+
+    def _case_branch(self, branch_class, meta, children):
+        condition, then = children
+        return branch_class(condition, then, location=self._at(meta))
+
+    def _stochastic_branch(self, branch_class, meta, children):
+        probability, then = children
+        return branch_class(_percent(probability), then, location=self._at(meta))
 
     def function_case(self, meta, children):
-        *branches, otherwise = children
-        return ast.CaseExpression(tuple(branches), otherwise, location=self._at(meta))
+        return self._choice(ast.CaseExpression, meta, children)
 
     def case_value(self, meta, children):
-        condition, value = children
-        return ast.CaseBranch(condition, value, location=self._at(meta))
+        return self._case_branch(ast.CaseBranch, meta, children)
 
     def function_stochastic(self, meta, children):
-        *branches, otherwise = children
-        return ast.StochasticExpression(tuple(branches), otherwise, location=self._at(meta))
+        return self._choice(ast.StochasticExpression, meta, children)
 
     def stochastic_value(self, meta, children):
-        probability, value = children
-        return ast.StochasticValue(_percent(probability), value, location=self._at(meta))
-
-    # Rule bodies -------------------------------------------------------------------------------
+        return self._stochastic_branch(ast.StochasticValue, meta, children)
 
     def rule_case(self, meta, children):
-        *branches, otherwise = children
-        return ast.ConditionalBody(tuple(branches), otherwise, location=self._at(meta))
+        return self._choice(ast.ConditionalBody, meta, children)
 
     def case_body(self, meta, children):
-        condition, body = children
-        return ast.ConditionalBranch(condition, body, location=self._at(meta))
+        return self._case_branch(ast.ConditionalBranch, meta, children)
 
     def rule_stochastic(self, meta, children):
-        *branches, otherwise = children
-        return ast.StochasticBody(tuple(branches), otherwise, location=self._at(meta))
+        return self._choice(ast.StochasticBody, meta, children)
 
     def stochastic_body(self, meta, children):
-        probability, body = children
-        return ast.StochasticBranch(_percent(probability), body, location=self._at(meta))
+        return self._stochastic_branch(ast.StochasticBranch, meta, children)
+
+    # Rule bodies -------------------------------------------------------------------------------
 
     def sequence(self, meta, children):
         items = []
@@ -308,7 +300,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
             return ast.Nil(location=self._at(name))
         if name in CGA_OPERATIONS and CGA_OPERATIONS[name][0] == 0 and name not in OPERATIONS:
             # CGA lets an operation without arguments drop its parentheses (``innerRect``)
-            return self._generic(str(name), [], None, self._at(name))
+            return self.operation_calls.generic(str(name), [], None, self._at(name))
         return ast.Successor(str(name), location=self._at(name))
 
     def leaf(self, meta, children):
@@ -346,23 +338,23 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
     # Operation calls ---------------------------------------------------------------------------
 
     def plain_arg(self, meta, children):
-        return Argument("plain", children[0], self._at(meta))
+        return CallArgument("plain", children[0], self._at(meta))
 
     def case_arg(self, meta, children):
-        return Argument("plain", self.function_case(meta, children), self._at(meta))
+        return CallArgument("plain", self.function_case(meta, children), self._at(meta))
 
     def stochastic_arg(self, meta, children):
-        return Argument("plain", self.function_stochastic(meta, children), self._at(meta))
+        return CallArgument("plain", self.function_stochastic(meta, children), self._at(meta))
 
     def relative_arg(self, meta, children):
-        return Argument("relative", children[0], self._at(meta))
+        return CallArgument("relative", children[0], self._at(meta))
 
     def floating_arg(self, meta, children):
-        return Argument("floating", children[0], self._at(meta))
+        return CallArgument("floating", children[0], self._at(meta))
 
     def keyword_arg(self, meta, children):
         name, value = children
-        return Argument("keyword", value, self._at(name), name=str(name))
+        return CallArgument("keyword", value, self._at(name), name=str(name))
 
     def repeat(self, meta, children):
         return _REPEAT
@@ -409,7 +401,7 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
         name_token = children[0]
         name = str(name_token)
         location = self._at(name_token)
-        arguments = [c for c in children[1:] if isinstance(c, Argument)]
+        arguments = [c for c in children[1:] if isinstance(c, CallArgument)]
         blocks = [c for c in children[1:] if isinstance(c, EntryGroup)]
         block = blocks[0] if blocks else None
         if block is not None and any(c is _REPEAT for c in children[1:]):
@@ -420,68 +412,192 @@ class AstBuilder(ImportBuilders, OperationBuilders, ExpressionBuilders, Transfor
             else:
                 self._problem(blocks[1].location, f"{name}() takes one {{ ... }} block")
 
-        positional = [a for a in arguments if a.kind != "keyword"]
-        if name in CGA_OPERATIONS:
-            low, high = CGA_OPERATIONS[name]
-            if not low <= len(positional) <= high:
-                message = _count_message(name, low, high, len(positional))
-                if block is None and all(a.kind == "plain" for a in arguments):
-                    # a rule of the operation's name and this arity is called (a .cga file may
-                    # define one: 'start' decides once every rule is known)
-                    self.operation_named_calls.append((location, message, name, len(arguments)))
-                    args = tuple(a.value for a in arguments)
-                    return ast.Successor(name, args, called=True, location=location)
-                self._problem(location, message)
-                return ast.Nil(location=location)
-            if name in ("split", "comp") and block is None:
-                self._problem(location, f"{name}() needs a {{ ... }} block of branches after it")
-                return ast.Nil(location=location)
-            if block is not None and name not in BLOCK_OPERATIONS:
-                self._problem(block.location, f"{name}() takes no {{ ... }} block")
-                block = None
-            bare = block is not None and any(
-                isinstance(e, BlockEntry) and e.key is None for e in block.entries
-            )
-            if bare and name not in ("scatter", "inline"):  # inline(unify) { operations }
-                self._problem(block.location, f"{name}() needs 'key : operations' in its block")
-                return ast.Nil(location=location)
-            if self._dedicated(name, arguments, block):
-                builder = getattr(self, f"_op_{name}")
-                if name != "i":
-                    for argument in arguments:
-                        if argument.kind == "keyword":
-                            self._problem(
-                                argument.location,
-                                f"{name}() takes no keyword arguments (got '{argument.name}=')",
-                            )
-                return builder(arguments, block, location)
-            return self._generic(name, arguments, block, location)
-        if block is not None:
-            self._problem(
-                block.location,
-                f"'{name}' is not a CGA operation, and only operations take a {{ ... }} block",
-            )
-        args = []
+        return self.operation_calls.node(name, arguments, block, location)
+
+    # Expressions -------------------------------------------------------------------------------
+
+    def binary(self, meta, children):
+        left, operator, right = children
+        return ast.Binary(str(operator), left, right, location=self._at(operator))
+
+    def add_op(self, meta, children):
+        return children[0]
+
+    mul_op = add_op
+    unary_op = add_op
+
+    def unary(self, meta, children):
+        operator, operand = children
+        return ast.Unary(str(operator), operand, location=self._at(operator))
+
+    def number(self, meta, children):
+        (token,) = children
+        return ast.Number(float(token), location=self._at(token))
+
+    def string(self, meta, children):
+        (token,) = children
+        return ast.String(unescape(token), location=self._at(token))
+
+    def name(self, meta, children):
+        (token,) = children
+        if token in ("true", "false"):
+            return ast.Boolean(token == "true", location=self._at(token))
+        return _dotted_name(str(token), (), self._at(token), call=False)
+
+    def call(self, meta, children):
+        name, *args = children
+        return _dotted_name(str(name), tuple(args), self._at(name), call=True)
+
+    def component_values(self, meta, children):
+        name, *rest = children
+        args = tuple(c for c in rest if not isinstance(c, ast.ComponentValue))
+        branches = tuple(c for c in rest if isinstance(c, ast.ComponentValue))
+        if name != "comp":
+            self._problem(self._at(name), "only comp() takes a { ... } block in an expression")
+        return ast.ComponentValues(args, branches, location=self._at(name))
+
+    def comp_value(self, meta, children):
+        return ast.ComponentValue(children[0], children[1], location=self._at(meta))
+
+    def comp_value_merged(self, meta, children):
+        return ast.ComponentValue(children[0], children[1], merge=True, location=self._at(meta))
+
+    def comp_value_connected(self, meta, children):
+        return ast.ComponentValue(
+            children[0], children[1], merge=True, connected=True, location=self._at(meta)
+        )
+
+    def array(self, meta, children):
+        return ast.ArrayLiteral(tuple(children), location=self._at(meta))
+
+    def array_row(self, meta, children):
+        return tuple(children)
+
+    def index(self, meta, children):
+        target, *indices = children
+        return ast.Index(target, tuple(indices), location=self._at(meta))
+
+    def colon(self, meta, children):
+        if len(children) == 2:
+            return ast.Colon(children[0], None, children[1], location=self._at(meta))
+        start, step, stop = children
+        return ast.Colon(start, step, stop, location=self._at(meta))
+
+    def colon_all(self, meta, children):
+        return ast.Colon(None, None, None, location=self._at(meta))
+
+    # Imports ---------------------------------------------------------------------------------
+
+    def import_prefixed(self, meta, children):
+        annotations = [c for c in children if isinstance(c, ast.Annotation)]
+        rest = [c for c in children if not isinstance(c, ast.Annotation)]
+        prefix = rest[0]
+        path = next(c for c in rest[1:] if isinstance(c, Token) and c.type == "STRING")
+        arguments = rest[-1] if isinstance(rest[-1], list) else None
+        styles = next((c for c in rest[1:] if isinstance(c, tuple)), ())
+        item = self._import(str(prefix), path, arguments, annotations, self._at(prefix))
+        return dataclasses.replace(item, styles=styles)
+
+    def import_plain(self, meta, children):
+        annotations = [c for c in children if isinstance(c, ast.Annotation)]
+        rest = [c for c in children if not isinstance(c, ast.Annotation)]
+        arguments = rest[-1] if isinstance(rest[-1], list) else None
+        return self._import(None, rest[0], arguments, annotations, self._at(rest[0]))
+
+    def _import(self, prefix, path, arguments, annotations, location):
+        protected, overrides, rules = [], [], []
+        for argument in arguments or ():
+            if isinstance(argument, ast.Keyword):
+                overrides.append(argument)
+            elif isinstance(argument, ast.Rule):
+                rules.append(argument)
+            else:
+                protected.append(str(argument))
+        return ast.Import(
+            prefix,
+            unescape(path),
+            tuple(protected),
+            protect_all=arguments is not None and not arguments,
+            overrides=tuple(overrides),
+            annotations=tuple(annotations),
+            rules=tuple(rules),
+            location=location,
+        )
+
+    def import_styles(self, meta, children):
+        return tuple(str(c) for c in children)
+
+    def import_args(self, meta, children):
+        return list(children)
+
+    def import_protect(self, meta, children):
+        return children[0]
+
+    def import_override(self, meta, children):
+        name, value = children
+        return ast.Keyword(str(name), value, location=self._at(name))
+
+    def import_rule(self, meta, children):
+        name = children[0]
+        params = next((c for c in children[1:-1] if isinstance(c, tuple)), ())
+        return ast.Rule(str(name), params, children[-1], location=self._at(name))
+
+    def dynamic_import(self, meta, children):
+        name = children[0]
+        arguments = [c for c in children[1:] if isinstance(c, CallArgument)]
+        rest = [c for c in children[1:] if not isinstance(c, CallArgument)]
+        rule, args = rest[0], tuple(rest[1:])
+        overrides = []
         for argument in arguments:
-            if argument.kind != "plain":
+            if argument.kind != "keyword":
                 self._problem(
                     argument.location,
-                    f"arguments of the successor '{name}' are plain expressions "
-                    f"({prefix_in_words(argument)} is not allowed here)",
+                    f"a dynamic import {name}(...) takes attr = value overrides only",
                 )
-            args.append(argument.value)
-        return ast.Successor(name, tuple(args), called=True, location=location)
+                continue
+            overrides.append(ast.Keyword(argument.name, argument.value, location=argument.location))
+        return ast.DynamicImport(
+            str(name), tuple(overrides), str(rule), args, location=self._at(name)
+        )
 
 
 def _percent(token: Token) -> float:
     return float(str(token).rstrip().rstrip("%").rstrip())
 
 
-def _count_message(name: str, low: int, high: int, got: int) -> str:
-    if low == high:
-        wanted = _plural(low, "argument")
-    elif high >= 1_000_000:
-        wanted = f"at least {_plural(low, 'argument')}"
-    else:
-        wanted = f"{low} to {high} arguments"
-    return f"{name}() takes {wanted}, got {got}"
+def unescape(literal: str) -> str:
+    """The value of a double-quoted string literal (``\\n``, ``\\t``, ``\\"``, ``\\\\``)."""
+    escapes = {"n": "\n", "t": "\t", '"': '"', "\\": "\\"}
+    out = []
+    chars = iter(literal[1:-1])
+    for char in chars:
+        if char == "\\":
+            escaped = next(chars, "")
+            if escaped == "u":  # \uXXXX, as CGA writes its NULL string "\ue000"
+                digits = "".join(next(chars, "") for _ in range(4))
+                try:
+                    out.append(chr(int(digits, 16)))
+                except ValueError:
+                    out.append("\\u" + digits)
+                continue
+            out.append(escapes.get(escaped, "\\" + escaped))
+        else:
+            out.append(char)
+    return "".join(out)
+
+
+#: Objects whose dotted names are shape attributes (``scope.sx``, ``geometry.area``...).
+_SHAPE_OBJECTS = frozenset({*SHAPE_ATTRIBUTES, "material"})
+
+
+def _dotted_name(name: str, args: tuple, location: SourceLocation, *, call: bool):
+    """A name as written: a shape attribute (``scope.sx``, ``geometry.area()``, ``seedian``), a
+    call, or a plain (possibly dotted: ``prefix.attr``, ``world.up``) name."""
+    head, _, rest = name.partition(".")
+    if rest and head in _SHAPE_OBJECTS:
+        return ast.ShapeAttribute(head, rest, args, location=location)
+    if name in SHAPE_VALUES and not call:
+        return ast.ShapeAttribute(name, "", location=location)
+    if call:
+        return ast.Call(name, args, location=location)
+    return ast.Name(name, location=location)
