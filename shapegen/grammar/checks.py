@@ -20,157 +20,77 @@ from __future__ import annotations
 
 from shapegen.errors import GrammarError, SourceLocation, did_you_mean
 from shapegen.grammar import ast
-from shapegen.grammar.checks_annotations import AnnotationChecks
-from shapegen.grammar.checks_keywords import KeywordNameChecks
+from shapegen.grammar.checks_annotations import AnnotationChecker
+from shapegen.grammar.checks_definitions import DefinitionTable
+from shapegen.grammar.checks_keywords import KeywordNames
 from shapegen.grammar.constant_folding import constant_value
 from shapegen.grammar.names import (
     BUILTIN_FUNCTIONS,
     CGA_OPERATIONS,
     GEOMETRY_FUNCTIONS,
-    LIBRARY_FUNCTIONS,
     OPERATIONS,
     RESERVED_ATTRIBUTES,
     SHAPE_ATTRIBUTES,
     UNSUPPORTED_FUNCTIONS,
 )
+from shapegen.grammar.problems import Findings, Problem, arity, plural, show_number
 from shapegen.tolerances import PERCENT_SLACK
 
-__all__ = ["check", "examine", "find_problems", "constant_value"]
-
-Problem = tuple[SourceLocation | None, str]
-
-_RULE_ONLY_ANNOTATIONS = ("StartRule", "Lot", "Structure")
-_KIND_NAMES = {
-    ast.Attribute: "an attr",
-    ast.Constant: "a const",
-    ast.Function: "a function",
-    ast.Rule: "a rule",
-}
-_ATTR_ONLY_ANNOTATIONS = ("Range", "Free")
+__all__ = ["Checker", "check", "examine", "find_problems", "constant_value"]
 
 
-def _plural(count: int, word: str) -> str:
-    return f"{count} {word}" if count == 1 else f"{count} {word}s"
+class Checker:
+    """Walks a RuleFile once and collects its problems and warnings in ``findings``.
 
-
-def _arity(low: int, high: int) -> str:
-    if low == high:
-        return _plural(low, "argument")
-    return f"{low} to {high} arguments"
-
-
-class _Checker(KeywordNameChecks, AnnotationChecks):
-    """Walks a RuleFile once and collects problems."""
+    It owns the parts of the check: the file's :class:`DefinitionTable` (built first, reporting
+    duplicates), its :class:`KeywordNames` (names CityEngine reads as keywords where they stand)
+    and an :class:`AnnotationChecker`; it checks the names, calls and successors of every body
+    and expression itself (:meth:`visit`).
+    """
 
     def __init__(self, grammar: ast.RuleFile):
         self.grammar = grammar
-        self.problems: list[Problem] = []
-        self.values: dict[str, ast.Attribute | ast.Constant | ast.Function] = {}
-        # Rules by (name, number of parameters): as in CGA, one name may be overloaded by arity.
-        self.rules: dict[tuple[str, int], ast.Rule] = {}
-        self.arities: dict[str, list[int]] = {}
-        self.function_arities: dict[str, set[int]] = {}
-        # ids of the names that may be CityEngine keywords: an operation's arguments and
-        # branch keys (alignScopeToAxes(y), comp(f) { world.up : A }), a builtin's (inside(inter))
-        self.keyword_names: dict[int, frozenset[str]] = {}
         self.cga = grammar.dialect == "cga"
-        self.warnings: list[Problem] = []
-
-    def report(self, location: SourceLocation | None, message: str) -> None:
-        self.problems.append((location, message))
-
-    def warn(self, location: SourceLocation | None, message: str) -> None:
-        """A problem CityEngine's compiler only warns about: in a ``.cga`` file a warning, and
-        the file loads; in a ``.grammar`` file an error, as that dialect is strict."""
-        if self.cga:
-            self.warnings.append((location, message))
-        else:
-            self.report(location, message)
-
-    # Definitions -------------------------------------------------------------------------------
+        self.findings = Findings(self.cga)
+        self.definitions = DefinitionTable(grammar, self.findings)
+        self.keywords = KeywordNames(grammar, self.definitions, self.findings)
+        self.annotations = AnnotationChecker(grammar, self.definitions, self.findings, self.visit)
 
     def run(self) -> list[Problem]:
-        self._collect_definitions()
-        self._collect_keyword_names()
+        """Check every definition; the problems found (the warnings are in ``findings``)."""
+        annotations = self.annotations
         for definition in self.grammar.definitions:
-            self._check_annotations(definition)
+            annotations.check(definition)
             scope = self._params(getattr(definition, "params", ()))
             for variable in definition.local_variables:  # each reads those before it
-                self._visit(variable.value, scope)
+                self.visit(variable.value, scope)
                 scope = {**scope, variable.name: variable}
             if isinstance(definition, ast.Attribute | ast.Constant):
-                self._visit(definition.value, scope)
+                self.visit(definition.value, scope)
             elif isinstance(definition, ast.Function | ast.Rule):
-                self._visit(definition.body, scope)
-        self._check_start_rule()
+                self.visit(definition.body, scope)
+        annotations.check_start_rule()
         if not self.cga:  # CityEngine evaluates lazily: a cycle is an error only when reached
             self._check_cycles()
-        return self.problems
-
-    def _collect_definitions(self) -> None:
-        for definition in self.grammar.definitions:
-            name = definition.name
-            if isinstance(definition, ast.Rule):
-                if (
-                    name in OPERATIONS or name in CGA_OPERATIONS or name == "NIL"
-                ) and not self._operation_overload(definition):
-                    self.report(
-                        definition.location,
-                        f"'{name}' is an operation; a rule cannot use its name",
-                    )
-                key = (name, len(definition.params))
-                previous = self.rules.get(key)
-                if previous is not None:
-                    self.report(
-                        definition.location,
-                        f"duplicate rule '{name}' (first defined at {previous.location})",
-                    )
-                else:
-                    self.rules[key] = definition
-                    self.arities.setdefault(name, []).append(key[1])
-                continue
-            if (
-                isinstance(definition, ast.Function)
-                and name in BUILTIN_FUNCTIONS
-                and name not in LIBRARY_FUNCTIONS
-                and _overlaps(BUILTIN_FUNCTIONS[name], len(definition.params))
-            ):  # CGA resolves a call by its signature: another arity is an overload
-                self.report(
-                    definition.location,
-                    f"'{name}' is a builtin function; choose another name",
-                )
-            previous = self.values.get(name)
-            if isinstance(definition, ast.Function):
-                arities = self.function_arities.setdefault(name, set())
-                if isinstance(previous, ast.Function) and len(definition.params) not in arities:
-                    arities.add(len(definition.params))
-                    continue  # an overload: CGA tells functions apart by their arity
-                arities.add(len(definition.params))
-            if previous is not None:
-                self.report(
-                    definition.location,
-                    f"duplicate definition of '{name}' (first defined at {previous.location})",
-                )
-            else:
-                self.values[name] = definition
+        return self.findings.problems
 
     def _params(self, params: tuple[ast.Parameter, ...]) -> dict[str, ast.Parameter]:
         seen: dict[str, ast.Parameter] = {}
         for param in params:
             if param.name in seen:
-                self.report(param.location, f"parameter '{param.name}' is listed twice")
+                self.findings.report(param.location, f"parameter '{param.name}' is listed twice")
             seen[param.name] = param
         return seen
 
     def _check_cycles(self) -> None:
         """Report attrs/consts whose value depends on itself through other attrs/consts."""
         graph: dict[str, list[str]] = {}
-        for name, definition in self.values.items():
+        for name, definition in self.definitions.values.items():
             if isinstance(definition, ast.Attribute | ast.Constant):
                 graph[name] = [
                     ref
                     for ref in _referenced_names(definition.value)
-                    if isinstance(self.values.get(ref), ast.Attribute | ast.Constant)
+                    if isinstance(self.definitions.values.get(ref), ast.Attribute | ast.Constant)
                 ]
         state: dict[str, int] = {}
         reported: set[str] = set()
@@ -183,8 +103,8 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
                     cycle = path[path.index(ref) :] + [ref]
                     if ref not in reported:
                         reported.add(ref)
-                        self.report(
-                            self.values[ref].location,
+                        self.findings.report(
+                            self.definitions.values[ref].location,
                             f"'{ref}' depends on itself: {' -> '.join(cycle)}",
                         )
                 elif ref not in state:
@@ -198,7 +118,7 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
 
     # Rule bodies and expressions -------------------------------------------------------------
 
-    def _visit(self, tree, params: dict) -> None:
+    def visit(self, tree, params: dict) -> None:
         """Check every node of a rule body, an expression or an annotation's arguments."""
         for node in ast.walk(tree):
             if isinstance(node, ast.Name):
@@ -217,38 +137,29 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
     def _percentages(self, branches, location: SourceLocation) -> None:
         total = sum(branch.percent for branch in branches)
         if total > 100.0 + PERCENT_SLACK:
-            self.report(
+            self.findings.report(
                 location,
-                f"the stochastic percentages add up to {_show(total)}% (at most 100%)",
+                f"the stochastic percentages add up to {show_number(total)}% (at most 100%)",
             )
-
-    def _operation_overload(self, rule: ast.Rule) -> bool:
-        """A .cga rule with an operation's name and a number of parameters none of the
-        operation's signatures has: CityEngine calls it where a call has that many arguments
-        (changelog 2019.1: operations are told from rules of the same name by signature)."""
-        if not self.cga or rule.name not in CGA_OPERATIONS or rule.name == "NIL":
-            return False
-        low, high = CGA_OPERATIONS[rule.name]
-        return not low <= len(rule.params) <= high
 
     def _successor(self, successor: ast.Successor) -> None:
         if successor.leaf:
             return  # ``Name.`` is a leaf named Name, whatever rules or operations are called so
-        if (successor.name, len(successor.args)) in self.rules and (
+        if (successor.name, len(successor.args)) in self.definitions.rules and (
             successor.called or (self.cga and _needs_arguments(successor.name))
         ):
-            pass  # a rule with an operation's name and another arity (_operation_overload),
+            pass  # a rule with an operation's name and another arity (operation_overload),
             # written with its arguments or, taking none, bare (``i --> ...`` then ``A --> i``)
         elif successor.name in OPERATIONS or successor.name in CGA_OPERATIONS:
-            self.report(
+            self.findings.report(
                 successor.location,
                 f"'{successor.name}' is an operation: write {successor.name}(...)",
             )
             return
-        arities = self.arities.get(successor.name)
+        arities = self.definitions.arities.get(successor.name)
         if arities is None and successor.called and _looks_like_call(successor.name):
-            known = [*CGA_OPERATIONS, *(name for name, _ in self.rules)]
-            self.warn(
+            known = [*CGA_OPERATIONS, *(name for name, _ in self.definitions.rules)]
+            self.findings.warn(
                 successor.location,
                 f"'{successor.name}(...)' is neither a CGA operation nor a rule of this file"
                 + (" (the shape stays a leaf)" if self.cga else "")
@@ -260,7 +171,7 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         if len(successor.args) not in arities:
             counts = " or ".join(str(n) for n in sorted(arities))
             noun = "argument" if sorted(arities) == [1] else "arguments"
-            self.warn(
+            self.findings.warn(
                 successor.location,
                 f"rule '{successor.name}' takes {counts} {noun}, got {len(successor.args)}"
                 + (": an undefined rule, the shape stays a leaf" if self.cga else ""),
@@ -270,17 +181,17 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         name = item.attribute
         if not name:
             return  # already reported by the parser
-        target = self.values.get(name)
+        target = self.definitions.values.get(name)
         if isinstance(target, ast.Attribute) or (target is None and name in RESERVED_ATTRIBUTES):
             return
         if target is None and name.partition(".")[0] in _SETTABLE_OBJECTS:
             return  # a shape attribute: the interpreter says which it can set
         if target is not None:
             kind = "a const" if isinstance(target, ast.Constant) else "a function"
-            self.report(item.location, f"set() needs an attr, and '{name}' is {kind}")
+            self.findings.report(item.location, f"set() needs an attr, and '{name}' is {kind}")
             return
-        candidates = [n for n, d in self.values.items() if isinstance(d, ast.Attribute)]
-        self.report(
+        candidates = [n for n, d in self.definitions.values.items() if isinstance(d, ast.Attribute)]
+        self.findings.report(
             item.location,
             f"set() of undefined attr '{name}'"
             + did_you_mean(name, [*candidates, *RESERVED_ATTRIBUTES]),
@@ -290,67 +201,75 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         name = node.name
         if name in params:
             return
-        target = self.values.get(name)
+        target = self.definitions.values.get(name)
         if target is None and name in RESERVED_ATTRIBUTES:
             return
-        if name in self.keyword_names.get(id(node), ()):
+        if name in self.keywords.words_at(node):
             return
-        if isinstance(target, ast.Function) and 0 not in self.function_arities[name]:
-            self.report(
+        if isinstance(target, ast.Function) and 0 not in self.definitions.function_arities[name]:
+            self.findings.report(
                 node.location,
-                f"function '{name}' takes {_plural(len(target.params), 'argument')}: "
+                f"function '{name}' takes {plural(len(target.params), 'argument')}: "
                 f"write {name}(...)",
             )
             return
         if target is not None:
             return
-        if name in self.keyword_names.get(id(node), ()):
+        if name in self.keywords.words_at(node):
             return
         if name in BUILTIN_FUNCTIONS:
             if not (self.cga and BUILTIN_FUNCTIONS[name][0] == 0):  # CityEngine calls rand
-                self.report(node.location, f"'{name}' is a builtin function: write {name}(...)")
+                self.findings.report(
+                    node.location, f"'{name}' is a builtin function: write {name}(...)"
+                )
             return
-        candidates = [*params, *self.values, *RESERVED_ATTRIBUTES]
-        self.report(node.location, f"undefined name '{name}'" + did_you_mean(name, candidates))
+        candidates = [*params, *self.definitions.values, *RESERVED_ATTRIBUTES]
+        self.findings.report(
+            node.location, f"undefined name '{name}'" + did_you_mean(name, candidates)
+        )
 
     def _call(self, node: ast.Call, params: dict) -> None:
         name = node.name
         count = len(node.args)
-        if name in params or isinstance(self.values.get(name), ast.Attribute | ast.Constant):
-            self.report(node.location, f"'{name}' is not a function")
+        if name in params or isinstance(
+            self.definitions.values.get(name), ast.Attribute | ast.Constant
+        ):
+            self.findings.report(node.location, f"'{name}' is not a function")
             return
-        target = self.values.get(name)
+        target = self.definitions.values.get(name)
         if (
             isinstance(target, ast.Function)
             and name in BUILTIN_FUNCTIONS
-            and count not in self.function_arities[name]
+            and count not in self.definitions.function_arities[name]
         ):
             target = None  # the builtin of that name (user functions overload by arity)
         if isinstance(target, ast.Function):
             expected = len(target.params)
-            if count not in self.function_arities[name]:
-                self.report(
+            if count not in self.definitions.function_arities[name]:
+                self.findings.report(
                     node.location,
-                    f"function '{name}' takes {_plural(expected, 'argument')}, got {count}",
+                    f"function '{name}' takes {plural(expected, 'argument')}, got {count}",
                 )
             return
         if name in BUILTIN_FUNCTIONS:
             low, high = BUILTIN_FUNCTIONS[name]
             if not low <= count <= high:
-                self.report(node.location, f"{name}() takes {_arity(low, high)}, got {count}")
+                self.findings.report(
+                    node.location, f"{name}() takes {arity(low, high)}, got {count}"
+                )
             return
         if name in UNSUPPORTED_FUNCTIONS:
-            self.report(node.location, f"{name}() {UNSUPPORTED_FUNCTIONS[name]}")
+            self.findings.report(node.location, f"{name}() {UNSUPPORTED_FUNCTIONS[name]}")
             return
-        functions = [n for n, d in self.values.items() if isinstance(d, ast.Function)]
-        self.report(
+        functions = [n for n, d in self.definitions.values.items() if isinstance(d, ast.Function)]
+        self.findings.report(
             node.location,
             f"undefined function '{name}'" + did_you_mean(name, [*BUILTIN_FUNCTIONS, *functions]),
         )
 
     def _shape_attribute(self, node: ast.ShapeAttribute) -> None:
         written = f"{node.obj}.{node.field}" if node.field else node.obj
-        if written in self.keyword_names.get(id(node), ()):
+        if written in self.keywords.words_at(node):
             return
         if node.obj == "material" or (node.obj == "seedian" and not node.field):
             return  # material fields are checked against the catalogue when compiled
@@ -358,16 +277,18 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
         if node.obj == "geometry" and node.field in GEOMETRY_FUNCTIONS:
             low, high = GEOMETRY_FUNCTIONS[node.field]
             if not low <= len(node.args) <= high:
-                self.report(
-                    node.location, f"{written}() takes {_arity(low, high)}, got {len(node.args)}"
+                self.findings.report(
+                    node.location, f"{written}() takes {arity(low, high)}, got {len(node.args)}"
                 )
             return
         if fields is not None and node.field in fields:
             if node.args:
-                self.report(node.location, f"'{written}' is a shape attribute, not a function")
+                self.findings.report(
+                    node.location, f"'{written}' is a shape attribute, not a function"
+                )
             return
         valid = [f"{obj}.{field}" for obj, names in SHAPE_ATTRIBUTES.items() for field in names]
-        self.report(
+        self.findings.report(
             node.location,
             f"unknown shape attribute '{written}'"
             + (did_you_mean(written, valid) or f"; valid: {', '.join(valid)}"),
@@ -379,19 +300,11 @@ class _Checker(KeywordNameChecks, AnnotationChecks):
 _SETTABLE_OBJECTS = frozenset({"material", "scope", "trim", "pivot", "comp", "initialShape"})
 
 
-def _overlaps(arity: tuple[int, int], count: int) -> bool:
-    return arity[0] <= count <= arity[1]
-
-
 def _looks_like_call(name: str) -> bool:
     """A call ``name(...)`` with no rule: an error when it reads as a misspelt operation or
     function (lower-case, as CGA writes them); ``Window(2)`` stays a leaf, as CGA leaves
     successors without a rule."""
     return name.rpartition(".")[2][:1].islower()
-
-
-def _show(value: float) -> str:
-    return f"{value:g}"
 
 
 def _referenced_names(expression: ast.Expression) -> list[str]:
@@ -411,16 +324,16 @@ def _order(problem: Problem) -> tuple[int, int]:
 def examine(grammar: ast.RuleFile) -> tuple[list[Problem], list[Problem]]:
     """The load-time problems and warnings of ``grammar``, each as ``(location, message)``
     pairs in file order. Warnings come only from ``.cga`` files: what CityEngine's compiler
-    warns about and derives anyway (see :meth:`_Checker.warn`)."""
-    checker = _Checker(grammar)
+    warns about and derives anyway (see :meth:`~shapegen.grammar.problems.Findings.warn`)."""
     try:
+        checker = Checker(grammar)
         problems = checker.run()
     except RecursionError:
         location = SourceLocation(grammar.filename, 1, 1)
         return [(location, "the file nests too deeply to process")], []
     return (
         sorted(dict.fromkeys(problems), key=_order),
-        sorted(dict.fromkeys(checker.warnings), key=_order),
+        sorted(dict.fromkeys(checker.findings.warnings), key=_order),
     )
 
 

@@ -1,15 +1,16 @@
 """Load-time checks of the names CityEngine reads as keywords where they are written: an
 operation's selector and mode words (``alignScopeToAxes(y)``, ``comp(f) { world.up : A }``), a
-builtin's (``inside(inter)``), comp's kinds and selectors.
+builtin's (``inside(inter)``), comp's kinds and selectors: :class:`KeywordNames`.
 
-:class:`KeywordNameChecks` is mixed into the checker of :mod:`shapegen.grammar.checks`, which
-provides ``report``, ``values`` and ``keyword_names``.
+The checker of :mod:`shapegen.grammar.checks` asks :meth:`KeywordNames.words_at` before it
+reports a name that nothing defines.
 """
 
 from __future__ import annotations
 
 from shapegen.errors import did_you_mean
 from shapegen.grammar import ast
+from shapegen.grammar.checks_definitions import DefinitionTable
 from shapegen.grammar.names import (
     COMP_KINDS,
     COMP_SELECTORS,
@@ -17,26 +18,31 @@ from shapegen.grammar.names import (
     GEOMETRY_KEYWORDS,
     OPERATION_KEYWORDS,
 )
+from shapegen.grammar.problems import Findings
 
-__all__ = ["KeywordNameChecks"]
+__all__ = ["KeywordNames"]
 
 
-class KeywordNameChecks:
-    """Marks the names that are keywords where they stand; reports unknown comp words."""
+class KeywordNames:
+    """The names of ``grammar`` that are CityEngine keywords where they stand (an operation's
+    arguments and branch keys, a builtin's); building it reports unknown comp words."""
 
-    def _collect_keyword_names(self) -> None:
-        """Mark the names that may be CityEngine keywords where they are written."""
+    def __init__(self, grammar: ast.RuleFile, definitions: DefinitionTable, findings: Findings):
+        self._definitions = definitions
+        self._findings = findings
+        # ids of the names that may be keywords, and the words each may be
+        self._words: dict[int, frozenset[str]] = {}
         # a parameter or local variable may stand as a comp selector (op_comp: a bool
         # selector), R(q) --> comp(f) { q : A }
-        self.local_names = {
+        self._local_names = {
             name
-            for definition in self.grammar.definitions
+            for definition in grammar.definitions
             for name in (
                 *(p.name for p in getattr(definition, "params", ())),
                 *(v.name for v in definition.local_variables),
             )
         }
-        for node in ast.walk(self.grammar):
+        for node in ast.walk(grammar):
             if isinstance(node, ast.Operation):
                 for argument in node.arguments:
                     self._mark(argument.value, OPERATION_KEYWORDS)
@@ -59,33 +65,38 @@ class KeywordNameChecks:
                 for argument in node.args:
                     self._mark(argument, GEOMETRY_KEYWORDS)
 
+    def words_at(self, node) -> frozenset[str]:
+        """The keywords ``node`` (a name or shape attribute) may be where it stands; empty for
+        a name that can only be a name."""
+        return self._words.get(id(node), frozenset())
+
     def _comp_words(self, node: ast.Operation) -> None:
         """comp's kind and selectors: an unknown one is named as such (not as an undefined
         name), with the valid ones."""
         kind = node.arguments[0].value if node.arguments else None
         if isinstance(kind, ast.Name) and kind.name not in COMP_KINDS:
-            self.report(
+            self._findings.report(
                 kind.location,
                 f"unknown component type '{kind.name}' in comp(); valid: {', '.join(COMP_KINDS)}",
             )
-            self.keyword_names[id(kind)] = frozenset({kind.name})
+            self._words[id(kind)] = frozenset({kind.name})
         for branch in node.branches:
             key = branch.key
             if (
                 isinstance(key, ast.Name)
                 and key.name not in COMP_SELECTORS
-                and key.name not in self.values
-                and key.name not in self.local_names
+                and key.name not in self._definitions.values
+                and key.name not in self._local_names
             ):
-                self.report(
+                self._findings.report(
                     key.location,
                     f"unknown comp selector '{key.name}'; valid: {', '.join(COMP_SELECTORS[:6])}"
                     + "..."
                     + did_you_mean(key.name, COMP_SELECTORS),
                 )
-                self.keyword_names[id(key)] = frozenset({key.name})
+                self._words[id(key)] = frozenset({key.name})
 
     def _mark(self, expression, words: frozenset[str]) -> None:
         for node in ast.walk(expression):
             if isinstance(node, ast.Name | ast.ShapeAttribute):
-                self.keyword_names[id(node)] = words
+                self._words[id(node)] = words

@@ -7,13 +7,11 @@ place of each :class:`~shapegen.grammar.ast.DynamicImport` when it merges the im
 
 from __future__ import annotations
 
-from shapegen.errors import SourceLocation
 from shapegen.grammar import ast
+from shapegen.grammar.problems import Problem
 from shapegen.grammar.tree import rebuilt
 
 __all__ = ["reinitialised"]
-
-Problem = tuple[SourceLocation | None, str]
 
 
 def reinitialised(

@@ -40,12 +40,11 @@ from shapegen.grammar.dynamic_imports import reinitialised
 from shapegen.grammar.import_paths import import_candidates, project_folder
 from shapegen.grammar.names import BUILTIN_FUNCTIONS, OPERATION_KEYWORDS
 from shapegen.grammar.parser import parse_with_problems
+from shapegen.grammar.problems import Problem
 from shapegen.grammar.source_files import read_rule_file
 from shapegen.grammar.tree import rebuilt as _rebuilt
 from shapegen.limits import current_limits, limit_hint
 from shapegen.readers.archives import unpacked_package, within
-
-Problem = tuple[SourceLocation | None, str]
 
 #: Annotations of a start rule, ignored on an imported file's rules.
 _START_ANNOTATIONS = frozenset({"StartRule", "Lot", "Structure"})

@@ -28,13 +28,12 @@ from shapegen.grammar.names import (
     ROTATE_PIVOTS,
     SPLIT_AXES,
 )
+from shapegen.grammar.problems import Problem, plural
 
 _UV_DIRECTIONS = {"u": "x", "v": "y"}
 _UV_SPACES = ("unitSpace", "uvSpace")
 
-__all__ = ["OperationCalls", "Problem", "prefix_in_words"]
-
-Problem = tuple[SourceLocation | None, str]
+__all__ = ["OperationCalls", "prefix_in_words"]
 
 
 class OperationCalls:
@@ -410,15 +409,11 @@ def prefix_in_words(argument: CallArgument) -> str:
     return f"a keyword argument ({argument.name}=)"
 
 
-def _plural(count: int, word: str) -> str:
-    return f"{count} {word}" if count == 1 else f"{count} {word}s"
-
-
 def _count_message(name: str, low: int, high: int, got: int) -> str:
     if low == high:
-        wanted = _plural(low, "argument")
+        wanted = plural(low, "argument")
     elif high >= 1_000_000:
-        wanted = f"at least {_plural(low, 'argument')}"
+        wanted = f"at least {plural(low, 'argument')}"
     else:
         wanted = f"{low} to {high} arguments"
     return f"{name}() takes {wanted}, got {got}"

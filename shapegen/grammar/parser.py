@@ -18,13 +18,14 @@ from lark.exceptions import UnexpectedInput
 from shapegen.errors import GrammarError, SourceLocation
 from shapegen.grammar import ast
 from shapegen.grammar.lexer import BlocksTooDeep, DefinitionTooLong, lark_parser
+from shapegen.grammar.problems import Problem
 from shapegen.grammar.syntax_errors import (
     blank_before,
     error_offset,
     resume_offset,
     syntax_problem,
 )
-from shapegen.grammar.transformer import AstBuilder, Problem
+from shapegen.grammar.transformer import AstBuilder
 from shapegen.limits import current_limits, limit_hint
 
 __all__ = ["parse", "parse_with_problems", "source_too_long", "Problem", "MAX_SYNTAX_ERRORS"]

@@ -14,10 +14,10 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from shapegen.errors import SourceLocation
 from shapegen.grammar.lexer import lark_parser
+from shapegen.grammar.problems import Problem
 
 __all__ = ["syntax_problem", "resume_offset", "blank_before", "error_offset"]
 
-Problem = tuple[SourceLocation | None, str]
 
 # Plain words for the terminals lark reports as expected.
 _TERMINAL_WORDS = {

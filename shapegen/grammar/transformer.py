@@ -23,10 +23,11 @@ from shapegen.grammar import ast
 from shapegen.grammar.ast import BlockEntry, CallArgument, EntryGroup
 from shapegen.grammar.definitions import dialect_of
 from shapegen.grammar.names import CGA_OPERATIONS, OPERATIONS, SHAPE_ATTRIBUTES, SHAPE_VALUES
-from shapegen.grammar.operation_calls import OperationCalls, Problem
+from shapegen.grammar.operation_calls import OperationCalls
+from shapegen.grammar.problems import Problem
 from shapegen.grammar.rewrites import BOOLEAN_OPERATIONS, generic_start_rules, two_operands
 
-__all__ = ["AstBuilder", "Problem"]
+__all__ = ["AstBuilder"]
 
 
 @dataclasses.dataclass(frozen=True)
