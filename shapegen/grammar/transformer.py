@@ -399,6 +399,8 @@ class AstBuilder(Transformer):
         return ("floating", children[0])
 
     def operation(self, meta, children):
+        """``name(args) { block }*``: the call as written (its arguments, one block), handed to
+        :meth:`OperationCalls.node <shapegen.grammar.operation_calls.OperationCalls.node>`."""
         name_token = children[0]
         name = str(name_token)
         location = self._at(name_token)
@@ -412,7 +414,6 @@ class AstBuilder(Transformer):
                 block = dataclasses.replace(block, entries=block.entries + blocks[1].entries)
             else:
                 self._problem(blocks[1].location, f"{name}() takes one {{ ... }} block")
-
         return self.operation_calls.node(name, arguments, block, location)
 
     # Expressions -------------------------------------------------------------------------------
