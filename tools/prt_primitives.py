@@ -223,11 +223,13 @@ def measure(pyprt, work: Path, source: Path, patcher: Path, operations: str) -> 
 
 
 @contextmanager
-def rewritable_package(corpus: Path, tool: str):
-    """The corpus's extrusion_rule package unpacked and the ASM patcher compiled, in a
-    temporary folder: ``(pyprt, work, source, patcher)`` for each tool's ``measure``. What is
-    missing (java, javac, 7z, the ASM jar, the package) ends the tool with one line, status 2."""
-    package = corpus / PACKAGE
+def rewritable_package(corpus: Path, tool: str, package: str = PACKAGE, patcher: str = PATCHER):
+    """The corpus's ``package`` (the extrusion_rule one unless named) unpacked and the ASM
+    ``patcher`` (this tool's unless given; a Java class ``Patch``) compiled, in a temporary
+    folder: ``(pyprt, work, source, patcher)`` for each tool's ``measure``. What is missing
+    (java, javac, 7z, the ASM jar, the package) ends the tool with one line, status 2."""
+    source_code = patcher
+    package = corpus / package
     missing = [name for name in ("java", "javac", "7z") if shutil.which(name) is None]
     if missing or not Path(ASM_JAR).exists() or not package.exists():
         what = missing + [p for p in (ASM_JAR, str(package)) if not Path(p).exists()]
@@ -242,7 +244,7 @@ def rewritable_package(corpus: Path, tool: str):
                        stdout=subprocess.DEVNULL)  # fmt: skip
         patcher = work / "patcher"
         patcher.mkdir()
-        (patcher / "Patch.java").write_text(PATCHER)
+        (patcher / "Patch.java").write_text(source_code)
         subprocess.run(["javac", "-cp", ASM_JAR, "Patch.java"], cwd=patcher, check=True)
         yield pyprt, work, source, patcher
 

@@ -44,6 +44,7 @@ from shapegen.geometry import polygon2d
 from shapegen.geometry.frames import quadrant
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.geometry.queries import FACE_SELECTORS, face_matches
+from shapegen.geometry.setback_pieces import setback_pieces
 from shapegen.grammar import ast
 from shapegen.limits import check_clock
 from shapegen.model.scope import Scope
@@ -249,11 +250,15 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
     quadrants, selected)`` gives each edge's distance."""
 
     def setback_op(state, args, out):
-        strips: dict[object, list[list[np.ndarray]]] = {}  # selector -> groups of faces
-        remainder: list[list[np.ndarray]] = []
-        shape_pieces: list[np.ndarray] = []
+        strips: dict[object, list[list]] = {}  # selector -> groups of faces
+        remainder: list[list] = []
         lines = SetbackLines()
-        for frame, polygon in flat_faces(state, node, program, f"{node.name}()"):
+        frames = flat_faces(state, node, program, f"{node.name}()")
+        holes = face_holes(state.shape) if state.shape.geometry is not None else []
+        if len(holes) != len(frames):
+            holes = [[] for _ in frames]
+        selectors = [s for s, _, _, _ in branches if s not in ("remainder", "shape")]
+        for (frame, polygon), rings in zip(frames, holes, strict=True):
             n = len(polygon)
             scope_normals = edge_normals(frame, polygon)
             quadrants = [quadrant(v) for v in scope_normals]
@@ -262,9 +267,7 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
             objects = world if rotation is None else world @ rotation
             owner: list[object] = [None] * n  # the first selector that takes each edge
             where = (state, frame, polygon, args)
-            for selector, _, _, _ in branches:
-                if selector in ("remainder", "shape"):
-                    continue
+            for selector in selectors:
                 for k in range(n):
                     normals = (scope_normals[k], world[k], objects[k])
 
@@ -272,20 +275,32 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
                         owner[k] = selector
             selected = np.array([o is not None for o in owner]) if not shape_selector else None
             distances = distances_of(args, state, frame, polygon, quadrants, selected)
+            lines.add(state.shape.scope, frame, polygon, distances)
+            if shape_selector:
+                try:
+                    result = polygon2d.setback(polygon, distances)
+                except GeometryError as exc:
+                    raise program.operation_error(node, f"{node.name}(): {exc}") from None
+                shape_pieces = [piece for _, piece in result.strips]
+                if shape_pieces:
+                    strips.setdefault("shape", []).extend(_joined(frame, shape_pieces))
+                remainder += [[frame.lift(p)] for p in result.remainder]
+                continue
+            # each branch's edges in the order the branches are written: the first takes
+            # the corners it shares with a later one (tests/data/prt_setback.json)
+            groups = [[k for k in range(n) if owner[k] == sel] for sel in selectors]
             try:
-                result = polygon2d.setback(polygon, distances)
+                pieces = setback_pieces(polygon, rings, distances, groups)
             except GeometryError as exc:
                 raise program.operation_error(node, f"{node.name}(): {exc}") from None
-            lines.add(state.shape.scope, frame, polygon, distances)
-            for k, piece in result.strips:
-                if shape_selector:
-                    shape_pieces.append(piece)
-                elif owner[k] is not None:
-                    strips.setdefault(owner[k], []).append([frame.lift(piece)])
-            if shape_selector and shape_pieces:
-                strips.setdefault("shape", []).extend(_joined(frame, shape_pieces))
-                shape_pieces = []
-            remainder += [[frame.lift(p)] for p in result.remainder]
+            for selector, group in zip(selectors, pieces.groups, strict=True):
+                for outer, inner in group:
+                    lifted = (frame.lift(outer), [frame.lift(h) for h in inner])
+                    strips.setdefault(selector, []).append([lifted])
+            remainder += [
+                [(frame.lift(outer), [frame.lift(h) for h in inner])]
+                for outer, inner in pieces.remainder
+            ]
 
         def pieces_of(selector):
             return remainder if selector == "remainder" else strips.get(selector, [])
@@ -318,7 +333,7 @@ def _emit_all(state, args, branches, pieces_of, out, lines=None) -> None:
             continue
         groups = [[face for group in pieces for face in group]] if merge else pieces
         for index, group in enumerate(groups):
-            piece = flat_shape(parent, group)
+            piece = _face_shape(parent, group)
             if lines is not None and run.tags:
                 piece = piece.with_tags(Pending(parent, lines.rule(selector == "remainder")))
             child = run.child(state, piece, branch)
@@ -326,6 +341,15 @@ def _emit_all(state, args, branches, pieces_of, out, lines=None) -> None:
             child.comp_total = len(groups)
             if body(child, args, out) and child.is_leaf():
                 out.append((child, None, ()))
+
+
+def _face_shape(parent: Shape, group: list) -> Shape:
+    """:func:`flat_shape` of a group of faces, each ``(k, 3)`` or ``(outer, holes)``."""
+    if all(isinstance(face, np.ndarray) for face in group):
+        return flat_shape(parent, group)
+    faces = [face if isinstance(face, np.ndarray) else face[0] for face in group]
+    holes = [[] if isinstance(face, np.ndarray) else list(face[1]) for face in group]
+    return flat_shape(parent, faces, FACE, holes)
 
 
 def array_elements(value):

@@ -1,0 +1,79 @@
+"""setback's pieces as CityEngine's runtime gives them, against PyPRT's measured figures
+(tests/data/prt_setback.json, made by tools/prt_setback.py): the edges a branch selects joined
+into one face (a ring with a hole for ``all``), the first branch taking the corners it shares
+with a later one, a face's holes kept in the piece around them, the remainder."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+import shapegen.prt as pyprt
+
+#: The reference entries each test shows (tools/cga_coverage.py reads this table).
+COVERS = {"test_pyprt_s_setback_pieces": ("op:setback",)}
+
+MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_setback.json").read_text())
+FIGURES = ("nFaces", "nHoles", "nVertices", "area")
+
+
+def _case_id(case):
+    return f"{case['lot']}:{case['rule']}"
+
+
+def _rule(text: str) -> str:
+    """The case's rule as a .cga file: each branch's shape reports its geometry."""
+    body = text[text.index("{") + 1 : text.rindex("}")]
+    branches = [part.strip() for part in body.split("|")]
+    head = text[: text.index("{")].strip()
+    written = [f"{b[:-1].strip()} {b[-1]} B{k}" for k, b in enumerate(branches)]
+    lines = [f"Lot --> {head} {{ {' | '.join(written)} }}"]
+    for k in range(len(branches)):
+        reports = " ".join(f'report("b{k}.{f}", geometry.{f})' for f in FIGURES)
+        lines.append(f"B{k} --> {reports}")
+    return 'version "2023.0"\n@StartRule\n' + "\n".join(lines) + "\n"
+
+
+def _faces(vertices, indices, counts) -> list:
+    """Each face (or hole) as the sorted set of its corners, rounded to 0.1 mm."""
+    corners = range(0, len(vertices), 3)
+    points = [tuple(round(c, 4) + 0.0 for c in vertices[i : i + 3]) for i in corners]
+    out, start = [], 0
+    for n in counts:
+        out.append(sorted({points[i] for i in indices[start : start + n]}))
+        start += n
+    return sorted(out)
+
+
+@pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)
+def test_pyprt_s_setback_pieces(tmp_path, case):
+    lot = MEASURED["lots"][case["lot"]]
+    rule = tmp_path / "setback.cga"
+    rule.write_text(_rule(case["rule"]))
+    if "holes" in lot:
+        shape = pyprt.InitialShape(
+            lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"]
+        )
+    else:
+        shape = pyprt.InitialShape(lot["coordinates"])
+    (model,) = pyprt.ModelGenerator([shape]).generate_model(
+        [{}], str(rule), "com.esri.pyprt.PyEncoder", {}
+    )
+    assert model.get_cga_errors() == []
+    report = model.get_report()
+    for k in range(len(re.findall(r"[:=]", case["rule"]))):
+        expected = case[f"b{k}"]
+        assert report.get(f"b{k}.nFaces_n", 0) == expected["shapes"], f"b{k} shapes"
+        for name in FIGURES:
+            if expected[name] is not None:
+                got = report[f"b{k}.{name}_sum"]
+                assert got == pytest.approx(expected[name], abs=1e-6), f"b{k}.{name}"
+    assert len(model.get_vertices()) // 3 == case["encoder_vertices"]
+    assert sorted(model.get_faces()) == sorted(case["encoder_faces"])
+    if "points" in case:
+        flat = [c for p in case["points"] for c in p]
+        ours = _faces(model.get_vertices(), model.get_indices(), model.get_faces())
+        assert ours == _faces(flat, case["indices"], case["encoder_faces"])
