@@ -5,6 +5,7 @@ operations after it, and what the selectors and functions read of them."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from shapegen import parse_grammar
@@ -203,21 +204,25 @@ def test_booleans_tag_faces_by_operand_and_the_cut_edges():
 
 
 # op_setback: "isTagged(tagQuery): Selects tagged edges ... Edges can also be selected based on
-# the tags of adjacent faces."
+# the tags of adjacent faces." The strips of the edges a branch selects are one face each where
+# they meet (tests/data/prt_setback.json): all four edges of the 12 x 8 m lot are one ring.
 @pytest.mark.parametrize(
-    "operations, selector, strips",
+    "operations, selector, shapes, area",
     [
-        ('tag("E", edges)', 'isTagged("E") && front', 1),
-        ('tag("E", edges)', 'isTagged("E")', 4),
-        ('tag("F")', 'isTagged("F") && (back || left)', 2),  # the tags of the face
-        ('tag("E", edges)', 'isTagged("Other")', 0),
+        ('tag("E", edges)', 'isTagged("E") && front', 1, 24.0),
+        ('tag("E", edges)', 'isTagged("E")', 1, 64.0),
+        ('tag("F")', 'isTagged("F") && (back || left)', 1, 36.0),  # the tags of the face
+        ('tag("E", edges)', 'isTagged("Other")', 0, 0.0),
     ],
 )
-def test_setback_selects_tagged_edges(operations, selector, strips):
+def test_setback_selects_tagged_edges(operations, selector, shapes, area):
     text = (
-        f"""Lot --> {operations} setback(2) {{ {selector} : report("n", 1) X. | remainder : R. }}"""
+        f'Lot --> {operations} setback(2) {{ {selector} : report("a", geometry.area) X. '
+        "| remainder : R. }"
     )
-    assert _count(_reports(text), "n") == strips
+    reports = _reports(text)
+    assert _count(reports, "a") == shapes
+    assert sum(np.atleast_1d(reports.get("a", 0.0))) == pytest.approx(area)
 
 
 def test_is_tagged_outside_a_selector_is_an_error():
