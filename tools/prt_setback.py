@@ -74,6 +74,12 @@ CASES = [
     (2, "back: | remainder:"),
     (2, "back="),
     (2, "front: | back: | remainder:"),
+    ((1, 3, 2, 0.5), "all: | remainder:"),
+    ((1, 3, 2, 0.5), "front: | side: | remainder:"),
+    ((1, 3, 2, 0.5), "left: | back: | right: | front: | remainder:"),
+    ((3, 0, 1, 2), "all: | remainder:"),
+    ((2, 1, 1, 3, 2, 1), "all: | remainder:"),
+    ((2, 1, 1, 3, 2, 1), "back: | right: | remainder:"),
 ]
 
 # The rewriter: Default$Footprint's code becomes the setback of the case (args: in, out, then
@@ -112,7 +118,24 @@ public class Patch {
             }
             void footprint(MethodVisitor mv) {
                 mv.visitCode();
-                mv.visitLdcInsn(Double.valueOf(parts[0]));
+                String[] distances = parts[0].split(",");
+                String setback = "(D" + NODE + ")V";
+                if (distances.length == 1) {
+                    mv.visitLdcInsn(Double.valueOf(parts[0]));
+                } else {  // an array of distances, one per edge
+                    mv.visitLdcInsn(Integer.valueOf(distances.length));
+                    mv.visitIntInsn(Opcodes.NEWARRAY, Opcodes.T_DOUBLE);
+                    for (int i = 0; i < distances.length; i++) {
+                        mv.visitInsn(Opcodes.DUP);
+                        mv.visitLdcInsn(Integer.valueOf(i));
+                        mv.visitLdcInsn(Double.valueOf(distances[i]));
+                        mv.visitInsn(Opcodes.DASTORE);
+                    }
+                    mv.visitLdcInsn(Integer.valueOf(1));
+                    mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, "_$createArray",
+                                       "([DI)Lcom/esri/gc/FloatArray;", false);
+                    setback = "(Lcom/esri/gc/FloatArray;" + NODE + ")V";
+                }
                 mv.visitLdcInsn(Integer.valueOf(parts.length - 1));
                 mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, "_$createSplitRoot",
                                    "(I)" + NODE, false);
@@ -134,8 +157,7 @@ public class Patch {
                     mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, "_$addSplitNode",
                                        "(" + NODE + NODE + ")V", false);
                 }
-                mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, "setback", "(D" + NODE + ")V",
-                                   false);
+                mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, "setback", setback, false);
                 mv.visitInsn(Opcodes.RETURN);
                 mv.visitMaxs(0, 0);
                 mv.visitEnd();
@@ -187,7 +209,8 @@ def measure(pyprt, work: Path, source: Path, patcher: Path, lot: dict, distance,
     package = case / "package"
     shutil.copytree(source, package)
     (cgb,) = package.glob("bin/*.cgb")
-    spec = "|".join([str(float(distance))] + [
+    values = distance if isinstance(distance, (list, tuple)) else (distance,)
+    spec = "|".join([",".join(str(float(v)) for v in values)] + [
         f"{name}:{1 if op == ':' else 0}" for name, op in branches(text)
     ])  # fmt: skip
     java = ["java", "-cp", f"{ASM_JAR}{os.pathsep}{patcher}", "Patch", str(cgb), str(cgb)]
@@ -209,7 +232,11 @@ def measure(pyprt, work: Path, source: Path, patcher: Path, lot: dict, distance,
         [{}], str(rpk), "com.esri.pyprt.PyEncoder", options
     )
     report = model.get_report()
-    row: dict = {"rule": f"setback({distance:g}) {{ {text} }}"}
+    written = (
+        f"[{', '.join(f'{v:g}' for v in values)}]" if isinstance(distance, (list, tuple))
+        else f"{distance:g}"
+    )  # fmt: skip
+    row: dict = {"rule": f"setback({written}) {{ {text} }}"}
     for k in range(len(branches(text))):
         shapes = report.get(f"b{k}.nFaces_n")
         sums = {what: report.get(f"b{k}.{what}_sum") for what in GEOMETRY}

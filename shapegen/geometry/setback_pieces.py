@@ -94,8 +94,9 @@ def setback_pieces(polygon, holes, distances, groups) -> SetbackPieces:
         taken = region if taken is None else taken.union(region)
         if hole_area is not None:
             region = region.difference(hole_area)
-        pieces = [_piece(part, corners, eps) for part in _polygons(region, eps)]
-        out[g] = [_started(piece, p, sorted(edges), d) for piece in pieces if piece is not None]
+        moved = sorted(k for k in edges if d[k] > 0)  # a 0 edge's line starts no piece
+        pieces = (_piece(part, corners, eps, p) for part in _polygons(region, eps))
+        out[g] = [_started(piece, p, moved, d) for piece in pieces if piece is not None]
     if hole_area is None:
         remainder = tuple((_with_corners(r, corners, eps), ()) for r in base.remainder)
     else:
@@ -174,8 +175,14 @@ def _is_corner(q, corners: np.ndarray, eps: float) -> bool:
     return bool((np.linalg.norm(corners - q, axis=1) <= eps).any())
 
 
-def _piece(part: ShapelyPolygon, corners: np.ndarray, eps: float) -> Piece | None:
-    outer = _clean(np.asarray(part.exterior.coords)[:-1], corners, eps)
+def _piece(part: ShapelyPolygon, corners: np.ndarray, eps: float, outline=None) -> Piece | None:
+    """A shapely polygon as a piece, its rings cleaned (:func:`_clean`): the outer ring with
+    the corners of the face's ``outline`` (all ``corners`` when not given), the holes with all
+    the face's corners, as PyPRT's pieces have them (a hole of the face on the edge of a
+    piece's outer ring adds no corner to it, one on the edge of a piece's hole does)."""
+    outer = _clean(
+        np.asarray(part.exterior.coords)[:-1], corners if outline is None else outline, eps
+    )
     if len(outer) < 3 or signed_area(outer) <= eps * eps:
         return None
     holes = []
@@ -187,9 +194,9 @@ def _piece(part: ShapelyPolygon, corners: np.ndarray, eps: float) -> Piece | Non
 
 
 def _started(piece: Piece, p: np.ndarray, edges: list[int], d: np.ndarray) -> Piece:
-    """``piece`` with its outer ring starting where it runs along the first of ``edges`` it
-    touches (as the edge runs), its holes where they run back along that edge's set-back line
-    (as PyPRT's pieces start)."""
+    """``piece`` with its outer ring starting where it runs along the first of ``edges`` (the
+    set-back ones of its branch) it touches, as the edge runs, its holes where they run back
+    along that edge's set-back line (as PyPRT's pieces start)."""
     outer, holes = piece
     n = len(p)
     for k in edges:

@@ -79,7 +79,9 @@ def test_pyprt_s_setback_pieces(tmp_path, case):
     (model,) = pyprt.ModelGenerator([shape]).generate_model(
         [{}], str(rule), "com.esri.pyprt.PyEncoder", {}
     )
-    assert model.get_cga_errors() == []
+    # CityEngine warns where an array of distances has not one per face edge, holes' too
+    warnings = [e.split("setback(): ")[1] for e in case["errors"]]
+    assert [e.split("setback(): ")[1] for e in model.get_cga_errors()] == warnings
     report = model.get_report()
     for k in range(len(re.findall(r"[:=]", case["rule"]))):
         expected = case[f"b{k}"]
@@ -97,3 +99,24 @@ def test_pyprt_s_setback_pieces(tmp_path, case):
         if (case["lot"], case["rule"]) in OTHER_START:
             ours, theirs = [_turned(r) for r in ours], [_turned(r) for r in theirs]
         assert sorted(ours) == sorted(theirs)
+
+
+# op_setback: "The array must be in face-edge order, i.e. the first element is the distance of
+# the first edge of the first face, the second element is the distance of the second edge of
+# the first face, and so on."
+def test_an_array_of_distances_runs_over_the_faces_in_order():
+    from shapegen import parse_grammar
+
+    front_then_back = "[1, 0, 0, 0,  0, 0, 0, 0,  2, 0, 0, 0,  0, 0, 0, 0]"
+    text = (
+        "@StartRule\nLot --> extrude(4) comp(f) { side = Sides }\n"
+        f'Sides --> setback({front_then_back}) {{ all = report("a", geometry.area) G. }}'
+    )
+    model = parse_grammar(text, "r.cga").build(lot=(12.0, 8.0))
+    # the sides' first edges are their bottom ones: 12 m of the front by 1 m, 12 m of the back
+    # by 2 m (the first four values on every face would give 12 + 8 + 12 + 8)
+    assert model.metadata["reports"]["a"] == pytest.approx(12 * 1 + 12 * 2)
+    assert not [w for w in model.metadata.get("warnings", ()) if "array size" in w]
+    short = text.replace(front_then_back, "[1, 0, 0]")
+    model = parse_grammar(short, "r.cga").build(lot=(12.0, 8.0))
+    assert any("array size smaller" in w for w in model.metadata["warnings"])

@@ -247,7 +247,8 @@ def _edge_selected(selector, normals, index: int, count: int, where) -> bool:
 
 def _setback_operation(program, node, branches, distances_of, shape_selector: bool):
     """The closure of setback-like operations. ``distances_of(args, state, frame, polygon,
-    quadrants, selected)`` gives each edge's distance."""
+    quadrants, selected, first)`` gives each edge's distance (``first``: the index of the
+    face's first edge among the shape's face edges, each face's outline and then its holes)."""
 
     def setback_op(state, args, out):
         strips: dict[object, list[list]] = {}  # selector -> groups of faces
@@ -258,6 +259,7 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
         if len(holes) != len(frames):
             holes = [[] for _ in frames]
         selectors = [s for s, _, _, _ in branches if s not in ("remainder", "shape")]
+        first = 0
         for (frame, polygon), rings in zip(frames, holes, strict=True):
             n = len(polygon)
             scope_normals = edge_normals(frame, polygon)
@@ -274,7 +276,8 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
                     if owner[k] is None and _edge_selected(selector, normals, k, n, where):
                         owner[k] = selector
             selected = np.array([o is not None for o in owner]) if not shape_selector else None
-            distances = distances_of(args, state, frame, polygon, quadrants, selected)
+            distances = distances_of(args, state, frame, polygon, quadrants, selected, first)
+            first += n + sum(len(ring) for ring in rings)
             lines.add(state.shape.scope, frame, polygon, distances)
             if shape_selector:
                 try:
@@ -361,11 +364,13 @@ def array_elements(value):
     return value if isinstance(value, (list, tuple)) else None
 
 
-def _distance_list(program, node, value, n: int) -> np.ndarray:
+def _distance_list(program, node, value, n: int, first: int = 0) -> np.ndarray:
+    """The distances of the ``n`` edges from face edge ``first`` on: a number for each, or
+    an array in face-edge order (op_setback), missing values 0."""
     if array_elements(value) is not None:
         value = array_elements(value)
         d = np.zeros(n)
-        for k, item in enumerate(value[:n]):
+        for k, item in enumerate(value[first : first + n]):
             if type(item) is bool or not isinstance(item, (int, float)):
                 raise program.error(node, f"setback distances must be numbers, got {item!r}")
             d[k] = float(item)
@@ -373,6 +378,22 @@ def _distance_list(program, node, value, n: int) -> np.ndarray:
     if type(value) is bool or not isinstance(value, (int, float)):
         raise program.error(node, f"a setback distance must be a number, got {type_name(value)}")
     return np.full(n, float(value))
+
+
+def _warn_array_size(state, node, value) -> None:
+    """CityEngine's runtime warns when an array of distances does not have one value per face
+    edge (the holes' edges counted; PyPRT, tests/data/prt_setback.json) and carries on."""
+    values = array_elements(value)
+    if values is None:
+        return
+    mesh = state.shape.mesh()
+    edges = sum(map(len, mesh.faces)) + sum(len(r) for rings in mesh.holes for r in rings)
+    if len(values) < edges:
+        warn_at(state, node, f"{node.name}(): Provided array size smaller than face edge "
+                "count, using default value (0).")  # fmt: skip
+    elif len(values) > edges:
+        warn_at(state, node, f"{node.name}(): Provided array size larger than face edge "
+                "count, ignoring some values.")  # fmt: skip
 
 
 @compiles("setback", "setbackPerEdge")
@@ -384,7 +405,7 @@ def compile_setback(program, node: ast.Operation, params):
     distance = program.expressions.compile(values[0], params)
     per_edge = node.name == "setbackPerEdge"
 
-    def distances_of(args, state, frame, polygon, quadrants, selected):
+    def distances_of(args, state, frame, polygon, quadrants, selected, first):
         n = len(polygon)
         if per_edge:
             saved = state.comp_index, state.comp_total
@@ -396,7 +417,10 @@ def compile_setback(program, node: ast.Operation, params):
             finally:
                 state.comp_index, state.comp_total = saved
         else:
-            d = _distance_list(program, node, distance(args, state), n)
+            value = distance(args, state)
+            if first == 0:
+                _warn_array_size(state, node, value)
+            d = _distance_list(program, node, value, n, first)
         if np.any(d < 0):
             if not program.cga_dialect:
                 raise program.error(
@@ -419,9 +443,9 @@ def compile_setback_to_area(program, node: ast.Operation, params):
     area = number(program, node, values[0], params, "the area")
     bounds = [program.expressions.compile(v, params) for v in values[1:]]
 
-    def distances_of(args, state, frame, polygon, quadrants, selected):
+    def distances_of(args, state, frame, polygon, quadrants, selected, first):
         n = len(polygon)
-        limits = [_distance_list(program, node, b(args, state), n) for b in bounds]
+        limits = [_distance_list(program, node, b(args, state), n, first) for b in bounds]
         try:
             _, d = polygon2d.setback_to_area(polygon, area(args, state), selected, *limits)
         except GeometryError as exc:
@@ -445,7 +469,7 @@ def compile_shape_luo(program, node: ast.Operation, params):
     widths = [number(program, node, v, params, "a width") for v in values]
     branches = _branches(program, node, params, {"shape", "remainder"}, edges=False)
 
-    def distances_of(args, state, frame, polygon, quadrants, selected):
+    def distances_of(args, state, frame, polygon, quadrants, selected, first):
         by_side = {side: w(args, state) for side, w in zip(sides, widths, strict=True)}
         if any(v < 0 for v in by_side.values()):
             if not program.cga_dialect:
