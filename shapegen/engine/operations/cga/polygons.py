@@ -255,9 +255,7 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
         remainder: list[list] = []
         lines = SetbackLines()
         frames = flat_faces(state, node, program, f"{node.name}()")
-        holes = face_holes(state.shape) if state.shape.geometry is not None else []
-        if len(holes) != len(frames):
-            holes = [[] for _ in frames]
+        holes = face_holes(state.shape)  # in the order of the frames
         selectors = [s for s, _, _, _ in branches if s not in ("remainder", "shape")]
         first = 0
         for (frame, polygon), rings in zip(frames, holes, strict=True):
