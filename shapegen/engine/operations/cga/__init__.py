@@ -93,6 +93,7 @@ from shapegen.engine.operations.cga import (  # noqa: E402, F401
     scatter,
     scope_fit,
     scope_ops,
+    setbacks,
     split_area,
     tags,
     topology,

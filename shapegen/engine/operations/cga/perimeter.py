@@ -27,13 +27,9 @@ import numpy as np
 
 from shapegen.engine.expressions.arrays import type_name
 from shapegen.engine.operations.cga import compiles, warn_at
-from shapegen.engine.operations.cga.polygons import (
-    _joined,
-    array_elements,
-    flat_faces,
-    flat_shape,
-)
+from shapegen.engine.operations.cga.polygons import array_elements, flat_faces, flat_shape
 from shapegen.engine.operations.cga.setback_tags import SetbackLines
+from shapegen.engine.operations.cga.setbacks import joined_strips
 from shapegen.engine.shapes.split import SplitPart, SplitRepeat, resolve_split
 from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
@@ -155,7 +151,7 @@ def compile_split_and_setback_perimeter(program, node: ast.Operation, params):
             if index not in strips:
                 continue
             body, branch = pattern[piece.key][3], pattern[piece.key][4]
-            groups = _joined(frame, strips[index])
+            groups = joined_strips(frame, strips[index])
             made = flat_shape(parent, [face for group in groups for face in group])
             if run.tags:
                 made = made.with_tags(Pending(parent, lines.rule(False)))

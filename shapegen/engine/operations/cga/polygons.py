@@ -1,5 +1,6 @@
-"""CityEngine's polygon operations on faces: setback, setbackPerEdge, setbackToArea, shapeL,
-shapeU, shapeO, innerRectangle and footprint (offset: :mod:`.offset`), and what they share.
+"""CityEngine's polygon operations on faces, innerRectangle and footprint, and what they share
+with the setbacks (:mod:`.setbacks`) and offset (:mod:`.offset`): faces laid in their planes,
+shapes made of flat faces, branches of edge selectors.
 
 Each acts on every face of a flat shape (the lot, a ``comp(f)`` face, an earlier result; offset
 also on a 3D shape's faces): the face is laid in its own plane (x along the scope's in-plane
@@ -22,19 +23,20 @@ __all__ = [
     "face_frames",
     "edge_normals",
     "edge_quadrants",
+    "emit_pieces",
+    "face_holes",
+    "flat_faces",
     "flat_shape",
+    "selector_branches",
 ]
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.engine.expressions.arrays import type_name
-from shapegen.engine.operations.cga import compiles, warn_at
-from shapegen.engine.operations.cga.arguments import number, plain_arguments, selector_name
+from shapegen.engine.operations.cga import compiles
+from shapegen.engine.operations.cga.arguments import plain_arguments, selector_name
 from shapegen.engine.operations.cga.setback_tags import (
-    SetbackLines,
-    edge_component,
     tag_selector,
 )
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
@@ -43,8 +45,7 @@ from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
 from shapegen.geometry.frames import quadrant
 from shapegen.geometry.mesh import Mesh, polygon_normal
-from shapegen.geometry.queries import FACE_SELECTORS, face_matches
-from shapegen.geometry.setback_pieces import setback_pieces
+from shapegen.geometry.queries import FACE_SELECTORS
 from shapegen.grammar import ast
 from shapegen.limits import check_clock
 from shapegen.model.scope import Scope
@@ -205,7 +206,7 @@ def flat_faces(state, node, program, what: str) -> list[tuple[FaceFrame, np.ndar
     return face_frames(shape)
 
 
-def _branches(program, node, params, allowed: set[str], edges: bool):
+def selector_branches(program, node, params, allowed: set[str], edges: bool):
     """``(selector, body, merge, branch)`` for each branch: a name or an edge index."""
     from shapegen.grammar import expressions as ex
 
@@ -231,99 +232,7 @@ def _branches(program, node, params, allowed: set[str], edges: bool):
     return out
 
 
-# -- setbacks -------------------------------------------------------------------------------
-
-
-def _edge_selected(selector, normals, index: int, count: int, where) -> bool:
-    """Whether edge ``index`` with ``normals`` (scope, world, object) matches ``selector``
-    (``where``: state, face frame, polygon, arguments, for a selector written with isTagged)."""
-    if isinstance(selector, int):
-        return index == selector % count
-    if callable(selector):
-        state, frame, polygon, args = where
-        return selector(edge_component(state.shape, frame, polygon, index, normals), state, args)
-    return face_matches(selector, *normals, True)
-
-
-def _setback_operation(program, node, branches, distances_of, shape_selector: bool):
-    """The closure of setback-like operations. ``distances_of(args, state, frame, polygon,
-    quadrants, selected, first)`` gives each edge's distance (``first``: the index of the
-    face's first edge among the shape's face edges, each face's outline and then its holes)."""
-
-    def setback_op(state, args, out):
-        strips: dict[object, list[list]] = {}  # selector -> groups of faces
-        remainder: list[list] = []
-        lines = SetbackLines()
-        frames = flat_faces(state, node, program, f"{node.name}()")
-        holes = face_holes(state.shape)  # in the order of the frames
-        selectors = [s for s, _, _, _ in branches if s not in ("remainder", "shape")]
-        first = 0
-        for (frame, polygon), rings in zip(frames, holes, strict=True):
-            n = len(polygon)
-            scope_normals = edge_normals(frame, polygon)
-            quadrants = [quadrant(v) for v in scope_normals]
-            world = scope_normals @ state.shape.scope.rotation.T
-            rotation = getattr(state.run, "object_rotation", None)
-            objects = world if rotation is None else world @ rotation
-            owner: list[object] = [None] * n  # the first selector that takes each edge
-            where = (state, frame, polygon, args)
-            for selector in selectors:
-                for k in range(n):
-                    normals = (scope_normals[k], world[k], objects[k])
-
-                    if owner[k] is None and _edge_selected(selector, normals, k, n, where):
-                        owner[k] = selector
-            selected = np.array([o is not None for o in owner]) if not shape_selector else None
-            distances = distances_of(args, state, frame, polygon, quadrants, selected, first)
-            first += n + sum(len(ring) for ring in rings)
-            lines.add(state.shape.scope, frame, polygon, distances)
-            if shape_selector:
-                try:
-                    result = polygon2d.setback(polygon, distances)
-                except GeometryError as exc:
-                    raise program.operation_error(node, f"{node.name}(): {exc}") from None
-                shape_pieces = [piece for _, piece in result.strips]
-                if shape_pieces:
-                    strips.setdefault("shape", []).extend(_joined(frame, shape_pieces))
-                remainder += [[frame.lift(p)] for p in result.remainder]
-                continue
-            # each branch's edges in the order the branches are written: the first takes
-            # the corners it shares with a later one (tests/data/prt_setback.json)
-            groups = [[k for k in range(n) if owner[k] == sel] for sel in selectors]
-            try:
-                pieces = setback_pieces(polygon, rings, distances, groups)
-            except GeometryError as exc:
-                raise program.operation_error(node, f"{node.name}(): {exc}") from None
-            for selector, group in zip(selectors, pieces.groups, strict=True):
-                for outer, inner in group:
-                    lifted = (frame.lift(outer), [frame.lift(h) for h in inner])
-                    strips.setdefault(selector, []).append([lifted])
-            remainder += [
-                [(frame.lift(outer), [frame.lift(h) for h in inner])]
-                for outer, inner in pieces.remainder
-            ]
-
-        def pieces_of(selector):
-            return remainder if selector == "remainder" else strips.get(selector, [])
-
-        _emit_all(state, args, branches, pieces_of, out, lines)
-        return True
-
-    return setback_op
-
-
-def _joined(frame: FaceFrame, pieces: list[np.ndarray]) -> list[list[np.ndarray]]:
-    """The union of strips as face groups: one polygon per piece, or (a ring, which a face
-    without holes cannot hold) the strips together as one shape."""
-    merged = polygon2d.union(pieces)
-    if abs(sum(map(polygon2d.signed_area, merged)) - sum(map(polygon2d.signed_area, pieces))) > (
-        COINCIDENT_REL * sum(map(polygon2d.signed_area, pieces))
-    ):
-        return [[frame.lift(p) for p in pieces]]
-    return [[frame.lift(p)] for p in merged]
-
-
-def _emit_all(state, args, branches, pieces_of, out, lines=None) -> None:
+def emit_pieces(state, args, branches, pieces_of, out, lines=None) -> None:
     """Give each branch its face groups: ``:`` one shape per group, ``=`` one for all;
     ``lines`` (a :class:`SetbackLines`) gives the pieces the setback's auto-tags."""
     run = state.run
@@ -362,126 +271,6 @@ def array_elements(value):
     return value if isinstance(value, (list, tuple)) else None
 
 
-def _distance_list(program, node, value, n: int, first: int = 0) -> np.ndarray:
-    """The distances of the ``n`` edges from face edge ``first`` on: a number for each, or
-    an array in face-edge order (op_setback), missing values 0."""
-    if array_elements(value) is not None:
-        value = array_elements(value)
-        d = np.zeros(n)
-        for k, item in enumerate(value[first : first + n]):
-            if type(item) is bool or not isinstance(item, (int, float)):
-                raise program.error(node, f"setback distances must be numbers, got {item!r}")
-            d[k] = float(item)
-        return d
-    if type(value) is bool or not isinstance(value, (int, float)):
-        raise program.error(node, f"a setback distance must be a number, got {type_name(value)}")
-    return np.full(n, float(value))
-
-
-def _warn_array_size(state, node, value) -> None:
-    """CityEngine's runtime warns when an array of distances does not have one value per face
-    edge (the holes' edges counted; PyPRT, tests/data/prt_setback.json) and carries on."""
-    values = array_elements(value)
-    if values is None:
-        return
-    mesh = state.shape.mesh()
-    edges = sum(map(len, mesh.faces)) + sum(len(r) for rings in mesh.holes for r in rings)
-    if len(values) < edges:
-        warn_at(state, node, f"{node.name}(): Provided array size smaller than face edge "
-                "count, using default value (0).")  # fmt: skip
-    elif len(values) > edges:
-        warn_at(state, node, f"{node.name}(): Provided array size larger than face edge "
-                "count, ignoring some values.")  # fmt: skip
-
-
-@compiles("setback", "setbackPerEdge")
-def compile_setback(program, node: ast.Operation, params):
-    """``setback(distance | distances) { selector : ... | remainder : ... }``; setbackPerEdge
-    evaluates its distance once per edge (with ``comp.index`` the edge's index)."""
-    values = plain_arguments(program, node, range(1, 2), block=True)
-    branches = _branches(program, node, params, {"remainder"}, edges=True)
-    distance = program.expressions.compile(values[0], params)
-    per_edge = node.name == "setbackPerEdge"
-
-    def distances_of(args, state, frame, polygon, quadrants, selected, first):
-        n = len(polygon)
-        if per_edge:
-            saved = state.comp_index, state.comp_total
-            d = np.zeros(n)
-            try:
-                for k in range(n):
-                    state.comp_index, state.comp_total = k, n
-                    d[k] = _distance_list(program, node, distance(args, state), 1)[0]
-            finally:
-                state.comp_index, state.comp_total = saved
-        else:
-            value = distance(args, state)
-            if first == 0:
-                _warn_array_size(state, node, value)
-            d = _distance_list(program, node, value, n, first)
-        if np.any(d < 0):
-            if not program.cga_dialect:
-                raise program.error(
-                    node, f"{node.name}() distances must be >= 0, got {d.min():g}"
-                )  # fmt: skip
-            # CityEngine's runtime takes a negative distance as 0, and records nothing (PyPRT)
-            warn_at(state, node, f"{node.name}(): a negative distance is taken as 0, as "
-                    "CityEngine does")  # fmt: skip
-            d = np.maximum(d, 0.0)
-        return np.where(selected, d, 0.0)
-
-    return _setback_operation(program, node, branches, distances_of, shape_selector=False)
-
-
-@compiles("setbackToArea")
-def compile_setback_to_area(program, node: ast.Operation, params):
-    """``setbackToArea(area[, minDistances[, maxDistances]]) { selector : ... }``."""
-    values = plain_arguments(program, node, range(1, 4), block=True)
-    branches = _branches(program, node, params, {"remainder"}, edges=True)
-    area = number(program, node, values[0], params, "the area")
-    bounds = [program.expressions.compile(v, params) for v in values[1:]]
-
-    def distances_of(args, state, frame, polygon, quadrants, selected, first):
-        n = len(polygon)
-        limits = [_distance_list(program, node, b(args, state), n, first) for b in bounds]
-        try:
-            _, d = polygon2d.setback_to_area(polygon, area(args, state), selected, *limits)
-        except GeometryError as exc:
-            raise program.operation_error(node, str(exc)) from None
-        return d
-
-    return _setback_operation(program, node, branches, distances_of, shape_selector=False)
-
-
-_LUO = {"shapeL": ("front", "left"), "shapeU": ("front", "right", "left"),
-        "shapeO": ("front", "right", "back", "left")}  # fmt: skip
-
-
-@compiles("shapeL", "shapeU", "shapeO")
-def compile_shape_luo(program, node: ast.Operation, params):
-    """``shapeL(front, left)``, ``shapeU(front, right, left)``, ``shapeO(front, right, back,
-    left) { shape : ... | remainder : ... }``: a setback of those sides, the strips as one
-    polygon."""
-    sides = _LUO[node.name]
-    values = plain_arguments(program, node, (len(sides),), block=True)
-    widths = [number(program, node, v, params, "a width") for v in values]
-    branches = _branches(program, node, params, {"shape", "remainder"}, edges=False)
-
-    def distances_of(args, state, frame, polygon, quadrants, selected, first):
-        by_side = {side: w(args, state) for side, w in zip(sides, widths, strict=True)}
-        if any(v < 0 for v in by_side.values()):
-            if not program.cga_dialect:
-                raise program.error(node, f"{node.name}() widths must be >= 0")
-            # CityEngine's runtime takes a negative width as 0, and records nothing (PyPRT)
-            warn_at(
-                state, node, f"{node.name}(): a negative width is taken as 0, as CityEngine does"
-            )
-            by_side = {side: max(v, 0.0) for side, v in by_side.items()}
-        return np.array([by_side.get(q, 0.0) for q in quadrants])
-
-    return _setback_operation(program, node, branches, distances_of, shape_selector=True)
-
-
 @compiles("innerRectangle", "innerRect")
 def compile_inner_rectangle(program, node: ast.Operation, params):
     """``innerRectangle(scope|edge) { shape : ... | remainder : ... }``."""
@@ -491,7 +280,7 @@ def compile_inner_rectangle(program, node: ast.Operation, params):
     alignment = selector_name(values[0]) if values else "scope"
     if alignment not in ("scope", "edge"):
         raise program.error(node, f"{node.name}()'s alignment is scope or edge")
-    branches = _branches(program, node, params, {"shape", "remainder"}, edges=False)
+    branches = selector_branches(program, node, params, {"shape", "remainder"}, edges=False)
 
     def inner_op(state, args, out):
         pieces: dict[str, list[np.ndarray]] = {"shape": [], "remainder": []}
@@ -505,7 +294,7 @@ def compile_inner_rectangle(program, node: ast.Operation, params):
                 return False
             state.shape = flat_shape(state.shape, [g[0] for g in pieces["shape"]])
             return True
-        _emit_all(state, args, branches, lambda s: pieces[s], out)
+        emit_pieces(state, args, branches, lambda s: pieces[s], out)
         return True
 
     return inner_op
