@@ -31,9 +31,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from shapely.errors import GEOSException
 from shapely.geometry import Polygon as ShapelyPolygon
 from shapely.geometry.polygon import orient
 
+from shapegen.errors import GeometryError
 from shapegen.geometry.polygon2d import checked_polygon, setback, signed_area
 from shapegen.tolerances import DEFAULT
 
@@ -80,21 +82,36 @@ def setback_pieces(polygon, holes, distances, groups) -> SetbackPieces:
         return SetbackPieces(tuple(map(tuple, out)), ())
     outline = ShapelyPolygon(p)
     inner = shapely.union_all([ShapelyPolygon(r) for r in base.remainder])
-    band_area = outline.difference(inner)
     hole_area = shapely.union_all([ShapelyPolygon(r) for r in rings]) if rings else None
     strips = dict(base.strips)
-    taken = None
-    for g, edges in enumerate(groups):
-        bands = [_band(p, k, d[k], strips[k]) for k in edges if d[k] > 0 and k in strips]
-        if not bands:
+    chosen = [[k for k in edges if d[k] > 0 and k in strips] for edges in groups]
+    strip_areas = {k: shapely.make_valid(ShapelyPolygon(strip)) for k, strip in strips.items()}
+    band_area = outline.difference(inner)
+    if abs(band_area.area - (outline.area - inner.area)) > eps * max(outline.length, 1.0):
+        # GEOS's difference can miss a remainder that runs along the outline (an edge that
+        # stays put); the skeleton's strips make the same band
+        band_area = shapely.union_all(list(strip_areas.values()))
+    try:
+        regions = _regions(
+            chosen, band_area, lambda k: _band(p, k, d[k], strips[k]).union(strip_areas[k])
+        )  # the strip too: where the skeleton's strip reaches past the band (a split event)
+    except GEOSException:
+        regions = None
+    if regions is None or not _tiles(regions, band_area, eps):
+        # the booleans of nearly touching bands went wrong (seen on random polygons with
+        # reflex corners): each branch takes its edges' skeleton strips, which tile the band
+        try:
+            regions = _regions(chosen, band_area, strip_areas.__getitem__)
+        except GEOSException as exc:
+            raise GeometryError(f"setback: the pieces cannot be cut ({exc})") from None
+        if not _tiles(regions, band_area, eps):
+            raise GeometryError("setback: its pieces do not cover the set-back band once")
+    for g, region in enumerate(regions):
+        if region is None:
             continue
-        region = shapely.union_all(bands).intersection(band_area)
-        if taken is not None:
-            region = region.difference(taken)
-        taken = region if taken is None else taken.union(region)
         if hole_area is not None:
             region = region.difference(hole_area)
-        moved = sorted(k for k in edges if d[k] > 0)  # a 0 edge's line starts no piece
+        moved = sorted(chosen[g])  # a 0 edge's line starts no piece
         pieces = (_piece(part, corners, eps, p) for part in _polygons(region, eps))
         out[g] = [_started(piece, p, moved, d) for piece in pieces if piece is not None]
     if hole_area is None:
@@ -102,6 +119,29 @@ def setback_pieces(polygon, holes, distances, groups) -> SetbackPieces:
     else:
         remainder = tuple(_remainder_with_holes(base.remainder, rings, hole_area, corners, eps))
     return SetbackPieces(tuple(map(tuple, out)), remainder)
+
+
+def _regions(chosen: list[list[int]], band_area, area_of) -> list:
+    """Each group's region: the union of ``area_of(k)`` over its edges within the band, less
+    what the groups before it took (None for a group without a set-back edge)."""
+    regions: list = []
+    taken = None
+    for edges in chosen:
+        if not edges:
+            regions.append(None)
+            continue
+        region = shapely.union_all([area_of(k) for k in edges]).intersection(band_area)
+        if taken is not None:
+            region = region.difference(taken)
+        taken = region if taken is None else taken.union(region)
+        regions.append(region)
+    return regions
+
+
+def _tiles(regions: list, band_area, eps: float) -> bool:
+    """Whether the regions cover no more of the band than it has (they do not overlap)."""
+    total = sum(r.area for r in regions if r is not None)
+    return total <= band_area.area + eps * max(band_area.length, 1.0)
 
 
 def _band(p: np.ndarray, k: int, depth: float, strip: np.ndarray):
@@ -138,11 +178,17 @@ def _clean(ring: np.ndarray, corners: np.ndarray, eps: float) -> np.ndarray:
         changed = False
         for i in range(len(points)):
             prev, q, nxt = points[i - 1], points[i], points[(i + 1) % len(points)]
-            if _on_segment(q, prev, nxt, eps) and not _is_corner(q, corners, eps):
+            seam = _on_segment(q, prev, nxt, eps) and not _is_corner(q, corners, eps)
+            if seam or _spike(prev, q, nxt, eps):
                 del points[i]
                 changed = True
                 break
     return _with_corners(np.array(points), corners, eps)
+
+
+def _deduplicated(ring: np.ndarray, eps: float) -> np.ndarray:
+    """``ring`` without corners repeated one after the other."""
+    return np.array([q for i, q in enumerate(ring) if np.linalg.norm(q - ring[i - 1]) > eps])
 
 
 def _with_corners(ring: np.ndarray, corners: np.ndarray, eps: float) -> np.ndarray:
@@ -159,6 +205,15 @@ def _with_corners(ring: np.ndarray, corners: np.ndarray, eps: float) -> np.ndarr
         ]  # fmt: skip
         out.extend(sorted(on, key=lambda c, a=a: float(np.linalg.norm(c - a))))
     return np.array(out)
+
+
+def _spike(prev, q, nxt, eps: float) -> bool:
+    """Whether the ring runs out to ``q`` and straight back (a boolean's zero-wide spike)."""
+    a, b = q - prev, nxt - q
+    la, lb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    if la <= eps or lb <= eps:
+        return True
+    return abs(float(a[0] * b[1] - a[1] * b[0])) <= eps * max(la, lb) and float(a @ b) < 0
 
 
 def _on_segment(q, a, b, eps: float) -> bool:
@@ -183,13 +238,16 @@ def _piece(part: ShapelyPolygon, corners: np.ndarray, eps: float, outline=None) 
     outer = _clean(
         np.asarray(part.exterior.coords)[:-1], corners if outline is None else outline, eps
     )
+    holes = [_clean(np.asarray(r.coords)[:-1], corners, eps) for r in part.interiors]
+    holes = [ring for ring in holes if len(ring) >= 3]
+    if len(outer) >= 3:
+        cleaned = ShapelyPolygon(outer, holes)
+        if not cleaned.is_valid or abs(cleaned.area - part.area) > eps * max(part.length, 1.0):
+            # cleaning a sliver's corner made the rings cross: the boolean's rings as they are
+            outer = _deduplicated(np.asarray(part.exterior.coords)[:-1], eps)
+            holes = [_deduplicated(np.asarray(r.coords)[:-1], eps) for r in part.interiors]
     if len(outer) < 3 or signed_area(outer) <= eps * eps:
         return None
-    holes = []
-    for interior in part.interiors:
-        ring = _clean(np.asarray(interior.coords)[:-1], corners, eps)
-        if len(ring) >= 3:
-            holes.append(ring)
     return outer, tuple(holes)
 
 
