@@ -31,9 +31,9 @@ __all__ = [
 ]
 
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
 
 from shapegen.errors import OptionError, StaticsError
 from shapegen.model.friction import checked_friction
@@ -41,6 +41,9 @@ from shapegen.statics.interface import GROUND, Interface
 from shapegen.statics.loading import Loading, block_loading, load_vector, tilted, wrench
 from shapegen.statics.options import DEFAULT_PYRAMID, PYRAMIDS, checked_kern, checked_pyramid
 from shapegen.tolerances import TRIG_ROUNDOFF
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 OBJECTIVES = ("tension_squared", "tension_sum")
 
@@ -105,7 +108,9 @@ class StaticsProblem:
         (force, torque / L) of a unit force along ``(n, t1, t2)`` at the vertex; zero rows for a
         support.
     equality
-        ``(6 nf, 4 m)`` sparse CSC ``A``, dimensionless.
+        ``(6 nf, 4 m)`` sparse CSC ``A``, dimensionless: built from ``vertex_jacobian`` when
+        first asked for (:meth:`product` and :meth:`transposed_product` apply ``A`` without it,
+        so that a wall certified by its least-norm forces never imports scipy.sparse).
     load
         ``(6 nf,)`` scaled external wrench ``w`` (self-weight and point loads).
     cone
@@ -139,7 +144,6 @@ class StaticsProblem:
     vertex_points: np.ndarray
     vertex_blocks: np.ndarray
     vertex_jacobian: np.ndarray
-    equality: sp.csc_matrix
     load: np.ndarray
     cone: np.ndarray
     quadratic: np.ndarray
@@ -185,6 +189,41 @@ class StaticsProblem:
         quadratic, linear = _objective(self.n_vertices, objective)
         return replace(self, quadratic=quadratic, linear=linear, objective=objective)
 
+    @property
+    def equality(self) -> sp.csc_matrix:
+        """``A`` as a sparse CSC matrix (built once, kept in :attr:`cache`)."""
+        equality = self.cache.get("equality")
+        if equality is None:
+            equality = self.cache["equality"] = _equality_matrix(
+                self.vertex_jacobian, self.vertex_blocks, self.n_free
+            )
+        return equality
+
+    def _vertex_rows(self) -> np.ndarray:
+        """``(m, 12)`` the equality row of each of a vertex's twelve wrench rows; ``6 nf`` (one
+        past the last row) for a support's side."""
+        rows = self.cache.get("vertex_rows")
+        if rows is None:
+            blocks = np.repeat(self.vertex_blocks, 6, axis=1)  # (m, 12)
+            rows = np.where(blocks >= 0, 6 * blocks + np.arange(12) % 6, 6 * self.n_free)
+            rows = self.cache["vertex_rows"] = rows
+        return rows
+
+    def product(self, x: np.ndarray) -> np.ndarray:
+        """``A x`` for ``x = [c, s, u, t]``: the scaled wrench of the forces on each free block."""
+        m = self.n_vertices
+        local = np.stack([x[:m] - x[m : 2 * m], x[2 * m : 3 * m], x[3 * m :]], axis=1)
+        wrenches = np.einsum("vrj,vj->vr", self.vertex_jacobian, local)
+        return np.bincount(
+            self._vertex_rows().ravel(), wrenches.ravel(), minlength=6 * self.n_free + 1
+        )[:-1]
+
+    def transposed_product(self, lam: np.ndarray) -> np.ndarray:
+        """``A^T lam`` for ``lam`` one value per equality row: ``[c, s, u, t]``-shaped."""
+        padded = np.append(lam, 0.0)
+        local = np.einsum("vrj,vr->vj", self.vertex_jacobian, padded[self._vertex_rows()])
+        return np.concatenate([local[:, 0], -local[:, 0], local[:, 1], local[:, 2]])
+
     def inequality_matrix(self) -> sp.csc_matrix:
         """Sparse ``G`` with ``G x <= 0``: per vertex the ``K + 1`` cone rows, then ``-s <= 0``.
 
@@ -202,6 +241,8 @@ class StaticsProblem:
         rows = np.concatenate([rows, rows_per * vertex + rows_per - 1])
         cols = np.concatenate([cols, m + vertex])
         vals = np.concatenate([vals, -np.ones(m)])
+        import scipy.sparse as sp  # with the interior point's matrices, not the certificate's
+
         return sp.csc_matrix((vals, (rows, cols)), shape=(rows_per * m, 4 * m))
 
     def second_order_matrix(self) -> sp.csc_matrix:
@@ -213,11 +254,13 @@ class StaticsProblem:
         rows = np.concatenate([3 * vertex, 3 * vertex + 1, 3 * vertex + 2])
         cols = np.concatenate([vertex, 2 * m + vertex, 3 * m + vertex])
         vals = np.concatenate([np.full(m, -self.friction), -np.ones(m), -np.ones(m)])
+        import scipy.sparse as sp  # with the interior point's matrices, not the certificate's
+
         return sp.csc_matrix((vals, (rows, cols)), shape=(3 * m, 4 * m))
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """Scaled equilibrium residual ``A x + w`` (force rows / W, torque rows / (W L))."""
-        return self.equality @ x + self.load
+        return self.product(x) + self.load
 
 
 def _objective(m: int, objective: str) -> tuple[np.ndarray, np.ndarray]:
@@ -258,6 +301,8 @@ def _equality_matrix(jacobian: np.ndarray, vertex_blocks: np.ndarray, nf: int) -
         values = jacobian[np.arange(m)[:, None], position, direction][on]
         data.append(values if sign > 0 else -values)
     indptr = np.concatenate([[0], np.cumsum(np.tile(counts, 4))])
+    import scipy.sparse as sp  # 0.1 s to import: only for the solvers that take A itself
+
     return sp.csc_matrix((np.concatenate(data), np.tile(indices, 4), indptr), shape=(6 * nf, 4 * m))
 
 
@@ -395,9 +440,6 @@ def assemble(
         block = np.concatenate([rotation[on], _skew(lever) @ rotation[on]], axis=1)
         jacobian[on, rows] = sign * block
 
-    nf = len(free_blocks)
-    equality = _equality_matrix(jacobian, vertex_blocks, nf)
-
     load = wrench(model, loading, len(free_blocks), length, weight_scale)
 
     quadratic, linear = _objective(m, objective)
@@ -409,7 +451,6 @@ def assemble(
         vertex_points=points,
         vertex_blocks=vertex_blocks,
         vertex_jacobian=jacobian,
-        equality=equality,
         load=load,
         cone=friction_cone(pyramid, mu),
         quadratic=quadratic,

@@ -181,3 +181,21 @@ def test_bad_options_raise(options, message):
     model = Model([Block.box((0, 0, 0), (1, 1, 1))])
     with pytest.raises(OptionError, match=message.replace("(", r"\(").replace("]", r"\]")):
         assemble(model, [], **options)
+
+
+def test_products_with_the_equality_matrix_match_the_sparse_matrix():
+    from statics_cases import running_bond_wall
+
+    from shapegen.statics.contacts import find_interfaces
+
+    model = running_bond_wall(courses=3, per_course=4)
+    model.blocks[0].fixed = True  # a support side among the vertices
+    problem = assemble(model, find_interfaces(model))
+    rng = np.random.default_rng(4)
+    x = rng.normal(size=problem.n_variables)
+    lam = rng.normal(size=6 * problem.n_free)
+    np.testing.assert_allclose(problem.product(x), problem.equality @ x, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        problem.transposed_product(lam), problem.equality.T @ lam, rtol=0, atol=1e-12
+    )
+    np.testing.assert_allclose(problem.residual(x), problem.equality @ x + problem.load)

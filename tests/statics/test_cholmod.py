@@ -254,3 +254,24 @@ def test_the_blas_hint_is_given_for_the_import_only_and_never_over_a_users_choic
     assert done.stdout.strip() == "False"
     monkeypatch.setenv("OPENBLAS_CORETYPE", "Prescott")
     assert cholmod._kernels_hint() is None
+
+
+@pytest.mark.parametrize("courses, per_course", [(3, 4), (12, 10)])
+def test_block_order_from_cvxopt_is_qdldls(courses, per_course, monkeypatch):
+    # the normal equations' ordering comes from cvxopt's AMD; without cvxopt, QDLDL's
+    from shapegen.statics.assembly import assemble
+    from shapegen.statics.solvers import normal_equations
+
+    model = running_bond_wall(courses=courses, per_course=per_course)
+    problem = assemble(model, find_interfaces(model))
+    starts = np.flatnonzero(np.diff(np.concatenate([[-1], problem.vertex_interface])))
+    blocks = problem.vertex_blocks[starts]
+    both = (blocks >= 0).all(axis=1)
+    nf = problem.n_free
+    rows = np.concatenate([blocks[both, 0], np.arange(nf)])
+    columns = np.concatenate([blocks[both, 1], np.arange(nf)])
+    from_cvxopt = normal_equations._block_ordering(rows, columns, nf)
+    monkeypatch.setattr(cholmod, "minimum_degree_order", lambda *args: None)
+    from_qdldl = normal_equations._block_ordering(rows, columns, nf)
+    assert sorted(from_cvxopt.tolist()) == list(range(nf))
+    np.testing.assert_array_equal(from_cvxopt, from_qdldl)

@@ -391,3 +391,32 @@ def test_finding_contacts_stops_at_the_work_clock():
     with work_limits(max_seconds=1e-9), work_clock("judging the model"):
         with pytest.raises(WorkLimitError, match="judging the model ran for more than"):
             find_interfaces(running_bond_wall(courses=2, per_course=2))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_near_pairs_are_the_brute_force_pairs_within_one_in_the_max_norm(seed):
+    # points on a few shared values (as faces of a wall share normals and planes) and spread
+    # ones, some exactly 1 apart along a coordinate (the window is closed)
+    from shapegen.statics.contacts import _near_pairs
+
+    rng = np.random.default_rng(seed)
+    a = np.round(rng.uniform(-6, 6, size=(400, 7)), 1)
+    a[:200, 3:6] = rng.choice([-3.0, 0.0, 3.0], size=(200, 3))
+    b = a[rng.permutation(400)] + rng.choice([0.0, 1.0, -1.0, 0.4], size=(400, 7))
+    b[::3] = rng.uniform(-6, 6, size=(134, 7))
+    got = set(zip(*(x.tolist() for x in _near_pairs(a, b)), strict=True))
+    distance = np.abs(a[:, None, :] - b[None, :, :]).max(axis=2)
+    expected = set(zip(*(x.tolist() for x in np.nonzero(distance <= 1.0)), strict=True))
+    assert len(expected) > 100
+    assert got == expected
+
+
+def test_near_pairs_in_bands_are_the_same(monkeypatch):
+    from shapegen.statics import contacts
+
+    rng = np.random.default_rng(5)
+    a, b = rng.uniform(-3, 3, size=(300, 7)), rng.uniform(-3, 3, size=(300, 7))
+    whole = set(zip(*(x.tolist() for x in contacts._near_pairs(a, b)), strict=True))
+    monkeypatch.setattr(contacts, "_CANDIDATE_BAND", 7)
+    banded = set(zip(*(x.tolist() for x in contacts._near_pairs(a, b)), strict=True))
+    assert banded == whole and len(whole) > 10

@@ -30,7 +30,7 @@ at once (its CHOLMOD settings are one shared object, so that is also what keeps 
 
 from __future__ import annotations
 
-__all__ = ["CholmodError", "CholmodFactor", "available", "blas_kernels"]
+__all__ = ["CholmodError", "CholmodFactor", "available", "blas_kernels", "minimum_degree_order"]
 
 import ctypes
 import functools
@@ -120,6 +120,28 @@ def _cvxopt():
 def available() -> bool:
     """True when cvxopt (and so CHOLMOD) can be imported."""
     return _cvxopt() is not None
+
+
+def minimum_degree_order(rows: np.ndarray, columns: np.ndarray, n: int) -> np.ndarray | None:
+    """SuiteSparse AMD's order of the symmetric pattern with entries ``(rows, columns)`` (either
+    triangle or both, the diagonal included), through cvxopt; None without cvxopt.
+
+    cvxopt's AMD and QDLDL's are the same code with the same settings: on the block graphs of
+    walls, an arch and the bundled rules they give the same order, 3-10 times faster (no
+    scipy.sparse matrix to make, and no factorisation done for its ordering).
+    """
+    loaded = _cvxopt()
+    if loaded is None:
+        return None
+    cvxopt = loaded[0]
+    from cvxopt import amd
+
+    lower = np.maximum(rows, columns).astype(np.int64)
+    upper = np.minimum(rows, columns).astype(np.int64)
+    pattern = cvxopt.spmatrix(
+        cvxopt.matrix(np.ones(len(lower))), cvxopt.matrix(lower), cvxopt.matrix(upper), (n, n)
+    )
+    return np.asarray(amd.order(pattern, uplo="L"), dtype=np.int64).ravel()
 
 
 def blas_kernels() -> str:

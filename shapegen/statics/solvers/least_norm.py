@@ -56,19 +56,15 @@ def least_norm_forces(problem, factorization: str = "auto") -> np.ndarray | None
     # D on the four variable groups [c, s, u, t]: the normal force is carried by the c column
     # alone (the s column is its negative)
     diagonal = np.repeat(np.array([1.0, 0.0, friction_weight, friction_weight]), m)
-    equality = problem.equality
-    transposed = problem.cache.get("equality_transposed")
-    if transposed is None:
-        transposed = problem.cache["equality_transposed"] = equality.T.tocsr()
     normal = NormalEquations(problem, factorization)
     try:
         normal.assemble(local, _SHIFT)
-        lam = np.zeros(equality.shape[0])
+        lam = np.zeros(6 * problem.n_free)
         residual = -problem.load
         for _ in range(_REFINEMENTS + 1):
             lam += normal.solve(residual)
-            x = diagonal * (transposed @ lam)
-            residual = -problem.load - equality @ x
+            x = diagonal * problem.transposed_product(lam)
+            residual = -problem.load - problem.product(x)
     except (np.linalg.LinAlgError, RuntimeError, ValueError, FloatingPointError):
         return None
     finally:

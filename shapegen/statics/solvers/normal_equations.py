@@ -11,8 +11,9 @@ and the Cholesky factorisation's analysis) of the last few block graphs is kept 
 contents and reused.
 
 Ordering: approximate minimum degree on the *block* graph (one node per free block, expanded to
-its six rows), computed once with QDLDL's AMD (``qdldl`` is a dependency of shapegen, so this
-ordering is always the one used).
+its six rows), computed once with SuiteSparse's AMD: cvxopt's where it is installed (the
+default), else QDLDL's (``qdldl`` is a dependency of shapegen); the two are the same code and
+give the same order.
 
 Factorisation: CHOLMOD's supernodal Cholesky through ``cvxopt``
 (:mod:`~shapegen.statics.solvers.cholmod`), of the lower triangle in this order, analysed once
@@ -35,15 +36,17 @@ import dataclasses
 import threading
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import qdldl
-import scipy.sparse as sp
 
 from shapegen.errors import OptionError
 from shapegen.statics.solvers import cholmod, pardiso
 from shapegen.statics.solvers.symmetric_factor import SymmetricFactor
 from shapegen.tolerances import DIVISION_FLOOR
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 FACTORIZATIONS = ("auto", "cholmod", "pardiso", "superlu")
 # the Cholesky factorisations kept with a pattern, and the error each raises for a matrix it
@@ -134,15 +137,24 @@ class NormalPattern:
 
     def full_matrix(self, data: np.ndarray) -> sp.csc_matrix:
         """The whole symmetric (permuted) ``M`` from its upper-triangle ``data``."""
+        import scipy.sparse as sp  # for SuperLU, the factorisation of last resort
+
         shape = (self.size, self.size)
         upper = sp.csr_matrix((data, self.indices, self.indptr), shape=shape)
         return (upper + upper.T - sp.diags(data[self.diagonal])).tocsc()
 
 
 def _block_ordering(block_rows: np.ndarray, block_cols: np.ndarray, nf: int) -> np.ndarray:
-    """AMD order of the block adjacency graph, as QDLDL computes it."""
+    """AMD order of the block adjacency graph (the diagonal among its entries)."""
     if nf == 0:
         return np.empty(0, dtype=np.int64)  # QDLDL refuses an empty matrix
+    order = cholmod.minimum_degree_order(block_rows, block_cols, nf)
+    if order is not None:
+        return order
+    # without cvxopt: QDLDL's AMD, through the scipy.sparse matrix it takes
+    import qdldl
+    import scipy.sparse as sp
+
     pattern = sp.coo_matrix((np.ones(len(block_rows)), (block_rows, block_cols)), shape=(nf, nf))
     pattern = (pattern + pattern.T).tocsc()
     pattern.data[:] = -1.0
