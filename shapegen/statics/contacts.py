@@ -62,6 +62,7 @@ _CELL_MIX = np.array(
     ],
     dtype=np.uint64,
 )
+_GROUP_MIX = np.uint64(0xD6E8FEB86659FD93)
 # candidate pairs tested at once by :func:`_near_pairs` (each costs about 120 bytes)
 _CANDIDATE_BAND = 2**20
 
@@ -115,7 +116,8 @@ def facing_face_pairs(pack: PackedBlocks, tol: Tolerances) -> tuple[np.ndarray, 
     upward = side > -delta
     downward = side < delta
     classes = [c for c in range(_RADIUS_CLASSES + 1) if np.any(size_class == c)]
-    found = []
+    # every pair of classes searched at once: each its own points, told apart by its number
+    faces_a, points_a, pair_a, faces_b, points_b, pair_b = [], [], [], [], [], []
     for class_a in classes:
         group_a = np.flatnonzero((size_class == class_a) & upward)
         for class_b in classes:
@@ -123,27 +125,47 @@ def facing_face_pairs(pack: PackedBlocks, tol: Tolerances) -> tuple[np.ndarray, 
             if len(group_a) == 0 or len(group_b) == 0:
                 continue
             reach = radius[group_a].max() + radius[group_b].max() + tol.planar
-            points_a = np.hstack(
-                [center[group_a] / reach, normal[group_a] / delta, offset[group_a, None]]
+            faces_a.append(group_a)
+            points_a.append(
+                np.hstack([center[group_a] / reach, normal[group_a] / delta, offset[group_a, None]])
             )
-            points_b = np.hstack(
-                [center[group_b] / reach, -normal[group_b] / delta, -offset[group_b, None]]
+            pair_a.append(np.full(len(group_a), len(pair_a)))
+            faces_b.append(group_b)
+            points_b.append(
+                np.hstack(
+                    [center[group_b] / reach, -normal[group_b] / delta, -offset[group_b, None]]
+                )
             )
-            near_a, near_b = _near_pairs(points_a, points_b)
-            found.append(np.stack([group_a[near_a], group_b[near_b]], axis=1))
-    pairs = np.concatenate(found) if found else np.zeros((0, 2), dtype=np.int64)
+            pair_b.append(np.full(len(group_b), len(pair_b)))
+    if not faces_a:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    near_a, near_b = _near_pairs(
+        np.concatenate(points_a),
+        np.concatenate(points_b),
+        np.concatenate(pair_a),
+        np.concatenate(pair_b),
+    )
+    pairs = np.stack([np.concatenate(faces_a)[near_a], np.concatenate(faces_b)[near_b]], axis=1)
     pairs = np.unique(np.sort(pairs, axis=1), axis=0)
     pairs = pairs[pairs[:, 0] != pairs[:, 1]]
     return pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
 
 
-def _cell_keys(cells: np.ndarray) -> np.ndarray:
-    """One 64-bit key per row of integer cell coordinates (wrapping: collisions are allowed)."""
-    return (cells.view(np.uint64) * _CELL_MIX).sum(axis=1, dtype=np.uint64)
+def _cell_keys(cells: np.ndarray, group: np.ndarray) -> np.ndarray:
+    """One 64-bit key per row of integer cell coordinates and its group (wrapping: collisions
+    are allowed)."""
+    mixed = (cells.view(np.uint64) * _CELL_MIX).sum(axis=1, dtype=np.uint64)
+    return mixed ^ (group.astype(np.uint64) * _GROUP_MIX)
 
 
-def _near_pairs(points_a: np.ndarray, points_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Every pair ``(i, j)`` with ``max |points_a[i] - points_b[j]| <= 1`` (seven columns).
+def _near_pairs(
+    points_a: np.ndarray,
+    points_b: np.ndarray,
+    group_a: np.ndarray | None = None,
+    group_b: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Every pair ``(i, j)`` with ``max |points_a[i] - points_b[j]| <= 1`` (seven columns) and
+    ``group_a[i] == group_b[j]`` (integer groups; all in one group when None).
 
     The points of ``b`` are sorted by the key of their grid cell (:data:`_CELL`); the window
     ``[p - 1, p + 1]`` of a point of ``a`` meets one or two cells along each coordinate (the
@@ -152,9 +174,11 @@ def _near_pairs(points_a: np.ndarray, points_b: np.ndarray) -> tuple[np.ndarray,
     norm returns, pair for pair, without scipy.spatial (whose import costs a command about
     0.08 s).
     """
+    if group_a is None or group_b is None:
+        group_a, group_b = np.zeros(len(points_a), np.int64), np.zeros(len(points_b), np.int64)
     start = _CELL_START * _CELL
     cells_b = np.floor((points_b - start) / _CELL).astype(np.int64)
-    keys_b = _cell_keys(cells_b)
+    keys_b = _cell_keys(cells_b, group_b)
     order = np.argsort(keys_b, kind="stable")
     keys_b = keys_b[order]
     low = np.floor((points_a - 1.0 - start) / _CELL).astype(np.int64)
@@ -169,7 +193,7 @@ def _near_pairs(points_a: np.ndarray, points_b: np.ndarray) -> tuple[np.ndarray,
         upper[:, column] += 1
         point = np.concatenate([point, point[more]])
         cells = np.concatenate([cells, upper])
-    keys = _cell_keys(cells)
+    keys = _cell_keys(cells, group_a[point])
     first = np.searchsorted(keys_b, keys, "left")
     count = np.searchsorted(keys_b, keys, "right") - first
     hit = count > 0
@@ -185,7 +209,7 @@ def _near_pairs(points_a: np.ndarray, points_b: np.ndarray) -> tuple[np.ndarray,
         i = np.repeat(point[lo:hi], n)
         within = np.arange(len(i)) - np.repeat(np.cumsum(n) - n, n)
         j = order[np.repeat(first[lo:hi], n) + within]
-        close = (np.abs(points_a[i] - points_b[j]) <= 1.0).all(axis=1)
+        close = (np.abs(points_a[i] - points_b[j]) <= 1.0).all(axis=1) & (group_a[i] == group_b[j])
         found_a.append(i[close])
         found_b.append(j[close])
     if not found_a:

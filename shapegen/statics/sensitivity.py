@@ -89,12 +89,18 @@ def infeasibility_change(base: Analysis, moved, options: StaticsOptions) -> floa
             moved_problem = tilted(moved_problem, moved, problem.tilt, problem.azimuth)
     except ShapegenError:
         return None
-    order = _match_vertices(problem, moved_problem)
-    if order is None or moved_problem.equality.shape != problem.equality.shape:
+    order = _match_vertices(problem, moved_problem)  # the same vertices and free blocks
+    if order is None:
         return None
     m = problem.n_vertices
     x_moved = x.reshape(4, m)[:, order].ravel()
-    change = moved_problem.residual(x_moved) - problem.residual(x)
+    # the base's residual, once for every parameter's step (kept with the forces and loads it
+    # is of: a tilted copy of the problem shares this cache)
+    known = problem.cache.get("residual_of_forces")
+    if known is None or known[0] is not base.forces or known[1] is not problem.load:
+        known = (base.forces, problem.load, problem.residual(x))
+        problem.cache["residual_of_forces"] = known
+    change = moved_problem.residual(x_moved) - known[2]
     return float(lam.ravel() @ change)
 
 
