@@ -137,3 +137,40 @@ def test_a_new_problem_on_the_same_block_graph_reuses_the_symbolic_analysis():
     third = NormalEquations(other)
     assert third.pattern.indices is not one.pattern.indices
     third.release()
+
+
+def test_the_normal_pattern_is_the_sorted_set_of_every_contribution():
+    # a wall on a fixed block, and a block touching nothing (its diagonal alone)
+    from shapegen.model.block import Block
+    from shapegen.model.model import Model
+    from shapegen.statics.solvers.normal_equations import build_pattern
+
+    wall = running_bond_wall(courses=3, per_course=3)
+    blocks = [*wall.blocks, Block.box((9, 9, 9), (10, 10, 10))]
+    blocks[1] = Block.box(
+        blocks[1].vertices.min(axis=0), blocks[1].vertices.max(axis=0), fixed=True
+    )
+    model = Model(blocks, ground=0.0)
+    problem = assemble(model, find_interfaces(model))
+    pattern = build_pattern(problem)
+    size = pattern.size
+    # every (row, column) that an interface's 12 x 12 contribution writes, by brute force
+    position = np.empty(problem.n_free, dtype=np.int64)
+    position[pattern.permutation[::6] // 6] = np.arange(problem.n_free)
+    entries = {(r, r) for r in range(size)}
+    for first, second in problem.vertex_blocks[pattern.interface_starts]:
+        rows = [6 * position[b] + k for b in (first, second) if b >= 0 for k in range(6)]
+        entries |= {(r, c) for r in rows for c in rows if c >= r}
+    expected = sorted(entries)
+    rows = np.repeat(np.arange(size), np.diff(pattern.indptr))
+    assert list(zip(rows.tolist(), pattern.indices.tolist(), strict=True)) == expected
+    # and each contribution lands on its own (row, column)
+    ni = len(pattern.interface_starts)
+    local = np.arange(12)
+    block_rows = problem.vertex_blocks[pattern.interface_starts][:, local // 6]
+    all_rows = np.where(block_rows >= 0, 6 * position[np.maximum(block_rows, 0)] + local % 6, -1)
+    r = np.broadcast_to(all_rows[:, :, None], (ni, 12, 12)).ravel()[pattern.source]
+    c = np.broadcast_to(all_rows[:, None, :], (ni, 12, 12)).ravel()[pattern.source]
+    np.testing.assert_array_equal(rows[pattern.target], r)
+    np.testing.assert_array_equal(pattern.indices[pattern.target], c)
+    assert np.all(pattern.indices[pattern.diagonal] == np.arange(size))

@@ -261,20 +261,15 @@ def _symbolic_pattern(nf: int, blocks: np.ndarray) -> NormalPattern:
     c = np.broadcast_to(rows[:, None, :], (ni, 12, 12))[ok]
     upper = c >= r  # CSR row r, column c >= r
     source, r, c = source[upper], r[upper], c[upper]
-    keys = r.astype(np.int64) * size + c
-    diagonal_keys = np.arange(size, dtype=np.int64) * (size + 1)
-    unique, target = np.unique(np.concatenate([keys, diagonal_keys]), return_inverse=True)
-    indices = (unique % size).astype(np.int32)
-    counts = np.bincount((unique // size).astype(np.int64), minlength=size)
-    indptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
-    diagonal = np.searchsorted(unique, diagonal_keys)
+    indptr, indices, target = _upper_pattern(nf, position[blocks[both]], r, c)
+    diagonal = indptr[:-1].astype(np.int64)  # each row's first entry: its diagonal
     permutation = (6 * order[:, None] + np.arange(6)).ravel()
     empty = np.zeros(0)
     return NormalPattern(
         size,
         indptr,
         indices,
-        target[: len(keys)],
+        target,
         source,
         diagonal,
         permutation,
@@ -283,6 +278,53 @@ def _symbolic_pattern(nf: int, blocks: np.ndarray) -> NormalPattern:
         empty,
         analysis=_Analysis(),
     )
+
+
+def _upper_pattern(
+    nf: int, pairs: np.ndarray, r: np.ndarray, c: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The upper triangle's CSR ``indptr``, ``indices`` of ``M`` (permuted) and the position of
+    each entry ``(r[k], c[k])`` in it, from the block graph alone.
+
+    ``pairs`` ``(k, 2)`` are the permuted positions of the two free blocks of each interface
+    between free blocks. Row ``6 I + a`` holds its diagonal block's columns ``6 I + a .. 6 I + 5``
+    (the diagonal alone for a block with no contact), then the six columns of each block
+    ``J > I`` it shares an interface with, in increasing ``J``: the entries and order that the
+    sorted set of every contribution's ``(row, column)`` gives, without sorting them (0.06 s of
+    a 2 001-brick wall's first analysis).
+    """
+    size = 6 * nf
+    low, high = np.minimum(pairs[:, 0], pairs[:, 1]), np.maximum(pairs[:, 0], pairs[:, 1])
+    links = np.unique(low.astype(np.int64) * nf + high)  # block pairs I < J, sorted
+    link_row, link_col = links // nf, links % nf
+    degree = np.bincount(link_row, minlength=nf)  # blocks J > I sharing a joint with I
+    touched = np.zeros(nf, dtype=bool)  # blocks with a contact: a full diagonal block
+    touched[(r // 6)[c // 6 == r // 6]] = True
+    a = np.arange(size) % 6
+    block = np.arange(size) // 6
+    own = np.where(touched[block], 6 - a, 1)  # columns of the diagonal block in each row
+    counts = own + 6 * degree[block]
+    indptr = np.concatenate([[0], np.cumsum(counts)])
+    # the columns: each row's diagonal block, then the blocks of its links
+    indices = np.empty(int(indptr[-1]), dtype=np.int64)
+    row = np.repeat(np.arange(size), counts)
+    slot = np.arange(len(indices)) - indptr[row]
+    in_own = slot < own[row]
+    indices[in_own] = row[in_own] + slot[in_own]
+    link_start = np.concatenate([[0], np.cumsum(degree)])
+    later = ~in_own
+    rank = (slot[later] - own[row[later]]) // 6
+    indices[later] = 6 * link_col[link_start[block[row[later]]] + rank] + (
+        (slot[later] - own[row[later]]) % 6
+    )
+    # each contribution's place in its row
+    row_block, column_block = r // 6, c // 6
+    offset = c - r  # within the diagonal block
+    other = column_block != row_block
+    rank = np.searchsorted(links, row_block[other].astype(np.int64) * nf + column_block[other])
+    offset[other] = own[r[other]] + 6 * (rank - link_start[row_block[other]]) + c[other] % 6
+    target = indptr[r] + offset
+    return indptr.astype(np.int32), indices.astype(np.int32), target
 
 
 class NormalEquations:
