@@ -174,6 +174,8 @@ def _near_pairs(
     norm returns, pair for pair, without scipy.spatial (whose import costs a command about
     0.08 s).
     """
+    if len(points_a) == 0 or len(points_b) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
     if group_a is None or group_b is None:
         group_a, group_b = np.zeros(len(points_a), np.int64), np.zeros(len(points_b), np.int64)
     start = _CELL_START * _CELL
@@ -181,6 +183,10 @@ def _near_pairs(
     keys_b = _cell_keys(cells_b, group_b)
     order = np.argsort(keys_b, kind="stable")
     keys_b = keys_b[order]
+    # the occupied cells: their keys, where their points start in ``order`` and how many
+    starts_b = np.flatnonzero(np.concatenate([[True], keys_b[1:] != keys_b[:-1]]))
+    counts_b = np.diff(np.append(starts_b, len(keys_b)))
+    keys_b = keys_b[starts_b]
     low = np.floor((points_a - 1.0 - start) / _CELL).astype(np.int64)
     two = np.floor((points_a + 1.0 - start) / _CELL).astype(np.int64) > low
     # the cells looked into: for each point every choice of low or low + 1 along the
@@ -194,10 +200,9 @@ def _near_pairs(
         point = np.concatenate([point, point[more]])
         cells = np.concatenate([cells, upper])
     keys = _cell_keys(cells, group_a[point])
-    first = np.searchsorted(keys_b, keys, "left")
-    count = np.searchsorted(keys_b, keys, "right") - first
-    hit = count > 0
-    point, first, count = point[hit], first[hit], count[hit]
+    cell = np.minimum(np.searchsorted(keys_b, keys), len(keys_b) - 1)
+    hit = keys_b[cell] == keys
+    point, first, count = point[hit], starts_b[cell[hit]], counts_b[cell[hit]]
     found_a, found_b = [], []
     total = np.cumsum(count)
     bands = np.arange(1, int(total[-1]) // _CANDIDATE_BAND + 1 if len(total) else 1)

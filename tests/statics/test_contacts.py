@@ -420,3 +420,12 @@ def test_near_pairs_in_bands_are_the_same(monkeypatch):
     monkeypatch.setattr(contacts, "_CANDIDATE_BAND", 7)
     banded = set(zip(*(x.tolist() for x in contacts._near_pairs(a, b)), strict=True))
     assert banded == whole and len(whole) > 10
+
+
+def test_near_pairs_of_no_points_are_none():
+    from shapegen.statics.contacts import _near_pairs
+
+    some = np.zeros((3, 7))
+    for a, b in ((some, some[:0]), (some[:0], some)):
+        found_a, found_b = _near_pairs(a, b)
+        assert len(found_a) == len(found_b) == 0
