@@ -43,7 +43,8 @@ _HEMISPHERE = np.array([0.5773, 0.5771, 0.5780])  # generic: no common face is n
 # coordinates (so few cells are looked into) at the price of more candidates to test: on
 # running-bond walls of 2 000 and 10 000 bricks, 10 000 voussoirs of an arch, Cluny and
 # Sainte-Chapelle these sizes were the fastest of those tried (cells of 3, 4 and 8 for the
-# centres), 3-10 times faster than scipy's KD-tree on the large ones and as fast on the others.
+# centres), 3-10 times faster than scipy's KD-tree on the large ones, within 0.7-1.25x of it
+# on Cluny and Sainte-Chapelle (about 20 ms; docs/journal/performance.md).
 _CELL = np.array([8.0, 8.0, 8.0, 16.0, 16.0, 16.0, 8.0])
 # the grid starts at these fractions of a cell: generic, so that exact values common in models
 # (a normal's 0 or +-1 / delta) do not fall on a cell's edge
