@@ -293,7 +293,7 @@ def test_every_radial_joint_of_a_fine_arch_is_found():
 
 def test_facing_face_pairs_keep_every_exactly_touching_pair():
     from shapegen.model.packed import pack_blocks
-    from shapegen.statics.contacts import facing_face_pairs
+    from shapegen.statics.face_pairs import facing_face_pairs
 
     model = fine_arch(60)
     model.blocks += tower().blocks
@@ -397,14 +397,14 @@ def test_finding_contacts_stops_at_the_work_clock():
 def test_near_pairs_are_the_brute_force_pairs_within_one_in_the_max_norm(seed):
     # points on a few shared values (as faces of a wall share normals and planes) and spread
     # ones, some exactly 1 apart along a coordinate (the window is closed)
-    from shapegen.statics.contacts import _near_pairs
+    from shapegen.statics.face_pairs import near_pairs
 
     rng = np.random.default_rng(seed)
     a = np.round(rng.uniform(-6, 6, size=(400, 7)), 1)
     a[:200, 3:6] = rng.choice([-3.0, 0.0, 3.0], size=(200, 3))
     b = a[rng.permutation(400)] + rng.choice([0.0, 1.0, -1.0, 0.4], size=(400, 7))
     b[::3] = rng.uniform(-6, 6, size=(134, 7))
-    got = set(zip(*(x.tolist() for x in _near_pairs(a, b)), strict=True))
+    got = set(zip(*(x.tolist() for x in near_pairs(a, b)), strict=True))
     distance = np.abs(a[:, None, :] - b[None, :, :]).max(axis=2)
     expected = set(zip(*(x.tolist() for x in np.nonzero(distance <= 1.0)), strict=True))
     assert len(expected) > 100
@@ -412,20 +412,20 @@ def test_near_pairs_are_the_brute_force_pairs_within_one_in_the_max_norm(seed):
 
 
 def test_near_pairs_in_bands_are_the_same(monkeypatch):
-    from shapegen.statics import contacts
+    from shapegen.statics import face_pairs
 
     rng = np.random.default_rng(5)
     a, b = rng.uniform(-3, 3, size=(300, 7)), rng.uniform(-3, 3, size=(300, 7))
-    whole = set(zip(*(x.tolist() for x in contacts._near_pairs(a, b)), strict=True))
-    monkeypatch.setattr(contacts, "_CANDIDATE_BAND", 7)
-    banded = set(zip(*(x.tolist() for x in contacts._near_pairs(a, b)), strict=True))
+    whole = set(zip(*(x.tolist() for x in face_pairs.near_pairs(a, b)), strict=True))
+    monkeypatch.setattr(face_pairs, "_CANDIDATE_BAND", 7)
+    banded = set(zip(*(x.tolist() for x in face_pairs.near_pairs(a, b)), strict=True))
     assert banded == whole and len(whole) > 10
 
 
 def test_near_pairs_of_no_points_are_none():
-    from shapegen.statics.contacts import _near_pairs
+    from shapegen.statics.face_pairs import near_pairs
 
     some = np.zeros((3, 7))
     for a, b in ((some, some[:0]), (some[:0], some)):
-        found_a, found_b = _near_pairs(a, b)
+        found_a, found_b = near_pairs(a, b)
         assert len(found_a) == len(found_b) == 0
