@@ -24,13 +24,12 @@ from __future__ import annotations
 
 __all__ = ["Bodies", "contacts_and_bodies", "find_bodies", "from_cityengine", "matching_blocks"]
 
-import difflib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.errors import OptionError, StaticsError
+from shapegen.errors import OptionError, StaticsError, did_you_mean
 from shapegen.geometry.graphs import connected_components
 from shapegen.model.model import Model
 from shapegen.model.packed import pack_blocks
@@ -154,8 +153,7 @@ def matching_blocks(model: Model, names: Sequence[str], what: str) -> np.ndarray
         known = sorted(
             {t for b in blocks for t in b.tags} | {r for b in blocks for r in b.rule_path}
         )
-        close = difflib.get_close_matches(missing[0], known, n=3)
-        hint = f" (did you mean {' or '.join(repr(c) for c in close)}?)" if close else ""
+        hint = did_you_mean(missing[0], known, most=3, parenthesised=True)
         raise StaticsError(
             f"{what} {missing[0]}: no block has the label or rule {missing[0]!r}{hint}"
         )

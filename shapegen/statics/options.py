@@ -26,12 +26,11 @@ __all__ = [
 ]
 
 import dataclasses
-import difflib
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from shapegen.errors import OptionError
+from shapegen.errors import OptionError, did_you_mean
 from shapegen.model.friction import checked_friction
 from shapegen.statics.solvers import BACKENDS, cone_refusal, takes_cones
 
@@ -163,8 +162,7 @@ class StaticsOptions:
         names = [f.name for f in dataclasses.fields(cls)]
         for name in settings:
             if name not in names:
-                close = difflib.get_close_matches(str(name), names, n=1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                hint = did_you_mean(name, names, parenthesised=True)
                 raise OptionError(
                     f"unknown statics option {name!r}{hint}; options: {', '.join(names)}"
                 )
