@@ -20,46 +20,46 @@ _spec.loader.exec_module(cga_coverage)
 
 #: Tests elsewhere in the suite that show reference entries (tools/cga_coverage.py reads this).
 COVERS = {
-    "tests/engine/test_cga_polygon_ops.py::test_shed_pyramid_by_height_and_taper": (
+    "tests/cga/test_cga_polygon_ops.py::test_shed_pyramid_by_height_and_taper": (
         "op:taper",
         "op:roofPyramid",
         "op:roofShed",
     ),
-    "tests/engine/test_cga_polygon_ops.py::test_gable_roof_on_the_lot": ("op:roofGable",),
-    "tests/engine/test_cga_polygon_ops.py::test_hip_roof_on_the_lot_as_pyprt_builds_it": (
+    "tests/cga/test_cga_polygon_ops.py::test_gable_roof_on_the_lot": ("op:roofGable",),
+    "tests/cga/test_cga_polygon_ops.py::test_hip_roof_on_the_lot_as_pyprt_builds_it": (
         "op:roofHip",
     ),
-    "tests/engine/test_cga_polygon_ops.py::test_roof_ridge_runs_along_the_scope_x": (
+    "tests/cga/test_cga_polygon_ops.py::test_roof_ridge_runs_along_the_scope_x": (
         "op:roofRidge",
     ),
-    "tests/engine/test_cga_polygon_ops.py::test_offset_inside_shrinks_the_lot_and_fits_the_scope": (
+    "tests/cga/test_cga_polygon_ops.py::test_offset_inside_shrinks_the_lot_and_fits_the_scope": (
         "op:offset",
     ),
-    "tests/engine/test_cga_polygon_ops.py::test_footprint_of_a_roof_is_its_plan": ("op:footprint",),
-    "tests/engine/test_cga_polygon_ops.py::test_split_area": ("op:splitArea",),
-    "tests/engine/test_cga_polygon_ops.py::test_inner_rectangle": ("op:innerRectangle",),
-    "tests/engine/test_cga_polygon_ops.py::test_setback_front_strip_and_remainder": ("op:setback",),
-    "tests/engine/test_cga_polygon_ops.py::test_setback_distances_per_edge_from_an_array": (
+    "tests/cga/test_cga_polygon_ops.py::test_footprint_of_a_roof_is_its_plan": ("op:footprint",),
+    "tests/cga/test_cga_polygon_ops.py::test_split_area": ("op:splitArea",),
+    "tests/cga/test_cga_polygon_ops.py::test_inner_rectangle": ("op:innerRectangle",),
+    "tests/cga/test_cga_polygon_ops.py::test_setback_front_strip_and_remainder": ("op:setback",),
+    "tests/cga/test_cga_polygon_ops.py::test_setback_distances_per_edge_from_an_array": (
         "op:setbackPerEdge",
     ),
-    "tests/engine/test_cga_polygon_ops.py::test_setback_to_area": ("op:setbackToArea",),
-    "tests/engine/test_cga_polygon_ops.py::test_shape_l_u_o": (
+    "tests/cga/test_cga_polygon_ops.py::test_setback_to_area": ("op:setbackToArea",),
+    "tests/cga/test_cga_polygon_ops.py::test_shape_l_u_o": (
         "op:shapeL",
         "op:shapeU",
         "op:shapeO",
     ),
-    "tests/engine/test_cga_assets.py::test_asset_is_found_in_the_project_and_fitted_to_the_scope": (
+    "tests/cga/test_cga_assets.py::test_asset_is_found_in_the_project_and_fitted_to_the_scope": (
         "op:i",
     ),
-    "tests/engine/test_cga_assets.py::test_solid_primitives_have_their_closed_form_volume": (
+    "tests/cga/test_cga_assets.py::test_solid_primitives_have_their_closed_form_volume": (
         "op:primitiveCube",
         "op:primitiveCylinder",
         "op:primitiveCone",
     ),
-    "tests/engine/test_cga_assets.py::test_sphere_is_a_closed_convex_solid_inside_its_sphere": (
+    "tests/cga/test_cga_assets.py::test_sphere_is_a_closed_convex_solid_inside_its_sphere": (
         "op:primitiveSphere",
     ),
-    "tests/engine/test_cga_assets.py::test_flat_primitives_lie_in_the_non_zero_plane": (
+    "tests/cga/test_cga_assets.py::test_flat_primitives_lie_in_the_non_zero_plane": (
         "op:primitiveQuad",
         "op:primitiveDisk",
     ),
@@ -84,26 +84,26 @@ COVERS = {
         "op:rotateScope",
     ),
     "tests/engine/test_geometry_scope_ops.py::test_comp_generic_selectors_and_merge": ("op:comp",),
-    "tests/engine/test_cga_appearance.py::test_normals": ("op:setNormals", "op:softenNormals"),
-    "tests/engine/test_cga_appearance.py::test_texture_sets_the_colour_map_and_resets_the_opacity_map": (  # noqa: E501
+    "tests/cga/test_cga_appearance.py::test_normals": ("op:setNormals", "op:softenNormals"),
+    "tests/cga/test_cga_appearance.py::test_texture_sets_the_colour_map_and_resets_the_opacity_map": (  # noqa: E501
         "op:texture",
     ),
-    "tests/engine/test_cga_appearance.py::test_color_forms": ("op:color",),
-    "tests/engine/test_cga_appearance.py::test_reset_material": ("op:resetMaterial",),
-    "tests/engine/test_cga_appearance.py::test_set_material_takes_name_value_pairs": (
+    "tests/cga/test_cga_appearance.py::test_color_forms": ("op:color",),
+    "tests/cga/test_cga_appearance.py::test_reset_material": ("op:resetMaterial",),
+    "tests/cga/test_cga_appearance.py::test_set_material_takes_name_value_pairs": (
         "op:setMaterial",
     ),
-    "tests/engine/test_cga_appearance.py::test_uv_operations_are_recorded_in_order": (
+    "tests/cga/test_cga_appearance.py::test_uv_operations_are_recorded_in_order": (
         "op:projectUV",
         "op:scaleUV",
         "op:rotateUV",
         "op:tileUV",
         "op:copyUV",
     ),
-    "tests/engine/test_cga_appearance.py::test_setup_projection_resolves_relative_and_floating_sizes_on_the_scope": (  # noqa: E501
+    "tests/cga/test_cga_appearance.py::test_setup_projection_resolves_relative_and_floating_sizes_on_the_scope": (  # noqa: E501
         "op:setupProjection",
     ),
-    "tests/engine/test_cga_appearance.py::test_delete_uv_drops_that_set_only": ("op:deleteUV",),
+    "tests/cga/test_cga_appearance.py::test_delete_uv_drops_that_set_only": ("op:deleteUV",),
     "tests/cga/test_trim.py::test_trim_planes_pass_through_splits_and_apply_to_the_trim_operation": (  # noqa: E501
         "op:trim",
     ),
@@ -135,9 +135,9 @@ COVERS = {
         "attr:comp.index",
         "attr:comp.total",
     ),
-    "tests/engine/test_cga_language.py::test_comp_sel_and_trim_reads": ("attr:comp.sel",),
-    "tests/engine/test_cga_language.py::test_geometry_and_scope_reads": ("attr:scope.elevation",),
-    "tests/engine/test_cga_language.py::test_only_default_style_is_kept": ("keyword:style",),
+    "tests/cga/test_cga_language.py::test_comp_sel_and_trim_reads": ("attr:comp.sel",),
+    "tests/cga/test_cga_language.py::test_geometry_and_scope_reads": ("attr:scope.elevation",),
+    "tests/cga/test_cga_language.py::test_only_default_style_is_kept": ("keyword:style",),
     "tests/cga/test_arrays_and_maths.py::test_seedian_is_the_seed": ("attr:seedian",),
     "tests/cga/test_nil.py::test_nil_in_a_split_makes_a_hole": ("op:NIL",),
     "tests/cga/test_nil.py::test_a_report_after_nil_counts_and_the_shape_leaves_nothing": (

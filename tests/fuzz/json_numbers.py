@@ -1,6 +1,6 @@
 """The numbers of a JSON document that the command line wrote (a model, a report), for the checks
 that every number it writes is finite: the numbers fuzzer's (test_fuzz_numbers.py) and those of
-its reproducers through the command line (tests/test_cli_numbers.py)."""
+its reproducers through the command line (tests/cli/test_cli_numbers.py)."""
 
 from __future__ import annotations
 

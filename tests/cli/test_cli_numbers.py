@@ -21,7 +21,7 @@ import trimesh
 from shapegen.cli import main
 from shapegen.limits import DEFAULT_LIMITS
 
-sys.path.insert(0, str(Path(__file__).resolve().parent / "fuzz"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "fuzz"))
 from json_numbers import json_numbers  # noqa: E402
 
 # (rule body after "Lot -->", words of the warning)

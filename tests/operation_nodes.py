@@ -12,7 +12,7 @@ from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
 from shapegen.grammar import ast
 
 SIMPLE_RULE_DATASET = (
-    Path(__file__).resolve().parents[1]
+    Path(__file__).resolve().parent
     / "data"
     / "cga-corpus"
     / "caseStudy_Tensorflow_simpleRuleDataset__de221ff8"

@@ -17,7 +17,7 @@ from shapegen import Block, Model
 from shapegen.cli import main
 from shapegen.export.blocks_json import model_to_dict, write_blocks_json
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 ARCH = REPO / "docs" / "examples" / "arch.json"
 
 

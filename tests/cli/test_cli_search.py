@@ -7,7 +7,7 @@ import pytest
 
 from shapegen.cli import main
 
-STACK = Path(__file__).parent / "data" / "rules" / "stack.grammar"
+STACK = Path(__file__).parents[1] / "data" / "rules" / "stack.grammar"
 
 
 @pytest.fixture
