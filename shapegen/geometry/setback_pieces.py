@@ -276,7 +276,7 @@ def _run_along(ring: np.ndarray, a, b, same_direction: bool) -> int | None:
     running the same way (or the other way), or None."""
     u = (b - a) / np.linalg.norm(b - a)
     scale = max(1.0, float(np.abs(ring).max()))
-    tol = 1e-7 * scale
+    tol = DEFAULT.convex_rel * scale  # a corner this near a line is on it, as on a plane
     n = len(ring)
     for i in range(n):
         q, r = ring[i], ring[(i + 1) % n]
