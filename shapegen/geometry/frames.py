@@ -11,6 +11,7 @@ from __future__ import annotations
 
 __all__ = [
     "face_rotation",
+    "frame_keeping_x",
     "fills_rectangle",
     "fitted_face_scopes",
     "fitted_scope",
@@ -71,18 +72,28 @@ def face_rotation(points: np.ndarray, normal: np.ndarray | None = None) -> np.nd
 def rotation_keeping_x(old_x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """A frame with y along ``y`` and x as close to ``old_x`` as possible (``old_x`` projected to
     the plane normal to y), z = x x y (CityEngine's scope after ``extrude``)."""
-    y = _unit3(*np.asarray(y, float).tolist())
+    if isinstance(old_x, np.ndarray):
+        old_x = old_x.tolist()
+    if isinstance(y, np.ndarray):
+        y = y.tolist()
+    return np.array(frame_keeping_x(old_x, y)).reshape(3, 3)
+
+
+def frame_keeping_x(old_x, y) -> tuple:
+    """:func:`rotation_keeping_x` of two sequences of 3 floats, as the frame's 9 entries row by
+    row (Python floats: a scope's form, :class:`~shapegen.model.scope.Scope`'s ``r``)."""
+    y = _unit3(float(y[0]), float(y[1]), float(y[2]))
     if y is None:
         raise ValueError("a frame needs a direction of non-zero length")
     x = None
     # old x along the new y: take any perpendicular, preferring world x then z
-    for guess in (np.asarray(old_x, float).tolist(), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)):
+    for guess in (old_x, (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)):
         along = guess[0] * y[0] + guess[1] * y[1] + guess[2] * y[2]
         x = _unit3(guess[0] - y[0] * along, guess[1] - y[1] * along, guess[2] - y[2] * along)
         if x is not None:
             break
     z = _cross3(x, y)
-    return np.array([x, y, z]).T.copy()
+    return (x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2])
 
 
 def fitted_scope(world_points: np.ndarray, rotation: np.ndarray) -> tuple[Scope, np.ndarray]:

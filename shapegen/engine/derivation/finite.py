@@ -47,9 +47,9 @@ def shape_problem(shape: Shape, bound: float, before: Shape | None = None) -> st
     what is wrong, for a message. The geometry is looked at only when it is not ``before``'s
     (a move or a turn keeps it)."""
     scope = shape.scope
-    numbers = scope.origin.tolist() + scope.size.tolist()
+    numbers = scope.o + scope.d
     # a sum carries an inf or a NaN through (and overflows only past the bound)
-    total = sum(numbers) + float(scope.rotation.sum())
+    total = sum(numbers) + sum(scope.r)
     ok = math.isfinite(total) and -bound <= min(numbers) and max(numbers) <= bound
     geometry = shape.geometry
     vertices = None

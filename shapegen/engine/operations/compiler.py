@@ -279,7 +279,7 @@ class OperationCompiler:
             if repeat:
                 pattern = SplitRepeat(tuple(pattern))
             run = state.run
-            extent = float(shape.scope.size[axis])
+            extent = shape.scope.d[axis]
             scale = 1.0
             if node.texture is not None:
                 run.warn(
@@ -347,7 +347,7 @@ class OperationCompiler:
         ]
 
         def values(args, state):
-            size = state.shape.scope.size.tolist()  # floats: an overflow is inf, not a warning
+            size = state.shape.scope.d  # floats: an overflow is inf, not a warning
             return [
                 value(args, state) * size[k] if relative else value(args, state)
                 for value, relative, k in compiled

@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from shapegen.geometry.frames import rotation_keeping_x
+from shapegen.geometry.frames import frame_keeping_x
 from shapegen.geometry.mesh import BOX_FACES, Mesh
 from shapegen.model.scope import Scope
 from shapegen.tolerances import COINCIDENT_REL
@@ -45,7 +45,17 @@ class BoxFaces:
     the size, x along the face's first edge, y = z x x, z the outward normal) and which scope
     sizes become the face's (sx, sy)."""
 
-    __slots__ = ("corners", "faces", "normals", "origins", "frames", "dims", "spans", "border")
+    __slots__ = (
+        "corners",
+        "faces",
+        "normals",
+        "origins",
+        "frames",
+        "dims",
+        "spans",
+        "border",
+        "_columns",
+    )
 
     def __init__(self, corners, faces, spans=(0, 1, 2), border=False):
         self.corners = np.array(corners, dtype=float)
@@ -65,6 +75,19 @@ class BoxFaces:
         self.frames = np.array(frames)  # (6, 3, 3): columns x, y, z in box scope coordinates
         self.dims = np.array(dims)  # (6, 2)
         self.normals = np.array(normals)  # (6, 3) outward unit normals, scope coordinates
+        # per face: its corner (units of the size), its dims, and each frame column as the box
+        # axis it runs along and the sign, for the faces' scopes in Python floats
+        self._columns = [
+            (
+                tuple(self.origins[f].tolist()),
+                tuple(int(k) for k in self.dims[f]),
+                tuple(
+                    (int(np.flatnonzero(column)[0]), float(column[np.flatnonzero(column)[0]]))
+                    for column in self.frames[f].T
+                ),
+            )
+            for f in range(len(faces))
+        ]
 
     def mesh(self, size) -> Mesh:
         """The box of ``size`` (m) in its scope's coordinates, marked as this layout."""
@@ -85,15 +108,27 @@ class BoxFaces:
         merged = Scope.of_arrays(scope.origin + rotation @ low, rotation, points.max(axis=0) - low)
         return merged, Mesh.of_valid_faces(points - low, subset)
 
-    def face_scopes(self, scope: Scope) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Each face's scope as comp(f) sets it: origins ``(6, 3)`` (world, m; each face's first
-        corner), rotations ``(6, 3, 3)`` (columns x, y, z) and sizes ``(6, 3)`` (m, sz = 0)."""
-        size = scope.size
-        origins = scope.origin + (self.origins * size) @ scope.rotation.T
-        rotations = scope.rotation @ self.frames
-        sizes = np.zeros((len(self.faces), 3))
-        sizes[:, :2] = size[self.dims]
-        return origins, rotations, sizes
+    def face_scopes(self, scope: Scope) -> list[Scope]:
+        """Each face's scope as comp(f) sets it: its origin the face's first corner (world, m),
+        its axes x along the face's first edge, z outward, its size (m, sz = 0). The frames
+        are box axes, so each is the box's axes taken in another order, some turned round."""
+        (ox, oy, oz), r, size = scope.o, scope.r, scope.d
+        out = []
+        for corner, (dx, dy), columns in self._columns:
+            x, y, z = corner[0] * size[0], corner[1] * size[1], corner[2] * size[2]
+            origin = (
+                ox + r[0] * x + r[1] * y + r[2] * z,
+                oy + r[3] * x + r[4] * y + r[5] * z,
+                oz + r[6] * x + r[7] * y + r[8] * z,
+            )
+            (a, sa), (b, sb), (c, sc) = columns
+            rotation = (
+                sa * r[a], sb * r[b], sc * r[c],
+                sa * r[3 + a], sb * r[3 + b], sc * r[3 + c],
+                sa * r[6 + a], sb * r[6 + b], sc * r[6 + c],
+            )  # fmt: skip
+            out.append(Scope.of_floats(origin, rotation, (size[dx], size[dy], 0.0)))
+        return out
 
 
 FILLING = BoxFaces(
@@ -126,13 +161,18 @@ RECTANGLES = {
 def _solid(scope: Scope, spans=(0, 1, 2)) -> bool:
     """Whether every side ``spans`` of ``scope`` is clearly more than round-off of its extent,
     and its axes a right-handed frame (a mirror's faces are turned: the general path)."""
-    size = scope.size.tolist()
-    reach = max(1.0, max(abs(v) for v in scope.origin.tolist()) + max(size))
+    size = scope.d
+    o = scope.o
+    reach = max(1.0, max(abs(o[0]), abs(o[1]), abs(o[2])) + max(size))
     if min(size[k] for k in spans) <= COINCIDENT_REL * reach:
         return False
-    x, y, z = scope.rotation.T.tolist()
-    handed = (x[1] * y[2] - x[2] * y[1]) * z[0] + (x[2] * y[0] - x[0] * y[2]) * z[1]
-    return handed + (x[0] * y[1] - x[1] * y[0]) * z[2] > 0
+    r = scope.r
+    # the determinant: x . (y x z) with x, y, z the columns
+    return (
+        r[0] * (r[4] * r[8] - r[7] * r[5])
+        - r[3] * (r[1] * r[8] - r[7] * r[2])
+        + r[6] * (r[1] * r[5] - r[4] * r[2])
+    ) > 0
 
 
 def box_faces_of(shape) -> BoxFaces | None:
@@ -163,19 +203,21 @@ def extruded_rectangle(scope: Scope, height: float):
     caller takes the general path."""
     if height == 0 or not math.isfinite(height):
         return None
-    axes = scope.rotation
-    rotation = rotation_keeping_x(axes[:, 0], axes[:, 2])
+    r = scope.r
+    x_old, y_old, z_old = (r[0], r[3], r[6]), (r[1], r[4], r[7]), (r[2], r[5], r[8])
+    rotation = frame_keeping_x(x_old, z_old)
     # x kept, y the face's normal, z its -y: only then are the fitted box's corners these
-    x_kept = float(rotation[:, 0] @ axes[:, 0])
-    z_down = float(rotation[:, 2] @ axes[:, 1])
+    x_kept = rotation[0] * x_old[0] + rotation[3] * x_old[1] + rotation[6] * x_old[2]
+    z_down = rotation[2] * y_old[0] + rotation[5] * y_old[1] + rotation[8] * y_old[2]
     if x_kept < 1.0 - COINCIDENT_REL or z_down > -1.0 + COINCIDENT_REL:
         return None
-    sx, sy = float(scope.size[0]), float(scope.size[1])
+    sx, sy = scope.d[0], scope.d[1]
     depth = abs(height)
-    origin = scope.origin + axes[:, 1] * sy
+    ox, oy, oz = scope.o
+    ox, oy, oz = ox + y_old[0] * sy, oy + y_old[1] * sy, oz + y_old[2] * sy
     if height < 0:
-        origin = origin + axes[:, 2] * height
-    box = Scope.of_arrays(origin, rotation, np.array([sx, depth, sy]))
+        ox, oy, oz = ox + z_old[0] * height, oy + z_old[1] * height, oz + z_old[2] * height
+    box = Scope.of_floats((ox, oy, oz), rotation, (sx, depth, sy))
     if not _solid(box):
         return None
-    return box, (BACKWARD.mesh(box.size) if height < 0 else None)
+    return box, (BACKWARD.mesh(box.d) if height < 0 else None)

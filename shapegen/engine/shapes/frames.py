@@ -34,6 +34,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from shapegen.model.scope import Scope
+
 Frame = tuple[np.ndarray, np.ndarray]
 
 #: The coordinate systems a rule names (func_convert, op_translate, op_rotate).
@@ -76,7 +78,12 @@ def object_frame(state) -> Frame:
 def pivot_frame(state) -> Frame:
     """The pivot of ``state`` (the object frame until an operation set one)."""
     pivot = getattr(state, "pivot", None)
-    return object_frame(state) if pivot is None else pivot
+    if pivot is None:
+        return object_frame(state)
+    origin, axes = pivot
+    if isinstance(axes, Scope):  # comp's: the component's first corner and scope, kept as
+        return np.asarray(origin, float), axes.rotation  # given until a rule reads them
+    return pivot
 
 
 def frame_of(state, system: str) -> Frame:

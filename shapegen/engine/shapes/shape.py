@@ -171,9 +171,12 @@ class Shape:
         mirrors the geometry along that axis within the scope of the size's magnitude (op_s:
         "negative sizes result in mirroring"; the faces stay outward, as ``mirror`` keeps
         them, so the block stays a solid)."""
+        geometry = self.geometry
+        if geometry is None and len(size) == 3:  # a box or a rectangle: floats only
+            scope = resize(self.scope, [abs(float(v)) for v in size])
+            return Shape(scope, self.kind, self.normal_axis, self.insert, None, self._kept())
         signed = np.asarray(size, float)
         scope = resize(self.scope, np.abs(signed))
-        geometry = self.geometry
         if geometry is not None:
             old = self.scope.size
             factors = np.divide(scope.size, old, out=np.ones(3), where=old > 0)
@@ -187,26 +190,39 @@ class Shape:
 def lot_scope(width: float, depth: float) -> Scope:
     """The start shape's scope: ``width`` (m) along +x, ``depth`` (m) along +z, y up, flat;
     the sizes of a checked lot (:class:`~shapegen.model.lot.Lot`, or ``@Lot``'s)."""
-    return Scope(np.zeros(3), np.eye(3), np.array([float(width), 0.0, float(depth)]))
+    return Scope.of_floats((0.0, 0.0, 0.0), _EYE, (float(width), 0.0, float(depth)))
+
+
+_EYE = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+
+# The scope operations below work on the scope's Python floats (Scope.o, .r, .d): a handful
+# of numbers each, which numpy's per-call cost (about a microsecond) would dominate.
 
 
 def extrude(scope: Scope, axis: int, height: float) -> Scope:
     """Grow a flat scope by ``height`` (m) along its scope ``axis`` (negative grows backwards)."""
     if not math.isfinite(height):
         raise ValueError(f"extrude height must be a finite number, got {height}")
-    size = scope.size.copy()
+    size = list(scope.d)
     size[axis] = abs(height)
-    origin = scope.origin
+    origin = scope.o
     if height < 0:
-        origin = origin + scope.rotation[:, axis] * height
-    return Scope.of_arrays(origin, scope.rotation, size)
+        r = scope.r
+        origin = (
+            origin[0] + r[axis] * height,
+            origin[1] + r[3 + axis] * height,
+            origin[2] + r[6 + axis] * height,
+        )
+    return Scope.of_floats(origin, scope.r, tuple(size))
 
 
 def split_scope(scope: Scope, axis: int, start: float, size: float) -> Scope:
     """The slice ``[start, start + size]`` (m) of ``scope`` along its scope ``axis``."""
-    new_size = scope.size.copy()
+    new_size = list(scope.d)
     new_size[axis] = size
-    return Scope.of_arrays(scope.origin + scope.rotation[:, axis] * start, scope.rotation, new_size)
+    r, (ox, oy, oz) = scope.r, scope.o
+    origin = (ox + r[axis] * start, oy + r[3 + axis] * start, oz + r[6 + axis] * start)
+    return Scope.of_floats(origin, r, tuple(new_size))
 
 
 def face_scopes(scope: Scope) -> list[tuple[str, Scope]]:
@@ -224,14 +240,19 @@ def face_scopes(scope: Scope) -> list[tuple[str, Scope]]:
 
 def translate(scope: Scope, offset: Sequence[float]) -> Scope:
     """Move the scope by ``offset`` (m) along its own axes."""
-    moved = scope.origin + scope.rotation @ np.asarray(offset, float)
-    if moved.shape != (3,):
+    if len(offset) != 3:
         raise ValueError(f"an offset has 3 coordinates, got {np.shape(offset)}")
-    return Scope.of_arrays(moved, scope.rotation, scope.size)
+    x, y, z = (float(v) for v in offset)
+    return Scope.of_floats(scope.point(x, y, z), scope.r, scope.d)
 
 
 def rotation_matrix(angles: Sequence[float]) -> np.ndarray:
     """Rotation by ``angles`` (degrees) about x, then y, then z (axes fixed during the turn)."""
+    return np.array(rotation_entries(angles)).reshape(3, 3)
+
+
+def rotation_entries(angles: Sequence[float]) -> tuple:
+    """:func:`rotation_matrix`'s 9 entries row by row, as Python floats."""
     ax, ay, az = (math.radians(float(a)) for a in angles)
     cx, sx, cy, sy, cz, sz = (
         math.cos(ax),
@@ -241,43 +262,71 @@ def rotation_matrix(angles: Sequence[float]) -> np.ndarray:
         math.cos(az),
         math.sin(az),
     )
-    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
-    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
-    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
-    return rz @ ry @ rx
+    # rz @ ry @ rx, multiplied out
+    return (
+        cz * cy,
+        cz * sy * sx - sz * cx,
+        cz * sy * cx + sz * sx,
+        sz * cy,
+        sz * sy * sx + cz * cx,
+        sz * sy * cx - cz * sx,
+        -sy,
+        cy * sx,
+        cy * cx,
+    )
+
+
+def _times(a: tuple, b: tuple) -> tuple:
+    """The product of two 3x3 matrices given as 9 floats row by row."""
+    return tuple(
+        a[i] * b[j] + a[i + 1] * b[j + 3] + a[i + 2] * b[j + 6]
+        for i in (0, 3, 6)
+        for j in (0, 1, 2)
+    )
 
 
 def rotate(scope: Scope, angles: Sequence[float], about_center: bool = False) -> Scope:
     """Turn the scope by ``angles`` (degrees) about its own axes through its origin (or centre)."""
-    turn = scope.rotation @ rotation_matrix(angles)
-    origin = scope.origin
+    turn = _times(scope.r, rotation_entries(angles))
+    origin = scope.o
     if about_center:
-        center_world = scope.to_world(scope.size / 2)
-        origin = center_world - turn @ (scope.size / 2)
-    return Scope.of_arrays(origin, turn, scope.size)
+        hx, hy, hz = (v / 2 for v in scope.d)
+        cx, cy, cz = scope.point(hx, hy, hz)
+        origin = (
+            cx - (turn[0] * hx + turn[1] * hy + turn[2] * hz),
+            cy - (turn[3] * hx + turn[4] * hy + turn[5] * hz),
+            cz - (turn[6] * hx + turn[7] * hy + turn[8] * hz),
+        )
+    return Scope.of_floats(origin, turn, scope.d)
 
 
 def resize(scope: Scope, size: Sequence[float]) -> Scope:
     """The scope with a new ``size`` (m), its origin and axes kept."""
-    size = np.asarray(size, float)
-    if not np.all(np.isfinite(size)) or np.any(size < 0):
-        raise ValueError(f"scope sizes must be finite numbers >= 0, got {size.tolist()}")
-    if size.shape != (3,):
-        return Scope(scope.origin, scope.rotation, size)  # its check names the shape
-    return Scope.of_arrays(scope.origin, scope.rotation, size)
+    if isinstance(size, np.ndarray):
+        size = size.tolist()
+    values = [float(v) for v in size]
+    if not all(math.isfinite(v) and v >= 0 for v in values):
+        raise ValueError(f"scope sizes must be finite numbers >= 0, got {values}")
+    if len(values) != 3:
+        return Scope(scope.origin, scope.rotation, values)  # its check names the shape
+    return Scope.of_floats(scope.o, scope.r, tuple(values))
 
 
 def center(scope: Scope, reference: Scope, axes: str) -> Scope:
     """Move ``scope`` so that its centre lines up with ``reference``'s along ``axes`` ("xz"...),
     measured along ``reference``'s axes."""
-    here = scope.to_world(scope.size / 2)
-    there = reference.to_world(reference.size / 2)
-    delta = there - here
-    shift = np.zeros(3)
+    here = scope.point(*(v / 2 for v in scope.d))
+    there = reference.point(*(v / 2 for v in reference.d))
+    delta = (there[0] - here[0], there[1] - here[1], there[2] - here[2])
+    shift = [0.0, 0.0, 0.0]
     for name in axes:
-        direction = reference.rotation[:, _AXES[name]]
-        shift += direction * float(direction @ delta)
-    return Scope.of_arrays(scope.origin + shift, scope.rotation, scope.size)
+        direction = reference.axis(_AXES[name])
+        along = direction[0] * delta[0] + direction[1] * delta[1] + direction[2] * delta[2]
+        shift[0] += direction[0] * along
+        shift[1] += direction[1] * along
+        shift[2] += direction[2] * along
+    o = scope.o
+    return Scope.of_floats((o[0] + shift[0], o[1] + shift[1], o[2] + shift[2]), scope.r, scope.d)
 
 
 def axis_index(name: str) -> int:
@@ -453,21 +502,28 @@ def split_pieces(
     shape: Shape, axis: int, spans: list[tuple[float, float]], bound: float, adjust: bool = True
 ) -> tuple[list[Shape | None], bool]:
     """:func:`split_piece` for each ``(start, size)`` of ``spans`` (m). The pieces of a shape
-    filling its scope are sliced together, their origins and sizes as stacked arrays; the flag
+    filling its scope are sliced together, their scopes in Python floats; the flag
     says that every piece's scope is then known to be finite and within ``bound`` (m)."""
     if shape.geometry is not None or not spans:
         return [split_piece(shape, axis, start, size, adjust) for start, size in spans], False
     scope = shape.scope
-    starts = np.array([start for start, _ in spans])
-    origins = scope.origin + scope.rotation[:, axis] * starts[:, None]
-    sizes = np.repeat(scope.size[None, :], len(spans), axis=0)
-    sizes[:, axis] = [size for _, size in spans]
-    within = bool((np.abs(origins) <= bound).all() and (np.abs(sizes) <= bound).all())
-    rotation, kind, normal_axis = scope.rotation, shape.kind, shape.normal_axis
-    pieces = [
-        Shape(Scope.of_arrays(origins[k], rotation, sizes[k]), kind, normal_axis)
-        for k in range(len(spans))
-    ]
+    r, (ox, oy, oz), size = scope.r, scope.o, scope.d
+    ax, ay, az = r[axis], r[3 + axis], r[6 + axis]
+    kind, normal_axis = shape.kind, shape.normal_axis
+    within = all(abs(v) <= bound for v in size)  # a NaN fails every comparison
+    pieces = []
+    for start, extent in spans:
+        origin = (ox + ax * start, oy + ay * start, oz + az * start)
+        sizes = list(size)
+        sizes[axis] = extent
+        within = (
+            within
+            and abs(origin[0]) <= bound
+            and abs(origin[1]) <= bound
+            and abs(origin[2]) <= bound
+            and abs(extent) <= bound
+        )
+        pieces.append(Shape(Scope.of_floats(origin, r, tuple(sizes)), kind, normal_axis))
     return pieces, within
 
 

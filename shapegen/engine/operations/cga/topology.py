@@ -87,9 +87,8 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
     scope = shape.scope
     box = box_faces_of(shape)
     if box is not None:  # a box or a rectangle: each face's scope from a table
-        firsts, rotations, sizes = box.face_scopes(scope)  # origins: each face's first corner
-        rows = zip(firsts, rotations, sizes, strict=True)
-        shapes = [Shape(Scope.of_arrays(*row), FACE, 2) for row in rows]
+        shapes = [Shape(s, FACE, 2) for s in box.face_scopes(scope)]
+        firsts = [s.scope.o for s in shapes]  # origins: each face's first corner
         normals, borders, faces = box.normals, [box.border] * len(shapes), box.faces
     elif shape.geometry is None and shape.kind == MASS:
         mesh = Mesh.box(scope.size)
@@ -381,7 +380,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                 child.comp_total = total
                 child.comp_sel = text
                 if align and firsts[index] is not None:  # noAlign keeps the pivot
-                    child.pivot = (np.asarray(firsts[index], float), piece.scope.rotation)
+                    child.pivot = (firsts[index], piece.scope)  # read: frames.pivot_frame
                 if planes is not None:  # op_comp: only the ':' operator makes trim planes
                     child.trim_planes = () if merge else planes[chosen[index].index]
                 if body(child, args, out) and child.is_leaf():
