@@ -192,23 +192,28 @@ def _bisector(start, end, own: np.ndarray, other: np.ndarray, up) -> TrimPlane |
 
 
 def trimmed(mesh: Mesh, origin, rotation, planes) -> Mesh | None:
-    """``mesh`` (coordinates of the frame ``origin``, ``rotation``) cut to every plane in
+    """``mesh`` (coordinates of the frame ``origin``, ``rotation``: a (3, 3) array or its 9
+    entries row by row) cut to every plane in
     ``planes``; None when nothing is left, ``mesh`` itself when no plane cuts it.
 
     The outcome is kept for the same mesh and the same planes in the mesh's frame (a bounded
     cache): a rebuild (a search, the design page) inserts the same assets at the same places
     and would cut them again, plane by plane."""
-    origin = np.asarray(origin, dtype=float)
-    rotation = np.asarray(rotation, dtype=float)
+    # in Python floats: a few planes a shape, where numpy's per-call cost would dominate
+    ox, oy, oz = (float(v) for v in origin)
+    r = rotation.ravel().tolist() if isinstance(rotation, np.ndarray) else rotation
     local = []
     for plane in planes:
-        normal = np.asarray(plane.normal)
-        local.append((rotation.T @ normal, plane.offset - float(normal @ origin)))
-    key = (
-        mesh.vertices.tobytes(),
-        id(mesh.faces),
-        tuple((*n.tolist(), offset) for n, offset in local),
-    )
+        nx, ny, nz = plane.normal
+        local.append(
+            (
+                r[0] * nx + r[3] * ny + r[6] * nz,
+                r[1] * nx + r[4] * ny + r[7] * nz,
+                r[2] * nx + r[5] * ny + r[8] * nz,
+                plane.offset - (nx * ox + ny * oy + nz * oz),
+            )
+        )
+    key = (mesh.vertices.tobytes(), id(mesh.faces), tuple(local))
     kept = _TRIMMED.get(key)
     if kept is not None and kept[0] is mesh.faces:  # the same faces object, not a reused id
         return mesh if kept[1] is _UNCUT else kept[1]
@@ -228,7 +233,8 @@ def _entry_bytes(key, cut) -> int:
 
 
 def _trimmed(mesh: Mesh, local) -> Mesh | None:
-    for local_normal, local_offset in local:
+    for *normal, local_offset in local:
+        local_normal = np.array(normal)
         heights = mesh.vertices @ local_normal - local_offset
         if heights.min() >= -COINCIDENT_REL * max(mesh.size(), 1.0):
             continue

@@ -93,7 +93,7 @@ def _seedian(state) -> float:
 
 def _world_scope(k: int) -> Callable[[object], float]:
     if k < 3:
-        return lambda state: float(state.shape.scope.origin[k])
+        return lambda state: state.shape.scope.o[k]
     return lambda state: euler_angles(state.shape.scope.rotation)[k - 3]
 
 
@@ -132,11 +132,11 @@ def _origin(k: int) -> Callable[[object], float]:
 _FIELDS = ("px", "py", "pz", "ox", "oy", "oz")
 
 _READERS: dict[str, Callable[[object], object]] = {
-    "scope.sx": lambda state: float(state.shape.scope.size[0]),
-    "scope.sy": lambda state: float(state.shape.scope.size[1]),
-    "scope.sz": lambda state: float(state.shape.scope.size[2]),
+    "scope.sx": lambda state: state.shape.scope.d[0],
+    "scope.sy": lambda state: state.shape.scope.d[1],
+    "scope.sz": lambda state: state.shape.scope.d[2],
     # the height of the scope's origin above the ground plane y = 0 (world coordinates)
-    "scope.elevation": lambda state: float(state.shape.scope.origin[1]),
+    "scope.elevation": lambda state: state.shape.scope.o[1],
     "split.index": lambda state: float(state.split_index),
     "split.total": lambda state: float(state.split_total),
     "comp.index": lambda state: float(state.comp_index),

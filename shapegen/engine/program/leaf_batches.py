@@ -37,9 +37,9 @@ _SIDES = {0: (1, 2), 1: (0, 2), 2: (0, 1)}
 def _placed(unit: np.ndarray, scopes: list) -> tuple[np.ndarray, np.ndarray]:
     """The corners ``unit`` (k, 3) scaled to each scope's size and placed in world coordinates
     ``(n, k, 3)``, and the scopes' sizes ``(n, 3)``."""
-    origins = np.array([s.origin for s in scopes])
-    rotations = np.array([s.rotation for s in scopes])
-    sizes = np.array([s.size for s in scopes])
+    origins = np.array([s.o for s in scopes])
+    rotations = np.array([s.r for s in scopes]).reshape(-1, 3, 3)
+    sizes = np.array([s.d for s in scopes])
     local = unit[None, :, :] * sizes[:, None, :]
     return origins[:, None, :] + np.einsum("nij,nkj->nki", rotations, local), sizes
 
@@ -57,7 +57,7 @@ def rectangle_corners(scopes: list, axis: int) -> tuple[np.ndarray, np.ndarray, 
     corners, sizes = _placed(_UNIT_RECTANGLES[axis], scopes)
     first, second = _SIDES[axis]
     areas = sizes[:, first] * sizes[:, second]
-    mirrored = np.linalg.det(np.array([s.rotation for s in scopes])) < 0
+    mirrored = np.linalg.det(np.array([s.r for s in scopes]).reshape(-1, 3, 3)) < 0
     return corners, areas, mirrored
 
 
@@ -69,8 +69,8 @@ def placed_meshes(
     out), and the total face area (m^2) of those ``measured`` (0 for the others), all meshes in
     one stacked pass."""
     counts = np.array([m.n_vertices for m in meshes])
-    rotations = np.array([s.rotation for s in scopes])
-    origins = np.array([s.origin for s in scopes])
+    rotations = np.array([s.r for s in scopes]).reshape(-1, 3, 3)
+    origins = np.array([s.o for s in scopes])
     owner = np.repeat(np.arange(len(meshes)), counts)
     world = np.einsum("nij,nj->ni", rotations[owner], np.concatenate([m.vertices for m in meshes]))
     world += origins[owner]

@@ -22,7 +22,7 @@ def comp_trim_planes(shape: Shape, faces: list[Shape]) -> list[tuple]:
     """The trim planes of each face of ``shape``'s geometry, whose ``comp(f)`` components are
     ``faces`` (in the geometry's face order): classified in each face's own frame."""
     mesh = shape.mesh()
-    ups = np.array([face.scope.rotation[:, 1] for face in faces])
+    ups = np.array([face.scope.axis(1) for face in faces])
     return deferred_face_trim_planes(shape.scope.to_world(mesh.vertices), mesh.faces, ups)
 
 
@@ -38,7 +38,7 @@ def apply_trim(state) -> bool:
         return True
     shape = state.shape
     mesh = shape.mesh()
-    cut = trimmed(mesh, shape.scope.origin, shape.scope.rotation, active)
+    cut = trimmed(mesh, shape.scope.o, shape.scope.r, active)
     if cut is None:
         return False
     if cut is not mesh:

@@ -332,7 +332,7 @@ def _name_problem(name: str, cga: bool = False) -> str | None:
 def _box_shape(scope: Scope) -> Shape:
     """The unit cube fitted to the scope: the box that fills it (the fast path), zero sizes
     taking the cube's proportion."""
-    if scope.size.min() > 0:  # what fitting the unit cube gives: the scope as it is
+    if min(scope.d) > 0:  # what fitting the unit cube gives: the scope as it is
         return Shape(scope, MASS)
     new_scope, _ = fitted(Mesh.box((1.0, 1.0, 1.0)), scope)
     return Shape(new_scope, MASS)
