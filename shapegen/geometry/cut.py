@@ -30,6 +30,7 @@ from shapegen.geometry.prism_cut import SPLIT_HEIGHT as _SPLIT_HEIGHT
 from shapegen.geometry.prism_cut import prism_decomposition
 from shapegen.geometry.rings import chain_loops
 from shapegen.limits import check_clock
+from shapegen.model.polygons import face_normals
 from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
 
 
@@ -97,9 +98,9 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
 
 def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign):
     """The polygons left of each face in ``clipped`` (a list per face)."""
-    normals = mesh.face_normals()
     n = len(depth)
     out = []
+    bridged = []  # (place in out, face, ring, flags): faces left with several edges on the cut
     for k in clipped.tolist():
         face = mesh.faces[k]
         ring: list[int] = []
@@ -116,12 +117,35 @@ def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign):
             out.append(())
             continue
         flags = [i >= n or abs(depth[i]) <= eps for i in ring]
+        size = len(ring)
+        on_cut = [e for e in range(size) if flags[e] and flags[(e + 1) % size]]
+        if not on_cut:  # the face only touches the cut: kept as it is
+            out.append([tuple(ring)])
+            continue
+        if len(on_cut) == 1 and not all(flags):
+            # a convex face's one cut edge: the ring begun after it (what _split_at_bridges
+            # makes of it, without the face's normal; a face whose normal is zero has no area
+            # and _compact drops it either way)
+            start = (on_cut[0] + 1) % size
+            out.append([tuple(ring[start:] + ring[:start])])
+            continue
+        bridged.append((len(out), k, ring, flags))
+        out.append(None)
+    if bridged:
         # the direction along the cut in which the kept part's boundary runs (interior on the
-        # left): t = d x n, d the kept side (sign along axis), n the face normal
-        nx, ny, nz = normals[k].tolist()
-        along = ((0.0, -nz, ny), (nz, 0.0, -nx), (-ny, nx, 0.0))[axis]
-        along = tuple(sign * c for c in along)
-        out.append(_split_at_bridges(ring, flags, points, along))
+        # left): t = d x n, d the kept side (sign along axis), n the face normal; the normals
+        # of these faces only (Newell's, the same numbers as the whole mesh's)
+        cached = mesh.__dict__.get("normals_and_centres")
+        if cached is not None:
+            normals = cached[0][[k for _, k, _, _ in bridged]]
+        else:
+            corners, start = corner_layout([mesh.faces[k] for _, k, _, _ in bridged])
+            normals = face_normals(mesh.vertices, corners, start)[0]
+        for (place, _, ring, flags), normal in zip(bridged, normals.tolist(), strict=True):
+            nx, ny, nz = normal
+            along = ((0.0, -nz, ny), (nz, 0.0, -nx), (-ny, nx, 0.0))[axis]
+            along = tuple(sign * c for c in along)
+            out[place] = _split_at_bridges(ring, flags, points, along)
     return out
 
 
