@@ -346,20 +346,15 @@ class Mesh:
         if not self.faces:
             return False
         if self.holes:  # a hole's ring borders the inner walls as a face's does the outer
-            corners, start = face_layout(CheckedFaces(self.rings()))
-        else:
-            corners, start = self.corner_layout
-        successor = np.arange(1, len(corners) + 1)
-        successor[start[1:] - 1] = start[:-1]
-        n = len(self.vertices)
-        edges = corners * n + corners[successor]
-        edges.sort()
-        if len(edges) > 1 and bool((edges[1:] == edges[:-1]).any()):
-            return False  # a directed edge used twice
-        reverse = (edges % n) * n + edges // n
-        found = np.searchsorted(edges, reverse)
-        found[found == len(edges)] = 0
-        return bool((edges[found] == reverse).all())
+            return _closed(face_layout(CheckedFaces(self.rings())), len(self.vertices))
+        # the faces alone decide it: kept on them, for the meshes that share them (an asset
+        # fitted into every scope it is inserted in, a mesh turned to be cut)
+        kept = self.faces.__dict__.get("is_closed")
+        if kept is None:
+            kept = self.faces.__dict__["is_closed"] = _closed(
+                self.corner_layout, len(self.vertices)
+            )
+        return kept
 
     def is_planar(self, tolerance: float = 0.0) -> bool:
         """All vertices lie in one plane within ``tolerance`` (m, plus a round-off margin)."""
@@ -566,3 +561,18 @@ def _faces_out_of_range(corners: np.ndarray, start: np.ndarray, count: int) -> n
 
 
 _reversed = turned  # a face turned around starts on its second vertex
+
+
+def _closed(layout: tuple[np.ndarray, np.ndarray], n: int) -> bool:
+    """:attr:`Mesh.is_closed` of the faces ``layout`` over ``n`` vertices."""
+    corners, start = layout
+    successor = np.arange(1, len(corners) + 1)
+    successor[start[1:] - 1] = start[:-1]
+    edges = corners * n + corners[successor]
+    edges.sort()
+    if len(edges) > 1 and bool((edges[1:] == edges[:-1]).any()):
+        return False  # a directed edge used twice
+    reverse = (edges % n) * n + edges // n
+    found = np.searchsorted(edges, reverse)
+    found[found == len(edges)] = 0
+    return bool((edges[found] == reverse).all())

@@ -245,7 +245,7 @@ class Program:
             for s in leaves
             if s.shape.kind == MASS
             and s.shape.geometry is None
-            and s.shape.scope.size.min() > _MIN_SIZE
+            and min(s.shape.scope.d) > _MIN_SIZE
         ]
         limit = run.limits.max_blocks
         if len(boxes) > limit:
