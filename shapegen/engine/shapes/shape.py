@@ -158,8 +158,8 @@ class Shape:
         if self.geometry is not None:
             return self.geometry
         if self.kind == FACE:
-            return Mesh.rectangle(self.scope.size, self.normal_axis)
-        return Mesh.box(self.scope.size)
+            return Mesh.rectangle(self.scope.d, self.normal_axis)
+        return Mesh.box(self.scope.d)
 
     def world_mesh(self) -> Mesh:
         """The geometry in world coordinates (m)."""

@@ -325,7 +325,7 @@ def compile_setup_projection(program, node: ast.Operation, params):
 
     def size(args, state, number, kind, axis):
         value = number(args, state)
-        extent = float(state.shape.scope.size[axis])
+        extent = state.shape.scope.d[axis]
         if kind == "relative":
             value *= extent
         elif kind == "floating":
