@@ -329,10 +329,15 @@ class Mesh:
 
     def size(self) -> float:
         """The diagonal of the bounding box, m (0 for no vertices)."""
-        if self.n_vertices == 0:
-            return 0.0
-        low, high = self.bounds()
-        return float(np.linalg.norm(high - low))
+        size = self.__dict__.get("_size")
+        if size is None:  # the vertices are read-only: kept (a trim asks it once per plane)
+            if self.n_vertices == 0:
+                size = 0.0
+            else:
+                low, high = self.bounds()
+                size = float(np.linalg.norm(high - low))
+            self.__dict__["_size"] = size
+        return size
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """``(low, high)`` corners of the axis-aligned bounding box, m."""
