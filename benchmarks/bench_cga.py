@@ -42,7 +42,12 @@ sys.path.insert(0, str(ROOT))
 
 from benchmarks.processes import user_environment  # noqa: E402
 
-PACKAGES = ROOT.parent / "shared" / "cga-corpus" / "packages"
+# ../shared/cga-corpus of the checkout (a worktree's checkout lies one folder further down)
+PACKAGES = next(
+    (p / "shared" / "cga-corpus" / "packages" for p in ROOT.parents[:2]
+     if (p / "shared" / "cga-corpus").is_dir()),
+    ROOT.parent / "shared" / "cga-corpus" / "packages",
+)  # fmt: skip
 PRT_VENV = Path.home() / ".cache" / "shapegen" / "prt-venv"
 ONE_LINE_RULE = "Lot --> extrude(10) Mass.\n"
 
