@@ -12,7 +12,6 @@ from __future__ import annotations
 
 __all__ = ["OperationCompiler"]
 
-import difflib
 from collections.abc import Callable, Mapping
 
 from shapegen.engine.derivation.cga_errors import carrying_on
@@ -40,7 +39,7 @@ from shapegen.engine.shapes.split import (
     SplitRepeat,
     resolve_split,
 )
-from shapegen.errors import GrammarError, OperationError
+from shapegen.errors import GrammarError, OperationError, did_you_mean
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES
 
@@ -431,8 +430,7 @@ class OperationCompiler:
             and attribute not in SETTABLE_SHAPE_ATTRIBUTES
         ):
             known = sorted(set(self.attr_names) | set(RESERVED_ATTRIBUTES))
-            close = difflib.get_close_matches(attribute, known, n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(attribute, known, parenthesised=True)
             raise self.error(node, f"set() of unknown attribute {attribute!r}{hint}")
         value = self.expressions.compile(node.value, params)
 

@@ -7,13 +7,12 @@ from __future__ import annotations
 
 __all__ = ["INSERT", "check_primitive_call", "compile_insert", "is_template", "resolve_primitive"]
 
-import difflib
 from collections.abc import Callable
 
 from shapegen.engine.derivation.state import Operation
 from shapegen.engine.expressions.arrays import type_name
 from shapegen.engine.shapes.shape import MASS, Shape
-from shapegen.errors import GeometryError, OptionError
+from shapegen.errors import GeometryError, OptionError, did_you_mean
 from shapegen.grammar import ast
 
 INSERT = "insert"
@@ -46,8 +45,7 @@ def check_primitive_call(node: ast.Insert, error: Callable) -> None:
     for keyword in node.parameters:
         if keyword.name not in primitive.parameters:
             known = ", ".join(sorted(primitive.parameters)) or "none"
-            close = difflib.get_close_matches(keyword.name, list(primitive.parameters), n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(keyword.name, primitive.parameters, parenthesised=True)
             raise error(
                 keyword if getattr(keyword, "location", None) else node,
                 f"primitive {name!r} has no parameter {keyword.name!r}{hint}; "

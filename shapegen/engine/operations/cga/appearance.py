@@ -32,7 +32,6 @@ from __future__ import annotations
 
 __all__ = ["compile_material_set", "material_value"]
 
-import difflib
 import math
 from dataclasses import replace
 
@@ -41,6 +40,7 @@ from shapegen.engine.expressions.arrays import Array, format_value, type_name
 from shapegen.engine.expressions.shape_attributes import material_alias
 from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import plain_arguments, typed
+from shapegen.errors import did_you_mean
 from shapegen.grammar import ast
 from shapegen.model.appearance import (
     DEFAULT_APPEARANCE,
@@ -95,8 +95,8 @@ def _material_name(program, node, attribute: str) -> str:
     name = material_alias(attribute.removeprefix("material."))
     if name in MATERIAL_ATTRIBUTES:
         return name
-    close = difflib.get_close_matches(name, list(MATERIAL_ATTRIBUTES), n=1, cutoff=0.6)
-    hint = f" (did you mean 'material.{close[0]}'?)" if close else ""
+    shown = {known: f"material.{known}" for known in MATERIAL_ATTRIBUTES}
+    hint = did_you_mean(name, MATERIAL_ATTRIBUTES, parenthesised=True, shown=shown)
     raise program.error(node, f"unknown material attribute 'material.{name}'{hint}")
 
 
@@ -153,8 +153,7 @@ def _selector(program, node, expression, choices: tuple[str, ...], what: str) ->
     else:
         text = None
     if text not in choices:
-        close = difflib.get_close_matches(str(text), list(choices), n=1) if text else []
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        hint = did_you_mean(text, choices, parenthesised=True) if text else ""
         shown = repr(text) if text is not None else f"a {type(expression).__name__}"
         raise program.error(
             node, f"{node.name}(): {what} is one of {', '.join(choices)}; got {shown}{hint}"
@@ -235,8 +234,7 @@ def compile_set_material(program, node: ast.Operation, params):
             key, text = format_value(key), format_value(text)
             name = material_alias(key.removeprefix("material."))
             if name not in MATERIAL_ATTRIBUTES:
-                close = difflib.get_close_matches(name, list(MATERIAL_ATTRIBUTES), n=1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                hint = did_you_mean(name, MATERIAL_ATTRIBUTES, parenthesised=True)
                 raise error(node, f"setMaterial(): unknown material attribute {key!r}{hint}")
             try:
                 look = with_material(look, name, _from_text(name, text))
