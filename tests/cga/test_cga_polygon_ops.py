@@ -370,3 +370,19 @@ def test_envelope_per_edge_arrays(tmp_path):
     model = shapegen.load_grammar(path).build(lot=(12, 8))
     volume = sum(b.volume for b in model.blocks)
     assert volume == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
+
+
+def test_envelope_classes_edges_in_the_object_axes(tmp_path):
+    # op_envelope classes the edges by street.*, falling back to object.*: on a mass's top,
+    # whose comp(f) scope has its y across the face, the sides are still front, back, left
+    # and right, so all four slope as on the lot (candler's ventilators, as PyPRT builds them)
+    path = tmp_path / "envelope_top.cga"
+    path.write_text(
+        "@StartRule\nLot --> extrude(4) comp(f){ top: envelope(world.up, 10, 3, 45, 3, 45, "
+        "3, 45) Mass }\n"
+    )
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    volume = sum(b.volume for b in model.blocks)
+    assert volume == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
+    top = max(float(np.max(np.asarray(b.vertices)[:, 1])) for b in model.blocks)
+    assert top == pytest.approx(4 + 7)

@@ -22,6 +22,7 @@ __all__ = [
     "FaceFrame",
     "face_frames",
     "edge_normals",
+    "edge_object_quadrants",
     "edge_quadrants",
     "emit_pieces",
     "face_holes",
@@ -107,6 +108,15 @@ def edge_normals(frame: FaceFrame, polygon: np.ndarray) -> np.ndarray:
 def edge_quadrants(frame: FaceFrame, polygon: np.ndarray) -> list[str]:
     """``front back left right top bottom`` of each edge's outward normal in scope axes."""
     return [quadrant(n) for n in edge_normals(frame, polygon)]
+
+
+def edge_object_quadrants(shape: Shape, object_rotation, frame, polygon) -> list[str]:
+    """``front back left right top bottom`` of each edge's outward normal in the object's axes
+    (``object_rotation``, the start shape's; the world's when None): the ``object.*``
+    selectors' classes, which ``street.*`` falls back to on a lot without street widths."""
+    world = edge_normals(frame, polygon) @ shape.scope.rotation.T
+    objects = world if object_rotation is None else world @ object_rotation
+    return [quadrant(n) for n in objects]
 
 
 def face_holes(shape: Shape) -> list[list[np.ndarray]]:

@@ -19,7 +19,7 @@ from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import number, plain_arguments, selector_name
 from shapegen.engine.operations.cga.polygons import (
     array_elements,
-    edge_quadrants,
+    edge_object_quadrants,
     face_frames,
     face_holes,
     flat_faces,
@@ -285,7 +285,11 @@ def compile_envelope(program, node: ast.Operation, params):
                         "supported; use envelope(normal, ...)"
                     )  # fmt: skip
             n = len(polygon)
-            quadrants = edge_quadrants(frame, polygon)
+            # op_envelope: the edges are classed by the street.* selectors, which fall back
+            # to object.* (the start shape's axes), not by the scope's axes
+            quadrants = edge_object_quadrants(
+                state.shape, getattr(state.run, "object_rotation", None), frame, polygon
+            )
             if len(pairs) == 2 and array_elements(evaluated[0]) is not None:
                 base = per_edge(evaluated[0], n, 0.0, "base heights")
                 angle = per_edge(evaluated[1], n, 90.0, "angles")
