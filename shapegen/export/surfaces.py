@@ -53,24 +53,29 @@ def left_out_summary(model: Model) -> dict:
 
 
 def solids(model: Model) -> int:
-    """How many closed solid leaves that are not convex the model keeps as derived (surfaces
-    with a :class:`~shapegen.model.appearance.SolidLeaf`): the statics cut each into convex
-    parts of one body when they judge."""
+    """How many solid leaves the model keeps as derived (surfaces with a
+    :class:`~shapegen.model.appearance.SolidLeaf`): closed ones that are not convex, and
+    inserts cut open at trim planes; the statics cut each into convex parts of one body when
+    they judge."""
     return sum(1 for s in getattr(model, "surfaces", None) or () if s.solid is not None)
 
 
 def solids_volume(model: Model) -> float:
     """Total volume of the solids the model keeps as derived (:func:`solids`), m^3: each closed
-    mesh's by the divergence theorem."""
+    mesh's by the divergence theorem (an insert drawn open at its cut: the solid its caps
+    close)."""
     from shapegen.geometry.mesh import Mesh
 
-    return float(
-        sum(
-            Mesh(s.vertices, s.faces).signed_volume()
-            for s in getattr(model, "surfaces", None) or ()
-            if s.solid is not None
-        )
-    )
+    total = 0.0
+    for s in getattr(model, "surfaces", None) or ():
+        if s.solid is None:
+            continue
+        local = s.solid.local
+        if local is not None and not Mesh(s.vertices, s.faces).is_closed:
+            total += abs(local.signed_volume())  # a rigid placement keeps it
+        else:
+            total += Mesh(s.vertices, s.faces).signed_volume()
+    return float(total)
 
 
 def face_triangles(vertices: np.ndarray, faces) -> np.ndarray:

@@ -22,6 +22,7 @@ __all__ = [
     "deferred_face_trim_planes",
     "face_trim_planes",
     "trimmed",
+    "trimmed_solid",
 ]
 
 import math
@@ -232,7 +233,14 @@ def _entry_bytes(key, cut) -> int:
     return len(key[0]) + (cut.vertices.nbytes * 3 if isinstance(cut, Mesh) else 0)
 
 
+def trimmed_solid(mesh: Mesh | None) -> Mesh | None:
+    """The closed solid a trimmed cut of a closed mesh bounds (:func:`trimmed`: the cut with
+    its caps on the trim planes, the same vertices), None for any other mesh."""
+    return None if mesh is None else mesh.__dict__.get(_SOLID)
+
+
 def _trimmed(mesh: Mesh, local) -> Mesh | None:
+    cutting = []
     for *normal, local_offset in local:
         local_normal = np.array(normal)
         heights = mesh.vertices @ local_normal - local_offset
@@ -242,7 +250,38 @@ def _trimmed(mesh: Mesh, local) -> Mesh | None:
         if piece is None:
             return None
         mesh = piece
-    return mesh
+        cutting.append((local_normal, local_offset))
+    return _uncapped(mesh, cutting) if cutting and mesh.is_closed and not mesh.holes else mesh
+
+
+def _uncapped(solid: Mesh, planes) -> Mesh:
+    """``solid`` (a closed mesh cut to ``planes``) without the caps the cuts closed it with:
+    CityEngine's runtime cuts an insert at the trim planes and leaves the cut open (PyPRT's
+    candler: no face on any trim plane, every vertex of the cut). The open mesh keeps the
+    solid (:func:`trimmed_solid`), which the statics judge."""
+    eps = COINCIDENT_REL * max(solid.size(), 1.0)
+    normals = solid.face_normals()
+    vertices = solid.vertices
+    kept = []
+    for k, face in enumerate(solid.faces):
+        points = vertices[list(face)]
+        on_a_plane = any(
+            float(normals[k] @ normal) < -1.0 + 1e-6
+            and float(np.abs(points @ normal - offset).max()) <= eps
+            for normal, offset in planes
+        )
+        if not on_a_plane:
+            kept.append(face)
+    if len(kept) == solid.n_faces:
+        return solid
+    if not kept:
+        return solid  # nothing but caps: a sliver of the plane, kept as it is
+    cut = Mesh.of_valid_faces(vertices, tuple(kept))
+    cut.__dict__[_SOLID] = solid
+    return cut
+
+
+_SOLID = "trimmed_solid"  # the key under which an open trimmed cut keeps its solid
 
 
 _TRIMMED: dict = {}

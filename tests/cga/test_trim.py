@@ -25,7 +25,19 @@ def _build(tmp_path, text, suffix=".cga"):
 
 
 def _volume(model):
-    return sum(b.volume for b in model.blocks)
+    """The volume the statics judge: the blocks, and the solids of the leaves drawn open (an
+    insert cut at trim planes)."""
+    solids = [s.solid.local for s in model.surfaces if s.solid is not None]
+    return sum(b.volume for b in model.blocks) + sum(m.volume() for m in solids)
+
+
+def _drawn(model) -> list[np.ndarray]:
+    """Every drawn face of the model's leaves, as its corners (world, m)."""
+    return [
+        np.asarray(leaf.vertices)[list(face)]
+        for leaf in [*model.blocks, *model.surfaces]
+        for face in leaf.faces
+    ]
 
 
 # ------------------------------------------------------------------------- geometry
@@ -76,9 +88,21 @@ def test_an_inserted_cube_is_cut_by_the_vertical_planes(tmp_path):
     model = _build(tmp_path, _MASS + "Facade --> s('1.4, '1, 2) center(x) primitiveCube()\n")
     # trapezoid of widths 12 (at the wall) and 16 (2 m out), 10 m high
     assert _volume(model) == pytest.approx((12 + 16) / 2 * 2 * 10)
-    lo = np.min([b.vertices.min(axis=0) for b in model.blocks], axis=0)
-    hi = np.max([b.vertices.max(axis=0) for b in model.blocks], axis=0)
-    assert hi[0] - lo[0] == pytest.approx(16.0)
+    corners = np.concatenate(_drawn(model))
+    assert np.ptp(corners[:, 0]) == pytest.approx(16.0)
+
+
+def test_the_cut_is_drawn_open_and_judged_closed(tmp_path):
+    # CityEngine's runtime leaves an insert's cut open: PyPRT's candler has no face on any
+    # trim plane. The statics judge the solid the caps close (the trapezoid prism above).
+    model = _build(tmp_path, _MASS + "Facade --> s('1.4, '1, 2) center(x) primitiveCube()\n")
+    faces = _drawn(model)
+    assert len(faces) == 4  # the cube's front, back, top and bottom; its ends cut away
+    for corners in faces:  # none lies on a 45-degree plane at the mass's corners
+        normal = np.cross(corners[1] - corners[0], corners[2] - corners[0])
+        normal /= np.linalg.norm(normal)
+        assert abs(normal[1]) > 0.5 or abs(abs(normal[0]) - abs(normal[2])) > 0.5
+    assert _volume(model) == pytest.approx((12 + 16) / 2 * 2 * 10)
 
 
 def test_horizontal_planes_cut_only_when_enabled(tmp_path):
@@ -104,7 +128,8 @@ def test_trim_planes_pass_through_splits_and_apply_to_the_trim_operation(tmp_pat
         "Facade --> split(y) { ~4 : Floor }*\nFloor --> s('1.4, '1, 2) center(x) primitiveCube()\n"
     )
     split = _build(tmp_path, rules)
-    assert len(split.blocks) > 1  # floors, each a trapezoid prism
+    judged = len(split.blocks) + sum(1 for s in split.surfaces if s.solid is not None)
+    assert judged > 1  # floors, each a trapezoid prism
     assert _volume(split) == pytest.approx(28 * 10)
     by_hand = _build(tmp_path, _MASS + "Facade --> extrude(2) s('1.4, '1, '1) center(x) trim()\n")
     assert _volume(by_hand) == pytest.approx(28 * 10)

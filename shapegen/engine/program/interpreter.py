@@ -63,6 +63,8 @@ from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.convex import hole_free
 from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.solids import capped
+from shapegen.geometry.trim import trimmed_solid
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
 from shapegen.limits import limit_hint
@@ -359,6 +361,15 @@ class Program:
         # blocks and the statics' cut take); its faces and holes as rings are what PyPRT writes
         holed = state.shape.geometry is not None and state.shape.geometry.holes
         polygons = tuple(state.shape.world_mesh().rings()) if holed else None
+        solid = self._trimmed_solid(state, mesh)
+        if solid is not None:
+            # an insert cut at its trim planes is drawn open, as CityEngine draws it; the
+            # statics judge the solid its caps close, cut into convex parts when they judge
+            density, structural, fixed = self._properties(state)
+            scope = state.shape.scope
+            leaf = SolidLeaf(density, structural, fixed, solid, scope.rotation, scope.origin)
+            surfaces.append(_surface(state, mesh, "not convex", len(surfaces), leaf, polygons))
+            return []
         if state.shape.kind == FACE or not mesh.is_closed:
             if area > _MIN_SIZE**2:
                 reason = "a face (no volume)" if state.shape.kind == FACE else "not closed"
@@ -401,6 +412,22 @@ class Program:
                 )
             )
         return blocks
+
+    @staticmethod
+    def _trimmed_solid(state: ShapeState, mesh: Mesh) -> Mesh | None:
+        """The closed solid (scope coordinates) of a leaf that an insert's cut at its trim
+        planes left open (``mesh``, world coordinates): the cut's own, or, when the cut was
+        scaled since (``primitiveCube() s(...)``), its boundary capped; None for any other
+        leaf."""
+        geometry = state.shape.geometry
+        if state.shape.kind == FACE or geometry is None or mesh.is_closed:
+            return None
+        solid = trimmed_solid(geometry)
+        if solid is None and state.trim_planes and not geometry.holes:
+            solid = capped(geometry)
+        if solid is None or solid.signed_volume() <= _MIN_SIZE**3:
+            return None
+        return solid
 
     def _too_many_blocks(self, count: int, run: Derivation, chain: tuple) -> GrammarError:
         return GrammarError(
