@@ -24,7 +24,7 @@ CUBE = "Leaf --> primitiveCube() s(0.2, 0.2, 0.2) center(xz)\n"
 
 def _leaves(model):
     """The inserted cubes: blocks, and those cut at the roof's trim planes (drawn open)."""
-    return [*model.blocks, *(s for s in model.surfaces if s.solid is not None)]
+    return [*model.blocks, *model.surfaces]
 
 
 def _centres(model):

@@ -63,7 +63,6 @@ from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.convex import hole_free
 from shapegen.geometry.cut import NEEDS_CUT, placed_convex_decomposition
 from shapegen.geometry.mesh import Mesh
-from shapegen.geometry.solids import capped
 from shapegen.geometry.trim import trimmed_solid
 from shapegen.grammar import ast
 from shapegen.grammar.names import RESERVED_ATTRIBUTES
@@ -363,12 +362,13 @@ class Program:
         polygons = tuple(state.shape.world_mesh().rings()) if holed else None
         solid = self._trimmed_solid(state, mesh)
         if solid is not None:
-            # an insert cut at its trim planes is drawn open, as CityEngine draws it; the
-            # statics judge the solid its caps close, cut into convex parts when they judge
+            # an insert cut at its trim planes is drawn open, as CityEngine draws it: an open
+            # shell, which the statics cap when they judge, with the leaf's own density and
+            # flags (the SolidLeaf, which keeps the closed cut for the volume)
             density, structural, fixed = self._properties(state)
             scope = state.shape.scope
             leaf = SolidLeaf(density, structural, fixed, solid, scope.rotation, scope.origin)
-            surfaces.append(_surface(state, mesh, "not convex", len(surfaces), leaf, polygons))
+            surfaces.append(_surface(state, mesh, "not closed", len(surfaces), leaf, polygons))
             return []
         if state.shape.kind == FACE or not mesh.is_closed:
             if area > _MIN_SIZE**2:
@@ -416,15 +416,12 @@ class Program:
     @staticmethod
     def _trimmed_solid(state: ShapeState, mesh: Mesh) -> Mesh | None:
         """The closed solid (scope coordinates) of a leaf that an insert's cut at its trim
-        planes left open (``mesh``, world coordinates): the cut's own, or, when the cut was
-        scaled since (``primitiveCube() s(...)``), its boundary capped; None for any other
-        leaf."""
+        planes left open (``mesh``, world coordinates); None for any other leaf, and for a cut
+        changed since (``primitiveCube() s(...)`` scales it), which is an open shell as any."""
         geometry = state.shape.geometry
         if state.shape.kind == FACE or geometry is None or mesh.is_closed:
             return None
         solid = trimmed_solid(geometry)
-        if solid is None and state.trim_planes and not geometry.holes:
-            solid = capped(geometry)
         if solid is None or solid.signed_volume() <= _MIN_SIZE**3:
             return None
         return solid
