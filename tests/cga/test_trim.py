@@ -59,15 +59,18 @@ def test_a_box_face_has_four_planes_at_45_degrees_two_of_them_horizontal():
         assert horizontal == ([False, False, True, True] if is_wall else [True] * 4)
 
 
-def test_coplanar_neighbours_give_the_plane_across_their_edge():
-    # two unit squares side by side in y = 0, sharing the edge x = 1
+def test_coplanar_neighbours_make_no_plane():
+    # two unit squares side by side in y = 0, sharing the edge x = 1: no angle to bisect. In
+    # PyPRT's candler on an L-shaped lot the roof's inside face (coplanar with the offset's
+    # border) cuts nothing: the boxes at the inner L's far corners stay whole
     vertices = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [2, 0, 1], [1, 0, 1], [0, 0, 1.0]])
     faces = [(0, 5, 4, 1), (1, 4, 3, 2)]  # counter-clockwise seen from +y
-    left, right = face_trim_planes(vertices, faces, UP)
-    (plane,) = left
-    assert plane.normal == pytest.approx((-1.0, 0.0, 0.0)) and plane.offset == pytest.approx(-1)
-    (plane,) = right
-    assert plane.normal == pytest.approx((1.0, 0.0, 0.0)) and plane.offset == pytest.approx(1)
+    assert face_trim_planes(vertices, faces, UP) == [(), ()]
+    # a third face folded up at x = 2 still makes its plane with the second square
+    vertices = np.vstack([vertices, [[2, 1, 1], [2, 1, 0]]])
+    faces.append((2, 3, 6, 7))
+    left, right, wall = face_trim_planes(vertices, faces, UP)
+    assert left == () and len(right) == 1 and len(wall) == 1
 
 
 def test_trimmed_keeps_an_uncut_mesh_and_drops_one_wholly_outside():
