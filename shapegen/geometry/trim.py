@@ -24,6 +24,7 @@ __all__ = [
     "TrimPlane",
     "deferred_face_trim_planes",
     "face_trim_planes",
+    "moved_cut",
     "trimmed",
     "trimmed_solid",
 ]
@@ -243,6 +244,16 @@ def trimmed_solid(mesh: Mesh | None) -> Mesh | None:
     """The closed solid a trimmed cut of a closed mesh bounds (:func:`trimmed`: the cut with
     its caps on the trim planes, the same vertices), None for any other mesh."""
     return None if mesh is None else mesh.__dict__.get(_SOLID)
+
+
+def moved_cut(cut: Mesh, vertices) -> Mesh:
+    """A cut of :func:`trimmed` with its vertices at ``vertices`` (the same count and order),
+    keeping its solid (:func:`trimmed_solid`) on the same vertices."""
+    moved = Mesh.of_valid_faces(vertices, cut.faces, holes=cut.holes)
+    solid = trimmed_solid(cut)
+    if solid is not None:
+        moved.__dict__[_SOLID] = Mesh.of_valid_faces(moved.vertices, solid.faces)
+    return moved
 
 
 def _trimmed(mesh: Mesh, local) -> Mesh | None:

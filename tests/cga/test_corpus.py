@@ -29,11 +29,7 @@ _spec.loader.exec_module(cga_compare)
 FILES = cga_compare.corpus_files()
 
 # Figures known to differ from PyPRT, per file (asserted to still differ).
-KNOWN_DIFFERENCES: dict[str, set[str]] = {
-    # 245 leaves here, 241 in PyPRT: each of the 4 raking simas, split(x) { ~2.145 : Sima }* on
-    # 5.46 m, is laid out 3 times here (1.82 m, the closest to 2.145) and twice in PyPRT
-    "parthenon_c56c809a.cga": {"leaves"},
-}
+KNOWN_DIFFERENCES: dict[str, set[str]] = {}
 
 
 @functools.cache

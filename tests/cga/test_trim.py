@@ -108,6 +108,19 @@ def test_the_cut_is_drawn_open_and_judged_closed(tmp_path):
     assert _volume(model) == pytest.approx((12 + 16) / 2 * 2 * 10)
 
 
+def test_the_scope_is_fitted_to_the_cut(tmp_path):
+    # the cube, 16.8 m wide, keeps 16 m at its outer side after the corners' 45-degree cuts:
+    # the scope is the cut's bounding box, as a split after the insert measures it (PyPRT's
+    # parthenon lays its simas over the cut cube's length)
+    rules = _MASS + (
+        "Facade --> s('1.4, '1, 2) center(x) primitiveCube() report(\"sx\", scope.sx) "
+        'split(x) { ~5 : Piece }*\nPiece --> report("piece", scope.sx)\n'
+    )
+    reports = _build(tmp_path, rules).metadata["reports"]
+    assert reports["sx"] == pytest.approx(16.0)
+    assert reports["piece"] == pytest.approx([16 / 3] * 3)
+
+
 def test_horizontal_planes_cut_only_when_enabled(tmp_path):
     insert = "Facade --> s('1.4, '1.2, 2) center(x) primitiveCube()\n"
     vertical_only = _build(tmp_path, _MASS + insert)

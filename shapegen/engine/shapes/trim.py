@@ -4,7 +4,8 @@
 bisecting the angles at the edges it shares with the other faces
 (:mod:`shapegen.geometry.trim`); the shape's successors inherit them, and a later ``comp(f)``
 gives its faces their own. ``i()``, the primitives and ``trim()`` cut the shape's geometry to
-the planes ``trim.vertical`` / ``trim.horizontal`` enable (vertical ones by default). Rule files
+the planes ``trim.vertical`` / ``trim.horizontal`` enable (vertical ones by default), and the
+scope is fitted to what is left (in its own axes). Rule files
 in shapegen's own ``.grammar`` dialect make no trim planes, so their blocks are never cut.
 """
 
@@ -15,7 +16,8 @@ __all__ = ["apply_trim", "comp_trim_planes"]
 import numpy as np
 
 from shapegen.engine.shapes.shape import Shape
-from shapegen.geometry.trim import deferred_face_trim_planes, trimmed
+from shapegen.geometry.frames import fitted_scope
+from shapegen.geometry.trim import deferred_face_trim_planes, moved_cut, trimmed
 
 
 def comp_trim_planes(shape: Shape, faces: list[Shape]) -> list[tuple]:
@@ -42,5 +44,11 @@ def apply_trim(state) -> bool:
     if cut is None:
         return False
     if cut is not mesh:
-        state.shape = Shape.with_geometry(shape.scope, cut, shape.kind, shape.normal_axis)
+        # the scope fitted to what the cut left, in its axes: PyPRT's parthenon splits its
+        # raking simas, cubes cut at the ridge, over the cut's length (two pieces of 2.55 m
+        # on 5.10 m), not over the cube's 5.46 m (three pieces)
+        world = shape.scope.to_world(cut.vertices)
+        scope, local = fitted_scope(world, shape.scope.rotation)
+        cut = moved_cut(cut, local)
+        state.shape = Shape.with_geometry(scope, cut, shape.kind, shape.normal_axis)
     return True
