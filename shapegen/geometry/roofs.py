@@ -161,11 +161,22 @@ def _skeleton_roof(
         inner = times > DEFAULT.merge_rel * float(times.max())
         if np.any(inner):
             times = np.where(inner, times[inner].mean(), times)
+    # a gable stays on the face's edge when the roof overhangs (op_roofGable: the roof faces
+    # overlap the eaves and the gables; PyPRT's parthenon, overhangY = -1.38 m, keeps its
+    # pediments on the cornice's ends while its roof planes stop 1.38 m short of them)
+    gables = [k for k, tag in enumerate(side_tags) if tag == "roof.side"]
+    plain = None
+    if gables and eaves is not polygon:
+        plain = straight_skeleton(polygon, weights=weights)
     welder = _Welder(float(np.ptp(eaves, axis=0).max()))
     _bottom(welder, polygon, "roof.bottom")
     for k in range(len(eaves)):
-        ids = list(skeleton.faces[k])
-        points = np.column_stack([skeleton.nodes[ids], times[ids] * slope - drop])
+        if plain is not None and k in gables:
+            ids = list(plain.faces[k])
+            points = np.column_stack([plain.nodes[ids], plain.times[ids] * slope])
+        else:
+            ids = list(skeleton.faces[k])
+            points = np.column_stack([skeleton.nodes[ids], times[ids] * slope - drop])
         welder.face(points, side_tags[k])
     return welder.mesh()
 
@@ -239,9 +250,10 @@ def roof_gable(
 ) -> RoofMesh:
     """A gable roof: planes at ``angle`` (degrees) on the eaves, vertical gables on the ends.
 
-    ``overhang_x`` (m, on the roof plane) extends the roof beyond the eaves, ``overhang_y`` (m)
-    beyond the gables; ``index`` makes the edges parallel to that edge the gables (convex
-    faces only, as CityEngine).
+    ``overhang_x`` (m, on the roof plane) extends the roof faces beyond the eaves,
+    ``overhang_y`` (m) beyond the gables (negative: short of them); the gables stay on the
+    face's edges. ``index`` makes the edges parallel to that edge the gables (convex faces
+    only, as CityEngine).
     """
     p = checked_polygon(polygon)
     if index is not None and not _convex(p):

@@ -123,9 +123,16 @@ def test_negative_overhangs_set_the_eaves_in():
     z = hip.vertices[:, 2]
     assert z.max() == pytest.approx(4)
     assert z[z > 0].min() == pytest.approx(math.sin(math.radians(45)))
-    gable = R.roof_gable(RECT, 45, overhang_y=-1)  # the gables 1 m in from the 8 m edges
-    ridge = gable.vertices[np.isclose(gable.vertices[:, 2], 4)]
-    assert np.ptp(ridge[:, 0]) == pytest.approx(10)
+    gable = R.roof_gable(RECT, 45, overhang_y=-1)  # the roof faces 1 m short of the 8 m edges
+    for face, tag in zip(gable.faces, gable.tags, strict=True):
+        corners = gable.vertices[list(face)]
+        if tag == "roof.top":
+            assert np.ptp(corners[:, 0]) == pytest.approx(10)
+        if tag == "roof.side":  # the gables stay on the face's edges (PyPRT's parthenon)
+            assert np.ptp(corners[:, 0]) == pytest.approx(0)
+            assert corners[0, 0] in (pytest.approx(0), pytest.approx(12))
+            assert corners[:, 2].max() == pytest.approx(4)
+    assert sorted(gable.tags).count("roof.side") == 2
 
 
 @pytest.mark.parametrize(
