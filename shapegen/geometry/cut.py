@@ -34,9 +34,13 @@ from shapegen.model.polygons import face_normals
 from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
 
 
-def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | None:
+def clip_half(
+    mesh: Mesh, axis: int, value: float, keep_above: bool, tolerance: float | None = None
+) -> Mesh | None:
     """The part of ``mesh`` with ``coordinate[axis] >= value`` (``keep_above``) or ``<=``,
-    capped if ``mesh`` is closed; None when nothing of positive extent is left."""
+    capped if ``mesh`` is closed; None when nothing of positive extent is left. A corner
+    within ``tolerance`` (m; by default round-off of the mesh's size) of the plane is on it:
+    kept where it is, and no edge is cut there."""
     check_clock()  # a split's pieces, a trim's planes, the convex cut: one clip each
     if mesh.n_faces == 0:
         return None
@@ -44,7 +48,7 @@ def clip_half(mesh: Mesh, axis: int, value: float, keep_above: bool) -> Mesh | N
         from shapegen.geometry.holed_cut import clip_half_with_holes
 
         return clip_half_with_holes(mesh, axis, value, keep_above)
-    eps = COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M)
+    eps = COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M) if tolerance is None else tolerance
     sign = 1.0 if keep_above else -1.0
     vertices = mesh.vertices
     depth = (vertices[:, axis] - value) * sign
@@ -259,11 +263,15 @@ def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
     return Mesh.of_valid_faces(kept, faces, (corners, start))
 
 
-def clip_plane(mesh: Mesh, normal, offset: float, keep_above: bool) -> Mesh | None:
+def clip_plane(
+    mesh: Mesh, normal, offset: float, keep_above: bool, tolerance: float | None = None
+) -> Mesh | None:
     """The part of ``mesh`` with ``normal . p >= offset`` (``keep_above``) or ``<=``; ``normal``
-    a unit vector. The mesh is turned so that ``normal`` is its y axis, clipped, turned back."""
+    a unit vector (``tolerance`` as :func:`clip_half`'s). The mesh is turned so that
+    ``normal`` is its y axis, clipped, turned back."""
     frame = _frame_of(normal)
-    return _turned_back(clip_half(_turned(mesh, frame), 1, offset, keep_above), frame)
+    piece = clip_half(_turned(mesh, frame), 1, offset, keep_above, tolerance)
+    return _turned_back(piece, frame)
 
 
 def _frame_of(normal) -> np.ndarray:

@@ -39,7 +39,7 @@ from shapegen.geometry.cut import clip_plane
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout, unit_face_normals
 from shapegen.limits import check_clock
 from shapegen.model.polygons import CheckedFaces, cross
-from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL
+from shapegen.tolerances import COINCIDENT_M, TRIM_PLANE_M
 
 HORIZONTAL_LIMIT_DEGREES = 40.0
 _SIN_LIMIT = math.sin(math.radians(HORIZONTAL_LIMIT_DEGREES))
@@ -261,9 +261,10 @@ def _trimmed(mesh: Mesh, local) -> Mesh | None:
     for *normal, local_offset in local:
         local_normal = np.array(normal)
         heights = mesh.vertices @ local_normal - local_offset
-        if heights.min() >= -COINCIDENT_REL * max(mesh.size(), 1.0):
+        if heights.min() >= -TRIM_PLANE_M:
             continue
-        piece = clip_plane(mesh, local_normal, local_offset, keep_above=True)
+        piece = clip_plane(mesh, local_normal, local_offset, keep_above=True,
+                           tolerance=TRIM_PLANE_M)  # fmt: skip
         if piece is None:
             return None
         mesh = piece
@@ -276,7 +277,7 @@ def _uncapped(solid: Mesh, planes) -> Mesh:
     CityEngine's runtime cuts an insert at the trim planes and leaves the cut open (PyPRT's
     candler: no face on any trim plane, every vertex of the cut). The open mesh keeps the
     solid (:func:`trimmed_solid`), which the statics judge."""
-    eps = COINCIDENT_REL * max(solid.size(), 1.0)
+    eps = TRIM_PLANE_M
     normals = solid.face_normals()
     vertices = solid.vertices
     kept = []

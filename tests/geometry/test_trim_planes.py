@@ -1,5 +1,7 @@
 """Trim planes of a component split: the whole-array form against the face-by-face rule."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -71,3 +73,15 @@ def test_a_cut_is_kept_only_for_the_same_mesh_and_planes():
     cut = trimmed(other, np.zeros(3), np.eye(3), [plane])
     assert trimmed_solid(cut).volume() == pytest.approx(4.0)
     assert trimmed(box, np.zeros(3), np.eye(3), []) is box
+
+
+def test_a_corner_within_a_millimetre_of_the_plane_is_on_it():
+    # PyPRT's parthenon: an abacus whose opposite corners lie 0.71 mm inside its corner's
+    # 45-degree plane is cut from corner to corner, with no sliver beside the cut
+    box = Mesh.box((2.112, 0.462, 2.112))
+    plane = TrimPlane((math.sqrt(0.5), 0.0, -math.sqrt(0.5)), 0.0, False)  # keeps x >= z
+    # placed 1 mm down z: the corners (0, -0.001) and (2.112, 2.111) are 0.71 mm inside
+    cut = trimmed(box, np.array([0.0, 0.0, -0.001]), np.eye(3), [plane])
+    solid = trimmed_solid(cut)
+    assert len(cut.vertices) == 6  # a triangular prism's corners, none added
+    assert solid.volume() == pytest.approx(2.112**2 / 2 * 0.462)
