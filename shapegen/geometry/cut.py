@@ -48,7 +48,8 @@ def clip_half(
         from shapegen.geometry.holed_cut import clip_half_with_holes
 
         return clip_half_with_holes(mesh, axis, value, keep_above)
-    eps = COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M) if tolerance is None else tolerance
+    strict = COINCIDENT_REL * max(mesh.size(), SIZE_FLOOR_M)
+    eps = strict if tolerance is None else tolerance
     sign = 1.0 if keep_above else -1.0
     vertices = mesh.vertices
     depth = (vertices[:, axis] - value) * sign
@@ -84,7 +85,9 @@ def clip_half(
     new_points[:, axis] = value
     crossing = dict(zip(keys.tolist(), range(n, n + len(keys)), strict=True))
     points = np.concatenate([vertices, new_points]) if len(keys) else vertices
-    pieces = _clipped_faces(mesh, clipped, depth.tolist(), eps, crossing, points, axis, sign)
+    pieces = _clipped_faces(
+        mesh, clipped, depth.tolist(), eps, crossing, points, axis, sign, min(eps, strict)
+    )
     whole_flags = whole.tolist()
     faces: list[tuple[int, ...]] = []
     done = 0
@@ -100,8 +103,10 @@ def clip_half(
     return _compact(points, faces)
 
 
-def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign):
-    """The polygons left of each face in ``clipped`` (a list per face)."""
+def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign, strict):
+    """The polygons left of each face in ``clipped`` (a list per face). A corner within
+    ``strict`` of the plane lies on the cut, where a bridge can part the face (a corner kept
+    within a larger ``eps`` stays a corner of its face)."""
     n = len(depth)
     out = []
     bridged = []  # (place in out, face, ring, flags): faces left with several edges on the cut
@@ -120,7 +125,7 @@ def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign):
         if len(ring) < 3:
             out.append(())
             continue
-        flags = [i >= n or abs(depth[i]) <= eps for i in ring]
+        flags = [i >= n or abs(depth[i]) <= strict for i in ring]
         size = len(ring)
         on_cut = [e for e in range(size) if flags[e] and flags[(e + 1) % size]]
         if not on_cut:  # the face only touches the cut: kept as it is
