@@ -85,9 +85,12 @@ def clip_half(
     new_points[:, axis] = value
     crossing = dict(zip(keys.tolist(), range(n, n + len(keys)), strict=True))
     points = np.concatenate([vertices, new_points]) if len(keys) else vertices
+    # a trim (``tolerance``) keeps a face's corners along the cut, as CityEngine's runtime
+    # does (PyPRT's parthenon: the simas' top corners at the ridge's plane)
     pieces = _clipped_faces(
-        mesh, clipped, depth.tolist(), eps, crossing, points, axis, sign, min(eps, strict)
-    )
+        mesh, clipped, depth.tolist(), eps, crossing, points, axis, sign, min(eps, strict),
+        tolerance is not None,
+    )  # fmt: skip
     whole_flags = whole.tolist()
     faces: list[tuple[int, ...]] = []
     done = 0
@@ -103,10 +106,13 @@ def clip_half(
     return _compact(points, faces)
 
 
-def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign, strict):
+def _clipped_faces(
+    mesh, clipped, depth, eps, crossing, points, axis, sign, strict, keep_corners=False
+):
     """The polygons left of each face in ``clipped`` (a list per face). A corner within
     ``strict`` of the plane lies on the cut, where a bridge can part the face (a corner kept
-    within a larger ``eps`` stays a corner of its face)."""
+    within a larger ``eps`` stays a corner of its face); ``keep_corners`` as
+    :func:`_split_at_bridges`'."""
     n = len(depth)
     out = []
     bridged = []  # (place in out, face, ring, flags): faces left with several edges on the cut
@@ -154,7 +160,7 @@ def _clipped_faces(mesh, clipped, depth, eps, crossing, points, axis, sign, stri
             nx, ny, nz = normal
             along = ((0.0, -nz, ny), (nz, 0.0, -nx), (-ny, nx, 0.0))[axis]
             along = tuple(sign * c for c in along)
-            out[place] = _split_at_bridges(ring, flags, points, along)
+            out[place] = _split_at_bridges(ring, flags, points, along, keep_corners)
     return out
 
 
@@ -176,10 +182,11 @@ def _without_repeats(ring: list[int]) -> list[int]:
     return out
 
 
-def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
+def _split_at_bridges(ring, flags, points, along, keep_corners=False) -> list[tuple[int, ...]]:
     """The polygons of a clipped ring: the ring is cut at its edges lying on the cut plane
     (where a non-convex face left several parts joined by zero-width bridges), and the chains
-    in between are joined again along the cut in the boundary's direction ``along``."""
+    in between are joined again along the cut in the boundary's direction ``along``.
+    ``keep_corners``: a ring the cut does not part keeps its corners along the cut."""
     n = len(ring)
     if all(flags):  # a face lying on the cut: the cap replaces it
         return []
@@ -200,6 +207,8 @@ def _split_at_bridges(ring, flags, points, along) -> list[tuple[int, ...]]:
     chains = [c for c in chains if len(c) >= 2]
     if not chains:
         return []
+    if len(chains) == 1 and keep_corners:  # no bridge: the face as it is, every corner kept
+        return [tuple(ring)] if len(ring) >= 3 else []
     ax, ay, az = along
     position = {}
     for c in chains:

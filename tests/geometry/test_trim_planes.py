@@ -85,3 +85,15 @@ def test_a_corner_within_a_millimetre_of_the_plane_is_on_it():
     solid = trimmed_solid(cut)
     assert len(cut.vertices) == 6  # a triangular prism's corners, none added
     assert solid.volume() == pytest.approx(2.112**2 / 2 * 0.462)
+
+
+def test_a_trim_keeps_a_faces_corners_along_the_cut():
+    # PyPRT's parthenon: a sima's face ending on the ridge's plane keeps the corner in the
+    # middle of its edge there; a face running beyond the plane is cut back to it
+    vertices = [(0, 0, 0), (2, 0, 0), (2, 0, 1), (1, 0, 1), (0, 0, 1), (-1, 0, 2)]
+    face = Mesh(vertices, [(0, 5, 4, 3, 2, 1)])  # turned to face -y; crosses z = 1 at its spike
+    plane = TrimPlane((0.0, 0.0, -1.0), -1.0, False)  # keeps z <= 1
+    cut = trimmed(face, np.zeros(3), np.eye(3), [plane])
+    (kept,) = cut.faces
+    corners = {tuple(np.round(cut.vertices[i], 9)) for i in kept}
+    assert corners == {(0, 0, 0), (2, 0, 0), (2, 0, 1), (1, 0, 1), (0, 0, 1), (-0.5, 0, 1)}
