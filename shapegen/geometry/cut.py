@@ -239,7 +239,11 @@ def _caps(faces: list[tuple[int, ...]], count: int) -> list[tuple[int, ...]]:
     )  # the cap runs each boundary edge the other way
     caps = []
     while following:
-        first, nxt = following.popitem()
+        # a cap begins at the cut of the first face the cut crosses, running it the other way
+        # (PyPRT's gambrel roofs: the split's cap of the lower roof, whose gable then rises
+        # along the cap's first edge, begins at the cut of the roof's first gable)
+        first = next(iter(following))
+        nxt = following.pop(first)
         loop = [first]
         while nxt != first and nxt in following:
             loop.append(nxt)

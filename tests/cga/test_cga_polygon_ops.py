@@ -386,3 +386,16 @@ def test_envelope_classes_edges_in_the_object_axes(tmp_path):
     assert volume == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
     top = max(float(np.max(np.asarray(b.vertices)[:, 1])) for b in model.blocks)
     assert top == pytest.approx(4 + 7)
+
+
+def test_a_split_cap_begins_at_the_cut_of_the_first_face(tmp_path):
+    # PyPRT's gambrel (Building_From_FootprintSMALL: roofGable(70, 0, 0, false, 0), split(y),
+    # a gable on the cap): the cap of the cut roof begins at the cut of its first gable, so its
+    # first edge runs along the 12 m edges (11.27 m at 1 m up a 70-degree roof), not across
+    path = tmp_path / "cap.cga"
+    path.write_text(
+        "@StartRule\nLot --> roofGable(70, 0, 0, false, 0) split(y) { 1 : Lower }\n"
+        'Lower --> comp(f) { top : report("cap", scope.sx) }\n'
+    )
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    assert model.metadata["reports"]["cap"] == pytest.approx(12 - 2 / math.tan(math.radians(70)))
