@@ -305,16 +305,20 @@ def roof_shed(
     rings = [np.asarray(r, dtype=float).reshape(-1, 2) for r in holes]
     welder.face([(x, y, 0.0) for x, y in p[::-1]], "roof.bottom",
                 [[(x, y, 0.0) for x, y in r[::-1]] for r in rings])  # fmt: skip
-    lifted = []
-    for ring, name in [(p, "roof.side.outer"), *((r, "roof.side.inner") for r in rings)]:
-        h = ((ring - p[k]) @ inward) * slope
+    walls = [(p, "roof.side.outer"), *((r, "roof.side.inner") for r in rings)]
+    heights = [((ring - p[k]) @ inward) * slope for ring, _ in walls]
+    lifted = [[(*q, z) for q, z in zip(ring, h, strict=True)]
+              for (ring, _), h in zip(walls, heights, strict=True)]  # fmt: skip
+    # the roof face first, then the walls: a split's cap on the shed then begins at the roof
+    # face's cut, as PyPRT's saltbox has it (Building_From_FootprintSMALL: its gable on the cap,
+    # by the cap's last edge, runs across the shed's low edge)
+    welder.face(lifted[0], "roof.top", lifted[1:])
+    for (ring, name), h in zip(walls, heights, strict=True):
         m = len(ring)
         for e in range(m):
             a, b = e, (e + 1) % m
             welder.face([(*ring[a], 0.0), (*ring[b], 0.0), (*ring[b], h[b]), (*ring[a], h[a])],
                         name)  # fmt: skip
-        lifted.append([(*q, z) for q, z in zip(ring, h, strict=True)])
-    welder.face(lifted[0], "roof.top", lifted[1:])
     return welder.mesh()
 
 

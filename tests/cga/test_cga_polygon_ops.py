@@ -399,3 +399,14 @@ def test_a_split_cap_begins_at_the_cut_of_the_first_face(tmp_path):
     )
     model = shapegen.load_grammar(path).build(lot=(12, 8))
     assert model.metadata["reports"]["cap"] == pytest.approx(12 - 2 / math.tan(math.radians(70)))
+
+
+def test_a_shed_roof_lists_its_roof_face_after_the_bottom(tmp_path):
+    # the order PyPRT's saltbox implies: a split's cap begins at the cut of the shed's roof
+    # face, so the roof face comes before the walls (the saltbox's gable then matches)
+    path = tmp_path / "shed.cga"
+    path.write_text(
+        '@StartRule\nLot --> roofShed(30) comp(f) { 1 : report("area", geometry.area) }\n'
+    )
+    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    assert model.metadata["reports"]["area"] == pytest.approx(96 / math.cos(math.radians(30)))
