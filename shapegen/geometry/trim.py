@@ -277,19 +277,15 @@ def _uncapped(solid: Mesh, planes) -> Mesh:
     CityEngine's runtime cuts an insert at the trim planes and leaves the cut open (PyPRT's
     candler: no face on any trim plane, every vertex of the cut). The open mesh keeps the
     solid (:func:`trimmed_solid`), which the statics judge."""
-    eps = TRIM_PLANE_M
     normals = solid.face_normals()
+    corners, start = solid.corner_layout
+    cap = np.zeros(solid.n_faces, dtype=bool)
+    for normal, offset in planes:
+        on = np.abs(solid.vertices @ normal - offset) <= TRIM_PLANE_M
+        facing = normals @ normal < 0.0  # a cap faces away from the kept side
+        cap |= np.logical_and.reduceat(on[corners], start[:-1]) & facing
+    kept = [face for face, is_cap in zip(solid.faces, cap.tolist(), strict=True) if not is_cap]
     vertices = solid.vertices
-    kept = []
-    for k, face in enumerate(solid.faces):
-        points = vertices[list(face)]
-        on_a_plane = any(
-            float(normals[k] @ normal) < -1.0 + 1e-6
-            and float(np.abs(points @ normal - offset).max()) <= eps
-            for normal, offset in planes
-        )
-        if not on_a_plane:
-            kept.append(face)
     if len(kept) == solid.n_faces:
         return solid
     if not kept:
