@@ -367,13 +367,14 @@ def print_build(title: str, report: dict, lot_source: str | None = None) -> None
 
 def holdings_rows(report: dict) -> list[tuple[str, str]]:
     """What a built model holds, one row per kind: ``blocks`` (convex, judged as they are),
-    ``solids`` (closed leaves that are not convex, kept as derived) and ``surfaces`` (leaves
-    drawn but not solid: faces, open meshes), the last two only when there are some."""
+    ``solids`` (solid leaves kept as derived: closed ones that are not convex, and inserts
+    drawn open where trim planes cut them) and ``surfaces`` (leaves drawn but not solid: faces,
+    open meshes), the last two only when there are some."""
     rows = [("blocks", str(report["blocks"]))]
     solids = report.get("solids") or 0
     if solids:
-        rows.append(("solids", f"{solids} closed, not convex, kept as derived (cut into convex"
-                               " parts when judged)"))  # fmt: skip
+        rows.append(("solids", f"{solids} kept as derived: closed and not convex, or cut open"
+                               " at trim planes (judged as solids)"))  # fmt: skip
     surfaces = report.get("left_out") or {}
     if surfaces.get("leaves"):
         reasons = ", ".join(f"{n} {why}" for why, n in surfaces.get("by_reason", {}).items())

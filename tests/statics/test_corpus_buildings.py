@@ -100,11 +100,10 @@ def test_the_parthenon_stands_on_its_stand_ins_with_a_lateral_capacity():
     report = outcome.report
     analysis = report["analysis"]
     stand_ins = analysis["stand_ins"]
-    # the model is CityEngine's: the shafts and echini stay open shells in it
-    assert (
-        report["left_out"]["by_reason"]["not closed"]
-        >= stand_ins["by_reason"]["open shell, capped, on its convex hull"]
-    )
+    # the model is CityEngine's: the shafts and echini stay open shells in it (some cut open at
+    # trim planes, which carry their solid and are not left out)
+    open_shells = sum(1 for s in outcome.model.surfaces if s.reason == "not closed")
+    assert open_shells >= stand_ins["by_reason"]["open shell, capped, on its convex hull"]
     assert stand_ins["leaves"] > 0 and analysis["stands"]
     # measured when the stand-ins came in: 9.80 deg with the 4-sided pyramid, the default then;
     # with the exact cone, the default now, 10.08 deg (a joint that slid at the pyramid's
