@@ -319,8 +319,9 @@ def _half_turn(ring: list[tuple[float, float]], edge=None) -> list[tuple[float, 
     return out
 
 
-def _read_file(path: Path) -> tuple[list[float], list[int], list[int], list[list[int]]]:
-    """Coordinates, indices, face counts and holes (PyPRT's lists) of a geometry file."""
+def _readable_suffix(path: Path) -> str:
+    """The suffix of a geometry file shapegen reads as initial shapes (lower case), or the
+    error naming what it reads, or that the file is not there."""
     suffix = path.suffix.lower()
     if suffix not in READABLE_SUFFIXES:
         raise InputFormatError(
@@ -329,6 +330,12 @@ def _read_file(path: Path) -> tuple[list[float], list[int], list[int], list[list
         )
     if not path.is_file():
         raise InputFormatError(f"{path}: no such file")
+    return suffix
+
+
+def _read_file(path: Path) -> tuple[list[float], list[int], list[int], list[list[int]]]:
+    """Coordinates, indices, face counts and holes (PyPRT's lists) of a geometry file."""
+    suffix = _readable_suffix(path)
     if suffix == ".obj":  # OBJ has no holes: each face is a polygon
         return (*_read_obj(path), [])
     if suffix == ".fbx":
@@ -341,14 +348,7 @@ def _read_file(path: Path) -> tuple[list[float], list[int], list[int], list[list
 def _read_mesh(path: Path) -> tuple[np.ndarray, list[list[int]]]:
     """All the faces of a geometry file, as CityEngine's runtime reads them as an initial
     shape: OBJ and FBX faces whole and cleaned (as assets are), glTF as its triangles."""
-    suffix = path.suffix.lower()
-    if suffix not in READABLE_SUFFIXES:
-        raise InputFormatError(
-            f"{path}: initial shapes are read from {', '.join(READABLE_SUFFIXES)} files;"
-            f" {suffix or 'a file without a suffix'} is not supported by shapegen"
-        )
-    if not path.is_file():
-        raise InputFormatError(f"{path}: no such file")
+    suffix = _readable_suffix(path)
     if suffix == ".obj":
         text = read_input_bytes(path, "initial shape file").decode("utf-8", errors="replace")
         vertices, faces = obj_polygons(text, str(path))
