@@ -239,13 +239,13 @@ MEASUREMENTS: tuple[Measurement, ...] = (
             Figure(
                 "its iterations",
                 README,
-                r"in (?P<value>\d+) SLSQP iterations",
+                r"in (?P<value>\d+) SLSQP iterations?",
                 _report("optimization", "iterations"),
             ),
             Figure(
                 "its designs judged",
                 README,
-                r"SLSQP iterations \((?P<value>\d+) designs judged\)",
+                r"SLSQP iterations? \((?P<value>\d+) designs judged\)",
                 _report("optimization", "evaluations"),
             ),
             Figure(
