@@ -29,9 +29,7 @@ COVERS = {
     "tests/cga/test_cga_polygon_ops.py::test_hip_roof_on_the_lot_as_pyprt_builds_it": (
         "op:roofHip",
     ),
-    "tests/cga/test_cga_polygon_ops.py::test_roof_ridge_runs_along_the_scope_x": (
-        "op:roofRidge",
-    ),
+    "tests/cga/test_cga_polygon_ops.py::test_roof_ridge_runs_along_the_scope_x": ("op:roofRidge",),
     "tests/cga/test_cga_polygon_ops.py::test_offset_inside_shrinks_the_lot_and_fits_the_scope": (
         "op:offset",
     ),
