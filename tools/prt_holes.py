@@ -22,7 +22,14 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import ASM_JAR, CORPUS, SCOPE, rewritable_package, write_fixture  # noqa: E402
+from prt_primitives import (  # noqa: E402
+    ASM_JAR,
+    CORPUS,
+    SCOPE,
+    measured_cases,
+    rewritable_package,
+    write_fixture,
+)
 
 GEOMETRY = ("nVertices", "nFaces", "nHoles", "area", "volume")
 LOTS = {
@@ -102,15 +109,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
     args = parser.parse_args(argv)
     with rewritable_package(args.corpus, "prt_holes") as (pyprt, work, source, patcher):
-        rows = []
-        for name, lot in LOTS.items():
-            for case in CASES:
-                try:
-                    row = measure(pyprt, work, source, patcher, lot, case)
-                except Exception as exc:  # a case the rewriter cannot make: recorded, not fatal
-                    print(f"prt_holes: {name} {case!r}: {exc}", file=sys.stderr)
-                    continue
-                rows.append({"lot": name, **row})
+        rows = measured_cases(
+            "prt_holes",
+            LOTS,
+            CASES,
+            lambda lot, case: measure(pyprt, work, source, patcher, lot, case),
+        )
     from importlib.metadata import version as installed
 
     head = {

@@ -249,6 +249,22 @@ def rewritable_package(corpus: Path, tool: str, package: str = PACKAGE, patcher:
         yield pyprt, work, source, patcher
 
 
+def measured_cases(tool: str, lots: dict, cases, measure_case) -> list[dict]:
+    """``measure_case(lot, case)`` for every lot of ``lots`` (name -> initial shape) and every
+    case, each row led by its lot's name; a case the rewriter cannot make is said on stderr
+    and left out, not fatal."""
+    rows = []
+    for name, lot in lots.items():
+        for case in cases:
+            try:
+                row = measure_case(lot, case)
+            except Exception as exc:  # noqa: BLE001 - recorded, the others still measured
+                print(f"{tool}: {name} {case!r}: {exc}", file=sys.stderr)
+                continue
+            rows.append({"lot": name, **row})
+    return rows
+
+
 def write_fixture(path: Path, head: dict, key: str, rows: list) -> None:
     """The measured ``rows`` as a JSON fixture: ``head``'s entries, then ``key`` with a row a
     line, so that a new measurement's difference reads row by row."""

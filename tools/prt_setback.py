@@ -27,7 +27,13 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import ASM_JAR, CORPUS, rewritable_package, write_fixture  # noqa: E402
+from prt_primitives import (  # noqa: E402
+    ASM_JAR,
+    CORPUS,
+    measured_cases,
+    rewritable_package,
+    write_fixture,
+)
 
 PACKAGE = "packages/Esri+pyprt__tests_data_FacesHolesVerticesrule__987e9f4b.rpk"
 GEOMETRY = ("nFaces", "nHoles", "nVertices", "area")
@@ -260,17 +266,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("output", type=Path, help="the JSON file to write")
     parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
     args = parser.parse_args(argv)
-    rows = []
     with rewritable_package(args.corpus, "prt_setback", PACKAGE, PATCHER) as context:
         pyprt, work, source, patcher = context
-        for name, lot in LOTS.items():
-            for distance, text in CASES:
-                try:
-                    row = measure(pyprt, work, source, patcher, lot, distance, text)
-                except Exception as exc:  # a case the rewriter cannot make: recorded, not fatal
-                    print(f"prt_setback: {name} {distance} {text!r}: {exc}", file=sys.stderr)
-                    continue
-                rows.append({"lot": name, **row})
+        rows = measured_cases(
+            "prt_setback",
+            LOTS,
+            CASES,
+            lambda lot, case: measure(pyprt, work, source, patcher, lot, *case),
+        )
     from importlib.metadata import version as installed
 
     head = {
