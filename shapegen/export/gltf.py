@@ -21,17 +21,17 @@ __all__ = [
     "ARROW_LENGTH_BLOCKS",
     "ARROW_WIDTH_BLOCKS",
     "RESULTANTS_NODE",
+    "Arrows",
     "block_size",
-    "model_scene",
+    "model_document",
     "resultant_arrows",
     "encode_glb",
     "encode_gltf",
 ]
 
+from typing import NamedTuple
+
 import numpy as np
-import trimesh
-from trimesh.visual import TextureVisuals
-from trimesh.visual.material import PBRMaterial
 
 from shapegen.export.blocks_json import load_entries, model_settings
 from shapegen.export.colors import (
@@ -41,8 +41,9 @@ from shapegen.export.colors import (
     tension_colors,
     tension_levels,
 )
-from shapegen.export.meshes import block_mesh
-from shapegen.export.surfaces import surface_mesh, surfaces_of
+from shapegen.export.gltf_document import GltfDocument
+from shapegen.export.meshes import block_triangles
+from shapegen.export.surfaces import face_triangles, surfaces_of
 from shapegen.json_values import json_ready
 from shapegen.limits import check_clock
 from shapegen.model.model import Model
@@ -54,11 +55,17 @@ from shapegen.tolerances import FORCE_NOISE_REL
 ARROW_LENGTH_BLOCKS = 1.0  # the largest resultant arrow, in block sizes (see block_size)
 ARROW_WIDTH_BLOCKS = 0.05  # arrow shaft width, in block sizes
 RESULTANTS_NODE = "shapegen:resultants"
-_ROOT = "shapegen:root"  # the scene's base frame; glTF files do not keep it as a node
 
 
-def model_scene(model: Model, analysis=None) -> trimesh.Scene:
-    """The model as a trimesh scene, ready for glTF export.
+class Arrows(NamedTuple):
+    """The resultant arrows as one triangle mesh."""
+
+    vertices: np.ndarray  # (n, 3)
+    faces: np.ndarray  # (t, 3) vertex indices
+
+
+def model_document(model: Model, analysis=None) -> GltfDocument:
+    """The model as a glTF document, a node per block and per surface.
 
     Parameters
     ----------
@@ -68,7 +75,7 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
         An ``Analysis`` of this model (from :func:`shapegen.statics.analyze`) or None. With it,
         blocks are coloured by ``analysis.block_tension`` and the resultants are drawn as arrows.
     """
-    scene = trimesh.Scene(base_frame=_ROOT, metadata=_scene_extras(model, analysis))
+    document = GltfDocument(extras=_scene_extras(model, analysis))
     n = len(model.blocks)
     fixed = np.array([b.fixed for b in model.blocks], dtype=bool)
     structural = np.array([b.structural for b in model.blocks], dtype=bool)
@@ -84,8 +91,6 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
         colors = colors.reshape(-1, 4)
     for k, block in enumerate(model.blocks):
         check_clock()
-        mesh = block_mesh(block)
-        mesh.visual = TextureVisuals(material=_material(colors[k]))
         extras = {
             "role": "block",
             "labels": list(block.tags),
@@ -99,41 +104,29 @@ def model_scene(model: Model, analysis=None) -> trimesh.Scene:
             extras["appearance"] = json_ready(look)
         if tension is not None:
             extras["tension"] = float(tension[k]) if np.isfinite(tension[k]) else 0.0
-        scene.add_geometry(mesh, node_name=block.id, geom_name=block.id, metadata=extras)
-    _add_surfaces(scene, model, model_label_colors(model.blocks))
+        document.add_mesh(block.id, block.vertices, block_triangles(block), colors[k], extras)
+    _add_surfaces(document, model, model_label_colors(model.blocks))
     if analysis is not None:
         arrows, newtons_per_metre, count = resultant_arrows(model, analysis)
         if arrows is not None:
-            arrows.visual = TextureVisuals(material=_material(RESULTANT))
-            scene.add_geometry(
-                arrows,
-                node_name=RESULTANTS_NODE,
-                geom_name=RESULTANTS_NODE,
-                metadata={
-                    "role": "resultants",
-                    "count": count,
-                    "newtons_per_metre": newtons_per_metre,
-                },
-            )
-    return scene
+            extras = {"role": "resultants", "count": count, "newtons_per_metre": newtons_per_metre}
+            document.add_mesh(RESULTANTS_NODE, arrows.vertices, arrows.faces, RESULTANT, extras)
+    return document
 
 
-def _add_surfaces(scene: trimesh.Scene, model: Model, by_label: dict) -> None:
+def _add_surfaces(document: GltfDocument, model: Model, by_label: dict) -> None:
     """One node per surface with triangles; named by its id (made unique among the nodes); a
     labelled surface in its label's colour among the blocks' (``by_label``)."""
     used = {block.id for block in model.blocks}
     for surface in surfaces_of(model):
         check_clock()
-        mesh = surface_mesh(surface)
-        if len(mesh.faces) == 0:
+        triangles = face_triangles(surface.vertices, surface.faces)
+        if len(triangles) == 0:
             continue
         name = surface.id
         while name in used:
             name = "surface:" + name
         used.add(name)
-        mesh.visual = TextureVisuals(
-            material=_material(display_color(surface, by_label), double_sided=True)
-        )
         extras = {
             "role": SURFACE_ROLE,
             "structural": False,
@@ -144,23 +137,21 @@ def _add_surfaces(scene: trimesh.Scene, model: Model, by_label: dict) -> None:
         look = surface.appearance.to_dict() if surface.appearance is not None else {}
         if look:
             extras["appearance"] = json_ready(look)
-        scene.add_geometry(mesh, node_name=name, geom_name=name, metadata=extras)
+        color = display_color(surface, by_label)
+        document.add_mesh(name, surface.vertices, triangles, color, extras, double_sided=True)
 
 
 def encode_glb(model: Model, analysis=None) -> bytes:
-    """Binary glTF (.glb) bytes of :func:`model_scene`."""
-    return trimesh.exchange.gltf.export_glb(model_scene(model, analysis))
+    """Binary glTF (.glb) bytes of :func:`model_document`."""
+    return model_document(model, analysis).glb()
 
 
 def encode_gltf(model: Model, analysis=None) -> bytes:
-    """Single-file glTF (.gltf) bytes: JSON with the buffers embedded as base64."""
-    files = trimesh.exchange.gltf.export_gltf(
-        model_scene(model, analysis), merge_buffers=True, embed_buffers=True
-    )
-    return files["model.gltf"]
+    """Single-file glTF (.gltf) bytes: JSON with the buffer embedded as base64."""
+    return model_document(model, analysis).gltf()
 
 
-def resultant_arrows(model: Model, analysis) -> tuple[trimesh.Trimesh | None, float, int]:
+def resultant_arrows(model: Model, analysis) -> tuple[Arrows | None, float, int]:
     """The interface resultants as thin arrows, merged into one mesh.
 
     Each arrow lies along the force that ``first`` exerts on ``second`` and is centred on the
@@ -198,8 +189,8 @@ def resultant_arrows(model: Model, analysis) -> tuple[trimesh.Trimesh | None, fl
     vertices = np.einsum("nij,nmj->nmi", frames, local) + start[:, None, :]
     m = len(template_vertices)
     faces = template_faces[None, :, :] + (m * np.arange(len(length)))[:, None, None]
-    mesh = trimesh.Trimesh(vertices.reshape(-1, 3), faces.reshape(-1, 3), process=False)
-    return mesh, 1.0 / metres_per_newton, int(len(length))
+    arrows = Arrows(vertices.reshape(-1, 3), faces.reshape(-1, 3))
+    return arrows, 1.0 / metres_per_newton, int(len(length))
 
 
 def block_size(model: Model) -> float:
@@ -248,18 +239,6 @@ def _frames(direction: np.ndarray) -> np.ndarray:
     u /= np.linalg.norm(u, axis=1, keepdims=True)
     v = np.cross(direction, u)
     return np.stack([u, v, direction], axis=2)
-
-
-def _material(color: np.ndarray, double_sided: bool = False) -> PBRMaterial:
-    color = np.asarray(color, dtype=np.uint8)
-    return PBRMaterial(
-        name="shapegen-" + "".join(f"{c:02x}" for c in color) + ("-2" if double_sided else ""),
-        baseColorFactor=color,
-        metallicFactor=0.0,
-        roughnessFactor=0.9,
-        alphaMode="BLEND" if color[3] < 255 else None,
-        doubleSided=double_sided or None,
-    )
 
 
 def _scene_extras(model: Model, analysis) -> dict:

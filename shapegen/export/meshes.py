@@ -1,5 +1,5 @@
-"""Meshes out: OBJ, PLY and STL files of block models, through trimesh (they are read back
-by :mod:`shapegen.readers.meshes`).
+"""Meshes out: OBJ, PLY and STL files of block models (they are read back by
+:mod:`shapegen.readers.meshes`); PLY and STL through trimesh, imported only for them.
 
 :func:`encode_obj` (a group per block, the blocks' own polygon faces, full precision),
 :func:`encode_ply` and :func:`encode_stl` (the whole model as one triangle mesh).
@@ -9,7 +9,6 @@ from __future__ import annotations
 
 __all__ = [
     "block_triangles",
-    "block_mesh",
     "model_mesh",
     "encode_obj",
     "encode_ply",
@@ -17,15 +16,18 @@ __all__ = [
 ]
 
 import re
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from shapegen.export.colors import appearance_color
 from shapegen.export.surfaces import face_triangles, surfaces_of
 from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.readers.surface_entries import SURFACE_GROUP
+
+if TYPE_CHECKING:
+    import trimesh
 
 
 # ---------------------------------------------------------------------------------- writing
@@ -37,13 +39,10 @@ def block_triangles(block: Block) -> np.ndarray:
     return np.array(triangles, dtype=np.int64).reshape(-1, 3)
 
 
-def block_mesh(block: Block) -> trimesh.Trimesh:
-    """The block as a triangle mesh (shared vertices, outward winding, no processing)."""
-    return trimesh.Trimesh(block.vertices.copy(), block_triangles(block), process=False)
-
-
 def model_mesh(model: Model) -> trimesh.Trimesh:
     """All blocks as one triangle mesh; blocks keep separate vertices, so each is one component."""
+    import trimesh  # only PLY and STL need it: its import is most of a small build's run
+
     if not model.blocks:
         return trimesh.Trimesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64), process=False)
     counts = np.array([len(block.vertices) for block in model.blocks])

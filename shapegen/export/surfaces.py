@@ -14,12 +14,10 @@ __all__ = [
     "left_out_summary",
     "solids",
     "solids_volume",
-    "surface_mesh",
     "surfaces_of",
 ]
 
 from collections import Counter
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,9 +25,6 @@ from shapegen.limits import check_clock
 from shapegen.model.appearance import Surface
 from shapegen.model.model import Model
 from shapegen.tolerances import ROUNDOFF_REL
-
-if TYPE_CHECKING:
-    import trimesh
 
 
 def surfaces_of(model: Model) -> list[Surface]:
@@ -152,12 +147,3 @@ def _triangulated(plane: np.ndarray, face: list[int]) -> list[tuple[int, int, in
         turn = ux * vy - uy * vx
         out.append((a, b, c) if turn > 0 else (a, c, b))
     return out
-
-
-def surface_mesh(surface: Surface) -> trimesh.Trimesh:
-    """The surface as a triangle mesh (its vertices as they are)."""
-    import trimesh
-
-    return trimesh.Trimesh(
-        surface.vertices, face_triangles(surface.vertices, surface.faces), process=False
-    )
