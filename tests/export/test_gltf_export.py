@@ -219,3 +219,33 @@ def test_the_longest_arrow_is_the_size_of_a_block_not_of_the_model(rules):
     assert longest <= np.median(diagonals)  # no longer than a typical block
     # Scaled to the model, the longest was 15% of its diagonal: 300 m on the 2 km bridge.
     assert longest < 0.05 * model.size
+
+
+def test_glb_layout_follows_the_specification():
+    """The rules of glTF 2.0 a reader relies on: the binary chunk holds every view, each view
+    at a 4-byte boundary, POSITION accessors carry min and max equal to their data's, indices
+    stay below the vertex count, and identical arrays (the boxes' indices) are stored once."""
+    content = encode_glb(colonnade())
+    tree = glb_json(content)
+    json_length = struct.unpack_from("<I", content, 12)[0]
+    bin_length, bin_type = struct.unpack_from("<I4s", content, 20 + json_length)
+    assert bin_type == b"BIN\x00" and tree["buffers"][0]["byteLength"] == bin_length
+    body = content[28 + json_length : 28 + json_length + bin_length]
+    for view in tree["bufferViews"]:
+        assert view["byteOffset"] % 4 == 0
+        assert view["byteOffset"] + view["byteLength"] <= bin_length
+    for mesh in tree["meshes"]:
+        primitive = mesh["primitives"][0]
+        positions = tree["accessors"][primitive["attributes"]["POSITION"]]
+        view = tree["bufferViews"][positions["bufferView"]]
+        start = view["byteOffset"]
+        points = np.frombuffer(body[start : start + view["byteLength"]], np.float32)
+        points = points.reshape(-1, 3)
+        assert len(points) == positions["count"]
+        assert positions["min"] == points.min(axis=0).tolist()
+        assert positions["max"] == points.max(axis=0).tolist()
+        indices = tree["accessors"][primitive["indices"]]
+        assert indices["count"] % 3 == 0 and indices["max"][0] < positions["count"]
+    # six boxes: one index array and five distinct corner sets would do; none is written twice
+    views = [body[v["byteOffset"] : v["byteOffset"] + v["byteLength"]] for v in tree["bufferViews"]]
+    assert len(views) == len(set(views)) and len(views) < 2 * len(tree["meshes"])
