@@ -19,12 +19,14 @@ second). The arrays: ``vertices`` (float64, m), ``vertex_offsets`` per block, ``
 indices within the block, all faces end to end), ``face_sizes``, ``face_starts`` (into
 ``faces``), ``face_offsets`` per block (into ``face_sizes``), ``block_offsets`` per building,
 ``rgba`` per block (the scene's colours: label colours, red where the building does not stand)
-and ``flags`` per block (1 fixed, 2 structural). A closed solid leaf that is not convex (an
-extruded L-shaped footprint), kept as derived, is packed after the building's blocks as one
-more entry, its faces cut into triangles. The file is ``SGBLOCKS`` (8 bytes), the length
-of a JSON header (8 bytes, little-endian), the header (``{name: [numpy dtype, shape,
-offset]}``, offsets from the end of the header) and the arrays' bytes, each at a multiple of 8:
-numpy takes each array where it lies, where an ``.npz`` costs milliseconds a batch to open.
+and ``flags`` per block (1 fixed, 2 structural, 4 a surface). A closed solid leaf that is
+not convex (an extruded L-shaped footprint), kept as derived, and a surface the statics leave
+out (a facade made of faces; flags 4) are packed after the building's blocks as one more entry
+each, their faces cut into triangles where a fan would not cover them. The file is ``SGBLOCKS`` (8
+bytes), the length of a JSON header (8 bytes, little-endian), the header (``{name: [numpy
+dtype, shape, offset]}``, offsets from the end of the header) and the arrays' bytes, each at a
+multiple of 8: numpy takes each array where it lies, where an ``.npz`` costs milliseconds a
+batch to open.
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ from shapegen.tolerances import ROUNDOFF_REL
 BATCH_FORMAT = "shapegen-city-batch"
 _MAGIC = b"SGBLOCKS"
 _FAILED = np.array([220, 30, 30, 255], dtype=np.uint8)  # a building that does not stand
+OPEN = 4  # the flags of a surface drawn but not judged (1 fixed and 2 structural otherwise)
 
 
 def batch_key(tasks: Sequence) -> str:
@@ -145,9 +148,10 @@ def parse_building(record: dict) -> tuple[str, int] | None:
 
 
 def read_building(store, record: dict, cache: dict | None = None):
-    """A lot's building: a Model of its placed blocks and their colours in the scene (``(b, 4)``
-    RGBA bytes), or None when it has none or its batch's file is missing; ``cache`` (a dict)
-    keeps the last batch read, for many lots in order."""
+    """A lot's building: a Model of its placed blocks and surfaces, and their colours in the
+    scene (``(b, 4)`` and ``(s, 4)`` RGBA bytes), or None when it has none or its batch's file is
+    missing; ``cache`` (a dict) keeps the last batch read, for many lots in order."""
+    from shapegen.model.appearance import Surface
     from shapegen.model.model import Model
 
     where = parse_building(record)
@@ -162,7 +166,16 @@ def read_building(store, record: dict, cache: dict | None = None):
     if arrays is None or index >= len(arrays["block_offsets"]) - 1:
         return None
     first, last = arrays["block_offsets"][index : index + 2]
-    return Model(building_blocks(arrays, index)), arrays["rgba"][first:last]
+    rgba = arrays["rgba"][first:last]
+    open_ = (arrays["flags"][first:last] & OPEN) != 0
+    entries = building_blocks(arrays, index)
+    blocks = [entry for entry, is_open in zip(entries, open_, strict=True) if not is_open]
+    surfaces = [
+        Surface(entry.vertices, entry.faces, reason="a surface")
+        for entry, is_open in zip(entries, open_, strict=True)
+        if is_open
+    ]
+    return Model(blocks, surfaces=surfaces), rgba[~open_], rgba[open_]
 
 
 def read_batch_buildings(store, key: str) -> dict[str, np.ndarray] | None:
@@ -239,14 +252,18 @@ def _colors(drawn: list[tuple], stands: bool) -> np.ndarray:
 
 
 def _drawn(model) -> list[tuple]:
-    """``(vertices, faces, tags, fixed, structural, solid)`` of what a building shows in the
-    city: its blocks, then its closed solids kept as derived (leaves that are not convex, cut
-    into convex parts only when judged; ``solid`` True), whose faces may not be convex."""
+    """``(vertices, faces, tags, fixed, structural, polygons)`` of what a building shows in the
+    city: its blocks, then its other leaves as derived (``polygons`` True: faces that may not be
+    convex): closed solids that are not convex (cut into convex parts only when judged) and the
+    surfaces the statics leave out (a facade made of faces), drawn, not structural; ``fixed``
+    is None for those (:data:`OPEN`)."""
     drawn = [(b.vertices, b.faces, b.tags, b.fixed, b.structural, False) for b in model.blocks]
     for surface in getattr(model, "surfaces", None) or ():
-        if surface.solid is not None:
-            drawn.append((surface.vertices, surface.faces, surface.tags, surface.solid.fixed,
-                          surface.solid.structural, True))  # fmt: skip
+        if not surface.faces:
+            continue
+        solid = surface.solid
+        fixed, structural = (None, False) if solid is None else (solid.fixed, solid.structural)
+        drawn.append((surface.vertices, surface.faces, surface.tags, fixed, structural, True))
     return drawn
 
 
@@ -410,7 +427,7 @@ def _model_arrays(models: Sequence, stands: Sequence[bool]) -> dict[str, np.ndar
             for face in block_faces:
                 faces.extend(face)
                 face_sizes.append(len(face))
-            flags.append(int(fixed) | 2 * int(structural))
+            flags.append(OPEN if fixed is None else int(fixed) | 2 * int(structural))
     return {
         "vertices": np.concatenate(vertices) if vertices else np.zeros((0, 3)),
         "vertex_offsets": _offsets(vertex_counts),

@@ -184,7 +184,7 @@ def encode_city_picture(folder, records: list[dict], *, title: str = "", size_px
     from shapegen.model.model import Model
 
     store = folder if hasattr(folder, "write") else open_store(folder)
-    blocks, colors, cache = [], [], {}
+    blocks, surfaces, colors, surface_colors, cache = [], [], [], [], {}
     for record in records:
         if record is None or record.get("status") != "ok":
             continue
@@ -192,11 +192,19 @@ def encode_city_picture(folder, records: list[dict], *, title: str = "", size_px
         if building is None:
             continue
         blocks.extend(building[0].blocks)
+        surfaces.extend(building[0].surfaces)
         colors.append(building[1])
-    if not blocks:
+        surface_colors.append(building[2])
+    if not blocks and not surfaces:
         raise ValueError("no building to draw")
-    city = Model(_renamed(blocks))
-    rendering = render_blocks(city, np.concatenate(colors), size_px=size_px, elevation=35.0)
+    city = Model(_renamed(blocks), surfaces=surfaces)
+    rendering = render_blocks(
+        city,
+        np.concatenate(colors),
+        size_px=size_px,
+        elevation=35.0,
+        surface_colors=np.concatenate(surface_colors),
+    )
     width, height = size_px
     figure = Figure(figsize=(width / 100, height / 100), dpi=100, facecolor="white")
     figure.figimage(rendering.rgb, xo=0, yo=0, origin="upper")

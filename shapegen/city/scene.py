@@ -15,11 +15,11 @@ from __future__ import annotations
 
 __all__ = ["encode_city_glb"]
 
-import json
-import struct
 from collections.abc import Callable, Sequence
 
 import numpy as np
+
+from shapegen.export.gltf_document import glb_bytes
 
 _ARRAY_BUFFER = 34962
 _ELEMENT_ARRAY_BUFFER = 34963
@@ -58,16 +58,18 @@ def encode_city_glb(
         # The records were read from JSON: their values are plain already.
         extras = {key: record.get(key) for key in ("id", "stands", "measure", "blocks", "seed")}
         nodes.append({"name": lot_id, "mesh": len(gltf_meshes) - 1, "extras": extras})
+    scene: dict = {"extras": {"shapegen_city": frame}}
     document = {
         "asset": {"version": "2.0", "generator": "shapegen city"},
         "scene": 0,
-        "scenes": [{"nodes": list(range(len(nodes))), "extras": {"shapegen_city": frame}}],
-        "nodes": nodes,
+        "scenes": [scene],
     }
-    if gltf_meshes:
+    if gltf_meshes:  # glTF's arrays are absent rather than empty
+        scene["nodes"] = list(range(len(nodes)))
+        document["nodes"] = nodes
         document.update(meshes.document())
         document["meshes"] = gltf_meshes
-    return _glb(document, meshes.binary() if gltf_meshes else b"")
+    return glb_bytes(document, meshes.binary() if gltf_meshes else b"")
 
 
 class _Buffers:
@@ -121,10 +123,14 @@ class _Buffers:
 
     def document(self) -> dict:
         views, offset = [], 0
-        for size, target in zip(
-            self.sizes, (_ARRAY_BUFFER, _ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER), strict=True
-        ):
-            views.append({"buffer": 0, "byteOffset": offset, "byteLength": size, "target": target})
+        # The vertex views are shared by every building's accessors, which glTF allows only
+        # with a stated stride (12 bytes a position, 4 a colour); indices have none.
+        layout = ((_ARRAY_BUFFER, 12), (_ARRAY_BUFFER, 4), (_ELEMENT_ARRAY_BUFFER, None))
+        for size, (target, stride) in zip(self.sizes, layout, strict=True):
+            view = {"buffer": 0, "byteOffset": offset, "byteLength": size, "target": target}
+            if stride is not None:
+                view["byteStride"] = stride
+            views.append(view)
             offset += size  # every view's length is a multiple of 4 bytes
         return {
             "buffers": [{"byteLength": offset}],
@@ -183,13 +189,3 @@ def _building(batch: tuple, index: int):
     v0, v1 = vertex_starts[index], vertex_starts[index + 1]
     t0, t1 = triangle_offsets[index], triangle_offsets[index + 1]
     return vertices[v0:v1], colors[v0:v1], triangles[t0:t1], (low[index], high[index])
-
-
-def _glb(document: dict, binary: bytes) -> bytes:
-    text = json.dumps(document, separators=(",", ":"), allow_nan=False).encode("utf-8")
-    text += b" " * (-len(text) % 4)
-    binary += b"\x00" * (-len(binary) % 4)
-    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text
-    if binary:
-        chunks += struct.pack("<II", len(binary), 0x004E4942) + binary
-    return struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks

@@ -12,7 +12,7 @@ carries its ``min`` and ``max``.
 
 from __future__ import annotations
 
-__all__ = ["GltfDocument"]
+__all__ = ["GltfDocument", "glb_bytes"]
 
 import base64
 import json
@@ -73,14 +73,9 @@ class GltfDocument:
         self._nodes.append(node)
 
     def glb(self) -> bytes:
-        """The binary glTF: a 12-byte header, the JSON chunk (space-padded), the binary chunk."""
+        """The binary glTF of the document."""
         body = b"".join(self._chunks)
-        text = self._json(None if not body else {"byteLength": len(body)}).encode("utf-8")
-        text += b" " * (-len(text) % 4)
-        chunks = struct.pack("<I4s", len(text), b"JSON") + text
-        if body:
-            chunks += struct.pack("<I4s", len(body), b"BIN\x00") + body
-        return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
+        return glb_bytes(self._document(None if not body else {"byteLength": len(body)}), body)
 
     def gltf(self) -> bytes:
         """The JSON glTF with its one buffer embedded as a base64 data URI."""
@@ -89,7 +84,7 @@ class GltfDocument:
         if body:
             uri = "data:application/octet-stream;base64," + base64.b64encode(body).decode()
             buffer = {"byteLength": len(body), "uri": uri}
-        return self._json(buffer).encode("utf-8")
+        return json.dumps(self._document(buffer), separators=(",", ":"), allow_nan=False).encode()
 
     # ------------------------------------------------------------------------------ parts
     def _accessor(self, array: np.ndarray, kind: str) -> int:
@@ -144,19 +139,29 @@ class GltfDocument:
             self._materials.append(material)
         return index
 
-    def _json(self, buffer: dict | None) -> str:
-        document = {
-            "asset": {"version": "2.0", "generator": "shapegen"},
-            "scene": 0,
-            "scenes": [self._scene],
-            "nodes": self._nodes,
-        }
-        if self._meshes:
+    def _document(self, buffer: dict | None) -> dict:
+        document = {"asset": {"version": "2.0", "generator": "shapegen"}, "scene": 0}
+        scene = {key: value for key, value in self._scene.items() if value}
+        document["scenes"] = [scene]
+        if self._meshes:  # glTF's arrays are absent rather than empty
             document.update(
+                nodes=self._nodes,
                 meshes=self._meshes,
                 materials=self._materials,
                 accessors=self._accessors,
                 bufferViews=self._views,
                 buffers=[buffer],
             )
-        return json.dumps(document, separators=(",", ":"), allow_nan=False)
+        return document
+
+
+def glb_bytes(document: dict, binary: bytes) -> bytes:
+    """A binary glTF of ``document`` (its JSON) and ``binary`` (its one buffer): a 12-byte
+    header, the JSON chunk padded with spaces and the binary chunk with zeros to 4 bytes."""
+    text = json.dumps(document, separators=(",", ":"), allow_nan=False).encode("utf-8")
+    text += b" " * (-len(text) % 4)
+    binary += b"\x00" * (-len(binary) % 4)
+    chunks = struct.pack("<I4s", len(text), b"JSON") + text
+    if binary:
+        chunks += struct.pack("<I4s", len(binary), b"BIN\x00") + binary
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks

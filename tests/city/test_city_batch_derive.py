@@ -63,7 +63,7 @@ def test_batch_and_one_lot_at_a_time_write_the_same_city(tmp_path, monkeypatch):
         assert (built_a is None) == (built_b is None) == (a["status"] != "ok")
         if built_a is None:
             continue
-        (model_a, colors_a), (model_b, colors_b) = built_a, built_b
+        (model_a, colors_a, _), (model_b, colors_b, _) = built_a, built_b
         np.testing.assert_array_equal(colors_a, colors_b)
         assert len(model_a.blocks) == len(model_b.blocks) == 1
         block_a, block_b = model_a.blocks[0], model_b.blocks[0]

@@ -54,7 +54,7 @@ def test_lots_run_in_batches_of_the_size_given_each_batch_two_files(grammar, tmp
     sizes = sorted(len(json.loads(store.read(name))["records"]) for name in records)
     assert sizes == [1, 2, 2]
     assert all(r["stands"] is None and r["structure"] is None for r in run.records)
-    model, colors = read_building(store, run.records[3])
+    model, colors, _ = read_building(store, run.records[3])
     (block,) = model.blocks
     east, north = run.city.origin  # x east, z north down: lot 4 is x 60..72, north 0..8
     assert np.allclose(block.vertices.min(axis=0), [60 - east, 0, north - 8], atol=1e-9)
@@ -163,7 +163,7 @@ def test_a_building_that_is_not_convex_is_packed_as_derived_its_caps_in_triangle
     run = run_city(city, grammar, _memory(), batch_size=2, analyze=False)
     assert [r["blocks"] for r in run.records] == [0, 0]
     for record, area in zip(run.records, (12.0, 18.0), strict=True):
-        model, colors = read_building(run.store, record)
+        model, colors, _ = read_building(run.store, record)
         (solid,) = model.blocks
         sizes = sorted({len(face) for face in solid.faces})
         assert sizes == [3, 4] and colors.shape == (1, 4)

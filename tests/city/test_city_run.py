@@ -169,3 +169,45 @@ def test_a_lot_stuck_in_one_long_solve_is_stopped_and_the_next_lot_still_runs(tm
     long, short = run.records
     assert long["status"] == "timeout" and long["seconds"] >= 3.0
     assert short["status"] == "ok" and short["stands"] is True
+
+
+def test_a_city_of_faces_draws_them_in_its_glb_and_picture(tmp_path):
+    """Leaves the statics leave out (here a facade and roof made of faces) are the buildings a
+    user sees: city.glb holds them (a valid glTF: no empty arrays, strides on shared views) and
+    the picture draws them, as the model of one lot built alone holds them."""
+    import struct
+
+    import trimesh
+
+    from shapegen.city.outputs import encode_city_picture
+
+    rules = tmp_path / "faces.cga"
+    rules.write_text(
+        "Lot --> extrude(6) comp(f) { side : Wall | top : Roof }\nWall --> color(1,0,0)\n"
+        "Roof --> color(0,0,1)\n"
+    )
+    grammar = shapegen.load_grammar(rules)
+    city = city_from_polygons([ring for ring, _ in LOTS[:2]], crs="metres")
+    run = run_city(city, grammar, tmp_path / "out", analyze=False, workers=1)
+    assert [r["status"] for r in run.records] == ["ok", "ok"]
+    assert [r["blocks"] for r in run.records] == [0, 0]
+    content = (tmp_path / "out" / "city.glb").read_bytes()
+    length = struct.unpack_from("<I", content, 12)[0]
+    document = json.loads(content[20 : 20 + length])
+    for view in document["bufferViews"][:2]:  # positions and colours, shared by the buildings
+        assert view["byteStride"] in (12, 4)
+    scene = trimesh.load(tmp_path / "out" / "city.glb", force="scene")
+    assert sorted(scene.graph.nodes_geometry) == sorted(r["id"] for r in run.records)
+    origin = np.array(run.city.origin)
+    for record, (ring, _) in zip(run.records, LOTS[:2], strict=True):
+        lot = [(x - origin[0], -(y - origin[1])) for x, y in ring]
+        alone = pipeline.design(grammar, seed=lot_seed(record["id"]), lot=lot).model
+        area = sum(trimesh.Trimesh(s.vertices, _fans(s.faces)).area for s in alone.surfaces)
+        assert len(alone.surfaces) == 5 and not alone.blocks
+        assert scene.geometry[record["id"]].area == pytest.approx(area, rel=1e-6)
+    picture = encode_city_picture(tmp_path / "out", run.records)
+    assert picture[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def _fans(faces):
+    return [(face[0], face[k], face[k + 1]) for face in faces for k in range(1, len(face) - 1)]
