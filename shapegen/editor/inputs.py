@@ -29,6 +29,7 @@ from shapegen.editor.attrs import RequestError
 from shapegen.errors import LotError, ShapegenError
 from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
+from shapegen.statics.options import Reserve
 
 UNCHANGED = object()  # an argument not given (None is a value: the file's @Lot)
 MAX_SEED = 2**63 - 1
@@ -44,7 +45,7 @@ class Inputs:
     seed: int
     lot: Lot | None
     free: list[str] | None = None
-    margin: float = DEFAULT_MARGIN
+    margin: Reserve = Reserve(DEFAULT_MARGIN)
 
     def builds_as(self, other: Inputs) -> bool:
         """Whether ``other`` builds the same design (the search's settings aside)."""
@@ -132,13 +133,13 @@ def checked_free(value: object, grammar, ranged: set[str]) -> list[str] | None:
     return list(dict.fromkeys(value))
 
 
-def checked_margin(value: object) -> float:
-    """The margin a client sends, checked by the one margin check; its refusal is a 4xx."""
+def checked_margin(value: object) -> Reserve:
+    """The margin a client sends, made a :class:`~shapegen.statics.options.Reserve` (its one
+    check); its refusal is a 4xx."""
     from shapegen.errors import OptionError
-    from shapegen.statics.options import checked_margin as margin_check
 
     try:
-        return margin_check(value)
+        return Reserve(value)
     except OptionError as exc:
         raise RequestError(f'"margin": {exc}') from None
 

@@ -10,18 +10,22 @@ __all__ = ["Cancelled", "SearchState", "search_options"]
 
 import threading
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from shapegen.editor.attrs import RequestError
 from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.search.options import SearchOptions
 
+if TYPE_CHECKING:
+    from shapegen.statics.options import Reserve
+
 
 class Cancelled(Exception):
     """The designer stopped the search."""
 
 
-def search_options(payload: object, free: list[str], margin: float) -> SearchOptions:
+def search_options(payload: object, free: list[str], margin: Reserve) -> SearchOptions:
     """The search a request asks for (``{"objective": "energy"}``, the default, or
     ``"closest"``) over the ``free`` attrs with ``margin``; a 4xx for a bad request."""
     payload = {} if payload is None else payload

@@ -56,6 +56,7 @@ from shapegen.limits import work_clock
 from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.options import SearchOptions
+from shapegen.statics.options import Reserve
 
 
 class EditorSession:
@@ -115,7 +116,7 @@ class EditorSession:
         self.attrs: dict[str, object] = {}  # the designer's values; the others are the rule's
         self.history = History()
         self._free: list[str] | None = None  # the attrs the search varies; None: the @Free ones
-        self.margin = DEFAULT_MARGIN
+        self.margin = Reserve(DEFAULT_MARGIN)
         self._last_inputs = self._inputs()  # the inputs before the last change
         initial = checked_values(self.grammar, {}, dict(attrs)) if attrs else {}
         self._follower = MeasureFollower(self._publish_completed) if measure_follows else None

@@ -19,7 +19,7 @@ from shapegen.errors import GeometryError, GrammarError, StaticsError
 from shapegen.model import Model
 from shapegen.model.lot import Lot
 from shapegen.search.parameters import FreeParameter
-from shapegen.structures import Assessment, Design, Structure
+from shapegen.structures import Assessment, Design, Reserve, Structure
 
 # Relative step (fraction of a parameter's range) of the finite differences on the geometry and,
 # for the forward-difference gradient, on the whole evaluation. The geometry is exact to
@@ -62,7 +62,7 @@ class Evaluator:
         *,
         seed: int = 0,
         lot: Lot | None = None,
-        margin: float = 0.0,
+        margin: Reserve | float = 0.0,
     ):
         self.grammar = grammar
         self.structure = structure
@@ -70,7 +70,7 @@ class Evaluator:
         self.attrs = dict(attrs or {})
         self.seed = seed
         self.lot = Lot.of(lot) if lot is not None else None
-        self.margin = margin
+        self.margin = Reserve.of(margin)  # the search's own passes as it is
         self.evaluations = 0
         self._cache: dict[tuple, Evaluation] = {}
         self._gradients: dict[tuple, np.ndarray] = {}

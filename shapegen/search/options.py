@@ -17,9 +17,13 @@ __all__ = ["GRADIENTS", "OBJECTIVES", "SearchOptions", "search_fields"]
 
 from collections.abc import Mapping
 from dataclasses import Field, dataclass, field, fields, replace
+from typing import TYPE_CHECKING
 
 from shapegen.errors import OptionError
 from shapegen.search.defaults import DEFAULT_MARGIN
+
+if TYPE_CHECKING:
+    from shapegen.statics.options import Reserve
 
 OBJECTIVES = ("energy", "closest")
 GRADIENTS = ("adjoint", "forward", "none")
@@ -52,7 +56,8 @@ class SearchOptions:
     max_iter
         Iterations per start.
     margin
-        Reserve in [0, 1) the designs are judged with (default
+        The :class:`~shapegen.statics.options.Reserve` in [0, 1) the designs are judged with
+        (made from a number here, the one check of a margin on its way in; default
         :data:`~shapegen.search.DEFAULT_MARGIN`; for block statics every joint shrunk and the
         friction lowered to ``1 - margin``, :func:`~shapegen.statics.reserve.with_reserve`); 0
         stops on the boundary, as the papers do.
@@ -83,7 +88,7 @@ class SearchOptions:
         choices=GRADIENTS,
     )
     max_iter: int = _option(50, "iterations per start", "count", minimum=1)
-    margin: float = _option(
+    margin: Reserve = _option(
         DEFAULT_MARGIN,
         "safety margin, 0 to 1: search for a design that still stands with every joint shrunk"
         " to 1 - M of its size and the friction coefficient lowered to 1 - M of itself (block"
@@ -98,7 +103,7 @@ class SearchOptions:
     )
 
     def __post_init__(self) -> None:
-        from shapegen.statics.options import checked_margin  # the one margin check
+        from shapegen.statics.options import Reserve  # a margin is checked as it becomes one
 
         if self.free is not None:
             if isinstance(self.free, str) or not all(isinstance(n, str) for n in self.free):
@@ -121,7 +126,7 @@ class SearchOptions:
             if kind == "count" and value < minimum:
                 raise OptionError(f"{option.name} must be at least {minimum}; got {value!r}")
             if kind == "fraction":
-                object.__setattr__(self, option.name, checked_margin(value))
+                object.__setattr__(self, option.name, Reserve.of(value))
 
     def replace(self, **changes) -> SearchOptions:
         """These options with ``changes``, checked again."""

@@ -16,10 +16,10 @@ __all__ = [
     "AUTO_ORDER",
     "PYRAMIDS",
     "DEFAULT_PYRAMID",
+    "Reserve",
     "Tilt",
     "checked_azimuth",
     "checked_kern",
-    "checked_margin",
     "checked_pyramid",
     "statics_field",
     "statics_fields",
@@ -212,19 +212,40 @@ class StaticsOptions:
         return report
 
 
-def checked_margin(margin: object) -> float:
-    """A reserve ``margin`` as a number in [0, 1), or an :class:`~shapegen.errors.OptionError`:
-    the one check of a margin, wherever one is given (search options, a structure's
-    assessment, the statics reserve, the design page).
+class Reserve(float):
+    """The reserve ``M`` in [0, 1) a design is judged with: for block statics every joint shrunk
+    about its centroid and the friction coefficient lowered to ``1 - M`` of themselves
+    (:func:`~shapegen.statics.reserve.with_reserve`), for cables the diameter limit lowered to
+    ``1 - M`` of itself; 0 is none. A number, checked once, when made, where a margin is given
+    (``--margin`` and the other fields of :class:`~shapegen.search.options.SearchOptions`, the
+    design page's ``"margin"``, a library call), and passed inward as it is: :meth:`of` takes a
+    ``Reserve`` without looking at it again. Its refusal is one
+    :class:`~shapegen.errors.OptionError` naming ``margin``.
 
-    >>> checked_margin(0.1)
-    0.1
+    >>> Reserve(0.1) * 2
+    0.2
+    >>> Reserve.of(Reserve(0.1)) == 0.1, bool(Reserve())
+    (True, False)
+    >>> Reserve(1)
+    Traceback (most recent call last):
+    ...
+    shapegen.errors.OptionError: margin must be at least 0 and below 1; got 1
     """
-    if isinstance(margin, bool) or not isinstance(margin, int | float):
-        raise OptionError(f"margin must be a number in [0, 1); got {margin!r}", "margin")
-    if not 0.0 <= margin < 1.0:
-        raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}", "margin")
-    return float(margin)
+
+    __slots__ = ()
+
+    def __new__(cls, margin: object = 0.0) -> Reserve:
+        if isinstance(margin, bool) or not isinstance(margin, int | float):
+            raise OptionError(f"margin must be a number in [0, 1); got {margin!r}", "margin")
+        if not 0.0 <= margin < 1.0:
+            raise OptionError(f"margin must be at least 0 and below 1; got {margin:g}", "margin")
+        return super().__new__(cls, margin)
+
+    @classmethod
+    def of(cls, margin: object) -> Reserve:
+        """``margin`` as a reserve: a :class:`Reserve` as it is (checked when it was made),
+        anything else checked now."""
+        return margin if isinstance(margin, Reserve) else cls(margin)
 
 
 @dataclass(frozen=True)

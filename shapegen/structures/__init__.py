@@ -5,6 +5,7 @@
 ['blocks', 'cable']
 """
 
+from shapegen.statics.options import Reserve
 from shapegen.structures.base import (
     UNJUDGED_STATUSES,
     Assessment,
@@ -19,6 +20,7 @@ __all__ = [
     "Assessment",
     "DEFAULT_STRUCTURE",
     "Design",
+    "Reserve",
     "Structure",
     "StructureArgument",
     "UNJUDGED_STATUSES",

@@ -20,6 +20,7 @@ from typing import ClassVar
 from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.model import Model
+from shapegen.statics.options import Reserve
 
 _REQUIRED = object()
 
@@ -205,9 +206,11 @@ class Structure(ABC):
         )
 
     @abstractmethod
-    def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
-        """Judge ``design``; with ``margin`` in [0, 1), judge it with that reserve (a design that
-        stands with a margin stands without one)."""
+    def assess(self, design: Design, *, margin: Reserve | float = 0.0) -> Assessment:
+        """Judge ``design``; with a ``margin`` above 0, judge it with that reserve (a design that
+        stands with a margin stands without one). ``margin`` is a
+        :class:`~shapegen.statics.options.Reserve`, checked when it was made (the search passes
+        its own), or a number that ``Reserve.of(margin)`` checks."""
 
     def reassess(
         self, design: Design, previous: Assessment | None, *, measure_follows: bool = False
@@ -222,14 +225,6 @@ class Structure(ABC):
     def complete(self, assessment: Assessment) -> Assessment:
         """The full assessment of a pending one (see :meth:`reassess`); any other as it is."""
         return assessment
-
-    @staticmethod
-    def checked_margin(margin: object) -> float:
-        """``margin`` as a number in [0, 1), or an :class:`~shapegen.errors.OptionError`
-        (:func:`shapegen.statics.options.checked_margin`, for a plug-in's own use)."""
-        from shapegen.statics.options import checked_margin
-
-        return checked_margin(margin)
 
     @classmethod
     def summary(cls, section: Mapping[str, object]) -> list[tuple[str, str]]:

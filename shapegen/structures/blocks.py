@@ -17,7 +17,7 @@ import math
 import time
 from collections.abc import Sequence
 
-from shapegen.statics.options import StaticsOptions
+from shapegen.statics.options import Reserve, StaticsOptions
 from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
 from shapegen.structures.registry import register_structure
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
@@ -53,16 +53,16 @@ class BlockStatics(Structure):
     }
 
     options: StaticsOptions
-    _stood: tuple[float, object] | None = None  # the last design that stood with a margin
+    _stood: tuple[Reserve, object] | None = None  # the last design that stood with a margin
     # margin, measure and analysis of the last design judged
-    _last: tuple[float, float, object] | None = None
+    _last: tuple[Reserve, float, object] | None = None
 
     def __init__(self, options: StaticsOptions | None = None):
         super().__init__(options)
         # azimuths (degrees) in which designs judged so far fell at the tilt of the options
         self._directions: list[float] = []
 
-    def _options(self, margin: float, design: Design) -> StaticsOptions:
+    def _options(self, margin: Reserve | float, design: Design) -> StaticsOptions:
         from shapegen.statics.reserve import with_reserve
 
         # the reserve: joints shrunk and friction lowered (statics/reserve.py)
@@ -72,11 +72,11 @@ class BlockStatics(Structure):
         arguments = self.checked_arguments(design.arguments)
         return options.selecting(arguments["structural"] or None, arguments["ignore"] or None)
 
-    def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
+    def assess(self, design: Design, *, margin: Reserve | float = 0.0) -> Assessment:
         from shapegen.statics.analysis import analyze  # scipy loads when a design is judged
         from shapegen.statics.standins import statics_model
 
-        margin = self.checked_margin(margin)
+        margin = Reserve.of(margin)
         stood = self._stood if self._stood is not None and self._stood[0] >= margin else None
         model = statics_model(design.model)  # the same object analyze judges
         options = self._options(margin, design)
@@ -100,7 +100,7 @@ class BlockStatics(Structure):
             # A search judges with a reserve and reports without one: the forces that stand
             # with the reserve certify the design without another solve.
             self._stood = (margin, analysis)
-        return _block_assessment(analysis, margin=float(margin))
+        return _block_assessment(analysis, margin=margin)
 
     def reassess(
         self, design: Design, previous: Assessment | None, *, measure_follows: bool = False

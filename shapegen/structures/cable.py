@@ -23,6 +23,7 @@ import math
 
 from shapegen.errors import GeometryError, OptionError
 from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
+from shapegen.statics.options import Reserve
 from shapegen.structures.base import (
     Assessment,
     Design,
@@ -93,8 +94,8 @@ class CableModel(Structure):
             ],
         }  # fmt: skip
 
-    def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
-        margin = self.checked_margin(margin)
+    def assess(self, design: Design, *, margin: Reserve | float = 0.0) -> Assessment:
+        margin = Reserve.of(margin)
         values = self.checked_arguments(design.arguments)
         limit = values.pop("max_cable_diameter")
         min_span = values.pop("min_span")
@@ -138,5 +139,5 @@ class CableModel(Structure):
             status="optimal",
             section=section,
             detail=sizing,
-            margin=float(margin),
+            margin=margin,
         )

@@ -5,6 +5,7 @@ reserve still certify the design without it."""
 from __future__ import annotations
 
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -12,7 +13,9 @@ import pytest
 from shapegen.errors import OptionError
 from shapegen.model.block import Block
 from shapegen.model.model import Model
+from shapegen.search.options import SearchOptions
 from shapegen.statics import StaticsOptions, analyze
+from shapegen.statics.options import Reserve
 from shapegen.statics.reserve import widened_forces, with_reserve
 from shapegen.structures import Design
 from shapegen.structures.blocks import BlockStatics
@@ -34,6 +37,19 @@ def test_the_reserve_shrinks_the_joints_and_lowers_the_friction():
     assert with_reserve(StaticsOptions(), 0.0, friction=0.7) == StaticsOptions()
     with pytest.raises(OptionError):
         with_reserve(StaticsOptions(), 1.0, friction=0.7)
+
+
+def test_a_margin_becomes_a_reserve_once_on_its_way_in():
+    reserve = SearchOptions(margin=0.2).margin  # the command line's and the library's edge
+    assert type(reserve) is Reserve and reserve == 0.2
+    assert Reserve.of(reserve) is reserve  # passed on as it is, not checked again
+    assert SearchOptions(margin=reserve).margin is reserve
+    copy = pickle.loads(pickle.dumps(reserve))  # to a city's workers
+    assert type(copy) is Reserve and copy == reserve
+    with pytest.raises(OptionError, match="margin must be at least 0 and below 1; got 1.5"):
+        Reserve.of(1.5)
+    with pytest.raises(OptionError, match="margin must be a number in"):
+        SearchOptions(margin="0.1")
 
 
 @pytest.mark.parametrize("pyramid", ["cone", "4"])

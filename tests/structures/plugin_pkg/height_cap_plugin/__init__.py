@@ -2,7 +2,7 @@
 is no taller than a cap (a planning rule rather than mechanics, which is the point: any measure
 that is zero exactly when the design is acceptable can drive the search)."""
 
-from shapegen.structures import Assessment, Design, Structure, StructureArgument
+from shapegen.structures import Assessment, Design, Reserve, Structure, StructureArgument
 from shapegen.structures.registry import register_structure
 
 
@@ -13,8 +13,8 @@ class HeightCap(Structure):
     measure_name = "(h/h_max - 1)²"
     arguments = {"max_height": StructureArgument("tallest allowed, m")}
 
-    def assess(self, design: Design, *, margin: float = 0.0) -> Assessment:
-        margin = self.checked_margin(margin)
+    def assess(self, design: Design, *, margin: Reserve | float = 0.0) -> Assessment:
+        margin = Reserve.of(margin)
         cap = (1.0 - margin) * self.checked_arguments(design.arguments)["max_height"]
         height = max(float(b.vertices[:, 1].max()) for b in design.model.blocks)
         stands = height <= cap
