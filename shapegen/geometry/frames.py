@@ -22,14 +22,17 @@ __all__ = [
 ]
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.geometry.mesh import Mesh, polygon_normal
-from shapegen.model.lot import Lot
 from shapegen.model.scope import Scope
 from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, ROUNDOFF_REL, ZERO_LENGTH
+
+if TYPE_CHECKING:
+    from shapegen.model.lot import Lot
 
 
 def _unit(vector: np.ndarray) -> np.ndarray | None:
@@ -171,15 +174,10 @@ def fills_rectangle(local: np.ndarray, sizes: np.ndarray) -> list[bool]:
     return close.all(axis=(1, 2)).tolist()
 
 
-def lot_polygon(lot) -> tuple[Scope, Mesh]:
-    """The start shape of a polygon lot: ``lot`` a polygon :class:`~shapegen.model.lot.Lot`
-    (or its corners ``(x, z)`` in metres, checked by it). Returns the scope (x along the first
-    edge, y up, the bounding box in that frame) and the face in scope coordinates.
-
-    Raises :class:`~shapegen.errors.LotError` for what cannot be a lot.
-    """
-    if not isinstance(lot, Lot):
-        lot = Lot.polygon(lot)
+def lot_polygon(lot: Lot) -> tuple[Scope, Mesh]:
+    """The start shape of a polygon :class:`~shapegen.model.lot.Lot` (checked when it was made,
+    at the edge: not again here). Returns the scope (x along the first edge, y up, the bounding
+    box in that frame) and the face in scope coordinates."""
     return polygon_face(lot.corners, lot.holes)
 
 

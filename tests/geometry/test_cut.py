@@ -16,13 +16,14 @@ from shapegen.geometry.cut import (
 from shapegen.geometry.extrude import prism
 from shapegen.geometry.frames import lot_polygon
 from shapegen.geometry.mesh import Mesh
+from shapegen.model.lot import Lot
 
 L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
 U_LOT = [(0, 0), (6, 0), (6, -4), (4, -4), (4, -1), (2, -1), (2, -4), (0, -4)]
 
 
 def _prism(lot, height=3.0):
-    _, face = lot_polygon(lot)
+    _, face = lot_polygon(Lot.polygon(lot))
     return prism(face.vertices, (0, height, 0))
 
 
@@ -88,7 +89,7 @@ def test_convex_decomposition_of_prisms(lot, count):
 
 
 def test_convexify_faces():
-    _, face = lot_polygon(U_LOT)
+    _, face = lot_polygon(Lot.polygon(U_LOT))
     points, pieces = convex_pieces(face.vertices)
     assert len(pieces) == 3  # a cut from each inner corner along an edge
     assert len(points) == len(face.vertices) + 2  # each meets the outline at a new vertex

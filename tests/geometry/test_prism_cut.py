@@ -22,6 +22,7 @@ from shapegen.geometry.extrude import prism
 from shapegen.geometry.frames import lot_polygon, polygon_face, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.prism_cut import prism_decomposition
+from shapegen.model.lot import Lot
 from shapegen.tolerances import DEFAULT
 
 OSM = Path(__file__).parents[1] / "data" / "osm" / "neubrandenburg.geojson.gz"
@@ -62,7 +63,7 @@ HAND_MADE = {
 def _prism(lot, height=3.0) -> Mesh:
     # a lot merges corners closer than LOT_MERGE_M; the near twins are a face a derivation
     # can still make (a split's sliver), so they are taken as they are
-    _, face = polygon_face(lot) if lot is NEAR_TWINS else lot_polygon(lot)
+    _, face = polygon_face(lot) if lot is NEAR_TWINS else lot_polygon(Lot.polygon(lot))
     return prism(face.vertices, (0, height, 0))
 
 
@@ -148,7 +149,7 @@ def test_the_pieces_of_a_comb_and_a_star():
 def test_a_footprint_given_clockwise_is_cut_the_same():
     # the prism of a clockwise ring extruded up is turned inside out (Mesh.reversed's layout)
     lot = np.array(U_LOT, float)
-    _, face = lot_polygon(lot)
+    _, face = lot_polygon(Lot.polygon(lot))
     clockwise = face.vertices[::-1]
     mesh = prism(clockwise, (0, 3.0, 0))
     fast, general = _compare(mesh)

@@ -15,12 +15,13 @@ from shapegen.geometry.trim import (
     trimmed,
     trimmed_solid,
 )
+from shapegen.model.lot import Lot
 
 L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
 
 
 def _l_prism():
-    _, face = lot_polygon(L_LOT)
+    _, face = lot_polygon(Lot.polygon(L_LOT))
     return prism(face.vertices, (0, 3.0, 0))
 
 
