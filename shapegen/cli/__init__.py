@@ -49,8 +49,12 @@ def build_parser():
     parser.add_argument("--version", action="version", version=f"shapegen {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     commands.required = True
+    # each command is a module: its name, HELP, DESCRIPTION, add_arguments(parser) and run(args)
     for command in (analyze, build, city, edit, landscape, rules, simulate):
-        command.add_command(commands)
+        name = command.__name__.rpartition(".")[2]
+        sub = commands.add_parser(name, help=command.HELP, description=command.DESCRIPTION)
+        command.add_arguments(sub)
+        sub.set_defaults(handler=command.run)
     return parser
 
 

@@ -3,7 +3,7 @@ by default)."""
 
 from __future__ import annotations
 
-__all__ = ["add_command", "run"]
+__all__ = ["HELP", "DESCRIPTION", "add_arguments", "run"]
 
 import argparse
 from contextlib import contextmanager
@@ -28,43 +28,42 @@ BYTES_PER_BLOCK = 4096
 6 faces, indented) takes about 900 bytes."""
 
 
-def add_command(commands) -> None:
-    analyze = commands.add_parser(
-        "analyze",
-        help="check whether a model file stands",
-        description=(
-            "Check whether a block model stands under its own weight and its loads, with"
-            " compression-only frictional joints (the tension-penalty QP); a model written by"
-            " `shapegen build` is judged by the structure it records (a bridge by its cables)."
-            " --tilt judges it on a tilting table, --capacity reports how far it can tilt."
-            " Exits 0 whether or not it stands; exits 2 for bad input."
-        ),
-    )
-    analyze.add_argument(
+HELP = "check whether a model file stands"
+DESCRIPTION = (
+    "Check whether a block model stands under its own weight and its loads, with"
+    " compression-only frictional joints (the tension-penalty QP); a model written by"
+    " `shapegen build` is judged by the structure it records (a bridge by its cables)."
+    " --tilt judges it on a tilting table, --capacity reports how far it can tilt."
+    " Exits 0 whether or not it stands; exits 2 for bad input."
+)
+
+
+def add_arguments(parser) -> None:
+    """The command's arguments and options, on its ``parser``."""
+    parser.add_argument(
         "model",
         metavar="MODEL",
         help="block model: shapegen-blocks .json, or a mesh (.obj .gltf .glb .ply .stl)",
     )
-    add_statics_options(analyze)
-    add_lateral_options(analyze)
-    add_plugin_option(analyze)  # a model judged by a structure of one's own
-    analyze.add_argument(
+    add_statics_options(parser)
+    add_lateral_options(parser)
+    add_plugin_option(parser)  # a model judged by a structure of one's own
+    parser.add_argument(
         "-o",
         "--output",
         metavar="OUT",
         help="write the model coloured by tension with resultant arrows (.glb .gltf; or any"
         " model format: .json .obj .ply .stl)",
     )
-    analyze.add_argument("--report", metavar="R.json", help="write a JSON report")
-    analyze.add_argument(
+    parser.add_argument("--report", metavar="R.json", help="write a JSON report")
+    parser.add_argument(
         "--max-blocks",
         type=_block_count,
         metavar="N",
         help=f"read a model of up to N blocks (default {DEFAULT_LIMITS.max_blocks}) and a file"
         f" of up to {BYTES_PER_BLOCK} bytes a block",
     )
-    analyze.add_argument("-q", "--quiet", action="store_true", help="print nothing")
-    analyze.set_defaults(handler=run)
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["add_command", "run"]
+__all__ = ["HELP", "DESCRIPTION", "add_arguments", "run"]
 
 import argparse
 import contextlib
@@ -13,11 +13,10 @@ from shapegen.cli.lateral_options import add_lateral_options, capacity_request
 from shapegen.cli.options import (
     CommandLineError,
     add_derivation_options,
+    add_rules_argument,
     add_search_options,
     add_statics_options,
-    check_statics_apply,
-    checked_attrs,
-    load_grammar,
+    loaded_rules,
     positive,
     search_settings,
     statics_options,
@@ -25,53 +24,48 @@ from shapegen.cli.options import (
 from shapegen.cli.outputs import check_outputs, print_written, write_all
 from shapegen.limits import DEFAULT_LIMITS, raised_with, work_clock, work_limits
 
+HELP = "derive a model from a rule file"
+DESCRIPTION = (
+    "Derive a model from a rule file (.grammar, .cga or .rpk). A bare file name that is"
+    " not in the working directory is looked up among the bundled rules (see"
+    " `shapegen rules`)."
+)
 
-def add_command(commands) -> None:
-    build = commands.add_parser(
-        "build",
-        help="derive a model from a rule file",
-        description=(
-            "Derive a model from a rule file (.grammar, .cga or .rpk). A bare file name that is"
-            " not in the working directory is looked up among the bundled rules (see"
-            " `shapegen rules`)."
-        ),
-    )
-    build.add_argument(
-        "grammar",
-        metavar="RULES",
-        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
-    )
-    add_derivation_options(build)
-    build.add_argument(
+
+def add_arguments(parser) -> None:
+    """The command's arguments and options, on its ``parser``."""
+    add_rules_argument(parser)
+    add_derivation_options(parser)
+    parser.add_argument(
         "-o",
         "--output",
         metavar="OUT",
         help="write the model: .json (shapegen-blocks), .glb/.gltf, .obj, .ply, .stl",
     )
-    build.add_argument("--report", metavar="R.json", help="write a JSON report")
-    build.add_argument(
+    parser.add_argument("--report", metavar="R.json", help="write a JSON report")
+    parser.add_argument(
         "--picture",
         metavar="OUT.png",
         help="write a picture of the model: blocks in their label colours, or, with --analyze or"
         " --optimize of block statics, in the tension they need, with a legend",
     )
-    build.add_argument(
+    parser.add_argument(
         "--analyze",
         action="store_true",
         help="also judge whether the design stands, with the grammar's structure (block statics,"
         ' or the cable model of a @Structure("cable") bridge); the report gets an "analysis"',
     )
-    add_statics_options(build, prefix="with --analyze or --optimize, for block statics: ")
-    add_lateral_options(build, prefix="with --analyze or --optimize, for block statics: ")
-    add_search_options(build)
-    build.add_argument(
+    add_statics_options(parser, prefix="with --analyze or --optimize, for block statics: ")
+    add_lateral_options(parser, prefix="with --analyze or --optimize, for block statics: ")
+    add_search_options(parser)
+    parser.add_argument(
         "--osm",
         metavar="FILE.osm",
         help="place a bridge on an OpenStreetMap way (OSM XML), with --way: its straight length"
         " sets the attr length, its first and last nodes the position and direction",
     )
-    build.add_argument("--way", type=int, metavar="ID", help="with --osm: the way's id")
-    build.add_argument(
+    parser.add_argument("--way", type=int, metavar="ID", help="with --osm: the way's id")
+    parser.add_argument(
         "--max-seconds",
         type=positive,
         metavar="S",
@@ -79,8 +73,7 @@ def add_command(commands) -> None:
         f" run S seconds (default {DEFAULT_LIMITS.max_seconds:g}); with --optimize, each of the"
         " search's derivations and judgings",
     )
-    build.add_argument("-q", "--quiet", action="store_true", help="print nothing")
-    build.set_defaults(handler=run)
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -103,9 +96,7 @@ def _build(args: argparse.Namespace) -> int:
     why = "they apply with --analyze or --optimize"
     statics = statics_options(args, applies=judged, why=why)
     capacity = capacity_request(args, applies=judged, why="it applies with --analyze or --optimize")
-    grammar = load_grammar(args.grammar)
-    check_statics_apply(args, grammar, args.grammar)
-    attrs = checked_attrs(grammar, args.assignments, search)
+    grammar, attrs = loaded_rules(args, search)
     place = None
     way = _osm_way(args, grammar, attrs)
     if way is not None:

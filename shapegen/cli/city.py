@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["add_command", "run"]
+__all__ = ["HELP", "DESCRIPTION", "add_arguments", "run"]
 
 import argparse
 import sys
@@ -12,11 +12,10 @@ from shapegen.cli.display import ProgressBar
 from shapegen.cli.options import (
     CommandLineError,
     add_derivation_options,
+    add_rules_argument,
     add_search_options,
     add_statics_options,
-    check_statics_apply,
-    checked_attrs,
-    load_grammar,
+    loaded_rules,
     positive,
     search_settings,
     statics_options,
@@ -37,31 +36,27 @@ def _workers(text: str) -> int:
     return value
 
 
-def add_command(commands) -> None:
-    city = commands.add_parser(
-        "city",
-        help="build and judge one rule on every lot of a city (GeoJSON or OSM buildings)",
-        description=(
-            "Derive RULE on every polygon of LOTS, judge (and with --optimize tune) each"
-            " building, and write a results table (CSV, GeoJSON and GeoParquet) and the city"
-            " as glTF to OUTDIR. A lot's properties set the rule's attrs of the same names."
-            " Lots run on"
-            " this machine's cores, or on a Dask cluster with --scheduler, in batches whose"
-            " workers write their lots' results into OUTDIR (a folder or a URL); a rerun into"
-            " the same OUTDIR skips the lots done."
-        ),
-    )
-    city.add_argument(
+HELP = "build and judge one rule on every lot of a city (GeoJSON or OSM buildings)"
+DESCRIPTION = (
+    "Derive RULE on every polygon of LOTS, judge (and with --optimize tune) each"
+    " building, and write a results table (CSV, GeoJSON and GeoParquet) and the city"
+    " as glTF to OUTDIR. A lot's properties set the rule's attrs of the same names."
+    " Lots run on"
+    " this machine's cores, or on a Dask cluster with --scheduler, in batches whose"
+    " workers write their lots' results into OUTDIR (a folder or a URL); a rerun into"
+    " the same OUTDIR skips the lots done."
+)
+
+
+def add_arguments(parser) -> None:
+    """The command's arguments and options, on its ``parser``."""
+    parser.add_argument(
         "lots",
         metavar="LOTS",
         help="a GeoJSON FeatureCollection of polygons, or an OSM XML file (its buildings)",
     )
-    city.add_argument(
-        "grammar",
-        metavar="RULE.grammar",
-        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
-    )
-    city.add_argument(
+    add_rules_argument(parser, metavar="RULE.grammar")
+    parser.add_argument(
         "-o",
         "--output",
         metavar="OUTDIR",
@@ -69,65 +64,64 @@ def add_command(commands) -> None:
         help="the output folder (created), or a URL fsspec understands (s3://bucket/city,"
         " memory://city)",
     )
-    city.add_argument(
+    parser.add_argument(
         "--crs",
         metavar="CRS",
         help="the coordinates of LOTS: a system pyproj knows (EPSG:2154, EPSG:3857...), lonlat"
         " (WGS84) or metres (local, no place on the earth); default: the file's crs member,"
         " the .prj beside it, else detected from the coordinates' range",
     )
-    add_derivation_options(city, prefix="for every lot: ")
-    for action in city._actions:  # the lots are LOTS' polygons: --lot is refused, so not offered
+    add_derivation_options(parser, prefix="for every lot: ")
+    for action in parser._actions:  # the lots are LOTS' polygons: --lot is refused, so not offered
         if "--lot" in action.option_strings:
             action.help = argparse.SUPPRESS
-    add_statics_options(city, prefix="for block statics: ")
-    add_search_options(city)
-    city.add_argument(
+    add_statics_options(parser, prefix="for block statics: ")
+    add_search_options(parser)
+    parser.add_argument(
         "--timeout",
         type=positive,
         metavar="S",
         help="seconds one lot may take; a lot past it is a row with status 'timeout'",
     )
-    city.add_argument(
+    parser.add_argument(
         "--workers",
         type=_workers,
         metavar="N",
         help="local worker processes (default: one per core)",
     )
-    city.add_argument(
+    parser.add_argument(
         "--scheduler",
         metavar="ADDRESS",
         help="run on an existing Dask cluster (tcp://host:8786) instead of local processes,"
         " or on a new Dask cluster of N processes of this machine (local:N); its workers need"
         " shapegen installed and must reach OUTDIR",
     )
-    city.add_argument(
+    parser.add_argument(
         "--batch-size",
         type=_workers,
         metavar="N",
         help="lots per task (default: about half a second of a worker's time per task)",
     )
-    city.add_argument(
+    parser.add_argument(
         "--no-analyze",
         action="store_true",
         help="derive the buildings without judging them (stands and measure left empty)",
     )
-    city.add_argument("--picture", metavar="OUT.png", help="also draw the built city")
-    city.add_argument(
+    parser.add_argument("--picture", metavar="OUT.png", help="also draw the built city")
+    parser.add_argument(
         "--tiles",
         action="store_true",
         help="also write the city as OGC 3D Tiles 1.1 (OUTDIR/tiles/tileset.json and its .glb"
         " tiles, placed on the WGS84 ellipsoid); view them with python -m shapegen.city.viewer",
     )
-    city.add_argument(
+    parser.add_argument(
         "--tiles-height",
         type=float,
         default=0.0,
         metavar="M",
         help="with --tiles: the ground's height above the WGS84 ellipsoid at the city (m)",
     )
-    city.add_argument("-q", "--quiet", action="store_true", help="print nothing")
-    city.set_defaults(handler=run)
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -145,9 +139,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandLineError(f"--picture {args.picture}: a picture is written as .png")
     search = search_settings(args)
     statics = statics_options(args)
-    grammar = load_grammar(args.grammar)
-    check_statics_apply(args, grammar, args.grammar)
-    attrs = checked_attrs(grammar, args.assignments, search)
+    grammar, attrs = loaded_rules(args, search)
     city = read_lots(args.lots, crs=args.crs)
     if args.tiles and city.origin_lonlat is None:
         raise CommandLineError(

@@ -6,7 +6,7 @@ re-reads the grammar file when it changes on disk, and stops on Ctrl-C.
 
 from __future__ import annotations
 
-__all__ = ["DEFAULT_PORT", "add_command", "run"]
+__all__ = ["DEFAULT_PORT", "HELP", "DESCRIPTION", "add_arguments", "run"]
 
 import argparse
 import errno
@@ -14,7 +14,7 @@ import signal
 import sys
 from pathlib import Path
 
-from shapegen.cli.options import CommandLineError, add_derivation_options
+from shapegen.cli.options import CommandLineError, add_derivation_options, add_rules_argument
 
 DEFAULT_PORT = 8765
 
@@ -33,34 +33,29 @@ def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
-def add_command(commands) -> None:
-    edit = commands.add_parser(
-        "edit",
-        help="edit a design in the browser: sliders, verdict, stable ranges, optimize",
-        description=(
-            "Serve an interactive design page for a .grammar on 127.0.0.1: the model in 3D, an"
-            " Inspector of its attrs (sliders for those with @Range; on each @Free slider the"
-            " interval where the design stands), the verdict after every change, and the"
-            " search. The page reloads when the file changes on disk. Ctrl-C stops."
-        ),
-    )
-    edit.add_argument(
-        "grammar",
-        metavar="RULES",
-        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
-    )
-    edit.add_argument(
+HELP = "edit a design in the browser: sliders, verdict, stable ranges, optimize"
+DESCRIPTION = (
+    "Serve an interactive design page for a .grammar on 127.0.0.1: the model in 3D, an"
+    " Inspector of its attrs (sliders for those with @Range; on each @Free slider the"
+    " interval where the design stands), the verdict after every change, and the"
+    " search. The page reloads when the file changes on disk. Ctrl-C stops."
+)
+
+
+def add_arguments(parser) -> None:
+    """The command's arguments and options, on its ``parser``."""
+    add_rules_argument(parser)
+    parser.add_argument(
         "--port",
         type=_port,
         default=DEFAULT_PORT,
         metavar="N",
         help=f"port on 127.0.0.1 (default {DEFAULT_PORT}; 0 picks a free one)",
     )
-    edit.add_argument(
+    parser.add_argument(
         "--no-open", action="store_true", help="print the address without opening a browser"
     )
-    add_derivation_options(edit, prefix="initial design: ")
-    edit.set_defaults(handler=run)
+    add_derivation_options(parser, prefix="initial design: ")
 
 
 def run(args: argparse.Namespace) -> int:

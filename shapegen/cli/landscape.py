@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["add_command", "run"]
+__all__ = ["HELP", "DESCRIPTION", "add_arguments", "run"]
 
 import argparse
 from pathlib import Path
@@ -10,6 +10,7 @@ from pathlib import Path
 from shapegen.cli.options import (
     CommandLineError,
     add_derivation_options,
+    add_rules_argument,
     add_statics_options,
     check_statics_apply,
     checked_attrs,
@@ -18,38 +19,30 @@ from shapegen.cli.options import (
 )
 from shapegen.cli.outputs import check_outputs, require_suffix
 
+HELP = "plot how far from standing the design is, over two free parameters"
+DESCRIPTION = (
+    "Evaluate the grammar's structure on a grid over the @Range of two attrs (block"
+    " statics: the infeasibility y/W^2; a cable bridge: the squared relative excess of"
+    " its cable diameter), mark the region where the design stands, draw the"
+    " optimizer's path, and write a PNG."
+)
 
-def add_command(commands) -> None:
-    landscape = commands.add_parser(
-        "landscape",
-        help="plot how far from standing the design is, over two free parameters",
-        description=(
-            "Evaluate the grammar's structure on a grid over the @Range of two attrs (block"
-            " statics: the infeasibility y/W^2; a cable bridge: the squared relative excess of"
-            " its cable diameter), mark the region where the design stands, draw the"
-            " optimizer's path, and write a PNG."
-        ),
-    )
-    landscape.add_argument(
-        "grammar",
-        metavar="RULES",
-        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
-    )
-    landscape.add_argument("first", metavar="P1", help="attr on the horizontal axis")
-    landscape.add_argument("second", metavar="P2", help="attr on the vertical axis")
-    landscape.add_argument(
+
+def add_arguments(parser) -> None:
+    """The command's arguments and options, on its ``parser``."""
+    add_rules_argument(parser)
+    parser.add_argument("first", metavar="P1", help="attr on the horizontal axis")
+    parser.add_argument("second", metavar="P2", help="attr on the vertical axis")
+    parser.add_argument(
         "--grid", type=int, default=15, metavar="N", help="points per axis (default 15)"
     )
-    add_derivation_options(landscape)
-    landscape.add_argument(
-        "--no-path", action="store_true", help="do not run and draw the optimizer"
-    )
-    landscape.add_argument(
+    add_derivation_options(parser)
+    parser.add_argument("--no-path", action="store_true", help="do not run and draw the optimizer")
+    parser.add_argument(
         "-o", "--output", metavar="OUT.png", required=True, help="the picture to write (.png)"
     )
-    add_statics_options(landscape, prefix="for block statics: ")
-    landscape.add_argument("-q", "--quiet", action="store_true", help="print nothing")
-    landscape.set_defaults(handler=run)
+    add_statics_options(parser, prefix="for block statics: ")
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing")
 
 
 def run(args: argparse.Namespace) -> int:

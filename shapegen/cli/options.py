@@ -12,11 +12,13 @@ __all__ = [
     "Parser",
     "add_derivation_options",
     "add_plugin_option",
+    "add_rules_argument",
     "add_search_options",
     "add_statics_options",
     "block_statics_flags",
     "checked_attrs",
     "finite",
+    "loaded_rules",
     "nonnegative",
     "positive",
     "search_settings",
@@ -172,6 +174,15 @@ def add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> No
         }.get(meta["kind"])
         if settings is not None:  # the tilt and its azimuth are --tilt (lateral_options.py)
             parser.add_argument(_flag(option.name), help=prefix + meta["help"], **settings)
+
+
+def add_rules_argument(parser: argparse.ArgumentParser, metavar: str = "RULES") -> None:
+    """The rule file a command derives (``args.grammar``): a path, or a bundled rule's name."""
+    parser.add_argument(
+        "grammar",
+        metavar=metavar,
+        help="rule file (.grammar, .cga or a CityEngine .rpk package) or a bundled rule's name",
+    )
 
 
 def add_derivation_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
@@ -336,6 +347,15 @@ def load_grammar(name: str):
     from shapegen.pipeline import load
 
     return load(name)
+
+
+def loaded_rules(args: argparse.Namespace, search=None) -> tuple[object, dict]:
+    """The rule file ``args.grammar`` loaded, the block-statics options refused if it is judged
+    by another structure, and its ``--set`` (with ``search``, ``--fix``) values checked: the
+    grammar and the attrs by name."""
+    grammar = load_grammar(args.grammar)
+    check_statics_apply(args, grammar, args.grammar)
+    return grammar, checked_attrs(grammar, args.assignments, search)
 
 
 def checked_attrs(grammar, assignments: list[tuple[str, object]], search=None) -> dict:

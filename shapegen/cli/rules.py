@@ -2,21 +2,20 @@
 
 from __future__ import annotations
 
-__all__ = ["add_command", "run", "description"]
+__all__ = ["HELP", "DESCRIPTION", "add_arguments", "run", "description"]
 
 import argparse
 import re
 from pathlib import Path
 
+HELP = "list the bundled rule files"
+DESCRIPTION = (
+    "List the bundled .grammar files with the first sentence of each one's opening comment."
+)
 
-def add_command(commands) -> None:
-    rules = commands.add_parser(
-        "rules",
-        help="list the bundled rule files",
-        description="List the bundled .grammar files with the first sentence of each one's"
-        " opening comment.",
-    )
-    rules.set_defaults(handler=run)
+
+def add_arguments(parser) -> None:
+    """The command's arguments and options, on its ``parser``."""
 
 
 def run(args: argparse.Namespace) -> int:

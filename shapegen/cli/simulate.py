@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["add_command", "run"]
+__all__ = ["HELP", "DESCRIPTION", "add_arguments", "run"]
 
 import argparse
 from pathlib import Path
@@ -24,28 +24,27 @@ from shapegen.cli.options import (
 )
 from shapegen.cli.outputs import check_outputs, require_suffix, write_all
 
+HELP = "run a model in a rigid-body simulator (pybullet) and see whether it stands"
+DESCRIPTION = (
+    "Drop a block model into a rigid-body simulator (pybullet, the optional extra"
+    " shapegen[sim]): convex blocks with their exact mass and inertia, static supports"
+    " and ground, restitution 0. The model stands when no block moved more than 10% of"
+    " its smallest width and none is still moving at the end. MODEL is a .grammar file"
+    " (built first; a bare name finds a bundled rule) or a block model (.json or a"
+    " mesh). Exits 0 whether or not"
+    " it stands; exits 2 for bad input."
+)
 
-def add_command(commands) -> None:
-    simulate = commands.add_parser(
-        "simulate",
-        help="run a model in a rigid-body simulator (pybullet) and see whether it stands",
-        description=(
-            "Drop a block model into a rigid-body simulator (pybullet, the optional extra"
-            " shapegen[sim]): convex blocks with their exact mass and inertia, static supports"
-            " and ground, restitution 0. The model stands when no block moved more than 10% of"
-            " its smallest width and none is still moving at the end. MODEL is a .grammar file"
-            " (built first; a bare name finds a bundled rule) or a block model (.json or a"
-            " mesh). Exits 0 whether or not"
-            " it stands; exits 2 for bad input."
-        ),
-    )
-    simulate.add_argument(
+
+def add_arguments(parser) -> None:
+    """The command's arguments and options, on its ``parser``."""
+    parser.add_argument(
         "model", metavar="MODEL", help=".grammar file or bundled rule name, or a block model"
     )
-    simulate.add_argument(
+    parser.add_argument(
         "--seconds", type=positive, default=5.0, metavar="S", help="simulated seconds (default 5)"
     )
-    simulate.add_argument(
+    parser.add_argument(
         "--shake",
         type=nonnegative,
         default=0.0,
@@ -53,7 +52,7 @@ def add_command(commands) -> None:
         help="ground shake: a lateral velocity change of V m/s over 1/60 s along +x after"
         " settling (the seed paper: 4)",
     )
-    simulate.add_argument(
+    parser.add_argument(
         "--remove",
         metavar="ID|LABEL",
         action="append",
@@ -61,21 +60,21 @@ def add_command(commands) -> None:
         help="delete the block with this id, or every block with this label, before the run;"
         " repeatable",
     )
-    simulate.add_argument(
+    parser.add_argument(
         "--time-step",
         type=positive,
         default=None,
         metavar="DT",
         help="simulator step in seconds (default 0.0005)",
     )
-    simulate.add_argument(
+    parser.add_argument(
         "--iterations",
         type=int,
         default=None,
         metavar="N",
         help="contact-solver iterations per step (default 50)",
     )
-    simulate.add_argument(
+    parser.add_argument(
         "--tolerance",
         type=positive,
         default=None,
@@ -83,14 +82,14 @@ def add_command(commands) -> None:
         help="judge by a fixed distance instead: a block fell when a vertex moved more than M"
         " metres after settling (default: relative to each block's smallest width)",
     )
-    simulate.add_argument(
+    parser.add_argument(
         "--fps",
         type=positive,
         default=10.0,
         metavar="F",
         help="with --frames or -o .gif: frames per simulated second (default 10)",
     )
-    pictures = simulate.add_mutually_exclusive_group()
+    pictures = parser.add_mutually_exclusive_group()
     pictures.add_argument("--frames", metavar="DIR", help="write one PNG per frame into DIR")
     pictures.add_argument(
         "-o",
@@ -98,13 +97,12 @@ def add_command(commands) -> None:
         metavar="OUT",
         help="write an animation (.gif) or a picture of the final state (.png)",
     )
-    simulate.add_argument("--report", metavar="R.json", help="write a JSON report")
-    add_derivation_options(simulate, prefix="for a .grammar: ")
-    add_statics_options(simulate, prefix="with --optimize (and --friction for the run): ")
+    parser.add_argument("--report", metavar="R.json", help="write a JSON report")
+    add_derivation_options(parser, prefix="for a .grammar: ")
+    add_statics_options(parser, prefix="with --optimize (and --friction for the run): ")
     # A design to simulate is searched with a safety margin by default (SIMULATION_MARGIN).
-    add_search_options(simulate)
-    simulate.add_argument("-q", "--quiet", action="store_true", help="print nothing")
-    simulate.set_defaults(handler=run)
+    add_search_options(parser)
+    parser.add_argument("-q", "--quiet", action="store_true", help="print nothing")
 
 
 def run(args: argparse.Namespace) -> int:
