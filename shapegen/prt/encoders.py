@@ -165,14 +165,12 @@ def _write_obj(models: list[GeneratedModel], folder: Path, base: str) -> None:
 def _obj_material(leaf, texture, source, uv, library: dict) -> str:
     """The library name of a face's material: its OBJ material (the rule's colour over
     ``Kd``; the texture where the face has coordinates), else the leaf's colour or white."""
+    from shapegen.prt.initial_textures import face_look
+
     look = leaf.appearance
     own = look.color if look is not None and look.color is not None else None
-    name, rgb, image = "default", own if own is not None else (1.0, 1.0, 1.0), None
-    if source is not None:
-        material = texture.materials[source]
-        name = material.name
-        rgb = own if own is not None else material.diffuse
-        image = material.texture if uv is not None else None
+    name, rgb, image = face_look(own, texture, source, uv)
+    name = name or "default"
     key = (name, tuple(round(float(c), 6) for c in rgb), image)
     if key not in library:
         taken = set(library.values())

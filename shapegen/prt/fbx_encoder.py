@@ -169,7 +169,7 @@ def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None
     coordinates. With ``merge`` (metres), vertices closer than it are one (see
     :func:`merged_vertices`)."""
     from shapegen.export.fbx import FbxMesh
-    from shapegen.prt.initial_textures import face_textures
+    from shapegen.prt.initial_textures import face_look, face_textures
 
     texture = getattr(model, "initial_texture", None)
     parts, faces, face_materials, face_uvs, looks = [], [], [], [], {}
@@ -183,12 +183,7 @@ def shape_mesh(model, index: int, *, materials: bool, merge: float | None = None
         for face, (uv, source, _) in zip(
             leaf_faces, face_textures(leaf, leaf_faces, texture), strict=True
         ):
-            name, rgb, image = "", own if own is not None else (1.0, 1.0, 1.0), None
-            if source is not None:
-                obj = texture.materials[source]
-                name = obj.name
-                rgb = own if own is not None else obj.diffuse
-                image = obj.texture if uv is not None else None
+            name, rgb, image = face_look(own, texture, source, uv)
             # faces group by the colour to 1e-6; the material holds the first one's as it is
             key = (name, *(round(float(c), 6) for c in rgb), round(float(alpha), 6), image)
             if key not in looks:

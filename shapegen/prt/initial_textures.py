@@ -20,7 +20,7 @@ coordinates they would carry in CityEngine.
 
 from __future__ import annotations
 
-__all__ = ["InitialTexture", "SurfaceMaterial", "face_textures", "initial_texture",
+__all__ = ["InitialTexture", "SurfaceMaterial", "face_look", "face_textures", "initial_texture",
            "moving_operations", "placed_textures", "texture_warning"]  # fmt: skip
 
 from dataclasses import dataclass, field
@@ -182,6 +182,18 @@ def face_textures(leaf, faces, texture: InitialTexture | None) -> list[tuple]:
         out.append((coordinates, texture.face_materials[k], True))
     texture.memo[key] = (leaf, out)  # the leaf held, so that its id is not another's
     return out
+
+
+def face_look(own, texture: InitialTexture | None, source, uv) -> tuple[str, tuple, str | None]:
+    """A face's material as the encoders write it, ``(name, rgb, image)``: on a textured face of
+    the initial shape (``source``, its material index from :func:`face_textures`) the OBJ
+    material's name, the rule's colour ``own`` over its diffuse colour, and its texture where
+    the face has coordinates ``uv``; elsewhere no name (``""``), ``own`` or white, no image."""
+    if source is None:
+        return "", own if own is not None else (1.0, 1.0, 1.0), None
+    material = texture.materials[source]
+    rgb = own if own is not None else material.diffuse
+    return material.name, rgb, material.texture if uv is not None else None
 
 
 def texture_warning(model, texture: InitialTexture | None) -> str | None:
