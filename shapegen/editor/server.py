@@ -222,27 +222,6 @@ class _ApiHandler(BaseHTTPRequestHandler):
     timeout = IDLE_SECONDS  # on every read and write of the connection's socket
 
     # ------------------------------------------------------------------ dispatch
-    def do_GET(self) -> None:  # noqa: N802 (the standard library's name)
-        self._dispatch("GET")
-
-    def do_HEAD(self) -> None:  # noqa: N802
-        self._dispatch("HEAD")
-
-    def do_POST(self) -> None:  # noqa: N802
-        self._dispatch("POST")
-
-    def do_PUT(self) -> None:  # noqa: N802
-        self._dispatch("PUT")
-
-    def do_DELETE(self) -> None:  # noqa: N802
-        self._dispatch("DELETE")
-
-    def do_PATCH(self) -> None:  # noqa: N802
-        self._dispatch("PATCH")
-
-    def do_OPTIONS(self) -> None:  # noqa: N802
-        self._dispatch("OPTIONS")
-
     def _dispatch(self, method: str) -> None:
         try:
             self._answer(method)
@@ -448,3 +427,9 @@ class _ApiHandler(BaseHTTPRequestHandler):
     def log_message(self, format: str, *args) -> None:  # noqa: A002 (the standard library's name)
         if not self.server.quiet:
             sys.stderr.write(f"shapegen edit: {self.address_string()} {format % args}\n")
+
+
+# BaseHTTPRequestHandler answers METHOD with its do_METHOD: each method a client may send goes to
+# the one dispatch, which says 405 for a route that does not take it (any other method gets 501)
+for _method in ("GET", "HEAD", "POST", "PUT", "DELETE", "PATCH", "OPTIONS"):
+    setattr(_ApiHandler, f"do_{_method}", lambda self, method=_method: self._dispatch(method))
