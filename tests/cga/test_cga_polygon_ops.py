@@ -309,6 +309,11 @@ def test_corpus_setback_and_inner_rectangle_report_pyprts_footprint(lot, rel, ar
     assert model.metadata["reports"]["Footprint Area (m2)"] == pytest.approx(area, rel=2e-5)
 
 
+def _built(text: str):
+    """The model of the rule file ``text`` (CGA) on a 12 x 8 m lot."""
+    return shapegen.parse_grammar(text, "rules.cga").build(lot=(12, 8))
+
+
 def _surface_areas(model) -> list[float]:
     from shapegen.geometry.mesh import Mesh
 
@@ -353,60 +358,50 @@ def test_split_area_refuses_an_unknown_adjust_mode(program):
         "Lot --> setbackPerEdge(dist) { all = Strip | remainder : Rest }",
     ],
 )
-def test_setback_distances_per_edge_from_an_array(tmp_path, rule):
+def test_setback_distances_per_edge_from_an_array(rule):
     text = rule if "@StartRule" in rule else "@StartRule\n" + rule
-    path = tmp_path / "per_edge.cga"
-    path.write_text(text + "\nStrip --> color(1, 0, 0)\nRest --> color(0, 1, 0)\n")
-    model = shapegen.load_grammar(path).build(lot=(12, 8))
+    model = _built(text + "\nStrip --> color(1, 0, 0)\nRest --> color(0, 1, 0)\n")
     # edge 0 (front, 12 m) by 2 m and edge 3 (left, 8 m) by 3 m: the rest is 9 x 6
     assert _surface_areas(model) == pytest.approx([96 - 54, 54])
 
 
-def test_envelope_per_edge_arrays(tmp_path):
-    path = tmp_path / "envelope.cga"
-    path.write_text(
+def test_envelope_per_edge_arrays():
+    model = _built(
         "@StartRule\nLot --> envelope(normal, 10, [3, 3, 3, 3], [45, 45, 45, 45]) Mass\n"
     )
-    model = shapegen.load_grammar(path).build(lot=(12, 8))
     volume = sum(b.volume for b in model.blocks)
     assert volume == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
 
 
-def test_envelope_classes_edges_in_the_object_axes(tmp_path):
+def test_envelope_classes_edges_in_the_object_axes():
     # op_envelope classes the edges by street.*, falling back to object.*: on a mass's top,
     # whose comp(f) scope has its y across the face, the sides are still front, back, left
     # and right, so all four slope as on the lot (candler's ventilators, as PyPRT builds them)
-    path = tmp_path / "envelope_top.cga"
-    path.write_text(
+    model = _built(
         "@StartRule\nLot --> extrude(4) comp(f){ top: envelope(world.up, 10, 3, 45, 3, 45, "
         "3, 45) Mass }\n"
     )
-    model = shapegen.load_grammar(path).build(lot=(12, 8))
     volume = sum(b.volume for b in model.blocks)
     assert volume == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
     top = max(float(np.max(np.asarray(b.vertices)[:, 1])) for b in model.blocks)
     assert top == pytest.approx(4 + 7)
 
 
-def test_a_split_cap_begins_at_the_cut_of_the_first_face(tmp_path):
+def test_a_split_cap_begins_at_the_cut_of_the_first_face():
     # PyPRT's gambrel (Building_From_FootprintSMALL: roofGable(70, 0, 0, false, 0), split(y),
     # a gable on the cap): the cap of the cut roof begins at the cut of its first gable, so its
     # first edge runs along the 12 m edges (11.27 m at 1 m up a 70-degree roof), not across
-    path = tmp_path / "cap.cga"
-    path.write_text(
+    model = _built(
         "@StartRule\nLot --> roofGable(70, 0, 0, false, 0) split(y) { 1 : Lower }\n"
         'Lower --> comp(f) { top : report("cap", scope.sx) }\n'
     )
-    model = shapegen.load_grammar(path).build(lot=(12, 8))
     assert model.metadata["reports"]["cap"] == pytest.approx(12 - 2 / math.tan(math.radians(70)))
 
 
-def test_a_shed_roof_lists_its_roof_face_after_the_bottom(tmp_path):
+def test_a_shed_roof_lists_its_roof_face_after_the_bottom():
     # the order PyPRT's saltbox implies: a split's cap begins at the cut of the shed's roof
     # face, so the roof face comes before the walls (the saltbox's gable then matches)
-    path = tmp_path / "shed.cga"
-    path.write_text(
+    model = _built(
         '@StartRule\nLot --> roofShed(30) comp(f) { 1 : report("area", geometry.area) }\n'
     )
-    model = shapegen.load_grammar(path).build(lot=(12, 8))
     assert model.metadata["reports"]["area"] == pytest.approx(96 / math.cos(math.radians(30)))

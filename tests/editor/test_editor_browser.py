@@ -283,6 +283,15 @@ def wait_for_value(page, name: str, value) -> None:
     )
 
 
+def type_value(page, name: str, text: str, value) -> None:
+    """``text`` typed into the field of attr ``name`` and Enter pressed; waits until the
+    design holds ``value``."""
+    field = f'.attr[data-attr="{name}"] input.value'
+    page.fill(field, text)
+    page.press(field, "Enter")
+    wait_for_value(page, name, value)
+
+
 def test_undo_redo_reset_and_the_mark_on_the_designers_values(browser, stack_grammar):
     with page_steps.Editor(stack_grammar) as editor:
         page = page_steps.open_page(browser, editor.url)
@@ -490,37 +499,25 @@ def test_an_exact_value_is_typed_and_arrow_keys_step_by_the_attrs_step(browser, 
         page = page_steps.open_page(browser, editor.url)
         field = '.attr[data-attr="{}"] input.value'
         # an exact value, typed into the slider's field
-        page.fill(field.format("offset"), "0.4321")
-        page.press(field.format("offset"), "Enter")
-        wait_for_value(page, "offset", 0.4321)
+        type_value(page, "offset", "0.4321", 0.4321)
         # the slider goes to its nearest step; the design takes the value typed
         assert page.input_value('input[type=range][name="offset"]') == "0.432"
         # a value beyond the range, or off the stepsize's grid, is built as given with a
         # warning the page shows (a range is a hint, as on the command line)
-        page.fill(field.format("offset"), "0.95")
-        page.press(field.format("offset"), "Enter")
-        wait_for_value(page, "offset", 0.95)
+        type_value(page, "offset", "0.95", 0.95)
         page.wait_for_function(
             "() => document.getElementById('warnings-list').textContent"
             ".includes('attr offset=0.95 is outside its @Range [0, 0.9]: built as given')"
         )
-        page.fill(field.format("offset"), "0.4")
-        page.press(field.format("offset"), "Enter")
-        wait_for_value(page, "offset", 0.4)
-        page.fill(field.format("angle"), "37")
-        page.press(field.format("angle"), "Enter")
-        wait_for_value(page, "angle", 37)
+        type_value(page, "offset", "0.4", 0.4)
+        type_value(page, "angle", "37", 37)
         page.wait_for_function(
             "() => document.getElementById('warnings-list').textContent"
             ".includes('attr angle=37 is off its @Range stepsize 15 from 0')"
         )
-        page.fill(field.format("angle"), "30")
-        page.press(field.format("angle"), "Enter")
-        wait_for_value(page, "angle", 30)
+        type_value(page, "angle", "30", 30)
         # restricted=false: the typed value is taken as it is
-        page.fill(field.format("loose"), "52.5")
-        page.press(field.format("loose"), "Enter")
-        wait_for_value(page, "loose", 52.5)
+        type_value(page, "loose", "52.5", 52.5)
         # arrow keys on the slider step by its step: 15 for angle, 1/500 of the range rounded
         # down to a power of ten for offset (0.001)
         page.focus('input[type=range][name="angle"]')
