@@ -20,6 +20,7 @@ __all__ = [
     "Definition",
     "Function",
     "Import",
+    "LocalVariable",
     "Parameter",
     "Rule",
     "RuleFile",
