@@ -28,7 +28,7 @@ import numpy as np
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 from shapegen.geometry.prism_cut import SPLIT_HEIGHT as _SPLIT_HEIGHT
 from shapegen.geometry.prism_cut import prism_decomposition
-from shapegen.geometry.rings import chain_loops
+from shapegen.geometry.rings import chain_loops, without_repeats
 from shapegen.limits import check_clock
 from shapegen.model.polygons import face_normals
 from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
@@ -127,7 +127,7 @@ def _clipped_faces(
                 ring.append(p)
             if (dp > eps and dq < -eps) or (dp < -eps and dq > eps):
                 ring.append(crossing[p * n + q if p < q else q * n + p])
-        ring = _without_repeats(ring)
+        ring = without_repeats(ring)
         if len(ring) < 3:
             out.append(())
             continue
@@ -172,16 +172,6 @@ def clip_slab(mesh: Mesh, axis: int, low: float, high: float) -> Mesh | None:
     return clip_half(piece, axis, high, False)
 
 
-def _without_repeats(ring: list[int]) -> list[int]:
-    out: list[int] = []
-    for i in ring:
-        if not out or out[-1] != i:
-            out.append(i)
-    while len(out) > 1 and out[0] == out[-1]:
-        out.pop()
-    return out
-
-
 def _split_at_bridges(ring, flags, points, along, keep_corners=False) -> list[tuple[int, ...]]:
     """The polygons of a clipped ring: the ring is cut at its edges lying on the cut plane
     (where a non-convex face left several parts joined by zero-width bridges), and the chains
@@ -217,7 +207,7 @@ def _split_at_bridges(ring, flags, points, along, keep_corners=False) -> list[tu
             position[i] = x * ax + y * ay + z * az
     polygons = []
     for loop in chain_loops([position[c[0]] for c in chains], [position[c[-1]] for c in chains]):
-        polygon = _without_repeats([i for c in loop for i in chains[c]])
+        polygon = without_repeats([i for c in loop for i in chains[c]])
         if len(polygon) >= 3:
             polygons.append(tuple(polygon))
     return polygons

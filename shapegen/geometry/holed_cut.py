@@ -19,7 +19,7 @@ __all__ = ["clip_half_with_holes"]
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh, polygon_normal
-from shapegen.geometry.rings import chain_loops
+from shapegen.geometry.rings import chain_loops, without_repeats
 from shapegen.tolerances import COINCIDENT_REL, SIZE_FLOOR_M
 
 
@@ -118,7 +118,7 @@ def _clipped_face(face, rings, normal, cut: _Crossings, eps: float, axis: int, s
         position = {i: float(points[i] @ along) for c in chains for i in (c[0], c[-1])}
         for loop in chain_loops([position[c[0]] for c in chains],
                                 [position[c[-1]] for c in chains]):  # fmt: skip
-            ring = _without_repeats([i for c in loop for i in chains[c]])
+            ring = without_repeats([i for c in loop for i in chains[c]])
             if len(ring) >= 3:
                 parts.append(tuple(ring))
     return _with_holes(parts, kept_holes, points, normal)
@@ -134,7 +134,7 @@ def _clipped_ring(ring, cut: _Crossings, eps: float) -> list[int]:
             out.append(p)
         if (dp > eps and dq < -eps) or (dp < -eps and dq > eps):
             out.append(cut(p, q))
-    return _without_repeats(out)
+    return without_repeats(out)
 
 
 def _chains(ring: list[int], on_edges: list[bool]) -> list[list[int]]:
@@ -195,16 +195,6 @@ def _caps(faces, holes, points: np.ndarray, axis: int, sign: float):
     normal = np.zeros(3)
     normal[axis] = outward
     return _with_holes(outer, inner, points, normal)
-
-
-def _without_repeats(ring: list[int]) -> list[int]:
-    out: list[int] = []
-    for i in ring:
-        if not out or out[-1] != i:
-            out.append(i)
-    while len(out) > 1 and out[0] == out[-1]:
-        out.pop()
-    return out
 
 
 def _compact(points: np.ndarray, faces, holes, eps: float) -> Mesh | None:

@@ -5,7 +5,14 @@ numpy for a ring of many corners."""
 
 from __future__ import annotations
 
-__all__ = ["chain_loops", "corners_apart", "is_simple", "turns_left", "winds_once"]
+__all__ = [
+    "chain_loops",
+    "corners_apart",
+    "is_simple",
+    "turns_left",
+    "winds_once",
+    "without_repeats",
+]
 
 import math
 
@@ -154,3 +161,15 @@ def chain_loops(start: list[float], end: list[float]) -> list[list[int]]:
         if loop:
             loops.append(loop)
     return loops
+
+
+def without_repeats(ring: list[int]) -> list[int]:
+    """``ring`` (vertex indices) with each run of one index kept once, the closing index that
+    repeats the first dropped: a cut's ring as a face lists it."""
+    out: list[int] = []
+    for i in ring:
+        if not out or out[-1] != i:
+            out.append(i)
+    while len(out) > 1 and out[0] == out[-1]:
+        out.pop()
+    return out
