@@ -28,7 +28,7 @@ import numpy as np
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 from shapegen.geometry.prism_cut import SPLIT_HEIGHT as _SPLIT_HEIGHT
 from shapegen.geometry.prism_cut import prism_decomposition
-from shapegen.geometry.rings import chain_loops, without_repeats
+from shapegen.geometry.rings import chains_between, joined_chains, without_repeats
 from shapegen.limits import check_clock
 from shapegen.model.polygons import face_normals
 from shapegen.tolerances import COINCIDENT_REL, DEFAULT, SIZE_FLOOR_M
@@ -183,18 +183,7 @@ def _split_at_bridges(ring, flags, points, along, keep_corners=False) -> list[tu
     on_edges = [flags[k] and flags[(k + 1) % n] for k in range(n)]
     if not any(on_edges) or not any(along):
         return [tuple(ring)] if len(ring) >= 3 else []
-    start = (on_edges.index(True) + 1) % n  # a chain begins after an edge on the plane
-    chains: list[list[int]] = []
-    current: list[int] = []
-    for step in range(n):
-        k = (start + step) % n
-        current.append(ring[k])
-        if on_edges[k]:
-            chains.append(current)
-            current = []
-    if current:
-        chains.append(current)
-    chains = [c for c in chains if len(c) >= 2]
+    chains = chains_between(ring, on_edges)
     if not chains:
         return []
     if len(chains) == 1 and keep_corners:  # no bridge: the face as it is, every corner kept
@@ -205,12 +194,7 @@ def _split_at_bridges(ring, flags, points, along, keep_corners=False) -> list[tu
         for i in (c[0], c[-1]):
             x, y, z = points[i].tolist()
             position[i] = x * ax + y * ay + z * az
-    polygons = []
-    for loop in chain_loops([position[c[0]] for c in chains], [position[c[-1]] for c in chains]):
-        polygon = without_repeats([i for c in loop for i in chains[c]])
-        if len(polygon) >= 3:
-            polygons.append(tuple(polygon))
-    return polygons
+    return joined_chains(chains, position)
 
 
 def _caps(faces: list[tuple[int, ...]], count: int) -> list[tuple[int, ...]]:

@@ -19,7 +19,7 @@ __all__ = ["clip_half_with_holes"]
 import numpy as np
 
 from shapegen.geometry.mesh import Mesh, polygon_normal
-from shapegen.geometry.rings import chain_loops, without_repeats
+from shapegen.geometry.rings import chains_between, joined_chains, without_repeats
 from shapegen.tolerances import COINCIDENT_REL, SIZE_FLOOR_M
 
 
@@ -107,7 +107,7 @@ def _clipped_face(face, rings, normal, cut: _Crossings, eps: float, axis: int, s
         if not any(on_edges):
             (closed if r == 0 else kept_holes).append(tuple(clipped))
             continue
-        chains += _chains(clipped, on_edges)
+        chains += chains_between(clipped, on_edges)
     points = cut.points()
     parts = list(closed)
     if chains:
@@ -116,11 +116,7 @@ def _clipped_face(face, rings, normal, cut: _Crossings, eps: float, axis: int, s
         nx, ny, nz = (float(c) for c in normal)
         along = np.array(((0.0, -nz, ny), (nz, 0.0, -nx), (-ny, nx, 0.0))[axis]) * sign
         position = {i: float(points[i] @ along) for c in chains for i in (c[0], c[-1])}
-        for loop in chain_loops([position[c[0]] for c in chains],
-                                [position[c[-1]] for c in chains]):  # fmt: skip
-            ring = without_repeats([i for c in loop for i in chains[c]])
-            if len(ring) >= 3:
-                parts.append(tuple(ring))
+        parts += joined_chains(chains, position)
     return _with_holes(parts, kept_holes, points, normal)
 
 
@@ -135,22 +131,6 @@ def _clipped_ring(ring, cut: _Crossings, eps: float) -> list[int]:
         if (dp > eps and dq < -eps) or (dp < -eps and dq > eps):
             out.append(cut(p, q))
     return without_repeats(out)
-
-
-def _chains(ring: list[int], on_edges: list[bool]) -> list[list[int]]:
-    """The ring cut at its edges lying on the plane: the chains between them."""
-    n = len(ring)
-    start = (on_edges.index(True) + 1) % n
-    chains, current = [], []
-    for step in range(n):
-        k = (start + step) % n
-        current.append(ring[k])
-        if on_edges[k]:
-            chains.append(current)
-            current = []
-    if current:
-        chains.append(current)
-    return [c for c in chains if len(c) >= 2]
 
 
 def _with_holes(parts, holes, points: np.ndarray, normal) -> list[tuple[tuple, tuple]]:

@@ -7,8 +7,10 @@ from __future__ import annotations
 
 __all__ = [
     "chain_loops",
+    "chains_between",
     "corners_apart",
     "is_simple",
+    "joined_chains",
     "turns_left",
     "winds_once",
     "without_repeats",
@@ -173,3 +175,34 @@ def without_repeats(ring: list[int]) -> list[int]:
     while len(out) > 1 and out[0] == out[-1]:
         out.pop()
     return out
+
+
+def chains_between(ring: list[int], on_edges: list[bool]) -> list[list[int]]:
+    """``ring`` (vertex indices) cut at its edges lying on a cut plane (``on_edges[k]``: the
+    edge from corner ``k`` to ``k + 1``, at least one): the chains between them, each of two or
+    more corners, the first beginning after an edge on the plane."""
+    n = len(ring)
+    start = (on_edges.index(True) + 1) % n
+    chains: list[list[int]] = []
+    current: list[int] = []
+    for step in range(n):
+        k = (start + step) % n
+        current.append(ring[k])
+        if on_edges[k]:
+            chains.append(current)
+            current = []
+    if current:
+        chains.append(current)
+    return [c for c in chains if len(c) >= 2]
+
+
+def joined_chains(chains: list[list[int]], position: dict) -> list[tuple[int, ...]]:
+    """The polygons that ``chains`` make when joined along the cut (:func:`chain_loops` on the
+    ``position`` of each chain's ends along it), repeated indices dropped; each of three or more
+    corners."""
+    polygons = []
+    for loop in chain_loops([position[c[0]] for c in chains], [position[c[-1]] for c in chains]):
+        polygon = without_repeats([i for c in loop for i in chains[c]])
+        if len(polygon) >= 3:
+            polygons.append(tuple(polygon))
+    return polygons
