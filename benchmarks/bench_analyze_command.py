@@ -50,7 +50,7 @@ from shapegen.readers.models import read_model
 from shapegen.structures import Design, make_structure
 import shapegen.statics.contacts, shapegen.statics.solvers.reduced  # noqa
 from shapegen.limits import work_limits
-from shapegen.statics.options import StaticsOptions
+from shapegen.statics.statics_options import StaticsOptions
 imported = time.process_time()
 with work_limits(max_blocks=10**7, max_file_bytes=2**34):
     model = read_model(sys.argv[1])

@@ -35,7 +35,7 @@ from shapegen.limits import work_clock
 from shapegen.model import Model
 from shapegen.model.lot import Lot
 from shapegen.search.options import SearchOptions
-from shapegen.statics.options import StaticsOptions
+from shapegen.statics.statics_options import StaticsOptions
 from shapegen.structures import Assessment, Design, Structure, make_structure
 
 

@@ -12,10 +12,10 @@ from shapegen.cli.options import CommandLineError
 
 
 def _tilt(text: str):
-    """``--tilt DEG[@AZIMUTH]``: a :class:`~shapegen.statics.options.Tilt`, parsed and
+    """``--tilt DEG[@AZIMUTH]``: a :class:`~shapegen.statics.statics_options.Tilt`, parsed and
     checked by the type; its refusal is argparse's one line."""
     from shapegen.errors import OptionError
-    from shapegen.statics.options import Tilt
+    from shapegen.statics.statics_options import Tilt
 
     try:
         return Tilt.parse(text)
@@ -36,7 +36,7 @@ def _azimuths(text: str) -> tuple[float, ...]:
             " --capacity after the model, or --capacity= for a sweep of directions"
         ) from None
     from shapegen.errors import OptionError
-    from shapegen.statics.options import checked_azimuth
+    from shapegen.statics.statics_options import checked_azimuth
 
     try:  # each as a tilt's azimuth is checked
         return tuple(checked_azimuth(v) for v in values)
@@ -46,7 +46,7 @@ def _azimuths(text: str) -> tuple[float, ...]:
 
 def add_lateral_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
     """--tilt and --capacity: the tilting-table test of block statics."""
-    from shapegen.statics.options import statics_field
+    from shapegen.statics.statics_options import statics_field
 
     tilt = statics_field("tilt").metadata
     parser.add_argument("--tilt", type=_tilt, metavar=tilt["metavar"], help=prefix + tilt["help"])

@@ -159,11 +159,11 @@ def _names(text: str) -> list[str]:
 
 # ------------------------------------------------------------------------------ option groups
 def add_statics_options(parser: argparse.ArgumentParser, prefix: str = "") -> None:
-    """A flag for each :class:`~shapegen.statics.options.StaticsOptions` field but the tilt
+    """A flag for each :class:`~shapegen.statics.statics_options.StaticsOptions` field but the tilt
     (``--friction``, ``--pyramid``, ``--kern``, ``--solver``, ``--structural``, ``--ignore``),
     with its help, choices and metavar from there; the values are checked by the options type
     when :func:`statics_options` makes it, and its refusal names the flag."""
-    from shapegen.statics.options import statics_fields
+    from shapegen.statics.statics_options import statics_fields
 
     for option in statics_fields():
         meta = option.metadata
@@ -284,7 +284,7 @@ def statics_options(args, *, applies: bool = True, why: str = ""):
     if not applies:
         raise CommandLineError(f"{', '.join(given)}: {why}")
     from shapegen.errors import OptionError
-    from shapegen.statics.options import StaticsOptions
+    from shapegen.statics.statics_options import StaticsOptions
 
     values = {
         dest: getattr(args, dest)

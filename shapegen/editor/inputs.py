@@ -29,7 +29,7 @@ from shapegen.editor.attrs import RequestError
 from shapegen.errors import LotError, ShapegenError
 from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
-from shapegen.statics.options import Reserve
+from shapegen.statics.statics_options import Reserve
 
 UNCHANGED = object()  # an argument not given (None is a value: the file's @Lot)
 MAX_SEED = 2**63 - 1
@@ -134,7 +134,7 @@ def checked_free(value: object, grammar, ranged: set[str]) -> list[str] | None:
 
 
 def checked_margin(value: object) -> Reserve:
-    """The margin a client sends, made a :class:`~shapegen.statics.options.Reserve` (its one
+    """The margin a client sends, made a :class:`~shapegen.statics.statics_options.Reserve` (its one
     check); its refusal is a 4xx."""
     from shapegen.errors import OptionError
 

@@ -18,7 +18,7 @@ from shapegen.json_values import finite_or_none
 from shapegen.search.options import SearchOptions
 
 if TYPE_CHECKING:
-    from shapegen.statics.options import Reserve
+    from shapegen.statics.statics_options import Reserve
 
 
 class Cancelled(Exception):

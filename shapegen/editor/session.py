@@ -56,7 +56,7 @@ from shapegen.limits import work_clock
 from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
 from shapegen.search.options import SearchOptions
-from shapegen.statics.options import Reserve
+from shapegen.statics.statics_options import Reserve
 
 
 class EditorSession:

@@ -94,7 +94,7 @@ class GeneratedModel:
         """Whether the model stands, as ``shapegen build --analyze --capacity`` judges it.
 
         Returns ``{"stands", "status", "y_over_w2", "capacity_deg", "blocks"}``; keyword
-        options are those of :class:`shapegen.statics.options.StaticsOptions`. A model with
+        options are those of :class:`shapegen.statics.statics_options.StaticsOptions`. A model with
         nothing to judge (faces only) gives ``stands`` None and the reason in ``status``.
         """
         from shapegen.prt.statics import judge

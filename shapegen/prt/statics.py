@@ -14,10 +14,10 @@ def judge(model: Model, *, capacity: Sequence[float] | None = None, **options) -
     """The ``analysis`` object of ``shapegen build --analyze`` for ``model``: ``stands``,
     ``measure`` (y/W²), ``status``, ``margin`` and the structure's section; with ``capacity``
     (azimuths in degrees, or ``[]`` for the worst direction of a sweep) also ``capacity``, as
-    ``--capacity``. ``options`` are :class:`~shapegen.statics.options.StaticsOptions` fields
+    ``--capacity``. ``options`` are :class:`~shapegen.statics.statics_options.StaticsOptions` fields
     (``friction``, ``margin``, ``pyramid``...); an unknown one is refused with one line."""
     from shapegen.errors import OptionError
-    from shapegen.statics.options import StaticsOptions
+    from shapegen.statics.statics_options import StaticsOptions
     from shapegen.structures import Design, make_structure
 
     try:

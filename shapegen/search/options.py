@@ -23,7 +23,7 @@ from shapegen.errors import OptionError
 from shapegen.search.defaults import DEFAULT_MARGIN
 
 if TYPE_CHECKING:
-    from shapegen.statics.options import Reserve
+    from shapegen.statics.statics_options import Reserve
 
 OBJECTIVES = ("energy", "closest")
 GRADIENTS = ("adjoint", "forward", "none")
@@ -56,7 +56,7 @@ class SearchOptions:
     max_iter
         Iterations per start.
     margin
-        The :class:`~shapegen.statics.options.Reserve` in [0, 1) the designs are judged with
+        The :class:`~shapegen.statics.statics_options.Reserve` in [0, 1) the designs are judged with
         (made from a number here, the one check of a margin on its way in; default
         :data:`~shapegen.search.DEFAULT_MARGIN`; for block statics every joint shrunk and the
         friction lowered to ``1 - margin``, :func:`~shapegen.statics.reserve.with_reserve`); 0
@@ -103,7 +103,9 @@ class SearchOptions:
     )
 
     def __post_init__(self) -> None:
-        from shapegen.statics.options import Reserve  # a margin is checked as it becomes one
+        from shapegen.statics.statics_options import (
+            Reserve,  # a margin is checked as it becomes one
+        )
 
         if self.free is not None:
             if isinstance(self.free, str) or not all(isinstance(n, str) for n in self.free):

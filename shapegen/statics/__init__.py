@@ -17,7 +17,7 @@ _HOMES = {
     "GROUND": "shapegen.statics.interface",
     "Interface": "shapegen.statics.interface",
     "tangent_frame": "shapegen.statics.interface",
-    "StaticsOptions": "shapegen.statics.options",
+    "StaticsOptions": "shapegen.statics.statics_options",
     "SolveStatus": "shapegen.statics.solvers",
     "get_backend": "shapegen.statics.solvers",
 }

@@ -52,9 +52,9 @@ from shapegen.statics.certificate import (
     reserve_certificate,
 )
 from shapegen.statics.interface import Interface
-from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import Solution, SolveRequest, SolveStatus, get_backend
 from shapegen.statics.standins import design_blocks, design_figures, statics_model
+from shapegen.statics.statics_options import StaticsOptions
 from shapegen.statics.tension import PHASE_ONE_STOP, proves_tension
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import ROUNDOFF_REL
@@ -249,8 +249,8 @@ def analyze(
     model
         The :class:`~shapegen.model.model.Model`.
     options
-        A :class:`~shapegen.statics.options.StaticsOptions` (friction, pyramid, kern, solver,
-        and a tilt of the loads towards an azimuth, or towards the worst direction).
+        A :class:`~shapegen.statics.statics_options.StaticsOptions` (friction, pyramid, kern,
+        solver, and a tilt of the loads towards an azimuth, or towards the worst direction).
     interfaces
         Precomputed contact interfaces (unscaled); found with ``find_interfaces`` when None.
     check

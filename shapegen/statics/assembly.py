@@ -39,7 +39,12 @@ from shapegen.errors import OptionError, StaticsError
 from shapegen.model.friction import checked_friction
 from shapegen.statics.interface import GROUND, Interface
 from shapegen.statics.loading import Loading, block_loading, load_vector, tilted, wrench
-from shapegen.statics.options import DEFAULT_PYRAMID, PYRAMIDS, checked_kern, checked_pyramid
+from shapegen.statics.statics_options import (
+    DEFAULT_PYRAMID,
+    PYRAMIDS,
+    checked_kern,
+    checked_pyramid,
+)
 from shapegen.tolerances import TRIG_ROUNDOFF
 
 if TYPE_CHECKING:
@@ -365,8 +370,9 @@ def assemble(
     friction
         Coulomb coefficient mu (dimensionless); ``model.friction`` when None.
     pyramid
-        ``"cone"`` (the default, :data:`~shapegen.statics.options.DEFAULT_PYRAMID`), ``"4"``,
-        ``"4r"`` or ``"8"`` (see :func:`friction_cone`).
+        ``"cone"`` (the default,
+        :data:`~shapegen.statics.statics_options.DEFAULT_PYRAMID`), ``"4"``, ``"4r"`` or ``"8"``
+        (see :func:`friction_cone`).
     kern
         Every interface polygon is scaled about its centroid by this factor in (0, 1].
     objective

@@ -404,7 +404,7 @@ def contacts_and_bodies(model, options, tol, *, interfaces=None, bodies=None,
                         check: bool = True):  # fmt: skip
     """The contacts of ``model`` and its bodies under the structure ``options`` select (each
     found when not given), checked with ``check_model`` when ``check``; ``options`` is a
-    :class:`~shapegen.statics.options.StaticsOptions`. Both are those of
+    :class:`~shapegen.statics.statics_options.StaticsOptions`. Both are those of
     :func:`~shapegen.statics.standins.statics_model` ``(model)``, the model with its
     stand-ins."""
     model = statics_model(model)

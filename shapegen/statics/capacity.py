@@ -33,8 +33,8 @@ from shapegen.statics.multiplier import (
     load_multiplier,
     worst_direction,
 )
-from shapegen.statics.options import StaticsOptions
 from shapegen.statics.standins import statics_model
+from shapegen.statics.statics_options import StaticsOptions
 from shapegen.statics.tilt import normalized_azimuth
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import TIE_REL, TILT_RESOLUTION_DEG, at_most

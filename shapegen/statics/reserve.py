@@ -28,16 +28,16 @@ import dataclasses
 import numpy as np
 
 from shapegen.statics.assembly import StaticsProblem
-from shapegen.statics.options import Reserve, StaticsOptions
+from shapegen.statics.statics_options import Reserve, StaticsOptions
 
 
 def with_reserve(
     options: StaticsOptions, margin: Reserve | float, friction: float
 ) -> StaticsOptions:
-    """``options`` judging with a reserve ``margin`` (a :class:`~shapegen.statics.options.Reserve`,
-    or a number in [0, 1) made one): every joint shrunk to ``1 - margin`` of the kern and the
-    friction coefficient (``options.friction``, else the model's ``friction``) lowered to ``1 -
-    margin`` of itself.
+    """``options`` judging with a reserve ``margin`` (a
+    :class:`~shapegen.statics.statics_options.Reserve`, or a number in [0, 1) made one): every
+    joint shrunk to ``1 - margin`` of the kern and the friction coefficient
+    (``options.friction``, else the model's ``friction``) lowered to ``1 - margin`` of itself.
 
     >>> reserved = with_reserve(StaticsOptions(), 0.1, friction=0.7)
     >>> round(reserved.kern, 3), round(reserved.friction, 3)

@@ -25,8 +25,8 @@ from shapegen.errors import ShapegenError
 from shapegen.statics.analysis import Analysis
 from shapegen.statics.assembly import StaticsProblem, assemble, tilted
 from shapegen.statics.incremental import incremental_interfaces
-from shapegen.statics.options import StaticsOptions
 from shapegen.statics.standins import statics_model
+from shapegen.statics.statics_options import StaticsOptions
 from shapegen.tolerances import DEFAULT
 
 

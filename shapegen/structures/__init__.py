@@ -5,7 +5,7 @@
 ['blocks', 'cable']
 """
 
-from shapegen.statics.options import Reserve
+from shapegen.statics.statics_options import Reserve
 from shapegen.structures.base import (
     UNJUDGED_STATUSES,
     Assessment,

@@ -20,7 +20,7 @@ from typing import ClassVar
 from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
 from shapegen.model import Model
-from shapegen.statics.options import Reserve
+from shapegen.statics.statics_options import Reserve
 
 _REQUIRED = object()
 
@@ -209,8 +209,8 @@ class Structure(ABC):
     def assess(self, design: Design, *, margin: Reserve | float = 0.0) -> Assessment:
         """Judge ``design``; with a ``margin`` above 0, judge it with that reserve (a design that
         stands with a margin stands without one). ``margin`` is a
-        :class:`~shapegen.statics.options.Reserve`, checked when it was made (the search passes
-        its own), or a number that ``Reserve.of(margin)`` checks."""
+        :class:`~shapegen.statics.statics_options.Reserve`, checked when it was made (the search
+        passes its own), or a number that ``Reserve.of(margin)`` checks."""
 
     def reassess(
         self, design: Design, previous: Assessment | None, *, measure_follows: bool = False

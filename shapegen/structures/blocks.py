@@ -17,7 +17,7 @@ import math
 import time
 from collections.abc import Sequence
 
-from shapegen.statics.options import Reserve, StaticsOptions
+from shapegen.statics.statics_options import Reserve, StaticsOptions
 from shapegen.structures.base import Assessment, Design, Structure, StructureArgument
 from shapegen.structures.registry import register_structure
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES

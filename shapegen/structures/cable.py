@@ -23,7 +23,7 @@ import math
 
 from shapegen.errors import GeometryError, OptionError
 from shapegen.statics.cables import GOLDEN_FACTOR, SAFETY_FACTOR, bridge_cables
-from shapegen.statics.options import Reserve
+from shapegen.statics.statics_options import Reserve
 from shapegen.structures.base import (
     Assessment,
     Design,

@@ -15,7 +15,7 @@ from shapegen.cli.options import (
     statics_options,
 )
 from shapegen.errors import OptionError
-from shapegen.statics.options import StaticsOptions, Tilt, statics_fields
+from shapegen.statics.statics_options import StaticsOptions, Tilt, statics_fields
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -68,7 +68,7 @@ def test_a_refused_value_names_its_flag(argv, message):
     ],
 )
 def test_a_refused_tilt_is_the_tilt_types_line_when_read(argv, message):
-    # --tilt is read into a Tilt (statics.options), which checks it: its line names the flag
+    # --tilt is read into a Tilt (statics.statics_options), which checks it: its line names the flag
     with pytest.raises(CommandLineError) as raised:
         _parser().parse_args(argv)
     assert str(raised.value).startswith(f"argument --tilt: {message}")

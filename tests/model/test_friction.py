@@ -16,7 +16,7 @@ from shapegen.model.model import Model
 from shapegen.readers.blocks_json import model_from_dict
 from shapegen.simulation.settings import SimulationSettings
 from shapegen.statics.assembly import assemble, friction_cone
-from shapegen.statics.options import StaticsOptions, checked_kern, checked_pyramid
+from shapegen.statics.statics_options import StaticsOptions, checked_kern, checked_pyramid
 
 CUBE = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]
 LINE = "friction must be a finite number >= 0; got -0.5"

@@ -237,7 +237,7 @@ def test_a_factorisation_that_cannot_be_honoured_is_refused_in_one_line(monkeypa
 
 def test_a_plain_import_and_a_solver_import_load_no_cvxopt():
     code = (
-        "import sys, shapegen; from shapegen.statics.options import StaticsOptions;"
+        "import sys, shapegen; from shapegen.statics.statics_options import StaticsOptions;"
         " StaticsOptions(); import shapegen.statics.solvers.reduced;"
         " print('cvxopt' in sys.modules)"
     )

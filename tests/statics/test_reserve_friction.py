@@ -15,8 +15,8 @@ from shapegen.model.block import Block
 from shapegen.model.model import Model
 from shapegen.search.options import SearchOptions
 from shapegen.statics import StaticsOptions, analyze
-from shapegen.statics.options import Reserve
 from shapegen.statics.reserve import widened_forces, with_reserve
+from shapegen.statics.statics_options import Reserve
 from shapegen.structures import Design
 from shapegen.structures.blocks import BlockStatics
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from shapegen.errors import OptionError
-from shapegen.statics.options import StaticsOptions
 from shapegen.statics.solvers import BACKENDS, SolveRequest, cone_refusal
+from shapegen.statics.statics_options import StaticsOptions
 
 REQUEST = SolveRequest(stop_above=1.0, accept=bool, screen_above=2.0, warm_start=np.zeros(4))
 
@@ -47,7 +47,7 @@ def test_checking_options_loads_no_solver_library():
     # importing a solver's library: scipy.sparse.linalg would cost a plain build 0.2-0.4 s of
     # start-up
     code = (
-        "import sys; from shapegen.statics.options import StaticsOptions; StaticsOptions();"
+        "import sys; from shapegen.statics.statics_options import StaticsOptions; StaticsOptions();"
         " StaticsOptions(pyramid='cone', solver='reduced');"
         " print(sorted(m for m in ('scipy', 'scipy.sparse', 'clarabel', 'cvxpy', 'cvxopt', 'qdldl',"
         " 'shapegen.statics.solvers.normal_equations', 'shapegen.statics.solvers.reduced_kkt')"

@@ -7,7 +7,7 @@ import pytest
 from shapegen.errors import OptionError
 from shapegen.model import Block, Model
 from shapegen.statics import StaticsOptions, analyze
-from shapegen.statics.options import Tilt
+from shapegen.statics.statics_options import Tilt
 
 
 def _stack() -> Model:
