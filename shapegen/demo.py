@@ -51,7 +51,7 @@ def _run(rule: str, out: Path) -> int:
     from shapegen.export.atomic import check_writable
     from shapegen.export.model_io import write_model
     from shapegen.export.picture import render_model
-    from shapegen.search.options import SearchOptions
+    from shapegen.search.search_options import SearchOptions
 
     console = display_console()
     if out.exists() and not out.is_dir():

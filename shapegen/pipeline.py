@@ -34,7 +34,7 @@ from shapegen.json_values import json_ready
 from shapegen.limits import work_clock
 from shapegen.model import Model
 from shapegen.model.lot import Lot
-from shapegen.search.options import SearchOptions
+from shapegen.search.search_options import SearchOptions
 from shapegen.statics.statics_options import StaticsOptions
 from shapegen.structures import Assessment, Design, Structure, make_structure
 
@@ -86,7 +86,7 @@ def design(
         Block-statics options; refused (:class:`~shapegen.errors.OptionError`) when the grammar's
         structure is not block statics.
     search
-        Search the free attrs first (:class:`~shapegen.search.options.SearchOptions`); the
+        Search the free attrs first (:class:`~shapegen.search.search_options.SearchOptions`); the
         final design is built once, with every attr override.
     assess
         Judge the final model with the grammar's structure.

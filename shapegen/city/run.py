@@ -144,7 +144,7 @@ def run_city(
     seed
         The run's seed; each lot's is drawn from it and the lot's id.
     search, statics
-        :class:`~shapegen.search.options.SearchOptions` (optimize each lot) and
+        :class:`~shapegen.search.search_options.SearchOptions` (optimize each lot) and
         :class:`~shapegen.statics.StaticsOptions`, as for ``shapegen build``.
     timeout
         Seconds one lot may take; a lot past it is a row with status ``timeout``.

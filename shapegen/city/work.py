@@ -57,7 +57,7 @@ class CitySettings:
     seed
         The run's seed; each lot's seed is drawn from it and the lot's id.
     search
-        A :class:`~shapegen.search.options.SearchOptions` to optimize each lot, or None.
+        A :class:`~shapegen.search.search_options.SearchOptions` to optimize each lot, or None.
     statics
         Block-statics options, or None for the defaults.
     timeout

@@ -240,9 +240,9 @@ def add_rules_path_option(parser: argparse.ArgumentParser) -> None:
 
 
 def add_search_options(parser: argparse.ArgumentParser) -> None:
-    """``--optimize`` and a flag for each :class:`~shapegen.search.options.SearchOptions`
+    """``--optimize`` and a flag for each :class:`~shapegen.search.search_options.SearchOptions`
     field (``max_iter`` is ``--max-iter``), with its help, choices and default from there."""
-    from shapegen.search.options import search_fields
+    from shapegen.search.search_options import search_fields
 
     parser.add_argument(
         "--optimize",
@@ -326,9 +326,9 @@ def check_statics_apply(args, grammar, source: str) -> None:
 
 
 def search_settings(args):
-    """The :class:`~shapegen.search.options.SearchOptions` of ``--optimize``, None without
+    """The :class:`~shapegen.search.search_options.SearchOptions` of ``--optimize``, None without
     it; search options given without ``--optimize`` are refused."""
-    from shapegen.search.options import SearchOptions, search_fields
+    from shapegen.search.search_options import SearchOptions, search_fields
 
     given = {f.name: getattr(args, f.name) for f in search_fields()}
     given = {name: value for name, value in given.items() if value is not None}

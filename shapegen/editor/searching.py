@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from shapegen.editor.attrs import RequestError
 from shapegen.errors import OptionError
 from shapegen.json_values import finite_or_none
-from shapegen.search.options import SearchOptions
+from shapegen.search.search_options import SearchOptions
 
 if TYPE_CHECKING:
     from shapegen.statics.statics_options import Reserve

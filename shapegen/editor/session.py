@@ -55,7 +55,7 @@ from shapegen.json_values import json_ready
 from shapegen.limits import work_clock
 from shapegen.model.lot import Lot
 from shapegen.search.defaults import DEFAULT_MARGIN
-from shapegen.search.options import SearchOptions
+from shapegen.search.search_options import SearchOptions
 from shapegen.statics.statics_options import Reserve
 
 

@@ -20,9 +20,9 @@ from shapegen.errors import GeometryError, OptionError
 from shapegen.model.lot import Lot
 from shapegen.search.evaluator import Evaluator
 from shapegen.search.methods import Search
-from shapegen.search.options import SearchOptions
 from shapegen.search.parameters import FreeParameter, select_parameters
 from shapegen.search.result import IterationRecord, OptimizationResult
+from shapegen.search.search_options import SearchOptions
 from shapegen.structures import Structure, make_structure
 
 
@@ -46,7 +46,7 @@ def optimize(
     grammar
         A loaded :class:`~shapegen.engine.grammar_api.Grammar`.
     options
-        How to search (:class:`~shapegen.search.options.SearchOptions`: free and fixed attrs,
+        How to search (:class:`~shapegen.search.search_options.SearchOptions`: free and fixed attrs,
         objective, gradient, iterations, margin, multistart); ``choices`` are its fields given
         as keywords (``optimize(grammar, max_iter=20)``), over ``options`` when both are given.
         The designs are judged with the structure's margin (block statics: every joint shrunk

@@ -13,8 +13,8 @@ from collections.abc import Callable
 
 from shapegen.engine.grammar_api import Grammar, load_grammar
 from shapegen.search.optimizer import optimize
-from shapegen.search.options import SearchOptions
 from shapegen.search.result import IterationRecord, OptimizationResult
+from shapegen.search.search_options import SearchOptions
 from shapegen.structures import Structure, make_structure
 
 
@@ -24,8 +24,8 @@ class DesignSession:
     ``set(...)`` changes attrs the designer controls; ``optimize()`` re-runs the search of the
     free parameters starting from the previous solution, so small edits need few iterations.
     Any structure works: the grammar's own by default, or the ``structure`` given. The search
-    runs with ``options`` (:class:`~shapegen.search.options.SearchOptions`), or with its fields
-    given as keywords (``DesignSession(grammar, free=["span"], margin=0)``).
+    runs with ``options`` (:class:`~shapegen.search.search_options.SearchOptions`), or with its
+    fields given as keywords (``DesignSession(grammar, free=["span"], margin=0)``).
     """
 
     def __init__(

@@ -217,9 +217,10 @@ class Reserve(float):
     about its centroid and the friction coefficient lowered to ``1 - M`` of themselves
     (:func:`~shapegen.statics.reserve.with_reserve`), for cables the diameter limit lowered to
     ``1 - M`` of itself; 0 is none. A number, checked once, when made, where a margin is given
-    (``--margin`` and the other fields of :class:`~shapegen.search.options.SearchOptions`, the
-    design page's ``"margin"``, a library call), and passed inward as it is: :meth:`of` takes a
-    ``Reserve`` without looking at it again. Its refusal is one
+    (``--margin`` and the other fields of
+    :class:`~shapegen.search.search_options.SearchOptions`, the design page's ``"margin"``, a
+    library call), and passed inward as it is: :meth:`of` takes a ``Reserve`` without looking at
+    it again. Its refusal is one
     :class:`~shapegen.errors.OptionError` naming ``margin``.
 
     >>> Reserve(0.1) * 2

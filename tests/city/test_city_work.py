@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from shapegen.city.work import CitySettings, LotTask, run_lot
-from shapegen.search.options import SearchOptions
+from shapegen.search.search_options import SearchOptions
 
 HOUSE = Path(__file__).resolve().parents[2] / "docs" / "data" / "house.grammar"
 RECTANGLE = ((0.0, 0.0), (12.0, 0.0), (12.0, 8.0), (0.0, 8.0))

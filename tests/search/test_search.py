@@ -396,7 +396,7 @@ def test_a_start_outside_its_range_is_warned_about_and_a_build_is_never_clamped(
 
 
 def test_every_search_entry_point_defaults_to_the_same_reserve(stack):
-    from shapegen.search.options import SearchOptions
+    from shapegen.search.search_options import SearchOptions
     from shapegen.simulation.settings import SIMULATION_MARGIN
 
     assert DEFAULT_MARGIN == 0.1

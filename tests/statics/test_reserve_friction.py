@@ -13,7 +13,7 @@ import pytest
 from shapegen.errors import OptionError
 from shapegen.model.block import Block
 from shapegen.model.model import Model
-from shapegen.search.options import SearchOptions
+from shapegen.search.search_options import SearchOptions
 from shapegen.statics import StaticsOptions, analyze
 from shapegen.statics.reserve import widened_forces, with_reserve
 from shapegen.statics.statics_options import Reserve

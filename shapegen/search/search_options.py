@@ -6,7 +6,7 @@ page and the city command take this object, and the command line makes its ``--o
 from :func:`search_fields`. A new search option is a field here and its use in the search. The
 module loads nothing heavy, so the command's help can show the defaults cheaply.
 
->>> from shapegen.search.options import SearchOptions
+>>> from shapegen.search.search_options import SearchOptions
 >>> SearchOptions(objective="closest", max_iter=20).margin
 0.1
 """
