@@ -220,7 +220,7 @@ CONSOLE_SCRIPT = "from shapegen.cli import main\nsys.exit(main())\n"  # what pip
     [
         ("-m", "shapegen.cli"),  # python -m shapegen: shapegen/__main__.py guards this import
         ("console", "shapegen.export.atomic"),  # the first import main() makes
-        ("console", "shapegen.cli.options"),
+        ("console", "shapegen.cli.common_options"),
         ("console", "shapegen.cli.build"),
         ("console", "numpy"),
         ("-m", "lark"),  # while the grammar loads

@@ -26,7 +26,7 @@ EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports a process stopped by 
 
 def __getattr__(name: str):
     if name == "CommandLineError":
-        from shapegen.cli.options import CommandLineError
+        from shapegen.cli.common_options import CommandLineError
 
         return CommandLineError
     raise AttributeError(f"module 'shapegen.cli' has no attribute {name!r}")
@@ -36,7 +36,7 @@ def build_parser():
     """The ``shapegen`` argument parser with every command."""
     from shapegen import __version__
     from shapegen.cli import analyze, build, city, edit, landscape, rules, simulate
-    from shapegen.cli.options import Parser
+    from shapegen.cli.common_options import Parser
 
     parser = Parser(
         prog="shapegen",

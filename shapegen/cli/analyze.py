@@ -9,9 +9,7 @@ import argparse
 from contextlib import contextmanager
 from pathlib import Path
 
-from shapegen.cli.display import print_analysis
-from shapegen.cli.lateral_options import add_lateral_options, capacity_request
-from shapegen.cli.options import (
+from shapegen.cli.common_options import (
     CommandLineError,
     add_plugin_option,
     add_statics_options,
@@ -19,6 +17,8 @@ from shapegen.cli.options import (
     judges_blocks,
     statics_options,
 )
+from shapegen.cli.display import print_analysis
+from shapegen.cli.lateral_options import add_lateral_options, capacity_request
 from shapegen.cli.outputs import check_outputs, print_written, write_all
 from shapegen.limits import DEFAULT_LIMITS, current_limits, raised_with, work_limits
 

@@ -8,9 +8,7 @@ import argparse
 import contextlib
 from pathlib import Path
 
-from shapegen.cli.display import SearchProgress, print_build
-from shapegen.cli.lateral_options import add_lateral_options, capacity_request
-from shapegen.cli.options import (
+from shapegen.cli.common_options import (
     CommandLineError,
     add_derivation_options,
     add_rules_argument,
@@ -21,6 +19,8 @@ from shapegen.cli.options import (
     search_settings,
     statics_options,
 )
+from shapegen.cli.display import SearchProgress, print_build
+from shapegen.cli.lateral_options import add_lateral_options, capacity_request
 from shapegen.cli.outputs import check_outputs, print_written, write_all
 from shapegen.limits import DEFAULT_LIMITS, raised_with, work_clock, work_limits
 

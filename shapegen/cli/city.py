@@ -8,8 +8,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from shapegen.cli.display import ProgressBar
-from shapegen.cli.options import (
+from shapegen.cli.common_options import (
     CommandLineError,
     add_derivation_options,
     add_rules_argument,
@@ -20,6 +19,7 @@ from shapegen.cli.options import (
     search_settings,
     statics_options,
 )
+from shapegen.cli.display import ProgressBar
 from shapegen.cli.outputs import check_outputs
 
 EXIT_OK = 0

@@ -14,7 +14,7 @@ import signal
 import sys
 from pathlib import Path
 
-from shapegen.cli.options import CommandLineError, add_derivation_options, add_rules_argument
+from shapegen.cli.common_options import CommandLineError, add_derivation_options, add_rules_argument
 
 DEFAULT_PORT = 8765
 
@@ -59,7 +59,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from shapegen.cli.options import checked_attrs, load_grammar
+    from shapegen.cli.common_options import checked_attrs, load_grammar
     from shapegen.editor import EditorSession, make_server
     from shapegen.editor.watch import FileWatcher
 

@@ -7,7 +7,7 @@ __all__ = ["HELP", "DESCRIPTION", "add_arguments", "run"]
 import argparse
 from pathlib import Path
 
-from shapegen.cli.options import (
+from shapegen.cli.common_options import (
     CommandLineError,
     add_derivation_options,
     add_rules_argument,

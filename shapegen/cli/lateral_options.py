@@ -8,7 +8,7 @@ __all__ = ["add_lateral_options", "capacity_request"]
 
 import argparse
 
-from shapegen.cli.options import CommandLineError
+from shapegen.cli.common_options import CommandLineError
 
 
 def _tilt(text: str):

@@ -11,7 +11,7 @@ __all__ = ["check_outputs", "print_written", "require_suffix", "write_all"]
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from shapegen.cli.options import CommandLineError
+from shapegen.cli.common_options import CommandLineError
 from shapegen.errors import InputFormatError
 
 

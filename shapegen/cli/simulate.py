@@ -7,8 +7,7 @@ __all__ = ["HELP", "DESCRIPTION", "add_arguments", "run"]
 import argparse
 from pathlib import Path
 
-from shapegen.cli.display import SearchProgress, SimulationProgress, print_simulation
-from shapegen.cli.options import (
+from shapegen.cli.common_options import (
     CommandLineError,
     add_derivation_options,
     add_search_options,
@@ -22,6 +21,7 @@ from shapegen.cli.options import (
     search_settings,
     statics_options,
 )
+from shapegen.cli.display import SearchProgress, SimulationProgress, print_simulation
 from shapegen.cli.outputs import check_outputs, require_suffix, write_all
 
 HELP = "run a model in a rigid-body simulator (pybullet) and see whether it stands"

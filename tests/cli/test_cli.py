@@ -222,7 +222,7 @@ def test_console_script_version():
     ],
 )
 def test_set_values(text, expected):
-    from shapegen.cli.options import _assignment
+    from shapegen.cli.common_options import _assignment
 
     assert _assignment(text) == expected
 
@@ -231,7 +231,7 @@ def test_set_values(text, expected):
 def test_bad_set_values(text):
     import argparse
 
-    from shapegen.cli.options import _assignment
+    from shapegen.cli.common_options import _assignment
 
     with pytest.raises(argparse.ArgumentTypeError):
         _assignment(text)

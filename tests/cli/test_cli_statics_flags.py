@@ -7,13 +7,13 @@ import argparse
 
 import pytest
 
-from shapegen.cli.lateral_options import add_lateral_options
-from shapegen.cli.options import (
+from shapegen.cli.common_options import (
     CommandLineError,
     Parser,
     add_statics_options,
     statics_options,
 )
+from shapegen.cli.lateral_options import add_lateral_options
 from shapegen.errors import OptionError
 from shapegen.statics.statics_options import StaticsOptions, Tilt, statics_fields
 
