@@ -28,8 +28,8 @@ import math
 
 import numpy as np
 
-from shapegen.geometry.frames import face_rotation
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.scope_frames import face_rotation
 from shapegen.limits import check_clock
 from shapegen.tolerances import (
     COINCIDENT_REL,

@@ -268,7 +268,7 @@ def clip_plane(
 
 def _frame_of(normal) -> np.ndarray:
     """A rotation whose y axis (second column) is the unit vector ``normal``."""
-    from shapegen.geometry.frames import rotation_keeping_x
+    from shapegen.geometry.scope_frames import rotation_keeping_x
 
     normal = np.asarray(normal, float)
     guess = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])

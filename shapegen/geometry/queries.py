@@ -23,8 +23,8 @@ import math
 
 import numpy as np
 
-from shapegen.geometry.frames import quadrant
 from shapegen.geometry.mesh import Mesh, polygon_normal
+from shapegen.geometry.scope_frames import quadrant
 from shapegen.tolerances import ROUNDOFF_REL, SIZE_FLOOR_M
 
 _SCOPE_QUADRANTS = ("front", "back", "left", "right", "top", "bottom")

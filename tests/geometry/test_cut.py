@@ -14,8 +14,8 @@ from shapegen.geometry.cut import (
     placed_convex_decomposition,
 )
 from shapegen.geometry.extrude import prism
-from shapegen.geometry.frames import lot_polygon
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.scope_frames import lot_polygon
 from shapegen.model.lot import Lot
 
 L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]

@@ -19,9 +19,9 @@ from rotations import about_y
 from shapegen.errors import LotError
 from shapegen.geometry.cut import _general_decomposition, placed_convex_decomposition
 from shapegen.geometry.extrude import prism
-from shapegen.geometry.frames import lot_polygon, polygon_face, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.prism_cut import prism_decomposition
+from shapegen.geometry.scope_frames import lot_polygon, polygon_face, rotation_keeping_x
 from shapegen.model.lot import Lot
 from shapegen.tolerances import DEFAULT
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from shapegen.geometry.extrude import prism
-from shapegen.geometry.frames import lot_polygon
 from shapegen.geometry.mesh import Mesh, unit_face_normals
+from shapegen.geometry.scope_frames import lot_polygon
 from shapegen.geometry.trim import (
     TrimPlane,
     _face_trim_planes_by_face,

@@ -1,6 +1,7 @@
 """The start shapes of many lots at once: footprints as packed arrays, their checks and frames.
 
-What :func:`~shapegen.geometry.frames.lot_polygon` and :func:`~shapegen.engine.shape.lot_shape`
+What :func:`~shapegen.geometry.scope_frames.lot_polygon` and
+:func:`~shapegen.engine.shape.lot_shape`
 do for one polygon, on every lot together: the checks that refuse a lot (fewer than three
 corners, a corner not finite or too far, no area, clockwise, crossing itself), the area, and
 whether the extruded footprint is a box filling its scope (a rectangle), a convex prism (a

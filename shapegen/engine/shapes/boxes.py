@@ -5,7 +5,7 @@ window extruded backwards (candler's ``extrude(-depth) comp(f) {...}``). Their s
 and faces follow from the scope's origin, axes and size without fitting a scope to points,
 which is what the general mesh path does (:func:`~shapegen.engine.shapes.shape.extrude_shape`
 through :func:`~shapegen.geometry.extrude.extrude_faces`, ``comp(f)`` through
-:func:`~shapegen.geometry.frames.fitted_face_scopes`): the same numbers up to round-off (the
+:func:`~shapegen.geometry.scope_frames.fitted_face_scopes`): the same numbers up to round-off (the
 fitted path's ~1e-15 m), tested against it.
 
 Two layouts, each a table of unit corners and faces in comp(f) order:
@@ -31,8 +31,8 @@ import math
 
 import numpy as np
 
-from shapegen.geometry.frames import frame_keeping_x
 from shapegen.geometry.mesh import BOX_FACES, Mesh
+from shapegen.geometry.scope_frames import frame_keeping_x
 from shapegen.model.scope import Scope
 from shapegen.tolerances import COINCIDENT_REL
 

@@ -375,7 +375,7 @@ def extrude_shape(
         if boxed is not None:
             return Shape(boxed[0], MASS, 2, None, boxed[1])
     from shapegen.geometry.extrude import extrude_faces
-    from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
+    from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
 
     face = shape.mesh()
     if face.n_faces == 0:
@@ -555,7 +555,7 @@ def lot_shape(lot) -> tuple[Shape, dict]:
     if lot.size is not None:
         width, depth = lot.size
         return Shape(lot_scope(width, depth), FACE, 1), {"lot": [width, depth]}
-    from shapegen.geometry.frames import lot_polygon
+    from shapegen.geometry.scope_frames import lot_polygon
 
     scope, mesh = lot_polygon(lot)
     shape = Shape.with_geometry(scope, mesh, FACE, 1)
@@ -580,7 +580,7 @@ def mesh_lot_shape(lot: MeshLot) -> tuple[Shape, dict]:
     a polygon lot's), the bounding box of every vertex in that frame. It is a face when the
     faces lie in one plane of the scope, else a mass; the model's metadata records the scope's
     size as ``lot`` and the mesh's counts as ``initial_mesh``."""
-    from shapegen.geometry.frames import face_rotation, fitted_scope
+    from shapegen.geometry.scope_frames import face_rotation, fitted_scope
 
     first = lot.vertices[list(lot.faces[0])]
     frame = face_rotation(first)

@@ -16,7 +16,7 @@ __all__ = ["apply_trim", "comp_trim_planes"]
 import numpy as np
 
 from shapegen.engine.shapes.shape import Shape
-from shapegen.geometry.frames import fitted_scope
+from shapegen.geometry.scope_frames import fitted_scope
 from shapegen.geometry.trim import deferred_face_trim_planes, moved_cut, trimmed
 
 

@@ -29,8 +29,8 @@ from shapegen.engine.operations.cga.topology import EDGE
 from shapegen.engine.shapes.auto_tags import extruded
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, extrude_shape
 from shapegen.geometry.extrude import extrude_faces
-from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
 from shapegen.grammar import ast
 
 _EXTRUSION_TYPES = ("face.normal", "vertex.normal", "world.up", "world.up.flatTop")

@@ -34,9 +34,9 @@ from shapegen.engine.operations.cga.arguments import argument_word
 from shapegen.engine.shapes.auto_tags import boolean_tags
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.tags import merged_tags, resolved_tags
-from shapegen.geometry.frames import fitted_scope
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.geometry.open_boolean import open_boolean
+from shapegen.geometry.scope_frames import fitted_scope
 from shapegen.grammar import ast
 from shapegen.tolerances import COINCIDENT_M, COINCIDENT_REL, COSINE_SLACK, ROUNDOFF_REL
 

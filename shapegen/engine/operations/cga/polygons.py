@@ -44,9 +44,9 @@ from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
-from shapegen.geometry.frames import quadrant
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.geometry.queries import FACE_SELECTORS
+from shapegen.geometry.scope_frames import quadrant
 from shapegen.grammar import ast
 from shapegen.limits import check_clock
 from shapegen.model.scope import Scope

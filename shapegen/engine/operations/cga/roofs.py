@@ -28,8 +28,8 @@ from shapegen.engine.shapes.shape import MASS, Shape
 from shapegen.engine.shapes.tags import ComponentTags, Pending, resolved_tags
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs
-from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
 from shapegen.grammar import ast
 from shapegen.limits import check_clock, limit_hint
 from shapegen.tolerances import COSINE_SLACK

@@ -24,8 +24,8 @@ import numpy as np
 from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import number, selector_name
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
-from shapegen.geometry.frames import rotation_keeping_x
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.scope_frames import rotation_keeping_x
 from shapegen.grammar import ast
 from shapegen.limits import check_clock
 from shapegen.model.scope import Scope

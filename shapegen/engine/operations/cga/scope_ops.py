@@ -41,7 +41,7 @@ from shapegen.engine.operations.cga.arguments import argument_word, choice, plai
 from shapegen.engine.operations.cga.topology import EDGE, VERTEX
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.shapes.trim import apply_trim
-from shapegen.geometry.frames import fitted_scope, rotation_keeping_x
+from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
 from shapegen.grammar import ast
 from shapegen.tolerances import COINCIDENT_REL, ROUNDOFF_REL, at_most
 

@@ -29,8 +29,8 @@ from shapegen.engine.operations.cga.polygons import (
 from shapegen.engine.operations.cga.setback_tags import SetbackLines, edge_component
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
-from shapegen.geometry.frames import quadrant
 from shapegen.geometry.queries import face_matches
+from shapegen.geometry.scope_frames import quadrant
 from shapegen.geometry.setback_pieces import setback_pieces
 from shapegen.grammar import ast
 from shapegen.tolerances import COINCIDENT_REL

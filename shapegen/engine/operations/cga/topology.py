@@ -46,16 +46,16 @@ from shapegen.engine.operations.cga.comp_selectors import component_selector, se
 from shapegen.engine.shapes.boxes import box_faces_of
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.shapes.trim import comp_trim_planes
-from shapegen.geometry.frames import (
+from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.queries import border_faces
+from shapegen.geometry.roof_edges import ROOF_EDGE_CLASSES, roof_edge_classes
+from shapegen.geometry.scope_frames import (
     face_rotation,
     fills_rectangle,
     fitted_face_scopes,
     fitted_scope,
     rotation_keeping_x,
 )
-from shapegen.geometry.mesh import Mesh
-from shapegen.geometry.queries import border_faces
-from shapegen.geometry.roof_edges import ROOF_EDGE_CLASSES, roof_edge_classes
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
 
