@@ -19,7 +19,7 @@ from shapegen.export.atomic import atomic_write
 from shapegen.search import optimize
 from shapegen.simulation import SIMULATION_MARGIN, simulate
 from shapegen.simulation.cases import arch
-from shapegen.simulation.frames import write_gif, write_picture
+from shapegen.simulation.pictures import write_gif, write_picture
 
 ROOT = Path(__file__).resolve().parents[1]
 IMAGES = ROOT / "docs" / "images" / "simulation"

@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
         outputs.append((Path(args.output), _simulation_picture(result, args.output)))
     write_all(outputs)
     if args.frames:
-        from shapegen.simulation.frames import write_frames
+        from shapegen.simulation.pictures import write_frames
 
         write_frames(result, args.frames)
     if not args.quiet:
@@ -214,7 +214,7 @@ def _refuse_other_structures(structure: str | None, source: str) -> None:
 def _simulation_picture(result, output: str) -> bytes:
     import tempfile
 
-    from shapegen.simulation.frames import encode_gif, write_picture
+    from shapegen.simulation.pictures import encode_gif, write_picture
 
     if _is_gif(output):
         return encode_gif(result)
