@@ -85,7 +85,7 @@ def _dask(city, grammar, count: int = 300) -> None:
     except ImportError:
         print("dask.distributed not installed: no cluster figure")
         return
-    from shapegen.city.lots import City
+    from shapegen.city.city_lots import City
 
     part = City(city.lots[:count], city.crs, city.origin)
     with tempfile.TemporaryDirectory() as folder:

@@ -11,7 +11,7 @@
 See docs/city.md: the command ``shapegen city``, the output folder and resuming a run.
 """
 
-from shapegen.city.lots import CRS_CHOICES, City, CityLot, city_from_polygons, read_lots
+from shapegen.city.city_lots import CRS_CHOICES, City, CityLot, city_from_polygons, read_lots
 from shapegen.city.run import CityProgress, CityRun, run_city
 from shapegen.city.work import lot_seed
 

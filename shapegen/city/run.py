@@ -27,8 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from shapegen.city.batches import read_records
+from shapegen.city.city_lots import City
 from shapegen.city.executors import Batcher, DaskCluster, InProcess, LocalProcesses
-from shapegen.city.lots import City
 from shapegen.city.outputs import write_tables
 from shapegen.city.store import CityStore, open_store
 from shapegen.city.work import CitySettings, LotTask

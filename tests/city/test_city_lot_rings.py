@@ -8,8 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from shapegen.city import lots as city_lots
-from shapegen.city import read_lots
+from shapegen.city import city_lots, read_lots
 
 SQUARE = [[13.25, 53.55], [13.2501, 53.55], [13.2501, 53.5501], [13.25, 53.5501], [13.25, 53.55]]
 
