@@ -101,9 +101,9 @@ def _whole(minimum: int):
 
 def _lot(text: str):
     """``--lot``: WIDTH,DEPTH, a polygon ``"x,z x,z ..."``, a GeoJSON or OBJ file
-    (:func:`shapegen.readers.lots.read_lot`)."""
+    (:func:`shapegen.readers.lot_sources.read_lot`)."""
     from shapegen.errors import InputFormatError
-    from shapegen.readers.lots import read_lot
+    from shapegen.readers.lot_sources import read_lot
 
     try:
         return read_lot(text)

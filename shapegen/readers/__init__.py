@@ -7,7 +7,7 @@ bytes and JSON of a file    :mod:`~shapegen.readers.files` (size limits, gzip in
                             a bounded stream, JSON depth bound, one-line errors)
 7z archives (``.rpk``)      :func:`~shapegen.readers.archives.unpack_7z`: members, depth,
                             size bounded; damaged streams one line
-a lot (``--lot``)           :func:`~shapegen.readers.lots.read_lot`: ``W,D``, corners,
+a lot (``--lot``)           :func:`~shapegen.readers.lot_sources.read_lot`: ``W,D``, corners,
                             a GeoJSON feature, an OBJ face
 GeoJSON features            :mod:`~shapegen.readers.geojson` (lots and cities)
 OpenStreetMap XML           :mod:`~shapegen.readers.osm`: one way, or every building

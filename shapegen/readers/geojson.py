@@ -1,6 +1,7 @@
 """GeoJSON (RFC 7946) as shapegen reads it: features, their ids, their outer rings, the
-coordinate system, and corners in local metres. Lots (:mod:`shapegen.readers.lots`) and cities
-(:mod:`shapegen.city.city_lots`) both read through here, so both accept the same input.
+coordinate system, and corners in local metres. Lots (:mod:`shapegen.readers.lot_sources`)
+and cities (:mod:`shapegen.city.city_lots`) both read through here, so both accept the same
+input.
 
 Coordinates are longitude/latitude unless a ``crs`` member (or a ``.prj``) names another system
 (:mod:`shapegen.readers.crs` takes those to longitude/latitude); WGS84 positions are projected

@@ -14,7 +14,7 @@ pyproj = pytest.importorskip("pyproj")
 
 from shapegen.city import city_from_polygons, read_lots  # noqa: E402
 from shapegen.errors import InputFormatError  # noqa: E402
-from shapegen.readers.lots import read_lot  # noqa: E402
+from shapegen.readers.lot_sources import read_lot  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[2] / "docs" / "data"
 LONLAT = DATA / "district.geojson"

@@ -13,7 +13,7 @@ import shapely
 from shapegen.cli import main
 from shapegen.errors import InputFormatError
 from shapegen.model.lot import Lot
-from shapegen.readers.lots import checked_polygon, read_lot
+from shapegen.readers.lot_sources import checked_polygon, read_lot
 
 # WGS84 (the ellipsoid shapegen.readers.projection projects on)
 A = 6378137.0

@@ -359,7 +359,7 @@ def run_lots(data: bytes) -> None:
     from shapegen.city.outputs import write_tables
     from shapegen.city.work import new_record
     from shapegen.errors import ShapegenError
-    from shapegen.readers.lots import read_lot
+    from shapegen.readers.lot_sources import read_lot
 
     with tempfile.TemporaryDirectory() as scratch:
         root = Path(scratch)

@@ -41,8 +41,8 @@ def _warm_up() -> None:
     import importlib
 
     for name in ("shapegen.city.outputs", "shapegen.city.parquet", "shapegen.engine.grammar_api",
-                 "shapegen.readers.lots", "shapegen.readers.osm", "shapely", "pyproj", "py7zr",
-                 "pyarrow", "pyarrow.parquet"):  # fmt: skip
+                 "shapegen.readers.lot_sources", "shapegen.readers.osm", "shapely", "pyproj",
+                 "py7zr", "pyarrow", "pyarrow.parquet"):  # fmt: skip
         try:
             importlib.import_module(name)
         except ImportError:

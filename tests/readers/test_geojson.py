@@ -10,7 +10,7 @@ from shapegen.city import read_lots
 from shapegen.errors import InputFormatError
 from shapegen.model.lot import Lot
 from shapegen.readers import geojson
-from shapegen.readers.lots import read_lot
+from shapegen.readers.lot_sources import read_lot
 
 
 @pytest.mark.parametrize(

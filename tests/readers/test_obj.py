@@ -60,7 +60,7 @@ def test_each_door_gives_the_readers_line(tmp_path, text, line):
     import shapegen.prt as pyprt
     from shapegen.engine.project.asset_files import load_asset
     from shapegen.prt.initial_shapes import footprint
-    from shapegen.readers.lots import lot_from_obj
+    from shapegen.readers.lot_sources import lot_from_obj
 
     path = tmp_path / "x.obj"
     path.write_text(text)
@@ -77,7 +77,7 @@ def test_each_door_gives_the_readers_line(tmp_path, text, line):
 
 def test_the_lot_is_the_first_face_and_the_asset_every_face(tmp_path):
     from shapegen.engine.project.asset_files import load_asset
-    from shapegen.readers.lots import lot_from_obj
+    from shapegen.readers.lot_sources import lot_from_obj
 
     path = tmp_path / "x.obj"
     path.write_text(TEXT)
