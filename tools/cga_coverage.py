@@ -6,11 +6,9 @@ function (with the utility library), shape attribute field, annotation and keywo
 reference, and the deprecated names real rule files still use. Each entry's status comes from
 shapegen itself, never from this file:
 
-- an operation is *supported* when the interpreter compiles it (a node of its own in
-  :mod:`shapegen.engine.operations.compiler`, or a compiler registered in
-  :mod:`shapegen.engine.operations.cga`), *partial* when its compiler was registered with what
-  it does not honour (``@compiles(name, partial=...)``, or ``DEDICATED_NOTES`` for the
-  interpreter's own nodes), and *not supported* otherwise; the text a rule file gets when it loads
+- an operation is *supported* when the interpreter compiles it (a compiler registered in
+  :mod:`shapegen.engine.operations.registry`), *partial* when its compiler was registered with
+  what it does not honour (``@operation(name, partial=...)``), and *not supported* otherwise; the text a rule file gets when it loads
 is shown; - a function, a shape attribute or an annotation is probed: a rule file using it is loaded
   (an expression in an ``attr``, compiled when the file loads) and is supported when it loads,
   partial when the code keeps a note of what differs (``PARTIAL_FUNCTIONS``,
@@ -117,12 +115,13 @@ def _operation_refusal(name: str, low: int) -> str:
 
 
 def operation_status(name: str) -> tuple[str, str]:
-    from shapegen.engine.operations import cga as cga_ops
+    import shapegen.engine.operations.compiler  # noqa: F401 (registers every operation)
+    from shapegen.engine.operations import registry
     from shapegen.grammar.names import CGA_OPERATIONS, OPERATIONS
 
     dedicated = set(OPERATIONS) | {"NIL", "push", "pop"}
-    notes = {**cga_ops.DEDICATED_NOTES, **cga_ops.partial_notes()}
-    if name in dedicated or cga_ops.compiler_for(name) is not None:
+    notes = registry.partial_notes()
+    if name in dedicated or registry.compiler_for(name) is not None:
         return (PARTIAL, notes[name]) if name in notes else (SUPPORTED, "")
     low = CGA_OPERATIONS.get(name, (0, 0))[0]
     return NOT_SUPPORTED, "refused when the file loads: " + _operation_refusal(name, low)

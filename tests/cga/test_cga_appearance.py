@@ -11,7 +11,7 @@ import pytest
 from operation_nodes import lot_state, operation, operations_program
 
 import shapegen
-from shapegen.engine.operations.cga import compiler_for
+from shapegen.engine.operations.registry import compiler_for
 from shapegen.engine.operations.cga.appearance import compile_material_set
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast

@@ -14,7 +14,7 @@ from fbx_files import write_block_fbx
 
 import shapegen
 from shapegen.engine.derivation.state import Derivation, root_state
-from shapegen.engine.operations.cga import compiler_for
+from shapegen.engine.operations.registry import compiler_for
 from shapegen.engine.operations.cga.assets import fitted, is_asset_name, primitive_mesh
 from shapegen.engine.shapes.shape import MASS, Shape
 from shapegen.errors import GrammarError

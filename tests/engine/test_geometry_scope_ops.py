@@ -11,7 +11,7 @@ import pytest
 from operation_nodes import SIMPLE_RULE_DATASET, operation, operations_program, shape_state
 
 import shapegen
-from shapegen.engine.operations.cga import compiler_for
+from shapegen.engine.operations.registry import compiler_for
 from shapegen.engine.operations.cga.scope_ops import pivot_frame
 from shapegen.engine.shapes.shape import extrude_shape, lot_shape
 from shapegen.errors import GrammarError

@@ -1,47 +1,46 @@
-"""Compilers of rule bodies and shape operations: each turns an AST node into a closure.
+"""Compilers of rule bodies and shape operations: each turns an AST node into a closure, at
+one width or two.
 
 A compiled operation is called as ``op(state, args, out)``
 (:data:`~shapegen.engine.derivation.state.Operation`): it changes the shape ``state``, appends
 the successors it creates to ``out`` and returns False when the shape was replaced by others (a
-split, a comp...). :class:`OperationCompiler` compiles them for one grammar; the compiler of an
-AST node type ``T`` is its method ``_op_T``, and those of CityEngine's operations without a node
-of their own (:mod:`shapegen.engine.operations.cga`) are handed the compiler itself.
+split, a comp...). :class:`OperationCompiler` compiles them for one grammar: a rule body here
+(a sequence, ``case``, a stochastic choice), every item of a body through the one registry of
+operations (:mod:`~shapegen.engine.operations.registry`: ``extrude`` is found under its name
+whether the parser made an :class:`~shapegen.grammar.ast.Extrude` or a generic
+:class:`~shapegen.grammar.ast.Operation` of it).
+
+Each compiled body and item also carries its batch form, ``op.batch(batch, out)``: the same
+rule on many shapes at once (a city's lots, :mod:`shapegen.engine.batch`), made from the
+operation's registered batch form, or one that raises
+:class:`~shapegen.engine.operations.registry.Unsupported` (with the reason) where it has none.
+The width is chosen by the caller: :meth:`Program.derive
+<shapegen.engine.program.interpreter.Program.derive>` calls ``op``,
+:func:`~shapegen.engine.batch.lots.derive_lots` calls ``op.batch``.
 """
 
 from __future__ import annotations
 
 __all__ = ["OperationCompiler"]
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 
+import numpy as np
+
+# each of these registers its operations (the registry's one-shape and batch forms)
+import shapegen.engine.operations.cga  # noqa: F401
+import shapegen.engine.operations.cga.splitting  # noqa: F401
+import shapegen.engine.operations.rule_items  # noqa: F401
+import shapegen.engine.operations.template_primitives  # noqa: F401
 from shapegen.engine.derivation.cga_errors import carrying_on
 from shapegen.engine.derivation.finite import checked_operation, finite_parameter
-from shapegen.engine.derivation.random_streams import choice
-from shapegen.engine.derivation.state import Operation, format_chain
-from shapegen.engine.expressions.compiler import ExpressionCompiler, format_value, type_name
+from shapegen.engine.derivation.random_streams import choice, draw
+from shapegen.engine.derivation.state import Operation
+from shapegen.engine.expressions.compiler import ExpressionCompiler, type_name
 from shapegen.engine.operations.hole_guard import keeps_holes, refusing_holes
-from shapegen.engine.operations.shape_writes import WRITABLE, compile_shape_write
-from shapegen.engine.operations.template_primitives import INSERT, compile_insert
-from shapegen.engine.shapes.auto_tags import extruded
-from shapegen.engine.shapes.shape import (
-    FACE,
-    MASS,
-    axis_index,
-    center,
-    extrude_shape,
-    rotate,
-    split_pieces,
-    translate,
-)
-from shapegen.engine.shapes.split import (
-    PieceLimitError,
-    SplitPart,
-    SplitRepeat,
-    resolve_split,
-)
-from shapegen.errors import GrammarError, OperationError, did_you_mean
+from shapegen.engine.operations.registry import Unsupported, forms_of, value_kind
+from shapegen.errors import GrammarError, OperationError
 from shapegen.grammar import ast
-from shapegen.grammar.names import RESERVED_ATTRIBUTES, SETTABLE_SHAPE_ATTRIBUTES
 
 
 class OperationCompiler:
@@ -82,7 +81,7 @@ class OperationCompiler:
 
     def body(self, node: ast.Body, params: dict[str, int]) -> Operation:
         """The operation of a rule body (a sequence, a case or a stochastic choice) whose
-        parameters are ``params`` (name -> index in the arguments)."""
+        parameters are ``params`` (name -> index in the arguments), with its batch form."""
         if isinstance(node, ast.Sequence):
             items = tuple(self._item(item, params) for item in node.items)
 
@@ -92,6 +91,7 @@ class OperationCompiler:
                         return False
                 return True
 
+            sequence.batch = _batch_sequence(tuple(item.batch for item in items))
             return sequence
         if isinstance(node, ast.ConditionalBody):
             branches = [
@@ -112,6 +112,9 @@ class OperationCompiler:
                         return body(state, args, out)
                 return otherwise(state, args, out)
 
+            conditional.batch = _batch_conditional(
+                [(branch.condition, body.batch) for _, body, branch in branches], otherwise.batch
+            )
             return conditional
         if isinstance(node, ast.StochasticBody):
             fractions = tuple(float(b.percent) / 100.0 for b in node.branches)
@@ -121,21 +124,39 @@ class OperationCompiler:
             def stochastic(state, args, out):
                 return bodies[choice(state.random, fractions)](state, args, out)
 
+            stochastic.batch = _batch_stochastic(fractions, [body.batch for body in bodies])
             return stochastic
         raise self.error(node, f"unsupported rule body {type(node).__name__}")
 
     def _item(self, node, params: dict[str, int]) -> Operation:
-        method = getattr(self, "_op_" + type(node).__name__, None)
-        if method is None:
+        """The operation of one item of a body, through the registry: its one-shape form
+        wrapped in the checks every operation gets, and its batch form."""
+        forms = forms_of(node)
+        if forms is None:
+            if isinstance(node, ast.Operation):
+                raise self.error(
+                    node, f"the CGA operation {node.name!r} is not supported by shapegen"
+                )
             raise self.error(node, f"unsupported operation {type(node).__name__}")
-        operation = checked_operation(
-            self, node, method(node, params)
-        )  # engine/derivation/finite.py
+        operation = checked_operation(self, node, forms.one(self, node, params))
         if not keeps_holes(node):
             operation = refusing_holes(operation, node, self)
         if self.cga_dialect and not isinstance(node, _CANNOT_FAIL):
-            return carrying_on(operation, node, self)  # CityEngine records a CGA error
+            operation = carrying_on(operation, node, self)  # CityEngine records a CGA error
+        if hasattr(operation, "batch"):  # a closure shared by nodes: one of its own each
+            operation = _own(operation)
+        operation.batch = self._batch_item(forms, node, params)
         return operation
+
+    def _batch_item(self, forms, node, params):
+        """The batch form of ``node``'s operation, or one that says why it has none."""
+        if forms.batch is None:
+            name = node.name if isinstance(node, ast.Operation) else forms.name
+            return _unsupported(f"the operation {name}")
+        try:
+            return forms.batch(self, node, params)
+        except Unsupported as exc:
+            return _unsupported(str(exc))
 
     def operation_error(self, node, message: str) -> OperationError:
         """The error of an operation's bad argument or degenerate geometry met while deriving:
@@ -158,323 +179,90 @@ class OperationCompiler:
 
         return number
 
-    def _op_Successor(self, node: ast.Successor, params) -> Operation:
-        rule = None if node.leaf else self.rules.get((node.name, len(node.args)))
-        # CityEngine's compiler warns of a rule of no such arity and leaves the shape a leaf
-        # (the load check's warning); shapegen's .grammar files refuse it
-        if rule is None and not node.leaf and node.name in self.arities and not self.cga_dialect:
-            counts = " or ".join(str(n) for n in sorted(self.arities[node.name]))
-            raise self.error(
-                node, f"rule {node.name!r} takes {counts} parameters, got {len(node.args)}"
-            )
-        arguments = tuple(self.expressions.compile(a, params) for a in node.args)
-        name = node.name
-
-        def successor(state, args, out):
-            values = tuple(a(args, state) for a in arguments)
-            child = state.run.child(state, state.shape, node, name)
-            out.append((child, rule, values))
-            return True
-
-        return successor
-
-    def _op_Nil(self, node, params) -> Operation:
-        """``NIL`` (op_nil): the current shape is deleted, so it leaves no leaf. The operations
-        after it still run: CityEngine's runtime counts a ``report`` written after ``NIL``
-        (envelope2002's "total report for optimisation"). Inside ``[ ]`` it deletes the pushed
-        copy only (op_pushpop: ``]`` deletes that copy anyway)."""
-
-        def delete(state, args, out):
-            state.deleted = True
-            return True
-
-        return delete
-
-    def _op_Push(self, node: ast.Push, params) -> Operation:
-        body = self.body(node.body, params)
-
-        def push(state, args, out):
-            body(state.copy(), args, out)
-            return True
-
-        return push
-
-    def _op_Extrude(self, node: ast.Extrude, params) -> Operation:
-        height = self.number(node, node.height, params, "extrude height")
-        error, operation_error = self.error, self.operation_error
-        cityengine = self.cga_dialect
-
-        def extrude_op(state, args, out):
-            shape = state.shape
-            if cityengine and shape.kind == "edge":  # an edge of comp(e|fe): a face
-                from shapegen.engine.operations.cga.extrusion import edge_extrusion
-
-                state.shape = extruded(state, shape, edge_extrusion(shape, height(args, state)))
-                return True
-            if shape.kind != FACE and not (cityengine and shape.kind == MASS):
-                raise error(
-                    node,
-                    "extrude() needs a flat shape (the lot or a comp(f) face); "
-                    "this shape is already 3D",
-                )
-            try:
-                state.shape = extruded(
-                    state, shape, extrude_shape(shape, height(args, state), cityengine)
-                )
-            except ValueError as exc:
-                raise operation_error(node, str(exc)) from None
-            return True
-
-        return extrude_op
-
-    def _split_items(self, group: ast.SplitGroup, params) -> Callable:
-        """A closure giving the evaluated split items of ``group`` (nested groups inline)."""
-        builders = []
-        for part in group.parts:
-            if isinstance(part, ast.SplitGroup):
-                inner = self._split_items(part, params)
-                if part.repeat:
-                    builders.append(
-                        lambda args, state, inner=inner: [SplitRepeat(tuple(inner(args, state)))]
-                    )
-                else:
-                    builders.append(inner)
-                continue
-            size = self.number(part, part.size, params, "a split size")
-            key = (self.body(part.body, params), part)
-            mode = part.mode
-            builders.append(
-                lambda args, state, size=size, key=key, mode=mode: [
-                    SplitPart(size(args, state), mode, key)
-                ]
-            )
-
-        def items(args, state):
-            out = []
-            for build in builders:
-                out.extend(build(args, state))
-            return out
-
-        return items
-
-    def _op_Split(self, node: ast.Split, params) -> Operation:
-        axis = axis_index(node.axis)
-        items = self._split_items(node.group, params)
-        repeat = node.group.repeat
-        error, operation_error = self.error, self.operation_error
-        best_counts = self.cga_dialect  # CityEngine's repeat counts in .cga files
-        where = node.location
-        adjust = node.adjust  # noAdjust: the pieces keep the scope slices (op_split)
-
-        def split_op(state, args, out):
-            shape = state.shape
-            if shape.kind == INSERT:
-                raise error(
-                    node,
-                    "split() cannot cut an inserted primitive; split first, then "
-                    "insert into the pieces",
-                )
-            pattern = items(args, state)
-            if repeat:
-                pattern = SplitRepeat(tuple(pattern))
-            run = state.run
-            extent = shape.scope.d[axis]
-            scale = 1.0
-            if node.texture is not None:
-                run.warn(
-                    f"{where}: split({'u' if axis == 0 else 'v'}, {node.texture}) runs along "
-                    f"the scope's {'x' if axis == 0 else 'y'} axis: shapegen keeps no texture "
-                    "coordinates"
-                    + (" (uv taken as 0..1 over the scope)" if node.texture == "uvSpace" else "")
-                )
-                if node.texture == "uvSpace":
-                    extent, scale = 1.0, extent
-            try:
-                pieces = resolve_split(
-                    extent,
-                    pattern,
-                    max_pieces=max(run.max_shapes - run.shape_count, 0) + 1,
-                    best_counts=best_counts,
-                )
-            except PieceLimitError:
-                raise error(
-                    node,
-                    f"the split creates more than {run.max_shapes} shapes "
-                    f"(max_shapes). Chain of rules: "
-                    f"{format_chain(state.rule_path)} "
-                    f"(raise it with Grammar.build(max_shapes=...) or "
-                    f"shapegen.limits.work_limits(max_shapes=...))",
-                ) from None
-            except ValueError as exc:
-                raise operation_error(node, str(exc)) from None
-            spans = [(piece.start * scale, piece.size * scale) for piece in pieces]
-            cuts, within = split_pieces(shape, axis, spans, run.limits.max_coordinate, adjust)
-            made = [  # CityEngine drops pieces with no geometry
-                (piece.key, cut) for piece, cut in zip(pieces, cuts, strict=True) if cut is not None
-            ]
-            total = len(made)
-            for index, ((body, part), cut) in enumerate(made):
-                child = run.child(state, cut, part, within_bounds=within)
-                child.split_index = index
-                child.split_total = total
-                if body(child, args, out) and child.is_leaf():
-                    out.append((child, None, ()))
-            return True
-
-        return split_op
-
-    def _op_Comp(self, node: ast.Comp, params) -> Operation:
-        from shapegen.engine.operations.cga.topology import comp_operation
-
-        for branch in node.branches:
-            if branch.connected and node.kind != "f":
-                raise self.error(
-                    branch,
-                    f"comp's '=:' operator (a shape per connected set of components) is "
-                    f"supported by shapegen for faces, not comp({node.kind})",
-                )
-        branches = [
-            (branch.selector, branch.merge, self.body(branch.body, params), branch)
-            for branch in node.branches
-        ]
-        return comp_operation(self, node, node.kind, branches, params)
-
-    def _coordinates(self, node, coordinates, params, what: str):
-        compiled = [
-            (self.number(node, c.value, params, what), c.relative, k)
-            for k, c in enumerate(coordinates)
-        ]
-
-        def values(args, state):
-            size = state.shape.scope.d  # floats: an overflow is inf, not a warning
-            return [
-                value(args, state) * size[k] if relative else value(args, state)
-                for value, relative, k in compiled
-            ]
-
-        return values
-
-    def _op_Translate(self, node: ast.Translate, params) -> Operation:
-        values = self._coordinates(node, (node.x, node.y, node.z), params, "a t() offset")
-
-        def translate_op(state, args, out):
-            state.shape = state.shape.with_scope(translate(state.shape.scope, values(args, state)))
-            return True
-
-        return translate_op
-
-    def _op_Scale(self, node: ast.Scale, params) -> Operation:
-        values = self._coordinates(node, (node.x, node.y, node.z), params, "an s() size")
-        operation_error = self.operation_error
-
-        def scale_op(state, args, out):
-            try:
-                state.shape = state.shape.resized(values(args, state))
-            except ValueError as exc:
-                raise operation_error(node, str(exc)) from None
-            return True
-
-        return scale_op
-
-    def _op_Rotate(self, node: ast.Rotate, params) -> Operation:
-        angles = [self.number(node, e, params, "an r() angle") for e in (node.x, node.y, node.z)]
-        about_center = node.pivot == "center"
-
-        def rotate_op(state, args, out):
-            values = [angle(args, state) for angle in angles]
-            state.shape = state.shape.with_scope(rotate(state.shape.scope, values, about_center))
-            return True
-
-        return rotate_op
-
-    def _op_Center(self, node: ast.Center, params) -> Operation:
-        axes = node.axes
-        if not axes or any(a not in "xyz" for a in axes):
-            raise self.error(node, f"center() takes x, y, z, xy, xz, yz or xyz, got {axes!r}")
-
-        def center_op(state, args, out):
-            scope = center(state.shape.scope, state.initial_scope, axes)
-            state.shape = state.shape.with_scope(scope)
-            return True
-
-        return center_op
-
-    def _op_Label(self, node: ast.Label, params) -> Operation:
-        name = self.expressions.compile(node.name, params)
-
-        def label_op(state, args, out):
-            text = format_value(name(args, state))
-            if text not in state.labels:
-                state.labels = state.labels + (text,)
-            if state.run.occlusion is not None:  # None while attrs are evaluated
-                state.run.occlusion.label(state, text)
-            return True
-
-        return label_op
-
-    def _op_Set(self, node: ast.Set, params) -> Operation:
-        attribute = node.attribute
-        if attribute.startswith("material."):
-            from shapegen.engine.operations.cga import appearance
-
-            compile_material_set = getattr(appearance, "compile_material_set", None)
-            if compile_material_set is not None:
-                return compile_material_set(self, node, params)
-        if attribute in self.const_names:
-            raise self.error(node, f"set() changes attrs; {attribute!r} is a const")
-        if self.cga_dialect and attribute in WRITABLE and attribute not in self.attr_names:
-            return compile_shape_write(self, node, params)
-        if (
-            attribute not in self.attr_names
-            and attribute not in RESERVED_ATTRIBUTES
-            and attribute not in SETTABLE_SHAPE_ATTRIBUTES
-        ):
-            known = sorted(set(self.attr_names) | set(RESERVED_ATTRIBUTES))
-            hint = did_you_mean(attribute, known, parenthesised=True)
-            raise self.error(node, f"set() of unknown attribute {attribute!r}{hint}")
-        value = self.expressions.compile(node.value, params)
-
-        def set_op(state, args, out):
-            state.attrs = {**state.attrs, attribute: value(args, state)}
-            return True
-
-        return set_op
-
-    def _op_Insert(self, node: ast.Insert, params) -> Operation:
-        return compile_insert(self, node, params)
-
-    def _op_Operation(self, node: ast.Operation, params) -> Operation:
-        from shapegen.engine.operations.cga import compiler_for
-
-        compiler = compiler_for(node.name)
-        if compiler is None:
-            raise self.error(node, f"the CGA operation {node.name!r} is not supported by shapegen")
-        return compiler(self, node, params)
-
-    def _op_Print(self, node: ast.Print, params) -> Operation:
-        values = [self.expressions.compile(v, params) for v in node.values]
-
-        def print_op(state, args, out):
-            print(" ".join(format_value(v(args, state)) for v in values))
-            return True
-
-        return print_op
-
-    def _op_Report(self, node: ast.Report, params) -> Operation:
-        key_of = self.expressions.compile(node.key, params)
-        value_of = self.expressions.compile(node.value, params)
-
-        def report_op(state, args, out):
-            key = format_value(key_of(args, state))
-            state.run.reports.setdefault(key, []).append(value_of(args, state))
-            return True
-
-        return report_op
-
 
 # Items that call no operation of their own: nothing to carry on past.
 _CANNOT_FAIL = (ast.Successor, ast.Nil, ast.Push)
 
 
-def _selector(name: str) -> str | int:
-    return int(name) if name.isdigit() else name
+def _own(operation: Operation) -> Operation:
+    """``operation`` in a closure of its own (to carry one node's batch form)."""
+
+    def own(state, args, out):
+        return operation(state, args, out)
+
+    return own
+
+
+def _unsupported(reason: str):
+    def unsupported(batch, out):
+        raise Unsupported(reason)
+
+    return unsupported
+
+
+# ---------------------------------------------------------------------- the bodies' batch forms
+# The batch (engine/batch/lots.py's ShapeBatch) is the shapes of many lots standing at the same
+# place of their trees; ``case`` and a stochastic choice split it by masks into parts, each part
+# derived by its branch (a part a branch cannot derive falls back alone).
+def _batch_sequence(items):
+    def sequence_batch(batch, out):
+        for item in items:
+            item(batch, out)
+        if not batch.children:  # no successor: the shapes are leaves
+            batch.leaf()
+        return True
+
+    return sequence_batch
+
+
+def _batch_conditional(branches, otherwise):
+    def conditional_batch(batch, out):
+        remaining = np.ones(batch.size, dtype=bool)
+        for condition, body in branches:
+            if not remaining.any():
+                return True
+            part = batch.part(remaining)
+            test = part.value(condition)
+            if value_kind(test) is not bool:
+                raise Unsupported("a case condition that is not a boolean")
+            chosen = np.zeros(batch.size, dtype=bool)
+            chosen[np.flatnonzero(remaining)] = np.broadcast_to(test, (part.size,))
+            if chosen.any():
+                batch.branch(chosen, body, out)
+            remaining &= ~chosen
+        if remaining.any():
+            batch.branch(remaining, otherwise, out)
+        return True
+
+    return conditional_batch
+
+
+class _LotStream:
+    """One lot's stream of the batch's shape, for :func:`random_streams.choice`."""
+
+    __slots__ = ("x",)
+
+    def __init__(self, x: int):
+        self.x = x
+
+    def random(self) -> float:
+        self.x, u = draw(self.x)
+        return u
+
+
+def _batch_stochastic(fractions, bodies):
+    def stochastic_batch(batch, out):
+        # the one-shape choice, lot by lot, each from its own stream of this shape
+        streams = batch.streams
+        picks = np.empty(batch.size, dtype=np.int64)
+        for j, k in enumerate(batch.index.tolist()):
+            stream = _LotStream(int(streams[k]))
+            picks[j] = choice(stream.random, fractions)
+            streams[k] = stream.x
+        for index, body in enumerate(bodies):
+            chosen = picks == index
+            if chosen.any():
+                batch.branch(chosen, body, out)
+        return True
+
+    return stochastic_batch

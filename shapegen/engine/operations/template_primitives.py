@@ -11,6 +11,7 @@ from collections.abc import Callable
 
 from shapegen.engine.derivation.state import Operation
 from shapegen.engine.expressions.arrays import type_name
+from shapegen.engine.operations.registry import operation
 from shapegen.engine.shapes.shape import MASS, Shape
 from shapegen.errors import GeometryError, OptionError, did_you_mean
 from shapegen.grammar import ast
@@ -59,6 +60,13 @@ def resolve_primitive(name: str, values: dict) -> dict:
     return get(name).resolve(values)
 
 
+@operation(
+    "i",
+    nodes=(ast.Insert,),
+    partial="reads OBJ, glTF, COLLADA, PLY and STL assets, and FBX with the optional ufbx "
+    "(`shapegen[fbx]`), cleaned as CityEngine cleans them; a .usd, .dwg or .ifc asset (or an "
+    ".fbx without ufbx) is a box with a warning in .cga rules (refused in .grammar ones)",
+)
 def compile_insert(program, node: ast.Insert, params) -> Operation:
     """``i(name, key=value...)`` (op_i): a template primitive put in the scope, or an asset
     (:func:`~shapegen.engine.operations.cga.assets.asset_insert`) when the name is a file or a

@@ -38,8 +38,8 @@ from dataclasses import replace
 from shapegen.engine.derivation.finite import finite_parameter
 from shapegen.engine.expressions.arrays import Array, format_value, type_name
 from shapegen.engine.expressions.shape_attributes import material_alias
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import plain_arguments, typed
+from shapegen.engine.operations.registry import Unsupported, batch_form, is_column, operation, warn_at
 from shapegen.errors import did_you_mean
 from shapegen.grammar import ast
 from shapegen.model.appearance import (
@@ -161,7 +161,7 @@ def _selector(program, node, expression, choices: tuple[str, ...], what: str) ->
     return text
 
 
-@compiles("color")
+@operation("color")
 def compile_color(program, node: ast.Operation, params):
     arguments = plain_arguments(program, node, (1, 3, 4))
     error = program.error
@@ -198,7 +198,28 @@ def compile_color(program, node: ast.Operation, params):
     return color_components
 
 
-@compiles("texture")
+@batch_form("color")
+def batch_color(program, node: ast.Operation, params):
+    """``color("#rrggbb")`` on a batch of lots: checked, as the one-shape form checks it; a
+    city's lots are drawn in the colours of their statics (fixed, structural), not this one."""
+    if len(node.arguments) != 1 or node.arguments[0].kind != "plain" or node.branches:
+        raise Unsupported("color() with other than one argument")
+    argument = node.arguments[0].value
+
+    def color_batch(batch, out):
+        value = batch.value(argument)
+        if is_column(value) or type(value) is not str or len(value) != 7:
+            raise Unsupported("color() of other than a #rrggbb string")
+        try:
+            parse_hex_color(value)
+        except ValueError:
+            raise Unsupported("color() of other than a #rrggbb string") from None
+        return True
+
+    return color_batch
+
+
+@operation("texture")
 def compile_texture(program, node: ast.Operation, params):
     (path,) = plain_arguments(program, node, (1,))
     path_of = typed(program, node, path, params, str, "the texture file")
@@ -213,7 +234,7 @@ def compile_texture(program, node: ast.Operation, params):
     return texture
 
 
-@compiles("setMaterial")
+@operation("setMaterial")
 def compile_set_material(program, node: ast.Operation, params):
     (pairs,) = plain_arguments(program, node, (1,))
     pairs_of = program.expressions.compile(pairs, params)
@@ -246,7 +267,7 @@ def compile_set_material(program, node: ast.Operation, params):
     return set_material
 
 
-@compiles("resetMaterial")
+@operation("resetMaterial")
 def compile_reset_material(program, node: ast.Operation, params):
     arguments = plain_arguments(program, node, (0, 1))
     target = "shape"
@@ -283,7 +304,7 @@ _OFFSET_UV = "deprecated name of translateUV (cga_changelog 2009.3), with a warn
 _RECORDED = "recorded for the export; shapegen computes no texture coordinates"
 
 
-@compiles("setupProjection", partial=_RECORDED)
+@operation("setupProjection", partial=_RECORDED)
 def compile_setup_projection(program, node: ast.Operation, params):
     """setupProjection(uvSet, axes, width, height[, widthOffset, heightOffset[, uwFactor]]):
     width and height may be relative (``'0.5``: that share of the scope) or floating (``~2``:
@@ -345,7 +366,7 @@ def compile_setup_projection(program, node: ast.Operation, params):
     return setup_projection
 
 
-@compiles("projectUV", "deleteUV", partial=_RECORDED)
+@operation("projectUV", "deleteUV", partial=_RECORDED)
 def compile_uv_set_only(program, node: ast.Operation, params):
     (uv_set,) = plain_arguments(program, node, (1,))
     uv_set_of = _uv_set(program, node, uv_set, params)
@@ -368,7 +389,7 @@ def _uv_target(entry: tuple) -> int:
     return values[1] if name == "copyUV" else values[0]
 
 
-@compiles("tileUV", partial=_RECORDED)
+@operation("tileUV", partial=_RECORDED)
 def compile_tile_uv(program, node: ast.Operation, params):
     """tileUV(uvSet, width, height): the sizes are kept with their mode (``'``, ``~``) since
     they refer to the texture space, which shapegen does not compute."""
@@ -388,7 +409,7 @@ def compile_tile_uv(program, node: ast.Operation, params):
     return _recorder("tileUV", [uv_set, *compiled])
 
 
-@compiles(
+@operation(
     "translateUV",
     "scaleUV",
     "rotateUV",
@@ -413,7 +434,7 @@ def compile_uv_transform(program, node: ast.Operation, params):
     return offset_uv
 
 
-@compiles("normalizeUV", partial=_RECORDED)
+@operation("normalizeUV", partial=_RECORDED)
 def compile_normalize_uv(program, node: ast.Operation, params):
     first, mode, kind = plain_arguments(program, node, (3,))
     uv_set = _uv_set(program, node, first, params)
@@ -424,7 +445,7 @@ def compile_normalize_uv(program, node: ast.Operation, params):
     return _recorder("normalizeUV", [uv_set, mode, kind])
 
 
-@compiles("copyUV", partial=_RECORDED)
+@operation("copyUV", partial=_RECORDED)
 def compile_copy_uv(program, node: ast.Operation, params):
     source, target = plain_arguments(program, node, (2,))
     source_of = _uv_set(program, node, source, params, "the source uv-set")
@@ -435,7 +456,7 @@ def compile_copy_uv(program, node: ast.Operation, params):
 _NORMAL_MODES = ("hard", "conform", "soft", "auto")
 
 
-@compiles("setNormals")
+@operation("setNormals")
 def compile_set_normals(program, node: ast.Operation, params):
     (mode,) = plain_arguments(program, node, (1,))
     mode = _selector(program, node, mode, _NORMAL_MODES, "the normals mode")
@@ -447,7 +468,7 @@ def compile_set_normals(program, node: ast.Operation, params):
     return set_normals
 
 
-@compiles("softenNormals")
+@operation("softenNormals")
 def compile_soften_normals(program, node: ast.Operation, params):
     (angle,) = plain_arguments(program, node, (1,))
     angle_of = typed(program, node, angle, params, float, "the angle (degrees)")

@@ -42,8 +42,8 @@ import numpy as np
 
 from shapegen.engine.derivation.state import format_chain
 from shapegen.engine.expressions.arrays import format_value
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import plain_arguments
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.project.asset_files import find_asset, load_asset
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.trim import apply_trim
@@ -350,7 +350,7 @@ _PRIMITIVES = {
 }
 
 
-@compiles(*_PRIMITIVES)
+@operation(*_PRIMITIVES)
 def compile_primitive(program, node: ast.Operation, params):
     kind, counts = _PRIMITIVES[node.name]
     plain_arguments(program, node, counts)

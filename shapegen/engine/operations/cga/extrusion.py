@@ -1,7 +1,7 @@
 """``extrude(type, distance)`` (op_extrude): a face made a solid.
 
-- ``face.normal`` (the default; ``extrude(h)`` itself is compiled by the interpreter): every
-  face along its own normal;
+- ``face.normal`` (the default; ``extrude(h)``, the parser's
+  :class:`~shapegen.grammar.ast.Extrude`): every face along its own normal;
 - ``world.up`` / ``world.up.flatTop``: along world y (flatTop: a flat top ``distance`` above the
   lowest corner, below the highest for a negative distance);
 - ``vertex.normal``: every vertex along its vertex normal (the mean of the normals of the faces
@@ -15,32 +15,43 @@
 
 The scope follows op_extrude: x kept as far as possible, y along the extrusion, fitted to the
 geometry.
+
+The batch form (:func:`batch_extrude`) is ``extrude(h)`` of a lot's flat footprint: every lot's
+height as a column, the lot's leaf then the prism of its footprint.
 """
 
 from __future__ import annotations
 
-__all__ = ["compile_extrude", "edge_extrusion", "vertex_normal_extrusion"]
+__all__ = ["batch_extrude", "compile_extrude", "edge_extrusion", "vertex_normal_extrusion"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word
 from shapegen.engine.operations.cga.topology import EDGE
+from shapegen.engine.operations.registry import Unsupported, batch_form, operation, warn_at
 from shapegen.engine.shapes.auto_tags import extruded
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, extrude_shape
 from shapegen.geometry.extrude import extrude_faces
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
 from shapegen.grammar import ast
+from shapegen.tolerances import BATCH_DOUBT_REL
 
 _EXTRUSION_TYPES = ("face.normal", "vertex.normal", "world.up", "world.up.flatTop")
 _WORLD_AXES = {"x": 0, "y": 1, "z": 2}
 _DEPRECATED = tuple(f"{prefix}{axis}" for prefix in ("world.", "") for axis in "xyz")
 
 
-@compiles("extrude", partial="an edge of comp(e|fe) is extruded along its normal only")
-def compile_extrude(program, node: ast.Operation, params):
-    """``extrude(type, distance)`` with one of :data:`_EXTRUSION_TYPES` or a deprecated axis."""
+@operation(
+    "extrude",
+    nodes=(ast.Extrude, ast.Operation),
+    partial="an edge of comp(e|fe) is extruded along its normal only",
+)
+def compile_extrude(program, node: ast.Extrude | ast.Operation, params):
+    """``extrude(distance)`` (:class:`~shapegen.grammar.ast.Extrude`), or ``extrude(type,
+    distance)`` with one of :data:`_EXTRUSION_TYPES` or a deprecated axis."""
+    if type(node) is ast.Extrude:
+        return _extrude_along_normals(program, node, params)
     arguments = [a.value for a in node.arguments]
     if len(arguments) not in (1, 2) or node.branches:
         raise program.error(node, "extrude() takes (distance) or (type, distance)")
@@ -87,6 +98,65 @@ def compile_extrude(program, node: ast.Operation, params):
         return True
 
     return extrude_op
+
+
+def _extrude_along_normals(program, node: ast.Extrude, params):
+    """``extrude(distance)``: a flat shape along its faces' normals (an edge of ``comp(e|fe)``
+    along its normal, in ``.cga``)."""
+    height = program.number(node, node.height, params, "extrude height")
+    error, operation_error = program.error, program.operation_error
+    cityengine = program.cga_dialect
+
+    def extrude_op(state, args, out):
+        shape = state.shape
+        if cityengine and shape.kind == EDGE:  # an edge of comp(e|fe): a face
+            state.shape = extruded(state, shape, edge_extrusion(shape, height(args, state)))
+            return True
+        if shape.kind != FACE and not (cityengine and shape.kind == MASS):
+            raise error(
+                node,
+                "extrude() needs a flat shape (the lot or a comp(f) face); "
+                "this shape is already 3D",
+            )
+        try:
+            state.shape = extruded(
+                state, shape, extrude_shape(shape, height(args, state), cityengine)
+            )
+        except ValueError as exc:
+            raise operation_error(node, str(exc)) from None
+        return True
+
+    return extrude_op
+
+
+@batch_form("extrude")
+def batch_extrude(program, node: ast.Extrude | ast.Operation, params):
+    """``extrude(h)`` of the lots' flat footprints: each lot's height (a number shared by the
+    lots or a column), which must be clearly up for the batch's prism to be the one-shape
+    derivation's leaf (a height in doubt falls back)."""
+    if type(node) is not ast.Extrude:
+        raise Unsupported(f"extrude({node.arguments[0].value}, ...)")
+
+    def extrude_batch(batch, out):
+        if batch.height is not None:
+            raise Unsupported("extrude() of a 3D shape")
+        value = batch.value(node.height)
+        if type(value) is not float and not (
+            isinstance(value, np.ndarray) and value.dtype == np.float64
+        ):
+            raise Unsupported("extrude() of a value that is not a number")
+        height = np.broadcast_to(np.asarray(value, dtype=float), (batch.size,)).copy()
+        # a height near 0 or below: the one-shape derivation's prism may differ (flipped faces,
+        # a flat leaf), so those lots go one at a time
+        sizes = batch.footprints.span[batch.index]
+        batch.give_up(
+            ~(np.isfinite(height) & (height > BATCH_DOUBT_REL * sizes)),
+            "an extrusion not clearly up",
+        )
+        batch.height = height
+        return True
+
+    return extrude_batch
 
 
 def edge_extrusion(shape: Shape, height: float) -> Shape:

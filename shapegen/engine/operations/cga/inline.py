@@ -29,8 +29,8 @@ __all__ = ["derived_leaves", "joined_mesh"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.auto_tags import boolean_tags
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.tags import merged_tags, resolved_tags
@@ -350,7 +350,7 @@ def _shape_of(mesh: Mesh, rotation: np.ndarray) -> Shape:
     return Shape.with_geometry(scope, Mesh(local, mesh.faces), kind, flat[0] if flat else 2)
 
 
-@compiles(
+@operation(
     "inline",
     *_BOOLEAN,
     partial="an open operand whose open boundary crosses the other (no result in the "

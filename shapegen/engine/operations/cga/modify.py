@@ -30,7 +30,6 @@ __all__ = ["compile_modify"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.inline import _shape_of, derived_leaves
 from shapegen.engine.operations.cga.topology import (
     COMPONENT_KINDS,
@@ -42,6 +41,7 @@ from shapegen.engine.operations.cga.topology import (
     selector_text,
     selector_word,
 )
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.shape import FACE, MASS
 from shapegen.engine.shapes.tags import ComponentTags, merged_tags, resolved_tags
 from shapegen.geometry.mesh import Mesh
@@ -51,7 +51,7 @@ from shapegen.tolerances import COINCIDENT_M
 _KINDS = COMPONENT_KINDS
 
 
-@compiles(
+@operation(
     "modify",
     partial="moves, scales and turns of components are recomposed; a face made into other "
     "shapes is appended, an edge split in parts is replaced by their chain; a vertex made into "

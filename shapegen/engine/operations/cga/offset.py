@@ -13,16 +13,16 @@ from __future__ import annotations
 __all__ = ["compile_offset"]
 
 from shapegen.engine.derivation.state import format_chain
-from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.arguments import number, plain_arguments, selector_name
 from shapegen.engine.operations.cga.polygons import face_frames, face_holes, flat_shape
+from shapegen.engine.operations.registry import operation
 from shapegen.engine.shapes.shape import FACE, MASS
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
 from shapegen.grammar import ast
 
 
-@compiles("offset")
+@operation("offset")
 def compile_offset(program, node: ast.Operation, params):
     """``offset(distance[, all|inside|border])``."""
     values = plain_arguments(program, node, range(1, 3), block=True)

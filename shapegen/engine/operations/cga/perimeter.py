@@ -26,10 +26,10 @@ import math
 import numpy as np
 
 from shapegen.engine.expressions.arrays import type_name
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.polygons import array_elements, flat_faces, flat_shape
 from shapegen.engine.operations.cga.setback_tags import SetbackLines
 from shapegen.engine.operations.cga.setbacks import joined_strips
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.split import SplitPart, SplitRepeat, resolve_split
 from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
@@ -38,7 +38,7 @@ from shapegen.grammar import ast
 from shapegen.tolerances import COINCIDENT_REL
 
 
-@compiles(
+@operation(
     "splitAndSetbackPerimeter",
     partial="the perimeter of the first face only (a warning for the others)",
 )

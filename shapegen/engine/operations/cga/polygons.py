@@ -35,11 +35,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.arguments import plain_arguments, selector_name
 from shapegen.engine.operations.cga.setback_tags import (
     tag_selector,
 )
+from shapegen.engine.operations.registry import operation
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
@@ -281,7 +281,7 @@ def array_elements(value):
     return value if isinstance(value, (list, tuple)) else None
 
 
-@compiles("innerRectangle", "innerRect")
+@operation("innerRectangle", "innerRect")
 def compile_inner_rectangle(program, node: ast.Operation, params):
     """``innerRectangle(scope|edge) { shape : ... | remainder : ... }``."""
     values = plain_arguments(
@@ -310,7 +310,7 @@ def compile_inner_rectangle(program, node: ast.Operation, params):
     return inner_op
 
 
-@compiles("footprint")
+@operation("footprint")
 def compile_footprint(program, node: ast.Operation, params):
     """``footprint()``: the shape's geometry projected on its scope's plane y = 0, as a flat
     shape facing +y (the union of the projected faces)."""

@@ -19,9 +19,9 @@ import math
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import plain_arguments, typed
 from shapegen.engine.operations.cga.scope_ops import refit, shape_with_faces
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.shape import Shape
 from shapegen.geometry.mesh import Mesh
 from shapegen.tolerances import COINCIDENT_REL, COSINE_SLACK
@@ -75,7 +75,7 @@ def rectified(mesh: Mesh, angle: float) -> Mesh:
     return Mesh(vertices, mesh.faces)
 
 
-@compiles(
+@operation(
     "rectify",
     partial="aligned edges take their vertices' mean coordinate (CityEngine's placement is "
     "not published), with a warning",

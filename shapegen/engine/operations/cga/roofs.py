@@ -15,7 +15,6 @@ __all__ = ["roof_shape"]
 import numpy as np
 
 from shapegen.engine.expressions.arrays import type_name
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import number, plain_arguments, selector_name
 from shapegen.engine.operations.cga.polygons import (
     array_elements,
@@ -24,6 +23,7 @@ from shapegen.engine.operations.cga.polygons import (
     face_holes,
     flat_faces,
 )
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.shape import MASS, Shape
 from shapegen.engine.shapes.tags import ComponentTags, Pending, resolved_tags
 from shapegen.errors import GeometryError
@@ -119,7 +119,7 @@ _SIGNATURES = {
 }
 
 
-@compiles("roofHip", "roofGable", "roofShed", "roofPyramid", "roofRidge")
+@operation("roofHip", "roofGable", "roofShed", "roofPyramid", "roofRidge")
 def compile_roof(program, node: ast.Operation, params):
     """``roofX(angle, ...)`` or ``roofX(byAngle|byHeight, value, ...)``."""
     plain_arguments(program, node, range(len(node.arguments) + 1))  # plain, no block
@@ -201,7 +201,7 @@ def _check_roof_faces(program, node, state) -> None:
         )
 
 
-@compiles("taper")
+@operation("taper")
 def compile_taper(program, node: ast.Operation, params):
     """``taper(height)``: a pyramid over the first face, apex above its centroid."""
     (height_expression,) = plain_arguments(program, node, range(1, 2), block=True)
@@ -230,7 +230,7 @@ _ENVELOPE_SIDES = {
 }
 
 
-@compiles(
+@operation(
     "envelope",
     partial="refused: world.up on a face that does not face up, and sloped sides of "
     "different base heights",

@@ -21,8 +21,8 @@ import math
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import number, selector_name
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.scope_frames import rotation_keeping_x
@@ -47,7 +47,7 @@ POINT = Mesh([(0.0, 0.0, 0.0)], [])
 """A point shape's geometry: one vertex, no face."""
 
 
-@compiles("scatter")
+@operation("scatter")
 def compile_scatter(program, node: ast.Operation, params):
     args = node.arguments
     if any(a.kind not in ("plain", "relative") for a in args) or not 3 <= len(args) <= 5:

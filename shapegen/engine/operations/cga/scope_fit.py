@@ -12,13 +12,13 @@ __all__ = ["minimum_rectangle_direction"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.arguments import choice, plain_arguments
 from shapegen.engine.operations.cga.scope_ops import (
     refit,
     set_scope_pivot,
     shape_with_faces,
 )
+from shapegen.engine.operations.registry import operation
 from shapegen.tolerances import ROUNDOFF_REL
 
 _AXIS_PAIRS = ("xy", "yx", "xz", "zx", "yz", "zy")
@@ -55,7 +55,7 @@ def minimum_rectangle_direction(points: np.ndarray) -> np.ndarray:
     return best[1]
 
 
-@compiles("alignScopeToGeometryBBox")
+@operation("alignScopeToGeometryBBox")
 def compile_align_scope_to_geometry_bbox(program, node, params):
     (pair,) = plain_arguments(program, node, (1,))
     first, second = ("xyz".index(c) for c in choice(program, node, pair, _AXIS_PAIRS, "the axes"))

@@ -36,9 +36,9 @@ __all__ = ["argument_word", "refit", "set_scope_pivot"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word, choice, plain_arguments, typed
 from shapegen.engine.operations.cga.topology import EDGE, VERTEX
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, rotation_matrix
 from shapegen.engine.shapes.trim import apply_trim
 from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
@@ -87,7 +87,7 @@ _WORLD_AXES = ("x", "y", "z", "world.x", "world.y", "world.z", "world.xyz")
 _OBJECT_AXES = ("object.x", "object.y", "object.z", "object.xyz")
 
 
-@compiles("alignScopeToAxes")
+@operation("alignScopeToAxes")
 def compile_align_scope_to_axes(program, node, params):
     arguments = plain_arguments(program, node, (0, 1))
     which = "world.xyz"
@@ -133,7 +133,7 @@ _FACE_CHOICES = ("world.lowest", "largest", "any")
 _EDGE_CHOICES = ("world.lowest", "longest")
 
 
-@compiles(
+@operation(
     "alignScopeToGeometry",
     partial="edge and vertex shapes (comp(e|v), scatter) are refused when derived",
 )
@@ -253,7 +253,7 @@ def _wrapped(state, node, what: str, count: int, things: str) -> None:
     )  # fmt: skip
 
 
-@compiles("rotateScope")
+@operation("rotateScope")
 def compile_rotate_scope(program, node, params):
     angles = [
         typed(program, node, a, params, float, "an angle")
@@ -276,7 +276,7 @@ def _flips(program, node, params):
     ]
 
 
-@compiles("mirror")
+@operation("mirror")
 def compile_mirror(program, node, params):
     flips = _flips(program, node, params)
 
@@ -296,7 +296,7 @@ def compile_mirror(program, node, params):
     return mirror
 
 
-@compiles("mirrorScope")
+@operation("mirrorScope")
 def compile_mirror_scope(program, node, params):
     flips = _flips(program, node, params)
 
@@ -332,7 +332,7 @@ def pivot_frame(rotation: np.ndarray, axis_map: str, corner: int) -> np.ndarray:
     raise AssertionError("no right-handed pivot")  # one of the two always is
 
 
-@compiles("setPivot")
+@operation("setPivot")
 def compile_set_pivot(program, node, params):
     arguments = plain_arguments(program, node, (2,))
     axis_map = choice(program, node, arguments[0], tuple(_AXIS_MAPS), "the axis map")
@@ -355,7 +355,7 @@ def compile_set_pivot(program, node, params):
     return set_pivot
 
 
-@compiles("reverseNormals")
+@operation("reverseNormals")
 def compile_reverse_normals(program, node, params):
     plain_arguments(program, node, (0,))
 
@@ -369,7 +369,7 @@ def compile_reverse_normals(program, node, params):
     return reverse_normals
 
 
-@compiles("cleanupGeometry")
+@operation("cleanupGeometry")
 def compile_cleanup_geometry(program, node, params):
     arguments = plain_arguments(program, node, (2,))
     choice(program, node, arguments[0], ("vertices", "edges", "faces", "all"), "the components")
@@ -392,7 +392,7 @@ def compile_cleanup_geometry(program, node, params):
 _NOT_REDUCED = "the geometry is kept whole: shapegen does not simplify meshes"
 
 
-@compiles("reduceGeometry", partial=_NOT_REDUCED)
+@operation("reduceGeometry", partial=_NOT_REDUCED)
 def compile_reduce_geometry(program, node, params):
     """reduceGeometry(tolerance): the edge collapses are not made; a warning says so."""
     (argument,) = plain_arguments(program, node, (1,))
@@ -410,7 +410,7 @@ def compile_reduce_geometry(program, node, params):
     return reduce_geometry
 
 
-@compiles("resetGeometry")
+@operation("resetGeometry")
 def compile_reset_geometry(program, node, params):
     plain_arguments(program, node, (0,))
 
@@ -425,13 +425,13 @@ def compile_reset_geometry(program, node, params):
     return reset
 
 
-@compiles("trim")
+@operation("trim")
 def compile_trim(program, node, params):
     plain_arguments(program, node, (0,))
     return lambda state, args, out: apply_trim(state)
 
 
-@compiles("deleteHoles")
+@operation("deleteHoles")
 def compile_delete_holes(program, node, params):
     """``deleteHoles()``: every face's holes closed (op_deleteHoles); the vertices only the
     holes used go, the scope stays (checked with PyPRT, tests/data/prt_holes.json)."""
@@ -448,7 +448,7 @@ def compile_delete_holes(program, node, params):
     return delete_holes
 
 
-@compiles("convexify")
+@operation("convexify")
 def compile_convexify(program, node, params):
     arguments = plain_arguments(program, node, (0, 1))
     limit_of = typed(program, node, arguments[0], params, float, "maxLength") if arguments else None

@@ -15,7 +15,6 @@ __all__ = ["compile_setback", "compile_setback_to_area", "compile_shape_luo", "j
 import numpy as np
 
 from shapegen.engine.expressions.arrays import type_name
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import number, plain_arguments
 from shapegen.engine.operations.cga.polygons import (
     FaceFrame,
@@ -27,6 +26,7 @@ from shapegen.engine.operations.cga.polygons import (
     selector_branches,
 )
 from shapegen.engine.operations.cga.setback_tags import SetbackLines, edge_component
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
 from shapegen.geometry.queries import face_matches
@@ -157,7 +157,7 @@ def _warn_array_size(state, node, value) -> None:
                 "count, ignoring some values.")  # fmt: skip
 
 
-@compiles("setback", "setbackPerEdge")
+@operation("setback", "setbackPerEdge")
 def compile_setback(program, node: ast.Operation, params):
     """``setback(distance | distances) { selector : ... | remainder : ... }``; setbackPerEdge
     evaluates its distance once per edge (with ``comp.index`` the edge's index)."""
@@ -196,7 +196,7 @@ def compile_setback(program, node: ast.Operation, params):
     return _setback_operation(program, node, branches, distances_of, shape_selector=False)
 
 
-@compiles("setbackToArea")
+@operation("setbackToArea")
 def compile_setback_to_area(program, node: ast.Operation, params):
     """``setbackToArea(area[, minDistances[, maxDistances]]) { selector : ... }``."""
     values = plain_arguments(program, node, range(1, 4), block=True)
@@ -220,7 +220,7 @@ _LUO = {"shapeL": ("front", "left"), "shapeU": ("front", "right", "left"),
         "shapeO": ("front", "right", "back", "left")}  # fmt: skip
 
 
-@compiles("shapeL", "shapeU", "shapeO")
+@operation("shapeL", "shapeU", "shapeO")
 def compile_shape_luo(program, node: ast.Operation, params):
     """``shapeL(front, left)``, ``shapeU(front, right, left)``, ``shapeO(front, right, back,
     left) { shape : ... | remainder : ... }``: a setback of those sides, the strips as one

@@ -16,8 +16,8 @@ __all__ = ["compile_split_area"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.arguments import number, plain_arguments, selector_name
+from shapegen.engine.operations.registry import operation
 from shapegen.engine.shapes.shape import FACE, axis_index, split_piece
 from shapegen.engine.shapes.split import PieceLimitError, SplitPart, SplitRepeat, resolve_split
 from shapegen.geometry.cut import clip_half
@@ -46,7 +46,7 @@ def _position(mesh, axis: int, low: float, high: float, area: float, total: floa
     return 0.5 * (low + high)
 
 
-@compiles("splitArea")
+@operation("splitArea")
 def compile_split_area(program, node: ast.Operation, params):
     """``splitArea(x|y|z[, adjust|noAdjust]) { area : ... | 'fraction : ... | ~w : ... }[*]``."""
     names = [selector_name(v) for v in plain_arguments(program, node, (1, 2), block=True)]

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 __all__ = ["compile_tags", "shape_tags"]
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word, plain_arguments
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.tags import ComponentTags, resolved_tags, valid_tag
 from shapegen.grammar import ast
 
@@ -29,7 +29,7 @@ def shape_tags(shape) -> ComponentTags:
     return tags if tags is not None else ComponentTags.empty(shape.mesh().n_faces)
 
 
-@compiles(
+@operation(
     "tag",
     "deleteTags",
     "setTagsFromEdgeAttrs",

@@ -41,8 +41,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.comp_selectors import component_selector, selector_text
+from shapegen.engine.operations.registry import operation
 from shapegen.engine.shapes.boxes import box_faces_of
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.shapes.trim import comp_trim_planes
@@ -440,23 +440,31 @@ def _unaligned(piece: Shape, parent: Scope) -> Shape:
     return Shape.with_geometry(scope, piece.mesh().moved_to(local), piece.kind, piece.normal_axis)
 
 
-@compiles(
+@operation(
     "comp",
+    nodes=(ast.Comp, ast.Operation),
     partial="refused: the component h (holes), and =: on edges "
     "and vertices; g and m give one component, the whole geometry (shapegen's meshes have one "
     "group and one material)",
 )
-def compile_comp(program, node: ast.Operation, params):
-    """``comp(f|e|v|fe [, zUp|noAlign]) { selector : body | ... }`` as a generic operation."""
-    if not node.arguments:
+def compile_comp(program, node: ast.Comp | ast.Operation, params):
+    """``comp(f|e|v|fe [, zUp|noAlign]) { selector : body | ... }``: the parser's
+    :class:`~shapegen.grammar.ast.Comp` (``comp(f) { ... }``) or a generic operation (with an
+    alignment)."""
+    if type(node) is ast.Comp:
+        kind, align = node.kind, True
+        keys = [branch.selector for branch in node.branches]
+    elif not node.arguments:
         raise program.error(node, "comp() needs the kind of component: comp(f), comp(e)...")
-    kind = selector_word(node.arguments[0].value)
-    align = True
-    if len(node.arguments) > 1:
-        mode = selector_word(node.arguments[1].value)
-        if mode not in ("zUp", "noAlign"):
-            raise program.error(node, f"comp's alignment is zUp or noAlign, got {mode!r}")
-        align = mode == "zUp"
+    else:
+        kind = selector_word(node.arguments[0].value)
+        align = True
+        if len(node.arguments) > 1:
+            mode = selector_word(node.arguments[1].value)
+            if mode not in ("zUp", "noAlign"):
+                raise program.error(node, f"comp's alignment is zUp or noAlign, got {mode!r}")
+            align = mode == "zUp"
+        keys = [branch.key for branch in node.branches]
     for branch in node.branches:
         if branch.connected and kind != "f":
             raise program.error(
@@ -465,8 +473,8 @@ def compile_comp(program, node: ast.Operation, params):
                 f"by shapegen for faces, not comp({kind})",
             )
     branches = [
-        (branch.key, branch.merge, program.body(branch.body, params), branch)
-        for branch in node.branches
+        (key, branch.merge, program.body(branch.body, params), branch)
+        for key, branch in zip(keys, node.branches, strict=True)
     ]
     return comp_operation(program, node, kind, branches, params, align)
 

@@ -1,5 +1,6 @@
-"""``translate(mode, coordSystem, x, y, z)`` and ``rotate(mode, coordSystem, x, y, z)``
-(op_translate, op_rotate): the scope moved or turned in one of the frames of
+"""The scope moved, turned, sized or centred: ``t``, ``r``, ``s``, ``center`` (the parser's
+nodes of their own), and ``translate(mode, coordSystem, x, y, z)`` and ``rotate(mode,
+coordSystem, x, y, z)`` (op_translate, op_rotate): the scope moved or turned in one of the frames of
 :mod:`shapegen.engine.shapes.frames` (``scope``, ``pivot``, ``object``, ``world``); the
 geometry moves with the scope, as after ``t`` and ``r``.
 
@@ -13,16 +14,26 @@ geometry moves with the scope, as after ``t`` and ``r``.
 
 from __future__ import annotations
 
-__all__ = ["compile_rotate", "compile_translate"]
+__all__ = [
+    "compile_center",
+    "compile_r",
+    "compile_rotate",
+    "compile_s",
+    "compile_t",
+    "compile_translate",
+]
 
 
 import numpy as np
 
 from shapegen.engine.derivation.finite import finite_parameter
 from shapegen.engine.expressions.arrays import type_name
-from shapegen.engine.operations.cga import compiles
 from shapegen.engine.operations.cga.arguments import argument_word, plain_arguments
+from shapegen.engine.operations.registry import operation
 from shapegen.engine.shapes.frames import FRAMES, euler_angles, euler_matrix, frame_of
+from shapegen.engine.shapes.shape import center as centered_scope
+from shapegen.engine.shapes.shape import rotate as rotated_scope
+from shapegen.engine.shapes.shape import translate as translated_scope
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
 
@@ -63,7 +74,7 @@ def _words(program, node):
     return words
 
 
-@compiles("translate")
+@operation("translate")
 def compile_translate(program, node: ast.Operation, params):
     mode, system = _words(program, node)
     numbers = _compiled_numbers(program, node, params)
@@ -83,7 +94,7 @@ def compile_translate(program, node: ast.Operation, params):
     return translate
 
 
-@compiles("rotate")
+@operation("rotate")
 def compile_rotate(program, node: ast.Operation, params):
     mode, system = _words(program, node)
     numbers = _compiled_numbers(program, node, params)
@@ -100,3 +111,84 @@ def compile_rotate(program, node: ast.Operation, params):
         return True
 
     return rotate
+
+
+def _coordinates(program, node, coordinates, params, what: str):
+    """A closure giving the values of ``t()``'s or ``s()``'s coordinates (m; ``'x`` relative
+    to the scope's size)."""
+    compiled = [
+        (program.number(node, c.value, params, what), c.relative, k)
+        for k, c in enumerate(coordinates)
+    ]
+
+    def values(args, state):
+        size = state.shape.scope.d  # floats: an overflow is inf, not a warning
+        return [
+            value(args, state) * size[k] if relative else value(args, state)
+            for value, relative, k in compiled
+        ]
+
+    return values
+
+
+@operation("t", nodes=(ast.Translate,))
+def compile_t(program, node: ast.Translate, params):
+    """``t(x, y, z)``: the scope moved along its own axes."""
+    values = _coordinates(program, node, (node.x, node.y, node.z), params, "a t() offset")
+
+    def translate_op(state, args, out):
+        state.shape = state.shape.with_scope(
+            translated_scope(state.shape.scope, values(args, state))
+        )
+        return True
+
+    return translate_op
+
+
+@operation("s", nodes=(ast.Scale,))
+def compile_s(program, node: ast.Scale, params):
+    """``s(x, y, z)``: the scope's size set, the geometry scaled with it."""
+    values = _coordinates(program, node, (node.x, node.y, node.z), params, "an s() size")
+    operation_error = program.operation_error
+
+    def scale_op(state, args, out):
+        try:
+            state.shape = state.shape.resized(values(args, state))
+        except ValueError as exc:
+            raise operation_error(node, str(exc)) from None
+        return True
+
+    return scale_op
+
+
+@operation(
+    "r",
+    nodes=(ast.Rotate,),
+    partial="turns about the scope's own axes: rotate(rel, pivot, ...) while they are the pivot's",
+)
+def compile_r(program, node: ast.Rotate, params):
+    """``r([scopeCenter,] x, y, z)``: the scope turned (degrees) about its origin or centre."""
+    angles = [program.number(node, e, params, "an r() angle") for e in (node.x, node.y, node.z)]
+    about_center = node.pivot == "center"
+
+    def rotate_op(state, args, out):
+        values = [angle(args, state) for angle in angles]
+        state.shape = state.shape.with_scope(rotated_scope(state.shape.scope, values, about_center))
+        return True
+
+    return rotate_op
+
+
+@operation("center", nodes=(ast.Center,))
+def compile_center(program, node: ast.Center, params):
+    """``center(axes)``: the scope centred in the shape's initial scope along ``axes``."""
+    axes = node.axes
+    if not axes or any(a not in "xyz" for a in axes):
+        raise program.error(node, f"center() takes x, y, z, xy, xz, yz or xyz, got {axes!r}")
+
+    def center_op(state, args, out):
+        scope = centered_scope(state.shape.scope, state.initial_scope, axes)
+        state.shape = state.shape.with_scope(scope)
+        return True
+
+    return center_op

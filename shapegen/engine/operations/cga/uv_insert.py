@@ -22,8 +22,8 @@ __all__ = ["compile_insert_along_uv"]
 
 import numpy as np
 
-from shapegen.engine.operations.cga import compiles, warn_at
 from shapegen.engine.operations.cga.arguments import argument_word
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.project.asset_files import find_asset, load_asset
 from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.errors import GeometryError
@@ -43,7 +43,7 @@ _ON_FACES = (
 )
 
 
-@compiles(
+@operation(
     "insertAlongUV",
     partial=f"{_APPROXIMATION}; on a shape that is not flat, once on each triangle and quad",
 )
