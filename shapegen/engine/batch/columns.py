@@ -12,26 +12,17 @@ those, and ``+ - * /``, comparisons, ``! - && ||`` on them. Anything else raises
 
 from __future__ import annotations
 
-__all__ = ["ColumnExpressions", "Unsupported"]
+__all__ = ["ColumnExpressions"]
 
 import numpy as np
 
+from shapegen.engine.operations.registry import Unsupported, is_column
 from shapegen.grammar import ast
-
-
-class Unsupported(Exception):
-    """What the batch does not implement (the message says what): derive these shapes one at a
-    time."""
-
 
 _ARITHMETIC = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide}
 _ORDER = {"<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal}
 _EQUAL = {"==": np.equal, "!=": np.not_equal}
 _RANDOM_CALLS = frozenset({"rand", "p", "listRandom", "fileRandom"})
-
-
-def is_column(value) -> bool:
-    return isinstance(value, np.ndarray)
 
 
 class ColumnExpressions:

@@ -1,18 +1,21 @@
-"""A city's lots derived together: footprints as packed arrays, one operation on all of them.
+"""A city's lots derived together: footprints as packed arrays, one rule on all of them.
 
 :func:`derive_lots` takes the footprints of many lots (their corners end to end with ring
-offsets), one seed and one set of attr values per lot, and derives them with one rule as a
-batch: the start shapes' scopes are computed for all lots at once, ``set``, ``extrude`` of the
-flat footprint, ``color``, ``report`` and successors act on the whole batch, ``case`` and
-stochastic bodies split it by masks, and every lot draws its random numbers from its own
-stream (CityEngine's, :mod:`~shapegen.engine.derivation.random_streams`, stepped for all the
-lots at once as one lot at a time steps it), so each lot's heights, reports and attrs are the
-ones its own derivation gives.
+offsets), one seed and one set of attr values per lot, and derives them with the grammar's
+compiled rules at the width of the batch: each rule body's batch form (``rule.body.batch``,
+compiled beside its one-shape form by :mod:`~shapegen.engine.operations.compiler`) calls the
+batch forms the registry holds (:mod:`~shapegen.engine.operations.registry`: ``set``,
+``extrude`` of the flat footprint, ``color``, ``report``, successors) on a
+:class:`ShapeBatch`, ``case`` and stochastic bodies split it by masks, and every lot draws its
+random numbers from its own stream (:mod:`~shapegen.engine.derivation.random_streams`, the
+stochastic choice lot by lot with the one-shape :func:`~shapegen.engine.derivation.
+random_streams.choice`), so each lot's heights, reports and attrs are the ones its own
+derivation gives.
 
 Each lot of the batch ends in one leaf: its footprint extruded, a prism given by its packed
-corners and height. A lot (or a branch of lots) meeting anything the batch does not implement
-(:class:`~shapegen.engine.batch.columns.Unsupported`: other operations, a footprint whose
-convexity or shape is in doubt, a height that is not clearly positive) is marked
+corners and height. A lot (or a branch of lots) meeting anything without a batch form
+(:class:`~shapegen.engine.operations.registry.Unsupported`: other operations, a footprint
+whose convexity or shape is in doubt, a height that is not clearly positive) is marked
 ``fallback``, with the reason counted: its caller derives it one shape at a time.
 
 The leaf of a lot is drawn as the one-at-a-time derivation draws it, up to round-off
@@ -30,11 +33,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shapegen.engine.batch.columns import ColumnExpressions, Unsupported, is_column
+from shapegen.engine.batch.columns import ColumnExpressions
 from shapegen.engine.batch.footprints import Footprints
 from shapegen.engine.derivation import random_streams
+from shapegen.engine.operations.registry import Unsupported, is_column
 from shapegen.grammar import ast
-from shapegen.tolerances import BATCH_DOUBT_REL
 
 BOX, CONVEX, SOLID = 0, 1, 2  # what a lot's leaf is drawn as
 
@@ -119,10 +122,11 @@ def derive_lots(grammar, rings, offsets, seeds, overrides, limits=None) -> LotBa
     if reason is not None:
         run.give_up(np.ones(count, dtype=bool), reason)
     else:
+        run.max_depth = limits.max_depth
         for index, values in _groups(program, overrides, run):
-            batch = ShapeBatch(run, index, values, (), 0)
+            batch = ShapeBatch(run, index, values, 0)
             batch.streams = random_streams.starts(run.seeds)
-            batch.derive(program.rules[(program.start.name, 0)])
+            _derive(batch, program.rules[(program.start.name, 0)])
     return run.finish()
 
 
@@ -215,6 +219,7 @@ class _Run:
         self.leaves = np.zeros(count, dtype=np.int64)
         self.groups: list[dict] = []
         self.values_of = np.full(count, -1, dtype=np.int64)
+        self.max_depth = 0
         probe_run = Derivation(program, 0)
         self.probe = root_state(probe_run, Shape(lot_scope(10.0, 10.0), FACE, 1), {}, ("probe",))
         self.expressions = ColumnExpressions(program, self.probe)
@@ -248,14 +253,18 @@ class _Run:
 
 
 class ShapeBatch:
-    """The shapes of some lots standing at one rule: the same path in each lot's tree, their
-    attrs (shared values or columns) and shape (the footprint, or its extrusion)."""
+    """The shapes of some lots standing at the same place of their trees, one per lot: their
+    attrs (shared values or columns) and shape (the footprint, or its extrusion).
 
-    def __init__(self, run: _Run, index: np.ndarray, attrs: dict, path: tuple, depth: int):
+    A rule is derived on it by the batch form of the rule's compiled body (``rule.body.batch``,
+    :mod:`~shapegen.engine.operations.compiler`), which calls the registered batch forms of its
+    operations (:mod:`~shapegen.engine.operations.registry`) on it; this class holds only the
+    state they change."""
+
+    def __init__(self, run: _Run, index: np.ndarray, attrs: dict, depth: int):
         self.run = run
         self.index = index
         self.attrs = attrs
-        self.path = path
         self.depth = depth
         self.height = None  # None: the flat footprint; else the extrusion's column (m)
         self.children = 0
@@ -267,8 +276,16 @@ class ShapeBatch:
     def size(self) -> int:
         return len(self.index)
 
+    @property
+    def footprints(self) -> Footprints:
+        return self.run.footprints
+
     def shared_attrs(self) -> dict:
         return {k: v for k, v in self.attrs.items() if not is_column(v)}
+
+    def value(self, node):
+        """The value of expression ``node`` on these shapes: one Python value or a column."""
+        return self.run.expressions.value(node, self)
 
     def give_up(self, mask: np.ndarray, reason: str) -> None:
         """Lots of this batch (``mask`` over it) that fall back."""
@@ -280,14 +297,34 @@ class ShapeBatch:
         self.streams[self.index], u = random_streams.draws(self.streams[self.index])
         return u
 
-    def successor_streams(self) -> np.ndarray:
-        """The streams of a successor of these shapes, which step theirs for it (as
-        Derivation.child makes a successor)."""
+    def successor(self) -> ShapeBatch:
+        """The successor of these shapes (one per lot): their attrs and shape as they are now,
+        its streams begun from theirs, which step for it (as Derivation.child makes one)."""
+        if self.children:
+            raise Unsupported("two successors of one shape")
+        if self.depth + 1 > self.run.max_depth:
+            raise Unsupported("a chain of rules deeper than max_depth")
+        self.children += 1
+        child = ShapeBatch(self.run, self.index, dict(self.attrs), self.depth + 1)
+        child.height = self.height
         x = self.streams[self.index]
-        streams = np.zeros(self.run.count, dtype=np.int64)
-        streams[self.index] = random_streams.child_stream(x)
+        child.streams[self.index] = random_streams.child_stream(x)
         self.streams[self.index] = random_streams.step(x)
-        return streams
+        return child
+
+    def report(self, key: str, value) -> None:
+        """``report(key, value)`` of every shape (``value`` shared or a column)."""
+        self.run.events.append((self.index, key, value))
+
+    def leaf(self) -> None:
+        """These shapes are leaves: each lot's is the prism of its footprint."""
+        run = self.run
+        run.leaves[self.index] += 1
+        if self.height is None:
+            self.give_up(np.ones(self.size, dtype=bool), "a flat footprint as a leaf")
+            return
+        run.kind[self.index] = 0
+        run.height[self.index] = self.height
 
     def geometry_value(self, node):
         if node.args or node.obj != "geometry":
@@ -302,176 +339,41 @@ class ShapeBatch:
             return area * self.height if self.height is not None else np.zeros(self.size)
         raise Unsupported(f"geometry.{node.field}()")
 
-    # ------------------------------------------------------------------ derivation
-    def derive(self, rule) -> None:
-        """Apply ``rule`` (a compiled rule of the program) and derive the successors."""
-        try:
-            if rule.arity or rule.node.local_variables:
-                raise Unsupported("a rule with parameters or local variables")
-            self._body(rule.node.body)
-        except Unsupported as exc:
-            self.give_up(np.ones(self.size, dtype=bool), str(exc))
-
-    def _body(self, body) -> None:
-        if isinstance(body, ast.Sequence):
-            self._sequence(body.items)
-        elif isinstance(body, ast.ConditionalBody):
-            self._conditional(body)
-        elif isinstance(body, ast.StochasticBody):
-            self._stochastic(body)
-        else:
-            raise Unsupported(f"a rule body {type(body).__name__}")
-
-    def _sequence(self, items) -> None:
-        successor = None
-        for item in items:
-            if isinstance(item, ast.Successor):
-                if successor is not None:
-                    raise Unsupported("two successors of one shape")
-                successor = (item, self._snapshot(), self.successor_streams())
-                self.children += 1
-            elif isinstance(item, ast.Set):
-                self._set(item)
-            elif isinstance(item, ast.Extrude):
-                self._extrude(item)
-            elif isinstance(item, ast.Report):
-                self._report(item)
-            elif isinstance(item, ast.Operation) and item.name == "color":
-                self._color(item)
-            else:
-                raise Unsupported(f"the operation {getattr(item, 'name', type(item).__name__)}")
-        if successor is None:
-            self._leaf()
-            return
-        node, (attrs, height), streams = successor
-        if node.args:
-            raise Unsupported("a successor with arguments")
-        rule = None if node.leaf else self.run.program.rules.get((node.name, 0))
-        if rule is None and not node.leaf and node.name in self.run.program.operations.arities:
-            raise Unsupported("a successor of another arity")
-        child = ShapeBatch(self.run, self.index, attrs, self.path + (0,), self.depth + 1)
-        child.height = height
-        child.streams = streams
-        if rule is None:
-            child._leaf()
-        else:
-            child.derive(rule)
-
-    def _snapshot(self):
-        return dict(self.attrs), self.height
-
-    def _leaf(self) -> None:
-        run = self.run
-        run.leaves[self.index] += 1
-        if self.height is None:
-            self.give_up(np.ones(self.size, dtype=bool), "a flat footprint as a leaf")
-            return
-        run.kind[self.index] = 0
-        run.height[self.index] = self.height
-
-    def _set(self, item: ast.Set) -> None:
-        if item.attribute not in self.run.program.attr_nodes:
-            raise Unsupported(f"set() of {item.attribute}")
-        value = self.run.expressions.value(item.value, self)
-        old = self.attrs[item.attribute]
-        if _kind(value) != _kind(old):
-            raise Unsupported("set() of a value of another type")
-        self.attrs = {**self.attrs, item.attribute: value}
-
-    def _extrude(self, item: ast.Extrude) -> None:
-        if self.height is not None:
-            raise Unsupported("extrude() of a 3D shape")
-        value = self.run.expressions.value(item.height, self)
-        if not (is_column(value) and value.dtype == np.float64) and type(value) is not float:
-            raise Unsupported("extrude() of a value that is not a number")
-        height = np.broadcast_to(np.asarray(value, dtype=float), (self.size,)).copy()
-        sizes = self.run.footprints.span[self.index]
-        self.give_up(
-            ~(np.isfinite(height) & (height > BATCH_DOUBT_REL * sizes)),
-            "an extrusion not clearly up",
-        )
-        self.height = height
-
-    def _report(self, item: ast.Report) -> None:
-        from shapegen.engine.expressions.arrays import format_value
-
-        key = self.run.expressions.value(item.key, self)
-        if is_column(key):
-            raise Unsupported("a report key that differs between shapes")
-        value = self.run.expressions.value(item.value, self)
-        self.run.events.append((self.index, format_value(key), value))
-
-    def _color(self, item: ast.Operation) -> None:
-        if len(item.arguments) != 1 or item.arguments[0].kind != "plain" or item.branches:
-            raise Unsupported("color() with other than one argument")
-        value = self.run.expressions.value(item.arguments[0].value, self)
-        if is_column(value) or not _hex_color(value):
-            raise Unsupported("color() of other than a #rrggbb string")
-
-    def _conditional(self, body: ast.ConditionalBody) -> None:
-        remaining = np.ones(self.size, dtype=bool)
-        for branch in body.branches:
-            if not remaining.any():
-                return
-            part = self._part(remaining)
-            test = self.run.expressions.value(branch.condition, part)
-            if _kind(test) is not bool:
-                raise Unsupported("a case condition that is not a boolean")
-            chosen = np.zeros(self.size, dtype=bool)
-            chosen[np.flatnonzero(remaining)] = np.broadcast_to(test, (part.size,))
-            if chosen.any():
-                self._branch(chosen, branch.body)
-            remaining &= ~chosen
-        if remaining.any():
-            self._branch(remaining, body.otherwise)
-
-    def _stochastic(self, body: ast.StochasticBody) -> None:
-        """random_streams.choice for every shape: one draw per branch tried, by the shapes
-        that reach it."""
-        remaining = np.ones(self.size, dtype=bool)
-        left = 1.0
-        for branch in body.branches:
-            if not remaining.any():
-                return
-            fraction = float(branch.percent) / 100.0
-            reach = np.flatnonzero(remaining)
-            chosen = np.zeros(self.size, dtype=bool)
-            chosen[reach] = self._part(remaining).draws() < random_streams.threshold(fraction, left)
-            if chosen.any():
-                self._branch(chosen, branch.body)
-            remaining &= ~chosen
-            left -= fraction
-        if remaining.any():
-            self._branch(remaining, body.otherwise)
-
-    def _part(self, mask: np.ndarray) -> ShapeBatch:
+    def part(self, mask: np.ndarray) -> ShapeBatch:
         """The shapes of ``mask``, with their state (their random streams go on where they are)."""
-        part = ShapeBatch(self.run, self.index[mask], {}, self.path, self.depth)
+        part = ShapeBatch(self.run, self.index[mask], {}, self.depth)
         part.attrs = {k: (v[mask] if is_column(v) else v) for k, v in self.attrs.items()}
         part.height = None if self.height is None else self.height[mask]
         part.children = self.children
         part.streams = self.streams  # the same shapes: their generators go on
         return part
 
-    def _branch(self, mask: np.ndarray, body) -> None:
-        part = self._part(mask)
+    def branch(self, mask: np.ndarray, body, out: list) -> None:
+        """The shapes of ``mask`` derived by ``body`` (a compiled body's batch form): a branch
+        of ``case`` or of a stochastic choice; shapes it cannot derive fall back alone."""
+        part = self.part(mask)
         try:
-            part._body(body)
+            body(part, out)
         except Unsupported as exc:
             part.give_up(np.ones(part.size, dtype=bool), str(exc))
 
 
-def _kind(value) -> type:
-    if is_column(value):
-        return bool if value.dtype == np.bool_ else float
-    return type(value)
-
-
-def _hex_color(value) -> bool:
-    if type(value) is not str or len(value) != 7 or value[0] != "#":
-        return False
-    try:
-        int(value[1:], 16)
-    except ValueError:
-        return False
-    return True
+def _derive(root: ShapeBatch, rule) -> None:
+    """Derive ``root`` from ``rule`` and every successor below, depth first as
+    :meth:`Program.derive <shapegen.engine.program.interpreter.Program.derive>` does, each rule
+    by the batch form of its compiled body."""
+    stack = [(root, rule)]
+    while stack:
+        batch, rule = stack.pop()
+        if rule is None:
+            batch.leaf()
+            continue
+        out: list = []
+        try:
+            if rule.arity or rule.node.local_variables:
+                raise Unsupported("a rule with parameters or local variables")
+            rule.body.batch(batch, out)
+        except Unsupported as exc:
+            batch.give_up(np.ones(batch.size, dtype=bool), str(exc))
+            continue
+        stack.extend(reversed(out))
