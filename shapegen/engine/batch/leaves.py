@@ -10,17 +10,13 @@ order and with the faces of the derivation's box blocks.
 
 from __future__ import annotations
 
-__all__ = ["BOX_FACES", "packed_leaves"]
+__all__ = ["packed_leaves"]
 
 import numpy as np
 
 from shapegen.engine.batch.lots import BOX, LotBatch
-
-BOX_FACES = ((0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (3, 2, 6, 7), (0, 3, 7, 4), (1, 5, 6, 2))
-_UNIT_BOX = np.array(
-    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
-    dtype=float,
-)
+from shapegen.engine.program.leaf_batches import BOX_LEAF_FACES  # the one-shape box leaves
+from shapegen.engine.shapes.boxes import FILLING
 
 
 def packed_leaves(batch: LotBatch, lots) -> dict[str, np.ndarray]:
@@ -61,7 +57,7 @@ def packed_leaves(batch: LotBatch, lots) -> dict[str, np.ndarray]:
         for where, size, faces in _prism_faces(np.flatnonzero(~box), footprints.sizes[prisms]):
             sizes_of[where], faces_of[where] = size, faces
     box_sizes = np.full(6, 4, dtype=np.int32)
-    box_faces = np.array(BOX_FACES, dtype=np.int32).ravel()
+    box_faces = np.array(BOX_LEAF_FACES, dtype=np.int32).ravel()
     for where in np.flatnonzero(box).tolist():
         sizes_of[where], faces_of[where] = box_sizes, box_faces
     face_sizes_parts = list(sizes_of)
@@ -106,7 +102,7 @@ def _box_corners(batch: LotBatch, lots: np.ndarray) -> np.ndarray:
     across = np.einsum("mkj,mj->mk", corners, z_axis)
     low_x, low_z = along.min(axis=1), across.min(axis=1)
     size_x, size_z = along.max(axis=1) - low_x, across.max(axis=1) - low_z
-    local = _UNIT_BOX[None] * np.stack([size_x, batch.height[lots], size_z], axis=1)[:, None]
+    local = FILLING.corners[None] * np.stack([size_x, batch.height[lots], size_z], axis=1)[:, None]
     local[:, :, 0] += low_x[:, None]
     local[:, :, 2] += low_z[:, None]
     # back to the city's (x, z): along x_axis and z_axis, y as it is

@@ -57,7 +57,12 @@ from shapegen.engine.program.attributes import (
     shown,
 )
 from shapegen.engine.program.held import derivation_held
-from shapegen.engine.program.leaf_batches import box_corners, geometry_leaves, rectangle_corners
+from shapegen.engine.program.leaf_batches import (
+    BOX_LEAF_FACES,
+    box_corners,
+    geometry_leaves,
+    rectangle_corners,
+)
 from shapegen.engine.shapes.shape import FACE, MASS, lot_scope, lot_shape
 from shapegen.errors import GeometryError, GrammarError
 from shapegen.geometry.convex import hole_free
@@ -74,9 +79,6 @@ from shapegen.model.scope import Scope
 from shapegen.tolerances import MIN_LEAF_SIZE
 
 _MIN_SIZE = MIN_LEAF_SIZE  # m; see shapegen.tolerances
-
-# The outward faces of a box leaf's corners (leaf_batches.box_corners; see Block.box).
-_BOX_FACES = ((0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (3, 2, 6, 7), (0, 3, 7, 4), (1, 5, 6, 2))
 
 
 class _Rule:
@@ -287,7 +289,7 @@ class Program:
                 blocks.append(
                     Block(
                         vertices,
-                        _BOX_FACES,
+                        BOX_LEAF_FACES,
                         density=density,
                         id=f"b{len(blocks)}",
                         tags=state.labels,

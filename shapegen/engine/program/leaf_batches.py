@@ -10,26 +10,36 @@ of them at once.
 
 from __future__ import annotations
 
-__all__ = ["box_corners", "geometry_leaves", "placed_meshes", "rectangle_corners"]
+__all__ = [
+    "BOX_LEAF_FACES",
+    "box_corners",
+    "geometry_leaves",
+    "placed_meshes",
+    "rectangle_corners",
+]
 
 import numpy as np
 
+from shapegen.engine.shapes.boxes import FILLING, RECTANGLES
 from shapegen.engine.shapes.shape import FACE, MASS
 from shapegen.geometry.convex import hole_free
 from shapegen.geometry.mesh import Mesh, area_vectors, corner_layout
 
-# The unit box's corners in Block.box's vertex order (the interpreter's box leaves).
-_UNIT_BOX = np.array(
-    [[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
-    dtype=float,
+BOX_LEAF_FACES = (
+    (0, 1, 2, 3),
+    (4, 7, 6, 5),
+    (0, 4, 5, 1),
+    (3, 2, 6, 7),
+    (0, 3, 7, 4),
+    (1, 5, 6, 2),
 )
+"""The outward faces of a box leaf's corners (:func:`box_corners`, the unit box of
+:data:`~shapegen.engine.shapes.boxes.FILLING` placed), as :meth:`Block.box
+<shapegen.model.block.Block.box>` gives them: bottom, top, -z, +z, -x, +x."""
+
 
 # The rectangle filling a flat scope, per flat axis, in Mesh.rectangle's corner order.
-_UNIT_RECTANGLES = {
-    0: np.array([[0, 0, 1], [0, 0, 0], [0, 1, 0], [0, 1, 1]], dtype=float),
-    1: np.array([[0, 0, 1], [1, 0, 1], [1, 0, 0], [0, 0, 0]], dtype=float),
-    2: np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float),
-}
+_UNIT_RECTANGLES = {axis: rectangle.corners for axis, rectangle in RECTANGLES.items()}
 # The two sides a rectangle flat along an axis spans.
 _SIDES = {0: (1, 2), 1: (0, 2), 2: (0, 1)}
 
@@ -46,7 +56,7 @@ def _placed(unit: np.ndarray, scopes: list) -> tuple[np.ndarray, np.ndarray]:
 
 def box_corners(scopes: list) -> np.ndarray:
     """The 8 world corners ``(n, 8, 3)`` (m) of the boxes filling ``scopes``."""
-    return _placed(_UNIT_BOX, scopes)[0]
+    return _placed(FILLING.corners, scopes)[0]
 
 
 def rectangle_corners(scopes: list, axis: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
