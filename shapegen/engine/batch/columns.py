@@ -72,7 +72,21 @@ class ColumnExpressions:
             return self._shared(node.operand, batch)
         if isinstance(node, ast.Binary):
             return self._shared(node.left, batch) and self._shared(node.right, batch)
-        return False
+        if isinstance(node, ast.ArrayLiteral):
+            return all(self._shared(item, batch) for row in node.rows for item in row)
+        if isinstance(node, ast.Colon):
+            parts = (node.start, node.step, node.stop)
+            return all(part is None or self._shared(part, batch) for part in parts)
+        if isinstance(node, ast.Index):
+            return self._shared(node.target, batch) and all(
+                self._shared(index, batch) for index in node.indices
+            )
+        if isinstance(node, ast.CaseExpression):
+            return self._shared(node.otherwise, batch) and all(
+                self._shared(b.condition, batch) and self._shared(b.value, batch)
+                for b in node.branches
+            )
+        return False  # a stochastic value draws from each shape's stream, and the others
 
     def _shared_value(self, node, batch):
         if isinstance(node, ast.Number):
