@@ -8,8 +8,9 @@ shapegen itself, never from this file:
 
 - an operation is *supported* when the interpreter compiles it (a compiler registered in
   :mod:`shapegen.engine.operations.registry`), *partial* when its compiler was registered with
-  what it does not honour (``@operation(name, partial=...)``), and *not supported* otherwise; the text a rule file gets when it loads
-is shown; - a function, a shape attribute or an annotation is probed: a rule file using it is loaded
+  what it does not honour (``@operation(name, partial=...)``), and *not supported* otherwise;
+  the text a rule file gets when it loads is shown;
+- a function, a shape attribute or an annotation is probed: a rule file using it is loaded
   (an expression in an ``attr``, compiled when the file loads) and is supported when it loads,
   partial when the code keeps a note of what differs (``PARTIAL_FUNCTIONS``,
   ``PARTIAL_ATTRIBUTES``, ``PARTIAL_GEOMETRY``), not supported when loading refuses it;
@@ -115,8 +116,10 @@ def _operation_refusal(name: str, low: int) -> str:
 
 
 def operation_status(name: str) -> tuple[str, str]:
-    import shapegen.engine.operations.compiler  # noqa: F401 (registers every operation)
     from shapegen.engine.operations import registry
+    from shapegen.engine.operations.cga import register_all
+
+    register_all()  # every operation registered
     from shapegen.grammar.names import CGA_OPERATIONS, OPERATIONS
 
     dedicated = set(OPERATIONS) | {"NIL", "push", "pop"}

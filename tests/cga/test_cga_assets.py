@@ -14,13 +14,16 @@ from fbx_files import write_block_fbx
 
 import shapegen
 from shapegen.engine.derivation.state import Derivation, root_state
-from shapegen.engine.operations.registry import compiler_for
+from shapegen.engine.operations.cga import register_all
 from shapegen.engine.operations.cga.assets import fitted, is_asset_name, primitive_mesh
+from shapegen.engine.operations.registry import compiler_for
 from shapegen.engine.shapes.shape import MASS, Shape
 from shapegen.errors import GrammarError
 from shapegen.geometry.mesh import Mesh
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
+
+register_all()  # every operation registered, whether a rule named it yet or not
 
 
 @pytest.fixture

@@ -27,9 +27,12 @@ from collections.abc import Mapping
 
 import numpy as np
 
-# each of these registers its operations (the registry's one-shape and batch forms)
-import shapegen.engine.operations.cga  # noqa: F401
+# each of these registers its operations (the registry's one-shape and batch forms): those of
+# the parser's own nodes here, the others when a rule first names one (cga.register_all)
+import shapegen.engine.operations.cga.extrusion  # noqa: F401
 import shapegen.engine.operations.cga.splitting  # noqa: F401
+import shapegen.engine.operations.cga.topology  # noqa: F401
+import shapegen.engine.operations.cga.transforms  # noqa: F401
 import shapegen.engine.operations.rule_items  # noqa: F401
 import shapegen.engine.operations.template_primitives  # noqa: F401
 from shapegen.engine.derivation.cga_errors import carrying_on
@@ -37,6 +40,7 @@ from shapegen.engine.derivation.finite import checked_operation, finite_paramete
 from shapegen.engine.derivation.random_streams import choice, draw
 from shapegen.engine.derivation.state import Operation
 from shapegen.engine.expressions.compiler import ExpressionCompiler, type_name
+from shapegen.engine.operations.cga import register_all
 from shapegen.engine.operations.hole_guard import keeps_holes, refusing_holes
 from shapegen.engine.operations.registry import Unsupported, forms_of, value_kind
 from shapegen.errors import GrammarError, OperationError
@@ -132,6 +136,9 @@ class OperationCompiler:
         """The operation of one item of a body, through the registry: its one-shape form
         wrapped in the checks every operation gets, and its batch form."""
         forms = forms_of(node)
+        if forms is None:
+            register_all()
+            forms = forms_of(node)
         if forms is None:
             if isinstance(node, ast.Operation):
                 raise self.error(

@@ -39,7 +39,13 @@ from shapegen.engine.derivation.finite import finite_parameter
 from shapegen.engine.expressions.arrays import Array, format_value, type_name
 from shapegen.engine.expressions.shape_attributes import material_alias
 from shapegen.engine.operations.cga.arguments import plain_arguments, typed
-from shapegen.engine.operations.registry import Unsupported, batch_form, is_column, operation, warn_at
+from shapegen.engine.operations.registry import (
+    Unsupported,
+    batch_form,
+    is_column,
+    operation,
+    warn_at,
+)
 from shapegen.errors import did_you_mean
 from shapegen.grammar import ast
 from shapegen.model.appearance import (
