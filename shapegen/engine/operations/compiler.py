@@ -150,9 +150,14 @@ class OperationCompiler:
             operation = refusing_holes(operation, node, self)
         if self.cga_dialect and not isinstance(node, _CANNOT_FAIL):
             operation = carrying_on(operation, node, self)  # CityEngine records a CGA error
-        if hasattr(operation, "batch"):  # a closure shared by nodes: one of its own each
+        batch = self._batch_item(forms, node, params)
+        try:
+            if hasattr(operation, "batch"):  # a closure shared by nodes
+                raise AttributeError
+            operation.batch = batch
+        except AttributeError:  # one of its own for this node, to carry its batch form
             operation = _own(operation)
-        operation.batch = self._batch_item(forms, node, params)
+            operation.batch = batch
         return operation
 
     def _batch_item(self, forms, node, params):
