@@ -4,9 +4,10 @@ batch (a number, a string, a boolean) or a numpy column with one entry per shape
 A part of an expression that reads nothing that differs between the shapes (literals, attrs
 with one value, builtins, arrays, indices and ``case`` values of those) is evaluated once by
 the engine's own compiled expression, so it means exactly what it means one shape at a time
-(CGA's string concatenation and number formatting included). What differs between shapes is computed on columns: ``geometry.area()``
-and ``geometry.volume()``, ``rand`` drawn from each shape's own stream, attrs ``set`` from
-those, and ``+ - * /``, comparisons, ``! - && ||`` on them. Anything else raises
+(CGA's string concatenation and number formatting included). What differs between shapes is
+computed on columns: ``geometry.area()`` and ``geometry.volume()``, ``rand`` drawn from each
+shape's own stream, attrs ``set`` from those, and ``+ - * /``, comparisons, ``! - && ||`` on
+them. Anything else raises
 :class:`~shapegen.engine.operations.registry.Unsupported`: those shapes are derived one at
 a time.
 """
