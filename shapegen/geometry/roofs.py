@@ -123,8 +123,18 @@ class _Welder:
         )
 
 
-def _bottom(welder: _Welder, polygon: np.ndarray, tag: str) -> None:
-    welder.face([(x, y, 0.0) for x, y in polygon[::-1]], tag)
+def _bottom(welder: _Welder, polygon: np.ndarray, tag: str, holes=()) -> None:
+    welder.face([(x, y, 0.0) for x, y in polygon[::-1]], tag,
+                [[(x, y, 0.0) for x, y in ring[::-1]] for ring in holes])  # fmt: skip
+
+
+def _rings(holes) -> list[np.ndarray]:
+    """A face's holes as clockwise ``(k, 2)`` rings (m)."""
+    out = []
+    for ring in holes:
+        ring = np.asarray(ring, dtype=float).reshape(-1, 2)
+        out.append(ring[::-1] if signed_area(ring) > 0 else ring)
+    return out
 
 
 def _slope(angle: float | None, height: float | None, reach: float) -> float:
@@ -147,14 +157,17 @@ def _skeleton_roof(
     drop: float,
     even: bool,
     side_tags: list[str],
+    holes: list[np.ndarray] = (),
 ) -> RoofMesh:
     eaves = polygon
+    if holes and np.any(grow):
+        raise GeometryError("a roof overhang on a face with holes is not supported")
     if np.any(grow):  # overhangs (negative ones set the eaves in)
         eaves = edges_moved_out(polygon, grow)
         turned = np.einsum("ij,ij->i", edge_normals(eaves), edge_normals(polygon)) < 0
         if signed_area(eaves) <= 0 or np.any(turned) or not _simple(eaves):
             raise GeometryError("the roof's negative overhang is larger than the face")
-    skeleton = straight_skeleton(eaves, weights=weights)
+    skeleton = straight_skeleton(eaves, weights=weights, holes=holes)
     slope = _slope(angle, height, float(skeleton.times.max()))
     times = skeleton.times
     if even:  # every ridge node at the average ridge height (non-planar faces, as CityEngine)
@@ -169,8 +182,8 @@ def _skeleton_roof(
     if gables and eaves is not polygon:
         plain = straight_skeleton(polygon, weights=weights)
     welder = _Welder(float(np.ptp(eaves, axis=0).max()))
-    _bottom(welder, polygon, "roof.bottom")
-    for k in range(len(eaves)):
+    _bottom(welder, polygon, "roof.bottom", holes)
+    for k in range(len(skeleton.faces)):
         if plain is not None and k in gables:
             ids = list(plain.faces[k])
             points = np.column_stack([plain.nodes[ids], plain.times[ids] * slope])
@@ -188,17 +201,22 @@ def roof_hip(
     height: float | None = None,
     overhang: float = 0.0,
     even: bool = False,
+    holes=(),
 ) -> RoofMesh:
     """A hip roof: a plane at ``angle`` (degrees) on every edge, meeting along the skeleton.
 
     ``height`` (m) instead of ``angle`` gives the highest ridge that height. ``overhang`` (m,
     measured on the roof plane) extends the roof faces beyond the edges and below the face.
+    ``holes`` (rings inside the polygon) stay holes of the bottom, and their edges carry roof
+    planes too, after the outline's (the straight skeleton of the polygon with its holes), as
+    CityEngine's runtime builds them (tests/data/prt_roofs.json).
     """
     p = checked_polygon(polygon)
+    rings = _rings(holes)
     grow, drop = _overhang(angle, height, overhang)
-    n = len(p)
+    n = len(p) + sum(map(len, rings))
     return _skeleton_roof(
-        p, np.ones(n), angle, height, np.full(n, grow), drop, even, ["roof.top"] * n
+        p, np.ones(n), angle, height, np.full(n, grow), drop, even, ["roof.top"] * n, rings
     )
 
 
@@ -247,14 +265,20 @@ def roof_gable(
     overhang_y: float = 0.0,
     even: bool = False,
     index: int | None = None,
+    holes=(),
 ) -> RoofMesh:
     """A gable roof: planes at ``angle`` (degrees) on the eaves, vertical gables on the ends.
 
     ``overhang_x`` (m, on the roof plane) extends the roof faces beyond the eaves,
     ``overhang_y`` (m) beyond the gables (negative: short of them); the gables stay on the
     face's edges. ``index`` makes the edges parallel to that edge the gables (convex faces
-    only, as CityEngine).
+    only, as CityEngine). On a face with ``holes`` CityEngine's runtime makes no gables: the
+    roof is :func:`roof_hip`'s (tests/data/prt_roofs.json, every lot and angle).
     """
+    if len(holes):
+        if overhang_y != overhang_x:
+            raise GeometryError("a gable roof's overhangs on a face with holes are not supported")
+        return roof_hip(polygon, angle, height=height, overhang=overhang_x, even=even, holes=holes)
     p = checked_polygon(polygon)
     if index is not None and not _convex(p):
         index = None  # CityEngine uses the index on convex faces only
@@ -334,11 +358,14 @@ def _apex_roof(p: np.ndarray, apex: np.ndarray, rise: float, bottom: str, side: 
 def roof_pyramid(polygon, angle: float | None = None, *, height: float | None = None):
     """A pyramid roof: the vertex average raised and joined to every edge.
 
-    By angle (degrees), the first roof triangle makes that angle with the face.
+    By angle (degrees), the line from the first edge's midpoint to the apex makes that angle
+    with the face, as CityEngine's runtime has it: on an L the apex is not square to the first
+    edge's middle (tests/data/prt_roofs.json, the L with a courtyard: 3.8538 m at 30 degrees,
+    6.675 m from the midpoint, not 6.667 m from the edge's line).
     """
     p = checked_polygon(polygon)
     apex = p.mean(axis=0)
-    reach = float((apex - p[0]) @ -edge_normals(p)[0])
+    reach = float(np.linalg.norm(apex - 0.5 * (p[0] + p[1])))
     rise = height if height is not None else _slope(angle, None, reach) * reach
     return _apex_roof(p, apex, float(rise), "roof.bottom", "roof.top")
 
@@ -408,15 +435,23 @@ def envelope(polygon, max_height: float, base_heights, angles) -> RoofMesh:
     return welder.mesh()
 
 
-def roof_ridge(polygon, angle: float | None = None, *, height: float | None = None) -> RoofMesh:
+def roof_ridge(
+    polygon, angle: float | None = None, *, height: float | None = None, holes=()
+) -> RoofMesh:
     """CGA's ``roofRidge``: one ridge parallel to the x axis (the scope's x in the face's
     plane), halfway across the face; two planes at ``angle`` (degrees) rise to it from the
     face's extreme lines across x, and the outline is lifted onto them over vertical sides
-    (``roof.side.outer``). ``height`` (m) instead of ``angle`` is the ridge's height."""
+    (``roof.side.outer``). ``height`` (m) instead of ``angle`` is the ridge's height.
+
+    ``holes`` (rings inside the polygon) stay holes of the bottom and get vertical sides of
+    their own (``roof.side.inner``, op_roofRidge); the roof planes are cut by them, a hole
+    across the ridge line leaving a notch in each, as CityEngine's runtime builds them
+    (tests/data/prt_roofs.json)."""
     import shapely
     from shapely.geometry import Polygon
 
     p = checked_polygon(polygon)
+    rings = _rings(holes)
     low, high = float(p[:, 1].min()), float(p[:, 1].max())
     middle = 0.5 * (low + high)
     slope = _slope(angle, height, middle - low)
@@ -424,29 +459,45 @@ def roof_ridge(polygon, angle: float | None = None, *, height: float | None = No
     def rise(y):
         return slope * np.minimum(np.asarray(y) - low, high - np.asarray(y))
 
-    # The outline with a vertex wherever it crosses the ridge line.
-    outline = []
-    for k in range(len(p)):
-        a, b = p[k], p[(k + 1) % len(p)]
-        outline.append(a)
+    def side(a: np.ndarray, b: np.ndarray) -> list:
+        """The side over the edge from ``a`` to ``b``: up at ``b``, back along the roof (over
+        the ridge where the edge crosses it) and down at ``a``."""
+        top = [b, a]
         if (a[1] - middle) * (b[1] - middle) < 0:
-            outline.append(a + (b - a) * (middle - a[1]) / (b[1] - a[1]))
-    outline = np.array(outline)
+            top.insert(1, a + (b - a) * (middle - a[1]) / (b[1] - a[1]))
+        return [(*a, 0.0), (*b, 0.0), *((*q, float(rise(q[1]))) for q in top)]
+
+    # the bottom keeps the face's own corners; each side is one face over its edge, with a
+    # corner where it crosses the ridge line, a side of no height left out (PyPRT's sides: a
+    # triangle over an edge from eave to eave, a pentagon over a hole's edge across the ridge)
     welder = _Welder(float(np.ptp(p, axis=0).max()))
-    _bottom(welder, outline, "roof.bottom")  # with the ridge crossings, so the mesh closes
-    h = rise(outline[:, 1])
-    for k in range(len(outline)):
-        a, b = outline[k], outline[(k + 1) % len(outline)]
-        ha, hb = h[k], h[(k + 1) % len(outline)]
-        welder.face([(*a, 0.0), (*b, 0.0), (*b, hb), (*a, ha)], "roof.side.outer")
-    face = Polygon(outline)
+    _bottom(welder, p, "roof.bottom", rings)
+    for ring, tag in [(p, "roof.side.outer"), *((r, "roof.side.inner") for r in rings)]:
+        for k in range(len(ring)):
+            welder.face(side(ring[k], ring[(k + 1) % len(ring)]), tag)
+    # The roof planes: the face cut along the ridge line. A hole across the line leaves a notch
+    # in each plane; one that does not cross it (touching it or not) stays a hole of the plane
+    # on its side, as PyPRT keeps the hole on the ridge of the lot hole_on_ridge.
+    eps = DEFAULT.merge_rel * max(float(np.ptp(p, axis=0).max()), DIVISION_FLOOR)
+    across = [r for r in rings if r[:, 1].min() < middle - eps and r[:, 1].max() > middle + eps]
+    aside = [r for r in rings if not any(r is c for c in across)]
+    face = Polygon(p, [r[::-1] for r in across])
     far = 2 * float(np.abs(p).max()) + 1
-    for half in (shapely.box(-far, -far, far, middle), shapely.box(-far, middle, far, far)):
+    lower = [r for r in aside if r[:, 1].max() <= middle + eps]
+    upper = [r for r in aside if r[:, 1].max() > middle + eps]
+    halves = (shapely.box(-far, -far, far, middle), shapely.box(-far, middle, far, far))
+    for half, inside in zip(halves, (lower, upper), strict=True):
         part = face.intersection(half)
         for piece in getattr(part, "geoms", [part]):
             if isinstance(piece, Polygon) and piece.area > 0:
                 ring = np.asarray(piece.exterior.coords)[:-1]
                 if signed_area(ring) < 0:
                     ring = ring[::-1]
-                welder.face(np.column_stack([ring, rise(ring[:, 1])]), "roof.top")
+                cut = _rings(np.asarray(r.coords)[:-1] for r in piece.interiors)
+                cut += [r for r in inside if piece.covers(shapely.Point(r.mean(axis=0)))]
+                welder.face(
+                    np.column_stack([ring, rise(ring[:, 1])]),
+                    "roof.top",
+                    [np.column_stack([r, rise(r[:, 1])]) for r in cut],
+                )
     return welder.mesh()

@@ -1,4 +1,4 @@
-"""The weighted straight skeleton of a simple polygon, by simulating its shrinking wavefront.
+"""The weighted straight skeleton of a polygon (with holes), by simulating its wavefront.
 
 Every edge of the polygon moves inward, parallel to itself, at its own speed (its weight: 1 for
 an ordinary roof plane or offset, 0 for an edge that stays put, such as a gable). The polygon's
@@ -9,6 +9,11 @@ edge ``k`` is its face. A point's time ``t`` is when the wavefront reaches it, s
 the skeleton lifted to ``z = t tan(angle)``, an inward offset by ``d`` is the wavefront at
 ``t = d``, and a setback by per-edge distances ``d_k`` is the wavefront at ``t = 1`` with
 weights ``d_k`` (Aichholzer et al. 1995; Eppstein and Erickson 1999 for the weighted form).
+
+A polygon with holes starts with one wavefront loop per ring, the holes' rings clockwise so that
+every edge moves into the material. They move together, in one time: a reflex vertex of one
+loop that reaches an edge of another joins the two loops into one (the wavefront of an annulus
+becomes a simple loop), and once a single loop is left it runs as a simple polygon's does.
 
 The simulation is exact arithmetic's algorithm in floating point: simultaneous events (a
 rectangle's two ends, a square's four corners, the arms of an L) are taken one after another at
@@ -41,8 +46,8 @@ class Skeleton:
         ``(m,)`` when the wavefront reached each node (the polygon's units over weight units).
     faces
         One per input edge ``k``: node indices counter-clockwise, starting with the edge's
-        start vertex ``k`` and ending with its end vertex ``k + 1``. With a stop time, a face
-        also runs along the front.
+        start vertex ``k`` and ending with its end vertex (``k + 1``, or the next vertex of
+        its hole's ring). With a stop time, a face also runs along the front.
     fronts
         With a stop time: the wavefront then, as node-index loops counter-clockwise (empty
         where the polygon has shrunk away); without one, ``()``.
@@ -103,10 +108,11 @@ class _Vertex:
 
 
 class _Builder:
-    def __init__(self, polygon: np.ndarray, weights: np.ndarray):
+    def __init__(self, polygon: np.ndarray, weights: np.ndarray, following: np.ndarray):
         self.polygon = polygon
+        self.following = following  # the next vertex of each vertex's ring
         n = len(polygon)
-        direction = np.roll(polygon, -1, axis=0) - polygon
+        direction = polygon[following] - polygon
         length = np.linalg.norm(direction, axis=1)
         if np.any(length <= 0):
             raise GeometryError("the polygon has a repeated vertex")
@@ -206,14 +212,16 @@ class _Builder:
         del loop[i]
         return loop
 
-    def next_event(self, loop: list[_Vertex], velocity: np.ndarray):
+    def next_event(self, loop: list[_Vertex], velocity: np.ndarray, after=None):
         """The earliest event of ``loop``: ``(dt, kind, i, j)`` or None. An edge event wins a
-        tie; among split events the first reflex vertex, then the first edge."""
+        tie; among split events the first reflex vertex, then the first edge. ``after``: the
+        vertex after each (several loops laid end to end); by default the loop's next."""
         m = len(loop)
         pos = np.array([v.pos for v in loop])
         e_out = np.array([v.e_out for v in loop])
         e_in = np.array([v.e_in for v in loop])
-        after = np.roll(np.arange(m), -1)
+        if after is None:
+            after = np.roll(np.arange(m), -1)
         u = self.u[e_out]
         rate = np.einsum("ij,ij->i", velocity[after] - velocity, u)
         length = np.maximum(np.einsum("ij,ij->i", pos[after] - pos, u), 0.0)
@@ -236,7 +244,7 @@ class _Builder:
         rows = reflex[:, None]
         valid = (
             (j != rows)
-            & (j != (rows - 1) % m)
+            & (after[None, :] != rows)
             & (e_out[None, :] != e_in[rows])
             & (e_out[None, :] != e_out[rows])
             & (gap >= -self.eps)
@@ -288,9 +296,90 @@ class _Builder:
             self.end(b, nb)
             self.arcs.append((na, nb, a.e_out, b.e_out))
 
-    def run(self, loop: list[_Vertex], until: float | None) -> list[list[int]]:
+    def joined(self, a: list[_Vertex], i: int, b: list[_Vertex], j: int, t: float):
+        """Loop ``a``'s reflex vertex ``i`` reaching loop ``b``'s edge ``j`` (from its vertex
+        ``j`` to the next): one loop, from the vertex round ``a`` and then round ``b``."""
+        vertex = a[i]
+        e = b[j].e_out
+        node = self.node(vertex.pos, t)
+        self.end(vertex, node)
+        return [
+            _Vertex(node, vertex.pos, e, vertex.e_out),
+            *a[i + 1 :],
+            *a[:i],
+            _Vertex(node, vertex.pos, vertex.e_in, e),
+            *b[j + 1 :],
+            *b[: j + 1],
+        ]
+
+    def _front(self, loop, velocity, dt: float, t: float) -> list[int]:
+        front = []
+        for vertex, v in zip(loop, velocity, strict=True):
+            node = self.node(vertex.pos + dt * v, t)
+            self.end(vertex, node)
+            front.append(node)
+        for k, node in enumerate(front):
+            self.arcs.append((node, front[(k + 1) % len(front)], loop[k].e_out, -1))
+        first = min(range(len(loop)), key=lambda k: loop[k].e_out)
+        return front[first:] + front[:first]
+
+    def run_together(self, loops: list[list[_Vertex]], until: float | None):
+        """Several loops (a polygon's outline and its holes) moving in one time until one is
+        left: ``(loop, t)`` to go on with as a simple polygon's, or None, and the fronts."""
+        t = 0.0
         fronts = []
-        stack = [(loop, 0.0)]
+        guard = 0
+        while True:
+            check_clock()
+            guard += 1
+            if guard > 100 * len(self.polygon) ** 2 + 1000:
+                raise GeometryError("the straight skeleton did not converge")
+            kept = []
+            for loop in loops:
+                loop = self.cleanup(loop, t)
+                if len(loop) <= 2:
+                    self.finish(loop, t)
+                else:
+                    kept.append(loop)
+            loops = kept
+            if len(loops) <= 1:
+                return (loops[0], t) if loops else None, fronts
+            flat = [v for loop in loops for v in loop]
+            starts = np.cumsum([0] + [len(loop) for loop in loops])
+            after = np.concatenate(
+                [np.roll(np.arange(a, b), -1) for a, b in zip(starts[:-1], starts[1:], strict=True)]
+            )
+            velocity = np.array([self.velocity(v) for v in flat]).reshape(-1, 2)
+            event = self.next_event(flat, velocity, after)
+            stop = until is not None and (event is None or t + event[0] > until)
+            if event is None or stop:
+                dt = (until - t) if stop else 0.0
+                t += dt
+                for a, b in zip(starts[:-1], starts[1:], strict=True):
+                    fronts.append(self._front(flat[a:b], velocity[a:b], dt, t))
+                return None, fronts
+            dt, kind, i, j = event
+            t += dt
+            for vertex, v in zip(flat, velocity, strict=True):
+                vertex.pos = vertex.pos + dt * v
+            li = int(np.searchsorted(starts, i, side="right")) - 1
+            lj = int(np.searchsorted(starts, j, side="right")) - 1
+            i, j = i - int(starts[li]), j - int(starts[lj])
+            rest = [loop for k, loop in enumerate(loops) if k not in (li, lj)]
+            if kind == "edge":
+                loops = [*rest, self.merge(loops[li], i, t)]
+            elif li == lj:
+                loops = [*rest, *self.split(loops[li], i, j, t)]
+            else:
+                loops = [*rest, self.joined(loops[li], i, loops[lj], j, t)]
+
+    def run(self, loop, until: float | None) -> list[list[int]]:
+        fronts = []
+        if loop and isinstance(loop[0], list):  # the loops of a polygon with holes
+            single, fronts = self.run_together(loop, until)
+            stack = [single] if single is not None else []
+        else:
+            stack = [(loop, 0.0)]
         guard = 0
         while stack:
             loop, t = stack.pop()
@@ -309,15 +398,7 @@ class _Builder:
                 if event is None or stop:
                     dt = (until - t) if stop else 0.0
                     t += dt
-                    front = []
-                    for vertex, v in zip(loop, velocity, strict=True):
-                        node = self.node(vertex.pos + dt * v, t)
-                        self.end(vertex, node)
-                        front.append(node)
-                    for k, node in enumerate(front):
-                        self.arcs.append((node, front[(k + 1) % len(front)], loop[k].e_out, -1))
-                    first = min(range(len(loop)), key=lambda k: loop[k].e_out)
-                    fronts.append(front[first:] + front[:first])
+                    fronts.append(self._front(loop, velocity, dt, t))
                     break
                 dt, kind, i, j = event
                 t += dt
@@ -341,7 +422,7 @@ class _Builder:
                     by_side[side].append((a, b))
         out = []
         for k in range(n):
-            start, goal = k, (k + 1) % n
+            start, goal = k, int(self.following[k])
             unused = list(by_side[k])
             path = [start]
             current = start
@@ -355,22 +436,27 @@ class _Builder:
                 else:
                     raise GeometryError(f"the straight skeleton's face {k} is not closed")
             # The walk runs k -> interior -> k + 1; counter-clockwise the face is the edge
-            # k -> k + 1 and then the interior back.
+            # k -> k + 1 and then the interior back (so too on a clockwise hole's edge).
             out.append((k, goal, *reversed(path[1:-1])))
         return out
 
 
-def straight_skeleton(polygon, weights=None, until: float | None = None) -> Skeleton:
-    """The (weighted) straight skeleton of a simple polygon, or its part swept until a time.
+def straight_skeleton(polygon, weights=None, until: float | None = None, holes=()) -> Skeleton:
+    """The (weighted) straight skeleton of a polygon, or its part swept until a time.
 
     Parameters
     ----------
     polygon
-        ``(n, 2)`` vertices, counter-clockwise, no repeated vertex, no holes.
+        ``(n, 2)`` vertices, counter-clockwise, no repeated vertex.
     weights
-        ``(n,)`` speed of each edge ``k`` (from vertex ``k`` to ``k + 1``), >= 0; default 1.
+        Speed of each edge ``k`` (from vertex ``k`` to ``k + 1``), >= 0; default 1. With
+        holes, one per edge of the outline and then of each hole in turn.
     until
         Stop the wavefront at this time and return it as :attr:`Skeleton.fronts`.
+    holes
+        Clockwise rings inside the polygon, disjoint. Their vertices follow the polygon's in
+        :attr:`Skeleton.nodes` (and their edges its edges in :attr:`Skeleton.faces`), ring by
+        ring.
 
     Raises
     ------
@@ -378,9 +464,19 @@ def straight_skeleton(polygon, weights=None, until: float | None = None) -> Skel
         A degenerate polygon (repeated vertices) or one the simulation cannot resolve.
     """
     polygon = np.asarray(polygon, dtype=float).reshape(-1, 2)
+    if len(polygon) < 3:
+        raise GeometryError(f"a polygon needs at least 3 vertices, got {len(polygon)}")
+    rings = [polygon] + [np.asarray(h, dtype=float).reshape(-1, 2) for h in holes]
+    if any(len(r) < 3 for r in rings):
+        raise GeometryError("a hole needs at least 3 vertices")
+    starts = np.cumsum([0] + [len(r) for r in rings])
+    following = np.concatenate(
+        [np.roll(np.arange(a, b), -1) for a, b in zip(starts[:-1], starts[1:], strict=True)]
+    )
+    before = np.empty_like(following)
+    before[following] = np.arange(len(following))
+    polygon = np.concatenate(rings)
     n = len(polygon)
-    if n < 3:
-        raise GeometryError(f"a polygon needs at least 3 vertices, got {n}")
     limits = current_limits()
     if n > limits.max_skeleton_corners:
         raise GeometryError(
@@ -391,21 +487,24 @@ def straight_skeleton(polygon, weights=None, until: float | None = None) -> Skel
     weights = np.ones(n) if weights is None else np.asarray(weights, dtype=float).reshape(n)
     if np.any(weights < 0) or not np.all(np.isfinite(weights)):
         raise GeometryError("straight skeleton weights must be finite and >= 0")
-    builder = _Builder(polygon, weights)
-    loop = []
-    for k in range(n):
-        a = (k - 1) % n
-        ua, ub = builder.u[a], builder.u[k]
-        collinear = abs(ua[0] * ub[1] - ua[1] * ub[0]) <= ROUNDOFF_REL and ua @ ub > 0
-        if collinear and weights[a] != weights[k]:
-            # The faster edge runs ahead: a step grows between them along the inward normal.
-            inward = builder.normal[k] * np.sign(weights[k] - weights[a])
-            wall = builder.add_wall(polygon[k], inward)
-            loop.append(_Vertex(k, polygon[k].copy(), a, wall))
-            loop.append(_Vertex(k, polygon[k].copy(), wall, k))
-        else:
-            loop.append(_Vertex(k, polygon[k].copy(), a, k))
-    fronts = builder.run(loop, until)
+    builder = _Builder(polygon, weights, following)
+    loops = []
+    for a_start, b_end in zip(starts[:-1], starts[1:], strict=True):
+        loop = []
+        for k in range(a_start, b_end):
+            a = int(before[k])
+            ua, ub = builder.u[a], builder.u[k]
+            collinear = abs(ua[0] * ub[1] - ua[1] * ub[0]) <= ROUNDOFF_REL and ua @ ub > 0
+            if collinear and weights[a] != weights[k]:
+                # The faster edge runs ahead: a step grows between them along the inward normal.
+                inward = builder.normal[k] * np.sign(weights[k] - weights[a])
+                wall = builder.add_wall(polygon[k], inward)
+                loop.append(_Vertex(k, polygon[k].copy(), a, wall))
+                loop.append(_Vertex(k, polygon[k].copy(), wall, k))
+            else:
+                loop.append(_Vertex(k, polygon[k].copy(), a, k))
+        loops.append(loop)
+    fronts = builder.run(loops[0] if len(loops) == 1 else loops, until)
     faces = builder.faces()
     return Skeleton(
         np.array(builder.nodes),

@@ -161,9 +161,10 @@ def compile_roof(program, node: ast.Operation, params):
             faces = face_frames(state.shape)
         else:
             faces = flat_faces(state, node, program, f"{node.name}()")
-        # a shed keeps a face's holes; roofPyramid builds on the outer ring, as CityEngine's
-        # runtime does; the other roofs refuse a shape with holes (engine/operations/compiler)
-        rings = face_holes(state.shape) if node.name == "roofShed" else [()] * len(faces)
+        # roofShed, roofHip, roofGable and roofRidge keep a face's holes; roofPyramid builds on
+        # the outer ring, as CityEngine's runtime does (tests/data/prt_roofs.json)
+        keeps = node.name != "roofPyramid"
+        rings = face_holes(state.shape) if keeps else [()] * len(faces)
         for (frame, polygon), holes in zip(faces, rings, strict=True):
             check_clock()
             if len(holes):
