@@ -214,3 +214,55 @@ def test_roof_ridge():
     # volume: the L's two arms under the two planes (heights y and 10 - y, ridge y = 5)
     expected = 10 * 4 * 2 + 4 * (1 / 2) * (4 + 5) * 1 + 4 * 5 * 5 / 2
     assert ridge.volume() == pytest.approx(expected)
+
+
+# A polygon's straight skeleton with holes, by its defining property: every point of edge k's
+# face is reached by the wavefront of edge k when it lies as far from k's line as its time
+# (weights 1), and the faces tile the polygon less its holes.
+HOLED = {
+    # a square ring 3 m wide all round: every face a trapezoid up to t = 1.5 m
+    "square ring": ([(0, 0), (10, 0), (10, 10), (0, 10)], [[(3, 3), (3, 7), (7, 7), (7, 3)]], 1.5),
+    # 12 x 8 m with a 4 x 2 m courtyard: 4 m beside it (t = 2), 3 m before and behind it
+    "courtyard": ([(0, 0), (12, 0), (12, 8), (0, 8)], [[(4, 3), (4, 5), (8, 5), (8, 3)]], 2.0),
+    # two courtyards, the wavefronts of the holes meeting between them
+    "two holes": (
+        [(0, 0), (20, 0), (20, 10), (0, 10)],
+        [[(3, 3), (3, 7), (7, 7), (7, 3)], [(12, 4), (12, 6), (16, 6), (16, 4)]],
+        None,
+    ),
+}
+
+
+@pytest.mark.parametrize("name", HOLED)
+def test_the_straight_skeleton_of_a_polygon_with_holes(name):
+    from shapegen.geometry.skeleton import straight_skeleton
+
+    outline, holes, highest = HOLED[name]
+    rings = [np.array(outline, float)] + [np.array(h, float) for h in holes]
+    skeleton = straight_skeleton(rings[0], holes=rings[1:])
+    edges = [(r[k], r[(k + 1) % len(r)]) for r in rings for k in range(len(r))]
+    assert len(skeleton.faces) == len(edges)
+    total = 0.0
+    for k, (a, b) in enumerate(edges):
+        xyt = skeleton.face_xyt(k)
+        u = (b - a) / np.linalg.norm(b - a)
+        inward = np.array([-u[1], u[0]])
+        assert (xyt[:, :2] - a) @ inward == pytest.approx(xyt[:, 2], abs=1e-9)
+        assert np.allclose(xyt[:2, :2], [a, b])  # the face starts with its edge
+        total += signed_area(xyt[:, :2])
+    area = signed_area(rings[0]) + sum(signed_area(h) for h in rings[1:])
+    assert total == pytest.approx(area)
+    if highest is not None:
+        assert skeleton.times.max() == pytest.approx(highest)
+
+
+def test_a_hip_roof_keeps_the_holes_and_a_gable_roof_on_them_is_a_hip_roof():
+    outline, holes, _ = HOLED["courtyard"]
+    hip = R.roof_hip(outline, 30, holes=holes)
+    # the bottom keeps its hole; a roof face on each of the 4 + 4 edges
+    assert hip.holes[0] and len(hip.holes[0][0]) == 4 and len(hip.faces) == 9
+    assert hip.volume() == pytest.approx(43.782395, abs=1e-6)  # tests/data/prt_holes.json
+    gable = R.roof_gable(outline, 30, holes=holes)
+    assert np.allclose(gable.vertices, hip.vertices) and gable.faces == hip.faces
+    with pytest.raises(GeometryError, match="overhang on a face with holes"):
+        R.roof_hip(outline, 30, overhang=1, holes=holes)
