@@ -3,15 +3,15 @@
 
 As tools/prt_setback.py does, the corpus's ``FacesHolesVerticesrule`` package has its start rule
 (``Footprint``) rewritten, here into one roof operation (``roofHip(30)``,
-``roofRidge(@RoofValueType.byAngle, 30)``: numbers, or ``@Class.FIELD`` for a constant of the
-runtime's enum ``com.esri.gc.Class``) followed by reports of the roof's ``geometry.nVertices``,
-``nFaces``, ``nHoles``, ``area``, ``volume`` and ``scope.sx`` ... ``scope.tz``, and optionally
-by a component split ``comp(f|e|h) { selector : Leaf | ... }`` (the selectors fields of
-``com.esri.gc.Comp``) whose branches report their shapes' ``geometry.nFaces`` ... ``area`` under
-``b<branch>.``: a branch's ``_n`` is the number of shapes it gets. Without a split, the roof is
-the model, and its vertices and faces (the PyEncoder's ``points``, ``indices`` and
-``encoder_faces``, a hole's ring after its face) are recorded. Run with PyPRT's Python (a
-development tool; shapegen never imports it)::
+``roofRidge(@RoofValueType.byAngle, 30)``: numbers, ``true``/``false``, or ``@Class.FIELD`` for
+a constant of the runtime's enum ``com.esri.gc.Class``) followed by reports of the roof's
+``geometry.nVertices``, ``nFaces``, ``nHoles``, ``area``, ``volume`` and ``scope.sx`` ...
+``scope.tz``, and optionally by a component split ``comp(f|e|h) { selector : Leaf | ... }``
+(the selectors fields of ``com.esri.gc.Comp``) whose branches report their shapes'
+``geometry.nFaces`` ... ``area`` under ``b<branch>.``: a branch's ``_n`` is the number of shapes
+it gets. Without a split, the roof is the model, and its vertices and faces (the PyEncoder's
+``points``, ``indices`` and ``encoder_faces``, a hole's ring after its face) are recorded. Run
+with PyPRT's Python (a development tool; shapegen never imports it)::
 
     /tmp/prt-venv/bin/python tools/prt_roofs.py tests/data/prt_roofs.json
 """
@@ -97,7 +97,16 @@ SPLITS = [
     "e|eave:|hip:|valley:|ridge:",
     "h|all:",
 ]
-CASES = [(roof, split) for roof in ROOFS for split in SPLITS]
+# overhangs and even ridges, the roof alone
+OPTIONS = [
+    "roofHip(30,1)",
+    "roofHip(30,-0.5)",
+    "roofHip(30,0,true)",
+    "roofGable(30,1,1)",
+    "roofGable(30,1,0.5)",
+    "roofGable(30,0,0,true)",
+]
+CASES = [(roof, split) for roof in ROOFS for split in SPLITS] + [(roof, "") for roof in OPTIONS]
 
 # The rewriter: Default$Footprint's code becomes the case's roof, reports of its geometry and
 # scope, then (args: in, out, "roof|component|sel:merge|...") a comp whose branches, each a new
@@ -146,7 +155,10 @@ public class Patch {
                 String text = call.substring(call.indexOf('(') + 1, call.lastIndexOf(')'));
                 StringBuilder descriptor = new StringBuilder("(");
                 if (!text.isEmpty()) for (String v : text.split(",")) {
-                    if (v.startsWith("@")) {
+                    if (v.equals("true") || v.equals("false")) {
+                        mv.visitInsn(v.equals("true") ? Opcodes.ICONST_1 : Opcodes.ICONST_0);
+                        descriptor.append("Z");
+                    } else if (v.startsWith("@")) {
                         String cls = "com/esri/gc/" + v.substring(1, v.indexOf('.'));
                         String type = "L" + cls + ";";
                         mv.visitFieldInsn(Opcodes.GETSTATIC, cls, v.substring(v.indexOf('.') + 1),

@@ -159,15 +159,31 @@ def _skeleton_roof(
     side_tags: list[str],
     holes: list[np.ndarray] = (),
 ) -> RoofMesh:
-    eaves = polygon
-    if holes and np.any(grow):
-        raise GeometryError("a roof overhang on a face with holes is not supported")
+    if holes and even:
+        # PyPRT's even roofs on holed faces keep some ridges as they are (the courtyard's) and
+        # level others (the L courtyard's) by a rule not traced: refused rather than guessed
+        raise GeometryError("an even roof (even = true) on a face with holes is not supported")
+    if holes and np.all(grow > 0):
+        return _overhung_holed_roof(polygon, weights, angle, grow, side_tags, holes)
+    eaves, hole_eaves = polygon, list(holes)
     if np.any(grow):  # overhangs (negative ones set the eaves in)
-        eaves = edges_moved_out(polygon, grow)
+        n = len(polygon)
+        eaves = edges_moved_out(polygon, grow[:n])
         turned = np.einsum("ij,ij->i", edge_normals(eaves), edge_normals(polygon)) < 0
         if signed_area(eaves) <= 0 or np.any(turned) or not _simple(eaves):
             raise GeometryError("the roof's negative overhang is larger than the face")
-    skeleton = straight_skeleton(eaves, weights=weights, holes=holes)
+        # a negative overhang sets a hole's eaves out, away from the hole
+        hole_eaves = []
+        for ring in holes:
+            moved = edges_moved_out(ring, grow[n : n + len(ring)])
+            n += len(ring)
+            turned = np.einsum("ij,ij->i", edge_normals(moved), edge_normals(ring)) < 0
+            if signed_area(moved) >= 0 or np.any(turned) or not _simple(moved[::-1]):
+                raise GeometryError("the roof's overhang closes a hole of the face")
+            hole_eaves.append(moved)
+        if hole_eaves and not _simple(eaves, [r[::-1] for r in hole_eaves]):
+            raise GeometryError("the roof's overhang makes the face's holes meet its outline")
+    skeleton = straight_skeleton(eaves, weights=weights, holes=hole_eaves)
     slope = _slope(angle, height, float(skeleton.times.max()))
     times = skeleton.times
     if even:  # every ridge node at the average ridge height (non-planar faces, as CityEngine)
@@ -192,6 +208,59 @@ def _skeleton_roof(
             points = np.column_stack([skeleton.nodes[ids], times[ids] * slope - drop])
         welder.face(points, side_tags[k])
     return welder.mesh()
+
+
+def _overhung_holed_roof(
+    polygon: np.ndarray,
+    weights: np.ndarray,
+    angle: float,
+    grow: np.ndarray,
+    side_tags: list[str],
+    holes: list[np.ndarray],
+) -> RoofMesh:
+    """A skeleton roof on a face with holes whose planes overhang by ``grow`` (m, in plan) the
+    outline and every hole's edges, as CityEngine's runtime builds it: the roof of the face
+    itself, each plane carried on past its edge to the edge's line moved out by ``grow``
+    between the bisectors of its corners (into the hole for a hole's edge), ``grow *
+    tan(angle)`` below the face; where the bisectors meet before that line (an edge shorter
+    than the overhang makes it, the end of the L courtyard's 1 m arm at 0.87 m) the plane ends
+    in their meeting point. Overhangs of opposite edges of a narrow hole overlap there, as
+    PyPRT's do (tests/data/prt_roofs.json)."""
+    skeleton = straight_skeleton(polygon, weights=weights, holes=holes)
+    slope = _slope(angle, None, float(skeleton.times.max()))
+    span = float(np.ptp(polygon, axis=0).max()) + 2 * float(grow.max())
+    welder = _Welder(span)
+    _bottom(welder, polygon, "roof.bottom", holes)
+    start = 0
+    for ring in [polygon, *holes]:
+        m = len(ring)
+        moved = edges_moved_out(ring, grow[start : start + m])
+        for i in range(m):
+            a, b = ring[i], ring[(i + 1) % m]
+            ea, eb = moved[i], moved[(i + 1) % m]
+            inner = [(*skeleton.nodes[q], skeleton.times[q] * slope)
+                     for q in skeleton.faces[start + i][2:]]  # fmt: skip
+            if (eb - ea) @ (b - a) > 0:  # the eave: the edge moved out, mitred
+                d = float(grow[start + i]) * slope
+                eave = [(*ea, -d), (*eb, -d)]
+            else:  # the corners' bisectors meet first: the plane ends in a point
+                tip = _meeting(a, ea, b, eb)
+                u = (b - a) / np.linalg.norm(b - a)
+                depth = float((tip - a) @ np.array([u[1], -u[0]]))  # out from the edge
+                eave = [(*tip, -depth * slope)]
+            welder.face([*eave, *inner], side_tags[start + i])
+        start += m
+    return welder.mesh()
+
+
+def _meeting(a, ea, b, eb) -> np.ndarray:
+    """Where the line from ``a`` through ``ea`` meets the line from ``b`` through ``eb``."""
+    da, db = ea - a, eb - b
+    det = da[0] * db[1] - da[1] * db[0]
+    if abs(det) <= ROUNDOFF_REL * float(np.dot(da, da) + np.dot(db, db)):
+        return 0.5 * (ea + eb)
+    s = ((b - a)[0] * db[1] - (b - a)[1] * db[0]) / det
+    return a + s * da
 
 
 def roof_hip(
@@ -273,11 +342,10 @@ def roof_gable(
     ``overhang_y`` (m) beyond the gables (negative: short of them); the gables stay on the
     face's edges. ``index`` makes the edges parallel to that edge the gables (convex faces
     only, as CityEngine). On a face with ``holes`` CityEngine's runtime makes no gables: the
-    roof is :func:`roof_hip`'s (tests/data/prt_roofs.json, every lot and angle).
+    roof is :func:`roof_hip`'s with ``overhang_x`` on every edge (tests/data/prt_roofs.json,
+    every lot, angle and overhang).
     """
-    if len(holes):
-        if overhang_y != overhang_x:
-            raise GeometryError("a gable roof's overhangs on a face with holes are not supported")
+    if len(holes):  # overhang_y is not used there (PyPRT's roofGable(30, 1, 0.5) is (30, 1, 1))
         return roof_hip(polygon, angle, height=height, overhang=overhang_x, even=even, holes=holes)
     p = checked_polygon(polygon)
     if index is not None and not _convex(p):
@@ -292,10 +360,10 @@ def roof_gable(
     return _skeleton_roof(p, weights, angle, height, grow, drop, even, tags)
 
 
-def _simple(p: np.ndarray) -> bool:
+def _simple(p: np.ndarray, holes=()) -> bool:
     from shapely.geometry import Polygon
 
-    return bool(Polygon(p).is_valid)
+    return bool(Polygon(p, holes).is_valid)
 
 
 def _convex(p: np.ndarray) -> bool:

@@ -10,6 +10,7 @@ import pytest
 
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs as R
+from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.polygon2d import signed_area
 
 RECT = [(0, 0), (12, 0), (12, 8), (0, 8)]
@@ -264,5 +265,22 @@ def test_a_hip_roof_keeps_the_holes_and_a_gable_roof_on_them_is_a_hip_roof():
     assert hip.volume() == pytest.approx(43.782395, abs=1e-6)  # tests/data/prt_holes.json
     gable = R.roof_gable(outline, 30, holes=holes)
     assert np.allclose(gable.vertices, hip.vertices) and gable.faces == hip.faces
-    with pytest.raises(GeometryError, match="overhang on a face with holes"):
-        R.roof_hip(outline, 30, overhang=1, holes=holes)
+    with pytest.raises(GeometryError, match="even roof"):
+        R.roof_hip(outline, 30, even=True, holes=holes)
+
+
+def test_a_holed_hip_roof_overhangs_the_outline_and_into_the_holes():
+    # every plane carried on 1 m (on the slope) past its edge: in plan g = cos(30) m out from
+    # the outline and into the courtyard, so the planes cover (12 + 2g)(8 + 2g) less
+    # (4 - 2g)(2 - 2g) in plan, over cos(30) on the slope
+    outline, holes, _ = HOLED["courtyard"]
+    g = math.cos(math.radians(30))
+    mesh = R.roof_hip(outline, 30, overhang=1, holes=holes)
+    planes = sum(
+        Mesh(mesh.vertices, [f]).area()
+        for f, t in zip(mesh.faces, mesh.tags, strict=True)
+        if t == "roof.top"
+    )
+    plan = (12 + 2 * g) * (8 + 2 * g) - (4 - 2 * g) * (2 - 2 * g)
+    assert planes == pytest.approx(plan / g)
+    assert mesh.vertices[:, 2].min() == pytest.approx(-0.5)  # the eaves 1 m down the slope
