@@ -10,10 +10,9 @@ the skeleton lifted to ``z = t tan(angle)``, an inward offset by ``d`` is the wa
 ``t = d``, and a setback by per-edge distances ``d_k`` is the wavefront at ``t = 1`` with
 weights ``d_k`` (Aichholzer et al. 1995; Eppstein and Erickson 1999 for the weighted form).
 
-A polygon with holes starts with one wavefront loop per ring, the holes' rings clockwise so that
-every edge moves into the material. They move together, in one time: a reflex vertex of one
-loop that reaches an edge of another joins the two loops into one (the wavefront of an annulus
-becomes a simple loop), and once a single loop is left it runs as a simple polygon's does.
+With holes (clockwise rings: every edge moves into the material) the loops move in one time, a
+reflex vertex of one reaching an edge of another joining the two (an annulus's wavefront becomes
+a simple loop); once one loop is left it runs as a simple polygon's does.
 
 The simulation is exact arithmetic's algorithm in floating point: simultaneous events (a
 rectangle's two ends, a square's four corners, the arms of an L) are taken one after another at
@@ -25,6 +24,7 @@ from __future__ import annotations
 __all__ = ["Skeleton", "straight_skeleton"]
 
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 
@@ -123,6 +123,7 @@ class _Builder:
         self.nodes: list[np.ndarray] = [p.copy() for p in polygon]
         self.times: list[float] = [0.0] * n
         self.arcs: list[tuple[int, int, int, int]] = []  # node, node, side, side (-1: none)
+        self.steps = 0
 
     def add_wall(self, point: np.ndarray, direction: np.ndarray) -> int:
         """A line that stays put (weight 0) through ``point`` along ``direction``: the step
@@ -131,6 +132,13 @@ class _Builder:
         self.normal = np.vstack([self.normal, [-direction[1], direction[0]]])
         self.weights = np.append(self.weights, 0.0)
         return len(self.weights) - 1
+
+    def tick(self) -> None:
+        """One step of the simulation: the clock checked, and a bound on the steps."""
+        check_clock()
+        self.steps += 1
+        if self.steps > 100 * len(self.polygon) ** 2 + 1000:
+            raise GeometryError("the straight skeleton did not converge")
 
     def node(self, pos: np.ndarray, t: float) -> int:
         self.nodes.append(pos.copy())
@@ -299,18 +307,12 @@ class _Builder:
     def joined(self, a: list[_Vertex], i: int, b: list[_Vertex], j: int, t: float):
         """Loop ``a``'s reflex vertex ``i`` reaching loop ``b``'s edge ``j`` (from its vertex
         ``j`` to the next): one loop, from the vertex round ``a`` and then round ``b``."""
-        vertex = a[i]
-        e = b[j].e_out
+        vertex, e = a[i], b[j].e_out
         node = self.node(vertex.pos, t)
         self.end(vertex, node)
-        return [
-            _Vertex(node, vertex.pos, e, vertex.e_out),
-            *a[i + 1 :],
-            *a[:i],
-            _Vertex(node, vertex.pos, vertex.e_in, e),
-            *b[j + 1 :],
-            *b[: j + 1],
-        ]
+        first = _Vertex(node, vertex.pos, e, vertex.e_out)
+        last = _Vertex(node, vertex.pos, vertex.e_in, e)
+        return [first, *a[i + 1 :], *a[:i], last, *b[j + 1 :], *b[: j + 1]]
 
     def _front(self, loop, velocity, dt: float, t: float) -> list[int]:
         front = []
@@ -326,36 +328,25 @@ class _Builder:
     def run_together(self, loops: list[list[_Vertex]], until: float | None):
         """Several loops (a polygon's outline and its holes) moving in one time until one is
         left: ``(loop, t)`` to go on with as a simple polygon's, or None, and the fronts."""
-        t = 0.0
-        fronts = []
-        guard = 0
+        t, fronts = 0.0, []
         while True:
-            check_clock()
-            guard += 1
-            if guard > 100 * len(self.polygon) ** 2 + 1000:
-                raise GeometryError("the straight skeleton did not converge")
-            kept = []
-            for loop in loops:
-                loop = self.cleanup(loop, t)
-                if len(loop) <= 2:
-                    self.finish(loop, t)
-                else:
-                    kept.append(loop)
-            loops = kept
+            self.tick()
+            loops = [self.cleanup(loop, t) for loop in loops]
+            for loop in [loop for loop in loops if len(loop) <= 2]:
+                self.finish(loop, t)
+            loops = [loop for loop in loops if len(loop) > 2]
             if len(loops) <= 1:
                 return (loops[0], t) if loops else None, fronts
             flat = [v for loop in loops for v in loop]
             starts = np.cumsum([0] + [len(loop) for loop in loops])
-            after = np.concatenate(
-                [np.roll(np.arange(a, b), -1) for a, b in zip(starts[:-1], starts[1:], strict=True)]
-            )
+            after = np.concatenate([np.roll(np.arange(a, b), -1) for a, b in pairwise(starts)])
             velocity = np.array([self.velocity(v) for v in flat]).reshape(-1, 2)
             event = self.next_event(flat, velocity, after)
             stop = until is not None and (event is None or t + event[0] > until)
             if event is None or stop:
                 dt = (until - t) if stop else 0.0
                 t += dt
-                for a, b in zip(starts[:-1], starts[1:], strict=True):
+                for a, b in pairwise(starts):
                     fronts.append(self._front(flat[a:b], velocity[a:b], dt, t))
                 return None, fronts
             dt, kind, i, j = event
@@ -380,14 +371,10 @@ class _Builder:
             stack = [single] if single is not None else []
         else:
             stack = [(loop, 0.0)]
-        guard = 0
         while stack:
             loop, t = stack.pop()
             while True:
-                check_clock()
-                guard += 1
-                if guard > 100 * len(self.polygon) ** 2 + 1000:
-                    raise GeometryError("the straight skeleton did not converge")
+                self.tick()
                 loop = self.cleanup(loop, t)
                 if len(loop) <= 2:
                     self.finish(loop, t)
@@ -454,9 +441,8 @@ def straight_skeleton(polygon, weights=None, until: float | None = None, holes=(
     until
         Stop the wavefront at this time and return it as :attr:`Skeleton.fronts`.
     holes
-        Clockwise rings inside the polygon, disjoint. Their vertices follow the polygon's in
-        :attr:`Skeleton.nodes` (and their edges its edges in :attr:`Skeleton.faces`), ring by
-        ring.
+        Clockwise rings inside the polygon, disjoint; their vertices follow the polygon's in
+        :attr:`Skeleton.nodes`, their edges its edges in :attr:`Skeleton.faces`, ring by ring.
 
     Raises
     ------
@@ -470,9 +456,7 @@ def straight_skeleton(polygon, weights=None, until: float | None = None, holes=(
     if any(len(r) < 3 for r in rings):
         raise GeometryError("a hole needs at least 3 vertices")
     starts = np.cumsum([0] + [len(r) for r in rings])
-    following = np.concatenate(
-        [np.roll(np.arange(a, b), -1) for a, b in zip(starts[:-1], starts[1:], strict=True)]
-    )
+    following = np.concatenate([np.roll(np.arange(a, b), -1) for a, b in pairwise(starts)])
     before = np.empty_like(following)
     before[following] = np.arange(len(following))
     polygon = np.concatenate(rings)
@@ -489,7 +473,7 @@ def straight_skeleton(polygon, weights=None, until: float | None = None, holes=(
         raise GeometryError("straight skeleton weights must be finite and >= 0")
     builder = _Builder(polygon, weights, following)
     loops = []
-    for a_start, b_end in zip(starts[:-1], starts[1:], strict=True):
+    for a_start, b_end in pairwise(starts):
         loop = []
         for k in range(a_start, b_end):
             a = int(before[k])

@@ -12,6 +12,7 @@ from shapegen.errors import GeometryError
 from shapegen.geometry import roofs as R
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.polygon2d import signed_area
+from shapegen.geometry.ridge_roof import roof_ridge
 
 RECT = [(0, 0), (12, 0), (12, 8), (0, 8)]
 L_SHAPE = [(0, 0), (10, 0), (10, 4), (4, 4), (4, 10), (0, 10)]  # both arms 4 wide, area 64
@@ -200,12 +201,12 @@ def test_envelope_refuses_different_sloped_base_heights():
 
 def test_roof_ridge():
     # a ridge along x halfway across: on a rectangle it is the gable roof along x
-    assert R.roof_ridge(RECT, 45).volume() == pytest.approx(12 * 8**2 / 4)
-    deep = R.roof_ridge([(0, 0), (4, 0), (4, 12), (0, 12)], 45)  # across the long side
+    assert roof_ridge(RECT, 45).volume() == pytest.approx(12 * 8**2 / 4)
+    deep = roof_ridge([(0, 0), (4, 0), (4, 12), (0, 12)], 45)  # across the long side
     assert deep.vertices[:, 2].max() == pytest.approx(6)
     assert deep.volume() == pytest.approx(4 * 12 * 6 / 2)
     # an L: planes from y = 0 and y = 10, the outline lifted onto them, closed
-    ridge = R.roof_ridge(L_SHAPE, height=5)
+    ridge = roof_ridge(L_SHAPE, height=5)
     edges = {}
     for face in ridge.faces:
         for a, b in zip(face, face[1:] + face[:1], strict=True):

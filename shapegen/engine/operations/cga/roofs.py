@@ -29,6 +29,7 @@ from shapegen.engine.shapes.tags import ComponentTags, Pending, resolved_tags
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs
 from shapegen.geometry.mesh import Mesh
+from shapegen.geometry.ridge_roof import roof_ridge
 from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
 from shapegen.grammar import ast
 from shapegen.limits import check_clock, limit_hint
@@ -146,7 +147,7 @@ def compile_roof(program, node: ast.Operation, params):
         "roofGable": roofs.roof_gable,
         "roofShed": roofs.roof_shed,
         "roofPyramid": roofs.roof_pyramid,
-        "roofRidge": roofs.roof_ridge,
+        "roofRidge": roof_ridge,
     }[node.name]
     cga = program.cga_dialect
 
