@@ -97,7 +97,7 @@ SPLITS = [
     "e|eave:|hip:|valley:|ridge:",
     "h|all:",
 ]
-# overhangs and even ridges, the roof alone
+# overhangs, even ridges, an index, heights: the roof alone
 OPTIONS = [
     "roofHip(30,1)",
     "roofHip(30,-0.5)",
@@ -105,6 +105,10 @@ OPTIONS = [
     "roofGable(30,1,1)",
     "roofGable(30,1,0.5)",
     "roofGable(30,0,0,true)",
+    "roofGable(30,0,0,false,1)",
+    "roofHip(@RoofValueType.byHeight,2)",
+    "roofGable(@RoofValueType.byHeight,2)",
+    "roofShed(30,1)",
 ]
 CASES = [(roof, split) for roof in ROOFS for split in SPLITS] + [(roof, "") for roof in OPTIONS]
 

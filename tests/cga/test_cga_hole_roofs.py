@@ -1,7 +1,7 @@
 """The roofs on faces with holes as CityEngine's runtime builds them, against PyPRT's measured
 models (tests/data/prt_roofs.json, made by tools/prt_roofs.py): roofHip, roofGable, roofRidge,
 roofPyramid and roofShed at 15 and 60 degrees (roofRidge by height too; overhangs out and in and
-even ridges at 30 degrees) on a rectangle with a
+even ridges at 30 degrees, by height, with an index) on a rectangle with a
 courtyard, an L with an L-shaped courtyard, a rectangle with two courtyards, one with a small
 hole that touches nothing and one with a hole whose edge lies on roofRidge's ridge line. Each
 model's corners (to 0.1 mm), its faces and holes, area, volume and scope; the faces comp(f)'s
@@ -86,7 +86,9 @@ def test_pyprt_s_roofs_on_faces_with_holes(tmp_path, case):
         (error,) = model.get_cga_errors()
         assert "even roof (even = true) on a face with holes is not supported" in error
         return
-    assert model.get_cga_errors() == [] == case["errors"]
+    # PyPRT's warnings (the gable's index on a holed face), each with its operation's name
+    said = [e.split("] ")[-1] for e in case["errors"]]
+    assert [e.split(": ", 1)[-1] for e in model.get_cga_errors()] == said
     report = model.get_report()
     for name in FIGURES:
         if name == "volume" and case["rule"] in OPEN:

@@ -170,6 +170,8 @@ def compile_roof(program, node: ast.Operation, params):
             check_clock()
             if len(holes):
                 options["holes"] = holes
+                if node.name == "roofGable" and "index" in options:  # PyPRT warns, builds a hip
+                    warn_at(state, node, "roofGable(): Gable roof: can not apply index!")
             else:
                 options.pop("holes", None)
             try:
