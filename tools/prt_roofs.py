@@ -78,6 +78,9 @@ LOTS = {
     "small_hole": _lot([(0, 12), (16, 12), (16, 0), (0, 0)], [(9, 3), (10, 3), (10, 4), (9, 4)]),
     # the same lot with the hole's edge on roofRidge's ridge line
     "hole_on_ridge": _lot([(0, 12), (16, 12), (16, 0), (0, 0)], [(9, 5), (10, 5), (10, 6), (9, 6)]),
+    # tools/prt_geometry.py's L-shaped lot, without a hole: roofRidge's sides and roofPyramid's
+    # angle on a face without holes
+    "L": _lot([(0, 0), (0, 12), (6, 12), (6, 5), (14, 5), (14, 0)]),
 }
 ROOFS = [
     "roofHip(15)",

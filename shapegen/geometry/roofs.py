@@ -159,9 +159,7 @@ def _skeleton_roof(
     side_tags: list[str],
     holes: list[np.ndarray] = (),
 ) -> RoofMesh:
-    if holes and even:
-        # PyPRT's even roofs on holed faces keep some ridges as they are (the courtyard's) and
-        # level others (the L courtyard's) by a rule not traced: refused rather than guessed
+    if holes and even:  # PyPRT levels some ridges of a holed face, by a rule not traced
         raise GeometryError("an even roof (even = true) on a face with holes is not supported")
     if holes and np.all(grow > 0):
         return _overhung_holed_roof(polygon, weights, angle, grow, side_tags, holes)
@@ -218,11 +216,10 @@ def _overhung_holed_roof(
     side_tags: list[str],
     holes: list[np.ndarray],
 ) -> RoofMesh:
-    """A roof on a face with holes overhanging by ``grow`` (m, in plan), as CityEngine's
-    runtime builds it: each plane of the face's roof carried on past its edge (into the hole
-    for a hole's edge) to the edge's line moved out by ``grow``, between its corners'
-    bisectors, or to their meeting point where that comes first (the L courtyard's 1 m arm at
-    0.87 m); overhangs in a narrow hole overlap, as PyPRT's (tests/data/prt_roofs.json)."""
+    """A roof on a face with holes overhanging by ``grow`` (m, in plan), as PyPRT's: each plane
+    of the face's roof carried past its edge (into the hole for a hole's edge) to the edge's
+    line moved out by ``grow`` between its corners' bisectors, or to their meeting point where
+    that comes first (the L courtyard's 1 m arms at 0.87 m); overhangs may overlap there."""
     skeleton = straight_skeleton(polygon, weights=weights, holes=holes)
     slope = _slope(angle, None, float(skeleton.times.max()))
     span = float(np.ptp(polygon, axis=0).max()) + 2 * float(grow.max())
@@ -273,9 +270,8 @@ def roof_hip(
 
     ``height`` (m) instead of ``angle`` gives the highest ridge that height. ``overhang`` (m,
     measured on the roof plane) extends the roof faces beyond the edges and below the face.
-    ``holes`` (rings inside the polygon) stay holes of the bottom, and their edges carry roof
-    planes too, after the outline's (the straight skeleton of the polygon with its holes), as
-    CityEngine's runtime builds them (tests/data/prt_roofs.json).
+    ``holes`` (rings inside the polygon) stay holes of the bottom, their edges carrying planes
+    after the outline's, as CityEngine's runtime builds them (tests/data/prt_roofs.json).
     """
     p = checked_polygon(polygon)
     rings = _rings(holes)
@@ -345,8 +341,8 @@ def roof_gable(
     if len(holes):  # overhang_y is not used there (PyPRT's roofGable(30, 1, 0.5) is (30, 1, 1))
         return roof_hip(polygon, angle, height=height, overhang=overhang_x, even=even, holes=holes)
     p = checked_polygon(polygon)
-    if index is not None and not _convex(p):
-        index = None  # CityEngine uses the index on convex faces only
+    if index is not None and not gable_index_applies(p):
+        index = None
     gables = gable_edges(p, index)
     grow_x, drop = _overhang(angle, height, overhang_x)
     if not math.isfinite(overhang_y):
@@ -357,16 +353,21 @@ def roof_gable(
     return _skeleton_roof(p, weights, angle, height, grow, drop, even, tags)
 
 
+def gable_index_applies(polygon, holes=()) -> bool:
+    """Whether roofGable's ``index`` orients this face's gables: on a convex face without holes
+    only (op_roofGable; PyPRT warns "Gable roof: can not apply index!" on others)."""
+    if len(holes):
+        return False
+    p = checked_polygon(polygon)
+    d = np.roll(p, -1, axis=0) - p
+    cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
+    return bool(np.all(cross >= -ROUNDOFF_REL * float(np.abs(cross).max())))
+
+
 def _simple(p: np.ndarray, holes=()) -> bool:
     from shapely.geometry import Polygon
 
     return bool(Polygon(p, holes).is_valid)
-
-
-def _convex(p: np.ndarray) -> bool:
-    d = np.roll(p, -1, axis=0) - p
-    cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
-    return bool(np.all(cross >= -ROUNDOFF_REL * float(np.abs(cross).max())))
 
 
 def roof_shed(
@@ -424,9 +425,8 @@ def roof_pyramid(polygon, angle: float | None = None, *, height: float | None = 
     """A pyramid roof: the vertex average raised and joined to every edge.
 
     By angle (degrees), the line from the first edge's midpoint to the apex makes that angle
-    with the face, as CityEngine's runtime has it: on an L the apex is not square to the first
-    edge's middle (tests/data/prt_roofs.json, the L with a courtyard: 3.8538 m at 30 degrees,
-    6.675 m from the midpoint, not 6.667 m from the edge's line).
+    with the face, as PyPRT's (tests/data/prt_roofs.json: the L's apex, 3.8538 m at 30 degrees,
+    is 6.675 m from the midpoint, 6.667 m from the edge's line).
     """
     p = checked_polygon(polygon)
     apex = p.mean(axis=0)

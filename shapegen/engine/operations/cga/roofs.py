@@ -170,10 +170,11 @@ def compile_roof(program, node: ast.Operation, params):
             check_clock()
             if len(holes):
                 options["holes"] = holes
-                if node.name == "roofGable" and "index" in options:  # PyPRT warns, builds a hip
-                    warn_at(state, node, "roofGable(): Gable roof: can not apply index!")
             else:
                 options.pop("holes", None)
+            if node.name == "roofGable" and "index" in options:
+                if not roofs.gable_index_applies(polygon, holes):  # PyPRT's words
+                    warn_at(state, node, "roofGable(): Gable roof: can not apply index!")
             try:
                 if kind == "angle":
                     mesh = build(polygon, amount, **options)
