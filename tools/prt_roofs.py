@@ -81,6 +81,11 @@ LOTS = {
     # tools/prt_geometry.py's L-shaped lot, without a hole: roofRidge's sides and roofPyramid's
     # angle on a face without holes
     "L": _lot([(0, 0), (0, 12), (6, 12), (6, 5), (14, 5), (14, 0)]),
+    # an L whose arms' edges are not parallel: two ridges at different heights, which an even
+    # roof levels each on its own
+    "skew_L": _lot([(0, 0), (0, 12), (5, 12), (6, 5), (14, 4), (14, 0)]),
+    # op_roofHip's even example: a trapezoid, whose hip roof's ridge slopes
+    "trapezoid": _lot([(0, 0), (0, 8), (12, 6), (12, 2)]),
 }
 ROOFS = [
     "roofHip(15)",

@@ -39,6 +39,7 @@ import numpy as np
 
 from shapegen.errors import GeometryError
 from shapegen.geometry.polygon2d import checked_polygon, edge_normals, edges_moved_out, signed_area
+from shapegen.geometry.ridges import even_ridge_times
 from shapegen.geometry.skeleton import straight_skeleton
 from shapegen.tolerances import DEFAULT, DIVISION_FLOOR, ROUNDOFF_REL
 
@@ -184,10 +185,9 @@ def _skeleton_roof(
     skeleton = straight_skeleton(eaves, weights=weights, holes=hole_eaves)
     slope = _slope(angle, height, float(skeleton.times.max()))
     times = skeleton.times
-    if even:  # every ridge node at the average ridge height (non-planar faces, as CityEngine)
-        inner = times > DEFAULT.merge_rel * float(times.max())
-        if np.any(inner):
-            times = np.where(inner, times[inner].mean(), times)
+    if even:  # each ridge level, at its nodes' average height (non-planar faces, as CityEngine)
+        eps = DEFAULT.merge_rel * max(float(np.ptp(eaves, axis=0).max()), DIVISION_FLOOR) * 10
+        times = even_ridge_times(skeleton, -edge_normals(eaves), eps)
     # a gable stays on the face's edge when the roof overhangs (op_roofGable: the roof faces
     # overlap the eaves and the gables; PyPRT's parthenon, overhangY = -1.38 m, keeps its
     # pediments on the cornice's ends while its roof planes stop 1.38 m short of them)
