@@ -59,9 +59,13 @@ def test_an_extruded_rectangle_is_the_general_paths_box(seed):
 
 
 def _unmarked(shape: Shape) -> Shape:
-    """The same box as a plain mesh: comp(f) then fits each face's scope to its corners."""
+    """The same box as a plain mesh: comp(f) then fits each face's scope to its corners (a
+    backward one still marked so: its top is the face moved back, on either path)."""
     mesh = shape.mesh()
-    return Shape.with_geometry(shape.scope, Mesh(mesh.vertices, mesh.faces), MASS)
+    plain = Mesh(mesh.vertices, mesh.faces)
+    if boxes.extruded_backwards(shape):
+        boxes.mark_extruded_backwards(plain)
+    return Shape.with_geometry(shape.scope, plain, MASS)
 
 
 @pytest.mark.parametrize("seed", [2, 3])
@@ -93,6 +97,34 @@ def test_a_negative_extrusion_keeps_the_face_first_and_facing_out():
     assert np.allclose(box.scope.origin, [0, 3, -0.5])
     assert np.allclose(box.scope.size, [2, 0.5, 3])
     assert box.mesh().volume() == pytest.approx(3.0)
+
+
+LOT = [0.0, 0.0, 8.0, 12.0, 0.0, 8.0, 12.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+
+
+@pytest.mark.parametrize(
+    "face",
+    ["", "shapeL(3, 3){shape: ", "offset(-1) comp(f){border: "],
+    ids=["rectangle", "L", "border"],
+)
+def test_top_of_a_negative_extrusion_is_the_face_moved_back(tmp_path, face):
+    # CityEngine's runtime scopes extrude(-d) with scope.sy = -d (PyPRT 1.12: extrude(-3) of a
+    # lot gives sy -3, axes kept), so comp(f)'s top is the face moved back: envelope2002's
+    # balcony slabs (a bottom face, extrude(-0.3), comp(f){top: greenery}) have their
+    # greenery on the slab's upper face in PyPRT's model, and its trees grow from there
+    import shapegen.prt as prt
+
+    close = "}" if face else ""
+    rule = tmp_path / "backward.cga"
+    rule.write_text(
+        "Lot --> extrude(2) alignScopeToAxes(y) comp(f){bottom: " + face + "extrude(-0.3) "
+        'comp(f){top: report("top", scope.elevation) T | bottom: report("bottom", '
+        "scope.elevation) B | side: S}" + close + "}\n"
+    )
+    (model,) = prt.ModelGenerator([prt.InitialShape(LOT)]).generate_model([{}], str(rule))
+    report = model.get_report()
+    assert report["top_min"] == pytest.approx(0.3) and report["top_max"] == pytest.approx(0.3)
+    assert report["bottom_max"] == pytest.approx(0.0, abs=1e-12)
 
 
 def test_degenerate_boxes_take_the_general_path():

@@ -25,7 +25,13 @@ not model.
 
 from __future__ import annotations
 
-__all__ = ["BoxFaces", "box_faces_of", "extruded_rectangle"]
+__all__ = [
+    "BoxFaces",
+    "box_faces_of",
+    "extruded_backwards",
+    "extruded_rectangle",
+    "mark_extruded_backwards",
+]
 
 import math
 
@@ -37,6 +43,7 @@ from shapegen.model.scope import Scope
 from shapegen.tolerances import COINCIDENT_REL
 
 _MARK = "box_faces"  # the key of a mesh's __dict__ that holds its BoxFaces table
+_BACKWARDS = "extruded_backwards"  # the key of a mesh's __dict__ marking a backward prism
 
 
 class BoxFaces:
@@ -93,6 +100,8 @@ class BoxFaces:
         """The box of ``size`` (m) in its scope's coordinates, marked as this layout."""
         mesh = Mesh.of_valid_faces(self.corners * np.asarray(size, float), self.faces)
         mesh.__dict__[_MARK] = self
+        if self is BACKWARD:
+            mark_extruded_backwards(mesh)
         return mesh
 
     def merged(self, scope: Scope, faces: list[int]) -> tuple[Scope, Mesh]:
@@ -192,6 +201,25 @@ def box_faces_of(shape) -> BoxFaces | None:
     if layout is None or not _solid(shape.scope, layout.spans):
         return None
     return layout
+
+
+def mark_extruded_backwards(mesh: Mesh) -> Mesh:
+    """Mark ``mesh`` as a face extruded by a negative distance (its scope's y along the face's
+    normal, the prism on its -y side): see :func:`extruded_backwards`."""
+    mesh.__dict__[_BACKWARDS] = True
+    return mesh
+
+
+def extruded_backwards(shape) -> bool:
+    """Whether ``shape``'s geometry is a face extruded by a negative distance, which
+    CityEngine's runtime scopes with a negative ``scope.sy`` (``extrude(-3)`` of a lot: sy -3,
+    axes kept, measured with PyPRT 1.12), so that ``comp(f)`` takes the face moved back as
+    ``top`` and the original face as ``bottom`` (the balconies' slabs of envelope2002,
+    ``extrude(-0.3) comp(f){top: ...}``: PyPRT's top is the slab's upper face). shapegen's
+    scope keeps sizes positive (y along the face's normal, the origin moved back), so comp(f)
+    classes such a shape's faces with the scope's y turned round."""
+    geometry = shape.geometry
+    return geometry is not None and geometry.__dict__.get(_BACKWARDS, False)
 
 
 def extruded_rectangle(scope: Scope, height: float):

@@ -401,6 +401,10 @@ def extrude_shape(
     mesh = Mesh.of_valid_faces(local, prism.faces, holes=prism.holes)
     if not mesh.holes and _box_fills(mesh, new_scope.size):
         return Shape(new_scope, MASS)
+    if height < 0 and not solid and not world_up:
+        from shapegen.engine.shapes.boxes import mark_extruded_backwards
+
+        mark_extruded_backwards(mesh)  # comp(f)'s top is the face moved back (boxes.py)
     return Shape.with_geometry(new_scope, mesh, MASS)
 
 

@@ -43,7 +43,7 @@ import numpy as np
 
 from shapegen.engine.operations.cga.comp_selectors import component_selector, selector_text
 from shapegen.engine.operations.registry import operation
-from shapegen.engine.shapes.boxes import box_faces_of
+from shapegen.engine.shapes.boxes import box_faces_of, extruded_backwards
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.shapes.trim import comp_trim_planes
 from shapegen.geometry.mesh import Mesh
@@ -101,6 +101,8 @@ def face_components(shape: Shape, object_rotation: np.ndarray | None) -> list[Co
         normals, borders, faces = mesh.face_normals(), border_faces(mesh), mesh.faces
     worlds = normals @ scope.rotation.T
     objects = worlds if object_rotation is None else worlds @ object_rotation
+    if extruded_backwards(shape):  # CityEngine's scope.sy < 0: top and bottom change places
+        normals = normals * np.array([1.0, -1.0, 1.0])
     return [
         Component(
             k,
