@@ -23,6 +23,7 @@ BFF = P + "Esri+pyprt__data_Building_From_FootprintSMALL__fc6ce924.rpk"
 ENV = P + "Esri+pyprt__tests_data_envelope2002__3bb69433.rpk"
 LOT = [0.0, 0.0, 8.0, 12.0, 0.0, 8.0, 12.0, 0.0, 0.0, 0.0, 0.0, 0.0]
 TRAPEZOID = [0.0, 0.0, 20.0, 32.0, 0.0, 20.0, 30.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+L_LOT = [0, 0, 0, 0, 0, 12, 6, 0, 12, 6, 0, 5, 14, 0, 5, 14, 0, 0]  # tools/prt_geometry.py's L
 
 
 def generate(package, lot, attrs_list, report=True, geometry=False):
@@ -39,15 +40,16 @@ out = {
     "measured_with": "PyPRT 1.12.0.12 (pip install pyprt), the rule packages of "
     "../shared/cga-corpus/packages (Esri/pyprt test data), PyEncoder; lots as PyPRT's flat "
     "[x, y, z] lists",
-    "lots": {"12x8": LOT, "trapezoid": TRAPEZOID},
+    "lots": {"12x8": LOT, "trapezoid": TRAPEZOID, "L": L_LOT},
 }
 seeds = [0, 1, 666, -1, 12345, 2147483647, -2147483648]
 models = generate(EXT, LOT, [{"seed": s} for s in seeds])
 out["extrusion_rule"] = {
     "package": "tests_data_extrusion_rule__3d9b5297",
     "lot": "12x8",
-    "what": "report 'Building Height.0' = rand(minBuildingHeight 10, maxBuildingHeight 30): the "
-    "first draw of BuildingCreation, the start shape's first successor",
+    "what": "report 'Building Height.0' = geometry.volume() / parcelArea of extrude(rand(10, "
+    "30)): the first draw of BuildingCreation, the start shape's first successor (to round-off "
+    "of the volume)",
     "values": {
         str(s): m.get_report()["Building Height.0_sum"] for s, m in zip(seeds, models, strict=True)
     },
@@ -120,6 +122,22 @@ out["comp_pieces"] = {
         for s, m in zip(seeds, models, strict=True)
     },
 }
-open(Path(__file__).resolve().parents[1] / "tests" / "data" / "cityengine_random.json", "w").write(
-    json.dumps(out, indent=1) + "\n"
-)
+seeds = [0, 1, 2]
+models = generate(ENV, L_LOT, [{"seed": s} for s in seeds])
+out["repeat_split_pieces"] = {
+    "package": "tests_data_envelope2002__3bb69433",
+    "lot": "L",
+    "what": "green-area reports of envelope2002 on the L lot: the vertical greenery's repeat "
+    "split(y){~size : Tile_y}* (size = rand(1.5, 3) drawn once, 12.5%: NIL per tile) on the "
+    "walls of split(x){{1.8: Skalosia_pos | ~4: NIL}* | 1.8: Skalosia_pos} of the floors' "
+    "comp(f){side} (the floors, split pieces of an extruded L-lot volume, list their sides in "
+    "the volume's order)",
+    "values": {
+        str(s): {k: v for k, v in m.get_report().items() if k.startswith("green area")}
+        for s, m in zip(seeds, models, strict=True)
+    },
+}
+fixture = Path(__file__).resolve().parents[1] / "tests" / "data" / "cityengine_random.json"
+# what other tools add to the fixture (tools/measure_attr_offsets.py: attr_offsets) is kept
+kept = json.loads(fixture.read_text()) if fixture.exists() else {}
+fixture.write_text(json.dumps({**kept, **out}, indent=1) + "\n")

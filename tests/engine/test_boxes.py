@@ -168,3 +168,28 @@ def test_comp_of_a_rectangle_is_the_general_paths(axis):
         merged_fast, merged_slow = merged_shape(face, [fast]), merged_shape(plain, [slow])
         _same_scope(merged_fast.scope, merged_slow.scope)
         assert np.abs(merged_fast.geometry.vertices - merged_slow.geometry.vertices).max() < TOL
+
+
+def test_a_split_piece_keeps_its_parents_face_order():
+    # a box whose mesh lists its sides from another one than the fast path's (an extruded
+    # polygon: envelope2002's floors on the L lot, x = 6 first); PyPRT's comp(f) of a split
+    # piece of it lists the sides in the parent's order, each begun at the same corner (the
+    # vertical greenery of those floors is PyPRT's wall for wall only so)
+    from shapegen.engine.shapes.shape import split_piece
+
+    size = np.array([6.0, 12.2, 1.0])
+    corners = np.array([[1, 0, 1], [1, 0, 0], [0, 0, 0], [0, 0, 1], [1, 1, 1], [1, 1, 0],
+                        [0, 1, 0], [0, 1, 1]], dtype=float)  # fmt: skip
+    faces = ((1, 0, 3, 2), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
+    rotation = rotation_matrix([0, 180, 0])
+    volume = Shape.with_geometry(Scope([12, 0.13, 3], rotation, size), Mesh(corners * size, faces))
+    piece = split_piece(volume, 1, 4.7, 3.45)
+    assert np.allclose(piece.scope.size, [6.0, 3.45, 1.0])
+    assert np.allclose(piece.scope.origin, volume.scope.to_world(np.array([0.0, 4.7, 0.0])))
+    whole, part = face_components(volume, None), face_components(piece, None)
+    for a, b in zip(whole, part, strict=True):
+        assert np.allclose(a.world, b.world)  # the same faces in the same order
+        assert np.allclose(a.shape.scope.rotation, b.shape.scope.rotation)  # same first edges
+    # the fast path's order starts the sides elsewhere: what the piece used to be
+    fast = face_components(Shape(piece.scope, MASS), None)
+    assert not np.allclose(fast[2].world, part[2].world)

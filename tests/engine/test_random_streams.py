@@ -115,3 +115,17 @@ def test_comp_pieces_and_many_branch_choices(seed, reports):
     ours = model.get_report()
     for key, value in reports.items():
         assert ours[key] == pytest.approx(value, rel=1e-6), key
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed, reports", MEASURED["repeat_split_pieces"]["values"].items())
+def test_repeat_split_pieces_on_the_floors_of_an_extruded_polygon(seed, reports):
+    # the vertical greenery's tiles (a repeat split, a stochastic NIL per tile) on the walls of
+    # floors that are split pieces of an extruded L-lot volume: PyPRT's reports to round-off
+    lot = MEASURED["lots"]["L"]
+    (model,) = prt.ModelGenerator([prt.InitialShape(lot)]).generate_model(
+        [{"seed": int(seed)}], str(ENVELOPE)
+    )
+    ours = model.get_report()
+    for key, value in reports.items():
+        assert ours[key] == pytest.approx(value, rel=1e-6), key

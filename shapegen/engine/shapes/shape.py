@@ -334,6 +334,18 @@ def axis_index(name: str) -> int:
     return _AXES[name]
 
 
+def _box_corners(shape: Shape) -> np.ndarray | None:
+    """The corners of ``shape``'s geometry in units of its scope's size, when the geometry is
+    the box filling its scope with its faces in another order than
+    :data:`~shapegen.geometry.mesh.BOX_FACES` (or another first corner); None otherwise."""
+    mesh, size = shape.geometry, shape.scope.size
+    if mesh is None or mesh.holes or size.min() <= 0:
+        return None
+    if not _is_scope_box(mesh.vertices, size, mesh.n_faces) or _box_fills(mesh, size):
+        return None
+    return np.round(mesh.vertices / size)
+
+
 def _box_fills(mesh: Mesh, size: np.ndarray) -> bool:
     """Whether ``mesh`` (scope coordinates) is the box filling a scope of ``size``, its faces in
     :data:`~shapegen.geometry.mesh.BOX_FACES` order (so the fast path gives the same comp)."""
@@ -444,7 +456,14 @@ def split_piece(
         and not piece.holes
         and _is_scope_box(local, new_scope.size, piece.n_faces)
     ):
-        return Shape(new_scope, MASS)  # a box filling its scope: back on the fast path
+        corners = _box_corners(shape)
+        if corners is None:
+            return Shape(new_scope, MASS)  # a box filling its scope: back on the fast path
+        # a piece of a box whose faces are in another order than the fast path's keeps them,
+        # each begun at the same corner: PyPRT's comp(f) of a split piece lists its sides in
+        # its parent's order (envelope2002's floors on the L lot, their vertical greenery)
+        mesh = Mesh(corners * new_scope.size, shape.geometry.faces)
+        return Shape.with_geometry(new_scope, mesh, MASS)
     return Shape.with_geometry(
         new_scope,
         Mesh.of_valid_faces(local, piece.faces, holes=piece.holes),
