@@ -76,6 +76,7 @@ class ShapeState:
         "appearance",
         "trim_planes",
         "deleted",
+        "piece",
         "pivot",
         "tree",
     )
@@ -253,6 +254,7 @@ class Derivation:
         state.appearance = parent.appearance
         state.trim_planes = parent.trim_planes
         state.deleted = False
+        state.piece = name is None  # made by an operation (a split's, a comp's...), no rule
         state.pivot = parent.pivot
         if name is None:
             state.rule_path = parent.rule_path
@@ -321,7 +323,8 @@ def root_state(
     state.initial_scope = shape.scope
     state.appearance = None
     state.trim_planes = ()  # geometry.trim.TrimPlane of the last comp(f), world coordinates
-    state.deleted = False  # NIL
+    state.deleted = False  # NIL; COMP_CAME_TO_NOTHING (engine/operations/cga/topology.py)
+    state.piece = False
     # attr_pivot: (origin, axes as columns) in world coordinates, set by comp, setPivot and the
     # alignScopeTo* operations; None is the initial shape's pivot, the object frame
     state.pivot = None

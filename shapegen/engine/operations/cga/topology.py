@@ -25,6 +25,7 @@ from __future__ import annotations
 
 __all__ = [
     "COMPONENT_KINDS",
+    "COMP_CAME_TO_NOTHING",
     "EDGE",
     "compile_comp",
     "comp_operation",
@@ -60,6 +61,9 @@ from shapegen.grammar import ast
 from shapegen.model.scope import Scope
 
 EDGE = "edge"
+COMP_CAME_TO_NOTHING = "comp came to nothing"
+"""``ShapeState.deleted`` of a component whose comp chose nothing, or whose chosen components
+all came to nothing: it leaves no leaf, and its own comp counts it as nothing (``comp_op``)."""
 VERTEX = "vertex"
 COMPONENT_KINDS = ("f", "e", "v", "fe", "fv", "g", "m")
 _ROOF_EDGES = ROOF_EDGE_CLASSES
@@ -355,6 +359,8 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
         planes = None
         if trims and kind == "f":
             planes = comp_trim_planes(shape, [c.shape for c in components])
+        before = state.children[0]
+        made = came_to_nothing = 0
         for select, merge, body, branch, text in compiled:
             chosen = []
             for k, component in enumerate(components):
@@ -385,13 +391,25 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
                     child.pivot = (firsts[index], piece.scope)  # read: frames.pivot_frame
                 if planes is not None:  # op_comp: only the ':' operator makes trim planes
                     child.trim_planes = () if merge else planes[chosen[index].index]
+                made += 1
                 if body(child, args, out) and child.is_leaf():
                     out.append((child, None, ()))
-        if not any(taken):
-            # the shape is taken apart into the chosen components: none chosen, none left (an
-            # offset's bottom whose inside vanished, comp(f){inside: ...}, leaves nothing in
-            # PyPRT's envelope2002)
-            state.deleted = True
+                came_to_nothing += child.deleted is COMP_CAME_TO_NOTHING
+        if came_to_nothing == made:
+            # nothing chosen, or every chosen component came to nothing: as CityEngine's
+            # runtime does (PyPRT 1.12, envelope2002's rules rewritten in their compiled
+            # form), a component made by a comp or a split vanishes and tells its own comp so,
+            # and a shape a rule made goes on as it was (envelope2002's narrow floors stay
+            # whole when comp(f){bottom: offset(-1) comp(f){inside: ...}} finds no inside, and
+            # so does a comp(f){border: ...} of a closed box; the ground floor plan's
+            # offset(-2), whose inside vanishes too, leaves no border)
+            if state.piece:
+                if state.children[0] == before:
+                    state.deleted = COMP_CAME_TO_NOTHING
+                else:
+                    state.deleted = True
+            else:
+                state.children[0] = before
         return True
 
     return comp_op
