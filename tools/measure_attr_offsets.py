@@ -27,6 +27,10 @@ LOT = [0.0, 0.0, 8.0, 12.0, 0.0, 8.0, 12.0, 0.0, 0.0, 0.0, 0.0, 0.0]  # 12 x 8 m
 NAMES = ["Default$Eave_Ht", "Default$Eave_Hu", "Default$Eave_Hs", "Default$Eave_Iu",
          "Default$E", "Default$F", "Default$EE", "Default$Eave_Htt", "Default$OBJECTID",
          "Default$minBuildingHeight"]  # fmt: skip
+# every one-character name, and a few of two: how one character moves the offset
+NAMES += [f"Default${c}" for c in "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ_abcdefghijklmnopqrstuvwxyz"
+          if f"Default${c}" not in NAMES]  # fmt: skip
+NAMES += [f"Default${a}{b}" for a in "AB" for b in "ABCD"]
 SIZES = {3: 4, 4: 4, 5: 8, 6: 8, 7: 2, 8: 2, 9: 4, 10: 4, 11: 4, 12: 4, 15: 3, 16: 2, 18: 4}
 
 
