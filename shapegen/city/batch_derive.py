@@ -23,6 +23,7 @@ from itertools import chain
 import numpy as np
 
 _RECTANGLE_M = 1e-3  # as shapegen.city.work.lot_extent
+_HOLED = "a lot with holes (a courtyard)"
 
 
 @dataclass
@@ -57,8 +58,12 @@ def derive_batch(settings, tasks) -> BatchLots | None:
     names = set(grammar.program.attr_nodes)
     shared = dict(settings.attrs)
     usable, overrides, mapped = [], [], []
+    holed = 0
     for k, task in enumerate(tasks):
         if task.problem is not None or len(task.ring) < 3:
+            continue
+        if task.holes:  # the batch's footprints are single rings
+            holed += 1
             continue
         given, named = shared, []
         for name, value in task.properties.items():
@@ -75,7 +80,11 @@ def derive_batch(settings, tasks) -> BatchLots | None:
             mapped.append(named)
     out = BatchLots([None] * len(tasks), np.zeros(0, dtype=np.int64))
     out.why = dict.fromkeys(range(len(tasks)), "a lot that cannot be built or a bad property")
+    for k, task in enumerate(tasks):
+        if task.holes and task.problem is None and len(task.ring) >= 3:
+            out.why[k] = _HOLED
     if not usable:
+        out.reasons[_HOLED] += holed
         return out
     rings = [tasks[k].ring for k in usable]
     sizes = np.fromiter((len(r) for r in rings), dtype=np.int64, count=len(rings))
@@ -90,6 +99,8 @@ def derive_batch(settings, tasks) -> BatchLots | None:
     seeds = [lot_seed(tasks[k].id, settings.seed) for k in usable]
     batch = derive_lots(grammar, points, offsets, seeds, overrides, settings.limits)
     out.reasons = batch.reasons
+    if holed:
+        out.reasons[_HOLED] += holed
     kept = _material_ok(batch)
     for j, k in enumerate(usable):
         if kept[j]:
@@ -116,7 +127,7 @@ def derive_batch(settings, tasks) -> BatchLots | None:
             blocks=0 if solid[j] else 1,
             solids=1 if solid[j] else 0,
             left_out=0,
-            warnings=list(warnings),
+            warnings=[*task.warnings, *warnings],
             from_properties=list(mapped[j]),
             footprint="rectangle" if rectangles[j] else "polygon",
             lot=[float(widths[j]), float(depths[j])],

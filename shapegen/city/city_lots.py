@@ -1,8 +1,11 @@
 """Lots of a city: polygons read from GeoJSON or OpenStreetMap buildings, in one local metric frame.
 
 A :class:`CityLot` is one footprint: its id, its outer ring in metres (east, north) about the city's
-origin, counter-clockwise seen from above, and the properties of the feature it came from (which
-override the rule's attrs of the same names, as CityEngine maps object attributes).
+origin, counter-clockwise seen from above, its holes (a courtyard: a Polygon's interior rings,
+RFC 7946), and the properties of the feature it came from (which override the rule's attrs of
+the same names, as CityEngine maps object attributes). A lot with holes is built on a start
+shape with those holes, as CityEngine builds on a shape with holes and as ``shapegen build
+--lot`` does.
 
 Coordinates. A GeoJSON file holds longitude/latitude (RFC 7946), coordinates in any system that
 pyproj knows (named by its ``crs`` member, by a ``.prj`` beside it, or by ``crs="EPSG:2154"``),
@@ -17,8 +20,8 @@ outputs so that results can be put back on a map. In shapegen's frame east is +x
 north -z.
 
 A feature that cannot be a lot (fewer than three distinct corners, a self-crossing ring, no
-area, a hole) is kept as a lot with a ``problem``: the run records it as a failed row instead
-of stopping.
+area, holes that cross, a MultiPolygon of several parts) is kept as a lot with a ``problem``:
+the run records it as a failed row instead of stopping.
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ from shapegen.readers import geojson
 from shapegen.readers.crs import LONLAT, METRES, InputCrs, parse_crs, resolve_crs
 from shapegen.readers.files import is_gzip_file, parse_json_document, read_input_bytes
 from shapegen.readers.osm import read_buildings
+from shapegen.tolerances import LOT_MERGE_M
 
 CRS_CHOICES = ("lonlat", "metres")
 # Smallest lot area built, m^2.
@@ -59,6 +63,13 @@ class CityLot:
         from above, the first corner not repeated.
     properties
         The feature's properties (OSM tags), for attrs of the same names.
+    holes
+        The footprint's holes (courtyards): ``(h, 2)`` rings in the frame of ``ring``, wound
+        the other way round (clockwise seen from above), the first corner not repeated.
+    warnings
+        What was changed in reading it, one line each (its row's warnings): a hole that is not
+        inside the footprint is removed, as CityEngine's runtime removes it ("hole(s) outside
+        its boundary (removed)", tests/data/prt_city_courtyards.json).
     geometry
         The GeoJSON geometry as read (input coordinates), for the results table; None when it
         holds a number that is not finite (NaN, inf: the lot has a ``problem``).
@@ -71,12 +82,19 @@ class CityLot:
     properties: dict = field(default_factory=dict)
     geometry: dict | None = None
     problem: str | None = None
+    holes: tuple[np.ndarray, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     @property
     def area(self) -> float:
-        """Area of the footprint, m^2."""
-        x, y = self.ring[:, 0], self.ring[:, 1]
-        return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+        """Area of the footprint, its holes taken out, m^2."""
+        return sum(_signed_area(ring) for ring in (self.ring, *self.holes))
+
+
+def _signed_area(ring: np.ndarray) -> float:
+    """Area of a ring, m^2: positive counter-clockwise seen from above, negative clockwise."""
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 @dataclass(frozen=True)
@@ -274,40 +292,73 @@ def _city(
             raise InputFormatError(f"{source or 'lots'}: two lots have the id {lot_id!r}")
         seen.add(lot_id)
         geometry = feature["geometry"]
+        holes, notes = (), ()
         if found[number - 1] is not None:  # a plain polygon, all its numbers finite
             ring, problem = found[number - 1]
         else:
-            ring, problem = _ring(geometry, crs, origin_lonlat or origin)
+            ring, holes, problem, notes = _rings(geometry, crs, origin_lonlat or origin)
             if not geojson.is_finite(geometry):  # a row with its error, without a shape
                 geometry = None
-        lots.append(CityLot(lot_id, ring, properties, geometry, problem))
+        lots.append(CityLot(lot_id, ring, properties, geometry, problem, holes, notes))
     return City(lots, crs.name, origin, skipped, source, origin_lonlat, crs)
 
 
-def _ring(
+def _rings(
     geometry: dict, crs: InputCrs, origin: tuple[float, float]
-) -> tuple[np.ndarray, str | None]:
-    """The outer ring in local metres, counter-clockwise and cleaned, and what is wrong with it.
+) -> tuple[np.ndarray, tuple[np.ndarray, ...], str | None, tuple[str, ...]]:
+    """The outer ring in local metres, counter-clockwise and cleaned, its holes (clockwise),
+    what is wrong with them, and what was changed (holes outside the ring removed).
     ``origin`` is ``(lon, lat)`` for a system on the earth, else local metres."""
-    points, problem = geojson.outer_ring(geometry)
+    rings, problem = geojson.polygon_rings(geometry)
     if problem is not None:
-        return np.zeros((0, 2)), problem
+        return np.zeros((0, 2)), (), problem, ()
+    sizes = [len(ring) for ring in rings]
+    points = np.vstack(rings)  # every ring projected in one call
     if crs.projected:
         points = crs.to_lonlat(points)
         if not np.all(np.isfinite(points)):
-            return np.zeros((0, 2)), f"a corner where {crs.name} reaches no longitude/latitude"
+            problem = f"a corner where {crs.name} reaches no longitude/latitude"
+            return np.zeros((0, 2)), (), problem, ()
     if crs.located and not geojson.within_lonlat(points):
-        return np.zeros((0, 2)), "a corner outside longitude -180..180 / latitude -90..90"
-    ring = geojson.local_metres(points, crs.located, origin)
+        return np.zeros((0, 2)), (), "a corner outside longitude -180..180 / latitude -90..90", ()
+    local = geojson.local_metres(points, crs.located, origin)
+    ring, *holes = np.split(local, np.cumsum(sizes)[:-1])
     span = float(np.max(np.ptp(ring, axis=0))) if len(ring) else 0.0
     if span > _MAX_LOT_M:
         hint = "; are its coordinates metres? (--crs metres)" if crs.name == LONLAT else ""
-        return ring, f"a lot {span / 1000:.4g} km across (at most {_MAX_LOT_M / 1000:g} km){hint}"
+        problem = f"a lot {span / 1000:.4g} km across (at most {_MAX_LOT_M / 1000:g} km){hint}"
+        return ring, (), problem, ()
+    holes, notes = _holes_inside(ring, holes)
     try:  # the one lot check, in (x, z) = (east, -north)
-        lot = Lot.polygon(ring * [1.0, -1.0])
+        lot = Lot.polygon(ring * [1.0, -1.0], [hole * [1.0, -1.0] for hole in holes])
     except LotError as exc:
-        return ring, str(exc)
+        return ring, (), str(exc), notes
     ring = np.array(lot.corners) * [1.0, -1.0]
+    holes = tuple(np.array(hole) * [1.0, -1.0] for hole in lot.holes)
     if lot.area < _MIN_AREA_M2:
-        return ring, f"a polygon of {lot.area:.3g} m^2 (at least {_MIN_AREA_M2} m^2)"
-    return ring, None
+        problem = f"a polygon of {lot.area:.3g} m^2 (at least {_MIN_AREA_M2} m^2)"
+        return ring, holes, problem, notes
+    return ring, holes, None, notes
+
+
+def _holes_inside(ring: np.ndarray, holes: list) -> tuple[list, tuple[str, ...]]:
+    """The ``holes`` that lie inside ``ring`` (on its outline counts), and a warning for the
+    others, which CityEngine's runtime removes from an initial shape ("contained: 1 hole(s)
+    outside its boundary (removed)") and builds on the rest. A ring the lot check refuses
+    (too few corners, crossing itself) is left to it."""
+    if not holes:
+        return holes, ()
+    import shapely
+
+    outline = shapely.Polygon(ring) if len(ring) >= 3 else None
+    if outline is None or not outline.is_valid:
+        return holes, ()
+    inside = [
+        hole for hole in holes
+        if len(hole) < 3 or not shapely.Polygon(hole).is_valid
+        or outline.buffer(LOT_MERGE_M).covers(shapely.Polygon(hole))
+    ]  # fmt: skip
+    removed = len(holes) - len(inside)
+    if not removed:
+        return holes, ()
+    return inside, (f"{removed} hole(s) outside the lot's outline removed (as CityEngine does)",)

@@ -1,5 +1,5 @@
-"""The outer rings of many GeoJSON polygons at once: what :func:`shapegen.city.city_lots._ring` does
-for one feature, for every plain one together.
+"""The outer rings of many GeoJSON polygons at once: what
+:func:`shapegen.city.city_lots._rings` does for one feature, for every plain one together.
 
 A plain feature is a ``Polygon`` of one ring whose corners are all pairs of finite numbers (the
 common case: every OSM building). Their corners are read into one array, projected in one call,
@@ -81,7 +81,7 @@ def plain_corners(features: list[dict]) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 def plain_rings(points, offsets, crs, origin, max_lot_m, min_area_m2):
     """Per plain feature (its corners ``points[offsets[k]:offsets[k + 1]]``), ``(ring, None)``
-    for a lot that :func:`shapegen.city.city_lots._ring` finds clean, with the ring it gives (the
+    for a lot that :func:`shapegen.city.city_lots._rings` finds clean, with the ring it gives (the
     :class:`~shapegen.model.lot.Lot`'s corners, to the bit), ``(empty, problem)`` for a corner
     off the earth, or None: the one-feature path reads that one (corners it merges, a problem
     it words, or any answer near a tolerance of its checks)."""

@@ -223,7 +223,11 @@ def run_city(
             resumed += 1
         else:
             ring = np.asarray(lot.ring, dtype=float).tolist()
-            tasks.append(LotTask(lot.id, ring, dict(lot.properties), fingerprint, lot.problem))
+            holes = tuple(np.asarray(hole, dtype=float).tolist() for hole in lot.holes)
+            tasks.append(
+                LotTask(lot.id, ring, dict(lot.properties), fingerprint, lot.problem, holes,
+                        lot.warnings)
+            )  # fmt: skip
     run = CityRun(city, records, resumed, 0.0, executor=executor.describe(), store=store)
     total = len(city.lots)
     counts = {"done": resumed, "failed": sum(1 for r in records if r and r["status"] != "ok")}
@@ -337,11 +341,15 @@ def _identity(settings: CitySettings) -> dict:
 
 
 def _fingerprint(lot) -> str:
-    """A hash of what a lot is built from: its corners (to the micrometre) and properties.
+    """A hash of what a lot is built from: its corners and its holes' (to the micrometre) and
+    properties.
     Called under ``np.errstate(over="ignore", invalid="ignore")``: a refused lot's corner may be
     1e308 (the state is entered once for all lots: it costs as much as the rest)."""
     corners = np.round(np.asarray(lot.ring, dtype=float), 6)
     digest = hashlib.blake2b(corners.tobytes(), digest_size=8)
+    for hole in lot.holes:  # a lot without holes keeps the fingerprint it had before holes
+        digest.update(b"hole")
+        digest.update(np.round(np.asarray(hole, dtype=float), 6).tobytes())
     digest.update(_PROPERTIES.encode(lot.properties).encode())
     return digest.hexdigest()
 

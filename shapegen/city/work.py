@@ -85,14 +85,18 @@ class CitySettings:
 class LotTask:
     """One lot to build: its id, its corners (east, north about the city's origin, m,
     counter-clockwise seen from above), its properties, the fingerprint of these (``input``,
-    kept in its record so a rerun knows whether the lot changed) and, for a lot that cannot be
-    built, why (``problem``: its record is that error)."""
+    kept in its record so a rerun knows whether the lot changed), for a lot that cannot be
+    built, why (``problem``: its record is that error), its holes (courtyards: rings of
+    corners in the frame of ``ring``, clockwise seen from above) and what reading it changed
+    (``warnings``: its record's first warnings)."""
 
     id: str
     ring: Sequence[Sequence[float]]
     properties: dict = field(default_factory=dict)
     input: str = ""
     problem: str | None = None
+    holes: Sequence[Sequence[Sequence[float]]] = ()
+    warnings: Sequence[str] = ()
 
 
 class LotTimeout(Exception):
@@ -159,6 +163,7 @@ def run_lot(settings: CitySettings, task: LotTask) -> dict:
     seed = lot_seed(task.id, settings.seed)
     record = new_record(task.id, seed)
     record["input"] = task.input
+    record["warnings"] = list(task.warnings)
     if task.problem is not None:
         record.update(error=task.problem, seconds=0.0)
         return record
@@ -246,9 +251,13 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
             attrs[name] = value
             record["from_properties"].append(name)
     size, footprint = lot_extent(task.ring)
-    record["footprint"] = footprint
+    record["footprint"] = "polygon" if task.holes else footprint
     record["lot"] = [float(size[0]), float(size[1])]
     lot = [(x, z) for x, z in city_lot(task.ring).tolist()]
+    if task.holes:  # a courtyard: the start shape has the lot's holes, as CityEngine's has
+        from shapegen.model.lot import Lot
+
+        lot = Lot.polygon(lot, [city_lot(hole).tolist() for hole in task.holes])
 
     # One clock for the lot (--timeout, counted from the lot's start): the derivation, the
     # statics and the search look at it (shapegen.limits.work_clock) besides their own
@@ -286,7 +295,7 @@ def _run(settings: CitySettings, task: LotTask, seed: int, started: float, recor
     # Leaves drawn but not judged (not convex blocks) and the derivation's warnings: said, so a
     # building judged on part of itself is never taken for the whole.
     record["left_out"] = int((outcome.report.get("left_out") or {}).get("leaves", 0))
-    record["warnings"] = list(outcome.report.get("warnings") or [])
+    record["warnings"] = list(task.warnings) + list(outcome.report.get("warnings") or [])
     if "solver_status" in record:
         record["warnings"].append(
             f"the solver ended with {record.pop('solver_status')}: no verdict (taken not to stand)"

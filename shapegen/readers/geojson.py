@@ -18,7 +18,6 @@ __all__ = [
     "is_point",
     "is_polygon",
     "local_metres",
-    "outer_ring",
     "polygon_rings",
     "positions",
     "within_lonlat",
@@ -87,19 +86,6 @@ def within_lonlat(points: np.ndarray) -> bool:
     """Whether every ``(lon, lat)`` lies within +-180 / +-90 degrees."""
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     return bool(np.all(np.abs(points[:, 0]) <= 180) and np.all(np.abs(points[:, 1]) <= 90))
-
-
-def outer_ring(geometry: object) -> tuple[np.ndarray | None, str | None]:
-    """The ``(k, 2)`` corners of a Polygon (or a MultiPolygon of one part) and None, or None
-    and why it is not one lot without holes (a phrase: ``"a polygon with 1 hole(s)..."``)."""
-    rings, problem = polygon_rings(geometry)
-    if rings is not None and len(rings) > 1:
-        holes = len(rings) - 1
-        return (
-            None,
-            f"a polygon with {holes} hole(s); a city's lot is one ring (courtyards are not built)",
-        )
-    return (None, problem) if rings is None else (rings[0], None)
 
 
 def polygon_rings(geometry: object) -> tuple[list[np.ndarray] | None, str | None]:

@@ -42,8 +42,10 @@ def test_the_district_reads_as_thirty_lots_in_lonlat():
     city = read_lots(DISTRICT)
     assert city.crs == "lonlat" and len(city.lots) == 30 and city.skipped == 1
     problems = {lot.id: lot.problem for lot in city.lots if lot.problem}
-    assert set(problems) == {"lot-28", "lot-29"}
-    assert "hole" in problems["lot-29"] and "distinct corner" in problems["lot-28"]
+    assert set(problems) == {"lot-28"} and "distinct corner" in problems["lot-28"]
+    (courtyard,) = [lot for lot in city.lots if lot.id == "lot-29"]
+    assert len(courtyard.holes) == 1  # a 20 x 20 m lot around an 8 x 8 m courtyard
+    assert courtyard.area == pytest.approx(20 * 20 - 8 * 8, rel=1e-5)
     for lot in city.lots:
         if not lot.problem:
             assert lot.area > 0  # counter-clockwise seen from above

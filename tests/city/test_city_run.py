@@ -139,8 +139,8 @@ def test_the_district_is_the_same_on_local_processes_on_a_cluster_and_on_a_rerun
     assert [_same(r) for r in remote.records] == expected
     assert [_same(r) for r in fresh.records] == expected
     statuses = [r["status"] for r in local.records]
-    assert statuses.count("error") == 3 and statuses.count("ok") == 27
-    assert 0 < sum(1 for r in local.records if r["stands"] is False) < 27
+    assert statuses.count("error") == 2 and statuses.count("ok") == 28  # lot-29's courtyard
+    assert 0 < sum(1 for r in local.records if r["stands"] is False) < 28
     assert len(list((tmp_path / "fresh" / "lots").glob("B-*.json"))) == len(city.lots)
     assert len(list((tmp_path / "cluster" / "lots").glob("B-*.json"))) == 8  # 30 lots by 4
     scenes = [
