@@ -33,7 +33,6 @@ CASES = [
     ("Lot --> roofHip(30, -10) X.", "the roof's negative overhang is larger than the face"),
     ("Lot --> roofHip(30) s('1, '1, 0) comp(f) { all : extrude(1) X. }",
      "extrude() of a face with no area"),
-    ("Lot --> setbackToArea(500) { front : X. | remainder : Y. }", "less than 500"),
     ("Lot --> extrude(3) reduceGeometry(2) X.", "the tolerance is 0..1, got 2"),
 ]  # fmt: skip
 
@@ -62,6 +61,16 @@ def test_bad_argument_or_degenerate_geometry_is_a_located_warning(tmp_path, text
 @pytest.mark.parametrize(("text", "message"), CASES)
 def test_a_grammar_file_stays_strict(tmp_path, text, message):
     with pytest.raises(GrammarError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        load_grammar(_write(tmp_path, text, ".grammar")).build(lot=LOT)
+
+
+def test_a_setback_to_more_than_the_face_leaves_the_face_in_cga_and_stops_a_grammar(tmp_path):
+    # PyPRT (tests/data/prt_setback_holes.json, 12x8): setbackToArea(500) of a 96 m^2 lot sets
+    # nothing back and records no error; the remainder is the whole lot
+    text = 'Lot --> setbackToArea(500) { front : X. | remainder : report("r", geometry.area) Y. }'
+    model = load_grammar(_write(tmp_path, text)).build(lot=LOT)
+    assert model.metadata["cga_errors"] == 0 and model.metadata["reports"]["r"] == 96.0
+    with pytest.raises(GrammarError, match="less than 500"):
         load_grammar(_write(tmp_path, text, ".grammar")).build(lot=LOT)
 
 

@@ -16,17 +16,19 @@ from shapegen.grammar import ast
 
 # The operations that keep a face's holes: those that move, turn or scale the geometry as a
 # whole, read it or set what it looks like, and those built for holes (extrude, comp, split,
-# offset, the roofs hip, gable, ridge and shed, setback and setbackPerEdge; deleteHoles removes
-# them, roofPyramid builds on the outer ring as CityEngine's runtime does: tests/data/
-# prt_holes.json, prt_setback.json, prt_roofs.json).
+# offset, the roofs hip, gable, ridge and shed, setback, setbackPerEdge, setbackToArea,
+# shapeL/U/O and innerRectangle; deleteHoles removes them, roofPyramid builds on the outer ring
+# as CityEngine's runtime does: tests/data/prt_holes.json, prt_setback.json, prt_roofs.json,
+# prt_setback_holes.json).
 _HOLE_NODES = (
     ast.Successor, ast.Nil, ast.Push, ast.Extrude, ast.Comp, ast.Translate, ast.Scale,
     ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert, ast.Split,
 )  # fmt: skip
 _HOLE_OPERATIONS = frozenset(
     (
-        "deleteHoles", "offset", "setback", "setbackPerEdge", "comp", "roofPyramid", "roofShed",
-        "roofHip", "roofGable", "roofRidge",
+        "deleteHoles", "offset", "setback", "setbackPerEdge", "setbackToArea", "shapeL", "shapeU",
+        "shapeO", "innerRectangle", "innerRect", "comp", "roofPyramid", "roofShed", "roofHip",
+        "roofGable", "roofRidge",
         "color", "texture",
         "setMaterial", "resetMaterial", "setupProjection", "projectUV", "deleteUV", "tileUV",
         "translateUV", "scaleUV", "rotateUV", "offsetUV", "normalizeUV", "copyUV",

@@ -293,12 +293,18 @@ def compile_inner_rectangle(program, node: ast.Operation, params):
     branches = selector_branches(program, node, params, {"shape", "remainder"}, edges=False)
 
     def inner_op(state, args, out):
-        pieces: dict[str, list[np.ndarray]] = {"shape": [], "remainder": []}
-        for frame, polygon in flat_faces(state, node, program, f"{node.name}()"):
-            rectangle, rest = polygon2d.inner_rectangle(polygon, alignment)
+        pieces: dict[str, list] = {"shape": [], "remainder": []}
+        frames = flat_faces(state, node, program, f"{node.name}()")
+        for (frame, polygon), rings in zip(frames, face_holes(state.shape), strict=True):
+            rectangle, rest = polygon2d.inner_rectangle(polygon, alignment, holes=rings)
             if rectangle is not None:
                 pieces["shape"].append([frame.lift(rectangle)])
-            pieces["remainder"] += [[frame.lift(p)] for p in rest]
+            if rings:  # the remainder keeps the holes no cut reaches
+                pieces["remainder"] += [
+                    [(frame.lift(outer), [frame.lift(h) for h in inner])] for outer, inner in rest
+                ]
+            else:
+                pieces["remainder"] += [[frame.lift(p)] for p in rest]
         if not node.branches:  # innerRect without a block: the shape becomes the rectangle
             if not pieces["shape"]:
                 return False

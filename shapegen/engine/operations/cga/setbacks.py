@@ -49,8 +49,9 @@ def _edge_selected(selector, normals, index: int, count: int, where) -> bool:
 
 def _setback_operation(program, node, branches, distances_of, shape_selector: bool):
     """The closure of setback-like operations. ``distances_of(args, state, frame, polygon,
-    quadrants, selected, first)`` gives each edge's distance (``first``: the index of the
-    face's first edge among the shape's face edges, each face's outline and then its holes)."""
+    quadrants, selected, first, rings)`` gives each edge's distance (``first``: the index of the
+    face's first edge among the shape's face edges, each face's outline and then its holes;
+    ``rings``: the face's holes)."""
 
     def setback_op(state, args, out):
         strips: dict[object, list[list]] = {}  # selector -> groups of faces
@@ -76,27 +77,24 @@ def _setback_operation(program, node, branches, distances_of, shape_selector: bo
                     if owner[k] is None and _edge_selected(selector, normals, k, n, where):
                         owner[k] = selector
             selected = np.array([o is not None for o in owner]) if not shape_selector else None
-            distances = distances_of(args, state, frame, polygon, quadrants, selected, first)
+            distances = distances_of(args, state, frame, polygon, quadrants, selected, first, rings)
             first += n + sum(len(ring) for ring in rings)
             lines.add(state.shape.scope, frame, polygon, distances)
             if shape_selector:
-                try:
-                    result = polygon2d.setback(polygon, distances)
-                except GeometryError as exc:
-                    raise program.operation_error(node, f"{node.name}(): {exc}") from None
-                shape_pieces = [piece for _, piece in result.strips]
-                if shape_pieces:
-                    strips.setdefault("shape", []).extend(joined_strips(frame, shape_pieces))
-                remainder += [[frame.lift(p)] for p in result.remainder]
-                continue
-            # each branch's edges in the order the branches are written: the first takes
-            # the corners it shares with a later one (tests/data/prt_setback.json)
-            groups = [[k for k in range(n) if owner[k] == sel] for sel in selectors]
-            try:
+                # shapeL/U/O: every set-back edge in one group, so that an O is one face with
+                # a hole (tests/data/prt_setback_holes.json)
+                groups = [[k for k in range(n) if distances[k] > 0]]
+                names = ["shape"]
+            else:
+                # each branch's edges in the order the branches are written: the first takes
+                # the corners it shares with a later one (tests/data/prt_setback.json)
+                groups = [[k for k in range(n) if owner[k] == sel] for sel in selectors]
+                names = selectors
+            try:  # a face's holes kept in the piece around them, a hole across its edge a notch
                 pieces = setback_pieces(polygon, rings, distances, groups)
             except GeometryError as exc:
                 raise program.operation_error(node, f"{node.name}(): {exc}") from None
-            for selector, group in zip(selectors, pieces.groups, strict=True):
+            for selector, group in zip(names, pieces.groups, strict=True):
                 for outer, inner in group:
                     lifted = (frame.lift(outer), [frame.lift(h) for h in inner])
                     strips.setdefault(selector, []).append([lifted])
@@ -166,7 +164,7 @@ def compile_setback(program, node: ast.Operation, params):
     distance = program.expressions.compile(values[0], params)
     per_edge = node.name == "setbackPerEdge"
 
-    def distances_of(args, state, frame, polygon, quadrants, selected, first):
+    def distances_of(args, state, frame, polygon, quadrants, selected, first, rings=()):
         n = len(polygon)
         if per_edge:
             saved = state.comp_index, state.comp_total
@@ -204,16 +202,70 @@ def compile_setback_to_area(program, node: ast.Operation, params):
     area = number(program, node, values[0], params, "the area")
     bounds = [program.expressions.compile(v, params) for v in values[1:]]
 
-    def distances_of(args, state, frame, polygon, quadrants, selected, first):
+    def distances_of(args, state, frame, polygon, quadrants, selected, first, rings=()):
         n = len(polygon)
         limits = [_distance_list(program, node, b(args, state), n, first) for b in bounds]
-        try:
-            _, d = polygon2d.setback_to_area(polygon, area(args, state), selected, *limits)
-        except GeometryError as exc:
-            raise program.operation_error(node, str(exc)) from None
-        return d
+        return _to_area(program, node, polygon, rings, area(args, state), selected, *limits)
 
     return _setback_operation(program, node, branches, distances_of, shape_selector=False)
+
+
+def _to_area(program, node, polygon, rings, area, selected, low=None, high=None):
+    """setbackToArea's distances: the ``selected`` edges set back by ``low + c`` (at most
+    ``high``) with the common ``c >= 0`` that leaves a remainder of ``area`` (m^2), found by
+    bisection. A remainder's area is its pieces' less the holes they keep (CityEngine's runtime:
+    a 12 x 8 m lot with a 4 x 2 m hole set back to 40 m^2 leaves a 48 m^2 ring around the hole).
+    Where the face has less than the area, or no edge is selected, the runtime sets nothing
+    back and records nothing: the remainder is the whole face (tests/data/prt_setback_holes.json,
+    with and without holes); a .grammar file refuses the first."""
+    n = len(polygon)
+    low = np.zeros(n) if low is None else low
+    high = np.full(n, np.inf) if high is None else high
+    chosen = [[k for k in range(n) if selected[k]]]
+
+    def distances(c: float) -> np.ndarray:
+        return np.where(selected, np.maximum(np.minimum(low + c, high), 0.0), 0.0)
+
+    def remaining(c: float) -> float:
+        if not rings:
+            pieces = polygon2d.setback(polygon, distances(c)).remainder
+            return sum(map(polygon2d.signed_area, pieces))
+        try:
+            pieces = setback_pieces(polygon, rings, distances(c), chosen)
+        except GeometryError as exc:
+            raise program.operation_error(node, f"{node.name}(): {exc}") from None
+        return sum(
+            polygon2d.signed_area(outer) + sum(polygon2d.signed_area(h) for h in inner)
+            for outer, inner in pieces.remainder
+        )
+
+    if not (np.isfinite(area) and area > 0):
+        raise program.operation_error(node, f"setbackToArea needs an area > 0, got {area}")
+    face = polygon2d.signed_area(polygon) + sum(polygon2d.signed_area(h) for h in rings)
+    if area > face:
+        if not program.cga_dialect:
+            raise program.operation_error(
+                node, f"setbackToArea: the face has {face:.6g} m², less than {area:.6g}"
+            )
+        return np.zeros(n)
+    if not any(selected):
+        return np.zeros(n)
+    if remaining(0.0) < area:
+        raise program.operation_error(
+            node, "setbackToArea: the minimum distances already leave less than the area"
+        )
+    lo, hi = 0.0, float(np.ptp(polygon, axis=0).max())
+    if remaining(hi) > area:
+        raise program.operation_error(
+            node, "setbackToArea: the maximum distances leave more than the area"
+        )
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if remaining(mid) > area:
+            lo = mid
+        else:
+            hi = mid
+    return distances(0.5 * (lo + hi))
 
 
 _LUO = {"shapeL": ("front", "left"), "shapeU": ("front", "right", "left"),
@@ -230,7 +282,7 @@ def compile_shape_luo(program, node: ast.Operation, params):
     widths = [number(program, node, v, params, "a width") for v in values]
     branches = selector_branches(program, node, params, {"shape", "remainder"}, edges=False)
 
-    def distances_of(args, state, frame, polygon, quadrants, selected, first):
+    def distances_of(args, state, frame, polygon, quadrants, selected, first, rings=()):
         by_side = {side: w(args, state) for side, w in zip(sides, widths, strict=True)}
         if any(v < 0 for v in by_side.values()):
             if not program.cga_dialect:
