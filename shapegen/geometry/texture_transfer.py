@@ -8,9 +8,13 @@ lies: a face whose corners lie on an initial face (within
 :data:`~shapegen.tolerances.TEXTURE_FACE_M` of its plane and of its outline) takes, at each
 corner, the coordinates of the initial corner it is on, or, between corners, those of the
 initial face's affine map from its plane to texture space (exact on a triangle, and on any face
-whose coordinates are a planar projection, as modelling tools lay them). A face that has moved
-off the initial faces (``t``, ``r``, ``s``, an extrusion's top and sides) finds none, and the
-caller says so.
+whose coordinates are a planar projection, as modelling tools lay them). A face that lies over
+an initial face instead (an extrusion's top and sides, and what is cut of them) takes, at each
+corner, the coordinates of the point of the initial face below it along the face's normal: as
+CityEngine's runtime gives an extruded face's six faces, each corner the coordinates of the
+corner it was extruded from (PyPRT's OBJ files tests/data/obj-pyprt/extruded_*). A face that
+has moved off the initial faces (``t``, ``r``, ``s`` across them) finds none, and the caller
+says so.
 
 >>> square = np.array([[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0.0]])
 >>> uv = np.array([[0, 0], [1, 0], [1, 1], [0, 1.0]])
@@ -52,7 +56,9 @@ def carried_uvs(
     for face in faces:
         corners = points[list(face)]
         found = sources.same_corners(corners)
-        out.append(found if found is not None else sources.lying_on(corners))
+        if found is None:
+            found = sources.lying_on(corners)
+        out.append(found if found is not None else sources.over(corners))
     return out
 
 
@@ -111,6 +117,35 @@ class _Sources:
                 return int(k), _uvs_at(flat, source_flat, self.uvs[k], self.tolerance)
         return None
 
+    def over(self, corners: np.ndarray) -> tuple[int, np.ndarray] | None:
+        """The initial face ``corners`` lie over (each corner, moved along the initial face's
+        normal into its plane, on it) and the coordinates of those points."""
+        import shapely
+
+        normals, anchors, centres, radii, _ = self._spheres()
+        # the corners moved into each initial face's plane, near enough its centre
+        offsets = np.einsum("sk,csk->cs", normals, corners[:, None, :] - anchors[None])
+        dropped = corners[:, None, :] - offsets[..., None] * normals[None]
+        reach = np.linalg.norm(dropped - centres[None], axis=2).max(axis=0)
+        for k in np.flatnonzero(reach <= radii + self.tolerance):
+            source = self.faces[k]
+            frame = _plane_frame(normals[k])
+            source_flat = (source - source[0]) @ frame.T
+            flat = (dropped[:, k] - source[0]) @ frame.T
+            outline = shapely.Polygon(source_flat)
+            # a face seen edge-on from the initial face (a side) stands on its outline, as an
+            # extrusion's sides stand on its edges; one standing inside it is no extrusion's
+            edge_on = abs(_flat_area(flat)) <= self.tolerance * float(np.ptp(flat, axis=0).max())
+            if edge_on:
+                covered = outline.exterior.buffer(self.tolerance).covers(
+                    shapely.LineString(np.concatenate([flat, flat[:1]]))
+                )
+            else:
+                covered = outline.buffer(self.tolerance).covers(shapely.Polygon(flat))
+            if covered:
+                return int(k), _uvs_at(flat, source_flat, self.uvs[k], self.tolerance)
+        return None
+
     def _spheres(self):
         if self._planes is None:
             from scipy.spatial import cKDTree
@@ -133,6 +168,12 @@ def _unit_normal(corners: np.ndarray) -> np.ndarray:
     length = float(np.linalg.norm(normal))
     floor = COSINE_SLACK * max(1.0, float(np.abs(corners).max()))
     return normal / length if length > floor else np.zeros(3)
+
+
+def _flat_area(flat: np.ndarray) -> float:
+    """The signed area of a ring of ``(k, 2)`` points (m^2)."""
+    x, y = flat[:, 0], flat[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def _plane_frame(normal: np.ndarray) -> np.ndarray:

@@ -11,8 +11,9 @@ finds it with depth 2 and warns "Could not resolve material" with 0 or 1); a tex
 relative to its library's folder and must lie within the same reach. What is not found is a
 warning and the faces go on without it, as there.
 
-A derived face takes the coordinates (and material) of the initial face it lies on
-(:func:`~shapegen.geometry.texture_transfer.carried_uvs`); a leaf whose rule set its own texture
+A derived face takes the coordinates (and material) of the initial face it lies on, or over
+(an extrusion's top and sides, as CityEngine's runtime gives them:
+:func:`~shapegen.geometry.texture_transfer.carried_uvs`); a leaf whose rule set its own texture
 or texture coordinates (``texture``, ``setupProjection``...) takes none, as shapegen does not
 compute those. :func:`texture_warning` says how many faces of a model are left without the
 coordinates they would carry in CityEngine.
@@ -216,9 +217,10 @@ def texture_warning(model, texture: InitialTexture | None) -> str | None:
     parts = []
     if lost:
         parts.append(
-            f"{lost} of {total} faces are not on the initial shape's faces (moved,"
-            " extruded or made by an operation that does not keep them in place): shapegen"
-            " carries texture coordinates only to faces lying on the initial faces"
+            f"{lost} of {total} faces are neither on nor over the initial shape's faces"
+            " (moved across them, or made by an operation that does not keep them in place):"
+            " shapegen carries texture coordinates only to faces lying on or over the initial"
+            " faces"
         )
     if own:
         parts.append(

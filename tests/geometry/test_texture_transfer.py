@@ -1,6 +1,6 @@
 """Texture coordinates carried onto derived faces by where they lie: on an initial corner its
-coordinates, between corners the initial face's affine map (closed forms below), off the
-initial faces none."""
+coordinates, between corners the initial face's affine map (closed forms below), over an initial
+face (an extrusion's top and sides) those of the point below, off the initial faces none."""
 
 from __future__ import annotations
 
@@ -37,13 +37,25 @@ def test_a_face_on_an_initial_corner_takes_its_coordinates_exactly():
 @pytest.mark.parametrize(
     "moved",
     [
-        WALL + (0.001, 0, 0),  # off the plane by 1 mm
+        WALL + (0.001, 3, 0),  # off the plane by 1 mm, beyond the face
         WALL + (0, 3, 0),  # in the plane, beyond the face
-        WALL[:, [2, 1, 0]],  # turned to face +z
+        WALL[:, [2, 1, 0]],  # turned to face +z, standing inside the wall, not on its edge
     ],
 )
 def test_a_face_off_the_initial_faces_finds_none(moved):
     assert carried_uvs(moved, [(0, 1, 2, 3)], [WALL], [WALL_UV]) == [None]
+
+
+def test_a_face_over_an_initial_face_takes_the_coordinates_below_it():
+    # the wall extruded 1.5 m along +x: its top, and a side standing on its bottom edge
+    top = WALL + (1.5, 0, 0)
+    side = np.array([[3, 0, 0], [4.5, 0, 0], [4.5, 0, 4], [3, 0, 4.0]])
+    (k, uv), (j, side_uv) = carried_uvs(
+        np.concatenate([top, side]), [(0, 1, 2, 3), (4, 5, 6, 7)], [WALL], [WALL_UV]
+    )
+    assert k == j == 0
+    assert uv == pytest.approx(WALL_UV, abs=1e-12)
+    assert side_uv == pytest.approx(wall_uv(side), abs=1e-12)  # (z / 4 + 0.5, 0)
 
 
 def test_the_initial_face_a_face_lies_on_is_the_one_whose_coordinates_it_takes():

@@ -189,26 +189,68 @@ def test_faces_cut_from_an_initial_face_take_its_coordinates_between_corners(tmp
 
 
 def test_faces_moved_off_the_initial_faces_lose_their_coordinates_with_a_warning(tmp_path):
-    rule = write_rule(tmp_path, "t(0, 3, 0) X.")
+    rule = write_rule(tmp_path, "t(20, 0, 0) X.")
     model, out = generate(tmp_path, square_obj(tmp_path), rule=rule)
     read = read_corners(out / "base_name_0.fbx")
     warning, moves = model.get_cga_errors()
-    assert warning.startswith("texture coordinates: 1 of 1 faces are not on the initial shape")
+    assert warning.startswith(
+        "texture coordinates: 1 of 1 faces are neither on nor over the initial shape"
+    )
     assert moves.startswith("texture coordinates: the rule uses t; ")
     assert all(uv is None for face in read["faces"] for _, uv in face)
     # the shape keeps its one material's colour; its texture goes with the coordinates
     assert read["materials"]["stone_mat"]["texture"] is None
 
 
-def test_an_extrusion_keeps_the_coordinates_of_the_face_it_stands_on_only(tmp_path):
-    rule = write_rule(tmp_path, "extrude(4) X.")
+def _uv_corners(path: Path) -> list:
+    """Every face of an OBJ file as its corners' (position mm, texture coordinates) from its
+    least corner, sorted."""
+    from shapegen.readers.obj import obj_surface
+
+    surface = obj_surface(path.read_text(), str(path))
+    faces = []
+    for face, uv in zip(surface.faces, surface.face_uvs, strict=True):
+        ring = [tuple(np.round(surface.vertices[i] * 1000).astype(int).tolist()) for i in face]
+        first = ring.index(min(ring))
+        order = [(first + n) % len(ring) for n in range(len(ring))]
+        faces.append((tuple(ring[n] for n in order), np.asarray(uv)[order].tolist()))
+    return sorted(faces, key=lambda face: face[0])
+
+
+@pytest.mark.parametrize(("name", "height"), [("square", 4), ("l", 3), ("l_down", -3)])
+def test_an_extrusion_s_faces_take_the_coordinates_of_the_corners_they_rise_from(
+    tmp_path, name, height
+):
+    """PyPRT 1.12's OBJ files of the corpus's extrusion_rule on these initial shapes
+    (tools/prt_extrusion_uvs.py): every corner of the top and the sides has the coordinates of
+    the initial corner it was extruded from (a side's texture is its edge's, stretched up),
+    both ways up; PyPRT writes them to 4 decimals."""
+    source = PYPRT_OBJ.parent / f"uv_{name.removesuffix('_down')}.obj"
+    rule = write_rule(tmp_path, f"extrude({height}) X.")
+    shape = pyprt.InitialShape(str(source))
+    (model,) = pyprt.ModelGenerator([shape]).generate_model([{}], str(rule))
+    pyprt.ModelGenerator([shape]).generate_model(
+        [{}], str(rule), "com.esri.prt.codecs.OBJEncoder", {"outputPath": str(tmp_path)}
+    )
+    assert model.get_cga_errors() == []
+    ours = _uv_corners(tmp_path / "base_name_0.obj")
+    theirs = _uv_corners(PYPRT_OBJ.parent / f"extruded_{name}_pyprt112_0.obj")
+    assert [face for face, _ in ours] == [face for face, _ in theirs]
+    for (_, mine), (_, cityengine) in zip(ours, theirs, strict=True):
+        assert np.abs(np.subtract(mine, cityengine)).max() <= 1e-4
+
+
+def test_a_split_of_an_extrusion_keeps_the_coordinates_of_the_corners_below(tmp_path):
+    """Cut into floors, an extrusion's sides interpolate between corners of equal coordinates:
+    each floor's corners have those of the square's corner below them, (x, z) / 10."""
+    rule = write_rule(tmp_path, "extrude(6) split(y) { 2 : X. }*")
     model, out = generate(tmp_path, square_obj(tmp_path), rule=rule)
     read = read_corners(out / "base_name_0.fbx")
-    # the layer covers every corner: a face without coordinates has (0, 0) at each
-    with_uvs = [face for face in read["faces"] if any(uv != (0.0, 0.0) for _, uv in face)]
-    (warning,) = model.get_cga_errors()
-    assert "5 of 6 faces are not on the initial shape's faces" in warning
-    assert len(with_uvs) == 1 and {y for (_, y, _), _ in with_uvs[0]} == {0}
+    assert model.get_cga_errors() == []
+    assert {y for face in read["faces"] for (_, y, _), _ in face} == {0, 2000, 4000, 6000}
+    for face in read["faces"]:
+        for (x, _, z), uv in face:
+            assert uv == pytest.approx((x / 10000, z / 10000), abs=1e-9)
 
 
 def obj_corners(path: Path) -> list:
