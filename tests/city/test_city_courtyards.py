@@ -101,11 +101,12 @@ def test_each_building_file_holds_cityengines_model(city, lot_id):
     from shapegen.city.store import open_store
 
     out, origin, records = city
-    model, _ = read_building(open_store(out), records[lot_id])
+    model = read_building(open_store(out), records[lot_id])[0]
     rings = _prt_rings(_prt(lot_id), origin)
     expected = np.unique(np.round(np.vstack(rings), 4), axis=0)
-    faces = [block.vertices[list(face)] for block in model.blocks for face in block.faces]
-    found = np.unique(np.round(np.vstack([block.vertices for block in model.blocks]), 4), axis=0)
+    leaves = [*model.blocks, *model.surfaces]
+    faces = [leaf.vertices[list(face)] for leaf in leaves for face in leaf.faces]
+    found = np.unique(np.round(np.vstack([leaf.vertices for leaf in leaves]), 4), axis=0)
     assert found.shape == expected.shape and np.allclose(found, expected, atol=MM)
     assert _volume(faces) == pytest.approx(_volume(rings), rel=1e-9)
 
