@@ -66,7 +66,7 @@ def _disk(corners: int, wobble: float = 0.0) -> np.ndarray:
 
 
 def _inner_rectangle_of_a_4096_sided_star(_):
-    from shapegen.geometry.polygon2d import inner_rectangle
+    from shapegen.geometry.inner_rectangle import inner_rectangle
 
     rectangle, remainder = inner_rectangle(_disk(4096, wobble=0.3))
     size = np.ptp(rectangle, axis=0)
@@ -83,7 +83,7 @@ def test_the_largest_rectangle_of_a_polygon_of_many_corners_stays_small():
 
 
 def test_the_largest_rectangle_of_a_convex_polygon_of_many_corners_is_the_optimum():
-    from shapegen.geometry.polygon2d import inner_rectangle
+    from shapegen.geometry.inner_rectangle import inner_rectangle
 
     rectangle, _ = inner_rectangle(_disk(4096))
     size = np.ptp(rectangle, axis=0)
@@ -102,7 +102,7 @@ def test_the_kernels_look_at_the_clock():
     from shapegen.engine.shapes.shape import MASS, Shape, lot_scope
     from shapegen.geometry.convex import convex_faces
     from shapegen.geometry.cut import clip_slab
-    from shapegen.geometry.polygon2d import inner_rectangle
+    from shapegen.geometry.inner_rectangle import inner_rectangle
     from shapegen.geometry.skeleton import straight_skeleton
 
     message = _stops_at_once(lambda: inner_rectangle(_disk(64, wobble=0.3)))

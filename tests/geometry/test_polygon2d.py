@@ -9,6 +9,8 @@ from polygon_cases import star_polygon
 
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d as P
+from shapegen.geometry.inner_rectangle import inner_rectangle
+from shapegen.geometry.setback_pieces import setback_to_area
 from shapegen.geometry.skeleton import straight_skeleton
 
 RECT = [(0, 0), (12, 0), (12, 8), (0, 8)]
@@ -116,7 +118,7 @@ def test_shape_l_is_the_union_of_its_strips():
 
 
 def test_setback_to_area_of_a_rectangle():
-    result, d = P.setback_to_area(RECT, 24.0, [True] * 4)
+    result, d = setback_to_area(RECT, 24.0, [True] * 4)
     # (12 - 2d)(8 - 2d) = 24
     expected = (10 - math.sqrt(100 - 4 * 18)) / 2  # d² - 10 d + 18 = 0
     assert d == pytest.approx([expected] * 4, rel=1e-9)
@@ -128,7 +130,7 @@ def test_inner_rectangle_of_a_face_that_crosses_itself():
     gives a rectangle inside it and the remainder; GEOS refused to cut it as it is."""
     bow_tie = [(0.0, -5.7735026918962573), (12.0, -5.7735026918962573), (12.0, 0.0),
                (0.0, -6.928203230275509)]  # fmt: skip
-    rectangle, rest = P.inner_rectangle(bow_tie, "scope")
+    rectangle, rest = inner_rectangle(bow_tie, "scope")
     assert rectangle is not None and rest
     width, height = np.ptp(rectangle, axis=0)
     # the right triangle (2, -5.77) (12, -5.77) (12, 0) of the bow tie: its largest
@@ -138,10 +140,10 @@ def test_inner_rectangle_of_a_face_that_crosses_itself():
 
 
 def test_inner_rectangle_of_an_l_and_a_triangle():
-    rectangle, rest = P.inner_rectangle(L_SHAPE)
+    rectangle, rest = inner_rectangle(L_SHAPE)
     assert P.signed_area(rectangle) == pytest.approx(60)  # the 6 m arm: 6 x 10
     assert sum(P.signed_area(r) for r in rest) == pytest.approx(16)
-    rectangle, _ = P.inner_rectangle([(0, 0), (10, 0), (5, 8)], "edge")
+    rectangle, _ = inner_rectangle([(0, 0), (10, 0), (5, 8)], "edge")
     assert P.signed_area(rectangle) == pytest.approx(20, rel=0.01)  # half the triangle
 
 
@@ -152,8 +154,8 @@ def test_inner_rectangle_of_an_l_and_a_triangle():
         (lambda: P.offset([(0, 0), (0, 1), (1, 0)], -1), "counter-clockwise"),
         (lambda: P.setback(RECT, [1, 2]), "one distance per edge"),
         (lambda: P.setback(RECT, [1, -1, 0, 0]), ">= 0"),
-        (lambda: P.setback_to_area(RECT, 200, [True] * 4), "less than"),
-        (lambda: P.inner_rectangle(RECT, "diagonal"), "scope or edge"),
+        (lambda: setback_to_area(RECT, 200, [True] * 4), "less than"),
+        (lambda: inner_rectangle(RECT, "diagonal"), "scope or edge"),
     ],
 )
 def test_bad_input_is_one_clear_error(call, message):
@@ -214,7 +216,7 @@ PYPRT_INNER_RECTANGLES = [
 @pytest.mark.parametrize("lot, area", PYPRT_INNER_RECTANGLES)
 def test_inner_rectangle_by_edge_matches_pyprt(lot, area):
     polygon = np.array([(x, -z) for x, z in lot], float)  # the lot's plane seen from +y
-    rectangle, rest = P.inner_rectangle(polygon, "edge")
+    rectangle, rest = inner_rectangle(polygon, "edge")
     # CityEngine's rectangles are a hair smaller than the optimum (3e-5 of the area)
     assert P.signed_area(rectangle) == pytest.approx(area, rel=1e-4)
     assert P.signed_area(rectangle) >= area * (1 - 1e-9)
@@ -258,6 +260,6 @@ def test_front_setback_then_inner_rectangle_matches_pyprt(name):
     front = (normals @ normals[longest]) > np.abs(normals @ along)
     for distance, area in cases:
         remainder = P.setback(polygon, np.where(front, distance, 0.0)).remainder
-        rectangles = [P.inner_rectangle(r, "edge")[0] for r in remainder]
+        rectangles = [inner_rectangle(r, "edge")[0] for r in remainder]
         largest = max(P.signed_area(r) for r in rectangles)
         assert largest == pytest.approx(area, rel=2e-5)

@@ -44,6 +44,7 @@ from shapegen.engine.shapes.shape import FACE, MASS, Shape
 from shapegen.engine.shapes.tags import Pending
 from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
+from shapegen.geometry.inner_rectangle import inner_rectangle
 from shapegen.geometry.mesh import Mesh, polygon_normal
 from shapegen.geometry.queries import FACE_SELECTORS
 from shapegen.geometry.scope_frames import quadrant
@@ -296,7 +297,7 @@ def compile_inner_rectangle(program, node: ast.Operation, params):
         pieces: dict[str, list] = {"shape": [], "remainder": []}
         frames = flat_faces(state, node, program, f"{node.name}()")
         for (frame, polygon), rings in zip(frames, face_holes(state.shape), strict=True):
-            rectangle, rest = polygon2d.inner_rectangle(polygon, alignment, holes=rings)
+            rectangle, rest = inner_rectangle(polygon, alignment, holes=rings)
             if rectangle is not None:
                 pieces["shape"].append([frame.lift(rectangle)])
             if rings:  # the remainder keeps the holes no cut reaches

@@ -31,7 +31,7 @@ from shapegen.errors import GeometryError
 from shapegen.geometry import polygon2d
 from shapegen.geometry.queries import face_matches
 from shapegen.geometry.scope_frames import quadrant
-from shapegen.geometry.setback_pieces import setback_pieces
+from shapegen.geometry.setback_pieces import setback_pieces, setback_to_area
 from shapegen.grammar import ast
 from shapegen.tolerances import COINCIDENT_REL
 
@@ -211,61 +211,18 @@ def compile_setback_to_area(program, node: ast.Operation, params):
 
 
 def _to_area(program, node, polygon, rings, area, selected, low=None, high=None):
-    """setbackToArea's distances: the ``selected`` edges set back by ``low + c`` (at most
-    ``high``) with the common ``c >= 0`` that leaves a remainder of ``area`` (m^2), found by
-    bisection. A remainder's area is its pieces' less the holes they keep (CityEngine's runtime:
-    a 12 x 8 m lot with a 4 x 2 m hole set back to 40 m^2 leaves a 48 m^2 ring around the hole).
-    Where the face has less than the area, or no edge is selected, the runtime sets nothing
-    back and records nothing: the remainder is the whole face (tests/data/prt_setback_holes.json,
-    with and without holes); a .grammar file refuses the first."""
-    n = len(polygon)
-    low = np.zeros(n) if low is None else low
-    high = np.full(n, np.inf) if high is None else high
-    chosen = [[k for k in range(n) if selected[k]]]
-
-    def distances(c: float) -> np.ndarray:
-        return np.where(selected, np.maximum(np.minimum(low + c, high), 0.0), 0.0)
-
-    def remaining(c: float) -> float:
-        if not rings:
-            pieces = polygon2d.setback(polygon, distances(c)).remainder
-            return sum(map(polygon2d.signed_area, pieces))
-        try:
-            pieces = setback_pieces(polygon, rings, distances(c), chosen)
-        except GeometryError as exc:
-            raise program.operation_error(node, f"{node.name}(): {exc}") from None
-        return sum(
-            polygon2d.signed_area(outer) + sum(polygon2d.signed_area(h) for h in inner)
-            for outer, inner in pieces.remainder
-        )
-
-    if not (np.isfinite(area) and area > 0):
-        raise program.operation_error(node, f"setbackToArea needs an area > 0, got {area}")
+    """setbackToArea's distances (:func:`~shapegen.geometry.setback_pieces.setback_to_area`). Where
+    the face has less than the area the runtime sets nothing back and records nothing: the
+    remainder is the whole face (tests/data/prt_setback_holes.json, with and without holes);
+    a .grammar file refuses it."""
     face = polygon2d.signed_area(polygon) + sum(polygon2d.signed_area(h) for h in rings)
-    if area > face:
-        if not program.cga_dialect:
-            raise program.operation_error(
-                node, f"setbackToArea: the face has {face:.6g} m², less than {area:.6g}"
-            )
-        return np.zeros(n)
-    if not any(selected):
-        return np.zeros(n)
-    if remaining(0.0) < area:
-        raise program.operation_error(
-            node, "setbackToArea: the minimum distances already leave less than the area"
-        )
-    lo, hi = 0.0, float(np.ptp(polygon, axis=0).max())
-    if remaining(hi) > area:
-        raise program.operation_error(
-            node, "setbackToArea: the maximum distances leave more than the area"
-        )
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if remaining(mid) > area:
-            lo = mid
-        else:
-            hi = mid
-    return distances(0.5 * (lo + hi))
+    if program.cga_dialect and np.isfinite(area) and area > face:
+        return np.zeros(len(polygon))
+    try:
+        _, d = setback_to_area(polygon, area, selected, low, high, holes=rings)
+    except GeometryError as exc:
+        raise program.operation_error(node, str(exc)) from None
+    return d
 
 
 _LUO = {"shapeL": ("front", "left"), "shapeU": ("front", "right", "left"),
