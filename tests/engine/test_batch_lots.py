@@ -4,17 +4,15 @@ convex) and rectangles; what the batch does not implement falls back, counted.""
 
 from __future__ import annotations
 
-import gzip
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
+from batch_widths import compare_widths, footprints
 
 import shapegen
 from shapegen.engine.batch import derive_lots
-from shapegen.engine.batch.leaves import packed_leaves
-from shapegen.engine.batch.lots import BOX, SOLID
+from shapegen.engine.batch.lots import BOX
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 EXTRUSION = """version "2023.0"
@@ -59,22 +57,6 @@ Mid -->
 """
 
 
-def _footprints(count: int, tmp_path) -> list[np.ndarray]:
-    """The first ``count`` OSM footprints of the district as (x, z) lots, and rectangles."""
-    from shapegen.city import read_lots
-    from shapegen.city.work import city_lot
-
-    with gzip.open(DATA / "osm" / "neubrandenburg.geojson.gz") as handle:
-        document = json.load(handle)
-    document["features"] = document["features"][:count]
-    (tmp_path / "lots.geojson").write_text(json.dumps(document))
-    city = read_lots(tmp_path / "lots.geojson")
-    rings = [city_lot(lot.ring) for lot in city.lots[:count]]
-    rings += [np.array([[x, -z], [x + 12, -z], [x + 12, -z - 8], [x, -z - 8]], float)
-              for x, z in ((0.0, 0.0), (30.5, 7.25), (-40.0, 100.0))]  # fmt: skip
-    return rings
-
-
 def _grammar(tmp_path, text: str):
     path = tmp_path / "rule.cga"
     path.write_text(text)
@@ -90,49 +72,18 @@ def _batch(grammar, rings, overrides=None):
 
 
 def test_batch_gives_what_one_lot_at_a_time_gives(tmp_path):
-    from shapegen.pipeline import design
-
     grammar = _grammar(tmp_path, EXTRUSION)
-    rings = _footprints(150, tmp_path)
-    batch, seeds = _batch(grammar, rings)
+    rings = footprints(150, tmp_path)
+    seeds = [1000 + 7 * k for k in range(len(rings))]
+    batch = compare_widths(grammar, rings, seeds)
     derived = np.flatnonzero(~batch.fallback)
     assert len(derived) >= 0.95 * len(rings)  # most lots go in the batch
     assert set(batch.kind[derived].tolist()) == {0, 1, 2}  # boxes, convex blocks, solids
-    leaves = packed_leaves(batch, derived)
-    vertex_at = np.concatenate([[0], np.cumsum(leaves["vertex_counts"])])
-    face_at = np.concatenate([[0], np.cumsum(leaves["face_counts"])])
-    corner_at = np.concatenate([[0], np.cumsum(leaves["face_sizes"])])
-    reports = batch.reports()
-    for j, k in enumerate(derived.tolist()):
-        lot = [tuple(p) for p in rings[k].tolist()]
-        model = design(grammar, seed=seeds[k], lot=lot, assess=False).model
-        solid = batch.kind[k] == SOLID
-        assert (len(model.blocks), len(model.surfaces)) == ((0, 1) if solid else (1, 0))
-        leaf = model.surfaces[0] if solid else model.blocks[0]
-        vertices = leaves["vertices"][vertex_at[j] : vertex_at[j + 1]]
-        scale = np.abs(vertices).max()
-        np.testing.assert_allclose(vertices, leaf.vertices, rtol=0, atol=1e-12 * scale + 1e-12)
-        sizes = leaves["face_sizes"][face_at[j] : face_at[j + 1]].tolist()
-        flat = leaves["faces"][corner_at[face_at[j]] : corner_at[face_at[j + 1]]].tolist()
-        faces, at = [], 0
-        for size in sizes:
-            faces.append(tuple(flat[at : at + size]))
-            at += size
-        assert tuple(faces) == tuple(leaf.faces)
-        expected = model.metadata["reports"]
-        assert list(reports[k]) == list(expected)  # same keys, same order
-        for key, value in expected.items():
-            got = reports[k][key]
-            if isinstance(value, float):
-                assert got == pytest.approx(value, rel=1e-12), key
-            else:
-                assert got == value and type(got) is type(value), key
-        assert batch.values[k]["parcelArea"] == model.metadata["attrs"]["parcelArea"]
     assert (batch.kind[derived] == BOX).sum() >= 3  # the rectangles
 
 
 def test_lots_the_batch_cannot_derive_fall_back_counted(tmp_path):
-    rings = _footprints(40, tmp_path)
+    rings = footprints(40, tmp_path)
     # an operation the batch does not implement: every lot falls back, with the reason
     grammar = _grammar(tmp_path, "Lot --> extrude(10) comp(f) { top : Roof | side : Wall }")
     batch, _ = _batch(grammar, rings)
@@ -164,7 +115,7 @@ def test_lot_properties_group_lots(tmp_path):
     from shapegen.pipeline import design
 
     grammar = _grammar(tmp_path, EXTRUSION)
-    rings = _footprints(30, tmp_path)
+    rings = footprints(30, tmp_path)
     tall, short = {"maxBuildingHeight": 80.0, "text": "other"}, {}
     given = [tall if k % 3 == 0 else short for k in range(len(rings))]
     batch, seeds = _batch(grammar, rings, given)
