@@ -8,8 +8,13 @@ from pathlib import Path
 
 import shapegen
 from shapegen.engine.derivation.state import Derivation, root_state
+from shapegen.engine.operations.cga import register_all
 from shapegen.engine.shapes.shape import FACE, Shape, lot_scope
 from shapegen.grammar import ast
+
+# Operations register when a rule first names them; the nodes here are made in code, so every
+# operation is registered, whether a rule named it yet or not.
+register_all()
 
 SIMPLE_RULE_DATASET = (
     Path(__file__).resolve().parent

@@ -11,14 +11,11 @@ import pytest
 from operation_nodes import lot_state, operation, operations_program
 
 import shapegen
-from shapegen.engine.operations.cga import register_all
 from shapegen.engine.operations.cga.appearance import compile_material_set
 from shapegen.engine.operations.registry import compiler_for
 from shapegen.errors import GrammarError
 from shapegen.grammar import ast
 from shapegen.model.appearance import DEFAULT_APPEARANCE, material_value, parse_hex_color
-
-register_all()  # every operation registered, whether a rule named it yet or not
 
 
 @pytest.fixture(scope="module")

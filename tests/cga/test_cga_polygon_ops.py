@@ -10,14 +10,11 @@ import pytest
 from operation_nodes import SIMPLE_RULE_DATASET, lot_state, operation, operations_program
 
 import shapegen
-from shapegen.engine.operations.cga import register_all
 from shapegen.engine.operations.registry import compiler_for
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, lot_scope
 from shapegen.errors import GrammarError
 from shapegen.geometry.queries import border_faces
 from shapegen.grammar import ast
-
-register_all()  # every operation registered, whether a rule named it yet or not
 
 
 @pytest.fixture(scope="module")

@@ -11,13 +11,10 @@ import pytest
 from operation_nodes import SIMPLE_RULE_DATASET, operation, operations_program, shape_state
 
 import shapegen
-from shapegen.engine.operations.cga import register_all
 from shapegen.engine.operations.cga.scope_ops import pivot_frame
 from shapegen.engine.operations.registry import compiler_for
 from shapegen.engine.shapes.shape import extrude_shape, lot_shape
 from shapegen.errors import GrammarError
-
-register_all()  # every operation registered, whether a rule named it yet or not
 
 L_LOT = [(0, 0), (4, 0), (4, -2), (2, -2), (2, -4), (0, -4)]
 
