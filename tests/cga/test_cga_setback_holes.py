@@ -12,6 +12,7 @@ import re
 from pathlib import Path
 
 import pytest
+from prt_cases import branch_rule, case_id, encoder_rings
 
 import shapegen.prt as pyprt
 
@@ -35,43 +36,22 @@ NUDGE_M, NUDGE_M2 = 2e-3, 6e-3
 STRIP_NOT_VALID = {("diamond", "setbackToArea(40) { all: | remainder: }")}
 
 
-def _case_id(case):
-    return f"{case['lot']}:{case['rule']}"
-
-
-def _rule(text: str) -> str:
-    """The case's rule as a .cga file: each branch's shape reports its geometry."""
-    body = text[text.index("{") + 1 : text.rindex("}")]
-    branches = [part.strip() for part in body.split("|")]
-    head = text[: text.index("{")].strip()
-    written = [f"{b[:-1].strip()} {b[-1]} B{k}" for k, b in enumerate(branches)]
-    lines = [f"Lot --> {head} {{ {' | '.join(written)} }}"]
-    for k in range(len(branches)):
-        reports = " ".join(f'report("b{k}.{f}", geometry.{f})' for f in FIGURES)
-        lines.append(f"B{k} --> {reports}")
-    return 'version "2023.0"\n@StartRule\n' + "\n".join(lines) + "\n"
-
-
 def _rings(vertices, indices, counts) -> list:
     """Each face (or hole) as its corners in order, from its smallest corner (PyPRT's rings
     and shapegen's may start on different corners of the same turn)."""
-    corners = range(0, len(vertices), 3)
-    points = [tuple(vertices[i : i + 3]) for i in corners]
-    out, start = [], 0
-    for n in counts:
-        ring = [points[i] for i in indices[start : start + n]]
+    out = []
+    for ring in encoder_rings(vertices, indices, counts):
         rounded = [tuple(round(c, 3) + 0.0 for c in p) for p in ring]
         first = rounded.index(min(rounded))
         out.append(ring[first:] + ring[:first])
-        start += n
     return sorted(out, key=lambda r: [tuple(round(c, 3) + 0.0 for c in p) for p in r])
 
 
-@pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)
+@pytest.mark.parametrize("case", MEASURED["cases"], ids=case_id)
 def test_pyprt_s_pieces_of_a_holed_face(tmp_path, case):
     lot = MEASURED["lots"][case["lot"]]
     rule = tmp_path / "pieces.cga"
-    rule.write_text(_rule(case["rule"]))
+    rule.write_text(branch_rule(case["rule"], FIGURES))
     shape = pyprt.InitialShape(lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"])
     (model,) = pyprt.ModelGenerator([shape]).generate_model(
         [{}], str(rule), "com.esri.pyprt.PyEncoder", {}

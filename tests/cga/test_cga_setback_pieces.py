@@ -11,6 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
+from prt_cases import branch_rule, case_id, encoder_rings
 
 import shapegen.prt as pyprt
 
@@ -19,23 +20,6 @@ COVERS = {"test_pyprt_s_setback_pieces": ("op:setback",)}
 
 MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_setback.json").read_text())
 FIGURES = ("nFaces", "nHoles", "nVertices", "area")
-
-
-def _case_id(case):
-    return f"{case['lot']}:{case['rule']}"
-
-
-def _rule(text: str) -> str:
-    """The case's rule as a .cga file: each branch's shape reports its geometry."""
-    body = text[text.index("{") + 1 : text.rindex("}")]
-    branches = [part.strip() for part in body.split("|")]
-    head = text[: text.index("{")].strip()
-    written = [f"{b[:-1].strip()} {b[-1]} B{k}" for k, b in enumerate(branches)]
-    lines = [f"Lot --> {head} {{ {' | '.join(written)} }}"]
-    for k in range(len(branches)):
-        reports = " ".join(f'report("b{k}.{f}", geometry.{f})' for f in FIGURES)
-        lines.append(f"B{k} --> {reports}")
-    return 'version "2023.0"\n@StartRule\n' + "\n".join(lines) + "\n"
 
 
 # Where a hole of the courtyard cuts the remainder in two, the ring around the remainder
@@ -50,13 +34,10 @@ OTHER_START = {
 
 def _rings(vertices, indices, counts) -> list:
     """Each face (or hole) as its corners in order, rounded to 0.1 mm."""
-    corners = range(0, len(vertices), 3)
-    points = [tuple(round(c, 4) + 0.0 for c in vertices[i : i + 3]) for i in corners]
-    out, start = [], 0
-    for n in counts:
-        out.append([points[i] for i in indices[start : start + n]])
-        start += n
-    return out
+    return [
+        [tuple(round(c, 4) + 0.0 for c in p) for p in ring]
+        for ring in encoder_rings(vertices, indices, counts)
+    ]
 
 
 def _turned(ring: list) -> list:
@@ -65,11 +46,11 @@ def _turned(ring: list) -> list:
     return ring[first:] + ring[:first]
 
 
-@pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)
+@pytest.mark.parametrize("case", MEASURED["cases"], ids=case_id)
 def test_pyprt_s_setback_pieces(tmp_path, case):
     lot = MEASURED["lots"][case["lot"]]
     rule = tmp_path / "setback.cga"
-    rule.write_text(_rule(case["rule"]))
+    rule.write_text(branch_rule(case["rule"], FIGURES))
     if "holes" in lot:
         shape = pyprt.InitialShape(
             lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"]
