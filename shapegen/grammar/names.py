@@ -418,7 +418,7 @@ OPERATIONS: dict[str, tuple[int, int]] = {
 }
 
 SPLIT_AXES: tuple[str, ...] = ("x", "y", "z")
-COMP_KINDS: tuple[str, ...] = ("f", "e", "v", "fe", "fv", "g", "m")
+COMP_KINDS: tuple[str, ...] = ("f", "e", "v", "fe", "fv", "g", "m", "h")
 #: comp selectors by name (op_comp's list); a face index (``0 : A``) is valid too, and so are
 #: ``||``, ``&&``, ``!`` of selectors and boolean conditions (parsed as a generic comp).
 COMP_SELECTORS: tuple[str, ...] = (

@@ -28,9 +28,6 @@ from shapegen.statics.standins import statics_model
 MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_roofs.json").read_text())
 FIGURES = ("nFaces", "nHoles", "area", "volume")
 CORNER_M = 1e-4  # PyPRT's corners are recorded to 1e-6 m; shapegen's must be this close
-# shapegen does not split a shape into its holes (comp(h)), and refuses comp(e) of a shape
-# whose faces have holes (a roof's bottom keeps them): PyPRT's counts are recorded for them.
-NOT_BUILT = ("comp(h)", "comp(e)")
 # An overhanging roof is not a closed surface: shapegen gives its volume as 0, CityEngine's
 # runtime sums it anyway.
 OPEN = {"roofHip(30, 1)", "roofHip(30, -0.5)", "roofGable(30, 1, 1)", "roofGable(30, 1, 0.5)"}
@@ -79,7 +76,33 @@ def _near_all(ours: np.ndarray, theirs: np.ndarray) -> bool:
 
 
 GEOMETRY_CASES = [c for c in MEASURED["cases"] if "comp" not in c]
-COMP_CASES = [c for c in MEASURED["cases"] if "comp" in c and not c["comp"].startswith(NOT_BUILT)]
+# comp(e)'s roof-edge classes (shapegen.geometry.roof_edges) differ from PyPRT's on lots
+# without holes as on lots with them: the walls of roofRidge and roofShed, a gable roof on an L
+# or a trapezoid, a pyramid on an L count other eaves and hips; not a matter of holes (the
+# holes' edges are counted as PyPRT counts them on the hip and gable roofs), kept as expected
+# failures so that a fix shows.
+EDGE_CLASSES_DIFFER = {
+    "roofRidge": "all", "roofShed": "all", "roofGable": {"L", "skew_L", "trapezoid"},
+    "roofPyramid": {"L", "skew_L", "L_courtyard"},
+}  # fmt: skip
+
+
+def _edge_classes_differ(case) -> bool:
+    lots = EDGE_CLASSES_DIFFER.get(case["rule"].split("(")[0], ())
+    return case["comp"].startswith("comp(e)") and (lots == "all" or case["lot"] in lots)
+
+
+COMP_CASES = [
+    pytest.param(
+        c,
+        id=_case_id(c),
+        marks=[pytest.mark.xfail(strict=True, reason="roof-edge classes")]
+        if _edge_classes_differ(c)
+        else [],
+    )
+    for c in MEASURED["cases"]
+    if "comp" in c
+]
 
 
 @pytest.mark.parametrize("case", GEOMETRY_CASES, ids=_case_id)
@@ -107,7 +130,7 @@ def test_pyprt_s_roofs_on_faces_with_holes(tmp_path, case):
     assert _near_all(ours, np.asarray(case["points"], dtype=float))
 
 
-@pytest.mark.parametrize("case", COMP_CASES, ids=_case_id)
+@pytest.mark.parametrize("case", COMP_CASES)
 def test_pyprt_s_comp_selectors_on_roofs_with_holes(tmp_path, case):
     model = _generate(tmp_path, case)
     assert model.get_cga_errors() == []

@@ -153,15 +153,6 @@ def test_an_operation_that_does_not_keep_holes_refuses_them():
     assert not model.metadata.get("warnings")
 
 
-@pytest.mark.parametrize("kind", ["e", "fe", "v", "fv"])
-def test_comp_of_edges_or_vertices_refuses_holes(kind):
-    # the edges and corners of the holes are not listed: refused rather than left out
-    text = f"@StartRule\nLot --> extrude(3) comp({kind}) {{ all: X. }}"
-    model = parse_grammar(text, "comp.cga").build(lot=COURTYARD)
-    assert any(f"comp({kind}) of a shape whose faces have holes" in w
-               for w in model.metadata["warnings"])  # fmt: skip
-
-
 def test_a_lot_s_holes_are_checked_and_wound_against_it():
     lot = Lot.polygon([(0, 0), (12, 0), (12, 8), (0, 8)], [[(4, 3), (4, 5), (8, 5), (8, 3)]])
     x, z = np.array(lot.holes[0]).T  # clockwise seen from above: a positive (x, z) shoelace

@@ -22,6 +22,7 @@ from shapegen.engine.operations.cga.topology import (
     EDGE,
     component_selector,
     components_of,
+    holes_shape,
     merged_shape,
     selector_text,
     selector_word,
@@ -39,7 +40,7 @@ def compile_component_values(compiler, node: ast.ComponentValues, params):
         raise compiler.error(node, "comp() needs the kind of component: comp(f), comp(e)...")
     kind = selector_word(node.arguments[0])
     if kind not in COMPONENT_KINDS:
-        raise compiler.error(node, f"comp({kind}) splits into f, e, v, fe or fv")
+        raise compiler.error(node, f"comp({kind}) splits into f, e, v, fe, fv, g, m or h")
     for branch in node.branches:
         if branch.connected:
             raise compiler.error(
@@ -62,8 +63,6 @@ def compile_component_values(compiler, node: ast.ComponentValues, params):
         shape = state.shape
         if shape.kind not in (FACE, MASS, EDGE):
             raise error(node, f"comp({kind}) cannot take apart an inserted primitive")
-        if kind != "f" and shape.geometry is not None and shape.geometry.holes:
-            raise error(node, f"comp({kind}) of a shape whose faces have holes is not supported")
         components = components_of(shape, kind, getattr(state.run, "object_rotation", None))
         out: list = [None] * len(components)
         taken = [False] * len(components)
@@ -79,8 +78,11 @@ def compile_component_values(compiler, node: ast.ComponentValues, params):
                 state.comp_sel = text
                 if merge:
                     state.shape = (
-                        merged_shape(shape, [components[k] for k in chosen])
-                        if kind == "f"
+                        merged_shape(
+                            holes_shape(shape) if kind == "h" else shape,
+                            [components[k] for k in chosen],
+                        )
+                        if kind in ("f", "h")
                         else components[chosen[0]].shape
                     )
                     state.comp_index, state.comp_total = 0, 1

@@ -1,4 +1,5 @@
-"""CityEngine's component split: ``comp(f)``, ``comp(e)``, ``comp(v)``, ``comp(fe)``, ``comp(fv)``.
+"""CityEngine's component split: ``comp(f)``, ``comp(e)``, ``comp(v)``, ``comp(fe)``, ``comp(fv)``,
+``comp(h)``.
 
 The components of a shape's geometry (a box filling its scope when it has none) become new
 shapes, with scopes as op_comp sets them:
@@ -12,7 +13,15 @@ shapes, with scopes as op_comp sets them:
   plane;
 - a vertex (``v``): the origin at the vertex, z along the mean of its faces' normals, size 0;
 - a face vertex (``fv``): every face's corners, x along the face's edge leaving the corner, y the
-  face normal, z out of the face in its plane, size 0.
+  face normal, z out of the face in its plane, size 0;
+- a hole (``h``): every face's holes, face by face, each a face of its own turned to face as its
+  face does (its ring reversed, so that its first edge is the hole's first edge turned round),
+  its scope and pivot as a face's.
+
+A face's holes are rings of edges and corners as its outline is: ``e``, ``fe``, ``v`` and ``fv``
+count them as CityEngine's runtime does (:func:`_face_rings`: a flat face's outline, then its
+holes; an extruded courtyard's outer rings, then the holes of its bottom and top, then its inner
+walls), and a border edge is one of a single ring (tests/data/prt_comp_holes.json).
 
 Selectors are exclusive from left to right. ``sel : A`` makes one shape per component,
 ``sel = A`` one shape of all of them. A selector is a name (``front``, ``world.up``,
@@ -33,6 +42,7 @@ __all__ = [
     "components_of",
     "connected_sets",
     "face_components",
+    "holes_shape",
     "merged_shape",
     "selector_text",
     "selector_word",
@@ -65,7 +75,7 @@ COMP_CAME_TO_NOTHING = "comp came to nothing"
 """``ShapeState.deleted`` of a component whose comp chose nothing, or whose chosen components
 all came to nothing: it leaves no leaf, and its own comp counts it as nothing (``comp_op``)."""
 VERTEX = "vertex"
-COMPONENT_KINDS = ("f", "e", "v", "fe", "fv", "g", "m")
+COMPONENT_KINDS = ("f", "e", "v", "fe", "fv", "g", "m", "h")
 _ROOF_EDGES = ROOF_EDGE_CLASSES
 
 
@@ -156,26 +166,65 @@ def _holed_face(mesh: Mesh, k: int, world: np.ndarray, scope: Scope) -> Mesh:
     return face.moved_to(scope.to_local(face.vertices))
 
 
+def _face_rings(mesh: Mesh) -> list[tuple[int, tuple]]:
+    """Every face's rings in the order CityEngine counts their edges and corners: ``(face,
+    ring)``. The outlines come in face order, and the holes (wound against their faces; face by
+    face, each face's in order) all come just before the first face whose outline runs along one
+    of them (an extruded courtyard's inner walls: the bottom's holes, the top's, then the walls),
+    or after the last face (tests/data/prt_comp_holes.json, CityEngine's runtime)."""
+    if not mesh.holes:
+        return list(enumerate(mesh.faces))
+    holes = [(f, ring) for f, rings in enumerate(mesh.holes) for ring in rings or ()]
+    hole_edges = {
+        frozenset(pair) for _, ring in holes for pair in zip(ring, ring[1:] + ring[:1], strict=True)
+    }
+    out = []
+    for f, face in enumerate(mesh.faces):
+        if holes and any(
+            frozenset(pair) in hole_edges for pair in zip(face, face[1:] + face[:1], strict=True)
+        ):
+            out += holes
+            holes = []
+        out.append((f, face))
+    return out + holes
+
+
+def holes_shape(shape: Shape) -> Shape:
+    """The holes of ``shape``'s faces as the faces of one shape in its scope (what ``comp(h)``
+    takes apart): each hole's ring reversed, so that it faces as its face does and its first
+    edge is the hole's first edge turned round (``b, a, ...``), as CityEngine's runtime gives
+    them; no faces when there are no holes."""
+    mesh = shape.geometry
+    holes = mesh.holes if mesh is not None else ()
+    rings = [ring for rings in holes for ring in rings or ()]
+    faces = tuple(tuple(ring[1::-1]) + tuple(ring[:1:-1]) for ring in rings)
+    if not faces:
+        return Shape.with_geometry(shape.scope, Mesh(np.empty((0, 3)), ()), FACE, 2)
+    faced = Mesh(mesh.vertices, faces).subset(range(len(faces)))  # only the holes' corners
+    return Shape.with_geometry(shape.scope, faced, FACE, 2)
+
+
 def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Component]:
     scope = shape.scope
     mesh = shape.mesh()
     world_vertices = scope.to_world(mesh.vertices)
     face_normals = mesh.face_normals() @ scope.rotation.T
+    rings = _face_rings(mesh)
     edge_faces: dict[tuple[int, int], list[int]] = {}
-    for f, face in enumerate(mesh.faces):
+    for f, face in rings:
         for a, b in zip(face, face[1:] + face[:1], strict=True):
             edge_faces.setdefault((min(a, b), max(a, b)), []).append(f)
     out = []
     if per_face:
         pairs = [
             (a, b, f)
-            for f, face in enumerate(mesh.faces)
+            for f, face in rings
             for a, b in zip(face, face[1:] + face[:1], strict=True)
             if a != b
         ]
         roofs = [("", False)] * len(pairs)
     else:
-        pairs = [(a, b, None) for a, b in _ordered_edges(mesh)]
+        pairs = [(a, b, None) for a, b in _ordered_edges(rings)]
         roofs = roof_edge_classes(world_vertices, mesh.faces, [(a, b) for a, b, _ in pairs])
     for k, ((a, b, f), (roof, turn)) in enumerate(zip(pairs, roofs, strict=True)):
         if turn:  # hips, valleys and ridges run upwards; eaves as their roof face runs
@@ -211,12 +260,12 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
     return out
 
 
-def _ordered_edges(mesh: Mesh) -> list[tuple[int, int]]:
-    """Edges in CityEngine's order: around the first face, then the next, shared ones once; each
-    in the direction of the face that met it first."""
+def _ordered_edges(rings) -> list[tuple[int, int]]:
+    """Edges in CityEngine's order: around the first ring of :func:`_face_rings`, then the next,
+    shared ones once; each in the direction of the ring that met it first."""
     seen = set()
     out = []
-    for face in mesh.faces:
+    for _, face in rings:
         for a, b in zip(face, face[1:] + face[:1], strict=True):
             key = (min(a, b), max(a, b))
             if a != b and key not in seen:
@@ -231,10 +280,15 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
     world_vertices = scope.to_world(mesh.vertices)
     face_normals = mesh.face_normals() @ scope.rotation.T
     touching: dict[int, list[int]] = {}
-    for f, face in enumerate(mesh.faces):
+    uses: dict[frozenset, int] = {}
+    for f, face in _face_rings(mesh):
         for i in face:
             touching.setdefault(i, []).append(f)
-    borders = border_faces(mesh)
+        for pair in zip(face, face[1:] + face[:1], strict=True):
+            uses[frozenset(pair)] = uses.get(frozenset(pair), 0) + 1
+    # op_comp: "border vertices are start or end point of one or more border edges", an edge
+    # of one face (a hole's ring is an edge of its face, so an extruded courtyard has none)
+    on_border = {i for edge, count in uses.items() if count == 1 for i in edge}
     out = []
     for k in range(mesh.n_vertices):
         faces = touching.get(k, [])
@@ -248,7 +302,7 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
                 scope.rotation.T @ normal_world,
                 normal_world,
                 normal_world if object_rotation is None else object_rotation.T @ normal_world,
-                any(borders[f] for f in faces),
+                k in on_border,
                 Shape.with_geometry(vertex_scope, Mesh([(0, 0, 0)], ()), VERTEX, 2),
                 tuple(faces),
                 first=world_vertices[k],
@@ -267,7 +321,7 @@ def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
     normals = mesh.face_normals() @ scope.rotation.T
     borders = border_faces(mesh)
     out = []
-    for f, face in enumerate(mesh.faces):
+    for f, face in _face_rings(mesh):
         for j, i in enumerate(face):
             tangent = world_vertices[face[(j + 1) % len(face)]] - world_vertices[i]
             rotation = rotation_keeping_x(tangent, normals[f]) if tangent.any() else None
@@ -329,7 +383,7 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
     if kind not in COMPONENT_KINDS:
         raise program.error(
             node,
-            f"comp({kind}) is not supported by shapegen; it splits into f, e, v, fe or fv",
+            f"comp({kind}) is not supported by shapegen; it splits into f, e, v, fe, fv, g, m or h",
         )
     compiled = [
         (
@@ -348,12 +402,8 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
         shape = state.shape
         if shape.kind not in (FACE, MASS, EDGE):
             raise error(node, f"comp({kind}) cannot take apart an inserted primitive")
-        if kind not in ("f", "g", "m") and shape.geometry is not None and shape.geometry.holes:
-            raise program.operation_error(  # a hole's edges and corners are not listed
-                node, f"comp({kind}) of a shape whose faces have holes is not supported by "
-                "shapegen (deleteHoles() first removes them)",
-            )  # fmt: skip
         components = components_of(shape, kind, getattr(state.run, "object_rotation", None))
+        source = holes_shape(shape) if kind == "h" else shape  # whose faces are merged
         taken = [False] * len(components)
         run = state.run
         planes = None
@@ -372,8 +422,8 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
             groups = [chosen]
             if getattr(branch, "connected", False):  # =: a shape per connected set
                 groups = connected_sets(shape.mesh(), chosen)
-            if merge and kind == "f":
-                shapes = [merged_shape(shape, group) for group in groups]
+            if merge and kind in ("f", "h"):
+                shapes = [merged_shape(source, group) for group in groups]
                 firsts = [group[0].first for group in groups]
             else:
                 shapes = [c.shape for c in chosen]
@@ -416,9 +466,12 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
 
 
 def components_of(shape: Shape, kind: str, object_rotation) -> list[Component]:
-    """The components of ``shape`` of one ``kind`` (f, e, fe, fv or v), in CityEngine's order."""
+    """The components of ``shape`` of one ``kind`` (f, e, fe, fv, v, h, g or m), in CityEngine's
+    order."""
     if kind == "f":
         return face_components(shape, object_rotation)
+    if kind == "h":
+        return face_components(holes_shape(shape), object_rotation)
     if kind in ("e", "fe"):
         return _edge_components(shape, object_rotation, kind == "fe")
     if kind == "fv":
@@ -463,12 +516,11 @@ def _unaligned(piece: Shape, parent: Scope) -> Shape:
 @operation(
     "comp",
     nodes=(ast.Comp, ast.Operation),
-    partial="refused: the component h (holes), and =: on edges "
-    "and vertices; g and m give one component, the whole geometry (shapegen's meshes have one "
-    "group and one material)",
+    partial="refused: =: on edges, vertices and holes; g and m give one component, the whole "
+    "geometry (shapegen's meshes have one group and one material)",
 )
 def compile_comp(program, node: ast.Comp | ast.Operation, params):
-    """``comp(f|e|v|fe [, zUp|noAlign]) { selector : body | ... }``: the parser's
+    """``comp(f|e|v|fe|fv|h [, zUp|noAlign]) { selector : body | ... }``: the parser's
     :class:`~shapegen.grammar.ast.Comp` (``comp(f) { ... }``) or a generic operation (with an
     alignment)."""
     if type(node) is ast.Comp:
