@@ -66,6 +66,7 @@ SPLITS = [
     ("h", "", ["all:0"]),
     ("h", "noAlign", ["all:1"]),
     ("h", "", ["top:1", "bottom:1"]),
+    ("h", "", ["border:1", "inside:1"]),
     ("e", "", ["all:1"]),
     ("e", "", ["border:1", "inside:1"]),
     ("fe", "", ["all:1"]),

@@ -125,4 +125,8 @@ def _named(program, node, name: str, kind: str) -> Selector:
         return lambda c, state, args: c.roof == name
     if name not in FACE_SELECTORS:
         raise program.error(node, f"unknown comp selector {name!r}")
+    if name in ("border", "inside") and kind == "h":
+        # op_comp: "This selector does not work on holes": PyPRT's comp(h) takes no hole with
+        # either (and warns: topology.comp_operation)
+        return lambda c, state, args: False
     return lambda c, state, args: face_matches(name, c.normal, c.world, c.object, c.border)

@@ -53,7 +53,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shapegen.engine.operations.cga.comp_selectors import component_selector, selector_text
-from shapegen.engine.operations.registry import operation
+from shapegen.engine.operations.registry import operation, warn_at
 from shapegen.engine.shapes.boxes import box_faces_of, extruded_backwards
 from shapegen.engine.shapes.shape import FACE, MASS, Shape, face_scopes
 from shapegen.engine.shapes.trim import comp_trim_planes
@@ -77,6 +77,9 @@ all came to nothing: it leaves no leaf, and its own comp counts it as nothing (`
 VERTEX = "vertex"
 COMPONENT_KINDS = ("f", "e", "v", "fe", "fv", "g", "m", "h")
 _ROOF_EDGES = ROOF_EDGE_CLASSES
+_HOLE_SELECTORS_IGNORED = (  # PyPRT's words
+    "comp(): comp(h) does not support border and inside selectors; ignoring selector."
+)
 
 
 @dataclass
@@ -397,11 +400,16 @@ def comp_operation(program, node, kind: str, branches, params, align: bool = Tru
     ]
     error = program.error
     trims = program.cga_dialect
+    # op_comp: border and inside "do not work on holes": PyPRT's comp(h) takes no hole with them
+    # and warns once for the split, holes or not (tests/data/prt_comp_holes.json)
+    ignored = kind == "h" and any(text in ("border", "inside") for *_, text in compiled)
 
     def comp_op(state, args, out):
         shape = state.shape
         if shape.kind not in (FACE, MASS, EDGE):
             raise error(node, f"comp({kind}) cannot take apart an inserted primitive")
+        if ignored:
+            warn_at(state, node, _HOLE_SELECTORS_IGNORED)
         components = components_of(shape, kind, getattr(state.run, "object_rotation", None))
         source = holes_shape(shape) if kind == "h" else shape  # whose faces are merged
         taken = [False] * len(components)
