@@ -146,3 +146,27 @@ def test_pyprt_s_components_of_faces_with_holes(tmp_path, case):
                 names += [f"p{p}{c}" for p in range(4) for c in "xyz"]
             for name in names:
                 assert got[name] == pytest.approx(expected[name], abs=CLOSE_M), f"{where}: {name}"
+
+
+def test_the_comp_function_takes_the_holes_apart_too(tmp_path):
+    # func_comp in comp(h)'s order: the extruded lot's bottom holes (a 4 x 4 m square and a
+    # triangle of base 4 m and height 3 m), then its top's; '=' gives all four's area to each
+    lot = MEASURED["lots"]["two_holes"]
+    rule = tmp_path / "values.cga"
+    areas = "comp(h) { all : geometry.area }"
+    rule.write_text(
+        'version "2023.0"\n@StartRule\nLot --> extrude(10) '
+        f'report("n", size({areas})) report("a0", {areas}[0]) report("a1", {areas}[1]) '
+        'report("a3", comp(h) { bottom : 0 | top : geometry.area }[3]) '
+        'report("merged", comp(h) { all = geometry.area }[2])\n'
+    )
+    shape = pyprt.InitialShape(lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"])
+    (model,) = pyprt.ModelGenerator([shape]).generate_model(
+        [{}], str(rule), "com.esri.pyprt.PyEncoder", {}
+    )
+    report = model.get_report()
+    assert report["n_avg"] == 4
+    assert report["a0_avg"] == pytest.approx(16.0)
+    assert report["a1_avg"] == pytest.approx(6.0)
+    assert report["a3_avg"] == pytest.approx(6.0)
+    assert report["merged_avg"] == pytest.approx(2 * (16.0 + 6.0))

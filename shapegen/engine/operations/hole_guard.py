@@ -15,11 +15,12 @@ from shapegen.engine.derivation.state import Operation
 from shapegen.grammar import ast
 
 # The operations that keep a face's holes: those that move, turn or scale the geometry as a
-# whole, read it or set what it looks like, and those built for holes (extrude, comp, split,
+# whole, read it or set what it looks like, and those built for holes (extrude, comp, whose
+# comp(h) makes a shape of each hole and whose e, fe, v and fv list the holes' rings, split,
 # offset, the roofs hip, gable, ridge and shed, setback, setbackPerEdge, setbackToArea,
 # shapeL/U/O and innerRectangle; deleteHoles removes them, roofPyramid builds on the outer ring
 # as CityEngine's runtime does: tests/data/prt_holes.json, prt_setback.json, prt_roofs.json,
-# prt_setback_holes.json).
+# prt_setback_holes.json, prt_comp_holes.json).
 _HOLE_NODES = (
     ast.Successor, ast.Nil, ast.Push, ast.Extrude, ast.Comp, ast.Translate, ast.Scale,
     ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert, ast.Split,
