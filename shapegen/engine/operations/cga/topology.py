@@ -12,8 +12,9 @@ shapes, with scopes as op_comp sets them:
 - a face edge (``fe``): every face's edges, x in the face's direction, z out of the face in its
   plane;
 - a vertex (``v``): the origin at the vertex, z along the mean of its faces' normals, size 0;
-- a face vertex (``fv``): every face's corners, x along the face's edge leaving the corner, y the
-  face normal, z out of the face in its plane, size 0;
+- a face vertex (``fv``): every face's corners, x along the bisector of the face's edges coming
+  in and leaving (along the edge on an edge's ends), y the face normal, z out of the face in its
+  plane, size 0;
 - a hole (``h``): every face's holes, face by face, each a face of its own turned to face as its
   face does (its ring reversed, so that its first edge is the hole's first edge turned round),
   its scope and pivot as a face's.
@@ -69,6 +70,7 @@ from shapegen.geometry.scope_frames import (
 )
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
+from shapegen.tolerances import COSINE_SLACK
 
 EDGE = "edge"
 COMP_CAME_TO_NOTHING = "comp came to nothing"
@@ -316,8 +318,8 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
 
 
 def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
-    """comp(fv): every corner of every face; x along the face's edge leaving it, y the face
-    normal, z = x cross y (out of the face, in its plane), size 0."""
+    """comp(fv): every corner of every face; x along :func:`_corner_tangent`, y the face normal,
+    z = x cross y (out of the face, in its plane), size 0."""
     scope = shape.scope
     mesh = shape.mesh()
     world_vertices = scope.to_world(mesh.vertices)
@@ -326,7 +328,11 @@ def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
     out = []
     for f, face in _face_rings(mesh):
         for j, i in enumerate(face):
-            tangent = world_vertices[face[(j + 1) % len(face)]] - world_vertices[i]
+            tangent = _corner_tangent(
+                world_vertices[face[j - 1]],
+                world_vertices[i],
+                world_vertices[face[(j + 1) % len(face)]],
+            )
             rotation = rotation_keeping_x(tangent, normals[f]) if tangent.any() else None
             if rotation is None or not normals[f].any():
                 continue
@@ -351,6 +357,19 @@ def _face_vertex_components(shape: Shape, object_rotation) -> list[Component]:
                 )
             )
     return out
+
+
+def _corner_tangent(before: np.ndarray, corner: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """A face corner's x (comp(fv)): the bisector of the directions of the edge coming in and of
+    the edge leaving, as CityEngine's runtime gives it (tests/data/prt_comp_holes.json: a
+    square's corners at 45 degrees), or the edge leaving where the two cancel (an edge's two
+    ends: op_comp, "if applied on an edge component the tangent/x-axis point along the edge")."""
+    leaving, coming = after - corner, corner - before
+    out_length, in_length = float(np.linalg.norm(leaving)), float(np.linalg.norm(coming))
+    if out_length == 0 or in_length == 0:
+        return leaving
+    bisector = leaving / out_length + coming / in_length
+    return bisector if np.linalg.norm(bisector) > COSINE_SLACK else leaving  # opposite: cancel
 
 
 def _frame(x: np.ndarray, z: np.ndarray) -> np.ndarray:
