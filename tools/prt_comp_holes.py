@@ -69,6 +69,7 @@ SPLITS = [
     ("h", "", ["border:1", "inside:1"]),
     ("e", "", ["all:1"]),
     ("e", "", ["border:1", "inside:1"]),
+    ("e", "", ["eave:1", "hip:1", "valley:1", "ridge:1"]),
     ("fe", "", ["all:1"]),
     ("v", "", ["all:1"]),
     ("v", "", ["border:1", "inside:1"]),

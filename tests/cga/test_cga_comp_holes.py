@@ -12,9 +12,12 @@ of the ends of its unit axes. What is compared, to 0.1 mm:
 - comp(h) and comp(f): every figure, in CityEngine's index order (the face, its first edge and
   normal, its bounding box); comp(fv) likewise (the corner, x along the bisector of its edges,
   y the face normal);
-- comp(e) and comp(fe): the edge's two ends (as a pair), its length and sizes, in index order;
-  the direction an edge runs and its z axis are not compared (shapegen turns a flat face's
-  edges the other way round, holes or not: the square's edges too);
+- comp(fe): every figure but nFaces (the edge, its direction in its face, z out of the face);
+- comp(e): the edge's two ends (as a pair), its length and sizes, in index order, and with
+  eave, hip, valley and ridge the edges each class takes; the direction an edge runs and its z
+  axis are not compared (PyPRT's edges run against the ring that meets them first where no
+  roof-edge class turns them; shapegen's along it, or as its roof-edge class turns it, holes or
+  not: the square's edges too);
 - comp(v): each corner's position and sizes, in index order; the axes are not compared
   (shapegen takes a vertex's x from the scope, CityEngine's runtime another way, holes or not);
 - geometry.nFaces of an edge or a vertex: 0 for CityEngine, 1 for shapegen (its edges and
@@ -44,6 +47,17 @@ CLOSE_M = 1e-4
 # A box's vertices (the square, extruded, without holes) come in another order in shapegen's
 # mesh than in CityEngine's: comp(v)'s indices differ there, the positions as a set agree.
 VERTEX_ORDER_DIFFERS = {("square", "extrude(10)")}
+# comp(e)'s roof-edge classes of an extruded lot: PyPRT's are ridges (its horizontal edges) and
+# none (its vertical ones), shapegen's eaves and hips (shapegen.geometry.roof_edges reads a
+# roof without its bottom), holes or not: expected failures, so that a fix shows. A flat lot's
+# edges, its holes' too, are all eaves in both.
+EDGE_CLASSES_DIFFER = "extrude(10)"
+
+
+def _marked(case):
+    differs = case["rule"] == EDGE_CLASSES_DIFFER and "eave" in case["comp"]
+    mark = pytest.mark.xfail(strict=True, reason="roof-edge classes of an extruded lot")
+    return pytest.param(case, id=_case_id(case), marks=[mark] if differs else [])
 
 
 def _case_id(case):
@@ -104,7 +118,7 @@ def _close(ours, theirs) -> bool:
     return all(abs(a - b) <= CLOSE_M for a, b in zip(ours, theirs, strict=True))
 
 
-@pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)
+@pytest.mark.parametrize("case", [_marked(c) for c in MEASURED["cases"]])
 def test_pyprt_s_components_of_faces_with_holes(tmp_path, case):
     lot = MEASURED["lots"][case["lot"]]
     rule = tmp_path / "comp.cga"
@@ -139,15 +153,15 @@ def test_pyprt_s_components_of_faces_with_holes(tmp_path, case):
             got = ours[index]
             where = f"b{k} component {index}"
             names = [*GEOMETRY, *SIZES]
-            if kind in ("e", "fe"):
+            if kind == "e":
                 names.remove("nFaces")
                 pairs = zip(_ends(got), _ends(expected), strict=True)
                 assert all(_close(a, b) for a, b in pairs), f"{where}: ends"
             elif kind == "v":
                 names.remove("nFaces")
                 assert _close(_point(got, 0), _point(expected, 0)), f"{where}: place"
-            else:  # a face or a face's corner: its scope's origin and axes as well
-                if kind == "fv":
+            else:  # a face, a face's edge or corner: its scope's origin and axes as well
+                if kind in ("fe", "fv"):
                     names.remove("nFaces")
                 names += [f"p{p}{c}" for p in range(4) for c in "xyz"]
             for name in names:
