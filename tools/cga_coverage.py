@@ -309,6 +309,9 @@ def declared_tests() -> dict[str, list[str]]:
     """``entry key -> ["tests/cga/file.py::test", ...]`` from the ``COVERS`` tables of the
     test modules (imported: a table may be built from the module's own cases)."""
     out: dict[str, list[str]] = {}
+    # the tests import their shared helpers (tests/*.py) as pytest lets them: from its root
+    if str(ROOT / "tests") not in sys.path:
+        sys.path.insert(0, str(ROOT / "tests"))
     for path in sorted(TESTS.glob("test_*.py")):
         if "COVERS" not in path.read_text(encoding="utf-8"):
             continue
