@@ -1,0 +1,73 @@
+"""Measure CityEngine's taper, envelope and trim on faces with holes with its runtime: writes
+``tests/data/prt_taper_envelope.json``.
+
+tools/prt_roofs.py's rewriter (the start rule of the corpus's FacesHolesVerticesrule package
+made into one call of a runtime builtin, then reports of ``geometry.nVertices``, ``nFaces``,
+``nHoles``, ``area``, ``volume`` and the scope, and the PyEncoder's vertices and faces) runs
+``taper(height)``, ``envelope(direction, maxHeight, ...)`` (``com.esri.gc.Direction``'s
+``normal`` or ``world$up``) and ``trim()`` on tools/prt_roofs.py's lots. Run with PyPRT's
+Python (a development tool; shapegen never imports it)::
+
+    /tmp/prt-venv/bin/python tools/prt_taper_envelope.py tests/data/prt_taper_envelope.json \
+        --corpus /work/shared/cga-corpus
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from prt_primitives import CORPUS, measured_cases, rewritable_package, write_fixture  # noqa: E402
+from prt_roofs import LOTS as ROOF_LOTS  # noqa: E402
+from prt_roofs import PACKAGE, PATCHER, measure  # noqa: E402
+
+LOTS = {
+    name: ROOF_LOTS[name] for name in ("courtyard", "L_courtyard", "two_holes", "small_hole", "L")
+}
+CASES = [
+    "taper(5)",
+    "taper(-2)",
+    "envelope(@Direction.normal,10,3,45)",
+    "envelope(@Direction.normal,6,0,30)",
+    "envelope(@Direction.normal,20,4,60)",
+    "envelope(@Direction.normal,2,3,45)",
+    "envelope(@Direction.normal,10,3,45,2,90)",
+    "envelope(@Direction.normal,10,3,45,3,60,3,30)",
+    "envelope(@Direction.world$up,10,3,45)",
+    "trim()",
+]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("output", type=Path, help="the JSON file to write")
+    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
+    args = parser.parse_args(argv)
+    with rewritable_package(args.corpus, "prt_taper_envelope", PACKAGE, PATCHER) as context:
+        pyprt, work, source, patcher = context
+        rows = measured_cases(
+            "prt_taper_envelope",
+            LOTS,
+            CASES,
+            lambda lot, case: measure(pyprt, work, source, patcher, lot, case, ""),
+        )
+    from importlib.metadata import version as installed
+
+    head = {
+        "source": f"CityEngine's runtime, PyPRT {installed('pyprt')}, by "
+        "tools/prt_taper_envelope.py: each operation runs on the named initial shape (PyPRT's "
+        "InitialShape with holes: (x, 0, z) coordinates) through PyPRT's PyEncoder; nVertices "
+        "... volume are geometry.* after it, scope is scope.sx, sy, sz, tx, ty, tz; points, "
+        "indices and encoder_faces (vertex counts, a hole's ring after its face) are what the "
+        "PyEncoder returns",
+        "lots": LOTS,
+    }
+    write_fixture(args.output, head, "cases", rows)
+    print(f"prt_taper_envelope: {len(rows)} cases written to {args.output}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
