@@ -5,8 +5,9 @@ tools/prt_roofs.py's rewriter (the start rule of the corpus's FacesHolesVertices
 made into one call of a runtime builtin, then reports of ``geometry.nVertices``, ``nFaces``,
 ``nHoles``, ``area``, ``volume`` and the scope, and the PyEncoder's vertices and faces) runs
 ``taper(height)``, ``envelope(direction, maxHeight, ...)`` (``com.esri.gc.Direction``'s
-``normal`` or ``world$up``) and ``trim()`` on tools/prt_roofs.py's lots. Run with PyPRT's
-Python (a development tool; shapegen never imports it)::
+``normal`` or ``world$up``) and ``trim()`` on five of tools/prt_roofs.py's lots and on two
+lots whose hole meets a crease of the envelope. Run with PyPRT's Python (a development tool;
+shapegen never imports it)::
 
     /tmp/prt-venv/bin/python tools/prt_taper_envelope.py tests/data/prt_taper_envelope.json \
         --corpus /work/shared/cga-corpus
@@ -21,10 +22,18 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_primitives import CORPUS, measured_cases, rewritable_package, write_fixture  # noqa: E402
 from prt_roofs import LOTS as ROOF_LOTS  # noqa: E402
-from prt_roofs import PACKAGE, PATCHER, measure  # noqa: E402
+from prt_roofs import PACKAGE, PATCHER, _lot, measure  # noqa: E402
 
 LOTS = {
-    name: ROOF_LOTS[name] for name in ("courtyard", "L_courtyard", "two_holes", "small_hole", "L")
+    **{
+        name: ROOF_LOTS[name]
+        for name in ("courtyard", "L_courtyard", "two_holes", "small_hole", "L")
+    },
+    # 20 x 10 m with a hole whose back edge lies on the ridge (z = 5) of a front and back slope
+    "ridge_hole": _lot([(0, 10), (20, 10), (20, 0), (0, 0)], [(3, 3), (7, 3), (7, 5), (3, 5)]),
+    # 20 x 10 m with a hole whose edge (z = 3) lies on a part of the flat top's edge when every
+    # side slopes at 45 degrees up to 3 m
+    "top_partial": _lot([(0, 10), (20, 10), (20, 0), (0, 0)], [(1, 1), (8, 1), (8, 3), (1, 3)]),
 }
 CASES = [
     "taper(5)",
@@ -37,6 +46,8 @@ CASES = [
     "envelope(@Direction.normal,10,3,45,3,60,3,30)",
     "envelope(@Direction.world$up,10,3,45)",
     "trim()",
+    "envelope(@Direction.normal,20,0,45,0,45)",
+    "envelope(@Direction.normal,3,0,45,0,45,0,45)",
 ]
 
 
