@@ -19,8 +19,9 @@ from shapegen.grammar import ast
 # comp(h) makes a shape of each hole and whose e, fe, v and fv list the holes' rings, split,
 # offset, the roofs hip, gable, ridge and shed, setback, setbackPerEdge, setbackToArea,
 # shapeL/U/O and innerRectangle; deleteHoles removes them, roofPyramid builds on the outer ring
-# as CityEngine's runtime does: tests/data/prt_holes.json, prt_setback.json, prt_roofs.json,
-# prt_setback_holes.json, prt_comp_holes.json).
+# as CityEngine's runtime does, and so does taper; envelope punches them through its volume;
+# trim() keeps them: tests/data/prt_holes.json, prt_setback.json, prt_roofs.json,
+# prt_setback_holes.json, prt_comp_holes.json, prt_taper_envelope.json).
 _HOLE_NODES = (
     ast.Successor, ast.Nil, ast.Push, ast.Extrude, ast.Comp, ast.Translate, ast.Scale,
     ast.Rotate, ast.Center, ast.Label, ast.Set, ast.Print, ast.Report, ast.Insert, ast.Split,
@@ -29,7 +30,7 @@ _HOLE_OPERATIONS = frozenset(
     (
         "deleteHoles", "offset", "setback", "setbackPerEdge", "setbackToArea", "shapeL", "shapeU",
         "shapeO", "innerRectangle", "innerRect", "comp", "roofPyramid", "roofShed", "roofHip",
-        "roofGable", "roofRidge",
+        "roofGable", "roofRidge", "taper", "envelope", "trim",
         "color", "texture",
         "setMaterial", "resetMaterial", "setupProjection", "projectUV", "deleteUV", "tileUV",
         "translateUV", "scaleUV", "rotateUV", "offsetUV", "normalizeUV", "copyUV",

@@ -227,6 +227,11 @@ def compile_taper(program, node: ast.Operation, params):
     return taper_op
 
 
+PUNCH_FAILED = (
+    "Punching holes failed: a hole's edge lies on a crease of the envelope's upper faces; "
+    "its faces are cut, its inner walls left out (CityEngine's runtime: "
+    "addInnerSideFacesAndNonplanarizeHoles(): failed to extract points in plane)"
+)
 _ENVELOPE_SIDES = {
     2: ("front",),
     4: ("front", "back"),
@@ -281,7 +286,9 @@ def compile_envelope(program, node: ast.Operation, params):
         top = max_height(args, state)
         evaluated = [f(args, state) for f in pairs]
         built = []
-        for frame, polygon in flat_faces(state, node, program, "envelope()"):
+        faces = flat_faces(state, node, program, "envelope()")
+        # op_envelope's "side faces from holes": each hole punched through the envelope
+        for (frame, polygon), holes in zip(faces, face_holes(state.shape), strict=True):
             if direction == "world.up":
                 up = state.shape.scope.rotation @ frame.n
                 if up[1] < 1 - COSINE_SLACK:
@@ -306,9 +313,12 @@ def compile_envelope(program, node: ast.Operation, params):
                     base[mask] = per_edge(evaluated[k], 1, 0.0, "base heights")[0]
                     angle[mask] = per_edge(evaluated[k + 1], 1, 90.0, "angles")[0]
             try:
-                built.append((frame, roofs.envelope(polygon, top, base, angle)))
+                mesh = roofs.envelope(polygon, top, base, angle, holes)
             except GeometryError as exc:
                 raise program.operation_error(node, f"envelope(): {exc}") from None
+            if mesh.punch_failed:  # CityEngine's runtime's warning, and its model
+                warn_at(state, node, f"envelope(): {PUNCH_FAILED}")
+            built.append((frame, mesh))
         if not built:
             return False
         state.shape = roof_shape(state.shape, built, keep_axes=True, tagged=state.run.tags)
