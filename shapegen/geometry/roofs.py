@@ -488,13 +488,16 @@ def envelope(polygon, max_height: float, base_heights, angles, holes=()) -> Roof
     rings = _rings(holes)
     welder = _Welder(float(max(np.ptp(p, axis=0).max(), max_height)))
     _bottom(welder, p, "envelope.bottom", rings)
-    upper: list[tuple[np.ndarray, str]] = []  # the faces a hole is punched through
+    # every face but the bottom, in the runtime's order (each edge's base wall and slope or its
+    # vertical wall, then the top); a hole is punched through those that are not vertical
+    faces: list[tuple[np.ndarray, str]] = []
     rise = max_height - start
     if rise <= 0:
         for k in range(n):
             a, b = p[k], p[(k + 1) % n]
-            welder.face([(*a, 0.0), (*b, 0.0), (*b, start), (*a, start)], "envelope.side.base")
-        upper.append((np.array([(x, y, start) for x, y in p]), "envelope.top"))
+            wall = [(*a, 0.0), (*b, 0.0), (*b, start), (*a, start)]
+            faces.append((np.array(wall), "envelope.side.base"))
+        faces.append((np.array([(x, y, start) for x, y in p]), "envelope.top"))
     else:
         weights = np.where(sloped, 1.0 / np.tan(np.radians(np.where(sloped, angle, 45.0))), 0.0)
         skeleton = straight_skeleton(p, weights=weights, until=rise)
@@ -504,23 +507,23 @@ def envelope(polygon, max_height: float, base_heights, angles, holes=()) -> Roof
             if sloped[k]:
                 if start > 0:
                     a, b = p[k], p[(k + 1) % n]
-                    welder.face([(*a, 0.0), (*b, 0.0), (*b, start), (*a, start)],
-                                "envelope.side.base")  # fmt: skip
-                upper.append((points, "envelope.side.slope"))
+                    wall = [(*a, 0.0), (*b, 0.0), (*b, start), (*a, start)]
+                    faces.append((np.array(wall), "envelope.side.base"))
+                faces.append((points, "envelope.side.slope"))
             else:  # a vertical edge: its wall from the face up, one face (PyPRT's L)
                 if start > 0:
                     foot = np.array([[*points[0, :2], 0.0], [*points[1, :2], 0.0]])
                     points = _without_straight_corners(np.vstack([foot, points[1:], points[:1]]))
-                welder.face(points, "envelope.side.slope")
+                faces.append((points, "envelope.side.slope"))
         for loop in skeleton.fronts:
             ids = list(loop)
             points = np.column_stack([skeleton.nodes[ids], start + skeleton.times[ids]])
-            upper.append((points, "envelope.top"))
+            faces.append((points, "envelope.top"))
     failed = False
     if rings:
-        failed = _punched(welder, upper, rings)
+        failed = _punched(welder, faces, rings)
     else:
-        for points, tag in upper:
+        for points, tag in faces:
             welder.face(points, tag)
     return replace(welder.mesh(), punch_failed=failed)
 
@@ -587,14 +590,14 @@ def _punch_fails(faces, rings: list[np.ndarray], eps: float) -> bool:
     return False
 
 
-def _punched(welder: _Welder, upper, rings: list[np.ndarray]) -> bool:
-    """The envelope's upper faces ``upper`` (``(points, tag)``) cut by the holes ``rings``,
-    and a wall on each hole edge up to them; True (and no walls) where a hole's edge lies on a
-    crease between upper faces, where CityEngine's runtime fails to punch the holes."""
+def _punched(welder: _Welder, sides, rings: list[np.ndarray]) -> bool:
+    """The envelope's faces ``sides`` (``(points, tag)``), those not vertical cut by the holes
+    ``rings``, and a wall on each hole edge up to them; True (and no walls) where
+    :func:`_punch_fails`, where CityEngine's runtime fails to punch the holes."""
     eps = welder.eps
     cut = shapely.union_all([Polygon(r) for r in rings])
     faces = []
-    for points, tag in upper:
+    for points, tag in sides:
         plan = Polygon(points[:, :2])
         if plan.area <= eps * eps:  # vertical: no hole reaches it
             welder.face(points, tag)

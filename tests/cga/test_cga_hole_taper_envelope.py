@@ -88,6 +88,10 @@ def test_pyprt_s_taper_envelope_and_trim_on_faces_with_holes(tmp_path, case):
     # their corners; CityEngine's faces do not share corners, shapegen's do, so the corners
     # are compared as sets
     assert sorted(model.get_faces()) == sorted(case["encoder_faces"])
+    if "holes" not in MEASURED["lots"][case["lot"]]:
+        # and in the runtime's order (each edge's base wall and slope or its one vertical wall,
+        # then the top), which comp(f)'s indices read; with holes the order is not matched
+        assert list(model.get_faces()) == case["encoder_faces"]
     ours = np.asarray(model.get_vertices(), dtype=float).reshape(-1, 3)
     assert _near_all(ours, np.asarray(case["points"], dtype=float))
 
