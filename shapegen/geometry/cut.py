@@ -276,7 +276,9 @@ def _frame_of(normal) -> np.ndarray:
 
 
 def _turned(mesh: Mesh, frame: np.ndarray) -> Mesh:
-    turned = Mesh.of_valid_faces(mesh.vertices @ frame, mesh.faces, mesh.corner_layout)
+    turned = Mesh.of_valid_faces(
+        mesh.vertices @ frame, mesh.faces, mesh.corner_layout, holes=mesh.holes
+    )  # the holes too: a trim plane cuts a face with holes (clip_half_with_holes)
     if "is_closed" in mesh.__dict__:
         turned.__dict__["is_closed"] = mesh.is_closed  # a rotation keeps the topology
     return turned

@@ -269,7 +269,7 @@ def _trimmed(mesh: Mesh, local) -> Mesh | None:
             return None
         mesh = piece
         cutting.append((local_normal, local_offset))
-    return _uncapped(mesh, cutting) if cutting and mesh.is_closed and not mesh.holes else mesh
+    return _uncapped(mesh, cutting) if cutting and mesh.is_closed else mesh
 
 
 def _uncapped(solid: Mesh, planes) -> Mesh:
@@ -290,7 +290,11 @@ def _uncapped(solid: Mesh, planes) -> Mesh:
         return solid
     if not kept:
         return solid  # nothing but caps: a sliver of the plane, kept as it is
-    cut = Mesh.of_valid_faces(vertices, tuple(kept))
+    holes = ()
+    if solid.holes:  # the kept faces keep theirs (PyPRT: a courtyard slab cut by its planes)
+        holes = tuple(r for r, is_cap in zip(solid.holes, cap.tolist(), strict=True) if not is_cap)
+        holes = holes if any(holes) else ()
+    cut = Mesh.of_valid_faces(vertices, tuple(kept), holes=holes)
     cut.__dict__[_SOLID] = solid
     return cut
 

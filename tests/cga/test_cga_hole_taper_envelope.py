@@ -3,7 +3,7 @@ PyPRT's measured models (tests/data/prt_taper_envelope.json, made by
 tools/prt_taper_envelope.py) on a rectangle with a courtyard, an L with an L-shaped courtyard, a
 rectangle with two courtyards, one with a small hole, and the L without a hole: each model's
 corners (to 0.1 mm), its faces and holes, area, volume and scope size, and CityEngine's
-warnings.
+warnings (trim() with trim planes: tests/cga/test_cga_hole_trim.py).
 
 What PyPRT does: taper builds its pyramid on the outer ring (the holes are dropped, no
 warning), its apex above the ring's vertex average; envelope builds on the outer ring and
@@ -105,34 +105,3 @@ def test_the_measured_cases_keep_make_and_drop_holes():
             assert case["nHoles"] == 0
         elif holed:
             assert case["nHoles"] >= 1, _case_id(case)
-
-
-def _top_slab(step: str, move: str = "t(3, 0, 0)"):
-    """The courtyard block's top, extruded 2 m, moved by ``move`` (3 m along x: out of its trim
-    planes, made by comp(f)), then ``step``: its volume and the warnings."""
-    from shapegen import parse_grammar
-    from shapegen.model.lot import Lot
-
-    lot = MEASURED["lots"]["courtyard"]
-    points = np.asarray(lot["coordinates"], dtype=float).reshape(-1, 3)[:, [0, 2]]
-    courtyard = Lot.polygon(points[:4].tolist(), holes=[points[4:].tolist()])
-    text = (
-        "@StartRule\nLot --> extrude(5) comp(f) { top: Top }\n"
-        f'Top --> extrude(2) {move} {step} report("v", geometry.volume) X.\n'
-    )
-    model = parse_grammar(text, "slab.cga").build(lot=courtyard)
-    return model.metadata["reports"]["v"], model.metadata.get("warnings") or []
-
-
-def test_trim_refuses_a_face_with_holes_its_trim_planes_cut():
-    # a cut knows no holes (and CityEngine's cut of one is not measured): one line, and the
-    # shape carries on uncut
-    whole, said = _top_slab("")
-    assert said == []
-    kept, said = _top_slab("trim()")
-    (line,) = said
-    assert "trim()" in line and "holes" in line and "deleteHoles" in line
-    assert kept == pytest.approx(whole)
-    # left in place, no plane cuts it: trim() keeps it, holes and all
-    kept, said = _top_slab('trim() report("h", geometry.nHoles)', move="")
-    assert said == [] and kept == pytest.approx(whole)

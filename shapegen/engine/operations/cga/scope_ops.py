@@ -427,27 +427,10 @@ def compile_reset_geometry(program, node, params):
 
 @operation("trim")
 def compile_trim(program, node, params):
-    """``trim()``: the shape cut to its enabled trim planes. A face with holes that no plane
-    cuts is kept as it is (PyPRT: trim() of a lot with courtyards keeps them,
-    tests/data/prt_taper_envelope.json); one that a plane cuts is refused, the cut knowing no
-    holes and CityEngine's cut of one not measured."""
+    """``trim()``: the shape cut to its enabled trim planes, a face's holes cut with it (PyPRT:
+    a courtyard slab cut by its top's planes keeps its holes, tests/data/prt_trim_holes.json)."""
     plain_arguments(program, node, (0,))
-
-    def trim(state, args, out):
-        geometry = state.shape.geometry
-        if geometry is None or not geometry.holes:
-            return apply_trim(state)
-        before = state.shape
-        kept = apply_trim(state)
-        if not kept or state.shape is not before:
-            state.shape = before
-            raise program.operation_error(
-                node, "trim() of a shape whose faces have holes, cut by its trim planes, is not "
-                "supported by shapegen (deleteHoles() first removes them)"
-            )  # fmt: skip
-        return kept
-
-    return trim
+    return lambda state, args, out: apply_trim(state)
 
 
 @operation("deleteHoles")
