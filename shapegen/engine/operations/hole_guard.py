@@ -20,7 +20,6 @@ from shapegen.grammar import ast
 # offset, the roofs hip, gable, ridge and shed, setback, setbackPerEdge, setbackToArea,
 # shapeL/U/O and innerRectangle; deleteHoles removes them, roofPyramid builds on the outer ring
 # as CityEngine's runtime does, and so does taper; envelope punches them through its volume;
-# as CityEngine's runtime does, and so does taper; envelope punches them through its volume;
 # trim() cuts them with the face: tests/data/prt_holes.json, prt_setback.json, prt_roofs.json,
 # prt_setback_holes.json, prt_comp_holes.json, prt_taper_envelope.json, prt_trim_holes.json).
 _HOLE_NODES = (
