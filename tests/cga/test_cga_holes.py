@@ -154,6 +154,25 @@ def test_an_operation_that_does_not_keep_holes_refuses_them():
     assert not model.metadata.get("warnings")
 
 
+def test_what_replaces_the_geometry_whole_takes_a_holed_shape():
+    """A primitive is made in the scope whatever the geometry was (op_primitiveCube...), and
+    resetGeometry() goes back to the start shape, holes and all: neither refuses holes."""
+    figures = 'report("h", geometry.nHoles) report("f", geometry.nFaces) report("a", geometry.area)'
+    for rule, holes, faces, area in (
+        ("extrude(3) primitiveCube()", 0, 6, 2 * (96 + 3 * 20)),
+        ("primitiveQuad()", 0, 1, 96.0),
+        ("extrude(3) resetGeometry()", 1, 1, 96.0 - 8.0),
+        ("alignScopeToGeometryBBox(xz)", 1, 1, 96.0 - 8.0),
+    ):
+        model = parse_grammar(f"@StartRule\nLot --> {rule} {figures} X.", "r.cga").build(
+            lot=COURTYARD
+        )
+        assert not model.metadata.get("warnings"), rule
+        reports = model.metadata["reports"]
+        assert (reports["h"], reports["f"]) == (holes, faces), rule
+        assert reports["a"] == pytest.approx(area), rule
+
+
 def test_a_lot_s_holes_are_checked_and_wound_against_it():
     lot = Lot.polygon([(0, 0), (12, 0), (12, 8), (0, 8)], [[(4, 3), (4, 5), (8, 5), (8, 3)]])
     x, z = np.array(lot.holes[0]).T  # clockwise seen from above: a positive (x, z) shoelace

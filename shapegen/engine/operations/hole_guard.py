@@ -37,6 +37,10 @@ _HOLE_OPERATIONS = frozenset(
         "setNormals", "softenNormals", "tag", "deleteTags", "setTagsFromEdgeAttrs",
         "alignScopeToAxes", "alignScopeToGeometry", "rotateScope", "mirror", "mirrorScope",
         "setPivot", "reverseNormals", "translate", "rotate",
+        # geometry replaced whole, holes and all (op_primitiveCube...: a primitive in the
+        # scope; op_resetGeometry: the start shape, its holes kept) or only its box read
+        "primitiveCube", "primitiveCone", "primitiveCylinder", "primitiveDisk", "primitiveQuad",
+        "primitiveSphere", "resetGeometry", "alignScopeToGeometryBBox",
     )
 )  # fmt: skip
 
