@@ -204,3 +204,45 @@ def test_clipping_keeps_the_order_of_the_faces_it_does_not_cut():
     # bottom, top, front, right, back, then the cap at x = 1; the left face is gone
     assert normals == [(0, -1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 0), (0, 0, -1), (-1, 0, 0)]
     assert half.is_closed and half.volume() == pytest.approx(3 * 2 * 2)
+
+
+def _shapes_to_clip():
+    """Meshes of a few faces (the Python-float clip) of every kind a split or trim cuts: a
+    box, prisms of non-convex lots (closed, capped), their faces (open), a star (bridges)."""
+    yield Mesh.box((4.0, 2.0, 3.0))
+    for lot in (L_LOT, U_LOT):
+        yield _prism(lot)
+        _, face = lot_polygon(lot)
+        yield face
+    angles = np.arange(14) * np.pi / 7
+    radii = np.where(np.arange(14) % 2 == 0, 3.0, 1.2)
+    yield Mesh.polygon(np.column_stack([radii * np.cos(angles), radii * np.sin(angles), 0 * radii]))
+
+
+@pytest.mark.parametrize("index", range(5))
+def test_few_faces_are_clipped_as_the_arrays_clip_them(monkeypatch, index):
+    """A mesh of a few faces is clipped in Python floats; the arrays' path (made to take it)
+    gives the same faces and the same points, plane by plane, either side, with and without
+    a trim's tolerance, at corners and through them."""
+    import shapegen.geometry.cut as cut
+
+    mesh = list(_shapes_to_clip())[index]
+    low, high = mesh.bounds()
+    rng = np.random.default_rng(index)
+    planes = [(axis, float(v)) for axis in range(3) for v in mesh.vertices[:, axis]]
+    planes += [(int(a), float(rng.uniform(low[a], high[a]))) for a in rng.integers(0, 3, 12)]
+    compared = 0
+    for axis, value in planes:
+        for above in (True, False):
+            for tolerance in (None, 1e-6):
+                few = clip_half(mesh, axis, value, above, tolerance)
+                monkeypatch.setattr(cut, "_FEW_FACES", -1)
+                arrays = clip_half(mesh, axis, value, above, tolerance)
+                monkeypatch.setattr(cut, "_FEW_FACES", 16)
+                assert (few is None) == (arrays is None)
+                if few is None:
+                    continue
+                assert few.faces == arrays.faces
+                assert np.array_equal(few.vertices, arrays.vertices)
+                compared += few is not mesh
+    assert compared > 10  # some planes cut the mesh
