@@ -64,6 +64,9 @@ def _search_forms(project: Path, name: str) -> tuple[str, ...]:
     return tuple(forms)
 
 
+_ANSWERS_KEPT = 1024  # file queries whose answers a rule file's functions keep
+
+
 def file_functions(rule_file: str | None) -> dict[str, Callable[..., object]]:
     """``fileExists``, ``fileSearch``, ``filesSearch`` and the candidates of ``fileRandom``,
     answered from the files of the rule file's project (:func:`project_files`), read once."""
@@ -74,18 +77,24 @@ def file_functions(rule_file: str | None) -> dict[str, Callable[..., object]]:
             cache.append(project_files(rule_file))
         return cache[0]
 
+    answers: dict[str, tuple[str, ...]] = {}  # a query's files: the project is read once
+
     def matching(query: object) -> list[str]:
         if type(query) is not str:
             raise ValueError("a file search query is a string")
-        project, names = files()
-        if project is None:
-            return []
-        tests = [_search_term(term) for term in _search_terms(query)]
-        return [
-            "/" + name
-            for name in names
-            if tests and all(any(t(form) for form in _search_forms(project, name)) for t in tests)
-        ]
+        found = answers.get(query)
+        if found is None:
+            project, names = files()
+            tests = [_search_term(term) for term in _search_terms(query)]
+            if len(answers) >= _ANSWERS_KEPT:  # queries built from numbers: kept bounded
+                answers.clear()
+            found = answers[query] = tuple(
+                "/" + name
+                for name in (names if project is not None else ())
+                if tests
+                and all(any(t(form) for form in _search_forms(project, name)) for t in tests)
+            )
+        return list(found)
 
     def exists(path: object) -> bool:
         if type(path) is not str:
