@@ -29,6 +29,7 @@ __all__ = [
     "unit_face_normals",
 ]
 
+import math
 from collections.abc import Sequence
 from functools import cached_property
 
@@ -118,6 +119,14 @@ def unit_face_normals(vertices: np.ndarray, faces) -> list[np.ndarray]:
 def polygon_area(points: np.ndarray) -> float:
     """Area of a planar polygon (m^2), convex or not."""
     return 0.5 * float(np.linalg.norm(polygon_normal(points)))
+
+
+def _tail_sum(rows, k: int) -> float:
+    """The ``k``-th entries of ``rows`` (at least one) summed one after the other."""
+    total = rows[0][k]
+    for row in rows[1:]:
+        total += row[k]
+    return total
 
 
 def corner_layout(faces: Sequence[Sequence[int]]) -> tuple[np.ndarray, np.ndarray]:
@@ -298,6 +307,36 @@ class Mesh:
 
     def face_normal(self, index: int) -> np.ndarray:
         return self.normals_and_centres[0][index]
+
+    def lone_face_normal(self, index: int) -> np.ndarray:
+        """:meth:`face_normal` for a caller that asks one face of a new mesh (an alignment to
+        a face, an extrusion): that face's sums alone in Python floats, not the whole mesh's
+        arrays. The same products and sums as :func:`~shapegen.model.polygons.face_normals`,
+        in the order its ``reduceat`` takes them for a face of up to 8 corners (the first
+        term plus the sum of the others), so the same bits; a larger face takes the arrays."""
+        cached = self.__dict__.get("normals_and_centres")
+        face = self.faces[index]
+        count = len(face)
+        if cached is not None or not 1 < count <= _FEW_CORNERS:
+            return self.face_normals()[index]
+        rows = self.vertices[list(face)].tolist()
+        first, *rest = rows
+        cx = (first[0] + _tail_sum(rest, 0)) / count
+        cy = (first[1] + _tail_sum(rest, 1)) / count
+        cz = (first[2] + _tail_sum(rest, 2)) / count
+        centred = [(p[0] - cx, p[1] - cy, p[2] - cz) for p in rows]
+        crosses = []
+        for k, (a0, a1, a2) in enumerate(centred):
+            b0, b1, b2 = centred[k + 1 if k + 1 < count else 0]
+            crosses.append((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0))
+        first, *rest = crosses
+        nx = first[0] + _tail_sum(rest, 0)
+        ny = first[1] + _tail_sum(rest, 1)
+        nz = first[2] + _tail_sum(rest, 2)
+        length = math.sqrt(nx * nx + ny * ny + nz * nz)
+        if not length > 0:
+            return np.zeros(3)
+        return np.array([nx / length, ny / length, nz / length])
 
     def face_area(self, index: int) -> float:
         if self.holes and self.holes[index]:

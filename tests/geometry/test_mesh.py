@@ -133,3 +133,21 @@ def test_areas_and_volume_of_a_box_far_from_the_origin():
     box = Mesh.box((2.0, 3.0, 4.0)).transformed(None, (1e6, -2e5, 3e6))
     assert box.face_areas().tolist() == pytest.approx([8, 8, 6, 12, 6, 12])
     assert box.volume() == pytest.approx(24.0, rel=1e-9)
+
+
+def test_one_face_normal_alone_is_the_whole_meshs_to_the_bit():
+    """lone_face_normal sums one face in Python floats: the same bits as the arrays' normals
+    of every face, for faces far from the origin, slanted, degenerate, of many corners."""
+    rng = np.random.default_rng(7)
+    faces, points = [], []
+    for count in [3, 4, 5, 6, 7, 8] * 20 + [9, 13, 40]:
+        angles = np.sort(rng.uniform(0, 2 * np.pi, count))
+        ring = np.column_stack([np.cos(angles), np.sin(angles), rng.normal(0, 0.01, count)])
+        ring = ring * rng.uniform(0.5, 30) + rng.uniform(-5e4, 5e4, 3)
+        faces.append(tuple(range(len(points), len(points) + count)))
+        points.extend(ring.tolist())
+    faces.append((0, 0, 1))  # no area: a zero normal
+    mesh = Mesh(points, faces)
+    alone = [Mesh(points, faces).lone_face_normal(k) for k in range(len(faces))]
+    assert np.array_equal(np.array(alone), mesh.face_normals())
+    assert not np.any(alone[-1])

@@ -405,7 +405,7 @@ def extrude_shape(
     elif not solid and shape.geometry is None and shape.normal_axis == 2:  # a rectangle: +z
         rotation = rotation_keeping_x(scope.rotation[:, 0], scope.rotation[:, 2])
     elif shape.normal_axis == 1 or cityengine_scope:
-        normal = scope.rotation @ face.face_normal(0)
+        normal = scope.rotation @ face.lone_face_normal(0)
         rotation = rotation_keeping_x(scope.rotation[:, 0], normal)
     else:
         rotation = scope.rotation

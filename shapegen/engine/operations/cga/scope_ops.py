@@ -53,10 +53,20 @@ def refit(shape: Shape, rotation: np.ndarray) -> Shape:
     world = shape.scope.to_world(mesh.vertices)
     scope, local = fitted_scope(world, rotation)
     moved = mesh.moved_to(local)
-    if np.linalg.det(shape.scope.rotation) * np.linalg.det(rotation) < 0:
+    if _determinant(shape.scope.r) * _determinant(np.asarray(rotation, float).ravel().tolist()) < 0:
         moved = moved.reversed()
     kind = shape.kind if shape.kind in (FACE, MASS, EDGE, VERTEX) else MASS
     return Shape.with_geometry(scope, moved, kind, shape.normal_axis)
+
+
+def _determinant(r) -> float:
+    """The determinant of a frame given as its 9 entries row by row (its sign tells a mirror):
+    in Python floats, a numpy call costing more than the sum."""
+    return (
+        r[0] * (r[4] * r[8] - r[5] * r[7])
+        - r[1] * (r[3] * r[8] - r[5] * r[6])
+        + r[2] * (r[3] * r[7] - r[4] * r[6])
+    )
 
 
 def set_scope_pivot(state) -> None:
@@ -228,7 +238,7 @@ def compile_align_scope_to_geometry(program, node, params):
                 ):
                     best = (key, f, a, b)
         _, f, a, b = best
-        normal = scope.rotation @ mesh.face_normal(f)
+        normal = scope.rotation @ mesh.lone_face_normal(f)
         x = b - a
         if np.linalg.norm(x) == 0 or np.linalg.norm(normal) == 0:
             raise error(node, "alignScopeToGeometry(): the chosen edge or face is degenerate")

@@ -402,7 +402,7 @@ def merged_shape(shape: Shape, chosen: list[Component]) -> Shape:
     subset = mesh.subset(faces)
     world = shape.scope.to_world(subset.vertices)
     first = shape.scope.to_world(mesh.face_points(faces[0]))
-    rotation = face_rotation(first, shape.scope.rotation @ mesh.face_normal(faces[0]))
+    rotation = face_rotation(first, shape.scope.rotation @ mesh.lone_face_normal(faces[0]))
     scope, local = fitted_scope(world, rotation)
     return Shape.with_geometry(
         scope, Mesh.of_valid_faces(local, subset.faces, holes=subset.holes), FACE, 2
