@@ -29,7 +29,8 @@ __all__ = [
 ]
 
 import re
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
+from dataclasses import fields as dataclass_fields
 
 import numpy as np
 
@@ -200,6 +201,21 @@ def material_value(appearance: Appearance | None, name: str) -> object:
 # the change (the look kept in the value, so an id is not reused while its entry lives).
 _CHANGES: dict[tuple, tuple[Appearance, Appearance]] = {}
 _CHANGES_KEPT = 4096
+_FIELDS = frozenset(f.name for f in dataclass_fields(Appearance))
+
+
+def _replaced(look: Appearance, fields: dict) -> Appearance:
+    """``dataclasses.replace(look, **fields)`` for these fields of a frozen dataclass without
+    ``__post_init__``: the same object, without replace()'s walk over the fields, which cost
+    most of a new look (every setupProjection of a new scope size makes one)."""
+    unknown = fields.keys() - _FIELDS
+    if unknown:
+        raise TypeError(f"Appearance has no field {sorted(unknown)[0]!r}")
+    new = object.__new__(Appearance)
+    state = new.__dict__
+    state.update(look.__dict__)
+    state.update(fields)
+    return new
 
 
 def _remembered(look: Appearance, change: tuple, make) -> Appearance:
@@ -220,13 +236,15 @@ def changed(appearance: Appearance | None, **fields) -> Appearance:
     look = appearance or DEFAULT_APPEARANCE
     # repr tells 0.0 from -0.0 and 1 from 1.0 and True, which a key of values would not
     change = tuple((name, repr(value)) for name, value in fields.items())
-    return _remembered(look, change, lambda: replace(look, **fields))
+    return _remembered(look, change, lambda: _replaced(look, fields))
 
 
 def with_uv(appearance: Appearance | None, entry: tuple) -> Appearance:
     """``appearance`` (None: the default) with ``entry`` added to its UV log."""
     look = appearance or DEFAULT_APPEARANCE
-    return _remembered(look, ("uv", repr(entry)), lambda: replace(look, uv=look.uv + (entry,)))
+    return _remembered(
+        look, ("uv", repr(entry)), lambda: _replaced(look, {"uv": look.uv + (entry,)})
+    )
 
 
 def with_material(appearance: Appearance | None, name: str, value: object) -> Appearance:
@@ -249,17 +267,17 @@ def _with_material(look: Appearance, name: str, value: object) -> Appearance:
             rgb, _ = parse_hex_color(value)  # type: ignore[arg-type]
         else:
             rgb["rgb".index(name[-1])] = _clamped(value)  # type: ignore[arg-type]
-        return replace(look, color=tuple(rgb))
+        return _replaced(look, {"color": tuple(rgb)})
     if name == "opacity":
-        return replace(look, opacity=_clamped(value))  # type: ignore[arg-type]
+        return _replaced(look, {"opacity": _clamped(value)})  # type: ignore[arg-type]
     if name == "colormap":
-        return replace(look, texture=value or None)
+        return _replaced(look, {"texture": value or None})
     if name == "opacitymap.mode" and value not in _OPACITY_MODES:
         raise ValueError(
             f"material.opacitymap.mode is one of {', '.join(_OPACITY_MODES)}, got {value!r}"
         )
     material = tuple((key, old) for key, old in look.material if key != name)
-    return replace(look, material=material + ((name, value),))
+    return _replaced(look, {"material": material + ((name, value),)})
 
 
 @dataclass(frozen=True, eq=False)

@@ -53,18 +53,33 @@ class BuiltinCalls:
         error = self.error
         name = node.name
 
+        def failed(exc, values) -> Exception:
+            message = str(exc) if isinstance(exc, ValueError) else None
+            if message and with_state:
+                message = f"{name}(): {message}"
+            if not message:
+                shown = ", ".join(format_value(v) for v in values)
+                message = f"{name}({shown}) is not defined"
+            return error(node, message)
+
+        if not with_state and len(arguments) == 1:  # float(x), str(x)...: one argument
+            (only,) = arguments
+
+            def call_one(args, state):
+                value = only(args, state)
+                try:
+                    return function(value)
+                except (ValueError, TypeError, OverflowError, ZeroDivisionError) as exc:
+                    raise failed(exc, [value]) from None
+
+            return call_one
+
         def call(args, state):
             values = [a(args, state) for a in arguments]
             try:
                 return function(state, *values) if with_state else function(*values)
             except (ValueError, TypeError, OverflowError, ZeroDivisionError) as exc:
-                message = str(exc) if isinstance(exc, ValueError) else None
-                if message and with_state:
-                    message = f"{name}(): {message}"
-                if not message:
-                    shown = ", ".join(format_value(v) for v in values)
-                    message = f"{name}({shown}) is not defined"
-                raise error(node, message) from None
+                raise failed(exc, values) from None
 
         return call
 

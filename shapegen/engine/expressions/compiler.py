@@ -481,16 +481,19 @@ class ExpressionCompiler:
                 node, f"function {name!r} takes {expected} {noun}, got {len(arguments)}"
             )
         if tail:
+            values_of = _values_of(arguments)
 
             def tail_call(args, state):
-                return TailCall(key, tuple(a(args, state) for a in arguments), node)
+                return TailCall(key, values_of(args, state), node)
 
             return tail_call
 
         error = self.error
 
+        values_of = _values_of(arguments)
+
         def call(args, state):
-            values = tuple(a(args, state) for a in arguments)
+            values = values_of(args, state)
             run = state.run
             run.enter_call(node, name)
             try:
@@ -563,3 +566,21 @@ class ExpressionCompiler:
             return values[choice(state.random, fractions)](args, state)
 
         return stochastic
+
+
+def _values_of(arguments: tuple) -> Callable:
+    """``(args, state) -> tuple`` of the compiled ``arguments``' values, in order: written out
+    for the few arguments most calls have (a generator's cost was a call's largest part)."""
+    count = len(arguments)
+    if count == 0:
+        return lambda args, state: ()
+    if count == 1:
+        (a,) = arguments
+        return lambda args, state: (a(args, state),)
+    if count == 2:
+        a, b = arguments
+        return lambda args, state: (a(args, state), b(args, state))
+    if count == 3:
+        a, b, c = arguments
+        return lambda args, state: (a(args, state), b(args, state), c(args, state))
+    return lambda args, state: tuple([a(args, state) for a in arguments])

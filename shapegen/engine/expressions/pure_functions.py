@@ -175,6 +175,8 @@ def _str(value: object) -> str:
 
 
 def _float(value: object) -> object:
+    if type(value) is float:  # the most common call: a number already
+        return value
     if isinstance(value, Array):
         return ARRAY_FUNCTIONS["floatArray"](value)
     if type(value) is str:

@@ -509,16 +509,21 @@ def _begun_as(piece: Mesh, face: Mesh) -> Mesh:
     middle piece at the cut on the face's last edge."""
     if face.n_faces != 1 or not face.faces[0]:
         return piece
-    first = face.vertices[face.faces[0][0]]
+    fx, fy, fz = face.vertices[face.faces[0][0]].tolist()
+    rows = piece.vertices.tolist()  # in Python floats: a few short polygons
     faces = []
     for polygon in piece.faces:
         if len(polygon) < 3:  # a segment (an edge's geometry) keeps its direction
             faces.append(tuple(polygon))
             continue
-        distance = np.linalg.norm(piece.vertices[list(polygon)] - first, axis=1)
-        begin = int(np.argmin(distance))
+        distance = []
+        for i in polygon:
+            x, y, z = rows[i]
+            x, y, z = x - fx, y - fy, z - fz
+            distance.append(math.sqrt(x * x + y * y + z * z))
+        begin = distance.index(min(distance))  # the first of equal ones, as argmin's
         faces.append(tuple(polygon[begin:]) + tuple(polygon[:begin]))
-    return Mesh(piece.vertices, tuple(faces), piece.holes)
+    return Mesh.of_valid_faces(piece.vertices, tuple(faces), holes=piece.holes)
 
 
 def split_pieces(
