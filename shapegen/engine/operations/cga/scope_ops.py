@@ -34,6 +34,8 @@ from __future__ import annotations
 __all__ = ["argument_word", "refit", "set_scope_pivot"]
 
 
+import math
+
 import numpy as np
 
 from shapegen.engine.operations.cga.arguments import argument_word, choice, plain_arguments, typed
@@ -210,6 +212,7 @@ def compile_align_scope_to_geometry(program, node, params):
         # long edges wins, as PyPRT aligns Building_From_FootprintSMALL on rectangles and L's
         # from every corner; over any face the last (simpleRuleDataset's L lots)
         last_wins = rule != "world.lowest" and face_word is not None
+        rows = world.tolist()  # the edges' keys in Python floats: a numpy call per edge cost more
         for f in candidates:
             face = mesh.faces[f]
             n = len(face)
@@ -221,11 +224,12 @@ def compile_align_scope_to_geometry(program, node, params):
             else:
                 edges = range(n)
             for e in edges:
-                a, b = world[face[e]], world[face[(e + 1) % n]]
+                a, b = face[e], face[(e + 1) % n]
                 if rule == "longest":
-                    key = -float(np.linalg.norm(b - a))
+                    (ax, ay, az), (bx, by, bz) = rows[a], rows[b]
+                    key = -math.sqrt((bx - ax) ** 2 + (by - ay) ** 2 + (bz - az) ** 2)
                 elif rule == "world.lowest":
-                    key = float(a[1] + b[1])
+                    key = rows[a][1] + rows[b][1]
                 else:
                     key = 0.0
                 # Ties, as PyPRT breaks them: among equally long edges the last wins (an L with
@@ -238,6 +242,7 @@ def compile_align_scope_to_geometry(program, node, params):
                 ):
                     best = (key, f, a, b)
         _, f, a, b = best
+        a, b = world[a], world[b]
         normal = scope.rotation @ mesh.lone_face_normal(f)
         x = b - a
         if np.linalg.norm(x) == 0 or np.linalg.norm(normal) == 0:
