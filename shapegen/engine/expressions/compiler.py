@@ -16,6 +16,7 @@ from __future__ import annotations
 
 __all__ = ["ExpressionCompiler", "format_value", "type_name"]
 
+import operator
 from collections.abc import Callable
 
 from shapegen.engine.derivation.random_streams import choice
@@ -206,6 +207,17 @@ class ExpressionCompiler:
         if reader is None:
             raise self.error(node, f"the shape attribute {key!r} is not supported by shapegen")
         error = self.error
+        plain = getattr(reader, "plain", None)
+        if plain is not None and not arguments:  # scope.sx, split.index...: read as they are
+
+            def read_plain(args, state):
+                try:
+                    return plain(state)
+                except (ValueError, KeyError) as exc:
+                    message = exc.args[0] if exc.args else str(exc)
+                    raise error(node, f"{key}: {message}") from None
+
+            return read_plain
 
         def read(args, state):
             values = [a(args, state) for a in arguments]
@@ -424,10 +436,15 @@ class ExpressionCompiler:
 
             return compare_equal
         if op in ORDER:
+            numbers = _NUMBER_ORDER[op]
 
             def compare(args, state):
+                a = left(args, state)
+                b = right(args, state)
+                if type(a) is float and type(b) is float:  # the common case, as ordered's
+                    return numbers(a, b)
                 try:
-                    return ordered(op, left(args, state), right(args, state))
+                    return ordered(op, a, b)
                 except ValueError as exc:
                     raise error(node, str(exc)) from None
 
@@ -584,3 +601,7 @@ def _values_of(arguments: tuple) -> Callable:
         a, b, c = arguments
         return lambda args, state: (a(args, state), b(args, state), c(args, state))
     return lambda args, state: tuple([a(args, state) for a in arguments])
+
+
+_NUMBER_ORDER = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
+"""ORDER's comparisons of two numbers, as C functions."""

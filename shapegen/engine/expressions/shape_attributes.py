@@ -82,6 +82,7 @@ def _no_arguments(reader: Callable[[object], object]) -> Reader:
             raise ValueError("takes no arguments")
         return reader(state)
 
+    read.plain = reader  # called as it is where the call has no arguments (expressions/compiler)
     return read
 
 

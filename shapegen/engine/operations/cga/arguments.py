@@ -19,6 +19,7 @@ __all__ = [
 ]
 
 from collections.abc import Collection
+from math import isfinite
 
 from shapegen.engine.derivation.finite import finite_parameter
 from shapegen.engine.expressions.arrays import type_name
@@ -89,6 +90,8 @@ def typed(program, node, expression, params, kind: type, what: str, at=None):
 
     def value(args, state):
         result = compiled(args, state)
+        if type(result) is kind and (kind is not float or isfinite(result)):
+            return result  # the common case: what the operation asks for
         if kind is float and type(result) is int:
             result = float(result)
         if type(result) is not kind:
