@@ -121,6 +121,67 @@ class ExpressionCompiler:
             scope, extend = local_scope(self, function, params)
             body = self.compile_tail(function.body, scope)
             self.functions[key] = body if extend is None else with_locals(body, extend)
+        pure: dict[tuple[str, int], bool] = {}
+        for key in self.overloads:
+            if self._pure_function(key, pure):
+                self.functions[key] = _remembered(self.functions[key])
+
+    # ------------------------------------------------------------------ pure functions
+    def _pure_function(self, key: tuple[str, int], known: dict) -> bool:
+        """Whether the user function ``key`` gives the same value for the same arguments
+        wherever it is called: its body reads only its parameters and ``with`` variables,
+        literals, the builtins that read neither the shape nor a random stream, and other
+        such functions (no attr or const, which ``set`` may change; no shape attribute, no
+        random choice, no print). A function met again while it is being decided counts as
+        pure (a recursion decides nothing by itself)."""
+        if key in known:
+            return known[key]
+        known[key] = True
+        function = self.overloads[key]
+        names = {p.name for p in function.params}
+        names |= {v.name for v in function.local_variables}
+        nodes = [v.value for v in function.local_variables] + [function.body]
+        known[key] = all(self._pure_node(node, names, known) for node in nodes)
+        return known[key]
+
+    def _pure_node(self, node, names: set[str], known: dict) -> bool:
+        kind = type(node)
+        if kind in (ast.Number, ast.String, ast.Boolean, ast.Keyword):
+            return True
+        if kind is ast.Name:
+            if node.name in names:
+                return True
+            if node.name in self.global_names or (node.name, 0) not in self.overloads:
+                return False
+            return self._pure_function((node.name, 0), known)
+        if kind is ast.Call:
+            name, count = node.name, len(node.args)
+            if name in OCCLUSION or name in CONTEXT_QUERIES:
+                return False
+            if self._is_user_call(name, count):
+                if (name, count) not in self.overloads:
+                    return False
+                pure = self._pure_function((name, count), known)
+            else:
+                pure = (
+                    name in PURE_FUNCTIONS
+                    and name not in _READS_STATE
+                    and name not in self.readers
+                    and name not in self.files
+                )
+            return pure and all(self._pure_node(a, names, known) for a in node.args)
+        if kind is ast.Unary:
+            return self._pure_node(node.operand, names, known)
+        if kind is ast.Binary:
+            return self._pure_node(node.left, names, known) and self._pure_node(
+                node.right, names, known
+            )
+        if kind is ast.CaseExpression:
+            parts = [node.otherwise]
+            for branch in node.branches:
+                parts += [branch.condition, branch.value]
+            return all(self._pure_node(part, names, known) for part in parts)
+        return False  # arrays, indices, shape attributes, random choices: not looked into
 
     def compile_tail(self, node: ast.Expression, params: dict[str, int]) -> Compiled:
         """:meth:`compile` for a function's body: a call of a user function in tail position
@@ -605,3 +666,35 @@ def _values_of(arguments: tuple) -> Callable:
 
 _NUMBER_ORDER = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge}
 """ORDER's comparisons of two numbers, as C functions."""
+
+
+_READS_STATE = frozenset({"rand", "p", "listRandom", "fileRandom", "print", "convert", "isTagged"})
+"""Builtins that read the shape or a random stream, or print, whatever their table says."""
+_REMEMBERED_KEPT = 4096  # a pure function's answers kept, per function
+
+
+def _remembered(body: Compiled) -> Compiled:
+    """A pure user function (:meth:`ExpressionCompiler._pure_function`) that keeps its value
+    for each tuple of arguments that are all numbers or strings (none of them zero, whose
+    sign the key would not tell): Building_From_FootprintSMALL's textures ask the same
+    file name's tile and floor counts for every facade. A call in tail position that the
+    body returns is not kept: the calling site makes it, in its loop."""
+    kept: dict[tuple, object] = {}
+
+    def function(values, state):
+        for value in values:
+            kind = type(value)
+            if (kind is not float and kind is not str) or value == 0.0:
+                return body(values, state)
+        found = kept.get(values, kept)
+        if found is not kept:
+            return found
+        result = body(values, state)
+        if type(result) is TailCall:  # the calling site makes it, without nesting frames
+            return result
+        if len(kept) >= _REMEMBERED_KEPT:
+            kept.clear()
+        kept[values] = result
+        return result
+
+    return function
