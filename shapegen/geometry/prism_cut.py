@@ -349,7 +349,7 @@ class _Footprint:
 
     def _clipped(self, ring, tags, d, eps, crossing, along, tag):
         """The rings left of ``ring`` on the side where ``d`` (its corners' depths) is
-        positive: cut.py's ``_clipped_faces`` and ``_split_at_bridges`` on the ring."""
+        positive: clip_faces.py's ``clipped_faces`` and ``split_at_bridges`` on the ring."""
         kept: list[int] = []
         kept_tags: list[int] = []  # the tag of the edge that arrives at each kept corner
         flags: list[bool] = []  # the corner lies on the line
@@ -382,8 +382,8 @@ class _Footprint:
         return len(xs) - 1
 
     def _split(self, ring, tags, flags, along, tag):
-        """cut.py's ``_split_at_bridges``: the ring cut at its edges on the line, the chains in
-        between joined again along it in the direction ``along``; a joining edge is tagged
+        """clip_faces.py's ``split_at_bridges``: the ring cut at its edges on the line, the
+        chains in between joined again along it in the direction ``along``; a joining edge is tagged
         ``tag`` (the cut's face)."""
         n = len(ring)
         if all(flags):  # a ring lying on the line: nothing of it is left

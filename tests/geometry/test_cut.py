@@ -212,7 +212,7 @@ def _shapes_to_clip():
     yield Mesh.box((4.0, 2.0, 3.0))
     for lot in (L_LOT, U_LOT):
         yield _prism(lot)
-        _, face = lot_polygon(lot)
+        _, face = lot_polygon(Lot.polygon(lot))
         yield face
     angles = np.arange(14) * np.pi / 7
     radii = np.where(np.arange(14) % 2 == 0, 3.0, 1.2)
@@ -224,7 +224,7 @@ def test_few_faces_are_clipped_as_the_arrays_clip_them(monkeypatch, index):
     """A mesh of a few faces is clipped in Python floats; the arrays' path (made to take it)
     gives the same faces and the same points, plane by plane, either side, with and without
     a trim's tolerance, at corners and through them."""
-    import shapegen.geometry.cut as cut
+    import shapegen.geometry.clip_faces as clip_faces
 
     mesh = list(_shapes_to_clip())[index]
     low, high = mesh.bounds()
@@ -236,9 +236,9 @@ def test_few_faces_are_clipped_as_the_arrays_clip_them(monkeypatch, index):
         for above in (True, False):
             for tolerance in (None, 1e-6):
                 few = clip_half(mesh, axis, value, above, tolerance)
-                monkeypatch.setattr(cut, "_FEW_FACES", -1)
+                monkeypatch.setattr(clip_faces, "FEW_FACES", -1)
                 arrays = clip_half(mesh, axis, value, above, tolerance)
-                monkeypatch.setattr(cut, "_FEW_FACES", 16)
+                monkeypatch.setattr(clip_faces, "FEW_FACES", 16)
                 assert (few is None) == (arrays is None)
                 if few is None:
                     continue
