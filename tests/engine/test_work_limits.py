@@ -20,7 +20,9 @@ def _grammar(body: str, head: str = "") -> shapegen.Grammar:
 
 # (limit, a value small enough to be reached, grammar head, rule body)
 CASES = [
-    ("max_calls", 50, "f(n) = case n > 0 : f(n - 1) + f(n - 1) else : 1\n", "t(f(8), 0, 0) A"),
+    # the recursion reads the shape: a function of its arguments alone keeps its values
+    ("max_calls", 50, "f(n) = case n > 0 : f(n - 1) + f(n - 1) else : scope.sx\n",
+     "t(f(8), 0, 0) A"),
     ("max_call_depth", 10, "f(n) = case n > 0 : f(n - 1) + 1 else : 1\n", "t(f(20), 0, 0) A"),
     ("max_string_length", 100, 'd(x) = x + x\ns(n) = case n > 0 : d(s(n - 1)) else : "x"\n',
      'report("k", s(8))'),

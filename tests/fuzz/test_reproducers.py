@@ -23,7 +23,10 @@ from fuzz_sandbox import run_limited
 import shapegen
 from shapegen.readers.models import read_model
 
-DOUBLING = "f(n) = case n > 0 : f(n - 1) + f(n - 1) else : 1\n"
+# the recursion reads the shape, so each call is made (a function of its arguments alone keeps
+# its values, engine/expressions' _remembered: PURE_DOUBLING answers at once)
+DOUBLING = "f(n) = case n > 0 : f(n - 1) + f(n - 1) else : scope.sx / 10\n"
+PURE_DOUBLING = "f(n) = case n > 0 : f(n - 1) + f(n - 1) else : 1\n"
 STRINGS = 'd(x) = x + x\ns(n) = case n > 0 : d(s(n - 1)) else : "x"\n'
 
 
@@ -58,6 +61,8 @@ def _many_blocks(count: int) -> str:
 # (name, what to run, pattern of the one line; None: it must work)
 LIBRARY_CASES = [
     ("doubling recursion", lambda: _build(_rule("t(f(40), 0, 0) A", DOUBLING)), r"max_calls"),
+    ("pure doubling recursion", lambda: _build(_rule("t(f(40), 0, 0) A", PURE_DOUBLING)),
+     r"reaches 1.1e\+12 m.*max_coordinate"),
     ("string growth", lambda: _build(_rule('report("k", s(40))', STRINGS)), r"max_string_length"),
     ("arch segments 1e7", lambda: _build(_rule('i("arch", segments = 10000000)')),
      r"'segments' is 1e\+07.*max_primitive_blocks"),
