@@ -1,8 +1,8 @@
 """CGA's ``roofRidge`` on one flat face, as a polygon mesh in the face's frame: one ridge along
 the face's x axis, halfway across it, two roof planes rising to it from the face's extreme lines
 across x, the outline (and every hole) lifted onto them over vertical sides. The mesh is a
-:class:`~shapegen.geometry.roofs.RoofMesh` as the skeleton roofs' (:mod:`shapegen.geometry.roofs`),
-its vertices ``(x, y, h)`` with ``h`` along the face's normal."""
+:class:`~shapegen.geometry.roof_mesh.RoofMesh` as the skeleton roofs'
+(:mod:`shapegen.geometry.roofs`), its vertices ``(x, y, h)`` with ``h`` along the face's normal."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ __all__ = ["roof_ridge"]
 import numpy as np
 
 from shapegen.geometry.polygon2d import checked_polygon, signed_area
-from shapegen.geometry.roofs import RoofMesh, _bottom, _rings, _slope, _Welder
+from shapegen.geometry.roof_mesh import RoofMesh, Welder, bottom_face, clockwise_rings, roof_slope
 from shapegen.tolerances import DEFAULT, DIVISION_FLOOR
 
 
@@ -31,10 +31,10 @@ def roof_ridge(
     from shapely.geometry import Polygon
 
     p = checked_polygon(polygon)
-    rings = _rings(holes)
+    rings = clockwise_rings(holes)
     low, high = float(p[:, 1].min()), float(p[:, 1].max())
     middle = 0.5 * (low + high)
-    slope = _slope(angle, height, middle - low)
+    slope = roof_slope(angle, height, middle - low)
 
     def rise(y):
         return slope * np.minimum(np.asarray(y) - low, high - np.asarray(y))
@@ -50,8 +50,8 @@ def roof_ridge(
     # the bottom keeps the face's own corners; each side is one face over its edge, with a
     # corner where it crosses the ridge line, a side of no height left out (PyPRT's sides: a
     # triangle over an edge from eave to eave, a pentagon over a hole's edge across the ridge)
-    welder = _Welder(float(np.ptp(p, axis=0).max()))
-    _bottom(welder, p, "roof.bottom", rings)
+    welder = Welder(float(np.ptp(p, axis=0).max()))
+    bottom_face(welder, p, "roof.bottom", rings)
     for ring, tag in [(p, "roof.side.outer"), *((r, "roof.side.inner") for r in rings)]:
         for k in range(len(ring)):
             welder.face(side(ring[k], ring[(k + 1) % len(ring)]), tag)
@@ -73,7 +73,7 @@ def roof_ridge(
                 ring = np.asarray(piece.exterior.coords)[:-1]
                 if signed_area(ring) < 0:
                     ring = ring[::-1]
-                cut = _rings(np.asarray(r.coords)[:-1] for r in piece.interiors)
+                cut = clockwise_rings(np.asarray(r.coords)[:-1] for r in piece.interiors)
                 cut += [r for r in inside if piece.covers(shapely.Point(r.mean(axis=0)))]
                 welder.face(
                     np.column_stack([ring, rise(ring[:, 1])]),

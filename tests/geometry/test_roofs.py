@@ -10,6 +10,7 @@ import pytest
 
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs as R
+from shapegen.geometry.envelope import envelope
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.polygon2d import signed_area
 from shapegen.geometry.ridge_roof import roof_ridge
@@ -181,22 +182,22 @@ def test_roofs_match_pyprt(key):
 def test_envelope_of_a_rectangle():
     # candler's ventilation: walls to 0.45 m, 45 degree slopes, cut at 0.6 m: a prism and a
     # prismatoid h/6 (A_bottom + A_top + 4 A_middle).
-    mesh = R.envelope(RECT, 0.6, [0.45] * 4, [45] * 4)
+    mesh = envelope(RECT, 0.6, [0.45] * 4, [45] * 4)
     h = 0.15
     prismatoid = h / 6 * (96 + (12 - 2 * h) * (8 - 2 * h) + 4 * (12 - h) * (8 - h))
     assert mesh.volume() == pytest.approx(96 * 0.45 + prismatoid)
     assert mesh.tags.count("envelope.top") == 1
     # the front (edge 0) alone slopes, from 3 m: a wedge cut off a 10 m box
-    mesh = R.envelope(RECT, 10, [3, 0, 0, 0], [45, 90, 90, 90])
+    mesh = envelope(RECT, 10, [3, 0, 0, 0], [45, 90, 90, 90])
     assert mesh.volume() == pytest.approx(96 * 10 - 12 * 7 * 7 / 2)
     # below the cut the slopes meet in a hip roof
-    mesh = R.envelope(RECT, 10, [3] * 4, [45] * 4)
+    mesh = envelope(RECT, 10, [3] * 4, [45] * 4)
     assert mesh.volume() == pytest.approx(96 * 3 + 4 * 8 * (3 * 12 - 8) / 6)
 
 
 def test_envelope_refuses_different_sloped_base_heights():
     with pytest.raises(GeometryError, match="different base heights"):
-        R.envelope(RECT, 10, [3, 2, 3, 3], [45] * 4)
+        envelope(RECT, 10, [3, 2, 3, 3], [45] * 4)
 
 
 def test_roof_ridge():

@@ -28,8 +28,10 @@ from shapegen.engine.shapes.shape import MASS, Shape
 from shapegen.engine.shapes.tags import ComponentTags, Pending, resolved_tags
 from shapegen.errors import GeometryError
 from shapegen.geometry import roofs
+from shapegen.geometry.envelope import envelope
 from shapegen.geometry.mesh import Mesh
 from shapegen.geometry.ridge_roof import roof_ridge
+from shapegen.geometry.roof_mesh import RoofMesh
 from shapegen.geometry.scope_frames import fitted_scope, rotation_keeping_x
 from shapegen.grammar import ast
 from shapegen.limits import check_clock, limit_hint
@@ -38,7 +40,7 @@ from shapegen.tolerances import COSINE_SLACK
 
 def roof_shape(
     parent: Shape,
-    built: list[tuple[object, roofs.RoofMesh]],
+    built: list[tuple[object, RoofMesh]],
     keep_axes: bool = False,
     tagged: bool = True,
 ) -> Shape:
@@ -313,7 +315,7 @@ def compile_envelope(program, node: ast.Operation, params):
                     base[mask] = per_edge(evaluated[k], 1, 0.0, "base heights")[0]
                     angle[mask] = per_edge(evaluated[k + 1], 1, 90.0, "angles")[0]
             try:
-                mesh = roofs.envelope(polygon, top, base, angle, holes)
+                mesh = envelope(polygon, top, base, angle, holes)
             except GeometryError as exc:
                 raise program.operation_error(node, f"envelope(): {exc}") from None
             if mesh.punch_failed:  # CityEngine's runtime's warning, and its model
