@@ -244,11 +244,23 @@ def _colors(drawn: list[tuple], stands: bool) -> np.ndarray:
     )
     return np.array(
         [
-            block_label_color(tags, fixed=fixed, structural=structural, colors=by_label)
+            # a surface (fixed None) opaque, as the model's own files draw it (its label's
+            # colour or the surfaces'), not see-through as a block left out of the statics
+            _surface_color(tags, by_label)
+            if fixed is None
+            else block_label_color(tags, fixed=fixed, structural=structural, colors=by_label)
             for _, _, tags, fixed, structural, _ in drawn
         ],
         dtype=np.uint8,
     ).reshape(-1, 4)
+
+
+def _surface_color(tags, by_label: dict) -> np.ndarray:
+    from shapegen.export.colors import SURFACE, label_color
+
+    if not tags:
+        return SURFACE
+    return by_label[tags[0]] if tags[0] in by_label else label_color(tags[0])
 
 
 def _drawn(model) -> list[tuple]:
