@@ -33,7 +33,7 @@ SMALLEST_PLAIN = 1e-5  # a float literal below this is a tolerance
 
 # Module-level constants that may be bare: settings of a numerical method, not comparisons.
 SOLVER_SETTINGS = {
-    "geometry/polygon2d.py": {"RECTANGLE_FTOL"},  # SLSQP's ftol for the inscribed rectangle
+    "geometry/inner_rectangle.py": {"RECTANGLE_FTOL"},  # SLSQP's ftol for the inscribed rectangle
     "search/methods.py": {"POWELL_FTOL", "SLSQP_FTOL", "POLISH_FTOL"},  # the search's stops
     "search/evaluator.py": {"ADJOINT_STEP"},  # the finite-difference step of a gradient check
     "statics/assembly.py": {"REGULARIZATION"},  # Tikhonov term of the block QP
