@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from prt_cases import corners_near, model_on_lot
 
-import shapegen.prt as pyprt
 from shapegen import parse_grammar
 from shapegen.geometry.mesh import Mesh
 from shapegen.model.lot import Lot
@@ -58,21 +58,7 @@ def _rule(case) -> str:
 
 
 def _generate(tmp_path, case):
-    lot = MEASURED["lots"][case["lot"]]
-    rule = tmp_path / "roof.cga"
-    rule.write_text(_rule(case))
-    holes = lot.get("holes")  # the L has none
-    shape = pyprt.InitialShape(lot["coordinates"], lot["indices"], lot["face_counts"], holes)
-    (model,) = pyprt.ModelGenerator([shape]).generate_model(
-        [{}], str(rule), "com.esri.pyprt.PyEncoder", {}
-    )
-    return model
-
-
-def _near_all(ours: np.ndarray, theirs: np.ndarray) -> bool:
-    """Whether every corner of each set lies within CORNER_M of one of the other's."""
-    gap = np.linalg.norm(ours[:, None, :] - theirs[None, :, :], axis=2)
-    return bool(gap.min(axis=1).max() <= CORNER_M and gap.min(axis=0).max() <= CORNER_M)
+    return model_on_lot(tmp_path / "roof.cga", _rule(case), MEASURED["lots"][case["lot"]])
 
 
 GEOMETRY_CASES = [c for c in MEASURED["cases"] if "comp" not in c]
@@ -127,7 +113,7 @@ def test_pyprt_s_roofs_on_faces_with_holes(tmp_path, case):
     # are compared as sets
     assert sorted(model.get_faces()) == sorted(case["encoder_faces"])
     ours = np.asarray(model.get_vertices(), dtype=float).reshape(-1, 3)
-    assert _near_all(ours, np.asarray(case["points"], dtype=float))
+    assert corners_near(ours, case["points"], CORNER_M)
 
 
 @pytest.mark.parametrize("case", COMP_CASES)

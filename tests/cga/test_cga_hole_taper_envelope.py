@@ -19,8 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-import shapegen.prt as pyprt
+from prt_cases import corners_near, model_on_lot
 
 MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_taper_envelope.json").read_text())
 FIGURES = ("nFaces", "nHoles", "area", "volume")
@@ -46,21 +45,8 @@ def _rule(case) -> str:
 
 
 def _generate(tmp_path, case):
-    lot = MEASURED["lots"][case["lot"]]
-    rule = tmp_path / "case.cga"
-    rule.write_text(_rule(case).replace("world$up", "world.up"))
-    holes = lot.get("holes")  # the L has none
-    shape = pyprt.InitialShape(lot["coordinates"], lot["indices"], lot["face_counts"], holes)
-    (model,) = pyprt.ModelGenerator([shape]).generate_model(
-        [{}], str(rule), "com.esri.pyprt.PyEncoder", {}
-    )
-    return model
-
-
-def _near_all(ours: np.ndarray, theirs: np.ndarray) -> bool:
-    """Whether every corner of each set lies within CORNER_M of one of the other's."""
-    gap = np.linalg.norm(ours[:, None, :] - theirs[None, :, :], axis=2)
-    return bool(gap.min(axis=1).max() <= CORNER_M and gap.min(axis=0).max() <= CORNER_M)
+    text = _rule(case).replace("world$up", "world.up")
+    return model_on_lot(tmp_path / "case.cga", text, MEASURED["lots"][case["lot"]])
 
 
 @pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)
@@ -93,7 +79,7 @@ def test_pyprt_s_taper_envelope_and_trim_on_faces_with_holes(tmp_path, case):
         # then the top), which comp(f)'s indices read; with holes the order is not matched
         assert list(model.get_faces()) == case["encoder_faces"]
     ours = np.asarray(model.get_vertices(), dtype=float).reshape(-1, 3)
-    assert _near_all(ours, np.asarray(case["points"], dtype=float))
+    assert corners_near(ours, case["points"], CORNER_M)
 
 
 def test_the_measured_cases_keep_make_and_drop_holes():

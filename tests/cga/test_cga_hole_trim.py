@@ -13,8 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-import shapegen.prt as pyprt
+from prt_cases import corners_near, model_on_lot
 
 MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_trim_holes.json").read_text())
 FIGURES = ("nFaces", "nHoles", "area", "volume")
@@ -34,23 +33,11 @@ def _trims(case) -> bool:
 
 
 def _generate(tmp_path, case):
-    lot = MEASURED["lots"][case["lot"]]
     rule = case["rule"].replace("{ top : ", "{ top : B0 } \nB0 --> ", 1)
     rule = rule[: rule.rindex("}")].rstrip()
     reports = " ".join(f'report("{k}", geometry.{k})' for k in FIGURES)
-    path = tmp_path / "trim.cga"
-    path.write_text(f'version "2023.0"\n@StartRule\nLot --> {rule} {reports}\n')
-    holes = lot.get("holes")
-    shape = pyprt.InitialShape(lot["coordinates"], lot["indices"], lot["face_counts"], holes)
-    (model,) = pyprt.ModelGenerator([shape]).generate_model(
-        [{}], str(path), "com.esri.pyprt.PyEncoder", {}
-    )
-    return model
-
-
-def _near_all(ours: np.ndarray, theirs: np.ndarray) -> bool:
-    gap = np.linalg.norm(ours[:, None, :] - theirs[None, :, :], axis=2)
-    return bool(gap.min(axis=1).max() <= CORNER_M and gap.min(axis=0).max() <= CORNER_M)
+    text = f'version "2023.0"\n@StartRule\nLot --> {rule} {reports}\n'
+    return model_on_lot(tmp_path / "trim.cga", text, MEASURED["lots"][case["lot"]])
 
 
 def _same(model, case) -> bool:
@@ -65,7 +52,7 @@ def _same(model, case) -> bool:
     if sorted(model.get_faces()) != sorted(case["encoder_faces"]):
         return False
     ours = np.asarray(model.get_vertices(), dtype=float).reshape(-1, 3)
-    return _near_all(ours, np.asarray(case["points"], dtype=float))
+    return corners_near(ours, case["points"], CORNER_M)
 
 
 @pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)

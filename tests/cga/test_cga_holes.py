@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from prt_cases import model_on_lot
 
 import shapegen.prt as pyprt
 from shapegen import parse_grammar
@@ -52,12 +53,8 @@ def _case_id(case):
 def _generate(tmp_path, lot: dict, operations: str):
     reports = " ".join(f'report("{k}", geometry.{k})' for k in FIGURES)
     reports += " " + " ".join(f'report("s{a}", scope.s{a})' for a in "xyz")
-    rule = tmp_path / "holes.cga"
-    rule.write_text(f'version "2023.0"\n@StartRule\nLot --> {operations} {reports}\n')
-    shape = pyprt.InitialShape(lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"])
-    generator = pyprt.ModelGenerator([shape])
-    (model,) = generator.generate_model([{}], str(rule), "com.esri.pyprt.PyEncoder", {})
-    return model
+    text = f'version "2023.0"\n@StartRule\nLot --> {operations} {reports}\n'
+    return model_on_lot(tmp_path / "holes.cga", text, lot)
 
 
 @pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)

@@ -12,9 +12,7 @@ import re
 from pathlib import Path
 
 import pytest
-from prt_cases import branch_rule, case_id, encoder_rings
-
-import shapegen.prt as pyprt
+from prt_cases import branch_rule, case_id, encoder_rings, model_on_lot
 
 MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_setback_holes.json").read_text())
 FIGURES = ("nFaces", "nHoles", "nVertices", "area")
@@ -50,12 +48,7 @@ def _rings(vertices, indices, counts) -> list:
 @pytest.mark.parametrize("case", MEASURED["cases"], ids=case_id)
 def test_pyprt_s_pieces_of_a_holed_face(tmp_path, case):
     lot = MEASURED["lots"][case["lot"]]
-    rule = tmp_path / "pieces.cga"
-    rule.write_text(branch_rule(case["rule"], FIGURES))
-    shape = pyprt.InitialShape(lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"])
-    (model,) = pyprt.ModelGenerator([shape]).generate_model(
-        [{}], str(rule), "com.esri.pyprt.PyEncoder", {}
-    )
+    model = model_on_lot(tmp_path / "pieces.cga", branch_rule(case["rule"], FIGURES), lot)
     assert model.get_cga_errors() == case["errors"]
     key = (case["lot"], case["rule"])
     area_m2, corner_m = (NUDGE_M2, NUDGE_M) if key in NUDGED else (AREA_M2, CORNER_M)

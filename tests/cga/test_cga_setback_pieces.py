@@ -11,9 +11,7 @@ import re
 from pathlib import Path
 
 import pytest
-from prt_cases import branch_rule, case_id, encoder_rings
-
-import shapegen.prt as pyprt
+from prt_cases import branch_rule, case_id, encoder_rings, model_on_lot
 
 #: The reference entries each test shows (tools/cga_coverage.py reads this table).
 COVERS = {"test_pyprt_s_setback_pieces": ("op:setback",)}
@@ -49,17 +47,7 @@ def _turned(ring: list) -> list:
 @pytest.mark.parametrize("case", MEASURED["cases"], ids=case_id)
 def test_pyprt_s_setback_pieces(tmp_path, case):
     lot = MEASURED["lots"][case["lot"]]
-    rule = tmp_path / "setback.cga"
-    rule.write_text(branch_rule(case["rule"], FIGURES))
-    if "holes" in lot:
-        shape = pyprt.InitialShape(
-            lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"]
-        )
-    else:
-        shape = pyprt.InitialShape(lot["coordinates"])
-    (model,) = pyprt.ModelGenerator([shape]).generate_model(
-        [{}], str(rule), "com.esri.pyprt.PyEncoder", {}
-    )
+    model = model_on_lot(tmp_path / "setback.cga", branch_rule(case["rule"], FIGURES), lot)
     # CityEngine warns where an array of distances has not one per face edge, holes' too
     warnings = [e.split("setback(): ")[1] for e in case["errors"]]
     assert [e.split("setback(): ")[1] for e in model.get_cga_errors()] == warnings
