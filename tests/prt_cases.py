@@ -4,6 +4,8 @@ and the rings of an encoder's faces."""
 
 from __future__ import annotations
 
+import pytest
+
 
 def case_id(case: dict) -> str:
     return f"{case['lot']}:{case['rule']}"
@@ -21,6 +23,31 @@ def branch_rule(text: str, figures) -> str:
         reports = " ".join(f'report("b{k}.{f}", geometry.{f})' for f in figures)
         lines.append(f"B{k} --> {reports}")
     return 'version "2023.0"\n@StartRule\n' + "\n".join(lines) + "\n"
+
+
+def figures_rule(operations: str, figures) -> str:
+    """The operations as a .cga file's start rule, followed by a report of each of ``figures``
+    (``geometry.<figure>``) and of the scope's sizes (``sx``, ``sy``, ``sz``)."""
+    return f'version "2023.0"\n@StartRule\nLot --> {operations} {figure_reports(figures)}\n'
+
+
+def figure_reports(figures) -> str:
+    """``report`` operations of each of ``figures`` and of the scope's three sizes."""
+    reports = [f'report("{k}", geometry.{k})' for k in figures]
+    return " ".join(reports + [f'report("s{a}", scope.s{a})' for a in "xyz"])
+
+
+def assert_figures(report: dict, case: dict, figures, downward: str = "") -> None:
+    """The model's reported ``figures`` (each to 1e-5) and scope sizes (to 1 mm) are the
+    measured case's. ``downward``: the rule whose scope CityEngine gives a negative ``sy``
+    (a downward extrusion or taper), where shapegen's is positive: a difference of the scope
+    alone, compared without its sign."""
+    for name in figures:
+        assert report[f"{name}_avg"] == pytest.approx(case[name], abs=1e-5), name
+    sizes = [report[f"s{a}_avg"] for a in "xyz"]
+    if case["rule"] == downward:
+        sizes[1] = -sizes[1]
+    assert sizes == pytest.approx(case["scope"][:3], abs=1e-3)
 
 
 def encoder_rings(vertices, indices, counts) -> list[list[tuple]]:
@@ -53,9 +80,12 @@ def model_on_lot(path, text: str, lot: dict):
 
 
 def corners_near(ours, theirs, tolerance_m: float) -> bool:
-    """Whether every corner of each ``(n, 3)`` set lies within ``tolerance_m`` of one of the
-    other's (faces that share corners in one model and not in the other compared as sets)."""
+    """Whether every corner of each set (``(n, 3)`` or an encoder's flat list of coordinates)
+    lies within ``tolerance_m`` of one of the other's (faces that share corners in one model and
+    not in the other compared as sets)."""
     import numpy as np
 
-    gap = np.linalg.norm(np.asarray(ours)[:, None, :] - np.asarray(theirs)[None, :, :], axis=2)
+    ours = np.asarray(ours, dtype=float).reshape(-1, 3)
+    theirs = np.asarray(theirs, dtype=float).reshape(-1, 3)
+    gap = np.linalg.norm(ours[:, None, :] - theirs[None, :, :], axis=2)
     return bool(gap.min(axis=1).max() <= tolerance_m and gap.min(axis=0).max() <= tolerance_m)

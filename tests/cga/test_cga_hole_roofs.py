@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from prt_cases import corners_near, model_on_lot
+from prt_cases import assert_figures, corners_near, figure_reports, model_on_lot
 
 from shapegen import parse_grammar
 from shapegen.geometry.mesh import Mesh
@@ -43,8 +43,7 @@ def _case_id(case):
 def _rule(case) -> str:
     """The case as a .cga rule: the roof, reports of its geometry, and the case's comp whose
     branches report theirs."""
-    reports = " ".join(f'report("{k}", geometry.{k})' for k in FIGURES)
-    reports += " " + " ".join(f'report("s{a}", scope.s{a})' for a in "xyz")
+    reports = figure_reports(FIGURES)
     lines = []
     if "comp" in case:
         comp = case["comp"]
@@ -101,19 +100,13 @@ def test_pyprt_s_roofs_on_faces_with_holes(tmp_path, case):
     # PyPRT's warnings (the gable's index on a holed face), each with its operation's name
     said = [e.split("] ")[-1] for e in case["errors"]]
     assert [e.split(": ", 1)[-1] for e in model.get_cga_errors()] == said
-    report = model.get_report()
-    for name in FIGURES:
-        if name == "volume" and case["rule"] in OPEN:
-            continue
-        assert report[f"{name}_avg"] == pytest.approx(case[name], abs=1e-5), name
-    sizes = [report[f"s{a}_avg"] for a in "xyz"]
-    assert sizes == pytest.approx(case["scope"][:3], abs=1e-3)
+    figures = [f for f in FIGURES if not (f == "volume" and case["rule"] in OPEN)]
+    assert_figures(model.get_report(), case, figures)
     # the PyEncoder's polygons (each face, then each of its holes as a polygon of its own) and
     # their corners; CityEngine's faces do not share corners, shapegen's do, so the corners
     # are compared as sets
     assert sorted(model.get_faces()) == sorted(case["encoder_faces"])
-    ours = np.asarray(model.get_vertices(), dtype=float).reshape(-1, 3)
-    assert corners_near(ours, case["points"], CORNER_M)
+    assert corners_near(model.get_vertices(), case["points"], CORNER_M)
 
 
 @pytest.mark.parametrize("case", COMP_CASES)
