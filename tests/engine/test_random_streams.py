@@ -24,6 +24,19 @@ def uniform(x: int) -> float:
     return random_streams.draw(x)[1]
 
 
+def _generated(lot: str, rule: Path, attrs: dict):
+    """The one model ``shapegen.prt`` generates of ``rule`` on the measured ``lot``."""
+    shape = prt.InitialShape(MEASURED["lots"][lot])
+    (model,) = prt.ModelGenerator([shape]).generate_model([attrs], str(rule))
+    return model
+
+
+def _assert_reports(model, reports: dict) -> None:
+    ours = model.get_report()
+    for key, value in reports.items():
+        assert ours[key] == pytest.approx(value, rel=1e-6), key
+
+
 @pytest.mark.parametrize("seed, height", MEASURED["extrusion_rule"]["values"].items())
 def test_first_successor_draw(seed, height):
     # the start shape's first successor begins at child_stream(start); its first draw
@@ -34,10 +47,7 @@ def test_first_successor_draw(seed, height):
 
 @pytest.mark.parametrize("seed, height", MEASURED["extrusion_rule"]["values"].items())
 def test_extrusion_rule_derives_cityengine_heights(seed, height):
-    lot = MEASURED["lots"]["12x8"]
-    (model,) = prt.ModelGenerator([prt.InitialShape(lot)]).generate_model(
-        [{"seed": int(seed)}], str(EXTRUSION)
-    )
+    model = _generated("12x8", EXTRUSION, {"seed": int(seed)})
     assert model.get_report()["Building Height.0_sum"] == pytest.approx(height, abs=1e-9)
 
 
@@ -93,12 +103,9 @@ def test_draws_reach_one():
 @pytest.mark.parametrize("form", ["setback top", "setback everywhere"])
 def test_split_pieces_and_their_successors(form):
     measured = MEASURED["splits"]
-    lot = MEASURED["lots"]["trapezoid"]
     for seed, expected in measured["values"][form].items():
         attrs = {"seed": int(seed), "Building_Form": form, **measured["attrs"]}
-        (model,) = prt.ModelGenerator([prt.InitialShape(lot)]).generate_model(
-            [attrs], str(BUILDING)
-        )
+        model = _generated("trapezoid", BUILDING, attrs)
         vertices = model.get_vertices()
         assert len(vertices) // 3 == expected["vertices"]
         assert sorted({round(x, 3) + 0.0 for x in vertices[0::3]}) == expected["x"]
@@ -108,13 +115,7 @@ def test_split_pieces_and_their_successors(form):
 @pytest.mark.slow
 @pytest.mark.parametrize("seed, reports", MEASURED["comp_pieces"]["values"].items())
 def test_comp_pieces_and_many_branch_choices(seed, reports):
-    lot = MEASURED["lots"]["12x8"]
-    (model,) = prt.ModelGenerator([prt.InitialShape(lot)]).generate_model(
-        [{"seed": int(seed)}], str(ENVELOPE)
-    )
-    ours = model.get_report()
-    for key, value in reports.items():
-        assert ours[key] == pytest.approx(value, rel=1e-6), key
+    _assert_reports(_generated("12x8", ENVELOPE, {"seed": int(seed)}), reports)
 
 
 @pytest.mark.slow
@@ -122,10 +123,4 @@ def test_comp_pieces_and_many_branch_choices(seed, reports):
 def test_repeat_split_pieces_on_the_floors_of_an_extruded_polygon(seed, reports):
     # the vertical greenery's tiles (a repeat split, a stochastic NIL per tile) on the walls of
     # floors that are split pieces of an extruded L-lot volume: PyPRT's reports to round-off
-    lot = MEASURED["lots"]["L"]
-    (model,) = prt.ModelGenerator([prt.InitialShape(lot)]).generate_model(
-        [{"seed": int(seed)}], str(ENVELOPE)
-    )
-    ours = model.get_report()
-    for key, value in reports.items():
-        assert ours[key] == pytest.approx(value, rel=1e-6), key
+    _assert_reports(_generated("L", ENVELOPE, {"seed": int(seed)}), reports)
