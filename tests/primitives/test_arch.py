@@ -196,84 +196,39 @@ def test_mirrored_scope_keeps_faces_outward():
     assert total_volume(blocks) == pytest.approx(8 / 2 * (1.5**2 - 1.2**2) * math.sin(math.pi / 8))
 
 
-@pytest.mark.parametrize(
-    "name, size, params, message",
-    [
-        (
-            "arch",
-            (3, 2, 1),
-            {"thickness": 2.0},
-            "primitive 'arch': parameter 'thickness' must be less than the extrados radius 1.5 m",
-        ),
-        (
-            "arch",
-            (3, 2, 1),
-            {"thickness": 0.0},
-            "primitive 'arch': parameter 'thickness' must be positive, got 0 m",
-        ),
-        (
-            "arch",
-            (3, 2, 1),
-            {"thickness": -0.1},
-            "primitive 'arch': parameter 'thickness' must be positive, got -0.1 m",
-        ),
-        ("arch", (3, 2, 1), {"segments": 1}, "'segments' must be at least 2, got 1"),
-        ("arch", (3, 2, 1), {"segments": 0}, "'segments' must be at least 2, got 0"),
-        (
-            "arch",
-            (3, 2, 1),
-            {"style": "baroque"},
-            "parameter 'style' must be one of 'romanesque', 'gothic'",
-        ),
-        (
-            "arch",
-            (3, 2, 1),
-            {"style": "gothic", "segments": 7},
-            "'segments' must be even for a gothic arch",
-        ),
-        (
-            "arch",
-            (3, 2, 1),
-            {"style": "gothic", "pointedness": -1.0},
-            "'pointedness' must be 0 (semicircular) or more, got -1",
-        ),
-        (
-            "arch",
-            (0, 2, 1),
-            {},
-            "primitive 'arch': parameter 'scope' needs a positive width and depth",
-        ),
-        ("arch", (3, 2, 1), {"segments": 2.5}, "parameter 'segments' must be a whole number"),
-        (
-            "capped_arch",
-            (3, 1, 1),
-            {},
-            "primitive 'capped_arch': parameter 'scope' height 1 m is below the arch's crown "
-            "at 1.5 m",
-        ),
-        (
-            "capped_arch",
-            (3, 2, 1),
-            {"thickness": 1.5},
-            "'thickness' must be less than the extrados radius",
-        ),
-        (
-            "bezier_arch",
-            (3, 2, 1),
-            {"thickness": 1.6},
-            "primitive 'bezier_arch': parameter 'thickness' must be less than half",
-        ),
-        (
-            "bezier_arch",
-            (3, 2, 1),
-            {"segments": 1},
-            "primitive 'bezier_arch': parameter 'segments' must be at least 2, got 1",
-        ),
-        ("bezier_arch", (3, 2, 1), {"c1y": 0.0, "c2y": 0.0}, "does not rise above the springings"),
-        ("bezier_arch", (3, 2, 1), {"c1y": -1.0, "c2y": 1.0}, "dips below the springings"),
-    ],
-)
-def test_impossible_parameters_are_named(name, size, params, message):
+# (primitive, parameters (the scope 3 x 2 x 1 m unless given), words of the error)
+MISTAKES = [
+    ("arch", {"thickness": 2.0},
+     "primitive 'arch': parameter 'thickness' must be less than the extrados radius 1.5 m"),
+    ("arch", {"thickness": 0.0},
+     "primitive 'arch': parameter 'thickness' must be positive, got 0 m"),
+    ("arch", {"thickness": -0.1},
+     "primitive 'arch': parameter 'thickness' must be positive, got -0.1 m"),
+    ("arch", {"segments": 1}, "'segments' must be at least 2, got 1"),
+    ("arch", {"segments": 0}, "'segments' must be at least 2, got 0"),
+    ("arch", {"style": "baroque"}, "parameter 'style' must be one of 'romanesque', 'gothic'"),
+    ("arch", {"style": "gothic", "segments": 7}, "'segments' must be even for a gothic arch"),
+    ("arch", {"style": "gothic", "pointedness": -1.0},
+     "'pointedness' must be 0 (semicircular) or more, got -1"),
+    ("arch", {"scope": (0, 2, 1)},
+     "primitive 'arch': parameter 'scope' needs a positive width and depth"),
+    ("arch", {"segments": 2.5}, "parameter 'segments' must be a whole number"),
+    ("capped_arch", {"scope": (3, 1, 1)},
+     "primitive 'capped_arch': parameter 'scope' height 1 m is below the arch's crown at 1.5 m"),
+    ("capped_arch", {"thickness": 1.5}, "'thickness' must be less than the extrados radius"),
+    ("bezier_arch", {"thickness": 1.6},
+     "primitive 'bezier_arch': parameter 'thickness' must be less than half"),
+    ("bezier_arch", {"segments": 1},
+     "primitive 'bezier_arch': parameter 'segments' must be at least 2, got 1"),
+    ("bezier_arch", {"c1y": 0.0, "c2y": 0.0}, "does not rise above the springings"),
+    ("bezier_arch", {"c1y": -1.0, "c2y": 1.0}, "dips below the springings"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("name, params, message", MISTAKES)
+def test_impossible_parameters_are_named(name, params, message):
+    params = dict(params)
+    size = params.pop("scope", (3, 2, 1))
     with pytest.raises(GeometryError) as error:
         insert(name, Scope.axis_aligned((0, 0, 0), size), **params)
     assert message in str(error.value)
