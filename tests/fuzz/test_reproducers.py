@@ -58,32 +58,36 @@ def _many_blocks(count: int) -> str:
     return f'{{"format": "shapegen-blocks", "version": 1, "blocks": [{blocks}]}}'
 
 
+# (name, what comes before the start rule, its operations, pattern of the one line)
+RULE_CASES = [
+    ("doubling recursion", DOUBLING, "t(f(40), 0, 0) A", r"max_calls"),
+    ("pure doubling recursion", PURE_DOUBLING, "t(f(40), 0, 0) A",
+     r"reaches 1.1e\+12 m.*max_coordinate"),
+    ("string growth", STRINGS, 'report("k", s(40))', r"max_string_length"),
+    ("arch segments 1e7", "", 'i("arch", segments = 10000000)',
+     r"'segments' is 1e\+07.*max_primitive_blocks"),
+    ("dome 2000 x 2000", "", 'i("dome", rings = 2000, meridians = 2000)',
+     r"4e\+06 blocks \(rings x meridians\).*max_primitive_blocks"),
+    ("column courses 1e7", "", 'i("column", courses = 10000000)',
+     r"'courses'.*max_primitive_blocks"),
+    ("wall block_length 1e-9", "", 'i("wall", block_length = 1e-9)',
+     r"primitive 'wall' would make .* blocks.*max_primitive_blocks"),
+    ("arch segments 1e16", "", 'i("arch", segments = 1e16)', r"'segments' is 1e\+16"),
+    ("barrel courses 1e308", "", 'i("barrel_vault", courses = 1e308)', r"'courses' is 1e\+308"),
+    ("split 5e-324", "", "split(x) { 5e-324 : A }*", r"max_shapes"),
+    ("floating split 5e-324", "", "split(x) { ~5e-324 : A }*", r"max_shapes"),
+    ("fmod of infinity", "attr a = (0 - 1e308 * 10) % 2\n", "A", r"-inf % 2 is not defined"),
+]  # fmt: skip
+
 # (name, what to run, pattern of the one line; None: it must work)
 LIBRARY_CASES = [
-    ("doubling recursion", lambda: _build(_rule("t(f(40), 0, 0) A", DOUBLING)), r"max_calls"),
-    ("pure doubling recursion", lambda: _build(_rule("t(f(40), 0, 0) A", PURE_DOUBLING)),
-     r"reaches 1.1e\+12 m.*max_coordinate"),
-    ("string growth", lambda: _build(_rule('report("k", s(40))', STRINGS)), r"max_string_length"),
-    ("arch segments 1e7", lambda: _build(_rule('i("arch", segments = 10000000)')),
-     r"'segments' is 1e\+07.*max_primitive_blocks"),
-    ("dome 2000 x 2000", lambda: _build(_rule('i("dome", rings = 2000, meridians = 2000)')),
-     r"4e\+06 blocks \(rings x meridians\).*max_primitive_blocks"),
-    ("column courses 1e7", lambda: _build(_rule('i("column", courses = 10000000)')),
-     r"'courses'.*max_primitive_blocks"),
-    ("wall block_length 1e-9", lambda: _build(_rule('i("wall", block_length = 1e-9)')),
-     r"primitive 'wall' would make .* blocks.*max_primitive_blocks"),
-    ("arch segments 1e16", lambda: _build(_rule('i("arch", segments = 1e16)')),
-     r"'segments' is 1e\+16"),
-    ("barrel courses 1e308", lambda: _build(_rule('i("barrel_vault", courses = 1e308)')),
-     r"'courses' is 1e\+308"),
+    (name, lambda head=head, body=body: _build(_rule(body, head)), pattern)
+    for name, head, body, pattern in RULE_CASES
+] + [
     ("5 MB expression", lambda: shapegen.parse_grammar("attr a = " + "1 + " * 1_250_000 + "1"),
      r"more than 100000 tokens.*max_definition_tokens"),
     ("12 MB source", lambda: shapegen.parse_grammar("// " + "x" * 12_000_000),
      r"12000003 characters.*max_source_chars"),
-    ("split 5e-324", lambda: _build(_rule("split(x) { 5e-324 : A }*")), r"max_shapes"),
-    ("floating split 5e-324", lambda: _build(_rule("split(x) { ~5e-324 : A }*")), r"max_shapes"),
-    ("fmod of infinity", lambda: _build(_rule("A", "attr a = (0 - 1e308 * 10) % 2\n")),
-     r"-inf % 2 is not defined"),
     ("lot 10**400", lambda: _build(_rule("A"), lot=(10**400, 1)),
      r"lot width and depth must be finite numbers > 0 m, got inf x 1"),
     ("density 10**400", lambda: _build(_rule("A"), attrs={"density": 10**400}),
