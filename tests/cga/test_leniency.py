@@ -14,6 +14,11 @@ from shapegen.grammar import ast, load
 LOT = (12.0, 8.0)
 
 
+def _derived(text: str, **build):
+    """The model a .cga text derives on the 12 x 8 m lot."""
+    return parse_grammar(text, "r.cga").build(lot=LOT, **build)
+
+
 def _cga(tmp_path, text: str, name: str = "rule.cga"):
     path = tmp_path / name
     path.write_text(text, encoding="utf-8")
@@ -72,7 +77,7 @@ def test_setpivot_axis_permutations_load():
     # op_setPivot: axisMap is xyz, yzx or zxy
     for axes in ("xyz", "yzx", "zxy"):
         text = f"@StartRule\nLot --> extrude(2) setPivot({axes}, 2) A."
-        assert len(parse_grammar(text, "r.cga").build(lot=LOT).blocks) == 1
+        assert len(_derived(text).blocks) == 1
 
 
 def test_windows_1252_source_is_read_with_a_warning(tmp_path):
@@ -123,7 +128,7 @@ def test_the_start_keyword_marks_the_start_rule_and_start_calls_it(tmp_path):
 
 def test_start_stays_a_name_elsewhere():
     text = "attr start = 2\n@StartRule\nLot --> extrude(start) start\nstart --> A."
-    assert parse_grammar(text, "r.cga").build(lot=LOT).volume == pytest.approx(12 * 8 * 2)
+    assert _derived(text).volume == pytest.approx(12 * 8 * 2)
 
 
 @pytest.mark.parametrize(
@@ -137,7 +142,7 @@ def test_start_stays_a_name_elsewhere():
 )
 def test_case_and_stochastic_values_in_parentheses(value, expected):
     text = f"attr a = 2\nattr b = {value}\n@StartRule\nLot --> extrude((case b > 0: b else: 1))"
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert model.metadata["attrs"]["b"] == expected
     assert model.volume == pytest.approx(12 * 8 * expected)
 
@@ -153,7 +158,7 @@ def test_an_import_override_may_be_a_case_value(tmp_path):
 
 def test_identifiers_in_any_script():
     text = "attr Höhe = 3\nconst façade_β = 2\n@StartRule\nLot --> extrude(Höhe * façade_β) Façade."
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert model.volume == pytest.approx(12 * 8 * 6)
 
 
@@ -187,10 +192,10 @@ def test_a_cycle_that_no_evaluation_reaches_loads_and_a_reached_one_is_one_error
         "attr detailed = false\nattr a = case detailed: b else: 2\nattr b = a + 1\n"
         "@StartRule\nLot --> extrude(b) A."
     )
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert model.metadata["attrs"] == {"detailed": False, "a": 2.0, "b": 3.0}
     with pytest.raises(GrammarError, match="refer to each other in a cycle: a -> b -> a"):
-        parse_grammar(text, "r.cga").build(lot=LOT, attrs={"detailed": True})
+        _derived(text, attrs={"detailed": True})
     with pytest.raises(GrammarError, match="depends on itself"):
         parse_grammar(text, "r.grammar")
 
@@ -203,7 +208,7 @@ def test_uv_split_runs_along_the_scope_with_a_warning():
         "Facade --> split(v, unitSpace, 0) { 3 : Floor }*\n"
         "Floor --> split(u, uvSpace, 0) { 0.25 : Tile }*\nTile --> T."
     )
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert len(model.surfaces) == 8
     extents = {tuple(np.round(np.ptp(s.vertices, axis=0), 6)) for s in model.surfaces}
     assert extents == {(3.0, 3.0, 0.0)}  # the front face lies in z = 0
@@ -214,8 +219,8 @@ def test_uv_split_runs_along_the_scope_with_a_warning():
 
 def test_a_builtin_without_arguments_may_drop_its_parentheses_in_cga():
     text = "@StartRule\nLot --> extrude(1 + rand) A."
-    model = parse_grammar(text, "r.cga").build(lot=LOT, seed=3)
-    same = parse_grammar(text.replace("rand", "rand()"), "r.cga").build(lot=LOT, seed=3)
+    model = _derived(text, seed=3)
+    same = _derived(text.replace("rand", "rand()"), seed=3)
     assert model.volume == pytest.approx(same.volume) and 96 < model.volume < 192
     with pytest.raises(GrammarError, match="'rand' is a builtin function: write rand"):
         parse_grammar(text, "r.grammar")
@@ -291,7 +296,7 @@ def test_loads_take_the_rules_path_made_once(tmp_path, monkeypatch):
 
 def test_division_by_zero_follows_ieee_in_cga_and_is_an_error_in_grammar():
     text = "attr w = 0\nattr q = 3 / w\nattr r = 0 / w\nattr m = 5 % w\n@StartRule\nLot --> X."
-    attrs = parse_grammar(text, "r.cga").build(lot=LOT).metadata["attrs"]
+    attrs = _derived(text).metadata["attrs"]
     assert attrs["q"] == float("inf") and np.isnan(attrs["r"]) and np.isnan(attrs["m"])
     with pytest.raises(GrammarError, match="division by zero"):
         parse_grammar(text, "r.grammar").build(lot=LOT)
@@ -300,7 +305,7 @@ def test_division_by_zero_follows_ieee_in_cga_and_is_an_error_in_grammar():
 def test_element_wise_division_by_zero_follows_ieee_in_cga_and_is_an_error_in_grammar():
     # arrayTypes.html's ./ and .% are the scalar operators element by element
     text = "attr q = [3, 0] ./ 0\nattr m = [5, 1] .% [0, 2]\n@StartRule\nLot --> X."
-    attrs = parse_grammar(text, "r.cga").build(lot=LOT).metadata["attrs"]
+    attrs = _derived(text).metadata["attrs"]
     q, m = attrs["q"].values, attrs["m"].values
     assert q[0] == float("inf") and np.isnan(q[1]) and np.isnan(m[0]) and m[1] == 1.0
     with pytest.raises(GrammarError, match="division by zero"):
@@ -311,7 +316,7 @@ def test_a_non_finite_operation_parameter_becomes_zero_with_a_warning():
     # cga_changelog 2013.1: the runtime's default for inf/nan float parameters is "replace
     # with zero"
     text = "attr w = 0\n@StartRule\nLot --> extrude(3) t(1 / w, 0, 0) A."
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert model.volume == pytest.approx(12 * 8 * 3)
     low = np.min([b.vertices.min(axis=0) for b in model.blocks], axis=0)
     assert low.tolist() == pytest.approx([0.0, 0.0, 0.0])  # t(0, 0, 0)
@@ -324,7 +329,7 @@ def test_a_non_finite_operation_parameter_becomes_zero_with_a_warning():
 def test_a_non_finite_material_value_becomes_zero_with_a_warning():
     # the same default for the float material attributes (a smoke rule fades by 1 / 0)
     text = "attr w = 0\n@StartRule\nLot --> extrude(3) set(material.opacity, 1 / w) A."
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert model.blocks[0].appearance.opacity == 0.0
     (warning,) = model.metadata["warnings"]
     assert "material.opacity is inf: replaced by 0" in warning
@@ -334,8 +339,8 @@ def test_a_negative_size_mirrors_the_geometry_within_the_scope():
     # op_s: "Negative sizes result in mirroring along the corresponding axes"; a shed roof
     # rising along z, mirrored in z, rises the other way over the same footprint
     roof = "@StartRule\nLot --> roofShed(20) s('1, '1, {sz}) R."
-    up = parse_grammar(roof.format(sz="'1"), "r.cga").build(lot=LOT)
-    down = parse_grammar(roof.format(sz="-scope.sz"), "r.cga").build(lot=LOT)
+    up = _derived(roof.format(sz="'1"))
+    down = _derived(roof.format(sz="-scope.sz"))
     (a,), (b,) = up.blocks, down.blocks
     assert b.volume == pytest.approx(a.volume) and b.volume > 0  # still a solid, faces outward
     top_a = a.vertices[np.argmax(a.vertices[:, 1])]
@@ -350,7 +355,7 @@ def test_viewport_hints_may_hold_cityengine_notation():
         '@Handle(shape=RightCurb^4, axis=x, translate={.1,0,0}, color="#FF11FF")\n'
         "@Handle(shape=Mass.)\nattr w = 2\n@StartRule\nLot --> extrude(w) A.\n"
     )
-    assert parse_grammar(text, "r.cga").build(lot=LOT).volume == pytest.approx(12 * 8 * 2)
+    assert _derived(text).volume == pytest.approx(12 * 8 * 2)
     # an error shows the line as written
     with pytest.raises(GrammarError, match=r"r.cga:1:32: undefined name 'v'\n.*Curb\^4"):
         parse_grammar("@Handle(shape=Curb^4) attr w = v\nLot --> X.", "r.cga")
@@ -381,7 +386,7 @@ def test_with_local_variables_as_the_reference_gives_them():
         "@StartRule\n"
         'Lot with ( x := f(2) + b ) --> extrude(x) report("d", dist2d(1, 1, 4, 5)) A.\n'
     )
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert model.metadata["attrs"] == {"a": "example"}
     assert model.metadata["reports"] == {"d": 5.0}
     assert model.volume == pytest.approx(12 * 8 * 3)  # f(2) + b = 2 + 1
@@ -393,7 +398,7 @@ def test_a_rule_local_variable_keeps_its_value_once_evaluated():
         "@StartRule\nLot with ( area := geometry.area() ) --> s('2, 0, '2)\n"
         '  report("initial", area) report("altered", geometry.area()) X.'
     )
-    reports = parse_grammar(text, "r.cga").build(lot=LOT).metadata["reports"]
+    reports = _derived(text).metadata["reports"]
     assert reports == {"initial": pytest.approx(96.0), "altered": pytest.approx(384.0)}
 
 
@@ -412,26 +417,26 @@ def test_the_deprecated_street_side_selectors_still_compile():
     # cga_changelog: streetSide and noStreetSide are deprecated, not removed; without street
     # widths the street side is the front (the lot's first edge)
     text = "@StartRule\nLot --> setback(2) { noStreetSide : G. | remainder : C. }"
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     names = sorted(s.rule_path[-1] for s in model.surfaces)
     # back, left and right strips, one U-shaped face as CityEngine joins the strips of a
     # branch that meet (tests/data/prt_setback.json); the front stays in C
     assert names == ["C", "G"]
     front = "@StartRule\nLot --> extrude(3) comp(f) { streetSide : F. | noStreetSide : N. }"
-    faces = parse_grammar(front, "r.cga").build(lot=LOT).surfaces
+    faces = _derived(front).surfaces
     assert sorted(s.rule_path[-1] for s in faces) == ["F", "N", "N", "N"]
 
 
 def test_a_leaf_may_be_named_like_an_operation():
     # Name. is a leaf whatever Name is: real files end rules with r. or t.
-    model = parse_grammar("@StartRule\nLot --> extrude(2) r.", "r.cga").build(lot=LOT)
+    model = _derived("@StartRule\nLot --> extrude(2) r.")
     assert len(model.blocks) == 1 and model.blocks[0].rule_path[-1] == "r"
 
 
 def test_scatter_takes_center_as_the_gaussian_mean():
     # op_scatter: scatterMean is center (the default), front, back, left, right, top or bottom
     text = "@StartRule\nLot --> scatter(surface, 5, gaussian, center, 0.4) { primitiveCube() P. }"
-    model = parse_grammar(text, "r.cga").build(lot=LOT, seed=2)
+    model = _derived(text, seed=2)
     assert len(model.blocks) + len(model.surfaces) == 5
 
 
@@ -455,14 +460,14 @@ def test_boolean_and_inline_syntax_is_read(body, operation):
     assert len(node.branches) == (1 if operation == "inline" else 2)
     assert all(branch.key is None for branch in node.branches)
     try:
-        parse_grammar(text, "r.cga").build(lot=LOT)
+        _derived(text)
     except GrammarError as error:
         assert str(error).startswith(f"r.cga:2:20: the CGA operation '{operation}' is not")
 
 
 def test_inline_and_union_stay_names_elsewhere():
     text = "attr union = 2\n@StartRule\nLot --> extrude(union) inline."
-    assert parse_grammar(text, "r.cga").build(lot=LOT).volume == pytest.approx(12 * 8 * 2)
+    assert _derived(text).volume == pytest.approx(12 * 8 * 2)
 
 
 def test_a_relative_import_is_looked_up_in_the_projects_rules_folder(tmp_path):
@@ -484,10 +489,10 @@ def test_a_comp_selector_may_be_a_computed_index():
         "attr k = 4\n@StartRule\n"
         "Lot --> extrude(3) comp(f) { k + 0 : Front. | k + 1 = Right. | all : Rest. }"
     )
-    names = sorted(s.rule_path[-1] for s in parse_grammar(text, "r.cga").build(lot=LOT).surfaces)
+    names = sorted(s.rule_path[-1] for s in _derived(text).surfaces)
     assert names == ["Front", "Rest", "Rest", "Rest", "Rest", "Right"]
     with pytest.raises(GrammarError, match="boolean or a component index, got 1.5"):
-        parse_grammar(text.replace("k + 0", "k - 2.5"), "r.cga").build(lot=LOT)
+        _derived(text.replace("k + 0", "k - 2.5"))
 
 
 def test_texture_coordinate_queries_read_the_scope_with_a_warning():
@@ -498,7 +503,7 @@ def test_texture_coordinate_queries_read_the_scope_with_a_warning():
         'F --> report("u", geometry.uMin + geometry.uMax) report("v", geometry.vMax)\n'
         '  report("du", geometry.du(0, uvSpace)) report("dum", geometry.du(0, unitSpace)) A.'
     )
-    model = parse_grammar(text, "r.cga").build(lot=LOT)
+    model = _derived(text)
     assert model.metadata["reports"] == {"u": 1.0, "v": 1.0, "du": 1.0, "dum": 12.0}
     warnings = model.metadata["warnings"]
     assert {w.split(":")[0] for w in warnings} == {
