@@ -22,7 +22,6 @@ from itertools import chain
 
 import numpy as np
 
-_RECTANGLE_M = 1e-3  # as shapegen.city.work.lot_extent
 _HOLED = "a lot with holes (a courtyard)"
 
 
@@ -47,7 +46,7 @@ def derive_batch(settings, tasks) -> BatchLots | None:
     lot on the one-at-a-time path (judged, searched, or a rule that does not compile here)."""
     if settings.search is not None or settings.analyze:
         return None
-    from shapegen.city.work import _grammar, _peak_rss_mib, lot_seed, new_record
+    from shapegen.city.work import _grammar, _peak_rss_mib, lot_extents, lot_seed, new_record
     from shapegen.engine.batch import derive_lots
 
     started = time.perf_counter()
@@ -112,7 +111,7 @@ def derive_batch(settings, tasks) -> BatchLots | None:
         return out
     from shapegen.engine.batch.lots import SOLID
 
-    widths, depths, rectangles = _extents(points, offsets)
+    widths, depths, rectangles = lot_extents(points, offsets)
     solid = batch.kind == SOLID
     seconds = (time.perf_counter() - started) / len(usable)
     peak = _peak_rss_mib()
@@ -185,28 +184,6 @@ def _colors_and_flags(batch, derived: np.ndarray) -> tuple[np.ndarray, np.ndarra
             found = cache[id(values)] = (color, int(fixed) | 2 * int(structural))
         rgba[i], flags[i] = found
     return rgba, flags
-
-
-def _extents(points: np.ndarray, offsets: np.ndarray):
-    """``lot_extent`` of every lot at once: width along the first edge, depth across it, and
-    whether the lot is the rectangle it fills."""
-    sizes = np.diff(offsets)
-    first = offsets[:-1]
-    edge = points[first + 1] - points[first]
-    length = np.hypot(edge[:, 0], edge[:, 1])
-    length = np.where(length > 0, length, 1.0)
-    u = edge / length[:, None]
-    w = np.column_stack([-u[:, 1], u[:, 0]])
-    relative = points - np.repeat(points[first], sizes, axis=0)
-    along = np.einsum("ij,ij->i", relative, np.repeat(u, sizes, axis=0))
-    across = np.einsum("ij,ij->i", relative, np.repeat(w, sizes, axis=0))
-    width = np.maximum.reduceat(along, first) - np.minimum.reduceat(along, first)
-    depth = np.maximum.reduceat(across, first) - np.minimum.reduceat(across, first)
-    nxt = np.arange(1, len(points) + 1)
-    nxt[offsets[1:] - 1] = first
-    x, z = points[:, 0], points[:, 1]
-    area = 0.5 * np.abs(np.add.reduceat(x * z[nxt] - z * x[nxt], first))
-    return width, depth, width * depth - area <= _RECTANGLE_M * (width + depth)
 
 
 def _drawn_leaves(batch, derived: np.ndarray, solid: np.ndarray) -> dict:

@@ -331,18 +331,32 @@ def lot_extent(ring: np.ndarray) -> tuple[tuple[float, float], str]:
     rectangle (``footprint`` ``"rectangle"``; else ``"polygon"``).
     """
     points = city_lot(ring)
-    edge = points[1] - points[0]
-    u = edge / np.hypot(*edge)
-    w = np.array([-u[1], u[0]])  # (x, z) of u cross +y
-    along = (points - points[0]) @ u
-    across = (points - points[0]) @ w
-    width = float(along.max() - along.min())
-    depth = float(across.max() - across.min())
+    width, depth, rectangle = lot_extents(points, np.array([0, len(points)]))
+    return (float(width[0]), float(depth[0])), "rectangle" if rectangle[0] else "polygon"
+
+
+def lot_extents(points: np.ndarray, offsets: np.ndarray):
+    """:func:`lot_extent` of many lots at once: ``points`` their ``(x, z)`` corners end to end,
+    lot ``i`` at ``points[offsets[i]:offsets[i + 1]]``; the widths along each first edge, the
+    depths across it, and whether each lot is the rectangle it fills."""
+    sizes = np.diff(offsets)
+    first = offsets[:-1]
+    edge = points[first + 1] - points[first]
+    length = np.hypot(edge[:, 0], edge[:, 1])
+    length = np.where(length > 0, length, 1.0)
+    u = edge / length[:, None]
+    w = np.column_stack([-u[:, 1], u[:, 0]])  # (x, z) of u cross +y
+    relative = points - np.repeat(points[first], sizes, axis=0)
+    along = np.einsum("ij,ij->i", relative, np.repeat(u, sizes, axis=0))
+    across = np.einsum("ij,ij->i", relative, np.repeat(w, sizes, axis=0))
+    width = np.maximum.reduceat(along, first) - np.minimum.reduceat(along, first)
+    depth = np.maximum.reduceat(across, first) - np.minimum.reduceat(across, first)
+    nxt = np.arange(1, len(points) + 1)
+    nxt[offsets[1:] - 1] = first
     x, z = points[:, 0], points[:, 1]
-    area = 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(z, np.roll(x, -1))))
+    area = 0.5 * np.abs(np.add.reduceat(x * z[nxt] - z * x[nxt], first))
     # A polygon fills its bounding rectangle only when it is that rectangle.
-    rectangle = width * depth - area <= _RECTANGLE_M * (width + depth)
-    return (width, depth), "rectangle" if rectangle else "polygon"
+    return width, depth, width * depth - area <= _RECTANGLE_M * (width + depth)
 
 
 def city_lot(ring: np.ndarray) -> np.ndarray:
