@@ -34,8 +34,7 @@ from shapegen.statics.multiplier import (
     worst_direction,
 )
 from shapegen.statics.standins import statics_model
-from shapegen.statics.statics_options import StaticsOptions
-from shapegen.statics.tilt import normalized_azimuth
+from shapegen.statics.statics_options import StaticsOptions, checked_azimuth
 from shapegen.tolerances import DEFAULT as DEFAULT_TOLERANCES
 from shapegen.tolerances import TIE_REL, TILT_RESOLUTION_DEG, at_most
 
@@ -147,7 +146,7 @@ def lateral_capacity(
     if not upright:  # no capacity in any direction: nothing to solve
         computed = [
             DirectionCapacity(a, math.nan, "not_upright", "verdict", True)
-            for a in dict.fromkeys(normalized_azimuth(a) for a in azimuths or ())
+            for a in dict.fromkeys(checked_azimuth(a) for a in azimuths or ())
         ]
         return Capacity(computed, None, swept, False, time.perf_counter() - started, options)
     if swept:
@@ -158,7 +157,7 @@ def lateral_capacity(
     else:
         computed = [
             load_multiplier(model, problem, azimuth, solver=solver)
-            for azimuth in dict.fromkeys(normalized_azimuth(a) for a in azimuths)
+            for azimuth in dict.fromkeys(checked_azimuth(a) for a in azimuths)
         ]
         checked_azimuths = {c.azimuth for c in computed}
     computed = [_confirmed(c, stands) if c.azimuth in checked_azimuths else c for c in computed]

@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from shapegen.errors import StaticsError
+from shapegen.errors import OptionError, StaticsError
 from shapegen.model.block import Block
 from shapegen.model.model import Model, PointLoad
 from shapegen.primitives.arch import semicircular_arch
@@ -102,6 +102,18 @@ def test_loads_that_are_not_vertical_are_refused_in_one_line():
     assert "\n" not in str(caught.value)
     # a tilt towards a given direction is still well defined: every load turns
     assert analyze(model, tilt=5.0, azimuth=0.0).feasible in (True, False)
+
+
+@pytest.mark.parametrize("azimuth", [math.nan, math.inf, "east"])
+def test_a_direction_that_is_no_number_is_refused_by_the_library_call(azimuth):
+    # the library's lateral_capacity checks each azimuth as --capacity does (checked_azimuth)
+    with pytest.raises(OptionError, match="azimuth must be a finite number of degrees"):
+        lateral_capacity(block(0.4, 1.0), azimuths=[0.0, azimuth])
+
+
+def test_an_azimuth_is_taken_modulo_a_turn():
+    worst = lateral_capacity(block(0.4, 1.0), azimuths=[450.0]).directions
+    assert [d.azimuth for d in worst] == [90.0]
 
 
 def test_an_assembly_that_does_not_stand_upright_has_no_capacity():
