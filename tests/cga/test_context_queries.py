@@ -12,20 +12,17 @@ import math
 
 import pytest
 
-from shapegen import load_grammar
+from shapegen import parse_grammar
 from shapegen.errors import GrammarError
 
 
-def _reports(tmp_path, text: str, lot=(4.0, 3.0)) -> dict:
-    path = tmp_path / "context.cga"
-    path.write_text(text)
-    return load_grammar(path).build(lot=lot).metadata["reports"]
+def _reports(text: str, lot=(4.0, 3.0)) -> dict:
+    return parse_grammar(text, "context.cga").build(lot=lot).metadata["reports"]
 
 
-def test_context_count_counts_every_labelled_tile(tmp_path):
+def test_context_count_counts_every_labelled_tile():
     # func_contextCount's example: a 4 x 3 m lot split into 1 m tiles, each labelled "Tile"
     reports = _reports(
-        tmp_path,
         """
 Lot --> split(x) { ~1 : Split }*
 Split --> split(z) { ~1 : Tile }*
@@ -40,18 +37,17 @@ Tile --> label("Tile") report("n", contextCount(intra, "Tile"))
     assert reports["empty"] == [0.0] * 12
 
 
-def test_each_label_operation_is_a_labelled_copy(tmp_path):
+def test_each_label_operation_is_a_labelled_copy():
     # cga_context's "Labels" example: two label operations on one shape count twice
     reports = _reports(
-        tmp_path, 'Lot --> label("label") report("n", contextCount(intra, "label")) label("label")'
+        'Lot --> label("label") report("n", contextCount(intra, "label")) label("label")'
     )
     assert reports["n"] == 2.0
 
 
-def test_context_compare_ranks_by_height_and_area(tmp_path):
+def test_context_compare_ranks_by_height_and_area():
     # func_contextCompare's example within one lot: boxes 2, 5 and 3 m high on 1 x 3 m plots
     reports = _reports(
-        tmp_path,
         """
 Lot --> split(x) { 1 : A(2) | 1 : A(5) | 1 : A(3) | ~1 : NIL }
 A(h) --> extrude(h) label("m")
@@ -71,10 +67,9 @@ A(h) --> extrude(h) label("m")
     assert reports["westernmost"] == [0.0, 1.0, 2.0]
 
 
-def test_minimum_distance_between_scopes(tmp_path):
+def test_minimum_distance_between_scopes():
     # func_minimumDistance's example in one row: the first plot is labelled; distances from it
     reports = _reports(
-        tmp_path,
         """
 Lot --> split(x) { 1 : T(0) | 2 : T(1) | 1 : T(2) | ~1 : T(3) }
 T(i) --> case i == 0 : label("c") D
@@ -87,11 +82,10 @@ D --> report("d", minimumDistance(intra, "c")) report("none", minimumDistance(in
     assert all(math.isinf(v) for v in reports["none"])
 
 
-def test_minimum_distance_between_boxes_apart_in_height(tmp_path):
+def test_minimum_distance_between_boxes_apart_in_height():
     # a 1 m box raised 4 m over the labelled 1 m box beside it: the nearest points are corners,
     # 1 m apart across and 3 m apart up
     reports = _reports(
-        tmp_path,
         """
 Lot --> split(x) { 1 : extrude(1) label("c") X. | 1 : NIL | 1 : extrude(1) t(0, 4, 0) D }
 D --> report("d", minimumDistance(intra, "c")) X.
@@ -112,6 +106,6 @@ D --> report("d", minimumDistance(intra, "c")) X.
         ("contextCount(intra, 1)", "label is a string"),
     ],
 )
-def test_bad_calls_are_one_line_errors(tmp_path, call, message):
+def test_bad_calls_are_one_line_errors(call, message):
     with pytest.raises(GrammarError, match=message):
-        _reports(tmp_path, f'Lot --> label("a") report("v", {call}) X.')
+        _reports(f'Lot --> label("a") report("v", {call}) X.')

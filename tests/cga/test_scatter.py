@@ -13,10 +13,10 @@ import shapegen
 from shapegen.errors import GrammarError
 
 
-def _build(tmp_path, text, seed=0):
-    path = tmp_path / "scatter.cga"
-    path.write_text("@StartRule\n" + text)
-    return shapegen.load_grammar(path).build(lot=(12, 8), seed=seed)
+def _build(text, seed=0):
+    return shapegen.parse_grammar("@StartRule\n" + text, "scatter.cga").build(
+        lot=(12, 8), seed=seed
+    )
 
 
 CUBE = "Leaf --> primitiveCube() s(0.2, 0.2, 0.2) center(xz)\n"
@@ -31,9 +31,8 @@ def _centres(model):
     return np.array([b.vertices.mean(axis=0) for b in _leaves(model)])
 
 
-def test_points_on_a_surface_stand_on_it_along_its_normal(tmp_path):
+def test_points_on_a_surface_stand_on_it_along_its_normal():
     model = _build(
-        tmp_path,
         "Lot --> extrude(2) comp(f) { top : scatter(surface, 50, uniform) { Leaf } }\n" + CUBE,
     )
     centres = _centres(model)
@@ -45,9 +44,9 @@ def test_points_on_a_surface_stand_on_it_along_its_normal(tmp_path):
     assert centres[:, 2].min() > -0.2 and centres[:, 2].max() < 8.2
 
 
-def test_points_in_a_volume_and_in_the_scope_lie_inside(tmp_path):
+def test_points_in_a_volume_and_in_the_scope_lie_inside():
     for domain in ("volume", "scope"):
-        model = _build(tmp_path, f"Lot --> extrude(3) scatter({domain}, 200, uniform) {{ P }}\n"
+        model = _build(f"Lot --> extrude(3) scatter({domain}, 200, uniform) {{ P }}\n"
                                  "P --> primitiveCube() s(0.01, 0.01, 0.01)\n")  # fmt: skip
         c = _centres(model)
         assert len(c) == 200
@@ -56,19 +55,19 @@ def test_points_in_a_volume_and_in_the_scope_lie_inside(tmp_path):
         assert abs(c[:, 0].mean() - 6) < 1.2 and abs(c[:, 1].mean() - 1.5) < 0.4
 
 
-def test_a_gaussian_on_the_left_side_is_a_half_normal_on_the_face(tmp_path):
+def test_a_gaussian_on_the_left_side_is_a_half_normal_on_the_face():
     text = "Lot --> scatter(surface, 400, gaussian, left, '0.1) { Leaf }\n" + CUBE
-    x = _centres(_build(tmp_path, text))[:, 0]
+    x = _centres(_build(text))[:, 0]
     # accepted draws on x >= 0 around x = 0 with sigma 0.1 x 12 m: mean sigma sqrt(2/pi)
     assert x.mean() == pytest.approx(1.2 * math.sqrt(2 / math.pi), abs=0.2)
     assert np.percentile(x, 95) < 3.5
 
 
-def test_same_seed_same_points_and_points_draw_nothing(tmp_path):
+def test_same_seed_same_points_and_points_draw_nothing():
     text = "Lot --> scatter(surface, 20, uniform) { Leaf }\n" + CUBE
-    a, b, c = (_centres(_build(tmp_path, text, seed)) for seed in (1, 1, 2))
+    a, b, c = (_centres(_build(text, seed)) for seed in (1, 1, 2))
     assert np.array_equal(a, b) and not np.array_equal(a, c)
-    empty = _build(tmp_path, "Lot --> scatter(scope, 20, uniform) { X. }\n")
+    empty = _build("Lot --> scatter(scope, 20, uniform) { X. }\n")
     assert not empty.blocks and not empty.surfaces
 
 
@@ -80,16 +79,16 @@ def test_same_seed_same_points_and_points_draw_nothing(tmp_path):
         ("scatter(surface, 3, uniform, left)", "belong to a gaussian"),
     ],
 )
-def test_bad_calls_are_load_errors(tmp_path, call, message):
+def test_bad_calls_are_load_errors(call, message):
     with pytest.raises(GrammarError, match=message):
-        _build(tmp_path, f"Lot --> {call} {{ X }}\n")
+        _build(f"Lot --> {call} {{ X }}\n")
 
 
 @pytest.mark.parametrize(("count", "points"), [("2.5", 2), ("2.99", 2), ("-1", 0)])
-def test_a_count_that_is_not_whole_places_its_whole_part_with_a_warning(tmp_path, count, points):
+def test_a_count_that_is_not_whole_places_its_whole_part_with_a_warning(count, points):
     # op_scatter: nPoints is a float; the derivation goes on with the count's whole part
-    model = _build(tmp_path, f"Lot --> scatter(surface, {count}, uniform) {{ Leaf }}\n" + CUBE)
+    model = _build(f"Lot --> scatter(surface, {count}, uniform) {{ Leaf }}\n" + CUBE)
     assert len(model.blocks) == points
     (warning,) = [w for w in model.metadata["warnings"] if "scatter()" in w]
-    assert warning.startswith(str(tmp_path / "scatter.cga") + ":2:9: ")
+    assert warning.startswith("scatter.cga" + ":2:9: ")
     assert f"places {points}" in warning
