@@ -1,21 +1,38 @@
 """CityEngine's roof-edge classes for ``comp(e)`` (op_comp, "Roof Edges").
 
-- ``eave``: horizontal border edges on the bottom of the roof, oriented anti-clockwise around
-  the roof (as the roof face that holds them runs);
-- ``hip``: inside edges connected to at least one eave edge;
-- ``valley``: inside edges whose two faces form a concavity;
-- ``ridge``: inside edges that are neither hip nor valley.
+op_comp's words, and what CityEngine's runtime (PyPRT 1.12) does with them, measured edge by
+edge with comp(e) on roofs, extrusions, tapers, cubes and flat lots:
 
-Hip, valley and ridge edges are oriented upwards (the end is not lower than the start).
-"Border" and "inside" are read on the roof's surfaces: faces turned down (a roof's bottom) do
-not count, so an edge between a roof plane and the bottom is a border edge, and an edge between
-two roof planes (or a roof plane and a gable end) is an inside edge. "On the bottom" is at the
-height of the roof's lowest vertex.
+- ``eave``: "horizontal border edges on the bottom of the roof": a border edge (one face)
+  within 10 degrees of the horizontal whose face looks up, its normal at least 10 degrees
+  above the horizontal. Its height does not count: a shed roof's high edge is an eave, and so
+  are the level edges of a hole through a roof; a gable end's foot, a wall's top and a bottom
+  face's edges are not. Oriented anti-clockwise around its face (as the face runs).
+- ``valley``: an inside edge (two faces) where the faces form a concavity;
+- ``hip``: another inside edge with an end on an eave;
+- ``ridge``: the other inside edges: an extruded lot's level edges (top and bottom), a taper's
+  sloping ones.
+
+An inside edge within 10 degrees of the vertical has no class (a box's upright edges, a
+courtyard's concave corners). Hip, valley and ridge edges run upwards. "Up", "horizontal" and
+"vertical" are the shape's scope y and xz-plane (a flat lot rotated by ``rotateScope`` loses
+the eaves its scope turned; ``r()`` turns the geometry with the scope and keeps them), as
+op_comp's other selectors read them.
+
+"Border" and "inside" follow CityEngine's topology: a roof's bottom, slopes and walls are
+separate surfaces (:attr:`~shapegen.geometry.mesh.Mesh.surfaces`), so an edge where two of
+them meet is a border edge of each (a slope's foot is an eave; a gable end's slanting edges
+are nothing), where shapegen's mesh joins them. The 10 degrees: a shed roof's sloping sides
+are eaves at 9.9 degrees and not at 10; its slope's edges are eaves up to a slope of 80
+degrees and not from 80.05; a taper's edges lose their ridge class at 8.9 degrees from the
+vertical and keep it at 10.03.
 """
 
 from __future__ import annotations
 
 __all__ = ["ROOF_EDGE_CLASSES", "roof_edge_classes"]
+
+import math
 
 import numpy as np
 
@@ -23,77 +40,87 @@ from shapegen.geometry.mesh import unit_face_normals
 from shapegen.tolerances import COINCIDENT_M, LEVEL_REL
 
 ROOF_EDGE_CLASSES = ("eave", "hip", "valley", "ridge")
-_DOWN = -0.99  # cosine with world up of a face turned down (a bottom)
+_LEVEL = math.sin(math.radians(10.0))  # an edge at most this steep (sine) is horizontal
+_UPRIGHT = math.cos(math.radians(10.0))  # an edge at least this steep (sine) is vertical
+_UP = math.sin(math.radians(10.0)) - 1e-9  # a face whose normal rises this much looks up
 
 
 def roof_edge_classes(
-    vertices: np.ndarray, faces, edges: list[tuple[int, int]]
+    vertices: np.ndarray, faces, edges: list[tuple[int, int]], holes=(), surfaces=()
 ) -> list[tuple[str, bool]]:
-    """Per edge ``(a, b)`` of a mesh given in world coordinates (y up): its roof class ("" for
-    none) and whether it should be turned around to run as the class says."""
+    """Per edge ``(a, b)`` of a mesh given in its scope's coordinates (y up): its roof class
+    ("" for none) and whether it should be turned around to run as the class says.
+    ``holes`` and ``surfaces`` as :class:`~shapegen.geometry.mesh.Mesh`'s: a hole's edges
+    bound its face; faces of different surfaces are not joined."""
     vertices = np.asarray(vertices, dtype=float)
     faces = [tuple(face) for face in faces]
     normals = unit_face_normals(vertices, faces)
-    bottom = [float(n[1]) < _DOWN for n in normals]
+    surface = list(surfaces) if surfaces else [0] * len(faces)
     size = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
-    tolerance = LEVEL_REL * max(size, COINCIDENT_M)
-    lowest = float(vertices[:, 1].min()) if len(vertices) else 0.0
-    incident: dict[tuple[int, int], list[int]] = {}
+    level = LEVEL_REL * max(size, COINCIDENT_M)  # a level ridge keeps its direction
+    # each face's edges as it runs, its inside on the left (a hole's ring is wound against
+    # its face): (a, b) -> [(face, runs a to b, on a hole)]
+    incident: dict[tuple[int, int], list[tuple[int, bool, bool]]] = {}
     for f, face in enumerate(faces):
-        for a, b in zip(face, face[1:] + face[:1], strict=True):
-            incident.setdefault((min(a, b), max(a, b)), []).append(f)
+        rings = [(face, False)] + [(ring, True) for ring in (holes[f] if holes else ()) or ()]
+        for ring, hole in rings:
+            for a, b in zip(ring, ring[1:] + ring[:1], strict=True):
+                incident.setdefault((min(a, b), max(a, b)), []).append((f, a < b, hole))
 
-    def roof_faces(a: int, b: int) -> list[int]:
-        return [f for f in incident.get((min(a, b), max(a, b)), []) if not bottom[f]]
+    def rise(a: int, b: int) -> float:
+        """The sine of the edge's angle with the horizontal plane."""
+        d = vertices[b] - vertices[a]
+        length = float(np.linalg.norm(d))
+        return abs(float(d[1])) / length if length > 0 else 0.0
 
+    kinds: list[tuple[str, list]] = []
     eave_vertices: set[int] = set()
-    kinds: list[str] = []
     for a, b in edges:
-        on_roof = roof_faces(a, b)
-        ya, yb = vertices[a, 1], vertices[b, 1]
-        if len(on_roof) == 1:
-            flat = abs(ya - yb) <= tolerance
-            kinds.append("eave" if flat and abs(ya - lowest) <= tolerance else "")
-            if kinds[-1]:
-                eave_vertices.update((a, b))
-        else:
-            kinds.append("inside" if len(on_roof) == 2 else "")
-    out = []
-    for (a, b), kind in zip(edges, kinds, strict=True):
-        if kind == "eave":
-            (f,) = roof_faces(a, b)
-            face = faces[f]
-            runs_along = any(
-                face[j] == a and face[(j + 1) % len(face)] == b for j in range(len(face))
-            )
-            out.append(("eave", not runs_along))
+        around = incident.get((min(a, b), max(a, b)), [])
+        joined = [s for s in around if sum(surface[t[0]] == surface[s[0]] for t in around) == 2]
+        if len(around) <= 2 and len(joined) == 2:
+            kinds.append(("inside", joined))
             continue
-        if kind != "inside":
+        # a border edge of each face it bounds (of a surface that meets no other there)
+        up = [s for s in around if s not in joined and float(normals[s[0]][1]) >= _UP]
+        if up and rise(a, b) < _LEVEL:
+            kinds.append(("eave", up))
+            eave_vertices.update((a, b))
+        else:
+            kinds.append(("", []))
+    out = []
+    for (a, b), (kind, held) in zip(edges, kinds, strict=True):
+        if kind == "eave":
+            # anti-clockwise around its face: as the face runs, and a hole's edge as the hole
+            # turned to face as its face does (comp(h)'s ring) runs
+            _, forward, hole = held[0]
+            runs_along = (a < b) == forward
+            out.append(("eave", runs_along == hole))
+            continue
+        if kind != "inside" or rise(a, b) >= _UPRIGHT:
             out.append(("", False))
             continue
-        first, second = roof_faces(a, b)
-        if _concave(vertices, (a, b), faces[first], normals[first], faces[second], normals[second]):
+        (first, _, _), (second, forward, _) = held
+        start, end = (a, b) if (a < b) == forward else (b, a)  # as ``second`` runs
+        if _concave(vertices, (start, end), faces[first], normals[first], normals[second]):
             kind = "valley"
         elif a in eave_vertices or b in eave_vertices:
             kind = "hip"
         else:
             kind = "ridge"
-        out.append((kind, vertices[b, 1] < vertices[a, 1] - tolerance))
+        out.append((kind, bool(vertices[b, 1] < vertices[a, 1] - level)))
     return out
 
 
-def _concave(vertices, edge, face, normal, other, other_normal) -> bool:
-    """Whether ``other`` rises above the plane of ``face`` next to their shared ``edge`` (the two
-    form a concavity there; a non-convex face may rise above it elsewhere)."""
-    a, b = edge
-    n = len(other)
-    if not any(other[j] == a and other[(j + 1) % n] == b for j in range(n)):
-        a, b = b, a  # as ``other`` runs: its inside is on the left
-    start, end = vertices[a], vertices[b]
-    inward = np.cross(other_normal, end - start)  # in ``other``'s plane, into it
+def _concave(vertices, edge, face, normal, other_normal) -> bool:
+    """Whether the face of ``other_normal``, which runs along ``edge`` (its inside on the
+    left), rises above the plane of ``face`` next to their shared ``edge`` (the two form a
+    concavity there; a non-convex face may rise above it elsewhere)."""
+    start, end = vertices[edge[0]], vertices[edge[1]]
+    inward = np.cross(other_normal, end - start)  # in the other face's plane, into it
     length = float(np.linalg.norm(inward))
     if length == 0:
         return False
     step = 1e-3 * float(np.linalg.norm(end - start))
     probe = 0.5 * (start + end) + inward / length * step
-    return float((probe - vertices[face[0]]) @ normal) > LEVEL_REL * step
+    return float((probe - vertices[face[0]]) @ normal) > 1e-6 * step

@@ -47,17 +47,6 @@ CLOSE_M = 1e-4
 # A box's vertices (the square, extruded, without holes) come in another order in shapegen's
 # mesh than in CityEngine's: comp(v)'s indices differ there, the positions as a set agree.
 VERTEX_ORDER_DIFFERS = {("square", "extrude(10)")}
-# comp(e)'s roof-edge classes of an extruded lot: PyPRT's are ridges (its horizontal edges) and
-# none (its vertical ones), shapegen's eaves and hips (shapegen.geometry.roof_edges reads a
-# roof without its bottom), holes or not: expected failures, so that a fix shows. A flat lot's
-# edges, its holes' too, are all eaves in both.
-EDGE_CLASSES_DIFFER = "extrude(10)"
-
-
-def _marked(case):
-    differs = case["rule"] == EDGE_CLASSES_DIFFER and "eave" in case["comp"]
-    mark = pytest.mark.xfail(strict=True, reason="roof-edge classes of an extruded lot")
-    return pytest.param(case, id=_case_id(case), marks=[mark] if differs else [])
 
 
 def _case_id(case):
@@ -118,7 +107,7 @@ def _close(ours, theirs) -> bool:
     return all(abs(a - b) <= CLOSE_M for a, b in zip(ours, theirs, strict=True))
 
 
-@pytest.mark.parametrize("case", [_marked(c) for c in MEASURED["cases"]])
+@pytest.mark.parametrize("case", MEASURED["cases"], ids=_case_id)
 def test_pyprt_s_components_of_faces_with_holes(tmp_path, case):
     lot = MEASURED["lots"][case["lot"]]
     rule = tmp_path / "comp.cga"

@@ -61,33 +61,7 @@ def _generate(tmp_path, case):
 
 
 GEOMETRY_CASES = [c for c in MEASURED["cases"] if "comp" not in c]
-# comp(e)'s roof-edge classes (shapegen.geometry.roof_edges) differ from PyPRT's on lots
-# without holes as on lots with them: the walls of roofRidge and roofShed, a gable roof on an L
-# or a trapezoid, a pyramid on an L count other eaves and hips; not a matter of holes (the
-# holes' edges are counted as PyPRT counts them on the hip and gable roofs), kept as expected
-# failures so that a fix shows.
-EDGE_CLASSES_DIFFER = {
-    "roofRidge": "all", "roofShed": "all", "roofGable": {"L", "skew_L", "trapezoid"},
-    "roofPyramid": {"L", "skew_L", "L_courtyard"},
-}  # fmt: skip
-
-
-def _edge_classes_differ(case) -> bool:
-    lots = EDGE_CLASSES_DIFFER.get(case["rule"].split("(")[0], ())
-    return case["comp"].startswith("comp(e)") and (lots == "all" or case["lot"] in lots)
-
-
-COMP_CASES = [
-    pytest.param(
-        c,
-        id=_case_id(c),
-        marks=[pytest.mark.xfail(strict=True, reason="roof-edge classes")]
-        if _edge_classes_differ(c)
-        else [],
-    )
-    for c in MEASURED["cases"]
-    if "comp" in c
-]
+COMP_CASES = [c for c in MEASURED["cases"] if "comp" in c]
 
 
 @pytest.mark.parametrize("case", GEOMETRY_CASES, ids=_case_id)
@@ -109,7 +83,7 @@ def test_pyprt_s_roofs_on_faces_with_holes(tmp_path, case):
     assert corners_near(model.get_vertices(), case["points"], CORNER_M)
 
 
-@pytest.mark.parametrize("case", COMP_CASES)
+@pytest.mark.parametrize("case", COMP_CASES, ids=_case_id)
 def test_pyprt_s_comp_selectors_on_roofs_with_holes(tmp_path, case):
     model = _generate(tmp_path, case)
     assert model.get_cga_errors() == []

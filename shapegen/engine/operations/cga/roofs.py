@@ -43,11 +43,16 @@ def roof_shape(
     built: list[tuple[object, RoofMesh]],
     keep_axes: bool = False,
     tagged: bool = True,
+    surfaces: bool = False,
 ) -> Shape:
     """The 3D shape holding the roofs ``(frame, RoofMesh)`` built on ``parent``'s faces: its
     scope's y along the face normal (the roofs), or the parent's axes (``keep_axes``: the
     envelope, whose scope PyPRT only resizes; candler's ventilation moves along the envelope's
-    scope z to its top). ``tagged``: with its auto-tags (the derivation keeps tags)."""
+    scope z to its top). ``tagged``: with its auto-tags (the derivation keeps tags).
+    ``surfaces``: each roof's bottom, slopes and walls (its faces by their auto-tag, roof.bottom,
+    roof.top, roof.side...) are surfaces that share no edge, as CityEngine's runtime builds a
+    roofX()'s (measured by comp(e): a gable's slopes meet neither its bottom nor its gable
+    ends); a taper's faces are one joined surface."""
     points, faces, holes = [], [], []
     start = 0
     for frame, mesh in built:
@@ -68,7 +73,9 @@ def roof_shape(
     scope, fitted = fitted_scope(parent.scope.to_world(local), frame)
     names = [(k, tag) for k, (_, mesh) in enumerate(built) for tag in mesh.tags]
     tags = Pending(parent, _auto_tags(names, len(built))) if tagged else None
-    return Shape(scope, MASS, 1, None, Mesh(fitted, faces, holes if any(holes) else ()), tags)
+    parts = [f"{k}:{tag.split('.')[1]}" for k, (_, m) in enumerate(built) for tag in m.tags]
+    mesh = Mesh(fitted, faces, holes if any(holes) else (), parts if surfaces else ())
+    return Shape(scope, MASS, 1, None, mesh, tags)
 
 
 def _auto_tags(names: list[tuple[int, str]], count: int):
@@ -187,7 +194,7 @@ def compile_roof(program, node: ast.Operation, params):
             built.append((frame, mesh))
         if not built:
             return False
-        state.shape = roof_shape(state.shape, built, tagged=state.run.tags)
+        state.shape = roof_shape(state.shape, built, tagged=state.run.tags, surfaces=True)
         return True
 
     return roof_op

@@ -194,16 +194,6 @@ def _face_rings(mesh: Mesh) -> list[tuple[int, tuple]]:
     return out + holes
 
 
-def _faced_rings(mesh: Mesh) -> list[tuple]:
-    """The faces, then each hole's ring turned to face as its face does (:func:`holes_shape`):
-    what comp(e)'s roof-edge classes run on, so that a hole's edges border a face as the
-    outline's do (a flat courtyard lot's edges are all eaves, as PyPRT's)."""
-    if not mesh.holes:
-        return mesh.faces
-    rings = [ring for rings in mesh.holes for ring in rings or ()]
-    return [*mesh.faces, *(tuple(ring[1::-1]) + tuple(ring[:1:-1]) for ring in rings)]
-
-
 def holes_shape(shape: Shape) -> Shape:
     """The holes of ``shape``'s faces as the faces of one shape in its scope (what ``comp(h)``
     takes apart): each hole's ring reversed, so that it faces as its face does and its first
@@ -240,9 +230,11 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
         roofs = [("", False)] * len(pairs)
     else:
         pairs = [(a, b, None) for a, b in _ordered_edges(rings)]
-        roofs = roof_edge_classes(world_vertices, _faced_rings(mesh), [(a, b) for a, b, _ in pairs])
+        # in scope coordinates: op_comp's selectors read the shape's own axes, y up
+        edges = [(a, b) for a, b, _ in pairs]
+        roofs = roof_edge_classes(mesh.vertices, mesh.faces, edges, mesh.holes, mesh.surfaces)
     for k, ((a, b, f), (roof, turn)) in enumerate(zip(pairs, roofs, strict=True)):
-        if turn:  # hips, valleys and ridges run upwards; eaves as their roof face runs
+        if turn:  # hips, valleys and ridges run up the scope's y; eaves as their face runs
             a, b = b, a
         start, end = world_vertices[a], world_vertices[b]
         faces = edge_faces[(min(a, b), max(a, b))]
