@@ -91,11 +91,10 @@ def roof_edge_classes(
     out = []
     for (a, b), (kind, held) in zip(edges, kinds, strict=True):
         if kind == "eave":
-            # anti-clockwise around its face: as the face runs, and a hole's edge as the hole
-            # turned to face as its face does (comp(h)'s ring) runs
-            _, forward, hole = held[0]
-            runs_along = (a < b) == forward
-            out.append(("eave", runs_along == hole))
+            # against its face (PyPRT's eaves have the face's inside on their right, along
+            # the outline and along a hole alike)
+            _, forward, _ = held[0]
+            out.append(("eave", (a < b) == forward))
             continue
         if kind != "inside" or rise(a, b) >= _UPRIGHT:
             out.append(("", False))
