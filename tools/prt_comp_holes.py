@@ -111,8 +111,18 @@ public class Patch {
         String text = call.substring(call.indexOf('(') + 1, call.lastIndexOf(')'));
         StringBuilder descriptor = new StringBuilder("(");
         if (!text.isEmpty()) for (String v : text.split(",")) {
-            mv.visitLdcInsn(Double.valueOf(v));
-            descriptor.append("D");
+            if (v.equals("true") || v.equals("false")) {
+                mv.visitInsn(v.equals("true") ? Opcodes.ICONST_1 : Opcodes.ICONST_0);
+                descriptor.append("Z");
+            } else if (v.startsWith("@")) {  // @Class.FIELD: a constant of com.esri.gc.Class
+                String cls = "com/esri/gc/" + v.substring(1, v.indexOf('.'));
+                String type = "L" + cls + ";";
+                mv.visitFieldInsn(Opcodes.GETSTATIC, cls, v.substring(v.indexOf('.') + 1), type);
+                descriptor.append(type);
+            } else {
+                mv.visitLdcInsn(Double.valueOf(v));
+                descriptor.append("D");
+            }
         }
         mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, fn, descriptor.append(")V").toString(),
                            false);

@@ -7,7 +7,8 @@ edge with comp(e) on roofs, extrusions, tapers, cubes and flat lots:
   within 10 degrees of the horizontal whose face looks up, its normal at least 10 degrees
   above the horizontal. Its height does not count: a shed roof's high edge is an eave, and so
   are the level edges of a hole through a roof; a gable end's foot, a wall's top and a bottom
-  face's edges are not. Oriented anti-clockwise around its face (as the face runs).
+  face's edges are not. op_comp orients it "anti-clockwise around the original face": PyPRT's
+  eaves run against their face, its inside on their right, along an outline and a hole alike.
 - ``valley``: an inside edge (two faces) where the faces form a concavity;
 - ``hip``: another inside edge with an end on an eave;
 - ``ridge``: the other inside edges: an extruded lot's level edges (top and bottom), a taper's

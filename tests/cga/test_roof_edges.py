@@ -2,16 +2,30 @@
 roof on a w x d rectangle at angle a has 4 eaves (the perimeter), 4 hips of length
 sqrt(2 (d/2)^2 + (d/2 tan a)^2) and a ridge of w - d; an L of two 6 m wings has one valley, from
 the inner corner up to the skeleton (length sqrt(2 * 3^2 + (3 tan a)^2)). Hips, valleys and
-ridges run upwards."""
+ridges run upwards.
+
+And against CityEngine's runtime (tests/data/prt_roof_edges.json, made by
+tools/prt_roof_edges.py): each measured edge of each class, its two ends to 0.1 mm and the way
+it runs (an eave's always, a hip's, valley's or ridge's where its ends' heights differ, which
+op_comp orients upwards), on flat lots, extrusions, a cube, tapers, shed roofs at the 10 degree
+bounds of shapegen.geometry.roof_edges, and roofs on an L, a trapezoid and courtyards."""
 
 from __future__ import annotations
 
+import json
 import math
+import re
+from pathlib import Path
 
 import pytest
+from prt_cases import model_on_lot
 
 import shapegen
 from shapegen.errors import GrammarError
+
+MEASURED = json.loads((Path(__file__).parents[1] / "data" / "prt_roof_edges.json").read_text())
+CLASSES = ("eave", "hip", "valley", "ridge")
+CLOSE_M = 1e-4
 
 RULE = """@StartRule
 Lot --> extrude(3) comp(f) { top : Roof }
@@ -55,3 +69,62 @@ def test_roof_edge_selectors_belong_to_comp_e(tmp_path):
     path.write_text("@StartRule\nLot --> extrude(3) comp(f) { ridge : X }\n")
     with pytest.raises(GrammarError, match="needs comp\\(e\\)"):
         shapegen.load_grammar(path)
+
+
+def _measured_rule(operations: str) -> str:
+    """The case as a .cga rule: its operations, then comp(e) whose branches report each edge's
+    scope origin, the end of its unit x axis and its length, by comp.index."""
+    calls = re.sub(r"@\w+\.", "", operations).replace(",", ", ").split(";")
+    branches = " | ".join(f"{name} : B{k}" for k, name in enumerate(CLASSES))
+    lines = [f"Lot --> {' '.join(calls)} comp(e) {{ {branches} }}"]
+    for k in range(len(CLASSES)):
+        key = f'"b{k}." + comp.index + "'
+        reports = [f'report({key}.sx", scope.sx)']
+        for p, x in enumerate((0, 1)):
+            reports += [
+                f'report({key}.p{p}{c}", convert({c}, scope, world, pos, {x}, 0, 0))' for c in "xyz"
+            ]
+        lines.append(f"B{k} --> " + " ".join(reports))
+    return 'version "2023.0"\n@StartRule\n' + "\n".join(lines) + "\n"
+
+
+def _edges(report: dict, branch: int) -> list[tuple[tuple, tuple]]:
+    """Each edge the branch got, as its start and end."""
+    found: dict[int, dict[str, float]] = {}
+    for name, value in report.items():
+        parts = re.fullmatch(rf"b{branch}\.(\d+)(?:\.0+)?\.(\w+)_avg", name)
+        if parts:
+            found.setdefault(int(parts[1]), {})[parts[2]] = value
+    out = []
+    for figures in found.values():
+        start = tuple(figures[f"p0{c}"] for c in "xyz")
+        x_end = tuple(figures[f"p1{c}"] for c in "xyz")
+        end = tuple(o + figures["sx"] * (e - o) for o, e in zip(start, x_end, strict=True))
+        out.append((start, end))
+    return out
+
+
+def _near(a, b) -> bool:
+    return all(abs(p - q) <= CLOSE_M for p, q in zip(a, b, strict=True))
+
+
+@pytest.mark.parametrize(
+    "case",
+    MEASURED["cases"],
+    ids=[f"{c['lot']}:{c['operations'] or 'flat'}" for c in MEASURED["cases"]],
+)
+def test_pyprt_s_roof_edge_classes(tmp_path, case):
+    model = model_on_lot(
+        tmp_path / "edges.cga", _measured_rule(case["operations"]), MEASURED["lots"][case["lot"]]
+    )
+    assert model.get_cga_errors() == case["errors"]
+    report = model.get_report()
+    for k, name in enumerate(CLASSES):
+        ours = _edges(report, k)
+        assert len(ours) == len(case[name]), name
+        for start, end in case[name]:
+            match = [e for e in ours if {_near(e[0], start), _near(e[1], end)} == {True}]
+            turned = [e for e in ours if _near(e[0], end) and _near(e[1], start)]
+            assert match or turned, f"{name} {start} -> {end}"
+            if name == "eave" or abs(start[1] - end[1]) > 1e-3:
+                assert match, f"{name} {start} -> {end} runs the other way"
