@@ -151,3 +151,25 @@ def test_one_face_normal_alone_is_the_whole_meshs_to_the_bit():
     alone = [Mesh(points, faces).lone_face_normal(k) for k in range(len(faces))]
     assert np.array_equal(np.array(alone), mesh.face_normals())
     assert not np.any(alone[-1])
+
+
+def test_surfaces_stay_with_the_faces_they_name():
+    # a box whose bottom is a surface apart (a roof's, as comp(e) reads it): moved, turned,
+    # scaled, mirrored or turned inside out, each face keeps its surface; a new mesh of some
+    # of its faces starts joined
+    box = Mesh.box((2, 3, 4))
+    parts = ("bottom",) + ("body",) * 5
+    apart = Mesh(box.vertices, box.faces, surfaces=parts)
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    copies = [
+        apart.transformed(turn, (1, 2, 3)),
+        apart.transformed(np.diag([-1.0, 1.0, 1.0])),
+        apart.scaled((2, 2, 2)),
+        apart.scaled((-1, 1, 1)),
+        apart.moved_to(apart.vertices + 1),
+        apart.reversed(),
+    ]
+    assert all(copy.surfaces == parts for copy in copies)
+    assert box.surfaces == () and apart.subset([0, 1]).surfaces == ()
+    with pytest.raises(ValueError, match="2 surfaces given for 6 faces"):
+        Mesh(box.vertices, box.faces, surfaces=("a", "b"))
