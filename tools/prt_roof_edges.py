@@ -1,8 +1,8 @@
 """Measure CityEngine's roof-edge classes with its runtime: writes
 ``tests/data/prt_roof_edges.json``.
 
-Each case runs operations on a lot (a roof, an extrusion, a taper, a cube, a scope turned by
-``rotateScope``, or none) and splits the result with
+Each case runs operations on a lot (a roof, an extrusion, a taper, an envelope, a cube, a
+scope turned by ``rotateScope``, or none) and splits the result with
 ``comp(e) { eave : | hip : | valley : | ridge : }``, through tools/prt_comp_holes.py's rewriter
 (its branches report each edge's scope: its origin, the end of its unit x axis and its length);
 the JSON keeps, per class, each edge's two ends in the direction the edge runs. The cases
@@ -67,6 +67,9 @@ CASES = [
     ("skew_L", "roofRidge(@RoofValueType.byHeight,3)"),
     ("L_courtyard", "roofHip(40)"),
     ("L_courtyard", "roofShed(20)"),
+    ("square", "envelope(@Direction.normal,10,3,45)"),
+    ("courtyard", "envelope(@Direction.normal,10,3,45)"),
+    ("L", "envelope(@Direction.normal,10,3,45,2,90)"),
 ]
 
 

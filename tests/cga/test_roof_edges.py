@@ -7,8 +7,9 @@ ridges run upwards.
 And against CityEngine's runtime (tests/data/prt_roof_edges.json, made by
 tools/prt_roof_edges.py): each measured edge of each class, its two ends to 0.1 mm and the way
 it runs (an eave's always, a hip's, valley's or ridge's where its ends' heights differ, which
-op_comp orients upwards), on flat lots, extrusions, a cube, tapers, shed roofs at the 10 degree
-bounds of shapegen.geometry.roof_edges, and roofs on an L, a trapezoid and courtyards."""
+op_comp orients upwards), on flat lots, extrusions, a cube, tapers, envelopes, shed roofs at
+the 10 degree bounds of shapegen.geometry.roof_edges, and roofs on an L, a trapezoid and
+courtyards."""
 
 from __future__ import annotations
 

@@ -52,7 +52,7 @@ def roof_shape(
     ``surfaces``: each roof's bottom, slopes and walls (its faces by their auto-tag, roof.bottom,
     roof.top, roof.side...) are surfaces that share no edge, as CityEngine's runtime builds a
     roofX()'s (measured by comp(e): a gable's slopes meet neither its bottom nor its gable
-    ends); a taper's faces are one joined surface."""
+    ends); a taper's or an envelope's faces are one joined surface (measured the same way)."""
     points, faces, holes = [], [], []
     start = 0
     for frame, mesh in built:
