@@ -161,25 +161,25 @@ class Mesh:
     holes
         ``()`` (no holes), or per face a tuple of its hole rings (vertex-index tuples wound
         against the face).
-    surfaces
+    sheets
         ``()`` (the faces are joined wherever they share an edge), or per face the name of
-        the surface it belongs to: CityEngine builds a roof's bottom, its slopes and its walls
-        as surfaces that share no edge, though their corners meet (an edge between two
-        surfaces is a border edge of each for ``comp(e)``'s roof-edge classes). Kept by the
+        the sheet it belongs to: CityEngine builds a roof's bottom, its slopes and its walls
+        as sheets, surfaces that share no edge though their corners meet (an edge between
+        two sheets is a border edge of each for ``comp(e)``'s roof-edge classes). Kept by the
         copies that keep the faces (moved, scaled, mirrored); a new mesh starts joined.
     """
 
-    __slots__ = ("vertices", "faces", "holes", "surfaces", "__dict__")
+    __slots__ = ("vertices", "faces", "holes", "sheets", "__dict__")
 
-    def __init__(self, vertices, faces: Sequence[Sequence[int]], holes=(), surfaces=()):
+    def __init__(self, vertices, faces: Sequence[Sequence[int]], holes=(), sheets=()):
         v = np.array(vertices, dtype=float).reshape(-1, 3)
         v.setflags(write=False)
         self.vertices = v
         self.faces = checked_faces(faces)
         self.holes = checked_holes(holes, len(self.faces), len(v)) if holes else ()
-        if surfaces and len(surfaces) != len(self.faces):
-            raise ValueError(f"{len(surfaces)} surfaces given for {len(self.faces)} faces")
-        self.surfaces = tuple(surfaces)
+        if sheets and len(sheets) != len(self.faces):
+            raise ValueError(f"{len(sheets)} sheets given for {len(self.faces)} faces")
+        self.sheets = tuple(sheets)
         if len(self.faces) <= _FEW_FACES:  # a face or a box: plain Python is quicker than arrays
             count = len(v)
             for face in self.faces:
@@ -198,19 +198,19 @@ class Mesh:
 
     @classmethod
     def of_valid_faces(
-        cls, vertices: np.ndarray, faces: tuple, layout=None, holes=(), surfaces=()
+        cls, vertices: np.ndarray, faces: tuple, layout=None, holes=(), sheets=()
     ) -> Mesh:
         """A mesh of faces known to be valid (tuples of ints indexing ``vertices``), made by
         shapegen's own cuts: no conversion and no check. ``layout`` is the faces'
-        :func:`corner_layout` when the caller has it; ``holes`` and ``surfaces`` as
-        :attr:`holes` and :attr:`surfaces`, valid."""
+        :func:`corner_layout` when the caller has it; ``holes`` and ``sheets`` as
+        :attr:`holes` and :attr:`sheets`, valid."""
         mesh = cls.__new__(cls)
         v = np.array(vertices, dtype=float).reshape(-1, 3)
         v.setflags(write=False)
         mesh.vertices = v
         mesh.faces = faces if type(faces) is CheckedFaces else CheckedFaces(faces)
         mesh.holes = holes
-        mesh.surfaces = surfaces
+        mesh.sheets = sheets
         if layout is not None and "layout" not in mesh.faces.__dict__:
             mesh.faces.__dict__["layout"] = layout
         return mesh
@@ -503,7 +503,7 @@ class Mesh:
                 layout = None
         if offset is not None:
             v = v + np.asarray(offset, float)
-        moved = Mesh.of_valid_faces(v, faces, layout, holes, self.surfaces)
+        moved = Mesh.of_valid_faces(v, faces, layout, holes, self.sheets)
         if "is_closed" in self.__dict__:
             moved.__dict__["is_closed"] = self.is_closed  # reversing every face keeps it
         return moved
@@ -516,15 +516,15 @@ class Mesh:
                 self.vertices * factors,
                 tuple(_reversed(f) for f in self.faces),
                 holes=reversed_holes(self.holes),
-                surfaces=self.surfaces,
+                sheets=self.sheets,
             )
         return Mesh.of_valid_faces(
-            self.vertices * factors, self.faces, holes=self.holes, surfaces=self.surfaces
+            self.vertices * factors, self.faces, holes=self.holes, sheets=self.sheets
         )
 
     def moved_to(self, vertices) -> Mesh:
         """The same faces and holes on other ``vertices`` ``(V, 3)`` (m), one per vertex."""
-        return Mesh(vertices, self.faces, self.holes, self.surfaces)
+        return Mesh(vertices, self.faces, self.holes, self.sheets)
 
     def reversed(self) -> Mesh:
         """The same mesh with every face turned around (CityEngine's ``reverseNormals``)."""
@@ -532,7 +532,7 @@ class Mesh:
             self.vertices,
             tuple(_reversed(f) for f in self.faces),
             holes=reversed_holes(self.holes),
-            surfaces=self.surfaces,
+            sheets=self.sheets,
         )
 
     def face(self, index: int) -> Mesh:

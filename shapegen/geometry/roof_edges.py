@@ -21,12 +21,12 @@ the eaves its scope turned; ``r()`` turns the geometry with the scope and keeps 
 op_comp's other selectors read them.
 
 "Border" and "inside" follow CityEngine's topology: a roof's bottom, slopes and walls are
-separate surfaces (:attr:`~shapegen.geometry.mesh.Mesh.surfaces`), so an edge where two of
-them meet is a border edge of each (a slope's foot is an eave; a gable end's slanting edges
-are nothing), where shapegen's mesh joins them. The 10 degrees: a shed roof's sloping sides
-are eaves at 9.9 degrees and not at 10; its slope's edges are eaves up to a slope of 80
-degrees and not from 80.05; a taper's edges lose their ridge class at 8.9 degrees from the
-vertical and keep it at 10.03.
+separate sheets, surfaces that share no edge (:attr:`~shapegen.geometry.mesh.Mesh.sheets`), so
+an edge where two of them meet is a border edge of each (a slope's foot is an eave; a gable
+end's slanting edges are nothing), where shapegen's mesh joins them. The 10 degrees: a shed
+roof's sloping sides are eaves at 9.9 degrees and not at 10; its slope's edges are eaves up to
+a slope of 80 degrees and not from 80.05; a taper's edges lose their ridge class at 8.9 degrees
+from the vertical and keep it at 10.03.
 """
 
 from __future__ import annotations
@@ -47,16 +47,16 @@ _UP = math.sin(math.radians(10.0)) - 1e-9  # a face whose normal rises this much
 
 
 def roof_edge_classes(
-    vertices: np.ndarray, faces, edges: list[tuple[int, int]], holes=(), surfaces=()
+    vertices: np.ndarray, faces, edges: list[tuple[int, int]], holes=(), sheets=()
 ) -> list[tuple[str, bool]]:
     """Per edge ``(a, b)`` of a mesh given in its scope's coordinates (y up): its roof class
     ("" for none) and whether it should be turned around to run as the class says.
-    ``holes`` and ``surfaces`` as :class:`~shapegen.geometry.mesh.Mesh`'s: a hole's edges
-    bound its face; faces of different surfaces are not joined."""
+    ``holes`` and ``sheets`` as :class:`~shapegen.geometry.mesh.Mesh`'s: a hole's edges
+    bound its face; faces of different sheets are not joined."""
     vertices = np.asarray(vertices, dtype=float)
     faces = [tuple(face) for face in faces]
     normals = unit_face_normals(vertices, faces)
-    surface = list(surfaces) if surfaces else [0] * len(faces)
+    sheet = list(sheets) if sheets else [0] * len(faces)
     size = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
     level = LEVEL_REL * max(size, COINCIDENT_M)  # a level ridge keeps its direction
     # each face's edges as it runs, its inside on the left (a hole's ring is wound against
@@ -78,11 +78,11 @@ def roof_edge_classes(
     eave_vertices: set[int] = set()
     for a, b in edges:
         around = incident.get((min(a, b), max(a, b)), [])
-        joined = [s for s in around if sum(surface[t[0]] == surface[s[0]] for t in around) == 2]
+        joined = [s for s in around if sum(sheet[t[0]] == sheet[s[0]] for t in around) == 2]
         if len(around) <= 2 and len(joined) == 2:
             kinds.append(("inside", joined))
             continue
-        # a border edge of each face it bounds (of a surface that meets no other there)
+        # a border edge of each face it bounds (of a sheet that meets no other there)
         up = [s for s in around if s not in joined and float(normals[s[0]][1]) >= _UP]
         if up and rise(a, b) < _LEVEL:
             kinds.append(("eave", up))

@@ -153,13 +153,13 @@ def test_one_face_normal_alone_is_the_whole_meshs_to_the_bit():
     assert not np.any(alone[-1])
 
 
-def test_surfaces_stay_with_the_faces_they_name():
-    # a box whose bottom is a surface apart (a roof's, as comp(e) reads it): moved, turned,
-    # scaled, mirrored or turned inside out, each face keeps its surface; a new mesh of some
+def test_sheets_stay_with_the_faces_they_name():
+    # a box whose bottom is a sheet apart (a roof's, as comp(e) reads it): moved, turned,
+    # scaled, mirrored or turned inside out, each face keeps its sheet; a new mesh of some
     # of its faces starts joined
     box = Mesh.box((2, 3, 4))
     parts = ("bottom",) + ("body",) * 5
-    apart = Mesh(box.vertices, box.faces, surfaces=parts)
+    apart = Mesh(box.vertices, box.faces, sheets=parts)
     turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
     copies = [
         apart.transformed(turn, (1, 2, 3)),
@@ -169,7 +169,7 @@ def test_surfaces_stay_with_the_faces_they_name():
         apart.moved_to(apart.vertices + 1),
         apart.reversed(),
     ]
-    assert all(copy.surfaces == parts for copy in copies)
-    assert box.surfaces == () and apart.subset([0, 1]).surfaces == ()
-    with pytest.raises(ValueError, match="2 surfaces given for 6 faces"):
-        Mesh(box.vertices, box.faces, surfaces=("a", "b"))
+    assert all(copy.sheets == parts for copy in copies)
+    assert box.sheets == () and apart.subset([0, 1]).sheets == ()
+    with pytest.raises(ValueError, match="2 sheets given for 6 faces"):
+        Mesh(box.vertices, box.faces, sheets=("a", "b"))

@@ -43,16 +43,17 @@ def roof_shape(
     built: list[tuple[object, RoofMesh]],
     keep_axes: bool = False,
     tagged: bool = True,
-    surfaces: bool = False,
+    sheets: bool = False,
 ) -> Shape:
     """The 3D shape holding the roofs ``(frame, RoofMesh)`` built on ``parent``'s faces: its
     scope's y along the face normal (the roofs), or the parent's axes (``keep_axes``: the
     envelope, whose scope PyPRT only resizes; candler's ventilation moves along the envelope's
     scope z to its top). ``tagged``: with its auto-tags (the derivation keeps tags).
-    ``surfaces``: each roof's bottom, slopes and walls (its faces by their auto-tag, roof.bottom,
-    roof.top, roof.side...) are surfaces that share no edge, as CityEngine's runtime builds a
-    roofX()'s (measured by comp(e): a gable's slopes meet neither its bottom nor its gable
-    ends); a taper's or an envelope's faces are one joined surface (measured the same way)."""
+    ``sheets``: each roof's bottom, slopes and walls (its faces by their auto-tag, roof.bottom,
+    roof.top, roof.side...) are sheets (:attr:`Mesh.sheets`) that share no edge, as
+    CityEngine's runtime builds a roofX()'s (measured by comp(e): a gable's slopes meet neither
+    its bottom nor its gable ends); a taper's or an envelope's faces are one joined surface
+    (measured the same way)."""
     points, faces, holes = [], [], []
     start = 0
     for frame, mesh in built:
@@ -74,7 +75,7 @@ def roof_shape(
     names = [(k, tag) for k, (_, mesh) in enumerate(built) for tag in mesh.tags]
     tags = Pending(parent, _auto_tags(names, len(built))) if tagged else None
     parts = [f"{k}:{tag.split('.')[1]}" for k, (_, m) in enumerate(built) for tag in m.tags]
-    mesh = Mesh(fitted, faces, holes if any(holes) else (), parts if surfaces else ())
+    mesh = Mesh(fitted, faces, holes if any(holes) else (), parts if sheets else ())
     return Shape(scope, MASS, 1, None, mesh, tags)
 
 
@@ -194,7 +195,7 @@ def compile_roof(program, node: ast.Operation, params):
             built.append((frame, mesh))
         if not built:
             return False
-        state.shape = roof_shape(state.shape, built, tagged=state.run.tags, surfaces=True)
+        state.shape = roof_shape(state.shape, built, tagged=state.run.tags, sheets=True)
         return True
 
     return roof_op

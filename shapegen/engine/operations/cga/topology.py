@@ -232,7 +232,7 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
         pairs = [(a, b, None) for a, b in _ordered_edges(rings)]
         # in scope coordinates: op_comp's selectors read the shape's own axes, y up
         edges = [(a, b) for a, b, _ in pairs]
-        roofs = roof_edge_classes(mesh.vertices, mesh.faces, edges, mesh.holes, mesh.surfaces)
+        roofs = roof_edge_classes(mesh.vertices, mesh.faces, edges, mesh.holes, mesh.sheets)
     for k, ((a, b, f), (roof, turn)) in enumerate(zip(pairs, roofs, strict=True)):
         if turn:  # hips, valleys and ridges run up the scope's y; eaves as their face runs
             a, b = b, a
