@@ -38,12 +38,13 @@ import math
 import numpy as np
 
 from shapegen.geometry.mesh import unit_face_normals
-from shapegen.tolerances import COINCIDENT_M, LEVEL_REL
+from shapegen.tolerances import COINCIDENT_M, LEVEL_REL, ROUNDOFF_REL
 
 ROOF_EDGE_CLASSES = ("eave", "hip", "valley", "ridge")
 _LEVEL = math.sin(math.radians(10.0))  # an edge at most this steep (sine) is horizontal
 _UPRIGHT = math.cos(math.radians(10.0))  # an edge at least this steep (sine) is vertical
-_UP = math.sin(math.radians(10.0)) - 1e-9  # a face whose normal rises this much looks up
+# a face whose normal rises this much looks up (one at 10 degrees, less its round-off, too)
+_UP = math.sin(math.radians(10.0)) - ROUNDOFF_REL
 
 
 def roof_edge_classes(
@@ -123,4 +124,4 @@ def _concave(vertices, edge, face, normal, other_normal) -> bool:
         return False
     step = 1e-3 * float(np.linalg.norm(end - start))
     probe = 0.5 * (start + end) + inward / length * step
-    return float((probe - vertices[face[0]]) @ normal) > 1e-6 * step
+    return float((probe - vertices[face[0]]) @ normal) > LEVEL_REL * step
