@@ -16,7 +16,6 @@ from __future__ import annotations
 __all__ = ["even_ridge_times"]
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from shapegen.geometry.skeleton import Skeleton
 
@@ -29,6 +28,10 @@ def even_ridge_times(skeleton: Skeleton, normals: np.ndarray, eps: float) -> np.
     ``normals``: the ``(n, 2)`` inward unit normals of the edges of ``skeleton.faces``;
     ``eps``: the distance (the polygon's units) within which two nodes are one point.
     """
+    # scipy.spatial costs a process ~0.17 s to import: loaded by the first even roof, not by
+    # every rule that registers the roof operations (a city's worker and parent alike)
+    from scipy.spatial import cKDTree
+
     nodes, times = skeleton.nodes, skeleton.times
     same = np.arange(len(nodes))  # each node's first coincident node
     for i, j in sorted(cKDTree(nodes).query_pairs(eps)):
