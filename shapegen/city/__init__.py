@@ -11,10 +11,6 @@
 See docs/city.md: the command ``shapegen city``, the output folder and resuming a run.
 """
 
-from shapegen.city.city_lots import CRS_CHOICES, City, CityLot, city_from_polygons, read_lots
-from shapegen.city.run import CityProgress, CityRun, run_city
-from shapegen.city.work import lot_seed
-
 __all__ = [
     "CRS_CHOICES",
     "City",
@@ -26,3 +22,32 @@ __all__ = [
     "read_lots",
     "run_city",
 ]
+
+# Each name loads its module on first use: a worker process (python -m shapegen.city.worker)
+# imports this package before its own module, and needs neither the lots' readers nor the
+# parent's scheduling and tables.
+_HOMES = {
+    "CRS_CHOICES": "city_lots",
+    "City": "city_lots",
+    "CityLot": "city_lots",
+    "city_from_polygons": "city_lots",
+    "read_lots": "city_lots",
+    "CityProgress": "run",
+    "CityRun": "run",
+    "run_city": "run",
+    "lot_seed": "work",
+}
+
+
+def __getattr__(name: str):
+    if name not in _HOMES:
+        raise AttributeError(f"module 'shapegen.city' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(f"shapegen.city.{_HOMES[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
