@@ -11,6 +11,8 @@
 See docs/city.md: the command ``shapegen city``, the output folder and resuming a run.
 """
 
+from shapegen.lazy_names import lazy_names
+
 __all__ = [
     "CRS_CHOICES",
     "City",
@@ -38,16 +40,4 @@ _HOMES = {
     "lot_seed": "work",
 }
 
-
-def __getattr__(name: str):
-    if name not in _HOMES:
-        raise AttributeError(f"module 'shapegen.city' has no attribute {name!r}")
-    import importlib
-
-    value = getattr(importlib.import_module(f"shapegen.city.{_HOMES[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, __all__)
