@@ -20,23 +20,30 @@ never imports it)::
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import CORPUS, write_fixture  # noqa: E402
+from prt_measure import (  # noqa: E402
+    arguments,
+    cga_errors,
+    corpus_package,
+    fixture_written,
+    initial_shape,
+    rounded_points,
+)
+from prt_primitives import PACKAGE  # noqa: E402
 
-PACKAGE = "packages/Esri+pyprt__tests_data_extrusion_rule__e4df6667.rpk"
 LOTS = Path(__file__).resolve().parents[1] / "tests" / "data" / "city-courtyards"
 LOTS = LOTS / "courtyards.geojson"
 HEIGHT_M = 15.0
 
 
-def initial_shape(rings: list) -> dict:
+def lot_of(rings: list) -> dict:
     """PyPRT's arguments for a polygon of ``rings`` (GeoJSON's: outer first, the closing
-    corner repeated): ``(east, 0, -north)`` corners, one face per ring, the others holes."""
+    corner repeated): ``(east, 0, -north)`` corners, one face per ring, the others holes (an
+    outline alone, the coordinates alone)."""
     coordinates, indices, counts = [], [], []
     for ring in rings:
         corners = ring[:-1]
@@ -44,21 +51,17 @@ def initial_shape(rings: list) -> dict:
         counts.append(len(corners))
         for east, north in corners:
             coordinates += [float(east), 0.0, -float(north)]
-    holes = [list(range(len(rings)))] if len(rings) > 1 else []
+    if len(rings) == 1:
+        return {"coordinates": coordinates}
+    holes = [list(range(len(rings)))]
     return {"coordinates": coordinates, "indices": indices, "face_counts": counts, "holes": holes}
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("output", type=Path, help="the JSON file to write")
-    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
-    args = parser.parse_args(argv)
+    args = arguments(__doc__, argv)
+    package = corpus_package(args.corpus, "prt_city_courtyards", PACKAGE)
     import pyprt  # PyPRT's environment only
 
-    package = args.corpus / PACKAGE
-    if not package.exists():
-        print(f"prt_city_courtyards: missing {package}", file=sys.stderr)
-        return 2
     rows = []
     for feature in json.loads(LOTS.read_text())["features"]:
         geometry = feature["geometry"]
@@ -67,53 +70,37 @@ def main(argv: list[str] | None = None) -> int:
             if len(polygons) != 1:
                 continue  # a lot is one polygon (shapegen refuses the others)
             polygons = polygons[0]
-        lot = initial_shape(polygons)
-        if lot["holes"]:
-            shape = pyprt.InitialShape(
-                lot["coordinates"], lot["indices"], lot["face_counts"], lot["holes"]
-            )
-        else:
-            shape = pyprt.InitialShape(lot["coordinates"])
+        lot = lot_of(polygons)
         attrs = {
             "minBuildingHeight": HEIGHT_M,
             "maxBuildingHeight": HEIGHT_M,
             "OBJECTID": float(feature["properties"].get("OBJECTID", 0)),
         }
         options = {"emitReport": True, "emitGeometry": True}
-        (model,) = pyprt.ModelGenerator([shape]).generate_model(
+        (model,) = pyprt.ModelGenerator([initial_shape(pyprt, lot)]).generate_model(
             [attrs], str(package), "com.esri.pyprt.PyEncoder", options
         )
-        flat = list(model.get_vertices())
         report = model.get_report()
         rows.append(
             {
                 "id": feature["id"],
-                "points": [
-                    [round(c, 4) + 0.0 for c in flat[i : i + 3]] for i in range(0, len(flat), 3)
-                ],  # fmt: skip
+                "points": rounded_points(list(model.get_vertices()), 4),
                 "faces": list(model.get_faces()),
                 "indices": list(model.get_indices()),
                 "report": {
                     k: round(v, 6) if isinstance(v, float) else v for k, v in sorted(report.items())
                 },  # fmt: skip
-                "errors": [e for e in model.get_cga_errors() if "CGAC version" not in e],
+                "errors": cga_errors(model),
             }
         )
-    from importlib.metadata import version as installed
-
-    head = {
-        "source": f"CityEngine's runtime, PyPRT {installed('pyprt')}, by "
-        "tools/prt_city_courtyards.py: each lot of tests/data/city-courtyards/courtyards.geojson "
-        f"as an initial shape with its holes, the extrusion_rule package with a {HEIGHT_M:g} m "
-        "height, through PyPRT's PyEncoder: points (m, (east, up, -north) of the file's "
-        "coordinates), faces (vertex counts, holes as their own rings after their face), "
-        "indices, the report",
-        "package": PACKAGE,
-        "height_m": HEIGHT_M,
-    }
-    write_fixture(args.output, head, "lots", rows)
-    print(f"prt_city_courtyards: {len(rows)} lots written to {args.output}")
-    return 0
+    about = (
+        "each lot of tests/data/city-courtyards/courtyards.geojson as an initial shape with its "
+        f"holes, the extrusion_rule package with a {HEIGHT_M:g} m height, through PyPRT's "
+        "PyEncoder: points (m, (east, up, -north) of the file's coordinates), faces (vertex "
+        "counts, holes as their own rings after their face), indices, the report"
+    )
+    head = {"package": PACKAGE, "height_m": HEIGHT_M}
+    return fixture_written("prt_city_courtyards", args.output, about, head, "lots", rows)
 
 
 if __name__ == "__main__":

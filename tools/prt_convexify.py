@@ -16,18 +16,20 @@ It runs with PyPRT's Python (a development tool; shapegen never imports it) and 
 
 from __future__ import annotations
 
-import argparse
 import math
-import os
 import random
-import shutil
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import ASM_JAR, CORPUS, rewritable_package, write_fixture  # noqa: E402
+from prt_measure import (  # noqa: E402
+    Rewriter,
+    arguments,
+    fixture_written,
+    generated_model,
+    rewritable_package,
+)
+from prt_primitives import PACKAGE, PATCHER  # noqa: E402
 
 # (name, outline as (x, z) corners, maxLength or None)
 LOTS = [
@@ -145,26 +147,12 @@ def lot_vertices(outline: list) -> list:
     return points if twice < 0 else points[::-1]
 
 
-def measure(pyprt, work, source, patcher, name, outline, limit, before=None) -> dict:
-    case = Path(tempfile.mkdtemp(dir=work))
-    package = case / "package"
-    shutil.copytree(source, package)
-    cgb = package / "bin" / "extrusion_rule.cgb"
+def measure(rewriter: Rewriter, name, outline, limit, before=None) -> dict:
     call = "convexify()" if limit is None else f"convexify({float(limit)})"
     if before:
         call = f"{before};{call}"
-    java = ["java", "-cp", f"{ASM_JAR}{os.pathsep}{patcher}", "Patch", str(cgb), str(cgb), call]
-    subprocess.run(java, check=True)
-    rpk = case / "case.rpk"
-    subprocess.run(
-        ["7z", "a", "-t7z", "-m0=LZMA", "-ms=off", "-mhc=off", str(rpk), ".resolvemap.xml",
-         "bin", "rules"],
-        cwd=package, check=True, stdout=subprocess.DEVNULL,
-    )  # fmt: skip
-    shape = pyprt.InitialShape([c for p in lot_vertices(outline) for c in p])
-    generator = pyprt.ModelGenerator([shape])
-    (model,) = generator.generate_model([{}], str(rpk), "com.esri.pyprt.PyEncoder",
-                                        {"emitReport": False, "emitGeometry": True})  # fmt: skip
+    lot = {"coordinates": [c for p in lot_vertices(outline) for c in p]}
+    model = generated_model(rewriter, call, lot, report=False)
     flat = list(model.get_vertices())
     points = [flat[i : i + 3] for i in range(0, len(flat), 3)]
     indices = list(model.get_indices())
@@ -181,30 +169,19 @@ def measure(pyprt, work, source, patcher, name, outline, limit, before=None) -> 
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("output", type=Path, help="the JSON file to write")
-    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
-    args = parser.parse_args(argv)
-    with rewritable_package(args.corpus, "prt_convexify") as (pyprt, work, source, patcher):
-        rows = [measure(pyprt, work, source, patcher, *lot) for lot in LOTS]
-        rows += [
-            measure(pyprt, work, source, patcher, name, outline, None, before)
-            for name, outline, before in SOLIDS
-        ]
-    from importlib.metadata import version as installed
-
-    head = {
-        "source": f"CityEngine's runtime, PyPRT {installed('pyprt')}, by tools/prt_convexify.py: "
+    args = arguments(__doc__, argv)
+    with rewritable_package(args.corpus, "prt_convexify", PACKAGE, PATCHER) as rewriter:
+        rows = [measure(rewriter, *lot) for lot in LOTS]
+        rows += [measure(rewriter, name, outline, None, before) for name, outline, before in SOLIDS]
+    about = (
         "the corpus's extrusion_rule package with BuildingCreation's extrude replaced by "
         "convexify() or convexify(max_length) (the compiled rule rewritten with ASM), each "
         "outline generated as one initial shape in the ground plane (x, 0, z), normal up, "
         "through PyPRT's PyEncoder; parts are the faces PyPRT gives, their corners as (x, z) "
         "in PyPRT's order, rounded to 0.1 mm; a row with before ran those operations first and "
-        "gives its parts' corners as (x, y, z)",
-    }
-    write_fixture(args.output, head, "lots", rows)
-    print(f"prt_convexify: {len(rows)} lots written to {args.output}")
-    return 0
+        "gives its parts' corners as (x, y, z)"
+    )
+    return fixture_written("prt_convexify", args.output, about, {}, "lots", rows)
 
 
 if __name__ == "__main__":

@@ -20,9 +20,9 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import CORPUS  # noqa: E402
+from prt_measure import CORPUS, corpus_package  # noqa: E402
+from prt_primitives import PACKAGE  # noqa: E402
 
-PACKAGE = "packages/Esri+pyprt__tests_data_extrusion_rule__e4df6667.rpk"
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "obj-pyprt"
 # initial shape -> the extrusion's height (m)
 SHAPES = {"square": 4.0, "l": 3.0, "l_down": -3.0}
@@ -32,12 +32,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
     args = parser.parse_args(argv)
+    package = corpus_package(args.corpus, "prt_extrusion_uvs", PACKAGE)
     import pyprt  # PyPRT's environment only
 
-    package = args.corpus / PACKAGE
-    if not package.exists():
-        print(f"prt_extrusion_uvs: missing {package}", file=sys.stderr)
-        return 2
     for name, height in SHAPES.items():
         source = DATA / f"uv_{name.removesuffix('_down')}.obj"
         with tempfile.TemporaryDirectory() as out:

@@ -20,20 +20,22 @@ sizes are written as absolute values.
 
 from __future__ import annotations
 
-import argparse
-import json
-import os
 import re
-import shutil
-import subprocess
 import sys
-import tempfile
-from contextlib import contextmanager
 from pathlib import Path
 
-CORPUS = Path(__file__).resolve().parents[2] / "shared" / "cga-corpus"
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from prt_measure import (  # noqa: E402
+    Rewriter,
+    arguments,
+    fixture_written,
+    generated_model,
+    patch_class,
+    rewritable_package,
+    rounded_points,
+)
+
 PACKAGE = "packages/Esri+pyprt__tests_data_extrusion_rule__e4df6667.rpk"
-ASM_JAR = "/usr/share/java/asm.jar"
 LOT = [[0, 0, 10], [10, 0, 10], [10, 0, 0], [0, 0, 0]]
 """PyPRT's initial shape: the 10 x 10 m lot shapegen makes, first edge along +x."""
 SCOPE = ("sx", "sy", "sz", "tx", "ty", "tz")
@@ -94,14 +96,9 @@ CASES = [
 ]
 
 # The rewriter: replaces `invokestatic Builtins.extrude(D)V` of Default$BuildingCreation by the
-# case's calls. An argument `@Class.FIELD` pushes that enum constant of com/esri/gc (s() takes
-# Scale.ABS before each size), a number a double; `report:NAME` reports the builtin NAME()D.
-PATCHER = r"""
-import org.objectweb.asm.*;
-import java.nio.file.*;
-
-public class Patch {
-    static final String B = "com/esri/gc/Builtins";
+# case's calls (args: in, out, "call;call;..."); a call `report:NAME` reports the builtin NAME()D,
+# another is a builtin's with its arguments (s() takes Scale.ABS, `@Scale.ABS`, before each size).
+PATCHER = patch_class(r"""
     public static void main(String[] a) throws Exception {
         ClassReader reader = new ClassReader(Files.readAllBytes(Paths.get(a[0])));
         ClassWriter writer = new ClassWriter(reader, ClassWriter.COMPUTE_MAXS);
@@ -119,33 +116,12 @@ public class Patch {
                             return;
                         }
                         super.visitInsn(Opcodes.POP2);
-                        for (String call : calls) {
-                            if (call.startsWith("report:")) {
-                                String what = call.substring(7);
-                                super.visitLdcInsn(what);
-                                super.visitMethodInsn(Opcodes.INVOKESTATIC, B, what, "()D", false);
-                                super.visitMethodInsn(Opcodes.INVOKESTATIC, B, "report",
-                                                      "(Ljava/lang/String;D)V", false);
-                                continue;
+                        for (String c : calls) {
+                            if (c.startsWith("report:")) {
+                                report(mv, c.substring(7), c.substring(7));
+                            } else {
+                                call(mv, c);
                             }
-                            String fn = call.substring(0, call.indexOf('('));
-                            String text = call.substring(call.indexOf('(') + 1,
-                                                         call.lastIndexOf(')'));
-                            StringBuilder descriptor = new StringBuilder("(");
-                            if (!text.isEmpty()) for (String v : text.split(",")) {
-                                if (v.startsWith("@")) {
-                                    String cls = "com/esri/gc/" + v.substring(1, v.indexOf('.'));
-                                    String type = "L" + cls + ";";
-                                    super.visitFieldInsn(Opcodes.GETSTATIC, cls,
-                                                         v.substring(v.indexOf('.') + 1), type);
-                                    descriptor.append(type);
-                                } else {
-                                    super.visitLdcInsn(Double.valueOf(v));
-                                    descriptor.append("D");
-                                }
-                            }
-                            super.visitMethodInsn(Opcodes.INVOKESTATIC, B, fn,
-                                                  descriptor.append(")V").toString(), false);
                         }
                     }
                 };
@@ -153,8 +129,7 @@ public class Patch {
         }, 0);
         Files.write(Paths.get(a[1]), writer.toByteArray());
     }
-}
-"""
+""")
 
 
 def runtime_calls(operations: str) -> str:
@@ -184,25 +159,10 @@ def unit_normal(points: list) -> list:
     return [round(c / length, 6) + 0.0 for c in n]
 
 
-def measure(pyprt, work: Path, source: Path, patcher: Path, operations: str) -> dict:
-    case = Path(tempfile.mkdtemp(dir=work))
-    package = case / "package"
-    shutil.copytree(source, package)
-    cgb = package / "bin" / "extrusion_rule.cgb"
-    java = ["java", "-cp", f"{ASM_JAR}{os.pathsep}{patcher}", "Patch", str(cgb), str(cgb)]
-    subprocess.run([*java, runtime_calls(operations)], check=True)
-    rpk = case / "case.rpk"
-    # LZMA, not solid, header not compressed: what CityEngine's runtime reads
-    subprocess.run(
-        ["7z", "a", "-t7z", "-m0=LZMA", "-ms=off", "-mhc=off", str(rpk), ".resolvemap.xml",
-         "bin", "rules"],
-        cwd=package, check=True, stdout=subprocess.DEVNULL,
-    )  # fmt: skip
-    generator = pyprt.ModelGenerator([pyprt.InitialShape([c for p in LOT for c in p])])
-    options = {"emitReport": True, "emitGeometry": True}
-    (model,) = generator.generate_model([{}], str(rpk), "com.esri.pyprt.PyEncoder", options)
-    flat = list(model.get_vertices())
-    points = [[round(c, 4) + 0.0 for c in flat[i : i + 3]] for i in range(0, len(flat), 3)]
+def measure(rewriter: Rewriter, operations: str) -> dict:
+    flat_lot = {"coordinates": [c for p in LOT for c in p]}
+    model = generated_model(rewriter, runtime_calls(operations), flat_lot)
+    points = rounded_points(list(model.get_vertices()), 4)
     report = model.get_report()
     scope = [round(report[f"scope${k}_avg"], 4) + 0.0 for k in SCOPE]
     scope[5] = round(scope[5] + LOT[0][2], 4)  # scope.t is relative to the lot's first vertex
@@ -222,84 +182,18 @@ def measure(pyprt, work: Path, source: Path, patcher: Path, operations: str) -> 
     return row
 
 
-@contextmanager
-def rewritable_package(corpus: Path, tool: str, package: str = PACKAGE, patcher: str = PATCHER):
-    """The corpus's ``package`` (the extrusion_rule one unless named) unpacked and the ASM
-    ``patcher`` (this tool's unless given; a Java class ``Patch``) compiled, in a temporary
-    folder: ``(pyprt, work, source, patcher)`` for each tool's ``measure``. What is missing
-    (java, javac, 7z, the ASM jar, the package) ends the tool with one line, status 2."""
-    source_code = patcher
-    package = corpus / package
-    missing = [name for name in ("java", "javac", "7z") if shutil.which(name) is None]
-    if missing or not Path(ASM_JAR).exists() or not package.exists():
-        what = missing + [p for p in (ASM_JAR, str(package)) if not Path(p).exists()]
-        print(f"{tool}: missing {', '.join(what)}", file=sys.stderr)
-        raise SystemExit(2)
-    import pyprt  # PyPRT's environment only
-
-    with tempfile.TemporaryDirectory() as tmp:
-        work = Path(tmp)
-        source = work / "source"
-        subprocess.run(["7z", "x", f"-o{source}", str(package)], check=True,
-                       stdout=subprocess.DEVNULL)  # fmt: skip
-        patcher = work / "patcher"
-        patcher.mkdir()
-        (patcher / "Patch.java").write_text(source_code)
-        subprocess.run(["javac", "-cp", ASM_JAR, "Patch.java"], cwd=patcher, check=True)
-        yield pyprt, work, source, patcher
-
-
-def measured_cases(tool: str, lots: dict, cases, measure_case) -> list[dict]:
-    """``measure_case(lot, case)`` for every lot of ``lots`` (name -> initial shape) and every
-    case, each row led by its lot's name; a case the rewriter cannot make is said on stderr
-    and left out, not fatal."""
-    rows = []
-    for name, lot in lots.items():
-        for case in cases:
-            try:
-                row = measure_case(lot, case)
-            except Exception as exc:  # noqa: BLE001 - recorded, the others still measured
-                print(f"{tool}: {name} {case!r}: {exc}", file=sys.stderr)
-                continue
-            rows.append({"lot": name, **row})
-    return rows
-
-
-def write_fixture(path: Path, head: dict, key: str, rows: list) -> None:
-    """The measured ``rows`` as a JSON fixture: ``head``'s entries, then ``key`` with a row a
-    line, so that a new measurement's difference reads row by row."""
-    lines = [
-        "{",
-        *(f" {json.dumps(k)}: {json.dumps(v)}," for k, v in head.items()),
-        f" {json.dumps(key)}: [",
-    ]
-    lines += [f"  {json.dumps(row)}," for row in rows]
-    lines[-1] = lines[-1].rstrip(",")
-    path.write_text("\n".join([*lines, " ]", "}"]) + "\n")
-
-
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("output", type=Path, help="the JSON file to write")
-    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
-    args = parser.parse_args(argv)
-    with rewritable_package(args.corpus, "prt_primitives") as (pyprt, work, source, patcher):
-        rows = [measure(pyprt, work, source, patcher, case) for case in CASES]
-    from importlib.metadata import version as installed
-
-    version = installed("pyprt")
-    head = {
-        "source": f"CityEngine's runtime, PyPRT {version}, by tools/prt_primitives.py: each rule's "
-        "operations run on the lot below through PyPRT's PyEncoder; scope_size and scope_origin "
-        "are scope.sx, sy, sz and scope.tx, ty, tz reported after the operations (the origin "
-        "moved from PyPRT's pivot, the lot's first vertex, to the world), lo and hi the bounds "
-        "of the vertices (m, world), points the vertices in PyPRT's order, normal the unit "
-        "normal of a one-face result",
-        "lot": LOT,
-    }
-    write_fixture(args.output, head, "cases", rows)
-    print(f"prt_primitives: {len(rows)} cases written to {args.output}")
-    return 0
+    args = arguments(__doc__, argv)
+    with rewritable_package(args.corpus, "prt_primitives", PACKAGE, PATCHER) as rewriter:
+        rows = [measure(rewriter, case) for case in CASES]
+    about = (
+        "each rule's operations run on the lot below through PyPRT's PyEncoder; scope_size and "
+        "scope_origin are scope.sx, sy, sz and scope.tx, ty, tz reported after the operations "
+        "(the origin moved from PyPRT's pivot, the lot's first vertex, to the world), lo and hi "
+        "the bounds of the vertices (m, world), points the vertices in PyPRT's order, normal the "
+        "unit normal of a one-face result"
+    )
+    return fixture_written("prt_primitives", args.output, about, {"lot": LOT}, "cases", rows)
 
 
 if __name__ == "__main__":

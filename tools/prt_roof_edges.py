@@ -16,22 +16,28 @@ PyPRT's Python (a development tool; shapegen never imports it)::
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_comp_holes import PATCHER, measure  # noqa: E402
-from prt_primitives import CORPUS, measured_cases, rewritable_package, write_fixture  # noqa: E402
+from prt_measure import (  # noqa: E402
+    Rewriter,
+    arguments,
+    fixture_written,
+    lot_from_rings,
+    measured_cases,
+    rewritable_package,
+)
 from prt_roofs import LOTS as ROOF_LOTS  # noqa: E402
-from prt_roofs import PACKAGE, _lot  # noqa: E402
+from prt_roofs import PACKAGE  # noqa: E402
 
 CLASSES = ("eave", "hip", "valley", "ridge")
 LOTS = {
     # 10 x 10 m, first edge along +x at z = 10
-    "square": _lot([(0, 10), (10, 10), (10, 0), (0, 0)]),
+    "square": lot_from_rings([(0, 10), (10, 10), (10, 0), (0, 0)]),
     # 12 x 8 m
-    "rectangle": _lot([(0, 8), (12, 8), (12, 0), (0, 0)]),
+    "rectangle": lot_from_rings([(0, 8), (12, 8), (12, 0), (0, 0)]),
     **{k: ROOF_LOTS[k] for k in ("courtyard", "L_courtyard", "L", "skew_L", "trapezoid")},
 }
 # (lot, operations separated by ';', numbers, true/false or @Class.FIELD as arguments)
@@ -85,9 +91,9 @@ def _edges(row: dict, branch: int) -> list[list[list[float]]]:
     return out
 
 
-def measure_edges(pyprt, work: Path, source: Path, patcher: Path, lot: dict, operations: str):
+def measure_edges(rewriter: Rewriter, lot: dict, operations: str):
     branches = [f"{name}:1" for name in CLASSES]
-    row = measure(pyprt, work, source, patcher, lot, (operations, "e", "", branches))
+    row = measure(rewriter, lot, (operations, "e", "", branches))
     case = {"operations": operations}
     case.update({name: _edges(row, k) for k, name in enumerate(CLASSES)})
     case["errors"] = row["errors"]
@@ -95,32 +101,22 @@ def measure_edges(pyprt, work: Path, source: Path, patcher: Path, lot: dict, ope
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("output", type=Path, help="the JSON file to write")
-    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
-    args = parser.parse_args(argv)
-    with rewritable_package(args.corpus, "prt_roof_edges", PACKAGE, PATCHER) as context:
-        pyprt, work, source, patcher = context
+    args = arguments(__doc__, argv)
+    with rewritable_package(args.corpus, "prt_roof_edges", PACKAGE, PATCHER) as rewriter:
         rows = []
         for name, operations in CASES:
             rows += measured_cases(
                 "prt_roof_edges",
                 {name: LOTS[name]},
                 [operations],
-                lambda lot, ops: measure_edges(pyprt, work, source, patcher, lot, ops),
+                lambda lot, ops: measure_edges(rewriter, lot, ops),
             )
-    from importlib.metadata import version as installed
-
-    head = {
-        "source": f"CityEngine's runtime, PyPRT {installed('pyprt')}, by "
-        "tools/prt_roof_edges.py: each case's operations (';' between them) run on the named "
-        "initial shape ((x, 0, z) coordinates), then comp(e) { eave : | hip : | valley : | "
-        "ridge : }; per class, each edge's start and end (world, m) in comp.index order",
-        "lots": LOTS,
-    }
-    write_fixture(args.output, head, "cases", rows)
-    print(f"prt_roof_edges: {len(rows)} cases written to {args.output}")
-    return 0
+    about = (
+        "each case's operations (';' between them) run on the named initial shape ((x, 0, z) "
+        "coordinates), then comp(e) { eave : | hip : | valley : | ridge : }; per class, each "
+        "edge's start and end (world, m) in comp.index order"
+    )
+    return fixture_written("prt_roof_edges", args.output, about, {"lots": LOTS}, "cases", rows)
 
 
 if __name__ == "__main__":

@@ -15,14 +15,13 @@ shapegen never imports it)::
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import CORPUS, measured_cases, rewritable_package, write_fixture  # noqa: E402
+from prt_measure import lot_from_rings, measuring_main  # noqa: E402
 from prt_roofs import LOTS as ROOF_LOTS  # noqa: E402
-from prt_roofs import PACKAGE, PATCHER, _lot, measure  # noqa: E402
+from prt_roofs import PACKAGE, PATCHER, measure  # noqa: E402
 
 LOTS = {
     **{
@@ -30,10 +29,14 @@ LOTS = {
         for name in ("courtyard", "L_courtyard", "two_holes", "small_hole", "L")
     },
     # 20 x 10 m with a hole whose back edge lies on the ridge (z = 5) of a front and back slope
-    "ridge_hole": _lot([(0, 10), (20, 10), (20, 0), (0, 0)], [(3, 3), (7, 3), (7, 5), (3, 5)]),
+    "ridge_hole": lot_from_rings(
+        [(0, 10), (20, 10), (20, 0), (0, 0)], [(3, 3), (7, 3), (7, 5), (3, 5)]
+    ),
     # 20 x 10 m with a hole whose edge (z = 3) lies on a part of the flat top's edge when every
     # side slopes at 45 degrees up to 3 m
-    "top_partial": _lot([(0, 10), (20, 10), (20, 0), (0, 0)], [(1, 1), (8, 1), (8, 3), (1, 3)]),
+    "top_partial": lot_from_rings(
+        [(0, 10), (20, 10), (20, 0), (0, 0)], [(1, 1), (8, 1), (8, 3), (1, 3)]
+    ),
 }
 CASES = [
     "taper(5)",
@@ -52,32 +55,22 @@ CASES = [
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("output", type=Path, help="the JSON file to write")
-    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
-    args = parser.parse_args(argv)
-    with rewritable_package(args.corpus, "prt_taper_envelope", PACKAGE, PATCHER) as context:
-        pyprt, work, source, patcher = context
-        rows = measured_cases(
-            "prt_taper_envelope",
-            LOTS,
-            CASES,
-            lambda lot, case: measure(pyprt, work, source, patcher, lot, case, ""),
-        )
-    from importlib.metadata import version as installed
-
-    head = {
-        "source": f"CityEngine's runtime, PyPRT {installed('pyprt')}, by "
-        "tools/prt_taper_envelope.py: each operation runs on the named initial shape (PyPRT's "
-        "InitialShape with holes: (x, 0, z) coordinates) through PyPRT's PyEncoder; nVertices "
-        "... volume are geometry.* after it, scope is scope.sx, sy, sz, tx, ty, tz; points, "
-        "indices and encoder_faces (vertex counts, a hole's ring after its face) are what the "
-        "PyEncoder returns",
-        "lots": LOTS,
-    }
-    write_fixture(args.output, head, "cases", rows)
-    print(f"prt_taper_envelope: {len(rows)} cases written to {args.output}")
-    return 0
+    about = (
+        "each operation runs on the named initial shape (PyPRT's InitialShape with holes: "
+        "(x, 0, z) coordinates) through PyPRT's PyEncoder; nVertices ... volume are geometry.* "
+        "after it, scope is scope.sx, sy, sz, tx, ty, tz; points, indices and encoder_faces "
+        "(vertex counts, a hole's ring after its face) are what the PyEncoder returns"
+    )
+    return measuring_main(
+        argv,
+        __doc__,
+        "prt_taper_envelope",
+        (PACKAGE, PATCHER),
+        LOTS,
+        CASES,
+        lambda rewriter, lot, case: measure(rewriter, lot, (case, "")),  # the roof alone
+        about,
+    )
 
 
 if __name__ == "__main__":
