@@ -25,16 +25,17 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_measure import (  # noqa: E402
+    FOOTPRINT_PACKAGE,
     Rewriter,
     averages,
     cga_errors,
     encoder_figures,
     footprint_patcher,
     generated_model,
+    java_strings,
     lot_from_rings,
     measuring_main,
 )
-from prt_roofs import PACKAGE  # noqa: E402
 
 GEOMETRY = ("nVertices", "nFaces", "nHoles")
 
@@ -75,13 +76,25 @@ SPLITS = [
 ]
 CASES = [(ops, *split) for ops in ("", "extrude(10)") for split in SPLITS]
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each case's operations and component split run on the named initial shape (PyPRT's "
+    "InitialShape with holes: (x, 0, z) coordinates) through PyPRT's PyEncoder; nVertices, "
+    "nFaces, nHoles are geometry.* before the split; b<k> is the k-th branch: the shapes it "
+    "gets and, per component by its comp.index, geometry.nFaces, nHoles, nVertices, area, "
+    "scope.sx, sy, sz and the world places of its scope's origin (p0) and of the ends of "
+    "its unit x, y, z axes (p1, p2, p3); points, indices and encoder_faces (vertex counts) "
+    "are what the PyEncoder returns"
+)
+
 # The rewriter (tools/prt_measure.py's Footprint one; the case
 # "op;op|component|alignment||sel:merge|..."): Default$Footprint's code becomes the case's
 # operations, reports of the shape's geometry, then a comp whose branches report their shape's
 # geometry, scope sizes and scope points under "b<k>.<comp.index>.".
-PATCHER = footprint_patcher(r"""
-    static final int FIRST = 4;
-    static final String[] GEOMETRY = {"nVertices", "nFaces", "nHoles"};
+PATCHER = footprint_patcher(
+    4,
+    java_strings("GEOMETRY", GEOMETRY)
+    + r"""
     static final String[] BRANCH = {"geometry$nFaces", "geometry$nHoles", "geometry$nVertices",
                                     "geometry$area", "scope$sx", "scope$sy", "scope$sz"};
     static void key(MethodVisitor mv, String prefix, String name) {
@@ -135,7 +148,8 @@ PATCHER = footprint_patcher(r"""
             }
         }
     }
-""")
+""",
+)
 
 
 def comp_text(kind: str, align: str, branches: list[str]) -> str:
@@ -171,17 +185,8 @@ def measure(rewriter: Rewriter, lot: dict, case) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    about = (
-        "each case's operations and component split run on the named initial shape (PyPRT's "
-        "InitialShape with holes: (x, 0, z) coordinates) through PyPRT's PyEncoder; nVertices, "
-        "nFaces, nHoles are geometry.* before the split; b<k> is the k-th branch: the shapes it "
-        "gets and, per component by its comp.index, geometry.nFaces, nHoles, nVertices, area, "
-        "scope.sx, sy, sz and the world places of its scope's origin (p0) and of the ends of "
-        "its unit x, y, z axes (p1, p2, p3); points, indices and encoder_faces (vertex counts) "
-        "are what the PyEncoder returns"
-    )
-    rewriting = (PACKAGE, PATCHER)
-    return measuring_main(argv, __doc__, "prt_comp_holes", rewriting, LOTS, CASES, measure, about)
+    rewriting = (FOOTPRINT_PACKAGE, PATCHER)
+    return measuring_main(argv, __doc__, "prt_comp_holes", rewriting, LOTS, CASES, measure, ABOUT)
 
 
 if __name__ == "__main__":

@@ -53,6 +53,15 @@ CASES = [
 ]
 
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each rule's operations run on the named initial shape (PyPRT's InitialShape with "
+    "holes) through PyPRT's PyEncoder; nVertices ... volume are geometry.* reported after "
+    "the operations, scope is scope.sx, sy, sz, tx, ty, tz, encoder_vertices and "
+    "encoder_faces what the PyEncoder returns (its faces as vertex counts)"
+)
+
+
 def calls(operations: str) -> str:
     found = [c.replace(" ", "") for c in re.findall(r"\w+\([^)]*\)", operations)]
     found += [f"report:geometry${k}" for k in GEOMETRY]
@@ -72,14 +81,8 @@ def measure(rewriter: Rewriter, lot: dict, operations: str) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    about = (
-        "each rule's operations run on the named initial shape (PyPRT's InitialShape with "
-        "holes) through PyPRT's PyEncoder; nVertices ... volume are geometry.* reported after "
-        "the operations, scope is scope.sx, sy, sz, tx, ty, tz, encoder_vertices and "
-        "encoder_faces what the PyEncoder returns (its faces as vertex counts)"
-    )
     rewriting = (PACKAGE, PATCHER)
-    return measuring_main(argv, __doc__, "prt_holes", rewriting, LOTS, CASES, measure, about)
+    return measuring_main(argv, __doc__, "prt_holes", rewriting, LOTS, CASES, measure, ABOUT)
 
 
 if __name__ == "__main__":

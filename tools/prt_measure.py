@@ -30,6 +30,8 @@ from typing import Any, NamedTuple
 
 CORPUS = Path(__file__).resolve().parents[2] / "shared" / "cga-corpus"
 ASM_JAR = "/usr/share/java/asm.jar"
+# the package of the Footprint tools: one start rule, Footprint, in the runtime's static form
+FOOTPRINT_PACKAGE = "packages/Esri+pyprt__tests_data_FacesHolesVerticesrule__987e9f4b.rpk"
 
 
 class Rewriter(NamedTuple):
@@ -290,7 +292,8 @@ def patch_class(members: str) -> str:
 # The members of the Footprint tools' rewriter (the case: "|"-separated parts): Default$Footprint's
 # code becomes what the tool's static footprint(mv) writes, and each branch part from the tool's
 # FIRST on (selector:merge[:calls], merge 1 for ':' and 0 for '=') a new static method _$cb$<k>
-# with what the tool's branch(mv, k, part split at ':') writes, ending as a leaf.
+# with the part's calls, then what the tool's branch(mv, k, part split at ':') writes, ending as
+# a leaf.
 FOOTPRINT_MEMBERS = r"""
     static final String NODE = "Lcom/esri/gc/SplitNode;";
     static ClassWriter writer;
@@ -355,7 +358,9 @@ FOOTPRINT_MEMBERS = r"""
                     MethodVisitor mv = super.visitMethod(Opcodes.ACC_PUBLIC | Opcodes.ACC_STATIC,
                                                          "_$cb$" + (k - FIRST), "()V", null, null);
                     mv.visitCode();
-                    branch(mv, k - FIRST, parts[k].split(":", 3));
+                    String[] part = parts[k].split(":", 3);
+                    if (part.length > 2) calls(mv, part[2]);
+                    branch(mv, k - FIRST, part);
                     // the branch's shape becomes a terminal shape, "Leaf<k>."
                     int leaf = writer.newMethod(owner, "Default$Leaf" + (k - FIRST) + "$", "()V",
                                                 false);
@@ -372,9 +377,23 @@ FOOTPRINT_MEMBERS = r"""
 """
 
 
-def footprint_patcher(members: str) -> str:
-    """The Java source of a Footprint tool's rewriter: ``FOOTPRINT_MEMBERS`` and the tool's
-    Java ``members``: ``static final int FIRST``, the index of the first branch part; ``static
-    void footprint(MethodVisitor mv)``; ``static void branch(MethodVisitor mv, int k, String[]
-    branch)``."""
-    return patch_class(FOOTPRINT_MEMBERS + members)
+def java_strings(name: str, values) -> str:
+    """A Java member: the array of strings ``name`` holding ``values``, so that a rewriter and
+    its tool read the same list."""
+    strings = ", ".join(f'"{v}"' for v in values)
+    return f"    static final String[] {name} = {{{strings}}};\n"
+
+
+def footprint_patcher(first: int, members: str, branch_geometry=()) -> str:
+    """The Java source of a Footprint tool's rewriter: ``FOOTPRINT_MEMBERS``, the index of the
+    case's ``first`` branch part, and the tool's Java ``members``: ``static void
+    footprint(MethodVisitor mv)`` and, unless each branch is to report its shape's
+    ``branch_geometry`` (builtins ``geometry.*``) under ``b<k>.`` (``branch_figures`` reads
+    them back), ``static void branch(MethodVisitor mv, int k, String[] branch)``."""
+    if branch_geometry:
+        members += java_strings("BRANCH_GEOMETRY", branch_geometry)
+        members += r"""    static void branch(MethodVisitor mv, int k, String[] branch) {
+        for (String what : BRANCH_GEOMETRY) report(mv, "b" + k + "." + what, "geometry$" + what);
+    }
+"""
+    return patch_class(f"    static final int FIRST = {first};\n" + FOOTPRINT_MEMBERS + members)

@@ -22,6 +22,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_comp_holes import PATCHER, measure  # noqa: E402
 from prt_measure import (  # noqa: E402
+    FOOTPRINT_PACKAGE,
     Rewriter,
     arguments,
     fixture_written,
@@ -30,7 +31,6 @@ from prt_measure import (  # noqa: E402
     rewritable_package,
 )
 from prt_roofs import LOTS as ROOF_LOTS  # noqa: E402
-from prt_roofs import PACKAGE  # noqa: E402
 
 CLASSES = ("eave", "hip", "valley", "ridge")
 LOTS = {
@@ -78,6 +78,13 @@ CASES = [
     ("L", "envelope(@Direction.normal,10,3,45,2,90)"),
 ]
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each case's operations (';' between them) run on the named initial shape ((x, 0, z) "
+    "coordinates), then comp(e) { eave : | hip : | valley : | ridge : }; per class, each "
+    "edge's start and end (world, m) in comp.index order"
+)
+
 
 def _edges(row: dict, branch: int) -> list[list[list[float]]]:
     """The branch's edges by comp.index, each as its start and end (the scope's origin, and
@@ -102,7 +109,7 @@ def measure_edges(rewriter: Rewriter, lot: dict, operations: str):
 
 def main(argv: list[str] | None = None) -> int:
     args = arguments(__doc__, argv)
-    with rewritable_package(args.corpus, "prt_roof_edges", PACKAGE, PATCHER) as rewriter:
+    with rewritable_package(args.corpus, "prt_roof_edges", FOOTPRINT_PACKAGE, PATCHER) as rewriter:
         rows = []
         for name, operations in CASES:
             rows += measured_cases(
@@ -111,12 +118,7 @@ def main(argv: list[str] | None = None) -> int:
                 [operations],
                 lambda lot, ops: measure_edges(rewriter, lot, ops),
             )
-    about = (
-        "each case's operations (';' between them) run on the named initial shape ((x, 0, z) "
-        "coordinates), then comp(e) { eave : | hip : | valley : | ridge : }; per class, each "
-        "edge's start and end (world, m) in comp.index order"
-    )
-    return fixture_written("prt_roof_edges", args.output, about, {"lots": LOTS}, "cases", rows)
+    return fixture_written("prt_roof_edges", args.output, ABOUT, {"lots": LOTS}, "cases", rows)
 
 
 if __name__ == "__main__":

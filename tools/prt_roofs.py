@@ -24,6 +24,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_measure import (  # noqa: E402
+    FOOTPRINT_PACKAGE,
     Rewriter,
     averages,
     branch_figures,
@@ -31,11 +32,11 @@ from prt_measure import (  # noqa: E402
     encoder_figures,
     footprint_patcher,
     generated_model,
+    java_strings,
     lot_from_rings,
     measuring_main,
 )
 
-PACKAGE = "packages/Esri+pyprt__tests_data_FacesHolesVerticesrule__987e9f4b.rpk"
 GEOMETRY = ("nVertices", "nFaces", "nHoles", "area", "volume")
 BRANCH_GEOMETRY = ("nFaces", "nHoles", "nVertices", "area")
 SCOPE = ("sx", "sy", "sz", "tx", "ty", "tz")
@@ -108,14 +109,24 @@ OPTIONS = [
 ]
 CASES = [(roof, split) for roof in ROOFS for split in SPLITS] + [(roof, "") for roof in OPTIONS]
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each roof runs on the named initial shape (PyPRT's InitialShape with holes: (x, 0, z) "
+    "coordinates) through PyPRT's PyEncoder; nVertices ... volume are geometry.* of the "
+    "roof, scope is scope.sx, sy, sz, tx, ty, tz; with comp, b<k> is the k-th branch: the "
+    "shapes it gets and the sums of their geometry.nFaces, nHoles, nVertices and area; "
+    "without, points, indices and encoder_faces (vertex counts, a hole's ring after its "
+    "face) are what the PyEncoder returns"
+)
+
 # The rewriter (tools/prt_measure.py's Footprint one; the case "roof|component|sel:merge|..."):
 # Default$Footprint's code becomes the case's roof, reports of its geometry and scope, then a comp
 # whose branches report their shape's geometry under "b<k>.".
-PATCHER = footprint_patcher(r"""
-    static final int FIRST = 2;
-    static final String[] GEOMETRY = {"nVertices", "nFaces", "nHoles", "area", "volume"};
-    static final String[] BRANCH = {"nFaces", "nHoles", "nVertices", "area"};
-    static final String[] SCOPE = {"sx", "sy", "sz", "tx", "ty", "tz"};
+PATCHER = footprint_patcher(
+    2,
+    java_strings("GEOMETRY", GEOMETRY)
+    + java_strings("SCOPE", SCOPE)
+    + r"""
     static void footprint(MethodVisitor mv) {
         call(mv, parts[0]);
         for (String what : GEOMETRY) report(mv, "geometry." + what, "geometry$" + what);
@@ -128,10 +139,9 @@ PATCHER = footprint_patcher(r"""
                                "(Lcom/esri/gc/CompSelector;" + NODE + ")V", false);
         }
     }
-    static void branch(MethodVisitor mv, int k, String[] branch) {
-        for (String what : BRANCH) report(mv, "b" + k + "." + what, "geometry$" + what);
-    }
-""")
+""",
+    BRANCH_GEOMETRY,
+)
 
 
 def written(roof: str) -> str:
@@ -158,16 +168,8 @@ def measure(rewriter: Rewriter, lot: dict, case: tuple[str, str]) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    about = (
-        "each roof runs on the named initial shape (PyPRT's InitialShape with holes: (x, 0, z) "
-        "coordinates) through PyPRT's PyEncoder; nVertices ... volume are geometry.* of the "
-        "roof, scope is scope.sx, sy, sz, tx, ty, tz; with comp, b<k> is the k-th branch: the "
-        "shapes it gets and the sums of their geometry.nFaces, nHoles, nVertices and area; "
-        "without, points, indices and encoder_faces (vertex counts, a hole's ring after its "
-        "face) are what the PyEncoder returns"
-    )
-    rewriting = (PACKAGE, PATCHER)
-    return measuring_main(argv, __doc__, "prt_roofs", rewriting, LOTS, CASES, measure, about)
+    rewriting = (FOOTPRINT_PACKAGE, PATCHER)
+    return measuring_main(argv, __doc__, "prt_roofs", rewriting, LOTS, CASES, measure, ABOUT)
 
 
 if __name__ == "__main__":

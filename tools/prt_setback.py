@@ -23,6 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_measure import (  # noqa: E402
+    FOOTPRINT_PACKAGE,
     Rewriter,
     branch_figures,
     cga_errors,
@@ -33,7 +34,6 @@ from prt_measure import (  # noqa: E402
     measuring_main,
 )
 
-PACKAGE = "packages/Esri+pyprt__tests_data_FacesHolesVerticesrule__987e9f4b.rpk"
 GEOMETRY = ("nFaces", "nHoles", "nVertices", "area")
 MAX_POINTS = 40  # the encoder's vertices are kept for results with at most this many
 LOTS = {
@@ -83,12 +83,20 @@ CASES = [
     ((2, 1, 1, 3, 2, 1), "back: | right: | remainder:"),
 ]
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each rule runs on the named initial shape through PyPRT's PyEncoder; b<k> is the k-th "
+    "branch: the shapes it gets and the sums of their geometry.nFaces, nHoles, nVertices "
+    "and area; encoder_vertices, encoder_faces (vertex counts, holes as their own rings "
+    "after their face), points and indices what the PyEncoder returns"
+)
+
 # The rewriter (tools/prt_measure.py's Footprint one; the case "distance|selector:merge|...",
 # several distances ","-separated): Default$Footprint's code becomes the setback of the case,
 # whose branches report their shape's geometry.* under "b<k>.".
-PATCHER = footprint_patcher(r"""
-    static final int FIRST = 1;
-    static final String[] GEOMETRY = {"nFaces", "nHoles", "nVertices", "area"};
+PATCHER = footprint_patcher(
+    1,
+    r"""
     static void footprint(MethodVisitor mv) {
         String[] distances = parts[0].split(",");
         String setback = "(D" + NODE + ")V";
@@ -111,10 +119,9 @@ PATCHER = footprint_patcher(r"""
         splitTree(mv, "Setback");
         mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, "setback", setback, false);
     }
-    static void branch(MethodVisitor mv, int k, String[] branch) {
-        for (String what : GEOMETRY) report(mv, "b" + k + "." + what, "geometry$" + what);
-    }
-""")
+""",
+    GEOMETRY,
+)
 
 
 def branches(text: str) -> list[tuple[str, str]]:
@@ -147,14 +154,8 @@ def measure(rewriter: Rewriter, lot: dict, case) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    about = (
-        "each rule runs on the named initial shape through PyPRT's PyEncoder; b<k> is the k-th "
-        "branch: the shapes it gets and the sums of their geometry.nFaces, nHoles, nVertices "
-        "and area; encoder_vertices, encoder_faces (vertex counts, holes as their own rings "
-        "after their face), points and indices what the PyEncoder returns"
-    )
-    rewriting = (PACKAGE, PATCHER)
-    return measuring_main(argv, __doc__, "prt_setback", rewriting, LOTS, CASES, measure, about)
+    rewriting = (FOOTPRINT_PACKAGE, PATCHER)
+    return measuring_main(argv, __doc__, "prt_setback", rewriting, LOTS, CASES, measure, ABOUT)
 
 
 if __name__ == "__main__":

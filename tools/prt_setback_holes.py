@@ -23,6 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_measure import (  # noqa: E402
+    FOOTPRINT_PACKAGE,
     Rewriter,
     branch_figures,
     cga_errors,
@@ -32,7 +33,7 @@ from prt_measure import (  # noqa: E402
     lot_from_rings,
     measuring_main,
 )
-from prt_setback import GEOMETRY, PACKAGE, branches  # noqa: E402
+from prt_setback import GEOMETRY, branches  # noqa: E402
 
 MAX_POINTS = 64  # the encoder's vertices are kept for results with at most this many
 LOTS = {
@@ -94,22 +95,29 @@ CASES = [
 ENUMS = {"shapeL": "ShapeLUO", "shapeU": "ShapeLUO", "shapeO": "ShapeLUO",
          "setbackToArea": "Setback", "innerRectangle": "InnerRectangle"}  # fmt: skip
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each rule runs on the named initial shape (with its holes) through PyPRT's PyEncoder; "
+    "b<k> is the k-th branch: the shapes it gets and the sums of their geometry.nFaces, "
+    "nHoles, nVertices and area; encoder_vertices, encoder_faces (vertex counts, holes as "
+    "their own rings after their face), points and indices what the PyEncoder returns"
+)
+
 # The rewriter (tools/prt_measure.py's Footprint one; the case
 # "operation|arguments|selector enum|selector:merge|...", the arguments ","-separated numbers or
 # @AlignmentMode.NAME): Default$Footprint's code becomes the operation of the case, whose
 # branches report their shape's geometry.* under "b<k>.".
-PATCHER = footprint_patcher(r"""
-    static final int FIRST = 3;
-    static final String[] GEOMETRY = {"nFaces", "nHoles", "nVertices", "area"};
+PATCHER = footprint_patcher(
+    3,
+    r"""
     static void footprint(MethodVisitor mv) {
         String desc = "(" + push(mv, parts[1]) + NODE + ")V";
         splitTree(mv, parts[2]);
         mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, parts[0], desc, false);
     }
-    static void branch(MethodVisitor mv, int k, String[] branch) {
-        for (String what : GEOMETRY) report(mv, "b" + k + "." + what, "geometry$" + what);
-    }
-""")
+""",
+    GEOMETRY,
+)
 
 
 def rule_text(operation: str, arguments: tuple, text: str) -> str:
@@ -138,15 +146,10 @@ def measure(rewriter: Rewriter, lot: dict, case) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    about = (
-        "each rule runs on the named initial shape (with its holes) through PyPRT's PyEncoder; "
-        "b<k> is the k-th branch: the shapes it gets and the sums of their geometry.nFaces, "
-        "nHoles, nVertices and area; encoder_vertices, encoder_faces (vertex counts, holes as "
-        "their own rings after their face), points and indices what the PyEncoder returns"
+    rewriting = (FOOTPRINT_PACKAGE, PATCHER)
+    return measuring_main(
+        argv, __doc__, "prt_setback_holes", rewriting, LOTS, CASES, measure, ABOUT
     )
-    rewriting = (PACKAGE, PATCHER)
-    tool = "prt_setback_holes"
-    return measuring_main(argv, __doc__, tool, rewriting, LOTS, CASES, measure, about)
 
 
 if __name__ == "__main__":

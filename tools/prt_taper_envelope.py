@@ -19,9 +19,9 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_measure import lot_from_rings, measuring_main  # noqa: E402
+from prt_measure import FOOTPRINT_PACKAGE, lot_from_rings, measuring_main  # noqa: E402
 from prt_roofs import LOTS as ROOF_LOTS  # noqa: E402
-from prt_roofs import PACKAGE, PATCHER, measure  # noqa: E402
+from prt_roofs import PATCHER, measure  # noqa: E402
 
 LOTS = {
     **{
@@ -54,22 +54,25 @@ CASES = [
 ]
 
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each operation runs on the named initial shape (PyPRT's InitialShape with holes: "
+    "(x, 0, z) coordinates) through PyPRT's PyEncoder; nVertices ... volume are geometry.* "
+    "after it, scope is scope.sx, sy, sz, tx, ty, tz; points, indices and encoder_faces "
+    "(vertex counts, a hole's ring after its face) are what the PyEncoder returns"
+)
+
+
 def main(argv: list[str] | None = None) -> int:
-    about = (
-        "each operation runs on the named initial shape (PyPRT's InitialShape with holes: "
-        "(x, 0, z) coordinates) through PyPRT's PyEncoder; nVertices ... volume are geometry.* "
-        "after it, scope is scope.sx, sy, sz, tx, ty, tz; points, indices and encoder_faces "
-        "(vertex counts, a hole's ring after its face) are what the PyEncoder returns"
-    )
     return measuring_main(
         argv,
         __doc__,
         "prt_taper_envelope",
-        (PACKAGE, PATCHER),
+        (FOOTPRINT_PACKAGE, PATCHER),
         LOTS,
         CASES,
         lambda rewriter, lot, case: measure(rewriter, lot, (case, "")),  # the roof alone
-        about,
+        ABOUT,
     )
 
 

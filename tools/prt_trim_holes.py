@@ -22,6 +22,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from prt_measure import (  # noqa: E402
+    FOOTPRINT_PACKAGE,
     Rewriter,
     branch_figures,
     cga_errors,
@@ -31,7 +32,6 @@ from prt_measure import (  # noqa: E402
     measuring_main,
 )
 from prt_roofs import LOTS as ROOF_LOTS  # noqa: E402
-from prt_roofs import PACKAGE  # noqa: E402
 
 GEOMETRY = ("nVertices", "nFaces", "nHoles", "area", "volume")
 LOTS = {name: ROOF_LOTS[name] for name in ("courtyard", "L_courtyard", "two_holes", "L")}
@@ -45,12 +45,21 @@ CASES = [
     "extrude(5)|f|top:1:" + MOVE.format("1,0,1") + ";trim()",
 ]
 
+# what the fixture's rows are, after its source line
+ABOUT = (
+    "each rule runs on the named initial shape (PyPRT's InitialShape with holes: (x, 0, z) "
+    "coordinates) through PyPRT's PyEncoder; b<k> is the k-th branch of the comp: the "
+    "shapes it gets and the sums of their geometry.* after its calls; points, indices and "
+    "encoder_faces (vertex counts, a hole's ring after its face) are what the PyEncoder "
+    "returns"
+)
+
 # The rewriter (tools/prt_measure.py's Footprint one; the case "calls|component|sel:merge:calls|
 # ..."): Default$Footprint's code becomes the case's calls and its comp, each branch its calls
 # and reports of its shape's geometry.* under "b<k>.".
-PATCHER = footprint_patcher(r"""
-    static final int FIRST = 2;
-    static final String[] GEOMETRY = {"nVertices", "nFaces", "nHoles", "area", "volume"};
+PATCHER = footprint_patcher(
+    2,
+    r"""
     static void footprint(MethodVisitor mv) {
         calls(mv, parts[0]);
         mv.visitFieldInsn(Opcodes.GETSTATIC, "com/esri/gc/CompSelector", parts[1],
@@ -59,11 +68,9 @@ PATCHER = footprint_patcher(r"""
         mv.visitMethodInsn(Opcodes.INVOKESTATIC, B, "comp",
                            "(Lcom/esri/gc/CompSelector;" + NODE + ")V", false);
     }
-    static void branch(MethodVisitor mv, int k, String[] branch) {
-        calls(mv, branch.length > 2 ? branch[2] : "");
-        for (String what : GEOMETRY) report(mv, "b" + k + "." + what, "geometry$" + what);
-    }
-""")
+""",
+    GEOMETRY,
+)
 
 
 def rule_text(case: str) -> str:
@@ -96,15 +103,8 @@ def measure(rewriter: Rewriter, lot: dict, case: str) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    about = (
-        "each rule runs on the named initial shape (PyPRT's InitialShape with holes: (x, 0, z) "
-        "coordinates) through PyPRT's PyEncoder; b<k> is the k-th branch of the comp: the "
-        "shapes it gets and the sums of their geometry.* after its calls; points, indices and "
-        "encoder_faces (vertex counts, a hole's ring after its face) are what the PyEncoder "
-        "returns"
-    )
-    rewriting = (PACKAGE, PATCHER)
-    return measuring_main(argv, __doc__, "prt_trim_holes", rewriting, LOTS, CASES, measure, about)
+    rewriting = (FOOTPRINT_PACKAGE, PATCHER)
+    return measuring_main(argv, __doc__, "prt_trim_holes", rewriting, LOTS, CASES, measure, ABOUT)
 
 
 if __name__ == "__main__":
