@@ -45,9 +45,7 @@ EXAMPLE_CLASSES = ("codecga", "code")
 
 _PRE = re.compile(r"<pre([^>]*)>(.*?)</pre>", re.S | re.I)
 # Markup inside a code block: only real tags, so that `a <= b` and `x<y` stay code.
-_TAG = re.compile(
-    r"</?(?:span|a|b|i|em|strong|br|font|code|u|sub|sup|p|div|tt|img)\b[^>]*>", re.I
-)
+_TAG = re.compile(r"</?(?:span|a|b|i|em|strong|br|font|code|u|sub|sup|p|div|tt|img)\b[^>]*>", re.I)
 _CLASS = re.compile(r"""class\s*=\s*["']?([\w-]+)""", re.I)
 _ELISION = re.compile(r"^\s*(\.\.\.|…)\s*$")
 _PRINTED = re.compile(r"^\s*\(\d+\)\[.*\]\s*$")  # CityEngine's print of an array
