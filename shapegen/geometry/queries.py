@@ -195,7 +195,8 @@ def geometry_value(
     if name == "nVertices":
         return float(mesh.n_vertices)
     if name == "nFaces":
-        return float(mesh.n_faces)
+        # an edge's line (comp(e), comp(fe): two corners) is no polygon: CityEngine counts 0
+        return float(mesh.n_faces) if mesh.n_vertices >= 3 else 0.0
     if name == "nEdges":
         return float(mesh.n_edges)
     if name == "nHoles":
