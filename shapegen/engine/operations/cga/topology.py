@@ -70,7 +70,7 @@ from shapegen.geometry.scope_frames import (
 )
 from shapegen.grammar import ast
 from shapegen.model.scope import Scope
-from shapegen.tolerances import COSINE_SLACK
+from shapegen.tolerances import COSINE_SLACK, ZERO_LENGTH, is_zero
 
 EDGE = "edge"
 COMP_CAME_TO_NOTHING = "comp came to nothing"
@@ -300,7 +300,7 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
     for k in range(mesh.n_vertices):
         faces = touching.get(k, [])
         z = face_normals[faces].sum(axis=0) if faces else scope.rotation[:, 1]
-        rotation = _frame(scope.rotation[:, 0], z)
+        rotation = _vertex_frame(scope.rotation[:, 0], z)
         normal_world = rotation[:, 2]
         vertex_scope = Scope(world_vertices[k], rotation, np.zeros(3))
         out.append(
@@ -372,6 +372,23 @@ def _corner_tangent(before: np.ndarray, corner: np.ndarray, after: np.ndarray) -
         return leaving
     bisector = leaving / out_length + coming / in_length
     return bisector if np.linalg.norm(bisector) > COSINE_SLACK else leaving  # opposite: cancel
+
+
+def _vertex_frame(scope_x: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """A vertex's axes as CityEngine's runtime sets them (measured with PyPRT on flat and
+    extruded lots whose first edges run along x and along z, tests/data/prt_comp_holes.json):
+    z the vertex normal (the sum of its faces' normals), x square to it and to the shape's scope
+    x (z cross scope x), y = z cross x. A normal along the scope's x keeps :func:`_frame`'s."""
+    length = float(np.linalg.norm(normal))
+    if length == 0:
+        return _frame(scope_x, normal)
+    z = normal / length
+    x = np.cross(z, scope_x)
+    across = float(np.linalg.norm(x))
+    if is_zero(across, ZERO_LENGTH):
+        return _frame(scope_x, z)
+    x = x / across
+    return np.column_stack([x, np.cross(z, x), z])
 
 
 def _frame(x: np.ndarray, z: np.ndarray) -> np.ndarray:
