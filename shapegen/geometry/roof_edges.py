@@ -50,8 +50,11 @@ _UP = math.sin(math.radians(10.0)) - ROUNDOFF_REL
 def roof_edge_classes(
     vertices: np.ndarray, faces, edges: list[tuple[int, int]], holes=(), sheets=()
 ) -> list[tuple[str, bool]]:
-    """Per edge ``(a, b)`` of a mesh given in its scope's coordinates (y up): its roof class
-    ("" for none) and whether it should be turned around to run as the class says.
+    """Per edge ``(a, b)`` of a mesh given in its scope's coordinates (y up), each as the first
+    ring that meets it runs it (comp(e)'s order): its roof class ("" for none) and whether it
+    should be turned around to run as CityEngine's runtime runs it: an eave against its face, a
+    sloping hip, valley or ridge upwards, and any other edge (a level ridge, an edge of no
+    class) against the ring that met it first.
     ``holes`` and ``sheets`` as :class:`~shapegen.geometry.mesh.Mesh`'s: a hole's edges
     bound its face; faces of different sheets are not joined."""
     vertices = np.asarray(vertices, dtype=float)
@@ -99,7 +102,7 @@ def roof_edge_classes(
             out.append(("eave", (a < b) == forward))
             continue
         if kind != "inside" or rise(a, b) >= _UPRIGHT:
-            out.append(("", False))
+            out.append(("", True))
             continue
         (first, _, _), (second, forward, _) = held
         start, end = (a, b) if (a < b) == forward else (b, a)  # as ``second`` runs
@@ -109,7 +112,10 @@ def roof_edge_classes(
             kind = "hip"
         else:
             kind = "ridge"
-        out.append((kind, bool(vertices[b, 1] < vertices[a, 1] - level)))
+        if abs(float(vertices[b, 1] - vertices[a, 1])) <= level:
+            out.append((kind, True))  # a level one: against its first ring, as any other
+        else:
+            out.append((kind, bool(vertices[b, 1] < vertices[a, 1])))
     return out
 
 
