@@ -5,7 +5,8 @@ Each case runs operations on a lot (a roof, an extrusion, a taper, an envelope, 
 scope turned by ``rotateScope``, or none) and splits the result with
 ``comp(e) { eave : | hip : | valley : | ridge : }``, through tools/prt_comp_holes.py's rewriter
 (its branches report each edge's scope: its origin, the end of its unit x axis and its length);
-the JSON keeps, per class, each edge's two ends in the direction the edge runs. The cases
+the JSON keeps, per class, each edge's two ends in the direction the edge runs, and the same of
+every edge (``comp(e) { all : }``) and every corner's place (``comp(v) { all : }``). The cases
 bracket the rule shapegen.geometry.roof_edges states: shed roofs whose sloping sides are
 within 10 degrees of level or not and whose slope is 80 degrees or steeper, tapers whose edges
 are within 10 degrees of upright or not, the roofs on the lots of tools/prt_roofs.py. Run with
@@ -82,7 +83,8 @@ CASES = [
 ABOUT = (
     "each case's operations (';' between them) run on the named initial shape ((x, 0, z) "
     "coordinates), then comp(e) { eave : | hip : | valley : | ridge : }; per class, each "
-    "edge's start and end (world, m) in comp.index order"
+    "edge's start and end (world, m) in comp.index order; all_edges the same of comp(e) "
+    "{ all : }, all_corners each corner's place (world, m) of comp(v) { all : }"
 )
 
 
@@ -104,6 +106,11 @@ def measure_edges(rewriter: Rewriter, lot: dict, operations: str):
     case = {"operations": operations}
     case.update({name: _edges(row, k) for k, name in enumerate(CLASSES)})
     case["errors"] = row["errors"]
+    # every edge and every corner (comp(e) { all : }, comp(v) { all : }) in comp.index order:
+    # a roof's sheets share no edge and no corner, so CityEngine lists one once for each
+    case["all_edges"] = _edges(measure(rewriter, lot, (operations, "e", "", ["all:1"])), 0)
+    corners = measure(rewriter, lot, (operations, "v", "", ["all:1"]))["b0"]["components"]
+    case["all_corners"] = [[c[f"p0{a}"] for a in "xyz"] for c in corners]
     return case
 
 

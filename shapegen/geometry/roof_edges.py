@@ -48,7 +48,12 @@ _UP = math.sin(math.radians(10.0)) - ROUNDOFF_REL
 
 
 def roof_edge_classes(
-    vertices: np.ndarray, faces, edges: list[tuple[int, int]], holes=(), sheets=()
+    vertices: np.ndarray,
+    faces,
+    edges: list[tuple[int, int]],
+    holes=(),
+    sheets=(),
+    edge_sheets=None,
 ) -> list[tuple[str, bool]]:
     """Per edge ``(a, b)`` of a mesh given in its scope's coordinates (y up), each as the first
     ring that meets it runs it (comp(e)'s order): its roof class ("" for none) and whether it
@@ -56,7 +61,9 @@ def roof_edge_classes(
     sloping hip, valley or ridge upwards, and any other edge (a level ridge, an edge of no
     class) against the ring that met it first.
     ``holes`` and ``sheets`` as :class:`~shapegen.geometry.mesh.Mesh`'s: a hole's edges
-    bound its face; faces of different sheets are not joined."""
+    bound its face; faces of different sheets are not joined. ``edge_sheets``: per edge, the
+    sheet it is listed for (comp(e) lists an edge where sheets meet once for each), which
+    reads only that sheet's faces; None reads every face along the edge."""
     vertices = np.asarray(vertices, dtype=float)
     faces = [tuple(face) for face in faces]
     normals = unit_face_normals(vertices, faces)
@@ -80,8 +87,10 @@ def roof_edge_classes(
 
     kinds: list[tuple[str, list]] = []
     eave_vertices: set[int] = set()
-    for a, b in edges:
+    for k, (a, b) in enumerate(edges):
         around = incident.get((min(a, b), max(a, b)), [])
+        if edge_sheets is not None:
+            around = [s for s in around if sheet[s[0]] == edge_sheets[k]]
         joined = [s for s in around if sum(sheet[t[0]] == sheet[s[0]] for t in around) == 2]
         if len(around) <= 2 and len(joined) == 2:
             kinds.append(("inside", joined))

@@ -144,7 +144,9 @@ def test_tag_on_edges_and_vertices_tags_every_one():
     comp(e) { isTagged("EdgeTag") : report("edge", 1) X. }
     comp(v) { geometry.hasTags("VertexTag", vertices) : report("vertex", 1) X. }"""
     reports = _reports(text)
-    assert (_count(reports, "edge"), _count(reports, "vertex")) == (9, 6)
+    # a gable roof's bottom, slopes and gable ends share no edge and no corner: CityEngine's
+    # runtime lists 17 edges and 16 corners (tests/data/prt_roof_edges.json)
+    assert (_count(reports, "edge"), _count(reports, "vertex")) == (17, 16)
 
 
 @pytest.mark.parametrize(

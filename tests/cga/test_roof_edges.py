@@ -72,13 +72,13 @@ def test_roof_edge_selectors_belong_to_comp_e(tmp_path):
         shapegen.load_grammar(path)
 
 
-def _measured_rule(operations: str) -> str:
-    """The case as a .cga rule: its operations, then comp(e) whose branches report each edge's
-    scope origin, the end of its unit x axis and its length, by comp.index."""
+def _measured_rule(operations: str, kind: str = "e", selectors=CLASSES) -> str:
+    """The case as a .cga rule: its operations, then comp(``kind``) whose branches report each
+    component's scope origin, the end of its unit x axis and its length, by comp.index."""
     calls = re.sub(r"@\w+\.", "", operations).replace(",", ", ").split(";")
-    branches = " | ".join(f"{name} : B{k}" for k, name in enumerate(CLASSES))
-    lines = [f"Lot --> {' '.join(calls)} comp(e) {{ {branches} }}"]
-    for k in range(len(CLASSES)):
+    branches = " | ".join(f"{name} : B{k}" for k, name in enumerate(selectors))
+    lines = [f"Lot --> {' '.join(calls)} comp({kind}) {{ {branches} }}"]
+    for k in range(len(selectors)):
         key = f'"b{k}." + comp.index + "'
         reports = [f'report({key}.sx", scope.sx)']
         for p, x in enumerate((0, 1)):
@@ -129,3 +129,33 @@ def test_pyprt_s_roof_edge_classes(tmp_path, case):
             assert match or turned, f"{name} {start} -> {end}"
             if name == "eave" or abs(start[1] - end[1]) > 1e-3:
                 assert match, f"{name} {start} -> {end} runs the other way"
+
+
+@pytest.mark.parametrize(
+    "case",
+    MEASURED["cases"],
+    ids=[f"{c['lot']}:{c['operations'] or 'flat'}" for c in MEASURED["cases"]],
+)
+def test_pyprt_s_every_edge_and_corner(tmp_path, case):
+    """comp(e) { all : } and comp(v) { all : }: as many edges and corners as PyPRT's, in the
+    same places. A roof's bottom, slopes and walls are sheets that share no edge and no corner,
+    so an edge or a corner where two meet is listed once for each (a gable roof on a rectangle:
+    17 edges and 16 corners). The order and the way an edge runs under ``all`` are not
+    compared."""
+    lot = MEASURED["lots"][case["lot"]]
+    rule = _measured_rule(case["operations"], "e", ["all"])
+    edges = _edges(model_on_lot(tmp_path / "edges.cga", rule, lot).get_report(), 0)
+    assert len(edges) == len(case["all_edges"])
+    unmatched = list(edges)
+    for start, end in case["all_edges"]:
+        same = [e for e in unmatched if {_near(e[0], start), _near(e[1], end)} == {True}]
+        same = same or [e for e in unmatched if _near(e[0], end) and _near(e[1], start)]
+        assert same, f"{start} -> {end}"
+        unmatched.remove(same[0])
+    rule = _measured_rule(case["operations"], "v", ["all"])
+    corners = [c for c, _ in _edges(model_on_lot(tmp_path / "v.cga", rule, lot).get_report(), 0)]
+    assert len(corners) == len(case["all_corners"])
+    for place in case["all_corners"]:
+        same = [c for c in corners if _near(c, place)]
+        assert same, place
+        corners.remove(same[0])

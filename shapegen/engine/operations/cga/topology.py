@@ -215,29 +215,39 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
     world_vertices = scope.to_world(mesh.vertices)
     face_normals = mesh.face_normals() @ scope.rotation.T
     rings = _face_rings(mesh)
-    edge_faces: dict[tuple[int, int], list[int]] = {}
+    # a roof's sheets share no edge: an edge where two meet is an edge of each (CityEngine's
+    # runtime lists it once for each sheet)
+    sheet = mesh.sheets or (0,) * mesh.n_faces
+    edge_faces: dict[tuple[int, int, object], list[int]] = {}
     for f, face in rings:
         for a, b in zip(face, face[1:] + face[:1], strict=True):
-            edge_faces.setdefault((min(a, b), max(a, b)), []).append(f)
+            edge_faces.setdefault((min(a, b), max(a, b), sheet[f]), []).append(f)
     out = []
     if per_face:
         pairs = [
-            (a, b, f)
+            (a, b, f, sheet[f])
             for f, face in rings
             for a, b in zip(face, face[1:] + face[:1], strict=True)
             if a != b
         ]
         roofs = [("", False)] * len(pairs)
     else:
-        pairs = [(a, b, None) for a, b in _ordered_edges(rings)]
+        pairs = [(a, b, None, s) for a, b, s in _ordered_edges(rings, sheet)]
         # in scope coordinates: op_comp's selectors read the shape's own axes, y up
-        edges = [(a, b) for a, b, _ in pairs]
-        roofs = roof_edge_classes(mesh.vertices, mesh.faces, edges, mesh.holes, mesh.sheets)
-    for k, ((a, b, f), (roof, turn)) in enumerate(zip(pairs, roofs, strict=True)):
+        edges = [(a, b) for a, b, _, _ in pairs]
+        roofs = roof_edge_classes(
+            mesh.vertices,
+            mesh.faces,
+            edges,
+            mesh.holes,
+            mesh.sheets,
+            [s for *_, s in pairs] if mesh.sheets else None,
+        )
+    for k, ((a, b, f, s), (roof, turn)) in enumerate(zip(pairs, roofs, strict=True)):
         if turn:  # hips, valleys and ridges run up the scope's y; eaves as their face runs
             a, b = b, a
         start, end = world_vertices[a], world_vertices[b]
-        faces = edge_faces[(min(a, b), max(a, b))]
+        faces = edge_faces[(min(a, b), max(a, b), s)]
         if f is None:
             z = face_normals[faces].sum(axis=0)
         else:
@@ -267,17 +277,18 @@ def _edge_components(shape: Shape, object_rotation, per_face: bool) -> list[Comp
     return out
 
 
-def _ordered_edges(rings) -> list[tuple[int, int]]:
+def _ordered_edges(rings, sheet) -> list[tuple[int, int, object]]:
     """Edges in CityEngine's order: around the first ring of :func:`_face_rings`, then the next,
-    shared ones once; each in the direction of the ring that met it first."""
+    shared ones once in each sheet (``sheet``: per face, :attr:`Mesh.sheets`); each in the
+    direction of the ring that met it first, with the sheet it is listed for."""
     seen = set()
     out = []
-    for _, face in rings:
+    for f, face in rings:
         for a, b in zip(face, face[1:] + face[:1], strict=True):
-            key = (min(a, b), max(a, b))
+            key = (min(a, b), max(a, b), sheet[f])
             if a != b and key not in seen:
                 seen.add(key)
-                out.append((a, b))
+                out.append((a, b, sheet[f]))
     return out
 
 
@@ -286,30 +297,39 @@ def _vertex_components(shape: Shape, object_rotation) -> list[Component]:
     mesh = shape.mesh()
     world_vertices = scope.to_world(mesh.vertices)
     face_normals = mesh.face_normals() @ scope.rotation.T
-    touching: dict[int, list[int]] = {}
-    uses: dict[frozenset, int] = {}
+    # a roof's sheets share no corner: a corner where sheets meet is one of each (CityEngine's
+    # runtime lists it once for each sheet, the sheets in face order)
+    sheet = mesh.sheets or (0,) * mesh.n_faces
+    touching: dict[tuple[int, object], list[int]] = {}
+    uses: dict[tuple[frozenset, object], int] = {}
     for f, face in _face_rings(mesh):
         for i in face:
-            touching.setdefault(i, []).append(f)
+            touching.setdefault((i, sheet[f]), []).append(f)
         for pair in zip(face, face[1:] + face[:1], strict=True):
-            uses[frozenset(pair)] = uses.get(frozenset(pair), 0) + 1
+            key = (frozenset(pair), sheet[f])
+            uses[key] = uses.get(key, 0) + 1
     # op_comp: "border vertices are start or end point of one or more border edges", an edge
     # of one face (a hole's ring is an edge of its face, so an extruded courtyard has none)
-    on_border = {i for edge, count in uses.items() if count == 1 for i in edge}
+    on_border = {(i, s) for (edge, s), count in uses.items() if count == 1 for i in edge}
+    if mesh.sheets:
+        order = list(dict.fromkeys(mesh.sheets))
+        listed = sorted(touching, key=lambda key: (order.index(key[1]), key[0]))
+    else:
+        listed = [(k, 0) for k in range(mesh.n_vertices)]
     out = []
-    for k in range(mesh.n_vertices):
-        faces = touching.get(k, [])
+    for index, (k, s) in enumerate(listed):
+        faces = touching.get((k, s), [])
         z = face_normals[faces].sum(axis=0) if faces else scope.rotation[:, 1]
         rotation = _vertex_frame(scope.rotation[:, 0], z)
         normal_world = rotation[:, 2]
         vertex_scope = Scope(world_vertices[k], rotation, np.zeros(3))
         out.append(
             Component(
-                k,
+                index,
                 scope.rotation.T @ normal_world,
                 normal_world,
                 normal_world if object_rotation is None else object_rotation.T @ normal_world,
-                k in on_border,
+                (k, s) in on_border,
                 Shape.with_geometry(vertex_scope, Mesh([(0, 0, 0)], ()), VERTEX, 2),
                 tuple(faces),
                 first=world_vertices[k],
