@@ -39,7 +39,7 @@ from shapegen.geometry.polygon2d import checked_polygon, edge_normals, edges_mov
 from shapegen.geometry.ridges import even_ridge_times
 from shapegen.geometry.roof_mesh import RoofMesh, Welder, bottom_face, clockwise_rings, roof_slope
 from shapegen.geometry.skeleton import straight_skeleton
-from shapegen.tolerances import DEFAULT, DIVISION_FLOOR, ROUNDOFF_REL
+from shapegen.tolerances import COSINE_SLACK, DEFAULT, DIVISION_FLOOR, ROUNDOFF_REL
 
 
 def _skeleton_roof(
@@ -187,11 +187,16 @@ def _overhang(angle, height, overhang) -> tuple[float, float]:
 
 
 def gable_edges(polygon, index: int | None = None) -> np.ndarray:
-    """Which edges of ``polygon`` are gables (booleans).
+    """Which edges of ``polygon`` are gables (booleans), as CityEngine's runtime picks them
+    (tests/data/prt_gables.json).
 
     With ``index`` (a convex polygon): the edges parallel within 45 degrees to edge ``index``.
-    Otherwise the ends of the ridges: the edges whose hip-roof face is a triangle, shortest
-    first, never two neighbours, leaving at least two eaves.
+    A rectangle's gables are its shorter pair; a square's are edges 1 and 3, so that its ridge
+    runs along the first edge, whatever the square's turn, first corner or winding. Otherwise
+    the ends of the ridges: the edges whose hip-roof face is a triangle whose apex only that
+    face and its two neighbours reach (a ridge's end; where more faces meet, as at a kite's,
+    a rhombus's or a pointed end's single apex, the roof stays hipped there), shortest first,
+    never two neighbours, leaving at least two eaves.
     """
     p = checked_polygon(polygon)
     n = len(p)
@@ -201,10 +206,24 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
     if index is not None:
         k = int(index) % n
         return np.abs(u @ u[k]) >= math.cos(math.radians(45)) - ROUNDOFF_REL
-    skeleton = straight_skeleton(p)
-    triangles = [k for k in range(n) if len(skeleton.face_points(k)) == 3]
     chosen = np.zeros(n, dtype=bool)
-    for k in sorted(triangles, key=lambda k: lengths[k]):
+    if n == 4 and np.all(np.abs(np.einsum("ij,ij->i", u, np.roll(u, -1, axis=0))) <= COSINE_SLACK):
+        tie = DEFAULT.merge_rel * float(lengths.max())
+        first = 0 if lengths[0] < lengths[1] - tie else 1  # a tie: the ridge along edge 0
+        chosen[[first, first + 2]] = True
+        return chosen
+    skeleton = straight_skeleton(p)
+    eps = DEFAULT.merge_rel * max(float(np.ptp(p, axis=0).max()), DIVISION_FLOOR) * 10
+    faces = [skeleton.face_points(k) for k in range(n)]
+    ends = []
+    for k, face in enumerate(faces):
+        if len(face) != 3:
+            continue
+        apex = face[2]  # a face starts with its edge
+        meeting = sum(bool(np.any(np.linalg.norm(f - apex, axis=1) <= eps)) for f in faces)
+        if meeting == 3:
+            ends.append(k)
+    for k in sorted(ends, key=lambda k: lengths[k]):
         if chosen[(k - 1) % n] or chosen[(k + 1) % n] or n - chosen.sum() - 1 < 2:
             continue
         chosen[k] = True
