@@ -1,0 +1,135 @@
+"""Measure which edges CityEngine's roofGable makes gables where the straight skeleton ties:
+writes ``tests/data/prt_gables.json``.
+
+A square's hip roof is a pyramid, so any opposite pair of its edges could be the gables; a
+kite's, a rhombus's or a regular polygon's faces all meet at one apex too. Each case runs one
+roofGable through tools/prt_roofs.py's rewriter on a lot: squares turned by 0, 30 and 45
+degrees, from each corner, facing up and down (clockwise and counter-clockwise seen from
+above); near-squares (10 x 10.001 m) and rectangles from two corners; a kite, a rhombus, a
+60-degree rhombus, a hexagon with pointed ends, a square with a fifth corner on an edge, the
+regular pentagon, hexagon and octagon; and the index argument 0, 1 and 2 on some of them. Per
+case the JSON keeps the roof's figures, scope and the PyEncoder's corners and faces, as
+tools/prt_roofs.py's rows. Run with PyPRT's Python (a development tool; shapegen never
+imports it)::
+
+    /tmp/prt-venv/bin/python tools/prt_gables.py tests/data/prt_gables.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from prt_primitives import CORPUS, measured_cases, rewritable_package, write_fixture  # noqa: E402
+from prt_roofs import PACKAGE, PATCHER, _lot, measure  # noqa: E402
+
+
+def _outline(corners, turn: float = 0.0, first: int = 0, up: bool = True) -> list:
+    """(x, z) corners counter-clockwise in the (x, z) plane, turned by ``turn`` degrees about
+    the origin, starting at corner ``first``; ``up``: reversed, so that the face looks up (+y)
+    as a lot does, else down."""
+    c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
+    ring = [(round(x * c - z * s, 9) + 0.0, round(x * s + z * c, 9) + 0.0) for x, z in corners]
+    if up:
+        ring = ring[::-1]
+    return ring[first:] + ring[:first]
+
+
+def _regular(n: int, radius: float = 5.0) -> list:
+    return [
+        (radius * math.cos(2 * math.pi * k / n), radius * math.sin(2 * math.pi * k / n))
+        for k in range(n)
+    ]
+
+
+def _rectangle(a: float, b: float) -> list:
+    return [(0, 0), (a, 0), (a, b), (0, b)]
+
+
+SQUARE = _rectangle(10, 10)
+KITE = [(-3, 0), (0, -4), (8, 0), (0, 4)]
+RHOMBUS = [(-8, 0), (0, -4), (8, 0), (0, 4)]
+RHOMBUS_60 = [(0, 0), (10, 0), (15, 8.660254037844386), (5, 8.660254037844386)]
+POINTED = [(0, 0), (10, 0), (13, 5), (10, 10), (0, 10), (-3, 5)]  # a hexagon, pointed ends
+SQUARE_5 = [(0, 0), (10, 0), (10, 10), (5, 10), (0, 10)]  # a fifth corner on an edge
+
+LOTS: dict[str, dict] = {}
+for turn in (0, 30, 45):
+    for first in range(4):
+        for up in (True, False):
+            name = f"square_t{turn}_c{first}_{'up' if up else 'down'}"
+            LOTS[name] = _lot(_outline(SQUARE, turn, first, up))
+for a, b in ((10, 10.001), (10.001, 10), (12, 8), (8, 12)):
+    for turn in (0, 30):
+        for first in (0, 1):
+            LOTS[f"rect_{a}x{b}_t{turn}_c{first}"] = _lot(_outline(_rectangle(a, b), turn, first))
+for name, corners, count in (
+    ("kite", KITE, 4),
+    ("rhombus", RHOMBUS, 4),
+    ("rhombus60", RHOMBUS_60, 2),
+    ("pointed", POINTED, 6),
+    ("square5", SQUARE_5, 5),
+    ("pentagon", _regular(5), 5),
+):
+    for first in range(count):
+        LOTS[f"{name}_c{first}"] = _lot(_outline(corners, 0, first))
+for n, name in ((6, "hexagon"), (8, "octagon")):
+    for turn in (0, 15):
+        for first in range(3):
+            LOTS[f"{name}_t{turn}_c{first}"] = _lot(_outline(_regular(n), turn, first))
+
+ROOFS = ["roofGable(30)"]
+# the index, overhangs and heights on some of the lots
+OPTIONS = {
+    "square_t0_c0_up": [
+        "roofGable(30,0,0,false,0)",
+        "roofGable(30,0,0,false,1)",
+        "roofGable(30,0,0,false,2)",
+        "roofGable(30,1,0.5)",
+        "roofGable(@RoofValueType.byHeight,2)",
+    ],
+    "square_t30_c1_down": ["roofGable(30,1,0.5)", "roofGable(30,0,0,true)"],
+    "square_t0_c1_up": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
+    "square_t30_c0_up": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
+    "rect_12x8_t0_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
+    "kite_c0": ["roofGable(30,0,0,false,0)", "roofGable(30,0,0,false,1)"],
+    "hexagon_t0_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
+    "octagon_t0_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
+}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("output", type=Path, help="the JSON file to write")
+    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
+    args = parser.parse_args(argv)
+    with rewritable_package(args.corpus, "prt_gables", PACKAGE, PATCHER) as context:
+        pyprt, work, source, patcher = context
+        rows = []
+        for name, lot in LOTS.items():
+            rows += measured_cases(
+                "prt_gables",
+                {name: lot},
+                ROOFS + OPTIONS.get(name, []),
+                lambda lot, roof: measure(pyprt, work, source, patcher, lot, roof, ""),
+            )
+    from importlib.metadata import version as installed
+
+    head = {
+        "source": f"CityEngine's runtime, PyPRT {installed('pyprt')}, by tools/prt_gables.py: "
+        "each roof runs on the named initial shape ((x, 0, z) coordinates, one face) through "
+        "PyPRT's PyEncoder; nVertices ... volume are geometry.* of the roof, scope is "
+        "scope.sx, sy, sz, tx, ty, tz, points, indices and encoder_faces (vertex counts: the "
+        "bottom, then one face per edge in edge order) what the PyEncoder returns",
+        "lots": LOTS,
+    }
+    write_fixture(args.output, head, "cases", rows)
+    print(f"prt_gables: {len(rows)} cases written to {args.output}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
