@@ -6,8 +6,10 @@ kite's, a rhombus's or a regular polygon's faces all meet at one apex too. Each 
 roofGable through tools/prt_roofs.py's rewriter on a lot: squares turned by 0, 30 and 45
 degrees, from each corner, facing up and down (clockwise and counter-clockwise seen from
 above); near-squares (10 x 10.001 m) and rectangles from two corners; a kite, a rhombus, a
-60-degree rhombus, a hexagon with pointed ends, a square with a fifth corner on an edge, the
-regular pentagon, hexagon and octagon; and the index argument 0, 1 and 2 on some of them. Per
+60-degree rhombus, a hexagon with pointed ends, a square and a rectangle with a fifth corner
+on an edge, the regular pentagon, hexagon and octagon; lots near a tie or without one (a
+square 1 mm out of square, a parallelogram, trapezoids, a chamfered rectangle, L, T, U and
+plus shapes), from two corners; and the index argument 0, 1 and 2 on some of them. Per
 case the JSON keeps the roof's figures, scope and the PyEncoder's corners and faces, as
 tools/prt_roofs.py's rows. Run with PyPRT's Python (a development tool; shapegen never
 imports it)::
@@ -55,6 +57,25 @@ RHOMBUS = [(-8, 0), (0, -4), (8, 0), (0, 4)]
 RHOMBUS_60 = [(0, 0), (10, 0), (15, 8.660254037844386), (5, 8.660254037844386)]
 POINTED = [(0, 0), (10, 0), (13, 5), (10, 10), (0, 10), (-3, 5)]  # a hexagon, pointed ends
 SQUARE_5 = [(0, 0), (10, 0), (10, 10), (5, 10), (0, 10)]  # a fifth corner on an edge
+RECTANGLE_5 = [(0, 0), (12, 0), (12, 8), (6, 8), (0, 8)]
+# lots without a tie, or nearly one: the rule's other side
+OTHERS = {
+    "square_t17": _outline(SQUARE, 17),
+    "near_square": [(0, 0), (10, 0), (10, 10), (0, 10.001)],  # one corner 1 mm out
+    "skew_square": [(0, 0), (10, 0), (10.001, 10), (0.001, 10)],  # 1 mm out of square
+    "parallelogram": [(0, 0), (12, 0), (16, 6.928203230275509), (4, 6.928203230275509)],
+    "isosceles_trapezoid": [(0, 0), (12, 0), (9, 6), (3, 6)],
+    "quadrilateral": [(0, 0), (11, 1), (12, 9), (-1, 7)],
+    "chamfered": [(0, 0), (12, 0), (12, 6), (10, 8), (0, 8)],
+    "kite_t30": _outline(KITE, 30),
+    "rhombus_t30": _outline(RHOMBUS, 30),
+    "L": [(0, 0), (14, 0), (14, 5), (6, 5), (6, 12), (0, 12)],
+    "even_L": [(0, 0), (12, 0), (12, 4), (4, 4), (4, 12), (0, 12)],
+    "T": [(0, 0), (12, 0), (12, 4), (8, 4), (8, 12), (4, 12), (4, 4), (0, 4)],
+    "U": [(0, 0), (12, 0), (12, 10), (8, 10), (8, 4), (4, 4), (4, 10), (0, 10)],
+    "plus": [(4, 0), (8, 0), (8, 4), (12, 4), (12, 8), (8, 8), (8, 12), (4, 12), (4, 8),
+             (0, 8), (0, 4), (4, 4)],
+}  # fmt: skip
 
 LOTS: dict[str, dict] = {}
 for turn in (0, 30, 45):
@@ -72,6 +93,7 @@ for name, corners, count in (
     ("rhombus60", RHOMBUS_60, 2),
     ("pointed", POINTED, 6),
     ("square5", SQUARE_5, 5),
+    ("rectangle5", RECTANGLE_5, 2),
     ("pentagon", _regular(5), 5),
 ):
     for first in range(count):
@@ -80,6 +102,11 @@ for n, name in ((6, "hexagon"), (8, "octagon")):
     for turn in (0, 15):
         for first in range(3):
             LOTS[f"{name}_t{turn}_c{first}"] = _lot(_outline(_regular(n), turn, first))
+
+for name, corners in OTHERS.items():
+    ring = corners if name in ("square_t17", "kite_t30", "rhombus_t30") else _outline(corners)
+    for first in (0, 1):
+        LOTS[f"{name}_c{first}"] = _lot(ring[first:] + ring[:first])
 
 ROOFS = ["roofGable(30)"]
 # the index, overhangs and heights on some of the lots

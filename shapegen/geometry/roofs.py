@@ -193,10 +193,11 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
     With ``index`` (a convex polygon): the edges parallel within 45 degrees to edge ``index``.
     A rectangle's gables are its shorter pair; a square's are edges 1 and 3, so that its ridge
     runs along the first edge, whatever the square's turn, first corner or winding. Otherwise
-    the ends of the ridges: the edges whose hip-roof face is a triangle whose apex only that
-    face and its two neighbours reach (a ridge's end; where more faces meet, as at a kite's,
-    a rhombus's or a pointed end's single apex, the roof stays hipped there), shortest first,
-    never two neighbours, leaving at least two eaves.
+    the ends of the ridges of the polygon without its straight corners: the edges whose hip-roof
+    face is a triangle whose apex only that face and its two neighbours reach (a ridge's end,
+    however short: 4e-8 m on a 10 m square 1 mm out of square; where more faces meet, as at a
+    kite's, a rhombus's or a pointed end's single apex, the roof stays hipped there), shortest
+    first, never two neighbours, leaving at least two eaves.
     """
     p = checked_polygon(polygon)
     n = len(p)
@@ -212,9 +213,29 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
         first = 0 if lengths[0] < lengths[1] - tie else 1  # a tie: the ridge along edge 0
         chosen[[first, first + 2]] = True
         return chosen
+    # a corner on a straight run is not one (PyPRT: a 12 x 8 m rectangle with a fifth corner
+    # halfway along a long edge keeps the rectangle's gables, a square with one stays hipped);
+    # each edge of the run is a gable if the run is
+    cross = u[:, 0] * np.roll(u[:, 1], 1) - u[:, 1] * np.roll(u[:, 0], 1)
+    straight = (np.abs(cross) <= COSINE_SLACK) & (np.einsum("ij,ij->i", u, np.roll(u, 1, 0)) > 0)
+    corners = np.flatnonzero(~straight)
+    if len(corners) < 3:
+        return chosen
+    run = np.searchsorted(corners, np.arange(n), side="right") - 1  # edge -> its run
+    ends = _ridge_ends(p[corners])
+    return ends[run % len(corners)]
+
+
+def _ridge_ends(p: np.ndarray) -> np.ndarray:
+    """The gables of a polygon without straight corners: the edges whose hip-roof face is a
+    triangle at a ridge's end, shortest first, never two neighbours, at least two eaves left."""
+    n = len(p)
+    lengths = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
     skeleton = straight_skeleton(p)
-    eps = DEFAULT.merge_rel * max(float(np.ptp(p, axis=0).max()), DIVISION_FLOOR) * 10
-    faces = [skeleton.face_points(k) for k in range(n)]
+    # one point: within merge_rel of the size (a 10 m parallelogram 1 mm out of square has a
+    # 4e-8 m ridge, gabled by PyPRT; a rhombus's apex, off by round-off, is one point)
+    eps = DEFAULT.merge_rel * max(float(np.ptp(p, axis=0).max()), DIVISION_FLOOR)
+    faces = [_distinct(skeleton.nodes[list(face)], eps) for face in skeleton.faces]
     ends = []
     for k, face in enumerate(faces):
         if len(face) != 3:
@@ -223,11 +244,18 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
         meeting = sum(bool(np.any(np.linalg.norm(f - apex, axis=1) <= eps)) for f in faces)
         if meeting == 3:
             ends.append(k)
+    chosen = np.zeros(n, dtype=bool)
     for k in sorted(ends, key=lambda k: lengths[k]):
         if chosen[(k - 1) % n] or chosen[(k + 1) % n] or n - chosen.sum() - 1 < 2:
             continue
         chosen[k] = True
     return chosen
+
+
+def _distinct(points: np.ndarray, eps: float) -> np.ndarray:
+    """A face's corners without repeats (consecutive points within ``eps``, first and last)."""
+    keep = [q for i, q in enumerate(points) if np.linalg.norm(q - points[i - 1]) > eps]
+    return np.array(keep or points[:1]).reshape(-1, 2)
 
 
 def roof_gable(
