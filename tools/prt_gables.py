@@ -9,7 +9,8 @@ above); near-squares (10 x 10.001 m) and rectangles from two corners; a kite, a 
 60-degree rhombus, a hexagon with pointed ends, a square and a rectangle with a fifth corner
 on an edge, the regular pentagon, hexagon and octagon; lots near a tie or without one (a
 square 1 mm out of square, a parallelogram, trapezoids, a chamfered rectangle, L, T, U and
-plus shapes), from two corners; and the index argument 0, 1 and 2 on some of them. Per
+plus shapes), from two corners; and the index argument on some of them (every edge of convex
+lots of 4 to 8 edges). Per
 case the JSON keeps the roof's figures, scope and the PyEncoder's corners and faces, as
 tools/prt_roofs.py's rows. Run with PyPRT's Python (a development tool; shapegen never
 imports it)::
@@ -125,6 +126,15 @@ OPTIONS = {
     "kite_c0": ["roofGable(30,0,0,false,0)", "roofGable(30,0,0,false,1)"],
     "hexagon_t0_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
     "octagon_t0_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
+    # the index on convex lots of 4 to 8 edges, each edge and one past the last
+    "isosceles_trapezoid_c0": [f"roofGable(30,0,0,false,{k})" for k in range(4)],
+    "quadrilateral_c0": [f"roofGable(30,0,0,false,{k})" for k in range(4)],
+    "parallelogram_c0": [f"roofGable(30,0,0,false,{k})" for k in range(4)],
+    "chamfered_c0": [f"roofGable(30,0,0,false,{k})" for k in range(6)],
+    "pentagon_c0": [f"roofGable(30,0,0,false,{k})" for k in range(6)],
+    "pointed_c0": [f"roofGable(30,0,0,false,{k})" for k in range(6)],
+    "hexagon_t15_c0": [f"roofGable(30,0,0,false,{k})" for k in range(6)],
+    "octagon_t15_c0": [f"roofGable(30,0,0,false,{k})" for k in range(8)],
 }
 
 

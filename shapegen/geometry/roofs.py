@@ -190,7 +190,9 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
     """Which edges of ``polygon`` are gables (booleans), as CityEngine's runtime picks them
     (tests/data/prt_gables.json).
 
-    With ``index`` (a convex polygon): the edges parallel within 45 degrees to edge ``index``.
+    With ``index`` (a convex polygon): edges ``index`` and ``index + 2`` (modulo the corners),
+    whatever the polygon: a quadrilateral's opposite pair, a hexagon's edges 0 and 2 for index
+    0, as PyPRT on lots of 4 to 8 edges.
     A rectangle's gables are its shorter pair; a square's are edges 1 and 3, so that its ridge
     runs along the first edge, whatever the square's turn, first corner or winding. Otherwise
     the ends of the ridges of the polygon without its straight corners: the edges whose hip-roof
@@ -204,10 +206,11 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
     d = np.roll(p, -1, axis=0) - p
     lengths = np.linalg.norm(d, axis=1)
     u = d / lengths[:, None]
+    chosen = np.zeros(n, dtype=bool)
     if index is not None:
         k = int(index) % n
-        return np.abs(u @ u[k]) >= math.cos(math.radians(45)) - ROUNDOFF_REL
-    chosen = np.zeros(n, dtype=bool)
+        chosen[[k, (k + 2) % n]] = True
+        return chosen
     if n == 4 and np.all(np.abs(np.einsum("ij,ij->i", u, np.roll(u, -1, axis=0))) <= COSINE_SLACK):
         tie = DEFAULT.merge_rel * float(lengths.max())
         first = 0 if lengths[0] < lengths[1] - tie else 1  # a tie: the ridge along edge 0
@@ -273,8 +276,8 @@ def roof_gable(
 
     ``overhang_x`` (m, on the roof plane) extends the roof faces beyond the eaves,
     ``overhang_y`` (m) beyond the gables (negative: short of them); the gables stay on the
-    face's edges. ``index`` makes the edges parallel to that edge the gables (convex faces
-    only, as CityEngine). On a face with ``holes`` CityEngine's runtime makes no gables: the
+    face's edges. ``index`` makes that edge and the one two further on the gables (convex
+    faces only, as CityEngine). On a face with ``holes`` CityEngine's runtime makes no gables: the
     roof is :func:`roof_hip`'s with ``overhang_x`` on every edge (tests/data/prt_roofs.json,
     every lot, angle and overhang).
     """

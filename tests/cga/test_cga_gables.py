@@ -3,7 +3,7 @@
 first edge whatever its turn, first corner or winding; a near-square's and a rectangle's along
 their longer edges, and a square's 1 mm out of square along its shorter; a kite, a rhombus and
 a hexagon's pointed ends stay hipped; lots without a tie (trapezoids, a parallelogram, L, T, U
-and plus shapes) keep their gables; the index argument on squares, rectangles and a kite.
+and plus shapes) keep their gables; the index argument gables edges index and index + 2.
 Each model's corners (to 0.1 mm), figures and scope, its faces in edge order (the gables are
 the triangles) and warnings. What PyPRT does otherwise (regular polygons, an index there, a
 corner on an edge) is a strict xfail naming the difference."""
@@ -26,11 +26,12 @@ OPEN = {"roofGable(30, 1, 0.5)"}  # an overhanging roof is open: shapegen's volu
 # pentagon's with its first corner) and carries the ridge level from the centre to each gable,
 # which leaves the slopes beside it non-planar; shapegen keeps them hipped.
 REGULAR = ("pentagon", "hexagon", "octagon")
-# PyPRT's index on a regular hexagon makes edges index, index + 2 and index + 4 the gables
-# (three of them, a pentagon face between two), on the octagon every other edge, and warns
-# "applying offset failed, retrying without offset" there; shapegen takes the edges parallel
-# to edge index.
-INDEX_ON_REGULAR = ("hexagon_t0_c0", "octagon_t0_c0")
+# PyPRT's index fails now and then on a regular octagon (its warning "applying offset failed,
+# retrying without offset": on the octagon along the axes, and on the one turned by 15 degrees
+# for all but edges 5 and 7) and it builds the roof without the index, gabled as above;
+# shapegen applies the index (elsewhere PyPRT's index gables edges index and index + 2, as
+# shapegen's)
+INDEX_FAILED = "applying offset failed, retrying without offset"
 # PyPRT drops a corner that lies on an edge: the square with a fifth corner gets the square's
 # pyramid, the rectangle the rectangle's gable roof, each with one face over the two halves of
 # the edge (nFaces 5); shapegen builds the same roofs with a face per edge (nFaces 6; the
@@ -44,8 +45,10 @@ def _case_id(case):
 
 def _differs(case) -> str | None:
     lot = case["lot"]
-    if lot in INDEX_ON_REGULAR and "false," in case["rule"]:
-        return "PyPRT's index on a regular polygon gables every other edge"
+    if "false," in case["rule"]:  # an index
+        if any(INDEX_FAILED in e for e in case["errors"]):
+            return "PyPRT's index failed on a regular octagon and was dropped"
+        return None
     if lot.startswith(REGULAR):
         return "PyPRT gables a regular polygon by its floating-point event order"
     if lot.startswith(ON_EDGE):
