@@ -2,18 +2,17 @@
 writes ``tests/data/prt_gables.json``.
 
 A square's hip roof is a pyramid, so any opposite pair of its edges could be the gables; a
-kite's, a rhombus's or a regular polygon's faces all meet at one apex too. Each case runs one
-roofGable through tools/prt_roofs.py's rewriter on a lot: squares turned by 0, 30 and 45
-degrees, from each corner, facing up and down (clockwise and counter-clockwise seen from
-above); near-squares (10 x 10.001 m) and rectangles from two corners; a kite, a rhombus, a
-60-degree rhombus, a hexagon with pointed ends, a square and a rectangle with a fifth corner
+kite's, a rhombus's, a triangle's or a regular polygon's faces all meet at one apex too. Each
+case runs one roofGable through tools/prt_roofs.py's rewriter on a lot: squares turned by 0,
+30 and 45 degrees, from each corner, facing up and down (clockwise and counter-clockwise seen
+from above); near-squares (10 x 10.001 m) and rectangles from two corners; a kite, a rhombus,
+a 60-degree rhombus, a hexagon with pointed ends, a square and a rectangle with a fifth corner
 on an edge, the regular pentagon, hexagon and octagon; lots near a tie or without one (a
-square 1 mm out of square, a parallelogram, trapezoids, a chamfered rectangle, L, T, U and
-plus shapes), from two corners; and the index argument on some of them (every edge of convex
-lots of 4 to 8 edges). Per
-case the JSON keeps the roof's figures, scope and the PyEncoder's corners and faces, as
-tools/prt_roofs.py's rows. Run with PyPRT's Python (a development tool; shapegen never
-imports it)::
+square 1 mm out of square, a parallelogram, trapezoids, a chamfered rectangle, triangles, L,
+T, U and plus shapes), from two corners; and the index argument on some of them (every edge
+of convex lots of 3 to 8 edges). Per case the JSON keeps the roof's figures, scope and the
+PyEncoder's corners and faces, as tools/prt_roofs.py's rows. Run with PyPRT's Python (a
+development tool; shapegen never imports it)::
 
     /tmp/prt-venv/bin/python tools/prt_gables.py tests/data/prt_gables.json
 """
@@ -68,6 +67,8 @@ OTHERS = {
     "isosceles_trapezoid": [(0, 0), (12, 0), (9, 6), (3, 6)],
     "quadrilateral": [(0, 0), (11, 1), (12, 9), (-1, 7)],
     "chamfered": [(0, 0), (12, 0), (12, 6), (10, 8), (0, 8)],
+    "triangle": [(0, 0), (10, 0), (5, 8)],
+    "scalene_triangle": [(0, 0), (12, 0), (3, 7)],
     "kite_t30": _outline(KITE, 30),
     "rhombus_t30": _outline(RHOMBUS, 30),
     "L": [(0, 0), (14, 0), (14, 5), (6, 5), (6, 12), (0, 12)],
@@ -127,6 +128,7 @@ OPTIONS = {
     "hexagon_t0_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
     "octagon_t0_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
     # the index on convex lots of 4 to 8 edges, each edge and one past the last
+    "scalene_triangle_c0": [f"roofGable(30,0,0,false,{k})" for k in range(3)],
     "isosceles_trapezoid_c0": [f"roofGable(30,0,0,false,{k})" for k in range(4)],
     "quadrilateral_c0": [f"roofGable(30,0,0,false,{k})" for k in range(4)],
     "parallelogram_c0": [f"roofGable(30,0,0,false,{k})" for k in range(4)],

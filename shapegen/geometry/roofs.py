@@ -198,7 +198,8 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
     the ends of the ridges of the polygon without its straight corners: the edges whose hip-roof
     face is a triangle whose apex only that face and its two neighbours reach (a ridge's end,
     however short: 4e-8 m on a 10 m square 1 mm out of square; where more faces meet, as at a
-    kite's, a rhombus's or a pointed end's single apex, the roof stays hipped there), shortest
+    kite's, a rhombus's, a triangle's or a pointed end's single apex, the roof stays hipped
+    there), shortest
     first, never two neighbours, leaving at least two eaves.
     """
     p = checked_polygon(polygon)
@@ -245,7 +246,7 @@ def _ridge_ends(p: np.ndarray) -> np.ndarray:
             continue
         apex = face[2]  # a face starts with its edge
         meeting = sum(bool(np.any(np.linalg.norm(f - apex, axis=1) <= eps)) for f in faces)
-        if meeting == 3:
+        if meeting == 3 < n:  # a triangle's three faces meet at its apex: no ridge, a hip
             ends.append(k)
     chosen = np.zeros(n, dtype=bool)
     for k in sorted(ends, key=lambda k: lengths[k]):
