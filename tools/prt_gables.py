@@ -19,14 +19,20 @@ development tool; shapegen never imports it)::
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from prt_primitives import CORPUS, measured_cases, rewritable_package, write_fixture  # noqa: E402
-from prt_roofs import PACKAGE, PATCHER, _lot, measure  # noqa: E402
+from prt_measure import (  # noqa: E402
+    FOOTPRINT_PACKAGE,
+    arguments,
+    fixture_written,
+    lot_from_rings,
+    measured_cases,
+    rewritable_package,
+)
+from prt_roofs import PATCHER, measure  # noqa: E402
 
 
 def _outline(corners, turn: float = 0.0, first: int = 0, up: bool = True) -> list:
@@ -84,11 +90,13 @@ for turn in (0, 30, 45):
     for first in range(4):
         for up in (True, False):
             name = f"square_t{turn}_c{first}_{'up' if up else 'down'}"
-            LOTS[name] = _lot(_outline(SQUARE, turn, first, up))
+            LOTS[name] = lot_from_rings(_outline(SQUARE, turn, first, up))
 for a, b in ((10, 10.001), (10.001, 10), (12, 8), (8, 12)):
     for turn in (0, 30):
         for first in (0, 1):
-            LOTS[f"rect_{a}x{b}_t{turn}_c{first}"] = _lot(_outline(_rectangle(a, b), turn, first))
+            LOTS[f"rect_{a}x{b}_t{turn}_c{first}"] = lot_from_rings(
+                _outline(_rectangle(a, b), turn, first)
+            )
 for name, corners, count in (
     ("kite", KITE, 4),
     ("rhombus", RHOMBUS, 4),
@@ -99,16 +107,16 @@ for name, corners, count in (
     ("pentagon", _regular(5), 5),
 ):
     for first in range(count):
-        LOTS[f"{name}_c{first}"] = _lot(_outline(corners, 0, first))
+        LOTS[f"{name}_c{first}"] = lot_from_rings(_outline(corners, 0, first))
 for n, name in ((6, "hexagon"), (8, "octagon")):
     for turn in (0, 15):
         for first in range(3):
-            LOTS[f"{name}_t{turn}_c{first}"] = _lot(_outline(_regular(n), turn, first))
+            LOTS[f"{name}_t{turn}_c{first}"] = lot_from_rings(_outline(_regular(n), turn, first))
 
 for name, corners in OTHERS.items():
     ring = corners if name in ("square_t17", "kite_t30", "rhombus_t30") else _outline(corners)
     for first in (0, 1):
-        LOTS[f"{name}_c{first}"] = _lot(ring[first:] + ring[:first])
+        LOTS[f"{name}_c{first}"] = lot_from_rings(ring[first:] + ring[:first])
 
 ROOFS = ["roofGable(30)"]
 # the index, overhangs and heights on some of the lots
@@ -140,34 +148,26 @@ OPTIONS = {
 }
 
 
+ABOUT = (
+    "each roof runs on the named initial shape ((x, 0, z) coordinates, one face) through "
+    "PyPRT's PyEncoder; nVertices ... volume are geometry.* of the roof, scope is scope.sx, "
+    "sy, sz, tx, ty, tz, points, indices and encoder_faces (vertex counts: the bottom, then "
+    "one face per edge in edge order) what the PyEncoder returns"
+)
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("output", type=Path, help="the JSON file to write")
-    parser.add_argument("--corpus", type=Path, default=CORPUS, help="the shared CGA corpus")
-    args = parser.parse_args(argv)
-    with rewritable_package(args.corpus, "prt_gables", PACKAGE, PATCHER) as context:
-        pyprt, work, source, patcher = context
+    args = arguments(__doc__, argv)
+    with rewritable_package(args.corpus, "prt_gables", FOOTPRINT_PACKAGE, PATCHER) as rewriter:
         rows = []
         for name, lot in LOTS.items():
             rows += measured_cases(
                 "prt_gables",
                 {name: lot},
                 ROOFS + OPTIONS.get(name, []),
-                lambda lot, roof: measure(pyprt, work, source, patcher, lot, roof, ""),
+                lambda lot, roof: measure(rewriter, lot, (roof, "")),
             )
-    from importlib.metadata import version as installed
-
-    head = {
-        "source": f"CityEngine's runtime, PyPRT {installed('pyprt')}, by tools/prt_gables.py: "
-        "each roof runs on the named initial shape ((x, 0, z) coordinates, one face) through "
-        "PyPRT's PyEncoder; nVertices ... volume are geometry.* of the roof, scope is "
-        "scope.sx, sy, sz, tx, ty, tz, points, indices and encoder_faces (vertex counts: the "
-        "bottom, then one face per edge in edge order) what the PyEncoder returns",
-        "lots": LOTS,
-    }
-    write_fixture(args.output, head, "cases", rows)
-    print(f"prt_gables: {len(rows)} cases written to {args.output}")
-    return 0
+    return fixture_written("prt_gables", args.output, ABOUT, {"lots": LOTS}, "cases", rows)
 
 
 if __name__ == "__main__":
