@@ -5,12 +5,13 @@ A square's hip roof is a pyramid, so any opposite pair of its edges could be the
 kite's, a rhombus's, a triangle's or a regular polygon's faces all meet at one apex too. Each
 case runs one roofGable through tools/prt_roofs.py's rewriter on a lot: squares turned by 0,
 30 and 45 degrees, from each corner, facing up and down (clockwise and counter-clockwise seen
-from above); near-squares (10 x 10.001 m) and rectangles from two corners; a kite, a rhombus,
-a 60-degree rhombus, a hexagon with pointed ends, a square and a rectangle with a fifth corner
-on an edge, the regular pentagon, hexagon and octagon; lots near a tie or without one (a
-square 1 mm out of square, a parallelogram, trapezoids, a chamfered rectangle, triangles, L,
-T, U and plus shapes), from two corners; and the index argument on some of them (every edge
-of convex lots of 3 to 8 edges). Per case the JSON keeps the roof's figures, scope and the
+from above), and turned by 17, 30 and 45 degrees with corners rounded to the mm and the cm;
+near-squares (10 x 10.001 m) and rectangles from two corners; a kite, a rhombus, a 60-degree
+rhombus, a hexagon with pointed ends, a square and a rectangle with a fifth corner on an edge,
+the regular pentagon, hexagon and octagon; lots near a tie or without one (a square 1 mm out
+of square, a parallelogram, trapezoids, a chamfered rectangle, triangles, L, T, U and plus
+shapes), from two corners; and the index argument on some of them (every edge of convex lots
+of 3 to 8 edges). Per case the JSON keeps the roof's figures, scope and the
 PyEncoder's corners and faces, as tools/prt_roofs.py's rows. Run with PyPRT's Python (a
 development tool; shapegen never imports it)::
 
@@ -35,12 +36,13 @@ from prt_measure import (  # noqa: E402
 from prt_roofs import PATCHER, measure  # noqa: E402
 
 
-def _outline(corners, turn: float = 0.0, first: int = 0, up: bool = True) -> list:
+def _outline(corners, turn=0.0, first: int = 0, up: bool = True, digits: int = 9) -> list:
     """(x, z) corners counter-clockwise in the (x, z) plane, turned by ``turn`` degrees about
-    the origin, starting at corner ``first``; ``up``: reversed, so that the face looks up (+y)
-    as a lot does, else down."""
+    the origin and rounded to ``digits`` decimals, starting at corner ``first``; ``up``:
+    reversed, so that the face looks up (+y) as a lot does, else down."""
     c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
-    ring = [(round(x * c - z * s, 9) + 0.0, round(x * s + z * c, 9) + 0.0) for x, z in corners]
+    ring = [(round(x * c - z * s, digits) + 0.0, round(x * s + z * c, digits) + 0.0)
+            for x, z in corners]  # fmt: skip
     if up:
         ring = ring[::-1]
     return ring[first:] + ring[:first]
@@ -91,6 +93,14 @@ for turn in (0, 30, 45):
         for up in (True, False):
             name = f"square_t{turn}_c{first}_{'up' if up else 'down'}"
             LOTS[name] = lot_from_rings(_outline(SQUARE, turn, first, up))
+# turned squares with their corners rounded to the millimetre and the centimetre, as lots
+# often are: their angles are no longer right
+for turn in (17, 30, 45):
+    for digits, unit in ((3, "mm"), (2, "cm")):
+        for first in range(4):
+            LOTS[f"square_t{turn}_{unit}_c{first}"] = lot_from_rings(
+                _outline(SQUARE, turn, first, digits=digits)
+            )
 for a, b in ((10, 10.001), (10.001, 10), (12, 8), (8, 12)):
     for turn in (0, 30):
         for first in (0, 1):
