@@ -192,15 +192,15 @@ def gable_edges(polygon, index: int | None = None) -> np.ndarray:
 
     With ``index`` (a convex polygon): edges ``index`` and ``index + 2`` (modulo the corners),
     whatever the polygon: a quadrilateral's opposite pair, a hexagon's edges 0 and 2 for index
-    0, as PyPRT on lots of 4 to 8 edges.
-    A rectangle's gables are its shorter pair; a square's are edges 1 and 3, so that its ridge
-    runs along the first edge, whatever the square's turn, first corner or winding. Otherwise
-    the ends of the ridges of the polygon without its straight corners: the edges whose hip-roof
-    face is a triangle whose apex only that face and its two neighbours reach (a ridge's end,
-    however short: 4e-8 m on a 10 m square 1 mm out of square; where more faces meet, as at a
-    kite's, a rhombus's, a triangle's or a pointed end's single apex, the roof stays hipped
-    there), shortest
-    first, never two neighbours, leaving at least two eaves.
+    0, as PyPRT on lots of 3 to 8 edges.
+
+    Without: a rectangle's gables are its shorter pair; a square's are edges 1 and 3, so that
+    its ridge runs along the first edge, whatever the square's turn, first corner or winding.
+    Otherwise the ends of the ridges of the polygon without its straight corners: the edges
+    whose hip-roof face is a triangle whose apex only that face and its two neighbours reach (a
+    ridge's end, however short: 4e-8 m on a 10 m square 1 mm out of square; where more faces
+    meet, as at a kite's, a rhombus's, a triangle's or a pointed end's single apex, the roof
+    stays hipped there), shortest first, never two neighbours, leaving at least two eaves.
     """
     p = checked_polygon(polygon)
     n = len(p)
