@@ -170,7 +170,13 @@ def _caps_few(faces: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
             a, b = face[m], face[(m + 1) % count]
             if (b, a) not in edges:
                 following[b] = a
-    caps = []
+    return chained_loops(following)
+
+
+def chained_loops(following: dict[int, int]) -> list[tuple[int, ...]]:
+    """The closed loops of at least 3 corners that ``following`` (corner -> next corner) chains,
+    in the order its first corners come (emptied as it is read); an open chain is dropped."""
+    loops = []
     while following:
         first = next(iter(following))
         nxt = following.pop(first)
@@ -179,8 +185,8 @@ def _caps_few(faces: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
             loop.append(nxt)
             nxt = following.pop(nxt)
         if nxt == first and len(loop) >= 3:
-            caps.append(tuple(loop))
-    return caps
+            loops.append(tuple(loop))
+    return loops
 
 
 def _compact_few(points: list[list[float]], faces: list[tuple[int, ...]]) -> Mesh | None:

@@ -130,20 +130,10 @@ def _caps(faces: list[tuple[int, ...]], count: int) -> list[tuple[int, ...]]:
     following: dict[int, int] = dict(
         zip(corners[successor][boundary].tolist(), corners[boundary].tolist(), strict=True)
     )  # the cap runs each boundary edge the other way
-    caps = []
-    while following:
-        # a cap begins at the cut of the first face the cut crosses, running it the other way
-        # (PyPRT's gambrel roofs: the split's cap of the lower roof, whose gable then rises
-        # along the cap's first edge, begins at the cut of the roof's first gable)
-        first = next(iter(following))
-        nxt = following.pop(first)
-        loop = [first]
-        while nxt != first and nxt in following:
-            loop.append(nxt)
-            nxt = following.pop(nxt)
-        if nxt == first and len(loop) >= 3:
-            caps.append(tuple(loop))
-    return caps
+    # a cap begins at the cut of the first face the cut crosses, running it the other way
+    # (PyPRT's gambrel roofs: the split's cap of the lower roof, whose gable then rises along
+    # the cap's first edge, begins at the cut of the roof's first gable)
+    return clip_faces.chained_loops(following)
 
 
 def _compact(vertices: np.ndarray, faces: list[tuple[int, ...]]) -> Mesh | None:
